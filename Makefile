@@ -1,0 +1,46 @@
+# Thin wrapper over CMake so the README's two commands work on a fresh Debian 12 machine:
+#   make run   set up, build, render the default scene (window with a display, PNG without)
+#   make test  set up, build Release and ASan+UBSan, run every test and a short fuzz run
+JOBS ?= $(shell nproc)
+SCENE ?= scenes/default.json
+FUZZ_SECONDS ?= 20
+
+.PHONY: all setup build run test test-release test-sanitize fuzz bench debug clean
+
+all: build
+
+setup:
+	@bash scripts/setup.sh
+
+build: setup
+	cmake -S . -B build -DCMAKE_BUILD_TYPE=Release >/dev/null
+	cmake --build build -j $(JOBS)
+
+debug: setup
+	cmake -S . -B build-debug -DCMAKE_BUILD_TYPE=Debug >/dev/null
+	cmake --build build-debug -j $(JOBS)
+
+run: build
+	@bash scripts/run-default.sh build $(SCENE)
+
+test-release: build
+	cd build && ctest --output-on-failure -j $(JOBS)
+
+test-sanitize: setup
+	cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=Debug -DSL_SANITIZE=ON >/dev/null
+	cmake --build build-asan -j $(JOBS)
+	cd build-asan && SL_SANITIZED=1 ctest --output-on-failure -j $(JOBS)
+
+fuzz: setup
+	CC=clang cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=Debug -DSL_FUZZ=ON -DSL_SANITIZE=ON >/dev/null
+	cmake --build build-fuzz -j $(JOBS)
+	bash scripts/fuzz.sh build-fuzz $(FUZZ_SECONDS)
+
+test: test-release test-sanitize fuzz
+	@echo "make test: all passed"
+
+bench: build
+	@echo "benchmarks: see bench/README.md"
+
+clean:
+	rm -rf build build-debug build-asan build-fuzz

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# fuzz.sh BUILD_DIR SECONDS - run every libFuzzer target for a bounded time on its seed corpus.
+# A crash, hang (-timeout), leak or out-of-memory fails the run; the reproducer is left in
+# fuzz/artifacts/. The seed corpus is copied so the committed one never grows.
+set -euo pipefail
+build=$1; seconds=${2:-20}
+status=0
+for bin in "$build"/fuzz_*; do
+  [ -x "$bin" ] || continue
+  name=$(basename "$bin")
+  corpus=$(mktemp -d)
+  [ -d "fuzz/corpus/$name" ] && cp -r "fuzz/corpus/$name/." "$corpus/"
+  mkdir -p fuzz/artifacts
+  echo "fuzz: $name for ${seconds}s"
+  if ! "$bin" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 -max_len=65536 \
+       -artifact_prefix=fuzz/artifacts/"$name"- -print_final_stats=0 "$corpus" >"$corpus.log" 2>&1; then
+    echo "fuzz: $name FAILED"; tail -40 "$corpus.log"; status=1
+  else
+    grep -E '^#[0-9]+.*DONE|Done [0-9]+ runs' "$corpus.log" | tail -1 || true
+  fi
+  rm -rf "$corpus" "$corpus.log"
+done
+exit $status

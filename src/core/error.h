@@ -1,0 +1,42 @@
+/* error.h - errors as values.
+ *
+ * Library code never exits or aborts on bad input: a function that can fail
+ * takes an `sl_error *` (may be NULL), fills it with a code and one line of
+ * text naming the file and the place (byte offset, line, JSON path), and
+ * returns false or NULL. The command line prints err.msg and exits non-zero. */
+#ifndef SL_ERROR_H
+#define SL_ERROR_H
+
+#include <stdbool.h>
+
+typedef enum {
+    SL_OK = 0,
+    SL_ERR_IO,        /* open, read, write, rename failed */
+    SL_ERR_FORMAT,    /* malformed or truncated file */
+    SL_ERR_UNSUPPORTED, /* well-formed but not something softlight handles */
+    SL_ERR_RANGE,     /* a parameter or value outside what makes sense */
+    SL_ERR_MEMORY,    /* allocation failed or a size would overflow */
+    SL_ERR_GL,        /* no EGL / OpenGL context, or a GL call failed */
+} sl_error_code;
+
+typedef struct {
+    sl_error_code code;
+    char msg[512];
+} sl_error;
+
+/* Fill `err` (if not NULL) with a code and a printf-style message; returns false
+ * so that `return sl_fail(err, ...)` reads as a failing return. */
+bool sl_fail(sl_error *err, sl_error_code code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 3, 4)))
+#endif
+    ;
+
+/* Prefix an existing message with context, e.g. "scene.json: " + "line 3: ...". */
+void sl_error_prefix(sl_error *err, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 2, 3)))
+#endif
+    ;
+
+#endif

@@ -1,0 +1,217 @@
+/* glsl.h - GLSL's vocabulary in C11, so shaders can be ported line by line.
+ *
+ * Owns: the vector and matrix types (vec2, vec3, vec4, mat3, mat4) and the
+ * GLSL built-ins the shaders use. Everything is float32 and static inline, as
+ * in GLSL; double belongs to precomputation and references, not here.
+ *
+ * C has no operator overloading, so arithmetic is spelled out:
+ *     GLSL  a + b * c        C  add(a, mul(b, c))
+ *     GLSL  v * 2.0          C  scale(v, 2.0f)
+ * Constructors read like GLSL: vec3(x, y, z); splats are vec3s(s).
+ * The overloaded built-ins (dot, length, normalize, mix, clamp, add, sub, mul,
+ * scale, min/max as vmin/vmax, abs as vabs) dispatch on the first argument with
+ * _Generic. Scalar float forms use the same names where GLSL does
+ * (clamp(x, 0.0f, 1.0f), mix(a, b, t)); plain C math (sqrtf, powf) stays plain.
+ *
+ * Matrices are column-major like GLSL and OpenGL: m.c[col].x is row 0 of that
+ * column, and a mat4 can be handed to glUniformMatrix4fv without transposing.
+ *
+ * Does not: provide swizzles beyond .x/.y/.z/.w members and xyz(), or integer
+ * vectors. */
+#ifndef SL_GLSL_H
+#define SL_GLSL_H
+
+#include <math.h>
+
+typedef struct { float x, y; } vec2;
+typedef struct { float x, y, z; } vec3;
+typedef struct { float x, y, z, w; } vec4;
+typedef struct { vec3 c[3]; } mat3;   /* c[column] */
+typedef struct { vec4 c[4]; } mat4;   /* c[column] */
+
+#define SL_PI 3.14159265358979323846f
+
+/* GLSL-style constructors. A function-like macro named like the type expands
+ * only when followed by '(', so `vec3 v = vec3(1, 2, 3);` works. */
+#define vec2(x, y) ((vec2){(float)(x), (float)(y)})
+#define vec3(x, y, z) ((vec3){(float)(x), (float)(y), (float)(z)})
+#define vec4(x, y, z, w) ((vec4){(float)(x), (float)(y), (float)(z), (float)(w)})
+static inline vec2 vec2s(float s) { return (vec2){s, s}; }
+static inline vec3 vec3s(float s) { return (vec3){s, s, s}; }
+static inline vec4 vec4s(float s) { return (vec4){s, s, s, s}; }
+static inline vec4 vec4_from3(vec3 v, float w) { return (vec4){v.x, v.y, v.z, w}; }
+static inline vec3 xyz(vec4 v) { return (vec3){v.x, v.y, v.z}; }
+
+/* ---- scalar helpers with GLSL names ---- */
+static inline float clampf(float x, float lo, float hi) { return x < lo ? lo : (x > hi ? hi : x); }
+static inline float mixf(float a, float b, float t) { return a + (b - a) * t; }
+static inline float minf(float a, float b) { return a < b ? a : b; }
+static inline float maxf(float a, float b) { return a > b ? a : b; }
+static inline float radians(float deg) { return deg * (SL_PI / 180.0f); }
+static inline float degrees(float rad) { return rad * (180.0f / SL_PI); }
+static inline float smoothstep(float e0, float e1, float x)
+{
+    float t = clampf((x - e0) / (e1 - e0), 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+static inline float fract(float x) { return x - floorf(x); }
+static inline float sign(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : 0.0f); }
+/* GLSL's pow, exp2, log2 are the C ones on floats. */
+
+/* ---- vec2 ---- */
+static inline vec2 add2(vec2 a, vec2 b) { return (vec2){a.x + b.x, a.y + b.y}; }
+static inline vec2 sub2(vec2 a, vec2 b) { return (vec2){a.x - b.x, a.y - b.y}; }
+static inline vec2 mul2(vec2 a, vec2 b) { return (vec2){a.x * b.x, a.y * b.y}; }
+static inline vec2 scale2(vec2 a, float s) { return (vec2){a.x * s, a.y * s}; }
+static inline float dot2(vec2 a, vec2 b) { return a.x * b.x + a.y * b.y; }
+static inline float length2(vec2 a) { return sqrtf(dot2(a, a)); }
+static inline vec2 normalize2(vec2 a) { return scale2(a, 1.0f / length2(a)); }
+static inline vec2 mix2(vec2 a, vec2 b, float t) { return (vec2){mixf(a.x, b.x, t), mixf(a.y, b.y, t)}; }
+static inline vec2 clamp2(vec2 a, float lo, float hi) { return (vec2){clampf(a.x, lo, hi), clampf(a.y, lo, hi)}; }
+static inline vec2 vmin2(vec2 a, vec2 b) { return (vec2){minf(a.x, b.x), minf(a.y, b.y)}; }
+static inline vec2 vmax2(vec2 a, vec2 b) { return (vec2){maxf(a.x, b.x), maxf(a.y, b.y)}; }
+static inline vec2 vabs2(vec2 a) { return (vec2){fabsf(a.x), fabsf(a.y)}; }
+
+/* ---- vec3 ---- */
+static inline vec3 add3(vec3 a, vec3 b) { return (vec3){a.x + b.x, a.y + b.y, a.z + b.z}; }
+static inline vec3 sub3(vec3 a, vec3 b) { return (vec3){a.x - b.x, a.y - b.y, a.z - b.z}; }
+static inline vec3 mul3(vec3 a, vec3 b) { return (vec3){a.x * b.x, a.y * b.y, a.z * b.z}; }
+static inline vec3 scale3(vec3 a, float s) { return (vec3){a.x * s, a.y * s, a.z * s}; }
+static inline float dot3(vec3 a, vec3 b) { return a.x * b.x + a.y * b.y + a.z * b.z; }
+static inline float length3(vec3 a) { return sqrtf(dot3(a, a)); }
+static inline vec3 normalize3(vec3 a) { return scale3(a, 1.0f / length3(a)); }
+static inline vec3 mix3(vec3 a, vec3 b, float t)
+{
+    return (vec3){mixf(a.x, b.x, t), mixf(a.y, b.y, t), mixf(a.z, b.z, t)};
+}
+static inline vec3 clamp3(vec3 a, float lo, float hi)
+{
+    return (vec3){clampf(a.x, lo, hi), clampf(a.y, lo, hi), clampf(a.z, lo, hi)};
+}
+static inline vec3 vmin3(vec3 a, vec3 b) { return (vec3){minf(a.x, b.x), minf(a.y, b.y), minf(a.z, b.z)}; }
+static inline vec3 vmax3(vec3 a, vec3 b) { return (vec3){maxf(a.x, b.x), maxf(a.y, b.y), maxf(a.z, b.z)}; }
+static inline vec3 vabs3(vec3 a) { return (vec3){fabsf(a.x), fabsf(a.y), fabsf(a.z)}; }
+static inline vec3 cross(vec3 a, vec3 b)
+{
+    return (vec3){a.y * b.z - a.z * b.y, a.z * b.x - a.x * b.z, a.x * b.y - a.y * b.x};
+}
+/* GLSL reflect(I, N) = I - 2 dot(N, I) N, N unit length. */
+static inline vec3 reflect(vec3 i, vec3 n) { return sub3(i, scale3(n, 2.0f * dot3(n, i))); }
+
+/* ---- vec4 ---- */
+static inline vec4 add4(vec4 a, vec4 b) { return (vec4){a.x + b.x, a.y + b.y, a.z + b.z, a.w + b.w}; }
+static inline vec4 sub4(vec4 a, vec4 b) { return (vec4){a.x - b.x, a.y - b.y, a.z - b.z, a.w - b.w}; }
+static inline vec4 mul4(vec4 a, vec4 b) { return (vec4){a.x * b.x, a.y * b.y, a.z * b.z, a.w * b.w}; }
+static inline vec4 scale4(vec4 a, float s) { return (vec4){a.x * s, a.y * s, a.z * s, a.w * s}; }
+static inline float dot4(vec4 a, vec4 b) { return a.x * b.x + a.y * b.y + a.z * b.z + a.w * b.w; }
+static inline float length4(vec4 a) { return sqrtf(dot4(a, a)); }
+static inline vec4 normalize4(vec4 a) { return scale4(a, 1.0f / length4(a)); }
+static inline vec4 mix4(vec4 a, vec4 b, float t)
+{
+    return (vec4){mixf(a.x, b.x, t), mixf(a.y, b.y, t), mixf(a.z, b.z, t), mixf(a.w, b.w, t)};
+}
+static inline vec4 clamp4(vec4 a, float lo, float hi)
+{
+    return (vec4){clampf(a.x, lo, hi), clampf(a.y, lo, hi), clampf(a.z, lo, hi), clampf(a.w, lo, hi)};
+}
+static inline vec4 vmin4(vec4 a, vec4 b)
+{
+    return (vec4){minf(a.x, b.x), minf(a.y, b.y), minf(a.z, b.z), minf(a.w, b.w)};
+}
+static inline vec4 vmax4(vec4 a, vec4 b)
+{
+    return (vec4){maxf(a.x, b.x), maxf(a.y, b.y), maxf(a.z, b.z), maxf(a.w, b.w)};
+}
+static inline vec4 vabs4(vec4 a) { return (vec4){fabsf(a.x), fabsf(a.y), fabsf(a.z), fabsf(a.w)}; }
+
+/* ---- GLSL's overloaded names ---- */
+#define SL_GENERIC(a, f2, f3, f4) _Generic((a), vec2: f2, vec3: f3, vec4: f4)
+#define add(a, b) SL_GENERIC(a, add2, add3, add4)(a, b)
+#define sub(a, b) SL_GENERIC(a, sub2, sub3, sub4)(a, b)
+#define mul(a, b) SL_GENERIC(a, mul2, mul3, mul4)(a, b)
+#define scale(a, s) SL_GENERIC(a, scale2, scale3, scale4)(a, s)
+#define dot(a, b) SL_GENERIC(a, dot2, dot3, dot4)(a, b)
+#define length(a) SL_GENERIC(a, length2, length3, length4)(a)
+#define normalize(a) SL_GENERIC(a, normalize2, normalize3, normalize4)(a)
+#define vmin(a, b) SL_GENERIC(a, vmin2, vmin3, vmin4)(a, b)
+#define vmax(a, b) SL_GENERIC(a, vmax2, vmax3, vmax4)(a, b)
+#define vabs(a) SL_GENERIC(a, vabs2, vabs3, vabs4)(a)
+#define mix(a, b, t) _Generic((a), float: mixf, vec2: mix2, vec3: mix3, vec4: mix4)(a, b, t)
+#define clamp(a, lo, hi) _Generic((a), float: clampf, vec2: clamp2, vec3: clamp3, vec4: clamp4)(a, lo, hi)
+
+/* ---- mat3 ---- */
+static inline mat3 mat3_identity(void)
+{
+    return (mat3){{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+}
+static inline vec3 mat3_mul_vec3(mat3 m, vec3 v)
+{
+    return add3(add3(scale3(m.c[0], v.x), scale3(m.c[1], v.y)), scale3(m.c[2], v.z));
+}
+static inline mat3 mat3_transpose(mat3 m)
+{
+    return (mat3){{{m.c[0].x, m.c[1].x, m.c[2].x},
+                   {m.c[0].y, m.c[1].y, m.c[2].y},
+                   {m.c[0].z, m.c[1].z, m.c[2].z}}};
+}
+static inline float mat3_determinant(mat3 m) { return dot3(m.c[0], cross(m.c[1], m.c[2])); }
+/* Inverse by cofactors; a singular matrix gives all zeros (callers check the determinant). */
+static inline mat3 mat3_inverse(mat3 m)
+{
+    float det = mat3_determinant(m);
+    if (det == 0.0f)
+        return (mat3){{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+    /* rows of the inverse are the cross products of the columns, over det */
+    vec3 r0 = scale3(cross(m.c[1], m.c[2]), 1.0f / det);
+    vec3 r1 = scale3(cross(m.c[2], m.c[0]), 1.0f / det);
+    vec3 r2 = scale3(cross(m.c[0], m.c[1]), 1.0f / det);
+    return mat3_transpose((mat3){{r0, r1, r2}});
+}
+
+/* ---- mat4 ---- */
+static inline mat4 mat4_identity(void)
+{
+    return (mat4){{{1, 0, 0, 0}, {0, 1, 0, 0}, {0, 0, 1, 0}, {0, 0, 0, 1}}};
+}
+static inline vec4 mat4_mul_vec4(mat4 m, vec4 v)
+{
+    return add4(add4(scale4(m.c[0], v.x), scale4(m.c[1], v.y)), add4(scale4(m.c[2], v.z), scale4(m.c[3], v.w)));
+}
+static inline mat4 mat4_mul(mat4 a, mat4 b)
+{
+    mat4 r;
+    for (int i = 0; i < 4; i++)
+        r.c[i] = mat4_mul_vec4(a, b.c[i]);
+    return r;
+}
+static inline mat4 mat4_transpose(mat4 m)
+{
+    return (mat4){{{m.c[0].x, m.c[1].x, m.c[2].x, m.c[3].x},
+                   {m.c[0].y, m.c[1].y, m.c[2].y, m.c[3].y},
+                   {m.c[0].z, m.c[1].z, m.c[2].z, m.c[3].z},
+                   {m.c[0].w, m.c[1].w, m.c[2].w, m.c[3].w}}};
+}
+/* The upper-left 3x3, e.g. for normal matrices: transpose(inverse(mat3(model))). */
+static inline mat3 mat3_from_mat4(mat4 m) { return (mat3){{xyz(m.c[0]), xyz(m.c[1]), xyz(m.c[2])}}; }
+mat4 mat4_inverse(mat4 m);   /* glsl.c; singular gives all zeros */
+static inline mat4 mat4_translate(vec3 t)
+{
+    mat4 m = mat4_identity();
+    m.c[3] = vec4(t.x, t.y, t.z, 1.0f);
+    return m;
+}
+static inline mat4 mat4_scale(vec3 s)
+{
+    return (mat4){{{s.x, 0, 0, 0}, {0, s.y, 0, 0}, {0, 0, s.z, 0}, {0, 0, 0, 1}}};
+}
+/* Rotation by `angle` radians about the unit `axis`, right-handed. */
+mat4 mat4_rotate(vec3 axis, float angle);
+/* gluLookAt: the view matrix of an eye at `eye` looking at `center`. */
+mat4 lookAt(vec3 eye, vec3 center, vec3 up);
+/* gluPerspective: fovy in radians; maps z in [-near, -far] to NDC [-1, 1]. */
+mat4 perspective(float fovy, float aspect, float znear, float zfar);
+
+#define transpose(m) _Generic((m), mat3: mat3_transpose, mat4: mat4_transpose)(m)
+#define inverse(m) _Generic((m), mat3: mat3_inverse, mat4: mat4_inverse)(m)
+
+#endif

@@ -1,0 +1,79 @@
+/* ibl.h - the environment side of image-based lighting.
+ *
+ * Consumes: an equirectangular (lat-long) linear HDR image, row 0 = top = v 0.
+ * Produces, once per environment: a mip chain read by textureLod, a Hammersley
+ * set, irradiance for the diffuse term (SH9, a brute-force map, or a loaded
+ * map), and a double-precision ground-truth integrator for tests and reports.
+ *
+ * Conventions (DESIGN.md, specification "Longitude-latitude Sphere map"):
+ *   direction -> uv:  u = 1/2 - atan2(d.y, d.x) / (2 pi),  v = acos(d.z) / pi
+ *   uv -> direction:  (cos(2 pi (1/2 - u)) sin(pi v), sin(2 pi (1/2 - u)) sin(pi v), cos(pi v))
+ *   textureLod: GL_LINEAR_MIPMAP_LINEAR, texel centres at (i + 0.5) / size,
+ *   REPEAT in u, CLAMP_TO_EDGE in v, lod clamped to [0, level_count - 1].
+ *
+ * Does not: rotate or scale the environment (the lighting shader's uniforms do
+ * that, as the GLSL does), or own the BRDF (src/shading). */
+#ifndef SL_IBL_H
+#define SL_IBL_H
+
+#include <stdbool.h>
+
+#include "../core/error.h"
+#include "../core/glsl.h"
+#include "../core/image.h"
+
+#define SL_ENV_MAX_LEVELS 16
+#define SL_HAMMERSLEY_MAX 1024
+
+/* One mip level: width * height RGB texels, row 0 = top (v = 0). */
+typedef struct {
+    int width, height;
+    vec3 *texels;
+} sl_env_level;
+
+/* An environment map with its full mip chain down to 1x1 (env.c). */
+typedef struct {
+    int level_count;
+    sl_env_level levels[SL_ENV_MAX_LEVELS];
+} sl_env;
+
+/* Build the chain from a 3-channel image (2x2 box averages; odd sizes handled). */
+bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err);
+void sl_env_free(sl_env *env);
+
+/* The specification's lat-long map, both ways (latlong.c). */
+vec2 sl_dir_to_uv(vec3 d);
+vec3 sl_uv_to_dir(vec2 uv);
+
+/* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). */
+vec3 textureLod(const sl_env *env, vec2 uv, float lod);
+
+/* The specification's low-discrepancy set (hammersley.c): u = radical inverse of k
+ * in base 2, v = (k + 0.5) / n, for k = 0 .. n - 1. Layout matches the GLSL block. */
+typedef struct {
+    int n;
+    vec2 points[SL_HAMMERSLEY_MAX];
+} sl_hammersley;
+bool sl_hammersley_build(sl_hammersley *set, int n, sl_error *err);
+
+/* Irradiance E(n) = integral of L(w) max(0, n.w) dw, so the diffuse term is Kd/pi * E(n)
+ * (irradiance.c). */
+typedef enum {
+    SL_IRRADIANCE_SH9,   /* 9 SH coefficients projected with exact texel solid angles */
+    SL_IRRADIANCE_BRUTE, /* a small lat-long map integrated by quadrature */
+    SL_IRRADIANCE_MAP,   /* a precomputed lat-long .hdr given in the scene */
+} sl_irradiance_method;
+
+typedef struct {
+    sl_irradiance_method method;
+    vec3 sh[9];     /* SH9: coefficients pre-multiplied by the cosine lobe's A_l, so E(n) = sum sh_i Y_i(n) */
+    sl_env map;     /* BRUTE and MAP: the irradiance map (one level is enough; bilinear lookup) */
+} sl_irradiance;
+
+bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err);
+bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err);
+bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err);
+vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n);
+void sl_irradiance_free(sl_irradiance *irr);
+
+#endif

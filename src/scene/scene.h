@@ -1,0 +1,113 @@
+/* scene.h - what a frame is made of: meshes, materials, lights, camera, environment, settings.
+ *
+ * Consumes: a scene file (JSON, docs/scene-format.md) and the OBJ meshes it names.
+ * Produces: an sl_scene whose meshes are validated (indices in range, finite
+ * positions, unit normals) and whose materials are linear RGB. Paths inside
+ * the scene are resolved relative to the scene file when it is loaded.
+ *
+ * World space is Z-up, right-handed (DESIGN.md). Colours are linear RGB.
+ * Does not: model a scene graph, animation, textures per object (yet), or cameras other than pinhole. */
+#ifndef SL_SCENE_H
+#define SL_SCENE_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "../core/error.h"
+#include "../core/glsl.h"
+
+#define SL_NAME_MAX 64
+#define SL_PATH_MAX 1024
+
+/* Triangle mesh in object space: shared vertices, 3 indices per triangle.
+ * `normals` always present (computed angle-weighted when the OBJ has none);
+ * `texcoords` may be NULL. */
+typedef struct {
+    int vertex_count, triangle_count;
+    vec3 *positions;
+    vec3 *normals;
+    vec2 *texcoords;
+    uint32_t *indices;
+} sl_mesh;
+
+/* The specification's material: Kd (diffuse albedo), Ks (Fresnel reflectance at
+ * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror). */
+typedef struct {
+    char name[SL_NAME_MAX];
+    vec3 kd, ks;
+    float alpha;
+} sl_material;
+
+typedef struct {
+    char name[SL_NAME_MAX];
+    int mesh;      /* index into scene->meshes */
+    int material;  /* index into scene->materials */
+    mat4 model;    /* object -> world */
+} sl_object;
+
+typedef struct {
+    vec3 position;
+    vec3 color;      /* linear RGB */
+    float intensity; /* radiant intensity scale: radiance contribution is color*intensity/d^2 */
+} sl_point_light;
+
+typedef struct {
+    vec3 eye, target, up;
+    float fovy_deg;      /* vertical field of view, degrees */
+    float znear, zfar;
+} sl_camera;
+
+typedef struct {
+    char hdr_path[SL_PATH_MAX];        /* resolved; "" = none (black environment) */
+    char irradiance_path[SL_PATH_MAX]; /* resolved; "" = compute from hdr */
+    float intensity;                   /* multiplies the environment's radiance */
+    float rotation_deg;                /* about +Z */
+} sl_environment_desc;
+
+typedef struct {
+    int width, height;
+    int samples;        /* N, Hammersley pairs for the specular integral (1..1024) */
+    float exposure;     /* e in the tone map, 0.1 .. 10000 */
+    float contrast;     /* c in the tone map exponent c/2.2 */
+} sl_render_settings;
+
+typedef struct {
+    char path[SL_PATH_MAX]; /* the scene file, as given */
+    sl_camera camera;
+    sl_environment_desc environment;
+    sl_render_settings settings;
+    sl_mesh *meshes;
+    int mesh_count;
+    sl_material *materials;
+    int material_count;
+    sl_object *objects;
+    int object_count;
+    sl_point_light *lights;
+    int light_count;
+} sl_scene;
+
+/* Load a scene file and every mesh it names. On failure the scene is empty and
+ * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`. */
+bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err);
+/* Parse scene JSON from memory; `base_dir` resolves relative paths ("" = cwd).
+ * With `load_meshes` false, OBJ files are not opened (what the fuzz target uses). */
+bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                    sl_scene *scene, sl_error *err);
+void sl_scene_free(sl_scene *scene);
+
+/* World-space bounds of all objects; false when the scene has no geometry. */
+bool sl_scene_bounds(const sl_scene *scene, vec3 *lo, vec3 *hi);
+
+/* Meshes (mesh.c, obj.c, shapes.c). */
+bool sl_mesh_load_obj(const char *path, sl_mesh *mesh, sl_error *err);
+bool sl_mesh_parse_obj(const char *text, size_t size, const char *name, sl_mesh *mesh, sl_error *err);
+/* Checks indices in range, finite positions and normals; false with a reason. */
+bool sl_mesh_validate(const sl_mesh *mesh, const char *name, sl_error *err);
+void sl_mesh_compute_normals(sl_mesh *mesh); /* angle-weighted vertex normals */
+void sl_mesh_free(sl_mesh *mesh);
+/* Built-in shapes, unit sized and centred at the origin; `detail` = subdivisions. */
+bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err); /* radius 1 */
+bool sl_mesh_plane(sl_mesh *mesh, sl_error *err);  /* [-1,1]^2 at z = 0, normal +Z */
+bool sl_mesh_box(sl_mesh *mesh, sl_error *err);    /* [-1,1]^3, flat normals per face */
+
+#endif

@@ -1,0 +1,48 @@
+/* testutil.c - see testutil.h. */
+#include "testutil.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <unistd.h>
+
+const char *test_tmpdir(void)
+{
+    static char dir[256];
+    if (!dir[0]) {
+        const char *base = getenv("TMPDIR");
+        snprintf(dir, sizeof dir, "%s/softlight-test-XXXXXX", base && base[0] ? base : "/tmp");
+        if (!mkdtemp(dir)) {
+            fprintf(stderr, "cannot create a temporary directory\n");
+            fail();
+        }
+    }
+    return dir;
+}
+
+const char *test_tmpfile(const char *name)
+{
+    static char slots[8][512];
+    static int next;
+    char *p = slots[next++ & 7];
+    snprintf(p, 512, "%s/%s", test_tmpdir(), name);
+    return p;
+}
+
+void test_write_bytes(const char *path, const void *bytes, size_t size)
+{
+    FILE *f = fopen(path, "wb");
+    assert_non_null(f);
+    assert_int_equal(fwrite(bytes, 1, size, f), size);
+    assert_int_equal(fclose(f), 0);
+}
+
+void test_assert_near(double a, double b, double tol, const char *sa, const char *sb, const char *file, int line)
+{
+    double d = a - b;
+    if (!(d <= tol && -d <= tol)) {
+        print_error("%s:%d: %s = %.9g and %s = %.9g differ by %.3g (tolerance %.3g)\n", file, line, sa, a, sb,
+                    b, d, tol);
+        _fail(file, line);
+    }
+}
