@@ -1,13 +1,42 @@
-/* main.c - the softlight command line: `softlight <command> [options]`. */
+/* main.c - the softlight command line: `softlight <command> [options]`, a table of subcommands. */
 #include <stdio.h>
 #include <string.h>
 
+#include "commands.h"
+
+static const struct {
+    const char *name;
+    int (*run)(int argc, char **argv);
+    const char *summary;
+} commands[] = {
+    {"render", cmd_render, "render a scene to PNG / .hdr / .pfm files (and the G-buffer with --aov)"},
+    {"view", cmd_view, "show a scene in an interactive window (SDL2)"},
+    {"info", cmd_info, "print what a scene holds and the memory it will need"},
+    {"trace", cmd_trace, "run the lighting shader for one pixel and print every intermediate value"},
+    {"compare", cmd_compare, "compare two .pfm/.hdr images (error metrics, difference image)"},
+};
+
+static void usage(FILE *out)
+{
+    fprintf(out, "usage: softlight <command> [options]\n\ncommands:\n");
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
+    fprintf(out, "\n`softlight <command> --help` describes each command's options.\n");
+}
+
 int main(int argc, char **argv)
 {
-    if (argc < 2 || !strcmp(argv[1], "--help")) {
-        printf("usage: softlight <command> [options]\n");
-        return argc < 2;
+    if (argc < 2) {
+        usage(stderr);
+        return 2;
     }
-    fprintf(stderr, "softlight: unknown command '%s'\n", argv[1]);
+    if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
+        usage(stdout);
+        return 0;
+    }
+    for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
+        if (!strcmp(argv[1], commands[i].name))
+            return commands[i].run(argc, argv);
+    fprintf(stderr, "softlight: unknown command '%s' (try softlight --help)\n", argv[1]);
     return 2;
 }

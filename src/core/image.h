@@ -6,15 +6,19 @@
  * inside the pipeline follow OpenGL instead (row 0 at the bottom); they turn
  * into sl_images once, with sl_image_flip_rows, when written out.
  *
- * Formats (image_io.c):
- *   .hdr  Radiance RGBE, read (flat and RLE scanlines, "-Y h +X w" only) and write (RLE)
+ * Formats (one file each: hdr.c, pfm.c, png.c; image.c owns the buffer, file.c the I/O):
+ *   .hdr  Radiance RGBE, read (flat and new-style RLE scanlines, "-Y h +X w" only) and
+ *         write (RLE for widths 8..32767, flat otherwise). A texel (m_r, m_g, m_b, e) decodes
+ *         as m * 2^(e - 136) (e = 0 is black), the convention of Greg Ward's rgbe.c that the
+ *         specification ships; the writer rounds to nearest, so a written value comes back
+ *         within half a mantissa step (at most max(r, g, b) / 255.5).
  *   .pfm  Portable float map, 1 ("Pf") or 3 ("PF") channels, either byte order,
- *         rows bottom-to-top in the file as the format says
+ *         rows bottom-to-top in the file as the format says; written little endian
  *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG textures as sRGB -> linear
  * Every write goes to a temporary name beside the target and is renamed into
  * place, so a failed write never leaves a half file. Loaded images are checked:
  * NaN, Inf and negative texels are counted, replaced by 0, and reported once
- * through `sl_image_load_report`. */
+ * through the `repairs` out-parameter. */
 #ifndef SL_IMAGE_H
 #define SL_IMAGE_H
 
@@ -23,12 +27,22 @@
 
 #include "error.h"
 
+/* Limits for files read from disk: no side over 32768, no more than 2^28 pixels, and no
+ * buffer over 4 GiB (2^28 RGB float pixels are 3 GiB). */
+#define SL_IMAGE_MAX_SIDE 32768
+#define SL_IMAGE_MAX_PIXELS ((long long)1 << 28)
+#define SL_IMAGE_MAX_BYTES ((size_t)1 << 32)
+/* Whole-file size cap the readers pass to sl_read_file. */
+#define SL_IMAGE_MAX_FILE_BYTES ((size_t)1 << 31)
+
 typedef struct {
     int width, height, channels;
     float *data; /* width * height * channels floats, row 0 = top */
 } sl_image;
 
-/* Allocate a zeroed image; false (and err) on absurd sizes or no memory. */
+/* Allocate a zeroed image; false (and err) on absurd sizes or no memory:
+ * width or height <= 0 or channels not 1, 3 or 4 -> SL_ERR_RANGE, a byte count that
+ * overflows or exceeds SL_IMAGE_MAX_BYTES, or a failed allocation -> SL_ERR_MEMORY. */
 bool sl_image_alloc(sl_image *img, int width, int height, int channels, sl_error *err);
 void sl_image_free(sl_image *img);
 static inline float *sl_image_pixel(const sl_image *img, int x, int y)
@@ -49,19 +63,27 @@ long sl_image_repair(sl_image *img, sl_image_repairs *repairs);
  * `repairs` may be NULL. */
 bool sl_image_read_hdr(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 bool sl_image_read_pfm(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-/* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB with the exact piecewise curve. */
+/* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
+ * piecewise curve; alpha is dropped, grey is replicated. */
 bool sl_image_read_texture(const char *path, sl_image *img, sl_error *err);
 /* Parse from memory (what the readers and the fuzz targets call); `name` is used in messages. */
 bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
 bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
+/* The exact sRGB -> linear curve (IEC 61966-2-1) of one 8-bit code, as the texture reader uses. */
+float sl_srgb8_to_linear(unsigned char code);
 
 /* Writers: atomic (temporary file + rename). hdr needs 3 channels; pfm 1 or 3;
  * png takes 1 or 3 channels of already display-encoded values in [0,1]. */
 bool sl_image_write_hdr(const char *path, const sl_image *img, sl_error *err);
 bool sl_image_write_pfm(const char *path, const sl_image *img, sl_error *err);
 bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
+/* The same encodings into memory (what the writers and the fuzz round trips call);
+ * the caller frees *bytes with free(). */
+bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
+bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
+bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 
 /* Read a whole file into memory (caps at `max_bytes`); caller frees *bytes. */
 bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err);

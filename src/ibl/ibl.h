@@ -3,7 +3,8 @@
  * Consumes: an equirectangular (lat-long) linear HDR image, row 0 = top = v 0.
  * Produces, once per environment: a mip chain read by textureLod, a Hammersley
  * set, irradiance for the diffuse term (SH9, a brute-force map, or a loaded
- * map), and a double-precision ground-truth integrator for tests and reports.
+ * map), and a double-precision ground-truth integrator for tests and reports (ground_truth.h).
+ * docs/ibl.md has the conventions in one table and the measured accuracy and speed.
  *
  * Conventions (DESIGN.md, specification "Longitude-latitude Sphere map"):
  *   direction -> uv:  u = 1/2 - atan2(d.y, d.x) / (2 pi),  v = acos(d.z) / pi
@@ -37,15 +38,20 @@ typedef struct {
     sl_env_level levels[SL_ENV_MAX_LEVELS];
 } sl_env;
 
-/* Build the chain from a 3-channel image (2x2 box averages; odd sizes handled). */
+/* Build the chain from a 3-channel image: level k+1 is max(1, floor(size / 2)) per axis down
+ * to 1x1, each texel the exact area average of what it covers (2x2 box for even sizes; env.c).
+ * Rejects images that are not 3-channel, have a side outside 1 .. 65535, or hold a NaN, Inf or
+ * negative texel. On failure env is left empty. */
 bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err);
 void sl_env_free(sl_env *env);
 
-/* The specification's lat-long map, both ways (latlong.c). */
+/* The specification's lat-long map, both ways (latlong.c). u is in [0, 1) (the seam direction
+ * (-1, 0, 0) gives u = 0 for either sign of zero), z is clamped before acos: never NaN. */
 vec2 sl_dir_to_uv(vec3 d);
 vec3 sl_uv_to_dir(vec2 uv);
 
-/* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). */
+/* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). Non-finite uv reads
+ * as 0, NaN lod as 0; never reads out of bounds; an empty env gives 0. */
 vec3 textureLod(const sl_env *env, vec2 uv, float lod);
 
 /* The specification's low-discrepancy set (hammersley.c): u = radical inverse of k
@@ -66,13 +72,25 @@ typedef enum {
 
 typedef struct {
     sl_irradiance_method method;
-    vec3 sh[9];     /* SH9: coefficients pre-multiplied by the cosine lobe's A_l, so E(n) = sum sh_i Y_i(n) */
+    /* SH9: coefficients pre-multiplied by the cosine lobe's A_l, so E(n) = sum sh_i Y_i(n) with,
+     * for unit n = (x, y, z), in this order (l, m) = (0,0) (1,-1) (1,0) (1,1) (2,-2) (2,-1) (2,0)
+     * (2,1) (2,2):  Y = 0.282095;  0.488603 y, z, x;  1.092548 xy, yz;  0.315392 (3z^2 - 1);
+     * 1.092548 xz;  0.546274 (x^2 - y^2). */
+    vec3 sh[9];
     sl_env map;     /* BRUTE and MAP: the irradiance map (one level is enough; bilinear lookup) */
 } sl_irradiance;
 
+/* Each builder overwrites *irr (sl_irradiance_free an old one first); on failure *irr is empty. */
 bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err);
+/* map_width x max(1, map_width / 2) texels (1 <= map_width <= 4096), integrated over the finest
+ * mip level with at most SL_IRRADIANCE_BRUTE_TEXELS texels (sl_irradiance_brute_default_level);
+ * _level names the level. docs/ibl.md has the measured error of each choice. */
+#define SL_IRRADIANCE_BRUTE_TEXELS (256 * 128)
 bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err);
+bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, sl_error *err);
+int sl_irradiance_brute_default_level(const sl_env *env);
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err);
+/* n unit length; the result is clamped at 0 (SH9 can ring below it; NaN also gives 0). */
 vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n);
 void sl_irradiance_free(sl_irradiance *irr);
 

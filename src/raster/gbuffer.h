@@ -15,6 +15,7 @@
 
 #include "../core/error.h"
 #include "../core/glsl.h"
+#include "../core/image.h"
 
 typedef struct {
     vec3 position; /* world space */
@@ -31,5 +32,29 @@ typedef struct {
 } sl_gbuffer;
 
 static inline bool sl_gbuffer_covered(const sl_gbuffer_texel *t) { return t->depth < 1.0f; }
+static inline sl_gbuffer_texel *sl_gbuffer_at(const sl_gbuffer *gb, int x, int y)
+{
+    return gb->texels + (size_t)y * (size_t)gb->width + (size_t)x;
+}
+
+/* Allocate for width x height (no-op when the size is unchanged; contents undefined
+ * until cleared). An empty {0} sl_gbuffer is a valid start. */
+bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err);
+/* Per frame: every field 0, depth 1. */
+void sl_gbuffer_clear(sl_gbuffer *gb);
+void sl_gbuffer_free(sl_gbuffer *gb);
+
+/* AOVs (gbuffer_io.c), one PFM per channel group, shown upright by a PFM viewer:
+ * position.pfm, normal.pfm, view.pfm (normalize(eye - position), 0 where empty),
+ * kd.pfm, ks.pfm (RGB), alpha.pfm, depth.pfm, mask.pfm (1 where covered). */
+bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err);
+/* The reverse (position, normal, kd, ks, alpha, depth, mask; view is derived, not read).
+ * Resizes gb to the files' size; a mask that disagrees with depth < 1 is an error. */
+bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);
+/* One AOV file as written: negative values kept (sl_image_read_pfm repairs them to 0,
+ * right for radiance, wrong for positions, normals and view vectors); NaN or Inf refused. */
+bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err);
+/* Debug view: normal * 0.5 + 0.5 as RGB, row 0 = top, 0 where empty. Allocates img. */
+bool sl_gbuffer_normal_image(const sl_gbuffer *gb, sl_image *img, sl_error *err);
 
 #endif

@@ -11,6 +11,7 @@
 #define SL_SCENE_H
 
 #include <stdbool.h>
+#include <stddef.h>
 #include <stdint.h>
 
 #include "../core/error.h"
@@ -71,6 +72,15 @@ typedef struct {
     float contrast;     /* c in the tone map exponent c/2.2 */
 } sl_render_settings;
 
+/* Where each of scene->meshes came from: an OBJ file or a built-in shape. Objects naming the
+ * same source share one mesh. */
+typedef enum { SL_MESH_OBJ, SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX } sl_mesh_kind;
+typedef struct {
+    sl_mesh_kind kind;
+    char path[SL_PATH_MAX]; /* SL_MESH_OBJ: resolved file path; "" otherwise */
+    int slices, stacks;     /* SL_MESH_SPHERE: tessellation; 0 otherwise */
+} sl_mesh_source;
+
 typedef struct {
     char path[SL_PATH_MAX]; /* the scene file, as given */
     sl_camera camera;
@@ -84,18 +94,24 @@ typedef struct {
     int object_count;
     sl_point_light *lights;
     int light_count;
+    sl_mesh_source *mesh_sources; /* mesh_count entries, parallel to meshes */
 } sl_scene;
 
 /* Load a scene file and every mesh it names. On failure the scene is empty and
  * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`. */
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err);
-/* Parse scene JSON from memory; `base_dir` resolves relative paths ("" = cwd).
- * With `load_meshes` false, OBJ files are not opened (what the fuzz target uses). */
+/* Parse scene JSON from memory; `base_dir` resolves relative paths ("" or NULL = cwd); `name`
+ * starts every error message. With `load_meshes` false no geometry is built: OBJ files are not
+ * opened and shapes are not tessellated, every mesh is empty (0 vertices) and only
+ * mesh_sources says what it would be (what the fuzz target and most tests use).
+ * `scene` is overwritten (not freed first); on failure it is left empty. */
 bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
                     sl_scene *scene, sl_error *err);
+/* Frees everything and zeroes the scene; safe on a zeroed or partially built scene. */
 void sl_scene_free(sl_scene *scene);
 
-/* World-space bounds of all objects; false when the scene has no geometry. */
+/* World-space bounds of all objects (every vertex transformed); false when the scene has no
+ * geometry (no objects, or meshes not loaded). */
 bool sl_scene_bounds(const sl_scene *scene, vec3 *lo, vec3 *hi);
 
 /* Meshes (mesh.c, obj.c, shapes.c). */
@@ -105,7 +121,9 @@ bool sl_mesh_parse_obj(const char *text, size_t size, const char *name, sl_mesh 
 bool sl_mesh_validate(const sl_mesh *mesh, const char *name, sl_error *err);
 void sl_mesh_compute_normals(sl_mesh *mesh); /* angle-weighted vertex normals */
 void sl_mesh_free(sl_mesh *mesh);
-/* Built-in shapes, unit sized and centred at the origin; `detail` = subdivisions. */
+/* Built-in shapes, unit sized and centred at the origin, counter-clockwise front faces seen from
+ * outside, texture coordinates in [0,1]^2. The sphere has poles on +-Z, `slices` (3..1024)
+ * around Z and `stacks` (2..512) from pole to pole. */
 bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err); /* radius 1 */
 bool sl_mesh_plane(sl_mesh *mesh, sl_error *err);  /* [-1,1]^2 at z = 0, normal +Z */
 bool sl_mesh_box(sl_mesh *mesh, sl_error *err);    /* [-1,1]^3, flat normals per face */

@@ -1,0 +1,234 @@
+/* raster.c - bench_raster: rasterizer throughput at 1920x1080 (not a test).
+ *
+ * Two workloads, both through the built-in G-buffer pair, each frame = clear + draw:
+ *   tris  a UV sphere of about a million small triangles (1000 x 500) filling most of
+ *         the frame, both faces drawn: setup- and binning-bound. Reported as triangles
+ *         submitted per second.
+ *   fill  ten screen-sized quads at different depths drawn in alternating depth order
+ *         (overdraw 10, about half the fragments pass the LESS test): tile-bound.
+ *         Reported as depth-tested fragments per second.
+ * For every tile size of the sweep and every thread count, the median of --frames frames
+ * (after one warm-up frame). Then the speed-up of the last thread count over the first,
+ * beside the speed-up of a control: a trivially parallel loop with no memory traffic,
+ * run before and after. On a shared machine the control says how much parallelism was
+ * actually available; the rasterizer's efficiency is its speed-up over the control's.
+ *
+ * usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] [--size 1920x1080]
+ *                     [--slices 1000] */
+#include <omp.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/timer.h"
+#include "raster/raster.h"
+
+#define MAX_LIST 8
+
+static int parse_list(const char *s, int *out)
+{
+    int n = 0;
+    while (*s && n < MAX_LIST) {
+        char *end;
+        long v = strtol(s, &end, 10);
+        if (end == s || v <= 0)
+            return 0;
+        out[n++] = (int)v;
+        s = *end == ',' ? end + 1 : end;
+    }
+    return n;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+/* UV sphere, counter-clockwise from outside, shared pole vertices. */
+static bool make_sphere(sl_mesh *m, int slices, int stacks)
+{
+    m->vertex_count = slices * (stacks - 1) + 2;
+    m->triangle_count = 2 * slices * (stacks - 1);
+    m->positions = malloc((size_t)m->vertex_count * sizeof(vec3));
+    m->normals = malloc((size_t)m->vertex_count * sizeof(vec3));
+    m->indices = malloc((size_t)m->triangle_count * 3 * sizeof(uint32_t));
+    if (!m->positions || !m->normals || !m->indices)
+        return false;
+    for (int j = 1; j < stacks; j++)
+        for (int i = 0; i < slices; i++) {
+            float th = SL_PI * (float)j / (float)stacks, ph = 2.0f * SL_PI * (float)i / (float)slices;
+            m->positions[(j - 1) * slices + i] = vec3(sinf(th) * cosf(ph), sinf(th) * sinf(ph), cosf(th));
+        }
+    uint32_t north = (uint32_t)(m->vertex_count - 2), south = (uint32_t)(m->vertex_count - 1);
+    m->positions[north] = vec3(0, 0, 1);
+    m->positions[south] = vec3(0, 0, -1);
+    for (int i = 0; i < m->vertex_count; i++)
+        m->normals[i] = m->positions[i];
+    uint32_t *t = m->indices;
+    for (int i = 0; i < slices; i++) {
+        uint32_t a = (uint32_t)i, b = (uint32_t)((i + 1) % slices);
+        *t++ = north, *t++ = a, *t++ = b;
+        uint32_t la = (uint32_t)((stacks - 2) * slices) + a, lb = (uint32_t)((stacks - 2) * slices) + b;
+        *t++ = south, *t++ = lb, *t++ = la;
+    }
+    for (int j = 0; j < stacks - 2; j++)
+        for (int i = 0; i < slices; i++) {
+            uint32_t a = (uint32_t)(j * slices + i), b = (uint32_t)(j * slices + (i + 1) % slices);
+            uint32_t c = a + (uint32_t)slices, d = b + (uint32_t)slices;
+            *t++ = a, *t++ = c, *t++ = d;
+            *t++ = a, *t++ = d, *t++ = b;
+        }
+    return true;
+}
+
+typedef struct {
+    double ms;              /* median frame time */
+    sl_raster_stats stats;  /* of one frame */
+} result;
+
+/* Median frame time of drawing `scene` with `threads` and `tile`. */
+static bool run(const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, int threads, int tile, int frames,
+                result *res)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile}, &err);
+    sl_raster *rs = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true}, &err);
+    if (!r || !rs) {
+        fprintf(stderr, "bench_raster: %s\n", err.msg);
+        return false;
+    }
+    bool ok = sl_raster_scene(rs, scene, cam, gb, &err); /* warm-up, with counters */
+    res->stats = sl_raster_get_stats(rs);
+    double *t = calloc((size_t)frames, sizeof *t);
+    for (int f = 0; ok && t && f < frames; f++) {
+        double t0 = sl_now_seconds();
+        ok = sl_raster_scene(r, scene, cam, gb, &err);
+        t[f] = (sl_now_seconds() - t0) * 1000.0;
+    }
+    if (!ok || !t)
+        fprintf(stderr, "bench_raster: %s\n", t ? err.msg : "out of memory");
+    if (ok && t) {
+        qsort(t, (size_t)frames, sizeof *t, cmp_double);
+        res->ms = t[frames / 2];
+    }
+    free(t);
+    sl_raster_destroy(r);
+    sl_raster_destroy(rs);
+    return ok && t;
+}
+
+/* The control: milliseconds (median of 3) of a compute-only loop on `threads` threads. */
+static double control_ms(int threads)
+{
+    double t[3];
+    for (int rep = 0; rep < 3; rep++) {
+        double t0 = sl_now_seconds(), sum = 0.0;
+#pragma omp parallel for schedule(static) num_threads(threads) reduction(+ : sum)
+        for (long i = 0; i < 100000000L; i++)
+            sum += (double)(i & 7) * 1e-9;
+        t[rep] = (sl_now_seconds() - t0) * 1000.0 + (sum < 0.0 ? 1.0 : 0.0);
+    }
+    qsort(t, 3, sizeof t[0], cmp_double);
+    return t[1];
+}
+
+int main(int argc, char **argv)
+{
+    int threads[MAX_LIST] = {1, 2}, nthreads = 2;
+    int tiles[MAX_LIST] = {16, 32, 64, 128}, ntiles = 4;
+    int frames = 5, width = 1920, height = 1080, slices = 1000;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        bool ok = v != NULL;
+        if (ok && !strcmp(a, "--threads"))
+            ok = (nthreads = parse_list(v, threads)) > 0;
+        else if (ok && (!strcmp(a, "--tiles") || !strcmp(a, "--tile")))
+            ok = (ntiles = parse_list(v, tiles)) > 0;
+        else if (ok && !strcmp(a, "--frames"))
+            ok = (frames = atoi(v)) > 0;
+        else if (ok && !strcmp(a, "--slices"))
+            ok = (slices = atoi(v)) >= 8;
+        else if (ok && !strcmp(a, "--size"))
+            ok = sscanf(v, "%dx%d", &width, &height) == 2;
+        else
+            ok = false;
+        if (!ok) {
+            fprintf(stderr, "usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] "
+                            "[--size 1920x1080] [--slices 1000]\n");
+            return 2;
+        }
+        i++;
+    }
+
+    /* tris: the sphere, 4 units away, filling about 60% of the frame height */
+    sl_mesh sphere = {0};
+    if (!make_sphere(&sphere, slices, slices / 2)) {
+        fprintf(stderr, "bench_raster: out of memory\n");
+        return 1;
+    }
+    sl_material mat = {"grey", {0.5f, 0.5f, 0.5f}, {0.04f, 0.04f, 0.04f}, 50.0f};
+    sl_object sphere_obj = {"sphere", 0, 0, mat4_identity()};
+    sl_scene tris = {.meshes = &sphere, .mesh_count = 1, .materials = &mat, .material_count = 1,
+                     .objects = &sphere_obj, .object_count = 1};
+    sl_camera cam = {.eye = {0, -3.2f, 0.3f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 45,
+                     .znear = 0.1f, .zfar = 20};
+
+    /* fill: quads at y = -1 + 0.2 k (k = 0 nearest) facing the camera, wider than the frustum,
+     * drawn as k = 9 7 5 3 1 8 6 4 2 0: the odd layers back to front (all pass), then the
+     * even ones (only k = 0 passes in front of k = 1): 6 of 10 fragments pass */
+    static vec3 qpos[] = {{-3, 0, -3}, {3, 0, -3}, {3, 0, 3}, {-3, 0, 3}};
+    static vec3 qnrm[] = {{0, -1, 0}, {0, -1, 0}, {0, -1, 0}, {0, -1, 0}};
+    static uint32_t qidx[] = {0, 1, 2, 0, 2, 3};
+    sl_mesh quad = {.vertex_count = 4, .triangle_count = 2, .positions = qpos, .normals = qnrm, .indices = qidx};
+    sl_object layers[10];
+    for (int i = 0; i < 10; i++) {
+        static const int order[10] = {9, 7, 5, 3, 1, 8, 6, 4, 2, 0};
+        int k = order[i];
+        layers[i] = (sl_object){"layer", 0, 0, mat4_translate(vec3(0, -1.0f + 0.2f * (float)k, 0))};
+    }
+    sl_scene fill = {.meshes = &quad, .mesh_count = 1, .materials = &mat, .material_count = 1, .objects = layers,
+                     .object_count = 10};
+
+    sl_gbuffer gb = {0};
+    sl_error err = {0};
+    if (!sl_gbuffer_resize(&gb, width, height, &err)) {
+        fprintf(stderr, "bench_raster: %s\n", err.msg);
+        return 1;
+    }
+    printf("bench_raster: %dx%d, %d frames (median), sphere %d triangles, fill 10 layers\n", width, height, frames,
+           sphere.triangle_count);
+    int t_first = threads[0], t_last = threads[nthreads - 1];
+    double control_before = control_ms(t_first) / control_ms(t_last);
+    printf("%5s %7s | %9s %9s | %9s %10s %8s\n", "tile", "threads", "tris ms", "Mtri/s", "fill ms", "Mfrag/s",
+           "passed");
+    double best_ms[2][MAX_LIST][MAX_LIST];
+    for (int ti = 0; ti < ntiles; ti++) {
+        for (int hi = 0; hi < nthreads; hi++) {
+            result a, b;
+            if (!run(&tris, &cam, &gb, threads[hi], tiles[ti], frames, &a) ||
+                !run(&fill, &cam, &gb, threads[hi], tiles[ti], frames, &b))
+                return 1;
+            best_ms[0][ti][hi] = a.ms;
+            best_ms[1][ti][hi] = b.ms;
+            printf("%5d %7d | %9.1f %9.2f | %9.1f %10.1f %7.0f%%\n", tiles[ti], threads[hi], a.ms,
+                   (double)a.stats.triangles_in / (a.ms * 1e3), b.ms,
+                   (double)b.stats.fragments_tested / (b.ms * 1e3),
+                   100.0 * (double)b.stats.fragments_shaded / (double)b.stats.fragments_tested);
+            fflush(stdout);
+        }
+    }
+    if (nthreads > 1) {
+        double control_after = control_ms(t_first) / control_ms(t_last);
+        printf("speed-up %d -> %d threads (control loop: %.2fx before, %.2fx after):\n", t_first, t_last,
+               control_before, control_after);
+        for (int ti = 0; ti < ntiles; ti++)
+            printf("  tile %3d: tris %.2fx, fill %.2fx\n", tiles[ti], best_ms[0][ti][0] / best_ms[0][ti][nthreads - 1],
+                   best_ms[1][ti][0] / best_ms[1][ti][nthreads - 1]);
+    }
+    sl_gbuffer_free(&gb);
+    free(sphere.positions);
+    free(sphere.normals);
+    free(sphere.indices);
+    return 0;
+}

@@ -1,0 +1,29 @@
+/* fuzz_scene.c - libFuzzer target for the scene JSON parser (from memory, meshes not loaded):
+ * any bytes must give a scene or an error naming the file, never a crash, hang or leak. */
+#include <stddef.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    sl_scene scene;
+    sl_error err;
+    if (sl_scene_parse((const char *)data, size, "fuzz.json", "base", false, &scene, &err)) {
+        /* Accepted scenes keep their invariants: indices in range, settings in range. */
+        for (int i = 0; i < scene.object_count; i++)
+            if (scene.objects[i].mesh < 0 || scene.objects[i].mesh >= scene.mesh_count ||
+                scene.objects[i].material < 0 || scene.objects[i].material >= scene.material_count)
+                abort();
+        if (scene.settings.samples < 1 || scene.settings.samples > 1024 || !(scene.camera.znear > 0.0f))
+            abort();
+        sl_scene_free(&scene);
+    } else if (strncmp(err.msg, "fuzz.json", 9) != 0) {
+        abort(); /* every error names the file */
+    }
+    return 0;
+}

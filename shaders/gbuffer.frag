@@ -1,0 +1,27 @@
+// gbuffer.frag - the G-buffer pass's fragment shader (GLSL twin of sl_gbuffer_frag in
+// src/raster/gbuffer_shader.c): writes what the lighting pass reads and nothing else.
+// Targets: 0 world position (w = 1 marks a covered pixel), 1 unit world normal, 2 Kd, 3 Ks + alpha.
+// Depth is the fixed-function window depth (gl_FragCoord.z) in a DEPTH_COMPONENT32F target.
+// An interpolated normal of zero length (opposite vertex normals) would make normalize() NaN;
+// +Z is written instead, as the C twin does.
+#version 330 core
+
+in vec3 vWorldPos;
+in vec3 vNormal;
+
+uniform vec3 uKd;
+uniform vec3 uKs;
+uniform float uAlpha;
+
+layout(location = 0) out vec4 oPosition;
+layout(location = 1) out vec4 oNormal;
+layout(location = 2) out vec4 oKd;
+layout(location = 3) out vec4 oKsAlpha;
+
+void main()
+{
+    oPosition = vec4(vWorldPos, 1.0);
+    oNormal = vec4(dot(vNormal, vNormal) > 1e-30 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0), 0.0);
+    oKd = vec4(uKd, 0.0);
+    oKsAlpha = vec4(uKs, uAlpha);
+}

@@ -1,0 +1,342 @@
+#version 330 core
+// lighting.frag - the deferred lighting pass of softlight: reads the G-buffer, integrates
+// image-based lighting (diffuse from irradiance, specular by importance-sampled Monte Carlo,
+// specification eq. (1)-(4)) plus point lights, and writes LINEAR radiance (no tone map).
+//
+// src/shading/lighting.c is a line-by-line C port of this file: same function names, same
+// variable names, same order. Change one, change the other (docs/lighting.md).
+//
+// Draw: one full-screen triangle (or quad); the target is RGBA32F the size of the G-buffer.
+// Everything is computed in the ENVIRONMENT's frame: N and V are rotated once by
+// uEnvRotation, and since that rotation is about +Z it commutes with the sampling frame
+// A = normalize(Z x R) (rotating R about Z rotates A the same way), so dot products, the
+// sample pattern and the lookups are those of the world-space formulation.
+//
+// ---- Uniforms (the host side writes exactly these) ----
+// G-buffer, read with texelFetch(sampler, ivec2(gl_FragCoord.xy), 0); window coordinates, row 0
+// at the bottom, the size of the target:
+//   sampler2D uPosition   .xyz = world-space position (RGB32F or RGBA32F)
+//   sampler2D uNormal     .xyz = world-space normal (need not be unit; zero is handled)
+//   sampler2D uKd         .rgb = linear diffuse albedo Kd
+//   sampler2D uKsAlpha    .rgb = Ks (Schlick F0, linear), .a = alpha (Phong exponent >= 0)
+//   sampler2D uDepth      .r   = window depth; >= 1.0 means "no geometry" (the clear value).
+//                               A DEPTH_COMPONENT32F texture with TEXTURE_COMPARE_MODE = NONE
+//                               or an R32F copy both work.
+// Environment:
+//   sampler2D uEnv        lat-long HDR radiance (RGB32F/RGB16F), full mip chain by
+//                         glGenerateMipmap, MIN_FILTER = LINEAR_MIPMAP_LINEAR, MAG_FILTER =
+//                         LINEAR, WRAP_S = REPEAT, WRAP_T = CLAMP_TO_EDGE. Upload the image
+//                         rows top first (row 0 = top = v 0): then t = v, no flip.
+//   float uEnvMaxLod      number of mip levels - 1 (the explicit clamp of every lod)
+//   float uLodBase        0.5 * log2(W * H / N), W x H the size of level 0, N the sample count
+//   float uSinThetaMin    sin(pi / (2 H)): the distortion factor's floor (centre of row 0)
+//   mat3  uEnvRotation    world -> environment directions (rotation about +Z by -rotation)
+//   float uEnvIntensity   multiplies every environment radiance (background, diffuse, specular)
+// Irradiance (diffuse term, Kd / pi * E(N)):
+//   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
+//                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP)
+//   vec3  uSH[9]              SH9 coefficients already multiplied by the cosine lobe's A_l,
+//                             order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22
+//   sampler2D uIrradianceMap  lat-long irradiance E, LINEAR filtering, REPEAT s, CLAMP t, lod 0
+// Samples (specification "Building a low-discrepancy list", with a std140-safe layout, ERRATA):
+//   uniform block HammersleyBlock (std140): float N at offset 0; vec4 hammersley[512] at
+//   offset 16, element k/2 holding pair k in .xy (k even) or .zw (k odd). 8208 bytes.
+//   The C struct sl_hammersley_block (src/shading/lighting.h) is this layout byte for byte.
+// Camera:
+//   vec3  uEye            world-space eye position (V = normalize(uEye - P))
+//   mat4  uInvViewProj    inverse of projection * view (background directions)
+//   vec2  uViewport       target size in pixels (width, height)
+// Point lights (no loop runs when uLightCount is 0):
+//   int   uLightCount              0 .. 16
+//   vec3  uLightPosition[16]       world space
+//   vec3  uLightColor[16]          linear RGB
+//   float uLightIntensity[16]      radiance added = f * color * intensity / d^2 * max(N.L, 0)
+// Options (the values of the C enums in src/shading/lighting.h, already resolved):
+//   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3
+//   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
+//   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
+//   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w))
+//   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
+// Output: location 0, vec4(linear radiance, a) with a = 1, or vec4(0) where a non-finite value
+// was repaired (the host can count pixels with a = 0; the C pass counts them in its stats).
+
+uniform sampler2D uPosition;
+uniform sampler2D uNormal;
+uniform sampler2D uKd;
+uniform sampler2D uKsAlpha;
+uniform sampler2D uDepth;
+
+uniform sampler2D uEnv;
+uniform float uEnvMaxLod;
+uniform float uLodBase;
+uniform float uSinThetaMin;
+uniform mat3 uEnvRotation;
+uniform float uEnvIntensity;
+
+uniform int uIrradianceMethod;
+uniform vec3 uSH[9];
+uniform sampler2D uIrradianceMap;
+
+layout(std140) uniform HammersleyBlock {
+    float N;
+    vec4 hammersley[512];
+} uHammersley;
+
+uniform vec3 uEye;
+uniform mat4 uInvViewProj;
+uniform vec2 uViewport;
+
+const int MAX_LIGHTS = 16;
+uniform int uLightCount;
+uniform vec3 uLightPosition[MAX_LIGHTS];
+uniform vec3 uLightColor[MAX_LIGHTS];
+uniform float uLightIntensity[MAX_LIGHTS];
+
+uniform int uLodRule;
+uniform int uDistortion;
+uniform int uGTerm;
+uniform int uEstimator;
+uniform int uDiffuse;
+uniform int uSpecular;
+uniform int uPointLights;
+
+layout(location = 0) out vec4 fragColor;
+
+const float PI = 3.14159265358979;
+const int LOD_NONE = 1;
+const int LOD_SPEC = 2;
+const int LOD_SPEC_D4 = 3;
+const int LOD_GEMS = 4;
+const int GTERM_INV_LH2 = 1;
+const int ESTIMATOR_CONSISTENT = 2;
+
+// Numerical guards (docs/lighting.md, "Hard cases"):
+const float MIN_NDOTV = 0.01;      // normals facing away from the eye are bent to N.V = 0.01
+const float MIN_LDOTH = 1e-3;      // floor of L.H in 1/(L.H)^2
+const float POLE_EPS = 1e-6;       // |R.xy|^2 below this: Z x R vanishes, use X x R instead
+const float TINY = 1e-30;          // floor of pow() and log2() arguments
+const float MAX_ALPHA = 1e7;       // alpha beyond this is a mirror to float precision
+const float MIN_LIGHT_D2 = 1e-8;   // a light closer than 1e-4 has no defined direction
+
+// The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
+// GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
+// and z is clamped before acos (a normalised z can round to 1 + 1 ulp).
+vec2 sl_dir_to_uv(vec3 d)
+{
+    float phi = (d.x == 0.0 && d.y == 0.0) ? 0.0 : atan(d.y, d.x);
+    float u = 0.5 - phi / (2.0 * PI);
+    u = u < 1.0 ? u : u - 1.0;
+    u = u >= 0.0 ? u : 0.0;
+    float z = min(max(d.z, -1.0), 1.0);
+    return vec2(u, acos(z) / PI);
+}
+
+// Eq. (4) (ported in src/ibl/latlong.c).
+vec3 sl_uv_to_dir(vec2 uv)
+{
+    float phi = 2.0 * PI * (0.5 - uv.x);
+    float theta = PI * uv.y;
+    return vec3(cos(phi) * sin(theta), sin(phi) * sin(theta), cos(theta));
+}
+
+// D(H) = (alpha + 2) / (2 pi) (N.H)^alpha (brdf.h sl_brdf_D).
+float sl_brdf_D(float NdotH, float alpha)
+{
+    return (alpha + 2.0) / (2.0 * PI) * pow(max(NdotH, TINY), alpha);
+}
+
+// G(L, V, H) / ((L.N)(V.N)): 1/(L.H)^2 or 1 (brdf.h sl_brdf_G).
+float sl_brdf_G(float LdotH, int gterm)
+{
+    if (gterm == GTERM_INV_LH2) {
+        float LH = max(LdotH, MIN_LDOTH);
+        return 1.0 / (LH * LH);
+    }
+    return 1.0;
+}
+
+// Schlick: F = Ks + (1 - Ks)(1 - L.H)^5; 1 - L.H clamped at 0 (L.H rounds above 1).
+vec3 sl_brdf_F(vec3 Ks, float LdotH)
+{
+    float m = max(1.0 - LdotH, 0.0);
+    float m2 = m * m;
+    return Ks + (vec3(1.0) - Ks) * (m2 * m2 * m);
+}
+
+// Pair k of the Hammersley set: two pairs per vec4 (std140).
+vec2 hammersley_point(int k)
+{
+    vec4 h = uHammersley.hammersley[k >> 1];
+    return ((k & 1) == 0) ? h.xy : h.zw;
+}
+
+// Specification steps 2-3: skew (xi1, xi2) to the lobe about +Z,
+// (u, v) = (xi1, acos(xi2^(1/(alpha+1))) / pi), then eq. (4).
+vec3 skewed_sample(vec2 xi, float alpha)
+{
+    vec2 uv = vec2(xi.x, acos(clamp(pow(xi.y, 1.0 / (alpha + 1.0)), -1.0, 1.0)) / PI);
+    return sl_uv_to_dir(uv);
+}
+
+// Density of the drawn direction w: p(w) = (alpha + 1) / (2 pi) (w.R)^alpha, with
+// (w.R)^alpha = xi2^(alpha / (alpha + 1)) exactly (w.R = xi2^(1/(alpha+1))); the xi form does not
+// underflow at large alpha as pow(w.R, alpha) does.
+float sample_pdf(vec2 xi, float alpha)
+{
+    return (alpha + 1.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 1.0));
+}
+
+// The mip level of one sample (docs/lighting.md "Mip level"). d is the lat-long texel's solid
+// angle relative to the mean 4 pi / (W H): (pi/2) sin(theta), floored at row 0's centre.
+float mip_level(float D, float pdf, vec3 w)
+{
+    if (uLodRule == LOD_NONE)
+        return 0.0;
+    float d = 1.0;
+    if (uDistortion != 0)
+        d = 0.5 * PI * max(sqrt(max(1.0 - w.z * w.z, 0.0)), uSinThetaMin);
+    float lod;
+    if (uLodRule == LOD_SPEC)
+        lod = uLodBase - 0.5 * log2(max(D * d, TINY));
+    else if (uLodRule == LOD_SPEC_D4)
+        lod = uLodBase - 0.5 * log2(max(D / 4.0 * d, TINY));
+    else
+        lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY)) + 1.0;
+    return clamp(lod, 0.0, uEnvMaxLod);
+}
+
+// Unit normal, bent toward the eye where the interpolated normal faces away:
+// N + (MIN_NDOTV - N.V) V has N.V = MIN_NDOTV before normalising. A zero normal becomes V.
+vec3 facing_normal(vec3 N, vec3 V)
+{
+    float len2 = dot(N, N);
+    if (!(len2 > TINY))
+        return V;
+    N = N * (1.0 / sqrt(len2));
+    float NdotV = dot(N, V);
+    if (NdotV < MIN_NDOTV)
+        N = normalize(N + (MIN_NDOTV - NdotV) * V);
+    return N;
+}
+
+// Irradiance E(N) of the (unscaled) environment, N in environment space (ported in
+// src/ibl/irradiance.c, sl_irradiance_eval): SH9 or the map, clamped at 0 (SH9 rings below 0
+// opposite a strong sun).
+vec3 irradiance(vec3 N)
+{
+    vec3 e;
+    if (uIrradianceMethod == 0) {
+        const float k0 = 0.282094792, k1 = 0.488602512, k2 = 1.092548431, k3 = 0.315391565,
+                    k4 = 0.546274215;
+        float x = N.x, y = N.y, z = N.z;
+        e = uSH[0] * k0;
+        e = e + uSH[1] * (k1 * y);
+        e = e + uSH[2] * (k1 * z);
+        e = e + uSH[3] * (k1 * x);
+        e = e + uSH[4] * (k2 * x * y);
+        e = e + uSH[5] * (k2 * y * z);
+        e = e + uSH[6] * (k3 * (3.0 * z * z - 1.0));
+        e = e + uSH[7] * (k2 * x * z);
+        e = e + uSH[8] * (k4 * (x * x - y * y));
+    } else {
+        e = textureLod(uIrradianceMap, sl_dir_to_uv(N), 0.0).rgb;
+    }
+    return max(e, vec3(0.0));
+}
+
+// Specular IBL, eq. (3): N, V unit in environment space, N.V >= MIN_NDOTV.
+vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    float NdotV = dot(N, V);
+    vec3 R = normalize(2.0 * NdotV * N - V);
+    vec3 axis = (R.x * R.x + R.y * R.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
+    vec3 A = normalize(cross(axis, R));
+    vec3 B = normalize(cross(R, A));
+    int n = int(uHammersley.N);
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < n; k++) {
+        vec2 xi = hammersley_point(k);
+        vec3 L = skewed_sample(xi, alpha);
+        float pdf = sample_pdf(xi, alpha);
+        vec3 w = normalize(L.x * A + L.y * B + L.z * R);
+        float wN = dot(w, N);
+        if (wN <= 0.0)
+            continue;
+        vec3 H = normalize(w + V);
+        float NdotH = dot(N, H);
+        float LdotH = dot(w, H);
+        float D = sl_brdf_D(NdotH, alpha);
+        vec3 F = sl_brdf_F(Ks, LdotH);
+        float G = sl_brdf_G(LdotH, uGTerm);
+        float lod = mip_level(D, pdf, w);
+        vec3 Li = textureLod(uEnv, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        float weight = G * wN / 4.0;
+        if (uEstimator == ESTIMATOR_CONSISTENT)
+            weight = weight * D / pdf;
+        vec3 c = F * Li * weight;
+        sum = sum + c;
+    }
+    return sum * (1.0 / float(max(n, 1)));
+}
+
+// One point light with the full BRDF (2): f * color * intensity / d^2 * max(N.L, 0); world space.
+vec3 point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
+{
+    vec3 toLight = uLightPosition[i] - P;
+    float d2 = dot(toLight, toLight);
+    if (d2 < MIN_LIGHT_D2)
+        return vec3(0.0);
+    vec3 L = toLight * (1.0 / sqrt(d2));
+    float NdotL = dot(N, L);
+    if (NdotL <= 0.0)
+        return vec3(0.0);
+    vec3 H = normalize(L + V);
+    float LdotH = dot(L, H);
+    vec3 f = vec3(0.0);
+    if (uDiffuse != 0)
+        f = f + Kd * (1.0 / PI);
+    if (uSpecular != 0)
+        f = f + sl_brdf_F(Ks, LdotH) * (sl_brdf_D(dot(N, H), alpha) * sl_brdf_G(LdotH, uGTerm) / 4.0);
+    return f * uLightColor[i] * (uLightIntensity[i] / d2 * NdotL);
+}
+
+// A pixel with no geometry shows the environment at lod 0 in the view direction: the ray
+// through the pixel centre from the near to the far plane.
+vec3 background(vec2 fragCoord)
+{
+    vec2 ndc = 2.0 * fragCoord / uViewport - 1.0;
+    vec4 nearP = uInvViewProj * vec4(ndc, -1.0, 1.0);
+    vec4 farP = uInvViewProj * vec4(ndc, 1.0, 1.0);
+    vec3 d = normalize(farP.xyz * (1.0 / farP.w) - nearP.xyz * (1.0 / nearP.w));
+    return textureLod(uEnv, sl_dir_to_uv(uEnvRotation * d), 0.0).rgb * uEnvIntensity;
+}
+
+void main()
+{
+    ivec2 pixel = ivec2(gl_FragCoord.xy);
+    float depth = texelFetch(uDepth, pixel, 0).r;
+    vec3 color = vec3(0.0);
+    if (depth >= 1.0) {
+        color = background(gl_FragCoord.xy);
+    } else {
+        vec3 P = texelFetch(uPosition, pixel, 0).xyz;
+        vec3 Kd = texelFetch(uKd, pixel, 0).rgb;
+        vec4 KsAlpha = texelFetch(uKsAlpha, pixel, 0);
+        vec3 Ks = KsAlpha.rgb;
+        float alpha = clamp(KsAlpha.a, 0.0, MAX_ALPHA);
+        vec3 V = normalize(uEye - P);
+        vec3 N = facing_normal(texelFetch(uNormal, pixel, 0).xyz, V);
+        vec3 Nenv = uEnvRotation * N;
+        vec3 Venv = uEnvRotation * V;
+        if (uDiffuse != 0)
+            color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
+        if (uSpecular != 0)
+            color = color + specular_ibl(Nenv, Venv, Ks, alpha);
+        if (uPointLights != 0) {
+            for (int i = 0; i < uLightCount; i++)
+                color = color + point_light(i, P, N, V, Kd, Ks, alpha);
+        }
+    }
+    bool finite = !any(isnan(color)) && !any(isinf(color));
+    fragColor = finite ? vec4(color, 1.0) : vec4(0.0);
+}

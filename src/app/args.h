@@ -1,0 +1,44 @@
+/* args.h - a small table-driven command-line parser shared by every softlight command
+ * (and by softlight-gl), so options, ranges and error lines are the same everywhere.
+ *
+ * Each command lists its options once, as an sl_arg table; parsing checks types and ranges and
+ * turns anything unknown, missing or malformed into one line in sl_error. The same table prints
+ * --help, so the help text cannot drift from what is accepted. */
+#ifndef SL_ARGS_H
+#define SL_ARGS_H
+
+#include <stdbool.h>
+#include <stdio.h>
+
+#include "core/error.h"
+
+typedef enum {
+    SL_ARG_FLAG,   /* bool, no value */
+    SL_ARG_INT,    /* int within [min, max] */
+    SL_ARG_FLOAT,  /* finite float within [min, max] */
+    SL_ARG_STRING, /* const char * (points into argv) */
+    SL_ARG_SIZE,   /* "WxH" into int[2], each within [min, max] */
+    SL_ARG_PAIR,   /* "X,Y" into int[2], each within [min, max] */
+    SL_ARG_CHOICE, /* one of `choices` ("a|b|c"), stored as its index (int) */
+} sl_arg_type;
+
+typedef struct {
+    const char *name;  /* "--samples" */
+    const char *alias; /* "-o" or NULL */
+    sl_arg_type type;
+    void *value;       /* where the parsed value goes; *seen is set for every option given */
+    double min, max;   /* for INT, FLOAT, SIZE, PAIR */
+    const char *choices; /* for CHOICE: "spec|spec-d4|paper" */
+    const char *metavar; /* "N", "FILE" */
+    const char *help;
+    bool *seen;        /* optional: set true when the option appears */
+} sl_arg;
+
+/* Parse argv[first..argc). Non-option words go to positional[] (at most max_positional).
+ * Returns false with one line in err for unknown options, missing or malformed values and
+ * out-of-range numbers, or too many positionals. "--help" sets *help and stops. */
+bool sl_args_parse(int argc, char **argv, int first, const sl_arg *table, int count, const char **positional,
+                   int max_positional, int *positional_count, bool *help, sl_error *err);
+void sl_args_print_help(FILE *out, const char *usage, const sl_arg *table, int count);
+
+#endif

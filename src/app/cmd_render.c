@@ -1,0 +1,159 @@
+/* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, and the G-buffer
+ * as PFM files with --aov. Prints the time each stage took. */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "commands.h"
+#include "render_options.h"
+#include "scene/scene.h"
+
+/* The PNG name when none is given: the scene's name in the current directory. */
+static void default_png_name(const char *scene_path, char *out, size_t size)
+{
+    const char *base = strrchr(scene_path, '/');
+    base = base ? base + 1 : scene_path;
+    size_t n = strcspn(base, ".");
+    snprintf(out, size, "%.*s.png", (int)n, base);
+}
+
+static bool make_dir(const char *dir, sl_error *err)
+{
+    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
+        return true;
+    return sl_fail(err, SL_ERR_IO, "%s: cannot create directory: %s", dir, strerror(errno));
+}
+
+static void warn_repairs(const char *path, const sl_image_repairs *rep)
+{
+    if (rep->nan_count || rep->inf_count || rep->negative_count)
+        fprintf(stderr, "softlight: warning: %s: replaced %ld NaN, %ld Inf and %ld negative texels by 0\n", path,
+                rep->nan_count, rep->inf_count, rep->negative_count);
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, compare_doubles);
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+/* Render `repeat` frames; r->timings then hold each stage's median, which is what
+ * bench/vs-gl compares with softlight-gl --time. */
+static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
+{
+    double raster[1000], shading[1000], tonemap[1000];
+    for (int i = 0; i < repeat; i++) {
+        if (!sl_renderer_frame(r, NULL, err))
+            return false;
+        raster[i] = r->timings.raster_ms;
+        shading[i] = r->timings.shading_ms;
+        tonemap[i] = r->timings.tonemap_ms;
+    }
+    r->timings.raster_ms = median(raster, repeat);
+    r->timings.shading_ms = median(shading, repeat);
+    r->timings.tonemap_ms = median(tonemap, repeat);
+    return true;
+}
+
+int cmd_render(int argc, char **argv)
+{
+    const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL;
+    bool quiet = false;
+    int repeat = 1;
+    sl_render_options ro;
+    sl_arg table[SL_RENDER_OPTION_COUNT + 7];
+    sl_render_options_table(&ro, table);
+    int n = SL_RENDER_OPTION_COUNT;
+    table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
+    table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
+    table[n++] = (sl_arg){"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "FILE.pfm", "linear radiance as float32 PFM", NULL};
+    table[n++] = (sl_arg){"--aov", NULL, SL_ARG_STRING, &aov, 0, 0, NULL, "DIR", "write the G-buffer channels as DIR/*.pfm", NULL};
+    table[n++] = (sl_arg){"--normals", NULL, SL_ARG_STRING, &normals, 0, 0, NULL, "FILE.png", "normal visualisation (n*0.5+0.5)", NULL};
+    table[n++] = (sl_arg){"--repeat", NULL, SL_ARG_INT, &repeat, 1, 1000, NULL, "N",
+                          "render N frames and report each stage's median time (for benchmarks)", NULL};
+    table[n++] = (sl_arg){"--quiet", "-q", SL_ARG_FLAG, &quiet, 0, 0, NULL, NULL, "print nothing but errors", NULL};
+
+    const char *positional[1];
+    int npos;
+    bool help;
+    sl_error err = {0};
+    if (!sl_args_parse(argc, argv, 2, table, n, positional, 1, &npos, &help, &err)) {
+        fprintf(stderr, "softlight render: %s\n", err.msg);
+        return 2;
+    }
+    if (help || npos != 1) {
+        sl_args_print_help(help ? stdout : stderr, "softlight render SCENE.json [-o out.png] [--hdr out.hdr] "
+                           "[--pfm out.pfm] [--aov DIR] [options]", table, n);
+        return help ? 0 : 2;
+    }
+    sl_render_desc desc;
+    if (!sl_render_options_desc(&ro, &desc, &err)) {
+        fprintf(stderr, "softlight render: %s\n", err.msg);
+        return 2;
+    }
+    char default_png[1024];
+    if (!png && !hdr && !pfm && !aov && !normals) {
+        default_png_name(positional[0], default_png, sizeof default_png);
+        png = default_png;
+    }
+
+    sl_scene scene;
+    if (!sl_scene_load(positional[0], &scene, &err)) {
+        fprintf(stderr, "softlight render: %s\n", err.msg);
+        return 2;
+    }
+    int status = 2;
+    sl_renderer r;
+    if (!sl_renderer_init(&r, &scene, &desc, &err))
+        goto done_scene;
+    warn_repairs(scene.environment.hdr_path, &r.env_repairs);
+    if (!render_frames(&r, repeat, &err))
+        goto done;
+    if (r.lighting_stats.nonfinite)
+        fprintf(stderr, "softlight render: warning: %lld pixels had NaN/Inf radiance (replaced by 0)\n",
+                (long long)r.lighting_stats.nonfinite);
+
+    if (png && !sl_image_write_png(png, &r.display, &err))
+        goto done;
+    if (hdr && !sl_image_write_hdr(hdr, &r.radiance, &err))
+        goto done;
+    if (pfm && !sl_image_write_pfm(pfm, &r.radiance, &err))
+        goto done;
+    if (aov && !(make_dir(aov, &err) && sl_gbuffer_write_aovs(&r.gbuffer, scene.camera.eye, aov, &err)))
+        goto done;
+    if (normals) {
+        sl_image img = {0};
+        bool ok = sl_gbuffer_normal_image(&r.gbuffer, &img, &err) && sl_image_write_png(normals, &img, &err);
+        sl_image_free(&img);
+        if (!ok)
+            goto done;
+    }
+    if (!quiet) {
+        const sl_lighting_options *l = &r.uniforms->options;
+        printf("softlight render: %s %dx%d N=%d lod=%s g=%s estimator=%s | raster %.1f ms, shading %.1f ms, "
+               "tone map %.1f ms (%d threads%s)\n",
+               positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
+               sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
+               r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
+        const char *outs[] = {png, hdr, pfm, aov, normals};
+        for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++)
+            if (outs[i])
+                printf("wrote %s\n", outs[i]);
+    }
+    status = 0;
+done:
+    sl_renderer_free(&r);
+done_scene:
+    if (status)
+        fprintf(stderr, "softlight render: %s\n", err.msg);
+    sl_scene_free(&scene);
+    return status;
+}

@@ -1,0 +1,73 @@
+/* cmd_trace.c - `softlight trace scene.json --pixel X,Y`: rasterize the frame, then run the C
+ * lighting shader for one pixel with a trace, printing every intermediate value. The traced
+ * code is the same function the lighting pass runs, so a breakpoint in sl_lighting_shade
+ * (gdb: `break sl_lighting_shade if x == X`) follows the same path. */
+#include <stdio.h>
+#include <stdlib.h>
+
+#include "commands.h"
+#include "render_options.h"
+#include "scene/scene.h"
+
+int cmd_trace(int argc, char **argv)
+{
+    int pixel[2] = {-1, -1};
+    sl_render_options ro;
+    sl_arg table[SL_RENDER_OPTION_COUNT + 1];
+    sl_render_options_table(&ro, table);
+    int n = SL_RENDER_OPTION_COUNT;
+    table[n++] = (sl_arg){"--pixel", "-p", SL_ARG_PAIR, pixel, 0, SL_RASTER_MAX_SIZE - 1, NULL, "X,Y",
+                          "the pixel to trace, (0,0) = top left as in the written image", NULL};
+    const char *positional[1];
+    int npos;
+    bool help;
+    sl_error err = {0};
+    if (!sl_args_parse(argc, argv, 2, table, n, positional, 1, &npos, &help, &err)) {
+        fprintf(stderr, "softlight trace: %s\n", err.msg);
+        return 2;
+    }
+    if (help || npos != 1 || pixel[0] < 0) {
+        if (!help)
+            fprintf(stderr, "softlight trace: needs a scene and --pixel X,Y\n");
+        sl_args_print_help(help ? stdout : stderr, "softlight trace SCENE.json --pixel X,Y [options]", table, n);
+        return help ? 0 : 2;
+    }
+    sl_render_desc desc;
+    if (!sl_render_options_desc(&ro, &desc, &err)) {
+        fprintf(stderr, "softlight trace: %s\n", err.msg);
+        return 2;
+    }
+    sl_scene scene;
+    if (!sl_scene_load(positional[0], &scene, &err)) {
+        fprintf(stderr, "softlight trace: %s\n", err.msg);
+        return 2;
+    }
+    int status = 2;
+    sl_renderer r;
+    sl_lighting_trace *trace = NULL;
+    if (!sl_renderer_init(&r, &scene, &desc, &err))
+        goto done_scene;
+    if (pixel[0] >= r.desc.width || pixel[1] >= r.desc.height) {
+        sl_fail(&err, SL_ERR_RANGE, "--pixel %d,%d is outside the %dx%d image", pixel[0], pixel[1], r.desc.width,
+                r.desc.height);
+        goto done;
+    }
+    trace = malloc(sizeof *trace);
+    if (!trace) {
+        sl_fail(&err, SL_ERR_MEMORY, "out of memory for the trace");
+        goto done;
+    }
+    if (!sl_renderer_raster(&r, NULL, &err) || !sl_renderer_prepare_lighting(&r, NULL, &err) ||
+        !sl_lighting_trace_pixel(r.uniforms, &r.gbuffer, pixel[0], pixel[1], trace, &err))
+        goto done;
+    sl_lighting_trace_print(stdout, trace);
+    status = 0;
+done:
+    free(trace);
+    sl_renderer_free(&r);
+done_scene:
+    if (status)
+        fprintf(stderr, "softlight trace: %s\n", err.msg);
+    sl_scene_free(&scene);
+    return status;
+}

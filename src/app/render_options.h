@@ -1,0 +1,29 @@
+/* render_options.h - the options every rendering command shares (render, trace, view, and
+ * softlight-gl), parsed from one table so the C and GL programs accept the same words. */
+#ifndef SL_RENDER_OPTIONS_H
+#define SL_RENDER_OPTIONS_H
+
+#include <stdbool.h>
+
+#include "args.h"
+#include "render/renderer.h"
+
+typedef struct {
+    int size[2];
+    int samples;
+    float exposure, contrast;
+    int lod, gterm, estimator, irradiance; /* choice index, -1 = not given */
+    bool distortion, srgb;
+    bool diffuse_only, specular_only, no_lights;
+    int threads, tile;
+} sl_render_options;
+
+#define SL_RENDER_OPTION_COUNT 15
+
+/* Fill `table` (SL_RENDER_OPTION_COUNT entries) to parse into `o`, which is reset to "not given". */
+void sl_render_options_table(sl_render_options *o, sl_arg *table);
+/* Turn parsed options into a renderer description (zero fields keep the scene's values).
+ * False when they contradict each other (--diffuse-only with --specular-only). */
+bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *desc, sl_error *err);
+
+#endif

@@ -1,0 +1,134 @@
+/* view_internal.h - the parts of `softlight view` shared between its files (not a public API;
+ * only src/app/cmd_view.c and src/app/view_*.c include it):
+ *   view_camera.c  the orbit camera (Z-up world, orbit about +Z around the target)
+ *   view_image.c   what the window shows: the tone-mapped frame, G-buffer channels, mip levels
+ *   view_script.c  scripted input (--script) turned into ordinary SDL events
+ *   view_hud.c     text: the heads-up display and the help overlay (SDL2_ttf)
+ * The camera and image parts need no SDL; the others only exist when SL_HAVE_SDL2 is set. */
+#ifndef SL_VIEW_INTERNAL_H
+#define SL_VIEW_INTERNAL_H
+
+#include <stdbool.h>
+#include <stdint.h>
+
+#include "core/error.h"
+#include "core/image.h"
+#include "render/renderer.h"
+#include "scene/scene.h"
+
+/* ---- view_camera.c ----
+ * The scene's camera is the home position and is rendered exactly as given until the user moves;
+ * the first move turns it into orbit form (target, distance, azimuth, elevation) with up = +Z,
+ * elevation kept within +-VIEW_MAX_ELEVATION so the view never flips over the pole. */
+#define VIEW_MAX_ELEVATION 89.0f
+
+typedef struct {
+    sl_camera home;   /* the scene's camera: reset returns to it exactly */
+    sl_camera cam;    /* what is rendered */
+    bool at_home;     /* cam == home, bit for bit */
+    vec3 target;
+    float distance, azimuth_deg, elevation_deg;
+    float home_distance;
+} view_camera;
+
+void view_camera_init(view_camera *c, const sl_camera *home);
+void view_camera_reset(view_camera *c);
+/* Degrees about +Z (positive turns the eye counter-clockwise seen from above) and up/down. */
+void view_camera_orbit(view_camera *c, float d_azimuth_deg, float d_elevation_deg);
+/* Move target and eye in the image plane by fractions of the image height at the target's depth
+ * (dx > 0: the scene follows the mouse to the right; dy > 0: the scene moves down). */
+void view_camera_pan(view_camera *c, float dx, float dy);
+/* Multiply the distance to the target (< 1 moves closer). */
+void view_camera_zoom(view_camera *c, float factor);
+
+/* ---- view_image.c ---- */
+typedef enum {
+    VIEW_FINAL,    /* the tone-mapped frame */
+    VIEW_POSITION, /* world position inside the scene's bounds, as RGB */
+    VIEW_NORMAL,   /* normal * 0.5 + 0.5 */
+    VIEW_KD,       /* diffuse albedo (gamma encoded for display) */
+    VIEW_KS,       /* Schlick F0 (gamma encoded) */
+    VIEW_ALPHA,    /* Phong exponent, log scale 0 .. 10000 */
+    VIEW_DEPTH,    /* eye distance, near = white .. far = black over the covered pixels */
+    VIEW_MIP,      /* mean mip level of the specular samples, false colour */
+    VIEW_MODE_COUNT
+} view_mode;
+
+const char *view_mode_name(view_mode mode);
+bool view_mode_needs_shading(view_mode mode); /* FINAL only */
+bool view_mode_needs_lighting(view_mode mode); /* FINAL and MIP: the lighting uniforms */
+
+/* Fill `out` (3 channels, the G-buffer's size, row 0 = top, values in [0,1]) with a G-buffer
+ * channel view (POSITION .. DEPTH). `lo`/`hi`: the scene's bounds for POSITION; near/far of the
+ * camera that rastered the G-buffer for DEPTH. */
+bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, float znear, float zfar,
+                        sl_image *out, sl_error *err);
+/* The mip-level view: per pixel, the mean over the samples above the horizon of the level that
+ * lighting.frag's mip_level() gives them, run through the lighting shader's own trace (so it is
+ * the same formula and the same samples); 0 = blue .. uEnvMaxLod = red, empty pixels black.
+ * `max_level_seen` returns the largest per-pixel mean (for the HUD). Needs prepared uniforms. */
+bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out, float *max_level_seen,
+                    sl_error *err);
+/* 8-bit RGB of a 3-channel [0,1] image, rounded like the PNG writer (v * 255 + 0.5). */
+void view_image_to_rgb8(const sl_image *img, uint8_t *pixels, int pitch);
+/* Copy `src` into `dst`, (re)allocating it to src's size. */
+bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
+
+/* ---- view_script.c ---- */
+typedef enum {
+    VIEW_CMD_WAIT,       /* wait MS: let MS milliseconds pass (frames keep running) */
+    VIEW_CMD_SETTLE,     /* settle: wait until refinement has finished */
+    VIEW_CMD_DRAG,       /* drag X0 Y0 X1 Y1 [left|right|middle] [STEPS] */
+    VIEW_CMD_MOVE,       /* move X Y: mouse motion with no button */
+    VIEW_CMD_WHEEL,      /* wheel N: N clicks (positive = away from the user = zoom in) */
+    VIEW_CMD_KEY,        /* key [shift+|ctrl+]NAME: press and release (SDL key names) */
+    VIEW_CMD_KEYDOWN,    /* keydown NAME: press and hold */
+    VIEW_CMD_KEYUP,      /* keyup NAME */
+    VIEW_CMD_RESIZE,     /* resize W H: set the window size (waits up to 2 s for it to apply) */
+    VIEW_CMD_DROP,       /* drop PATH: a file dropped on the window */
+    VIEW_CMD_SCREENSHOT, /* screenshot [NAME]: NAME.png + NAME.hdr, else softlight-<n> */
+    VIEW_CMD_QUIT,       /* quit: as closing the window */
+} view_cmd_kind;
+
+typedef struct {
+    view_cmd_kind kind;
+    int line;
+    int args[6];
+    int key;            /* SDL_Keycode */
+    int mod;            /* SDL_Keymod */
+    char text[SL_PATH_MAX];
+} view_cmd;
+
+typedef struct {
+    view_cmd *cmds;
+    int count;
+    int next;
+    double wait_until;  /* WAIT and RESIZE: seconds (sl_now_seconds) */
+    bool waiting;       /* the command at `next` has started and not finished */
+    int mouse_x, mouse_y; /* where the scripted pointer is, for MOVE's relative motion */
+} view_script;
+
+/* Parse a script file; errors name the file and line. Key names are checked here, so a script
+ * fails before the window opens. (Needs SDL for the key names.) */
+bool view_script_load(const char *path, view_script *s, sl_error *err);
+void view_script_free(view_script *s);
+/* Push the SDL events of an input command (DRAG, MOVE, WHEEL, KEY, KEYDOWN, KEYUP, DROP) onto
+ * the queue, exactly as a user's input would arrive. False when the queue is full. */
+struct SDL_Window;
+bool view_script_push(view_script *s, const view_cmd *cmd, struct SDL_Window *window, sl_error *err);
+
+/* ---- view_hud.c ---- */
+#define VIEW_HUD_MAX_LINES 40
+typedef struct view_hud view_hud;
+
+/* NULL (and err) when the font cannot be opened: the viewer then runs without text. */
+view_hud *view_hud_create(const char *font_path, int point_size, sl_error *err);
+void view_hud_destroy(view_hud *hud);
+/* Draw `count` lines in a translucent box at (x, y), or centred in the window when centre is
+ * set; lines that did not change since the last call reuse their texture. `slot_base` picks a
+ * separate cache for each block of lines (HUD, help). Returns the box height. */
+struct SDL_Renderer;
+int view_hud_draw(view_hud *hud, struct SDL_Renderer *sdl, int slot_base, const char *const *lines, int count, int x,
+                  int y, bool centre);
+
+#endif

@@ -1,0 +1,139 @@
+/* file.c - whole-file reads with a size cap and atomic whole-file writes.
+ *
+ * Every image writer goes through sl_write_file_atomic, so a failed or interrupted
+ * write never leaves a half file at the target: the bytes go to `path.tmpXXXXXX` in
+ * the same directory (same file system, so rename is atomic), are flushed with fsync,
+ * and only then renamed over the target. Any failure removes the temporary file. */
+#include "image.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err)
+{
+    *bytes = NULL;
+    *size = 0;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0)
+        return sl_fail(err, SL_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+    struct stat st;
+    if (fstat(fd, &st) != 0) {
+        int e = errno;
+        close(fd);
+        return sl_fail(err, SL_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+    }
+    if (S_ISDIR(st.st_mode)) {
+        close(fd);
+        return sl_fail(err, SL_ERR_IO, "%s: is a directory, not a file", path);
+    }
+    if (S_ISREG(st.st_mode) && (unsigned long long)st.st_size > max_bytes) {
+        close(fd);
+        return sl_fail(err, SL_ERR_RANGE, "%s: file is %lld bytes, more than the %zu allowed", path,
+                       (long long)st.st_size, max_bytes);
+    }
+    /* A regular file's size is known; pipes and special files grow the buffer as they go.
+     * One byte of slack lets the loop see end-of-file without a second allocation. */
+    size_t cap = S_ISREG(st.st_mode) ? (size_t)st.st_size + 1 : 65536;
+    unsigned char *buf = malloc(cap);
+    size_t used = 0;
+    bool ok = buf != NULL;
+    if (!ok)
+        sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for %zu bytes", path, cap);
+    while (ok) {
+        if (used == cap) {
+            if (cap > max_bytes) {
+                ok = sl_fail(err, SL_ERR_RANGE, "%s: file is more than the %zu bytes allowed", path, max_bytes);
+                break;
+            }
+            size_t next = cap * 2 > max_bytes + 1 ? max_bytes + 1 : cap * 2;
+            unsigned char *grown = realloc(buf, next);
+            if (!grown) {
+                ok = sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for %zu bytes", path, next);
+                break;
+            }
+            buf = grown;
+            cap = next;
+        }
+        ssize_t got = read(fd, buf + used, cap - used);
+        if (got < 0) {
+            if (errno == EINTR)
+                continue;
+            ok = sl_fail(err, SL_ERR_IO, "%s: read failed at byte %zu: %s", path, used, strerror(errno));
+            break;
+        }
+        if (got == 0)
+            break;
+        used += (size_t)got;
+    }
+    if (ok && used > max_bytes)
+        ok = sl_fail(err, SL_ERR_RANGE, "%s: file is more than the %zu bytes allowed", path, max_bytes);
+    close(fd);
+    if (!ok) {
+        free(buf);
+        return false;
+    }
+    *bytes = buf;
+    *size = used;
+    return true;
+}
+
+/* The mode a new file would get from open(path, O_CREAT, 0666), or the target's own mode
+ * when it exists, so that replacing a file does not change its permissions. mkstemp
+ * creates 0600 files. umask can only be read by setting it; this happens on the writing
+ * thread only and is restored at once. */
+static mode_t target_mode(const char *path)
+{
+    struct stat st;
+    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
+        return st.st_mode & 07777;
+    mode_t mask = umask(022);
+    umask(mask);
+    return 0666 & ~mask;
+}
+
+bool sl_write_file_atomic(const char *path, const void *bytes, size_t size, sl_error *err)
+{
+    size_t n = strlen(path);
+    char *tmp = malloc(n + sizeof ".tmpXXXXXX");
+    if (!tmp)
+        return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory", path);
+    memcpy(tmp, path, n);
+    memcpy(tmp + n, ".tmpXXXXXX", sizeof ".tmpXXXXXX");
+    int fd = mkstemp(tmp);
+    if (fd < 0) {
+        int e = errno;
+        free(tmp);
+        return sl_fail(err, SL_ERR_IO, "%s: cannot create a temporary file beside it: %s", path, strerror(e));
+    }
+    bool ok = true;
+    const unsigned char *p = bytes;
+    size_t done = 0;
+    while (ok && done < size) {
+        ssize_t put = write(fd, p + done, size - done);
+        if (put < 0 && errno == EINTR)
+            continue;
+        if (put <= 0)
+            ok = sl_fail(err, SL_ERR_IO, "%s: write failed after %zu of %zu bytes: %s", path, done, size,
+                         put < 0 ? strerror(errno) : "no progress");
+        else
+            done += (size_t)put;
+    }
+    if (ok && fchmod(fd, target_mode(path)) != 0)
+        ok = sl_fail(err, SL_ERR_IO, "%s: cannot set permissions: %s", path, strerror(errno));
+    if (ok && fsync(fd) != 0)
+        ok = sl_fail(err, SL_ERR_IO, "%s: fsync failed: %s", path, strerror(errno));
+    if (close(fd) != 0 && ok)
+        ok = sl_fail(err, SL_ERR_IO, "%s: close failed: %s", path, strerror(errno));
+    if (ok && rename(tmp, path) != 0)
+        ok = sl_fail(err, SL_ERR_IO, "%s: cannot rename the temporary file into place: %s", path,
+                     strerror(errno));
+    if (!ok)
+        unlink(tmp);
+    free(tmp);
+    return ok;
+}

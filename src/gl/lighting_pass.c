@@ -1,0 +1,228 @@
+/* lighting_pass.c - the lighting pass in OpenGL: shaders/lighting.frag over a full-screen triangle,
+ * reading the G-buffer textures, into an RGBA32F target read back as linear radiance.
+ *
+ * Every uniform comes from softlight's own sl_lighting_uniforms (src/shading/lighting.h), which
+ * names its fields after the GLSL uniforms: the same Hammersley block bytes, the same SH9
+ * coefficients, lod base, rotation and inverse view-projection. So the C port and the GLSL differ
+ * only in how they evaluate the shader -- float ordering, transcendental precision, and the
+ * sampler's own filtering arithmetic -- which is what the GL comparison measures.
+ *
+ * The environment goes up as GL_RGB32F with the image's top row (v = 0) as the texture's first row,
+ * so t = v as in the C textureLod, and glGenerateMipmap builds the chain (2x2 box averages for the
+ * power-of-two maps softlight ships, the same as sl_env_build). */
+#include <stdlib.h>
+#include <string.h>
+
+#include "slgl.h"
+
+/* The full-screen triangle: vertices (-1,-1), (3,-1), (-1,3) cover the viewport once, with no
+ * diagonal seam; no vertex buffer, gl_VertexID is enough. */
+static const char *const fullscreen_vert = "#version 330 core\n"
+                                           "void main()\n"
+                                           "{\n"
+                                           "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), "
+                                           "float((gl_VertexID >> 1) * 4 - 1));\n"
+                                           "    gl_Position = vec4(p, 0.0, 1.0);\n"
+                                           "}\n";
+
+/* Texture units of the samplers. */
+enum { UNIT_POSITION, UNIT_NORMAL, UNIT_KD, UNIT_KS_ALPHA, UNIT_DEPTH, UNIT_ENV, UNIT_IRRADIANCE };
+#define HAMMERSLEY_BINDING 1
+
+static GLuint upload_latlong(const sl_env_level *level, bool mipmaps)
+{
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    /* row 0 of the level (top, v = 0) is the first row GL reads: t = v */
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, level->width, level->height, 0, GL_RGB, GL_FLOAT, level->texels);
+    if (mipmaps) {
+        glGenerateMipmap(GL_TEXTURE_2D);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    } else {
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    }
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
+bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err)
+{
+    memset(l, 0, sizeof *l);
+    l->width = width;
+    l->height = height;
+    if (!slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag", &l->program, err))
+        return false;
+    glGenVertexArrays(1, &l->vao); /* core profile draws need a bound VAO, even an empty one */
+    glGenTextures(1, &l->color);
+    glBindTexture(GL_TEXTURE_2D, l->color);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glGenFramebuffers(1, &l->fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, l->color, 0);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE) {
+        slgl_lighting_destroy(l);
+        return sl_fail(err, SL_ERR_GL, "lighting framebuffer incomplete (0x%04x)", (unsigned)status);
+    }
+    glGenBuffers(1, &l->ubo);
+    /* The specification's recipe: bind the buffer to a binding point, then the block to it. */
+    GLuint block = glGetUniformBlockIndex(l->program, "HammersleyBlock");
+    if (block == GL_INVALID_INDEX) {
+        slgl_lighting_destroy(l);
+        return sl_fail(err, SL_ERR_GL, "lighting.frag: no uniform block HammersleyBlock");
+    }
+    GLint block_size = 0;
+    glGetActiveUniformBlockiv(l->program, block, GL_UNIFORM_BLOCK_DATA_SIZE, &block_size);
+    if (block_size > (GLint)sizeof(sl_hammersley_block)) {
+        slgl_lighting_destroy(l);
+        return sl_fail(err, SL_ERR_GL, "lighting.frag: HammersleyBlock is %d bytes, the C block %zu", block_size,
+                       sizeof(sl_hammersley_block));
+    }
+    glUniformBlockBinding(l->program, block, HAMMERSLEY_BINDING);
+    return slgl_check("creating the lighting pass", err);
+}
+
+void slgl_lighting_destroy(slgl_lighting *l)
+{
+    GLuint textures[3] = {l->color, l->env, l->irradiance_map};
+    glDeleteTextures(3, textures);
+    if (l->ubo)
+        glDeleteBuffers(1, &l->ubo);
+    if (l->fbo)
+        glDeleteFramebuffers(1, &l->fbo);
+    if (l->vao)
+        glDeleteVertexArrays(1, &l->vao);
+    if (l->program)
+        glDeleteProgram(l->program);
+    memset(l, 0, sizeof *l);
+}
+
+bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_irradiance *irr, sl_error *err)
+{
+    if (l->env)
+        glDeleteTextures(1, &l->env);
+    if (l->irradiance_map)
+        glDeleteTextures(1, &l->irradiance_map);
+    l->env = upload_latlong(&env->levels[0], true);
+    GLint levels = 0;
+    for (int w = env->levels[0].width, h = env->levels[0].height; w > 0 || h > 0; w /= 2, h /= 2)
+        levels++;
+    l->env_levels = levels;
+    l->irradiance_map = 0;
+    if (irr && irr->method != SL_IRRADIANCE_SH9 && irr->map.level_count > 0)
+        l->irradiance_map = upload_latlong(&irr->map.levels[0], false);
+    return slgl_check("uploading the environment", err);
+}
+
+static GLint loc(GLuint program, const char *name) { return glGetUniformLocation(program, name); }
+
+/* Copy sl_lighting_uniforms into the program, field by field, name by name. */
+static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
+{
+    GLuint p = l->program;
+    glUniform1i(loc(p, "uPosition"), UNIT_POSITION);
+    glUniform1i(loc(p, "uNormal"), UNIT_NORMAL);
+    glUniform1i(loc(p, "uKd"), UNIT_KD);
+    glUniform1i(loc(p, "uKsAlpha"), UNIT_KS_ALPHA);
+    glUniform1i(loc(p, "uDepth"), UNIT_DEPTH);
+    glUniform1i(loc(p, "uEnv"), UNIT_ENV);
+    glUniform1i(loc(p, "uIrradianceMap"), UNIT_IRRADIANCE);
+    glUniform1f(loc(p, "uEnvMaxLod"), u->uEnvMaxLod);
+    glUniform1f(loc(p, "uLodBase"), u->uLodBase);
+    glUniform1f(loc(p, "uSinThetaMin"), u->uSinThetaMin);
+    glUniformMatrix3fv(loc(p, "uEnvRotation"), 1, GL_FALSE, &u->uEnvRotation.c[0].x);
+    glUniform1f(loc(p, "uEnvIntensity"), u->uEnvIntensity);
+    glUniform1i(loc(p, "uIrradianceMethod"), u->uIrradianceMethod);
+    glUniform3fv(loc(p, "uSH"), 9, &u->uSH[0].x);
+    glUniform3f(loc(p, "uEye"), u->uEye.x, u->uEye.y, u->uEye.z);
+    glUniformMatrix4fv(loc(p, "uInvViewProj"), 1, GL_FALSE, &u->uInvViewProj.c[0].x);
+    glUniform2f(loc(p, "uViewport"), u->uViewport.x, u->uViewport.y);
+    glUniform1i(loc(p, "uLightCount"), u->uLightCount);
+    if (u->uLightCount > 0) {
+        glUniform3fv(loc(p, "uLightPosition"), u->uLightCount, &u->uLightPosition[0].x);
+        glUniform3fv(loc(p, "uLightColor"), u->uLightCount, &u->uLightColor[0].x);
+        glUniform1fv(loc(p, "uLightIntensity"), u->uLightCount, u->uLightIntensity);
+    }
+    glUniform1i(loc(p, "uLodRule"), u->uLodRule);
+    glUniform1i(loc(p, "uDistortion"), u->uDistortion);
+    glUniform1i(loc(p, "uGTerm"), u->uGTerm);
+    glUniform1i(loc(p, "uEstimator"), u->uEstimator);
+    glUniform1i(loc(p, "uDiffuse"), u->uDiffuse);
+    glUniform1i(loc(p, "uSpecular"), u->uSpecular);
+    glUniform1i(loc(p, "uPointLights"), u->uPointLights);
+}
+
+bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err)
+{
+    if (g->width != l->width || g->height != l->height)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the G-buffer is %dx%d, the target %dx%d", g->width, g->height,
+                       l->width, l->height);
+    if (!l->env)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: no environment uploaded");
+    /* The GL chain must be the one the uniforms clamp the lod to. */
+    if ((int)u->uEnvMaxLod != l->env_levels - 1)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: softlight's chain has %d levels, GL's %d",
+                       (int)u->uEnvMaxLod + 1, l->env_levels);
+    glBindBuffer(GL_UNIFORM_BUFFER, l->ubo);
+    glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)sizeof u->uHammersley, &u->uHammersley, GL_STATIC_DRAW);
+    glBindBufferBase(GL_UNIFORM_BUFFER, HAMMERSLEY_BINDING, l->ubo);
+
+    GLuint units[7] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map};
+    for (int i = 0; i < 7; i++) {
+        glActiveTexture(GL_TEXTURE0 + (GLenum)i);
+        glBindTexture(GL_TEXTURE_2D, units[i]);
+    }
+    /* The depth texture is sampled as a value, not compared. */
+    glActiveTexture(GL_TEXTURE0 + UNIT_DEPTH);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
+    glActiveTexture(GL_TEXTURE0);
+
+    glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+    glViewport(0, 0, l->width, l->height);
+    glDisable(GL_DEPTH_TEST);
+    glDisable(GL_BLEND);
+    glDisable(GL_CULL_FACE);
+    glUseProgram(l->program);
+    set_uniforms(l, u);
+    glBindVertexArray(l->vao);
+    glDrawArrays(GL_TRIANGLES, 0, 3);
+    glBindVertexArray(0);
+    return slgl_check("the lighting pass", err);
+}
+
+bool slgl_lighting_read(const slgl_lighting *l, sl_image *radiance, long *repaired, sl_error *err)
+{
+    size_t n = (size_t)l->width * (size_t)l->height;
+    float *rgba = malloc(n * 4 * sizeof *rgba);
+    if (!rgba)
+        return sl_fail(err, SL_ERR_MEMORY, "no memory to read back %dx%d radiance", l->width, l->height);
+    if (!radiance->data && !sl_image_alloc(radiance, l->width, l->height, 3, err)) {
+        free(rgba);
+        return false;
+    }
+    glBindFramebuffer(GL_FRAMEBUFFER, l->fbo);
+    glReadBuffer(GL_COLOR_ATTACHMENT0);
+    glPixelStorei(GL_PACK_ALIGNMENT, 1);
+    glReadPixels(0, 0, l->width, l->height, GL_RGBA, GL_FLOAT, rgba);
+    /* glReadPixels' row 0 is the bottom; sl_image's row 0 is the top. a = 0 marks a pixel the
+     * shader found non-finite and wrote as 0 (lighting.frag, "Output"). */
+    long bad = 0;
+    for (int y = 0; y < l->height; y++) {
+        const float *src = rgba + (size_t)(l->height - 1 - y) * (size_t)l->width * 4;
+        for (int x = 0; x < l->width; x++) {
+            float *dst = sl_image_pixel(radiance, x, y);
+            memcpy(dst, src + 4 * x, 3 * sizeof *dst);
+            bad += src[4 * x + 3] == 0.0f;
+        }
+    }
+    free(rgba);
+    if (repaired)
+        *repaired = bad;
+    return slgl_check("reading the radiance back", err);
+}

@@ -1,0 +1,285 @@
+/* main.c - the softlight-gl command line: `softlight-gl render scene.json [options]`.
+ *
+ * The same frame as `softlight render`, with OpenGL doing the two stages softlight does in C
+ * (rasterization into the G-buffer, lighting), and softlight's C code doing everything else, so
+ * that the two programs' files can be diffed with `softlight compare`. Options are those of
+ * `softlight render` where they apply, plus:
+ *   --gbuffer DIR  skip the G-buffer pass and light softlight's G-buffer (its --aov files), which
+ *                  tells a rasterization difference from a shading one;
+ *   --time N       run each pass N times and print the median milliseconds per stage, timed with
+ *                  glFinish and a monotonic clock (no timer queries: llvmpipe's are not meaningful);
+ *   --verbose      print GL_RENDERER and what was done.
+ * `softlight-gl info` prints the renderer and exits 0, or says in one line why there is no GL
+ * and exits 2 (what the tests use to decide whether GL can run here).
+ * Exit status: 0 success, 2 any error (one line on stderr). */
+#include <errno.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+#include "app/args.h"
+#include "app/render_options.h"
+#include "render/renderer.h"
+#include "core/timer.h"
+#include "shading/tonemap.h"
+#include "slgl.h"
+
+#define TIME_MAX_RUNS 1000
+
+typedef struct {
+    const char *scene_path;
+    const char *png, *hdr, *pfm, *aov_dir, *gbuffer_dir;
+    int time_runs;
+    bool verbose;
+} gl_outputs;
+
+/* Everything a frame needs that is built on the CPU. sl_renderer is softlight's own frame state:
+ * it resolves the options against the scene, loads the environment, builds its mip chain and
+ * irradiance and derives the lighting uniforms exactly as `softlight render` does; softlight-gl
+ * then uses its numbers and skips its raster and shading stages. */
+typedef struct {
+    sl_scene scene;
+    bool scene_loaded;
+    sl_renderer renderer;
+    bool renderer_ready;
+    mat4 view_proj;
+    int width, height;
+} frame;
+
+static int cmp_double(const void *pa, const void *pb)
+{
+    double a = *(const double *)pa, b = *(const double *)pb;
+    return (a > b) - (a < b);
+}
+
+static double median_ms(double *seconds, int n)
+{
+    qsort(seconds, (size_t)n, sizeof *seconds, cmp_double);
+    double mid = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
+    return 1000.0 * mid;
+}
+
+static void frame_free(frame *f)
+{
+    if (f->renderer_ready)
+        sl_renderer_free(&f->renderer);
+    if (f->scene_loaded)
+        sl_scene_free(&f->scene);
+    memset(f, 0, sizeof *f);
+}
+
+static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *desc, sl_error *err)
+{
+    memset(f, 0, sizeof *f);
+    if (!sl_scene_load(scene_path, &f->scene, err))
+        return false;
+    f->scene_loaded = true;
+    if (!sl_renderer_init(&f->renderer, &f->scene, desc, err))
+        return false;
+    f->renderer_ready = true;
+    f->width = f->renderer.gbuffer.width;
+    f->height = f->renderer.gbuffer.height;
+    f->view_proj = sl_camera_view_proj(&f->scene.camera, f->width, f->height);
+    return sl_renderer_prepare_lighting(&f->renderer, NULL, err);
+}
+
+static bool write_outputs(const gl_outputs *o, const frame *f, const sl_image *radiance, sl_error *err)
+{
+    if (o->hdr && !sl_image_write_hdr(o->hdr, radiance, err))
+        return false;
+    if (o->pfm && !sl_image_write_pfm(o->pfm, radiance, err))
+        return false;
+    if (o->png) {
+        sl_image ldr = {0};
+        bool ok = sl_tonemap_image(radiance, &ldr, &f->renderer.desc.tonemap, err) && sl_image_write_png(o->png, &ldr, err);
+        sl_image_free(&ldr);
+        if (!ok)
+            return false;
+    }
+    return true;
+}
+
+/* The G-buffer and lighting passes, `runs` times each (1 normally), with per-stage medians.
+ * `files` is softlight's G-buffer read from --gbuffer DIR (NULL without it). */
+static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_error *err)
+{
+    slgl_gbuffer g = {0};
+    slgl_lighting l = {0};
+    slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
+    sl_gbuffer gb = {0};
+    sl_image radiance = {0};
+    int runs = o->time_runs > 0 ? o->time_runs : 1;
+    double *t_gbuffer = calloc((size_t)runs, sizeof(double)), *t_lighting = calloc((size_t)runs, sizeof(double));
+    bool ok = false;
+    if (!meshes || !t_gbuffer || !t_lighting) {
+        sl_fail(err, SL_ERR_MEMORY, "no memory");
+        goto done;
+    }
+    if (!slgl_gbuffer_create(&g, f->width, f->height, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
+        !slgl_lighting_set_environment(&l, &f->renderer.env,
+                                       f->renderer.have_irradiance ? &f->renderer.irradiance : NULL, err))
+        goto done;
+    if (o->gbuffer_dir) {
+        if (!slgl_gbuffer_upload(&g, files, err))
+            goto done;
+    } else if (!slgl_meshes_upload(&f->scene, meshes, err)) {
+        goto done;
+    }
+    glFinish();
+    for (int run = 0; run < runs; run++) {
+        double t0 = sl_now_seconds();
+        if (!o->gbuffer_dir && !slgl_gbuffer_draw(&g, &f->scene, meshes, f->view_proj, err))
+            goto done;
+        glFinish();
+        double t1 = sl_now_seconds();
+        if (!slgl_lighting_draw(&l, &g, f->renderer.uniforms, err))
+            goto done;
+        glFinish();
+        double t2 = sl_now_seconds();
+        t_gbuffer[run] = t1 - t0;
+        t_lighting[run] = t2 - t1;
+    }
+    long repaired = 0;
+    if (!slgl_lighting_read(&l, &radiance, &repaired, err))
+        goto done;
+    if (o->aov_dir) {
+        if (mkdir(o->aov_dir, 0777) != 0 && errno != EEXIST) {
+            sl_fail(err, SL_ERR_IO, "%s: cannot create the directory: %s", o->aov_dir, strerror(errno));
+            goto done;
+        }
+        if (!o->gbuffer_dir && !slgl_gbuffer_read(&g, &gb, err))
+            goto done;
+        if (!sl_gbuffer_write_aovs(o->gbuffer_dir ? files : &gb, f->scene.camera.eye, o->aov_dir, err))
+            goto done;
+    }
+    if (!write_outputs(o, f, &radiance, err))
+        goto done;
+    if (repaired)
+        fprintf(stderr, "softlight-gl: warning: lighting.frag repaired %ld non-finite pixels (written as 0)\n",
+                repaired);
+    if (o->time_runs > 0)
+        printf("time: %d runs, %dx%d, %d samples: gbuffer %.3f ms%s, lighting %.3f ms (median, glFinish)\n", runs,
+               f->width, f->height, f->renderer.desc.lighting.samples, median_ms(t_gbuffer, runs),
+               o->gbuffer_dir ? " (skipped: --gbuffer)" : "", median_ms(t_lighting, runs));
+    ok = true;
+done:
+    sl_image_free(&radiance);
+    sl_gbuffer_free(&gb);
+    if (meshes)
+        slgl_meshes_destroy(meshes, f->scene.mesh_count);
+    free(meshes);
+    slgl_lighting_destroy(&l);
+    slgl_gbuffer_destroy(&g);
+    free(t_gbuffer);
+    free(t_lighting);
+    return ok;
+}
+
+#define OUTPUT_OPTION_COUNT 7
+
+static int cmd_render(int argc, char **argv)
+{
+    gl_outputs o = {0};
+    sl_render_options ro;
+    sl_arg table[SL_RENDER_OPTION_COUNT + OUTPUT_OPTION_COUNT];
+    sl_render_options_table(&ro, table);
+    const sl_arg outputs[OUTPUT_OPTION_COUNT] = {
+        {"--output", "-o", SL_ARG_STRING, &o.png, 0, 0, NULL, "OUT.png", "tone-mapped 8-bit image", NULL},
+        {"--hdr", NULL, SL_ARG_STRING, &o.hdr, 0, 0, NULL, "OUT.hdr", "linear radiance, Radiance RGBE", NULL},
+        {"--pfm", NULL, SL_ARG_STRING, &o.pfm, 0, 0, NULL, "OUT.pfm", "linear radiance, float", NULL},
+        {"--aov", NULL, SL_ARG_STRING, &o.aov_dir, 0, 0, NULL, "DIR", "write GL's G-buffer as softlight's AOV files",
+         NULL},
+        {"--gbuffer", NULL, SL_ARG_STRING, &o.gbuffer_dir, 0, 0, NULL, "DIR",
+         "light softlight's G-buffer (its --aov files) instead of rasterizing", NULL},
+        {"--time", NULL, SL_ARG_INT, &o.time_runs, 1, TIME_MAX_RUNS, NULL, "N", "run each pass N times, print medians",
+         NULL},
+        {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
+         NULL},
+    };
+    memcpy(table + SL_RENDER_OPTION_COUNT, outputs, sizeof outputs);
+    const int count = SL_RENDER_OPTION_COUNT + OUTPUT_OPTION_COUNT;
+    const char *usage = "softlight-gl render SCENE.json [options]";
+    const char *positional[1];
+    int npos = 0;
+    bool help = false;
+    sl_error err = {0};
+    sl_render_desc desc;
+    if (!sl_args_parse(argc, argv, 2, table, count, positional, 1, &npos, &help, &err) ||
+        (!help && !sl_render_options_desc(&ro, &desc, &err))) {
+        fprintf(stderr, "softlight-gl render: %s\n", err.msg);
+        return 2;
+    }
+    if (help) {
+        sl_args_print_help(stdout, usage, table, count);
+        printf("\n--threads and --tile set softlight's CPU stages, which softlight-gl does not run.\n");
+        return 0;
+    }
+    if (npos != 1) {
+        fprintf(stderr, "softlight-gl render: expected one scene file (see --help)\n");
+        return 2;
+    }
+    o.scene_path = positional[0];
+
+    slgl_context ctx;
+    if (!slgl_context_create(&ctx, &err)) {
+        fprintf(stderr, "softlight-gl: %s\n", err.msg);
+        return 2;
+    }
+    if (o.verbose)
+        printf("GL_RENDERER: %s\nGL_VERSION: %s\n", ctx.renderer, ctx.version);
+    /* softlight's G-buffer files set the frame size unless --size does. */
+    sl_gbuffer files = {0};
+    if (o.gbuffer_dir) {
+        if (!sl_gbuffer_read_aovs(o.gbuffer_dir, &files, &err)) {
+            fprintf(stderr, "softlight-gl: --gbuffer: %s\n", err.msg);
+            slgl_context_destroy(&ctx);
+            return 2;
+        }
+        if (!desc.width) {
+            desc.width = files.width;
+            desc.height = files.height;
+        }
+    }
+    frame f;
+    bool ok = frame_build(&f, o.scene_path, &desc, &err) && render(&o, &f, o.gbuffer_dir ? &files : NULL, &err);
+    if (ok && o.verbose)
+        printf("rendered %s: %dx%d, %d samples%s\n", o.scene_path, f.width, f.height,
+               f.renderer.desc.lighting.samples, o.gbuffer_dir ? " (G-buffer from files)" : "");
+    frame_free(&f);
+    sl_gbuffer_free(&files);
+    slgl_context_destroy(&ctx);
+    if (!ok) {
+        fprintf(stderr, "softlight-gl: %s\n", err.msg);
+        return 2;
+    }
+    return 0;
+}
+
+static int cmd_info(void)
+{
+    slgl_context ctx;
+    sl_error err = {0};
+    if (!slgl_context_create(&ctx, &err)) {
+        fprintf(stderr, "softlight-gl: %s\n", err.msg);
+        return 2;
+    }
+    printf("GL_RENDERER: %s\nGL_VERSION: %s\nshaders: %s\n", ctx.renderer, ctx.version, slgl_shader_dir());
+    slgl_context_destroy(&ctx);
+    return 0;
+}
+
+int main(int argc, char **argv)
+{
+    if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
+        printf("usage: softlight-gl render SCENE.json [options]   (render --help for the options)\n"
+               "       softlight-gl info                         (the OpenGL renderer, or why there is none)\n");
+        return argc < 2 ? 2 : 0;
+    }
+    if (!strcmp(argv[1], "render"))
+        return cmd_render(argc, argv);
+    if (!strcmp(argv[1], "info"))
+        return cmd_info();
+    fprintf(stderr, "softlight-gl: unknown command '%s' (render, info)\n", argv[1]);
+    return 2;
+}

@@ -1,0 +1,108 @@
+/* program.c - GLSL programs from the files in shaders/, compiled at run time.
+ *
+ * The shaders are read from disk rather than embedded so that the GLSL that runs is exactly the file
+ * a reader diffs against the C port. The directory is the source tree's shaders/ (SL_SHADER_DIR,
+ * fixed at build time) unless $SL_SHADER_DIR names another. A compile or link failure carries the
+ * driver's log (first lines) in the error, prefixed with the file name. */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "slgl.h"
+
+#define SHADER_MAX_BYTES (1u << 20)
+
+const char *slgl_shader_dir(void)
+{
+    const char *dir = getenv("SL_SHADER_DIR");
+    return dir && dir[0] ? dir : SL_SHADER_DIR;
+}
+
+static bool compile(GLenum type, const char *label, const char *src, GLuint *shader, sl_error *err)
+{
+    *shader = glCreateShader(type);
+    glShaderSource(*shader, 1, &src, NULL);
+    glCompileShader(*shader);
+    GLint ok = GL_FALSE;
+    glGetShaderiv(*shader, GL_COMPILE_STATUS, &ok);
+    if (ok)
+        return true;
+    char log[400] = "";
+    glGetShaderInfoLog(*shader, (GLsizei)sizeof log, NULL, log);
+    for (char *p = log; *p; p++)
+        if (*p == '\n')
+            *p = ' ';
+    glDeleteShader(*shader);
+    *shader = 0;
+    return sl_fail(err, SL_ERR_GL, "%s: does not compile: %s", label, log);
+}
+
+static bool compile_file(GLenum type, const char *name, GLuint *shader, sl_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", slgl_shader_dir(), name);
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    if (!sl_read_file(path, SHADER_MAX_BYTES, &bytes, &size, err))
+        return false;
+    char *src = malloc(size + 1);
+    if (!src) {
+        free(bytes);
+        return sl_fail(err, SL_ERR_MEMORY, "%s: no memory", path);
+    }
+    memcpy(src, bytes, size);
+    src[size] = '\0';
+    free(bytes);
+    bool ok = compile(type, path, src, shader, err);
+    free(src);
+    return ok;
+}
+
+static bool link(GLuint vert, GLuint frag, const char *label, GLuint *program, sl_error *err)
+{
+    *program = glCreateProgram();
+    glAttachShader(*program, vert);
+    glAttachShader(*program, frag);
+    glLinkProgram(*program);
+    glDeleteShader(vert);
+    glDeleteShader(frag);
+    GLint ok = GL_FALSE;
+    glGetProgramiv(*program, GL_LINK_STATUS, &ok);
+    if (ok)
+        return true;
+    char log[400] = "";
+    glGetProgramInfoLog(*program, (GLsizei)sizeof log, NULL, log);
+    for (char *p = log; *p; p++)
+        if (*p == '\n')
+            *p = ' ';
+    glDeleteProgram(*program);
+    *program = 0;
+    return sl_fail(err, SL_ERR_GL, "%s: does not link: %s", label, log);
+}
+
+bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuint *program, sl_error *err)
+{
+    GLuint vert, frag;
+    *program = 0;
+    if (!compile_file(GL_VERTEX_SHADER, vert_name, &vert, err))
+        return false;
+    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, &frag, err)) {
+        glDeleteShader(vert);
+        return false;
+    }
+    return link(vert, frag, frag_name, program, err);
+}
+
+bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name, GLuint *program,
+                               sl_error *err)
+{
+    GLuint vert, frag;
+    *program = 0;
+    if (!compile(GL_VERTEX_SHADER, vert_label, vert_src, &vert, err))
+        return false;
+    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, &frag, err)) {
+        glDeleteShader(vert);
+        return false;
+    }
+    return link(vert, frag, frag_name, program, err);
+}

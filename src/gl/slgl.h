@@ -1,0 +1,109 @@
+/* slgl.h - softlight-gl's internals: the same frame as softlight, drawn by OpenGL.
+ *
+ * softlight-gl exists to check softlight: it renders a scene with the GLSL originals in shaders/
+ * (gbuffer.vert/.frag, lighting.frag) on whatever OpenGL the machine has (Mesa's llvmpipe on a
+ * server), headless, and writes the same files as `softlight render`. Everything that is not
+ * rasterization or shading -- scene loading, camera matrices, the environment's mip source, the
+ * Hammersley set, the SH9 irradiance, image files, the tone map -- is softlight's own C code, so a
+ * difference between the two images can only come from those two stages.
+ *
+ * Stages (one file each):
+ *   context.c        EGL on the surfaceless platform, a 3.3 core context, no window, no surface
+ *   program.c        compile and link shaders from files, with their logs in the error
+ *   gbuffer_pass.c   meshes -> G-buffer textures (RGBA32F x4 + DEPTH32F), read back as an sl_gbuffer;
+ *                    or an sl_gbuffer (from softlight's AOV files) uploaded into the same textures
+ *   lighting_pass.c  G-buffer textures + environment + uniforms -> RGBA32F radiance, read back
+ *   main.c           the command line
+ * Functions shared across these files are prefixed slgl_. */
+#ifndef SLGL_H
+#define SLGL_H
+
+#include <stdbool.h>
+
+#include <epoxy/egl.h>
+#include <epoxy/gl.h>
+
+#include "core/error.h"
+#include "core/glsl.h"
+#include "core/image.h"
+#include "ibl/ibl.h"
+#include "raster/gbuffer.h"
+#include "raster/raster.h"
+#include "scene/scene.h"
+#include "shading/lighting.h"
+
+/* ---- context.c ---- */
+typedef struct {
+    EGLDisplay display;
+    EGLContext context;
+    const char *renderer; /* GL_RENDERER, e.g. "llvmpipe (LLVM 15.0.6, 256 bits)" */
+    const char *version;  /* GL_VERSION */
+} slgl_context;
+
+/* Create a headless OpenGL 3.3 core context and make it current; false with one line when EGL,
+ * the surfaceless platform or a suitable context is missing. */
+bool slgl_context_create(slgl_context *ctx, sl_error *err);
+void slgl_context_destroy(slgl_context *ctx);
+/* SL_ERR_GL with the pending glGetError, naming `what`; true when there is none. */
+bool slgl_check(const char *what, sl_error *err);
+
+/* ---- program.c ---- */
+/* Compile shaders/<vert> and shaders/<frag> (from SL_SHADER_DIR, or $SL_SHADER_DIR when set) into a
+ * linked program; the compiler's log is in err on failure. */
+bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuint *program, sl_error *err);
+/* A program from a file fragment shader and a vertex shader given as source (the full-screen triangle). */
+bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name, GLuint *program,
+                               sl_error *err);
+/* The directory shaders are read from. */
+const char *slgl_shader_dir(void);
+
+/* ---- gbuffer_pass.c ---- */
+/* The four colour targets and the depth target of the G-buffer, width x height, row 0 = bottom. */
+typedef struct {
+    int width, height;
+    GLuint fbo;
+    GLuint position, normal, kd, ks_alpha; /* RGBA32F; position.w = 1 where covered */
+    GLuint depth;                          /* DEPTH_COMPONENT32F */
+    GLuint program;
+} slgl_gbuffer;
+
+typedef struct {
+    GLuint vao, vbo_position, vbo_normal, ibo;
+    int index_count;
+} slgl_mesh;
+
+bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err);
+void slgl_gbuffer_destroy(slgl_gbuffer *g);
+/* Upload every mesh of the scene; `meshes` has scene->mesh_count entries. */
+bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err);
+void slgl_meshes_destroy(slgl_mesh *meshes, int count);
+/* The G-buffer pass: clear, then draw every object with gbuffer.vert/.frag. */
+bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *meshes, mat4 view_proj,
+                       sl_error *err);
+/* Read the targets back into `out` (allocated here, row 0 = bottom like softlight's G-buffer). */
+bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err);
+/* Fill the targets from softlight's G-buffer instead of drawing (--gbuffer DIR). */
+bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err);
+
+/* ---- lighting_pass.c ---- */
+typedef struct {
+    int width, height;
+    GLuint program, vao, fbo;
+    GLuint color;          /* RGBA32F radiance, a = 0 where the shader repaired a NaN/Inf */
+    GLuint env;            /* level 0 + glGenerateMipmap */
+    int env_levels;        /* GL's level count for that size */
+    GLuint irradiance_map; /* BRUTE and MAP irradiance; 0 for SH9 */
+    GLuint ubo;            /* HammersleyBlock */
+} slgl_lighting;
+
+bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);
+void slgl_lighting_destroy(slgl_lighting *l);
+/* Upload the environment's level 0 (mipmapped by GL) and, for BRUTE/MAP, the irradiance map. */
+bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_irradiance *irr, sl_error *err);
+/* Run lighting.frag over the G-buffer with softlight's uniforms. */
+bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);
+/* Read the radiance back into `radiance` (allocated when empty; row 0 = top); *repaired counts
+ * the pixels the shader zeroed for being non-finite. */
+bool slgl_lighting_read(const slgl_lighting *l, sl_image *radiance, long *repaired, sl_error *err);
+
+#endif

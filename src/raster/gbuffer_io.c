@@ -1,0 +1,206 @@
+/* gbuffer_io.c - the G-buffer as image files (AOVs) and as a debug view.
+ *
+ * Rows: the G-buffer's row 0 is the bottom (GL window coordinates), an sl_image's
+ * row 0 is the top, and a PFM file stores the bottom row first. So G-buffer row y
+ * becomes image row height-1-y, and sl_image_write_pfm puts it back at the start
+ * of the file: a PFM viewer shows the frame upright, as GL's glReadPixels would
+ * write it. Reading undoes the same two steps.
+ *
+ * Reading cannot use sl_image_read_pfm as it is: that reader repairs negative texels
+ * to 0, as input radiance should be, but positions, normals and view vectors are
+ * signed. sl_gbuffer_read_aov_image lets sl_image_parse_pfm check the file and then
+ * takes the floats from the file's data block itself. */
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gbuffer.h"
+#include "raster.h"
+
+enum { AOV_POSITION, AOV_NORMAL, AOV_VIEW, AOV_KD, AOV_KS, AOV_ALPHA, AOV_DEPTH, AOV_MASK, AOV_COUNT };
+static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask"};
+static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1};
+
+static bool aov_path(char *path, size_t size, const char *dir, int aov, sl_error *err)
+{
+    int n = snprintf(path, size, "%s/%s.pfm", dir, aov_names[aov]);
+    if (n < 0 || (size_t)n >= size)
+        return sl_fail(err, SL_ERR_RANGE, "%s: directory name too long", dir);
+    return true;
+}
+
+/* The AOV value of one texel, in `out` (1 or 3 floats). */
+static void aov_get(const sl_gbuffer_texel *t, vec3 eye, int aov, float *out)
+{
+    bool covered = sl_gbuffer_covered(t);
+    vec3 v = vec3s(0.0f);
+    switch (aov) {
+    case AOV_POSITION: v = t->position; break;
+    case AOV_NORMAL: v = t->normal; break;
+    case AOV_VIEW:
+        if (covered) {
+            vec3 d = sub(eye, t->position);
+            v = dot(d, d) > 0.0f ? normalize(d) : vec3s(0.0f);
+        }
+        break;
+    case AOV_KD: v = t->kd; break;
+    case AOV_KS: v = t->ks; break;
+    case AOV_ALPHA: out[0] = t->alpha; return;
+    case AOV_DEPTH: out[0] = t->depth; return;
+    default: out[0] = covered ? 1.0f : 0.0f; return;
+    }
+    out[0] = v.x;
+    out[1] = v.y;
+    out[2] = v.z;
+}
+
+static void aov_set(sl_gbuffer_texel *t, int aov, const float *in)
+{
+    vec3 v = aov_channels[aov] == 3 ? vec3(in[0], in[1], in[2]) : vec3s(in[0]);
+    switch (aov) {
+    case AOV_POSITION: t->position = v; break;
+    case AOV_NORMAL: t->normal = v; break;
+    case AOV_KD: t->kd = v; break;
+    case AOV_KS: t->ks = v; break;
+    case AOV_ALPHA: t->alpha = in[0]; break;
+    case AOV_DEPTH: t->depth = in[0]; break;
+    default: break;
+    }
+}
+
+/* largest AOV file: 3 floats a pixel at the largest target, plus a header */
+#define AOV_MAX_FILE_BYTES ((size_t)SL_RASTER_MAX_SIZE * SL_RASTER_MAX_SIZE * 12 + 4096)
+
+/* The PFM header's scale is its third token; a negative scale means little-endian floats. */
+static bool pfm_little_endian(const unsigned char *b, size_t header_size)
+{
+    size_t i = 2;
+    for (int token = 0; token < 3; token++) {
+        while (i < header_size && (b[i] == ' ' || b[i] == '\t' || b[i] == '\n' || b[i] == '\r'))
+            i++;
+        if (token == 2)
+            break;
+        while (i < header_size && !(b[i] == ' ' || b[i] == '\t' || b[i] == '\n' || b[i] == '\r'))
+            i++;
+    }
+    return i < header_size && b[i] == '-';
+}
+
+bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err)
+{
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    *img = (sl_image){0};
+    if (!sl_read_file(path, AOV_MAX_FILE_BYTES, &bytes, &size, err))
+        return false;
+    sl_image_repairs rep = {0};
+    bool ok = sl_image_parse_pfm(bytes, size, path, img, &rep, err);
+    if (ok && (rep.nan_count || rep.inf_count))
+        ok = sl_fail(err, SL_ERR_FORMAT, "%s: %ld NaN and %ld infinite values", path, rep.nan_count, rep.inf_count);
+    if (ok && rep.negative_count) {
+        /* the parser accepted the file, so the data block is exactly its last `need` bytes */
+        size_t row_floats = (size_t)img->width * (size_t)img->channels;
+        size_t need = row_floats * (size_t)img->height * 4;
+        bool little = pfm_little_endian(bytes, size - need);
+        const unsigned char *src = bytes + (size - need);
+        for (int fy = 0; fy < img->height; fy++) {
+            float *dst = sl_image_pixel(img, 0, img->height - 1 - fy);
+            for (size_t i = 0; i < row_floats; i++, src += 4) {
+                uint32_t u = little ? (uint32_t)src[0] | (uint32_t)src[1] << 8 | (uint32_t)src[2] << 16 | (uint32_t)src[3] << 24
+                                    : (uint32_t)src[3] | (uint32_t)src[2] << 8 | (uint32_t)src[1] << 16 | (uint32_t)src[0] << 24;
+                memcpy(&dst[i], &u, 4);
+            }
+        }
+    }
+    if (!ok)
+        sl_image_free(img);
+    free(bytes);
+    return ok;
+}
+
+bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err)
+{
+    if (!gb->texels)
+        return sl_fail(err, SL_ERR_RANGE, "%s: empty G-buffer", dir);
+    sl_image img[2] = {{0}, {0}};
+    if (!sl_image_alloc(&img[0], gb->width, gb->height, 1, err) ||
+        !sl_image_alloc(&img[1], gb->width, gb->height, 3, err)) {
+        sl_image_free(&img[0]);
+        return false;
+    }
+    bool ok = true;
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        sl_image *im = &img[aov_channels[aov] == 3];
+        for (int y = 0; y < gb->height; y++)
+            for (int x = 0; x < gb->width; x++)
+                aov_get(sl_gbuffer_at(gb, x, y), eye, aov, sl_image_pixel(im, x, gb->height - 1 - y));
+        char path[4096];
+        ok = aov_path(path, sizeof path, dir, aov, err) && sl_image_write_pfm(path, im, err);
+    }
+    sl_image_free(&img[0]);
+    sl_image_free(&img[1]);
+    return ok;
+}
+
+bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
+{
+    sl_image img = {0};
+    bool ok = true;
+    int width = 0, height = 0;
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        if (aov == AOV_VIEW)
+            continue;
+        char path[4096];
+        if (!aov_path(path, sizeof path, dir, aov, err) || !sl_gbuffer_read_aov_image(path, &img, err))
+            return false;
+        if (aov == AOV_POSITION) {
+            width = img.width;
+            height = img.height;
+            ok = sl_gbuffer_resize(gb, width, height, err);
+            if (ok)
+                sl_gbuffer_clear(gb);
+        } else if (img.width != width || img.height != height) {
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s: %dx%d, but position.pfm is %dx%d", path, img.width, img.height,
+                         width, height);
+        }
+        if (ok && img.channels != aov_channels[aov])
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s: %d channels, expected %d", path, img.channels, aov_channels[aov]);
+        for (int y = 0; ok && y < height; y++) {
+            for (int x = 0; x < width; x++) {
+                sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+                const float *p = sl_image_pixel(&img, x, height - 1 - y);
+                if (aov != AOV_MASK) {
+                    aov_set(t, aov, p);
+                } else if ((p[0] != 0.0f) != sl_gbuffer_covered(t)) {
+                    ok = sl_fail(err, SL_ERR_FORMAT, "%s: pixel (%d, %d) from the bottom: mask %g but depth %g", path,
+                                 x, y, (double)p[0], (double)t->depth);
+                    break;
+                }
+            }
+        }
+        sl_image_free(&img);
+    }
+    return ok;
+}
+
+bool sl_gbuffer_normal_image(const sl_gbuffer *gb, sl_image *img, sl_error *err)
+{
+    if (!gb->texels)
+        return sl_fail(err, SL_ERR_RANGE, "normal view: empty G-buffer");
+    if (!sl_image_alloc(img, gb->width, gb->height, 3, err))
+        return false;
+    for (int y = 0; y < gb->height; y++) {
+        for (int x = 0; x < gb->width; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+            if (!sl_gbuffer_covered(t))
+                continue;
+            float *p = sl_image_pixel(img, x, gb->height - 1 - y);
+            vec3 c = add(scale(t->normal, 0.5f), vec3s(0.5f));
+            p[0] = c.x;
+            p[1] = c.y;
+            p[2] = c.z;
+        }
+    }
+    return true;
+}

@@ -1,0 +1,167 @@
+/* rast_internal.h - what the pipeline files (raster.c, clip.c, setup.c, tile.c) share.
+ *
+ * Data flow of one draw: raster.c runs the vertex shader into rast_vpos + varyings,
+ * then in batches of triangles: setup.c (clipping via clip.c, fixed-point setup,
+ * binning) fills one rast_chunk per slice of the batch, in parallel; tile.c walks
+ * every tile's bins, chunk by chunk in submission order, in parallel over tiles.
+ *
+ * Fixed-point bit budget (8 sub-pixel bits, DESIGN.md):
+ *   Window coordinates are kept inside the guard band |x|,|y| < RAST_GUARD_PX = 16000
+ *   (< 2^14) by clipping; SL_RASTER_MAX_SIZE = 8192 lies inside it. Snapped to 1/256
+ *   pixel: |X| < 2^22. Edge coefficients a = -dy, b = dx: |a|,|b| < 2^23 (int32).
+ *   c = dy*Xa - dx*Ya: |c| < 2 * 2^23 * 2^22 = 2^46. An edge value at any pixel of
+ *   the target, E = 256a*x + 256b*y + c', is below 3 * 2^46 < 2^48: int64 with 15
+ *   bits to spare, and so is twice the area. int32 edge values would need |X| < 2^15,
+ *   a 128-pixel guard band: not enough, hence int64 everywhere.
+ *   The guard band is also where float stops being exact enough to snap: below
+ *   2^14 a float window coordinate has an ulp of at most 2^-10 pixel, finer than
+ *   the 2^-8 grid, so snapping with lrintf never loses a sub-pixel step.
+ */
+#ifndef SL_RAST_INTERNAL_H
+#define SL_RAST_INTERNAL_H
+
+#include <stdint.h>
+
+#include "raster.h"
+
+#define RAST_SUBPIXEL_BITS 8
+#define RAST_SUBPIXEL_ONE (1 << RAST_SUBPIXEL_BITS)
+#define RAST_GUARD_PX 16000.0f
+#define RAST_BLOCK 8                   /* coverage block inside a tile: 8x8 pixels */
+#define RAST_BATCH 65536               /* triangles set up and binned before the tiles are drawn */
+#define RAST_CACHE_LINE 64
+#define RAST_W_EPSILON 1e-6f           /* clip plane w >= eps: keeps the divide finite for any projection */
+#define RAST_CLIP_MAX 16               /* 3 vertices + one per clip plane, rounded up */
+#define RAST_BIN_FULL 0x80000000u      /* bin item flag: the triangle covers the whole tile */
+
+/* Clip planes (bit = vertex outside). RAST_BAD marks a non-finite vertex. */
+enum {
+    RAST_PLANE_NEAR = 1u << 0,   /* z >= -w */
+    RAST_PLANE_FAR = 1u << 1,    /* z <=  w */
+    RAST_PLANE_W = 1u << 2,      /* w >= eps */
+    RAST_PLANE_LEFT = 1u << 3,   /* x >= -gx w  (guard band) */
+    RAST_PLANE_RIGHT = 1u << 4,  /* x <=  gx w */
+    RAST_PLANE_BOTTOM = 1u << 5, /* y >= -gy w */
+    RAST_PLANE_TOP = 1u << 6,    /* y <=  gy w */
+    RAST_PLANE_COUNT = 7,
+    RAST_BAD = 1u << 7,
+};
+
+/* The vertex stage's output position: clip coordinates, and (when the vertex is
+ * inside every plane) its snapped window position, depth and 1/w. */
+typedef struct {
+    vec4 clip;
+    int32_t X, Y;   /* window position in 1/256 pixel */
+    float z, iw;    /* window depth z_ndc*0.5+0.5, 1/w */
+    unsigned outcode;
+} rast_vpos;
+
+/* A vertex during clipping: clip position and varyings. */
+typedef struct {
+    vec4 clip;
+    float v[SL_MAX_VARYINGS];
+} rast_cvert;
+
+/* A vertex entering triangle setup. */
+typedef struct {
+    int32_t X, Y;
+    float z, iw;
+    const float *v; /* varying_count varyings, not yet divided by w */
+} rast_wvert;
+
+/* A set-up triangle, counter-clockwise. Edge k: E_k(x, y) = ex[k]*x + ey[k]*y + ec[k]
+ * for the centre of pixel (x, y), biased by the fill rule so covered <=> all E_k >= 0.
+ * Attributes are planes f(x, y) = f0 + fdx*(x - ox) + fdy*(y - oy) over pixel indices. */
+typedef struct {
+    int64_t ex[3], ey[3], ec[3];
+    int32_t xmin, ymin, xmax, ymax; /* pixel bounds, inside the target */
+    float ox, oy;
+    float z[3];                     /* z0, dz/dx, dz/dy */
+    float iw[3];                    /* 1/w plane */
+    float iw_lo, iw_hi;             /* range of 1/w over the vertices: interpolation stays inside */
+    uint32_t vary;                  /* offset of varying_count planes (3 floats each, of v/w) in the chunk pool */
+    bool front;
+} rast_tri;
+
+typedef struct {
+    uint32_t *items; /* triangle index in the chunk, | RAST_BIN_FULL */
+    int count, cap;
+} rast_bin;
+
+/* The setup output of one contiguous slice of a batch. Chunks (and tasks) are written
+ * by different threads side by side: each is aligned to its own cache lines. */
+typedef struct {
+    _Alignas(RAST_CACHE_LINE) int tri_count;
+    int tri_cap;
+    rast_tri *tris;
+    float *vary;
+    size_t vary_count, vary_cap;
+    rast_bin *bins; /* one per tile */
+    int bin_count;
+    sl_raster_stats stats;
+    bool oom;
+} rast_chunk;
+
+/* Per-thread scratch for the tile stage. */
+typedef struct {
+    _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
+    sl_raster_stats stats;
+} rast_task;
+
+/* Everything one draw call needs, read-only inside the parallel regions. */
+typedef struct {
+    const sl_target *target;
+    const sl_program *program;
+    const void *vs_uniforms, *fs_uniforms;
+    const sl_mesh *mesh;
+    sl_cull_mode cull;
+    int nvary;
+    float gx, gy;        /* guard band in NDC */
+    int tile_size, tile_shift, tiles_x, tiles_y;
+    const rast_vpos *vpos;
+    const float *vvary;  /* vertex_count * nvary */
+    bool stats;
+} rast_draw;
+
+struct sl_raster {
+    int threads;
+    int tile_size, tile_shift;
+    bool stats_on;
+    sl_raster_stats stats;
+    rast_vpos *vpos;
+    float *vvary;
+    size_t vertex_cap, vvary_cap; /* vertices, floats */
+    rast_chunk *chunks;
+    int chunk_count;
+    rast_task *tasks; /* one per thread */
+};
+
+/* clip.c */
+unsigned rast_outcode(vec4 c, float gx, float gy);
+/* Clip triangle `in` against the planes in `planes`; returns the polygon's vertex count (0 or 3..). */
+int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
+                       rast_cvert out[RAST_CLIP_MAX]);
+
+/* Clip -> window: the one place the viewport transform is written, so a vertex shared by
+ * two triangles lands on the same fixed-point position whichever path computed it. */
+static inline void rast_to_window(const rast_draw *d, vec4 c, int32_t *X, int32_t *Y, float *z, float *iw)
+{
+    float inv = 1.0f / c.w;
+    float xw = (c.x * inv * 0.5f + 0.5f) * (float)d->target->width;
+    float yw = (c.y * inv * 0.5f + 0.5f) * (float)d->target->height;
+    *X = (int32_t)lrintf(xw * (float)RAST_SUBPIXEL_ONE);
+    *Y = (int32_t)lrintf(yw * (float)RAST_SUBPIXEL_ONE);
+    *z = c.z * inv * 0.5f + 0.5f;
+    *iw = inv;
+}
+
+/* setup.c: set up and bin triangles [first, last) of the mesh into `chunk`. */
+void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last);
+
+/* tile.c: draw every bin of tile `tile` from the chunks, in order. */
+void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
+
+/* raster.c */
+void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from);
+
+#endif

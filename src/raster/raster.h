@@ -1,0 +1,152 @@
+/* raster.h - the rasterization pipeline: C vertex and fragment shaders, clipping,
+ * fixed-point setup, tile binning and the parallel tile rasterizer.
+ *
+ * Consumes: a triangle mesh (sl_mesh: positions, normals, texcoords, indices), a
+ *           program (vertex + fragment shader) with uniforms, and a render target.
+ * Produces: texels of the target, written by the fragment shader, in GL window
+ *           coordinates (row 0 = bottom, pixel centres at x+0.5, y+0.5).
+ *
+ * One draw call runs: vertex shader over every vertex -> homogeneous clipping
+ * (near, far; guard-band planes only for triangles that leave the guard band) ->
+ * triangle setup (8 sub-pixel bits, top-left rule, optional back-face culling,
+ * degenerate and non-finite triangles dropped) -> binning into tiles -> per tile,
+ * in parallel: coverage tile -> 8x8 block -> pixel, early depth test (LESS), then
+ * the fragment shader with perspective-correct varyings. Primitive order within a
+ * tile is kept, so the result is bitwise identical for any thread count and tile
+ * size. The shader API is described in docs/shader-api.md.
+ *
+ * Depth lives in the target's texels at `depth_offset` (the G-buffer texel's depth
+ * field); while a tile is rasterized it is copied into a tile-local plane.
+ *
+ * Does not: blend, multisample, stencil, scissor, draw lines or points, or
+ * clip against user planes. Fragment shaders cannot discard or move depth. */
+#ifndef SL_RASTER_H
+#define SL_RASTER_H
+
+#include <stdbool.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#include "../core/error.h"
+#include "../core/glsl.h"
+#include "../scene/scene.h"
+#include "gbuffer.h"
+
+#define SL_MAX_VARYINGS 16         /* floats a vertex shader may pass to the fragment shader */
+#define SL_RASTER_MAX_SIZE 8192    /* largest target width or height */
+#define SL_TILE_DEFAULT 64         /* chosen from bench_raster's sweep (docs/performance.md) */
+#define SL_TILE_MIN 16
+#define SL_TILE_MAX 256
+#define SL_NO_DEPTH (-1L)          /* sl_target.depth_offset: depth test off */
+
+/* Object-space attributes of one vertex, as the mesh stores them. */
+typedef struct {
+    vec3 position;
+    vec3 normal;   /* (0,0,0) when the mesh has none */
+    vec2 texcoord; /* (0,0) when the mesh has none */
+    int index;     /* gl_VertexID: the vertex's index in the mesh */
+} sl_vertex_in;
+
+/* What a fragment shader sees (GLSL built-ins plus the interpolated varyings). */
+typedef struct {
+    const float *varyings; /* varying_count floats, perspective-correct */
+    vec4 frag_coord;       /* gl_FragCoord: x+0.5, y+0.5, window depth in [0,1], 1/w_clip */
+    bool front_facing;     /* gl_FrontFacing: counter-clockwise in window coordinates */
+    int x, y;              /* the pixel, row 0 = bottom */
+} sl_fragment_in;
+
+/* Vertex shader: object-space attributes -> clip-space position and varyings. */
+typedef void (*sl_vertex_shader)(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
+/* Fragment shader: writes the whole texel (the depth test has already passed). */
+typedef void (*sl_fragment_shader)(const void *uniforms, const sl_fragment_in *in, void *texel);
+
+typedef struct {
+    sl_vertex_shader vertex;
+    sl_fragment_shader fragment;
+    int varying_count; /* 0 .. SL_MAX_VARYINGS */
+} sl_program;
+
+/* A render target: width * height texels of texel_size bytes, row 0 = bottom. */
+typedef struct {
+    int width, height;
+    size_t texel_size;
+    void *texels;
+    long depth_offset; /* byte offset of a float depth in each texel, or SL_NO_DEPTH */
+} sl_target;
+
+typedef enum {
+    SL_CULL_NONE, /* draw both faces (GL with GL_CULL_FACE disabled) */
+    SL_CULL_BACK, /* drop clockwise triangles (GL_CCW front face, GL_BACK culled) */
+} sl_cull_mode;
+
+typedef struct {
+    const sl_program *program;
+    const void *vs_uniforms;
+    const void *fs_uniforms;
+    const sl_mesh *mesh;
+    sl_cull_mode cull;
+} sl_draw;
+
+/* Counters for one or more draws; only gathered when sl_raster_desc.stats is set. */
+typedef struct {
+    long long triangles_in;      /* index triples submitted */
+    long long triangles_clipped; /* that needed clipping (near, far or guard band) */
+    long long triangles_culled;  /* back faces dropped */
+    long long triangles_dropped; /* degenerate, non-finite, outside the view or covering no pixel centre */
+    long long triangles_binned;  /* setup records that reached at least one tile (after clipping) */
+    long long bin_entries;       /* (triangle, tile) pairs */
+    long long tiles_full;        /* bin entries whose triangle covers the whole tile */
+    long long blocks_full;       /* 8x8 blocks filled without per-pixel edge tests */
+    long long fragments_tested;  /* covered pixels reaching the depth test */
+    long long fragments_shaded;  /* fragment shader invocations */
+} sl_raster_stats;
+
+typedef struct {
+    int threads;   /* 0 = omp_get_max_threads() (all cores unless OMP_NUM_THREADS says otherwise) */
+    int tile_size; /* power of two in [SL_TILE_MIN, SL_TILE_MAX]; 0 = SL_TILE_DEFAULT */
+    bool stats;    /* gather sl_raster_stats */
+} sl_raster_desc;
+
+typedef struct sl_raster sl_raster;
+
+sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err);
+void sl_raster_destroy(sl_raster *r);
+int sl_raster_threads(const sl_raster *r);
+int sl_raster_tile_size(const sl_raster *r);
+
+/* Draw one mesh into the target. False (and err) only for invalid arguments
+ * (bad sizes, indices out of range, too many varyings) or no memory; bad
+ * geometry (NaN, degenerate, behind the eye) is dropped silently and counted. */
+bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, sl_error *err);
+
+/* Totals since creation or the last reset (all zero when stats are off). */
+sl_raster_stats sl_raster_get_stats(const sl_raster *r);
+void sl_raster_reset_stats(sl_raster *r);
+
+/* ---- the built-in G-buffer program (gbuffer_shader.c; GLSL twin: shaders/gbuffer.vert/.frag) ---- */
+typedef struct {
+    mat4 uModel;
+    mat4 uViewProj;
+    mat3 uNormalMatrix; /* transpose(inverse(mat3(uModel))) */
+    vec3 uKd, uKs;
+    float uAlpha;
+} sl_gbuffer_uniforms;
+
+/* Varyings of the built-in pair: vWorldPos (3 floats), then vNormal (3 floats). */
+#define SL_GBUFFER_VARYINGS 6
+void sl_gbuffer_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
+void sl_gbuffer_frag(const void *uniforms, const sl_fragment_in *in, void *texel);
+extern const sl_program sl_gbuffer_program;
+
+/* Fill the uniforms from a model matrix, view-projection and material. */
+void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m);
+/* The G-buffer as a render target (depth in the texel's depth field). */
+sl_target sl_gbuffer_target(sl_gbuffer *gb);
+/* view = lookAt(eye, target, up), proj = perspective(radians(fovy), w/h, near, far). */
+mat4 sl_camera_view_proj(const sl_camera *cam, int width, int height);
+
+/* Clear the G-buffer and draw every object of the scene with the built-in pair,
+ * both faces (no culling, as GL's default). The G-buffer must already be sized. */
+bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, sl_error *err);
+
+#endif

@@ -1,0 +1,228 @@
+/* renderer.c - one frame through raster, shading and post (see renderer.h). */
+#include "renderer.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/timer.h"
+
+static bool build_irradiance(sl_renderer *r, sl_error *err)
+{
+    const sl_scene *scene = r->scene;
+    sl_irradiance_method method = r->desc.lighting.irradiance;
+    if (r->have_irradiance) {
+        sl_irradiance_free(&r->irradiance);
+        r->have_irradiance = false;
+    }
+    double t0 = sl_now_seconds();
+    bool ok;
+    switch (method) {
+    case SL_IRRADIANCE_MAP: {
+        if (!scene->environment.irradiance_path[0])
+            return sl_fail(err, SL_ERR_RANGE, "irradiance method 'map' needs environment.irradiance in %s",
+                           scene->path);
+        sl_image map;
+        if (!sl_image_read_hdr(scene->environment.irradiance_path, &map, NULL, err))
+            return false;
+        ok = sl_irradiance_from_image(&r->irradiance, &map, err);
+        sl_image_free(&map);
+        break;
+    }
+    case SL_IRRADIANCE_BRUTE:
+        ok = sl_irradiance_brute(&r->irradiance, &r->env, r->desc.irradiance_map_width, err);
+        break;
+    case SL_IRRADIANCE_SH9:
+    default:
+        ok = sl_irradiance_sh9(&r->irradiance, &r->env, err);
+        break;
+    }
+    r->timings.irradiance_ms = (sl_now_seconds() - t0) * 1e3;
+    r->have_irradiance = ok;
+    return ok;
+}
+
+/* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
+ * one code path (and the GL path's) instead of a special case per pixel. */
+static bool load_env(sl_env *env, const char *path, sl_image_repairs *repairs, sl_error *err)
+{
+    sl_image img;
+    if (path[0]) {
+        if (!sl_image_read_hdr(path, &img, repairs, err))
+            return false;
+        if (img.channels != 3) {
+            sl_image_free(&img);
+            return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: environment must be RGB", path);
+        }
+    } else if (!sl_image_alloc(&img, 1, 1, 3, err)) {
+        return false;
+    }
+    bool ok = sl_env_build(env, &img, err);
+    sl_image_free(&img);
+    return ok;
+}
+
+bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err)
+{
+    memset(r, 0, sizeof *r);
+    r->scene = scene;
+    r->desc = *desc;
+    sl_render_desc *d = &r->desc;
+    const sl_render_settings *s = &scene->settings;
+    if (!d->width || !d->height) {
+        d->width = s->width;
+        d->height = s->height;
+    }
+    if (!d->lighting.samples)
+        d->lighting.samples = s->samples;
+    if (!d->irradiance_set)
+        d->lighting.irradiance = scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9;
+    if (d->lighting.env_intensity == 0.0f)
+        d->lighting.env_intensity = scene->environment.intensity;
+    if (d->lighting.env_rotation_deg == 0.0f)
+        d->lighting.env_rotation_deg = scene->environment.rotation_deg;
+    if (d->tonemap.exposure == 0.0f)
+        d->tonemap.exposure = s->exposure;
+    if (d->tonemap.contrast == 0.0f)
+        d->tonemap.contrast = s->contrast;
+    if (!d->irradiance_map_width)
+        d->irradiance_map_width = 64;
+
+    double t0 = sl_now_seconds();
+    if (!load_env(&r->env, scene->environment.hdr_path, &r->env_repairs, err))
+        return false;
+    r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
+    if (!d->lighting.no_diffuse && !build_irradiance(r, err))
+        goto fail;
+    r->uniforms = calloc(1, sizeof *r->uniforms);
+    if (!r->uniforms) {
+        sl_fail(err, SL_ERR_MEMORY, "out of memory for the lighting uniforms");
+        goto fail;
+    }
+    r->raster = sl_raster_create(&(sl_raster_desc){.threads = d->threads, .tile_size = d->tile_size}, err);
+    if (!r->raster || !sl_renderer_resize(r, d->width, d->height, err))
+        goto fail;
+    return true;
+fail:
+    sl_renderer_free(r);
+    return false;
+}
+
+void sl_renderer_free(sl_renderer *r)
+{
+    sl_env_free(&r->env);
+    if (r->have_irradiance)
+        sl_irradiance_free(&r->irradiance);
+    sl_raster_destroy(r->raster);
+    sl_gbuffer_free(&r->gbuffer);
+    free(r->uniforms);
+    sl_image_free(&r->radiance);
+    sl_image_free(&r->display);
+    memset(r, 0, sizeof *r);
+}
+
+bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error *err)
+{
+    sl_env env;
+    sl_image_repairs repairs = {0};
+    if (!load_env(&env, hdr_path, &repairs, err))
+        return false;
+    sl_env old = r->env;
+    r->env = env;
+    /* A loaded irradiance map belongs to the old environment: recompute from the new one. */
+    if (r->desc.lighting.irradiance == SL_IRRADIANCE_MAP)
+        r->desc.lighting.irradiance = SL_IRRADIANCE_SH9;
+    if (!r->desc.lighting.no_diffuse && !build_irradiance(r, err)) {
+        sl_env_free(&r->env);
+        r->env = old;
+        if (!build_irradiance(r, NULL))
+            r->have_irradiance = false;
+        return false;
+    }
+    sl_env_free(&old);
+    r->env_repairs = repairs;
+    return true;
+}
+
+bool sl_renderer_set_irradiance(sl_renderer *r, sl_irradiance_method method, sl_error *err)
+{
+    sl_irradiance_method old_method = r->desc.lighting.irradiance;
+    sl_irradiance old = r->irradiance;
+    bool had = r->have_irradiance;
+    r->have_irradiance = false; /* build_irradiance must not free the old one yet */
+    r->desc.lighting.irradiance = method;
+    if (!build_irradiance(r, err)) {
+        r->desc.lighting.irradiance = old_method;
+        r->irradiance = old;
+        r->have_irradiance = had;
+        return false;
+    }
+    if (had)
+        sl_irradiance_free(&old);
+    return true;
+}
+
+bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err)
+{
+    if (r->gbuffer.texels && r->gbuffer.width == width && r->gbuffer.height == height)
+        return true;
+    sl_image_free(&r->radiance);
+    sl_image_free(&r->display);
+    if (!sl_gbuffer_resize(&r->gbuffer, width, height, err))
+        return false;
+    if (!sl_image_alloc(&r->radiance, width, height, 3, err) || !sl_image_alloc(&r->display, width, height, 3, err))
+        return false;
+    r->desc.width = width;
+    r->desc.height = height;
+    return true;
+}
+
+bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
+{
+    double t0 = sl_now_seconds();
+    bool ok = sl_raster_scene(r->raster, r->scene, cam ? cam : &r->scene->camera, &r->gbuffer, err);
+    r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
+    return ok;
+}
+
+bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err)
+{
+    if (!cam)
+        cam = &r->scene->camera;
+    mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);
+    sl_lighting_desc desc = {
+        .options = r->desc.lighting,
+        .env = &r->env,
+        .irradiance = r->have_irradiance ? &r->irradiance : NULL,
+        .eye = cam->eye,
+        .inv_view_proj = inverse(view_proj),
+        .width = r->gbuffer.width,
+        .height = r->gbuffer.height,
+        .lights = r->scene->lights,
+        .light_count = r->scene->light_count,
+    };
+    return sl_lighting_uniforms_init(r->uniforms, &desc, err);
+}
+
+bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)
+{
+    double t0 = sl_now_seconds();
+    if (!sl_renderer_prepare_lighting(r, cam, err))
+        return false;
+    memset(&r->lighting_stats, 0, sizeof r->lighting_stats);
+    bool ok = sl_lighting_pass(r->uniforms, &r->lighting_stats, &r->gbuffer, &r->radiance, r->desc.threads, err);
+    r->timings.shading_ms = (sl_now_seconds() - t0) * 1e3;
+    return ok;
+}
+
+bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
+{
+    double t0 = sl_now_seconds();
+    bool ok = sl_tonemap_image(&r->radiance, &r->display, &r->desc.tonemap, err);
+    r->timings.tonemap_ms = (sl_now_seconds() - t0) * 1e3;
+    return ok;
+}
+
+bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err)
+{
+    return sl_renderer_raster(r, cam, err) && sl_renderer_shade(r, cam, err) && sl_renderer_tonemap(r, err);
+}

@@ -1,0 +1,85 @@
+/* renderer.h - one frame through every stage, and the state that outlives frames.
+ *
+ * Consumes: a loaded scene (src/scene) and render settings (scene file values, overridden by
+ * the command line or the viewer).
+ * Produces, per frame: the G-buffer (raster), linear HDR radiance (shading; row 0 = top) and
+ * the tone-mapped display image in [0,1] (post), with the time each stage took.
+ *
+ * Per environment (once, or when the viewer swaps it): the .hdr is loaded, checked and
+ * repaired, its mip chain built, and its irradiance computed with the chosen method.
+ * Per size: the G-buffer and images are allocated once and reused.
+ * Per frame: raster -> lighting -> tone map; nothing else.
+ *
+ * Does not: load the scene, write files, or open windows (src/app does). */
+#ifndef SL_RENDERER_H
+#define SL_RENDERER_H
+
+#include <stdbool.h>
+
+#include "core/error.h"
+#include "core/image.h"
+#include "ibl/ibl.h"
+#include "raster/gbuffer.h"
+#include "raster/raster.h"
+#include "scene/scene.h"
+#include "shading/lighting.h"
+#include "shading/tonemap.h"
+
+/* Settings; zero means "the scene's value" (size, N, exposure, contrast) or the stage's default. */
+typedef struct {
+    int width, height;
+    sl_lighting_options lighting; /* samples 0 = scene's N; env intensity/rotation 0 = scene's */
+    bool irradiance_set;          /* lighting.irradiance was chosen; else the scene's map if it
+                                     names one, otherwise SH9 */
+    sl_tonemap_options tonemap;   /* exposure/contrast 0 = the scene's */
+    int threads;                  /* 0 = all cores */
+    int tile_size;                /* raster tiles; 0 = SL_TILE_DEFAULT */
+    int irradiance_map_width;     /* brute-force map width; 0 = 64 */
+} sl_render_desc;
+
+typedef struct {
+    double load_ms;     /* environment load + mips (per environment) */
+    double irradiance_ms;
+    double raster_ms, shading_ms, tonemap_ms; /* last frame */
+} sl_render_timings;
+
+typedef struct {
+    const sl_scene *scene;  /* not owned */
+    sl_render_desc desc;    /* resolved */
+    sl_env env;
+    sl_irradiance irradiance;
+    bool have_irradiance;
+    sl_raster *raster;
+    sl_gbuffer gbuffer;
+    sl_lighting_uniforms *uniforms; /* ~9 KB, heap */
+    sl_lighting_stats lighting_stats;
+    sl_image radiance;      /* linear, row 0 = top */
+    sl_image display;       /* tone mapped, [0,1], row 0 = top */
+    sl_image_repairs env_repairs;
+    sl_render_timings timings;
+} sl_renderer;
+
+/* Resolve settings against the scene, load the environment, build mips and irradiance. */
+bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err);
+void sl_renderer_free(sl_renderer *r);
+
+/* Replace the environment (the viewer's drag and drop). On failure the old one stays. */
+bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error *err);
+/* Recompute the irradiance with `method` (the viewer's irradiance key) and set
+ * desc.lighting.irradiance to it. On failure the old irradiance and method stay. */
+bool sl_renderer_set_irradiance(sl_renderer *r, sl_irradiance_method method, sl_error *err);
+/* Change the render size (reallocates only when it changes). */
+bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
+
+/* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera). */
+bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* Set r->uniforms for lighting the current G-buffer seen from `cam` (what shade and trace use). */
+bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* Light the current G-buffer into r->radiance (same camera as the last raster). */
+bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* Tone map r->radiance into r->display. */
+bool sl_renderer_tonemap(sl_renderer *r, sl_error *err);
+/* All three. */
+bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err);
+
+#endif

@@ -1,0 +1,916 @@
+/* scene.c - the scene file (JSON, docs/scene-format.md) turned into an sl_scene.
+ *
+ * Owns: reading and validating every field of a scene file, filling defaults, resolving
+ * paths relative to the scene file, and loading each distinct mesh once. A scene file is
+ * typed by hand, so strictness is a feature: unknown and duplicate keys, wrong types,
+ * non-finite or out-of-range numbers are errors, and each error names the file and the JSON
+ * path of the offending value (`bunny.json: objects[3].material: no material named "gold"`).
+ * The parser walks the cJSON tree section by section; every helper takes the JSON path of
+ * the value it reads so the message can say where. */
+#include "scene_internal.h"
+
+#include <cjson/cJSON.h>
+#include <float.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../core/image.h" /* sl_read_file */
+
+#define SCENE_MAX_FILE_BYTES ((size_t)16 << 20)
+#define JSON_PATH_MAX 256
+
+/* Defaults (docs/scene-format.md lists the same values). */
+#define DEFAULT_FOVY 45.0f
+#define DEFAULT_NEAR 0.1f
+#define DEFAULT_FAR 100.0f
+#define DEFAULT_WIDTH 1280
+#define DEFAULT_HEIGHT 720
+#define DEFAULT_SAMPLES 40
+#define DEFAULT_SLICES 64
+#define DEFAULT_STACKS 32
+#define DEFAULT_MATERIAL_NAME "default"
+
+/* Limits on values that are legal JSON but absurd for a frame. */
+#define MAX_IMAGE_SIZE 16384
+#define MAX_SAMPLES 1024
+#define MAX_ALPHA 1e6
+/* Far/near beyond this leaves a float depth buffer almost no precision. */
+#define MAX_DEPTH_RATIO 1e7
+/* Up closer than this (sine of the angle) to the view direction gives an unstable basis. */
+#define MIN_UP_SINE 1e-3f
+
+typedef struct {
+    const char *name;     /* the scene's name in messages */
+    const char *base_dir; /* for relative paths; "" = as given */
+    sl_error *err;
+} parser;
+
+/* A material name and its index, sorted by name for duplicate checks and lookups. */
+typedef struct {
+    const char *name;
+    int index;
+} name_index;
+
+/* ---- errors and JSON paths ---- */
+
+static bool fail_at(parser *p, const char *path, sl_error_code code, const char *fmt, ...)
+#if defined(__GNUC__)
+    __attribute__((format(printf, 4, 5)))
+#endif
+    ;
+static bool fail_at(parser *p, const char *path, sl_error_code code, const char *fmt, ...)
+{
+    char msg[400];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(msg, sizeof msg, fmt, ap);
+    va_end(ap);
+    if (path && path[0])
+        return sl_fail(p->err, code, "%s: %s: %s", p->name, path, msg);
+    return sl_fail(p->err, code, "%s: %s", p->name, msg);
+}
+
+/* A path too long for the buffer (deep nesting, long names) ends in "..." rather than failing. */
+static void mark_truncated(char *out, int written)
+{
+    if (written >= JSON_PATH_MAX)
+        memcpy(out + JSON_PATH_MAX - 4, "...", 4);
+}
+
+static void join_key(char *out, const char *path, const char *key)
+{
+    mark_truncated(out, snprintf(out, JSON_PATH_MAX, "%s%s%.64s", path, path[0] ? "." : "", key));
+}
+
+static void join_index(char *out, const char *path, int i)
+{
+    mark_truncated(out, snprintf(out, JSON_PATH_MAX, "%s[%d]", path, i));
+}
+
+/* ---- typed readers: each checks the JSON type and range of one value ---- */
+
+static const cJSON *member(const cJSON *obj, const char *key)
+{
+    return cJSON_GetObjectItemCaseSensitive(obj, key);
+}
+
+static bool comment_ok(const cJSON *item)
+{
+    if (cJSON_IsString(item))
+        return true;
+    if (!cJSON_IsArray(item))
+        return false;
+    for (const cJSON *line = item->child; line; line = line->next)
+        if (!cJSON_IsString(line))
+            return false;
+    return true;
+}
+
+/* `item` must be an object whose keys are all in `allowed` (plus "comment"), none repeated. */
+static bool check_keys(parser *p, const cJSON *item, const char *path, const char *const allowed[])
+{
+    if (!cJSON_IsObject(item))
+        return fail_at(p, path, SL_ERR_FORMAT, "expected an object {...}");
+    for (const cJSON *child = item->child; child; child = child->next) {
+        const char *key = child->string;
+        for (const cJSON *prev = item->child; prev != child; prev = prev->next)
+            if (strcmp(prev->string, key) == 0)
+                return fail_at(p, path, SL_ERR_FORMAT, "duplicate key \"%.64s\"", key);
+        if (strcmp(key, "comment") == 0) {
+            if (!comment_ok(child)) {
+                char sub[JSON_PATH_MAX];
+                join_key(sub, path, key);
+                return fail_at(p, sub, SL_ERR_FORMAT, "expected a string or an array of strings");
+            }
+            continue;
+        }
+        bool known = false;
+        for (int i = 0; allowed[i] && !known; i++)
+            known = strcmp(allowed[i], key) == 0;
+        if (!known) {
+            char list[256] = "";
+            size_t used = 0;
+            for (int i = 0; allowed[i] && used < sizeof list; i++)
+                used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", allowed[i]);
+            return fail_at(p, path[0] ? path : NULL, SL_ERR_FORMAT, "unknown key \"%.64s\" (expected %s%scomment)",
+                           key, list, list[0] ? " or " : "");
+        }
+    }
+    return true;
+}
+
+static bool read_number(parser *p, const cJSON *item, const char *path, double *out)
+{
+    if (!cJSON_IsNumber(item))
+        return fail_at(p, path, SL_ERR_FORMAT, "expected a number");
+    double x = item->valuedouble;
+    /* cJSON turns 1e999 into inf; anything beyond float's range would become inf later. */
+    if (!isfinite(x) || fabs(x) > (double)FLT_MAX)
+        return fail_at(p, path, SL_ERR_RANGE, "%g is not a finite float", x);
+    *out = x;
+    return true;
+}
+
+/* A float in [lo, hi]. */
+static bool read_float(parser *p, const cJSON *item, const char *path, double lo, double hi, float *out)
+{
+    double x = 0.0;
+    if (!read_number(p, item, path, &x))
+        return false;
+    if (x < lo || x > hi)
+        return fail_at(p, path, SL_ERR_RANGE, "%g is outside %g..%g", x, lo, hi);
+    *out = (float)x;
+    return true;
+}
+
+static bool read_int(parser *p, const cJSON *item, const char *path, int lo, int hi, int *out)
+{
+    double x = 0.0;
+    if (!read_number(p, item, path, &x))
+        return false;
+    if (x != floor(x))
+        return fail_at(p, path, SL_ERR_FORMAT, "expected an integer, got %g", x);
+    if (x < lo || x > hi)
+        return fail_at(p, path, SL_ERR_RANGE, "%g is outside %d..%d", x, lo, hi);
+    *out = (int)x;
+    return true;
+}
+
+/* An array of exactly n finite numbers. */
+static bool read_numbers(parser *p, const cJSON *item, const char *path, int n, double *out)
+{
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n) {
+        static const char *const shape[] = {"", "", "", "an array of 3 numbers", "an array of 4 numbers"};
+        return fail_at(p, path, SL_ERR_FORMAT, "expected %s", shape[n]);
+    }
+    int i = 0;
+    for (const cJSON *e = item->child; e; e = e->next, i++) {
+        char sub[JSON_PATH_MAX];
+        join_index(sub, path, i);
+        if (!cJSON_IsNumber(e))
+            return fail_at(p, path, SL_ERR_FORMAT, "expected an array of %d numbers", n);
+        if (!read_number(p, e, sub, &out[i]))
+            return false;
+    }
+    return true;
+}
+
+static bool read_vec3(parser *p, const cJSON *item, const char *path, vec3 *out)
+{
+    double v[3];
+    if (!read_numbers(p, item, path, 3, v))
+        return false;
+    *out = vec3(v[0], v[1], v[2]);
+    return true;
+}
+
+/* IEC 61966-2-1 sRGB decoding, the exact piecewise curve (not the 2.2 power). */
+static double srgb_to_linear(double c) { return c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4); }
+
+static int hex_digit(char ch)
+{
+    if (ch >= '0' && ch <= '9')
+        return ch - '0';
+    if (ch >= 'a' && ch <= 'f')
+        return ch - 'a' + 10;
+    if (ch >= 'A' && ch <= 'F')
+        return ch - 'A' + 10;
+    return -1;
+}
+
+/* A colour: [r, g, b] linear, a single number (grey, linear) or "#rrggbb" (sRGB). Linear
+ * components must lie in [0, hi]. */
+static bool read_color(parser *p, const cJSON *item, const char *path, double hi, vec3 *out)
+{
+    if (cJSON_IsString(item)) {
+        const char *s = item->valuestring;
+        double c[3];
+        bool ok = strlen(s) == 7 && s[0] == '#';
+        for (int i = 0; ok && i < 3; i++) {
+            int h = hex_digit(s[1 + 2 * i]), l = hex_digit(s[2 + 2 * i]);
+            ok = h >= 0 && l >= 0;
+            c[i] = srgb_to_linear((double)(16 * h + l) / 255.0);
+        }
+        if (!ok)
+            return fail_at(p, path, SL_ERR_FORMAT, "expected an sRGB colour \"#rrggbb\", got \"%.32s\"", s);
+        *out = vec3(c[0], c[1], c[2]);
+        return true;
+    }
+    if (cJSON_IsNumber(item)) {
+        float g;
+        if (!read_float(p, item, path, 0.0, hi, &g))
+            return false;
+        *out = vec3s(g);
+        return true;
+    }
+    if (!cJSON_IsArray(item))
+        return fail_at(p, path, SL_ERR_FORMAT,
+                       "expected [r, g, b] (linear), a number (grey) or \"#rrggbb\" (sRGB)");
+    vec3 v;
+    if (!read_vec3(p, item, path, &v))
+        return false;
+    const float c[3] = {v.x, v.y, v.z};
+    for (int i = 0; i < 3; i++) {
+        if (c[i] < 0.0f || (double)c[i] > hi) {
+            char sub[JSON_PATH_MAX];
+            join_index(sub, path, i);
+            return fail_at(p, sub, SL_ERR_RANGE, "%g is outside 0..%g", (double)c[i], hi);
+        }
+    }
+    *out = v;
+    return true;
+}
+
+static bool read_string(parser *p, const cJSON *item, const char *path, char *out, size_t cap)
+{
+    if (!cJSON_IsString(item))
+        return fail_at(p, path, SL_ERR_FORMAT, "expected a string");
+    size_t n = strlen(item->valuestring);
+    if (n == 0)
+        return fail_at(p, path, SL_ERR_FORMAT, "expected a non-empty string");
+    if (n >= cap)
+        return fail_at(p, path, SL_ERR_RANGE, "%zu bytes is longer than the %zu allowed", n, cap - 1);
+    memcpy(out, item->valuestring, n + 1);
+    return true;
+}
+
+/* A file path from the scene, resolved relative to the scene file's folder. */
+static bool read_path(parser *p, const cJSON *item, const char *path, char out[SL_PATH_MAX])
+{
+    char rel[SL_PATH_MAX];
+    if (!read_string(p, item, path, rel, sizeof rel))
+        return false;
+    const char *dir = p->base_dir;
+    int n;
+    if (rel[0] == '/' || !dir[0])
+        n = snprintf(out, SL_PATH_MAX, "%s", rel);
+    else
+        n = snprintf(out, SL_PATH_MAX, "%s%s%s", dir, dir[strlen(dir) - 1] == '/' ? "" : "/", rel);
+    if (n < 0 || n >= SL_PATH_MAX)
+        return fail_at(p, path, SL_ERR_RANGE, "resolved path is longer than %d bytes", SL_PATH_MAX - 1);
+    return true;
+}
+
+/* ---- sections ---- */
+
+static bool parse_camera(parser *p, const cJSON *item, sl_camera *cam)
+{
+    static const char *const keys[] = {"eye", "target", "up", "fovy", "near", "far", NULL};
+    *cam = (sl_camera){.eye = vec3(0.0f, -5.0f, 2.0f),
+                       .target = vec3(0.0f, 0.0f, 0.0f),
+                       .up = vec3(0.0f, 0.0f, 1.0f),
+                       .fovy_deg = DEFAULT_FOVY,
+                       .znear = DEFAULT_NEAR,
+                       .zfar = DEFAULT_FAR};
+    if (!item)
+        return true;
+    if (!check_keys(p, item, "camera", keys))
+        return false;
+    const cJSON *v;
+    if ((v = member(item, "eye")) && !read_vec3(p, v, "camera.eye", &cam->eye))
+        return false;
+    if ((v = member(item, "target")) && !read_vec3(p, v, "camera.target", &cam->target))
+        return false;
+    if ((v = member(item, "up")) && !read_vec3(p, v, "camera.up", &cam->up))
+        return false;
+    if ((v = member(item, "fovy"))) {
+        if (!read_float(p, v, "camera.fovy", 0.0, 180.0, &cam->fovy_deg))
+            return false;
+        if (cam->fovy_deg <= 0.0f || cam->fovy_deg >= 180.0f)
+            return fail_at(p, "camera.fovy", SL_ERR_RANGE, "%g is outside (0, 180) degrees, exclusive",
+                           (double)cam->fovy_deg);
+    }
+    /* near and far: any finite value here; their relations are checked below. */
+    const double big = (double)FLT_MAX;
+    if ((v = member(item, "near")) && !read_float(p, v, "camera.near", -big, big, &cam->znear))
+        return false;
+    if ((v = member(item, "far")) && !read_float(p, v, "camera.far", -big, big, &cam->zfar))
+        return false;
+    if (!(cam->znear > 0.0f))
+        return fail_at(p, "camera.near", SL_ERR_RANGE, "%g must be greater than 0", (double)cam->znear);
+    if (!(cam->zfar > cam->znear))
+        return fail_at(p, "camera.far", SL_ERR_RANGE, "%g must be greater than near (%g)", (double)cam->zfar,
+                       (double)cam->znear);
+    if ((double)cam->zfar / (double)cam->znear > MAX_DEPTH_RATIO)
+        return fail_at(p, "camera.far", SL_ERR_RANGE,
+                       "far/near = %g exceeds %g; the depth buffer would lose all precision",
+                       (double)cam->zfar / (double)cam->znear, MAX_DEPTH_RATIO);
+    vec3 f, u;
+    if (!scene_safe_normalize(sub3(cam->target, cam->eye), &f))
+        return fail_at(p, "camera.target", SL_ERR_RANGE,
+                       "equals camera.eye (%g, %g, %g); the view direction is undefined", (double)cam->eye.x,
+                       (double)cam->eye.y, (double)cam->eye.z);
+    if (!scene_safe_normalize(cam->up, &u))
+        return fail_at(p, "camera.up", SL_ERR_RANGE, "must not be the zero vector");
+    if (length3(cross(f, u)) < MIN_UP_SINE)
+        return fail_at(p, "camera.up", SL_ERR_RANGE,
+                       "(%g, %g, %g) is parallel to the view direction (target - eye); pick an up across it",
+                       (double)cam->up.x, (double)cam->up.y, (double)cam->up.z);
+    return true;
+}
+
+/* Degrees reduced into (-360, 360) in double, so huge-but-finite angles keep their meaning. */
+static float reduce_degrees(double deg) { return (float)fmod(deg, 360.0); }
+
+static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc *env)
+{
+    static const char *const keys[] = {"hdr", "irradiance", "intensity", "rotation", NULL};
+    *env = (sl_environment_desc){.intensity = 1.0f};
+    if (!item)
+        return true;
+    if (cJSON_IsString(item)) /* shorthand: "environment": "envmaps/studio.hdr" */
+        return read_path(p, item, "environment", env->hdr_path);
+    if (!cJSON_IsObject(item))
+        return fail_at(p, "environment", SL_ERR_FORMAT, "expected an object {\"hdr\": ...} or an .hdr path");
+    if (!check_keys(p, item, "environment", keys))
+        return false;
+    const cJSON *v = member(item, "hdr");
+    if (!v)
+        return fail_at(p, "environment", SL_ERR_FORMAT, "missing \"hdr\" (the environment's .hdr image)");
+    if (!read_path(p, v, "environment.hdr", env->hdr_path))
+        return false;
+    if ((v = member(item, "irradiance")) && !read_path(p, v, "environment.irradiance", env->irradiance_path))
+        return false;
+    if ((v = member(item, "intensity")) && !read_float(p, v, "environment.intensity", 0.0, 1e6, &env->intensity))
+        return false;
+    double deg;
+    if ((v = member(item, "rotation"))) {
+        if (!read_number(p, v, "environment.rotation", &deg))
+            return false;
+        env->rotation_deg = reduce_degrees(deg);
+    }
+    return true;
+}
+
+static int compare_names(const void *a, const void *b)
+{
+    return strcmp(((const name_index *)a)->name, ((const name_index *)b)->name);
+}
+
+static bool parse_material(parser *p, const cJSON *item, const char *path, sl_material *m)
+{
+    static const char *const keys[] = {"kd", "ks", "alpha", NULL};
+    if (!check_keys(p, item, path, keys))
+        return false;
+    char sub[JSON_PATH_MAX];
+    const cJSON *v;
+    if ((v = member(item, "kd"))) {
+        join_key(sub, path, "kd");
+        if (!read_color(p, v, sub, 1.0, &m->kd))
+            return false;
+    }
+    if ((v = member(item, "ks"))) {
+        join_key(sub, path, "ks");
+        if (!read_color(p, v, sub, 1.0, &m->ks))
+            return false;
+    }
+    if ((v = member(item, "alpha"))) {
+        join_key(sub, path, "alpha");
+        if (!read_float(p, v, sub, 0.0, MAX_ALPHA, &m->alpha))
+            return false;
+    }
+    return true;
+}
+
+static sl_material default_material(const char *name)
+{
+    sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f};
+    snprintf(m.name, sizeof m.name, "%s", name);
+    return m;
+}
+
+/* Materials are a map from name to definition; `sorted` gets them ordered by name. The
+ * array has room for one more, the implicit default material. */
+static bool parse_materials(parser *p, const cJSON *item, sl_scene *scene, name_index **sorted)
+{
+    int n = 0;
+    if (item) {
+        if (!cJSON_IsObject(item))
+            return fail_at(p, "materials", SL_ERR_FORMAT, "expected an object {\"name\": {\"kd\": ...}, ...}");
+        n = cJSON_GetArraySize(item);
+    }
+    scene->materials = calloc((size_t)n + 1, sizeof *scene->materials);
+    *sorted = calloc((size_t)n + 1, sizeof **sorted);
+    if (!scene->materials || !*sorted)
+        return fail_at(p, "materials", SL_ERR_MEMORY, "out of memory for %d materials", n);
+    if (!item)
+        return true;
+    for (const cJSON *child = item->child; child; child = child->next) {
+        char path[JSON_PATH_MAX];
+        join_key(path, "materials", child->string);
+        /* A material is an object, so a "comment" string here cannot be mistaken for one. */
+        if (strcmp(child->string, "comment") == 0 && comment_ok(child))
+            continue;
+        size_t len = strlen(child->string);
+        if (len == 0 || len >= SL_NAME_MAX)
+            return fail_at(p, path, SL_ERR_RANGE, "a material name must have 1..%d bytes", SL_NAME_MAX - 1);
+        sl_material *m = &scene->materials[scene->material_count];
+        *m = default_material(child->string);
+        if (!parse_material(p, child, path, m))
+            return false;
+        (*sorted)[scene->material_count] = (name_index){m->name, scene->material_count};
+        scene->material_count++;
+    }
+    qsort(*sorted, (size_t)scene->material_count, sizeof **sorted, compare_names);
+    for (int i = 1; i < scene->material_count; i++) {
+        if (strcmp((*sorted)[i - 1].name, (*sorted)[i].name) == 0) {
+            char path[JSON_PATH_MAX];
+            join_key(path, "materials", (*sorted)[i].name);
+            return fail_at(p, path, SL_ERR_FORMAT, "defined twice");
+        }
+    }
+    return true;
+}
+
+static int find_material(const name_index *sorted, int count, const char *name)
+{
+    name_index key = {name, -1};
+    const name_index *hit = count ? bsearch(&key, sorted, (size_t)count, sizeof key, compare_names) : NULL;
+    return hit ? hit->index : -1;
+}
+
+/* "rotate": [ax, ay, az, degrees] or a list of those; the first listed is applied first. */
+static bool parse_rotate(parser *p, const cJSON *item, const char *path, mat4 *r)
+{
+    *r = mat4_identity();
+    bool list = cJSON_IsArray(item) && item->child && cJSON_IsArray(item->child);
+    int i = 0;
+    for (const cJSON *e = list ? item->child : item; e; e = list ? e->next : NULL, i++) {
+        char sub[JSON_PATH_MAX];
+        if (list)
+            join_index(sub, path, i);
+        else
+            snprintf(sub, sizeof sub, "%s", path);
+        double v[4];
+        if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 4)
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected [ax, ay, az, degrees] or a list of them");
+        if (!read_numbers(p, e, sub, 4, v))
+            return false;
+        vec3 axis;
+        if (!scene_safe_normalize(vec3(v[0], v[1], v[2]), &axis))
+            return fail_at(p, sub, SL_ERR_RANGE, "the rotation axis must not be the zero vector");
+        float angle = (float)(fmod(v[3], 360.0) * (3.14159265358979323846 / 180.0));
+        *r = mat4_mul(mat4_rotate(axis, angle), *r);
+    }
+    return true;
+}
+
+/* Object -> world = T * R * S: scale about the origin, then rotate, then translate. */
+static bool parse_transform(parser *p, const cJSON *item, const char *path, mat4 *model)
+{
+    static const char *const keys[] = {"translate", "rotate", "scale", NULL};
+    *model = mat4_identity();
+    if (!item)
+        return true;
+    if (!check_keys(p, item, path, keys))
+        return false;
+    char sub[JSON_PATH_MAX];
+    vec3 t = vec3s(0.0f), s = vec3s(1.0f);
+    mat4 r = mat4_identity();
+    const cJSON *v;
+    if ((v = member(item, "translate"))) {
+        join_key(sub, path, "translate");
+        if (!read_vec3(p, v, sub, &t))
+            return false;
+    }
+    if ((v = member(item, "rotate"))) {
+        join_key(sub, path, "rotate");
+        if (!parse_rotate(p, v, sub, &r))
+            return false;
+    }
+    if ((v = member(item, "scale"))) {
+        join_key(sub, path, "scale");
+        if (cJSON_IsNumber(v)) {
+            double x;
+            if (!read_number(p, v, sub, &x))
+                return false;
+            s = vec3s((float)x);
+        } else if (!cJSON_IsArray(v)) {
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected a number or an array of 3 numbers");
+        } else if (!read_vec3(p, v, sub, &s)) {
+            return false;
+        }
+        /* Negative scales would mirror the mesh and turn its front faces into back faces. */
+        const float c[3] = {s.x, s.y, s.z};
+        for (int i = 0; i < 3; i++)
+            if (!(c[i] >= 1e-6f && c[i] <= 1e6f))
+                return fail_at(p, sub, SL_ERR_RANGE, "%g is outside 1e-06..1e+06 (positive; no mirroring)",
+                               (double)c[i]);
+    }
+    *model = mat4_mul(mat4_translate(t), mat4_mul(r, mat4_scale(s)));
+    return true;
+}
+
+static bool same_source(const sl_mesh_source *a, const sl_mesh_source *b)
+{
+    return a->kind == b->kind && a->slices == b->slices && a->stacks == b->stacks && strcmp(a->path, b->path) == 0;
+}
+
+/* The object's default name: the OBJ file's base name without extension, or the shape. */
+static void default_object_name(char out[SL_NAME_MAX], const char *mesh_text, const char *shape)
+{
+    if (shape) {
+        snprintf(out, SL_NAME_MAX, "%s", shape);
+        return;
+    }
+    const char *base = strrchr(mesh_text, '/');
+    base = base ? base + 1 : mesh_text;
+    size_t n = strcspn(base, ".");
+    if (n == 0)
+        n = strlen(base);
+    snprintf(out, SL_NAME_MAX, "%.*s", (int)(n < SL_NAME_MAX - 1 ? n : SL_NAME_MAX - 1), base);
+}
+
+static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scene *scene,
+                         const name_index *sorted, int named_materials, int *first_user, sl_object *obj)
+{
+    static const char *const keys[] = {"name", "mesh", "shape", "slices", "stacks", "material", "transform",
+                                       NULL};
+    static const char *const shapes[] = {"sphere", "plane", "box"};
+    static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
+    if (!check_keys(p, item, path, keys))
+        return false;
+    char sub[JSON_PATH_MAX];
+    const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape");
+    if (mesh && shape)
+        return fail_at(p, path, SL_ERR_FORMAT, "has both \"mesh\" and \"shape\"; give one");
+    if (!mesh && !shape)
+        return fail_at(p, path, SL_ERR_FORMAT,
+                       "needs \"mesh\" (an .obj path) or \"shape\" (\"sphere\", \"plane\" or \"box\")");
+    sl_mesh_source src = {.kind = SL_MESH_OBJ};
+    const char *shape_name = NULL;
+    if (mesh) {
+        join_key(sub, path, "mesh");
+        if (!read_path(p, mesh, sub, src.path))
+            return false;
+    } else {
+        join_key(sub, path, "shape");
+        if (!cJSON_IsString(shape))
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected \"sphere\", \"plane\" or \"box\"");
+        for (int i = 0; i < 3 && !shape_name; i++)
+            if (strcmp(shape->valuestring, shapes[i]) == 0)
+                shape_name = shapes[i], src.kind = kinds[i];
+        if (!shape_name)
+            return fail_at(p, sub, SL_ERR_FORMAT, "unknown shape \"%.32s\" (expected sphere, plane or box)",
+                           shape->valuestring);
+    }
+    const cJSON *v;
+    if (src.kind == SL_MESH_SPHERE) {
+        src.slices = DEFAULT_SLICES;
+        src.stacks = DEFAULT_STACKS;
+    }
+    static const char *const tess[2] = {"slices", "stacks"};
+    for (int i = 0; i < 2; i++) {
+        if (!(v = member(item, tess[i])))
+            continue;
+        join_key(sub, path, tess[i]);
+        if (src.kind != SL_MESH_SPHERE)
+            return fail_at(p, sub, SL_ERR_FORMAT, "only a sphere has %s", tess[i]);
+        bool ok = i == 0 ? read_int(p, v, sub, 3, SCENE_SPHERE_MAX_SLICES, &src.slices)
+                         : read_int(p, v, sub, 2, SCENE_SPHERE_MAX_STACKS, &src.stacks);
+        if (!ok)
+            return false;
+    }
+
+    if ((v = member(item, "name"))) {
+        join_key(sub, path, "name");
+        if (!read_string(p, v, sub, obj->name, sizeof obj->name))
+            return false;
+    } else {
+        default_object_name(obj->name, mesh ? mesh->valuestring : "", shape_name);
+    }
+
+    if ((v = member(item, "material"))) {
+        join_key(sub, path, "material");
+        if (!cJSON_IsString(v))
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected a material name (a string)");
+        obj->material = find_material(sorted, named_materials, v->valuestring);
+        if (obj->material < 0)
+            return fail_at(p, sub, SL_ERR_FORMAT, "no material named \"%.64s\"", v->valuestring);
+    } else {
+        /* No material: the one named "default" if the scene defines it, else a built-in grey. */
+        obj->material = find_material(sorted, named_materials, DEFAULT_MATERIAL_NAME);
+        if (obj->material < 0) {
+            obj->material = named_materials;
+            if (scene->material_count == named_materials) {
+                scene->materials[named_materials] = default_material(DEFAULT_MATERIAL_NAME);
+                scene->material_count++;
+            }
+        }
+    }
+
+    join_key(sub, path, "transform");
+    if (!parse_transform(p, member(item, "transform"), sub, &obj->model))
+        return false;
+
+    /* One mesh per distinct source. */
+    obj->mesh = -1;
+    for (int i = 0; i < scene->mesh_count && obj->mesh < 0; i++)
+        if (same_source(&scene->mesh_sources[i], &src))
+            obj->mesh = i;
+    if (obj->mesh < 0) {
+        obj->mesh = scene->mesh_count;
+        scene->mesh_sources[scene->mesh_count] = src;
+        first_user[scene->mesh_count] = (int)(obj - scene->objects);
+        scene->mesh_count++;
+    }
+    return true;
+}
+
+static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
+{
+    static const char *const keys[] = {"position", "color", "intensity", NULL};
+    if (!item)
+        return true;
+    if (!cJSON_IsArray(item))
+        return fail_at(p, "lights", SL_ERR_FORMAT, "expected an array of lights [{\"position\": ...}, ...]");
+    int n = cJSON_GetArraySize(item);
+    scene->lights = calloc((size_t)n + 1, sizeof *scene->lights);
+    if (!scene->lights)
+        return fail_at(p, "lights", SL_ERR_MEMORY, "out of memory for %d lights", n);
+    for (const cJSON *e = item->child; e; e = e->next) {
+        char path[JSON_PATH_MAX], sub[JSON_PATH_MAX];
+        join_index(path, "lights", scene->light_count);
+        if (!check_keys(p, e, path, keys))
+            return false;
+        sl_point_light *l = &scene->lights[scene->light_count];
+        *l = (sl_point_light){.color = vec3s(1.0f), .intensity = 1.0f};
+        const cJSON *v = member(e, "position");
+        join_key(sub, path, "position");
+        if (!v)
+            return fail_at(p, path, SL_ERR_FORMAT, "missing \"position\"");
+        if (!read_vec3(p, v, sub, &l->position))
+            return false;
+        join_key(sub, path, "color");
+        if ((v = member(e, "color")) && !read_color(p, v, sub, 1e6, &l->color))
+            return false;
+        join_key(sub, path, "intensity");
+        if ((v = member(e, "intensity")) && !read_float(p, v, sub, 0.0, 1e9, &l->intensity))
+            return false;
+        scene->light_count++;
+    }
+    return true;
+}
+
+static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
+{
+    static const char *const keys[] = {"width", "height", "samples", "exposure", "contrast", NULL};
+    *r = (sl_render_settings){.width = DEFAULT_WIDTH,
+                              .height = DEFAULT_HEIGHT,
+                              .samples = DEFAULT_SAMPLES,
+                              .exposure = 1.0f,
+                              .contrast = 1.0f};
+    if (!item)
+        return true;
+    if (!check_keys(p, item, "render", keys))
+        return false;
+    const cJSON *v;
+    if ((v = member(item, "width")) && !read_int(p, v, "render.width", 1, MAX_IMAGE_SIZE, &r->width))
+        return false;
+    if ((v = member(item, "height")) && !read_int(p, v, "render.height", 1, MAX_IMAGE_SIZE, &r->height))
+        return false;
+    if ((v = member(item, "samples")) && !read_int(p, v, "render.samples", 1, MAX_SAMPLES, &r->samples))
+        return false;
+    /* Exposure: the specification's range for e (tone mapping section). */
+    if ((v = member(item, "exposure")) && !read_float(p, v, "render.exposure", 0.1, 10000.0, &r->exposure))
+        return false;
+    if ((v = member(item, "contrast"))) {
+        if (!read_float(p, v, "render.contrast", 0.0, 10.0, &r->contrast))
+            return false;
+        if (!(r->contrast > 0.0f))
+            return fail_at(p, "render.contrast", SL_ERR_RANGE, "%g must be greater than 0 (0 < contrast <= 10)",
+                           (double)r->contrast);
+    }
+    return true;
+}
+
+/* Build every distinct mesh. Each mesh is capped on its own (scene_internal.h); the scene as
+ * a whole is capped too, so that many large meshes cannot add up to an absurd allocation. */
+static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
+{
+    long long total_vertices = 0;
+    for (int i = 0; i < scene->mesh_count; i++) {
+        const sl_mesh_source *src = &scene->mesh_sources[i];
+        sl_mesh *m = &scene->meshes[i];
+        bool ok;
+        switch (src->kind) {
+        case SL_MESH_OBJ:
+            ok = sl_mesh_load_obj(src->path, m, p->err) && sl_mesh_validate(m, src->path, p->err);
+            break;
+        case SL_MESH_SPHERE: ok = sl_mesh_sphere(m, src->slices, src->stacks, p->err); break;
+        case SL_MESH_PLANE: ok = sl_mesh_plane(m, p->err); break;
+        case SL_MESH_BOX: ok = sl_mesh_box(m, p->err); break;
+        default: ok = sl_fail(p->err, SL_ERR_FORMAT, "unknown mesh kind %d", (int)src->kind); break;
+        }
+        total_vertices += m->vertex_count;
+        if (ok && total_vertices > SCENE_MAX_TOTAL_VERTICES)
+            ok = sl_fail(p->err, SL_ERR_RANGE, "the scene's meshes have more than %d vertices in all",
+                         SCENE_MAX_TOTAL_VERTICES);
+        if (!ok) {
+            sl_error_prefix(p->err, "%s: objects[%d].%s: ", p->name, first_user[i],
+                            src->kind == SL_MESH_OBJ ? "mesh" : "shape");
+            return false;
+        }
+    }
+    return true;
+}
+
+/* Line and column (1-based) of a byte offset, for JSON syntax errors. */
+static void line_column(const char *text, size_t offset, size_t *line, size_t *column)
+{
+    *line = 1;
+    *column = 1;
+    for (size_t i = 0; i < offset; i++) {
+        if (text[i] == '\n')
+            ++*line, *column = 1;
+        else
+            ++*column;
+    }
+}
+
+static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_scene *scene)
+{
+    static const char *const keys[] = {"camera", "environment", "materials", "objects", "lights", "render", NULL};
+    if (!cJSON_IsObject(root))
+        return fail_at(p, NULL, SL_ERR_FORMAT, "expected a JSON object {...} at the top level");
+    if (!check_keys(p, root, "", keys))
+        return false;
+    name_index *sorted = NULL;
+    int *first_user = NULL;
+    bool ok = parse_camera(p, member(root, "camera"), &scene->camera) &&
+              parse_environment(p, member(root, "environment"), &scene->environment) &&
+              parse_render(p, member(root, "render"), &scene->settings) &&
+              parse_materials(p, member(root, "materials"), scene, &sorted);
+    const cJSON *objects = member(root, "objects");
+    if (ok && objects && !cJSON_IsArray(objects))
+        ok = fail_at(p, "objects", SL_ERR_FORMAT, "expected an array of objects [{\"shape\": ...}, ...]");
+    if (ok) {
+        size_t n = (size_t)(objects ? cJSON_GetArraySize(objects) : 0);
+        scene->objects = calloc(n + 1, sizeof *scene->objects);
+        scene->mesh_sources = calloc(n + 1, sizeof *scene->mesh_sources);
+        first_user = calloc(n + 1, sizeof *first_user);
+        if (!scene->objects || !scene->mesh_sources || !first_user)
+            ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
+    }
+    int named_materials = scene->material_count;
+    for (const cJSON *e = objects && ok ? objects->child : NULL; e && ok; e = e->next) {
+        char path[JSON_PATH_MAX];
+        join_index(path, "objects", scene->object_count);
+        sl_object *obj = &scene->objects[scene->object_count];
+        ok = parse_object(p, e, path, scene, sorted, named_materials, first_user, obj);
+        if (ok)
+            scene->object_count++;
+    }
+    ok = ok && parse_lights(p, member(root, "lights"), scene);
+    if (ok) {
+        scene->meshes = calloc((size_t)scene->mesh_count + 1, sizeof *scene->meshes);
+        if (!scene->meshes)
+            ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
+    }
+    if (ok && load_meshes)
+        ok = load_meshes_now(p, scene, first_user);
+    free(sorted);
+    free(first_user);
+    return ok;
+}
+
+bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                    sl_scene *scene, sl_error *err)
+{
+    memset(scene, 0, sizeof *scene);
+    parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err};
+    snprintf(scene->path, sizeof scene->path, "%s", p.name);
+    const char *end = NULL;
+    cJSON *root = cJSON_ParseWithLengthOpts(json, size, &end, false);
+    if (!root) {
+        size_t at = end && end >= json && end <= json + size ? (size_t)(end - json) : 0;
+        size_t line, column;
+        line_column(json, at, &line, &column);
+        char near[24];
+        size_t n = 0;
+        for (size_t i = at; i < size && n < 16 && json[i] != '\n'; i++)
+            near[n++] = json[i] >= 32 && json[i] < 127 ? json[i] : '?';
+        near[n] = '\0';
+        return sl_fail(err, SL_ERR_FORMAT, "%s:%zu:%zu: invalid JSON%s%s%s", p.name, line, column,
+                       n ? " near '" : " (unexpected end of input)", near, n ? "'" : "");
+    }
+    bool ok = true;
+    /* cJSON stops after the first value; anything but whitespace after it is a mistake. */
+    for (size_t i = (size_t)(end - json); ok && i < size; i++) {
+        if (json[i] != ' ' && json[i] != '\t' && json[i] != '\n' && json[i] != '\r') {
+            size_t line, column;
+            line_column(json, i, &line, &column);
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s:%zu:%zu: unexpected text after the JSON object", p.name, line,
+                         column);
+        }
+    }
+    ok = ok && parse_document(&p, root, load_meshes, scene);
+    cJSON_Delete(root);
+    if (!ok)
+        sl_scene_free(scene);
+    return ok;
+}
+
+bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
+{
+    memset(scene, 0, sizeof *scene);
+    unsigned char *bytes;
+    size_t size;
+    if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))
+        return false;
+    /* Paths in the scene are relative to the folder holding it. */
+    char dir[SL_PATH_MAX] = "";
+    const char *slash = strrchr(path, '/');
+    if (slash) {
+        size_t n = slash == path ? 1 : (size_t)(slash - path);
+        if (n >= sizeof dir) {
+            free(bytes);
+            return sl_fail(err, SL_ERR_RANGE, "%s: path is longer than %d bytes", path, SL_PATH_MAX - 1);
+        }
+        memcpy(dir, path, n);
+        dir[n] = '\0';
+    }
+    bool ok = sl_scene_parse((const char *)bytes, size, path, dir, true, scene, err);
+    free(bytes);
+    return ok;
+}
+
+void sl_scene_free(sl_scene *scene)
+{
+    if (!scene)
+        return;
+    if (scene->meshes)
+        for (int i = 0; i < scene->mesh_count; i++)
+            sl_mesh_free(&scene->meshes[i]);
+    free(scene->meshes);
+    free(scene->mesh_sources);
+    free(scene->materials);
+    free(scene->objects);
+    free(scene->lights);
+    memset(scene, 0, sizeof *scene);
+}
+
+bool sl_scene_bounds(const sl_scene *scene, vec3 *lo, vec3 *hi)
+{
+    bool any = false;
+    vec3 a = vec3s(INFINITY), b = vec3s(-INFINITY);
+    for (int o = 0; o < scene->object_count; o++) {
+        const sl_object *obj = &scene->objects[o];
+        if (!scene->meshes || obj->mesh < 0 || obj->mesh >= scene->mesh_count)
+            continue;
+        const sl_mesh *m = &scene->meshes[obj->mesh];
+        for (int v = 0; v < m->vertex_count; v++) {
+            vec3 w = xyz(mat4_mul_vec4(obj->model, vec4_from3(m->positions[v], 1.0f)));
+            a = vmin3(a, w);
+            b = vmax3(b, w);
+            any = true;
+        }
+    }
+    if (any) {
+        *lo = a;
+        *hi = b;
+    }
+    return any;
+}

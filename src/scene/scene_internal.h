@@ -1,0 +1,36 @@
+/* scene_internal.h - helpers shared by the files of src/scene (not part of the public API).
+ *
+ * mesh.c owns mesh storage and normal generation; obj.c and shapes.c build meshes through
+ * these so that every mesh is allocated, sized and normalised in one way. */
+#ifndef SL_SCENE_INTERNAL_H
+#define SL_SCENE_INTERNAL_H
+
+#include "scene.h"
+
+/* Size caps: far above any mesh softlight renders at interactive rates, far below
+ * what would overflow an int or a uint32 index, or exhaust memory by accident. */
+#define SCENE_MAX_VERTICES (1 << 24)
+#define SCENE_MAX_TRIANGLES (1 << 25)
+/* Sphere tessellation limits: 1024 x 512 is ~1M triangles, far past visual need. */
+#define SCENE_SPHERE_MAX_SLICES 1024
+#define SCENE_SPHERE_MAX_STACKS 512
+/* All meshes of one scene together (about 1 GB of vertex data at this cap). */
+#define SCENE_MAX_TOTAL_VERTICES (1 << 25)
+
+/* Allocate positions, normals, indices (and texcoords when asked) for the given counts; the
+ * arrays are zeroed. On failure the mesh is left empty and err names `name`. */
+bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
+                      sl_error *err);
+
+/* Angle-weighted vertex normals. Vertices sharing a `group` value (e.g. the OBJ position a
+ * vertex was made from, so that texture seams do not split the shading) accumulate together;
+ * group == NULL means each vertex is its own group (group_count is then ignored). Vertices
+ * with keep[v] true keep their normal; keep == NULL recomputes all. Never writes NaN:
+ * a vertex whose accumulated normal is zero or not finite gets +Z. Returns false only when
+ * the scratch allocation fails (normals are then untouched). */
+bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep);
+
+/* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
+bool scene_safe_normalize(vec3 v, vec3 *out);
+
+#endif

@@ -1,0 +1,207 @@
+/* lighting.h - the deferred lighting stage: G-buffer in, linear HDR radiance out.
+ *
+ * Consumes: a G-buffer (src/raster/gbuffer.h, row 0 = bottom), an environment mip chain and
+ * its irradiance (src/ibl/ibl.h), point lights (src/scene/scene.h) and the camera.
+ * Produces: a 3-channel sl_image of linear radiance, ROW 0 = TOP (flipped here, once).
+ *
+ * The shading is a line-by-line C port of shaders/lighting.frag (lighting.c): IBL diffuse
+ * Kd/pi E(N), IBL specular by the specification's importance-sampled estimator (eq. (3)),
+ * point lights with the BRDF of eq. (2), and the environment behind empty pixels.
+ * The uniforms struct below is the GLSL uniform list with the same names, so the GL host
+ * code can copy from it field by field (docs/lighting.md).
+ *
+ * Use:
+ *     sl_lighting_uniforms *u = malloc(sizeof *u);            (about 9 KB)
+ *     sl_lighting_uniforms_init(u, &(sl_lighting_desc){.env = &env, .irradiance = &irr,
+ *         .eye = eye, .inv_view_proj = inverse(proj * view), .width = w, .height = h}, &err);
+ *     sl_lighting_pass(u, &stats, &gbuffer, &image, threads, &err);
+ *
+ * Does not: tone map (tonemap.h), build the environment or irradiance (ibl), rasterize. */
+#ifndef SL_LIGHTING_H
+#define SL_LIGHTING_H
+
+#include <stdbool.h>
+#include <stdint.h>
+#include <stdio.h>
+
+#include "../core/error.h"
+#include "../core/glsl.h"
+#include "../core/image.h"
+#include "../ibl/ibl.h"
+#include "../raster/gbuffer.h"
+#include "../scene/scene.h"
+#include "brdf.h"
+
+#define SL_LIGHTING_MAX_LIGHTS 16      /* MAX_LIGHTS in the GLSL */
+#define SL_LIGHTING_DEFAULT_SAMPLES 40 /* N, specification: 20 to 40 */
+
+/* Enum values are the GLSL uniform values; 0 is "default" and never reaches the shader. */
+typedef enum {
+    SL_LOD_DEFAULT = 0,
+    SL_LOD_NONE = 1,    /* lod 0: every sample reads the full-resolution map */
+    SL_LOD_SPEC = 2,    /* 1/2 log2(W H / N) - 1/2 log2(D(H))            (specification) */
+    SL_LOD_SPEC_D4 = 3, /* 1/2 log2(W H / N) - 1/2 log2(D(H) / 4)        (its note; default) */
+    SL_LOD_GEMS = 4,    /* max(1/2 log2(Omega_s / Omega_p) + 1, 0), Omega_s = 1/(N p(w)),
+                           Omega_p = 4 pi / (W H)                         (GPU Gems 3, ch. 20.4) */
+} sl_lod_rule;
+
+typedef enum {
+    SL_ESTIMATOR_DEFAULT = 0,
+    SL_ESTIMATOR_SPEC = 1,       /* eq. (3): divides by D(H); biased (ERRATA), matches the GLSL */
+    SL_ESTIMATOR_CONSISTENT = 2, /* divides by the density of the drawn w, p(w) */
+} sl_estimator;
+
+/* Options, zero meaning "default" (resolved by sl_lighting_options_resolve). */
+typedef struct {
+    int samples;                   /* N, 1 .. SL_HAMMERSLEY_MAX; 0 = 40 */
+    sl_lod_rule lod_rule;          /* 0 = SL_LOD_SPEC_D4 */
+    bool distortion;               /* lat-long distortion d(theta) in the lod (default off) */
+    sl_gterm gterm;                /* 0 = SL_GTERM_INV_LH2 */
+    sl_estimator estimator;        /* 0 = SL_ESTIMATOR_SPEC */
+    sl_irradiance_method irradiance; /* must equal the irradiance's method; 0 = SH9 */
+    bool no_diffuse, no_specular, no_point_lights; /* toggles (default: all on) */
+    float env_intensity;           /* multiplies the environment; 0 = 1 */
+    float env_rotation_deg;        /* environment rotated about +Z, degrees */
+} sl_lighting_options;
+
+/* Fill every zero field with its default. */
+sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt);
+/* Names for the command line and reports: "none", "spec", "spec-d4", "gems";
+ * "spec", "consistent"; "inv-lh2", "one". Parsers return false on an unknown name. */
+const char *sl_lod_rule_name(sl_lod_rule rule);
+const char *sl_estimator_name(sl_estimator estimator);
+const char *sl_gterm_name(sl_gterm gterm);
+bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule);
+bool sl_estimator_parse(const char *name, sl_estimator *estimator);
+bool sl_gterm_parse(const char *name, sl_gterm *gterm);
+
+/* The GLSL block HammersleyBlock under std140, byte for byte: float N at 0, vec4 array at 16,
+ * pair k in hammersley[k / 2].xy (k even) or .zw (k odd). */
+typedef struct {
+    float N;
+    float pad_[3];
+    vec4 hammersley[SL_HAMMERSLEY_MAX / 2];
+} sl_hammersley_block;
+void sl_hammersley_pack_std140(const sl_hammersley *set, sl_hammersley_block *block);
+
+/* What a frame is lit with. */
+typedef struct {
+    sl_lighting_options options;
+    const sl_env *env;               /* required */
+    const sl_irradiance *irradiance; /* required unless options.no_diffuse */
+    vec3 eye;                        /* world-space eye */
+    mat4 inv_view_proj;              /* inverse(projection * view), for background pixels */
+    int width, height;               /* the G-buffer's size (uViewport) */
+    const sl_point_light *lights;    /* may be NULL when light_count is 0 */
+    int light_count;                 /* 0 .. SL_LIGHTING_MAX_LIGHTS */
+} sl_lighting_desc;
+
+/* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
+ * sl_gbuffer passed to the pass), plus the resolved options. Read-only while shading. */
+typedef struct {
+    const sl_env *uEnv;
+    float uEnvMaxLod;
+    float uLodBase;
+    float uSinThetaMin;
+    mat3 uEnvRotation;
+    float uEnvIntensity;
+    int uIrradianceMethod;
+    vec3 uSH[9];                         /* GL upload; the C port evaluates uIrradiance */
+    const sl_irradiance *uIrradiance;    /* uSH / uIrradianceMap (NULL when diffuse is off) */
+    sl_hammersley_block uHammersley;
+    vec3 uEye;
+    mat4 uInvViewProj;
+    vec2 uViewport;
+    int uLightCount;
+    vec3 uLightPosition[SL_LIGHTING_MAX_LIGHTS];
+    vec3 uLightColor[SL_LIGHTING_MAX_LIGHTS];
+    float uLightIntensity[SL_LIGHTING_MAX_LIGHTS];
+    int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
+    sl_lighting_options options;         /* resolved */
+} sl_lighting_uniforms;
+
+/* Resolve options, build the Hammersley set and derive every uniform. False with SL_ERR_RANGE
+ * on: no env, samples out of 1..SL_HAMMERSLEY_MAX, light_count out of range, a missing or
+ * mismatched irradiance, non-finite intensity/rotation, width or height < 1. */
+bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *desc, sl_error *err);
+
+/* Per-frame counters (summed over threads; integers, so the sums do not depend on threads). */
+typedef struct {
+    int64_t pixels;            /* pixels written */
+    int64_t background;        /* pixels with no geometry */
+    int64_t samples;           /* specular samples drawn */
+    int64_t below_horizon;     /* ... of which w.N <= 0 (contributed 0) */
+    int64_t bent_normals;      /* normals bent toward the eye (N.V < 0.01) */
+    int64_t pole_frames;       /* R within 1e-3 of +-Z: the X x R frame was used */
+    int64_t nonfinite;         /* pixels whose NaN/Inf was replaced by 0 (should stay 0) */
+} sl_lighting_stats;
+
+/* Per-thread scratch: the per-alpha sample cache (docs/lighting.md "Hoisting") and counters.
+ * Entries are valid for one uniforms struct: call sl_lighting_task_reset after re-initialising
+ * the uniforms it was used with. */
+typedef struct sl_lighting_task sl_lighting_task;
+sl_lighting_task *sl_lighting_task_create(sl_error *err);
+void sl_lighting_task_reset(sl_lighting_task *task);
+void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats); /* adds */
+void sl_lighting_task_destroy(sl_lighting_task *task);
+
+/* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. */
+typedef struct {
+    vec2 xi;           /* Hammersley pair */
+    vec3 L;            /* skewed direction about +Z (eq. (4)) */
+    float pdf;         /* p(w) */
+    vec3 w;            /* rotated to R (environment space) */
+    float wN;          /* w.N; <= 0: below the horizon, nothing below was computed */
+    vec3 H;
+    float NdotH, LdotH, D;
+    vec3 F;
+    float G;           /* G / (L.N V.N) */
+    float lod;
+    vec3 Li;           /* fetched radiance times intensity */
+    vec3 c;            /* contribution */
+    vec3 sum;          /* running sum */
+} sl_lighting_trace_sample;
+
+typedef struct {
+    int x, y;                /* image pixel, row 0 = top */
+    vec2 frag_coord;         /* gl_FragCoord.xy (G-buffer row y_gb = height - 1 - y) */
+    sl_gbuffer_texel texel;  /* as read */
+    bool covered;
+    vec3 V, N;               /* world space; N after facing_normal */
+    bool bent;               /* N was bent toward V */
+    vec3 Nenv, Venv;         /* environment space */
+    float NdotV;
+    vec3 R, A, B;            /* environment space */
+    bool pole_frame;
+    float alpha;
+    int sample_count;
+    sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
+    vec3 irradiance, diffuse, specular, lights, background;
+    vec3 light[SL_LIGHTING_MAX_LIGHTS];
+    vec3 total;              /* what the pass writes */
+    bool repaired;           /* the final NaN/Inf guard fired */
+} sl_lighting_trace;
+
+/* The C port of main(): radiance of G-buffer texel (x, y), row 0 = bottom, i.e.
+ * gl_FragCoord = (x + 0.5, y + 0.5). `task` may be NULL (no cache, no counters; same bits);
+ * `trace` may be NULL (the fast path tests it once per sample). Never returns NaN/Inf. */
+vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                       sl_lighting_task *task, sl_lighting_trace *trace);
+
+/* The lighting pass: every texel of gb into `out` (allocated when out->data is NULL, else it
+ * must be gb's size with 3 channels), row 0 = top. OpenMP over 32x32 tiles, dynamic schedule;
+ * bitwise identical for any thread count. threads <= 0: OpenMP's default. stats may be NULL. */
+bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
+                      sl_image *out, int threads, sl_error *err);
+
+/* The per-sample mip level of lighting.frag's mip_level() (exposed for tests and reports):
+ * D = D(H), pdf = p(w), w the environment-space sample direction. Always in [0, uEnvMaxLod]. */
+float sl_lighting_mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w);
+
+/* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with
+ * a trace. `trace` is large (about 200 KB): allocate it. */
+bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                             sl_lighting_trace *trace, sl_error *err);
+void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *trace);
+
+#endif

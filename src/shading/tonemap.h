@@ -1,0 +1,42 @@
+/* tonemap.h - HDR radiance to display values, and the sRGB <-> linear curves.
+ *
+ * The specification's global tone map, per channel, with exposure e and contrast c:
+ *     x = e C / (e C + 1)                                  in [0, 1)
+ *     C_out = x^(c / 2.2)                                  gamma encoding (default)
+ *     C_out = srgb_encode(x^c)                             with `exact_srgb`: the piecewise
+ *                                                          IEC 61966-2-1 curve replaces 1/2.2
+ * Never both: with exact_srgb the exponent is c alone. e is nominally 0.1 .. 10000 (the
+ * specification's range for its environments); any finite e > 0 is accepted.
+ * Inputs that are negative or NaN count as 0 and +Inf as "infinitely bright" (x = 1), so the
+ * output is always in [0, 1].
+ *
+ * Does not: quantize to 8 bits (png writing does), or adapt exposure automatically. */
+#ifndef SL_TONEMAP_H
+#define SL_TONEMAP_H
+
+#include <stdbool.h>
+
+#include "../core/error.h"
+#include "../core/image.h"
+
+typedef struct {
+    float exposure;  /* e; 0 = 1 */
+    float contrast;  /* c; 0 = 1 */
+    bool exact_srgb; /* piecewise sRGB encode instead of the 1/2.2 power */
+} sl_tonemap_options;
+
+/* The curves, for one value in [0, 1] (values outside are clamped to it). */
+float sl_srgb_to_linear(float c);  /* exact piecewise: c / 12.92 below 0.04045, else ((c + 0.055) / 1.055)^2.4 */
+float sl_linear_to_srgb(float c);  /* exact piecewise: 12.92 c below 0.0031308, else 1.055 c^(1/2.4) - 0.055 */
+float sl_gamma_to_linear(float c); /* c^2.2 */
+float sl_linear_to_gamma(float c); /* c^(1/2.2) */
+
+/* One channel value through the tone map (options already validated). */
+float sl_tonemap_value(float C, float exposure, float contrast, bool exact_srgb);
+
+/* Tone map a 3-channel linear image into `out` (allocated when out->data is NULL, else it must
+ * have in's size and 3 channels; out may be in itself). Values in [0, 1], row order kept.
+ * SL_ERR_RANGE when exposure or contrast is not finite and > 0. OpenMP over rows. */
+bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err);
+
+#endif

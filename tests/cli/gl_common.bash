@@ -1,0 +1,49 @@
+# gl_common.bash - shared by the tests/cli/gl_*.sh scripts (sourced, not run: CTest runs *.sh).
+#
+# gl_setup BUILD_DIR: finds softlight and softlight-gl, skips the test (exit 0 with a SKIP line)
+# when and only when softlight-gl cannot get an OpenGL context here, and makes a temporary
+# directory $T removed on exit (kept, for a look at the images, when GL_TEST_KEEP is set). Renders are small (GL_TEST_SIZE) so the suite stays fast on llvmpipe.
+
+GL_TEST_SIZE=${GL_TEST_SIZE:-320x180}
+
+gl_setup() {
+    BUILD=${1:?usage: $0 BUILD_DIR}
+    SL=$BUILD/softlight
+    GL=$BUILD/softlight-gl
+    if [ ! -x "$GL" ]; then
+        echo "FAIL: $GL was not built (CMake found no EGL or libepoxy)"
+        exit 1
+    fi
+    local why
+    if ! why=$("$GL" info 2>&1 >/dev/null); then
+        echo "SKIP: softlight-gl cannot create an OpenGL context here: $why"
+        exit 0
+    fi
+    "$GL" info | head -1
+    if ! "$SL" render --help >/dev/null 2>&1; then
+        echo "FAIL: '$SL render' is not available"
+        exit 1
+    fi
+    T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-gl-test.XXXXXX")
+    if [ -n "${GL_TEST_KEEP:-}" ]; then
+        echo "keeping $T"
+    else
+        trap 'rm -rf "$T"' EXIT
+    fi
+}
+
+# gl_field NAME FILE: the first number on the line of `softlight compare` output starting with NAME.
+gl_field() {
+    awk -v key="$1" 'index($0, key) == 1 { sub(key, ""); print $1 + 0; exit }' "$2"
+}
+
+# gl_check_share LABEL FILE MAX_PERCENT: the "8-bit diff > 8" share must not exceed MAX_PERCENT.
+gl_check_share() {
+    local share
+    share=$(awk '/^8-bit diff > 8/ { sub("%", "", $5); print $5; exit }' "$2")
+    if awk -v s="$share" -v m="$3" 'BEGIN { exit !(s <= m) }'; then
+        return 0
+    fi
+    echo "FAIL $1: ${share}% of pixels differ by more than 8/255 after the tone map (allowed $3%)"
+    return 1
+}

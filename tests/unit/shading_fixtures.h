@@ -1,0 +1,158 @@
+/* shading_fixtures.h - shared set-up for the lighting-stage tests (test_shading.c,
+ * test_hardcases.c): environments made to order, one-texel G-buffers placed at a chosen N.V,
+ * the uniforms of a frame, the ground truth for one texel, and image statistics.
+ * Header-only (static inline functions): each test executable is one translation unit. */
+#ifndef SHADING_FIXTURES_H
+#define SHADING_FIXTURES_H
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "ibl/ground_truth.h"
+#include "ibl/ibl.h"
+#include "shading/lighting.h"
+#include "shading/synthetic.h"
+#include "testutil.h"
+
+/* An environment of w x h texels with radiance f(direction of the texel centre). */
+typedef vec3 fx_radiance_fn(vec3 d);
+static inline vec3 fx_const_one(vec3 d)
+{
+    (void)d;
+    return vec3s(1.0f);
+}
+
+static inline void fx_env(sl_env *env, int w, int h, fx_radiance_fn *f)
+{
+    sl_image img = {0};
+    sl_error err;
+    assert_true(sl_image_alloc(&img, w, h, 3, &err));
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            vec3 c = f(sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)w, ((float)y + 0.5f) / (float)h)));
+            float *p = sl_image_pixel(&img, x, y);
+            p[0] = c.x;
+            p[1] = c.y;
+            p[2] = c.z;
+        }
+    if (!sl_env_build(env, &img, &err))
+        fail_msg("sl_env_build: %s", err.msg);
+    sl_image_free(&img);
+}
+
+/* Uniforms for a 1x1 (or w x h) frame with the given options; heap (about 9 KB). */
+static inline sl_lighting_uniforms *fx_uniforms(const sl_env *env, const sl_irradiance *irr, sl_lighting_options opt,
+                                         vec3 eye, int w, int h)
+{
+    sl_lighting_uniforms *u = malloc(sizeof *u);
+    assert_non_null(u);
+    sl_error err;
+    sl_lighting_desc d = {.options = opt, .env = env, .irradiance = irr, .eye = eye,
+                          .inv_view_proj = mat4_identity(), .width = w, .height = h};
+    if (!sl_lighting_uniforms_init(u, &d, &err))
+        fail_msg("uniforms: %s", err.msg);
+    return u;
+}
+
+/* A surface at the origin with normal +Z seen from a direction at N.V = nv (in the xz plane,
+ * rotated by phi about Z), eye at distance 10. */
+static inline vec3 fx_view_dir(float nv, float phi)
+{
+    float s = sqrtf(fmaxf(0.0f, 1.0f - nv * nv));
+    return vec3(s * cosf(phi), s * sinf(phi), nv);
+}
+
+static inline sl_gbuffer_texel fx_texel(vec3 normal, vec3 kd, vec3 ks, float alpha)
+{
+    return (sl_gbuffer_texel){.position = vec3(0, 0, 0), .normal = normal, .kd = kd, .ks = ks, .alpha = alpha,
+                              .depth = 0.5f};
+}
+
+/* Shade one texel through sl_lighting_shade (1x1 G-buffer, no task). */
+static inline vec3 fx_shade(const sl_lighting_uniforms *u, sl_gbuffer_texel t)
+{
+    sl_gbuffer gb = {1, 1, &t};
+    return sl_lighting_shade(u, &gb, 0, 0, NULL, NULL);
+}
+
+/* Ground truth (src/ibl/ground_truth.h) for the same texel: returns diffuse + specular as
+ * requested, channel 0. */
+static inline double fx_truth(const sl_ground_truth *gt, vec3 n, vec3 v, sl_gbuffer_texel t, bool diffuse, bool specular)
+{
+    sl_gt_query q = {.n = n, .v = v, .kd = t.kd, .ks = t.ks, .alpha = t.alpha, .g = SL_GT_G_INV_LH2,
+                     .rotation = 0.0, .intensity = 1.0};
+    sl_gt_result r;
+    sl_error err;
+    if (!sl_ground_truth_shade(gt, &q, &r, &err))
+        fail_msg("ground truth: %s", err.msg);
+    return (diffuse ? r.diffuse[0] : 0.0) + (specular ? r.specular[0] : 0.0);
+}
+
+static inline bool fx_finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
+
+static inline double fx_luminance(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
+
+static inline int fx_cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+/* Isolated speckles: pixels whose 3x3 neighbourhood lies wholly in `mask` (1 = count it) and
+ * whose luminance is below lo x or above hi x the neighbourhood's median. Prints each one. */
+static inline int fx_count_speckles(const sl_image *img, const unsigned char *mask, double lo, double hi)
+{
+    int bad = 0;
+    for (int y = 1; y + 1 < img->height; y++)
+        for (int x = 1; x + 1 < img->width; x++) {
+            double v[9];
+            int n = 0;
+            bool inside = true;
+            for (int dy = -1; dy <= 1; dy++)
+                for (int dx = -1; dx <= 1; dx++) {
+                    inside = inside && mask[(y + dy) * img->width + x + dx];
+                    v[n++] = fx_luminance(sl_image_pixel(img, x + dx, y + dy));
+                }
+            if (!inside)
+                continue;
+            double c = v[4];
+            qsort(v, 9, sizeof v[0], fx_cmp_double);
+            double med = v[4];
+            if (med > 1e-6 && (c < lo * med || c > hi * med)) {
+                if (bad < 10)
+                    print_message("speckle at %d,%d: luminance %.5g, 3x3 median %.5g\n", x, y, c, med);
+                bad++;
+            }
+        }
+    return bad;
+}
+
+/* Coverage of a G-buffer in image orientation (row 0 = top), 1 = covered. */
+static inline unsigned char *fx_image_mask(const sl_gbuffer *gb)
+{
+    unsigned char *m = calloc((size_t)gb->width * (size_t)gb->height, 1);
+    assert_non_null(m);
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++)
+            m[(gb->height - 1 - y) * gb->width + x] = sl_gbuffer_covered(sl_gbuffer_at(gb, x, y));
+    return m;
+}
+
+/* Three spheres (rough dielectric, glossy, metal with exponent metal_alpha) in front of a camera on -Y. */
+static inline void fx_sphere_scene(sl_gbuffer *gb, int w, int h, float metal_alpha, mat4 *inv_vp, vec3 *eye)
+{
+    sl_camera cam = {.eye = vec3(0, -6, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 40,
+                     .znear = 0.1f, .zfar = 100};
+    sl_synthetic_sphere s[3] = {
+        {vec3(-1.6f, 0, 0), 0.8f, vec3(0.8f, 0.2f, 0.2f), vec3s(0.04f), 1.0f},
+        {vec3(0, 0, 0), 0.8f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), 80.0f},
+        {vec3(1.6f, 0, 0), 0.8f, vec3s(0.0f), vec3(0.95f, 0.64f, 0.54f), metal_alpha},
+    };
+    sl_error err;
+    if (!sl_gbuffer_synthetic_spheres(gb, w, h, &cam, s, 3, inv_vp, &err))
+        fail_msg("synthetic: %s", err.msg);
+    *eye = cam.eye;
+}
+
+#endif

@@ -1,0 +1,344 @@
+/* test_raster_gbuffer.c - the built-in G-buffer pair, sl_raster_scene, determinism across
+ * thread counts and tile sizes, and the AOV files (write, read back, row order).
+ *
+ * Meshes are built here (a tilted plane, a UV sphere, a ground quad) so the tests do not
+ * depend on the scene module's loaders. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "core/image.h"
+#include "raster/raster.h"
+#include "testutil.h"
+
+/* The plane x + z = 0 in object space, normal (1,0,1)/sqrt2, counter-clockwise seen from +normal. */
+static vec3 tilted_pos[] = {{-1, -1, 1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, 1}};
+static vec3 tilted_nrm[4];
+static uint32_t quad_idx[] = {0, 1, 2, 0, 2, 3};
+static vec3 ground_pos[] = {{-50, -50, -1}, {50, -50, -1}, {50, 50, -1}, {-50, 50, -1}};
+static vec3 ground_nrm[] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+
+static sl_mesh make_tilted(void)
+{
+    for (int i = 0; i < 4; i++)
+        tilted_nrm[i] = normalize(vec3(1, 0, 1));
+    return (sl_mesh){.vertex_count = 4, .triangle_count = 2, .positions = tilted_pos, .normals = tilted_nrm,
+                     .indices = quad_idx};
+}
+
+static sl_mesh make_sphere(int slices, int stacks)
+{
+    sl_mesh m = {0};
+    m.vertex_count = slices * (stacks - 1) + 2;
+    m.triangle_count = 2 * slices * (stacks - 1);
+    m.positions = malloc((size_t)m.vertex_count * sizeof(vec3));
+    m.normals = malloc((size_t)m.vertex_count * sizeof(vec3));
+    m.indices = malloc((size_t)m.triangle_count * 3 * sizeof(uint32_t));
+    assert_non_null(m.positions);
+    assert_non_null(m.normals);
+    assert_non_null(m.indices);
+    for (int j = 1; j < stacks; j++)
+        for (int i = 0; i < slices; i++) {
+            double th = 3.14159265358979 * j / stacks, ph = 2.0 * 3.14159265358979 * i / slices;
+            m.positions[(j - 1) * slices + i] = vec3(sin(th) * cos(ph), sin(th) * sin(ph), cos(th));
+        }
+    uint32_t north = (uint32_t)(m.vertex_count - 2), south = (uint32_t)(m.vertex_count - 1);
+    m.positions[north] = vec3(0, 0, 1);
+    m.positions[south] = vec3(0, 0, -1);
+    for (int i = 0; i < m.vertex_count; i++)
+        m.normals[i] = m.positions[i];
+    uint32_t *t = m.indices;
+    for (int i = 0; i < slices; i++) {
+        uint32_t a = (uint32_t)i, b = (uint32_t)((i + 1) % slices);
+        *t++ = north, *t++ = a, *t++ = b;
+        uint32_t la = (uint32_t)((stacks - 2) * slices) + a, lb = (uint32_t)((stacks - 2) * slices) + b;
+        *t++ = south, *t++ = lb, *t++ = la;
+    }
+    for (int j = 0; j < stacks - 2; j++)
+        for (int i = 0; i < slices; i++) {
+            uint32_t a = (uint32_t)(j * slices + i), b = (uint32_t)(j * slices + (i + 1) % slices);
+            uint32_t c = a + (uint32_t)slices, d = b + (uint32_t)slices;
+            *t++ = a, *t++ = c, *t++ = d;
+            *t++ = a, *t++ = d, *t++ = b;
+        }
+    return m;
+}
+
+static void free_mesh(sl_mesh *m)
+{
+    free(m->positions);
+    free(m->normals);
+    free(m->indices);
+}
+
+static sl_raster *make_raster(int threads, int tile)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true}, &err);
+    assert_non_null(r);
+    return r;
+}
+
+static const sl_material mat_a = {"a", {0.8f, 0.2f, 0.1f}, {0.04f, 0.05f, 0.06f}, 20.0f};
+static const sl_material mat_b = {"b", {0.1f, 0.7f, 0.3f}, {0.9f, 0.8f, 0.7f}, 500.0f};
+
+/* The tilted plane scaled by (2,1,1), rotated and moved: the world normal is
+ * normalize(R (1/2, 0, 1)), not normalize(R S (1,0,1)): only the normal matrix gets it right.
+ * Every covered texel must lie on the world plane, face along its normal, carry the
+ * material, and hold the window depth of its own position. */
+static void test_gbuffer_shader(void **state)
+{
+    (void)state;
+    enum { W = 96, H = 64 };
+    sl_mesh plane = make_tilted();
+    mat4 R = mat4_rotate(vec3(0, 0, 1), 0.4f);
+    mat4 model = mat4_mul(mat4_translate(vec3(0.2f, 0.1f, -0.3f)), mat4_mul(R, mat4_scale(vec3(2, 1, 1))));
+    sl_camera cam = {.eye = {3, -2.5f, 1.5f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 60, .znear = 0.5f, .zfar = 30};
+    sl_scene scene = {.meshes = &plane, .mesh_count = 1, .materials = (sl_material *)&mat_a, .material_count = 1,
+                      .objects = &(sl_object){.name = "tilted", .mesh = 0, .material = 0, .model = model},
+                      .object_count = 1};
+    sl_gbuffer gb = {0};
+    sl_error err = {0};
+    assert_true(sl_gbuffer_resize(&gb, W, H, &err));
+    sl_raster *r = make_raster(2, 16);
+    assert_true(sl_raster_scene(r, &scene, &cam, &gb, &err));
+
+    vec3 nw = normalize(mat3_mul_vec3(mat3_from_mat4(R), vec3(0.5f, 0, 1)));
+    vec3 origin = vec3(0.2f, 0.1f, -0.3f);
+    mat4 vp = sl_camera_view_proj(&cam, W, H);
+    int covered = 0;
+    double max_n = 0, max_plane = 0, max_depth = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            if (!sl_gbuffer_covered(t)) {
+                sl_gbuffer_texel empty = {.depth = 1.0f};
+                assert_memory_equal(t, &empty, sizeof empty);
+                continue;
+            }
+            covered++;
+            max_n = fmax(max_n, length(sub(t->normal, nw)));
+            max_plane = fmax(max_plane, fabs(dot(sub(t->position, origin), nw)));
+            vec4 c = mat4_mul_vec4(vp, vec4_from3(t->position, 1.0f));
+            max_depth = fmax(max_depth, fabs(c.z / c.w * 0.5f + 0.5f - t->depth));
+            assert_memory_equal(&t->kd, &mat_a.kd, sizeof(vec3));
+            assert_memory_equal(&t->ks, &mat_a.ks, sizeof(vec3));
+            assert_true(t->alpha == mat_a.alpha);
+        }
+    print_message("gbuffer: %d covered, max |n - n_world| %.3g, max plane distance %.3g, max depth error %.3g\n",
+                  covered, max_n, max_plane, max_depth);
+    assert_true(covered > W * H / 10);
+    assert_true(max_n < 1e-5);
+    assert_true(max_plane < 1e-4);
+    assert_true(max_depth < 1e-5);
+
+    /* sanity of the reference: the naive M n differs from the right normal by far more */
+    vec3 naive = normalize(mat3_mul_vec3(mat3_from_mat4(model), normalize(vec3(1, 0, 1))));
+    assert_true(length(sub(naive, nw)) > 0.1f);
+    sl_raster_destroy(r);
+    sl_gbuffer_free(&gb);
+}
+
+/* A scene with a sphere, the tilted plane, a ground quad crossing the near plane, and a
+ * second copy of the tilted plane with another material at exactly the same depth. */
+typedef struct {
+    sl_mesh meshes[3];
+    sl_material materials[2];
+    sl_object objects[4];
+    sl_scene scene;
+    sl_camera cam;
+} test_scene;
+
+static void scene_init(test_scene *s)
+{
+    memset(s, 0, sizeof *s);
+    s->meshes[0] = make_sphere(64, 32);
+    s->meshes[1] = make_tilted();
+    s->meshes[2] = (sl_mesh){.vertex_count = 4, .triangle_count = 2, .positions = ground_pos, .normals = ground_nrm,
+                             .indices = quad_idx};
+    s->materials[0] = mat_a;
+    s->materials[1] = mat_b;
+    s->objects[0] = (sl_object){"ground", 2, 0, mat4_identity()};
+    s->objects[1] = (sl_object){"sphere", 0, 1, mat4_translate(vec3(0.5f, 0.3f, 0.2f))};
+    s->objects[2] = (sl_object){"plane", 1, 0, mat4_translate(vec3(-1.2f, 0.5f, 0))};
+    s->objects[3] = (sl_object){"plane again", 1, 1, mat4_translate(vec3(-1.2f, 0.5f, 0))};
+    s->scene = (sl_scene){.meshes = s->meshes, .mesh_count = 3, .materials = s->materials, .material_count = 2,
+                          .objects = s->objects, .object_count = 4};
+    s->cam = (sl_camera){.eye = {0.3f, -4.5f, 0.4f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 55,
+                         .znear = 0.3f, .zfar = 40};
+}
+
+/* Bitwise-identical G-buffers for 1, 2 and 3 threads and tile sizes 16..256; the coplanar
+ * second plane never wins (LESS keeps the first of equal depths, in every tile). */
+static void test_determinism(void **state)
+{
+    (void)state;
+    enum { W = 200, H = 150 };
+    test_scene s;
+    scene_init(&s);
+    const int configs[][2] = {{1, 16}, {2, 16}, {2, 32}, {3, 64}, {1, 128}, {2, 256}};
+    sl_gbuffer ref = {0}, gb = {0};
+    sl_raster_stats ref_stats = {0};
+    sl_error err = {0};
+    for (int k = 0; k < 6; k++) {
+        sl_raster *r = make_raster(configs[k][0], configs[k][1]);
+        sl_gbuffer *out = k == 0 ? &ref : &gb;
+        assert_true(sl_gbuffer_resize(out, W, H, &err));
+        if (!sl_raster_scene(r, &s.scene, &s.cam, out, &err))
+            print_error("%s\n", err.msg);
+        sl_raster_stats st = sl_raster_get_stats(r);
+        if (k == 0) {
+            ref_stats = st;
+        } else {
+            size_t diff = 0;
+            for (size_t i = 0; i < (size_t)W * H; i++)
+                diff += memcmp(&ref.texels[i], &gb.texels[i], sizeof gb.texels[i]) != 0;
+            if (diff)
+                print_error("threads %d, tile %d: %zu texels differ from threads 1, tile 16\n", configs[k][0],
+                            configs[k][1], diff);
+            assert_int_equal(diff, 0);
+            /* counters that do not depend on the tiling (binned does: a triangle covering no
+             * pixel centre may pass a big tile's conservative test and fail a small one's) */
+            assert_int_equal(st.fragments_shaded, ref_stats.fragments_shaded);
+            assert_int_equal(st.triangles_in, ref_stats.triangles_in);
+            assert_int_equal(st.triangles_clipped, ref_stats.triangles_clipped);
+        }
+        sl_raster_destroy(r);
+    }
+    assert_true(ref_stats.triangles_clipped > 0);
+    /* The plane (material a) is visible and never overwritten by its coplanar twin (b). */
+    int plane_px = 0;
+    for (size_t i = 0; i < (size_t)W * H; i++) {
+        const sl_gbuffer_texel *t = &ref.texels[i];
+        if (sl_gbuffer_covered(t) && fabsf(t->normal.x - t->normal.z) < 1e-4f && t->normal.x > 0.5f) {
+            plane_px++;
+            assert_true(t->alpha == mat_a.alpha);
+        }
+    }
+    assert_true(plane_px > 100);
+    sl_gbuffer_free(&ref);
+    sl_gbuffer_free(&gb);
+    free_mesh(&s.meshes[0]);
+}
+
+static void test_aov_roundtrip(void **state)
+{
+    (void)state;
+    enum { W = 80, H = 48 };
+    test_scene s;
+    scene_init(&s);
+    sl_gbuffer gb = {0}, back = {0};
+    sl_error err = {0};
+    assert_true(sl_gbuffer_resize(&gb, W, H, &err));
+    sl_raster *r = make_raster(2, 32);
+    assert_true(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
+    const char *dir = test_tmpdir();
+    if (!sl_gbuffer_write_aovs(&gb, s.cam.eye, dir, &err))
+        print_error("%s\n", err.msg);
+    assert_true(err.code == SL_OK);
+    if (!sl_gbuffer_read_aovs(dir, &back, &err))
+        print_error("%s\n", err.msg);
+    assert_int_equal(back.width, W);
+    assert_int_equal(back.height, H);
+    assert_memory_equal(gb.texels, back.texels, (size_t)W * H * sizeof *gb.texels);
+
+    /* Row order: the file's first row is the G-buffer's row 0 (bottom), so an sl_image
+     * (row 0 = top) read from it has the G-buffer's top row first. */
+    sl_image img = {0};
+    assert_true(sl_gbuffer_read_aov_image(test_tmpfile("position.pfm"), &img, &err));
+    for (int x = 0; x < W; x++) {
+        assert_memory_equal(sl_image_pixel(&img, x, 0), &sl_gbuffer_at(&gb, x, H - 1)->position, sizeof(vec3));
+        assert_memory_equal(sl_image_pixel(&img, x, H - 1), &sl_gbuffer_at(&gb, x, 0)->position, sizeof(vec3));
+    }
+    sl_image_free(&img);
+    /* view.pfm = normalize(eye - position) where covered, 0 elsewhere; mask.pfm = coverage */
+    sl_image view = {0}, mask = {0};
+    assert_true(sl_gbuffer_read_aov_image(test_tmpfile("view.pfm"), &view, &err));
+    /* (sl_image_read_pfm would have repaired the negative components to 0) */
+    assert_true(sl_image_read_pfm(test_tmpfile("mask.pfm"), &mask, NULL, &err));
+    int covered = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            const float *v = sl_image_pixel(&view, x, H - 1 - y);
+            vec3 expect = sl_gbuffer_covered(t) ? normalize(sub(s.cam.eye, t->position)) : vec3s(0);
+            assert_near(v[0], expect.x, 1e-6);
+            assert_near(v[1], expect.y, 1e-6);
+            assert_near(v[2], expect.z, 1e-6);
+            assert_true(*sl_image_pixel(&mask, x, H - 1 - y) == (sl_gbuffer_covered(t) ? 1.0f : 0.0f));
+            covered += sl_gbuffer_covered(t);
+        }
+    assert_true(covered > 0 && covered < W * H);
+
+    /* A mask that disagrees with depth is refused, naming the file. */
+    *sl_image_pixel(&mask, 0, 0) = sl_gbuffer_covered(sl_gbuffer_at(&gb, 0, H - 1)) ? 0.0f : 1.0f;
+    assert_true(sl_image_write_pfm(test_tmpfile("mask.pfm"), &mask, &err));
+    assert_false(sl_gbuffer_read_aovs(dir, &back, &err));
+    assert_non_null(strstr(err.msg, "mask.pfm"));
+    assert_false(sl_gbuffer_read_aovs("/nonexistent-softlight-dir", &back, &err));
+    sl_image_free(&view);
+    sl_image_free(&mask);
+
+    /* The normal view: row 0 = top, normal * 0.5 + 0.5. */
+    sl_image nimg = {0};
+    assert_true(sl_gbuffer_normal_image(&gb, &nimg, &err));
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            const float *p = sl_image_pixel(&nimg, x, H - 1 - y);
+            float e = sl_gbuffer_covered(t) ? t->normal.y * 0.5f + 0.5f : 0.0f;
+            assert_true(p[1] == e);
+        }
+    sl_image_free(&nimg);
+    sl_raster_destroy(r);
+    sl_gbuffer_free(&gb);
+    sl_gbuffer_free(&back);
+    free_mesh(&s.meshes[0]);
+}
+
+static void test_gbuffer_alloc(void **state)
+{
+    (void)state;
+    sl_gbuffer gb = {0};
+    sl_error err = {0};
+    assert_false(sl_gbuffer_resize(&gb, 0, 10, &err));
+    assert_false(sl_gbuffer_resize(&gb, 10, SL_RASTER_MAX_SIZE + 1, &err));
+    assert_true(sl_gbuffer_resize(&gb, 7, 5, &err));
+    sl_gbuffer_texel *first = gb.texels;
+    assert_true(sl_gbuffer_resize(&gb, 7, 5, &err));
+    assert_ptr_equal(gb.texels, first); /* same size: no reallocation */
+    memset(gb.texels, 0x7f, 35 * sizeof *gb.texels);
+    sl_gbuffer_clear(&gb);
+    sl_gbuffer_texel empty = {.depth = 1.0f};
+    for (int i = 0; i < 35; i++)
+        assert_memory_equal(&gb.texels[i], &empty, sizeof empty);
+    sl_target t = sl_gbuffer_target(&gb);
+    assert_int_equal(t.texel_size, 56);
+    assert_int_equal(t.depth_offset, 52);
+    sl_gbuffer_free(&gb);
+    assert_null(gb.texels);
+    /* A scene into an unallocated G-buffer is an error, not a crash. */
+    test_scene s;
+    scene_init(&s);
+    sl_raster *r = make_raster(1, 16);
+    assert_false(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
+    s.objects[1].mesh = 9;
+    assert_true(sl_gbuffer_resize(&gb, 8, 8, &err));
+    assert_false(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
+    assert_non_null(strstr(err.msg, "sphere"));
+    sl_raster_destroy(r);
+    sl_gbuffer_free(&gb);
+    free_mesh(&s.meshes[0]);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_gbuffer_shader),
+        cmocka_unit_test(test_determinism),
+        cmocka_unit_test(test_aov_roundtrip),
+        cmocka_unit_test(test_gbuffer_alloc),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,617 @@
+/* test_scene.c - the scene file (scene.c): values and defaults, sRGB hex colours, transform
+ * order, mesh sharing, path resolution, every class of error with its JSON path, and every
+ * shipped scene. Most tests parse from memory with load_meshes false. */
+#include "testutil.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+static void parse_ok(const char *json, sl_scene *s)
+{
+    sl_error err = {0};
+    if (!sl_scene_parse(json, strlen(json), "t.json", "base", false, s, &err)) {
+        print_error("unexpected error: %s\n", err.msg);
+        fail();
+    }
+}
+
+/* Parsing must fail with a message containing `want`; the scene must be left empty. */
+static void parse_fails(const char *json, const char *want)
+{
+    sl_scene s;
+    sl_error err = {0};
+    bool ok = sl_scene_parse(json, strlen(json), "t.json", "base", false, &s, &err);
+    if (ok || !strstr(err.msg, want)) {
+        print_error("JSON: %s\nexpected an error containing\n  %s\ngot %s\n  %s\n", json, want,
+                    ok ? "success" : "error", err.msg);
+        sl_scene_free(&s);
+        fail();
+    }
+    assert_int_equal(s.object_count, 0);
+    assert_null(s.objects);
+    assert_null(s.materials);
+}
+
+static void assert_vec3_near(vec3 a, vec3 b, float tol)
+{
+    assert_near(a.x, b.x, tol);
+    assert_near(a.y, b.y, tol);
+    assert_near(a.z, b.z, tol);
+}
+
+static vec3 transform_point(mat4 m, vec3 p) { return xyz(mat4_mul_vec4(m, vec4_from3(p, 1.0f))); }
+
+static const char *FULL =
+    "{\n"
+    "  \"comment\": \"every field given\",\n"
+    "  \"camera\": {\"eye\": [1, -8, 3], \"target\": [0, 0, 1], \"up\": [0, 0, 1], \"fovy\": 50,\n"
+    "             \"near\": 0.5, \"far\": 40},\n"
+    "  \"environment\": {\"hdr\": \"env/a.hdr\", \"irradiance\": \"/abs/irr.hdr\", \"intensity\": 2,\n"
+    "                  \"rotation\": 450},\n"
+    "  \"materials\": {\n"
+    "    \"red\": {\"kd\": [0.5, 0.1, 0.1], \"ks\": 0.04, \"alpha\": 200, \"comment\": \"linear\"},\n"
+    "    \"hex\": {\"kd\": \"#ff800a\", \"ks\": \"#BCBCBC\"}\n"
+    "  },\n"
+    "  \"objects\": [\n"
+    "    {\"name\": \"ball\", \"shape\": \"sphere\", \"slices\": 12, \"stacks\": 6, \"material\": \"red\"},\n"
+    "    {\"mesh\": \"meshes/thing.obj\", \"material\": \"hex\",\n"
+    "     \"transform\": {\"translate\": [1, 2, 3], \"rotate\": [0, 0, 1, 90], \"scale\": [2, 1, 1]}},\n"
+    "    {\"shape\": \"box\", \"material\": \"red\", \"transform\": {\"scale\": 3}},\n"
+    "    {\"mesh\": \"meshes/thing.obj\", \"material\": \"red\"},\n"
+    "    {\"shape\": \"sphere\", \"slices\": 12, \"stacks\": 6, \"material\": \"hex\"},\n"
+    "    {\"shape\": \"sphere\", \"material\": \"hex\"}\n"
+    "  ],\n"
+    "  \"lights\": [{\"position\": [0, 0, 5], \"color\": [1, 0.5, 0.25], \"intensity\": 30},\n"
+    "             {\"position\": [1, 1, 1]}],\n"
+    "  \"render\": {\"width\": 640, \"height\": 360, \"samples\": 20, \"exposure\": 2.5, \"contrast\": 1.2}\n"
+    "}\n";
+
+static void test_full_scene(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok(FULL, &s);
+    assert_string_equal(s.path, "t.json");
+    assert_vec3_near(s.camera.eye, vec3(1, -8, 3), 0.0f);
+    assert_vec3_near(s.camera.target, vec3(0, 0, 1), 0.0f);
+    assert_near(s.camera.fovy_deg, 50.0f, 0.0f);
+    assert_near(s.camera.znear, 0.5f, 0.0f);
+    assert_near(s.camera.zfar, 40.0f, 0.0f);
+    /* Relative paths join the base folder; absolute ones stay. */
+    assert_string_equal(s.environment.hdr_path, "base/env/a.hdr");
+    assert_string_equal(s.environment.irradiance_path, "/abs/irr.hdr");
+    assert_near(s.environment.intensity, 2.0f, 0.0f);
+    assert_near(s.environment.rotation_deg, 90.0f, 0.0f); /* 450 mod 360 */
+
+    assert_int_equal(s.material_count, 2);
+    assert_string_equal(s.materials[0].name, "red");
+    assert_vec3_near(s.materials[0].kd, vec3(0.5f, 0.1f, 0.1f), 0.0f);
+    assert_vec3_near(s.materials[0].ks, vec3s(0.04f), 0.0f);
+    assert_near(s.materials[0].alpha, 200.0f, 0.0f);
+    assert_string_equal(s.materials[1].name, "hex");
+    assert_near(s.materials[1].alpha, 100.0f, 0.0f); /* default */
+
+    assert_int_equal(s.object_count, 6);
+    assert_string_equal(s.objects[0].name, "ball");
+    assert_string_equal(s.objects[1].name, "thing"); /* default: the OBJ's base name */
+    assert_string_equal(s.objects[2].name, "box");   /* default: the shape */
+    assert_int_equal(s.objects[0].material, 0);
+    assert_int_equal(s.objects[1].material, 1);
+    /* Meshes: sphere 12x6, thing.obj, box, sphere 64x32 -> 4 distinct; repeats share. */
+    assert_int_equal(s.mesh_count, 4);
+    assert_int_equal(s.objects[3].mesh, s.objects[1].mesh);
+    assert_int_equal(s.objects[4].mesh, s.objects[0].mesh);
+    assert_true(s.objects[5].mesh != s.objects[0].mesh);
+    const sl_mesh_source *src = &s.mesh_sources[s.objects[1].mesh];
+    assert_int_equal(src->kind, SL_MESH_OBJ);
+    assert_string_equal(src->path, "base/meshes/thing.obj");
+    src = &s.mesh_sources[s.objects[0].mesh];
+    assert_int_equal(src->kind, SL_MESH_SPHERE);
+    assert_int_equal(src->slices, 12);
+    assert_int_equal(src->stacks, 6);
+    src = &s.mesh_sources[s.objects[5].mesh];
+    assert_int_equal(src->slices, 64); /* defaults */
+    assert_int_equal(src->stacks, 32);
+    assert_int_equal(s.mesh_sources[s.objects[2].mesh].kind, SL_MESH_BOX);
+    /* load_meshes false: nothing built. */
+    for (int i = 0; i < s.mesh_count; i++)
+        assert_int_equal(s.meshes[i].vertex_count, 0);
+    vec3 lo, hi;
+    assert_false(sl_scene_bounds(&s, &lo, &hi));
+    /* Uniform scale 3. */
+    assert_vec3_near(transform_point(s.objects[2].model, vec3(1, 1, 1)), vec3(3, 3, 3), 0.0f);
+
+    assert_int_equal(s.light_count, 2);
+    assert_vec3_near(s.lights[0].position, vec3(0, 0, 5), 0.0f);
+    assert_vec3_near(s.lights[0].color, vec3(1, 0.5f, 0.25f), 0.0f);
+    assert_near(s.lights[0].intensity, 30.0f, 0.0f);
+    assert_vec3_near(s.lights[1].color, vec3s(1.0f), 0.0f); /* defaults */
+    assert_near(s.lights[1].intensity, 1.0f, 0.0f);
+
+    assert_int_equal(s.settings.width, 640);
+    assert_int_equal(s.settings.height, 360);
+    assert_int_equal(s.settings.samples, 20);
+    assert_near(s.settings.exposure, 2.5f, 0.0f);
+    assert_near(s.settings.contrast, 1.2f, 0.0f);
+    sl_scene_free(&s);
+    assert_null(s.objects);
+}
+
+static void test_defaults(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok("{}", &s);
+    assert_vec3_near(s.camera.eye, vec3(0, -5, 2), 0.0f);
+    assert_vec3_near(s.camera.target, vec3(0, 0, 0), 0.0f);
+    assert_vec3_near(s.camera.up, vec3(0, 0, 1), 0.0f);
+    assert_near(s.camera.fovy_deg, 45.0f, 0.0f);
+    assert_near(s.camera.znear, 0.1f, 0.0f);
+    assert_near(s.camera.zfar, 100.0f, 0.0f);
+    assert_string_equal(s.environment.hdr_path, ""); /* black environment */
+    assert_near(s.environment.intensity, 1.0f, 0.0f);
+    assert_near(s.environment.rotation_deg, 0.0f, 0.0f);
+    assert_int_equal(s.settings.width, 1280);
+    assert_int_equal(s.settings.height, 720);
+    assert_int_equal(s.settings.samples, 40);
+    assert_near(s.settings.exposure, 1.0f, 0.0f);
+    assert_near(s.settings.contrast, 1.0f, 0.0f);
+    assert_int_equal(s.object_count, 0);
+    assert_int_equal(s.material_count, 0);
+    assert_int_equal(s.light_count, 0);
+    sl_scene_free(&s);
+
+    /* An object without a material gets the built-in "default" (Kd 0.5, Ks 0.04, alpha 100),
+     * added once however many objects use it; the environment shorthand is a path string. */
+    parse_ok("{\"environment\": \"sky.hdr\", \"objects\": [{\"shape\": \"plane\"}, {\"shape\": \"box\"}]}", &s);
+    assert_string_equal(s.environment.hdr_path, "base/sky.hdr");
+    assert_int_equal(s.material_count, 1);
+    assert_string_equal(s.materials[0].name, "default");
+    assert_vec3_near(s.materials[0].kd, vec3s(0.5f), 0.0f);
+    assert_vec3_near(s.materials[0].ks, vec3s(0.04f), 0.0f);
+    assert_near(s.materials[0].alpha, 100.0f, 0.0f);
+    assert_int_equal(s.objects[1].material, 0);
+    /* Identity transform. */
+    assert_vec3_near(transform_point(s.objects[0].model, vec3(1, 2, 3)), vec3(1, 2, 3), 0.0f);
+    sl_scene_free(&s);
+
+    /* A scene-defined "default" material is used instead. */
+    parse_ok("{\"materials\": {\"x\": {}, \"default\": {\"kd\": 0.2}},"
+             " \"objects\": [{\"shape\": \"plane\"}]}",
+             &s);
+    assert_int_equal(s.material_count, 2);
+    assert_int_equal(s.objects[0].material, 1);
+    assert_vec3_near(s.materials[1].kd, vec3s(0.2f), 0.0f);
+    sl_scene_free(&s);
+}
+
+/* "#rrggbb" is sRGB, decoded with the exact piecewise curve (IEC 61966-2-1):
+ * c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4, c = byte / 255. Hand values:
+ * 0x0a -> 10/255 = 0.0392 (linear segment) = 0.00303527; 0x0b -> 0.0431 (power segment)
+ * = 0.00334654; 0x80 -> 0.2158605; 0xbc -> 0.5028865; 0xff -> 1. A plain 2.2 power would
+ * give 0x80 -> 0.2195 and 0x0a -> 0.00081, both outside the tolerance. */
+static void test_hex_colours(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok("{\"materials\": {\"a\": {\"kd\": \"#ff800a\", \"ks\": \"#BCbc0B\"}, \"b\": {\"kd\": \"#000000\"}},"
+             " \"lights\": [{\"position\": [0, 0, 1], \"color\": \"#80ff00\"}]}",
+             &s);
+    assert_vec3_near(s.materials[0].kd, vec3(1.0f, 0.2158605f, 0.00303527f), 1e-7f);
+    assert_vec3_near(s.materials[0].ks, vec3(0.5028865f, 0.5028865f, 0.00334654f), 1e-7f);
+    assert_vec3_near(s.materials[1].kd, vec3s(0.0f), 0.0f);
+    assert_vec3_near(s.lights[0].color, vec3(0.2158605f, 1.0f, 0.0f), 1e-7f);
+    sl_scene_free(&s);
+}
+
+/* model = T * R * S. With scale (2,1,1), a 90 degree turn about +Z and translate (1,2,3), the
+ * point (1,0,0) scales to (2,0,0), turns to (0,2,0) and moves to (1,4,3). Any other order
+ * gives something else (S after R: (0,1,0) -> (1,3,3); T first: (4,4,3) ...). */
+static void test_transform_order(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"translate\": [1, 2, 3],"
+             " \"rotate\": [0, 0, 1, 90], \"scale\": [2, 1, 1]}},"
+             /* A list of rotations applies the first listed first: (0,0,1) -> X 90 -> (0,-1,0)
+              * -> Z 90 -> (1,0,0). The other order would give (0,-1,0). */
+             " {\"shape\": \"box\", \"transform\": {\"rotate\": [[1, 0, 0, 90], [0, 0, 1, 90]]}},"
+             /* An unnormalised axis is normalised: 180 degrees about (0,0,5) maps (1,0,0) to (-1,0,0). */
+             " {\"shape\": \"box\", \"transform\": {\"rotate\": [0, 0, 5, 180]}}]}",
+             &s);
+    assert_vec3_near(transform_point(s.objects[0].model, vec3(1, 0, 0)), vec3(1, 4, 3), 1e-6f);
+    assert_vec3_near(transform_point(s.objects[0].model, vec3(0, 0, 0)), vec3(1, 2, 3), 0.0f);
+    assert_vec3_near(transform_point(s.objects[1].model, vec3(0, 0, 1)), vec3(1, 0, 0), 1e-6f);
+    assert_vec3_near(transform_point(s.objects[2].model, vec3(1, 0, 0)), vec3(-1, 0, 0), 1e-6f);
+    sl_scene_free(&s);
+}
+
+static void test_paths(void **state)
+{
+    (void)state;
+    sl_scene s;
+    sl_error err = {0};
+    const char *json = "{\"environment\": {\"hdr\": \"a.hdr\"}}";
+    assert_true(sl_scene_parse(json, strlen(json), "x", "", false, &s, &err));
+    assert_string_equal(s.environment.hdr_path, "a.hdr");
+    sl_scene_free(&s);
+    assert_true(sl_scene_parse(json, strlen(json), "x", NULL, false, &s, &err));
+    assert_string_equal(s.environment.hdr_path, "a.hdr");
+    sl_scene_free(&s);
+    assert_true(sl_scene_parse(json, strlen(json), "x", "dir/", false, &s, &err));
+    assert_string_equal(s.environment.hdr_path, "dir/a.hdr");
+    sl_scene_free(&s);
+    assert_true(sl_scene_parse(json, strlen(json), NULL, "/", false, &s, &err));
+    assert_string_equal(s.environment.hdr_path, "/a.hdr");
+    sl_scene_free(&s);
+    /* A path too long after joining is an error, not a truncation. */
+    char big[SL_PATH_MAX + 64];
+    int n = snprintf(big, sizeof big, "{\"environment\": \"");
+    for (int i = 0; i < SL_PATH_MAX - 8; i++)
+        big[n++] = 'a';
+    snprintf(big + n, sizeof big - (size_t)n, "\"}");
+    assert_false(sl_scene_parse(big, strlen(big), "x", "some/dir", false, &s, &err));
+    assert_non_null(strstr(err.msg, "x: environment: resolved path is longer than"));
+}
+
+/* Errors: the file name, the JSON path and what was wrong. */
+static void test_error_paths(void **state)
+{
+    (void)state;
+    parse_fails("{\"materials\": {\"red\": {}}, \"objects\": [{\"shape\": \"box\"}, {\"shape\": \"box\"},"
+                " {\"shape\": \"box\"}, {\"shape\": \"box\", \"material\": \"gold\"}]}",
+                "t.json: objects[3].material: no material named \"gold\"");
+    parse_fails("{\"render\": {\"samples\": 5000}}", "t.json: render.samples: 5000 is outside 1..1024");
+    parse_fails("{\"render\": {\"samples\": 0}}", "render.samples: 0 is outside 1..1024");
+    parse_fails("{\"camera\": {\"eye\": [1, 2]}}", "t.json: camera.eye: expected an array of 3 numbers");
+    parse_fails("{\"camera\": {\"eye\": [1, 2, \"3\"]}}", "camera.eye: expected an array of 3 numbers");
+    parse_fails("{\"camera\": {\"eye\": {\"x\": 1}}}", "camera.eye: expected an array of 3 numbers");
+    parse_fails("{\"camera\": [1]}", "t.json: camera: expected an object");
+}
+
+static void test_unknown_and_duplicate_keys(void **state)
+{
+    (void)state;
+    parse_fails("{\"camra\": {}}", "t.json: unknown key \"camra\" (expected camera, environment, materials, "
+                                   "objects, lights, render or comment)");
+    parse_fails("{\"camera\": {\"fov\": 40}}", "t.json: camera: unknown key \"fov\" (expected eye, target, up, "
+                                               "fovy, near, far or comment)");
+    parse_fails("{\"objects\": [{\"shape\": \"box\"}, {\"shape\": \"box\", \"transfrom\": {}}]}",
+                "objects[1]: unknown key \"transfrom\"");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"rotation\": [0, 0, 1, 5]}}]}",
+                "objects[0].transform: unknown key \"rotation\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": 0.5, \"Ks\": 0.5}}}", "materials.m: unknown key \"Ks\"");
+    parse_fails("{\"lights\": [{\"position\": [0, 0, 1], \"power\": 3}]}", "lights[0]: unknown key \"power\"");
+    parse_fails("{\"render\": {\"spp\": 3}}", "render: unknown key \"spp\"");
+    parse_fails("{\"environment\": {\"hdr\": \"a.hdr\", \"exposure\": 3}}",
+                "environment: unknown key \"exposure\"");
+    parse_fails("{\"camera\": {\"fovy\": 30, \"fovy\": 40}}", "t.json: camera: duplicate key \"fovy\"");
+    parse_fails("{\"render\": {}, \"render\": {}}", "t.json: duplicate key \"render\"");
+    parse_fails("{\"materials\": {\"m\": {}, \"n\": {}, \"m\": {\"kd\": 1}}}",
+                "t.json: materials.m: defined twice");
+    parse_fails("{\"comment\": 3}", "t.json: comment: expected a string or an array of strings");
+    parse_fails("{\"camera\": {\"comment\": [\"a\", 1]}}", "camera.comment: expected a string or an array");
+}
+
+static void test_absurd_values(void **state)
+{
+    (void)state;
+    /* Non-finite: JSON has no NaN, but 1e999 parses to infinity. */
+    parse_fails("{\"camera\": {\"fovy\": 1e999}}", "t.json: camera.fovy: inf is not a finite float");
+    parse_fails("{\"camera\": {\"eye\": [0, -1e39, 0]}}", "camera.eye[1]: -1e+39 is not a finite float");
+    parse_fails("{\"render\": {\"width\": 0}}", "render.width: 0 is outside 1..16384");
+    parse_fails("{\"render\": {\"height\": 16385}}", "render.height: 16385 is outside 1..16384");
+    parse_fails("{\"render\": {\"width\": 640.5}}", "render.width: expected an integer, got 640.5");
+    parse_fails("{\"render\": {\"width\": \"640\"}}", "render.width: expected a number");
+    parse_fails("{\"render\": {\"exposure\": 0.01}}", "render.exposure: 0.01 is outside 0.1..10000");
+    parse_fails("{\"render\": {\"exposure\": 20000}}", "render.exposure: 20000 is outside 0.1..10000");
+    parse_fails("{\"render\": {\"contrast\": 0}}", "render.contrast: 0 must be greater than 0");
+    parse_fails("{\"render\": {\"contrast\": -1}}", "render.contrast: -1 is outside 0..10");
+    parse_fails("{\"camera\": {\"near\": 0}}", "t.json: camera.near: 0 must be greater than 0");
+    parse_fails("{\"camera\": {\"near\": -1}}", "camera.near: -1 must be greater than 0");
+    parse_fails("{\"camera\": {\"near\": 2, \"far\": 2}}", "camera.far: 2 must be greater than near (2)");
+    parse_fails("{\"camera\": {\"near\": 1e-6, \"far\": 1e6}}", "camera.far: far/near = 1e+12 exceeds 1e+07");
+    parse_fails("{\"camera\": {\"fovy\": 180}}", "camera.fovy: 180 is outside (0, 180)");
+    parse_fails("{\"camera\": {\"fovy\": 0}}", "camera.fovy: 0 is outside (0, 180)");
+    parse_fails("{\"camera\": {\"eye\": [1, 2, 3], \"target\": [1, 2, 3]}}", "camera.target: equals camera.eye");
+    parse_fails("{\"camera\": {\"eye\": [0, 0, 10], \"target\": [0, 0, 0]}}",
+                "camera.up: (0, 0, 1) is parallel to the view direction");
+    parse_fails("{\"camera\": {\"eye\": [0, 0, 10], \"target\": [0, 0, 0], \"up\": [0, 0, -3]}}",
+                "camera.up: (0, 0, -3) is parallel");
+    parse_fails("{\"camera\": {\"up\": [0, 0, 0]}}", "camera.up: must not be the zero vector");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": [1.5, 0, 0]}}}", "materials.m.kd[0]: 1.5 is outside 0..1");
+    parse_fails("{\"materials\": {\"m\": {\"ks\": -0.1}}}", "materials.m.ks: -0.1 is outside 0..1");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": \"#12345\"}}}",
+                "materials.m.kd: expected an sRGB colour \"#rrggbb\", got \"#12345\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": \"#12345g\"}}}", "materials.m.kd: expected an sRGB colour");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": true}}}", "materials.m.kd: expected [r, g, b]");
+    parse_fails("{\"materials\": {\"m\": {\"alpha\": 2e6}}}", "materials.m.alpha: 2e+06 is outside 0..1e+06");
+    parse_fails("{\"materials\": {\"m\": {\"alpha\": -1}}}", "materials.m.alpha: -1 is outside 0..1e+06");
+    parse_fails("{\"materials\": {\"\": {}}}", "a material name must have 1..63 bytes");
+    parse_fails("{\"materials\": [1]}", "t.json: materials: expected an object");
+    parse_fails("{\"lights\": [{\"color\": [1, 1, 1]}]}", "t.json: lights[0]: missing \"position\"");
+    parse_fails("{\"lights\": [{\"position\": [0, 0, 1], \"intensity\": -2}]}",
+                "lights[0].intensity: -2 is outside 0..1e+09");
+    parse_fails("{\"lights\": {}}", "t.json: lights: expected an array");
+    parse_fails("{\"environment\": {\"intensity\": 2}}", "environment: missing \"hdr\"");
+    parse_fails("{\"environment\": {\"hdr\": \"\"}}", "environment.hdr: expected a non-empty string");
+    parse_fails("{\"environment\": {\"hdr\": \"a.hdr\", \"intensity\": -1}}",
+                "environment.intensity: -1 is outside 0..1e+06");
+    parse_fails("{\"environment\": 3}", "environment: expected an object");
+}
+
+static void test_object_errors(void **state)
+{
+    (void)state;
+    parse_fails("{\"objects\": {}}", "t.json: objects: expected an array");
+    parse_fails("{\"objects\": [3]}", "t.json: objects[0]: expected an object");
+    parse_fails("{\"objects\": [{}]}", "objects[0]: needs \"mesh\" (an .obj path) or \"shape\"");
+    parse_fails("{\"objects\": [{\"mesh\": \"a.obj\", \"shape\": \"box\"}]}",
+                "objects[0]: has both \"mesh\" and \"shape\"");
+    parse_fails("{\"objects\": [{\"shape\": \"cube\"}]}",
+                "objects[0].shape: unknown shape \"cube\" (expected sphere, plane or box)");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"slices\": 8}]}",
+                "objects[0].slices: only a sphere has slices");
+    parse_fails("{\"objects\": [{\"shape\": \"sphere\", \"stacks\": 1}]}",
+                "objects[0].stacks: 1 is outside 2..512");
+    parse_fails("{\"objects\": [{\"shape\": \"sphere\", \"slices\": 4096}]}",
+                "objects[0].slices: 4096 is outside 3..1024");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"material\": 3}]}",
+                "objects[0].material: expected a material name");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"scale\": -1}}]}",
+                "objects[0].transform.scale: -1 is outside 1e-06..1e+06");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"scale\": [1, 0, 1]}}]}",
+                "objects[0].transform.scale: 0 is outside");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"scale\": \"big\"}}]}",
+                "objects[0].transform.scale: expected a number or an array of 3 numbers");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"rotate\": [0, 0, 0, 90]}}]}",
+                "objects[0].transform.rotate: the rotation axis must not be the zero vector");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"rotate\": [[0, 0, 1, 90], [1, 0, 0]]}}]}",
+                "objects[0].transform.rotate[1]: expected [ax, ay, az, degrees]");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"rotate\": []}}]}",
+                "objects[0].transform.rotate: expected [ax, ay, az, degrees]");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"transform\": {\"translate\": [0, 0]}}]}",
+                "objects[0].transform.translate: expected an array of 3 numbers");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"name\": \"a-name-that-is-much-longer-than-the-sixty-three-"
+                "bytes-allowed-for-names\"}]}",
+                "objects[0].name: 71 bytes is longer than the 63 allowed");
+}
+
+static void test_json_syntax(void **state)
+{
+    (void)state;
+    parse_fails("{\n  \"camera\": {\n    \"eye\": [1, 2, 3],,\n  }\n}\n", "t.json:3:");
+    parse_fails("", "t.json:1:1: invalid JSON");
+    parse_fails("{\"render\": {}", "t.json:1:");
+    parse_fails("{} {}", "t.json:1:4: unexpected text after the JSON object");
+    parse_fails("[1, 2]", "t.json: expected a JSON object {...} at the top level");
+    /* Whitespace after the object is fine; so is a UTF-8 byte order mark before it. */
+    sl_scene s;
+    parse_ok("\xEF\xBB\xBF{}\n\n  \t", &s);
+    sl_scene_free(&s);
+}
+
+static void test_free_is_safe(void **state)
+{
+    (void)state;
+    sl_scene s;
+    memset(&s, 0, sizeof s);
+    sl_scene_free(&s);
+    sl_scene_free(&s);
+    sl_scene_free(NULL);
+    vec3 lo, hi;
+    assert_false(sl_scene_bounds(&s, &lo, &hi));
+}
+
+/* With load_meshes true: shapes are built, bounds are exact, a broken mesh reports its object. */
+static void test_load_meshes(void **state)
+{
+    (void)state;
+    sl_scene s;
+    sl_error err = {0};
+    const char *json = "{\"objects\": [{\"shape\": \"plane\", \"transform\": {\"translate\": [1, 0, 0],"
+                       " \"scale\": [2, 3, 1]}},"
+                       " {\"shape\": \"box\", \"transform\": {\"translate\": [0, 0, 5]}}]}";
+    assert_true(sl_scene_parse(json, strlen(json), "t.json", "", true, &s, &err));
+    assert_int_equal(s.meshes[0].vertex_count, 4);
+    assert_int_equal(s.meshes[1].vertex_count, 24);
+    vec3 lo, hi;
+    assert_true(sl_scene_bounds(&s, &lo, &hi));
+    assert_vec3_near(lo, vec3(-1, -3, 0), 0.0f); /* plane x in [-2,2]+1, y in [-3,3]; box z in [4,6] */
+    assert_vec3_near(hi, vec3(3, 3, 6), 0.0f);
+    sl_scene_free(&s);
+
+    /* A broken OBJ: the message says which object, which file and which line. */
+    const char *bad = test_tmpfile("bad.obj");
+    test_write_bytes(bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", 33);
+    char scene_json[1024];
+    snprintf(scene_json, sizeof scene_json,
+             "{\"objects\": [{\"shape\": \"box\"}, {\"mesh\": \"bad.obj\"}, {\"mesh\": \"bad.obj\"}]}");
+    assert_false(sl_scene_parse(scene_json, strlen(scene_json), "t.json", test_tmpdir(), true, &s, &err));
+    assert_non_null(strstr(err.msg, "t.json: objects[1].mesh: "));
+    assert_non_null(strstr(err.msg, "bad.obj:4: face index 7 out of range (1..3)"));
+    assert_null(s.meshes);
+    /* A missing OBJ. */
+    snprintf(scene_json, sizeof scene_json, "{\"objects\": [{\"mesh\": \"nowhere.obj\"}]}");
+    assert_false(sl_scene_parse(scene_json, strlen(scene_json), "t.json", test_tmpdir(), true, &s, &err));
+    assert_non_null(strstr(err.msg, "t.json: objects[0].mesh: "));
+    assert_non_null(strstr(err.msg, "nowhere.obj: cannot open"));
+}
+
+/* sl_scene_load resolves paths against the scene file's folder. */
+static void test_load_relative(void **state)
+{
+    (void)state;
+    const char *obj = test_tmpfile("tri.obj");
+    test_write_bytes(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 32);
+    const char *path = test_tmpfile("tri.json");
+    const char *json = "{\"objects\": [{\"mesh\": \"tri.obj\"}], \"environment\": \"sky.hdr\"}";
+    test_write_bytes(path, json, strlen(json));
+    sl_scene s;
+    sl_error err = {0};
+    if (!sl_scene_load(path, &s, &err)) {
+        print_error("%s\n", err.msg);
+        fail();
+    }
+    assert_int_equal(s.meshes[0].triangle_count, 1);
+    char want[SL_PATH_MAX];
+    snprintf(want, sizeof want, "%s/sky.hdr", test_tmpdir());
+    assert_string_equal(s.environment.hdr_path, want);
+    assert_string_equal(s.path, path);
+    sl_scene_free(&s);
+    assert_false(sl_scene_load("scenes/no-such-scene.json", &s, &err));
+    assert_int_equal(err.code, SL_ERR_IO);
+    assert_non_null(strstr(err.msg, "no-such-scene.json"));
+}
+
+static void load_shipped(const char *path, sl_scene *s)
+{
+    sl_error err = {0};
+    if (!sl_scene_load(path, s, &err)) {
+        print_error("%s\n", err.msg);
+        fail();
+    }
+    for (int i = 0; i < s->mesh_count; i++)
+        assert_true(sl_mesh_validate(&s->meshes[i], path, &err));
+    vec3 lo, hi;
+    assert_true(sl_scene_bounds(s, &lo, &hi));
+    assert_true(s->environment.hdr_path[0] != '\0');
+    /* Every shipped scene's environment exists beside it. */
+    FILE *f = fopen(s->environment.hdr_path, "rb");
+    assert_non_null(f);
+    fclose(f);
+}
+
+static void test_shipped_scenes(void **state)
+{
+    (void)state;
+    static const char *const scenes[] = {"scenes/default.json", "scenes/bunny.json", "scenes/city-sun.json",
+                                         "scenes/top-down.json", "scenes/grazing.json"};
+    for (size_t i = 0; i < sizeof scenes / sizeof scenes[0]; i++) {
+        sl_scene s;
+        load_shipped(scenes[i], &s);
+        sl_scene_free(&s);
+    }
+
+    /* default.json: the 5 x 4 chart, one shared sphere mesh, the values the brief asks for. */
+    sl_scene s;
+    load_shipped("scenes/default.json", &s);
+    assert_int_equal(s.object_count, 20);
+    assert_int_equal(s.material_count, 20);
+    assert_int_equal(s.mesh_count, 1);
+    assert_string_equal(s.environment.hdr_path, "scenes/envmaps/studio.hdr");
+    assert_int_equal(s.settings.width, 1280);
+    assert_int_equal(s.settings.height, 720);
+    assert_int_equal(s.settings.samples, 40);
+    assert_near(s.settings.contrast, 1.0f, 0.0f);
+    static const float alphas[5] = {1, 10, 100, 1000, 10000}, kss[4] = {0.04f, 0.2f, 0.5f, 0.9f};
+    for (int o = 0; o < 20; o++) {
+        const sl_material *m = &s.materials[s.objects[o].material];
+        assert_near(m->alpha, alphas[o % 5], 0.0f);
+        assert_near(m->ks.x, kss[o / 5], 0.0f);
+        assert_near(m->kd.x, 0.5f * (1.0f - kss[o / 5]), 1e-6f);
+    }
+    /* The grid fits the 16:9 frustum: every sphere's centre +- 1 is inside the view. */
+    float aspect = (float)s.settings.width / (float)s.settings.height;
+    mat4 vp = mat4_mul(perspective(radians(s.camera.fovy_deg), aspect, s.camera.znear, s.camera.zfar),
+                       lookAt(s.camera.eye, s.camera.target, s.camera.up));
+    for (int o = 0; o < 20; o++) {
+        vec3 c = transform_point(s.objects[o].model, vec3(0, 0, 0));
+        for (int k = 0; k < 4; k++) {
+            vec3 p = add3(c, vec3(k & 1 ? 1.0f : -1.0f, 0.0f, k & 2 ? 1.0f : -1.0f));
+            vec4 clip = mat4_mul_vec4(vp, vec4_from3(p, 1.0f));
+            assert_true(fabsf(clip.x) < clip.w && fabsf(clip.y) < clip.w);
+        }
+    }
+    sl_scene_free(&s);
+
+    /* bunny.json: the Y-up bunny stands upright on the floor (z = 0): feet at 0, about 1.93
+     * tall (9.65 x 0.2), and taller than it is deep (Y extent of the Z-up world). */
+    load_shipped("scenes/bunny.json", &s);
+    const sl_object *bunny = NULL;
+    for (int o = 0; o < s.object_count; o++)
+        if (strcmp(s.objects[o].name, "bunny") == 0)
+            bunny = &s.objects[o];
+    assert_non_null(bunny);
+    const sl_mesh *m = &s.meshes[bunny->mesh];
+    assert_int_equal(m->vertex_count, 1839);
+    vec3 lo = vec3s(INFINITY), hi = vec3s(-INFINITY);
+    for (int v = 0; v < m->vertex_count; v++) {
+        vec3 w = transform_point(bunny->model, m->positions[v]);
+        lo = vmin3(lo, w);
+        hi = vmax3(hi, w);
+    }
+    assert_near(lo.z, 0.0f, 0.002f);
+    assert_near(hi.z, 1.931f, 0.002f);
+    assert_true(hi.z - lo.z > hi.y - lo.y);
+    assert_int_equal(s.light_count, 1);
+    sl_scene_free(&s);
+
+    /* top-down.json looks straight down -Z. */
+    load_shipped("scenes/top-down.json", &s);
+    vec3 dir = normalize3(sub3(s.camera.target, s.camera.eye));
+    assert_vec3_near(dir, vec3(0, 0, -1), 0.0f);
+    sl_scene_free(&s);
+
+    /* grazing.json: the view direction is within a few degrees of the floor. */
+    load_shipped("scenes/grazing.json", &s);
+    dir = normalize3(sub3(s.camera.target, s.camera.eye));
+    assert_true(fabsf(dir.z) < sinf(radians(5.0f)));
+    assert_true(s.camera.eye.z > 0.0f && s.camera.eye.z < 1.0f);
+    sl_scene_free(&s);
+}
+
+/* The complete example in docs/scene-format.md parses, so the documentation cannot drift
+ * from the reader. */
+static void test_documented_example(void **state)
+{
+    (void)state;
+    FILE *f = fopen("docs/scene-format.md", "rb");
+    assert_non_null(f);
+    static char doc[65536];
+    size_t n = fread(doc, 1, sizeof doc - 1, f);
+    fclose(f);
+    doc[n] = '\0';
+    char *start = strstr(doc, "```json\n");
+    assert_non_null(start);
+    start += strlen("```json\n");
+    char *end = strstr(start, "```");
+    assert_non_null(end);
+    sl_scene s;
+    sl_error err = {0};
+    if (!sl_scene_parse(start, (size_t)(end - start), "scene-format.md", "scenes", false, &s, &err)) {
+        print_error("%s\n", err.msg);
+        fail();
+    }
+    assert_int_equal(s.object_count, 4);
+    assert_int_equal(s.material_count, 3);
+    assert_int_equal(s.light_count, 1);
+    assert_string_equal(s.mesh_sources[0].path, "scenes/meshes/bunny.obj");
+    sl_scene_free(&s);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_full_scene),
+        cmocka_unit_test(test_defaults),
+        cmocka_unit_test(test_hex_colours),
+        cmocka_unit_test(test_transform_order),
+        cmocka_unit_test(test_paths),
+        cmocka_unit_test(test_error_paths),
+        cmocka_unit_test(test_unknown_and_duplicate_keys),
+        cmocka_unit_test(test_absurd_values),
+        cmocka_unit_test(test_object_errors),
+        cmocka_unit_test(test_json_syntax),
+        cmocka_unit_test(test_free_is_safe),
+        cmocka_unit_test(test_load_meshes),
+        cmocka_unit_test(test_load_relative),
+        cmocka_unit_test(test_shipped_scenes),
+        cmocka_unit_test(test_documented_example),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,166 @@
+/* test_shapes.c - the built-in sphere, plane and box (shapes.c): counts, exact positions and
+ * normals, counter-clockwise front faces seen from outside, closed surfaces (volume by the
+ * divergence theorem), and parameter checks. */
+#include "testutil.h"
+
+#include <math.h>
+#include <string.h>
+
+#include "scene/scene.h"
+
+static const double PI_D = 3.14159265358979323846;
+
+/* Every triangle: (b - a) x (c - a) has a positive component along each of its three vertex
+ * normals (front face = counter-clockwise seen from the side the normals point to), and along
+ * the direction from the shape's centre (the origin) to the triangle. */
+static void assert_ccw_outward(const sl_mesh *m)
+{
+    for (int t = 0; t < m->triangle_count; t++) {
+        const uint32_t *i = &m->indices[3 * t];
+        vec3 a = m->positions[i[0]], b = m->positions[i[1]], c = m->positions[i[2]];
+        vec3 face = cross(sub3(b, a), sub3(c, a));
+        assert_true(length3(face) > 0.0f); /* no degenerate triangles */
+        vec3 centroid = scale3(add3(a, add3(b, c)), 1.0f / 3.0f);
+        if (!(dot3(face, centroid) > 0.0f)) {
+            print_error("triangle %d faces inwards\n", t);
+            fail();
+        }
+        for (int k = 0; k < 3; k++) {
+            if (!(dot3(face, m->normals[i[k]]) > 0.0f)) {
+                print_error("triangle %d: winding disagrees with the normal of vertex %u\n", t, i[k]);
+                fail();
+            }
+        }
+    }
+}
+
+/* Signed volume, sum of a . (b x c) / 6: positive for a closed outward-facing surface. */
+static double signed_volume(const sl_mesh *m)
+{
+    double v = 0.0;
+    for (int t = 0; t < m->triangle_count; t++) {
+        const uint32_t *i = &m->indices[3 * t];
+        v += (double)dot3(m->positions[i[0]], cross(m->positions[i[1]], m->positions[i[2]])) / 6.0;
+    }
+    return v;
+}
+
+static void test_sphere(void **state)
+{
+    (void)state;
+    sl_mesh m;
+    sl_error err = {0};
+    assert_true(sl_mesh_sphere(&m, 16, 8, &err));
+    assert_true(sl_mesh_validate(&m, "sphere", &err));
+    /* (stacks + 1) rows of (slices + 1) vertices; 2 triangles per quad except at the poles. */
+    assert_int_equal(m.vertex_count, 9 * 17);
+    assert_int_equal(m.triangle_count, 2 * 16 * 7);
+    assert_non_null(m.texcoords);
+    for (int v = 0; v < m.vertex_count; v++) {
+        assert_near(length3(m.positions[v]), 1.0f, 1e-6f);
+        assert_near(dot3(m.normals[v], m.positions[v]), 1.0f, 1e-6f); /* normal = position */
+        assert_true(m.texcoords[v].x >= 0.0f && m.texcoords[v].x <= 1.0f);
+    }
+    /* Poles exactly on +-Z: first row north, last row south. */
+    assert_near(m.positions[0].z, 1.0f, 0.0f);
+    assert_near(m.positions[0].x, 0.0f, 0.0f);
+    assert_near(m.positions[m.vertex_count - 1].z, -1.0f, 0.0f);
+    assert_ccw_outward(&m);
+    /* An inscribed polyhedron: volume a little under 4/3 pi; 16 x 8 loses about 7 %. */
+    double vol = signed_volume(&m);
+    assert_true(vol > 0.9 * 4.0 / 3.0 * PI_D && vol < 4.0 / 3.0 * PI_D);
+    sl_mesh_free(&m);
+
+    /* Fine tessellation: within 0.2 % of the sphere's volume. */
+    assert_true(sl_mesh_sphere(&m, 128, 64, &err));
+    assert_ccw_outward(&m);
+    assert_near(signed_volume(&m), 4.0 / 3.0 * PI_D, 0.002 * 4.0 / 3.0 * PI_D);
+    sl_mesh_free(&m);
+
+    /* The smallest sphere is a closed, correctly wound double pyramid. */
+    assert_true(sl_mesh_sphere(&m, 3, 2, &err));
+    assert_int_equal(m.triangle_count, 6);
+    assert_ccw_outward(&m);
+    sl_mesh_free(&m);
+}
+
+static void test_sphere_limits(void **state)
+{
+    (void)state;
+    sl_mesh m;
+    sl_error err = {0};
+    assert_false(sl_mesh_sphere(&m, 2, 8, &err));
+    assert_int_equal(err.code, SL_ERR_RANGE);
+    assert_non_null(strstr(err.msg, "sphere: 2 slices"));
+    assert_false(sl_mesh_sphere(&m, 16, 1, &err));
+    assert_false(sl_mesh_sphere(&m, 1025, 8, &err));
+    assert_false(sl_mesh_sphere(&m, 16, 513, &err));
+    assert_null(m.positions);
+}
+
+static void test_plane(void **state)
+{
+    (void)state;
+    sl_mesh m;
+    sl_error err = {0};
+    assert_true(sl_mesh_plane(&m, &err));
+    assert_true(sl_mesh_validate(&m, "plane", &err));
+    assert_int_equal(m.vertex_count, 4);
+    assert_int_equal(m.triangle_count, 2);
+    for (int v = 0; v < 4; v++) {
+        assert_near(fabsf(m.positions[v].x), 1.0f, 0.0f);
+        assert_near(fabsf(m.positions[v].y), 1.0f, 0.0f);
+        assert_near(m.positions[v].z, 0.0f, 0.0f);
+        assert_near(m.normals[v].z, 1.0f, 0.0f);
+    }
+    /* Counter-clockwise seen from +Z, and the two triangles cover area 4. */
+    float area = 0.0f;
+    for (int t = 0; t < 2; t++) {
+        const uint32_t *i = &m.indices[3 * t];
+        vec3 face = cross(sub3(m.positions[i[1]], m.positions[i[0]]), sub3(m.positions[i[2]], m.positions[i[0]]));
+        assert_true(face.z > 0.0f);
+        area += 0.5f * face.z;
+    }
+    assert_near(area, 4.0f, 0.0f);
+    sl_mesh_free(&m);
+}
+
+static void test_box(void **state)
+{
+    (void)state;
+    sl_mesh m;
+    sl_error err = {0};
+    assert_true(sl_mesh_box(&m, &err));
+    assert_true(sl_mesh_validate(&m, "box", &err));
+    assert_int_equal(m.vertex_count, 24);
+    assert_int_equal(m.triangle_count, 12);
+    int per_axis[3][2] = {{0, 0}, {0, 0}, {0, 0}};
+    for (int v = 0; v < 24; v++) {
+        vec3 p = m.positions[v], n = m.normals[v];
+        assert_near(fabsf(p.x), 1.0f, 0.0f);
+        assert_near(fabsf(p.y), 1.0f, 0.0f);
+        assert_near(fabsf(p.z), 1.0f, 0.0f);
+        /* Flat normals: a unit axis, and the vertex lies on that face (p . n = 1). */
+        assert_near(fabsf(n.x) + fabsf(n.y) + fabsf(n.z), 1.0f, 0.0f);
+        assert_near(dot3(p, n), 1.0f, 0.0f);
+        int axis = n.x != 0.0f ? 0 : (n.y != 0.0f ? 1 : 2);
+        per_axis[axis][dot3(n, vec3s(1.0f)) > 0.0f]++;
+    }
+    for (int a = 0; a < 3; a++)
+        for (int s = 0; s < 2; s++)
+            assert_int_equal(per_axis[a][s], 4); /* 4 vertices on each of the 6 faces */
+    assert_ccw_outward(&m);
+    assert_near(signed_volume(&m), 8.0, 1e-9);
+    sl_mesh_free(&m);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_sphere),
+        cmocka_unit_test(test_sphere_limits),
+        cmocka_unit_test(test_plane),
+        cmocka_unit_test(test_box),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
