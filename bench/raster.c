@@ -138,7 +138,8 @@ int main(int argc, char **argv)
     int threads[MAX_LIST] = {1, 2}, nthreads = 2;
     int tiles[MAX_LIST] = {16, 32, 64, 128}, ntiles = 4;
     int frames = 5, width = 1920, height = 1080, slices = 1000;
-    for (int i = 1; i < argc; i++) {
+    /* options come in pairs: --name value */
+    for (int i = 1; i < argc; i += 2) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         bool ok = v != NULL;
         if (ok && !strcmp(a, "--threads"))
@@ -158,7 +159,6 @@ int main(int argc, char **argv)
                             "[--size 1920x1080] [--slices 1000]\n");
             return 2;
         }
-        i++;
     }
 
     /* tris: the sphere, 4 units away, filling about 60% of the frame height */

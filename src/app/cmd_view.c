@@ -49,7 +49,7 @@ int cmd_view(int argc, char **argv)
 #else
 
 #define DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"
-#define FONT_POINTS 13
+#define FONT_POINTS 12
 #define STAGE_COUNT 3
 #define PREVIEW_SAMPLES 4
 #define MID_SAMPLES 8
@@ -64,6 +64,7 @@ int cmd_view(int argc, char **argv)
 #define ENV_ROTATION_STEP 15.0f
 #define EXPOSURE_STEP 1.189207115f /* 2^(1/4): a quarter stop */
 #define CONTRAST_STEP 0.1f
+#define SLICE_SECONDS 0.04      /* one lighting slice between two looks at the input */
 #define HUD_SLOTS 0
 #define HELP_SLOTS VIEW_HUD_MAX_LINES
 
@@ -103,6 +104,10 @@ typedef struct {
     bool retonemap;  /* exposure/contrast changed: tone map and present only */
     int preview_div;
     bool raster_valid; /* the G-buffer holds the current camera at its current size */
+    view_shade_job shade; /* the lighting pass of the stage in progress */
+    bool job_active;   /* a stage's lighting pass is under way */
+    int job_stage;
+    stage_params job_params;
     int radiance_stage; /* the stage r.radiance belongs to; -1 = stale */
     stage_params shown_params;
     int shown_stage;
@@ -181,6 +186,7 @@ static void restart_view(viewer *v)
     v->urgent = true;
     v->raster_valid = false;
     v->radiance_stage = -1;
+    v->job_active = false;
 }
 
 /* Lighting settings or the view mode changed: the G-buffer stays, the preview is skipped. */
@@ -190,7 +196,10 @@ static void restart_lighting(viewer *v)
         v->stage = 1;
     v->urgent = true;
     v->radiance_stage = -1;
+    v->job_active = false;
 }
+
+static bool converged(const viewer *v) { return v->stage >= STAGE_COUNT && !v->urgent && !v->job_active; }
 
 static bool interacting(const viewer *v, double now)
 {
@@ -219,13 +228,27 @@ static int scaled(int size, float scale, int div)
     return s < 1 ? 1 : (s > SL_RASTER_MAX_SIZE ? SL_RASTER_MAX_SIZE : s);
 }
 
-/* Render one refinement stage into `shown`. */
-static bool render_stage(viewer *v, int stage, sl_error *err)
+static void stage_finished(viewer *v)
+{
+    v->job_active = false;
+    v->shown_params = v->job_params;
+    v->shown_stage = v->job_stage;
+    v->texture_stale = true;
+    v->present_needed = true;
+}
+
+/* Start a refinement stage: size, raster, then either the whole image (G-buffer views and the
+ * mip view) or the first step of a sliced lighting pass (the final image). */
+static bool stage_begin(viewer *v, int stage, sl_error *err)
 {
     stage_params p = params_of(v, stage);
     int ow, oh;
     output_size(v, &ow, &oh);
     int w = scaled(ow, v->scale, p.div), h = scaled(oh, v->scale, p.div);
+    v->job_active = false;
+    v->job_stage = stage;
+    v->job_params = p;
+    v->radiance_stage = -1;
     if (v->r.gbuffer.width != w || v->r.gbuffer.height != h) {
         if (!sl_renderer_resize(&v->r, w, h, err))
             return false;
@@ -233,41 +256,78 @@ static bool render_stage(viewer *v, int stage, sl_error *err)
     }
     const sl_camera *cam = &v->camera.cam;
     v->r.desc.lighting.samples = p.samples;
-    v->raster_ms = v->shade_ms = v->tonemap_ms = 0.0;
+    v->shade_ms = v->tonemap_ms = 0.0;
     if (!v->raster_valid) {
         if (!sl_renderer_raster(&v->r, cam, err))
             return false;
         v->raster_valid = true;
         v->raster_ms = v->r.timings.raster_ms;
     }
-    v->radiance_stage = -1;
     double t0 = sl_now_seconds();
     switch (v->mode) {
     case VIEW_FINAL:
-        if (!sl_renderer_shade(&v->r, cam, err) || !sl_renderer_tonemap(&v->r, err) ||
-            !view_image_copy(&v->shown, &v->r.display, err))
+        if (!sl_renderer_prepare_lighting(&v->r, cam, err) || !view_shade_begin(&v->shade, v->r.desc.threads, err))
             return false;
-        v->radiance_stage = stage;
-        v->shade_ms = v->r.timings.shading_ms;
-        v->tonemap_ms = v->r.timings.tonemap_ms;
-        break;
+        v->job_active = true;
+        return true;
     case VIEW_MIP:
         if (!sl_renderer_prepare_lighting(&v->r, cam, err) ||
             !view_mip_image(v->r.uniforms, &v->r.gbuffer, &v->shown, &v->mip_max_seen, err))
             return false;
-        v->shade_ms = (sl_now_seconds() - t0) * 1e3;
         break;
     default:
         if (!view_channel_image(&v->r.gbuffer, v->mode, v->bounds_lo, v->bounds_hi, cam->znear, cam->zfar, &v->shown,
                                 err))
             return false;
-        v->shade_ms = (sl_now_seconds() - t0) * 1e3;
         break;
     }
-    v->shown_params = p;
-    v->shown_stage = stage;
-    v->texture_stale = true;
-    v->present_needed = true;
+    v->shade_ms = (sl_now_seconds() - t0) * 1e3;
+    stage_finished(v);
+    return true;
+}
+
+/* One slice of the active stage's lighting pass. While the stage has the size of the image on
+ * screen, the rows done so far replace the old ones there (tone mapped like the whole image will
+ * be); a stage of another size shows up when it is complete. */
+static bool stage_continue(viewer *v, double budget_s, sl_error *err)
+{
+    int first;
+    bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, &v->r.radiance, budget_s, &first);
+    v->shade_ms = v->shade.seconds * 1e3;
+    if (!done) {
+        const sl_image *rad = &v->r.radiance;
+        if (v->shown.data && v->shown.width == rad->width && v->shown.height == rad->height) {
+            const sl_tonemap_options *t = &v->r.desc.tonemap;
+            for (int y = first; y < v->shade.next_row; y++) {
+                const float *src = sl_image_pixel(rad, 0, y);
+                float *dst = sl_image_pixel(&v->shown, 0, y);
+                for (int i = 0; i < rad->width * 3; i++)
+                    dst[i] = sl_tonemap_value(src[i], t->exposure, t->contrast, t->exact_srgb);
+            }
+            v->texture_stale = true;
+            v->present_needed = true;
+        }
+        return true;
+    }
+    if (!sl_renderer_tonemap(&v->r, err) || !view_image_copy(&v->shown, &v->r.display, err)) {
+        v->job_active = false;
+        return false;
+    }
+    v->tonemap_ms = v->r.timings.tonemap_ms;
+    v->radiance_stage = v->job_stage;
+    v->retonemap = false; /* the tone map just ran with the current settings */
+    stage_finished(v);
+    return true;
+}
+
+/* A whole stage at once (the preview, and screenshots). */
+static bool render_stage(viewer *v, int stage, sl_error *err)
+{
+    if (!stage_begin(v, stage, err))
+        return false;
+    while (v->job_active)
+        if (!stage_continue(v, 1e30, err))
+            return false;
     return true;
 }
 
@@ -297,7 +357,13 @@ static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160
     snprintf(buf[n++], 160, "diffuse %s  specular %s  point lights %s (%d)", l->no_diffuse ? "off" : "on",
              l->no_specular ? "off" : "on", l->no_point_lights ? "off" : "on", v->scene->light_count);
     const char *res = v->shown_params.div == 1 ? "full size" : v->shown_params.div == 2 ? "1/2 size" : v->shown_params.div == 4 ? "1/4 size" : "1/8 size";
-    if (v->stage >= STAGE_COUNT && !v->urgent)
+    if (v->job_active && v->shown.width == v->r.radiance.width && v->shown.height == v->r.radiance.height)
+        snprintf(buf[n++], 160, "refining %d/%d: %s, N %d, row %d of %d", v->job_stage + 1, STAGE_COUNT, res,
+                 v->job_params.samples, v->shade.next_row, v->r.radiance.height);
+    else if (v->job_active)
+        snprintf(buf[n++], 160, "refining %d/%d: %s, N %d (next: full size, N %d)", v->shown_stage + 1, STAGE_COUNT,
+                 res, v->shown_params.samples, v->job_params.samples);
+    else if (converged(v))
         snprintf(buf[n++], 160, "done: %s, N %d", res, v->shown_params.samples);
     else if (interacting(v, now) && v->stage <= 1)
         snprintf(buf[n++], 160, "moving: %s, N %d", res, v->shown_params.samples);
@@ -376,7 +442,7 @@ static void present(viewer *v)
     if (upload(v))
         SDL_RenderCopy(v->sdl, v->texture, NULL, NULL);
     double now = sl_now_seconds();
-    if (v->hud && v->show_hud) {
+    if (v->hud && v->show_hud && !v->show_help) {
         const char *lines[VIEW_HUD_MAX_LINES];
         char buf[VIEW_HUD_MAX_LINES][160];
         int n;
@@ -403,14 +469,14 @@ static bool file_exists(const char *path) { return access(path, F_OK) == 0; }
  * N whatever the window showed at the moment. */
 static bool screenshot(viewer *v, const char *name, sl_error *err)
 {
-    if (v->stage < STAGE_COUNT || v->urgent || v->shown_stage != STAGE_COUNT - 1) {
+    if (!converged(v)) {
         if (!render_stage(v, STAGE_COUNT - 1, err))
             return false;
         v->stage = STAGE_COUNT;
         v->urgent = false;
         present(v);
     }
-    if (v->radiance_stage != STAGE_COUNT - 1) {
+    if (v->radiance_stage < 0) {
         /* A G-buffer view: light the (current, full-size) G-buffer for the .hdr. */
         v->r.desc.lighting.samples = v->samples;
         if (!sl_renderer_shade(&v->r, &v->camera.cam, err))
@@ -842,7 +908,7 @@ static void script_step(viewer *v, double now)
             s->waiting = false;
             break;
         case VIEW_CMD_SETTLE:
-            if (pushed || v->urgent || v->stage < STAGE_COUNT || interacting(v, now) || v->retonemap)
+            if (pushed || !converged(v) || interacting(v, now) || v->retonemap)
                 return;
             break;
         case VIEW_CMD_RESIZE:
@@ -900,16 +966,28 @@ static void adapt_preview(viewer *v, double frame_ms)
         v->preview_div /= 2;
 }
 
+static bool want_stage(const viewer *v, double now)
+{
+    bool minimized = (SDL_GetWindowFlags(v->window) & SDL_WINDOW_MINIMIZED) != 0;
+    return !minimized && !v->job_active && v->stage < STAGE_COUNT && (v->urgent || !interacting(v, now));
+}
+
+static void render_failed(viewer *v, const sl_error *err)
+{
+    message(v, true, "render: %s", err->msg);
+    v->job_active = false;
+    v->stage = STAGE_COUNT; /* nothing to gain from retrying the same failure */
+    v->urgent = false;
+}
+
 static void run(viewer *v)
 {
     while (!v->quit) {
         double now = sl_now_seconds();
         if (v->have_script)
             script_step(v, now);
-        bool minimized = (SDL_GetWindowFlags(v->window) & SDL_WINDOW_MINIMIZED) != 0;
-        bool refine = !minimized && v->stage < STAGE_COUNT && (v->urgent || !interacting(v, now));
         bool message_expired = v->message_shown && now >= v->message_until;
-        bool busy = refine || (v->urgent && !minimized) || v->retonemap || v->present_needed || message_expired;
+        bool busy = v->job_active || want_stage(v, now) || v->retonemap || v->present_needed || message_expired;
         SDL_Event e;
         if (!busy) {
             /* Idle: sleep until input, but wake for the script, the end of a quiet period and the
@@ -929,27 +1007,29 @@ static void run(viewer *v)
         if (v->quit)
             break;
         now = sl_now_seconds();
-        minimized = (SDL_GetWindowFlags(v->window) & SDL_WINDOW_MINIMIZED) != 0;
-        if (!minimized && v->stage < STAGE_COUNT && (v->urgent || !interacting(v, now))) {
-            sl_error err = {0};
-            double t0 = sl_now_seconds();
-            int stage = v->stage;
-            if (render_stage(v, stage, &err)) {
-                v->stage = next_stage(v, stage);
-                v->urgent = false;
-                v->retonemap = false;
-                if (stage == 0)
-                    adapt_preview(v, (sl_now_seconds() - t0) * 1e3);
-            } else {
-                message(v, true, "render: %s", err.msg);
-                v->stage = STAGE_COUNT; /* nothing to gain from retrying the same failure */
-                v->urgent = false;
-            }
+        sl_error err = {0};
+        if (v->job_active) {
+            if (!stage_continue(v, SLICE_SECONDS, &err))
+                render_failed(v, &err);
+            else if (!v->job_active)
+                v->stage = next_stage(v, v->job_stage);
             present(v);
-        } else if (v->retonemap) {
+        } else if (want_stage(v, now)) {
+            int stage = v->stage;
+            double t0 = sl_now_seconds();
+            v->urgent = false;
+            /* The preview is small by design and always finishes; later stages are sliced. */
+            bool ok = stage == 0 ? render_stage(v, stage, &err) : stage_begin(v, stage, &err);
+            if (!ok)
+                render_failed(v, &err);
+            else if (!v->job_active)
+                v->stage = next_stage(v, stage);
+            if (ok && stage == 0)
+                adapt_preview(v, (sl_now_seconds() - t0) * 1e3);
+            present(v);
+        } else if (v->retonemap && !v->job_active) {
             v->retonemap = false;
             if (v->mode == VIEW_FINAL && v->radiance_stage >= 0) {
-                sl_error err = {0};
                 if (sl_renderer_tonemap(&v->r, &err) && view_image_copy(&v->shown, &v->r.display, &err)) {
                     v->tonemap_ms = v->r.timings.tonemap_ms;
                     v->texture_stale = true;
@@ -1003,6 +1083,7 @@ static void initial_window_size(const sl_render_options *o, const sl_scene *scen
 static void viewer_free(viewer *v)
 {
     view_script_free(&v->script);
+    view_shade_free(&v->shade);
     view_hud_destroy(v->hud);
     if (v->scene) {
         sl_renderer_free(&v->r);

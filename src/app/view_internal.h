@@ -74,6 +74,26 @@ void view_image_to_rgb8(const sl_image *img, uint8_t *pixels, int pitch);
 /* Copy `src` into `dst`, (re)allocating it to src's size. */
 bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
 
+/* ---- view_shade.c ----
+ * The lighting pass in slices of image rows, top first, so the viewer can handle input between
+ * slices and show the rows already done. Every pixel goes through sl_lighting_shade exactly as
+ * in sl_lighting_pass, so the finished image is bit for bit the one `softlight render` makes. */
+typedef struct {
+    sl_lighting_task **tasks; /* one per thread, kept between jobs */
+    int thread_count;
+    int next_row;             /* next image row (row 0 = top) */
+    double row_seconds;       /* measured cost of one row, to size the next slice */
+    double seconds;           /* spent on this job so far */
+} view_shade_job;
+
+/* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default). */
+bool view_shade_begin(view_shade_job *job, int threads, sl_error *err);
+/* Shade rows until about `budget_s` seconds have passed (at least one row). `first_row` gets the
+ * first row done by this call. True when every row of `out` is done. */
+bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
+                      double budget_s, int *first_row);
+void view_shade_free(view_shade_job *job);
+
 /* ---- view_script.c ---- */
 typedef enum {
     VIEW_CMD_WAIT,       /* wait MS: let MS milliseconds pass (frames keep running) */

@@ -7,12 +7,15 @@
  * the attribute planes, and append the triangle to the bins of every tile it
  * touches (tiles it covers entirely are flagged, the tile stage fills them blind).
  *
- * Fill rule (GL window coordinates, y up, so "top" is larger y). For a
- * counter-clockwise triangle the interior lies to the left of each directed edge
- * a -> b. A pixel centre exactly on an edge belongs to the triangle when the edge
- * is a left edge (going down: dy < 0; the interior is to its right) or a top edge
- * (horizontal going left: dy == 0, dx < 0; the interior is below). The other edges
- * get a bias of -1 in the integer edge value, which turns E >= 0 into E > 0. */
+ * Fill rule: the top-left rule as D3D states it for a y-down raster, applied to the
+ * target's rows in memory order (row 0 first), which is what Mesa's llvmpipe does for
+ * a GL framebuffer object: in GL window coordinates (y up) the inclusive horizontal
+ * edge is the one with the interior ABOVE it. For a counter-clockwise triangle the
+ * interior lies to the left of each directed edge a -> b, so a pixel centre exactly on
+ * an edge belongs to the triangle when the edge is a left edge (going down: dy < 0; the
+ * interior is to its right) or that horizontal edge (going right: dy == 0, dx > 0).
+ * Measured against llvmpipe: identical coverage on grid-aligned edges (docs/gl.md).
+ * The other edges get a bias of -1 in the integer edge value, turning E >= 0 into E > 0. */
 #include "rast_internal.h"
 
 #include <stdlib.h>
@@ -123,7 +126,7 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
     for (int k = 0; k < 3; k++) {
         const rast_wvert *a = v[(k + 1) % 3], *b = v[(k + 2) % 3];
         int64_t dx = (int64_t)b->X - a->X, dy = (int64_t)b->Y - a->Y;
-        bool top_left = dy < 0 || (dy == 0 && dx < 0);
+        bool top_left = dy < 0 || (dy == 0 && dx > 0);
         int64_t ea = -dy, eb = dx, ec = dy * a->X - dx * a->Y - (top_left ? 0 : 1);
         /* at the centre of pixel (x, y): X = 256 x + 128, Y = 256 y + 128 */
         t->ex[k] = ea * RAST_SUBPIXEL_ONE;

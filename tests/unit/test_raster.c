@@ -150,18 +150,20 @@ static uint32_t expect_corner(int x, int y) { return x + y <= 2 ? 1u : 0u; }
 
 /* Square [0.5, 4.5]^2 split along its diagonal, every edge through pixel centres:
  * left edge x = 0.5 (column 0) is a left edge: covered; right edge x = 4.5 (column 4) is
- * not; bottom edge y = 0.5 (row 0) is not a top edge: not covered; top edge y = 4.5 (row 4)
- * is a top edge: covered. So columns 0..3, rows 1..4, each exactly once. */
-static uint32_t expect_square(int x, int y) { return x <= 3 && y >= 1 && y <= 4 ? 1u : 0u; }
+ * not; the horizontal edge with the interior above it, y = 0.5 (row 0), is the inclusive
+ * one (llvmpipe's rule, setup.c): covered; y = 4.5 (row 4) is not. So columns 0..3,
+ * rows 0..3, each exactly once. */
+static uint32_t expect_square(int x, int y) { return x <= 3 && y <= 3 ? 1u : 0u; }
 
 /* Lower-right half (0.5,0.5) (4.5,0.5) (4.5,4.5): its diagonal (4.5,4.5) -> (0.5,0.5) goes
- * down (dy < 0): a left edge, so the diagonal centres (k, k) belong to this half.
- * Covered: y >= 1, x <= 3, x >= y. */
-static uint32_t expect_lower(int x, int y) { return y >= 1 && x <= 3 && x >= y ? 1u : 0u; }
+ * down (dy < 0): a left edge, so the diagonal centres (k, k) belong to this half; its bottom
+ * edge (0.5,0.5) -> (4.5,0.5) goes right (dy = 0, dx > 0: covered), the right edge is not.
+ * Covered: x <= 3, x >= y. */
+static uint32_t expect_lower(int x, int y) { return x <= 3 && x >= y ? 1u : 0u; }
 /* Upper-left half (0.5,0.5) (4.5,4.5) (0.5,4.5): the diagonal (0.5,.5) -> (4.5,4.5) is a right
- * edge (excluded), the top edge (4.5,4.5) -> (0.5,4.5) goes left (dy = 0, dx < 0: covered),
- * the left edge (0.5,4.5) -> (0.5,0.5) is covered. Covered: x < y <= 4. */
-static uint32_t expect_upper(int x, int y) { return x < y && y <= 4 ? 1u : 0u; }
+ * edge (excluded), the top edge (4.5,4.5) -> (0.5,4.5) goes left (dy = 0, dx < 0: excluded),
+ * the left edge (0.5,4.5) -> (0.5,0.5) is covered. Covered: x < y <= 3. */
+static uint32_t expect_upper(int x, int y) { return x < y && y <= 3 ? 1u : 0u; }
 
 static void test_fill_rule(void **state)
 {

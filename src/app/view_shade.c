@@ -1,0 +1,83 @@
+/* view_shade.c - the viewer's lighting pass, in slices (see view_internal.h).
+ *
+ * Why not sl_lighting_pass: a full-size frame at the scene's N takes seconds on a small machine,
+ * and one call would freeze the window for that long. Slicing by rows keeps each call near a
+ * time budget; the loop handles input in between and shows the rows already refined. Inside a
+ * slice the rows are shared between threads (OpenMP, dynamic schedule) as the library's pass
+ * shares tiles; each pixel depends only on its texel and the read-only uniforms, so the result
+ * is identical for any thread count and slicing. */
+#include "view_internal.h"
+
+#include <omp.h>
+#include <stdlib.h>
+
+#include "core/timer.h"
+
+bool view_shade_begin(view_shade_job *job, int threads, sl_error *err)
+{
+    int n = threads > 0 ? threads : omp_get_max_threads();
+    if (job->tasks && job->thread_count != n)
+        view_shade_free(job);
+    if (!job->tasks) {
+        job->tasks = calloc((size_t)n, sizeof *job->tasks);
+        if (!job->tasks)
+            return sl_fail(err, SL_ERR_MEMORY, "view: out of memory for lighting tasks");
+        job->thread_count = n;
+        for (int i = 0; i < n; i++)
+            if (!(job->tasks[i] = sl_lighting_task_create(err))) {
+                view_shade_free(job);
+                return false;
+            }
+    }
+    /* The uniforms were re-initialised in place: cached sample tables are stale. */
+    for (int i = 0; i < n; i++)
+        sl_lighting_task_reset(job->tasks[i]);
+    job->next_row = 0;
+    job->seconds = 0.0;
+    return true;
+}
+
+bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
+                      double budget_s, int *first_row)
+{
+    const int height = gb->height, width = gb->width;
+    int y0 = job->next_row;
+    int rows = job->row_seconds > 0.0 ? (int)(budget_s / job->row_seconds) : 4;
+    if (rows < 1)
+        rows = 1;
+    if (rows > height - y0)
+        rows = height - y0;
+    const int y1 = y0 + rows;
+    double t0 = sl_now_seconds();
+#pragma omp parallel num_threads(job->thread_count)
+    {
+        sl_lighting_task *task = job->tasks[omp_get_thread_num()];
+#pragma omp for schedule(dynamic)
+        for (int y = y0; y < y1; y++) {
+            float *row = sl_image_pixel(out, 0, y);
+            int y_gb = height - 1 - y; /* the G-buffer's row 0 is the bottom */
+            for (int x = 0; x < width; x++) {
+                vec3 c = sl_lighting_shade(u, gb, x, y_gb, task, NULL);
+                row[3 * x + 0] = c.x;
+                row[3 * x + 1] = c.y;
+                row[3 * x + 2] = c.z;
+            }
+        }
+    }
+    double dt = sl_now_seconds() - t0;
+    job->seconds += dt;
+    job->row_seconds = dt / rows;
+    job->next_row = y1;
+    if (first_row)
+        *first_row = y0;
+    return y1 >= height;
+}
+
+void view_shade_free(view_shade_job *job)
+{
+    for (int i = 0; job->tasks && i < job->thread_count; i++)
+        sl_lighting_task_destroy(job->tasks[i]);
+    free(job->tasks);
+    job->tasks = NULL;
+    job->thread_count = 0;
+}
