@@ -9,6 +9,7 @@
 #include "view_internal.h"
 
 #include <omp.h>
+#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/timer.h"
@@ -34,6 +35,7 @@ bool view_shade_begin(view_shade_job *job, int threads, sl_error *err)
         sl_lighting_task_reset(job->tasks[i]);
     job->next_row = 0;
     job->seconds = 0.0;
+    job->row_seconds = 0.0; /* N and the size may differ from the last job: measure again */
     return true;
 }
 
@@ -42,7 +44,7 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
 {
     const int height = gb->height, width = gb->width;
     int y0 = job->next_row;
-    int rows = job->row_seconds > 0.0 ? (int)(budget_s / job->row_seconds) : 4;
+    int rows = job->row_seconds > 0.0 ? (int)(budget_s / job->row_seconds) : 1;
     if (rows < 1)
         rows = 1;
     if (rows > height - y0)
@@ -68,6 +70,7 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     job->seconds += dt;
     job->row_seconds = dt / rows;
     job->next_row = y1;
+    if (getenv("SLDBG")) fprintf(stderr, "slice %d rows %d..%d %.1f ms\n", job->thread_count, y0, y1, dt * 1e3);
     if (first_row)
         *first_row = y0;
     return y1 >= height;

@@ -13,7 +13,7 @@
  * Per pixel it integrates what the shader shades: V = normalize(eye - P) and N =
  * facing_normal(normal, V) computed in float exactly as lighting.frag does (a normal facing away
  * from the eye, N.V < 0.01, is bent to N.V = 0.01), alpha clamped to [0, 1e7] as the shader
- * clamps it. The result equals sl_ground_truth_shade for that (N, V) (tests check it to 1e-12).
+ * clamps it. The result is sl_ground_truth_shade's for that (N, V), rounded to float (tested).
  *
  * Cache: one file, a text header a person can read with `head` (what made it: label, sizes,
  * hashes of the environment's level 0 and of every G-buffer texel, eye, rotation, intensity,

@@ -36,6 +36,10 @@ key shift+v
 key shift+v
 key F1
 screenshot $T/final-again
+# exposure changes what is shown, not the radiance
+key e
+key e
+screenshot $T/brighter
 quit
 SCRIPT
 
@@ -59,6 +63,9 @@ cmp -s "$T/normal.png" "$T/ref.png" && fail "the normal view's PNG equals the fi
 echo "ok: the normal view shows something else"
 cmp -s "$T/final-again.png" "$T/ref.png" || fail "back in the final view (help open) the PNG differs"
 echo "ok: the help overlay is not in the screenshot"
+view_same "$T/brighter.hdr" "$T/ref.hdr" "exposure leaves the radiance alone" 0
+cmp -s "$T/brighter.png" "$T/ref.png" && fail "two exposure steps did not change the PNG"
+echo "ok: exposure changes the PNG"
 grep -q "camera eye 0,-20,0 target 0,0,0" "$T/out.txt" || fail "the screenshot line does not print the camera"
 
 # No display: one line, exit 2, and it names the render command.

@@ -1,0 +1,91 @@
+#!/usr/bin/env bash
+# errors.sh BUILD_DIR - bad input end to end: every case must exit with status 2, print exactly
+# one line on stderr naming the problem, and leave no output file (or leave an existing one
+# untouched). Covers a truncated and a corrupt .hdr, a malformed OBJ, malformed scene files,
+# absurd parameters and unwritable outputs.
+set -u
+SL=${1:?usage: $0 BUILD_DIR}/softlight
+T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-errors.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+fails=0; passes=0
+
+# expect_error NAME PATTERN -- COMMAND...: status 2, one stderr line matching PATTERN.
+expect_error() {
+    local name=$1 pattern=$2; shift 3
+    "$@" >"$T/out" 2>"$T/err"
+    local status=$? lines
+    lines=$(wc -l <"$T/err")
+    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err"; then
+        echo "FAIL $name: status $status, $lines stderr lines (want 2, 1 matching /$pattern/):"
+        sed 's/^/    /' "$T/err" | head -5
+        fails=$((fails + 1))
+    else
+        echo "ok   $name: $(cat "$T/err")"
+        passes=$((passes + 1))
+    fi
+}
+
+# A scene around a given environment and mesh, written into $T.
+scene() { # scene FILE HDR [OBJ]
+    local obj=${3:-}
+    local objects='{"shape": "sphere"}'
+    [ -n "$obj" ] && objects="{\"mesh\": \"$obj\"}"
+    cat >"$1" <<JSON
+{"environment": {"hdr": "$2"}, "objects": [$objects], "render": {"width": 64, "height": 36, "samples": 4}}
+JSON
+}
+
+cp scenes/envmaps/studio.hdr "$T/good.hdr"
+head -c 40000 scenes/envmaps/studio.hdr >"$T/truncated.hdr"
+{ head -c 200 scenes/envmaps/studio.hdr; head -c 5000 /dev/urandom; } >"$T/corrupt.hdr"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n' >"$T/bad.obj"
+scene "$T/truncated.json" truncated.hdr
+scene "$T/corrupt.json" corrupt.hdr
+scene "$T/badobj.json" good.hdr bad.obj
+scene "$T/good.json" good.hdr
+printf '{"objects": [{"shape": "sphere", "material": "gold"}]}' >"$T/nomat.json"
+printf '{"camera": {"eye": [0, 0]}}' >"$T/eye.json"
+printf '{"render": {"samples": 5000}}' >"$T/samples.json"
+printf '{"objects": [' >"$T/syntax.json"
+
+expect_error truncated-hdr 'truncated\.hdr.*byte' -- "$SL" render "$T/truncated.json" -o "$T/a.png"
+expect_error corrupt-hdr 'corrupt\.hdr' -- "$SL" render "$T/corrupt.json" -o "$T/a.png"
+expect_error bad-obj 'bad\.obj:4:.*out of range' -- "$SL" render "$T/badobj.json" -o "$T/a.png"
+expect_error no-material 'objects\[0\]\.material.*gold' -- "$SL" render "$T/nomat.json" -o "$T/a.png"
+expect_error camera-eye 'camera\.eye' -- "$SL" render "$T/eye.json" -o "$T/a.png"
+expect_error scene-samples 'render\.samples' -- "$SL" render "$T/samples.json" -o "$T/a.png"
+expect_error json-syntax 'syntax\.json' -- "$SL" render "$T/syntax.json" -o "$T/a.png"
+expect_error missing-scene 'nothere\.json' -- "$SL" render "$T/nothere.json" -o "$T/a.png"
+expect_error samples-range '--samples.*5000' -- "$SL" render "$T/good.json" --samples 5000 -o "$T/a.png"
+expect_error size-zero '--size' -- "$SL" render "$T/good.json" --size 0x10 -o "$T/a.png"
+expect_error exposure-nan '--exposure' -- "$SL" render "$T/good.json" --exposure nan -o "$T/a.png"
+expect_error unknown-option "unknown option '--bogus'" -- "$SL" render "$T/good.json" --bogus
+expect_error missing-value '--samples needs a value' -- "$SL" render "$T/good.json" --samples
+expect_error bad-choice '--lod' -- "$SL" render "$T/good.json" --lod sideways
+expect_error both-only 'exclude' -- "$SL" render "$T/good.json" --diffuse-only --specular-only
+expect_error unknown-command "unknown command 'paint'" -- "$SL" paint
+expect_error pixel-outside 'outside' -- "$SL" trace "$T/good.json" --pixel 64,0
+expect_error no-dir 'nodir' -- "$SL" render "$T/good.json" -o "$T/nodir/a.png"
+
+# No half-written output anywhere: nothing but our inputs in $T, no temporaries.
+if ls "$T" | grep -qE '^a\.png|tmp'; then
+    echo "FAIL leftovers: $(ls "$T" | grep -E '^a\.png|tmp' | tr '\n' ' ')"; fails=$((fails + 1))
+else
+    echo "ok   no output or temporary file was left behind"; passes=$((passes + 1))
+fi
+# A failing render leaves an existing output untouched.
+echo "previous" >"$T/keep.png"
+"$SL" render "$T/truncated.json" -o "$T/keep.png" 2>/dev/null
+if [ "$(cat "$T/keep.png")" = previous ]; then
+    echo "ok   existing output kept after a failed render"; passes=$((passes + 1))
+else
+    echo "FAIL existing output was overwritten by a failed render"; fails=$((fails + 1))
+fi
+# And the good scene renders.
+if "$SL" render "$T/good.json" -o "$T/good.png" -q && [ -s "$T/good.png" ]; then
+    echo "ok   the control scene renders"; passes=$((passes + 1))
+else
+    echo "FAIL the control scene did not render"; fails=$((fails + 1))
+fi
+echo "$passes passed, $fails failed"
+[ "$fails" -eq 0 ]
