@@ -83,6 +83,7 @@ typedef struct {
     int thread_count;
     int next_row;             /* next image row (row 0 = top) */
     double row_seconds;       /* measured cost of one row, to size the next slice */
+    int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
 } view_shade_job;
 

@@ -9,7 +9,6 @@
 #include "view_internal.h"
 
 #include <omp.h>
-#include <stdio.h>
 #include <stdlib.h>
 
 #include "core/timer.h"
@@ -36,6 +35,7 @@ bool view_shade_begin(view_shade_job *job, int threads, sl_error *err)
     job->next_row = 0;
     job->seconds = 0.0;
     job->row_seconds = 0.0; /* N and the size may differ from the last job: measure again */
+    job->last_rows = 1;
     return true;
 }
 
@@ -44,7 +44,14 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
 {
     const int height = gb->height, width = gb->width;
     int y0 = job->next_row;
-    int rows = job->row_seconds > 0.0 ? (int)(budget_s / job->row_seconds) : 1;
+    /* Rows differ a lot in cost (sky rows are cheap, glossy ones are not): the slice grows at
+     * most twofold from one call to the next, so a run of cheap rows cannot promise a long
+     * expensive slice. */
+    int rows = 1;
+    if (job->row_seconds > 0.0) {
+        double fit = budget_s / job->row_seconds;
+        rows = fit < 2.0 * job->last_rows ? (int)fit : 2 * job->last_rows;
+    }
     if (rows < 1)
         rows = 1;
     if (rows > height - y0)
@@ -69,8 +76,8 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     double dt = sl_now_seconds() - t0;
     job->seconds += dt;
     job->row_seconds = dt / rows;
+    job->last_rows = rows;
     job->next_row = y1;
-    if (getenv("SLDBG")) fprintf(stderr, "slice %d rows %d..%d %.1f ms\n", job->thread_count, y0, y1, dt * 1e3);
     if (first_row)
         *first_row = y0;
     return y1 >= height;
