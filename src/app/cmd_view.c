@@ -97,6 +97,7 @@ typedef struct {
     int samples;     /* the user's N; stages may use fewer */
     float scale;     /* --scale */
     bool irradiance_stale; /* the environment changed while the diffuse term was off */
+    bool env_replaced;     /* a dropped .hdr replaced the scene's environment (its map no longer fits) */
 
     /* refinement */
     int stage;       /* next stage to render; STAGE_COUNT: done */
@@ -333,6 +334,11 @@ static bool render_stage(viewer *v, int stage, sl_error *err)
 
 /* ------------------------------------------------------------------ presenting */
 
+static const char *irradiance_name(sl_irradiance_method m)
+{
+    return m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_BRUTE ? "brute" : "sh9";
+}
+
 static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160], int *count)
 {
     int n = 0;
@@ -349,14 +355,17 @@ static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160
     else
         snprintf(buf[n++], 160, "raster %.1f ms  %s %.1f ms  present %.1f ms", v->raster_ms,
                  v->mode == VIEW_MIP ? "mip levels" : "channel", v->shade_ms, v->present_ms);
-    const char *irr = l->irradiance == SL_IRRADIANCE_MAP ? "map" : l->irradiance == SL_IRRADIANCE_BRUTE ? "brute" : "sh9";
+    sl_lighting_options resolved = sl_lighting_options_resolve(l);
     snprintf(buf[n++], 160, "lod %s  estimator %s  G %s  irradiance %s  env rotation %+.0f",
-             sl_lod_rule_name(sl_lighting_options_resolve(l).lod_rule),
-             sl_estimator_name(sl_lighting_options_resolve(l).estimator), sl_gterm_name(sl_lighting_options_resolve(l).gterm),
-             irr, (double)l->env_rotation_deg);
+             sl_lod_rule_name(resolved.lod_rule), sl_estimator_name(resolved.estimator), sl_gterm_name(resolved.gterm),
+             irradiance_name(l->irradiance), (double)l->env_rotation_deg);
     snprintf(buf[n++], 160, "diffuse %s  specular %s  point lights %s (%d)", l->no_diffuse ? "off" : "on",
              l->no_specular ? "off" : "on", l->no_point_lights ? "off" : "on", v->scene->light_count);
-    const char *res = v->shown_params.div == 1 ? "full size" : v->shown_params.div == 2 ? "1/2 size" : v->shown_params.div == 4 ? "1/4 size" : "1/8 size";
+    char res[32];
+    if (v->shown_params.div == 1)
+        snprintf(res, sizeof res, "full size");
+    else
+        snprintf(res, sizeof res, "1/%d size", v->shown_params.div);
     if (v->job_active && v->shown.width == v->r.radiance.width && v->shown.height == v->r.radiance.height)
         snprintf(buf[n++], 160, "refining %d/%d: %s, N %d, row %d of %d", v->job_stage + 1, STAGE_COUNT, res,
                  v->job_params.samples, v->shade.next_row, v->r.radiance.height);
@@ -536,6 +545,7 @@ static void adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     }
     view_camera_init(&v->camera, &scene->camera);
     v->irradiance_stale = false;
+    v->env_replaced = false;
     char title[SL_PATH_MAX + 32];
     snprintf(title, sizeof title, "softlight view - %s", scene->path);
     if (v->window)
@@ -576,6 +586,7 @@ static void handle_drop(viewer *v, const char *path)
         }
         /* The renderer rebuilds the irradiance only while the diffuse term is on. */
         v->irradiance_stale = v->r.desc.lighting.no_diffuse;
+        v->env_replaced = true;
         message(v, false, "environment %s", path);
         restart_lighting(v);
     } else if (has_suffix(path, ".json")) {
@@ -641,7 +652,7 @@ static int power_of_two_step(int n, bool up)
 static void cycle_irradiance(viewer *v)
 {
     sl_lighting_options *l = &v->r.desc.lighting;
-    bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->irradiance_stale;
+    bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
     sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_SH9     ? SL_IRRADIANCE_BRUTE
                                 : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9)
                                                                        : SL_IRRADIANCE_SH9;
@@ -649,7 +660,7 @@ static void cycle_irradiance(viewer *v)
         /* Built when the diffuse term comes back on. */
         l->irradiance = next;
         v->irradiance_stale = true;
-        message(v, false, "irradiance %s (diffuse is off)", next == SL_IRRADIANCE_MAP ? "map" : next == SL_IRRADIANCE_BRUTE ? "brute" : "sh9");
+        message(v, false, "irradiance %s (diffuse is off)", irradiance_name(next));
         return;
     }
     sl_error err = {0};
@@ -657,8 +668,7 @@ static void cycle_irradiance(viewer *v)
         message(v, true, "%s", err.msg);
         return;
     }
-    message(v, false, "irradiance %s (%.0f ms)", next == SL_IRRADIANCE_MAP ? "map" : next == SL_IRRADIANCE_BRUTE ? "brute" : "sh9",
-            v->r.timings.irradiance_ms);
+    message(v, false, "irradiance %s (%.0f ms)", irradiance_name(next), v->r.timings.irradiance_ms);
     restart_lighting(v);
 }
 
@@ -668,7 +678,7 @@ static void toggle_diffuse(viewer *v)
     if (l->no_diffuse && (v->irradiance_stale || !v->r.have_irradiance)) {
         sl_error err = {0};
         sl_irradiance_method method = l->irradiance;
-        if (method == SL_IRRADIANCE_MAP && v->irradiance_stale)
+        if (method == SL_IRRADIANCE_MAP && v->env_replaced)
             method = SL_IRRADIANCE_SH9; /* the scene's map belongs to the scene's environment */
         if (!sl_renderer_set_irradiance(&v->r, method, &err)) {
             message(v, true, "%s", err.msg);
@@ -933,7 +943,7 @@ static void script_step(viewer *v, double now)
             if (pushed)
                 return;
             if (!screenshot(v, c->text, &err)) {
-                fprintf(stderr, "softlight view: %s:%d: screenshot: %s\n", "script", c->line, err.msg);
+                fprintf(stderr, "softlight view: script line %d: screenshot: %s\n", c->line, err.msg);
                 v->exit_status = 2;
             }
             break;

@@ -36,6 +36,31 @@ key shift+v
 key shift+v
 key F1
 screenshot $T/final-again
+# each control against the command-line option that means the same
+key 1
+screenshot $T/no-diffuse
+key 1
+key 2
+screenshot $T/no-specular
+key 2
+key k
+screenshot $T/consistent
+key k
+key l
+screenshot $T/gems
+key l
+key l
+key l
+key i
+screenshot $T/brute
+key i
+key n
+screenshot $T/n16
+key b
+key g
+screenshot $T/g-one
+key g
+screenshot $T/controls-back
 # exposure changes what is shown, not the radiance
 key e
 key e
@@ -63,6 +88,20 @@ cmp -s "$T/normal.png" "$T/ref.png" && fail "the normal view's PNG equals the fi
 echo "ok: the normal view shows something else"
 cmp -s "$T/final-again.png" "$T/ref.png" || fail "back in the final view (help open) the PNG differs"
 echo "ok: the help overlay is not in the screenshot"
+while read -r shot options; do
+    # shellcheck disable=SC2086
+    "$SL" render "$SCENE" --size "$VIEW_TEST_SIZE" -n 8 $options --hdr "$T/$shot-ref.hdr" -q
+    view_same "$T/$shot.hdr" "$T/$shot-ref.hdr" "key for $options" 0
+done <<LIST
+no-diffuse --specular-only
+no-specular --diffuse-only
+consistent --estimator consistent
+gems --lod gems
+brute --irradiance brute
+n16 -n 16
+g-one --g one
+LIST
+view_same "$T/controls-back.hdr" "$T/ref.hdr" "every control back where it was" 0
 view_same "$T/brighter.hdr" "$T/ref.hdr" "exposure leaves the radiance alone" 0
 cmp -s "$T/brighter.png" "$T/ref.png" && fail "two exposure steps did not change the PNG"
 echo "ok: exposure changes the PNG"
