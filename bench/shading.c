@@ -1,15 +1,24 @@
 /* shading.c - benchmark of the lighting pass (src/shading/lighting.c).
  *
- * bench_shading [frames] [env.hdr]
- *   frames   frames timed per configuration (default 5; the median is reported)
- *   env.hdr  environment (default scenes/envmaps/studio.hdr, run from the source root)
+ * bench_shading [--frames F] [--env FILE.hdr] [--n 20,40,80] [--threads 1,2] [--plain] [--rotate]
+ *               [--no-specular] [--no-background]
+ *   --frames F        frames timed per configuration (default 5; the median is reported)
+ *   --env FILE.hdr    environment (default scenes/envmaps/studio.hdr, run from the source root)
+ *   --n LIST          sample counts N (default 20,40,80)
+ *   --threads LIST    thread counts (default 1,2)
+ *   --plain           the line-by-line port of the GLSL (options.plain) instead of the batched path
+ *   --rotate          per-pixel rotation of the Hammersley set (options.rotate)
+ *   --no-specular     diffuse and background only: the per-pixel cost without samples
+ *   --no-background   every pixel covered (a sphere filling the frame): samples only
  *
  * A 1280x720 G-buffer of nine spheres filled analytically (synthetic.h: the raster is not
  * involved, so only the lighting pass is timed), materials from rough (alpha 1) to near-mirror
- * (alpha 5000), 26% of the pixels covered, the rest background. For N = 20, 40, 80:
- * the median ms/frame with 1 and 2 threads and the speed-up, plus ns per specular sample. */
+ * (alpha 5000), 26% of the pixels covered, the rest background. Per N and thread count: the
+ * median ms/frame and ns per specular sample (frame time x threads / samples: the thread time a
+ * sample costs, per-pixel work included). docs/performance.md "Lighting" has the figures. */
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "core/timer.h"
 #include "ibl/ibl.h"
@@ -39,12 +48,59 @@ static double median_ms(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_
     return t[frames / 2];
 }
 
+/* "20,40,80" -> {20, 40, 80}; returns the count (0 on a bad list). */
+static int parse_list(const char *s, int *v, int max)
+{
+    int n = 0;
+    while (*s && n < max) {
+        char *end;
+        long x = strtol(s, &end, 10);
+        if (end == s || x < 1 || x > 1024)
+            return 0;
+        v[n++] = (int)x;
+        s = *end == ',' ? end + 1 : end;
+        if (*end && *end != ',')
+            return 0;
+    }
+    return n;
+}
+
 int main(int argc, char **argv)
 {
-    int frames = argc > 1 ? atoi(argv[1]) : 5;
-    const char *path = argc > 2 ? argv[2] : "scenes/envmaps/studio.hdr";
-    if (frames < 1 || frames > 64) {
-        fprintf(stderr, "usage: bench_shading [frames 1..64] [env.hdr]\n");
+    int frames = 5, ns[16] = {20, 40, 80}, nn = 3, threads[8] = {1, 2}, nt = 2;
+    const char *path = "scenes/envmaps/studio.hdr";
+    sl_lighting_options base = {0};
+    bool no_background = false;
+    for (int i = 1; i < argc; i++) {
+        const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
+        if (!strcmp(a, "--frames") && v) {
+            frames = atoi(v);
+            i++;
+        } else if (!strcmp(a, "--env") && v) {
+            path = v;
+            i++;
+        } else if (!strcmp(a, "--n") && v) {
+            nn = parse_list(v, ns, 16);
+            i++;
+        } else if (!strcmp(a, "--threads") && v) {
+            nt = parse_list(v, threads, 8);
+            i++;
+        } else if (!strcmp(a, "--plain")) {
+            base.plain = true;
+        } else if (!strcmp(a, "--rotate")) {
+            base.rotate = true;
+        } else if (!strcmp(a, "--no-specular")) {
+            base.no_specular = true;
+        } else if (!strcmp(a, "--no-background")) {
+            no_background = true;
+        } else {
+            nn = 0;
+            break;
+        }
+    }
+    if (frames < 1 || frames > 64 || nn == 0 || nt == 0) {
+        fprintf(stderr, "usage: bench_shading [--frames 1..64] [--env FILE.hdr] [--n 20,40,80] [--threads 1,2] "
+                        "[--plain] [--rotate] [--no-specular] [--no-background]\n");
         return 2;
     }
     sl_error err;
@@ -64,30 +120,38 @@ int main(int argc, char **argv)
     for (int i = 0; i < 9; i++)
         s[i] = (sl_synthetic_sphere){vec3(-3.2f + 3.2f * (float)(i % 3), 2.0f * (float)(i / 3), -1.5f + 1.5f * (float)(i / 3)),
                                      1.0f, vec3(0.5f, 0.4f, 0.3f), vec3s(i % 2 ? 0.9f : 0.04f), alphas[i]};
+    if (no_background) /* one big glossy sphere the camera sits in front of, filling the frame */
+        s[0] = (sl_synthetic_sphere){vec3(0, 0, 0), 7.0f, vec3(0.5f, 0.4f, 0.3f), vec3s(0.5f), 50.0f};
     sl_gbuffer gb = {0};
     mat4 inv;
-    if (!sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, s, 9, &inv, &err)) {
+    if (!sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, s, no_background ? 1 : 9, &inv, &err)) {
         fprintf(stderr, "bench_shading: %s\n", err.msg);
         return 1;
     }
     sl_lighting_uniforms *u = malloc(sizeof *u);
     sl_image out = {0};
-    printf("lighting pass, %dx%d, env %s (%dx%d), median of %d frames\n", W, H, path, img.width, img.height, frames);
-    printf("%5s %9s %12s %12s %9s %14s\n", "N", "covered", "1 thread ms", "2 threads ms", "speed-up", "ns/sample (1t)");
-    const int ns[3] = {20, 40, 80};
-    for (int i = 0; i < 3; i++) {
-        sl_lighting_desc d = {.options = {.samples = ns[i]}, .env = &env, .irradiance = &irr, .eye = cam.eye,
-                              .inv_view_proj = inv, .width = W, .height = H};
+    printf("lighting pass, %dx%d, env %s (%dx%d), %s path%s%s, median of %d frames\n", W, H, path, img.width,
+           img.height, base.plain ? "plain" : "batched", base.rotate ? ", rotation on" : "",
+           base.no_specular ? ", no specular" : "", frames);
+    printf("%5s %8s %8s %10s %14s\n", "N", "covered", "threads", "ms", "ns/sample");
+    for (int i = 0; i < nn; i++) {
+        sl_lighting_options o = base;
+        o.samples = ns[i];
+        sl_lighting_desc d = {.options = o, .env = &env, .irradiance = &irr, .eye = cam.eye, .inv_view_proj = inv,
+                              .width = W, .height = H};
         if (!sl_lighting_uniforms_init(u, &d, &err)) {
             fprintf(stderr, "bench_shading: %s\n", err.msg);
             return 1;
         }
-        sl_lighting_stats st;
-        double t1 = median_ms(u, &gb, &out, 1, frames, &st);
-        double t2 = median_ms(u, &gb, &out, 2, frames, &st);
-        double covered = (double)(st.pixels - st.background) / (double)st.pixels;
-        printf("%5d %8.1f%% %12.1f %12.1f %9.2f %14.1f\n", ns[i], 100.0 * covered, t1, t2, t1 / t2,
-               t1 * 1e6 / (double)st.samples);
+        for (int t = 0; t < nt; t++) {
+            sl_lighting_stats st;
+            double ms = median_ms(u, &gb, &out, threads[t], frames, &st);
+            double covered = (double)(st.pixels - st.background) / (double)st.pixels;
+            printf("%5d %7.1f%% %8d %10.1f", ns[i], 100.0 * covered, threads[t], ms);
+            if (st.samples > 0)
+                printf(" %14.2f", ms * 1e6 * threads[t] / (double)st.samples);
+            printf("\n");
+        }
     }
     free(u);
     sl_image_free(&out);

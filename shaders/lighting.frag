@@ -57,6 +57,11 @@
 //   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
 //   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w))
 //   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
+//   int uRotate       1 = Cranley-Patterson rotation: every Hammersley pair is offset by the
+//                     pixel's pseudo-random vector pixel_rotation() mod 1 (0 = off: the same set
+//                     in every pixel)
+//   uint uFrame       frame number hashed into that vector: frames 0, 1, 2, ... average to the
+//                     converged image (progressive refinement)
 // Output: location 0, vec4(linear radiance, a) with a = 1, or vec4(0) where a non-finite value
 // was repaired (the host can count pixels with a = 0; the C pass counts them in its stats).
 
@@ -99,6 +104,8 @@ uniform int uEstimator;
 uniform int uDiffuse;
 uniform int uSpecular;
 uniform int uPointLights;
+uniform int uRotate;
+uniform uint uFrame;
 
 layout(location = 0) out vec4 fragColor;
 
@@ -168,6 +175,28 @@ vec2 hammersley_point(int k)
 {
     vec4 h = uHammersley.hammersley[k >> 1];
     return ((k & 1) == 0) ? h.xy : h.zw;
+}
+
+// Wellons' lowbias32: two multiply-xorshift rounds, full avalanche; 32-bit unsigned arithmetic,
+// so C (uint32_t) and GLSL agree bit for bit.
+uint hash_u32(uint x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+// The pixel's offset in [0, 1)^2 for the Cranley-Patterson rotation: 24 bits of two chained
+// hashes of (x, y, uFrame), exact in float. The added constants keep hash(0) = 0 from making
+// pixel (0, 0) of frame 0 unrotated and neighbours' components equal.
+vec2 pixel_rotation(ivec2 pixel)
+{
+    uint h = hash_u32(uint(pixel.x) + hash_u32(uint(pixel.y) + hash_u32(uFrame + 0x9e3779b9u)));
+    uint h2 = hash_u32(h + 0x68e31da4u);
+    return vec2(float(h >> 8), float(h2 >> 8)) * (1.0 / 16777216.0);
 }
 
 // Specification steps 2-3: skew (xi1, xi2) to the lobe about +Z,
@@ -245,7 +274,7 @@ vec3 irradiance(vec3 N)
 }
 
 // Specular IBL, eq. (3): N, V unit in environment space, N.V >= MIN_NDOTV.
-vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha)
+vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
     float NdotV = dot(N, V);
     vec3 R = normalize(2.0 * NdotV * N - V);
@@ -256,6 +285,8 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha)
     vec3 sum = vec3(0.0);
     for (int k = 0; k < n; k++) {
         vec2 xi = hammersley_point(k);
+        if (uRotate != 0)
+            xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
         vec3 L = skewed_sample(xi, alpha);
         float pdf = sample_pdf(xi, alpha);
         vec3 w = normalize(L.x * A + L.y * B + L.z * R);
@@ -328,10 +359,11 @@ void main()
         vec3 N = facing_normal(texelFetch(uNormal, pixel, 0).xyz, V);
         vec3 Nenv = uEnvRotation * N;
         vec3 Venv = uEnvRotation * V;
+        vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
         if (uDiffuse != 0)
             color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
         if (uSpecular != 0)
-            color = color + specular_ibl(Nenv, Venv, Ks, alpha);
+            color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);

@@ -14,6 +14,7 @@ static const struct {
     {"info", cmd_info, "print what a scene holds and the memory it will need"},
     {"trace", cmd_trace, "run the lighting shader for one pixel and print every intermediate value"},
     {"compare", cmd_compare, "compare two .pfm/.hdr images (error metrics, difference image)"},
+    {"truth", cmd_truth, "the ground-truth image of a scene (brute-force integral, cached)"},
 };
 
 static void usage(FILE *out)

@@ -26,6 +26,10 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
         {"--no-lights", NULL, SL_ARG_FLAG, &o->no_lights, 0, 0, NULL, NULL, "ignore the scene's point lights", NULL},
         {"--threads", "-j", SL_ARG_INT, &o->threads, 1, 256, NULL, "N", "worker threads (default: all cores)", NULL},
         {"--tile", NULL, SL_ARG_INT, &o->tile, SL_TILE_MIN, SL_TILE_MAX, NULL, "S", "raster tile size in pixels (power of two)", NULL},
+        {"--rotate", NULL, SL_ARG_FLAG, &o->rotate, 0, 0, NULL, NULL,
+         "rotate the specular sample set per pixel (Cranley-Patterson): noise instead of banding", NULL},
+        {"--frame", NULL, SL_ARG_INT, &o->frame, 0, 1e9, NULL, "N",
+         "frame number of the rotation (--rotate): average frames 0..K-1 to converge", NULL},
     };
     memcpy(t, table, sizeof table);
 }
@@ -61,5 +65,7 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
     l->no_specular = o->diffuse_only;
     l->no_diffuse = o->specular_only;
     l->no_point_lights = o->no_lights || o->diffuse_only || o->specular_only;
+    l->rotate = o->rotate;
+    l->frame = (uint32_t)o->frame;
     return true;
 }

@@ -156,6 +156,8 @@ static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uDiffuse"), u->uDiffuse);
     glUniform1i(loc(p, "uSpecular"), u->uSpecular);
     glUniform1i(loc(p, "uPointLights"), u->uPointLights);
+    glUniform1i(loc(p, "uRotate"), u->uRotate);
+    glUniform1ui(loc(p, "uFrame"), u->uFrame);
 }
 
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err)

@@ -13,7 +13,8 @@
  * mip chain is a texture, as in GL). The filter is separable (area of a rectangle overlap is
  * the product of the two 1-D overlaps) and accumulates in double.
  *
- * Layout: one contiguous array of vec3 per level, row 0 = top, as in sl_env_level. */
+ * Layout: one contiguous array of vec3 per level, row 0 = top, as in sl_env_level, and all
+ * levels in one allocation (sl_env.block), level after level. */
 #include "ibl_internal.h"
 
 #include <stdlib.h>
@@ -86,36 +87,50 @@ bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
     *env = (sl_env){0};
     if (!ibl_check_image(img, "environment", err))
         return false;
-    if (!ibl_env_single_level(env, img, err))
+    sl_env single;
+    if (!ibl_env_single_level(&single, img, err))
         return false;
 
+    /* The chain's sizes first, so every level goes into one block (ibl.h, sl_env.block). */
+    int sizes[SL_ENV_MAX_LEVELS][2], count = 0;
+    size_t total = 0;
+    for (int w = img->width, h = img->height;; w = w / 2 > 1 ? w / 2 : 1, h = h / 2 > 1 ? h / 2 : 1) {
+        sizes[count][0] = w;
+        sizes[count][1] = h;
+        total += (size_t)w * (size_t)h;
+        count++;
+        if (w == 1 && h == 1)
+            break;
+    }
     int w = img->width, h = img->height;
+    vec3 *block = malloc(total * sizeof *block);
     double *rows = malloc((size_t)(w / 2 > 1 ? w / 2 : 1) * (size_t)h * 3 * sizeof(double));
     axis_taps *tx = malloc((size_t)w * sizeof *tx);
     axis_taps *ty = malloc((size_t)h * sizeof *ty);
-    bool ok = rows && tx && ty;
-    while (ok && (w > 1 || h > 1)) {
-        int mw = w / 2 > 1 ? w / 2 : 1, mh = h / 2 > 1 ? h / 2 : 1;
-        sl_env_level *dst = &env->levels[env->level_count];
-        dst->texels = malloc((size_t)mw * (size_t)mh * sizeof(vec3));
-        if (!dst->texels) {
-            ok = false;
-            break;
+    bool ok = block && rows && tx && ty;
+    if (ok) {
+        vec3 *next = block;
+        for (int l = 0; l < count; l++) {
+            env->levels[l] = (sl_env_level){.width = sizes[l][0], .height = sizes[l][1], .texels = next};
+            next += (size_t)sizes[l][0] * (size_t)sizes[l][1];
         }
-        dst->width = mw;
-        dst->height = mh;
-        make_taps(w, mw, tx);
-        make_taps(h, mh, ty);
-        downsample(&env->levels[env->level_count - 1], dst, tx, ty, rows);
-        env->level_count++;
-        w = mw;
-        h = mh;
+        memcpy(block, single.levels[0].texels, (size_t)w * (size_t)h * sizeof *block);
+        env->level_count = count;
+        env->block = block;
+        for (int l = 1; l < count; l++) {
+            make_taps(env->levels[l - 1].width, env->levels[l].width, tx);
+            make_taps(env->levels[l - 1].height, env->levels[l].height, ty);
+            downsample(&env->levels[l - 1], &env->levels[l], tx, ty, rows);
+        }
+    } else {
+        free(block);
     }
+    sl_env_free(&single);
     free(rows);
     free(tx);
     free(ty);
     if (!ok) {
-        sl_env_free(env);
+        *env = (sl_env){0};
         return sl_fail(err, SL_ERR_MEMORY, "environment %dx%d: out of memory for the mip chain", img->width,
                        img->height);
     }
@@ -126,7 +141,10 @@ void sl_env_free(sl_env *env)
 {
     if (!env)
         return;
-    for (int i = 0; i < env->level_count && i < SL_ENV_MAX_LEVELS; i++)
-        free(env->levels[i].texels);
+    if (env->block)
+        free(env->block);
+    else
+        for (int i = 0; i < env->level_count && i < SL_ENV_MAX_LEVELS; i++)
+            free(env->levels[i].texels);
     memset(env, 0, sizeof *env);
 }

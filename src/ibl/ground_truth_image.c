@@ -95,8 +95,10 @@ bool sl_gt_image_total(const sl_gt_image *img, sl_gt_geometry g, sl_image *total
 {
     if (g != SL_GT_G_INV_LH2 && g != SL_GT_G_ONE)
         return sl_fail(err, SL_ERR_RANGE, "ground truth: unknown G choice %d", (int)g);
-    if (!img->diffuse.data || !sl_image_alloc(total, img->width, img->height, 3, err))
-        return img->diffuse.data ? false : sl_fail(err, SL_ERR_RANGE, "ground truth: empty image");
+    if (!img->diffuse.data)
+        return sl_fail(err, SL_ERR_RANGE, "ground truth: empty image");
+    if (!sl_image_alloc(total, img->width, img->height, 3, err))
+        return false;
     size_t n = (size_t)img->width * (size_t)img->height * 3;
     for (size_t i = 0; i < n; i++)
         total->data[i] = img->diffuse.data[i] + img->specular[g].data[i];
@@ -145,6 +147,10 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
         double len = sqrt(len2);
         double nh = (c + nv) / len;
         if (!(nh > 0.0))
+            continue;
+        /* (N.H)^alpha <= exp(-alpha (1 - N.H)) rounds to exactly 0 in double past 746: skipping
+         * those texels adds nothing ground_truth.c would not add as +0 (same bits, less pow). */
+        if (alpha * (1.0 - nh) > 746.0)
             continue;
         double lh = 0.5 * len;
         double base = 0.25 * d_norm * pow(nh, alpha);
@@ -306,7 +312,12 @@ static size_t payload_floats(int w, int h) { return (size_t)w * (size_t)h * 10; 
 static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint64_t env_h, uint64_t gb_h,
                         sl_error *err)
 {
-    char header[GT_HEADER_MAX];
+    char header[GT_HEADER_MAX], label[1024];
+    /* one line: a newline in the label would end the header field early */
+    snprintf(label, sizeof label, "%s", d->label ? d->label : "-");
+    for (char *p = label; *p; p++)
+        if (*p == '\n' || *p == '\r')
+            *p = ' ';
     const sl_env_level *l0 = &d->env->levels[0];
     int n = snprintf(header, sizeof header,
                      GT_IMAGE_MAGIC "\n"
@@ -324,7 +335,7 @@ static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint6
                      "row 0 = top\n"
                      "key %016llx\n"
                      "data\n",
-                     d->label ? d->label : "-", img->width, img->height, img->covered, l0->width, l0->height,
+                     label, img->width, img->height, img->covered, l0->width, l0->height,
                      (unsigned long long)env_h, (unsigned long long)gb_h, (double)d->eye.x, (double)d->eye.y,
                      (double)d->eye.z, (double)d->env_rotation_deg, (double)d->env_intensity, GT_IMAGE_VERSION,
                      img->seconds, (unsigned long long)img->key);
@@ -366,7 +377,7 @@ static bool read_cache(sl_gt_image *img, const sl_gt_image_desc *d, uint64_t key
         }
     if (!head || size < strlen(magic) || memcmp(bytes, magic, strlen(magic)))
         goto done;
-    char header[GT_HEADER_MAX + 1];
+    char header[GT_HEADER_MAX + 8]; /* head <= GT_HEADER_MAX + 5 */
     memcpy(header, bytes, head);
     header[head] = '\0';
     const char *ks = strstr(header, "\nkey "), *ss = strstr(header, "\nsize "), *cs = strstr(header, "\ncovered ");

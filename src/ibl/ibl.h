@@ -36,6 +36,10 @@ typedef struct {
 typedef struct {
     int level_count;
     sl_env_level levels[SL_ENV_MAX_LEVELS];
+    vec3 *block; /* sl_env_build: ONE allocation holding every level, level 0 first, each level's
+                    texels right after the previous level's, so a texel of any level has one
+                    index from here (the lighting shader's vectorized fetch). NULL: each level
+                    is its own allocation. sl_env_free handles both. */
 } sl_env;
 
 /* Build the chain from a 3-channel image: level k+1 is max(1, floor(size / 2)) per axis down

@@ -29,7 +29,7 @@ static inline vec3 sl_env_bilinear(const sl_env_level *lv, float u, float v)
     x1 = x1 >= w ? x1 - w : x1;
     /* Clamping the coordinate (not the index) gives CLAMP_TO_EDGE: at the clamp both rows
      * are the same or the fraction is 0. */
-    float y = clampf(v * (float)h - 0.5f, 0.0f, (float)(h - 1));
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
     int y0 = (int)y;
     float fy = y - (float)y0;
     int y1 = y0 + 1 < h ? y0 + 1 : h - 1;

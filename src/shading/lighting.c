@@ -1,19 +1,44 @@
-/* lighting.c - the lighting shader: a line-by-line C port of shaders/lighting.frag, and the
- * pass that runs it over a G-buffer.
+/* lighting.c - the lighting shader: a line-by-line C port of shaders/lighting.frag, the batched
+ * fast path the pass runs by default, and the pass that runs them over a G-buffer.
  *
- * Every function below tagged "GLSL: name" is the GLSL function of that name, in the same
- * order, with the same variable names; a uniform uX is u->uX. Two deliberate differences,
- * both exact (the same float operations, so the same bits):
- *   - specular_ibl takes its per-sample (xi, L, pdf) from a per-alpha table when a task is
- *     given (hoisting, below); the GLSL recomputes them per pixel.
- *   - the trace: `if (trace)` blocks record intermediate values; they change nothing.
- * Everything else that is C-only (tasks, the pass, the trace printer) is after the port.
+ * Two paths, one result (docs/lighting.md "Two paths"):
+ *   - the PORT: every function below tagged "GLSL: name" is the GLSL function of that name, in
+ *     the same order, with the same variable names; a uniform uX is u->uX. It runs when
+ *     options.plain is set (the debug switch), and is what a reader compares with the GLSL.
+ *     Two deliberate differences, both exact (the same float operations, so the same bits):
+ *     specular_ibl takes its per-sample (xi, L, pdf) from a per-alpha table when a task is
+ *     given (hoisting, below), and the trace's `if (trace)` blocks, which change nothing.
+ *   - the BATCHED path (shade_span, pixel_stage, background_stage, specular_samples; the
+ *     default): the same formulas, reorganised into loops over arrays that GCC vectorizes
+ *     (`#pragma omp simd`): per tile row, every pixel's V, N and sample frame; per pixel, the
+ *     samples in stages: (1) directions w, H, the dot products, G, the Fresnel factor and the
+ *     lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the environment's
+ *     single block) and contributions; (4) the sum. lighting_math.h's log2 and atan2 replace
+ *     libm's powf/log2f/atan2f/acosf (the lod needs only log2(N.H), since log2 D =
+ *     log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator never needs D itself). Its
+ *     results differ from the port's by float rounding (test_lighting_fast bounds it); it is
+ *     deterministic, and the trace follows it.
+ * Everything else that is C-only (tasks, the pass, accumulation, the trace printer) is after
+ * the two paths.
  *
  * Hoisting: skewed_sample and sample_pdf depend on the material's alpha and the sample index
  * only, yet cost an acos, a pow, two sincos and a second pow per sample. A task keeps the
  * tables of the last SLOTS distinct alphas it met (scenes have few materials), so a pixel
- * pays a table lookup; 1/2 log2(W H / N) is uLodBase, computed once per frame. */
+ * pays a table lookup; 1/2 log2(W H / N) is uLodBase, computed once per frame. With rotation
+ * on (uRotate) every pixel has its own pairs, so the tables cannot serve; the batched path then
+ * turns the xi1 offset into one rotation of the azimuths per pixel (xi1 only sets the azimuth)
+ * and computes the xi2 part per sample with the fast log2/exp2.
+ *
+ * GCC vectorizes a loop only if no floating-point operation sits under a branch (its default
+ * -ftrapping-math); hence selects between constants multiplied in, and a loop per option
+ * where the port has an `if`. */
 #include "lighting.h"
+
+/* clang honours `omp simd` too but cannot vectorize every one of these loops (gathers through a
+ * computed level); that is a missed optimisation, not an error in a -Werror build. */
+#ifdef __clang__
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
 
 #include <math.h>
 #include <stddef.h>
@@ -21,10 +46,14 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../ibl/texture_lod.h"
+#include "lighting_math.h"
+
 /* GLSL constants, same names and values. */
 static const int LOD_NONE = SL_LOD_NONE;
 static const int LOD_SPEC = SL_LOD_SPEC;
 static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
+static const int LOD_GEMS = SL_LOD_GEMS;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const float MIN_NDOTV = 0.01f;
 static const float POLE_EPS = 1e-6f;
@@ -37,20 +66,29 @@ static const float MIN_LIGHT_D2 = 1e-8f;
 
 enum { SLOTS = 8 };
 
-/* The loop-invariant part of specular_ibl for one alpha: (xi, L, pdf) of every sample. */
+/* The loop-invariant part of specular_ibl for one alpha: (xi, L, pdf) of every sample,
+ * structure of arrays so the batched path's loops read them with vector loads. */
 typedef struct {
     bool valid;
     float alpha;
     int n;
-    vec2 xi[SL_HAMMERSLEY_MAX];
-    vec3 L[SL_HAMMERSLEY_MAX];
+    float xi1[SL_HAMMERSLEY_MAX], xi2[SL_HAMMERSLEY_MAX];
+    float Lx[SL_HAMMERSLEY_MAX], Ly[SL_HAMMERSLEY_MAX], Lz[SL_HAMMERSLEY_MAX];
     float pdf[SL_HAMMERSLEY_MAX];
 } lobe_table;
+
+/* For rotation on: the unrotated pairs and cos/sin of their azimuth phi = 2 pi (1/2 - xi1). */
+typedef struct {
+    int n; /* 0 = not built */
+    float xi1[SL_HAMMERSLEY_MAX], xi2[SL_HAMMERSLEY_MAX];
+    float cphi[SL_HAMMERSLEY_MAX], sphi[SL_HAMMERSLEY_MAX];
+} azimuth_table;
 
 struct sl_lighting_task {
     const sl_lighting_uniforms *owner; /* the uniforms the tables were built from */
     int next;                          /* round-robin victim */
     lobe_table slots[SLOTS];
+    azimuth_table azimuth;
     sl_lighting_stats stats;
 };
 
@@ -61,6 +99,25 @@ static vec2 hammersley_point(const sl_lighting_uniforms *u, int k)
 {
     vec4 h = u->uHammersley.hammersley[k >> 1];
     return ((k & 1) == 0) ? vec2(h.x, h.y) : vec2(h.z, h.w);
+}
+
+/* GLSL: hash_u32 (Wellons' lowbias32: two multiply-xorshift rounds, full avalanche) */
+static uint32_t hash_u32(uint32_t x)
+{
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+/* GLSL: pixel_rotation */
+static vec2 pixel_rotation(const sl_lighting_uniforms *u, int x, int y)
+{
+    uint32_t h = hash_u32((uint32_t)x + hash_u32((uint32_t)y + hash_u32(u->uFrame + 0x9e3779b9u)));
+    uint32_t h2 = hash_u32(h + 0x68e31da4u);
+    return vec2((float)(h >> 8) * (1.0f / 16777216.0f), (float)(h2 >> 8) * (1.0f / 16777216.0f));
 }
 
 /* GLSL: skewed_sample */
@@ -130,9 +187,14 @@ static const lobe_table *lobe_for(const sl_lighting_uniforms *u, sl_lighting_tas
     lobe_table *t = &task->slots[task->next];
     task->next = (task->next + 1) % SLOTS;
     for (int k = 0; k < n; k++) {
-        t->xi[k] = hammersley_point(u, k);
-        t->L[k] = skewed_sample(t->xi[k], alpha);
-        t->pdf[k] = sample_pdf(t->xi[k], alpha);
+        vec2 xi = hammersley_point(u, k);
+        vec3 L = skewed_sample(xi, alpha);
+        t->xi1[k] = xi.x;
+        t->xi2[k] = xi.y;
+        t->Lx[k] = L.x;
+        t->Ly[k] = L.y;
+        t->Lz[k] = L.z;
+        t->pdf[k] = sample_pdf(xi, alpha);
     }
     t->alpha = alpha;
     t->n = n;
@@ -141,7 +203,7 @@ static const lobe_table *lobe_for(const sl_lighting_uniforms *u, sl_lighting_tas
 }
 
 /* GLSL: specular_ibl */
-static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                          sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
@@ -151,7 +213,8 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
     vec3 B = normalize(cross(R, A));
     int n = (int)u->uHammersley.N;
     vec3 sum = vec3s(0.0f);
-    const lobe_table *lobe = task ? lobe_for(u, task, alpha) : NULL;
+    /* the table holds the unrotated pairs: with rotation on every pixel has its own */
+    const lobe_table *lobe = task && u->uRotate == 0 ? lobe_for(u, task, alpha) : NULL;
     int below = 0;
     if (trace) {
         trace->NdotV = NdotV;
@@ -162,8 +225,10 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         trace->sample_count = n;
     }
     for (int k = 0; k < n; k++) {
-        vec2 xi = lobe ? lobe->xi[k] : hammersley_point(u, k);
-        vec3 L = lobe ? lobe->L[k] : skewed_sample(xi, alpha);
+        vec2 xi = lobe ? vec2(lobe->xi1[k], lobe->xi2[k]) : hammersley_point(u, k);
+        if (u->uRotate != 0)
+            xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
+        vec3 L = lobe ? vec3(lobe->Lx[k], lobe->Ly[k], lobe->Lz[k]) : skewed_sample(xi, alpha);
         float pdf = lobe ? lobe->pdf[k] : sample_pdf(xi, alpha);
         vec3 w = normalize(add(add(scale(A, L.x), scale(B, L.y)), scale(R, L.z)));
         float wN = dot(w, N);
@@ -239,21 +304,29 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
     return scale(mul(f, u->uLightColor[i]), u->uLightIntensity[i] / d2 * NdotL);
 }
 
+/* The view ray of background(), for both paths: m = uInvViewProj, r = uEnvRotation, passed by
+ * column so a vectorized caller keeps them in registers. mat4_mul_vec4's operations. */
+__attribute__((always_inline)) static inline vec3 background_dir(const vec4 m[4], const vec3 r[3], vec2 viewport, vec2 fragCoord)
+{
+    vec2 ndc = sub(scale(vec2(fragCoord.x / viewport.x, fragCoord.y / viewport.y), 2.0f), vec2s(1.0f));
+    vec4 nearP = add(add(scale(m[0], ndc.x), scale(m[1], ndc.y)), add(scale(m[2], -1.0f), scale(m[3], 1.0f)));
+    vec4 farP = add(add(scale(m[0], ndc.x), scale(m[1], ndc.y)), add(scale(m[2], 1.0f), scale(m[3], 1.0f)));
+    vec3 d = normalize(sub(scale(xyz(farP), 1.0f / farP.w), scale(xyz(nearP), 1.0f / nearP.w)));
+    return add(add(scale(r[0], d.x), scale(r[1], d.y)), scale(r[2], d.z));
+}
+
 /* GLSL: background */
 static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
 {
-    vec2 ndc = sub(scale(vec2(fragCoord.x / u->uViewport.x, fragCoord.y / u->uViewport.y), 2.0f), vec2s(1.0f));
-    vec4 nearP = mat4_mul_vec4(u->uInvViewProj, vec4(ndc.x, ndc.y, -1.0f, 1.0f));
-    vec4 farP = mat4_mul_vec4(u->uInvViewProj, vec4(ndc.x, ndc.y, 1.0f, 1.0f));
-    vec3 d = normalize(sub(scale(xyz(farP), 1.0f / farP.w), scale(xyz(nearP), 1.0f / nearP.w)));
-    return scale(textureLod(u->uEnv, sl_dir_to_uv(mat3_mul_vec3(u->uEnvRotation, d)), 0.0f), u->uEnvIntensity);
+    vec3 d = background_dir(u->uInvViewProj.c, u->uEnvRotation.c, u->uViewport, fragCoord);
+    return scale(textureLod(u->uEnv, sl_dir_to_uv(d), 0.0f), u->uEnvIntensity);
 }
 
 static bool finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) && isfinite(v.z); }
 
 /* GLSL: main. pixel = (x, y) = ivec2(gl_FragCoord.xy); the texel fields are the texelFetches. */
-vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
-                       sl_lighting_task *task, sl_lighting_trace *trace)
+static vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
+                        sl_lighting_trace *trace)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
     vec2 fragCoord = vec2((float)x + 0.5f, (float)y + 0.5f);
@@ -263,6 +336,7 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
         trace->frag_coord = fragCoord;
         trace->texel = *t;
         trace->covered = !(depth >= 1.0f);
+        trace->plain = true;
     }
     if (depth >= 1.0f) {
         color = background(u, fragCoord);
@@ -279,6 +353,7 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
         vec3 N = facing_normal(t->normal, V);
         vec3 Nenv = mat3_mul_vec3(u->uEnvRotation, N);
         vec3 Venv = mat3_mul_vec3(u->uEnvRotation, V);
+        vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
         if (task)
             task->stats.bent_normals += dot(t->normal, V) < MIN_NDOTV * length(t->normal);
         if (trace) {
@@ -287,6 +362,7 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
             trace->bent = dot(t->normal, V) < MIN_NDOTV * length(t->normal);
             trace->Nenv = Nenv;
             trace->Venv = Venv;
+            trace->rotation = rotation;
             trace->alpha = alpha;
         }
         if (u->uDiffuse != 0) {
@@ -299,7 +375,7 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
             }
         }
         if (u->uSpecular != 0) {
-            vec3 specular = specular_ibl(u, Nenv, Venv, Ks, alpha, task, trace);
+            vec3 specular = specular_ibl(u, Nenv, Venv, Ks, alpha, rotation, task, trace);
             color = add(color, specular);
             if (trace)
                 trace->specular = specular;
@@ -323,6 +399,548 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
         trace->total = finite ? color : vec3s(0.0f);
     }
     return finite ? color : vec3s(0.0f);
+}
+
+/* ======================= the batched path (C only) ======================= */
+
+/* Samples are processed in blocks of BLOCK, so the per-sample arrays live on the stack (5 KB)
+ * whatever N is; N = 40 is one block. */
+enum { BLOCK = 64 };
+
+/* One block of samples, structure of arrays: stage (1) writes them, (2) and (3) read them. */
+typedef struct {
+    float xi1[BLOCK], xi2[BLOCK], Lx[BLOCK], Ly[BLOCK], Lz[BLOCK], pdf[BLOCK]; /* when not from a table */
+    float wx[BLOCK], wy[BLOCK], wz[BLOCK], wN[BLOCK];
+    float hx[BLOCK], hy[BLOCK], hz[BLOCK], NdotH[BLOCK], LdotH[BLOCK];
+    float m5[BLOCK], lod[BLOCK], u[BLOCK], v[BLOCK];
+    float weight[BLOCK], cr[BLOCK], cg[BLOCK], cb[BLOCK];
+} sample_block;
+
+/* log2(TINY): the floor of every log2 in mip_level */
+static const float LOG2_TINY = -99.6578428f;
+
+/* The unrotated pairs and cos/sin of their azimuth phi = 2 pi (1/2 - xi1), as sl_uv_to_dir
+ * computes them (rotation on). The task's copy is built once per uniforms; without a task the
+ * caller's `local` is filled. */
+static const azimuth_table *azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task,
+                                        azimuth_table *local)
+{
+    int n = (int)u->uHammersley.N;
+    azimuth_table *t = local;
+    if (task) {
+        if (task->owner != u) {
+            sl_lighting_task_reset(task);
+            task->owner = u;
+        }
+        t = &task->azimuth;
+        if (t->n == n)
+            return t;
+    }
+    for (int k = 0; k < n; k++) {
+        vec2 xi = hammersley_point(u, k);
+        float phi = 2.0f * PI * (0.5f - xi.x);
+        t->xi1[k] = xi.x;
+        t->xi2[k] = xi.y;
+        t->cphi[k] = cosf(phi);
+        t->sphi[k] = sinf(phi);
+    }
+    t->n = n;
+    return t;
+}
+
+/* Stage (0), rotation on: the pixel's pairs fract(xi + rotation) skewed to the lobe, i.e.
+ * skewed_sample and sample_pdf of the rotated pair. Shifting xi1 shifts the azimuth by
+ * -2 pi rotation.x for every sample: one rotation (cr, sr) of each (cos phi, sin phi); the
+ * polar part cos(theta) = xi2^(1/(alpha+1)) and the pdf's xi2^(alpha/(alpha+1)) go through
+ * log2/exp2, and sin(theta) = sqrt(1 - cos^2). A rotated xi2 of exactly 0 gives cos(theta) = 0
+ * and pdf = 0, as pow(0, e) does. */
+static void rotated_lobe(const azimuth_table *az, int k0, int m, float alpha, vec2 rotation, sample_block *b)
+{
+    float rho = 2.0f * PI * rotation.x;
+    float cr = cosf(rho), sr = sinf(rho);
+    float e_cos = 1.0f / (alpha + 1.0f), e_pdf = alpha / (alpha + 1.0f);
+    float norm = (alpha + 1.0f) / (2.0f * PI);
+    const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float s1 = xi1[i] + rotation.x, s2 = xi2[i] + rotation.y;
+        float x1 = s1 - sl_fast_floor(s1); /* fract, as the port computes it */
+        float x2 = s2 - sl_fast_floor(s2);
+        float lx = sl_fast_log2(maxf(x2, TINY)); /* in [log2 TINY, 0]: exp2's range below */
+        float zero = x2 > 0.0f ? 1.0f : 0.0f; /* a product, not a select: GCC vectorizes it */
+        float ct = sl_fast_exp2(lx * e_cos) * zero;
+        float st = sqrtf(maxf(1.0f - ct * ct, 0.0f));
+        float cp = cphi[i] * cr + sphi[i] * sr;
+        float sp = sphi[i] * cr - cphi[i] * sr;
+        b->xi1[i] = x1;
+        b->xi2[i] = x2;
+        b->Lx[i] = cp * st;
+        b->Ly[i] = sp * st;
+        b->Lz[i] = ct;
+        b->pdf[i] = norm * sl_fast_exp2(lx * e_pdf) * (alpha > 0.0f ? zero : 1.0f); /* pow(0, 0) = 1 */
+    }
+}
+
+/* sl_env_bilinear (texture_lod.h) for the level of size w x h that starts at texel `o` of
+ * the environment's block: the same operations, so the same bits; inlined into a simd loop it
+ * becomes gathers. */
+/* clamp(lod, 0, max_lod) with NaN -> 0 (the fetch indexes with it) */
+static inline float clamp_lod(float lod, float max_lod)
+{
+    lod = lod > 0.0f ? lod : 0.0f;
+    return lod < max_lod ? lod : max_lod;
+}
+
+/* mix3(T[a], T[b], t), reading the texels component by component (no struct copies, which stop
+ * GCC's vectorizer). */
+static inline vec3 mix_texels(const vec3 *T, int a, int b, float t)
+{
+    return vec3(mixf(T[a].x, T[b].x, t), mixf(T[a].y, T[b].y, t), mixf(T[a].z, T[b].z, t));
+}
+
+__attribute__((always_inline)) static inline vec3 block_bilinear(const vec3 *T, int w, int h, int o, float u, float v)
+{
+    float x = u * (float)w - 0.5f;
+    float xf = sl_fast_floor(x);
+    float fx = x - xf;
+    int x0 = (int)xf;
+    int x1 = x0 + 1;
+    x0 = x0 < 0 ? x0 + w : x0;
+    x1 = x1 >= w ? x1 - w : x1;
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
+    int y0 = (int)y;
+    float fy = y - (float)y0;
+    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    int r0 = o + y0 * w, r1 = o + y1 * w;
+    vec3 top = mix_texels(T, r0 + x0, r0 + x1, fx);
+    vec3 bottom = mix_texels(T, r1 + x0, r1 + x1, fx);
+    return mix3(top, bottom, fy);
+}
+
+/* specular_ibl, batched, for one pixel whose frame (N, V, R, A, B; environment space) the pixel
+ * stage computed: see the top of the file. Same samples, same sum order. */
+__attribute__((noinline)) /* a call per pixel; inlined, it keeps shade_span from vectorizing */
+static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
+                             vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    int n = (int)u->uHammersley.N;
+    if (trace)
+        trace->sample_count = n;
+    const bool rotate = u->uRotate != 0;
+    const lobe_table *lobe = task && !rotate ? lobe_for(u, task, alpha) : NULL;
+    azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
+    const azimuth_table *az = rotate ? azimuth_for(u, task, &local_az) : NULL;
+    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    const int rule = u->uLodRule;
+    const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
+    const bool distortion = u->uDistortion != 0;
+    const float base = u->uLodBase, max_lod = u->uEnvMaxLod, sin_min = u->uSinThetaMin;
+    const float intensity = u->uEnvIntensity;
+    /* log2 of D's constant (alpha + 2)/(2 pi); the lod of spec-d4 takes D/4 */
+    const float log2_c_lod = sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    /* the texture: the block's layout when there is one, else level 0's described as every
+     * level (uniforms_init), and the fetch below redoes it texel by texel */
+    const int gather = u->envGather;
+    const vec3 *T = gather ? u->uEnv->block : u->uEnv->levels[0].texels;
+    const int *W = u->envWidth, *H = u->envHeight, *O = u->envOffset;
+    const int last = u->uEnv->level_count - 1;
+    sample_block blk;
+    sample_block *b = &blk;
+    vec3 acc[4] = {vec3s(0.0f), vec3s(0.0f), vec3s(0.0f), vec3s(0.0f)};
+    vec3 trace_sum = vec3s(0.0f);
+    int below = 0;
+    for (int k0 = 0; k0 < n; k0 += BLOCK) {
+        const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
+        /* (0) the skewed samples: table, recomputed (no task), or rotated */
+        const float *xi1 = b->xi1, *xi2 = b->xi2, *Lx = b->Lx, *Ly = b->Ly, *Lz = b->Lz, *pdf = b->pdf;
+        if (lobe) {
+            xi1 = lobe->xi1 + k0;
+            xi2 = lobe->xi2 + k0;
+            Lx = lobe->Lx + k0;
+            Ly = lobe->Ly + k0;
+            Lz = lobe->Lz + k0;
+            pdf = lobe->pdf + k0;
+        } else if (rotate) {
+            rotated_lobe(az, k0, m, alpha, rotation, b);
+        } else {
+            for (int i = 0; i < m; i++) {
+                vec2 xi = hammersley_point(u, k0 + i);
+                vec3 L = skewed_sample(xi, alpha);
+                b->xi1[i] = xi.x;
+                b->xi2[i] = xi.y;
+                b->Lx[i] = L.x;
+                b->Ly[i] = L.y;
+                b->Lz[i] = L.z;
+                b->pdf[i] = sample_pdf(xi, alpha);
+            }
+        }
+        /* (1) directions, dot products, G, the Fresnel factor and the uv: specular_ibl's
+         * operations, vectorized over the samples */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
+            float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
+            float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
+            float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+            wx *= iw;
+            wy *= iw;
+            wz *= iw;
+            float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
+            float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+            hx *= ih;
+            hy *= ih;
+            hz *= ih;
+            float LdotH = (wx * hx + wy * hy) + wz * hz;
+            float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+            float mm = maxf(1.0f - LdotH, 0.0f);
+            float m2 = mm * mm;
+            float wN = (wx * N.x + wy * N.y) + wz * N.z;
+            b->wx[i] = wx;
+            b->wy[i] = wy;
+            b->wz[i] = wz;
+            b->wN[i] = wN;
+            b->hx[i] = hx;
+            b->hy[i] = hy;
+            b->hz[i] = hz;
+            b->NdotH[i] = (N.x * hx + N.y * hy) + N.z * hz;
+            b->LdotH[i] = LdotH;
+            b->m5[i] = m2 * m2 * mm;
+            b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN / 4.0f; /* G w.N / 4 */
+            sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+        }
+        /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
+         * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
+        if (distortion) {
+#pragma omp simd
+            for (int i = 0; i < m; i++)
+                b->lod[i] = sl_fast_log2(0.5f * PI * maxf(sqrtf(maxf(1.0f - b->wz[i] * b->wz[i], 0.0f)), sin_min));
+        } else {
+            memset(b->lod, 0, sizeof(float) * (size_t)m); /* log2 d = 0 */
+        }
+        if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+            }
+        } else if (rule == LOD_GEMS) {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = sl_fast_log2(maxf(4.0f * PI * pdf[i], TINY)) + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + 1.0f, max_lod);
+            }
+        } else {
+            memset(b->lod, 0, sizeof(float) * (size_t)m);
+        }
+        /* the consistent estimator: weight D / pdf, with the port's D (a pow per sample) */
+        if (consistent)
+            for (int i = 0; i < m; i++)
+                b->weight[i] = b->weight[i] * sl_brdf_D(b->NdotH[i], alpha) / pdf[i];
+        /* (3) radiance and contribution: textureLod from the block (texture_lod.h's operations
+         * on the block's layout: gathers), c = F Li weight */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            int l0 = (int)b->lod[i];
+            float f = b->lod[i] - (float)l0;
+            int l1 = l0 < last ? l0 + 1 : last;
+            vec3 ta = block_bilinear(T, W[l0], H[l0], O[l0], b->u[i], b->v[i]);
+            vec3 tb = block_bilinear(T, W[l1], H[l1], O[l1], b->u[i], b->v[i]);
+            vec3 t = mix3(ta, tb, f);
+            float m5 = b->m5[i], weight = b->weight[i];
+            b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+            b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+            b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+        }
+        if (!gather) { /* no block: the same filter through texture_lod.h, texel by texel */
+            for (int i = 0; i < m; i++) {
+                vec3 t = sl_texture_lod_clamped(u->uEnv, b->u[i], b->v[i], b->lod[i]);
+                float weight = b->weight[i];
+                b->cr[i] = (Ks.x + F1.x * b->m5[i]) * (t.x * intensity) * weight;
+                b->cg[i] = (Ks.y + F1.y * b->m5[i]) * (t.y * intensity) * weight;
+                b->cb[i] = (Ks.z + F1.z * b->m5[i]) * (t.z * intensity) * weight;
+            }
+        }
+        /* (4) the sum. Samples below the horizon add nothing. Sample k goes into partial sum
+         * k mod 4 and the four are added at the end, (0 + 1) + (2 + 3): four short dependency
+         * chains instead of one long one (the port adds in sample order; the difference is float
+         * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
+         * and the trace agree bit for bit. */
+        for (int i = 0; i < m; i++) {
+            bool above = !(b->wN[i] <= 0.0f);
+            int j = (k0 + i) & 3;
+            below += !above;
+            acc[j].x += above ? b->cr[i] : 0.0f;
+            acc[j].y += above ? b->cg[i] : 0.0f;
+            acc[j].z += above ? b->cb[i] : 0.0f;
+        }
+        for (int i = 0; trace && i < m; i++) { /* the trace's running sum is in sample order */
+            sl_lighting_trace_sample *ts = &trace->samples[k0 + i];
+            memset(ts, 0, sizeof *ts);
+            ts->xi = vec2(xi1[i], xi2[i]);
+            ts->L = vec3(Lx[i], Ly[i], Lz[i]);
+            ts->pdf = pdf[i];
+            ts->w = vec3(b->wx[i], b->wy[i], b->wz[i]);
+            ts->wN = b->wN[i];
+            ts->sum = trace_sum;
+            if (b->wN[i] <= 0.0f)
+                continue;
+            vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
+            trace_sum = add(trace_sum, c);
+            ts->H = vec3(b->hx[i], b->hy[i], b->hz[i]);
+            ts->NdotH = b->NdotH[i];
+            ts->LdotH = b->LdotH[i];
+            ts->D = sl_brdf_D(b->NdotH[i], alpha);
+            ts->F = add(Ks, scale(F1, b->m5[i]));
+            ts->G = sl_brdf_G(b->LdotH[i], (sl_gterm)u->uGTerm);
+            ts->lod = b->lod[i];
+            /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
+            ts->Li = scale(sl_texture_lod_clamped(u->uEnv, b->u[i], b->v[i], b->lod[i]), intensity);
+            ts->c = c;
+            ts->sum = trace_sum;
+        }
+    }
+    vec3 sum = add(add(acc[0], acc[1]), add(acc[2], acc[3]));
+    if (task) {
+        task->stats.samples += n;
+        task->stats.below_horizon += below;
+        task->stats.pole_frames += pole;
+    }
+    return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* One row span of pixels (at most a tile row), structure of arrays: what main() computes
+ * per pixel before the samples, for every pixel of the span at once, so the normalisations
+ * (a chain of divisions and square roots per pixel) run as vector throughput, not latency. */
+enum { SPAN = 32 };
+typedef struct {
+    float Vx[SPAN], Vy[SPAN], Vz[SPAN], Nx[SPAN], Ny[SPAN], Nz[SPAN];            /* world */
+    float NEx[SPAN], NEy[SPAN], NEz[SPAN], VEx[SPAN], VEy[SPAN], VEz[SPAN];      /* environment */
+    float Rx[SPAN], Ry[SPAN], Rz[SPAN], Ax[SPAN], Ay[SPAN], Az[SPAN], Bx[SPAN], By[SPAN], Bz[SPAN];
+    float NdotV[SPAN];
+    float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN]; /* the texels' position, normal */
+    int bent[SPAN], pole[SPAN];
+    float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
+} pixel_block;
+
+static inline float select_f(bool c, float a, float b) { return c ? a : b; }
+
+/* main() up to the samples (V, facing_normal, the environment frame) and specular_ibl's frame
+ * (R, A, B), for pixels x0 .. x0 + count - 1 of G-buffer row y; empty pixels compute garbage
+ * that nothing reads. facing_normal's two branches are selects: the chosen value is computed
+ * by the same operations, so the same bits. */
+static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, pixel_block *p)
+{
+    const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
+    const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+    for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
+        p->Px[i] = t[i].position.x;
+        p->Py[i] = t[i].position.y;
+        p->Pz[i] = t[i].position.z;
+        p->nx[i] = t[i].normal.x;
+        p->ny[i] = t[i].normal.y;
+        p->nz[i] = t[i].normal.z;
+    }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        vec3 V = normalize(vec3(ex - p->Px[i], ey - p->Py[i], ez - p->Pz[i]));
+        /* facing_normal */
+        vec3 n = vec3(p->nx[i], p->ny[i], p->nz[i]);
+        float len2 = dot(n, n);
+        vec3 Nn = scale(n, 1.0f / sqrtf(len2));
+        float NdotV0 = dot(Nn, V);
+        vec3 Nb = normalize(add(Nn, scale(V, MIN_NDOTV - NdotV0)));
+        bool keep = len2 > TINY, bend = NdotV0 < MIN_NDOTV;
+        vec3 N = vec3(select_f(keep, select_f(bend, Nb.x, Nn.x), V.x), select_f(keep, select_f(bend, Nb.y, Nn.y), V.y),
+                      select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
+        vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
+        vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
+        /* specular_ibl's frame */
+        float NdotV = dot(NE, VE);
+        vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
+        bool pole = R.x * R.x + R.y * R.y < POLE_EPS;
+        vec3 axis = vec3(select_f(pole, 1.0f, 0.0f), 0.0f, select_f(pole, 0.0f, 1.0f));
+        vec3 A = normalize(cross(axis, R));
+        vec3 B = normalize(cross(R, A));
+        p->Vx[i] = V.x;
+        p->Vy[i] = V.y;
+        p->Vz[i] = V.z;
+        p->Nx[i] = N.x;
+        p->Ny[i] = N.y;
+        p->Nz[i] = N.z;
+        p->NEx[i] = NE.x;
+        p->NEy[i] = NE.y;
+        p->NEz[i] = NE.z;
+        p->VEx[i] = VE.x;
+        p->VEy[i] = VE.y;
+        p->VEz[i] = VE.z;
+        p->NdotV[i] = NdotV;
+        p->Rx[i] = R.x;
+        p->Ry[i] = R.y;
+        p->Rz[i] = R.z;
+        p->Ax[i] = A.x;
+        p->Ay[i] = A.y;
+        p->Az[i] = A.z;
+        p->Bx[i] = B.x;
+        p->By[i] = B.y;
+        p->Bz[i] = B.z;
+        p->pole[i] = pole;
+        p->bent[i] = dot(n, V) < MIN_NDOTV * length(n);
+    }
+}
+
+/* background(), batched over the span: the same view ray, the fast lat-long map, and level 0
+ * alone (lod 0), gathered from the block when there is one. */
+static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, pixel_block *p)
+{
+    const float I = u->uEnvIntensity;
+    const sl_env_level *l0 = &u->uEnv->levels[0];
+    const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
+    const vec2 viewport = u->uViewport;
+    if (u->envGather) {
+        const vec3 *T = u->uEnv->block;
+        const int W = u->envWidth[0], H = u->envHeight[0];
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 d = background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+            float bu, bv;
+            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+            vec3 c = block_bilinear(T, W, H, 0, bu, bv);
+            p->bg_r[i] = c.x * I;
+            p->bg_g[i] = c.y * I;
+            p->bg_b[i] = c.z * I;
+        }
+    } else {
+        for (int i = 0; i < count; i++) {
+            vec3 d = background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+            float bu, bv;
+            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+            vec3 c = sl_env_bilinear(l0, bu, bv);
+            p->bg_r[i] = c.x * I;
+            p->bg_g[i] = c.y * I;
+            p->bg_b[i] = c.z * I;
+        }
+    }
+}
+
+/* main(), batched: pixels x0 .. x0 + count - 1 (count <= SPAN) of G-buffer row y into out[].
+ * A trace (count 1) records what the pixel computed. */
+static void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                       sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
+{
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    pixel_block pb;
+    pixel_block *p = &pb;
+    pixel_stage(u, t, count, p);
+    int empty = 0;
+    for (int i = 0; i < count; i++)
+        empty += t[i].depth >= 1.0f;
+    if (empty > 0)
+        background_stage(u, x0, y, count, p);
+    for (int i = 0; i < count; i++) {
+        const int x = x0 + i;
+        vec3 color = vec3s(0.0f);
+        if (trace) {
+            trace->frag_coord = vec2((float)x + 0.5f, (float)y + 0.5f);
+            trace->texel = t[i];
+            trace->covered = !(t[i].depth >= 1.0f);
+            trace->plain = false;
+        }
+        if (t[i].depth >= 1.0f) {
+            color = vec3(p->bg_r[i], p->bg_g[i], p->bg_b[i]);
+            if (trace)
+                trace->background = color;
+            if (task)
+                task->stats.background++;
+        } else {
+            vec3 P = t[i].position;
+            vec3 Kd = t[i].kd;
+            vec3 Ks = t[i].ks;
+            float alpha = clamp(t[i].alpha, 0.0f, MAX_ALPHA);
+            vec3 V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]);
+            vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]);
+            vec3 Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
+            vec3 Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
+            vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
+            if (task)
+                task->stats.bent_normals += p->bent[i];
+            if (trace) {
+                trace->V = V;
+                trace->N = N;
+                trace->bent = p->bent[i];
+                trace->Nenv = Nenv;
+                trace->Venv = Venv;
+                trace->rotation = rotation;
+                trace->alpha = alpha;
+                trace->NdotV = p->NdotV[i];
+                trace->R = vec3(p->Rx[i], p->Ry[i], p->Rz[i]);
+                trace->A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
+                trace->B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
+                trace->pole_frame = p->pole[i];
+            }
+            if (u->uDiffuse != 0) {
+                vec3 E = irradiance(u, Nenv);
+                vec3 diffuse = scale(mul(scale(Kd, 1.0f / PI), E), u->uEnvIntensity);
+                color = add(color, diffuse);
+                if (trace) {
+                    trace->irradiance = E;
+                    trace->diffuse = diffuse;
+                }
+            }
+            if (u->uSpecular != 0) {
+                vec3 specular = specular_samples(u, Nenv, Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
+                                                 vec3(p->Ax[i], p->Ay[i], p->Az[i]),
+                                                 vec3(p->Bx[i], p->By[i], p->Bz[i]), p->pole[i], Ks, alpha,
+                                                 rotation, task, trace);
+                color = add(color, specular);
+                if (trace)
+                    trace->specular = specular;
+            }
+            if (u->uPointLights != 0) {
+                for (int l = 0; l < u->uLightCount; l++) {
+                    vec3 light = point_light(u, l, P, N, V, Kd, Ks, alpha);
+                    color = add(color, light);
+                    if (trace) {
+                        trace->light[l] = light;
+                        trace->lights = add(trace->lights, light);
+                    }
+                }
+            }
+        }
+        bool finite = finite3(color);
+        if (!finite && task)
+            task->stats.nonfinite++;
+        if (trace) {
+            trace->repaired = !finite;
+            trace->total = finite ? color : vec3s(0.0f);
+        }
+        out[i] = finite ? color : vec3s(0.0f);
+    }
+}
+
+/* The port or the batched path, as options.plain says; both count into the task. */
+vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                       sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    if (u->options.plain)
+        return shade_plain(u, gb, x, y, task, trace);
+    vec3 c;
+    shade_span(u, gb, x, y, 1, task, trace, &c);
+    return c;
+}
+
+void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                           sl_lighting_task *task, vec3 *out)
+{
+    for (int x = x0; x < x0 + count; x += SPAN) {
+        int n = x0 + count - x < SPAN ? x0 + count - x : SPAN;
+        if (u->options.plain)
+            for (int i = 0; i < n; i++)
+                out[x - x0 + i] = shade_plain(u, gb, x + i, y, task, NULL);
+        else
+            shade_span(u, gb, x, y, n, task, NULL, out + (x - x0));
+    }
 }
 
 /* ======================= C only: options, uniforms, tasks, pass ======================= */
@@ -473,7 +1091,26 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uDiffuse = o.no_diffuse ? 0 : 1;
     u->uSpecular = o.no_specular ? 0 : 1;
     u->uPointLights = (o.no_point_lights || desc->light_count == 0) ? 0 : 1;
+    u->uRotate = o.rotate ? 1 : 0;
+    u->uFrame = o.frame;
     u->options = o;
+    size_t total = 0;
+    for (int l = 0; l < desc->env->level_count; l++)
+        total += (size_t)desc->env->levels[l].width * (size_t)desc->env->levels[l].height;
+    /* vec3 indices (3 floats each) must fit an int */
+    u->envGather = desc->env->block != NULL && total < (size_t)INT32_MAX / 3;
+    size_t offset = 0;
+    for (int l = 0; l < SL_ENV_MAX_LEVELS; l++) {
+        /* without a block every level is described as level 0 at offset 0: the vectorized loop
+         * then reads valid texels (of the wrong level), and the texel-by-texel fetch replaces
+         * what it computed */
+        const sl_env_level *lv = &desc->env->levels[u->envGather && l < desc->env->level_count ? l : 0];
+        u->envOffset[l] = (int)offset;
+        u->envWidth[l] = lv->width;
+        u->envHeight[l] = lv->height;
+        if (u->envGather)
+            offset += (size_t)lv->width * (size_t)lv->height;
+    }
     return true;
 }
 
@@ -491,6 +1128,7 @@ void sl_lighting_task_reset(sl_lighting_task *task)
     task->next = 0;
     for (int s = 0; s < SLOTS; s++)
         task->slots[s].valid = false;
+    task->azimuth.n = 0;
 }
 
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats)
@@ -506,7 +1144,7 @@ void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *sta
 
 void sl_lighting_task_destroy(sl_lighting_task *task) { free(task); }
 
-enum { TILE = 32 };
+enum { TILE = SPAN }; /* a tile row is one span of the batched path */
 
 bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
                       sl_image *out, int threads, sl_error *err)
@@ -551,11 +1189,12 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
             int y1 = y0 + TILE < gb->height ? y0 + TILE : gb->height;
             for (int y = y0; y < y1; y++) {
                 float *row = sl_image_pixel(out, 0, gb->height - 1 - y); /* row 0 = top */
+                vec3 c[TILE];
+                sl_lighting_shade_row(u, gb, x0, y, x1 - x0, task, c);
                 for (int x = x0; x < x1; x++) {
-                    vec3 c = sl_lighting_shade(u, gb, x, y, task, NULL);
-                    row[3 * x + 0] = c.x;
-                    row[3 * x + 1] = c.y;
-                    row[3 * x + 2] = c.z;
+                    row[3 * x + 0] = c[x - x0].x;
+                    row[3 * x + 1] = c[x - x0].y;
+                    row[3 * x + 2] = c[x - x0].z;
                 }
             }
             task->stats.pixels += (int64_t)(x1 - x0) * (y1 - y0);
@@ -575,6 +1214,39 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
 float sl_lighting_mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w)
 {
     return mip_level(u, D, pdf, w);
+}
+
+uint32_t sl_lighting_hash(uint32_t x) { return hash_u32(x); }
+
+vec2 sl_lighting_pixel_rotation(int x, int y, uint32_t frame)
+{
+    sl_lighting_uniforms u = {.uFrame = frame};
+    return pixel_rotation(&u, x, y);
+}
+
+bool sl_lighting_accumulate(sl_image *mean, const sl_image *frame, int index, sl_error *err)
+{
+    if (!frame || !frame->data || index < 0)
+        return sl_fail(err, SL_ERR_RANGE, "accumulate: no frame, or frame index %d < 0", index);
+    if (index == 0 && !mean->data && !sl_image_alloc(mean, frame->width, frame->height, frame->channels, err))
+        return false;
+    if (!mean->data || mean->width != frame->width || mean->height != frame->height ||
+        mean->channels != frame->channels)
+        return sl_fail(err, SL_ERR_RANGE, "accumulate: frame %d is %dx%dx%d, the mean %dx%dx%d", index, frame->width,
+                       frame->height, frame->channels, mean->width, mean->height, mean->channels);
+    size_t count = (size_t)frame->width * (size_t)frame->height * (size_t)frame->channels;
+    float *m = mean->data;
+    const float *f = frame->data;
+    if (index == 0) {
+        memcpy(m, f, count * sizeof *m);
+        return true;
+    }
+    /* The running mean: after frame k it is the mean of frames 0..k to float rounding, and it
+     * never needs more than one image of memory. */
+    float w = 1.0f / (float)(index + 1);
+    for (size_t i = 0; i < count; i++)
+        m[i] += (f[i] - m[i]) * w;
+    return true;
 }
 
 bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
@@ -620,11 +1292,14 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     print3(f, "N", t->Nenv);
     print3(f, "V", t->Venv);
     fprintf(f, "  %-12s %.6g\n", "N.V", (double)t->NdotV);
+    fprintf(f, "  %-12s (%.8f, %.8f)%s\n", "xi rotation", (double)t->rotation.x, (double)t->rotation.y,
+            t->rotation.x == 0.0f && t->rotation.y == 0.0f ? " (off)" : "");
     print3(f, "R", t->R);
     print3(f, "A", t->A);
     print3(f, "B", t->B);
     fprintf(f, "  %-12s %s\n", "A axis", t->pole_frame ? "X (R near a pole)" : "Z");
-    fprintf(f, "specular samples (N = %d)\n", t->sample_count);
+    fprintf(f, "specular samples (N = %d, %s path)\n", t->sample_count,
+            t->plain ? "plain port" : "batched path: lod and uv by lighting_math.h, 4 partial sums");
     fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
             "L (skewed)", "p(w)", "w", "w.N", "H", "L.H", "D", "G", "F", "lod", "Li", "contribution");
     for (int k = 0; k < t->sample_count; k++) {

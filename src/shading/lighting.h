@@ -16,6 +16,11 @@
  *         .eye = eye, .inv_view_proj = inverse(proj * view), .width = w, .height = h}, &err);
  *     sl_lighting_pass(u, &stats, &gbuffer, &image, threads, &err);
  *
+ * The pass runs a batched, vectorized version of the same shader by default and the line-by-line
+ * port when options.plain is set (docs/lighting.md "Two paths"); options.rotate turns on the
+ * per-pixel rotation of the sample set, and sl_lighting_accumulate averages frames rendered
+ * with frame = 0, 1, 2, ... (docs/lighting.md "Per-pixel rotation").
+ *
  * Does not: tone map (tonemap.h), build the environment or irradiance (ibl), rasterize. */
 #ifndef SL_LIGHTING_H
 #define SL_LIGHTING_H
@@ -62,6 +67,11 @@ typedef struct {
     bool no_diffuse, no_specular, no_point_lights; /* toggles (default: all on) */
     float env_intensity;           /* multiplies the environment; 0 = 1 */
     float env_rotation_deg;        /* environment rotated about +Z, degrees */
+    bool rotate;                   /* Cranley-Patterson rotation of the Hammersley set per pixel
+                                      and frame (uRotate; default off: every pixel the same set) */
+    uint32_t frame;                /* frame number hashed into the rotation (uFrame) */
+    bool plain;                    /* C only: run the line-by-line port of the GLSL instead of the
+                                      batched fast path (docs/lighting.md "Two paths") */
 } sl_lighting_options;
 
 /* Fill every zero field with its default. */
@@ -117,7 +127,14 @@ typedef struct {
     vec3 uLightColor[SL_LIGHTING_MAX_LIGHTS];
     float uLightIntensity[SL_LIGHTING_MAX_LIGHTS];
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
+    int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
+    uint32_t uFrame;                     /* GLSL uint */
     sl_lighting_options options;         /* resolved */
+    /* C only, for the batched path's vectorized fetch: where level l starts in uEnv->block (in
+     * texels) and its size. envGather = 0 when the environment has no block or is too large
+     * for 32-bit indices; the batched path then fetches texel by texel (same bits). */
+    int envGather;
+    int envOffset[SL_ENV_MAX_LEVELS], envWidth[SL_ENV_MAX_LEVELS], envHeight[SL_ENV_MAX_LEVELS];
 } sl_lighting_uniforms;
 
 /* Resolve options, build the Hammersley set and derive every uniform. False with SL_ERR_RANGE
@@ -170,6 +187,8 @@ typedef struct {
     vec3 V, N;               /* world space; N after facing_normal */
     bool bent;               /* N was bent toward V */
     vec3 Nenv, Venv;         /* environment space */
+    vec2 rotation;           /* the pixel's Hammersley offset (0, 0 when rotation is off) */
+    bool plain;              /* traced through the plain port (else the batched path) */
     float NdotV;
     vec3 R, A, B;            /* environment space */
     bool pole_frame;
@@ -188,6 +207,13 @@ typedef struct {
 vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
                        sl_lighting_task *task, sl_lighting_trace *trace);
 
+/* Pixels x0 .. x0 + count - 1 of G-buffer row y (row 0 = bottom) into out[0 .. count): the
+ * pass's unit of work, for callers that schedule rows themselves (the viewer). The batched path
+ * vectorizes over the row's pixels, so this is faster than count calls of sl_lighting_shade,
+ * with the same bits. The pixels must lie inside gb. */
+void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                           sl_lighting_task *task, vec3 *out);
+
 /* The lighting pass: every texel of gb into `out` (allocated when out->data is NULL, else it
  * must be gb's size with 3 channels), row 0 = top. OpenMP over 32x32 tiles, dynamic schedule;
  * bitwise identical for any thread count. threads <= 0: OpenMP's default. stats may be NULL. */
@@ -197,6 +223,19 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
 /* The per-sample mip level of lighting.frag's mip_level() (exposed for tests and reports):
  * D = D(H), pdf = p(w), w the environment-space sample direction. Always in [0, uEnvMaxLod]. */
 float sl_lighting_mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w);
+
+/* Cranley-Patterson rotation (lighting.frag hash_u32, pixel_rotation): a per-pixel, per-frame
+ * offset in [0, 1)^2 added to every Hammersley pair mod 1 when uRotate is on. Integer hash
+ * (Wellons' lowbias32) of x, y (G-buffer pixel, row 0 = bottom, as gl_FragCoord) and frame;
+ * both components have 24 bits, exact in float, so C and GLSL agree bit for bit. */
+uint32_t sl_lighting_hash(uint32_t x);
+vec2 sl_lighting_pixel_rotation(int x, int y, uint32_t frame);
+
+/* Progressive refinement: fold frame number `index` (0, 1, 2, ...) of a sequence rendered with
+ * rotation on and frame = 0, 1, 2, ... into the running mean: mean += (frame - mean) / (index + 1)
+ * (index 0 copies; mean is allocated then when mean->data is NULL). Same size and channels
+ * required (SL_ERR_RANGE otherwise). Deterministic: per pixel, in index order. */
+bool sl_lighting_accumulate(sl_image *mean, const sl_image *frame, int index, sl_error *err);
 
 /* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with
  * a trace. `trace` is large (about 200 KB): allocate it. */

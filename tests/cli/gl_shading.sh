@@ -40,6 +40,25 @@ for scene in scenes/*.json; do
     fi
     gl_check_share "$name" "$T/$name.txt" "$OVER8_PERCENT" || fail=1
 done
+# Rotation on (lighting.frag uRotate, uFrame: the per-pixel hash in GLSL uint and C uint32_t):
+# the default scene at frame 7 must agree as well, and must differ from rotation off (or GL
+# ignored the uniforms, or the two hashes differ).
+mkdir -p "$T/rotate"
+"$SL" render scenes/default.json --size "$GL_TEST_SIZE" --rotate --frame 7 --aov "$T/rotate" --pfm "$T/rotate/c.pfm" >/dev/null
+"$GL" render scenes/default.json --rotate --frame 7 --gbuffer "$T/rotate" --pfm "$T/rotate/g.pfm" >/dev/null
+status=0
+"$SL" compare "$T/rotate/c.pfm" "$T/rotate/g.pfm" --metric p99rel --tolerance "$P99_TOL" >"$T/rotate.txt" || status=$?
+printf '%-10s p99 rel %-10s mean rel %s\n' "rotate" "$(gl_field "p99 rel error" "$T/rotate.txt")" \
+    "$(gl_field "mean rel error" "$T/rotate.txt")"
+if [ "$status" != 0 ]; then
+    echo "FAIL rotate: $(grep -E '^(PASS|FAIL)' "$T/rotate.txt")"
+    fail=1
+fi
+gl_check_share rotate "$T/rotate.txt" "$OVER8_PERCENT" || fail=1
+if "$SL" compare "$T/default/g.pfm" "$T/rotate/g.pfm" --metric p99rel --tolerance 1e-3 >/dev/null; then
+    echo "FAIL rotate: GL with --rotate --frame 7 equals GL without rotation"
+    fail=1
+fi
 if [ "$fail" != 0 ]; then
     echo "gl_shading: FAILED"
     exit 1

@@ -1,0 +1,111 @@
+/* lighting_math.h - branch-free float32 versions of the transcendentals in the lighting
+ * shader's inner loop (log2, exp2, atan2 and the lat-long map built on it), written so GCC
+ * vectorizes the loops that call them (`#pragma omp simd`): no calls, no data-dependent
+ * branches (selects only), no tables.
+ *
+ * Why: the libm calls (atan2f, acosf, powf, log2f) were 45% of the lighting pass and cannot be
+ * vectorized without -ffast-math (glibc declares its vector variants only then). These are
+ * the classic Cephes reductions with their minimax polynomials, in plain C, and are as good as
+ * the GL driver's: measured over dense sweeps (docs/performance.md "Lighting", test_shading
+ * test_fast_math), atan2 within 2.4e-7 rad, log2 within 1.2e-7 absolute on [1e-30, 1], exp2
+ * within 2 ulp on [-126, 0]; llvmpipe's are 1e-6 .. 1e-5 relative (tests/cli/gl_shading.sh).
+ * The same inputs give the same bits whether a loop runs vectorized or scalar (only +, -, *, /,
+ * sqrt, compares; -ffp-contract=off), so the pass, sl_lighting_shade and the trace agree.
+ *
+ * Does not: handle NaN (callers clamp first; sl_fast_dir_to_uv maps it to 0), denormals (inputs
+ * are >= 1e-30) or exp2 outside [-126, 127]. */
+#ifndef SL_LIGHTING_MATH_H
+#define SL_LIGHTING_MATH_H
+
+#include <stdint.h>
+#include <string.h>
+
+#include "../core/glsl.h"
+
+static inline uint32_t sl_fm_bits(float x)
+{
+    uint32_t i;
+    memcpy(&i, &x, sizeof i);
+    return i;
+}
+static inline float sl_fm_float(uint32_t i)
+{
+    float x;
+    memcpy(&x, &i, sizeof x);
+    return x;
+}
+
+/* floor(x) for |x| < 2^31, exactly floorf's value. GCC does not vectorize floorf under the
+ * default -ftrapping-math; truncation to int and one compare do the same job. */
+static inline float sl_fast_floor(float x)
+{
+    int i = (int)x;
+    float t = (float)i;
+    return t - (x < t ? 1.0f : 0.0f);
+}
+
+/* log2(x) for normal x > 0: x = 2^e m, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) with
+ * s = (m - 1)/(m + 1), |s| <= 0.172, by its series to s^9 (truncation < 1e-9). */
+static inline float sl_fast_log2(float x)
+{
+    uint32_t i = sl_fm_bits(x);
+    int e = (int)(i >> 23) - 127;
+    float m = sl_fm_float((i & 0x007fffffu) | 0x3f800000u);
+    int big = m > 1.41421356f;
+    m = big ? 0.5f * m : m;
+    e = big ? e + 1 : e;
+    float s = (m - 1.0f) / (m + 1.0f);
+    float s2 = s * s;
+    float p = s2 * (1.0f / 3.0f + s2 * (1.0f / 5.0f + s2 * (1.0f / 7.0f + s2 * (1.0f / 9.0f))));
+    float ln = 2.0f * s + 2.0f * s * p;
+    return (float)e + ln * 1.44269504f;
+}
+
+/* 2^x for x in [-126, 127] (the caller's to guarantee: a clamp here would be a select that GCC
+ * turns into branches): 2^n 2^f, n = round(x), f in [-1/2, 1/2], Cephes exp2f polynomial. */
+static inline float sl_fast_exp2(float x)
+{
+    float n = sl_fast_floor(x + 0.5f);
+    float f = x - n;
+    float p = 1.535336188319500e-4f;
+    p = p * f + 1.339887440266574e-3f;
+    p = p * f + 9.618437357674640e-3f;
+    p = p * f + 5.550332471162809e-2f;
+    p = p * f + 2.402264791363012e-1f;
+    p = p * f + 6.931472028550421e-1f;
+    p = p * f + 1.0f;
+    return p * sl_fm_float((uint32_t)((int)n + 127) << 23);
+}
+
+/* atan2(y, x) in [-pi, pi]: t = min/max in [0, 1], reduced to [0, tan(pi/8)] by
+ * (t - 1)/(t + 1) + pi/4, Cephes atanf polynomial, then the octant. atan2(0, 0) = 0;
+ * y = -0 gives +pi for x < 0 (the lat-long map folds u = 1 to 0 either way). */
+static inline float sl_fast_atan2(float y, float x)
+{
+    float ax = fabsf(x), ay = fabsf(y);
+    float mx = maxf(ax, ay), mn = minf(ax, ay);
+    float t = mx > 0.0f ? mn / mx : 0.0f;
+    int big = t > 0.41421356f;
+    float r = big ? (t - 1.0f) / (t + 1.0f) : t;
+    float z = r * r;
+    float p = (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * r + r;
+    p = big ? p + 0.785398163f : p;
+    p = ay > ax ? 1.57079633f - p : p;
+    p = x < 0.0f ? 3.14159265f - p : p;
+    return y < 0.0f ? -p : p;
+}
+
+/* The specification's lat-long map (latlong.c sl_dir_to_uv) for a unit direction:
+ * u = 1/2 - atan2(y, x) / (2 pi), folded into [0, 1); v = theta / pi with theta =
+ * atan2(sqrt(x^2 + y^2), z), which equals acos(z) for unit d and stays accurate at the poles,
+ * where acos(z) loses half its digits. */
+static inline void sl_fast_dir_to_uv(float x, float y, float z, float *u, float *v)
+{
+    float uu = 0.5f - sl_fast_atan2(y, x) * (1.0f / (2.0f * SL_PI));
+    uu = uu < 1.0f ? uu : uu - 1.0f;
+    *u = uu >= 0.0f ? uu : 0.0f; /* NaN -> 0 */
+    float vv = sl_fast_atan2(sqrtf(x * x + y * y), z) * (1.0f / SL_PI);
+    *v = vv >= 0.0f ? vv : 0.0f; /* NaN -> 0: a texel row is always in range */
+}
+
+#endif
