@@ -2,21 +2,24 @@
  *
  * One thread runs the loop: script commands -> SDL events -> at most one render step ->
  * present. The pipeline itself is parallel (OpenMP inside raster and shading), so the loop
- * stays simple and every frame is the one `softlight render` would make for that camera.
+ * stays simple and every finished frame is the one `softlight render` would make for that camera.
  *
- * Refinement. A frame at full size and full N can take a good part of a second, so the image
- * is built in stages (docs/viewer.md):
- *     stage 0  preview: 1/preview_div of the window per axis, N = min(N, 4)
- *     stage 1  full size, N = min(N, 8)
- *     stage 2  full size, the chosen N (the result `softlight render` gives)
- * A camera move restarts at stage 0 and stays there while input continues (the preview divisor
- * adapts so a preview takes about TARGET_PREVIEW_MS); a lighting change restarts at stage 1;
- * exposure and contrast only re-run the tone map. Stages with the same size and N as the one
- * before are skipped. A true progressive accumulation would need the lighting API to take a
- * per-frame rotation of the Hammersley set (docs/viewer.md says what exactly).
+ * Refinement (docs/viewer.md "Refinement"):
+ *     moving    1/preview_div of the window per axis, N = min(N, --move-samples), the sample
+ *               set rotated per pixel with a new frame number each frame; whole frames
+ *     accumulate full size, frames of min(N, ACC_SAMPLES) rotated samples, frame = 0, 1, 2, ...,
+ *               filtered with the mip levels of N, averaged (sl_lighting_accumulate) until they
+ *               hold at least N samples a pixel
+ *     exact     full size, the chosen N, the user's options: the frame `softlight render` makes
+ * A camera move restarts at the moving stage and stays there while input continues (the preview
+ * divisor adapts so a frame, present included, takes at most about TARGET_FRAME_MS); a lighting
+ * change keeps the G-buffer and restarts the accumulation; exposure and contrast only re-run the
+ * tone map. The accumulation and exact stages are lit in row slices so input stays live.
  *
- * Files: view_camera.c (orbit camera), view_image.c (G-buffer and mip views), view_script.c
- * (--script), view_hud.c (text). Without SDL2 the command prints one line and exits 2. */
+ * Files: view_input.c (keys, mouse, drops), view_camera.c (orbit camera), view_image.c
+ * (G-buffer and mip views), view_shade.c (sliced lighting), view_script.c (--script),
+ * view_hud.c (text); the state they share is in view_internal.h. Without SDL2 the command
+ * prints one line and exits 2. */
 #if SL_HAVE_SDL2
 #include <SDL.h>
 #endif
@@ -50,95 +53,24 @@ int cmd_view(int argc, char **argv)
 
 #define DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"
 #define FONT_POINTS 12
-#define STAGE_COUNT 3
-#define PREVIEW_SAMPLES 4
-#define MID_SAMPLES 8
+enum { STAGE_MOVING, STAGE_ACCUMULATE, STAGE_EXACT, STAGE_COUNT };
+#define MOVE_SAMPLES 8          /* default N while moving (docs/viewer.md "Moving": measured) */
+#define ACC_SAMPLES 8           /* N of one accumulation frame */
+#define MAX_ACC_FRAMES 64       /* at most this many accumulation frames (N > 512) */
 #define QUIET_SECONDS 0.15      /* input this recent still counts as "moving" */
-#define TARGET_PREVIEW_MS 40.0  /* preview frames aim at about 25 per second */
-#define MAX_PREVIEW_DIV 8
+#define TARGET_FRAME_MS 30.0    /* a moving frame, present included: 33 ms is 30 per second */
+#define BENCH_WARMUP 5          /* --benchmark: frames not counted (first raster, texture setup) */
+#define BENCH_ORBIT_PIXELS 3    /* --benchmark: a drag of this many pixels a frame */
 #define MESSAGE_SECONDS 6.0
-#define ORBIT_DEG_PER_PIXEL 0.4f
-#define ORBIT_KEY_DEG 5.0f
-#define PAN_KEY_FRACTION 0.05f
-#define ZOOM_STEP 0.9f
-#define ENV_ROTATION_STEP 15.0f
-#define EXPOSURE_STEP 1.189207115f /* 2^(1/4): a quarter stop */
-#define CONTRAST_STEP 0.1f
 #define SLICE_SECONDS 0.04      /* one lighting slice between two looks at the input */
+#define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
+#define VIEW_OPTION_COUNT 9      /* options of `view` beside render's */
 #define HUD_SLOTS 0
 #define HELP_SLOTS VIEW_HUD_MAX_LINES
 
-typedef struct {
-    int div;     /* the render size is the window's (times --scale) divided by this */
-    int samples; /* N */
-} stage_params;
-
-/* Navigation keys, tracked from events so a held key keeps the preview going (SDL's own keyboard
- * state does not see scripted events). */
-enum { NAV_LEFT, NAV_RIGHT, NAV_UP, NAV_DOWN, NAV_W, NAV_A, NAV_S, NAV_D, NAV_IN, NAV_OUT, NAV_COUNT };
-
-typedef struct {
-    /* window */
-    SDL_Window *window;
-    SDL_Renderer *sdl;
-    SDL_Texture *texture;
-    int texture_w, texture_h;
-    bool texture_stale; /* `shown` changed since the last upload */
-    view_hud *hud;      /* NULL: no font, no text */
-    bool show_hud, show_help;
-
-    /* what is rendered */
-    sl_scene *scene;
-    sl_renderer r;
-    sl_render_desc cli_desc; /* the command line's settings, for scenes dropped later */
-    vec3 bounds_lo, bounds_hi;
-    view_camera camera;
-    view_mode mode;
-    int samples;     /* the user's N; stages may use fewer */
-    float scale;     /* --scale */
-    bool irradiance_stale; /* the environment changed while the diffuse term was off */
-    bool env_replaced;     /* a dropped .hdr replaced the scene's environment (its map no longer fits) */
-
-    /* refinement */
-    int stage;       /* next stage to render; STAGE_COUNT: done */
-    bool urgent;     /* something changed: render `stage` now, even during input */
-    bool retonemap;  /* exposure/contrast changed: tone map and present only */
-    int preview_div;
-    bool raster_valid; /* the G-buffer holds the current camera at its current size */
-    view_shade_job shade; /* the lighting pass of the stage in progress */
-    bool job_active;   /* a stage's lighting pass is under way */
-    int job_stage;
-    stage_params job_params;
-    int radiance_stage; /* the stage r.radiance belongs to; -1 = stale */
-    stage_params shown_params;
-    int shown_stage;
-    sl_image shown;  /* what the window shows, [0,1], row 0 = top */
-    float mip_max_seen;
-    double raster_ms, shade_ms, tonemap_ms, present_ms;
-    bool present_needed;
-
-    /* input */
-    double last_input;
-    int drag_button;
-    bool held[NAV_COUNT];
-
-    /* messages, script, counters */
-    char message[256];
-    double message_until;
-    bool message_shown;
-    view_script script;
-    bool have_script;
-    long frames, max_frames;
-    int shot_counter;
-    int exit_status;
-    bool quit;
-} viewer;
-
 /* ------------------------------------------------------------------ messages */
 
-/* One line in the HUD for a few seconds; errors also go to stderr (the window may be hidden). */
-static void message(viewer *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
-static void message(viewer *v, bool error, const char *fmt, ...)
+void view_message(viewer *v, bool error, const char *fmt, ...)
 {
     va_list ap;
     va_start(ap, fmt);
@@ -152,61 +84,85 @@ static void message(viewer *v, bool error, const char *fmt, ...)
 
 /* ------------------------------------------------------------------ refinement */
 
-static stage_params params_of(const viewer *v, int stage)
+static int min_int(int a, int b) { return a < b ? a : b; }
+
+/* Accumulation frames the still camera gets before the exact frame: enough for N samples a
+ * pixel (ceil(N / ACC_SAMPLES)), none when one frame of N is no dearer than one accumulation
+ * frame (N <= ACC_SAMPLES), and none outside the final view (the others do not light, or, the
+ * mip view, show the samples' levels, which averaging would blur). */
+static int acc_target(const viewer *v)
 {
+    if (v->mode != VIEW_FINAL || v->samples <= ACC_SAMPLES)
+        return 0;
+    int k = (v->samples + ACC_SAMPLES - 1) / ACC_SAMPLES;
+    return k < MAX_ACC_FRAMES ? k : MAX_ACC_FRAMES;
+}
+
+static view_stage_params params_of(const viewer *v, int stage)
+{
+    bool final = v->mode == VIEW_FINAL;
     switch (stage) {
-    case 0:
-        return (stage_params){v->preview_div, v->samples < PREVIEW_SAMPLES ? v->samples : PREVIEW_SAMPLES};
-    case 1:
-        return (stage_params){1, v->samples < MID_SAMPLES ? v->samples : MID_SAMPLES};
+    case STAGE_MOVING:
+        return (view_stage_params){v->preview_div, min_int(v->samples, v->move_samples), final || v->rotate,
+                                   final ? v->move_frame : v->frame};
+    case STAGE_ACCUMULATE:
+        return (view_stage_params){1, min_int(v->samples, ACC_SAMPLES), true, (uint32_t)v->acc_count};
     default:
-        return (stage_params){1, v->samples};
+        return (view_stage_params){1, v->samples, v->rotate, v->frame};
     }
 }
 
-/* Stages that would render the same image as the one before them are skipped (N only matters
- * to views that light the G-buffer). */
-static bool same_params(const viewer *v, stage_params a, stage_params b)
+/* Stages that would render the same image as the one before them are skipped (N and the
+ * rotation only matter to views that light the G-buffer). */
+static bool same_params(const viewer *v, view_stage_params a, view_stage_params b)
 {
-    return a.div == b.div && (a.samples == b.samples || !view_mode_needs_lighting(v->mode));
+    if (a.div != b.div)
+        return false;
+    if (!view_mode_needs_lighting(v->mode))
+        return true;
+    return a.samples == b.samples && a.rotate == b.rotate && (!a.rotate || a.frame == b.frame);
 }
+
+static bool stage_needed(const viewer *v, int stage) { return stage != STAGE_ACCUMULATE || acc_target(v) > 0; }
 
 static int next_stage(const viewer *v, int stage)
 {
-    stage_params p = params_of(v, stage);
+    view_stage_params p = params_of(v, stage);
     int next = stage + 1;
-    while (next < STAGE_COUNT && same_params(v, params_of(v, next), p))
+    while (next < STAGE_COUNT && (!stage_needed(v, next) || same_params(v, params_of(v, next), p)))
         next++;
     return next;
 }
 
-/* The camera, the scene or the window size changed: start again from the preview. */
-static void restart_view(viewer *v)
+void view_restart_camera(viewer *v)
 {
-    v->stage = 0;
+    v->stage = STAGE_MOVING;
     v->urgent = true;
     v->raster_valid = false;
-    v->radiance_stage = -1;
+    v->radiance_exact = false;
     v->job_active = false;
+    v->acc_count = 0;
 }
 
-/* Lighting settings or the view mode changed: the G-buffer stays, the preview is skipped. */
-static void restart_lighting(viewer *v)
+void view_restart_lighting(viewer *v)
 {
-    if (v->stage > 1)
-        v->stage = 1;
+    if (v->stage > STAGE_ACCUMULATE)
+        v->stage = STAGE_ACCUMULATE;
+    if (v->stage == STAGE_ACCUMULATE && !stage_needed(v, STAGE_ACCUMULATE))
+        v->stage = STAGE_EXACT;
     v->urgent = true;
-    v->radiance_stage = -1;
+    v->radiance_exact = false;
     v->job_active = false;
+    v->acc_count = 0;
 }
 
 static bool converged(const viewer *v) { return v->stage >= STAGE_COUNT && !v->urgent && !v->job_active; }
 
 static bool interacting(const viewer *v, double now)
 {
-    if (v->drag_button || now - v->last_input < QUIET_SECONDS)
+    if (v->drag_button || now - v->last_input < QUIET_SECONDS || v->bench.frames > 0)
         return true;
-    for (int i = 0; i < NAV_COUNT; i++)
+    for (int i = 0; i < VIEW_NAV_COUNT; i++)
         if (v->held[i])
             return true;
     return false;
@@ -236,44 +192,92 @@ static void stage_finished(viewer *v)
     v->shown_stage = v->job_stage;
     v->texture_stale = true;
     v->present_needed = true;
+    /* Whatever stage made it, a frame lit with the exact stage's settings is the exact frame. */
+    if (v->shown_from == VIEW_SHOWN_RADIANCE && v->job_params.div == 1 &&
+        same_params(v, v->job_params, params_of(v, STAGE_EXACT)))
+        v->radiance_exact = true;
 }
+
+/* Tone map a linear image into `shown` (re-allocated when the size changed). */
+static bool tonemap_shown(viewer *v, const sl_image *linear, sl_error *err)
+{
+    if (v->shown.data && (v->shown.width != linear->width || v->shown.height != linear->height))
+        sl_image_free(&v->shown);
+    double t0 = sl_now_seconds();
+    if (!sl_tonemap_image(linear, &v->shown, &v->r.desc.tonemap, err))
+        return false;
+    v->tonemap_ms = (sl_now_seconds() - t0) * 1e3;
+    v->texture_stale = true;
+    return true;
+}
+
+/* Where a stage's lighting pass writes: its own frame for the accumulation, else the renderer's
+ * radiance (what `softlight render` tone maps and writes). */
+static sl_image *job_target(viewer *v) { return v->job_stage == STAGE_ACCUMULATE ? &v->acc_frame : &v->r.radiance; }
 
 /* Start a refinement stage: size, raster, then either the whole image (G-buffer views and the
  * mip view) or the first step of a sliced lighting pass (the final image). */
 static bool stage_begin(viewer *v, int stage, sl_error *err)
 {
-    stage_params p = params_of(v, stage);
+    view_stage_params p = params_of(v, stage);
     int ow, oh;
     output_size(v, &ow, &oh);
     int w = scaled(ow, v->scale, p.div), h = scaled(oh, v->scale, p.div);
     v->job_active = false;
     v->job_stage = stage;
     v->job_params = p;
-    v->radiance_stage = -1;
     if (v->r.gbuffer.width != w || v->r.gbuffer.height != h) {
         if (!sl_renderer_resize(&v->r, w, h, err))
             return false;
         v->raster_valid = false;
     }
     const sl_camera *cam = &v->camera.cam;
-    v->r.desc.lighting.samples = p.samples;
-    v->shade_ms = v->tonemap_ms = 0.0;
+    if (stage != STAGE_ACCUMULATE || v->acc_count == 0)
+        v->shade_ms = v->tonemap_ms = 0.0; /* between accumulation frames the HUD keeps the last one's */
     if (!v->raster_valid) {
         if (!sl_renderer_raster(&v->r, cam, err))
             return false;
         v->raster_valid = true;
         v->raster_ms = v->r.timings.raster_ms;
     }
+    /* The stage's N and rotation go into the uniforms; desc keeps the user's settings. An
+     * accumulation frame reads the mip levels of the user's N (uLodBase = 1/2 log2(W H / N), the
+     * only place N enters the level), taken from the uniforms of N, so that the mean converges to
+     * the exact frame's filtering rather than to that of 8 samples (docs/viewer.md). */
+    sl_lighting_options *l = &v->r.desc.lighting;
+    bool lights = v->mode == VIEW_FINAL || v->mode == VIEW_MIP, ok = true;
+    float lod_base = 0.0f;
+    bool total_lod = stage == STAGE_ACCUMULATE && v->acc_total_lod;
+    if (lights && total_lod && (ok = sl_renderer_prepare_lighting(&v->r, cam, err)))
+        lod_base = v->r.uniforms->uLodBase;
+    l->samples = p.samples;
+    l->rotate = p.rotate;
+    l->frame = p.frame;
+    if (lights && ok)
+        ok = sl_renderer_prepare_lighting(&v->r, cam, err);
+    if (ok && lights && total_lod)
+        v->r.uniforms->uLodBase = lod_base;
+    l->samples = v->samples;
+    l->rotate = v->rotate;
+    l->frame = v->frame;
+    if (!ok)
+        return false;
     double t0 = sl_now_seconds();
     switch (v->mode) {
     case VIEW_FINAL:
-        if (!sl_renderer_prepare_lighting(&v->r, cam, err) || !view_shade_begin(&v->shade, v->r.desc.threads, err))
+        if (stage == STAGE_ACCUMULATE && (v->acc_frame.width != w || v->acc_frame.height != h)) {
+            sl_image_free(&v->acc_frame);
+            if (!sl_image_alloc(&v->acc_frame, w, h, 3, err))
+                return false;
+        }
+        if (stage == STAGE_ACCUMULATE && v->acc_count == 0)
+            v->acc_ms = 0.0;
+        if (!view_shade_begin(&v->shade, v->r.desc.threads, w, stage == STAGE_ACCUMULATE && v->acc_count > 0, err))
             return false;
         v->job_active = true;
         return true;
     case VIEW_MIP:
-        if (!sl_renderer_prepare_lighting(&v->r, cam, err) ||
-            !view_mip_image(v->r.uniforms, &v->r.gbuffer, &v->shown, &v->mip_max_seen, err))
+        if (!view_mip_image(v->r.uniforms, &v->r.gbuffer, &v->shown, &v->mip_max_seen, err))
             return false;
         break;
     default:
@@ -283,26 +287,29 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         break;
     }
     v->shade_ms = (sl_now_seconds() - t0) * 1e3;
+    v->shown_from = VIEW_SHOWN_NONE;
     stage_finished(v);
     return true;
 }
 
-/* One slice of the active stage's lighting pass. While the stage has the size of the image on
- * screen, the rows done so far replace the old ones there (tone mapped like the whole image will
- * be); a stage of another size shows up when it is complete. */
+/* One slice of the active stage's lighting pass. The exact stage's rows replace the old ones on
+ * screen as they come (tone mapped like the whole image will be) while the image on screen has
+ * its size; an accumulation frame is folded into the mean and shown when it is complete. */
 static bool stage_continue(viewer *v, double budget_s, sl_error *err)
 {
     int first;
-    bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, &v->r.radiance, budget_s, &first);
-    v->shade_ms = v->shade.seconds * 1e3;
+    sl_image *target = job_target(v);
+    bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, target, budget_s, &first);
+    if (v->job_stage != STAGE_ACCUMULATE || done || v->acc_count == 0)
+        v->shade_ms = v->shade.seconds * 1e3;
     if (!done) {
-        const sl_image *rad = &v->r.radiance;
-        if (v->shown.data && v->shown.width == rad->width && v->shown.height == rad->height) {
+        if (v->job_stage == STAGE_EXACT && v->shown.data && v->shown.width == target->width &&
+            v->shown.height == target->height) {
             const sl_tonemap_options *t = &v->r.desc.tonemap;
             for (int y = first; y < v->shade.next_row; y++) {
-                const float *src = sl_image_pixel(rad, 0, y);
+                const float *src = sl_image_pixel(target, 0, y);
                 float *dst = sl_image_pixel(&v->shown, 0, y);
-                for (int i = 0; i < rad->width * 3; i++)
+                for (int i = 0; i < target->width * 3; i++)
                     dst[i] = sl_tonemap_value(src[i], t->exposure, t->contrast, t->exact_srgb);
             }
             v->texture_stale = true;
@@ -310,18 +317,28 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         }
         return true;
     }
-    if (!sl_renderer_tonemap(&v->r, err) || !view_image_copy(&v->shown, &v->r.display, err)) {
-        v->job_active = false;
-        return false;
+    v->job_active = false;
+    if (v->job_stage == STAGE_ACCUMULATE) {
+        if (v->acc_count == 0 && v->mean.data &&
+            (v->mean.width != target->width || v->mean.height != target->height))
+            sl_image_free(&v->mean);
+        if (!sl_lighting_accumulate(&v->mean, target, v->acc_count, err) || !tonemap_shown(v, &v->mean, err))
+            return false;
+        v->acc_count++;
+        v->acc_ms += v->shade_ms;
+        v->shown_from = VIEW_SHOWN_MEAN;
+    } else {
+        if (!sl_renderer_tonemap(&v->r, err) || !view_image_copy(&v->shown, &v->r.display, err))
+            return false;
+        v->tonemap_ms = v->r.timings.tonemap_ms;
+        v->shown_from = VIEW_SHOWN_RADIANCE;
     }
-    v->tonemap_ms = v->r.timings.tonemap_ms;
-    v->radiance_stage = v->job_stage;
     v->retonemap = false; /* the tone map just ran with the current settings */
     stage_finished(v);
     return true;
 }
 
-/* A whole stage at once (the preview, and screenshots). */
+/* A whole stage at once (the moving stage, and screenshots). */
 static bool render_stage(viewer *v, int stage, sl_error *err)
 {
     if (!stage_begin(v, stage, err))
@@ -332,11 +349,46 @@ static bool render_stage(viewer *v, int stage, sl_error *err)
     return true;
 }
 
+/* The stage that follows a finished one: another accumulation frame until there are enough. */
+static int stage_after(const viewer *v, int stage)
+{
+    if (stage == STAGE_ACCUMULATE && v->acc_count < acc_target(v))
+        return STAGE_ACCUMULATE;
+    return next_stage(v, stage);
+}
+
 /* ------------------------------------------------------------------ presenting */
 
-static const char *irradiance_name(sl_irradiance_method m)
+const char *view_irradiance_name(sl_irradiance_method m)
 {
     return m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_BRUTE ? "brute" : "sh9";
+}
+
+/* The refinement line of the HUD: what the image on screen is and what comes next. */
+static void state_line(const viewer *v, double now, char *buf, size_t size)
+{
+    const view_stage_params *s = &v->shown_params;
+    char what[96];
+    if (s->div == 1)
+        snprintf(what, sizeof what, "full size, N %d%s", s->samples, s->rotate ? " rotated" : "");
+    else
+        snprintf(what, sizeof what, "1/%d size, N %d%s", s->div, s->samples, s->rotate ? " rotated" : "");
+    int target = acc_target(v), total = target * min_int(v->samples, ACC_SAMPLES);
+    if (v->job_active && v->job_stage == STAGE_EXACT)
+        snprintf(buf, size, "refining: the exact frame, N %d, row %d of %d (over %s)", v->samples, v->shade.next_row,
+                 v->r.radiance.height, v->shown_from == VIEW_SHOWN_MEAN ? "the mean" : what);
+    else if (v->shown_stage == STAGE_ACCUMULATE && v->acc_count > 0 && !converged(v))
+        snprintf(buf, size, "refining: mean of %d/%d frames, %d of %d samples a pixel (%.0f ms), then exact N %d",
+                 v->acc_count, target, v->acc_count * min_int(v->samples, ACC_SAMPLES), total, v->acc_ms, v->samples);
+    else if (converged(v))
+        snprintf(buf, size, "done: %s%s", what, v->radiance_exact ? " (= softlight render)" : "");
+    else if (interacting(v, now) && v->shown_stage == STAGE_MOVING && !v->job_active)
+        snprintf(buf, size, "moving: %s (%.0f ms a frame)", what, v->preview_ms);
+    else if (v->stage == STAGE_ACCUMULATE || (v->job_active && v->job_stage == STAGE_ACCUMULATE))
+        snprintf(buf, size, "refining: %s; accumulating %d frames of N %d", what, target,
+                 min_int(v->samples, ACC_SAMPLES));
+    else
+        snprintf(buf, size, "refining: %s", what);
 }
 
 static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160], int *count)
@@ -358,27 +410,10 @@ static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160
     sl_lighting_options resolved = sl_lighting_options_resolve(l);
     snprintf(buf[n++], 160, "lod %s  estimator %s  G %s  irradiance %s  env rotation %+.0f",
              sl_lod_rule_name(resolved.lod_rule), sl_estimator_name(resolved.estimator), sl_gterm_name(resolved.gterm),
-             irradiance_name(l->irradiance), (double)l->env_rotation_deg);
+             view_irradiance_name(l->irradiance), (double)l->env_rotation_deg);
     snprintf(buf[n++], 160, "diffuse %s  specular %s  point lights %s (%d)", l->no_diffuse ? "off" : "on",
              l->no_specular ? "off" : "on", l->no_point_lights ? "off" : "on", v->scene->light_count);
-    char res[32];
-    if (v->shown_params.div == 1)
-        snprintf(res, sizeof res, "full size");
-    else
-        snprintf(res, sizeof res, "1/%d size", v->shown_params.div);
-    if (v->job_active && v->shown.width == v->r.radiance.width && v->shown.height == v->r.radiance.height)
-        snprintf(buf[n++], 160, "refining %d/%d: %s, N %d, row %d of %d", v->job_stage + 1, STAGE_COUNT, res,
-                 v->job_params.samples, v->shade.next_row, v->r.radiance.height);
-    else if (v->job_active)
-        snprintf(buf[n++], 160, "refining %d/%d: %s, N %d (next: full size, N %d)", v->shown_stage + 1, STAGE_COUNT,
-                 res, v->shown_params.samples, v->job_params.samples);
-    else if (converged(v))
-        snprintf(buf[n++], 160, "done: %s, N %d", res, v->shown_params.samples);
-    else if (interacting(v, now) && v->stage <= 1)
-        snprintf(buf[n++], 160, "moving: %s, N %d", res, v->shown_params.samples);
-    else
-        snprintf(buf[n++], 160, "refining %d/%d: %s, N %d", v->shown_stage + 1, STAGE_COUNT, res,
-                 v->shown_params.samples);
+    state_line(v, now, buf[n++], 160);
     if (v->mode == VIEW_MIP)
         snprintf(buf[n++], 160, "mean mip level: 0 blue .. %.0f red (largest here %.2f)",
                  (double)v->r.uniforms->uEnvMaxLod, (double)v->mip_max_seen);
@@ -424,7 +459,7 @@ static bool upload(viewer *v)
         v->texture = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, img->width,
                                        img->height);
         if (!v->texture) {
-            message(v, true, "SDL texture %dx%d: %s", img->width, img->height, SDL_GetError());
+            view_message(v, true, "SDL texture %dx%d: %s", img->width, img->height, SDL_GetError());
             return false;
         }
         v->texture_w = img->width;
@@ -462,7 +497,8 @@ static void present(viewer *v)
         view_hud_draw(v->hud, v->sdl, HELP_SLOTS, help_text, (int)(sizeof help_text / sizeof help_text[0]), 0, 0, true);
     SDL_RenderPresent(v->sdl);
     v->message_shown = now < v->message_until;
-    v->present_ms = (sl_now_seconds() - t0) * 1e3;
+    v->last_present = sl_now_seconds();
+    v->present_ms = (v->last_present - t0) * 1e3;
     v->present_needed = false;
     v->frames++;
     if (v->max_frames > 0 && v->frames >= v->max_frames)
@@ -476,21 +512,21 @@ static bool file_exists(const char *path) { return access(path, F_OK) == 0; }
 /* The finished frame of the current view as <base>.png (what is shown, without the HUD) and
  * <base>.hdr (linear radiance). Refinement is completed first, so the files are full size, full
  * N whatever the window showed at the moment. */
-static bool screenshot(viewer *v, const char *name, sl_error *err)
+bool view_screenshot(viewer *v, const char *name, sl_error *err)
 {
     if (!converged(v)) {
-        if (!render_stage(v, STAGE_COUNT - 1, err))
+        /* Straight to the exact frame: the accumulation is a preview of it. */
+        if (!render_stage(v, STAGE_EXACT, err))
             return false;
         v->stage = STAGE_COUNT;
         v->urgent = false;
         present(v);
     }
-    if (v->radiance_stage < 0) {
-        /* A G-buffer view: light the (current, full-size) G-buffer for the .hdr. */
-        v->r.desc.lighting.samples = v->samples;
+    if (!v->radiance_exact) {
+        /* A G-buffer view: light the (current, full-size) G-buffer for the .hdr, as render does. */
         if (!sl_renderer_shade(&v->r, &v->camera.cam, err))
             return false;
-        v->radiance_stage = STAGE_COUNT - 1;
+        v->radiance_exact = true;
     }
     char base[SL_PATH_MAX], png[SL_PATH_MAX + 8], hdr[SL_PATH_MAX + 8];
     if (name && name[0]) {
@@ -516,383 +552,34 @@ static bool screenshot(viewer *v, const char *name, sl_error *err)
            (double)c->eye.y, (double)c->eye.z, (double)c->target.x, (double)c->target.y, (double)c->target.z,
            (double)c->up.x, (double)c->up.y, (double)c->up.z, (double)c->fovy_deg);
     fflush(stdout);
-    message(v, false, "wrote %s and %s", png, hdr);
+    view_message(v, false, "wrote %s and %s", png, hdr);
     return true;
 }
 
-/* ------------------------------------------------------------------ scenes and drops */
-
-static bool has_suffix(const char *s, const char *suffix)
+/* What is on screen now, without completing the refinement (the script's `snapshot`, for tests
+ * of the stages themselves): <base>.png as shown and <base>.pfm, the linear image behind it (the
+ * accumulated mean, or the moving or exact frame). */
+static bool snapshot(viewer *v, const char *base, sl_error *err)
 {
-    size_t n = strlen(s), k = strlen(suffix);
-    return n >= k && !strcasecmp(s + n - k, suffix);
-}
-
-/* Take over a loaded scene and its renderer (the old ones are freed). */
-static void adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
-{
-    if (v->scene) {
-        sl_renderer_free(&v->r);
-        sl_scene_free(v->scene);
-        free(v->scene);
-    }
-    v->scene = scene;
-    v->r = *r;
-    v->samples = v->r.desc.lighting.samples;
-    if (!sl_scene_bounds(scene, &v->bounds_lo, &v->bounds_hi)) {
-        v->bounds_lo = vec3s(-1.0f);
-        v->bounds_hi = vec3s(1.0f);
-    }
-    view_camera_init(&v->camera, &scene->camera);
-    v->irradiance_stale = false;
-    v->env_replaced = false;
-    char title[SL_PATH_MAX + 32];
-    snprintf(title, sizeof title, "softlight view - %s", scene->path);
-    if (v->window)
-        SDL_SetWindowTitle(v->window, title);
-    restart_view(v);
-}
-
-/* Load a scene and build its renderer at the current size; on failure nothing changes. */
-static bool load_scene(viewer *v, const char *path, int width, int height, sl_error *err)
-{
-    sl_scene *scene = calloc(1, sizeof *scene);
-    if (!scene)
-        return sl_fail(err, SL_ERR_MEMORY, "out of memory for a scene");
-    if (!sl_scene_load(path, scene, err)) {
-        free(scene);
+    const sl_image *linear = v->shown_from == VIEW_SHOWN_MEAN       ? &v->mean
+                             : v->shown_from == VIEW_SHOWN_RADIANCE ? &v->r.radiance
+                                                               : NULL;
+    if (!linear || !v->shown.data)
+        return sl_fail(err, SL_ERR_RANGE, "snapshot: no lit image on screen (view %s)", view_mode_name(v->mode));
+    char png[SL_PATH_MAX + 8], pfm[SL_PATH_MAX + 8];
+    snprintf(png, sizeof png, "%s.png", base);
+    snprintf(pfm, sizeof pfm, "%s.pfm", base);
+    if (!sl_image_write_png(png, &v->shown, err) || !sl_image_write_pfm(pfm, linear, err))
         return false;
-    }
-    sl_render_desc desc = v->cli_desc;
-    desc.width = width;
-    desc.height = height;
-    sl_renderer r;
-    if (!sl_renderer_init(&r, scene, &desc, err)) {
-        sl_scene_free(scene);
-        free(scene);
-        return false;
-    }
-    adopt_scene(v, scene, &r);
+    const view_stage_params *s = &v->shown_params;
+    printf("softlight view: snapshot %s and %s (%dx%d, %s, N %d%s, frame %u, %d frames averaged%s)\n", png, pfm,
+           linear->width, linear->height,
+           v->shown_stage == STAGE_MOVING ? "moving" : v->shown_stage == STAGE_ACCUMULATE ? "accumulating" : "exact",
+           s->samples, s->rotate ? " rotated" : "", (unsigned)s->frame,
+           v->shown_from == VIEW_SHOWN_MEAN ? v->acc_count : 1,
+           v->radiance_exact && v->shown_from == VIEW_SHOWN_RADIANCE ? ", exact" : "");
+    fflush(stdout);
     return true;
-}
-
-static void handle_drop(viewer *v, const char *path)
-{
-    sl_error err = {0};
-    if (has_suffix(path, ".hdr")) {
-        if (!sl_renderer_set_environment(&v->r, path, &err)) {
-            message(v, true, "%s (the environment stays)", err.msg);
-            return;
-        }
-        /* The renderer rebuilds the irradiance only while the diffuse term is on. */
-        v->irradiance_stale = v->r.desc.lighting.no_diffuse;
-        v->env_replaced = true;
-        message(v, false, "environment %s", path);
-        restart_lighting(v);
-    } else if (has_suffix(path, ".json")) {
-        if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
-            message(v, true, "%s (the scene stays)", err.msg);
-            return;
-        }
-        message(v, false, "scene %s", path);
-    } else {
-        message(v, true, "%s: drop an .hdr environment or a .json scene", path);
-    }
-}
-
-/* ------------------------------------------------------------------ input */
-
-static int nav_index(SDL_Keycode key)
-{
-    switch (key) {
-    case SDLK_LEFT: return NAV_LEFT;
-    case SDLK_RIGHT: return NAV_RIGHT;
-    case SDLK_UP: return NAV_UP;
-    case SDLK_DOWN: return NAV_DOWN;
-    case SDLK_w: return NAV_W;
-    case SDLK_a: return NAV_A;
-    case SDLK_s: return NAV_S;
-    case SDLK_d: return NAV_D;
-    case SDLK_EQUALS: case SDLK_PLUS: case SDLK_KP_PLUS: return NAV_IN;
-    case SDLK_MINUS: case SDLK_KP_MINUS: return NAV_OUT;
-    default: return -1;
-    }
-}
-
-/* One step of a navigation key (a press or an auto-repeat). */
-static void navigate(viewer *v, int nav, bool fine)
-{
-    float step = fine ? 0.2f : 1.0f;
-    switch (nav) {
-    case NAV_LEFT: view_camera_orbit(&v->camera, -ORBIT_KEY_DEG * step, 0.0f); break;
-    case NAV_RIGHT: view_camera_orbit(&v->camera, ORBIT_KEY_DEG * step, 0.0f); break;
-    case NAV_UP: view_camera_orbit(&v->camera, 0.0f, ORBIT_KEY_DEG * step); break;
-    case NAV_DOWN: view_camera_orbit(&v->camera, 0.0f, -ORBIT_KEY_DEG * step); break;
-    case NAV_W: view_camera_pan(&v->camera, 0.0f, -PAN_KEY_FRACTION * step); break;
-    case NAV_S: view_camera_pan(&v->camera, 0.0f, PAN_KEY_FRACTION * step); break;
-    case NAV_A: view_camera_pan(&v->camera, -PAN_KEY_FRACTION * step, 0.0f); break;
-    case NAV_D: view_camera_pan(&v->camera, PAN_KEY_FRACTION * step, 0.0f); break;
-    case NAV_IN: view_camera_zoom(&v->camera, powf(ZOOM_STEP, step)); break;
-    case NAV_OUT: view_camera_zoom(&v->camera, 1.0f / powf(ZOOM_STEP, step)); break;
-    default: return;
-    }
-    restart_view(v);
-}
-
-static int power_of_two_step(int n, bool up)
-{
-    int p = 1;
-    while (p < n)
-        p *= 2;
-    if (up)
-        return p == n ? (n < SL_HAMMERSLEY_MAX ? n * 2 : n) : p;
-    return p == n ? (n > 1 ? n / 2 : 1) : p / 2;
-}
-
-static void cycle_irradiance(viewer *v)
-{
-    sl_lighting_options *l = &v->r.desc.lighting;
-    bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
-    sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_SH9     ? SL_IRRADIANCE_BRUTE
-                                : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9)
-                                                                       : SL_IRRADIANCE_SH9;
-    if (l->no_diffuse) {
-        /* Built when the diffuse term comes back on. */
-        l->irradiance = next;
-        v->irradiance_stale = true;
-        message(v, false, "irradiance %s (diffuse is off)", irradiance_name(next));
-        return;
-    }
-    sl_error err = {0};
-    if (!sl_renderer_set_irradiance(&v->r, next, &err)) {
-        message(v, true, "%s", err.msg);
-        return;
-    }
-    message(v, false, "irradiance %s (%.0f ms)", irradiance_name(next), v->r.timings.irradiance_ms);
-    restart_lighting(v);
-}
-
-static void toggle_diffuse(viewer *v)
-{
-    sl_lighting_options *l = &v->r.desc.lighting;
-    if (l->no_diffuse && (v->irradiance_stale || !v->r.have_irradiance)) {
-        sl_error err = {0};
-        sl_irradiance_method method = l->irradiance;
-        if (method == SL_IRRADIANCE_MAP && v->env_replaced)
-            method = SL_IRRADIANCE_SH9; /* the scene's map belongs to the scene's environment */
-        if (!sl_renderer_set_irradiance(&v->r, method, &err)) {
-            message(v, true, "%s", err.msg);
-            return;
-        }
-        v->irradiance_stale = false;
-    }
-    l->no_diffuse = !l->no_diffuse;
-    restart_lighting(v);
-}
-
-static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
-{
-    SDL_Keycode key = e->keysym.sym;
-    bool shift = (e->keysym.mod & KMOD_SHIFT) != 0;
-    sl_lighting_options *l = &v->r.desc.lighting;
-    sl_tonemap_options *t = &v->r.desc.tonemap;
-    int nav = nav_index(key);
-    if (nav >= 0) {
-        v->held[nav] = true;
-        navigate(v, nav, shift && nav != NAV_IN); /* shift: fine steps ('+' is shift+= on most layouts) */
-        return;
-    }
-    switch (key) { /* adjustments: auto-repeat applies */
-    case SDLK_e:
-        t->exposure = fminf(t->exposure * EXPOSURE_STEP, 1e6f);
-        v->retonemap = true;
-        return;
-    case SDLK_q:
-        t->exposure = fmaxf(t->exposure / EXPOSURE_STEP, 1e-3f);
-        v->retonemap = true;
-        return;
-    case SDLK_c:
-        t->contrast = fminf(t->contrast + CONTRAST_STEP, 10.0f);
-        v->retonemap = true;
-        return;
-    case SDLK_x:
-        t->contrast = fmaxf(t->contrast - CONTRAST_STEP, 0.1f);
-        v->retonemap = true;
-        return;
-    case SDLK_RIGHTBRACKET:
-    case SDLK_LEFTBRACKET: {
-        float r = l->env_rotation_deg + (key == SDLK_RIGHTBRACKET ? ENV_ROTATION_STEP : -ENV_ROTATION_STEP);
-        r = fmodf(r, 360.0f);
-        if (r > 180.0f)
-            r -= 360.0f;
-        if (r <= -180.0f)
-            r += 360.0f;
-        l->env_rotation_deg = r;
-        restart_lighting(v);
-        return;
-    }
-    default:
-        break;
-    }
-    if (e->repeat)
-        return;
-    switch (key) { /* toggles and one-shot actions: a held key acts once */
-    case SDLK_ESCAPE:
-        if (v->show_help)
-            v->show_help = false;
-        else
-            v->quit = true;
-        break;
-    case SDLK_F1:
-    case SDLK_QUESTION:
-        v->show_help = !v->show_help;
-        break;
-    case SDLK_SLASH:
-        if (shift)
-            v->show_help = !v->show_help;
-        break;
-    case SDLK_h:
-        v->show_hud = !v->show_hud;
-        break;
-    case SDLK_r:
-        view_camera_reset(&v->camera);
-        restart_view(v);
-        break;
-    case SDLK_n:
-    case SDLK_b:
-        v->samples = power_of_two_step(v->samples, key == SDLK_n);
-        restart_lighting(v);
-        break;
-    case SDLK_1:
-        toggle_diffuse(v);
-        break;
-    case SDLK_2:
-        l->no_specular = !l->no_specular;
-        restart_lighting(v);
-        break;
-    case SDLK_3:
-        l->no_point_lights = !l->no_point_lights;
-        restart_lighting(v);
-        break;
-    case SDLK_i:
-        cycle_irradiance(v);
-        break;
-    case SDLK_l: {
-        sl_lod_rule rule = sl_lighting_options_resolve(l).lod_rule;
-        l->lod_rule = rule >= SL_LOD_GEMS ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
-        restart_lighting(v);
-        break;
-    }
-    case SDLK_k: {
-        sl_estimator est = sl_lighting_options_resolve(l).estimator;
-        l->estimator = est == SL_ESTIMATOR_SPEC ? SL_ESTIMATOR_CONSISTENT : SL_ESTIMATOR_SPEC;
-        restart_lighting(v);
-        break;
-    }
-    case SDLK_g: {
-        sl_gterm g = sl_lighting_options_resolve(l).gterm;
-        l->gterm = g == SL_GTERM_INV_LH2 ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
-        restart_lighting(v);
-        break;
-    }
-    case SDLK_v:
-        v->mode = (view_mode)((v->mode + (shift ? VIEW_MODE_COUNT - 1 : 1)) % VIEW_MODE_COUNT);
-        restart_lighting(v);
-        break;
-    case SDLK_F12:
-    case SDLK_p: {
-        sl_error err = {0};
-        if (!screenshot(v, NULL, &err))
-            message(v, true, "screenshot: %s", err.msg);
-        break;
-    }
-    default:
-        return;
-    }
-    v->present_needed = true;
-}
-
-static void handle_event(viewer *v, SDL_Event *e)
-{
-    double now = sl_now_seconds();
-    switch (e->type) {
-    case SDL_QUIT:
-        v->quit = true;
-        break;
-    case SDL_WINDOWEVENT:
-        switch (e->window.event) {
-        case SDL_WINDOWEVENT_SIZE_CHANGED:
-        case SDL_WINDOWEVENT_RESIZED:
-            v->last_input = now;
-            restart_view(v);
-            break;
-        case SDL_WINDOWEVENT_CLOSE:
-            v->quit = true;
-            break;
-        case SDL_WINDOWEVENT_EXPOSED:
-            v->present_needed = true;
-            break;
-        default:
-            break;
-        }
-        break;
-    case SDL_KEYDOWN:
-        v->last_input = now;
-        handle_key(v, &e->key);
-        break;
-    case SDL_KEYUP: {
-        int nav = nav_index(e->key.keysym.sym);
-        if (nav >= 0)
-            v->held[nav] = false;
-        break;
-    }
-    case SDL_MOUSEBUTTONDOWN:
-        if (e->button.button == SDL_BUTTON_LEFT || e->button.button == SDL_BUTTON_RIGHT ||
-            e->button.button == SDL_BUTTON_MIDDLE) {
-            v->drag_button = e->button.button;
-            v->last_input = now;
-        }
-        break;
-    case SDL_MOUSEBUTTONUP:
-        if (e->button.button == v->drag_button) {
-            v->drag_button = 0;
-            v->last_input = now;
-        }
-        break;
-    case SDL_MOUSEMOTION: {
-        if (!v->drag_button || (e->motion.xrel == 0 && e->motion.yrel == 0))
-            break;
-        int ow, oh;
-        SDL_GetWindowSize(v->window, &ow, &oh);
-        if (oh < 1)
-            oh = 1;
-        if (v->drag_button == SDL_BUTTON_LEFT)
-            view_camera_orbit(&v->camera, -ORBIT_DEG_PER_PIXEL * (float)e->motion.xrel,
-                              ORBIT_DEG_PER_PIXEL * (float)e->motion.yrel);
-        else
-            view_camera_pan(&v->camera, (float)e->motion.xrel / (float)oh, (float)e->motion.yrel / (float)oh);
-        v->last_input = now;
-        restart_view(v);
-        break;
-    }
-    case SDL_MOUSEWHEEL: {
-        int clicks = e->wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e->wheel.y : e->wheel.y;
-        if (clicks) {
-            view_camera_zoom(&v->camera, powf(ZOOM_STEP, (float)clicks));
-            v->last_input = now;
-            restart_view(v);
-        }
-        break;
-    }
-    case SDL_DROPFILE:
-        if (e->drop.file) {
-            handle_drop(v, e->drop.file);
-            SDL_free(e->drop.file);
-        }
-        break;
-    default:
-        break;
-    }
 }
 
 /* ------------------------------------------------------------------ the script */
@@ -936,14 +623,37 @@ static void script_step(viewer *v, double now)
                     return;
                 s->waiting = false;
                 v->last_input = now;
-                restart_view(v);
+                view_restart_camera(v);
             }
             break;
         case VIEW_CMD_SCREENSHOT:
             if (pushed)
                 return;
-            if (!screenshot(v, c->text, &err)) {
+            if (!view_screenshot(v, c->text, &err)) {
                 fprintf(stderr, "softlight view: script line %d: screenshot: %s\n", c->line, err.msg);
+                v->exit_status = 2;
+            }
+            break;
+        case VIEW_CMD_ACCUMULATED:
+            /* Runs in the first turn after the K-th accumulation frame, before the next begins. */
+            if (pushed)
+                return;
+            if (c->args[0] > acc_target(v) || v->acc_count > c->args[0]) {
+                fprintf(stderr,
+                        "softlight view: script line %d: accumulated %d: this view accumulates %d frames "
+                        "and holds %d\n",
+                        c->line, c->args[0], acc_target(v), v->acc_count);
+                v->exit_status = 2;
+                break;
+            }
+            if (v->acc_count < c->args[0])
+                return;
+            break;
+        case VIEW_CMD_SNAPSHOT:
+            if (pushed)
+                return;
+            if (!snapshot(v, c->text, &err)) {
+                fprintf(stderr, "softlight view: script line %d: %s\n", c->line, err.msg);
                 v->exit_status = 2;
             }
             break;
@@ -968,12 +678,26 @@ static void script_step(viewer *v, double now)
 
 /* ------------------------------------------------------------------ the loop */
 
+/* The moving stage's divisor follows the cost of a whole moving frame (raster, lighting, tone
+ * map, present), smoothed over frames so that one slow frame on a loaded machine does not halve
+ * the resolution: above TARGET_FRAME_MS by a quarter the divisor doubles; it halves when four
+ * times the cost (the pixels of half the divisor) would still be well inside the target. */
 static void adapt_preview(viewer *v, double frame_ms)
 {
-    if (frame_ms > TARGET_PREVIEW_MS * 1.5 && v->preview_div < MAX_PREVIEW_DIV)
+    if (v->preview_ms <= 0.0) {
+        v->preview_ms = frame_ms; /* the first frame also sets up buffers: only a starting point */
+        return;
+    }
+    v->preview_ms = 0.7 * v->preview_ms + 0.3 * frame_ms;
+    if (v->fixed_div)
+        return;
+    if (v->preview_ms > TARGET_FRAME_MS * 1.25 && v->preview_div < VIEW_MAX_PREVIEW_DIV) {
         v->preview_div *= 2;
-    else if (frame_ms < TARGET_PREVIEW_MS / 4.0 && v->preview_div > 1)
+        v->preview_ms /= 4.0;
+    } else if (v->preview_ms * 4.0 < TARGET_FRAME_MS * 0.75 && v->preview_div > 1) {
         v->preview_div /= 2;
+        v->preview_ms *= 4.0;
+    }
 }
 
 static bool want_stage(const viewer *v, double now)
@@ -984,18 +708,104 @@ static bool want_stage(const viewer *v, double now)
 
 static void render_failed(viewer *v, const sl_error *err)
 {
-    message(v, true, "render: %s", err->msg);
+    view_message(v, true, "render: %s", err->msg);
     v->job_active = false;
     v->stage = STAGE_COUNT; /* nothing to gain from retrying the same failure */
     v->urgent = false;
 }
 
+/* ---- --benchmark: the moving stage under a steady drag, timed from present to present */
+
+static bool bench_init(view_bench *b, int frames, sl_error *err)
+{
+    *b = (view_bench){0};
+    double **arrays[] = {&b->frame_ms, &b->raster_ms, &b->shade_ms, &b->tonemap_ms, &b->present_ms};
+    for (size_t i = 0; i < sizeof arrays / sizeof arrays[0]; i++)
+        if (!(*arrays[i] = calloc((size_t)frames, sizeof(double))))
+            return sl_fail(err, SL_ERR_MEMORY, "out of memory for %d benchmark frames", frames);
+    b->frames = frames;
+    return true;
+}
+
+static void bench_free(view_bench *b)
+{
+    free(b->frame_ms);
+    free(b->raster_ms);
+    free(b->shade_ms);
+    free(b->tonemap_ms);
+    free(b->present_ms);
+    *b = (view_bench){0};
+}
+
+static int compare_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *x, int n)
+{
+    qsort(x, (size_t)n, sizeof *x, compare_double);
+    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
+}
+
+/* Input for the next benchmark frame: what a mouse drag of BENCH_ORBIT_PIXELS does. */
+static void bench_input(viewer *v, double now)
+{
+    view_camera_orbit(&v->camera, -VIEW_ORBIT_DEG_PER_PIXEL * BENCH_ORBIT_PIXELS, 0.0f);
+    v->last_input = now;
+    view_restart_camera(v);
+}
+
+/* A moving frame was presented: record it, and report and quit after the last one. */
+static void bench_record(viewer *v, double now)
+{
+    view_bench *b = &v->bench;
+    int i = b->done - BENCH_WARMUP;
+    b->done++;
+    if (i >= 0) {
+        b->frame_ms[i] = (now - b->last_present) * 1e3;
+        b->raster_ms[i] = v->raster_ms;
+        b->shade_ms[i] = v->shade_ms;
+        b->tonemap_ms[i] = v->tonemap_ms;
+        b->present_ms[i] = v->present_ms;
+        b->div_counts[v->shown_params.div]++;
+        b->last_w = v->shown.width;
+        b->last_h = v->shown.height;
+    }
+    b->last_present = now;
+    if (i + 1 < b->frames)
+        return;
+    int n = b->frames, ow, oh;
+    output_size(v, &ow, &oh);
+    double worst = 0.0;
+    for (int k = 0; k < n; k++)
+        worst = fmax(worst, b->frame_ms[k]);
+    double med = median(b->frame_ms, n), p90 = b->frame_ms[(int)(0.9 * (n - 1))];
+    char divs[128] = "";
+    for (int d = 1; d <= VIEW_MAX_PREVIEW_DIV; d++)
+        if (b->div_counts[d]) {
+            size_t len = strlen(divs);
+            snprintf(divs + len, sizeof divs - len, "%s1/%d: %d", len ? ", " : "", d, b->div_counts[d]);
+        }
+    printf("softlight view: benchmark: %d moving frames in a %dx%d window (rendered %dx%d at the end; frames at "
+           "%s), N %d rotated: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
+           "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms\n",
+           n, ow, oh, b->last_w, b->last_h, divs, min_int(v->samples, v->move_samples), med, p90, worst, 1e3 / med,
+           median(b->raster_ms, n), median(b->shade_ms, n), median(b->tonemap_ms, n), median(b->present_ms, n));
+    fflush(stdout);
+    v->quit = true;
+}
+
 static void run(viewer *v)
 {
+    v->bench.last_present = sl_now_seconds();
     while (!v->quit) {
         double now = sl_now_seconds();
         if (v->have_script)
             script_step(v, now);
+        if (v->bench.frames > 0)
+            bench_input(v, now);
         bool message_expired = v->message_shown && now >= v->message_until;
         bool busy = v->job_active || want_stage(v, now) || v->retonemap || v->present_needed || message_expired;
         SDL_Event e;
@@ -1010,42 +820,54 @@ static void run(viewer *v)
             if (v->message_shown)
                 wake = fmin(wake, fmax(0.005, v->message_until - now));
             if (SDL_WaitEventTimeout(&e, (int)(wake * 1000.0) + 1))
-                handle_event(v, &e);
+                view_handle_event(v, &e);
         }
         while (!v->quit && SDL_PollEvent(&e))
-            handle_event(v, &e);
+            view_handle_event(v, &e);
         if (v->quit)
             break;
         now = sl_now_seconds();
         sl_error err = {0};
         if (v->job_active) {
+            int stage = v->job_stage;
             if (!stage_continue(v, SLICE_SECONDS, &err))
                 render_failed(v, &err);
             else if (!v->job_active)
-                v->stage = next_stage(v, v->job_stage);
-            present(v);
+                v->stage = stage_after(v, stage);
+            /* Between slices that changed nothing on screen, the HUD's progress needs no more
+             * than a present every PRESENT_IDLE_SECONDS (a present costs milliseconds). */
+            if (v->texture_stale || v->present_needed || !v->job_active ||
+                sl_now_seconds() - v->last_present >= PRESENT_IDLE_SECONDS)
+                present(v);
         } else if (want_stage(v, now)) {
             int stage = v->stage;
             double t0 = sl_now_seconds();
             v->urgent = false;
-            /* The preview is small by design and always finishes; later stages are sliced. */
-            bool ok = stage == 0 ? render_stage(v, stage, &err) : stage_begin(v, stage, &err);
+            /* A moving frame is small by design and always finishes; later stages are sliced. */
+            bool ok = stage == STAGE_MOVING ? render_stage(v, stage, &err) : stage_begin(v, stage, &err);
             if (!ok)
                 render_failed(v, &err);
             else if (!v->job_active)
-                v->stage = next_stage(v, stage);
-            if (ok && stage == 0)
-                adapt_preview(v, (sl_now_seconds() - t0) * 1e3);
+                v->stage = stage_after(v, stage);
             present(v);
+            if (ok && stage == STAGE_MOVING) {
+                double t1 = sl_now_seconds();
+                v->move_frame++;
+                adapt_preview(v, (t1 - t0) * 1e3);
+                if (v->bench.frames > 0)
+                    bench_record(v, t1);
+            }
         } else if (v->retonemap && !v->job_active) {
             v->retonemap = false;
-            if (v->mode == VIEW_FINAL && v->radiance_stage >= 0) {
+            if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_RADIANCE) {
                 if (sl_renderer_tonemap(&v->r, &err) && view_image_copy(&v->shown, &v->r.display, &err)) {
                     v->tonemap_ms = v->r.timings.tonemap_ms;
                     v->texture_stale = true;
                 } else {
-                    message(v, true, "tone map: %s", err.msg);
+                    view_message(v, true, "tone map: %s", err.msg);
                 }
+            } else if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_MEAN && !tonemap_shown(v, &v->mean, &err)) {
+                view_message(v, true, "tone map: %s", err.msg);
             }
             present(v);
         } else if (v->present_needed || (v->message_shown && now >= v->message_until)) {
@@ -1101,6 +923,9 @@ static void viewer_free(viewer *v)
         free(v->scene);
     }
     sl_image_free(&v->shown);
+    sl_image_free(&v->acc_frame);
+    sl_image_free(&v->mean);
+    bench_free(&v->bench);
     if (v->texture)
         SDL_DestroyTexture(v->texture);
     if (v->sdl)
@@ -1112,11 +937,12 @@ static void viewer_free(viewer *v)
 int cmd_view(int argc, char **argv)
 {
     sl_render_options opts;
-    sl_arg table[SL_RENDER_OPTION_COUNT + 5];
+    sl_arg table[SL_RENDER_OPTION_COUNT + VIEW_OPTION_COUNT];
     sl_render_options_table(&opts, table);
     float scale = 1.0f;
     const char *script_path = NULL, *font_path = DEFAULT_FONT;
-    int frames = 0;
+    int frames = 0, move_samples = MOVE_SAMPLES, move_div = 0, bench_frames = 0;
+    int acc_lod = 0; /* index in "total|frame" */
     bool no_hud = false;
     const sl_arg extra[] = {
         {"--scale", NULL, SL_ARG_FLOAT, &scale, 0.05, 1.0, NULL, "S", "render at S times the window size (default 1)",
@@ -1126,7 +952,16 @@ int cmd_view(int argc, char **argv)
         {"--frames", NULL, SL_ARG_INT, &frames, 1, 1000000, NULL, "N", "quit after N frames", NULL},
         {"--font", NULL, SL_ARG_STRING, &font_path, 0, 0, NULL, "TTF", "HUD font (default DejaVu Sans Mono)", NULL},
         {"--no-hud", NULL, SL_ARG_FLAG, &no_hud, 0, 0, NULL, NULL, "start with the heads-up display hidden", NULL},
+        {"--move-samples", NULL, SL_ARG_INT, &move_samples, 1, SL_HAMMERSLEY_MAX, NULL, "N",
+         "samples N while the camera moves (default 8, rotated per frame)", NULL},
+        {"--move-div", NULL, SL_ARG_INT, &move_div, 1, VIEW_MAX_PREVIEW_DIV, NULL, "D",
+         "while moving, render at 1/D of the window per axis (default: adapts, starting at 2)", NULL},
+        {"--benchmark", NULL, SL_ARG_INT, &bench_frames, 1, 100000, NULL, "FRAMES",
+         "orbit for FRAMES moving frames, print the frame times and quit", NULL},
+        {"--accumulate-lod", NULL, SL_ARG_CHOICE, &acc_lod, 0, 0, "total|frame", NULL,
+         "mip levels of accumulation frames: as for the total N (default) or for the frame's own N", NULL},
     };
+    _Static_assert(sizeof extra / sizeof extra[0] == VIEW_OPTION_COUNT, "VIEW_OPTION_COUNT is the size of extra[]");
     memcpy(table + SL_RENDER_OPTION_COUNT, extra, sizeof extra);
     const int count = SL_RENDER_OPTION_COUNT + (int)(sizeof extra / sizeof extra[0]);
     const char *usage = "softlight view scene.json [options]   (--size: the window's size)";
@@ -1157,8 +992,10 @@ int cmd_view(int argc, char **argv)
     v.scale = scale;
     v.max_frames = frames;
     v.show_hud = !no_hud;
-    v.preview_div = 2;
-    v.radiance_stage = -1;
+    v.acc_total_lod = acc_lod == 0;
+    v.move_samples = move_samples;
+    v.fixed_div = move_div;
+    v.preview_div = move_div ? move_div : 2;
     v.shown_stage = -1;
     if (script_path) {
         if (!view_script_load(script_path, &v.script, &err)) {
@@ -1166,6 +1003,12 @@ int cmd_view(int argc, char **argv)
             return 2;
         }
         v.have_script = true;
+    }
+    if (bench_frames > 0 && !bench_init(&v.bench, bench_frames, &err)) {
+        fprintf(stderr, "softlight view: %s\n", err.msg);
+        view_script_free(&v.script);
+        bench_free(&v.bench);
+        return 2;
     }
 
     char why[256];
@@ -1175,6 +1018,7 @@ int cmd_view(int argc, char **argv)
             snprintf(why, sizeof why, "SDL: %s", SDL_GetError());
         fprintf(stderr, "softlight view: no display (%s); use softlight render %s -o out.png\n", why, scene_path[0]);
         view_script_free(&v.script);
+        bench_free(&v.bench);
         return 2;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
@@ -1215,9 +1059,9 @@ int cmd_view(int argc, char **argv)
         free(scene);
         goto done;
     }
-    adopt_scene(&v, scene, &r);
+    view_adopt_scene(&v, scene, &r);
     if (r.env_repairs.nan_count || r.env_repairs.inf_count || r.env_repairs.negative_count)
-        message(&v, true, "%s: %ld NaN, %ld Inf, %ld negative texels read as 0", scene->environment.hdr_path,
+        view_message(&v, true, "%s: %ld NaN, %ld Inf, %ld negative texels read as 0", scene->environment.hdr_path,
                 r.env_repairs.nan_count, r.env_repairs.inf_count, r.env_repairs.negative_count);
 
     v.hud = view_hud_create(font_path, FONT_POINTS, &err);

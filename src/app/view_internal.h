@@ -1,10 +1,14 @@
 /* view_internal.h - the parts of `softlight view` shared between its files (not a public API;
  * only src/app/cmd_view.c and src/app/view_*.c include it):
+ *   cmd_view.c     the loop, the refinement (moving, accumulate, exact), presenting, screenshots
+ *   view_input.c   keys, mouse, window events and drops -> changes of the viewer's state
  *   view_camera.c  the orbit camera (Z-up world, orbit about +Z around the target)
  *   view_image.c   what the window shows: the tone-mapped frame, G-buffer channels, mip levels
+ *   view_shade.c   the lighting pass in row slices (sl_lighting_shade_row)
  *   view_script.c  scripted input (--script) turned into ordinary SDL events
  *   view_hud.c     text: the heads-up display and the help overlay (SDL2_ttf)
- * The camera and image parts need no SDL; the others only exist when SL_HAVE_SDL2 is set. */
+ * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
+ * (the viewer state below names SDL's types only through pointers). */
 #ifndef SL_VIEW_INTERNAL_H
 #define SL_VIEW_INTERNAL_H
 
@@ -76,21 +80,25 @@ bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
 
 /* ---- view_shade.c ----
  * The lighting pass in slices of image rows, top first, so the viewer can handle input between
- * slices and show the rows already done. Every pixel goes through sl_lighting_shade exactly as
- * in sl_lighting_pass, so the finished image is bit for bit the one `softlight render` makes. */
+ * slices and show the rows already done. Rows go through sl_lighting_shade_row (the batched path
+ * sl_lighting_pass runs), so the finished image is bit for bit the one `softlight render` makes. */
 typedef struct {
     sl_lighting_task **tasks; /* one per thread, kept between jobs */
     int thread_count;
+    vec3 *rows;               /* thread_count rows of row_capacity pixels: shade_row's output */
+    int row_capacity;
     int next_row;             /* next image row (row 0 = top) */
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
 } view_shade_job;
 
-/* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default). */
-bool view_shade_begin(view_shade_job *job, int threads, sl_error *err);
-/* Shade rows until about `budget_s` seconds have passed (at least one row). `first_row` gets the
- * first row done by this call. True when every row of `out` is done. */
+/* Start a job for freshly prepared uniforms and a G-buffer `width` pixels wide (threads <= 0:
+ * OpenMP's default). `same_cost`: the last job's rows cost the same (the next frame of an
+ * accumulation), so its measured row cost sizes the first slice; else it is measured again. */
+bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cost, sl_error *err);
+/* Shade rows until about `budget_s` seconds have passed (at least two rows a thread). `first_row`
+ * gets the first row done by this call. True when every row of `out` is done. */
 bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
                       double budget_s, int *first_row);
 void view_shade_free(view_shade_job *job);
@@ -109,6 +117,8 @@ typedef enum {
     VIEW_CMD_DROP,       /* drop PATH: a file dropped on the window */
     VIEW_CMD_SCREENSHOT, /* screenshot [NAME]: NAME.png + NAME.hdr, else softlight-<n> */
     VIEW_CMD_QUIT,       /* quit: as closing the window */
+    VIEW_CMD_ACCUMULATED, /* accumulated K: wait until the still camera's mean holds K frames */
+    VIEW_CMD_SNAPSHOT,   /* snapshot NAME: NAME.png + NAME.pfm of what is on screen now */
 } view_cmd_kind;
 
 typedef struct {
@@ -151,5 +161,128 @@ void view_hud_destroy(view_hud *hud);
 struct SDL_Renderer;
 int view_hud_draw(view_hud *hud, struct SDL_Renderer *sdl, int slot_base, const char *const *lines, int count, int x,
                   int y, bool centre);
+
+/* ---- cmd_view.c and view_input.c: the viewer's state ----
+ * cmd_view.c owns the loop, the refinement, presenting, screenshots and setup; view_input.c turns
+ * keys, mouse, window events and drops into changes of this state (camera, options, scene) and
+ * restarts the refinement through view_restart_camera / view_restart_lighting. */
+#define VIEW_MAX_PREVIEW_DIV 8
+#define VIEW_ORBIT_DEG_PER_PIXEL 0.4f /* a left drag turns the camera this much a pixel */
+
+typedef struct {
+    int div;         /* the render size is the window's (times --scale) divided by this */
+    int samples;     /* N */
+    bool rotate;     /* per-pixel rotation of the sample set (uRotate) */
+    uint32_t frame;  /* its frame number (uFrame) */
+} view_stage_params;
+
+/* What the linear image behind `shown` is (for exposure changes and snapshots). */
+typedef enum { VIEW_SHOWN_NONE, VIEW_SHOWN_RADIANCE, VIEW_SHOWN_MEAN } view_shown_source;
+
+/* Navigation keys, tracked from events so a held key keeps the preview going (SDL's own keyboard
+ * state does not see scripted events). */
+enum {
+    VIEW_NAV_LEFT, VIEW_NAV_RIGHT, VIEW_NAV_UP, VIEW_NAV_DOWN, VIEW_NAV_W, VIEW_NAV_A, VIEW_NAV_S, VIEW_NAV_D,
+    VIEW_NAV_IN, VIEW_NAV_OUT, VIEW_NAV_COUNT
+};
+
+/* --benchmark: per-frame times of the moving stage, from one present to the next. */
+typedef struct {
+    int frames;        /* to measure (0: no benchmark) */
+    int done;          /* presented so far, warm-up included */
+    double last_present;
+    double *frame_ms, *raster_ms, *shade_ms, *tonemap_ms, *present_ms;
+    int div_counts[VIEW_MAX_PREVIEW_DIV + 1];
+    int last_w, last_h;
+} view_bench;
+
+typedef struct {
+    /* window */
+    struct SDL_Window *window;
+    struct SDL_Renderer *sdl;
+    struct SDL_Texture *texture;
+    int texture_w, texture_h;
+    bool texture_stale; /* `shown` changed since the last upload */
+    view_hud *hud;      /* NULL: no font, no text */
+    bool show_hud, show_help;
+
+    /* what is rendered */
+    sl_scene *scene;
+    sl_renderer r;
+    sl_render_desc cli_desc; /* the command line's settings, for scenes dropped later */
+    vec3 bounds_lo, bounds_hi;
+    view_camera camera;
+    view_mode mode;
+    int samples;     /* the user's N; stages may use fewer */
+    bool rotate;     /* the user's rotation and frame number (--rotate, --frame): the exact stage's */
+    uint32_t frame;
+    int move_samples; /* N while moving (--move-samples) */
+    bool acc_total_lod; /* accumulation frames filter as for the user's N (--accumulate-lod total) */
+    int fixed_div;   /* --move-div; 0: adaptive */
+    float scale;     /* --scale */
+    bool irradiance_stale; /* the environment changed while the diffuse term was off */
+    bool env_replaced;     /* a dropped .hdr replaced the scene's environment (its map no longer fits) */
+
+    /* refinement */
+    int stage;       /* next stage to render; STAGE_COUNT: done */
+    bool urgent;     /* something changed: render `stage` now, even during input */
+    bool retonemap;  /* exposure/contrast changed: tone map and present only */
+    int preview_div;
+    double preview_ms; /* smoothed cost of a moving frame, present included */
+    uint32_t move_frame; /* frame number of the next moving frame's rotation */
+    int acc_count;   /* accumulation frames in `mean` */
+    sl_image acc_frame; /* the accumulation frame being lit */
+    sl_image mean;   /* their running mean */
+    double acc_ms;   /* time spent on the accumulation so far */
+    bool raster_valid; /* the G-buffer holds the current camera at its current size */
+    view_shade_job shade; /* the lighting pass of the stage in progress */
+    bool job_active;   /* a stage's lighting pass is under way */
+    int job_stage;
+    view_stage_params job_params;
+    bool radiance_exact; /* r.radiance is the exact frame of the current state */
+    view_stage_params shown_params;
+    int shown_stage;
+    view_shown_source shown_from;
+    sl_image shown;  /* what the window shows, [0,1], row 0 = top */
+    float mip_max_seen;
+    double raster_ms, shade_ms, tonemap_ms, present_ms;
+    double last_present;
+    bool present_needed;
+
+    /* input */
+    double last_input;
+    int drag_button;
+    bool held[VIEW_NAV_COUNT];
+
+    /* messages, script, counters */
+    char message[256];
+    double message_until;
+    bool message_shown;
+    view_script script;
+    bool have_script;
+    view_bench bench;
+    long frames, max_frames;
+    int shot_counter;
+    int exit_status;
+    bool quit;
+} viewer;
+
+/* cmd_view.c */
+/* One line in the HUD for a few seconds; errors also go to stderr (the window may be hidden). */
+void view_message(viewer *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* The camera, the scene or the window size changed: start again from the moving stage. */
+void view_restart_camera(viewer *v);
+/* Lighting settings or the view mode changed: the G-buffer stays, the accumulation restarts. */
+void view_restart_lighting(viewer *v);
+/* The exact frame of the current view as <name>.png and <name>.hdr (softlight-<n> when name is
+ * NULL or empty); the refinement is completed first. */
+bool view_screenshot(viewer *v, const char *name, sl_error *err);
+const char *view_irradiance_name(sl_irradiance_method m); /* "sh9", "brute", "map" */
+
+/* view_input.c */
+/* Take over a loaded scene and its renderer (the old ones are freed) and reset the camera. */
+void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r);
+union SDL_Event;
+void view_handle_event(viewer *v, union SDL_Event *e);
 
 #endif

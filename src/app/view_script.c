@@ -40,6 +40,7 @@ static const struct {
     {"move", VIEW_CMD_MOVE},       {"wheel", VIEW_CMD_WHEEL},     {"key", VIEW_CMD_KEY},
     {"keydown", VIEW_CMD_KEYDOWN}, {"keyup", VIEW_CMD_KEYUP},     {"resize", VIEW_CMD_RESIZE},
     {"drop", VIEW_CMD_DROP},       {"screenshot", VIEW_CMD_SCREENSHOT}, {"quit", VIEW_CMD_QUIT},
+    {"accumulated", VIEW_CMD_ACCUMULATED}, {"snapshot", VIEW_CMD_SNAPSHOT},
 };
 
 static bool parse_int(const char *s, long min, long max, int *out)
@@ -185,6 +186,15 @@ static bool parse_line(char *line, const char *path, int lineno, view_cmd *cmd, 
         memcpy(cmd->text, rest_copy, sizeof rest_copy);
         return true;
     case VIEW_CMD_SCREENSHOT:
+        memcpy(cmd->text, rest_copy, sizeof rest_copy);
+        return true;
+    case VIEW_CMD_ACCUMULATED:
+        if (argc != 1 || !parse_int(argv[0], 1, 1000, &cmd->args[0]))
+            return sl_fail(err, SL_ERR_FORMAT, "%s:%d: expected 'accumulated K' with K in 1..1000", path, lineno);
+        return true;
+    case VIEW_CMD_SNAPSHOT:
+        if (!rest_copy[0])
+            return sl_fail(err, SL_ERR_FORMAT, "%s:%d: expected 'snapshot NAME'", path, lineno);
         memcpy(cmd->text, rest_copy, sizeof rest_copy);
         return true;
     }

@@ -1,11 +1,14 @@
 /* view_shade.c - the viewer's lighting pass, in slices (see view_internal.h).
  *
- * Why not sl_lighting_pass: a full-size frame at the scene's N takes seconds on a small machine,
- * and one call would freeze the window for that long. Slicing by rows keeps each call near a
- * time budget; the loop handles input in between and shows the rows already refined. Inside a
- * slice the rows are shared between threads (OpenMP, dynamic schedule) as the library's pass
- * shares tiles; each pixel depends only on its texel and the read-only uniforms, so the result
- * is identical for any thread count and slicing. */
+ * Why not sl_lighting_pass: a full-size frame at the scene's N takes a good part of a second on
+ * a small machine, and one call would freeze the window for that long. Slicing by rows keeps
+ * each call near a time budget; the loop handles input in between and shows the rows already
+ * refined. Each row goes through sl_lighting_shade_row, the pass's own unit of work (same bits;
+ * it vectorizes the per-pixel part over the row: 1.1-1.4x faster than a call of
+ * sl_lighting_shade per pixel, docs/performance.md "Viewer"). Inside a slice the
+ * rows are shared between threads (OpenMP, dynamic schedule) as the library's pass shares tiles;
+ * each pixel depends only on its texel and the read-only uniforms, so the result is identical
+ * for any thread count and slicing. */
 #include "view_internal.h"
 
 #include <omp.h>
@@ -13,7 +16,7 @@
 
 #include "core/timer.h"
 
-bool view_shade_begin(view_shade_job *job, int threads, sl_error *err)
+bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cost, sl_error *err)
 {
     int n = threads > 0 ? threads : omp_get_max_threads();
     if (job->tasks && job->thread_count != n)
@@ -29,13 +32,23 @@ bool view_shade_begin(view_shade_job *job, int threads, sl_error *err)
                 return false;
             }
     }
+    if (width > job->row_capacity) {
+        /* One row of radiance per thread: shade_row writes vec3s, the image holds floats. */
+        vec3 *rows = realloc(job->rows, (size_t)n * (size_t)width * sizeof *rows);
+        if (!rows)
+            return sl_fail(err, SL_ERR_MEMORY, "view: out of memory for %d rows of %d pixels", n, width);
+        job->rows = rows;
+        job->row_capacity = width;
+    }
     /* The uniforms were re-initialised in place: cached sample tables are stale. */
     for (int i = 0; i < n; i++)
         sl_lighting_task_reset(job->tasks[i]);
     job->next_row = 0;
     job->seconds = 0.0;
-    job->row_seconds = 0.0; /* N and the size may differ from the last job: measure again */
-    job->last_rows = 1;
+    if (!same_cost) {
+        job->row_seconds = 0.0; /* N and the size may differ from the last job: measure again */
+        job->last_rows = 0;
+    }
     return true;
 }
 
@@ -47,29 +60,31 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     /* Rows differ a lot in cost (sky rows are cheap, glossy ones are not): the slice grows at
      * most twofold from one call to the next, so a run of cheap rows cannot promise a long
      * expensive slice. */
-    int rows = 1;
+    const int least = 2 * job->thread_count; /* fewer rows would leave threads idle */
+    int rows = least;
     if (job->row_seconds > 0.0) {
         double fit = budget_s / job->row_seconds;
         rows = fit < 2.0 * job->last_rows ? (int)fit : 2 * job->last_rows;
     }
-    if (rows < 1)
-        rows = 1;
+    if (rows < least)
+        rows = least;
     if (rows > height - y0)
         rows = height - y0;
     const int y1 = y0 + rows;
     double t0 = sl_now_seconds();
 #pragma omp parallel num_threads(job->thread_count)
     {
-        sl_lighting_task *task = job->tasks[omp_get_thread_num()];
+        int t = omp_get_thread_num();
+        sl_lighting_task *task = job->tasks[t];
+        vec3 *c = job->rows + (size_t)t * (size_t)job->row_capacity;
 #pragma omp for schedule(dynamic)
         for (int y = y0; y < y1; y++) {
             float *row = sl_image_pixel(out, 0, y);
-            int y_gb = height - 1 - y; /* the G-buffer's row 0 is the bottom */
+            sl_lighting_shade_row(u, gb, 0, height - 1 - y, width, task, c); /* G-buffer row 0 = bottom */
             for (int x = 0; x < width; x++) {
-                vec3 c = sl_lighting_shade(u, gb, x, y_gb, task, NULL);
-                row[3 * x + 0] = c.x;
-                row[3 * x + 1] = c.y;
-                row[3 * x + 2] = c.z;
+                row[3 * x + 0] = c[x].x;
+                row[3 * x + 1] = c[x].y;
+                row[3 * x + 2] = c[x].z;
             }
         }
     }
@@ -88,6 +103,9 @@ void view_shade_free(view_shade_job *job)
     for (int i = 0; job->tasks && i < job->thread_count; i++)
         sl_lighting_task_destroy(job->tasks[i]);
     free(job->tasks);
+    free(job->rows);
     job->tasks = NULL;
+    job->rows = NULL;
+    job->row_capacity = 0;
     job->thread_count = 0;
 }

@@ -1,0 +1,402 @@
+/* view_input.c - what the viewer's input does: keys, mouse, window events and dropped files turn
+ * into changes of the viewer's state (camera, lighting options, view, scene, environment), each
+ * followed by the restart of the refinement it needs (view_internal.h). cmd_view.c runs the loop
+ * that calls view_handle_event for every SDL event, real or pushed by a --script. */
+#if SL_HAVE_SDL2
+#include <SDL.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+#include "core/timer.h"
+#include "view_internal.h"
+
+#define ORBIT_KEY_DEG 5.0f
+#define PAN_KEY_FRACTION 0.05f
+#define ZOOM_STEP 0.9f
+#define ENV_ROTATION_STEP 15.0f
+#define EXPOSURE_STEP 1.189207115f /* 2^(1/4): a quarter stop */
+#define CONTRAST_STEP 0.1f
+
+/* ------------------------------------------------------------------ scenes and drops */
+
+static bool has_suffix(const char *s, const char *suffix)
+{
+    size_t n = strlen(s), k = strlen(suffix);
+    return n >= k && !strcasecmp(s + n - k, suffix);
+}
+
+/* Take over a loaded scene and its renderer (the old ones are freed). */
+void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
+{
+    if (v->scene) {
+        sl_renderer_free(&v->r);
+        sl_scene_free(v->scene);
+        free(v->scene);
+    }
+    v->scene = scene;
+    v->r = *r;
+    v->samples = v->r.desc.lighting.samples;
+    v->rotate = v->r.desc.lighting.rotate;
+    v->frame = v->r.desc.lighting.frame;
+    if (!sl_scene_bounds(scene, &v->bounds_lo, &v->bounds_hi)) {
+        v->bounds_lo = vec3s(-1.0f);
+        v->bounds_hi = vec3s(1.0f);
+    }
+    view_camera_init(&v->camera, &scene->camera);
+    v->irradiance_stale = false;
+    v->env_replaced = false;
+    char title[SL_PATH_MAX + 32];
+    snprintf(title, sizeof title, "softlight view - %s", scene->path);
+    if (v->window)
+        SDL_SetWindowTitle(v->window, title);
+    view_restart_camera(v);
+}
+
+/* Load a scene and build its renderer at the current size; on failure nothing changes. */
+static bool load_scene(viewer *v, const char *path, int width, int height, sl_error *err)
+{
+    sl_scene *scene = calloc(1, sizeof *scene);
+    if (!scene)
+        return sl_fail(err, SL_ERR_MEMORY, "out of memory for a scene");
+    if (!sl_scene_load(path, scene, err)) {
+        free(scene);
+        return false;
+    }
+    sl_render_desc desc = v->cli_desc;
+    desc.width = width;
+    desc.height = height;
+    sl_renderer r;
+    if (!sl_renderer_init(&r, scene, &desc, err)) {
+        sl_scene_free(scene);
+        free(scene);
+        return false;
+    }
+    view_adopt_scene(v, scene, &r);
+    return true;
+}
+
+static void handle_drop(viewer *v, const char *path)
+{
+    sl_error err = {0};
+    if (has_suffix(path, ".hdr")) {
+        if (!sl_renderer_set_environment(&v->r, path, &err)) {
+            view_message(v, true, "%s (the environment stays)", err.msg);
+            return;
+        }
+        /* The renderer rebuilds the irradiance only while the diffuse term is on. */
+        v->irradiance_stale = v->r.desc.lighting.no_diffuse;
+        v->env_replaced = true;
+        view_message(v, false, "environment %s", path);
+        view_restart_lighting(v);
+    } else if (has_suffix(path, ".json")) {
+        if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
+            view_message(v, true, "%s (the scene stays)", err.msg);
+            return;
+        }
+        view_message(v, false, "scene %s", path);
+    } else {
+        view_message(v, true, "%s: drop an .hdr environment or a .json scene", path);
+    }
+}
+
+/* ------------------------------------------------------------------ input */
+
+static int nav_index(SDL_Keycode key)
+{
+    switch (key) {
+    case SDLK_LEFT: return VIEW_NAV_LEFT;
+    case SDLK_RIGHT: return VIEW_NAV_RIGHT;
+    case SDLK_UP: return VIEW_NAV_UP;
+    case SDLK_DOWN: return VIEW_NAV_DOWN;
+    case SDLK_w: return VIEW_NAV_W;
+    case SDLK_a: return VIEW_NAV_A;
+    case SDLK_s: return VIEW_NAV_S;
+    case SDLK_d: return VIEW_NAV_D;
+    case SDLK_EQUALS: case SDLK_PLUS: case SDLK_KP_PLUS: return VIEW_NAV_IN;
+    case SDLK_MINUS: case SDLK_KP_MINUS: return VIEW_NAV_OUT;
+    default: return -1;
+    }
+}
+
+/* One step of a navigation key (a press or an auto-repeat). */
+static void navigate(viewer *v, int nav, bool fine)
+{
+    float step = fine ? 0.2f : 1.0f;
+    switch (nav) {
+    case VIEW_NAV_LEFT: view_camera_orbit(&v->camera, -ORBIT_KEY_DEG * step, 0.0f); break;
+    case VIEW_NAV_RIGHT: view_camera_orbit(&v->camera, ORBIT_KEY_DEG * step, 0.0f); break;
+    case VIEW_NAV_UP: view_camera_orbit(&v->camera, 0.0f, ORBIT_KEY_DEG * step); break;
+    case VIEW_NAV_DOWN: view_camera_orbit(&v->camera, 0.0f, -ORBIT_KEY_DEG * step); break;
+    case VIEW_NAV_W: view_camera_pan(&v->camera, 0.0f, -PAN_KEY_FRACTION * step); break;
+    case VIEW_NAV_S: view_camera_pan(&v->camera, 0.0f, PAN_KEY_FRACTION * step); break;
+    case VIEW_NAV_A: view_camera_pan(&v->camera, -PAN_KEY_FRACTION * step, 0.0f); break;
+    case VIEW_NAV_D: view_camera_pan(&v->camera, PAN_KEY_FRACTION * step, 0.0f); break;
+    case VIEW_NAV_IN: view_camera_zoom(&v->camera, powf(ZOOM_STEP, step)); break;
+    case VIEW_NAV_OUT: view_camera_zoom(&v->camera, 1.0f / powf(ZOOM_STEP, step)); break;
+    default: return;
+    }
+    view_restart_camera(v);
+}
+
+static int power_of_two_step(int n, bool up)
+{
+    int p = 1;
+    while (p < n)
+        p *= 2;
+    if (up)
+        return p == n ? (n < SL_HAMMERSLEY_MAX ? n * 2 : n) : p;
+    return p == n ? (n > 1 ? n / 2 : 1) : p / 2;
+}
+
+static void cycle_irradiance(viewer *v)
+{
+    sl_lighting_options *l = &v->r.desc.lighting;
+    bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
+    sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_SH9     ? SL_IRRADIANCE_BRUTE
+                                : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9)
+                                                                       : SL_IRRADIANCE_SH9;
+    if (l->no_diffuse) {
+        /* Built when the diffuse term comes back on. */
+        l->irradiance = next;
+        v->irradiance_stale = true;
+        view_message(v, false, "irradiance %s (diffuse is off)", view_irradiance_name(next));
+        return;
+    }
+    sl_error err = {0};
+    if (!sl_renderer_set_irradiance(&v->r, next, &err)) {
+        view_message(v, true, "%s", err.msg);
+        return;
+    }
+    view_message(v, false, "irradiance %s (%.0f ms)", view_irradiance_name(next), v->r.timings.irradiance_ms);
+    view_restart_lighting(v);
+}
+
+static void toggle_diffuse(viewer *v)
+{
+    sl_lighting_options *l = &v->r.desc.lighting;
+    if (l->no_diffuse && (v->irradiance_stale || !v->r.have_irradiance)) {
+        sl_error err = {0};
+        sl_irradiance_method method = l->irradiance;
+        if (method == SL_IRRADIANCE_MAP && v->env_replaced)
+            method = SL_IRRADIANCE_SH9; /* the scene's map belongs to the scene's environment */
+        if (!sl_renderer_set_irradiance(&v->r, method, &err)) {
+            view_message(v, true, "%s", err.msg);
+            return;
+        }
+        v->irradiance_stale = false;
+    }
+    l->no_diffuse = !l->no_diffuse;
+    view_restart_lighting(v);
+}
+
+static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
+{
+    SDL_Keycode key = e->keysym.sym;
+    bool shift = (e->keysym.mod & KMOD_SHIFT) != 0;
+    sl_lighting_options *l = &v->r.desc.lighting;
+    sl_tonemap_options *t = &v->r.desc.tonemap;
+    int nav = nav_index(key);
+    if (nav >= 0) {
+        v->held[nav] = true;
+        navigate(v, nav, shift && nav != VIEW_NAV_IN); /* shift: fine steps ('+' is shift+= on most layouts) */
+        return;
+    }
+    switch (key) { /* adjustments: auto-repeat applies */
+    case SDLK_e:
+        t->exposure = fminf(t->exposure * EXPOSURE_STEP, 1e6f);
+        v->retonemap = true;
+        return;
+    case SDLK_q:
+        t->exposure = fmaxf(t->exposure / EXPOSURE_STEP, 1e-3f);
+        v->retonemap = true;
+        return;
+    case SDLK_c:
+        t->contrast = fminf(t->contrast + CONTRAST_STEP, 10.0f);
+        v->retonemap = true;
+        return;
+    case SDLK_x:
+        t->contrast = fmaxf(t->contrast - CONTRAST_STEP, 0.1f);
+        v->retonemap = true;
+        return;
+    case SDLK_RIGHTBRACKET:
+    case SDLK_LEFTBRACKET: {
+        float r = l->env_rotation_deg + (key == SDLK_RIGHTBRACKET ? ENV_ROTATION_STEP : -ENV_ROTATION_STEP);
+        r = fmodf(r, 360.0f);
+        if (r > 180.0f)
+            r -= 360.0f;
+        if (r <= -180.0f)
+            r += 360.0f;
+        l->env_rotation_deg = r;
+        view_restart_lighting(v);
+        return;
+    }
+    default:
+        break;
+    }
+    if (e->repeat)
+        return;
+    switch (key) { /* toggles and one-shot actions: a held key acts once */
+    case SDLK_ESCAPE:
+        if (v->show_help)
+            v->show_help = false;
+        else
+            v->quit = true;
+        break;
+    case SDLK_F1:
+    case SDLK_QUESTION:
+        v->show_help = !v->show_help;
+        break;
+    case SDLK_SLASH:
+        if (shift)
+            v->show_help = !v->show_help;
+        break;
+    case SDLK_h:
+        v->show_hud = !v->show_hud;
+        break;
+    case SDLK_r:
+        view_camera_reset(&v->camera);
+        view_restart_camera(v);
+        break;
+    case SDLK_n:
+    case SDLK_b:
+        v->samples = power_of_two_step(v->samples, key == SDLK_n);
+        view_restart_lighting(v);
+        break;
+    case SDLK_1:
+        toggle_diffuse(v);
+        break;
+    case SDLK_2:
+        l->no_specular = !l->no_specular;
+        view_restart_lighting(v);
+        break;
+    case SDLK_3:
+        l->no_point_lights = !l->no_point_lights;
+        view_restart_lighting(v);
+        break;
+    case SDLK_i:
+        cycle_irradiance(v);
+        break;
+    case SDLK_l: {
+        sl_lod_rule rule = sl_lighting_options_resolve(l).lod_rule;
+        l->lod_rule = rule >= SL_LOD_GEMS ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
+        view_restart_lighting(v);
+        break;
+    }
+    case SDLK_k: {
+        sl_estimator est = sl_lighting_options_resolve(l).estimator;
+        l->estimator = est == SL_ESTIMATOR_SPEC ? SL_ESTIMATOR_CONSISTENT : SL_ESTIMATOR_SPEC;
+        view_restart_lighting(v);
+        break;
+    }
+    case SDLK_g: {
+        sl_gterm g = sl_lighting_options_resolve(l).gterm;
+        l->gterm = g == SL_GTERM_INV_LH2 ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
+        view_restart_lighting(v);
+        break;
+    }
+    case SDLK_v:
+        v->mode = (view_mode)((v->mode + (shift ? VIEW_MODE_COUNT - 1 : 1)) % VIEW_MODE_COUNT);
+        view_restart_lighting(v);
+        break;
+    case SDLK_F12:
+    case SDLK_p: {
+        sl_error err = {0};
+        if (!view_screenshot(v, NULL, &err))
+            view_message(v, true, "screenshot: %s", err.msg);
+        break;
+    }
+    default:
+        return;
+    }
+    v->present_needed = true;
+}
+
+void view_handle_event(viewer *v, SDL_Event *e)
+{
+    double now = sl_now_seconds();
+    switch (e->type) {
+    case SDL_QUIT:
+        v->quit = true;
+        break;
+    case SDL_WINDOWEVENT:
+        switch (e->window.event) {
+        case SDL_WINDOWEVENT_SIZE_CHANGED:
+        case SDL_WINDOWEVENT_RESIZED:
+            v->last_input = now;
+            view_restart_camera(v);
+            break;
+        case SDL_WINDOWEVENT_CLOSE:
+            v->quit = true;
+            break;
+        case SDL_WINDOWEVENT_EXPOSED:
+            v->present_needed = true;
+            break;
+        default:
+            break;
+        }
+        break;
+    case SDL_KEYDOWN:
+        v->last_input = now;
+        handle_key(v, &e->key);
+        break;
+    case SDL_KEYUP: {
+        int nav = nav_index(e->key.keysym.sym);
+        if (nav >= 0)
+            v->held[nav] = false;
+        break;
+    }
+    case SDL_MOUSEBUTTONDOWN:
+        if (e->button.button == SDL_BUTTON_LEFT || e->button.button == SDL_BUTTON_RIGHT ||
+            e->button.button == SDL_BUTTON_MIDDLE) {
+            v->drag_button = e->button.button;
+            v->last_input = now;
+        }
+        break;
+    case SDL_MOUSEBUTTONUP:
+        if (e->button.button == v->drag_button) {
+            v->drag_button = 0;
+            v->last_input = now;
+        }
+        break;
+    case SDL_MOUSEMOTION: {
+        if (!v->drag_button || (e->motion.xrel == 0 && e->motion.yrel == 0))
+            break;
+        int ow, oh;
+        SDL_GetWindowSize(v->window, &ow, &oh);
+        if (oh < 1)
+            oh = 1;
+        if (v->drag_button == SDL_BUTTON_LEFT)
+            view_camera_orbit(&v->camera, -VIEW_ORBIT_DEG_PER_PIXEL * (float)e->motion.xrel,
+                              VIEW_ORBIT_DEG_PER_PIXEL * (float)e->motion.yrel);
+        else
+            view_camera_pan(&v->camera, (float)e->motion.xrel / (float)oh, (float)e->motion.yrel / (float)oh);
+        v->last_input = now;
+        view_restart_camera(v);
+        break;
+    }
+    case SDL_MOUSEWHEEL: {
+        int clicks = e->wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e->wheel.y : e->wheel.y;
+        if (clicks) {
+            view_camera_zoom(&v->camera, powf(ZOOM_STEP, (float)clicks));
+            v->last_input = now;
+            view_restart_camera(v);
+        }
+        break;
+    }
+    case SDL_DROPFILE:
+        if (e->drop.file) {
+            handle_drop(v, e->drop.file);
+            SDL_free(e->drop.file);
+        }
+        break;
+    default:
+        break;
+    }
+}
+
+#else
+typedef int view_input_unused; /* this file is only built with SDL2 */
+#endif
