@@ -13,8 +13,11 @@
  * run before and after. On a shared machine the control says how much parallelism was
  * actually available; the rasterizer's efficiency is its speed-up over the control's.
  *
+ * --plain runs the rasterizer's plain per-pixel path (sl_raster_desc.plain) instead of
+ * the span path, to compare the two.
+ *
  * usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] [--size 1920x1080]
- *                     [--slices 1000] */
+ *                     [--slices 1000] [--plain] */
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -89,11 +92,12 @@ typedef struct {
 
 /* Median frame time of drawing `scene` with `threads` and `tile`. */
 static bool run(const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, int threads, int tile, int frames,
-                result *res)
+                bool plain, result *res)
 {
     sl_error err = {0};
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile}, &err);
-    sl_raster *rs = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true}, &err);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .plain = plain}, &err);
+    sl_raster *rs = sl_raster_create(
+        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true, .plain = plain}, &err);
     if (!r || !rs) {
         fprintf(stderr, "bench_raster: %s\n", err.msg);
         return false;
@@ -138,10 +142,16 @@ int main(int argc, char **argv)
     int threads[MAX_LIST] = {1, 2}, nthreads = 2;
     int tiles[MAX_LIST] = {16, 32, 64, 128}, ntiles = 4;
     int frames = 5, width = 1920, height = 1080, slices = 1000;
-    /* options come in pairs: --name value */
+    bool plain = false;
+    /* options come in pairs: --name value, except --plain */
     for (int i = 1; i < argc; i += 2) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         bool ok = v != NULL;
+        if (!strcmp(a, "--plain")) {
+            plain = true;
+            i--;
+            continue;
+        }
         if (ok && !strcmp(a, "--threads"))
             ok = (nthreads = parse_list(v, threads)) > 0;
         else if (ok && (!strcmp(a, "--tiles") || !strcmp(a, "--tile")))
@@ -156,7 +166,7 @@ int main(int argc, char **argv)
             ok = false;
         if (!ok) {
             fprintf(stderr, "usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] "
-                            "[--size 1920x1080] [--slices 1000]\n");
+                            "[--size 1920x1080] [--slices 1000] [--plain]\n");
             return 2;
         }
     }
@@ -196,8 +206,8 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_raster: %s\n", err.msg);
         return 1;
     }
-    printf("bench_raster: %dx%d, %d frames (median), sphere %d triangles, fill 10 layers\n", width, height, frames,
-           sphere.triangle_count);
+    printf("bench_raster: %dx%d, %d frames (median), sphere %d triangles, fill 10 layers%s\n", width, height, frames,
+           sphere.triangle_count, plain ? ", plain path" : "");
     int t_first = threads[0], t_last = threads[nthreads - 1];
     double control_before = control_ms(t_first) / control_ms(t_last);
     printf("%5s %7s | %9s %9s | %9s %10s %8s\n", "tile", "threads", "tris ms", "Mtri/s", "fill ms", "Mfrag/s",
@@ -206,8 +216,8 @@ int main(int argc, char **argv)
     for (int ti = 0; ti < ntiles; ti++) {
         for (int hi = 0; hi < nthreads; hi++) {
             result a, b;
-            if (!run(&tris, &cam, &gb, threads[hi], tiles[ti], frames, &a) ||
-                !run(&fill, &cam, &gb, threads[hi], tiles[ti], frames, &b))
+            if (!run(&tris, &cam, &gb, threads[hi], tiles[ti], frames, plain, &a) ||
+                !run(&fill, &cam, &gb, threads[hi], tiles[ti], frames, plain, &b))
                 return 1;
             best_ms[0][ti][hi] = a.ms;
             best_ms[1][ti][hi] = b.ms;

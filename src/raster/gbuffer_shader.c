@@ -3,8 +3,14 @@
  *
  * The GLSL twin (shaders/gbuffer.vert, shaders/gbuffer.frag) is a translation of
  * these two functions and keeps their names: uModel, uViewProj, uNormalMatrix,
- * uKd, uKs, uAlpha; varyings vWorldPos, vNormal. */
+ * uKd, uKs, uAlpha; varyings vWorldPos, vNormal. sl_gbuffer_frag_span is the same
+ * fragment shader over a row span (the rasterizer's fast path): one vectorized loop
+ * normalizes the span's normals, a second writes the texels; it gives the texels
+ * sl_gbuffer_frag gives, bit for bit (tests/unit/test_raster_span.c). */
 #include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "raster.h"
 
@@ -41,10 +47,40 @@ void sl_gbuffer_frag(const void *uniforms, const sl_fragment_in *in, void *texel
     g->depth = in->frag_coord.z;
 }
 
+/* gbuffer.frag: main(), for the n fragments of a span. The normalisation is
+ * sl_gbuffer_frag's, operation for operation (dot, 1/sqrt, scale), written with
+ * selects instead of a branch so that it vectorizes: a zero-length normal divides
+ * by sqrt(1) and is then replaced by +Z, as in the scalar shader. */
+void sl_gbuffer_frag_span(const void *uniforms, const sl_fragment_span *span)
+{
+    const sl_gbuffer_uniforms *u = uniforms;
+    const float *px = span->varyings[0], *py = span->varyings[1], *pz = span->varyings[2];
+    const float *vx = span->varyings[3], *vy = span->varyings[4], *vz = span->varyings[5];
+    float nx[SL_SPAN_MAX], ny[SL_SPAN_MAX], nz[SL_SPAN_MAX];
+    int n = span->n;
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float d = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
+        bool ok = d > 1e-30f;
+        float inv = 1.0f / sqrtf(ok ? d : 1.0f);
+        nx[j] = ok ? vx[j] * inv : 0.0f;
+        ny[j] = ok ? vy[j] * inv : 0.0f;
+        nz[j] = ok ? vz[j] * inv : 1.0f;
+    }
+    sl_gbuffer_texel g = {.kd = u->uKd, .ks = u->uKs, .alpha = u->uAlpha};
+    for (int j = 0; j < n; j++) {
+        g.position = vec3(px[j], py[j], pz[j]);
+        g.normal = vec3(nx[j], ny[j], nz[j]);
+        g.depth = span->frag_z[j];
+        memcpy(span->row + (size_t)span->x[j] * span->texel_size, &g, sizeof g);
+    }
+}
+
 const sl_program sl_gbuffer_program = {
     .vertex = sl_gbuffer_vert,
     .fragment = sl_gbuffer_frag,
     .varying_count = SL_GBUFFER_VARYINGS,
+    .fragment_span = sl_gbuffer_frag_span,
 };
 
 void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m)
@@ -82,27 +118,48 @@ bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, 
     if (!(cam->znear > 0.0f) || !(cam->zfar > cam->znear) || !(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
         return sl_fail(err, SL_ERR_RANGE, "raster: camera near %g, far %g, fovy %g: need 0 < near < far, 0 < fovy < 180",
                        (double)cam->znear, (double)cam->zfar, (double)cam->fovy_deg);
-    sl_gbuffer_clear(gb);
-    mat4 view_proj = sl_camera_view_proj(cam, gb->width, gb->height);
-    sl_target target = sl_gbuffer_target(gb);
     for (int i = 0; i < scene->object_count; i++) {
         const sl_object *o = &scene->objects[i];
         if (o->mesh < 0 || o->mesh >= scene->mesh_count || o->material < 0 || o->material >= scene->material_count)
             return sl_fail(err, SL_ERR_RANGE, "raster: object %d (%s) names mesh %d / material %d out of range", i,
                            o->name, o->mesh, o->material);
-        sl_gbuffer_uniforms u;
-        sl_gbuffer_uniforms_init(&u, o->model, view_proj, &scene->materials[o->material]);
-        sl_draw draw = {
+    }
+    if (scene->object_count == 0) {
+        sl_gbuffer_clear(gb);
+        return true;
+    }
+    size_t n = (size_t)scene->object_count;
+    sl_gbuffer_uniforms *u = malloc(n * sizeof *u);
+    sl_draw *draws = malloc(n * sizeof *draws);
+    if (!u || !draws) {
+        free(u);
+        free(draws);
+        return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu objects", n);
+    }
+    /* The clear (every field 0, depth 1, as sl_gbuffer_clear) rides on the list's tile
+     * pass: each tile is cleared where it is drawn (tile.c). */
+    static const sl_gbuffer_texel empty = {.depth = 1.0f};
+    mat4 view_proj = sl_camera_view_proj(cam, gb->width, gb->height);
+    for (size_t i = 0; i < n; i++) {
+        const sl_object *o = &scene->objects[i];
+        sl_gbuffer_uniforms_init(&u[i], o->model, view_proj, &scene->materials[o->material]);
+        draws[i] = (sl_draw){
             .program = &sl_gbuffer_program,
-            .vs_uniforms = &u,
-            .fs_uniforms = &u,
+            .vs_uniforms = &u[i],
+            .fs_uniforms = &u[i],
             .mesh = &scene->meshes[o->mesh],
             .cull = SL_CULL_NONE,
+            .clear = i == 0 ? &empty : NULL,
         };
-        if (!sl_raster_draw(r, &target, &draw, err)) {
-            sl_error_prefix(err, "object %d (%s): ", i, o->name);
-            return false;
-        }
     }
-    return true;
+    sl_target target = sl_gbuffer_target(gb);
+    bool ok = sl_raster_draw_list(r, &target, draws, scene->object_count, err);
+    if (!ok) { /* name the object: the list's errors say "draw i" */
+        int i = 0;
+        if (sscanf(err->msg, "draw %d:", &i) == 1 && i >= 0 && i < scene->object_count)
+            sl_error_prefix(err, "object %d (%s): ", i, scene->objects[i].name);
+    }
+    free(u);
+    free(draws);
+    return ok;
 }

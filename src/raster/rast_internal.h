@@ -1,9 +1,11 @@
 /* rast_internal.h - what the pipeline files (raster.c, clip.c, setup.c, tile.c) share.
  *
- * Data flow of one draw: raster.c runs the vertex shader into rast_vpos + varyings,
- * then in batches of triangles: setup.c (clipping via clip.c, fixed-point setup,
- * binning) fills one rast_chunk per slice of the batch, in parallel; tile.c walks
- * every tile's bins, chunk by chunk in submission order, in parallel over tiles.
+ * Data flow of one draw list (one or more draws into one target): raster.c runs the
+ * vertex shader of every draw into rast_vpos + varyings, then in batches of triangles
+ * (of all draws, in order): setup.c (clipping via clip.c, fixed-point setup, binning)
+ * fills one rast_chunk per slice of the batch, in parallel; tile.c walks every tile's
+ * bins, chunk by chunk in submission order, in parallel over tiles. Each set-up
+ * triangle remembers its draw (rast_call), whose program shades it.
  *
  * Fixed-point bit budget (8 sub-pixel bits, DESIGN.md):
  *   Window coordinates are kept inside the guard band |x|,|y| < RAST_GUARD_PX = 16000
@@ -33,6 +35,7 @@
 #define RAST_W_EPSILON 1e-6f           /* clip plane w >= eps: keeps the divide finite for any projection */
 #define RAST_CLIP_MAX 16               /* 3 vertices + one per clip plane, rounded up */
 #define RAST_BIN_FULL 0x80000000u      /* bin item flag: the triangle covers the whole tile */
+#define RAST_MAX_CALLS 65536           /* draws binned together (rast_tri.call is 16 bits: keeps it 136 bytes) */
 
 /* Clip planes (bit = vertex outside). RAST_BAD marks a non-finite vertex. */
 enum {
@@ -80,6 +83,7 @@ typedef struct {
     float iw[3];                    /* 1/w plane */
     float iw_lo, iw_hi;             /* range of 1/w over the vertices: interpolation stays inside */
     uint32_t vary;                  /* offset of varying_count planes (3 floats each, of v/w) in the chunk pool */
+    uint16_t call;                  /* index of its draw in rast_draw.calls (< RAST_MAX_CALLS) */
     bool front;
 } rast_tri;
 
@@ -102,25 +106,52 @@ typedef struct {
     bool oom;
 } rast_chunk;
 
+/* One row span of the tile stage (tile.c), structure of arrays: the columns that pass,
+ * their depth, 1/w, w and varyings, as the span fragment shader reads them; and the
+ * coverage and depth-test flags of the row before packing. */
+typedef struct {
+    _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) float z[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) float iw[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) float w[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) int32_t x[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
+} rast_span;
+
 /* Per-thread scratch for the tile stage. */
 typedef struct {
     _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
+    rast_span *span;                        /* NULL for a plain context */
     sl_raster_stats stats;
 } rast_task;
 
-/* Everything one draw call needs, read-only inside the parallel regions. */
+/* One draw of a list: its program, uniforms and mesh, and where its vertex stage
+ * output lives. Its triangles are [first_tri, first_tri + triangle_count) of the list. */
 typedef struct {
-    const sl_target *target;
     const sl_program *program;
     const void *vs_uniforms, *fs_uniforms;
     const sl_mesh *mesh;
     sl_cull_mode cull;
     int nvary;
+    long long first_tri;
+    const rast_vpos *vpos; /* vertex_count */
+    const float *vvary;    /* vertex_count * nvary */
+} rast_call;
+
+/* Everything one draw list needs, read-only inside the parallel regions. */
+typedef struct {
+    const sl_target *target;
+    const rast_call *calls;
+    int call_count;
+    long long tri_count; /* all draws */
     float gx, gy;        /* guard band in NDC */
     int tile_size, tile_shift, tiles_x, tiles_y;
-    const rast_vpos *vpos;
-    const float *vvary;  /* vertex_count * nvary */
     bool stats;
+    bool spans;          /* the span path (tile.c); false: per pixel */
+    /* sl_draw.clear, during the first batch only: the clear texel repeated over a tile
+     * row (tile_size texels), and its depth */
+    const char *clear_row;
+    float clear_depth;
 } rast_draw;
 
 struct sl_raster {
@@ -131,9 +162,14 @@ struct sl_raster {
     rast_vpos *vpos;
     float *vvary;
     size_t vertex_cap, vvary_cap; /* vertices, floats */
+    rast_call *calls;
+    int call_cap;
     rast_chunk *chunks;
     int chunk_count;
     rast_task *tasks; /* one per thread */
+    bool plain;
+    char *clear_row;  /* tile_size texels of the clear value */
+    size_t clear_row_cap;
 };
 
 /* clip.c */
@@ -144,21 +180,22 @@ int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float
 
 /* Clip -> window: the one place the viewport transform is written, so a vertex shared by
  * two triangles lands on the same fixed-point position whichever path computed it. */
-static inline void rast_to_window(const rast_draw *d, vec4 c, int32_t *X, int32_t *Y, float *z, float *iw)
+static inline void rast_to_window(const sl_target *tg, vec4 c, int32_t *X, int32_t *Y, float *z, float *iw)
 {
     float inv = 1.0f / c.w;
-    float xw = (c.x * inv * 0.5f + 0.5f) * (float)d->target->width;
-    float yw = (c.y * inv * 0.5f + 0.5f) * (float)d->target->height;
+    float xw = (c.x * inv * 0.5f + 0.5f) * (float)tg->width;
+    float yw = (c.y * inv * 0.5f + 0.5f) * (float)tg->height;
     *X = (int32_t)lrintf(xw * (float)RAST_SUBPIXEL_ONE);
     *Y = (int32_t)lrintf(yw * (float)RAST_SUBPIXEL_ONE);
     *z = c.z * inv * 0.5f + 0.5f;
     *iw = inv;
 }
 
-/* setup.c: set up and bin triangles [first, last) of the mesh into `chunk`. */
-void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last);
+/* setup.c: set up and bin triangles [first, last) of the draw list into `chunk`. */
+void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last);
 
-/* tile.c: draw every bin of tile `tile` from the chunks, in order. */
+/* tile.c: draw every bin of tile `tile` from the chunks, in order (and clear it first
+ * when d->clear_row is set: then every tile is visited, binned or not). */
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
 
 /* raster.c */

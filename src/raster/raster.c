@@ -1,11 +1,16 @@
-/* raster.c - the rasterizer context and the draw call that drives the stages.
+/* raster.c - the rasterizer context and the draw calls that drive the stages.
  *
- * sl_raster_draw: validate, run the vertex shader over every vertex (parallel,
- * each vertex written once by one thread), then for each batch of RAST_BATCH
- * triangles: set up and bin one contiguous slice per thread into its own chunk
- * (setup.c), and rasterize the tiles in parallel (tile.c). Chunks are read back in
+ * sl_raster_draw_list (sl_raster_draw is a list of one): validate, run each draw's
+ * vertex shader over its vertices (parallel, each vertex written once by one
+ * thread), then for each batch of RAST_BATCH triangles of the whole list: set up
+ * and bin one contiguous slice per thread into its own chunk (setup.c), and
+ * rasterize the tiles in parallel (tile.c). Chunks are read back in
  * slice order, so bins hold triangles in submission order for any thread count.
- * Batching bounds the memory of set-up triangles (about 200 bytes each). */
+ * Batching bounds the memory of set-up triangles (about 200 bytes each). A clear
+ * (sl_draw.clear) is done by the first batch's tile pass, tile by tile (tile.c).
+ * A list is drawn in one tile pass per batch rather than one per draw: each tile's
+ * depth is loaded and stored, and its texels go through the cache, once per batch,
+ * and there are 2 barriers per batch instead of per draw. */
 #include "rast_internal.h"
 
 #include <omp.h>
@@ -49,6 +54,7 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
     while ((1 << r->tile_shift) < ts)
         r->tile_shift++;
     r->stats_on = dd.stats;
+    r->plain = dd.plain;
     r->chunk_count = r->threads;
     r->chunks = aligned_alloc(RAST_CACHE_LINE, (size_t)r->chunk_count * sizeof *r->chunks);
     r->tasks = aligned_alloc(RAST_CACHE_LINE, (size_t)r->threads * sizeof *r->tasks);
@@ -57,8 +63,11 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
         memset(r->chunks, 0, (size_t)r->chunk_count * sizeof *r->chunks);
     if (r->tasks)
         memset(r->tasks, 0, (size_t)r->threads * sizeof *r->tasks);
-    for (int i = 0; ok && i < r->threads; i++)
+    for (int i = 0; ok && i < r->threads; i++) {
         ok = (r->tasks[i].depth = malloc((size_t)ts * (size_t)ts * sizeof(float))) != NULL;
+        if (ok && !r->plain)
+            ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL;
+    }
     if (!ok) {
         sl_raster_destroy(r);
         sl_fail(err, SL_ERR_MEMORY, "raster: out of memory");
@@ -79,12 +88,16 @@ void sl_raster_destroy(sl_raster *r)
         free(ch->tris);
         free(ch->vary);
     }
-    for (int i = 0; r->tasks && i < r->threads; i++)
+    for (int i = 0; r->tasks && i < r->threads; i++) {
         free(r->tasks[i].depth);
+        free(r->tasks[i].span);
+    }
+    free(r->clear_row);
     free(r->chunks);
     free(r->tasks);
     free(r->vpos);
     free(r->vvary);
+    free(r->calls);
     free(r);
 }
 
@@ -93,10 +106,10 @@ int sl_raster_tile_size(const sl_raster *r) { return r->tile_size; }
 sl_raster_stats sl_raster_get_stats(const sl_raster *r) { return r->stats; }
 void sl_raster_reset_stats(sl_raster *r) { memset(&r->stats, 0, sizeof r->stats); }
 
-static bool validate(const sl_target *t, const sl_draw *d, sl_error *err)
+static bool validate_target(const sl_target *t, sl_error *err)
 {
-    if (!t || !d || !d->program || !d->mesh)
-        return sl_fail(err, SL_ERR_RANGE, "raster: draw without target, program or mesh");
+    if (!t)
+        return sl_fail(err, SL_ERR_RANGE, "raster: draw without target");
     if (t->width < 1 || t->height < 1 || t->width > SL_RASTER_MAX_SIZE || t->height > SL_RASTER_MAX_SIZE)
         return sl_fail(err, SL_ERR_RANGE, "raster: target %dx%d outside 1..%d", t->width, t->height,
                        SL_RASTER_MAX_SIZE);
@@ -106,6 +119,13 @@ static bool validate(const sl_target *t, const sl_draw *d, sl_error *err)
         (t->depth_offset < 0 || (size_t)t->depth_offset + sizeof(float) > t->texel_size))
         return sl_fail(err, SL_ERR_RANGE, "raster: depth offset %ld outside a %zu-byte texel", t->depth_offset,
                        t->texel_size);
+    return true;
+}
+
+static bool validate_draw(const sl_draw *d, sl_error *err)
+{
+    if (!d || !d->program || !d->mesh)
+        return sl_fail(err, SL_ERR_RANGE, "raster: draw without program or mesh");
     const sl_program *p = d->program;
     if (!p->vertex || !p->fragment)
         return sl_fail(err, SL_ERR_RANGE, "raster: program without vertex or fragment shader");
@@ -117,10 +137,25 @@ static bool validate(const sl_target *t, const sl_draw *d, sl_error *err)
     return true;
 }
 
-/* Make room for the vertex stage and for one bin per tile in every chunk. */
-static bool reserve(sl_raster *r, const sl_mesh *m, int nvary, int tiles, sl_error *err)
+/* Make room for the vertex stage (nv vertices, nf varying floats), for the draws, for
+ * one bin per tile in every chunk and for a tile row of clear texels (clear_bytes, 0
+ * when the list does not clear). */
+static bool reserve(sl_raster *r, size_t nv, size_t nf, int calls, int tiles, size_t clear_bytes, sl_error *err)
 {
-    size_t nv = (size_t)m->vertex_count;
+    if (clear_bytes > r->clear_row_cap) {
+        char *row = realloc(r->clear_row, clear_bytes);
+        if (!row)
+            return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu bytes of clear texels", clear_bytes);
+        r->clear_row = row;
+        r->clear_row_cap = clear_bytes;
+    }
+    if (calls > r->call_cap) {
+        rast_call *c = realloc(r->calls, (size_t)calls * sizeof *c);
+        if (!c)
+            return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %d draws", calls);
+        r->calls = c;
+        r->call_cap = calls;
+    }
     if (nv > r->vertex_cap) {
         rast_vpos *vp = realloc(r->vpos, nv * sizeof *vp);
         if (!vp)
@@ -128,7 +163,6 @@ static bool reserve(sl_raster *r, const sl_mesh *m, int nvary, int tiles, sl_err
         r->vpos = vp;
         r->vertex_cap = nv;
     }
-    size_t nf = nv * (size_t)nvary;
     if (nf == 0)
         nf = 1; /* never NULL: setup offsets into it even with no varyings */
     if (nf > r->vvary_cap) {
@@ -152,21 +186,44 @@ static bool reserve(sl_raster *r, const sl_mesh *m, int nvary, int tiles, sl_err
     return true;
 }
 
-bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, sl_error *err)
+/* Check the indices of draw i (of a list of `total`): a bad one is an error, not a crash
+ * (checked before any vertex is shaded). */
+static bool check_indices(const sl_raster *r, const sl_mesh *m, int i, int total, sl_error *err)
 {
-    if (!validate(target, draw, err))
-        return false;
-    const sl_mesh *m = draw->mesh;
-    const sl_program *prog = draw->program;
-    int nvary = prog->varying_count;
+    long long bad = -1;
+    long long nidx = 3LL * m->triangle_count;
+    uint32_t vc = (uint32_t)m->vertex_count;
+#pragma omp parallel for schedule(static) num_threads(r->threads) reduction(max : bad)
+    for (long long k = 0; k < nidx; k++)
+        if (m->indices[k] >= vc && k > bad)
+            bad = k;
+    if (bad < 0)
+        return true;
+    sl_fail(err, SL_ERR_RANGE, "raster: index %lld is %u, mesh has %d vertices", bad, (unsigned)m->indices[bad],
+            m->vertex_count);
+    if (total > 1)
+        sl_error_prefix(err, "draw %d: ", i);
+    return false;
+}
+
+/* Draws [first, first + count) of a list of `total` into the target, the first of them
+ * (only) possibly clearing. */
+static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *list, int first, int count, int total,
+                         sl_error *err)
+{
+    const sl_draw *draws = list + first;
+    size_t nv = 0, nf = 0;
+    long long ntri = 0;
+    for (int i = 0; i < count; i++) {
+        nv += (size_t)draws[i].mesh->vertex_count;
+        nf += (size_t)draws[i].mesh->vertex_count * (size_t)draws[i].program->varying_count;
+        ntri += draws[i].mesh->triangle_count;
+    }
     rast_draw d = {
         .target = target,
-        .program = prog,
-        .vs_uniforms = draw->vs_uniforms,
-        .fs_uniforms = draw->fs_uniforms,
-        .mesh = m,
-        .cull = draw->cull,
-        .nvary = nvary,
+        .calls = NULL,
+        .call_count = count,
+        .tri_count = ntri,
         .gx = 2.0f * RAST_GUARD_PX / (float)target->width - 1.0f,
         .gy = 2.0f * RAST_GUARD_PX / (float)target->height - 1.0f,
         .tile_size = r->tile_size,
@@ -174,51 +231,79 @@ bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, 
         .tiles_x = (target->width + r->tile_size - 1) >> r->tile_shift,
         .tiles_y = (target->height + r->tile_size - 1) >> r->tile_shift,
         .stats = r->stats_on,
+        .spans = !r->plain,
     };
     int tiles = d.tiles_x * d.tiles_y;
-    if (!reserve(r, m, nvary, tiles, err))
+    size_t clear_bytes = draws[0].clear ? (size_t)r->tile_size * target->texel_size : 0;
+    if (!reserve(r, nv, nf, count, tiles, clear_bytes, err))
         return false;
+    for (int i = 0; i < count; i++)
+        if (!check_indices(r, draws[i].mesh, first + i, total, err))
+            return false;
 
-    /* Indices are checked before any vertex is shaded: a bad one is an error, not a crash. */
-    long long bad = -1;
-    long long nidx = 3LL * m->triangle_count;
-    uint32_t vc = (uint32_t)m->vertex_count;
-#pragma omp parallel for schedule(static) num_threads(r->threads) reduction(max : bad)
-    for (long long i = 0; i < nidx; i++)
-        if (m->indices[i] >= vc && i > bad)
-            bad = i;
-    if (bad >= 0)
-        return sl_fail(err, SL_ERR_RANGE, "raster: index %lld is %u, mesh has %d vertices", bad,
-                       (unsigned)m->indices[bad], m->vertex_count);
-
-    rast_vpos *vpos = r->vpos;
-    float *vvary = r->vvary;
-#pragma omp parallel for schedule(static) num_threads(r->threads)
-    for (int i = 0; i < m->vertex_count; i++) {
-        sl_vertex_in in = {
-            .position = m->positions[i],
-            .normal = m->normals ? m->normals[i] : vec3(0, 0, 0),
-            .texcoord = m->texcoords ? m->texcoords[i] : vec2(0, 0),
-            .index = i,
+    /* The vertex stage, draw by draw, each vertex written once by one thread. */
+    size_t vbase = 0, fbase = 0;
+    long long tbase = 0;
+    for (int i = 0; i < count; i++) {
+        const sl_draw *dr = &draws[i];
+        const sl_mesh *m = dr->mesh;
+        const sl_program *prog = dr->program;
+        int nvary = prog->varying_count;
+        rast_call *call = &r->calls[i];
+        *call = (rast_call){
+            .program = prog,
+            .vs_uniforms = dr->vs_uniforms,
+            .fs_uniforms = dr->fs_uniforms,
+            .mesh = m,
+            .cull = dr->cull,
+            .nvary = nvary,
+            .first_tri = tbase,
+            .vpos = r->vpos + vbase,
+            .vvary = r->vvary + fbase,
         };
-        rast_vpos *p = &vpos[i];
-        float *v = vvary + (size_t)i * (size_t)nvary;
-        prog->vertex(d.vs_uniforms, &in, &p->clip, v);
-        p->outcode = rast_outcode(p->clip, d.gx, d.gy);
-        for (int k = 0; k < nvary; k++)
-            if (!isfinite(v[k]))
-                p->outcode = RAST_BAD;
-        if (p->outcode == 0)
-            rast_to_window(&d, p->clip, &p->X, &p->Y, &p->z, &p->iw);
+        rast_vpos *vpos = r->vpos + vbase;
+        float *vvary = r->vvary + fbase;
+        float gx = d.gx, gy = d.gy;
+#pragma omp parallel for schedule(static) num_threads(r->threads)
+        for (int k = 0; k < m->vertex_count; k++) {
+            sl_vertex_in in = {
+                .position = m->positions[k],
+                .normal = m->normals ? m->normals[k] : vec3(0, 0, 0),
+                .texcoord = m->texcoords ? m->texcoords[k] : vec2(0, 0),
+                .index = k,
+            };
+            rast_vpos *p = &vpos[k];
+            float *v = vvary + (size_t)k * (size_t)nvary;
+            prog->vertex(dr->vs_uniforms, &in, &p->clip, v);
+            p->outcode = rast_outcode(p->clip, gx, gy);
+            for (int j = 0; j < nvary; j++)
+                if (!isfinite(v[j]))
+                    p->outcode = RAST_BAD;
+            if (p->outcode == 0)
+                rast_to_window(target, p->clip, &p->X, &p->Y, &p->z, &p->iw);
+        }
+        vbase += (size_t)m->vertex_count;
+        fbase += (size_t)m->vertex_count * (size_t)nvary;
+        tbase += m->triangle_count;
     }
-    d.vpos = vpos;
-    d.vvary = vvary;
+    d.calls = r->calls;
+
+    /* The clear rides on the first batch's tile pass, which then visits every tile (a
+     * list without triangles still has that one batch). */
+    if (draws[0].clear) {
+        for (int i = 0; i < r->tile_size; i++)
+            memcpy(r->clear_row + (size_t)i * target->texel_size, draws[0].clear, target->texel_size);
+        d.clear_row = r->clear_row;
+        d.clear_depth = 1.0f;
+        if (target->depth_offset != SL_NO_DEPTH)
+            memcpy(&d.clear_depth, (const char *)draws[0].clear + target->depth_offset, sizeof(float));
+    }
 
     int nchunks = r->chunk_count;
     rast_chunk *chunks = r->chunks;
     bool oom = false;
-    for (int first = 0; first < m->triangle_count && !oom; first += RAST_BATCH) {
-        int count = m->triangle_count - first < RAST_BATCH ? m->triangle_count - first : RAST_BATCH;
+    for (long long b0 = 0; (b0 < ntri || (b0 == 0 && d.clear_row)) && !oom; b0 += RAST_BATCH) {
+        long long nb = ntri - b0 < RAST_BATCH ? ntri - b0 : RAST_BATCH;
 #pragma omp parallel for schedule(static) num_threads(r->threads)
         for (int c = 0; c < nchunks; c++) {
             rast_chunk *ch = &chunks[c];
@@ -227,8 +312,8 @@ bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, 
             for (int t = 0; t < tiles; t++)
                 ch->bins[t].count = 0;
             memset(&ch->stats, 0, sizeof ch->stats);
-            int lo = first + (int)((long long)count * c / nchunks);
-            int hi = first + (int)((long long)count * (c + 1) / nchunks);
+            long long lo = b0 + nb * c / nchunks;
+            long long hi = b0 + nb * (c + 1) / nchunks;
             rast_setup_range(&d, ch, lo, hi);
         }
         for (int c = 0; c < nchunks; c++)
@@ -238,6 +323,7 @@ bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, 
 #pragma omp parallel for schedule(dynamic) num_threads(r->threads)
         for (int t = 0; t < tiles; t++)
             rast_tile(&d, chunks, nchunks, t, &r->tasks[omp_get_thread_num()]);
+        d.clear_row = NULL;
         if (r->stats_on)
             for (int c = 0; c < nchunks; c++)
                 rast_stats_add(&r->stats, &chunks[c].stats);
@@ -253,4 +339,36 @@ bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, 
         return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory while binning");
     }
     return true;
+}
+
+bool sl_raster_draw_list(sl_raster *r, const sl_target *target, const sl_draw *draws, int count, sl_error *err)
+{
+    if (!validate_target(target, err))
+        return false;
+    if (count < 0 || (count > 0 && !draws))
+        return sl_fail(err, SL_ERR_RANGE, "raster: %d draws", count);
+    for (int i = 0; i < count; i++)
+        if (!validate_draw(&draws[i], err)) {
+            if (count > 1)
+                sl_error_prefix(err, "draw %d: ", i);
+            return false;
+        }
+    /* A draw that clears starts a new segment: everything before it is drawn first.
+     * So does every RAST_MAX_CALLS-th draw. */
+    for (int i = 0; i < count;) {
+        int j = i + 1;
+        while (j < count && !draws[j].clear && j - i < RAST_MAX_CALLS)
+            j++;
+        if (!draw_segment(r, target, draws, i, j - i, count, err))
+            return false;
+        i = j;
+    }
+    return true;
+}
+
+bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, sl_error *err)
+{
+    if (!draw)
+        return sl_fail(err, SL_ERR_RANGE, "raster: draw without program or mesh");
+    return sl_raster_draw_list(r, target, draw, 1, err);
 }

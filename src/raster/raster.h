@@ -10,10 +10,13 @@
  * (near, far; guard-band planes only for triangles that leave the guard band) ->
  * triangle setup (8 sub-pixel bits, top-left rule, optional back-face culling,
  * degenerate and non-finite triangles dropped) -> binning into tiles -> per tile,
- * in parallel: coverage tile -> 8x8 block -> pixel, early depth test (LESS), then
- * the fragment shader with perspective-correct varyings. Primitive order within a
- * tile is kept, so the result is bitwise identical for any thread count and tile
- * size. The shader API is described in docs/shader-api.md.
+ * in parallel: clear (when asked), coverage tile -> 8x8 block -> row span -> pixel,
+ * early depth test (LESS), then the fragment shader with perspective-correct
+ * varyings, once per row span (fragment_span) or per fragment. A draw list bins
+ * several draws together and draws each tile once for all of them. Primitive order
+ * within a tile is kept, so the result is bitwise identical for any thread count and
+ * tile size, and the span path's to the per-pixel path's (sl_raster_desc.plain).
+ * The shader API is described in docs/shader-api.md.
  *
  * Depth lives in the target's texels at `depth_offset` (the G-buffer texel's depth
  * field); while a tile is rasterized it is copied into a tile-local plane.
@@ -55,15 +58,36 @@ typedef struct {
     int x, y;              /* the pixel, row 0 = bottom */
 } sl_fragment_in;
 
+/* What a span fragment shader sees: the n fragments of one triangle in one row that
+ * passed the depth test, left to right, in structure-of-arrays form (element j of
+ * every array belongs to fragment j). Each value is bitwise the one the per-pixel
+ * shader would get in sl_fragment_in; frag_coord.xy is (x[j] + 0.5, y + 0.5). */
+#define SL_SPAN_MAX 256 /* = SL_TILE_MAX: a span never leaves its tile's row */
+typedef struct {
+    int n;                                  /* 1 .. SL_SPAN_MAX */
+    int y;                                  /* the row, row 0 = bottom */
+    const int32_t *x;                       /* the columns, increasing */
+    const float *varyings[SL_MAX_VARYINGS]; /* varyings[i][j]: varying i of fragment j */
+    const float *frag_z;                    /* gl_FragCoord.z: window depth in [0,1] */
+    const float *frag_w;                    /* gl_FragCoord.w: 1/w_clip */
+    bool front_facing;
+    char *row;                              /* texels of row y: fragment j's is row + x[j] * texel_size */
+    size_t texel_size;
+} sl_fragment_span;
+
 /* Vertex shader: object-space attributes -> clip-space position and varyings. */
 typedef void (*sl_vertex_shader)(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
 /* Fragment shader: writes the whole texel (the depth test has already passed). */
 typedef void (*sl_fragment_shader)(const void *uniforms, const sl_fragment_in *in, void *texel);
+/* Optional span form of the same fragment shader: must leave every texel exactly as
+ * `fragment` called on each fragment of the span would (tested for the built-in pair). */
+typedef void (*sl_fragment_span_shader)(const void *uniforms, const sl_fragment_span *span);
 
 typedef struct {
     sl_vertex_shader vertex;
     sl_fragment_shader fragment;
-    int varying_count; /* 0 .. SL_MAX_VARYINGS */
+    int varying_count;                     /* 0 .. SL_MAX_VARYINGS */
+    sl_fragment_span_shader fragment_span; /* NULL: the pipeline calls `fragment` per fragment */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */
@@ -85,6 +109,10 @@ typedef struct {
     const void *fs_uniforms;
     const sl_mesh *mesh;
     sl_cull_mode cull;
+    /* Not NULL: texel_size bytes every texel of the target is set to before this draw
+     * (as glClear before it), by the tile stage, each tile just before it is drawn,
+     * on the thread that draws it (while the tile is in cache). */
+    const void *clear;
 } sl_draw;
 
 /* Counters for one or more draws; only gathered when sl_raster_desc.stats is set. */
@@ -105,6 +133,7 @@ typedef struct {
     int threads;   /* 0 = omp_get_max_threads() (all cores unless OMP_NUM_THREADS says otherwise) */
     int tile_size; /* power of two in [SL_TILE_MIN, SL_TILE_MAX]; 0 = SL_TILE_DEFAULT */
     bool stats;    /* gather sl_raster_stats */
+    bool plain;    /* debug: the per-pixel path only (per-fragment shader calls, no spans), to compare */
 } sl_raster_desc;
 
 typedef struct sl_raster sl_raster;
@@ -118,6 +147,10 @@ int sl_raster_tile_size(const sl_raster *r);
  * (bad sizes, indices out of range, too many varyings) or no memory; bad
  * geometry (NaN, degenerate, behind the eye) is dropped silently and counted. */
 bool sl_raster_draw(sl_raster *r, const sl_target *target, const sl_draw *draw, sl_error *err);
+/* Draw `count` draws into one target, with the result of drawing them one by one in
+ * order, but binned together: one tile pass for the list (per RAST_BATCH triangles)
+ * instead of one per draw, so each tile's depth and texels go through the cache once. */
+bool sl_raster_draw_list(sl_raster *r, const sl_target *target, const sl_draw *draws, int count, sl_error *err);
 
 /* Totals since creation or the last reset (all zero when stats are off). */
 sl_raster_stats sl_raster_get_stats(const sl_raster *r);
@@ -136,6 +169,7 @@ typedef struct {
 #define SL_GBUFFER_VARYINGS 6
 void sl_gbuffer_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
 void sl_gbuffer_frag(const void *uniforms, const sl_fragment_in *in, void *texel);
+void sl_gbuffer_frag_span(const void *uniforms, const sl_fragment_span *span);
 extern const sl_program sl_gbuffer_program;
 
 /* Fill the uniforms from a model matrix, view-projection and material. */
@@ -146,7 +180,8 @@ sl_target sl_gbuffer_target(sl_gbuffer *gb);
 mat4 sl_camera_view_proj(const sl_camera *cam, int width, int height);
 
 /* Clear the G-buffer and draw every object of the scene with the built-in pair,
- * both faces (no culling, as GL's default). The G-buffer must already be sized. */
+ * both faces (no culling, as GL's default). The G-buffer must already be sized.
+ * The clear is fused into the first object's draw (sl_draw.clear). */
 bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, sl_error *err);
 
 #endif

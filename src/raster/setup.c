@@ -1,9 +1,10 @@
 /* setup.c - triangle setup and binning: one slice of a batch, into one rast_chunk.
  *
  * Called by raster.c in parallel, one chunk per slice, so each thread writes only
- * its own chunk. For every index triple: reject or clip (clip.c), snap to 1/256
- * pixel, compute the signed area (int64, exact), drop degenerate triangles, cull
- * or flip clockwise ones, build the three edge functions with the top-left bias,
+ * its own chunk. A slice may span several draws of the list. For every index
+ * triple: reject or clip (clip.c), snap to 1/256 pixel, compute the signed area
+ * (int64, exact), drop degenerate triangles, cull or flip clockwise ones, build the
+ * three edge functions with the top-left bias,
  * the attribute planes, and append the triangle to the bins of every tile it
  * touches (tiles it covers entirely are flagged, the tile stage fills them blind).
  *
@@ -62,8 +63,9 @@ static void plane(float f0, float f1, float f2, float x1, float y1, float x2, fl
     out[2] = (d2 * x1 - d1 * x2) * inv_det;
 }
 
-/* Set up one triangle in window coordinates and bin it. */
-static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, rast_wvert v1, rast_wvert v2)
+/* Set up one triangle of draw `call` in window coordinates and bin it. */
+static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t call_index, rast_chunk *ch,
+                           rast_wvert v0, rast_wvert v1, rast_wvert v2)
 {
     int64_t area = (int64_t)(v1.X - v0.X) * (v2.Y - v0.Y) - (int64_t)(v2.X - v0.X) * (v1.Y - v0.Y);
     if (area == 0) {
@@ -72,7 +74,7 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
     }
     bool front = area > 0;
     if (!front) {
-        if (d->cull == SL_CULL_BACK) {
+        if (call->cull == SL_CULL_BACK) {
             ch->stats.triangles_culled++;
             return;
         }
@@ -110,7 +112,7 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
         }
         ch->tri_cap = (int)cap;
     }
-    size_t nv = (size_t)d->nvary * 3;
+    size_t nv = (size_t)call->nvary * 3;
     if (!grow((void **)&ch->vary, sizeof *ch->vary, ch->vary_count + nv, &ch->vary_cap)) {
         ch->oom = true;
         return;
@@ -121,6 +123,7 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
     t->ymin = (int32_t)ylo;
     t->ymax = (int32_t)yhi;
     t->front = front;
+    t->call = call_index;
 
     /* Edge k runs from vertex k+1 to vertex k+2 and is positive towards vertex k. */
     for (int k = 0; k < 3; k++) {
@@ -146,7 +149,7 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
     t->iw_hi = maxf(v0.iw, maxf(v1.iw, v2.iw));
     t->vary = (uint32_t)ch->vary_count;
     float *pv = ch->vary + ch->vary_count;
-    for (int i = 0; i < d->nvary; i++)
+    for (int i = 0; i < call->nvary; i++)
         plane(v0.v[i] * v0.iw, v1.v[i] * v1.iw, v2.v[i] * v2.iw, x1, y1, x2, y2, inv_det, pv + 3 * i);
 
     /* Bin: every tile the bounds touch, unless an edge excludes the whole tile. */
@@ -184,22 +187,31 @@ static void setup_triangle(const rast_draw *d, rast_chunk *ch, rast_wvert v0, ra
     ch->stats.bin_entries += binned;
 }
 
-void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last)
+void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last)
 {
     /* Work on a copy (counters, counts) on this thread's stack; written back once. */
     rast_chunk local = *chunk, *ch = &local;
-    const uint32_t *idx = d->mesh->indices;
-    int nvary = d->nvary;
-    for (int tri = first; tri < last && !ch->oom; tri++) {
+    int ci = 0;
+    while (ci + 1 < d->call_count && d->calls[ci + 1].first_tri <= first)
+        ci++;
+    for (long long g = first; g < last && !ch->oom; g++) {
+        while (g >= d->calls[ci].first_tri + d->calls[ci].mesh->triangle_count)
+            ci++; /* draws without triangles are skipped here */
+        const rast_call *call = &d->calls[ci];
+        long long tri = g - call->first_tri;
+        const uint32_t *idx = call->mesh->indices;
+        const rast_vpos *vpos = call->vpos;
+        const float *vvary = call->vvary;
+        int nvary = call->nvary;
         uint32_t i0 = idx[3 * tri], i1 = idx[3 * tri + 1], i2 = idx[3 * tri + 2];
-        const rast_vpos *p0 = &d->vpos[i0], *p1 = &d->vpos[i1], *p2 = &d->vpos[i2];
+        const rast_vpos *p0 = &vpos[i0], *p1 = &vpos[i1], *p2 = &vpos[i2];
         ch->stats.triangles_in++;
         unsigned all = p0->outcode | p1->outcode | p2->outcode;
         if (all == 0) {
-            rast_wvert w0 = {p0->X, p0->Y, p0->z, p0->iw, d->vvary + (size_t)i0 * (size_t)nvary};
-            rast_wvert w1 = {p1->X, p1->Y, p1->z, p1->iw, d->vvary + (size_t)i1 * (size_t)nvary};
-            rast_wvert w2 = {p2->X, p2->Y, p2->z, p2->iw, d->vvary + (size_t)i2 * (size_t)nvary};
-            setup_triangle(d, ch, w0, w1, w2);
+            rast_wvert w0 = {p0->X, p0->Y, p0->z, p0->iw, vvary + (size_t)i0 * (size_t)nvary};
+            rast_wvert w1 = {p1->X, p1->Y, p1->z, p1->iw, vvary + (size_t)i1 * (size_t)nvary};
+            rast_wvert w2 = {p2->X, p2->Y, p2->z, p2->iw, vvary + (size_t)i2 * (size_t)nvary};
+            setup_triangle(d, call, (uint16_t)ci, ch, w0, w1, w2);
             continue;
         }
         /* A non-finite vertex, or every vertex outside the same plane: nothing to draw. */
@@ -211,9 +223,9 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last
         rast_cvert in[3];
         const uint32_t ids[3] = {i0, i1, i2};
         for (int k = 0; k < 3; k++) {
-            in[k].clip = d->vpos[ids[k]].clip;
+            in[k].clip = vpos[ids[k]].clip;
             if (nvary > 0)
-                memcpy(in[k].v, d->vvary + (size_t)ids[k] * (size_t)nvary, (size_t)nvary * sizeof(float));
+                memcpy(in[k].v, vvary + (size_t)ids[k] * (size_t)nvary, (size_t)nvary * sizeof(float));
         }
         rast_cvert poly[RAST_CLIP_MAX];
         int n = rast_clip_triangle(in, all, nvary, d->gx, d->gy, poly);
@@ -224,7 +236,7 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last
         rast_wvert w[RAST_CLIP_MAX];
         bool finite = true;
         for (int k = 0; k < n; k++) {
-            rast_to_window(d, poly[k].clip, &w[k].X, &w[k].Y, &w[k].z, &w[k].iw);
+            rast_to_window(d->target, poly[k].clip, &w[k].X, &w[k].Y, &w[k].z, &w[k].iw);
             w[k].v = poly[k].v;
             finite &= poly[k].clip.w > 0.0f && isfinite(w[k].iw) && isfinite(w[k].z);
         }
@@ -233,7 +245,7 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, int first, int last
             continue;
         }
         for (int k = 1; k + 1 < n; k++)
-            setup_triangle(d, ch, w[0], w[k], w[k + 1]);
+            setup_triangle(d, call, (uint16_t)ci, ch, w[0], w[k], w[k + 1]);
     }
     *chunk = local;
 }

@@ -11,23 +11,52 @@
  * covers the tile: no edge tests at all. Otherwise each block of the triangle's
  * bounds is classified from its corners (edge functions are linear, so their
  * extremes over a block are at corners): outside (skipped), inside (filled without
- * per-pixel tests), or partial (per-pixel edge tests, stepping by one add per edge).
+ * per-pixel tests), or partial (per-pixel edge tests).
+ *
+ * Two paths, chosen per draw (STYLE.md "hot loops: specialised, with the plain path
+ * beside"):
+ *   span   (the default) one row of the triangle's blocks at a time: a vectorized loop
+ *          tests coverage and depth for the whole row, the passing columns are packed,
+ *          a second loop interpolates z, 1/w and the varyings for them in structure-of-
+ *          arrays form, and the fragment shader is called once for the row
+ *          (sl_program.fragment_span), or per fragment from those arrays when the
+ *          program has no span form.
+ *   plain  (sl_raster_desc.plain) pixel by pixel, one fragment shader call each.
+ * Both evaluate every value with the same expression, in the same order (no FMA
+ * contraction: -std=c11 implies -ffp-contract=off), so they give the same bits;
+ * tests/unit/test_raster_span.c compares them.
  *
  * Depth: while a tile is drawn its depth values live in the thread's tile plane
- * (contiguous, hot in cache), loaded from and stored back to the target's texels. */
+ * (contiguous, hot in cache), loaded from and stored back to the target's texels.
+ *
+ * Clear (sl_draw.clear, first batch of a draw): the tile's texels are set to the clear
+ * value just before the tile is drawn, and its depth plane starts at the clear depth
+ * instead of being loaded. The clear is then done by the thread that owns the tile,
+ * in parallel, and the fragment shader's writes find the lines in cache (a 64x64 tile
+ * of 56-byte texels is 224 KB, inside L2): the target goes through memory once per
+ * frame instead of twice (a separate clear pass, then the draw). Clearing only the
+ * texels no fragment wrote, after the tile, measured no faster, and would break
+ * shaders that read their texel (blending, counting). */
 #include "rast_internal.h"
 
 #include <string.h>
 
+#define RAST_SPAN_MIN_WIDTH 8 /* narrower triangles (and at most 8 rows) are drawn per pixel */
+
 typedef struct {
     const rast_draw *d;
+    const rast_call *call; /* the current triangle's draw */
     const rast_tri *t;
     const float *planes; /* varying planes */
     float *zbuf;         /* tile-local depth */
     int px0, py0, ts;    /* tile origin and size */
     char *texels;
+    rast_span *span;     /* span path scratch */
+    sl_fragment_span sp; /* span path: what the span shader gets (arrays point into span) */
     long long tested, shaded, blocks_full;
 } tri_ctx;
+
+/* ---- the plain path ---- */
 
 /* One covered pixel: depth (choose per draw: `depth` is a constant after inlining),
  * perspective-correct varyings (interpolate v/w and 1/w linearly, divide), shade. */
@@ -47,7 +76,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     float w = 1.0f / iw;
     float vary[SL_MAX_VARYINGS];
     const float *p = c->planes;
-    int n = c->d->nvary;
+    int n = c->call->nvary;
     for (int i = 0; i < n; i++)
         vary[i] = (p[3 * i] + p[3 * i + 1] * fx + p[3 * i + 2] * fy) * w;
     sl_fragment_in in = {
@@ -59,7 +88,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     };
     const sl_target *tg = c->d->target;
     void *texel = c->texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tg->texel_size;
-    c->d->program->fragment(c->d->fs_uniforms, &in, texel);
+    c->call->program->fragment(c->call->fs_uniforms, &in, texel);
     c->shaded++;
 }
 
@@ -69,6 +98,20 @@ static inline __attribute__((always_inline)) void fill_rect(tri_ctx *c, int x0, 
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++)
             fragment(c, x, y, depth);
+}
+
+/* Block classification: 1 outside, 2 inside (no per-pixel test needed), 0 partial. */
+enum { BLOCK_PARTIAL, BLOCK_OUTSIDE, BLOCK_INSIDE };
+static inline int classify(const rast_tri *t, int rx0, int ry0, int rx1, int ry1)
+{
+    bool outside = false, inside = true;
+    for (int k = 0; k < 3; k++) {
+        int64_t emax = t->ec[k] + t->ex[k] * (t->ex[k] > 0 ? rx1 : rx0) + t->ey[k] * (t->ey[k] > 0 ? ry1 : ry0);
+        int64_t emin = t->ec[k] + t->ex[k] * (t->ex[k] > 0 ? rx0 : rx1) + t->ey[k] * (t->ey[k] > 0 ? ry0 : ry1);
+        outside |= emax < 0;
+        inside &= emin >= 0;
+    }
+    return outside ? BLOCK_OUTSIDE : inside ? BLOCK_INSIDE : BLOCK_PARTIAL;
 }
 
 /* Draw triangle t over the rectangle [x0,x1] x [y0,y1] (its bounds inside the tile). */
@@ -85,16 +128,10 @@ static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full
         int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
         for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
             int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
-            bool outside = false, inside = true;
-            for (int k = 0; k < 3; k++) {
-                int64_t emax = t->ec[k] + t->ex[k] * (t->ex[k] > 0 ? rx1 : rx0) + t->ey[k] * (t->ey[k] > 0 ? ry1 : ry0);
-                int64_t emin = t->ec[k] + t->ex[k] * (t->ex[k] > 0 ? rx0 : rx1) + t->ey[k] * (t->ey[k] > 0 ? ry0 : ry1);
-                outside |= emax < 0;
-                inside &= emin >= 0;
-            }
-            if (outside)
+            int cls = classify(t, rx0, ry0, rx1, ry1);
+            if (cls == BLOCK_OUTSIDE)
                 continue;
-            if (inside) {
+            if (cls == BLOCK_INSIDE) {
                 c->blocks_full++;
                 fill_rect(c, rx0, ry0, rx1, ry1, depth);
                 continue;
@@ -115,6 +152,141 @@ static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full
     }
 }
 
+/* ---- the span path ---- */
+
+/* Row y, columns [x0, x1] of the current triangle: coverage (per pixel when `edges`),
+ * the depth test (when `depth`), then one shader call for the passing fragments.
+ * Every value is the plain path's expression, term for term: fragment() above. */
+static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, int x0, int x1, const bool edges,
+                                                           const bool depth)
+{
+    const rast_tri *t = c->t;
+    rast_span *s = c->span;
+    int n = x1 - x0 + 1;
+    float fy = (float)y - t->oy, ox = t->ox;
+    float z0 = t->z[0], z1 = t->z[1], z2fy = t->z[2] * fy;
+    int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
+    int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
+    float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+    int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        int64_t x = x0 + j;
+        int32_t cov = 1;
+        if (edges) {
+            int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
+            cov = (e0 | e1 | e2) >= 0;
+        }
+        int32_t pass = cov;
+        if (depth) {
+            float fx = (float)(x0 + j) - ox;
+            float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
+            float old = zrow[j];
+            pass = cov & (z < old);
+            zrow[j] = pass ? z : old;
+        }
+        flags[j] = cov | pass << 1;
+    }
+
+    /* pack the passing columns */
+    int m = 0, tested = 0;
+    for (int j = 0; j < n; j++) {
+        s->x[m] = x0 + j;
+        m += flags[j] >> 1;
+        tested += flags[j] & 1;
+    }
+    c->tested += tested;
+    if (m == 0)
+        return;
+
+    float iw0 = t->iw[0], iw1 = t->iw[1], iw2fy = t->iw[2] * fy, lo = t->iw_lo, hi = t->iw_hi;
+#pragma omp simd
+    for (int j = 0; j < m; j++) {
+        float fx = (float)s->x[j] - ox;
+        float iw = clampf(iw0 + iw1 * fx + iw2fy, lo, hi);
+        s->z[j] = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
+        s->iw[j] = iw;
+        s->w[j] = 1.0f / iw;
+    }
+    int nvary = c->call->nvary;
+    for (int i = 0; i < nvary; i++) {
+        const float *pl = c->planes + 3 * i;
+        float p0 = pl[0], p1 = pl[1], p2fy = pl[2] * fy;
+        float *out = s->vary[i];
+#pragma omp simd
+        for (int j = 0; j < m; j++) {
+            float fx = (float)s->x[j] - ox;
+            out[j] = (p0 + p1 * fx + p2fy) * s->w[j];
+        }
+    }
+
+    const sl_program *prog = c->call->program;
+    const sl_target *tg = c->d->target;
+    char *row = c->texels + (size_t)y * (size_t)tg->width * tg->texel_size;
+    if (prog->fragment_span) {
+        c->sp.n = m;
+        c->sp.y = y;
+        c->sp.front_facing = t->front;
+        c->sp.row = row;
+        prog->fragment_span(c->call->fs_uniforms, &c->sp);
+    } else {
+        for (int j = 0; j < m; j++) {
+            float vary[SL_MAX_VARYINGS];
+            for (int i = 0; i < nvary; i++)
+                vary[i] = s->vary[i][j];
+            int x = s->x[j];
+            sl_fragment_in in = {
+                .varyings = vary,
+                .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, s->z[j], s->iw[j]),
+                .front_facing = t->front,
+                .x = x,
+                .y = y,
+            };
+            prog->fragment(c->call->fs_uniforms, &in, row + (size_t)x * tg->texel_size);
+        }
+    }
+    c->shaded += m;
+}
+
+/* The span path's draw_tri: the same blocks, drawn a block row at a time. In each
+ * block row the blocks that are not outside form one run (the triangle is convex);
+ * each pixel row of the run is one span, tested per pixel unless every block of the
+ * run is inside. */
+static inline __attribute__((always_inline)) void draw_tri_spans(tri_ctx *c, bool full, int x0, int y0, int x1,
+                                                                 int y1, const bool depth)
+{
+    const rast_tri *t = c->t;
+    if (full) {
+        for (int y = y0; y <= y1; y++)
+            span_row(c, y, x0, x1, false, depth);
+        return;
+    }
+    int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
+    for (int by = by0; by <= y1; by += RAST_BLOCK) {
+        int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
+        int lo = x1 + 1, hi = x0 - 1;
+        bool inside = true;
+        for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
+            int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
+            int cls = classify(t, rx0, ry0, rx1, ry1);
+            if (cls == BLOCK_OUTSIDE)
+                continue;
+            c->blocks_full += cls == BLOCK_INSIDE;
+            inside &= cls == BLOCK_INSIDE;
+            lo = rx0 < lo ? rx0 : lo;
+            hi = rx1 > hi ? rx1 : hi;
+        }
+        if (lo > hi)
+            continue;
+        for (int y = ry0; y <= ry1; y++) {
+            if (inside)
+                span_row(c, y, lo, hi, false, depth);
+            else
+                span_row(c, y, lo, hi, true, depth);
+        }
+    }
+}
+
 static void draw_tri_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
     draw_tri(c, full, x0, y0, x1, y1, true);
@@ -125,9 +297,36 @@ static void draw_tri_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int 
     draw_tri(c, full, x0, y0, x1, y1, false);
 }
 
+/* Small triangles (few pixels a row) go pixel by pixel even on the span path: a span's
+ * fixed cost (three vector loops, the packing, a call) is not paid back by a handful of
+ * pixels. The two give the same bits, so the choice is free. */
+static inline bool small_tri(int x0, int y0, int x1, int y1)
+{
+    return x1 - x0 < RAST_SPAN_MIN_WIDTH && y1 - y0 < RAST_BLOCK;
+}
+
+static void draw_tri_spans_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    if (small_tri(x0, y0, x1, y1))
+        draw_tri(c, full, x0, y0, x1, y1, true);
+    else
+        draw_tri_spans(c, full, x0, y0, x1, y1, true);
+}
+
+static void draw_tri_spans_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    if (small_tri(x0, y0, x1, y1))
+        draw_tri(c, full, x0, y0, x1, y1, false);
+    else
+        draw_tri_spans(c, full, x0, y0, x1, y1, false);
+}
+
+/* ---- the tile ---- */
+
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task)
 {
-    bool any = false;
+    const char *clear = d->clear_row;
+    bool any = clear != NULL;
     for (int ci = 0; ci < chunk_count && !any; ci++)
         any = chunks[ci].bins[tile].count > 0;
     if (!any)
@@ -140,14 +339,31 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     int py1 = py0 + ts - 1 < tg->height - 1 ? py0 + ts - 1 : tg->height - 1;
     bool depth = tg->depth_offset >= 0;
     char *texels = tg->texels;
-    if (depth)
+    size_t tsz = tg->texel_size;
+    if (clear)
+        for (int y = py0; y <= py1; y++)
+            memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)px0) * tsz, clear, (size_t)(px1 - px0 + 1) * tsz);
+    if (depth && clear) {
+        for (int y = py0; y <= py1; y++)
+            for (int x = px0; x <= px1; x++)
+                task->depth[(y - py0) * ts + (x - px0)] = d->clear_depth;
+    } else if (depth) {
         for (int y = py0; y <= py1; y++)
             for (int x = px0; x <= px1; x++)
                 memcpy(&task->depth[(y - py0) * ts + (x - px0)],
-                       texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tg->texel_size + tg->depth_offset,
-                       sizeof(float));
+                       texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset, sizeof(float));
+    }
 
-    tri_ctx c = {.d = d, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels};
+    tri_ctx c = {.d = d, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span};
+    bool spans = d->spans && task->span;
+    if (spans) {
+        for (int i = 0; i < SL_MAX_VARYINGS; i++)
+            c.sp.varyings[i] = task->span->vary[i];
+        c.sp.x = task->span->x;
+        c.sp.frag_z = task->span->z;
+        c.sp.frag_w = task->span->iw;
+        c.sp.texel_size = tsz;
+    }
     for (int ci = 0; ci < chunk_count; ci++) {
         const rast_chunk *ch = &chunks[ci];
         const rast_bin *bin = &ch->bins[tile];
@@ -155,13 +371,19 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             uint32_t item = bin->items[i];
             const rast_tri *t = &ch->tris[item & ~RAST_BIN_FULL];
             c.t = t;
+            c.call = &d->calls[t->call];
             c.planes = ch->vary + t->vary;
             int x0 = t->xmin > px0 ? t->xmin : px0, x1 = t->xmax < px1 ? t->xmax : px1;
             int y0 = t->ymin > py0 ? t->ymin : py0, y1 = t->ymax < py1 ? t->ymax : py1;
-            if (depth)
-                draw_tri_depth(&c, (item & RAST_BIN_FULL) != 0, x0, y0, x1, y1);
+            bool full = (item & RAST_BIN_FULL) != 0;
+            if (spans && depth)
+                draw_tri_spans_depth(&c, full, x0, y0, x1, y1);
+            else if (spans)
+                draw_tri_spans_nodepth(&c, full, x0, y0, x1, y1);
+            else if (depth)
+                draw_tri_depth(&c, full, x0, y0, x1, y1);
             else
-                draw_tri_nodepth(&c, (item & RAST_BIN_FULL) != 0, x0, y0, x1, y1);
+                draw_tri_nodepth(&c, full, x0, y0, x1, y1);
         }
     }
     task->stats.fragments_tested += c.tested;
@@ -171,6 +393,6 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     if (depth)
         for (int y = py0; y <= py1; y++)
             for (int x = px0; x <= px1; x++)
-                memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tg->texel_size + tg->depth_offset,
+                memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset,
                        &task->depth[(y - py0) * ts + (x - px0)], sizeof(float));
 }

@@ -61,9 +61,9 @@ static void fs_facing(const void *uniforms, const sl_fragment_in *in, void *texe
     *(uint32_t *)texel = in->front_facing ? 1u : 2u;
 }
 
-static const sl_program prog_window = {vs_window, fs_count, 0};
-static const sl_program prog_clip = {vs_clip, fs_count, 0};
-static const sl_program prog_mvp = {vs_mvp, fs_count, 0};
+static const sl_program prog_window = {.vertex = vs_window, .fragment = fs_count, .varying_count = 0};
+static const sl_program prog_clip = {.vertex = vs_clip, .fragment = fs_count, .varying_count = 0};
+static const sl_program prog_mvp = {.vertex = vs_mvp, .fragment = fs_count, .varying_count = 0};
 
 typedef struct {
     int w, h;
@@ -99,7 +99,8 @@ static void draw(sl_raster *r, count_target *c, const sl_program *p, const void 
     sl_mesh m = {.vertex_count = nv, .triangle_count = nt, .positions = (vec3 *)pos, .texcoords = (vec2 *)tc,
                  .indices = (uint32_t *)idx};
     sl_error err = {0};
-    bool ok = sl_raster_draw(r, &c->target, &(sl_draw){p, u, u, &m, cull}, &err);
+    bool ok = sl_raster_draw(
+        r, &c->target, &(sl_draw){.program = p, .vs_uniforms = u, .fs_uniforms = u, .mesh = &m, .cull = cull}, &err);
     if (!ok)
         print_error("sl_raster_draw: %s\n", err.msg);
     assert_true(ok);
@@ -200,7 +201,7 @@ static void test_fill_rule(void **state)
 
     /* gl_FrontFacing: counter-clockwise in window coordinates is front. */
     ct_init(&c, 8, 8);
-    sl_program facing = {vs_window, fs_facing, 0};
+    sl_program facing = {.vertex = vs_window, .fragment = fs_facing, .varying_count = 0};
     draw(r, &c, &facing, &u, corner, NULL, 3, (const uint32_t[]){0, 1, 2}, 1, SL_CULL_NONE);
     assert_int_equal(ct_at(&c, 0, 0), 1);
     draw(r, &c, &facing, &u, corner, NULL, 3, (const uint32_t[]){0, 2, 1}, 1, SL_CULL_NONE);
@@ -668,12 +669,13 @@ static void test_bad_geometry(void **state)
 
     sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = (vec3 *)p, .indices = (uint32_t[]){0, 1, 7}};
     sl_error err = {0};
-    assert_false(sl_raster_draw(r, &mixed.target, &(sl_draw){&prog_window, &u, &u, &m, SL_CULL_NONE}, &err));
+    const sl_draw dw = {.program = &prog_window, .vs_uniforms = &u, .fs_uniforms = &u, .mesh = &m};
+    assert_false(sl_raster_draw(r, &mixed.target, &dw, &err));
     assert_non_null(strstr(err.msg, "index 2"));
     sl_target bad_target = mixed.target;
     bad_target.depth_offset = 2;
     m.indices = (uint32_t[]){0, 1, 2};
-    assert_false(sl_raster_draw(r, &bad_target, &(sl_draw){&prog_window, &u, &u, &m, SL_CULL_NONE}, &err));
+    assert_false(sl_raster_draw(r, &bad_target, &dw, &err));
     assert_null(sl_raster_create(&(sl_raster_desc){.tile_size = 48}, &err));
     ct_free(&alone);
     ct_free(&mixed);
@@ -694,7 +696,7 @@ static void test_bad_varyings(void **state)
     sl_raster *r = make_raster(1, 16, false);
     count_target c;
     ct_init(&c, 16, 16);
-    sl_program p = {vs_nan_varying, fs_count, 1};
+    sl_program p = {.vertex = vs_nan_varying, .fragment = fs_count, .varying_count = 1};
     const vec3 v[] = {{0, 0, 0}, {16, 0, 0}, {0, 16, 0}, {16, 16, 0}};
     draw(r, &c, &p, &u, v, NULL, 4, (const uint32_t[]){0, 1, 2, 0, 3, 2}, 2, SL_CULL_NONE);
     /* only the second triangle (no vertex 1) draws: pixels strictly above the diagonal x = y */

@@ -53,7 +53,7 @@ static void test_perspective(void **state)
     sl_mesh mesh = {.vertex_count = 4, .triangle_count = 2, .positions = (vec3 *)pos, .texcoords = (vec2 *)tc,
                     .indices = (uint32_t *)idx};
     uniforms u = {perspective(radians((float)fovy), 1.0f, (float)n, (float)f)};
-    sl_program prog = {vs_textured, fs_probe, 2};
+    sl_program prog = {.vertex = vs_textured, .fragment = fs_probe, .varying_count = 2};
     probe_texel *tex = calloc(W * H, sizeof *tex);
     assert_non_null(tex);
     for (int i = 0; i < W * H; i++)
@@ -62,7 +62,8 @@ static void test_perspective(void **state)
     sl_error err = {0};
     sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 2, .tile_size = 16, .stats = true}, &err);
     assert_non_null(r);
-    assert_true(sl_raster_draw(r, &target, &(sl_draw){&prog, &u, &u, &mesh, SL_CULL_NONE}, &err));
+    const sl_draw draw = {.program = &prog, .vs_uniforms = &u, .fs_uniforms = &u, .mesh = &mesh, .cull = SL_CULL_NONE};
+    assert_true(sl_raster_draw(r, &target, &draw, &err));
     assert_int_equal(sl_raster_get_stats(r).triangles_clipped, 2);
 
     const double t = tan(fovy * 3.14159265358979 / 360.0);
