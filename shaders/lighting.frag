@@ -55,7 +55,8 @@
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3
 //   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
 //   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
-//   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w))
+//   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w)),
+//                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w))
 //   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
 //   int uRotate       1 = Cranley-Patterson rotation: every Hammersley pair is offset by the
 //                     pixel's pseudo-random vector pixel_rotation() mod 1 (0 = off: the same set
@@ -116,6 +117,7 @@ const int LOD_SPEC_D4 = 3;
 const int LOD_GEMS = 4;
 const int GTERM_INV_LH2 = 1;
 const int ESTIMATOR_CONSISTENT = 2;
+const int ESTIMATOR_MICROFACET = 3;
 
 // Numerical guards (docs/lighting.md, "Hard cases"):
 const float MIN_NDOTV = 0.01;      // normals facing away from the eye are bent to N.V = 0.01
@@ -310,6 +312,70 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
     return sum * (1.0 / float(max(n, 1)));
 }
 
+// Microfacet sampling, step 1: H about +Z with density D(H) (N.H). D is normalised so that
+// (alpha + 2) int_0^1 c^(alpha+1) dc = 1 (c = N.H), so c has the CDF c^(alpha+2) and
+// c = xi2^(1/(alpha+2)); the azimuth is eq. (4)'s, as in skewed_sample (only the exponent differs).
+vec3 microfacet_sample(vec2 xi, float alpha)
+{
+    vec2 uv = vec2(xi.x, acos(clamp(pow(xi.y, 1.0 / (alpha + 2.0)), -1.0, 1.0)) / PI);
+    return sl_uv_to_dir(uv);
+}
+
+// D(H) of the drawn H: (N.H)^alpha = xi2^(alpha/(alpha+2)) exactly (N.H = xi2^(1/(alpha+2))); the
+// xi form does not underflow at large alpha as pow(N.H, alpha) does.
+float microfacet_D(vec2 xi, float alpha)
+{
+    return (alpha + 2.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 2.0));
+}
+
+// Specular IBL by microfacet importance sampling (uEstimator == 3): eq. (1) with the specular
+// term of eq. (2), f = D G F / (4 (w.N)(V.N)), by Monte Carlo with directions drawn through H:
+//   H ~ p_H(H) = D(H) (N.H) about N (microfacet_sample, in the tangent frame A, B, N);
+//   w = reflect(-V, H) = 2 (V.H) H - V, hence L.H = w.H = V.H; the map H -> w has
+//   dw/dH = 4 (V.H), so the density of w is p(w) = D(H) (N.H) / (4 (V.H));
+//   term = f L(w) (w.N) / p(w)
+//        = [D G F / (4 (w.N)(V.N))] L (w.N) [4 (V.H) / (D (N.H))]
+//        = F(V.H) L(w) G' (w.N) (V.H) / (N.H),    G' = G / ((w.N)(V.N)) = 1/(V.H)^2 or 1.
+// D cancels. Every w with w.N > 0 has p(w) > 0 (H = normalize(w + V) has N.H > 0), so the
+// estimator converges to eq. (1) (up to the mip filter's blur); and w.N > 0 needs
+// 2 (V.H)(N.H) > V.N, so N.H > V.N / (2 V.H) and the weight G' (w.N)(V.H)/(N.H) is at most
+// 2 / (V.N) for both G choices: bounded (200 at the bent-normal floor N.V = 0.01), where the
+// consistent estimator's D/p is not. Samples with V.H <= 0 (the microfacet faces away from
+// the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (ERRATA). N.H is the drawn
+// cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,
+// and p(w) for gems (docs/lighting.md "Estimators").
+vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+{
+    vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
+    vec3 A = normalize(cross(axis, N));
+    vec3 B = normalize(cross(N, A));
+    int n = int(uHammersley.N);
+    vec3 sum = vec3(0.0);
+    for (int k = 0; k < n; k++) {
+        vec2 xi = hammersley_point(k);
+        if (uRotate != 0)
+            xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
+        vec3 Hl = microfacet_sample(xi, alpha);
+        float D = microfacet_D(xi, alpha);
+        vec3 H = normalize(Hl.x * A + Hl.y * B + Hl.z * N);
+        float VdotH = dot(V, H);
+        vec3 w = normalize(2.0 * VdotH * H - V);
+        float wN = dot(w, N);
+        if (VdotH <= 0.0 || wN <= 0.0)
+            continue;
+        float NdotH = Hl.z;
+        float pdf = D * NdotH / (4.0 * VdotH);
+        vec3 F = sl_brdf_F(Ks, VdotH);
+        float G = sl_brdf_G(VdotH, uGTerm);
+        float lod = mip_level(D, pdf, w);
+        vec3 Li = textureLod(uEnv, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        float weight = G * wN * VdotH / NdotH;
+        vec3 c = F * Li * weight;
+        sum = sum + c;
+    }
+    return sum * (1.0 / float(max(n, 1)));
+}
+
 // One point light with the full BRDF (2): f * color * intensity / d^2 * max(N.L, 0); world space.
 vec3 point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {
@@ -362,8 +428,12 @@ void main()
         vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
         if (uDiffuse != 0)
             color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
-        if (uSpecular != 0)
-            color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+        if (uSpecular != 0) {
+            if (uEstimator == ESTIMATOR_MICROFACET)
+                color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
+            else
+                color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+        }
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);

@@ -18,16 +18,21 @@
  *     log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator never needs D itself). Its
  *     results differ from the port's by float rounding (test_lighting_fast bounds it); it is
  *     deterministic, and the trace follows it.
+ * Three estimators (uEstimator): spec and consistent share specular_ibl (directions about R);
+ * the microfacet one is specular_microfacet (H about N, w = reflect(-V, H)). The batched path
+ * runs both through specular_samples, with a stage (1) loop and spec-rule lod loop of its own
+ * for the microfacet estimator, since its samples and weights differ while the fetch and the sum
+ * are the same.
  * Everything else that is C only (options, uniforms, tasks, the pass, accumulation, the trace
  * printer) is in lighting_pass.c.
  *
- * Hoisting: skewed_sample and sample_pdf depend on the material's alpha and the sample index
- * only, yet cost an acos, a pow, two sincos and a second pow per sample. A task keeps the
- * tables of the last SLOTS distinct alphas it met (scenes have few materials), so a pixel
- * pays a table lookup; 1/2 log2(W H / N) is uLodBase, computed once per frame. With rotation
- * on (uRotate) every pixel has its own pairs, so the tables cannot serve; the batched path then
- * turns the xi1 offset into one rotation of the azimuths per pixel (xi1 only sets the azimuth)
- * and computes the xi2 part per sample with the fast log2/exp2.
+ * Hoisting: skewed_sample and sample_pdf (microfacet_sample and microfacet_D) depend on the
+ * material's alpha and the sample index only, yet cost an acos, a pow, two sincos and a second
+ * pow per sample. A task keeps the tables of the last SLOTS distinct alphas it met (scenes have
+ * few materials), so a pixel pays a table lookup; 1/2 log2(W H / N) is uLodBase, computed once
+ * per frame. With rotation on (uRotate) every pixel has its own pairs, so the tables cannot
+ * serve; the batched path then turns the xi1 offset into one rotation of the azimuths per pixel
+ * (xi1 only sets the azimuth) and computes the xi2 part per sample with the fast log2/exp2.
  *
  * GCC vectorizes a loop only if no floating-point operation sits under a branch (its default
  * -ftrapping-math); hence selects between constants multiplied in, and a loop per option
@@ -51,6 +56,7 @@ static const int LOD_SPEC = SL_LOD_SPEC;
 static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
 static const int LOD_GEMS = SL_LOD_GEMS;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
+static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const float MIN_NDOTV = 0.01f;
 static const float POLE_EPS = 1e-6f;
 static const float TINY = SL_BRDF_TINY;
@@ -99,6 +105,19 @@ static float sample_pdf(vec2 xi, float alpha)
     return (alpha + 1.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 1.0f));
 }
 
+/* GLSL: microfacet_sample */
+static vec3 microfacet_sample(vec2 xi, float alpha)
+{
+    vec2 uv = vec2(xi.x, acosf(clamp(powf(xi.y, 1.0f / (alpha + 2.0f)), -1.0f, 1.0f)) / PI);
+    return sl_uv_to_dir(uv);
+}
+
+/* GLSL: microfacet_D */
+static float microfacet_D(vec2 xi, float alpha)
+{
+    return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
+}
+
 /* GLSL: mip_level */
 static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w)
 {
@@ -137,8 +156,9 @@ static vec3 irradiance(const sl_lighting_uniforms *u, vec3 N)
     return sl_irradiance_eval(u->uIrradiance, N);
 }
 
-/* Find or build the table for alpha (C only: the hoisted part of specular_ibl). */
-static const lobe_table *lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha)
+/* Find or build the table for alpha (C only: the hoisted part of specular_ibl, or of
+ * specular_microfacet when `microfacet`). */
+static const lobe_table *lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
 {
     int n = (int)u->uHammersley.N;
     if (task->owner != u) {
@@ -147,21 +167,22 @@ static const lobe_table *lobe_for(const sl_lighting_uniforms *u, sl_lighting_tas
     }
     for (int s = 0; s < SLOTS; s++) {
         const lobe_table *t = &task->slots[s];
-        if (t->valid && t->alpha == alpha && t->n == n)
+        if (t->valid && t->alpha == alpha && t->n == n && t->microfacet == microfacet)
             return t;
     }
     lobe_table *t = &task->slots[task->next];
     task->next = (task->next + 1) % SLOTS;
     for (int k = 0; k < n; k++) {
         vec2 xi = hammersley_point(u, k);
-        vec3 L = skewed_sample(xi, alpha);
+        vec3 L = microfacet ? microfacet_sample(xi, alpha) : skewed_sample(xi, alpha);
         t->xi1[k] = xi.x;
         t->xi2[k] = xi.y;
         t->Lx[k] = L.x;
         t->Ly[k] = L.y;
         t->Lz[k] = L.z;
-        t->pdf[k] = sample_pdf(xi, alpha);
+        t->pdf[k] = microfacet ? microfacet_D(xi, alpha) : sample_pdf(xi, alpha);
     }
+    t->microfacet = microfacet;
     t->alpha = alpha;
     t->n = n;
     t->valid = true;
@@ -180,7 +201,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
     int n = (int)u->uHammersley.N;
     vec3 sum = vec3s(0.0f);
     /* the table holds the unrotated pairs: with rotation on every pixel has its own */
-    const lobe_table *lobe = task && u->uRotate == 0 ? lobe_for(u, task, alpha) : NULL;
+    const lobe_table *lobe = task && u->uRotate == 0 ? lobe_for(u, task, alpha, false) : NULL;
     int below = 0;
     if (trace) {
         trace->NdotV = NdotV;
@@ -231,6 +252,83 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             ts->NdotH = NdotH;
             ts->LdotH = LdotH;
             ts->D = D;
+            ts->F = F;
+            ts->G = G;
+            ts->lod = lod;
+            ts->Li = Li;
+            ts->c = c;
+            ts->sum = sum;
+        }
+    }
+    if (task) {
+        task->stats.samples += n;
+        task->stats.below_horizon += below;
+        task->stats.pole_frames += axis.x == 1.0f;
+    }
+    return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* GLSL: specular_microfacet (the derivation is in the GLSL). The per-sample (xi, H about +Z, D)
+ * come from the per-alpha table when a task is given, as in specular_ibl. */
+static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                                sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 A = normalize(cross(axis, N));
+    vec3 B = normalize(cross(N, A));
+    int n = (int)u->uHammersley.N;
+    vec3 sum = vec3s(0.0f);
+    const lobe_table *lobe = task && u->uRotate == 0 ? lobe_for(u, task, alpha, true) : NULL;
+    int below = 0;
+    if (trace) {
+        float NdotV = dot(N, V);
+        trace->NdotV = NdotV;
+        trace->R = normalize(sub(scale(N, 2.0f * NdotV), V)); /* not used by this estimator */
+        trace->A = A;
+        trace->B = B;
+        trace->pole_frame = axis.x == 1.0f;
+        trace->sample_count = n;
+        trace->microfacet = true;
+    }
+    for (int k = 0; k < n; k++) {
+        vec2 xi = lobe ? vec2(lobe->xi1[k], lobe->xi2[k]) : hammersley_point(u, k);
+        if (u->uRotate != 0)
+            xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
+        vec3 Hl = lobe ? vec3(lobe->Lx[k], lobe->Ly[k], lobe->Lz[k]) : microfacet_sample(xi, alpha);
+        float D = lobe ? lobe->pdf[k] : microfacet_D(xi, alpha);
+        vec3 H = normalize(add(add(scale(A, Hl.x), scale(B, Hl.y)), scale(N, Hl.z)));
+        float VdotH = dot(V, H);
+        vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
+        float wN = dot(w, N);
+        if (trace) {
+            sl_lighting_trace_sample *ts = &trace->samples[k];
+            memset(ts, 0, sizeof *ts);
+            ts->xi = xi;
+            ts->L = Hl;
+            ts->w = w;
+            ts->wN = wN;
+            ts->H = H;
+            ts->NdotH = Hl.z;
+            ts->LdotH = VdotH;
+            ts->D = D;
+            ts->sum = sum;
+        }
+        if (VdotH <= 0.0f || wN <= 0.0f) {
+            below++;
+            continue;
+        }
+        float NdotH = Hl.z;
+        float pdf = D * NdotH / (4.0f * VdotH);
+        vec3 F = sl_brdf_F(Ks, VdotH);
+        float G = sl_brdf_G(VdotH, (sl_gterm)u->uGTerm);
+        float lod = mip_level(u, D, pdf, w);
+        vec3 Li = scale(textureLod(u->uEnv, sl_dir_to_uv(w), lod), u->uEnvIntensity);
+        float weight = G * wN * VdotH / NdotH;
+        vec3 c = scale(mul(F, Li), weight);
+        sum = add(sum, c);
+        if (trace) {
+            sl_lighting_trace_sample *ts = &trace->samples[k];
+            ts->pdf = pdf;
             ts->F = F;
             ts->G = G;
             ts->lod = lod;
@@ -341,7 +439,9 @@ static vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int
             }
         }
         if (u->uSpecular != 0) {
-            vec3 specular = specular_ibl(u, Nenv, Venv, Ks, alpha, rotation, task, trace);
+            vec3 specular = u->uEstimator == ESTIMATOR_MICROFACET
+                                ? specular_microfacet(u, Nenv, Venv, Ks, alpha, rotation, task, trace)
+                                : specular_ibl(u, Nenv, Venv, Ks, alpha, rotation, task, trace);
             color = add(color, specular);
             if (trace)
                 trace->specular = specular;
@@ -380,6 +480,7 @@ typedef struct {
     float hx[BLOCK], hy[BLOCK], hz[BLOCK], NdotH[BLOCK], LdotH[BLOCK];
     float m5[BLOCK], lod[BLOCK], u[BLOCK], v[BLOCK];
     float weight[BLOCK], cr[BLOCK], cg[BLOCK], cb[BLOCK];
+    float vh[BLOCK], pw[BLOCK]; /* microfacet only: V.H and p(w) */
 } sample_block;
 
 /* log2(TINY): the floor of every log2 in mip_level */
@@ -415,17 +516,20 @@ static const azimuth_table *azimuth_for(const sl_lighting_uniforms *u, sl_lighti
 }
 
 /* Stage (0), rotation on: the pixel's pairs fract(xi + rotation) skewed to the lobe, i.e.
- * skewed_sample and sample_pdf of the rotated pair. Shifting xi1 shifts the azimuth by
- * -2 pi rotation.x for every sample: one rotation (cr, sr) of each (cos phi, sin phi); the
- * polar part cos(theta) = xi2^(1/(alpha+1)) and the pdf's xi2^(alpha/(alpha+1)) go through
- * log2/exp2, and sin(theta) = sqrt(1 - cos^2). A rotated xi2 of exactly 0 gives cos(theta) = 0
- * and pdf = 0, as pow(0, e) does. */
-static void rotated_lobe(const azimuth_table *az, int k0, int m, float alpha, vec2 rotation, sample_block *b)
+ * skewed_sample and sample_pdf of the rotated pair (plus = 1), or microfacet_sample and
+ * microfacet_D (plus = 2: the exponents 1/(alpha+2), alpha/(alpha+2), the constant
+ * (alpha+2)/(2 pi)). Shifting xi1 shifts the azimuth by -2 pi rotation.x for every sample: one
+ * rotation (cr, sr) of each (cos phi, sin phi); the polar part cos(theta) = xi2^(1/(alpha+plus))
+ * and the pdf's (or D's) xi2^(alpha/(alpha+plus)) go through log2/exp2, and sin(theta) =
+ * sqrt(1 - cos^2). A rotated xi2 of exactly 0 gives cos(theta) = 0 and pdf = 0, as pow(0, e)
+ * does. */
+static void rotated_lobe(const azimuth_table *az, int k0, int m, float alpha, float plus, vec2 rotation,
+                         sample_block *b)
 {
     float rho = 2.0f * PI * rotation.x;
     float cr = cosf(rho), sr = sinf(rho);
-    float e_cos = 1.0f / (alpha + 1.0f), e_pdf = alpha / (alpha + 1.0f);
-    float norm = (alpha + 1.0f) / (2.0f * PI);
+    float e_cos = 1.0f / (alpha + plus), e_pdf = alpha / (alpha + plus);
+    float norm = (alpha + plus) / (2.0f * PI);
     const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
 #pragma omp simd
     for (int i = 0; i < m; i++) {
@@ -483,7 +587,8 @@ __attribute__((always_inline)) static inline vec3 block_bilinear(const vec3 *T, 
     return mix3(top, bottom, fy);
 }
 
-/* specular_ibl, batched, for one pixel whose frame (N, V, R, A, B; environment space) the pixel
+/* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
+ * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
  * stage computed: see the top of the file. Same samples, same sum order. */
 __attribute__((noinline)) /* a call per pixel; inlined, it keeps shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
@@ -493,7 +598,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     if (trace)
         trace->sample_count = n;
     const bool rotate = u->uRotate != 0;
-    const lobe_table *lobe = task && !rotate ? lobe_for(u, task, alpha) : NULL;
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const lobe_table *lobe = task && !rotate ? lobe_for(u, task, alpha, mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
     const azimuth_table *az = rotate ? azimuth_for(u, task, &local_az) : NULL;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
@@ -504,6 +610,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     const float intensity = u->uEnvIntensity;
     /* log2 of D's constant (alpha + 2)/(2 pi); the lod of spec-d4 takes D/4 */
     const float log2_c_lod = sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
+    const float log2_d4 = rule == LOD_SPEC_D4 ? 2.0f : 0.0f; /* microfacet: log2 D - log2 4 */
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     /* the texture: the block's layout when there is one, else level 0's described as every
      * level (uniforms_init), and the fetch below redoes it texel by texel */
@@ -528,52 +635,94 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             Lz = lobe->Lz + k0;
             pdf = lobe->pdf + k0;
         } else if (rotate) {
-            rotated_lobe(az, k0, m, alpha, rotation, b);
+            rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
         } else {
             for (int i = 0; i < m; i++) {
                 vec2 xi = hammersley_point(u, k0 + i);
-                vec3 L = skewed_sample(xi, alpha);
+                vec3 L = mf ? microfacet_sample(xi, alpha) : skewed_sample(xi, alpha);
                 b->xi1[i] = xi.x;
                 b->xi2[i] = xi.y;
                 b->Lx[i] = L.x;
                 b->Ly[i] = L.y;
                 b->Lz[i] = L.z;
-                b->pdf[i] = sample_pdf(xi, alpha);
+                b->pdf[i] = mf ? microfacet_D(xi, alpha) : sample_pdf(xi, alpha);
             }
         }
         /* (1) directions, dot products, G, the Fresnel factor and the uv: specular_ibl's
-         * operations, vectorized over the samples */
+         * operations, vectorized over the samples; or specular_microfacet's, where (L, pdf) are
+         * (H about +Z, D(H)) and A, B span the frame about N. A sample with N.H = 0 (a rotated
+         * xi2 of 0) divides by 0 here; it has w.N < 0, so stage (4) drops it. */
+        if (mf) {
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
-            float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
-            float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
-            float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
-            float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
-            wx *= iw;
-            wy *= iw;
-            wz *= iw;
-            float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
-            float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
-            hx *= ih;
-            hy *= ih;
-            hz *= ih;
-            float LdotH = (wx * hx + wy * hy) + wz * hz;
-            float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
-            float mm = maxf(1.0f - LdotH, 0.0f);
-            float m2 = mm * mm;
-            float wN = (wx * N.x + wy * N.y) + wz * N.z;
-            b->wx[i] = wx;
-            b->wy[i] = wy;
-            b->wz[i] = wz;
-            b->wN[i] = wN;
-            b->hx[i] = hx;
-            b->hy[i] = hy;
-            b->hz[i] = hz;
-            b->NdotH[i] = (N.x * hx + N.y * hy) + N.z * hz;
-            b->LdotH[i] = LdotH;
-            b->m5[i] = m2 * m2 * mm;
-            b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN / 4.0f; /* G w.N / 4 */
-            sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+            for (int i = 0; i < m; i++) {
+                float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
+                float hy = (A.y * Lx[i] + B.y * Ly[i]) + N.y * Lz[i];
+                float hz = (A.z * Lx[i] + B.z * Ly[i]) + N.z * Lz[i];
+                float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+                hx *= ih;
+                hy *= ih;
+                hz *= ih;
+                float VdotH = (V.x * hx + V.y * hy) + V.z * hz;
+                float wx = hx * (2.0f * VdotH) - V.x;
+                float wy = hy * (2.0f * VdotH) - V.y;
+                float wz = hz * (2.0f * VdotH) - V.z;
+                float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+                wx *= iw;
+                wy *= iw;
+                wz *= iw;
+                float wN = (wx * N.x + wy * N.y) + wz * N.z;
+                float NdotH = Lz[i];
+                float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
+                float mm = maxf(1.0f - VdotH, 0.0f);
+                float m2 = mm * mm;
+                b->wx[i] = wx;
+                b->wy[i] = wy;
+                b->wz[i] = wz;
+                b->wN[i] = wN;
+                b->hx[i] = hx;
+                b->hy[i] = hy;
+                b->hz[i] = hz;
+                b->NdotH[i] = NdotH;
+                b->LdotH[i] = VdotH;
+                b->vh[i] = VdotH;
+                b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
+                b->m5[i] = m2 * m2 * mm;
+                b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
+                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+            }
+        } else {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
+                float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
+                float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
+                float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+                wx *= iw;
+                wy *= iw;
+                wz *= iw;
+                float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
+                float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+                hx *= ih;
+                hy *= ih;
+                hz *= ih;
+                float LdotH = (wx * hx + wy * hy) + wz * hz;
+                float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+                float mm = maxf(1.0f - LdotH, 0.0f);
+                float m2 = mm * mm;
+                float wN = (wx * N.x + wy * N.y) + wz * N.z;
+                b->wx[i] = wx;
+                b->wy[i] = wy;
+                b->wz[i] = wz;
+                b->wN[i] = wN;
+                b->hx[i] = hx;
+                b->hy[i] = hy;
+                b->hz[i] = hz;
+                b->NdotH[i] = (N.x * hx + N.y * hy) + N.z * hz;
+                b->LdotH[i] = LdotH;
+                b->m5[i] = m2 * m2 * mm;
+                b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN / 4.0f; /* G w.N / 4 */
+                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+            }
         }
         /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
          * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
@@ -584,16 +733,23 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         } else {
             memset(b->lod, 0, sizeof(float) * (size_t)m); /* log2 d = 0 */
         }
-        if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
+        if (mf && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) { /* D(H) is at hand: log2 of it */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = sl_fast_log2(maxf(pdf[i], TINY)) - log2_d4 + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+            }
+        } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
                 b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
             }
         } else if (rule == LOD_GEMS) {
+            const float *pw = mf ? b->pw : pdf; /* the density of w */
 #pragma omp simd
             for (int i = 0; i < m; i++) {
-                float lg = sl_fast_log2(maxf(4.0f * PI * pdf[i], TINY)) + b->lod[i];
+                float lg = sl_fast_log2(maxf(4.0f * PI * pw[i], TINY)) + b->lod[i];
                 b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + 1.0f, max_lod);
             }
         } else {
@@ -633,7 +789,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
          * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
          * and the trace agree bit for bit. */
         for (int i = 0; i < m; i++) {
-            bool above = !(b->wN[i] <= 0.0f);
+            bool above = !(b->wN[i] <= 0.0f) && !(mf && b->vh[i] <= 0.0f);
             int j = (k0 + i) & 3;
             below += !above;
             acc[j].x += above ? b->cr[i] : 0.0f;
@@ -649,14 +805,22 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             ts->w = vec3(b->wx[i], b->wy[i], b->wz[i]);
             ts->wN = b->wN[i];
             ts->sum = trace_sum;
-            if (b->wN[i] <= 0.0f)
+            if (mf) { /* as specular_microfacet records them: H, N.H, V.H, D before the test */
+                ts->H = vec3(b->hx[i], b->hy[i], b->hz[i]);
+                ts->NdotH = b->NdotH[i];
+                ts->LdotH = b->LdotH[i];
+                ts->D = pdf[i];
+                ts->pdf = 0.0f;
+            }
+            if (b->wN[i] <= 0.0f || (mf && b->vh[i] <= 0.0f))
                 continue;
             vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
             trace_sum = add(trace_sum, c);
             ts->H = vec3(b->hx[i], b->hy[i], b->hz[i]);
             ts->NdotH = b->NdotH[i];
             ts->LdotH = b->LdotH[i];
-            ts->D = sl_brdf_D(b->NdotH[i], alpha);
+            ts->pdf = mf ? b->pw[i] : pdf[i];
+            ts->D = mf ? pdf[i] : sl_brdf_D(b->NdotH[i], alpha);
             ts->F = add(Ks, scale(F1, b->m5[i]));
             ts->G = sl_brdf_G(b->LdotH[i], (sl_gterm)u->uGTerm);
             ts->lod = b->lod[i];
@@ -691,13 +855,14 @@ typedef struct {
 static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* main() up to the samples (V, facing_normal, the environment frame) and specular_ibl's frame
- * (R, A, B), for pixels x0 .. x0 + count - 1 of G-buffer row y; empty pixels compute garbage
+ * (R, A, B; A, B about N for specular_microfacet), for pixels x0 .. x0 + count - 1 of G-buffer row y; empty pixels compute garbage
  * that nothing reads. facing_normal's two branches are selects: the chosen value is computed
  * by the same operations, so the same bits. */
 static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, pixel_block *p)
 {
     const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
     const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET; /* the frame is about N, not R */
     for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
         p->Px[i] = t[i].position.x;
         p->Py[i] = t[i].position.y;
@@ -720,13 +885,14 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
                       select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
         vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
         vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
-        /* specular_ibl's frame */
+        /* specular_ibl's frame about R, or specular_microfacet's about N */
         float NdotV = dot(NE, VE);
         vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
-        bool pole = R.x * R.x + R.y * R.y < POLE_EPS;
+        vec3 Z = vec3(select_f(mf, NE.x, R.x), select_f(mf, NE.y, R.y), select_f(mf, NE.z, R.z));
+        bool pole = Z.x * Z.x + Z.y * Z.y < POLE_EPS;
         vec3 axis = vec3(select_f(pole, 1.0f, 0.0f), 0.0f, select_f(pole, 0.0f, 1.0f));
-        vec3 A = normalize(cross(axis, R));
-        vec3 B = normalize(cross(R, A));
+        vec3 A = normalize(cross(axis, Z));
+        vec3 B = normalize(cross(Z, A));
         p->Vx[i] = V.x;
         p->Vy[i] = V.y;
         p->Vz[i] = V.z;
@@ -843,6 +1009,7 @@ static void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
                 trace->A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
                 trace->B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
                 trace->pole_frame = p->pole[i];
+                trace->microfacet = u->uEstimator == ESTIMATOR_MICROFACET;
             }
             if (u->uDiffuse != 0) {
                 vec3 E = irradiance(u, Nenv);

@@ -5,8 +5,8 @@
  * Produces: a 3-channel sl_image of linear radiance, ROW 0 = TOP (flipped here, once).
  *
  * The shading is a line-by-line C port of shaders/lighting.frag (lighting.c): IBL diffuse
- * Kd/pi E(N), IBL specular by the specification's importance-sampled estimator (eq. (3)),
- * point lights with the BRDF of eq. (2), and the environment behind empty pixels.
+ * Kd/pi E(N), IBL specular by the specification's importance-sampled estimator (eq. (3)) or one
+ * of two consistent ones (options.estimator), point lights with the BRDF of eq. (2), and the environment behind empty pixels.
  * The uniforms struct below is the GLSL uniform list with the same names, so the GL host
  * code can copy from it field by field (docs/lighting.md).
  *
@@ -54,6 +54,8 @@ typedef enum {
     SL_ESTIMATOR_DEFAULT = 0,
     SL_ESTIMATOR_SPEC = 1,       /* eq. (3): divides by D(H); biased (ERRATA), matches the GLSL */
     SL_ESTIMATOR_CONSISTENT = 2, /* divides by the density of the drawn w, p(w) */
+    SL_ESTIMATOR_MICROFACET = 3, /* H drawn from D(H) (N.H), w = reflect(-V, H), divides by
+                                    p(w) = D (N.H) / (4 V.H): bounded weights ("mf") */
 } sl_estimator;
 
 /* Options, zero meaning "default" (resolved by sl_lighting_options_resolve). */
@@ -77,7 +79,7 @@ typedef struct {
 /* Fill every zero field with its default. */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt);
 /* Names for the command line and reports: "none", "spec", "spec-d4", "gems";
- * "spec", "consistent"; "inv-lh2", "one". Parsers return false on an unknown name. */
+ * "spec", "consistent", "mf"; "inv-lh2", "one". Parsers return false on an unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);
 const char *sl_gterm_name(sl_gterm gterm);
@@ -149,7 +151,8 @@ typedef struct {
     int64_t samples;           /* specular samples drawn */
     int64_t below_horizon;     /* ... of which w.N <= 0 (contributed 0) */
     int64_t bent_normals;      /* normals bent toward the eye (N.V < 0.01) */
-    int64_t pole_frames;       /* R within 1e-3 of +-Z: the X x R frame was used */
+    int64_t pole_frames;       /* the sample frame's axis (R; N for the microfacet estimator)
+                                  within 1e-3 of +-Z: the X x axis frame was used */
     int64_t nonfinite;         /* pixels whose NaN/Inf was replaced by 0 (should stay 0) */
 } sl_lighting_stats;
 
@@ -162,15 +165,17 @@ void sl_lighting_task_reset(sl_lighting_task *task);
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats); /* adds */
 void sl_lighting_task_destroy(sl_lighting_task *task);
 
-/* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. */
+/* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. With the microfacet
+ * estimator (trace.microfacet) L is the drawn H about +Z, w = reflect(-V, H), LdotH = V.H, and a
+ * sample with V.H <= 0 or w.N <= 0 contributes 0. */
 typedef struct {
-    vec2 xi;           /* Hammersley pair */
-    vec3 L;            /* skewed direction about +Z (eq. (4)) */
-    float pdf;         /* p(w) */
-    vec3 w;            /* rotated to R (environment space) */
+    vec2 xi;           /* Hammersley pair (rotated when rotation is on) */
+    vec3 L;            /* skewed direction about +Z (eq. (4)); microfacet: H about +Z */
+    float pdf;         /* p(w), the density of w */
+    vec3 w;            /* rotated to R (environment space); microfacet: reflect(-V, H) */
     float wN;          /* w.N; <= 0: below the horizon, nothing below was computed */
     vec3 H;
-    float NdotH, LdotH, D;
+    float NdotH, LdotH, D; /* microfacet: N.H is H's drawn cos(theta_h), D = D(H) */
     vec3 F;
     float G;           /* G / (L.N V.N) */
     float lod;
@@ -190,8 +195,10 @@ typedef struct {
     vec2 rotation;           /* the pixel's Hammersley offset (0, 0 when rotation is off) */
     bool plain;              /* traced through the plain port (else the batched path) */
     float NdotV;
-    vec3 R, A, B;            /* environment space */
+    vec3 R, A, B;            /* environment space; A, B span the frame about R, or about N for
+                                the microfacet estimator */
     bool pole_frame;
+    bool microfacet;         /* the microfacet estimator ran (specular_microfacet) */
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];

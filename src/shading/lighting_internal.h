@@ -13,9 +13,11 @@ enum { SPAN = 32 };
 enum { SLOTS = 8 };
 
 /* The loop-invariant part of specular_ibl for one alpha: (xi, L, pdf) of every sample,
- * structure of arrays so the batched path's loops read them with vector loads. */
+ * structure of arrays so the batched path's loops read them with vector loads. For the
+ * microfacet estimator (specular_microfacet) the same arrays hold (xi, H about +Z, D(H)). */
 typedef struct {
     bool valid;
+    bool microfacet; /* built by microfacet_sample / microfacet_D */
     float alpha;
     int n;
     float xi1[SL_HAMMERSLEY_MAX], xi2[SL_HAMMERSLEY_MAX];

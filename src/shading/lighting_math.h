@@ -22,6 +22,11 @@
 
 #include "../core/glsl.h"
 
+/* Always inlined: a call left in a `#pragma omp simd` loop stops it from vectorizing, and GCC's
+ * inlining budget for a large caller (lighting.c's specular_samples) runs out before every call
+ * site is inlined. */
+#define SL_FM_INLINE __attribute__((always_inline)) static inline
+
 static inline uint32_t sl_fm_bits(float x)
 {
     uint32_t i;
@@ -37,7 +42,7 @@ static inline float sl_fm_float(uint32_t i)
 
 /* floor(x) for |x| < 2^31, exactly floorf's value. GCC does not vectorize floorf under the
  * default -ftrapping-math; truncation to int and one compare do the same job. */
-static inline float sl_fast_floor(float x)
+SL_FM_INLINE float sl_fast_floor(float x)
 {
     int i = (int)x;
     float t = (float)i;
@@ -46,7 +51,7 @@ static inline float sl_fast_floor(float x)
 
 /* log2(x) for normal x > 0: x = 2^e m, m in [sqrt(1/2), sqrt(2)), ln m = 2 atanh(s) with
  * s = (m - 1)/(m + 1), |s| <= 0.172, by its series to s^9 (truncation < 1e-9). */
-static inline float sl_fast_log2(float x)
+SL_FM_INLINE float sl_fast_log2(float x)
 {
     uint32_t i = sl_fm_bits(x);
     int e = (int)(i >> 23) - 127;
@@ -63,7 +68,7 @@ static inline float sl_fast_log2(float x)
 
 /* 2^x for x in [-126, 127] (the caller's to guarantee: a clamp here would be a select that GCC
  * turns into branches): 2^n 2^f, n = round(x), f in [-1/2, 1/2], Cephes exp2f polynomial. */
-static inline float sl_fast_exp2(float x)
+SL_FM_INLINE float sl_fast_exp2(float x)
 {
     float n = sl_fast_floor(x + 0.5f);
     float f = x - n;
@@ -80,7 +85,7 @@ static inline float sl_fast_exp2(float x)
 /* atan2(y, x) in [-pi, pi]: t = min/max in [0, 1], reduced to [0, tan(pi/8)] by
  * (t - 1)/(t + 1) + pi/4, Cephes atanf polynomial, then the octant. atan2(0, 0) = 0;
  * y = -0 gives +pi for x < 0 (the lat-long map folds u = 1 to 0 either way). */
-static inline float sl_fast_atan2(float y, float x)
+SL_FM_INLINE float sl_fast_atan2(float y, float x)
 {
     float ax = fabsf(x), ay = fabsf(y);
     float mx = maxf(ax, ay), mn = minf(ax, ay);
@@ -99,7 +104,7 @@ static inline float sl_fast_atan2(float y, float x)
  * u = 1/2 - atan2(y, x) / (2 pi), folded into [0, 1); v = theta / pi with theta =
  * atan2(sqrt(x^2 + y^2), z), which equals acos(z) for unit d and stays accurate at the poles,
  * where acos(z) loses half its digits. */
-static inline void sl_fast_dir_to_uv(float x, float y, float z, float *u, float *v)
+SL_FM_INLINE void sl_fast_dir_to_uv(float x, float y, float z, float *u, float *v)
 {
     float uu = 0.5f - sl_fast_atan2(y, x) * (1.0f / (2.0f * SL_PI));
     uu = uu < 1.0f ? uu : uu - 1.0f;

@@ -26,7 +26,7 @@ sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
 }
 
 static const char *const lod_names[] = {"default", "none", "spec", "spec-d4", "gems"};
-static const char *const estimator_names[] = {"default", "spec", "consistent"};
+static const char *const estimator_names[] = {"default", "spec", "consistent", "mf"};
 static const char *const gterm_names[] = {"default", "inv-lh2", "one"};
 
 const char *sl_lod_rule_name(sl_lod_rule rule)
@@ -35,7 +35,7 @@ const char *sl_lod_rule_name(sl_lod_rule rule)
 }
 const char *sl_estimator_name(sl_estimator estimator)
 {
-    return (unsigned)estimator <= SL_ESTIMATOR_CONSISTENT ? estimator_names[estimator] : "?";
+    return (unsigned)estimator <= SL_ESTIMATOR_MICROFACET ? estimator_names[estimator] : "?";
 }
 const char *sl_gterm_name(sl_gterm gterm) { return (unsigned)gterm <= SL_GTERM_ONE ? gterm_names[gterm] : "?"; }
 
@@ -56,7 +56,7 @@ bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule)
 }
 bool sl_estimator_parse(const char *name, sl_estimator *estimator)
 {
-    int i = parse_name(name, estimator_names, 3);
+    int i = parse_name(name, estimator_names, 4);
     if (i < 0)
         return false;
     *estimator = (sl_estimator)i;
@@ -97,7 +97,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: no environment map");
     if (o.samples < 1 || o.samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: samples = %d, expected 1..%d", o.samples, SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_GEMS || (unsigned)o.estimator > SL_ESTIMATOR_CONSISTENT ||
+    if ((unsigned)o.lod_rule > SL_LOD_GEMS || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
         (unsigned)o.gterm > SL_GTERM_ONE)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator or G term");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
@@ -348,16 +348,24 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     print3(f, "R", t->R);
     print3(f, "A", t->A);
     print3(f, "B", t->B);
-    fprintf(f, "  %-12s %s\n", "A axis", t->pole_frame ? "X (R near a pole)" : "Z");
-    fprintf(f, "specular samples (N = %d, %s path)\n", t->sample_count,
+    const char *axis = t->microfacet ? "N" : "R";
+    fprintf(f, "  %-12s %s (frame about %s)\n", "A axis", t->pole_frame ? "X (axis near a pole)" : "Z", axis);
+    fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
+            t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
+                          : "directions drawn about R",
             t->plain ? "plain port" : "batched path: lod and uv by lighting_math.h, 4 partial sums");
     fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
-            "L (skewed)", "p(w)", "w", "w.N", "H", "L.H", "D", "G", "F", "lod", "Li", "contribution");
+            t->microfacet ? "H (about +Z)" : "L (skewed)", "p(w)", "w", "w.N", "H", t->microfacet ? "V.H" : "L.H", "D",
+            "G", "F", "lod", "Li", "contribution");
     for (int k = 0; k < t->sample_count; k++) {
         const sl_lighting_trace_sample *s = &t->samples[k];
         fprintf(f, "  %4d (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %-9.4g (%+.5f,%+.5f,%+.5f) %+-8.4f", k, (double)s->xi.x,
                 (double)s->xi.y, (double)s->L.x, (double)s->L.y, (double)s->L.z, (double)s->pdf, (double)s->w.x,
                 (double)s->w.y, (double)s->w.z, (double)s->wN);
+        if (t->microfacet && s->LdotH <= 0.0f) {
+            fprintf(f, " V.H %+.5f <= 0 (facet faces away): 0\n", (double)s->LdotH);
+            continue;
+        }
         if (s->wN <= 0.0f) {
             fprintf(f, " below the horizon: 0\n");
             continue;

@@ -59,6 +59,32 @@ if "$SL" compare "$T/default/g.pfm" "$T/rotate/g.pfm" --metric p99rel --toleranc
     echo "FAIL rotate: GL with --rotate --frame 7 equals GL without rotation"
     fail=1
 fi
+# The microfacet estimator (lighting.frag uEstimator = 3, specular_microfacet; C: lighting.c):
+# the default scene with the default mip rule, and the city's sun with GPU Gems' rule, the
+# distortion and rotation on. GL must agree, and must differ from the spec estimator (or GL
+# ignored uEstimator).
+mf_run() { # name, scene, options...
+    local name=$1 scene=$2
+    shift 2
+    mkdir -p "$T/$name"
+    "$SL" render "scenes/$scene.json" --size "$GL_TEST_SIZE" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" >/dev/null
+    "$GL" render "scenes/$scene.json" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm" >/dev/null
+    local status=0
+    "$SL" compare "$T/$name/c.pfm" "$T/$name/g.pfm" --metric p99rel --tolerance "$P99_TOL" >"$T/$name.txt" || status=$?
+    printf '%-10s p99 rel %-10s mean rel %s\n' "$name" "$(gl_field "p99 rel error" "$T/$name.txt")" \
+        "$(gl_field "mean rel error" "$T/$name.txt")"
+    if [ "$status" != 0 ]; then
+        echo "FAIL $name: $(grep -E '^(PASS|FAIL)' "$T/$name.txt")"
+        fail=1
+    fi
+    gl_check_share "$name" "$T/$name.txt" "$OVER8_PERCENT" || fail=1
+}
+mf_run mf-default default --estimator mf
+mf_run mf-sun city-sun --estimator mf --lod gems --distortion --rotate --frame 3
+if "$SL" compare "$T/default/g.pfm" "$T/mf-default/g.pfm" --metric p99rel --tolerance 1e-3 >/dev/null; then
+    echo "FAIL mf: GL with --estimator mf equals GL with the spec estimator"
+    fail=1
+fi
 if [ "$fail" != 0 ]; then
     echo "gl_shading: FAILED"
     exit 1

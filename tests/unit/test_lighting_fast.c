@@ -1,6 +1,6 @@
 /* test_lighting_fast.c - the lighting pass's batched fast path and the per-pixel rotation:
  * the fast transcendentals against double precision, the batched path against the plain port
- * (options.plain) over every option, the gathered fetch against the texel-by-texel one (bit for
+ * (options.plain) over every option and all three estimators, the gathered fetch against the texel-by-texel one (bit for
  * bit), the Cranley-Patterson hash against hand values (the same values the GLSL computes:
  * tests/cli/gl_shading.sh renders with rotation on through both), rotation off leaving results
  * unchanged, and averaging rotated frames converging to the ground truth. */
@@ -150,6 +150,16 @@ static void test_batched_vs_plain(void **state)
         {.samples = 70, .rotate = true, .frame = 3},
         {.samples = 40, .rotate = true, .frame = 9, .estimator = SL_ESTIMATOR_CONSISTENT, .lod_rule = SL_LOD_GEMS},
         {.samples = 40, .no_diffuse = true, .env_rotation_deg = 70.0f, .env_intensity = 2.0f},
+        /* the microfacet estimator: every lod rule, distortion, G = 1, rotation on and off */
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_SPEC, .distortion = true},
+        {.samples = 33, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_GEMS, .distortion = true},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_NONE, .gterm = SL_GTERM_ONE},
+        {.samples = 70, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .frame = 3},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .frame = 9, .lod_rule = SL_LOD_GEMS},
+        {.samples = 24, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .lod_rule = SL_LOD_SPEC, .distortion = true},
+        {.samples = 16, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .lod_rule = SL_LOD_NONE},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .no_diffuse = true, .env_rotation_deg = 70.0f},
     };
     for (int e = 0; e < 2; e++) {
         sl_irradiance irr;
@@ -199,8 +209,13 @@ static void test_block_fetch_bitwise(void **state)
     mat4 inv;
     vec3 eye;
     fx_sphere_scene(&gb, 64, 48, 300.0f, &inv, &eye);
-    const sl_lighting_options variants[] = {{.samples = 24}, {.samples = 24, .rotate = true, .lod_rule = SL_LOD_GEMS}};
-    for (int v = 0; v < 2; v++) {
+    const sl_lighting_options variants[] = {
+        {.samples = 24},
+        {.samples = 24, .rotate = true, .lod_rule = SL_LOD_GEMS},
+        {.samples = 24, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_GEMS},
+        {.samples = 24, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true},
+    };
+    for (int v = 0; v < 4; v++) {
         sl_image a = {0}, b = {0};
         sl_lighting_options o = variants[v];
         o.no_diffuse = true;
@@ -276,6 +291,80 @@ static void test_rotation_off_and_determinism(void **state)
     free(u);
     sl_image_free(&p1);
     sl_image_free(&p2);
+    sl_gbuffer_free(&gb);
+    sl_irradiance_free(&irr);
+    sl_env_free(&env);
+}
+
+/* The microfacet estimator keeps the batched path's guarantees: the pass with 1 and 2 threads,
+ * sl_lighting_shade per pixel without a task (no per-alpha table: the samples recomputed by the
+ * same functions), a whole row, and the trace's total agree bit for bit, with rotation off and
+ * on; rotation off ignores the frame number; and the spec-estimator tables a task holds for the
+ * same alpha do not leak into it (the same task shades both, in turn). */
+static void test_microfacet_determinism(void **state)
+{
+    (void)state;
+    sl_env env;
+    fx_env(&env, 128, 64, sky_with_sun);
+    sl_irradiance irr;
+    sl_error err;
+    assert_true(sl_irradiance_sh9(&irr, &env, &err));
+    sl_gbuffer gb = {0};
+    mat4 inv;
+    vec3 eye;
+    fx_sphere_scene(&gb, 80, 48, 1000.0f, &inv, &eye);
+    const size_t bytes = sizeof(float) * 80 * 48 * 3;
+    sl_lighting_trace *tr = malloc(sizeof *tr);
+    assert_non_null(tr);
+    for (int rot = 0; rot < 2; rot++) {
+        sl_lighting_uniforms *u = malloc(sizeof *u), *us = malloc(sizeof *us);
+        sl_lighting_desc d = {.options = {.samples = 24, .rotate = rot, .frame = 5, .lod_rule = SL_LOD_GEMS,
+                                          .estimator = SL_ESTIMATOR_MICROFACET},
+                              .env = &env, .irradiance = &irr, .eye = eye, .inv_view_proj = inv, .width = 80, .height = 48};
+        assert_true(sl_lighting_uniforms_init(u, &d, &err));
+        d.options.estimator = SL_ESTIMATOR_SPEC;
+        assert_true(sl_lighting_uniforms_init(us, &d, &err));
+        sl_image p1 = {0}, p2 = {0};
+        assert_true(sl_lighting_pass(u, NULL, &gb, &p1, 1, &err));
+        assert_true(sl_lighting_pass(u, NULL, &gb, &p2, 2, &err));
+        assert_memory_equal(p1.data, p2.data, bytes);
+        sl_lighting_task *task = sl_lighting_task_create(&err);
+        assert_non_null(task);
+        for (int y = 0; y < 48; y += 5)
+            for (int x = 0; x < 80; x += 7) {
+                vec3 c = sl_lighting_shade(u, &gb, x, y, NULL, NULL);
+                const float *p = sl_image_pixel(&p1, x, 47 - y);
+                assert_memory_equal(&c, p, sizeof(float) * 3);
+                /* one task, the two estimators in turn: the tables must not mix */
+                vec3 s1 = sl_lighting_shade(us, &gb, x, y, task, NULL);
+                sl_lighting_task_reset(task);
+                vec3 m1 = sl_lighting_shade(u, &gb, x, y, task, NULL);
+                assert_memory_equal(&m1, p, sizeof(float) * 3);
+                sl_lighting_task_reset(task);
+                vec3 s2 = sl_lighting_shade(us, &gb, x, y, NULL, NULL);
+                assert_memory_equal(&s1, &s2, sizeof(float) * 3);
+                assert_true(sl_lighting_trace_pixel(u, &gb, x, 47 - y, tr, &err));
+                assert_memory_equal(&tr->total, p, sizeof(float) * 3);
+                if (tr->covered)
+                    assert_true(tr->microfacet);
+            }
+        vec3 row[80];
+        sl_lighting_shade_row(u, &gb, 0, 20, 80, NULL, row);
+        assert_memory_equal(row, sl_image_pixel(&p1, 0, 47 - 20), sizeof row);
+        if (!rot) { /* rotation off: the frame number changes nothing */
+            d.options.estimator = SL_ESTIMATOR_MICROFACET;
+            d.options.frame = 77;
+            assert_true(sl_lighting_uniforms_init(u, &d, &err));
+            assert_true(sl_lighting_pass(u, NULL, &gb, &p2, 2, &err));
+            assert_memory_equal(p1.data, p2.data, bytes);
+        }
+        sl_lighting_task_destroy(task);
+        sl_image_free(&p1);
+        sl_image_free(&p2);
+        free(u);
+        free(us);
+    }
+    free(tr);
     sl_gbuffer_free(&gb);
     sl_irradiance_free(&irr);
     sl_env_free(&env);
@@ -390,6 +479,7 @@ int main(void)
         cmocka_unit_test(test_batched_vs_plain),
         cmocka_unit_test(test_block_fetch_bitwise),
         cmocka_unit_test(test_rotation_off_and_determinism),
+        cmocka_unit_test(test_microfacet_determinism),
         cmocka_unit_test(test_accumulate),
         cmocka_unit_test(test_rotation_converges),
     };

@@ -1,6 +1,7 @@
 /* test_shading.c - the lighting stage against hand values, analytic facts and the ground truth:
- * BRDF terms, the skewed sample density, the std140 block, white furnace, both estimators
- * (the spec's bias is measured and pinned down), point lights, the background, the row flip,
+ * BRDF terms, the skewed and the microfacet sample densities, the std140 block, white furnace,
+ * the three estimators (the spec's bias is measured and pinned down; the consistent and the
+ * microfacet ones against the ground truth), point lights, the background, the row flip,
  * determinism over threads and over the per-alpha cache, and the tone map. */
 #include "shading_fixtures.h"
 #include "shading/brdf.h"
@@ -144,6 +145,10 @@ static void test_options_resolve_and_names(void **state)
     sl_estimator e;
     assert_true(sl_estimator_parse("consistent", &e));
     assert_int_equal(e, SL_ESTIMATOR_CONSISTENT);
+    assert_true(sl_estimator_parse("mf", &e));
+    assert_int_equal(e, SL_ESTIMATOR_MICROFACET);
+    assert_string_equal(sl_estimator_name(SL_ESTIMATOR_MICROFACET), "mf");
+    assert_false(sl_estimator_parse("microfacet", &e));
     sl_gterm g;
     assert_true(sl_gterm_parse("one", &g));
     assert_int_equal(g, SL_GTERM_ONE);
@@ -164,6 +169,12 @@ static void test_options_resolve_and_names(void **state)
     d.light_count = SL_LIGHTING_MAX_LIGHTS + 1;
     assert_false(sl_lighting_uniforms_init(u, &d, &err));
     d.light_count = 0;
+    d.options.estimator = (sl_estimator)(SL_ESTIMATOR_MICROFACET + 1);
+    assert_false(sl_lighting_uniforms_init(u, &d, &err));
+    d.options.estimator = SL_ESTIMATOR_MICROFACET;
+    assert_true(sl_lighting_uniforms_init(u, &d, &err));
+    assert_int_equal(u->uEstimator, 3); /* lighting.frag ESTIMATOR_MICROFACET */
+    d.options.estimator = SL_ESTIMATOR_DEFAULT;
     assert_true(sl_lighting_uniforms_init(u, &d, &err));
     assert_near(u->uLodBase, 0.5 * log2(8.0 * 4.0 / 40.0), 1e-6);
     assert_near(u->uEnvMaxLod, 3.0, 0.0); /* 8x4, 4x2, 2x1, 1x1 */
@@ -380,6 +391,135 @@ static void test_spec_estimator_bias(void **state)
     sl_env_free(&env);
 }
 
+/* The microfacet estimator's samples, read through the trace (N = 1024, so the midpoint rule in
+ * xi2 errs by O(1/N^2)): H has the density D(H) (N.H) about N, so the mean of N.H over the set is
+ * (alpha+2)/(alpha+3) and the mean of H's local x, y is 0; every H is unit with H.N = its local z;
+ * w = reflect(-V, H) is unit with L.H = V.H; D is (alpha+2)/(2 pi) (N.H)^alpha; and a drawn sample
+ * contributes exactly when V.H > 0 and w.N > 0, with p(w) = D (N.H) / (4 V.H). Seen head-on
+ * (V = N), w.N = 2 (N.H)^2 - 1 > 0 iff N.H > 1/sqrt(2), i.e. xi2 = (N.H)^(alpha+2) > 2^-(alpha+2)/2:
+ * of the pairs xi2 = (k + 1/2)/1024 that is 1024 (1 - 2^-(alpha+2)/2) samples, to one (half of
+ * them at alpha 0). The surface is tilted (N off +Z) so the frame is not the identity. */
+static void test_microfacet_sample_density(void **state)
+{
+    (void)state;
+    sl_env env;
+    fx_env(&env, 8, 4, fx_const_one);
+    sl_lighting_trace *tr = malloc(sizeof *tr);
+    assert_non_null(tr);
+    const float alphas[] = {0, 1, 10, 100};
+    const vec3 n = normalize(vec3(0.3f, -0.2f, 0.9f));
+    for (int a = 0; a < 4; a++)
+        for (int plain = 0; plain < 2; plain++) {
+            vec3 v = n;
+            sl_lighting_uniforms *u = fx_uniforms(&env, NULL, (sl_lighting_options){.samples = 1024, .no_diffuse = true,
+                .estimator = SL_ESTIMATOR_MICROFACET, .plain = plain}, scale(v, 10.0f), 1, 1);
+            sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(0.5f), alphas[a]);
+            sl_gbuffer gb = {1, 1, &t};
+            sl_error err;
+            assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, &err));
+            assert_true(tr->microfacet);
+            assert_int_equal(tr->sample_count, 1024);
+            assert_near(dot(tr->A, tr->Nenv), 0.0, 1e-6);
+            assert_near(dot(tr->B, tr->Nenv), 0.0, 1e-6);
+            double mz = 0, mx = 0, my = 0;
+            int used = 0;
+            for (int k = 0; k < 1024; k++) {
+                const sl_lighting_trace_sample *s = &tr->samples[k];
+                mz += s->L.z / 1024.0;
+                mx += s->L.x / 1024.0;
+                my += s->L.y / 1024.0;
+                assert_near(length(s->H), 1.0, 1e-6);
+                assert_near(dot(s->H, tr->Nenv), s->L.z, 2e-6);
+                assert_near(length(s->w), 1.0, 1e-6);
+                assert_near(dot(s->w, s->H), s->LdotH, 2e-6); /* L.H = V.H */
+                assert_near(dot(tr->Venv, s->H), s->LdotH, 2e-6);
+                double D = (alphas[a] + 2.0) / (2.0 * 3.14159265358979) * pow(s->NdotH, alphas[a]);
+                assert_near(s->D, D, 1e-4 * D + 1e-30);
+                if (s->LdotH > 0.0f && s->wN > 0.0f) {
+                    used++;
+                    assert_near(s->pdf, s->D * s->NdotH / (4.0 * s->LdotH), 1e-5 * s->pdf);
+                    assert_true(isfinite(s->c.x) && s->c.x > 0.0f);
+                } else {
+                    assert_near(s->c.x, 0.0, 0.0);
+                }
+            }
+            assert_near(mz, (alphas[a] + 2.0) / (alphas[a] + 3.0), 1e-3);
+            assert_near(mx, 0.0, 2e-3);
+            assert_near(my, 0.0, 2e-3);
+            assert_near(used, 1024.0 * (1.0 - pow(2.0, -(alphas[a] + 2.0) / 2.0)), 1.0);
+            free(u);
+        }
+    free(tr);
+    sl_env_free(&env);
+}
+
+/* The microfacet estimator converges to the ground truth (specular only, lod 0 so that the
+ * estimator alone is measured; the ground truth integrates the same environment texel by
+ * texel): alpha 0, 1, 10, 100 x N.V 1, 0.6, 0.2 x Ks 0.04, 1, on a constant environment and on a
+ * structured one (a gradient in every channel, 512x256 for both the shader and the truth).
+ * Its weight G' (w.N)(V.H)/(N.H) is bounded by 2/(N.V) and every direction above the horizon is
+ * drawn, so the relative error over these 48 cases must fall as N grows (RMS at N = 16, 64,
+ * 256, 1024) and be small at N = 256. Measured (the print shows them): RMS 6.7e-2, 1.0e-2,
+ * 4.9e-3, 8.1e-4; worst case 2.0e-2 at N = 256 (N.V 0.2, Ks 0.04: the Fresnel rise at the horizon)
+ * and 3.5e-3 at N = 1024. Tolerances: each RMS below 0.6 of the previous; at N = 256 RMS 8e-3 and
+ * worst 3e-2; at N = 1024 RMS 1.5e-3 and worst 6e-3. The consistent estimator does not get there
+ * on these cases (RMS 9e-2 at N = 256, printed beside; docs/lighting.md says why). */
+static void test_microfacet_vs_truth(void **state)
+{
+    (void)state;
+    sl_env envs[2];
+    fx_env(&envs[0], 512, 256, fx_const_one);
+    fx_env(&envs[1], 512, 256, sky_gradient);
+    const float alphas[] = {0, 1, 10, 100}, nvs[] = {1.0f, 0.6f, 0.2f}, kss[] = {0.04f, 1.0f};
+    const int ns[] = {16, 64, 256, 1024};
+    double sq[4] = {0}, worst[4] = {0}, sq_consistent = 0;
+    int cases = 0;
+    for (int e = 0; e < 2; e++) {
+        sl_ground_truth gt;
+        sl_error err;
+        assert_true(sl_ground_truth_init(&gt, &envs[e], &err));
+        for (int a = 0; a < 4; a++)
+            for (int i = 0; i < 3; i++)
+                for (int k = 0; k < 2; k++) {
+                    vec3 n = vec3(0, 0, 1), v = fx_view_dir(nvs[i], 0.8f);
+                    sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(kss[k]), alphas[a]);
+                    double truth = fx_truth(&gt, n, v, t, false, true);
+                    assert_true(truth > 0.0);
+                    for (int j = 0; j < 4; j++) {
+                        sl_lighting_options o = {.samples = ns[j], .no_diffuse = true, .lod_rule = SL_LOD_NONE,
+                                                 .estimator = SL_ESTIMATOR_MICROFACET};
+                        sl_lighting_uniforms *u = fx_uniforms(&envs[e], NULL, o, scale(v, 10.0f), 1, 1);
+                        double rel = fabs(fx_shade(u, t).x - truth) / truth;
+                        sq[j] += rel * rel;
+                        worst[j] = fmax(worst[j], rel);
+                        free(u);
+                        if (j == 2) {
+                            o.estimator = SL_ESTIMATOR_CONSISTENT;
+                            u = fx_uniforms(&envs[e], NULL, o, scale(v, 10.0f), 1, 1);
+                            double rc = (fx_shade(u, t).x - truth) / truth;
+                            sq_consistent += rc * rc;
+                            free(u);
+                        }
+                    }
+                    cases++;
+                }
+        sl_ground_truth_free(&gt);
+    }
+    double rms[4];
+    for (int j = 0; j < 4; j++) {
+        rms[j] = sqrt(sq[j] / cases);
+        print_message("microfacet vs truth, %d cases, N = %3d: RMS relative error %.3g, worst %.3g\n", cases, ns[j],
+                      rms[j], worst[j]);
+    }
+    print_message("consistent vs truth, same cases, N = 256: RMS relative error %.3g\n", sqrt(sq_consistent / cases));
+    for (int j = 1; j < 4; j++)
+        assert_true(rms[j] < 0.6 * rms[j - 1]);
+    assert_true(rms[2] < 8e-3 && worst[2] < 3e-2);
+    assert_true(rms[3] < 1.5e-3 && worst[3] < 6e-3);
+    sl_env_free(&envs[0]);
+    sl_env_free(&envs[1]);
+}
+
 /* One point light straight above, eye on the axis: L = V = H = N, so L.H = 1, F = Ks, G term 1,
  * D = (alpha+2)/(2 pi), and radiance = (Kd/pi + Ks (alpha+2)/(8 pi)) color I / d^2. */
 static void test_point_light_hand_value(void **state)
@@ -568,6 +708,8 @@ int main(void)
         cmocka_unit_test(test_white_furnace_full),
         cmocka_unit_test(test_consistent_vs_truth),
         cmocka_unit_test(test_spec_estimator_bias),
+        cmocka_unit_test(test_microfacet_sample_density),
+        cmocka_unit_test(test_microfacet_vs_truth),
         cmocka_unit_test(test_point_light_hand_value),
         cmocka_unit_test(test_background),
         cmocka_unit_test(test_determinism),
