@@ -281,13 +281,13 @@ static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
         break;
     case SDLK_l: {
         sl_lod_rule rule = sl_lighting_options_resolve(l).lod_rule;
-        l->lod_rule = rule >= SL_LOD_GEMS ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
+        l->lod_rule = rule >= SL_LOD_PDF ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
         view_restart_lighting(v);
         break;
     }
     case SDLK_k: {
         sl_estimator est = sl_lighting_options_resolve(l).estimator;
-        l->estimator = est == SL_ESTIMATOR_SPEC ? SL_ESTIMATOR_CONSISTENT : SL_ESTIMATOR_SPEC;
+        l->estimator = est == SL_ESTIMATOR_MICROFACET ? SL_ESTIMATOR_SPEC : (sl_estimator)(est + 1);
         view_restart_lighting(v);
         break;
     }

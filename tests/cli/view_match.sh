@@ -46,6 +46,8 @@ key 2
 key k
 screenshot $T/consistent
 key k
+screenshot $T/mf
+key k
 key l
 screenshot $T/gems
 key l
@@ -96,6 +98,7 @@ done <<LIST
 no-diffuse --specular-only
 no-specular --diffuse-only
 consistent --estimator consistent
+mf --estimator mf
 gems --lod gems
 brute --irradiance brute
 n16 -n 16
