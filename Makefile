@@ -39,8 +39,11 @@ fuzz: setup
 test: test-release test-sanitize fuzz
 	@echo "make test: all passed"
 
+# The quick benchmarks (a few minutes); bench/README.md lists them all, with vs-gl.sh and speed-vs-error.sh.
 bench: build
-	@echo "benchmarks: see bench/README.md"
+	OMP_WAIT_POLICY=passive ./build/bench_raster --threads 1,2 --tiles 64 --frames 5
+	OMP_WAIT_POLICY=passive ./build/bench_shading --frames 3
+	OMP_WAIT_POLICY=passive bash bench/vs-gl.sh build 3 5
 
 clean:
 	rm -rf build build-debug build-asan build-fuzz
