@@ -128,15 +128,21 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
         return false;
     sl_env old = r->env;
     r->env = env;
-    /* A loaded irradiance map belongs to the old environment: recompute from the new one. */
-    if (r->desc.lighting.irradiance == SL_IRRADIANCE_MAP)
-        r->desc.lighting.irradiance = SL_IRRADIANCE_SH9;
-    if (!r->desc.lighting.no_diffuse && !build_irradiance(r, err)) {
-        sl_env_free(&r->env);
-        r->env = old;
-        if (!build_irradiance(r, NULL))
-            r->have_irradiance = false;
-        return false;
+    if (r->desc.lighting.no_diffuse) {
+        /* Irradiance of the old environment is stale; it is rebuilt when diffuse comes back on. */
+        if (r->have_irradiance)
+            sl_irradiance_free(&r->irradiance);
+        r->have_irradiance = false;
+    } else {
+        /* A loaded irradiance map belongs to the old environment: the new one gets SH9. */
+        sl_irradiance_method method = r->desc.lighting.irradiance;
+        if (method == SL_IRRADIANCE_MAP)
+            method = SL_IRRADIANCE_SH9;
+        if (!sl_renderer_set_irradiance(r, method, err)) { /* keeps the old irradiance */
+            sl_env_free(&r->env);
+            r->env = old;
+            return false;
+        }
     }
     sl_env_free(&old);
     r->env_repairs = repairs;
