@@ -25,9 +25,9 @@
  *
  * The "mf" variants are the shader's microfacet estimator (options.estimator =
  * SL_ESTIMATOR_MICROFACET, `--estimator mf`: H drawn from D(H) (N.H), w = reflect(-V, H), weight
- * by the exact density p(w) = D (N.H) / (4 V.H); docs/lighting.md). A prototype of it lived here
- * before it was in the shader; its figures are quoted in docs/accuracy.md where they still
- * inform (the "pdf" mip rule it had and the shader does not). */
+ * by the exact density p(w) = D (N.H) / (4 V.H); docs/lighting.md). The "pdf" mip rule
+ * (SL_LOD_PDF, `--lod pdf`: GPU Gems 3's level without its +1) is swept beside "gems" to measure
+ * what that +1 costs or buys. */
 #include <errno.h>
 #include <math.h>
 #include <omp.h>
@@ -169,6 +169,7 @@ static void build_variants(variant_list *l, bool with_gl)
         {KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_SPEC_D4, false, "mf, spec-d4 (--estimator mf)"},
         {KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_SPEC, true, "mf, spec+dist"},
         {KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_GEMS, true, "mf, gems+dist"},
+        {KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_PDF, true, "mf, pdf+dist"},
     };
     for (size_t s = 0; s < sizeof sweeps / sizeof sweeps[0]; s++)
         for (int i = 0; i < SWEEP_COUNT; i++)
@@ -177,7 +178,7 @@ static void build_variants(variant_list *l, bool with_gl)
                         sweep_n[i] == 40 || (sweeps[s].est == SL_ESTIMATOR_MICROFACET && sweep_n[i] == 16));
     /* mip rule x distortion x estimator at N = 40 */
     for (int e = SL_ESTIMATOR_SPEC; e <= SL_ESTIMATOR_MICROFACET; e++)
-        for (int lod = SL_LOD_NONE; lod <= SL_LOD_GEMS; lod++)
+        for (int lod = SL_LOD_NONE; lod <= SL_LOD_PDF; lod++)
             for (int d = 0; d < 2; d++)
                 add_variant(l, KIND_SHADER, (sl_estimator)e, (sl_lod_rule)lod, d, G, SH, 40, NULL, false);
     /* G term (the ground truth uses the same G) */
@@ -207,6 +208,7 @@ static void build_variants(variant_list *l, bool with_gl)
         add_variant(l, KIND_GL, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SH, 40, NULL, true);
         add_variant(l, KIND_GL, SL_ESTIMATOR_CONSISTENT, SL_LOD_GEMS, true, G, SH, 40, NULL, true);
         add_variant(l, KIND_GL, SL_ESTIMATOR_MICROFACET, SL_LOD_GEMS, true, G, SH, 40, NULL, true);
+        add_variant(l, KIND_GL, SL_ESTIMATOR_MICROFACET, SL_LOD_PDF, true, G, SH, 40, NULL, true);
     }
 }
 
@@ -883,7 +885,7 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
             scenes, c->frames, c->threads > 0 ? c->threads : omp_get_max_threads(), c->anchor_frames, load0, load1,
             run_seconds);
     fprintf(f, "## Design of the sweep\n\n"
-               "Not the full cross product. N = 1, 2, 4, 8, 16, 20, 32, 40, 64, 128, 256 for seven lines:\n\n"
+               "Not the full cross product. N = 1, 2, 4, 8, 16, 20, 32, 40, 64, 128, 256 for eight lines:\n\n"
                "1. `spec spec-d4` - the specification's recipe: eq. (3), the mip level with its note's D/4\n"
                "   (softlight's default); **N = 40 is the baseline** of the claim below;\n"
                "2. `consistent spec-d4` - the estimator weighted by D/p(w) (docs/lighting.md);\n"
@@ -895,11 +897,13 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "6. `mf spec+dist` - with the specification's formula on D(H): for this estimator D = 4 p(w) at\n"
                "   normal incidence, where it is 0.17 of a level finer than Gems'; away from it, it does not\n"
                "   follow p(w) (docs/lighting.md \"Mip level\");\n"
-               "7. `mf gems+dist` - with GPU Gems 3's level for p(w).\n\n"
-               "At N = 40: every mip rule (none, spec, spec-d4, gems) with and without the distortion, for all three\n"
+               "7. `mf gems+dist` - with GPU Gems 3's level for p(w);\n"
+               "8. `mf pdf+dist` - the same level without Gems' +1 (`--lod pdf`): the footprint of p(w) itself,\n"
+               "   one level finer.\n\n"
+               "At N = 40: every mip rule (none, spec, spec-d4, gems, pdf) with and without the distortion, for all three\n"
                "estimators; G = 1 (against a G = 1 ground truth); irradiance sh9 / brute (64x32 map from the\n"
                "quadrature) / map (that map written as .hdr and loaded back, so RGBE-rounded). softlight-gl\n"
-               "(llvmpipe) runs the recipe, `consistent gems+dist` and `mf gems+dist` at N = 40: error on\n"
+               "(llvmpipe) runs the recipe, `consistent gems+dist`, `mf gems+dist` and `mf pdf+dist` at N = 40: error on\n"
                "softlight's G-buffer (`--gbuffer`), time of its own whole frames. The shader's only fast\n"
                "approximation is its default batched path (lighting_math.h's log2 and atan2 instead of libm's;\n"
                "docs/lighting.md): `plain` rows run the line-by-line port instead, for the recipe, `consistent\n"
@@ -959,9 +963,9 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
         }
         /* what more samples buy the recipe: its error floor */
         int b256 = find(vl, "spec spec-d4 N256"), c256 = find(vl, "consistent spec-d4+dist N256");
-        const char *mf_lines[3] = {"mf spec-d4", "mf spec+dist", "mf gems+dist"};
+        const char *mf_lines[4] = {"mf spec-d4", "mf spec+dist", "mf gems+dist", "mf pdf+dist"};
         int m256 = -1;
-        for (int k = 0; k < 3; k++) {
+        for (int k = 0; k < 4; k++) {
             char name[64];
             snprintf(name, sizeof name, "%s N256", mf_lines[k]);
             int i = find(vl, name);
@@ -1009,18 +1013,40 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                        "  with H from the per-alpha table) where the consistent one evaluates D(H) per sample.\n",
                     sum[mb].cpu_ms, sum[mp].cpu_ms, sum[mp].cpu_ms / sum[mb].cpu_ms, b->cpu_ms, sum[cb].cpu_ms,
                     sum[cp].cpu_ms);
-        /* the prototype's figures (report of 2026-11-21), where they still inform: its `pdf` rule */
-        int mg32 = find(vl, "mf gems+dist N32");
-        if (mg32 >= 0 && sum[mg32].done)
-            fprintf(f, "* The mip level is the next lever. Before the estimator was in the shader, a prototype of it in\n"
-                       "  this benchmark (a plain scalar loop; the report of 2026-11-21) measured `gems+dist` at N = 32\n"
-                       "  at nRMSE 0.1784, as the shader's now does (%.4f here: the same estimator), and it also had a\n"
-                       "  `pdf` rule, GPU Gems' level for p(w) without its +1 bias (one level finer than `gems`), which\n"
-                       "  measured 0.1035 at N = 32 (0.2589 at N = 4) with the distortion. At this run's cost of\n"
-                       "  `mf gems+dist N32` (%.2f ms, the rule costs the same) that would be %.2fx lower than the\n"
-                       "  recipe: a projection from the prototype's error, not a measurement. The shader has no such\n"
-                       "  rule yet (`--lod` offers the specification's and Gems').\n",
-                    sum[mg32].e[0].nrmse, sum[mg32].cpu_ms, b->e[0].nrmse / 0.1035);
+        /* Gems' +1 measured: pdf against gems, same estimator and N (the rule costs the same) */
+        static const int plus_n[] = {4, 16, 32, 40, 256};
+        bool plus_any = false;
+        for (int k = 0; k < 5; k++) {
+            char ng[64], np[64];
+            snprintf(ng, sizeof ng, "mf gems+dist N%d", plus_n[k]);
+            snprintf(np, sizeof np, "mf pdf+dist N%d", plus_n[k]);
+            int g = find(vl, ng), p = find(vl, np);
+            if (g < 0 || p < 0 || !sum[g].done || !sum[p].done)
+                continue;
+            if (!plus_any)
+                fprintf(f, "* The mip level is the other lever: GPU Gems 3 adds 1 to the level of the sample's footprint\n"
+                           "  `1/2 log2(Omega_s/Omega_p)`, a deliberate over-blur (one level, 2x the filter radius) that\n"
+                           "  hides the aliasing of a fixed sample set; `pdf` is the same level without it. `mf` with the\n"
+                           "  distortion, nRMSE / mean relative / >8/255 share, gems -> pdf:");
+            fprintf(f, "%s N = %d: %.4f -> %.4f, %.3f -> %.3f, %.1f%% -> %.1f%%", plus_any ? ";" : "", plus_n[k],
+                    sum[g].e[0].nrmse, sum[p].e[0].nrmse, sum[g].e[0].mean_rel, sum[p].e[0].mean_rel,
+                    100 * sum[g].e[0].over8, 100 * sum[p].e[0].over8);
+            plus_any = true;
+        }
+        if (plus_any)
+            fprintf(f, ".\n");
+        const sl_estimator plus_est[2] = {SL_ESTIMATOR_SPEC, SL_ESTIMATOR_CONSISTENT};
+        for (int k = 0; k < 2; k++) {
+            char ng[64], np[64];
+            snprintf(ng, sizeof ng, "%s gems+dist N40", sl_estimator_name(plus_est[k]));
+            snprintf(np, sizeof np, "%s pdf+dist N40", sl_estimator_name(plus_est[k]));
+            int g = find(vl, ng), p = find(vl, np);
+            if (g >= 0 && p >= 0 && sum[g].done && sum[p].done)
+                fprintf(f, "  With the %s estimator at N = 40 (p = the density of its drawn directions): nRMSE %.4f -> %.4f,\n"
+                           "  mean relative %.3f -> %.3f.\n",
+                        sl_estimator_name(plus_est[k]), sum[g].e[0].nrmse, sum[p].e[0].nrmse, sum[g].e[0].mean_rel,
+                        sum[p].e[0].mean_rel);
+        }
         fputc('\n', f);
     }
 
@@ -1119,10 +1145,11 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "process), so it moves with the machine's load; both renderers were timed minutes apart.\n\n"
                "| variant | renderer | lighting ms | frame ms | frame ms, full size | nRMSE total | nRMSE specular "
                "| >8/255 |\n|---|---|---:|---:|---:|---:|---:|---:|\n");
-    const char *pairs[3][2] = {{"spec spec-d4 N40", "GL spec spec-d4 N40"},
+    const char *pairs[4][2] = {{"spec spec-d4 N40", "GL spec spec-d4 N40"},
                                {"consistent gems+dist N40", "GL consistent gems+dist N40"},
-                               {"mf gems+dist N40", "GL mf gems+dist N40"}};
-    for (int k = 0; k < 3; k++)
+                               {"mf gems+dist N40", "GL mf gems+dist N40"},
+                               {"mf pdf+dist N40", "GL mf pdf+dist N40"}};
+    for (int k = 0; k < 4; k++)
         for (int j = 0; j < 2; j++) {
             int i = find(vl, pairs[k][j]);
             if (i >= 0 && sum[i].done)

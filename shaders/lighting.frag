@@ -52,7 +52,8 @@
 //   vec3  uLightColor[16]          linear RGB
 //   float uLightIntensity[16]      radiance added = f * color * intensity / d^2 * max(N.L, 0)
 // Options (the values of the C enums in src/shading/lighting.h, already resolved):
-//   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3
+//   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
+//                     5 pdf (GPU Gems 3's level of p(w) without its +1)
 //   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
 //   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
 //   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w)),
@@ -115,6 +116,7 @@ const int LOD_NONE = 1;
 const int LOD_SPEC = 2;
 const int LOD_SPEC_D4 = 3;
 const int LOD_GEMS = 4;
+const int LOD_PDF = 5;
 const int GTERM_INV_LH2 = 1;
 const int ESTIMATOR_CONSISTENT = 2;
 const int ESTIMATOR_MICROFACET = 3;
@@ -231,8 +233,10 @@ float mip_level(float D, float pdf, vec3 w)
         lod = uLodBase - 0.5 * log2(max(D * d, TINY));
     else if (uLodRule == LOD_SPEC_D4)
         lod = uLodBase - 0.5 * log2(max(D / 4.0 * d, TINY));
-    else
+    else if (uLodRule == LOD_GEMS)
         lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY)) + 1.0;
+    else
+        lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY));
     return clamp(lod, 0.0, uEnvMaxLod);
 }
 

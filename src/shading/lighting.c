@@ -55,6 +55,7 @@ static const int LOD_NONE = SL_LOD_NONE;
 static const int LOD_SPEC = SL_LOD_SPEC;
 static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
 static const int LOD_GEMS = SL_LOD_GEMS;
+static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const float MIN_NDOTV = 0.01f;
@@ -131,8 +132,10 @@ static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w
         lod = u->uLodBase - 0.5f * log2f(maxf(D * d, TINY));
     else if (u->uLodRule == LOD_SPEC_D4)
         lod = u->uLodBase - 0.5f * log2f(maxf(D / 4.0f * d, TINY));
-    else
+    else if (u->uLodRule == LOD_GEMS)
         lod = u->uLodBase - 0.5f * log2f(maxf(4.0f * PI * pdf * d, TINY)) + 1.0f;
+    else
+        lod = u->uLodBase - 0.5f * log2f(maxf(4.0f * PI * pdf * d, TINY));
     return clamp(lod, 0.0f, u->uEnvMaxLod);
 }
 
@@ -745,12 +748,13 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
                 float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
                 b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
             }
-        } else if (rule == LOD_GEMS) {
+        } else if (rule == LOD_GEMS || rule == LOD_PDF) {
             const float *pw = mf ? b->pw : pdf; /* the density of w */
+            const float bias = rule == LOD_GEMS ? 1.0f : 0.0f; /* Gems' +1; pdf has none */
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 float lg = sl_fast_log2(maxf(4.0f * PI * pw[i], TINY)) + b->lod[i];
-                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + 1.0f, max_lod);
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + bias, max_lod);
             }
         } else {
             memset(b->lod, 0, sizeof(float) * (size_t)m);

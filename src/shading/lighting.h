@@ -48,6 +48,8 @@ typedef enum {
     SL_LOD_SPEC_D4 = 3, /* 1/2 log2(W H / N) - 1/2 log2(D(H) / 4)        (its note; default) */
     SL_LOD_GEMS = 4,    /* max(1/2 log2(Omega_s / Omega_p) + 1, 0), Omega_s = 1/(N p(w)),
                            Omega_p = 4 pi / (W H)                         (GPU Gems 3, ch. 20.4) */
+    SL_LOD_PDF = 5,     /* max(1/2 log2(Omega_s / Omega_p), 0): gems without its +1 over-blur,
+                           the footprint of the drawn direction's own density ("pdf") */
 } sl_lod_rule;
 
 typedef enum {
@@ -78,7 +80,7 @@ typedef struct {
 
 /* Fill every zero field with its default. */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt);
-/* Names for the command line and reports: "none", "spec", "spec-d4", "gems";
+/* Names for the command line and reports: "none", "spec", "spec-d4", "gems", "pdf";
  * "spec", "consistent", "mf"; "inv-lh2", "one". Parsers return false on an unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);

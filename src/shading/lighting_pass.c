@@ -25,13 +25,13 @@ sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
     return r;
 }
 
-static const char *const lod_names[] = {"default", "none", "spec", "spec-d4", "gems"};
+static const char *const lod_names[] = {"default", "none", "spec", "spec-d4", "gems", "pdf"};
 static const char *const estimator_names[] = {"default", "spec", "consistent", "mf"};
 static const char *const gterm_names[] = {"default", "inv-lh2", "one"};
 
 const char *sl_lod_rule_name(sl_lod_rule rule)
 {
-    return (unsigned)rule <= SL_LOD_GEMS ? lod_names[rule] : "?";
+    return (unsigned)rule <= SL_LOD_PDF ? lod_names[rule] : "?";
 }
 const char *sl_estimator_name(sl_estimator estimator)
 {
@@ -48,7 +48,7 @@ static int parse_name(const char *name, const char *const *names, int count)
 }
 bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule)
 {
-    int i = parse_name(name, lod_names, 5);
+    int i = parse_name(name, lod_names, SL_LOD_PDF + 1);
     if (i < 0)
         return false;
     *rule = (sl_lod_rule)i;
@@ -97,7 +97,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: no environment map");
     if (o.samples < 1 || o.samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: samples = %d, expected 1..%d", o.samples, SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_GEMS || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
         (unsigned)o.gterm > SL_GTERM_ONE)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator or G term");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)

@@ -81,6 +81,13 @@ mf_run() { # name, scene, options...
 }
 mf_run mf-default default --estimator mf
 mf_run mf-sun city-sun --estimator mf --lod gems --distortion --rotate --frame 3
+# The pdf mip rule (uLodRule = 5: Gems' level without its +1), on the same sun, otherwise the
+# run above: GL must agree, and must differ from gems (or GL treated 5 as gems).
+mf_run mf-pdf city-sun --estimator mf --lod pdf --distortion --rotate --frame 3
+if "$SL" compare "$T/mf-sun/g.pfm" "$T/mf-pdf/g.pfm" --metric p99rel --tolerance 1e-3 >/dev/null; then
+    echo "FAIL mf-pdf: GL with --lod pdf equals GL with --lod gems"
+    fail=1
+fi
 if "$SL" compare "$T/default/g.pfm" "$T/mf-default/g.pfm" --metric p99rel --tolerance 1e-3 >/dev/null; then
     echo "FAIL mf: GL with --estimator mf equals GL with the spec estimator"
     fail=1

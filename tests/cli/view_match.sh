@@ -51,6 +51,8 @@ key k
 key l
 screenshot $T/gems
 key l
+screenshot $T/pdf
+key l
 key l
 key l
 key i
@@ -100,6 +102,7 @@ no-specular --diffuse-only
 consistent --estimator consistent
 mf --estimator mf
 gems --lod gems
+pdf --lod pdf
 brute --irradiance brute
 n16 -n 16
 g-one --g one

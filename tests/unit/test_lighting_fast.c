@@ -150,6 +150,10 @@ static void test_batched_vs_plain(void **state)
         {.samples = 70, .rotate = true, .frame = 3},
         {.samples = 40, .rotate = true, .frame = 9, .estimator = SL_ESTIMATOR_CONSISTENT, .lod_rule = SL_LOD_GEMS},
         {.samples = 40, .no_diffuse = true, .env_rotation_deg = 70.0f, .env_intensity = 2.0f},
+        /* the pdf rule (Gems' level without its +1) with the density of each estimator's draws */
+        {.samples = 40, .lod_rule = SL_LOD_PDF},
+        {.samples = 33, .estimator = SL_ESTIMATOR_CONSISTENT, .lod_rule = SL_LOD_PDF, .distortion = true},
+        {.samples = 40, .rotate = true, .frame = 5, .estimator = SL_ESTIMATOR_CONSISTENT, .lod_rule = SL_LOD_PDF},
         /* the microfacet estimator: every lod rule, distortion, G = 1, rotation on and off */
         {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET},
         {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_SPEC, .distortion = true},
@@ -160,6 +164,10 @@ static void test_batched_vs_plain(void **state)
         {.samples = 24, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .lod_rule = SL_LOD_SPEC, .distortion = true},
         {.samples = 16, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .lod_rule = SL_LOD_NONE},
         {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .no_diffuse = true, .env_rotation_deg = 70.0f},
+        {.samples = 32, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_PDF, .distortion = true},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_PDF, .gterm = SL_GTERM_ONE},
+        {.samples = 24, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .frame = 2, .lod_rule = SL_LOD_PDF,
+         .distortion = true},
     };
     for (int e = 0; e < 2; e++) {
         sl_irradiance irr;

@@ -137,7 +137,7 @@ static void test_options_resolve_and_names(void **state)
     assert_int_equal(o.estimator, SL_ESTIMATOR_SPEC);
     assert_near(o.env_intensity, 1.0, 0.0);
     assert_false(o.distortion);
-    for (int r = SL_LOD_NONE; r <= SL_LOD_GEMS; r++) {
+    for (int r = SL_LOD_NONE; r <= SL_LOD_PDF; r++) {
         sl_lod_rule back;
         assert_true(sl_lod_rule_parse(sl_lod_rule_name((sl_lod_rule)r), &back));
         assert_int_equal(back, r);
@@ -153,6 +153,7 @@ static void test_options_resolve_and_names(void **state)
     assert_true(sl_gterm_parse("one", &g));
     assert_int_equal(g, SL_GTERM_ONE);
     assert_false(sl_lod_rule_parse("bogus", &(sl_lod_rule){0}));
+    assert_string_equal(sl_lod_rule_name(SL_LOD_PDF), "pdf");
 
     /* uniforms refuse what the shader cannot run */
     sl_env env;
@@ -175,6 +176,12 @@ static void test_options_resolve_and_names(void **state)
     assert_true(sl_lighting_uniforms_init(u, &d, &err));
     assert_int_equal(u->uEstimator, 3); /* lighting.frag ESTIMATOR_MICROFACET */
     d.options.estimator = SL_ESTIMATOR_DEFAULT;
+    d.options.lod_rule = (sl_lod_rule)(SL_LOD_PDF + 1);
+    assert_false(sl_lighting_uniforms_init(u, &d, &err));
+    d.options.lod_rule = SL_LOD_PDF;
+    assert_true(sl_lighting_uniforms_init(u, &d, &err));
+    assert_int_equal(u->uLodRule, 5); /* lighting.frag LOD_PDF */
+    d.options.lod_rule = SL_LOD_DEFAULT;
     assert_true(sl_lighting_uniforms_init(u, &d, &err));
     assert_near(u->uLodBase, 0.5 * log2(8.0 * 4.0 / 40.0), 1e-6);
     assert_near(u->uEnvMaxLod, 3.0, 0.0); /* 8x4, 4x2, 2x1, 1x1 */
