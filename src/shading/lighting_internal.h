@@ -21,7 +21,10 @@ typedef struct {
     float alpha;
     int n;
     float xi1[SL_HAMMERSLEY_MAX], xi2[SL_HAMMERSLEY_MAX];
+    /* the skewed direction about +Z: L of eq. (4) (spec, consistent) or H (microfacet) */
     float Lx[SL_HAMMERSLEY_MAX], Ly[SL_HAMMERSLEY_MAX], Lz[SL_HAMMERSLEY_MAX];
+    /* sample_pdf, p(L) (spec, consistent); or microfacet_D, D(H) (microfacet), whose p(w)
+     * still needs the pixel's V.H */
     float pdf[SL_HAMMERSLEY_MAX];
 } lobe_table;
 
