@@ -16,38 +16,9 @@
 
 #define PI 3.14159265358979323846
 
-typedef double (*env_fn)(const double w[3], int channel);
-
-static void centre_dir(int w, int h, int i, int j, double d[3])
+static sl_ground_truth make_gt(int w, int h, test_env_fn fn)
 {
-    double phi = 2.0 * PI * (0.5 - (i + 0.5) / w), theta = PI * (j + 0.5) / h;
-    d[0] = cos(phi) * sin(theta);
-    d[1] = sin(phi) * sin(theta);
-    d[2] = cos(theta);
-}
-
-static sl_env make_env(int w, int h, env_fn fn)
-{
-    sl_image img;
-    sl_error err = {0};
-    assert_true(sl_image_alloc(&img, w, h, 3, &err));
-    for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) {
-            double d[3];
-            centre_dir(w, h, i, j, d);
-            float *p = sl_image_pixel(&img, i, j);
-            for (int c = 0; c < 3; c++)
-                p[c] = (float)fn(d, c);
-        }
-    sl_env env;
-    assert_true(sl_env_build(&env, &img, &err));
-    sl_image_free(&img);
-    return env;
-}
-
-static sl_ground_truth make_gt(int w, int h, env_fn fn)
-{
-    sl_env env = make_env(w, h, fn);
+    sl_env env = test_make_env(w, h, fn);
     sl_ground_truth gt;
     sl_error err = {0};
     assert_true(sl_ground_truth_init(&gt, &env, &err));
@@ -290,7 +261,7 @@ static void test_below_horizon_contributes_nothing(void **state)
 
     /* A tilted normal: texels whose node lies below the horizon are changed to 1e4; nothing
      * may change. */
-    sl_env env = make_env(64, 32, smooth_env);
+    sl_env env = test_make_env(64, 32, smooth_env);
     sl_ground_truth a, b;
     sl_error err = {0};
     assert_true(sl_ground_truth_init(&a, &env, &err));

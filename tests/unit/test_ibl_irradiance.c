@@ -16,36 +16,6 @@
 
 #define PI 3.14159265358979323846
 
-typedef double (*env_fn)(const double w[3], int channel);
-
-static void centre_dir(int w, int h, int i, int j, double d[3])
-{
-    double phi = 2.0 * PI * (0.5 - (i + 0.5) / w), theta = PI * (j + 0.5) / h;
-    d[0] = cos(phi) * sin(theta);
-    d[1] = sin(phi) * sin(theta);
-    d[2] = cos(theta);
-}
-
-/* An environment whose texels hold fn at their centre directions. */
-static sl_env make_env(int w, int h, env_fn fn)
-{
-    sl_image img;
-    sl_error err = {0};
-    assert_true(sl_image_alloc(&img, w, h, 3, &err));
-    for (int j = 0; j < h; j++)
-        for (int i = 0; i < w; i++) {
-            double d[3];
-            centre_dir(w, h, i, j, d);
-            float *p = sl_image_pixel(&img, i, j);
-            for (int c = 0; c < 3; c++)
-                p[c] = (float)fn(d, c);
-        }
-    sl_env env;
-    assert_true(sl_env_build(&env, &img, &err));
-    sl_image_free(&img);
-    return env;
-}
-
 /* Unit normals spread over the sphere (a Fibonacci spiral), poles included. */
 static void normal_k(int k, int count, double n[3])
 {
@@ -92,7 +62,7 @@ static double worst_brute_nodes(const sl_irradiance *irr, double (*expected)(con
     for (int j = 0; j < m->height; j++)
         for (int i = 0; i < m->width; i++) {
             double n[3];
-            centre_dir(m->width, m->height, i, j, n);
+            test_texel_centre_dir(m->width, m->height, i, j, n);
             vec3 e = m->texels[j * m->width + i];
             double got[3] = {e.x, e.y, e.z};
             for (int ch = 0; ch < 3; ch++)
@@ -146,7 +116,7 @@ static void test_sh9_constant(void **state)
      * image gives pi c to float rounding (the coefficients and the evaluation are float). */
     int sizes[][2] = {{1024, 512}, {64, 32}, {5, 3}, {1, 1}};
     for (int s = 0; s < 4; s++) {
-        sl_env env = make_env(sizes[s][0], sizes[s][1], constant_env);
+        sl_env env = test_make_env(sizes[s][0], sizes[s][1], constant_env);
         sl_irradiance irr;
         sl_error err = {0};
         assert_true(sl_irradiance_sh9(&irr, &env, &err));
@@ -165,7 +135,7 @@ static void test_sh9_band_limited(void **state)
     (void)state;
     /* The half sky is exact for SH9 (its irradiance has no band above 1, and with an even
      * height the horizon is a texel edge): float rounding only. */
-    sl_env env = make_env(256, 128, half_sky_env);
+    sl_env env = test_make_env(256, 128, half_sky_env);
     sl_irradiance irr;
     sl_error err = {0};
     assert_true(sl_irradiance_sh9(&irr, &env, &err));
@@ -179,11 +149,11 @@ static void test_sh9_band_limited(void **state)
      * from L by O((pi / H)^2); measured 6.1e-6 (linear) and 2.2e-5 (quadratic) of E at
      * 512x256, so the tolerance 1e-4 still catches any wrong sign, axis or constant (those
      * are errors of order 1). */
-    env_fn envs[2] = {linear_env, quadratic_env};
+    test_env_fn envs[2] = {linear_env, quadratic_env};
     double (*es[2])(const double n[3], int ch) = {linear_e, quadratic_e};
     const char *names[2] = {"linear", "quadratic"};
     for (int t = 0; t < 2; t++) {
-        env = make_env(512, 256, envs[t]);
+        env = test_make_env(512, 256, envs[t]);
         assert_true(sl_irradiance_sh9(&irr, &env, &err));
         worst = worst_error(&irr, 500, es[t], t == 0 ? PI : PI / 3.0);
         print_message("SH9 %s: worst relative error %.3g\n", names[t], worst);
@@ -198,7 +168,7 @@ static void test_sh9_band_limited(void **state)
 static void test_brute_force(void **state)
 {
     (void)state;
-    env_fn envs[4] = {constant_env, half_sky_env, linear_env, quadratic_env};
+    test_env_fn envs[4] = {constant_env, half_sky_env, linear_env, quadratic_env};
     double (*es[4])(const double n[3], int ch) = {constant_e, half_sky_e, linear_e, quadratic_e};
     const double scale[4] = {PI * 2.5, PI * 2.5, PI, PI / 3.0};
     /* Largest |grad E| on the unit sphere, per environment (over channels): 0; pi/2 (half
@@ -216,7 +186,7 @@ static void test_brute_force(void **state)
      *   at theta = pi/64 whatever the azimuth: the error is bounded by |grad E| pi/64. */
     const double node_tol = 4e-4, lookup_tol = 6e-3, row0 = PI / 64;
     for (int t = 0; t < 4; t++) {
-        sl_env env = make_env(512, 256, envs[t]);
+        sl_env env = test_make_env(512, 256, envs[t]);
         sl_irradiance irr;
         sl_error err = {0};
         assert_true(sl_irradiance_brute(&irr, &env, 64, &err));
@@ -243,7 +213,7 @@ static void test_brute_force_level(void **state)
     (void)state;
     /* An explicit level: level 0 of a 256x128 constant image, the same cut-texel error bound
      * as test_brute_force. Bad levels and widths are errors. */
-    sl_env env = make_env(256, 128, constant_env);
+    sl_env env = test_make_env(256, 128, constant_env);
     sl_irradiance irr;
     sl_error err = {0};
     assert_true(sl_irradiance_brute_level(&irr, &env, 8, 0, &err));
@@ -265,7 +235,7 @@ static void test_brute_force_level(void **state)
 static void test_brute_force_thread_count(void **state)
 {
     (void)state;
-    sl_env env = make_env(128, 64, linear_env);
+    sl_env env = test_make_env(128, 64, linear_env);
     sl_irradiance a, b;
     sl_error err = {0};
     int saved = omp_get_max_threads();
@@ -304,7 +274,7 @@ static void test_from_image(void **state)
     for (int j = 0; j < 4; j++)
         for (int i = 0; i < 8; i++) {
             double d[3];
-            centre_dir(8, 4, i, j, d);
+            test_texel_centre_dir(8, 4, i, j, d);
             vec3 e = sl_irradiance_eval(&irr, v3(d));
             assert_near(e.x, i + 10 * j, 2e-5 * (1 + i + 10 * j));
             assert_near(e.y, 1, 1e-6);
@@ -389,7 +359,7 @@ static void test_real_map_sh9_is_projection_of_brute(void **state)
         double omega = 2 * PI / m->width * (cos(t0) - cos(t1));
         for (int i = 0; i < m->width; i++) {
             double n[3];
-            centre_dir(m->width, m->height, i, j, n);
+            test_texel_centre_dir(m->width, m->height, i, j, n);
             vec3 e = m->texels[j * m->width + i];
             for (int k = 0; k < 9; k++) {
                 double y = basis(k, n) * omega;

@@ -20,4 +20,11 @@ void test_write_bytes(const char *path, const void *bytes, size_t size);
 #define assert_near(a, b, tol) test_assert_near((double)(a), (double)(b), (double)(tol), #a, #b, __FILE__, __LINE__)
 void test_assert_near(double a, double b, double tol, const char *sa, const char *sb, const char *file, int line);
 
+/* Environments for the IBL tests: an sl_env whose w x h texels hold fn at their centre
+ * directions (the specification's lat-long map, row 0 = v 0 = +Z), mip chain built. */
+#include "ibl/ibl.h"
+typedef double (*test_env_fn)(const double w[3], int channel);
+void test_texel_centre_dir(int w, int h, int i, int j, double d[3]);
+sl_env test_make_env(int w, int h, test_env_fn fn);
+
 #endif
