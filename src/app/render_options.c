@@ -30,6 +30,9 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
          "rotate the specular sample set per pixel (Cranley-Patterson): noise instead of banding", NULL},
         {"--frame", NULL, SL_ARG_INT, &o->frame, 0, 1e9, NULL, "N",
          "frame number of the rotation (--rotate): average frames 0..K-1 to converge", NULL},
+        {"--plain", NULL, SL_ARG_FLAG, &o->plain, 0, 0, NULL, NULL,
+         "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) "
+         "to compare with the fast ones or to step through in a debugger", NULL},
     };
     memcpy(t, table, sizeof table);
 }
@@ -62,6 +65,8 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
         l->irradiance = methods[o->irradiance];
         d->irradiance_set = true;
     }
+    l->plain = o->plain;
+    d->plain_raster = o->plain;
     l->no_specular = o->diffuse_only;
     l->no_diffuse = o->specular_only;
     l->no_point_lights = o->no_lights || o->diffuse_only || o->specular_only;

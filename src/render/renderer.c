@@ -98,7 +98,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
         sl_fail(err, SL_ERR_MEMORY, "out of memory for the lighting uniforms");
         goto fail;
     }
-    r->raster = sl_raster_create(&(sl_raster_desc){.threads = d->threads, .tile_size = d->tile_size}, err);
+    r->raster = sl_raster_create(
+        &(sl_raster_desc){.threads = d->threads, .tile_size = d->tile_size, .plain = d->plain_raster}, err);
     if (!r->raster || !sl_renderer_resize(r, d->width, d->height, err))
         goto fail;
     return true;

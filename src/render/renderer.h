@@ -34,6 +34,7 @@ typedef struct {
     sl_tonemap_options tonemap;   /* exposure/contrast 0 = the scene's */
     int threads;                  /* 0 = all cores */
     int tile_size;                /* raster tiles; 0 = SL_TILE_DEFAULT */
+    bool plain_raster;            /* the rasterizer's per-pixel reference path (sl_raster_desc.plain) */
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
 } sl_render_desc;
 
