@@ -42,12 +42,6 @@ static int parse_list(const char *s, int *out)
     return n;
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* UV sphere, counter-clockwise from outside, shared pole vertices. */
 static bool make_sphere(sl_mesh *m, int slices, int stacks)
 {
@@ -113,8 +107,7 @@ static bool run(const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, int
     if (!ok || !t)
         fprintf(stderr, "bench_raster: %s\n", t ? err.msg : "out of memory");
     if (ok && t) {
-        qsort(t, (size_t)frames, sizeof *t, cmp_double);
-        res->ms = t[frames / 2];
+        res->ms = sl_median(t, frames);
     }
     free(t);
     sl_raster_destroy(r);
@@ -133,8 +126,7 @@ static double control_ms(int threads)
             sum += (double)(i & 7) * 1e-9;
         t[rep] = (sl_now_seconds() - t0) * 1000.0 + (sum < 0.0 ? 1.0 : 0.0);
     }
-    qsort(t, 3, sizeof t[0], cmp_double);
-    return t[1];
+    return sl_median(t, 3);
 }
 
 int main(int argc, char **argv)

@@ -25,12 +25,6 @@
 #include "shading/lighting.h"
 #include "shading/synthetic.h"
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
 static double median_ms(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out, int threads, int frames,
                         sl_lighting_stats *st)
 {
@@ -44,8 +38,7 @@ static double median_ms(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_
         }
         t[f] = (sl_now_seconds() - t0) * 1e3;
     }
-    qsort(t, (size_t)frames, sizeof t[0], cmp_double);
-    return t[frames / 2];
+    return sl_median(t, frames);
 }
 
 /* "20,40,80" -> {20, 40, 80}; returns the count (0 on a bad list). */

@@ -220,18 +220,6 @@ static void die(const char *what, const sl_error *err)
     exit(2);
 }
 
-static int cmp_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *t, int n)
-{
-    qsort(t, (size_t)n, sizeof *t, cmp_double);
-    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
-}
-
 static void make_dir(const char *path)
 {
     char tmp[PATH_LEN];
@@ -428,12 +416,12 @@ static void time_variants(sl_renderer *r, const variant_list *vl, const bool *se
                 continue;
             double k = vl->v[i].accumulate > 1 ? vl->v[i].accumulate : 1; /* K frames to get there */
             if (anchor) {
-                res[i].anchor_ms = median(tf[i], frames);
-                res[i].anchor_lighting_ms = median(tl[i], frames);
+                res[i].anchor_ms = sl_median(tf[i], frames);
+                res[i].anchor_lighting_ms = sl_median(tl[i], frames);
             } else {
-                res[i].frame_ms = k * median(tf[i], frames);
-                res[i].lighting_ms = k * median(tl[i], frames);
-                res[i].cpu_ms = k * median(tc[i], frames);
+                res[i].frame_ms = k * sl_median(tf[i], frames);
+                res[i].lighting_ms = k * sl_median(tl[i], frames);
+                res[i].cpu_ms = k * sl_median(tc[i], frames);
             }
         }
     }

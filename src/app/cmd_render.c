@@ -7,6 +7,7 @@
 #include <sys/stat.h>
 
 #include "commands.h"
+#include "core/timer.h"
 #include "render_options.h"
 #include "scene/scene.h"
 
@@ -33,18 +34,6 @@ static void warn_repairs(const char *path, const sl_image_repairs *rep)
                 rep->nan_count, rep->inf_count, rep->negative_count);
 }
 
-static int compare_doubles(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, compare_doubles);
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 /* Render `repeat` frames; r->timings then hold each stage's median, which is what
  * bench/vs-gl compares with softlight-gl --time. */
 static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
@@ -57,9 +46,9 @@ static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
         shading[i] = r->timings.shading_ms;
         tonemap[i] = r->timings.tonemap_ms;
     }
-    r->timings.raster_ms = median(raster, repeat);
-    r->timings.shading_ms = median(shading, repeat);
-    r->timings.tonemap_ms = median(tonemap, repeat);
+    r->timings.raster_ms = sl_median(raster, repeat);
+    r->timings.shading_ms = sl_median(shading, repeat);
+    r->timings.tonemap_ms = sl_median(tonemap, repeat);
     return true;
 }
 

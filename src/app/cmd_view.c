@@ -737,18 +737,6 @@ static void bench_free(view_bench *b)
     *b = (view_bench){0};
 }
 
-static int compare_double(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
-
-static double median(double *x, int n)
-{
-    qsort(x, (size_t)n, sizeof *x, compare_double);
-    return n % 2 ? x[n / 2] : 0.5 * (x[n / 2 - 1] + x[n / 2]);
-}
-
 /* Input for the next benchmark frame: what a mouse drag of BENCH_ORBIT_PIXELS does. */
 static void bench_input(viewer *v, double now)
 {
@@ -781,7 +769,7 @@ static void bench_record(viewer *v, double now)
     double worst = 0.0;
     for (int k = 0; k < n; k++)
         worst = fmax(worst, b->frame_ms[k]);
-    double med = median(b->frame_ms, n), p90 = b->frame_ms[(int)(0.9 * (n - 1))];
+    double med = sl_median(b->frame_ms, n), p90 = b->frame_ms[(int)(0.9 * (n - 1))];
     char divs[128] = "";
     for (int d = 1; d <= VIEW_MAX_PREVIEW_DIV; d++)
         if (b->div_counts[d]) {
@@ -792,7 +780,7 @@ static void bench_record(viewer *v, double now)
            "%s), N %d rotated: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
            "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms\n",
            n, ow, oh, b->last_w, b->last_h, divs, min_int(v->samples, v->move_samples), med, p90, worst, 1e3 / med,
-           median(b->raster_ms, n), median(b->shade_ms, n), median(b->tonemap_ms, n), median(b->present_ms, n));
+           sl_median(b->raster_ms, n), sl_median(b->shade_ms, n), sl_median(b->tonemap_ms, n), sl_median(b->present_ms, n));
     fflush(stdout);
     v->quit = true;
 }

@@ -1,6 +1,7 @@
-/* timer.c - sl_now_seconds on CLOCK_MONOTONIC (see timer.h). */
+/* timer.c - sl_now_seconds on CLOCK_MONOTONIC, and sl_median (see timer.h). */
 #include "timer.h"
 
+#include <stdlib.h>
 #include <time.h>
 
 double sl_now_seconds(void)
@@ -10,4 +11,16 @@ double sl_now_seconds(void)
     if (clock_gettime(CLOCK_MONOTONIC, &ts) != 0)
         return 0.0;
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+double sl_median(double *values, int n)
+{
+    qsort(values, (size_t)n, sizeof *values, compare_doubles);
+    return n % 2 ? values[n / 2] : 0.5 * (values[n / 2 - 1] + values[n / 2]);
 }

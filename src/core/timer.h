@@ -1,4 +1,5 @@
-/* timer.h - wall-clock timing for benchmarks, the viewer's frame counter and progress reports.
+/* timer.h - wall-clock timing for benchmarks, the viewer's frame counter and progress reports,
+ * and the median every timing report uses.
  *
  * A monotonic clock: never jumps with NTP or date changes, so differences of two readings
  * are true elapsed time. The zero point is arbitrary; only differences mean anything. */
@@ -8,5 +9,9 @@
 /* Seconds since an arbitrary fixed point, monotonic, nanosecond resolution where the
  * system offers it. Thread-safe. */
 double sl_now_seconds(void);
+
+/* The median of n > 0 values (the mean of the middle two for even n); sorts `values` in place.
+ * Timings on a shared machine have long tails: reports quote medians, not means. */
+double sl_median(double *values, int n);
 
 #endif

@@ -47,18 +47,7 @@ typedef struct {
     int width, height;
 } frame;
 
-static int cmp_double(const void *pa, const void *pb)
-{
-    double a = *(const double *)pa, b = *(const double *)pb;
-    return (a > b) - (a < b);
-}
-
-static double median_ms(double *seconds, int n)
-{
-    qsort(seconds, (size_t)n, sizeof *seconds, cmp_double);
-    double mid = n % 2 ? seconds[n / 2] : 0.5 * (seconds[n / 2 - 1] + seconds[n / 2]);
-    return 1000.0 * mid;
-}
+static double median_ms(double *seconds, int n) { return 1000.0 * sl_median(seconds, n); }
 
 static void frame_free(frame *f)
 {
