@@ -1,4 +1,4 @@
-/* file.c - whole-file reads with a size cap and atomic whole-file writes.
+/* file.c - whole-file reads with a size cap (and the reader every image format shares) and atomic whole-file writes.
  *
  * Every image writer goes through sl_write_file_atomic, so a failed or interrupted
  * write never leaves a half file at the target: the bytes go to `path.tmpXXXXXX` in
@@ -135,5 +135,20 @@ bool sl_write_file_atomic(const char *path, const void *bytes, size_t size, sl_e
     if (!ok)
         unlink(tmp);
     free(tmp);
+    return ok;
+}
+
+bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, sl_image_repairs *repairs,
+                        sl_error *err)
+{
+    *img = (sl_image){0};
+    if (repairs)
+        *repairs = (sl_image_repairs){0};
+    unsigned char *bytes;
+    size_t size;
+    if (!sl_read_file(path, SL_IMAGE_MAX_FILE_BYTES, &bytes, &size, err))
+        return false;
+    bool ok = parse(bytes, size, path, img, repairs, err);
+    free(bytes);
     return ok;
 }

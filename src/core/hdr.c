@@ -322,16 +322,7 @@ bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *nam
 
 bool sl_image_read_hdr(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
-    *img = (sl_image){0};
-    if (repairs)
-        *repairs = (sl_image_repairs){0};
-    unsigned char *bytes;
-    size_t size;
-    if (!sl_read_file(path, SL_IMAGE_MAX_FILE_BYTES, &bytes, &size, err))
-        return false;
-    bool ok = sl_image_parse_hdr(bytes, size, path, img, repairs, err);
-    free(bytes);
-    return ok;
+    return sl_image_read_with(path, sl_image_parse_hdr, img, repairs, err);
 }
 
 /* ---- writing ---- */

@@ -85,6 +85,13 @@ bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *siz
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 
+/* A parse-from-memory function (sl_image_parse_hdr, sl_image_parse_pfm), and the reader every
+ * file format shares: the whole file (at most SL_IMAGE_MAX_FILE_BYTES) through `parse`. */
+typedef bool (*sl_image_parser)(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+                                sl_image_repairs *repairs, sl_error *err);
+bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, sl_image_repairs *repairs,
+                        sl_error *err);
+
 /* Read a whole file into memory (caps at `max_bytes`); caller frees *bytes. */
 bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err);
 /* Write bytes atomically: `path.tmpXXXXXX` then rename. */
