@@ -1,4 +1,5 @@
-/* file.c - whole-file reads with a size cap (and the reader every image format shares) and atomic whole-file writes.
+/* file.c - whole-file reads with a size cap (and the reader every image format shares), and
+ * atomic whole-file writes.
  *
  * Every image writer goes through sl_write_file_atomic, so a failed or interrupted
  * write never leaves a half file at the target: the bytes go to `path.tmpXXXXXX` in

@@ -63,6 +63,9 @@ long sl_image_repair(sl_image *img, sl_image_repairs *repairs);
  * `repairs` may be NULL. */
 bool sl_image_read_hdr(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 bool sl_image_read_pfm(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
+ * NaN or Inf is an error; nothing is repaired. */
+bool sl_image_read_pfm_signed(const char *path, sl_image *img, sl_error *err);
 /* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
  * piecewise curve; alpha is dropped, grey is replicated. */
 bool sl_image_read_texture(const char *path, sl_image *img, sl_error *err);
@@ -71,6 +74,8 @@ bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *nam
                         sl_image_repairs *repairs, sl_error *err);
 bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
+bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+                               sl_image_repairs *repairs, sl_error *err);
 /* The exact sRGB -> linear curve (IEC 61966-2-1) of one 8-bit code, as the texture reader uses. */
 float sl_srgb8_to_linear(unsigned char code);
 

@@ -10,6 +10,7 @@
  * bytes after it, is an error naming the offset. */
 #include "image.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -118,8 +119,10 @@ static bool parse_scale(reader *r, bool *little_endian)
     return true;
 }
 
-bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
-                        sl_image_repairs *repairs, sl_error *err)
+/* The PFM parser; `signed_values` keeps negative floats (positions, normals) and turns NaN/Inf
+ * into an error instead of repairing them. */
+static bool parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+                      sl_image_repairs *repairs, bool signed_values, sl_error *err)
 {
     *img = (sl_image){0};
     if (repairs)
@@ -167,8 +170,37 @@ bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *nam
             memcpy(&dst[i], &u, 4);
         }
     }
-    sl_image_repair(img, repairs);
+    if (!signed_values) {
+        sl_image_repair(img, repairs);
+        return true;
+    }
+    long nan_count = 0, inf_count = 0;
+    for (size_t i = 0; i < row_floats * (size_t)height; i++) {
+        nan_count += isnan(img->data[i]) != 0;
+        inf_count += isinf(img->data[i]) != 0;
+    }
+    if (nan_count || inf_count) {
+        sl_image_free(img);
+        return sl_fail(err, SL_ERR_FORMAT, "%s: %ld NaN and %ld infinite values", r.name, nan_count, inf_count);
+    }
     return true;
+}
+
+bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+                        sl_image_repairs *repairs, sl_error *err)
+{
+    return parse_pfm(bytes, size, name, img, repairs, false, err);
+}
+
+bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+                               sl_image_repairs *repairs, sl_error *err)
+{
+    return parse_pfm(bytes, size, name, img, repairs, true, err);
+}
+
+bool sl_image_read_pfm_signed(const char *path, sl_image *img, sl_error *err)
+{
+    return sl_image_read_with(path, sl_image_parse_pfm_signed, img, NULL, err);
 }
 
 bool sl_image_read_pfm(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)

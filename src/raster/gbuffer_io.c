@@ -6,11 +6,9 @@
  * of the file: a PFM viewer shows the frame upright, as GL's glReadPixels would
  * write it. Reading undoes the same two steps.
  *
- * Reading cannot use sl_image_read_pfm as it is: that reader repairs negative texels
- * to 0, as input radiance should be, but positions, normals and view vectors are
- * signed. sl_gbuffer_read_aov_image lets sl_image_parse_pfm check the file and then
- * takes the floats from the file's data block itself. */
-#include <stdint.h>
+ * Reading uses sl_image_read_pfm_signed, not sl_image_read_pfm: that reader repairs
+ * negative texels to 0, as input radiance should be, but positions, normals and view
+ * vectors are signed. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -69,54 +67,9 @@ static void aov_set(sl_gbuffer_texel *t, int aov, const float *in)
     }
 }
 
-/* largest AOV file: 3 floats a pixel at the largest target, plus a header */
-#define AOV_MAX_FILE_BYTES ((size_t)SL_RASTER_MAX_SIZE * SL_RASTER_MAX_SIZE * 12 + 4096)
-
-/* The PFM header's scale is its third token; a negative scale means little-endian floats. */
-static bool pfm_little_endian(const unsigned char *b, size_t header_size)
-{
-    size_t i = 2;
-    for (int token = 0; token < 3; token++) {
-        while (i < header_size && (b[i] == ' ' || b[i] == '\t' || b[i] == '\n' || b[i] == '\r'))
-            i++;
-        if (token == 2)
-            break;
-        while (i < header_size && !(b[i] == ' ' || b[i] == '\t' || b[i] == '\n' || b[i] == '\r'))
-            i++;
-    }
-    return i < header_size && b[i] == '-';
-}
-
 bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err)
 {
-    unsigned char *bytes = NULL;
-    size_t size = 0;
-    *img = (sl_image){0};
-    if (!sl_read_file(path, AOV_MAX_FILE_BYTES, &bytes, &size, err))
-        return false;
-    sl_image_repairs rep = {0};
-    bool ok = sl_image_parse_pfm(bytes, size, path, img, &rep, err);
-    if (ok && (rep.nan_count || rep.inf_count))
-        ok = sl_fail(err, SL_ERR_FORMAT, "%s: %ld NaN and %ld infinite values", path, rep.nan_count, rep.inf_count);
-    if (ok && rep.negative_count) {
-        /* the parser accepted the file, so the data block is exactly its last `need` bytes */
-        size_t row_floats = (size_t)img->width * (size_t)img->channels;
-        size_t need = row_floats * (size_t)img->height * 4;
-        bool little = pfm_little_endian(bytes, size - need);
-        const unsigned char *src = bytes + (size - need);
-        for (int fy = 0; fy < img->height; fy++) {
-            float *dst = sl_image_pixel(img, 0, img->height - 1 - fy);
-            for (size_t i = 0; i < row_floats; i++, src += 4) {
-                uint32_t u = little ? (uint32_t)src[0] | (uint32_t)src[1] << 8 | (uint32_t)src[2] << 16 | (uint32_t)src[3] << 24
-                                    : (uint32_t)src[3] | (uint32_t)src[2] << 8 | (uint32_t)src[1] << 16 | (uint32_t)src[0] << 24;
-                memcpy(&dst[i], &u, 4);
-            }
-        }
-    }
-    if (!ok)
-        sl_image_free(img);
-    free(bytes);
-    return ok;
+    return sl_image_read_pfm_signed(path, img, err);
 }
 
 bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err)
