@@ -1,5 +1,5 @@
-/* file.c - whole-file reads with a size cap (and the reader every image format shares), and
- * atomic whole-file writes.
+/* file.c - whole-file reads with a size cap and atomic whole-file writes, and on top of them
+ * the reader and the writer every image format shares.
  *
  * Every image writer goes through sl_write_file_atomic, so a failed or interrupted
  * write never leaves a half file at the target: the bytes go to `path.tmpXXXXXX` in
@@ -150,6 +150,19 @@ bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, 
     if (!sl_read_file(path, SL_IMAGE_MAX_FILE_BYTES, &bytes, &size, err))
         return false;
     bool ok = parse(bytes, size, path, img, repairs, err);
+    free(bytes);
+    return ok;
+}
+
+bool sl_image_write_with(const char *path, sl_image_encoder encode, const sl_image *img, sl_error *err)
+{
+    unsigned char *bytes;
+    size_t size;
+    if (!encode(img, &bytes, &size, err)) {
+        sl_error_prefix(err, "%s: ", path);
+        return false;
+    }
+    bool ok = sl_write_file_atomic(path, bytes, size, err);
     free(bytes);
     return ok;
 }

@@ -97,6 +97,11 @@ typedef bool (*sl_image_parser)(const unsigned char *bytes, size_t size, const c
 bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, sl_image_repairs *repairs,
                         sl_error *err);
 
+/* An encode-to-memory function (sl_image_encode_hdr/pfm/png), and the writer every format
+ * shares: encode, then sl_write_file_atomic. */
+typedef bool (*sl_image_encoder)(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
+bool sl_image_write_with(const char *path, sl_image_encoder encode, const sl_image *img, sl_error *err);
+
 /* Read a whole file into memory (caps at `max_bytes`); caller frees *bytes. */
 bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err);
 /* Write bytes atomically: `path.tmpXXXXXX` then rename. */

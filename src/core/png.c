@@ -105,15 +105,7 @@ bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *siz
 
 bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err)
 {
-    unsigned char *bytes;
-    size_t size;
-    if (!sl_image_encode_png(img, &bytes, &size, err)) {
-        sl_error_prefix(err, "%s: ", path);
-        return false;
-    }
-    bool ok = sl_write_file_atomic(path, bytes, size, err);
-    free(bytes);
-    return ok;
+    return sl_image_write_with(path, sl_image_encode_png, img, err);
 }
 
 /* ---- reading ---- */
