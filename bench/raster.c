@@ -42,43 +42,6 @@ static int parse_list(const char *s, int *out)
     return n;
 }
 
-/* UV sphere, counter-clockwise from outside, shared pole vertices. */
-static bool make_sphere(sl_mesh *m, int slices, int stacks)
-{
-    m->vertex_count = slices * (stacks - 1) + 2;
-    m->triangle_count = 2 * slices * (stacks - 1);
-    m->positions = malloc((size_t)m->vertex_count * sizeof(vec3));
-    m->normals = malloc((size_t)m->vertex_count * sizeof(vec3));
-    m->indices = malloc((size_t)m->triangle_count * 3 * sizeof(uint32_t));
-    if (!m->positions || !m->normals || !m->indices)
-        return false;
-    for (int j = 1; j < stacks; j++)
-        for (int i = 0; i < slices; i++) {
-            float th = SL_PI * (float)j / (float)stacks, ph = 2.0f * SL_PI * (float)i / (float)slices;
-            m->positions[(j - 1) * slices + i] = vec3(sinf(th) * cosf(ph), sinf(th) * sinf(ph), cosf(th));
-        }
-    uint32_t north = (uint32_t)(m->vertex_count - 2), south = (uint32_t)(m->vertex_count - 1);
-    m->positions[north] = vec3(0, 0, 1);
-    m->positions[south] = vec3(0, 0, -1);
-    for (int i = 0; i < m->vertex_count; i++)
-        m->normals[i] = m->positions[i];
-    uint32_t *t = m->indices;
-    for (int i = 0; i < slices; i++) {
-        uint32_t a = (uint32_t)i, b = (uint32_t)((i + 1) % slices);
-        *t++ = north, *t++ = a, *t++ = b;
-        uint32_t la = (uint32_t)((stacks - 2) * slices) + a, lb = (uint32_t)((stacks - 2) * slices) + b;
-        *t++ = south, *t++ = lb, *t++ = la;
-    }
-    for (int j = 0; j < stacks - 2; j++)
-        for (int i = 0; i < slices; i++) {
-            uint32_t a = (uint32_t)(j * slices + i), b = (uint32_t)(j * slices + (i + 1) % slices);
-            uint32_t c = a + (uint32_t)slices, d = b + (uint32_t)slices;
-            *t++ = a, *t++ = c, *t++ = d;
-            *t++ = a, *t++ = d, *t++ = b;
-        }
-    return true;
-}
-
 typedef struct {
     double ms;              /* median frame time */
     sl_raster_stats stats;  /* of one frame */
@@ -165,8 +128,9 @@ int main(int argc, char **argv)
 
     /* tris: the sphere, 4 units away, filling about 60% of the frame height */
     sl_mesh sphere = {0};
-    if (!make_sphere(&sphere, slices, slices / 2)) {
-        fprintf(stderr, "bench_raster: out of memory\n");
+    sl_error mesh_err;
+    if (!sl_mesh_sphere(&sphere, slices, slices / 2, &mesh_err)) {
+        fprintf(stderr, "bench_raster: %s\n", mesh_err.msg);
         return 1;
     }
     sl_material mat = {"grey", {0.5f, 0.5f, 0.5f}, {0.04f, 0.04f, 0.04f}, 50.0f};
@@ -229,8 +193,6 @@ int main(int argc, char **argv)
                    best_ms[1][ti][0] / best_ms[1][ti][nthreads - 1]);
     }
     sl_gbuffer_free(&gb);
-    free(sphere.positions);
-    free(sphere.normals);
-    free(sphere.indices);
+    sl_mesh_free(&sphere);
     return 0;
 }
