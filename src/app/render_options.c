@@ -33,6 +33,8 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
         {"--plain", NULL, SL_ARG_FLAG, &o->plain, 0, 0, NULL, NULL,
          "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) "
          "to compare with the fast ones or to step through in a debugger", NULL},
+        {"--env-lights", NULL, SL_ARG_INT, &o->env_lights, 0, SL_ENV_LIGHTS_MAX, NULL, "K",
+         "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)", NULL},
     };
     memcpy(t, table, sizeof table);
 }
@@ -72,5 +74,6 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
     l->no_point_lights = o->no_lights || o->diffuse_only || o->specular_only;
     l->rotate = o->rotate;
     l->frame = (uint32_t)o->frame;
+    l->env_lights = o->env_lights;
     return true;
 }

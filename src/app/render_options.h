@@ -19,9 +19,10 @@ typedef struct {
     bool rotate; /* per-pixel rotation of the Hammersley set (lighting options.rotate) */
     bool plain;  /* the reference paths: per-pixel raster, the line-by-line port of lighting.frag */
     int frame;   /* the rotation's frame number (options.frame) */
+    int env_lights; /* K brightest texels summed exactly (options.env_lights); 0 = off */
 } sl_render_options;
 
-#define SL_RENDER_OPTION_COUNT 18
+#define SL_RENDER_OPTION_COUNT 19
 
 /* Fill `table` (SL_RENDER_OPTION_COUNT entries) to parse into `o`, which is reset to "not given". */
 void sl_render_options_table(sl_render_options *o, sl_arg *table);

@@ -111,6 +111,7 @@ fail:
 void sl_renderer_free(sl_renderer *r)
 {
     sl_env_free(&r->env);
+    sl_env_lights_free(&r->env_lights);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
@@ -146,6 +147,8 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
         }
     }
     sl_env_free(&old);
+    sl_env_lights_free(&r->env_lights); /* extracted from the old one: rebuilt on the next frame */
+    r->env_lights_built = 0;
     r->env_repairs = repairs;
     return true;
 }
@@ -191,10 +194,28 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     return ok;
 }
 
+/* The env lights for the requested count, extracted once per environment and count. */
+static bool update_env_lights(sl_renderer *r, sl_error *err)
+{
+    int want = r->desc.lighting.env_lights;
+    if (want <= 0 || want == r->env_lights_built)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_lights_free(&r->env_lights);
+    r->env_lights_built = 0;
+    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, err))
+        return false;
+    r->env_lights_built = want;
+    r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
 bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     if (!cam)
         cam = &r->scene->camera;
+    if (!update_env_lights(r, err))
+        return false;
     mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);
     sl_lighting_desc desc = {
         .options = r->desc.lighting,
@@ -206,6 +227,7 @@ bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error
         .height = r->gbuffer.height,
         .lights = r->scene->lights,
         .light_count = r->scene->light_count,
+        .env_lights = r->env_lights_built > 0 ? &r->env_lights : NULL,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

@@ -41,6 +41,7 @@ typedef struct {
 typedef struct {
     double load_ms;     /* environment load + mips (per environment) */
     double irradiance_ms;
+    double env_lights_ms; /* extraction of the env lights and the residual's mips (when asked) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
 } sl_render_timings;
 
@@ -50,6 +51,8 @@ typedef struct {
     sl_env env;
     sl_irradiance irradiance;
     bool have_irradiance;
+    sl_env_lights env_lights; /* built on first use for desc.lighting.env_lights > 0 */
+    int env_lights_built;     /* the count they were extracted with; 0 = none */
     sl_raster *raster;
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */

@@ -243,7 +243,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_brdf_G(LdotH, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
-        vec3 Li = scale(textureLod(u->uEnv, sl_dir_to_uv(w), lod), u->uEnvIntensity);
+        vec3 Li = scale(textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod), u->uEnvIntensity);
         float weight = G * wN / 4.0f;
         if (u->uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -325,7 +325,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_brdf_G(VdotH, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
-        vec3 Li = scale(textureLod(u->uEnv, sl_dir_to_uv(w), lod), u->uEnvIntensity);
+        vec3 Li = scale(textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod), u->uEnvIntensity);
         float weight = G * wN * VdotH / NdotH;
         vec3 c = scale(mul(F, Li), weight);
         sum = add(sum, c);
@@ -346,6 +346,29 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         task->stats.pole_frames += axis.x == 1.0f;
     }
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* GLSL: specular_env_lights. Each env light is one texel's quadrature node (its centroid
+ * direction w, its radiance times the node weight), so this is the ground truth's sum over
+ * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
+ * facing away (N.H <= 0). */
+static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    vec3 sum = vec3s(0.0f);
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        vec3 w = xyz(u->uEnvLightDir[j]);
+        float wN = dot(w, N);
+        if (wN <= 0.0f)
+            continue;
+        vec3 H = normalize(add(w, V));
+        float NdotH = dot(N, H);
+        if (NdotH <= 0.0f)
+            continue;
+        float LdotH = dot(w, H);
+        vec3 f = scale(sl_brdf_F(Ks, LdotH), sl_brdf_D(NdotH, alpha) * sl_brdf_G(LdotH, (sl_gterm)u->uGTerm) / 4.0f);
+        sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), wN));
+    }
+    return scale(sum, u->uEnvIntensity);
 }
 
 /* GLSL: point_light */
@@ -445,6 +468,14 @@ static vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int
             vec3 specular = u->uEstimator == ESTIMATOR_MICROFACET
                                 ? specular_microfacet(u, Nenv, Venv, Ks, alpha, rotation, task, trace)
                                 : specular_ibl(u, Nenv, Venv, Ks, alpha, rotation, task, trace);
+            if (u->uEnvLightCount > 0) {
+                vec3 exact = specular_env_lights(u, Nenv, Venv, Ks, alpha);
+                specular = add(specular, exact);
+                if (trace) {
+                    trace->env_light_count = u->uEnvLightCount;
+                    trace->env_lights = exact;
+                }
+            }
             color = add(color, specular);
             if (trace)
                 trace->specular = specular;
@@ -618,9 +649,9 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     /* the texture: the block's layout when there is one, else level 0's described as every
      * level (uniforms_init), and the fetch below redoes it texel by texel */
     const int gather = u->envGather;
-    const vec3 *T = gather ? u->uEnv->block : u->uEnv->levels[0].texels;
+    const vec3 *T = gather ? u->uEnvResidual->block : u->uEnvResidual->levels[0].texels;
     const int *W = u->envWidth, *H = u->envHeight, *O = u->envOffset;
-    const int last = u->uEnv->level_count - 1;
+    const int last = u->uEnvResidual->level_count - 1;
     sample_block blk;
     sample_block *b = &blk;
     vec3 acc[4] = {vec3s(0.0f), vec3s(0.0f), vec3s(0.0f), vec3s(0.0f)};
@@ -780,7 +811,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         }
         if (!gather) { /* no block: the same filter through texture_lod.h, texel by texel */
             for (int i = 0; i < m; i++) {
-                vec3 t = sl_texture_lod_clamped(u->uEnv, b->u[i], b->v[i], b->lod[i]);
+                vec3 t = sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]);
                 float weight = b->weight[i];
                 b->cr[i] = (Ks.x + F1.x * b->m5[i]) * (t.x * intensity) * weight;
                 b->cg[i] = (Ks.y + F1.y * b->m5[i]) * (t.y * intensity) * weight;
@@ -829,7 +860,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             ts->G = sl_brdf_G(b->LdotH[i], (sl_gterm)u->uGTerm);
             ts->lod = b->lod[i];
             /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
-            ts->Li = scale(sl_texture_lod_clamped(u->uEnv, b->u[i], b->v[i], b->lod[i]), intensity);
+            ts->Li = scale(sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]), intensity);
             ts->c = c;
             ts->sum = trace_sum;
         }
@@ -841,6 +872,47 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         task->stats.pole_frames += pole;
     }
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms),
+ * D through the fast log2/exp2 as the lod does, and the sum in light order. */
+__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
+                                                         float alpha)
+{
+    const int n = u->uEnvLightCount;
+    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
+    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
+    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    const float log2_c = sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z;
+        float hx = X[j] + V.x, hy = Y[j] + V.y, hz = Z[j] + V.z;
+        float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+        hx *= ih;
+        hy *= ih;
+        hz *= ih;
+        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
+        float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
+        /* D = (alpha + 2)/(2 pi) (N.H)^alpha; exp2's range is the caller's (lighting_math.h) */
+        float lg = maxf(log2_c + alpha * sl_fast_log2(maxf(NdotH, TINY)), -126.0f);
+        float D = sl_fast_exp2(lg);
+        float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+        float mm = maxf(1.0f - LdotH, 0.0f);
+        float m2 = mm * mm;
+        float m5 = m2 * m2 * mm;
+        float lit = wN > 0.0f && NdotH > 0.0f ? 1.0f : 0.0f;
+        float k = D * (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) / 4.0f * wN * lit;
+        cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
+        cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
+        cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
+    }
+    vec3 sum = vec3s(0.0f);
+    for (int j = 0; j < n; j++)
+        sum = add(sum, vec3(cr[j], cg[j], cb[j]));
+    return scale(sum, u->uEnvIntensity);
 }
 
 /* One row span of pixels (at most a tile row), structure of arrays: what main() computes
@@ -1029,6 +1101,14 @@ static void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
                                                  vec3(p->Ax[i], p->Ay[i], p->Az[i]),
                                                  vec3(p->Bx[i], p->By[i], p->Bz[i]), p->pole[i], Ks, alpha,
                                                  rotation, task, trace);
+                if (u->uEnvLightCount > 0) {
+                    vec3 exact = env_lights_samples(u, Nenv, Venv, Ks, alpha);
+                    specular = add(specular, exact);
+                    if (trace) {
+                        trace->env_light_count = u->uEnvLightCount;
+                        trace->env_lights = exact;
+                    }
+                }
                 color = add(color, specular);
                 if (trace)
                     trace->specular = specular;

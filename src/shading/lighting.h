@@ -32,6 +32,7 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../core/image.h"
+#include "../ibl/env_lights.h"
 #include "../ibl/ibl.h"
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
@@ -76,6 +77,9 @@ typedef struct {
     uint32_t frame;                /* frame number hashed into the rotation (uFrame) */
     bool plain;                    /* C only: run the line-by-line port of the GLSL instead of the
                                       batched fast path (docs/lighting.md "Two paths") */
+    int env_lights;                /* K: the environment's K brightest texels are summed exactly
+                                      and the estimator samples the rest (src/ibl/env_lights.h);
+                                      0 = off, else 1 .. SL_ENV_LIGHTS_MAX */
 } sl_lighting_options;
 
 /* Fill every zero field with its default. */
@@ -108,12 +112,16 @@ typedef struct {
     int width, height;               /* the G-buffer's size (uViewport) */
     const sl_point_light *lights;    /* may be NULL when light_count is 0 */
     int light_count;                 /* 0 .. SL_LIGHTING_MAX_LIGHTS */
+    const sl_env_lights *env_lights; /* required when options.env_lights > 0: extracted from env
+                                        with that count; ignored otherwise */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
  * sl_gbuffer passed to the pass), plus the resolved options. Read-only while shading. */
 typedef struct {
-    const sl_env *uEnv;
+    const sl_env *uEnv;                  /* the environment (background) */
+    const sl_env *uEnvResidual;          /* what the specular samples read: uEnv, or uEnv less its
+                                            env lights when there are any */
     float uEnvMaxLod;
     float uLodBase;
     float uSinThetaMin;
@@ -130,6 +138,9 @@ typedef struct {
     vec3 uLightPosition[SL_LIGHTING_MAX_LIGHTS];
     vec3 uLightColor[SL_LIGHTING_MAX_LIGHTS];
     float uLightIntensity[SL_LIGHTING_MAX_LIGHTS];
+    int uEnvLightCount;                  /* 0 .. SL_ENV_LIGHTS_MAX */
+    vec4 uEnvLightDir[SL_ENV_LIGHTS_MAX];      /* .xyz: unit direction, environment space */
+    vec4 uEnvLightRadiance[SL_ENV_LIGHTS_MAX]; /* .rgb: radiance times the texel's node weight */
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */
@@ -139,6 +150,9 @@ typedef struct {
      * for 32-bit indices; the batched path then fetches texel by texel (same bits). */
     int envGather;
     int envOffset[SL_ENV_MAX_LEVELS], envWidth[SL_ENV_MAX_LEVELS], envHeight[SL_ENV_MAX_LEVELS];
+    /* C only: the env lights as structure of arrays, for the batched path's vector loads */
+    float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
+    float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];
 } sl_lighting_uniforms;
 
 /* Resolve options, build the Hammersley set and derive every uniform. False with SL_ERR_RANGE
@@ -204,6 +218,8 @@ typedef struct {
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
+    int env_light_count;     /* uEnvLightCount */
+    vec3 env_lights;         /* their exact part of the specular (included in specular) */
     vec3 irradiance, diffuse, specular, lights, background;
     vec3 light[SL_LIGHTING_MAX_LIGHTS];
     vec3 total;              /* what the pass writes */

@@ -117,6 +117,17 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
                        (double)o.env_intensity, (double)o.env_rotation_deg);
     if (desc->width < 1 || desc->height < 1)
         return sl_fail(err, SL_ERR_RANGE, "lighting: viewport %dx%d", desc->width, desc->height);
+    if (o.env_lights < 0 || o.env_lights > SL_ENV_LIGHTS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights, expected 0..%d", o.env_lights, SL_ENV_LIGHTS_MAX);
+    const sl_env_lights *el = o.env_lights > 0 ? desc->env_lights : NULL;
+    if (o.env_lights > 0) {
+        const sl_env_level *a = &desc->env->levels[0];
+        const sl_env_level *b = el ? &el->residual.levels[0] : NULL;
+        if (!el || el->residual.level_count != desc->env->level_count || b->width != a->width ||
+            b->height != a->height)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights asked for, but none extracted from this environment",
+                           o.env_lights);
+    }
 
     sl_hammersley set;
     if (!sl_hammersley_build(&set, o.samples, err))
@@ -125,6 +136,18 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
 
     const sl_env_level *l0 = &desc->env->levels[0];
     u->uEnv = desc->env;
+    u->uEnvResidual = el ? &el->residual : desc->env;
+    u->uEnvLightCount = el ? el->count : 0;
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
+        u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, 0.0f);
+        u->envLightX[j] = el->dir[j].x;
+        u->envLightY[j] = el->dir[j].y;
+        u->envLightZ[j] = el->dir[j].z;
+        u->envLightR[j] = el->radiance[j].x;
+        u->envLightG[j] = el->radiance[j].y;
+        u->envLightB[j] = el->radiance[j].z;
+    }
     u->uEnvMaxLod = (float)(desc->env->level_count - 1);
     /* In float, as a shader computing it would; log2 of a product of ints <= 2^28 is exact enough. */
     u->uLodBase = 0.5f * log2f((float)l0->width * (float)l0->height / (float)o.samples);
@@ -162,7 +185,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     for (int l = 0; l < desc->env->level_count; l++)
         total += (size_t)desc->env->levels[l].width * (size_t)desc->env->levels[l].height;
     /* vec3 indices (3 floats each) must fit an int */
-    u->envGather = desc->env->block != NULL && total < (size_t)INT32_MAX / 3;
+    u->envGather = desc->env->block != NULL && u->uEnvResidual->block != NULL && total < (size_t)INT32_MAX / 3;
     size_t offset = 0;
     for (int l = 0; l < SL_ENV_MAX_LEVELS; l++) {
         /* without a block every level is described as level 0 at offset 0: the vectorized loop
@@ -382,6 +405,10 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     print3(f, "irradiance", t->irradiance);
     print3(f, "diffuse", t->diffuse);
     print3(f, "specular", t->specular);
+    if (t->env_light_count > 0)
+        fprintf(f, "  %-12s (%.6g, %.6g, %.6g): the exact part from %d env lights (in specular; the samples read the residual)\n",
+                "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
+                t->env_light_count);
     print3(f, "lights", t->lights);
     print3(f, "total", t->total);
     if (t->repaired)

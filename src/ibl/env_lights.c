@@ -1,0 +1,102 @@
+/* env_lights.c - extraction of the brightest texels as exact lights (env_lights.h). */
+#include "env_lights.h"
+
+#include <string.h>
+
+#include "ibl_internal.h"
+
+static double luminance(vec3 c) { return 0.2126 * (double)c.x + 0.7152 * (double)c.y + 0.0722 * (double)c.z; }
+
+/* Keep best[0 .. kept) sorted by luminance, brightest first (ties: lower index first), at most
+ * `cap` entries: one pass over the map, and a texel dimmer than the last kept costs a compare. */
+typedef struct {
+    double y;
+    size_t index;
+} ranked;
+
+static void rank_insert(ranked *best, int *kept, int cap, double y, size_t index)
+{
+    if (*kept == cap && !(y > best[cap - 1].y))
+        return;
+    int at = *kept < cap ? (*kept)++ : cap - 1;
+    while (at > 0 && y > best[at - 1].y) {
+        best[at] = best[at - 1];
+        at--;
+    }
+    best[at] = (ranked){y, index};
+}
+
+bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, sl_error *err)
+{
+    memset(lights, 0, sizeof *lights);
+    if (!env || env->level_count < 1)
+        return sl_fail(err, SL_ERR_RANGE, "env lights: the environment has no levels");
+    if (count < 1 || count > SL_ENV_LIGHTS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "env lights: %d requested, expected 1..%d", count, SL_ENV_LIGHTS_MAX);
+    const sl_env_level *l0 = &env->levels[0];
+    ibl_texels nodes;
+    if (!ibl_texels_build(&nodes, l0, err))
+        return false;
+
+    /* The count + 1 brightest: the last one sets the clamp. Texels without a direction (weight
+     * 0, only in absurdly coarse maps) cannot be lights and stay in the residual. */
+    ranked best[SL_ENV_LIGHTS_MAX + 1];
+    int kept = 0;
+    double total = 0.0;
+    for (size_t k = 0; k < nodes.count; k++) {
+        double len2 = nodes.x[k] * nodes.x[k] + nodes.y[k] * nodes.y[k] + nodes.z[k] * nodes.z[k];
+        if (!(len2 > 0.5))
+            continue;
+        total += 0.2126 * nodes.r[k] + 0.7152 * nodes.g[k] + 0.0722 * nodes.b[k];
+        rank_insert(best, &kept, count + 1, luminance(l0->texels[k]), k);
+    }
+    int n = kept < count ? kept : count;
+    double clamp = kept > count ? best[count].y : 0.0;
+
+    sl_image img;
+    if (!sl_image_alloc(&img, l0->width, l0->height, 3, err)) {
+        ibl_texels_free(&nodes);
+        return false;
+    }
+    memcpy(img.data, l0->texels, (size_t)l0->width * (size_t)l0->height * sizeof(vec3));
+    double taken = 0.0;
+    for (int j = 0; j < n; j++) {
+        size_t k = best[j].index;
+        vec3 L = l0->texels[k];
+        /* r = L * clamp / Y keeps the colour; the light gets the rest, times the node weight
+         * |integral of w| = (node radiance) / L, which ibl_texels_build already multiplied in */
+        double keep = best[j].y > 0.0 ? clamp / best[j].y : 0.0;
+        vec3 residual = vec3((float)((double)L.x * keep), (float)((double)L.y * keep), (float)((double)L.z * keep));
+        img.data[3 * k + 0] = residual.x;
+        img.data[3 * k + 1] = residual.y;
+        img.data[3 * k + 2] = residual.z;
+        double node = nodes.r[k] + nodes.g[k] + nodes.b[k];
+        double weight = node / ((double)L.x + (double)L.y + (double)L.z);
+        /* what was taken out, in float as the residual holds it: the two parts sum to L */
+        lights->radiance[j] = vec3((float)(((double)L.x - (double)residual.x) * weight),
+                                   (float)(((double)L.y - (double)residual.y) * weight),
+                                   (float)(((double)L.z - (double)residual.z) * weight));
+        lights->dir[j] = vec3((float)nodes.x[k], (float)nodes.y[k], (float)nodes.z[k]);
+        lights->texel[j] = k;
+        taken += luminance(lights->radiance[j]);
+    }
+    ibl_texels_free(&nodes);
+    bool ok = sl_env_build(&lights->residual, &img, err);
+    sl_image_free(&img);
+    if (!ok) {
+        memset(lights, 0, sizeof *lights);
+        return false;
+    }
+    lights->count = n;
+    lights->clamp = (float)clamp;
+    lights->share = total > 0.0 ? taken / total : 0.0;
+    return true;
+}
+
+void sl_env_lights_free(sl_env_lights *lights)
+{
+    if (!lights)
+        return;
+    sl_env_free(&lights->residual);
+    memset(lights, 0, sizeof *lights);
+}

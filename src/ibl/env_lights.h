@@ -1,0 +1,46 @@
+/* env_lights.h - the brightest texels of an environment, taken out of it and summed exactly.
+ *
+ * Why: filtered importance sampling reads the environment through a blur sized for N samples.
+ * That is accurate where the map is smooth and wrong where a few texels hold a sun or a lamp
+ * (radiance 10^3..10^4 against a sky near 1): a near-mirror reflecting the lamp reads it blurred
+ * to a fraction of its peak, a glossy floor smears the sun's glint, and those few pixels carry
+ * almost all of the error against the ground truth (docs/accuracy.md). Splitting the map,
+ *
+ *     L = L_residual + sum over the K brightest texels t of (L_t - r_t) [w in texel t],
+ *
+ * lets the estimator sample a residual whose dynamic range is capped, while each extracted
+ * texel becomes a light evaluated with the full BRDF at its centroid, the node the ground
+ * truth uses for it (ground_truth.h), so that part is exact for any alpha.
+ *
+ * The residual keeps each extracted texel's colour at the luminance of the brightest texel
+ * that was not extracted (the clamp): r_t = L_t * clamp / Y(L_t), Y the Rec. 709 luminance.
+ * The decomposition is exact texel by texel on level 0; the residual's mip chain is built by
+ * sl_env_build like any environment.
+ *
+ * Consumes: an environment (level 0). Produces: K lights (direction and radiance times the
+ * texel's node weight |integral of w over the texel|, environment space) and the residual's
+ * mip chain. Does not: shade (the lighting shader's specular_env_lights, src/shading). */
+#ifndef SL_ENV_LIGHTS_H
+#define SL_ENV_LIGHTS_H
+
+#include "ibl.h"
+
+#define SL_ENV_LIGHTS_MAX 64 /* MAX_ENV_LIGHTS in the GLSL */
+
+typedef struct {
+    int count;              /* K actually extracted: min(requested, texels with a direction) */
+    float clamp;            /* the residual's largest luminance (0 when every texel was taken) */
+    double share;           /* the extracted part's share of the map's luminous power (report) */
+    vec3 dir[SL_ENV_LIGHTS_MAX];      /* unit centroid direction, environment space */
+    vec3 radiance[SL_ENV_LIGHTS_MAX]; /* (L_t - r_t) * node weight, brightest first */
+    size_t texel[SL_ENV_LIGHTS_MAX];  /* index j * width + i of the texel in level 0 */
+    sl_env residual;        /* the environment less the lights, full mip chain */
+} sl_env_lights;
+
+/* Extract the `count` brightest texels of env's level 0 (1 .. SL_ENV_LIGHTS_MAX) and build the
+ * residual's mip chain. Ties are broken by texel index, so the result is deterministic. On
+ * failure *lights is empty. */
+bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, sl_error *err);
+void sl_env_lights_free(sl_env_lights *lights);
+
+#endif
