@@ -32,6 +32,12 @@
 //   float uSinThetaMin    sin(pi / (2 H)): the distortion factor's floor (centre of row 0)
 //   mat3  uEnvRotation    world -> environment directions (rotation about +Z by -rotation)
 //   float uEnvIntensity   multiplies every environment radiance (background, diffuse, specular)
+//   sampler2D uEnvResidual  what the specular samples read, set up as uEnv: uEnv itself, or, with
+//                         env lights, uEnv less them (src/ibl/env_lights.h: each extracted texel
+//                         keeps its colour at the luminance of the brightest texel left)
+//   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
+//   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
+//   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|
 // Irradiance (diffuse term, Kd / pi * E(N)):
 //   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
 //                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP)
@@ -79,6 +85,12 @@ uniform float uLodBase;
 uniform float uSinThetaMin;
 uniform mat3 uEnvRotation;
 uniform float uEnvIntensity;
+uniform sampler2D uEnvResidual;
+
+const int MAX_ENV_LIGHTS = 64;
+uniform int uEnvLightCount;
+uniform vec4 uEnvLightDir[MAX_ENV_LIGHTS];
+uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
 
 uniform int uIrradianceMethod;
 uniform vec3 uSH[9];
@@ -306,7 +318,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_brdf_G(LdotH, uGTerm);
         float lod = mip_level(D, pdf, w);
-        vec3 Li = textureLod(uEnv, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        vec3 Li = textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
         float weight = G * wN / 4.0;
         if (uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -372,12 +384,34 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_brdf_G(VdotH, uGTerm);
         float lod = mip_level(D, pdf, w);
-        vec3 Li = textureLod(uEnv, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        vec3 Li = textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
         float weight = G * wN * VdotH / NdotH;
         vec3 c = F * Li * weight;
         sum = sum + c;
     }
     return sum * (1.0 / float(max(n, 1)));
+}
+
+// Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
+// the node weight), so this is the ground truth's sum over those texels: the BRDF (2) at w,
+// times w.N; 0 below the horizon and for facets facing away (N.H <= 0). Environment space.
+vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    vec3 sum = vec3(0.0);
+    for (int j = 0; j < uEnvLightCount; j++) {
+        vec3 w = uEnvLightDir[j].xyz;
+        float wN = dot(w, N);
+        if (wN <= 0.0)
+            continue;
+        vec3 H = normalize(w + V);
+        float NdotH = dot(N, H);
+        if (NdotH <= 0.0)
+            continue;
+        float LdotH = dot(w, H);
+        vec3 f = sl_brdf_F(Ks, LdotH) * (sl_brdf_D(NdotH, alpha) * sl_brdf_G(LdotH, uGTerm) / 4.0);
+        sum = sum + f * uEnvLightRadiance[j].rgb * wN;
+    }
+    return sum * uEnvIntensity;
 }
 
 // One point light with the full BRDF (2): f * color * intensity / d^2 * max(N.L, 0); world space.
@@ -437,6 +471,8 @@ void main()
                 color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
             else
                 color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+            if (uEnvLightCount > 0)
+                color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
         }
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)

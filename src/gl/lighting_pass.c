@@ -26,7 +26,7 @@ static const char *const fullscreen_vert = "#version 330 core\n"
                                            "}\n";
 
 /* Texture units of the samplers. */
-enum { UNIT_POSITION, UNIT_NORMAL, UNIT_KD, UNIT_KS_ALPHA, UNIT_DEPTH, UNIT_ENV, UNIT_IRRADIANCE };
+enum { UNIT_POSITION, UNIT_NORMAL, UNIT_KD, UNIT_KS_ALPHA, UNIT_DEPTH, UNIT_ENV, UNIT_IRRADIANCE, UNIT_ENV_RESIDUAL };
 #define HAMMERSLEY_BINDING 1
 
 static GLuint upload_latlong(const sl_env_level *level, bool mipmaps)
@@ -90,8 +90,8 @@ bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err
 
 void slgl_lighting_destroy(slgl_lighting *l)
 {
-    GLuint textures[3] = {l->color, l->env, l->irradiance_map};
-    glDeleteTextures(3, textures);
+    GLuint textures[4] = {l->color, l->env, l->irradiance_map, l->env_residual};
+    glDeleteTextures(4, textures);
     if (l->ubo)
         glDeleteBuffers(1, &l->ubo);
     if (l->fbo)
@@ -103,10 +103,14 @@ void slgl_lighting_destroy(slgl_lighting *l)
     memset(l, 0, sizeof *l);
 }
 
-bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_irradiance *irr, sl_error *err)
+bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_env *residual,
+                                   const sl_irradiance *irr, sl_error *err)
 {
     if (l->env)
         glDeleteTextures(1, &l->env);
+    if (l->env_residual)
+        glDeleteTextures(1, &l->env_residual);
+    l->env_residual = residual ? upload_latlong(&residual->levels[0], true) : 0;
     if (l->irradiance_map)
         glDeleteTextures(1, &l->irradiance_map);
     l->env = upload_latlong(&env->levels[0], true);
@@ -133,6 +137,12 @@ static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uDepth"), UNIT_DEPTH);
     glUniform1i(loc(p, "uEnv"), UNIT_ENV);
     glUniform1i(loc(p, "uIrradianceMap"), UNIT_IRRADIANCE);
+    glUniform1i(loc(p, "uEnvResidual"), UNIT_ENV_RESIDUAL);
+    glUniform1i(loc(p, "uEnvLightCount"), u->uEnvLightCount);
+    if (u->uEnvLightCount > 0) {
+        glUniform4fv(loc(p, "uEnvLightDir"), u->uEnvLightCount, &u->uEnvLightDir[0].x);
+        glUniform4fv(loc(p, "uEnvLightRadiance"), u->uEnvLightCount, &u->uEnvLightRadiance[0].x);
+    }
     glUniform1f(loc(p, "uEnvMaxLod"), u->uEnvMaxLod);
     glUniform1f(loc(p, "uLodBase"), u->uLodBase);
     glUniform1f(loc(p, "uSinThetaMin"), u->uSinThetaMin);
@@ -175,8 +185,13 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)sizeof u->uHammersley, &u->uHammersley, GL_STATIC_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, HAMMERSLEY_BINDING, l->ubo);
 
-    GLuint units[7] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map};
-    for (int i = 0; i < 7; i++) {
+    /* Without env lights the samples read the environment itself. */
+    if ((u->uEnvLightCount > 0) != (l->env_residual != 0))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights but %s residual environment uploaded",
+                       u->uEnvLightCount, l->env_residual ? "a" : "no");
+    GLuint residual = l->env_residual ? l->env_residual : l->env;
+    GLuint units[8] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map, residual};
+    for (int i = 0; i < 8; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);
     }

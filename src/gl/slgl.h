@@ -93,13 +93,16 @@ typedef struct {
     GLuint env;            /* level 0 + glGenerateMipmap */
     int env_levels;        /* GL's level count for that size */
     GLuint irradiance_map; /* BRUTE and MAP irradiance; 0 for SH9 */
+    GLuint env_residual;   /* uEnvResidual: the environment less its env lights; 0 = env itself */
     GLuint ubo;            /* HammersleyBlock */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);
 void slgl_lighting_destroy(slgl_lighting *l);
 /* Upload the environment's level 0 (mipmapped by GL) and, for BRUTE/MAP, the irradiance map. */
-bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_irradiance *irr, sl_error *err);
+/* residual: the environment less its env lights (sl_env_lights.residual), or NULL when there are none. */
+bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_env *residual,
+                                   const sl_irradiance *irr, sl_error *err);
 /* Run lighting.frag over the G-buffer with softlight's uniforms. */
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);
 /* Read the radiance back into `radiance` (allocated when empty; row 0 = top); *repaired counts
