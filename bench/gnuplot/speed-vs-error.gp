@@ -21,4 +21,4 @@ dash(i) = i >= first_progressive ? 2 : 1
 plot for [i=1:nseries] sprintf('%s/series-%d.dat', dir, i) using 2:col with linespoints pt 7 ps 0.8 lw 1.5 \
          dt dash(i) title columnheader(2), \
      sprintf('%s/series-1.dat', dir) using 2:col:(sprintf('%d', $1)) with labels offset 0,-0.9 font ",7" notitle, \
-     dir.'/axes.dat' using 2:col with points pt 4 ps 1.0 lc rgb '#777777' title 'N = 40 axis variants'
+     dir.'/axes.dat' using 2:col with points pt 4 ps 1.0 lc rgb '#777777' title 'single points (N = 40 axes, K env lights)'

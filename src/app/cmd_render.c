@@ -132,6 +132,10 @@ int cmd_render(int argc, char **argv)
                positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
                sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
                r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
+        if (r.env_lights_built > 0)
+            printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
+                   "luminance %.4g), extracted in %.1f ms once per environment\n",
+                   r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
         const char *outs[] = {png, hdr, pfm, aov, normals};
         for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++)
             if (outs[i])

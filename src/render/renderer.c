@@ -41,6 +41,8 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
     return ok;
 }
 
+static bool update_env_lights(sl_renderer *r, sl_error *err);
+
 /* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
  * one code path (and the GL path's) instead of a special case per pixel. */
 static bool load_env(sl_env *env, const char *path, sl_image_repairs *repairs, sl_error *err)
@@ -92,6 +94,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
         return false;
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
+        goto fail;
+    if (!update_env_lights(r, err)) /* per environment, like the irradiance: not in a frame's time */
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {

@@ -884,6 +884,10 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
     const float log2_c = sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
+    /* sl_fast_exp2 needs its argument in [-126, 127]: log2_c + alpha log2(N.H) >= -120 when
+     * N.H >= 2^((-120 - log2_c)/alpha). Clamping N.H, not the sum, keeps the loop vectorizable
+     * (GCC gives up on a max of the exp2's argument); below that floor D < 2^-120 anyway. */
+    const float nh_floor = alpha > 0.0f ? maxf(exp2f((-120.0f - log2_c) / alpha), TINY) : TINY;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
@@ -896,15 +900,15 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
         hz *= ih;
         float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
         float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
-        /* D = (alpha + 2)/(2 pi) (N.H)^alpha; exp2's range is the caller's (lighting_math.h) */
-        float lg = maxf(log2_c + alpha * sl_fast_log2(maxf(NdotH, TINY)), -126.0f);
-        float D = sl_fast_exp2(lg);
+        /* D = (alpha + 2)/(2 pi) (N.H)^alpha, exp2 of a log2 kept >= -120 by the floor on N.H */
+        float D = sl_fast_exp2(log2_c + alpha * sl_fast_log2(maxf(NdotH, nh_floor)));
         float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
         float mm = maxf(1.0f - LdotH, 0.0f);
         float m2 = mm * mm;
         float m5 = m2 * m2 * mm;
-        float lit = wN > 0.0f && NdotH > 0.0f ? 1.0f : 0.0f;
-        float k = D * (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) / 4.0f * wN * lit;
+        float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f); /* products, not &&: vectorizes */
+        float g = 1.0f / (LH * LH); /* computed, then selected: a division under a branch stops GCC */
+        float k = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit;
         cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
         cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
         cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
