@@ -71,7 +71,8 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         img.data[3 * k + 1] = residual.y;
         img.data[3 * k + 2] = residual.z;
         double node = nodes.r[k] + nodes.g[k] + nodes.b[k];
-        double weight = node / ((double)L.x + (double)L.y + (double)L.z);
+        double sum = (double)L.x + (double)L.y + (double)L.z;
+        double weight = sum > 0.0 ? node / sum : 0.0; /* a black texel taken (K > lit texels) adds 0 */
         /* what was taken out, in float as the residual holds it: the two parts sum to L */
         lights->radiance[j] = vec3((float)(((double)L.x - (double)residual.x) * weight),
                                    (float)(((double)L.y - (double)residual.y) * weight),

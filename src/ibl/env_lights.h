@@ -29,7 +29,10 @@
 
 typedef struct {
     int count;              /* K actually extracted: min(requested, texels with a direction) */
-    float clamp;            /* the residual's largest luminance (0 when every texel was taken) */
+    float clamp;            /* the luminance extracted texels keep in the residual: that of the
+                               brightest texel with a direction not taken (0 when none is left);
+                               the residual's largest luminance unless a texel without a direction
+                               (a 1x1 map) is brighter */
     double share;           /* the extracted part's share of the map's luminous power (report) */
     vec3 dir[SL_ENV_LIGHTS_MAX];      /* unit centroid direction, environment space */
     vec3 radiance[SL_ENV_LIGHTS_MAX]; /* (L_t - r_t) * node weight, brightest first */

@@ -58,9 +58,14 @@ bool ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err)
             size_t k = (size_t)j * (size_t)w + (size_t)i;
             double mx = rm.s * cols[i].c, my = rm.s * cols[i].s, mz = rm.z * cols[i].dphi;
             double len = sqrt(mx * mx + my * my + mz * mz);
-            /* A texel whose centroid is the origin (the middle row of a 1-wide image) has
-             * no direction: it gets weight 0. Only absurdly coarse images have one. */
-            double inv = len > 1e-300 ? 1.0 / len : 0.0;
+            /* A texel whose centroid is the origin (a 1x1 image, the middle row of a 1-wide
+             * image) has no direction: it gets weight 0. Its |m| is rounding noise (~1e-16)
+             * against a solid angle of order 1, so the test is relative to the solid angle;
+             * a real texel's |m| is within a few percent of its solid angle. Only absurdly
+             * coarse images have one. */
+            double degenerate = 1e-9 * rm.dz * cols[i].dphi;
+            double inv = len > degenerate ? 1.0 / len : 0.0;
+            len = len > degenerate ? len : 0.0;
             vec3 l = level->texels[k];
             t->x[k] = mx * inv;
             t->y[k] = my * inv;
