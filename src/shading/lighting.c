@@ -879,7 +879,10 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                                                          float alpha)
 {
-    const int n = u->uEnvLightCount;
+    /* Whole vectors: the arrays are zero past uEnvLightCount (a zero direction and radiance add
+     * exactly 0), so rounding the count up to 16 keeps a small K off the scalar remainder loop,
+     * which made K = 8 cost as much as K = 24. */
+    const int n = (u->uEnvLightCount + 15) & ~15;
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;

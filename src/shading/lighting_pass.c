@@ -137,7 +137,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     const sl_env_level *l0 = &desc->env->levels[0];
     u->uEnv = desc->env;
     u->uEnvResidual = el ? &el->residual : desc->env;
-    u->uEnvLightCount = el ? el->count : 0;
+    _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
+    u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
     for (int j = 0; j < u->uEnvLightCount; j++) {
         u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
         u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, 0.0f);
