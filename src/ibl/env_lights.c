@@ -58,6 +58,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         ibl_texels_free(&nodes);
         return false;
     }
+    _Static_assert(sizeof(vec3) == 3 * sizeof(float), "a level's texels are the image's floats");
     memcpy(img.data, l0->texels, (size_t)l0->width * (size_t)l0->height * sizeof(vec3));
     double taken = 0.0;
     for (int j = 0; j < n; j++) {
