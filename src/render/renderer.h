@@ -6,7 +6,8 @@
  * the tone-mapped display image in [0,1] (post), with the time each stage took.
  *
  * Per environment (once, or when the viewer swaps it): the .hdr is loaded, checked and
- * repaired, its mip chain built, and its irradiance computed with the chosen method.
+ * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
+ * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h).
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
  *

@@ -6,7 +6,9 @@
  *
  * The shading is a line-by-line C port of shaders/lighting.frag (lighting.c): IBL diffuse
  * Kd/pi E(N), IBL specular by the specification's importance-sampled estimator (eq. (3)) or one
- * of two consistent ones (options.estimator), point lights with the BRDF of eq. (2), and the environment behind empty pixels.
+ * of two consistent ones (options.estimator), optionally plus the exact sum over the environment's
+ * brightest texels while the samples read the rest (options.env_lights, docs/lighting.md "Env
+ * lights"), point lights with the BRDF of eq. (2), and the environment behind empty pixels.
  * The uniforms struct below is the GLSL uniform list with the same names, so the GL host
  * code can copy from it field by field (docs/lighting.md).
  *
