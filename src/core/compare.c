@@ -119,7 +119,7 @@ bool sl_compare_images(const sl_image *a, const sl_image *b, const sl_compare_de
     stats->width = a->width;
     stats->height = a->height;
     stats->channels = ch;
-    double sum_abs = 0.0, sum_sq = 0.0, sum_rel = 0.0, sum_tm_sq = 0.0;
+    double sum_abs = 0.0, sum_sq = 0.0, sum_b_sq = 0.0, sum_rel = 0.0, sum_tm_sq = 0.0;
     long over1 = 0, over8 = 0;
     for (int y = 0; y < a->height; y++) {
         for (int x = 0; x < a->width; x++) {
@@ -142,6 +142,7 @@ bool sl_compare_images(const sl_image *a, const sl_image *b, const sl_compare_de
                 double denom = fmax(fmax(fabs((double)pa[c]), fabs((double)pb[c])), (double)d.rel_floor);
                 sum_abs += v;
                 sum_sq += v * v;
+                sum_b_sq += (double)pb[c] * (double)pb[c];
                 pixel_max = fmax(pixel_max, v);
                 pixel_rel = fmax(pixel_rel, v / denom);
                 float ta = sl_compare_tonemap(pa[c], d.exposure, d.contrast);
@@ -163,6 +164,7 @@ bool sl_compare_images(const sl_image *a, const sl_image *b, const sl_compare_de
         double n = (double)stats->pixels, values = n * ch;
         stats->mean_abs = sum_abs / values;
         stats->rmse = sqrt(sum_sq / values);
+        stats->nrmse = sum_b_sq > 0.0 ? sqrt(sum_sq / sum_b_sq) : 0.0;
         stats->mean_rel = sum_rel / n;
         double mse_tm = sum_tm_sq / values;
         stats->psnr = mse_tm > 0.0 ? 10.0 * log10(1.0 / mse_tm) : (double)INFINITY;

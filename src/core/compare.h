@@ -51,6 +51,8 @@ typedef struct {
     long masked_out;             /* outside the mask */
     long nan_a, inf_a, nan_b, inf_b; /* pixels with a NaN / an Inf channel (inside the mask) */
     double max_abs, mean_abs, rmse;
+    double nrmse;                /* rmse / the RMS of b over the same values: the error on the scale
+                                    of the reference (b), 0 when b is all zero */
     double mean_rel, p99_rel;
     double psnr;                 /* dB, INFINITY when identical after the tone map */
     double share_over_1, share_over_8; /* in [0, 1] */

@@ -5,7 +5,9 @@
 
 #include "ibl_internal.h"
 
-static double luminance(vec3 c) { return 0.2126 * (double)c.x + 0.7152 * (double)c.y + 0.0722 * (double)c.z; }
+/* Rec. 709 luminance */
+static double luminance(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
+static double luminance3(vec3 c) { return luminance((double)c.x, (double)c.y, (double)c.z); }
 
 /* Keep best[0 .. kept) sorted by luminance, brightest first (ties: lower index first), at most
  * `cap` entries: one pass over the map, and a texel dimmer than the last kept costs a compare. */
@@ -47,8 +49,8 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         double len2 = nodes.x[k] * nodes.x[k] + nodes.y[k] * nodes.y[k] + nodes.z[k] * nodes.z[k];
         if (!(len2 > 0.5))
             continue;
-        total += 0.2126 * nodes.r[k] + 0.7152 * nodes.g[k] + 0.0722 * nodes.b[k];
-        rank_insert(best, &kept, count + 1, luminance(l0->texels[k]), k);
+        total += luminance(nodes.r[k], nodes.g[k], nodes.b[k]);
+        rank_insert(best, &kept, count + 1, luminance3(l0->texels[k]), k);
     }
     int n = kept < count ? kept : count;
     double clamp = kept > count ? best[count].y : 0.0;
@@ -80,7 +82,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
                                    (float)(((double)L.z - (double)residual.z) * weight));
         lights->dir[j] = vec3((float)nodes.x[k], (float)nodes.y[k], (float)nodes.z[k]);
         lights->texel[j] = k;
-        taken += luminance(lights->radiance[j]);
+        taken += luminance3(lights->radiance[j]);
     }
     ibl_texels_free(&nodes);
     bool ok = sl_env_build(&lights->residual, &img, err);

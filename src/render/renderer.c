@@ -41,7 +41,21 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
     return ok;
 }
 
-static bool update_env_lights(sl_renderer *r, sl_error *err);
+/* The env lights for the requested count, extracted once per environment and count. */
+static bool update_env_lights(sl_renderer *r, sl_error *err)
+{
+    int want = r->desc.lighting.env_lights;
+    if (want <= 0 || want == r->env_lights_built)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_lights_free(&r->env_lights);
+    r->env_lights_built = 0;
+    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, err))
+        return false;
+    r->env_lights_built = want;
+    r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
 
 /* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
  * one code path (and the GL path's) instead of a special case per pixel. */
@@ -196,22 +210,6 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     bool ok = sl_raster_scene(r->raster, r->scene, cam ? cam : &r->scene->camera, &r->gbuffer, err);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
-}
-
-/* The env lights for the requested count, extracted once per environment and count. */
-static bool update_env_lights(sl_renderer *r, sl_error *err)
-{
-    int want = r->desc.lighting.env_lights;
-    if (want <= 0 || want == r->env_lights_built)
-        return true;
-    double t0 = sl_now_seconds();
-    sl_env_lights_free(&r->env_lights);
-    r->env_lights_built = 0;
-    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, err))
-        return false;
-    r->env_lights_built = want;
-    r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
-    return true;
 }
 
 bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err)

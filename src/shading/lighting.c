@@ -890,7 +890,7 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     /* sl_fast_exp2 needs its argument in [-126, 127]: log2_c + alpha log2(N.H) >= -120 when
      * N.H >= 2^((-120 - log2_c)/alpha). Clamping N.H, not the sum, keeps the loop vectorizable
      * (GCC gives up on a max of the exp2's argument); below that floor D < 2^-120 anyway. */
-    const float nh_floor = alpha > 0.0f ? maxf(exp2f((-120.0f - log2_c) / alpha), TINY) : TINY;
+    const float nh_floor = alpha > 0.0f ? maxf(sl_fast_exp2(maxf((-120.0f - log2_c) / alpha, -126.0f)), TINY) : TINY;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd

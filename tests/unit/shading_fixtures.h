@@ -93,6 +93,22 @@ static inline bool fx_finite3(vec3 v) { return isfinite(v.x) && isfinite(v.y) &&
 
 static inline double fx_luminance(const float *p) { return 0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]; }
 
+/* Per-pixel relative difference of two radiance images' luminance, floor 1e-3 of the larger:
+ * the largest and the mean over every pixel. */
+static inline void fx_image_rel_diff(const sl_image *a, const sl_image *b, double *max_rel, double *mean_rel)
+{
+    size_t n = (size_t)a->width * (size_t)a->height;
+    double mx = 0.0, sum = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        double la = fx_luminance(a->data + 3 * i), lb = fx_luminance(b->data + 3 * i);
+        double r = fabs(la - lb) / fmax(fmax(fabs(la), fabs(lb)), 1e-3);
+        mx = fmax(mx, r);
+        sum += r;
+    }
+    *max_rel = mx;
+    *mean_rel = sum / (double)n;
+}
+
 static inline int fx_cmp_double(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;

@@ -31,7 +31,8 @@ static void test_tonemap_values(void **state)
 }
 
 /* 2x2 RGB, all 1 in A. B differs in two values: (1,0).r = 1.5 and (0,1).b = 0.
- * 12 values, differences 0.5 and 1: max 1, mean 1.5/12, rmse sqrt(1.25/12).
+ * 12 values, differences 0.5 and 1: max 1, mean 1.5/12, rmse sqrt(1.25/12); B's values square
+ * to 10 * 1 + 2.25 + 0 = 12.25, so nrmse = sqrt(1.25 / 12.25).
  * Pixel relative errors: 0.5/1.5 = 1/3 and 1/1 = 1, others 0: mean 1/3, p99 (rank 4 of 4) = 1.
  * 8-bit: T(1) = 0.7297 -> 186, T(1.5) = 0.7927 -> 202, T(0) -> 0: both changed pixels exceed
  * 8 levels, so 2 of 4 pixels are over 1 and over 8 levels. */
@@ -52,6 +53,7 @@ static void test_hand_computed(void **state)
     assert_near(s.max_abs, 1.0, 1e-12);
     assert_near(s.mean_abs, 1.5 / 12.0, 1e-12);
     assert_near(s.rmse, sqrt(1.25 / 12.0), 1e-12);
+    assert_near(s.nrmse, sqrt(1.25 / 12.25), 1e-12);
     assert_near(s.mean_rel, (1.0 / 3.0 + 1.0) / 4.0, 1e-7);
     assert_near(s.p99_rel, 1.0, 1e-12);
     assert_near(s.share_over_1, 0.5, 0.0);

@@ -683,21 +683,6 @@ static void test_sun_error_drops(void **state)
     sl_env_free(&env);
 }
 
-/* Per-pixel relative difference (luminance, floor 1e-3 of the larger) of two images. */
-static void rel_diff(const sl_image *a, const sl_image *b, double *max_rel, double *mean_rel)
-{
-    size_t n = (size_t)a->width * (size_t)a->height;
-    double mx = 0.0, sum = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        double la = fx_luminance(a->data + 3 * i), lb = fx_luminance(b->data + 3 * i);
-        double r = fabs(la - lb) / fmax(fmax(fabs(la), fabs(lb)), 1e-3);
-        mx = fmax(mx, r);
-        sum += r;
-    }
-    *max_rel = mx;
-    *mean_rel = sum / (double)n;
-}
-
 /* The plain port against the batched path with env lights on (three spheres: rough, glossy, a
  * metal of alpha 5000; the sky with the sun), over estimators, G terms, rotation and the
  * environment's rotation and intensity. Tolerances of test_lighting_fast's batched-vs-plain
@@ -729,7 +714,7 @@ static void test_plain_vs_batched(void **state)
         o.plain = true;
         render_el(&env, &el, &gb, inv, eye, o, &b);
         double mx, mean;
-        rel_diff(&a, &b, &mx, &mean);
+        fx_image_rel_diff(&a, &b, &mx, &mean);
         print_message("variant %zu: batched vs plain with env lights: max rel %.3g, mean rel %.3g\n", v, mx, mean);
         if (!(mean < 5e-5) || !(mx < 5e-3))
             fail_msg("variant %zu: batched vs plain: max rel %.3g (allowed 5e-3), mean rel %.3g (allowed 5e-5)", v, mx,
@@ -738,7 +723,7 @@ static void test_plain_vs_batched(void **state)
         sl_image c = {0};
         o.env_lights = 0;
         render_el(&env, &el, &gb, inv, eye, o, &c);
-        rel_diff(&b, &c, &mx, &mean);
+        fx_image_rel_diff(&b, &c, &mx, &mean);
         assert_true(mx > 1e-3);
         sl_image_free(&a);
         sl_image_free(&b);

@@ -110,21 +110,6 @@ static void render(const sl_env *env, const sl_irradiance *irr, const sl_gbuffer
     free(u);
 }
 
-/* Per-pixel relative difference of two radiance images, floor 1e-3 of the larger value. */
-static void image_diff(const sl_image *a, const sl_image *b, double *max_rel, double *mean_rel)
-{
-    size_t n = (size_t)a->width * (size_t)a->height;
-    double mx = 0, sum = 0;
-    for (size_t i = 0; i < n; i++) {
-        double la = fx_luminance(a->data + 3 * i), lb = fx_luminance(b->data + 3 * i);
-        double r = fabs(la - lb) / fmax(fmax(fabs(la), fabs(lb)), 1e-3);
-        mx = fmax(mx, r);
-        sum += r;
-    }
-    *max_rel = mx;
-    *mean_rel = sum / (double)n;
-}
-
 /* The batched path against the plain port, option by option, on three spheres (rough,
  * glossy, a metal of alpha 5000) under a smooth sky and under a sky with a 200x sun. The two
  * differ by the fast functions' rounding (1e-7 .. 3e-7, above) moving a sample's lod and texel
@@ -180,7 +165,7 @@ static void test_batched_vs_plain(void **state)
             o.plain = true;
             render(&envs[e], &irr, &gb, inv, eye, o, &b);
             double mx, mean;
-            image_diff(&a, &b, &mx, &mean);
+            fx_image_rel_diff(&a, &b, &mx, &mean);
             print_message("env %d variant %zu: batched vs plain: max rel %.3g, mean rel %.3g\n", e, v, mx, mean);
             assert_true(mean < 5e-5);
             assert_true(mx < 5e-3);
