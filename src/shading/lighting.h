@@ -66,6 +66,9 @@ typedef enum {
 /* Options, zero meaning "default" (resolved by sl_lighting_options_resolve). */
 typedef struct {
     int samples;                   /* N, 1 .. SL_HAMMERSLEY_MAX; 0 = 40 */
+    int lod_samples;               /* the N of uLodBase = 1/2 log2(W H / N), 1 .. SL_HAMMERSLEY_MAX;
+                                      0 = samples. The viewer's accumulation frames draw few
+                                      samples yet filter as the full N does (docs/viewer.md) */
     sl_lod_rule lod_rule;          /* 0 = SL_LOD_SPEC_D4 */
     bool distortion;               /* lat-long distortion d(theta) in the lod (default off) */
     sl_gterm gterm;                /* 0 = SL_GTERM_INV_LH2 */

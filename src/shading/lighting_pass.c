@@ -14,6 +14,8 @@ sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
     sl_lighting_options r = opt ? *opt : (sl_lighting_options){0};
     if (r.samples == 0)
         r.samples = SL_LIGHTING_DEFAULT_SAMPLES;
+    if (r.lod_samples == 0)
+        r.lod_samples = r.samples;
     if (r.lod_rule == SL_LOD_DEFAULT)
         r.lod_rule = SL_LOD_SPEC_D4;
     if (r.gterm == SL_GTERM_DEFAULT)
@@ -97,6 +99,9 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: no environment map");
     if (o.samples < 1 || o.samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: samples = %d, expected 1..%d", o.samples, SL_HAMMERSLEY_MAX);
+    if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
+                       SL_HAMMERSLEY_MAX);
     if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
         (unsigned)o.gterm > SL_GTERM_ONE)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator or G term");
@@ -151,7 +156,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     }
     u->uEnvMaxLod = (float)(desc->env->level_count - 1);
     /* In float, as a shader computing it would; log2 of a product of ints <= 2^28 is exact enough. */
-    u->uLodBase = 0.5f * log2f((float)l0->width * (float)l0->height / (float)o.samples);
+    u->uLodBase = 0.5f * log2f((float)l0->width * (float)l0->height / (float)o.lod_samples);
     u->uSinThetaMin = sinf(SL_PI / (2.0f * (float)l0->height));
     /* world -> environment: rotate by -rotation about +Z (column-major). */
     float phi = radians(o.env_rotation_deg);
