@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "render_options.h"
 #include "scene/scene.h"
+#include "shading/lighting_trace.h"
 
 int cmd_trace(int argc, char **argv)
 {

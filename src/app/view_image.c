@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "shading/lighting_trace.h"
 #include "shading/tonemap.h"
 
 static const char *const mode_names[VIEW_MODE_COUNT] = {

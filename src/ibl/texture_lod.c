@@ -18,6 +18,8 @@
  * which returns the same bits as blending it with weight 0. */
 #include "texture_lod.h"
 
+#include <stdint.h>
+
 vec3 textureLod(const sl_env *env, vec2 uv, float lod)
 {
     if (env->level_count <= 0)
@@ -29,4 +31,23 @@ vec3 textureLod(const sl_env *env, vec2 uv, float lod)
     lod = lod > 0.0f ? lod : 0.0f; /* NaN -> 0 */
     lod = lod < (float)last ? lod : (float)last;
     return sl_texture_lod_clamped(env, u, v, lod);
+}
+
+void sl_env_gather_init(sl_env_gather *g, const sl_env *env)
+{
+    size_t total = 0;
+    for (int l = 0; l < env->level_count; l++)
+        total += (size_t)env->levels[l].width * (size_t)env->levels[l].height;
+    g->gather = env->block != NULL && total < (size_t)INT32_MAX / 3; /* 3 floats a texel */
+    g->texels = g->gather ? env->block : env->levels[0].texels;
+    g->last = env->level_count - 1;
+    size_t offset = 0;
+    for (int l = 0; l < SL_ENV_MAX_LEVELS; l++) {
+        const sl_env_level *lv = &env->levels[g->gather && l < env->level_count ? l : 0];
+        g->offset[l] = (int)offset;
+        g->width[l] = lv->width;
+        g->height[l] = lv->height;
+        if (g->gather)
+            offset += (size_t)lv->width * (size_t)lv->height;
+    }
 }

@@ -1,6 +1,7 @@
-/* texture_lod.h - the inline core of textureLod (texture_lod.c), for the lighting shader's
- * inner loop, where a function call per sample and the guards of the public entry point cost
- * more than the filtering itself.
+/* texture_lod.h - the inline core of textureLod (texture_lod.c) and of the lat-long map, for
+ * the lighting shader's inner loop, where a function call per sample and the guards of the
+ * public entry point cost more than the filtering itself; and the same filter over the chain's
+ * single block (sl_env_gather), which a vectorized loop turns into gathers.
  *
  * The caller guarantees what textureLod otherwise checks: env has at least one level, u is
  * finite and in [0, 1] (REPEAT already applied: 1.0 wraps to column 0 like 0.0), v finite,
@@ -13,6 +14,7 @@
 
 #include <stddef.h>
 
+#include "../core/fast_math.h"
 #include "ibl.h"
 
 /* GL_LINEAR within one level: REPEAT in u, CLAMP_TO_EDGE in v, texel centres at (i + 1/2) / size. */
@@ -52,6 +54,72 @@ static inline vec3 sl_texture_lod_clamped(const sl_env *env, float u, float v, f
     int l1 = l0 < last ? l0 + 1 : last;
     vec3 b = sl_env_bilinear(&env->levels[l1], u, v);
     return mix3(a, b, f);
+}
+
+/* The specification's lat-long map (latlong.c sl_dir_to_uv) for a unit direction:
+ * u = 1/2 - atan2(y, x) / (2 pi), folded into [0, 1); v = theta / pi with theta =
+ * atan2(sqrt(x^2 + y^2), z), which equals acos(z) for unit d and stays accurate at the poles,
+ * where acos(z) loses half its digits. */
+SL_FM_INLINE void sl_fast_dir_to_uv(float x, float y, float z, float *u, float *v)
+{
+    float uu = 0.5f - sl_fast_atan2(y, x) * (1.0f / (2.0f * SL_PI));
+    uu = uu < 1.0f ? uu : uu - 1.0f;
+    *u = uu >= 0.0f ? uu : 0.0f; /* NaN -> 0 */
+    float vv = sl_fast_atan2(sqrtf(x * x + y * y), z) * (1.0f / SL_PI);
+    *v = vv >= 0.0f ? vv : 0.0f; /* NaN -> 0: a texel row is always in range */
+}
+
+/* The chain as one block of texels (sl_env.block), for a vectorized fetch: level l starts at
+ * texel offset[l]. gather = 0 when the chain has no block or too many texels for 32-bit vec3
+ * indices; every level is then described as level 0, so a vectorized loop still reads valid
+ * texels (of the wrong level) and the caller redoes the fetch with sl_texture_lod_clamped. */
+typedef struct {
+    int gather;
+    const vec3 *texels; /* the block, or level 0's texels */
+    int last;           /* level_count - 1 */
+    int offset[SL_ENV_MAX_LEVELS], width[SL_ENV_MAX_LEVELS], height[SL_ENV_MAX_LEVELS];
+} sl_env_gather;
+
+/* Describe env's chain (texture_lod.c); env must have at least one level. */
+void sl_env_gather_init(sl_env_gather *g, const sl_env *env);
+
+/* mix3(T[a], T[b], t), component by component (a struct copy stops GCC's vectorizer). */
+static inline vec3 sl_mix_texels(const vec3 *T, int a, int b, float t)
+{
+    return vec3(mixf(T[a].x, T[b].x, t), mixf(T[a].y, T[b].y, t), mixf(T[a].z, T[b].z, t));
+}
+
+/* sl_env_bilinear for level l of a gather description: the same operations, so the same bits,
+ * with sl_fast_floor for floorf; inlined into a simd loop it becomes gathers. */
+__attribute__((always_inline)) static inline vec3 sl_env_gather_bilinear(const sl_env_gather *g, int l, float u, float v)
+{
+    const vec3 *T = g->texels;
+    int w = g->width[l], h = g->height[l], o = g->offset[l];
+    float x = u * (float)w - 0.5f;
+    float xf = sl_fast_floor(x);
+    float fx = x - xf;
+    int x0 = (int)xf;
+    int x1 = x0 + 1;
+    x0 = x0 < 0 ? x0 + w : x0;
+    x1 = x1 >= w ? x1 - w : x1;
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
+    int y0 = (int)y;
+    float fy = y - (float)y0;
+    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    int r0 = o + y0 * w, r1 = o + y1 * w;
+    vec3 top = sl_mix_texels(T, r0 + x0, r0 + x1, fx);
+    vec3 bottom = sl_mix_texels(T, r1 + x0, r1 + x1, fx);
+    return mix3(top, bottom, fy);
+}
+
+/* sl_texture_lod_clamped over a gather description, with lod in [0, last] (no fract(lod) = 0
+ * shortcut: a branch would stop the vectorizer; blending with weight 0 gives the same bits). */
+__attribute__((always_inline)) static inline vec3 sl_env_gather_lod(const sl_env_gather *g, float u, float v, float lod)
+{
+    int l0 = (int)lod;
+    float f = lod - (float)l0;
+    int l1 = l0 < g->last ? l0 + 1 : g->last;
+    return mix3(sl_env_gather_bilinear(g, l0, u, v), sl_env_gather_bilinear(g, l1, u, v), f);
 }
 
 #endif

@@ -36,6 +36,7 @@
 #include "../core/image.h"
 #include "../ibl/env_lights.h"
 #include "../ibl/ibl.h"
+#include "../ibl/texture_lod.h"
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 #include "brdf.h"
@@ -150,11 +151,9 @@ typedef struct {
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */
     sl_lighting_options options;         /* resolved */
-    /* C only, for the batched path's vectorized fetch: where level l starts in uEnv->block (in
-     * texels) and its size. envGather = 0 when the environment has no block or is too large
-     * for 32-bit indices; the batched path then fetches texel by texel (same bits). */
-    int envGather;
-    int envOffset[SL_ENV_MAX_LEVELS], envWidth[SL_ENV_MAX_LEVELS], envHeight[SL_ENV_MAX_LEVELS];
+    /* C only, for the batched path's vectorized fetch: uEnv and uEnvResidual as single blocks
+     * (ibl/texture_lod.h); without a block it fetches texel by texel (same bits). */
+    sl_env_gather envGather, residualGather;
     /* C only: the env lights as structure of arrays, for the batched path's vector loads */
     float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
     float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];
@@ -177,59 +176,18 @@ typedef struct {
     int64_t nonfinite;         /* pixels whose NaN/Inf was replaced by 0 (should stay 0) */
 } sl_lighting_stats;
 
-/* Per-thread scratch: the per-alpha sample cache (docs/lighting.md "Hoisting") and counters.
+/* Per-thread scratch: the batched path's per-alpha sample cache (docs/lighting.md "Hoisting")
+ * and counters (lighting_task.c).
  * Entries are valid for one uniforms struct: call sl_lighting_task_reset after re-initialising
  * the uniforms it was used with. */
 typedef struct sl_lighting_task sl_lighting_task;
+
+/* What a traced pixel computed (lighting_trace.h). */
+typedef struct sl_lighting_trace sl_lighting_trace;
 sl_lighting_task *sl_lighting_task_create(sl_error *err);
 void sl_lighting_task_reset(sl_lighting_task *task);
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats); /* adds */
 void sl_lighting_task_destroy(sl_lighting_task *task);
-
-/* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. With the microfacet
- * estimator (trace.microfacet) L is the drawn H about +Z, w = reflect(-V, H), LdotH = V.H, and a
- * sample with V.H <= 0 or w.N <= 0 contributes 0. */
-typedef struct {
-    vec2 xi;           /* Hammersley pair (rotated when rotation is on) */
-    vec3 L;            /* skewed direction about +Z (eq. (4)); microfacet: H about +Z */
-    float pdf;         /* p(w), the density of w */
-    vec3 w;            /* rotated to R (environment space); microfacet: reflect(-V, H) */
-    float wN;          /* w.N; <= 0: below the horizon, nothing below was computed */
-    vec3 H;
-    float NdotH, LdotH, D; /* microfacet: N.H is H's drawn cos(theta_h), D = D(H) */
-    vec3 F;
-    float G;           /* G / (L.N V.N) */
-    float lod;
-    vec3 Li;           /* fetched radiance times intensity */
-    vec3 c;            /* contribution */
-    vec3 sum;          /* running sum */
-} sl_lighting_trace_sample;
-
-typedef struct {
-    int x, y;                /* image pixel, row 0 = top */
-    vec2 frag_coord;         /* gl_FragCoord.xy (G-buffer row y_gb = height - 1 - y) */
-    sl_gbuffer_texel texel;  /* as read */
-    bool covered;
-    vec3 V, N;               /* world space; N after facing_normal */
-    bool bent;               /* N was bent toward V */
-    vec3 Nenv, Venv;         /* environment space */
-    vec2 rotation;           /* the pixel's Hammersley offset (0, 0 when rotation is off) */
-    bool plain;              /* traced through the plain port (else the batched path) */
-    float NdotV;
-    vec3 R, A, B;            /* environment space; A, B span the frame about R, or about N for
-                                the microfacet estimator */
-    bool pole_frame;
-    bool microfacet;         /* the microfacet estimator ran (specular_microfacet) */
-    float alpha;
-    int sample_count;
-    sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
-    int env_light_count;     /* uEnvLightCount */
-    vec3 env_lights;         /* their exact part of the specular (included in specular) */
-    vec3 irradiance, diffuse, specular, lights, background;
-    vec3 light[SL_LIGHTING_MAX_LIGHTS];
-    vec3 total;              /* what the pass writes */
-    bool repaired;           /* the final NaN/Inf guard fired */
-} sl_lighting_trace;
 
 /* The C port of main(): radiance of G-buffer texel (x, y), row 0 = bottom, i.e.
  * gl_FragCoord = (x + 0.5, y + 0.5). `task` may be NULL (no cache, no counters; same bits);
@@ -266,11 +224,5 @@ vec2 sl_lighting_pixel_rotation(int x, int y, uint32_t frame);
  * (index 0 copies; mean is allocated then when mean->data is NULL). Same size and channels
  * required (SL_ERR_RANGE otherwise). Deterministic: per pixel, in index order. */
 bool sl_lighting_accumulate(sl_image *mean, const sl_image *frame, int index, sl_error *err);
-
-/* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with
- * a trace. `trace` is large (about 200 KB): allocate it. */
-bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
-                             sl_lighting_trace *trace, sl_error *err);
-void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *trace);
 
 #endif

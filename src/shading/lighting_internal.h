@@ -1,14 +1,66 @@
-/* lighting_internal.h - what the lighting shader (lighting.c) and the code that runs it
- * (lighting_pass.c: uniforms, tasks, the pass, the trace) share: the per-thread scratch. */
+/* lighting_internal.h - what the files of the lighting stage share, and which way they call:
+ *
+ *     lighting_pass.c ──> lighting.c (the port)          lighting_uniforms.c (host side)
+ *            └──────────> lighting_batched.c ──> lighting_task.c ──> lighting.c
+ *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
+ *
+ * The port exports the GLSL functions the others reuse (shade_*: the sample generators for the
+ * per-alpha tables, pixel_rotation, the covered pixel's sum); the trace hooks below are the few
+ * named points where either path records a pixel; the per-thread task holds the sample tables. */
 #ifndef SL_LIGHTING_INTERNAL_H
 #define SL_LIGHTING_INTERNAL_H
 
 #include "lighting.h"
+#include "lighting_trace.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time; the pass's tiles are SPAN wide. */
 enum { SPAN = 32 };
 
-/* ---- per-thread scratch ---- */
+/* GLSL constants that more than one file needs (lighting.frag has them with these values). */
+#define SHADE_MIN_NDOTV 0.01f /* normals facing away from the eye are bent to N.V = 0.01 */
+#define SHADE_POLE_EPS 1e-6f  /* |R.xy|^2 below this: Z x R vanishes, use X x R instead */
+#define SHADE_MAX_ALPHA 1e7f  /* alpha beyond this is a mirror to float precision */
+
+/* ---- the port's functions that the other files call (lighting.c) ---- */
+
+vec2 shade_hammersley_point(const sl_lighting_uniforms *u, int k);     /* GLSL hammersley_point */
+vec2 shade_pixel_rotation(const sl_lighting_uniforms *u, int x, int y); /* GLSL pixel_rotation */
+vec3 shade_skewed_sample(vec2 xi, float alpha);                         /* GLSL skewed_sample */
+float shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL sample_pdf */
+vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
+float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
+
+/* A covered pixel as main() has it once its frame is known. */
+typedef struct {
+    vec3 P, Kd, Ks;
+    float alpha;     /* clamped to [0, MAX_ALPHA] */
+    vec3 V, N;       /* world space, N after facing_normal */
+    vec3 Nenv, Venv; /* environment space */
+    vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */
+} shade_surface;
+
+/* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), point lights.
+ * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
+ * the batched path passes the value of that whole term, computed by its own loops. */
+vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *specular,
+                         sl_lighting_task *task, sl_lighting_trace *trace);
+
+/* The end of main(): a NaN or Inf becomes 0 (counted, and traced). */
+vec3 shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace);
+
+/* The view ray of background(), for both paths: m = uInvViewProj, r = uEnvRotation, passed by
+ * column so a vectorized caller keeps them in registers. mat4_mul_vec4's operations. */
+__attribute__((always_inline)) static inline vec3 shade_background_dir(const vec4 m[4], const vec3 r[3], vec2 viewport,
+                                                                       vec2 fragCoord)
+{
+    vec2 ndc = sub(scale(vec2(fragCoord.x / viewport.x, fragCoord.y / viewport.y), 2.0f), vec2s(1.0f));
+    vec4 nearP = add(add(scale(m[0], ndc.x), scale(m[1], ndc.y)), add(scale(m[2], -1.0f), scale(m[3], 1.0f)));
+    vec4 farP = add(add(scale(m[0], ndc.x), scale(m[1], ndc.y)), add(scale(m[2], 1.0f), scale(m[3], 1.0f)));
+    vec3 d = normalize(sub(scale(xyz(farP), 1.0f / farP.w), scale(xyz(nearP), 1.0f / nearP.w)));
+    return add(add(scale(r[0], d.x), scale(r[1], d.y)), scale(r[2], d.z));
+}
+
+/* ---- per-thread scratch (lighting_task.c) ---- */
 
 enum { SLOTS = 8 };
 
@@ -42,5 +94,92 @@ struct sl_lighting_task {
     azimuth_table azimuth;
     sl_lighting_stats stats;
 };
+
+/* ---- trace hooks and counters: the named points where a path records what a pixel computed.
+ * trace and task may be NULL (the pass has no trace); a hook then does nothing. ---- */
+
+static inline void trace_texel(sl_lighting_trace *t, const sl_gbuffer_texel *texel, vec2 fragCoord, bool plain)
+{
+    if (!t)
+        return;
+    t->frag_coord = fragCoord;
+    t->texel = *texel;
+    t->covered = !(texel->depth >= 1.0f);
+    t->plain = plain;
+}
+
+static inline void trace_background(sl_lighting_task *task, sl_lighting_trace *t, vec3 color)
+{
+    if (task)
+        task->stats.background++;
+    if (t)
+        t->background = color;
+}
+
+/* The covered pixel's frame; bent: its normal was bent toward the eye (facing_normal). */
+static inline void trace_surface(sl_lighting_task *task, sl_lighting_trace *t, const shade_surface *s, bool bent)
+{
+    if (task)
+        task->stats.bent_normals += bent;
+    if (!t)
+        return;
+    t->V = s->V;
+    t->N = s->N;
+    t->bent = bent;
+    t->Nenv = s->Nenv;
+    t->Venv = s->Venv;
+    t->rotation = s->rotation;
+    t->alpha = s->alpha;
+}
+
+/* The frame the samples are drawn in: A, B about R (specular_ibl) or about N (microfacet).
+ * R is recorded for both, as specular_ibl computes it. */
+static inline void trace_sample_frame(sl_lighting_trace *t, vec3 N, vec3 V, vec3 A, vec3 B, bool pole, int n,
+                                      bool microfacet)
+{
+    if (!t)
+        return;
+    float NdotV = dot(N, V);
+    t->NdotV = NdotV;
+    t->R = normalize(sub(scale(N, 2.0f * NdotV), V));
+    t->A = A;
+    t->B = B;
+    t->pole_frame = pole;
+    t->sample_count = n;
+    t->microfacet = microfacet;
+}
+
+static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_trace_sample *s)
+{
+    if (t)
+        t->samples[k] = *s;
+}
+
+/* After a pixel's samples: n drawn, `below` of them contributed 0, pole = the X x axis frame. */
+static inline void count_samples(sl_lighting_task *task, int n, int below, bool pole)
+{
+    if (!task)
+        return;
+    task->stats.samples += n;
+    task->stats.below_horizon += below;
+    task->stats.pole_frames += pole;
+}
+
+/* The table for alpha in the task's cache, built on a miss (the tables of the last SLOTS
+ * distinct alphas are kept: scenes have few materials). */
+const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);
+/* The azimuth table: the task's (built once per uniforms), or `local` filled when task is NULL. */
+const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local);
+
+/* ---- the batched path (lighting_batched.c) ---- */
+
+/* main(), batched: pixels x0 .. x0 + count - 1 (count <= SPAN) of G-buffer row y into out[].
+ * A trace (count 1) records what the pixel computed. */
+void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out);
+
+/* main(), the port: G-buffer texel (x, y) (lighting.c). */
+vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
+                 sl_lighting_trace *trace);
 
 #endif

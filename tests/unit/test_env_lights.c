@@ -14,6 +14,7 @@
  *   paths           the plain port and the batched path agree with env lights on
  *   errors          options.env_lights > 0 without (or with mismatched) extracted lights */
 #include "shading_fixtures.h"
+#include "shading/lighting_trace.h"
 #include "ibl/env_lights.h"
 
 #include <stdio.h>

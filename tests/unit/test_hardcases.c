@@ -4,6 +4,7 @@
  * the 3x3 median). The microfacet estimator has its own frame (about N) and skips, so it meets
  * each case again (test_microfacet_*). */
 #include "shading_fixtures.h"
+#include "shading/lighting_trace.h"
 #include "shading/brdf.h"
 #include "shading/tonemap.h"
 

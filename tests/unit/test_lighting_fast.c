@@ -5,7 +5,9 @@
  * tests/cli/gl_shading.sh renders with rotation on through both), rotation off leaving results
  * unchanged, and averaging rotated frames converging to the ground truth. */
 #include "shading_fixtures.h"
-#include "shading/lighting_math.h"
+#include "core/fast_math.h"
+#include "ibl/texture_lod.h"
+#include "shading/lighting_trace.h"
 
 #include <stdio.h>
 
@@ -19,7 +21,7 @@ static vec3 sky_with_sun(vec3 d)
     return dot(d, s) > 0.97f ? scale(c, 200.0f) : c;
 }
 
-/* ---- lighting_math.h against double precision ---- */
+/* ---- core/fast_math.h and the fast lat-long map against double precision ---- */
 static void test_fast_math(void **state)
 {
     (void)state;

@@ -4,6 +4,7 @@
  * microfacet ones against the ground truth), point lights, the background, the row flip,
  * determinism over threads and over the per-alpha cache, and the tone map. */
 #include "shading_fixtures.h"
+#include "shading/lighting_trace.h"
 #include "shading/brdf.h"
 #include "shading/tonemap.h"
 

@@ -1,7 +1,7 @@
-/* lighting_math.h - branch-free float32 versions of the transcendentals in the lighting
- * shader's inner loop (log2, exp2, atan2 and the lat-long map built on it), written so GCC
- * vectorizes the loops that call them (`#pragma omp simd`): no calls, no data-dependent
- * branches (selects only), no tables.
+/* fast_math.h - branch-free float32 floor, log2, exp2 and atan2 for vectorized inner loops
+ * (the lighting shader's batched path; ibl/texture_lod.h builds its fast lat-long map on
+ * atan2), written so GCC vectorizes the loops that call them (`#pragma omp simd`): no calls,
+ * no data-dependent branches (selects only), no tables.
  *
  * Why: the libm calls (atan2f, acosf, powf, log2f) were 45% of the lighting pass and cannot be
  * vectorized without -ffast-math (glibc declares its vector variants only then). These are
@@ -12,15 +12,15 @@
  * The same inputs give the same bits whether a loop runs vectorized or scalar (only +, -, *, /,
  * sqrt, compares; -ffp-contract=off), so the pass, sl_lighting_shade and the trace agree.
  *
- * Does not: handle NaN (callers clamp first; sl_fast_dir_to_uv maps it to 0), denormals (inputs
- * are >= 1e-30) or exp2 outside [-126, 127]. */
-#ifndef SL_LIGHTING_MATH_H
-#define SL_LIGHTING_MATH_H
+ * Does not: handle NaN (callers clamp first), denormals (inputs are >= 1e-30) or exp2 outside
+ * [-126, 127]. */
+#ifndef SL_FAST_MATH_H
+#define SL_FAST_MATH_H
 
 #include <stdint.h>
 #include <string.h>
 
-#include "../core/glsl.h"
+#include "glsl.h"
 
 /* Always inlined: a call left in a `#pragma omp simd` loop stops it from vectorizing, and GCC's
  * inlining budget for a large caller (lighting.c's specular_samples) runs out before every call
@@ -98,19 +98,6 @@ SL_FM_INLINE float sl_fast_atan2(float y, float x)
     p = ay > ax ? 1.57079633f - p : p;
     p = x < 0.0f ? 3.14159265f - p : p;
     return y < 0.0f ? -p : p;
-}
-
-/* The specification's lat-long map (latlong.c sl_dir_to_uv) for a unit direction:
- * u = 1/2 - atan2(y, x) / (2 pi), folded into [0, 1); v = theta / pi with theta =
- * atan2(sqrt(x^2 + y^2), z), which equals acos(z) for unit d and stays accurate at the poles,
- * where acos(z) loses half its digits. */
-SL_FM_INLINE void sl_fast_dir_to_uv(float x, float y, float z, float *u, float *v)
-{
-    float uu = 0.5f - sl_fast_atan2(y, x) * (1.0f / (2.0f * SL_PI));
-    uu = uu < 1.0f ? uu : uu - 1.0f;
-    *u = uu >= 0.0f ? uu : 0.0f; /* NaN -> 0 */
-    float vv = sl_fast_atan2(sqrtf(x * x + y * y), z) * (1.0f / SL_PI);
-    *v = vv >= 0.0f ? vv : 0.0f; /* NaN -> 0: a texel row is always in range */
 }
 
 #endif

@@ -1,0 +1,583 @@
+/* lighting_batched.c - the lighting shader's fast path, the pass's default: main() of
+ * shaders/lighting.frag (as ported in lighting.c) reorganised into loops over arrays that GCC
+ * vectorizes (`#pragma omp simd`). The port is the reference; this file computes the same
+ * formulas in another order and with lighting's fast transcendentals, so its results differ
+ * from the port's by float rounding (test_lighting_fast bounds it); it is deterministic, and a
+ * trace follows it (docs/lighting.md "Two paths").
+ *
+ * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage), the
+ * background of empty pixels (background_stage); then per pixel the samples in stages
+ * (specular_samples): (0) the skewed samples, from the task's per-alpha table
+ * (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
+ * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
+ * environment's single block, ibl/texture_lod.h) and contributions; (4) the sum. Then the
+ * port's own sum of the terms (shade_surface_color) and its NaN guard.
+ *
+ * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
+ * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
+ * never needs D itself. The microfacet estimator (H about N, w = reflect(-V, H)) has a stage
+ * (1) and a spec-rule lod loop of its own, since its samples and weights differ, while the
+ * fetch and the sum are the same.
+ *
+ * GCC vectorizes a loop only if no floating-point operation sits under a branch (its default
+ * -ftrapping-math); hence selects between constants multiplied in, and a loop per option
+ * where the port has an `if`. */
+#include <string.h>
+
+/* clang honours `omp simd` too but cannot vectorize every one of these loops (gathers through a
+ * computed level); that is a missed optimisation, not an error in a -Werror build. */
+#ifdef __clang__
+#pragma clang diagnostic ignored "-Wpass-failed"
+#endif
+
+#include "../core/fast_math.h"
+#include "../ibl/texture_lod.h"
+#include "lighting_internal.h"
+
+/* GLSL constants, as lighting.c has them */
+static const int LOD_SPEC = SL_LOD_SPEC;
+static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
+static const int LOD_GEMS = SL_LOD_GEMS;
+static const int LOD_PDF = SL_LOD_PDF;
+static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
+static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
+static const float MIN_NDOTV = SHADE_MIN_NDOTV;
+static const float POLE_EPS = SHADE_POLE_EPS;
+static const float TINY = SL_BRDF_TINY;
+static const float MAX_ALPHA = SHADE_MAX_ALPHA;
+#define PI SL_PI
+
+/* Samples are processed in blocks of BLOCK, so the per-sample arrays live on the stack (5 KB)
+ * whatever N is; N = 40 is one block. */
+enum { BLOCK = 64 };
+
+/* One block of samples, structure of arrays: stage (1) writes them, (2) and (3) read them. */
+typedef struct {
+    float xi1[BLOCK], xi2[BLOCK], Lx[BLOCK], Ly[BLOCK], Lz[BLOCK], pdf[BLOCK]; /* when not from a table */
+    float wx[BLOCK], wy[BLOCK], wz[BLOCK], wN[BLOCK];
+    float hx[BLOCK], hy[BLOCK], hz[BLOCK], NdotH[BLOCK], LdotH[BLOCK];
+    float m5[BLOCK], lod[BLOCK], u[BLOCK], v[BLOCK];
+    float weight[BLOCK], cr[BLOCK], cg[BLOCK], cb[BLOCK];
+    float vh[BLOCK], pw[BLOCK]; /* microfacet only: V.H and p(w) */
+} sample_block;
+
+/* log2(TINY): the floor of every log2 in mip_level */
+static const float LOG2_TINY = -99.6578428f;
+
+/* Stage (0), rotation on: the pixel's pairs fract(xi + rotation) skewed to the lobe, i.e.
+ * skewed_sample and sample_pdf of the rotated pair (plus = 1), or microfacet_sample and
+ * microfacet_D (plus = 2: the exponents 1/(alpha+2), alpha/(alpha+2), the constant
+ * (alpha+2)/(2 pi)). Shifting xi1 shifts the azimuth by -2 pi rotation.x for every sample: one
+ * rotation (cr, sr) of each (cos phi, sin phi); the polar part cos(theta) = xi2^(1/(alpha+plus))
+ * and the pdf's (or D's) xi2^(alpha/(alpha+plus)) go through log2/exp2, and sin(theta) =
+ * sqrt(1 - cos^2). A rotated xi2 of exactly 0 gives cos(theta) = 0 and pdf = 0, as pow(0, e)
+ * does. */
+static void rotated_lobe(const azimuth_table *az, int k0, int m, float alpha, float plus, vec2 rotation,
+                         sample_block *b)
+{
+    float rho = 2.0f * PI * rotation.x;
+    float cr = cosf(rho), sr = sinf(rho);
+    float e_cos = 1.0f / (alpha + plus), e_pdf = alpha / (alpha + plus);
+    float norm = (alpha + plus) / (2.0f * PI);
+    const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float s1 = xi1[i] + rotation.x, s2 = xi2[i] + rotation.y;
+        float x1 = s1 - sl_fast_floor(s1); /* fract, as the port computes it */
+        float x2 = s2 - sl_fast_floor(s2);
+        float lx = sl_fast_log2(maxf(x2, TINY)); /* in [log2 TINY, 0]: exp2's range below */
+        float zero = x2 > 0.0f ? 1.0f : 0.0f; /* a product, not a select: GCC vectorizes it */
+        float ct = sl_fast_exp2(lx * e_cos) * zero;
+        float st = sqrtf(maxf(1.0f - ct * ct, 0.0f));
+        float cp = cphi[i] * cr + sphi[i] * sr;
+        float sp = sphi[i] * cr - cphi[i] * sr;
+        b->xi1[i] = x1;
+        b->xi2[i] = x2;
+        b->Lx[i] = cp * st;
+        b->Ly[i] = sp * st;
+        b->Lz[i] = ct;
+        b->pdf[i] = norm * sl_fast_exp2(lx * e_pdf) * (alpha > 0.0f ? zero : 1.0f); /* pow(0, 0) = 1 */
+    }
+}
+
+/* clamp(lod, 0, max_lod) with NaN -> 0 (the fetch indexes with it) */
+static inline float clamp_lod(float lod, float max_lod)
+{
+    lod = lod > 0.0f ? lod : 0.0f;
+    return lod < max_lod ? lod : max_lod;
+}
+
+/* Where a block's per-sample values come from: a lobe table, or the block itself. */
+typedef struct {
+    const float *xi1, *xi2, *Lx, *Ly, *Lz, *pdf;
+} lobe_view;
+
+/* The trace of samples k0 .. k0 + m - 1 of a block, as the port records them; the running sum
+ * is in sample order (the pass sums in four partial sums). */
+static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, const sample_block *b, const lobe_view *s,
+                        int k0, int m, vec3 Ks, float alpha, vec3 *sum)
+{
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    for (int i = 0; i < m; i++) {
+        sl_lighting_trace_sample *ts = &t->samples[k0 + i];
+        memset(ts, 0, sizeof *ts);
+        ts->xi = vec2(s->xi1[i], s->xi2[i]);
+        ts->L = vec3(s->Lx[i], s->Ly[i], s->Lz[i]);
+        ts->pdf = s->pdf[i];
+        ts->w = vec3(b->wx[i], b->wy[i], b->wz[i]);
+        ts->wN = b->wN[i];
+        ts->sum = *sum;
+        if (mf) { /* as specular_microfacet records them: H, N.H, V.H, D before the test */
+            ts->H = vec3(b->hx[i], b->hy[i], b->hz[i]);
+            ts->NdotH = b->NdotH[i];
+            ts->LdotH = b->LdotH[i];
+            ts->D = s->pdf[i];
+            ts->pdf = 0.0f;
+        }
+        if (b->wN[i] <= 0.0f || (mf && b->vh[i] <= 0.0f))
+            continue;
+        vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
+        *sum = add(*sum, c);
+        ts->H = vec3(b->hx[i], b->hy[i], b->hz[i]);
+        ts->NdotH = b->NdotH[i];
+        ts->LdotH = b->LdotH[i];
+        ts->pdf = mf ? b->pw[i] : s->pdf[i];
+        ts->D = mf ? s->pdf[i] : sl_brdf_D(b->NdotH[i], alpha);
+        ts->F = add(Ks, scale(F1, b->m5[i]));
+        ts->G = sl_brdf_G(b->LdotH[i], (sl_gterm)u->uGTerm);
+        ts->lod = b->lod[i];
+        /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
+        ts->Li = scale(sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
+        ts->c = c;
+        ts->sum = *sum;
+    }
+}
+
+/* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
+ * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
+ * stage computed: see the top of the file. Same samples, same sum order. */
+__attribute__((noinline)) /* a call per pixel; inlined, it keeps shade_span from vectorizing */
+static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
+                             vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    int n = (int)u->uHammersley.N;
+    const bool rotate = u->uRotate != 0;
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const lobe_table *lobe = task && !rotate ? shade_lobe_for(u, task, alpha, mf) : NULL;
+    azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
+    const azimuth_table *az = rotate ? shade_azimuth_for(u, task, &local_az) : NULL;
+    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    const int rule = u->uLodRule;
+    const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
+    const bool distortion = u->uDistortion != 0;
+    const float base = u->uLodBase, max_lod = u->uEnvMaxLod, sin_min = u->uSinThetaMin;
+    const float intensity = u->uEnvIntensity;
+    /* log2 of D's constant (alpha + 2)/(2 pi); the lod of spec-d4 takes D/4 */
+    const float log2_c_lod = sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
+    const float log2_d4 = rule == LOD_SPEC_D4 ? 2.0f : 0.0f; /* microfacet: log2 D - log2 4 */
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    /* the texture as one block (texture_lod.h); without one, the fetch below redoes stage (3)
+     * texel by texel */
+    const sl_env_gather *env = &u->residualGather;
+    sample_block blk;
+    sample_block *b = &blk;
+    vec3 acc[4] = {vec3s(0.0f), vec3s(0.0f), vec3s(0.0f), vec3s(0.0f)};
+    vec3 trace_sum = vec3s(0.0f);
+    int below = 0;
+    for (int k0 = 0; k0 < n; k0 += BLOCK) {
+        const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
+        /* (0) the skewed samples: table, recomputed (no task), or rotated */
+        const float *xi1 = b->xi1, *xi2 = b->xi2, *Lx = b->Lx, *Ly = b->Ly, *Lz = b->Lz, *pdf = b->pdf;
+        if (lobe) {
+            xi1 = lobe->xi1 + k0;
+            xi2 = lobe->xi2 + k0;
+            Lx = lobe->Lx + k0;
+            Ly = lobe->Ly + k0;
+            Lz = lobe->Lz + k0;
+            pdf = lobe->pdf + k0;
+        } else if (rotate) {
+            rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
+        } else {
+            for (int i = 0; i < m; i++) {
+                vec2 xi = shade_hammersley_point(u, k0 + i);
+                vec3 L = mf ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
+                b->xi1[i] = xi.x;
+                b->xi2[i] = xi.y;
+                b->Lx[i] = L.x;
+                b->Ly[i] = L.y;
+                b->Lz[i] = L.z;
+                b->pdf[i] = mf ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
+            }
+        }
+        /* (1) directions, dot products, G, the Fresnel factor and the uv: specular_ibl's
+         * operations, vectorized over the samples; or specular_microfacet's, where (L, pdf) are
+         * (H about +Z, D(H)) and A, B span the frame about N. A sample with N.H = 0 (a rotated
+         * xi2 of 0) divides by 0 here; it has w.N < 0, so stage (4) drops it. */
+        if (mf) {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
+                float hy = (A.y * Lx[i] + B.y * Ly[i]) + N.y * Lz[i];
+                float hz = (A.z * Lx[i] + B.z * Ly[i]) + N.z * Lz[i];
+                float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+                hx *= ih;
+                hy *= ih;
+                hz *= ih;
+                float VdotH = (V.x * hx + V.y * hy) + V.z * hz;
+                float wx = hx * (2.0f * VdotH) - V.x;
+                float wy = hy * (2.0f * VdotH) - V.y;
+                float wz = hz * (2.0f * VdotH) - V.z;
+                float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+                wx *= iw;
+                wy *= iw;
+                wz *= iw;
+                float wN = (wx * N.x + wy * N.y) + wz * N.z;
+                float NdotH = Lz[i];
+                float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
+                float mm = maxf(1.0f - VdotH, 0.0f);
+                float m2 = mm * mm;
+                b->wx[i] = wx;
+                b->wy[i] = wy;
+                b->wz[i] = wz;
+                b->wN[i] = wN;
+                b->hx[i] = hx;
+                b->hy[i] = hy;
+                b->hz[i] = hz;
+                b->NdotH[i] = NdotH;
+                b->LdotH[i] = VdotH;
+                b->vh[i] = VdotH;
+                b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
+                b->m5[i] = m2 * m2 * mm;
+                b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
+                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+            }
+        } else {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
+                float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
+                float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
+                float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+                wx *= iw;
+                wy *= iw;
+                wz *= iw;
+                float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
+                float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+                hx *= ih;
+                hy *= ih;
+                hz *= ih;
+                float LdotH = (wx * hx + wy * hy) + wz * hz;
+                float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+                float mm = maxf(1.0f - LdotH, 0.0f);
+                float m2 = mm * mm;
+                float wN = (wx * N.x + wy * N.y) + wz * N.z;
+                b->wx[i] = wx;
+                b->wy[i] = wy;
+                b->wz[i] = wz;
+                b->wN[i] = wN;
+                b->hx[i] = hx;
+                b->hy[i] = hy;
+                b->hz[i] = hz;
+                b->NdotH[i] = (N.x * hx + N.y * hy) + N.z * hz;
+                b->LdotH[i] = LdotH;
+                b->m5[i] = m2 * m2 * mm;
+                b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN / 4.0f; /* G w.N / 4 */
+                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
+            }
+        }
+        /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
+         * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
+        if (distortion) {
+#pragma omp simd
+            for (int i = 0; i < m; i++)
+                b->lod[i] = sl_fast_log2(0.5f * PI * maxf(sqrtf(maxf(1.0f - b->wz[i] * b->wz[i], 0.0f)), sin_min));
+        } else {
+            memset(b->lod, 0, sizeof(float) * (size_t)m); /* log2 d = 0 */
+        }
+        if (mf && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) { /* D(H) is at hand: log2 of it */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = sl_fast_log2(maxf(pdf[i], TINY)) - log2_d4 + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+            }
+        } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+            }
+        } else if (rule == LOD_GEMS || rule == LOD_PDF) {
+            const float *pw = mf ? b->pw : pdf; /* the density of w */
+            const float bias = rule == LOD_GEMS ? 1.0f : 0.0f; /* Gems' +1; pdf has none */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float lg = sl_fast_log2(maxf(4.0f * PI * pw[i], TINY)) + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + bias, max_lod);
+            }
+        } else {
+            memset(b->lod, 0, sizeof(float) * (size_t)m);
+        }
+        /* the consistent estimator: weight D / pdf, with the port's D (a pow per sample) */
+        if (consistent)
+            for (int i = 0; i < m; i++)
+                b->weight[i] = b->weight[i] * sl_brdf_D(b->NdotH[i], alpha) / pdf[i];
+        /* (3) radiance and contribution: textureLod from the block (texture_lod.h's operations
+         * on the block's layout: gathers), c = F Li weight */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+            float m5 = b->m5[i], weight = b->weight[i];
+            b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+            b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+            b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+        }
+        if (!env->gather) { /* no block: the same filter through texture_lod.h, texel by texel */
+            for (int i = 0; i < m; i++) {
+                vec3 t = sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]);
+                float weight = b->weight[i];
+                b->cr[i] = (Ks.x + F1.x * b->m5[i]) * (t.x * intensity) * weight;
+                b->cg[i] = (Ks.y + F1.y * b->m5[i]) * (t.y * intensity) * weight;
+                b->cb[i] = (Ks.z + F1.z * b->m5[i]) * (t.z * intensity) * weight;
+            }
+        }
+        /* (4) the sum. Samples below the horizon add nothing. Sample k goes into partial sum
+         * k mod 4 and the four are added at the end, (0 + 1) + (2 + 3): four short dependency
+         * chains instead of one long one (the port adds in sample order; the difference is float
+         * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
+         * and the trace agree bit for bit. */
+        for (int i = 0; i < m; i++) {
+            bool above = !(b->wN[i] <= 0.0f) && !(mf && b->vh[i] <= 0.0f);
+            int j = (k0 + i) & 3;
+            below += !above;
+            acc[j].x += above ? b->cr[i] : 0.0f;
+            acc[j].y += above ? b->cg[i] : 0.0f;
+            acc[j].z += above ? b->cb[i] : 0.0f;
+        }
+        if (trace)
+            trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, &trace_sum);
+    }
+    vec3 sum = add(add(acc[0], acc[1]), add(acc[2], acc[3]));
+    count_samples(task, n, below, pole);
+    return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms),
+ * D through the fast log2/exp2 as the lod does, and the sum in light order. */
+__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
+                                                         float alpha)
+{
+    /* Whole vectors: the arrays are zero past uEnvLightCount (a zero direction and radiance add
+     * exactly 0), so rounding the count up to 16 keeps a small K off the scalar remainder loop,
+     * which made K = 8 cost as much as K = 24. */
+    const int n = (u->uEnvLightCount + 15) & ~15;
+    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
+    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
+    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    const float log2_c = sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
+    /* sl_fast_exp2 needs its argument in [-126, 127]: log2_c + alpha log2(N.H) >= -120 when
+     * N.H >= 2^((-120 - log2_c)/alpha). Clamping N.H, not the sum, keeps the loop vectorizable
+     * (GCC gives up on a max of the exp2's argument); below that floor D < 2^-120 anyway. */
+    const float nh_floor = alpha > 0.0f ? maxf(sl_fast_exp2(maxf((-120.0f - log2_c) / alpha, -126.0f)), TINY) : TINY;
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z;
+        float hx = X[j] + V.x, hy = Y[j] + V.y, hz = Z[j] + V.z;
+        float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+        hx *= ih;
+        hy *= ih;
+        hz *= ih;
+        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
+        float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
+        /* D = (alpha + 2)/(2 pi) (N.H)^alpha, exp2 of a log2 kept >= -120 by the floor on N.H */
+        float D = sl_fast_exp2(log2_c + alpha * sl_fast_log2(maxf(NdotH, nh_floor)));
+        float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+        float mm = maxf(1.0f - LdotH, 0.0f);
+        float m2 = mm * mm;
+        float m5 = m2 * m2 * mm;
+        float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f); /* products, not &&: vectorizes */
+        float g = 1.0f / (LH * LH); /* computed, then selected: a division under a branch stops GCC */
+        float k = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit;
+        cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
+        cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
+        cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
+    }
+    vec3 sum = vec3s(0.0f);
+    for (int j = 0; j < n; j++)
+        sum = add(sum, vec3(cr[j], cg[j], cb[j]));
+    return scale(sum, u->uEnvIntensity);
+}
+
+/* One row span of pixels (at most a tile row), structure of arrays: what main() computes
+ * per pixel before the samples, for every pixel of the span at once, so the normalisations
+ * (a chain of divisions and square roots per pixel) run as vector throughput, not latency. */
+typedef struct {
+    float Vx[SPAN], Vy[SPAN], Vz[SPAN], Nx[SPAN], Ny[SPAN], Nz[SPAN];            /* world */
+    float NEx[SPAN], NEy[SPAN], NEz[SPAN], VEx[SPAN], VEy[SPAN], VEz[SPAN];      /* environment */
+    float Rx[SPAN], Ry[SPAN], Rz[SPAN], Ax[SPAN], Ay[SPAN], Az[SPAN], Bx[SPAN], By[SPAN], Bz[SPAN];
+    float NdotV[SPAN];
+    float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN]; /* the texels' position, normal */
+    int bent[SPAN], pole[SPAN];
+    float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
+} pixel_block;
+
+static inline float select_f(bool c, float a, float b) { return c ? a : b; }
+
+/* main() up to the samples (V, facing_normal, the environment frame) and specular_ibl's frame
+ * (R, A, B; A, B about N for specular_microfacet), for pixels x0 .. x0 + count - 1 of G-buffer row y; empty pixels compute garbage
+ * that nothing reads. facing_normal's two branches are selects: the chosen value is computed
+ * by the same operations, so the same bits. */
+static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, pixel_block *p)
+{
+    const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
+    const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET; /* the frame is about N, not R */
+    for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
+        p->Px[i] = t[i].position.x;
+        p->Py[i] = t[i].position.y;
+        p->Pz[i] = t[i].position.z;
+        p->nx[i] = t[i].normal.x;
+        p->ny[i] = t[i].normal.y;
+        p->nz[i] = t[i].normal.z;
+    }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        vec3 V = normalize(vec3(ex - p->Px[i], ey - p->Py[i], ez - p->Pz[i]));
+        /* facing_normal */
+        vec3 n = vec3(p->nx[i], p->ny[i], p->nz[i]);
+        float len2 = dot(n, n);
+        vec3 Nn = scale(n, 1.0f / sqrtf(len2));
+        float NdotV0 = dot(Nn, V);
+        vec3 Nb = normalize(add(Nn, scale(V, MIN_NDOTV - NdotV0)));
+        bool keep = len2 > TINY, bend = NdotV0 < MIN_NDOTV;
+        vec3 N = vec3(select_f(keep, select_f(bend, Nb.x, Nn.x), V.x), select_f(keep, select_f(bend, Nb.y, Nn.y), V.y),
+                      select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
+        vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
+        vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
+        /* specular_ibl's frame about R, or specular_microfacet's about N */
+        float NdotV = dot(NE, VE);
+        vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
+        vec3 Z = vec3(select_f(mf, NE.x, R.x), select_f(mf, NE.y, R.y), select_f(mf, NE.z, R.z));
+        bool pole = Z.x * Z.x + Z.y * Z.y < POLE_EPS;
+        vec3 axis = vec3(select_f(pole, 1.0f, 0.0f), 0.0f, select_f(pole, 0.0f, 1.0f));
+        vec3 A = normalize(cross(axis, Z));
+        vec3 B = normalize(cross(Z, A));
+        p->Vx[i] = V.x;
+        p->Vy[i] = V.y;
+        p->Vz[i] = V.z;
+        p->Nx[i] = N.x;
+        p->Ny[i] = N.y;
+        p->Nz[i] = N.z;
+        p->NEx[i] = NE.x;
+        p->NEy[i] = NE.y;
+        p->NEz[i] = NE.z;
+        p->VEx[i] = VE.x;
+        p->VEy[i] = VE.y;
+        p->VEz[i] = VE.z;
+        p->NdotV[i] = NdotV;
+        p->Rx[i] = R.x;
+        p->Ry[i] = R.y;
+        p->Rz[i] = R.z;
+        p->Ax[i] = A.x;
+        p->Ay[i] = A.y;
+        p->Az[i] = A.z;
+        p->Bx[i] = B.x;
+        p->By[i] = B.y;
+        p->Bz[i] = B.z;
+        p->pole[i] = pole;
+        p->bent[i] = dot(n, V) < MIN_NDOTV * length(n);
+    }
+}
+
+/* background(), batched over the span: the same view ray, the fast lat-long map, and level 0
+ * alone (lod 0), gathered from the block when there is one. */
+static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, pixel_block *p)
+{
+    const float I = u->uEnvIntensity;
+    const sl_env_level *l0 = &u->uEnv->levels[0];
+    const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
+    const vec2 viewport = u->uViewport;
+    if (u->envGather.gather) {
+        const sl_env_gather *env = &u->envGather;
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+            float bu, bv;
+            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+            vec3 c = sl_env_gather_bilinear(env, 0, bu, bv);
+            p->bg_r[i] = c.x * I;
+            p->bg_g[i] = c.y * I;
+            p->bg_b[i] = c.z * I;
+        }
+    } else {
+        for (int i = 0; i < count; i++) {
+            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+            float bu, bv;
+            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+            vec3 c = sl_env_bilinear(l0, bu, bv);
+            p->bg_r[i] = c.x * I;
+            p->bg_g[i] = c.y * I;
+            p->bg_b[i] = c.z * I;
+        }
+    }
+}
+
+/* main(), batched (lighting_internal.h): the pixel stage for the whole span, the background
+ * stage when a pixel is empty, then per pixel the specular samples and the port's sum. */
+void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count, sl_lighting_task *task,
+                sl_lighting_trace *trace, vec3 *out)
+{
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    pixel_block pb;
+    pixel_block *p = &pb;
+    pixel_stage(u, t, count, p);
+    int empty = 0;
+    for (int i = 0; i < count; i++)
+        empty += t[i].depth >= 1.0f;
+    if (empty > 0)
+        background_stage(u, x0, y, count, p);
+    for (int i = 0; i < count; i++) {
+        const int x = x0 + i;
+        vec3 color;
+        trace_texel(trace, &t[i], vec2((float)x + 0.5f, (float)y + 0.5f), false);
+        if (t[i].depth >= 1.0f) {
+            color = vec3(p->bg_r[i], p->bg_g[i], p->bg_b[i]);
+            trace_background(task, trace, color);
+        } else {
+            shade_surface s = {
+                .P = t[i].position,
+                .Kd = t[i].kd,
+                .Ks = t[i].ks,
+                .alpha = clamp(t[i].alpha, 0.0f, MAX_ALPHA),
+                .V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]),
+                .N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
+                .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),
+                .Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
+                .rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
+            };
+            vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]), B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
+            trace_surface(task, trace, &s, p->bent[i]);
+            /* the samples' count only when they run, as the port records it */
+            trace_sample_frame(trace, s.Nenv, s.Venv, A, B, p->pole[i], u->uSpecular != 0 ? (int)u->uHammersley.N : 0, mf);
+            vec3 specular = vec3s(0.0f);
+            if (u->uSpecular != 0) {
+                specular = specular_samples(u, s.Nenv, s.Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A, B, p->pole[i],
+                                            s.Ks, s.alpha, s.rotation, task, trace);
+                if (u->uEnvLightCount > 0) {
+                    vec3 exact = env_lights_samples(u, s.Nenv, s.Venv, s.Ks, s.alpha);
+                    specular = add(specular, exact);
+                    if (trace) {
+                        trace->env_light_count = u->uEnvLightCount;
+                        trace->env_lights = exact;
+                    }
+                }
+            }
+            color = shade_surface_color(u, &s, &specular, task, trace);
+        }
+        out[i] = shade_finish(color, task, trace);
+    }
+}

@@ -1,0 +1,103 @@
+/* lighting_task.c - per-thread scratch of the lighting pass: counters, and the batched path's
+ * tables of what does not depend on the pixel (docs/lighting.md "Hoisting").
+ *
+ * skewed_sample and sample_pdf (microfacet_sample and microfacet_D) depend on the material's
+ * alpha and the sample index only, yet cost an acos, a pow, two sincos and a second pow per
+ * sample. A task keeps the tables of the last SLOTS distinct alphas it met, built by the port's
+ * own functions (so the values are the port's bits), and a pixel pays a lookup. With rotation
+ * on, every pixel has its own pairs; what stays fixed is each pair's azimuth, kept as cos/sin
+ * (azimuth_table) for the batched path to rotate. Tables are valid for the uniforms they were
+ * built from (task->owner); a task met with other uniforms starts over. */
+#include <stdlib.h>
+
+#include "lighting_internal.h"
+
+sl_lighting_task *sl_lighting_task_create(sl_error *err)
+{
+    sl_lighting_task *task = calloc(1, sizeof *task);
+    if (!task)
+        sl_fail(err, SL_ERR_MEMORY, "lighting: no memory for a task (%zu bytes)", sizeof *task);
+    return task;
+}
+
+void sl_lighting_task_reset(sl_lighting_task *task)
+{
+    task->owner = NULL;
+    task->next = 0;
+    for (int s = 0; s < SLOTS; s++)
+        task->slots[s].valid = false;
+    task->azimuth.n = 0;
+}
+
+void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats)
+{
+    stats->pixels += task->stats.pixels;
+    stats->background += task->stats.background;
+    stats->samples += task->stats.samples;
+    stats->below_horizon += task->stats.below_horizon;
+    stats->bent_normals += task->stats.bent_normals;
+    stats->pole_frames += task->stats.pole_frames;
+    stats->nonfinite += task->stats.nonfinite;
+}
+
+void sl_lighting_task_destroy(sl_lighting_task *task) { free(task); }
+
+/* Tables built for other uniforms are dropped. */
+static void own(sl_lighting_task *task, const sl_lighting_uniforms *u)
+{
+    if (task->owner != u) {
+        sl_lighting_task_reset(task);
+        task->owner = u;
+    }
+}
+
+const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
+{
+    int n = (int)u->uHammersley.N;
+    own(task, u);
+    for (int s = 0; s < SLOTS; s++) {
+        const lobe_table *t = &task->slots[s];
+        if (t->valid && t->alpha == alpha && t->n == n && t->microfacet == microfacet)
+            return t;
+    }
+    lobe_table *t = &task->slots[task->next];
+    task->next = (task->next + 1) % SLOTS;
+    for (int k = 0; k < n; k++) {
+        vec2 xi = shade_hammersley_point(u, k);
+        vec3 L = microfacet ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
+        t->xi1[k] = xi.x;
+        t->xi2[k] = xi.y;
+        t->Lx[k] = L.x;
+        t->Ly[k] = L.y;
+        t->Lz[k] = L.z;
+        t->pdf[k] = microfacet ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
+    }
+    t->microfacet = microfacet;
+    t->alpha = alpha;
+    t->n = n;
+    t->valid = true;
+    return t;
+}
+
+/* phi as sl_uv_to_dir computes it from u = xi1 */
+const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local)
+{
+    int n = (int)u->uHammersley.N;
+    azimuth_table *t = local;
+    if (task) {
+        own(task, u);
+        t = &task->azimuth;
+        if (t->n == n)
+            return t;
+    }
+    for (int k = 0; k < n; k++) {
+        vec2 xi = shade_hammersley_point(u, k);
+        float phi = 2.0f * SL_PI * (0.5f - xi.x);
+        t->xi1[k] = xi.x;
+        t->xi2[k] = xi.y;
+        t->cphi[k] = cosf(phi);
+        t->sphi[k] = sinf(phi);
+    }
+    t->n = n;
+    return t;
+}

@@ -1,0 +1,98 @@
+/* lighting_trace.c - the trace of one pixel: run it through the pass's dispatch with a trace
+ * (lighting_trace.h), and print what it recorded, sample by sample, for `softlight trace`. */
+
+#include <string.h>
+
+#include "lighting_trace.h"
+
+bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                             sl_lighting_trace *trace, sl_error *err)
+{
+    if (!gb || !gb->texels || x < 0 || y < 0 || x >= gb->width || y >= gb->height)
+        return sl_fail(err, SL_ERR_RANGE, "trace: pixel %d,%d outside the %dx%d image", x, y, gb ? gb->width : 0,
+                       gb ? gb->height : 0);
+    memset(trace, 0, sizeof *trace);
+    trace->x = x;
+    trace->y = y;
+    sl_lighting_shade(u, gb, x, gb->height - 1 - y, NULL, trace);
+    return true;
+}
+
+static void print3(FILE *f, const char *name, vec3 v)
+{
+    fprintf(f, "  %-12s (%.6g, %.6g, %.6g)\n", name, (double)v.x, (double)v.y, (double)v.z);
+}
+
+void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
+{
+    fprintf(f, "pixel %d,%d (row 0 = top); gl_FragCoord (%.1f, %.1f)\n", t->x, t->y, (double)t->frag_coord.x,
+            (double)t->frag_coord.y);
+    if (!t->covered) {
+        fprintf(f, "  no geometry (depth %.6g): environment at lod 0\n", (double)t->texel.depth);
+        print3(f, "background", t->background);
+        print3(f, "total", t->total);
+        return;
+    }
+    fprintf(f, "G-buffer texel\n");
+    print3(f, "position", t->texel.position);
+    print3(f, "normal", t->texel.normal);
+    print3(f, "kd", t->texel.kd);
+    print3(f, "ks", t->texel.ks);
+    fprintf(f, "  %-12s %.6g (used %.6g)\n  %-12s %.9g\n", "alpha", (double)t->texel.alpha, (double)t->alpha, "depth",
+            (double)t->texel.depth);
+    fprintf(f, "frame (world)\n");
+    print3(f, "V", t->V);
+    print3(f, "N", t->N);
+    fprintf(f, "  %-12s %s\n", "bent normal", t->bent ? "yes (N.V < 0.01)" : "no");
+    fprintf(f, "frame (environment)\n");
+    print3(f, "N", t->Nenv);
+    print3(f, "V", t->Venv);
+    fprintf(f, "  %-12s %.6g\n", "N.V", (double)t->NdotV);
+    fprintf(f, "  %-12s (%.8f, %.8f)%s\n", "xi rotation", (double)t->rotation.x, (double)t->rotation.y,
+            t->rotation.x == 0.0f && t->rotation.y == 0.0f ? " (off)" : "");
+    print3(f, "R", t->R);
+    print3(f, "A", t->A);
+    print3(f, "B", t->B);
+    const char *axis = t->microfacet ? "N" : "R";
+    fprintf(f, "  %-12s %s (frame about %s)\n", "A axis", t->pole_frame ? "X (axis near a pole)" : "Z", axis);
+    fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
+            t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
+                          : "directions drawn about R",
+            t->plain ? "plain port" : "batched path: lod and uv by lighting_math.h, 4 partial sums");
+    fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
+            t->microfacet ? "H (about +Z)" : "L (skewed)", "p(w)", "w", "w.N", "H", t->microfacet ? "V.H" : "L.H", "D",
+            "G", "F", "lod", "Li", "contribution");
+    for (int k = 0; k < t->sample_count; k++) {
+        const sl_lighting_trace_sample *s = &t->samples[k];
+        fprintf(f, "  %4d (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %-9.4g (%+.5f,%+.5f,%+.5f) %+-8.4f", k, (double)s->xi.x,
+                (double)s->xi.y, (double)s->L.x, (double)s->L.y, (double)s->L.z, (double)s->pdf, (double)s->w.x,
+                (double)s->w.y, (double)s->w.z, (double)s->wN);
+        if (t->microfacet && s->LdotH <= 0.0f) {
+            fprintf(f, " V.H %+.5f <= 0 (facet faces away): 0\n", (double)s->LdotH);
+            continue;
+        }
+        if (s->wN <= 0.0f) {
+            fprintf(f, " below the horizon: 0\n");
+            continue;
+        }
+        fprintf(f,
+                " (%+.5f,%+.5f,%+.5f) %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) %-8.4f (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
+                " sum (%.5g,%.5g,%.5g)\n",
+                (double)s->H.x, (double)s->H.y, (double)s->H.z, (double)s->LdotH, (double)s->D, (double)s->G,
+                (double)s->F.x, (double)s->F.y, (double)s->F.z, (double)s->lod, (double)s->Li.x, (double)s->Li.y,
+                (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x,
+                (double)s->sum.y, (double)s->sum.z);
+    }
+    fprintf(f, "result\n");
+    print3(f, "irradiance", t->irradiance);
+    print3(f, "diffuse", t->diffuse);
+    print3(f, "specular", t->specular);
+    if (t->env_light_count > 0)
+        fprintf(f, "  %-12s (%.6g, %.6g, %.6g): the exact part from %d env lights (in specular; the samples read the residual)\n",
+                "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
+                t->env_light_count);
+    print3(f, "lights", t->lights);
+    print3(f, "total", t->total);
+    if (t->repaired)
+        fprintf(f, "  a NaN/Inf was replaced by 0\n");
+}

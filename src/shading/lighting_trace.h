@@ -1,0 +1,66 @@
+/* lighting_trace.h - the trace of one pixel's shading, for `softlight trace` and the tests:
+ * every intermediate value of main(), specular_ibl / specular_microfacet and their samples.
+ *
+ * Either path fills it (the port with options.plain, else the batched path), at a few named
+ * points (the trace_* hooks in lighting_internal.h), so the shader's lines still read as the
+ * GLSL's; the trace is NULL in the pass and every hook is then a no-op. The values are the
+ * path's own, so a traced pixel has the bits the pass writes. */
+#ifndef SL_LIGHTING_TRACE_H
+#define SL_LIGHTING_TRACE_H
+
+#include <stdio.h>
+
+#include "lighting.h"
+
+/* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. With the microfacet
+ * estimator (trace.microfacet) L is the drawn H about +Z, w = reflect(-V, H), LdotH = V.H, and a
+ * sample with V.H <= 0 or w.N <= 0 contributes 0. */
+typedef struct {
+    vec2 xi;           /* Hammersley pair (rotated when rotation is on) */
+    vec3 L;            /* skewed direction about +Z (eq. (4)); microfacet: H about +Z */
+    float pdf;         /* p(w), the density of w */
+    vec3 w;            /* rotated to R (environment space); microfacet: reflect(-V, H) */
+    float wN;          /* w.N; <= 0: below the horizon, nothing below was computed */
+    vec3 H;
+    float NdotH, LdotH, D; /* microfacet: N.H is H's drawn cos(theta_h), D = D(H) */
+    vec3 F;
+    float G;           /* G / (L.N V.N) */
+    float lod;
+    vec3 Li;           /* fetched radiance times intensity */
+    vec3 c;            /* contribution */
+    vec3 sum;          /* running sum */
+} sl_lighting_trace_sample;
+
+struct sl_lighting_trace {
+    int x, y;                /* image pixel, row 0 = top */
+    vec2 frag_coord;         /* gl_FragCoord.xy (G-buffer row y_gb = height - 1 - y) */
+    sl_gbuffer_texel texel;  /* as read */
+    bool covered;
+    vec3 V, N;               /* world space; N after facing_normal */
+    bool bent;               /* N was bent toward V */
+    vec3 Nenv, Venv;         /* environment space */
+    vec2 rotation;           /* the pixel's Hammersley offset (0, 0 when rotation is off) */
+    bool plain;              /* traced through the plain port (else the batched path) */
+    float NdotV;
+    vec3 R, A, B;            /* environment space; A, B span the frame about R, or about N for
+                                the microfacet estimator */
+    bool pole_frame;
+    bool microfacet;         /* the microfacet estimator ran (specular_microfacet) */
+    float alpha;
+    int sample_count;
+    sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
+    int env_light_count;     /* uEnvLightCount */
+    vec3 env_lights;         /* their exact part of the specular (included in specular) */
+    vec3 irradiance, diffuse, specular, lights, background;
+    vec3 light[SL_LIGHTING_MAX_LIGHTS];
+    vec3 total;              /* what the pass writes */
+    bool repaired;           /* the final NaN/Inf guard fired */
+};
+
+/* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with
+ * a trace. `trace` is large (about 200 KB): allocate it. */
+bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                             sl_lighting_trace *trace, sl_error *err);
+void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *trace);
+
+#endif

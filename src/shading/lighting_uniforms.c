@@ -1,0 +1,195 @@
+/* lighting_uniforms.c - the host side of the lighting shader: options (defaults, names), the
+ * std140 Hammersley block, and the uniforms derived from a frame's description. softlight-gl's
+ * src/gl/lighting_pass.c uploads these same uniforms to shaders/lighting.frag, field by field
+ * (docs/architecture.md "Adding a uniform" lists every place a new one goes). */
+
+#include <stddef.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "../ibl/texture_lod.h"
+#include "lighting.h"
+
+sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
+{
+    sl_lighting_options r = opt ? *opt : (sl_lighting_options){0};
+    if (r.samples == 0)
+        r.samples = SL_LIGHTING_DEFAULT_SAMPLES;
+    if (r.lod_samples == 0)
+        r.lod_samples = r.samples;
+    if (r.lod_rule == SL_LOD_DEFAULT)
+        r.lod_rule = SL_LOD_SPEC_D4;
+    if (r.gterm == SL_GTERM_DEFAULT)
+        r.gterm = SL_GTERM_INV_LH2;
+    if (r.estimator == SL_ESTIMATOR_DEFAULT)
+        r.estimator = SL_ESTIMATOR_SPEC;
+    if (r.env_intensity == 0.0f)
+        r.env_intensity = 1.0f;
+    return r;
+}
+
+static const char *const lod_names[] = {"default", "none", "spec", "spec-d4", "gems", "pdf"};
+static const char *const estimator_names[] = {"default", "spec", "consistent", "mf"};
+static const char *const gterm_names[] = {"default", "inv-lh2", "one"};
+
+const char *sl_lod_rule_name(sl_lod_rule rule)
+{
+    return (unsigned)rule <= SL_LOD_PDF ? lod_names[rule] : "?";
+}
+const char *sl_estimator_name(sl_estimator estimator)
+{
+    return (unsigned)estimator <= SL_ESTIMATOR_MICROFACET ? estimator_names[estimator] : "?";
+}
+const char *sl_gterm_name(sl_gterm gterm) { return (unsigned)gterm <= SL_GTERM_ONE ? gterm_names[gterm] : "?"; }
+
+static int parse_name(const char *name, const char *const *names, int count)
+{
+    for (int i = 0; name && i < count; i++)
+        if (!strcmp(name, names[i]))
+            return i;
+    return -1;
+}
+bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule)
+{
+    int i = parse_name(name, lod_names, SL_LOD_PDF + 1);
+    if (i < 0)
+        return false;
+    *rule = (sl_lod_rule)i;
+    return true;
+}
+bool sl_estimator_parse(const char *name, sl_estimator *estimator)
+{
+    int i = parse_name(name, estimator_names, 4);
+    if (i < 0)
+        return false;
+    *estimator = (sl_estimator)i;
+    return true;
+}
+bool sl_gterm_parse(const char *name, sl_gterm *gterm)
+{
+    int i = parse_name(name, gterm_names, 3);
+    if (i < 0)
+        return false;
+    *gterm = (sl_gterm)i;
+    return true;
+}
+
+void sl_hammersley_pack_std140(const sl_hammersley *set, sl_hammersley_block *block)
+{
+    _Static_assert(sizeof(vec4) == 16, "vec4 must be 16 bytes for std140");
+    _Static_assert(offsetof(sl_hammersley_block, hammersley) == 16, "std140: the vec4 array starts at 16");
+    memset(block, 0, sizeof *block);
+    block->N = (float)set->n;
+    for (int k = 0; k < set->n; k++) {
+        vec4 *h = &block->hammersley[k >> 1];
+        if ((k & 1) == 0) {
+            h->x = set->points[k].x;
+            h->y = set->points[k].y;
+        } else {
+            h->z = set->points[k].x;
+            h->w = set->points[k].y;
+        }
+    }
+}
+
+bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *desc, sl_error *err)
+{
+    memset(u, 0, sizeof *u);
+    sl_lighting_options o = sl_lighting_options_resolve(&desc->options);
+    if (!desc->env || desc->env->level_count < 1)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: no environment map");
+    if (o.samples < 1 || o.samples > SL_HAMMERSLEY_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: samples = %d, expected 1..%d", o.samples, SL_HAMMERSLEY_MAX);
+    if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
+                       SL_HAMMERSLEY_MAX);
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
+        (unsigned)o.gterm > SL_GTERM_ONE)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator or G term");
+    if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: %d point lights, at most %d", desc->light_count,
+                       SL_LIGHTING_MAX_LIGHTS);
+    if (desc->light_count > 0 && !desc->lights)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: light_count %d with no lights", desc->light_count);
+    if (!o.no_diffuse) {
+        if (!desc->irradiance)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: diffuse is on but no irradiance was given");
+        if (desc->irradiance->method != o.irradiance)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: options ask for irradiance method %d, the irradiance is %d",
+                           (int)o.irradiance, (int)desc->irradiance->method);
+    }
+    if (!isfinite(o.env_intensity) || o.env_intensity < 0.0f || !isfinite(o.env_rotation_deg))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: environment intensity %g / rotation %g not usable",
+                       (double)o.env_intensity, (double)o.env_rotation_deg);
+    if (desc->width < 1 || desc->height < 1)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: viewport %dx%d", desc->width, desc->height);
+    if (o.env_lights < 0 || o.env_lights > SL_ENV_LIGHTS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights, expected 0..%d", o.env_lights, SL_ENV_LIGHTS_MAX);
+    const sl_env_lights *el = o.env_lights > 0 ? desc->env_lights : NULL;
+    if (o.env_lights > 0) {
+        const sl_env_level *a = &desc->env->levels[0];
+        const sl_env_level *b = el ? &el->residual.levels[0] : NULL;
+        if (!el || el->residual.level_count != desc->env->level_count || b->width != a->width ||
+            b->height != a->height)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights asked for, but none extracted from this environment",
+                           o.env_lights);
+    }
+
+    sl_hammersley set;
+    if (!sl_hammersley_build(&set, o.samples, err))
+        return false;
+    sl_hammersley_pack_std140(&set, &u->uHammersley);
+
+    const sl_env_level *l0 = &desc->env->levels[0];
+    u->uEnv = desc->env;
+    u->uEnvResidual = el ? &el->residual : desc->env;
+    _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
+    u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
+        u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, 0.0f);
+        u->envLightX[j] = el->dir[j].x;
+        u->envLightY[j] = el->dir[j].y;
+        u->envLightZ[j] = el->dir[j].z;
+        u->envLightR[j] = el->radiance[j].x;
+        u->envLightG[j] = el->radiance[j].y;
+        u->envLightB[j] = el->radiance[j].z;
+    }
+    u->uEnvMaxLod = (float)(desc->env->level_count - 1);
+    /* In float, as a shader computing it would; log2 of a product of ints <= 2^28 is exact enough. */
+    u->uLodBase = 0.5f * log2f((float)l0->width * (float)l0->height / (float)o.lod_samples);
+    u->uSinThetaMin = sinf(SL_PI / (2.0f * (float)l0->height));
+    /* world -> environment: rotate by -rotation about +Z (column-major). */
+    float phi = radians(o.env_rotation_deg);
+    float c = cosf(phi), s = sinf(phi);
+    u->uEnvRotation = (mat3){{{c, -s, 0.0f}, {s, c, 0.0f}, {0.0f, 0.0f, 1.0f}}};
+    u->uEnvIntensity = o.env_intensity;
+    u->uIrradianceMethod = desc->irradiance ? (int)desc->irradiance->method : 0;
+    if (desc->irradiance && !o.no_diffuse) {
+        u->uIrradiance = desc->irradiance;
+        memcpy(u->uSH, desc->irradiance->sh, sizeof u->uSH);
+    }
+    u->uEye = desc->eye;
+    u->uInvViewProj = desc->inv_view_proj;
+    u->uViewport = vec2((float)desc->width, (float)desc->height);
+    u->uLightCount = desc->light_count;
+    for (int i = 0; i < desc->light_count; i++) {
+        u->uLightPosition[i] = desc->lights[i].position;
+        u->uLightColor[i] = desc->lights[i].color;
+        u->uLightIntensity[i] = desc->lights[i].intensity;
+    }
+    u->uLodRule = (int)o.lod_rule;
+    u->uDistortion = o.distortion ? 1 : 0;
+    u->uGTerm = (int)o.gterm;
+    u->uEstimator = (int)o.estimator;
+    u->uDiffuse = o.no_diffuse ? 0 : 1;
+    u->uSpecular = o.no_specular ? 0 : 1;
+    u->uPointLights = (o.no_point_lights || desc->light_count == 0) ? 0 : 1;
+    u->uRotate = o.rotate ? 1 : 0;
+    u->uFrame = o.frame;
+    u->options = o;
+    sl_env_gather_init(&u->envGather, u->uEnv);
+    sl_env_gather_init(&u->residualGather, u->uEnvResidual);
+    return true;
+}
+
