@@ -17,7 +17,7 @@
  *     axis is that CPU time, which the shared machine's load disturbs far less than wall time.
  *     Progressive variants (K accumulated rotated frames) cost K frames. The variants marked as
  *     anchors are also timed at the scene's own size (1280x720; top-down 1024x1024).
- * Errors: sl_compare_images (src/core/compare.h) in linear radiance (RMSE, mean and 99th
+ * Errors: sl_compare_images (src/post/compare.h) in linear radiance (RMSE, mean and 99th
  * percentile relative error) and after the scene's tone map (share of pixels more than 1/255
  * and 8/255 off), plus nRMSE = RMSE / RMS of the ground truth, the headline figure: it puts
  * scenes of very different brightness (the city's sun) on one scale. Set figures are means over
@@ -37,7 +37,7 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "core/compare.h"
+#include "post/compare.h"
 #include "core/timer.h"
 #include "ibl/env_lights.h"
 #include "ibl/ground_truth_image.h"
@@ -879,7 +879,7 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "  size: the whole first run fits in about a quarter of an hour on the 2-core build machine.\n"
                "* **Error**: over the covered pixels, in linear radiance: nRMSE (RMSE divided by the RMS of the\n"
                "  ground truth, the headline figure: it puts the city's sun and the studio on one scale), mean\n"
-               "  and 99th-percentile per-pixel relative error (`src/core/compare.h`, floor 1e-3); after each\n"
+               "  and 99th-percentile per-pixel relative error (`src/post/compare.h`, floor 1e-3); after each\n"
                "  scene's tone map: the share of pixels more than 1/255 and 8/255 off. Diffuse and specular are\n"
                "  measured separately (the renderer runs diffuse-only and specular-only); total = their sum.\n"
                "  Set figures are means over the %d scenes, each scene weighing the same.\n"

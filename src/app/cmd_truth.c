@@ -16,7 +16,7 @@
 
 #include "app/args.h"
 #include "commands.h"
-#include "core/compare.h"
+#include "post/compare.h"
 #include "core/timer.h"
 #include "ibl/ground_truth_image.h"
 #include "render/renderer.h"

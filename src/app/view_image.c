@@ -7,7 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
 
 static const char *const mode_names[VIEW_MODE_COUNT] = {
     "final", "position", "normal", "kd", "ks", "alpha", "depth", "mip level",

@@ -24,7 +24,7 @@
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
 
 /* Settings; zero means "the scene's value" (size, N, exposure, contrast) or the stage's default. */
 typedef struct {

@@ -5,7 +5,7 @@
  * each case again (test_microfacet_*). */
 #include "shading_fixtures.h"
 #include "shading/brdf.h"
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
 
 #include <float.h>
 #include <stdio.h>

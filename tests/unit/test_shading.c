@@ -5,7 +5,7 @@
  * determinism over threads and over the per-alpha cache, and the tone map. */
 #include "shading_fixtures.h"
 #include "shading/brdf.h"
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
 
 #include <stddef.h>
 #include <stdio.h>
