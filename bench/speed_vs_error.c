@@ -6,7 +6,7 @@
  *                        [--doc FILE|none] [--gl PATH|none] [--scenes a,b,...] [--threads T]
  *
  * Per scene: the G-buffer is rasterized once at the error size (default 192x108; a scene of
- * another aspect gets the same pixel count), its ground truth (src/ibl/ground_truth_image.h:
+ * another aspect gets the same pixel count), its ground truth (src/shading/ground_truth_image.h:
  * every texel of the environment, double precision, both G terms) is read from the cache or
  * computed with progress on stderr, and every variant is
  *   - rendered specular-only and diffuse-only (the shader adds the two; total = their sum) and
@@ -37,12 +37,12 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "post/compare.h"
 #include "core/timer.h"
 #include "ibl/env_lights.h"
-#include "ibl/ground_truth_image.h"
+#include "post/compare.h"
 #include "render/renderer.h"
 #include "shading/brdf.h"
+#include "shading/ground_truth_image.h"
 
 #define MAX_VARIANTS 200
 #define MAX_SCENES 8
@@ -861,7 +861,7 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "  environment's level 0 in double precision (`src/ibl/ground_truth.h`), per covered pixel of the\n"
                "  same G-buffer the variants shade, with the same N (bent towards the eye as the shader bends it),\n"
                "  V and alpha, and the **same G term as the variant**; image-based light only (point lights off in\n"
-               "  both). Cached in `%s/` (`src/ibl/ground_truth_image.h`); ",
+               "  both). Cached in `%s/` (`src/shading/ground_truth_image.h`); ",
             c->cache_dir);
     double gt_total = 0;
     bool all_cached = true;

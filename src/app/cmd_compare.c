@@ -11,8 +11,8 @@
 
 #include "app/args.h"
 #include "app/commands.h"
-#include "post/compare.h"
 #include "core/image.h"
+#include "post/compare.h"
 
 static bool has_suffix(const char *s, const char *suffix)
 {

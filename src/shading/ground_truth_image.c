@@ -1,7 +1,7 @@
 /* ground_truth_image.c - ground truth of a whole G-buffer, cached on disk (see
  * ground_truth_image.h for the contract and the cache format).
  *
- * The per-pixel integral is sl_ground_truth_shade's loop (ground_truth.c) with one change: it
+ * The per-pixel integral is sl_ground_truth_shade's loop (src/ibl/ground_truth.c) with one change: it
  * accumulates the specular sums for both G terms at once. Both loops use the same node table
  * (sl_ground_truth) and the same operations in the same order, so each G term's result is
  * the one sl_ground_truth_shade returns; test_ground_truth_image checks that. */
@@ -109,7 +109,7 @@ bool sl_gt_image_total(const sl_gt_image *img, sl_gt_geometry g, sl_image *total
 
 static bool finite3(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
-/* lighting.frag's facing_normal, the same float operations. */
+/* Must equal lighting.frag's facing_normal, the same float operations (shared after issue 11's split). */
 static vec3 facing_normal(vec3 N, vec3 V)
 {
     float len2 = dot(N, N);
