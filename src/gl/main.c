@@ -23,6 +23,7 @@
 #include "render/renderer.h"
 #include "core/timer.h"
 #include "post/tonemap.h"
+#include "scene/camera.h"
 #include "slgl.h"
 
 #define TIME_MAX_RUNS 1000
