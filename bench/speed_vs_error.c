@@ -6,7 +6,7 @@
  *                        [--doc FILE|none] [--gl PATH|none] [--scenes a,b,...] [--threads T]
  *
  * Per scene: the G-buffer is rasterized once at the error size (default 192x108; a scene of
- * another aspect gets the same pixel count), its ground truth (src/ibl/ground_truth_image.h:
+ * another aspect gets the same pixel count), its ground truth (src/shading/ground_truth_image.h:
  * every texel of the environment, double precision, both G terms) is read from the cache or
  * computed with progress on stderr, and every variant is
  *   - rendered specular-only and diffuse-only (the shader adds the two; total = their sum) and
@@ -17,7 +17,7 @@
  *     axis is that CPU time, which the shared machine's load disturbs far less than wall time.
  *     Progressive variants (K accumulated rotated frames) cost K frames. The variants marked as
  *     anchors are also timed at the scene's own size (1280x720; top-down 1024x1024).
- * Errors: sl_compare_images (src/core/compare.h) in linear radiance (RMSE, mean and 99th
+ * Errors: sl_compare_images (src/post/compare.h) in linear radiance (RMSE, mean and 99th
  * percentile relative error) and after the scene's tone map (share of pixels more than 1/255
  * and 8/255 off), plus nRMSE = RMSE / RMS of the ground truth, the headline figure: it puts
  * scenes of very different brightness (the city's sun) on one scale. Set figures are means over
@@ -37,12 +37,12 @@
 #include <sys/stat.h>
 #include <time.h>
 
-#include "core/compare.h"
 #include "core/timer.h"
 #include "ibl/env_lights.h"
-#include "ibl/ground_truth_image.h"
+#include "post/compare.h"
 #include "render/renderer.h"
 #include "shading/brdf.h"
+#include "shading/ground_truth_image.h"
 
 #define MAX_VARIANTS 200
 #define MAX_SCENES 8
@@ -861,7 +861,7 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "  environment's level 0 in double precision (`src/ibl/ground_truth.h`), per covered pixel of the\n"
                "  same G-buffer the variants shade, with the same N (bent towards the eye as the shader bends it),\n"
                "  V and alpha, and the **same G term as the variant**; image-based light only (point lights off in\n"
-               "  both). Cached in `%s/` (`src/ibl/ground_truth_image.h`); ",
+               "  both). Cached in `%s/` (`src/shading/ground_truth_image.h`); ",
             c->cache_dir);
     double gt_total = 0;
     bool all_cached = true;
@@ -879,7 +879,7 @@ static void write_outputs(const config *c, const variant_list *vl, result res[][
                "  size: the whole first run fits in about a quarter of an hour on the 2-core build machine.\n"
                "* **Error**: over the covered pixels, in linear radiance: nRMSE (RMSE divided by the RMS of the\n"
                "  ground truth, the headline figure: it puts the city's sun and the studio on one scale), mean\n"
-               "  and 99th-percentile per-pixel relative error (`src/core/compare.h`, floor 1e-3); after each\n"
+               "  and 99th-percentile per-pixel relative error (`src/post/compare.h`, floor 1e-3); after each\n"
                "  scene's tone map: the share of pixels more than 1/255 and 8/255 off. Diffuse and specular are\n"
                "  measured separately (the renderer runs diffuse-only and specular-only); total = their sum.\n"
                "  Set figures are means over the %d scenes, each scene weighing the same.\n"

@@ -2,7 +2,7 @@
 # same-output.sh BASE_BUILD NEW_BUILD - for changes that must not change behaviour (refactors):
 # renders every shipped scene with both builds in every lighting mode and compares the files
 # byte for byte: tone-mapped PNG, radiance (.hdr, .pfm), G-buffer AOVs, normals, a pixel trace,
-# and softlight-gl's image where both builds have it. Prints one line per difference; exit 1 if any.
+# softlight-gl's image where both builds have it, and a small ground truth per scene. Prints one line per difference; exit 1 if any.
 set -euo pipefail
 base=$1 new=$2
 size=${SIZE:-160x90}
@@ -41,6 +41,9 @@ for scene in scenes/*.json; do
         --pfm "$d/out.pfm" --aov "$d/aov" --normals "$d/normals.png" >"$d/log" 2>&1 || echo "exit $?" >>"$d/log"
       # shellcheck disable=SC2086
       "$b/softlight" trace "$scene" --size "$size" $m --pixel 80,40 >"$d/trace.txt" 2>&1 || echo "exit $?" >>"$d/trace.txt"
+      if [ "$i" -eq 1 ]; then
+        "$b/softlight" truth "$scene" --size 24x16 --pfm "$d/truth.pfm" >/dev/null 2>&1 || echo "exit $?" >>"$d/log"
+      fi
       if [ -x "$b/softlight-gl" ] && [ "$i" -le 2 ]; then
         "$b/softlight-gl" render "$scene" --size "$size" -q -o "$d/gl.png" --pfm "$d/gl.pfm" >"$d/gl.log" 2>&1 || echo "exit $?" >>"$d/gl.log"
       fi

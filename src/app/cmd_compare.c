@@ -1,6 +1,6 @@
 /* cmd_compare.c - `softlight compare A B`: how far apart two renderings (.pfm or .hdr) are.
  *
- * Prints the figures of sl_compare_images (src/core/compare.h) and the worst pixels, optionally
+ * Prints the figures of sl_compare_images (src/post/compare.h) and the worst pixels, optionally
  * writes a false-colour difference PNG, and turns a tolerance into an exit status so scripts and
  * CTest can use it: 0 within tolerance, 1 outside it (or any NaN/Inf in either image), 2 on errors.
  * The image readers repair NaN, Inf and negative texels on load; their counts are reported here
@@ -11,8 +11,8 @@
 
 #include "app/args.h"
 #include "app/commands.h"
-#include "core/compare.h"
 #include "core/image.h"
+#include "post/compare.h"
 
 static bool has_suffix(const char *s, const char *suffix)
 {

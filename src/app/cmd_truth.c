@@ -1,5 +1,5 @@
 /* cmd_truth.c - `softlight truth scene.json`: the ground-truth image of a scene (eq. (1) with
- * eq. (2) over every texel of the environment, src/ibl/ground_truth_image.h), cached, with
+ * eq. (2) over every texel of the environment, src/shading/ground_truth_image.h), cached, with
  * progress on stderr, and optionally how far a rendering is from it.
  *
  *   softlight truth SCENE.json [--size WxH] [--g inv-lh2|one] [--cache FILE] [--pfm OUT.pfm]
@@ -16,10 +16,10 @@
 
 #include "app/args.h"
 #include "commands.h"
-#include "core/compare.h"
 #include "core/timer.h"
-#include "ibl/ground_truth_image.h"
+#include "post/compare.h"
 #include "render/renderer.h"
+#include "shading/ground_truth_image.h"
 
 typedef struct {
     double t0, last;

@@ -7,8 +7,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "post/tonemap.h"
 #include "shading/lighting_trace.h"
-#include "shading/tonemap.h"
 
 static const char *const mode_names[VIEW_MODE_COUNT] = {
     "final", "position", "normal", "kd", "ks", "alpha", "depth", "mip level",

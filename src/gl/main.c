@@ -22,7 +22,8 @@
 #include "app/render_options.h"
 #include "render/renderer.h"
 #include "core/timer.h"
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
+#include "scene/camera.h"
 #include "slgl.h"
 
 #define TIME_MAX_RUNS 1000

@@ -12,6 +12,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../scene/camera.h"
 #include "raster.h"
 
 /* gbuffer.vert: main() */
@@ -102,13 +103,6 @@ sl_target sl_gbuffer_target(sl_gbuffer *gb)
         .texels = gb->texels,
         .depth_offset = (long)offsetof(sl_gbuffer_texel, depth),
     };
-}
-
-mat4 sl_camera_view_proj(const sl_camera *cam, int width, int height)
-{
-    mat4 view = lookAt(cam->eye, cam->target, cam->up);
-    mat4 proj = perspective(radians(cam->fovy_deg), (float)width / (float)height, cam->znear, cam->zfar);
-    return mat4_mul(proj, view);
 }
 
 bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, sl_error *err)

@@ -176,8 +176,6 @@ extern const sl_program sl_gbuffer_program;
 void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m);
 /* The G-buffer as a render target (depth in the texel's depth field). */
 sl_target sl_gbuffer_target(sl_gbuffer *gb);
-/* view = lookAt(eye, target, up), proj = perspective(radians(fovy), w/h, near, far). */
-mat4 sl_camera_view_proj(const sl_camera *cam, int width, int height);
 
 /* Clear the G-buffer and draw every object of the scene with the built-in pair,
  * both faces (no culling, as GL's default). The G-buffer must already be sized.

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/timer.h"
+#include "scene/camera.h"
 
 static bool build_irradiance(sl_renderer *r, sl_error *err)
 {

@@ -20,11 +20,11 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "ibl/ibl.h"
+#include "post/tonemap.h"
 #include "raster/gbuffer.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
-#include "shading/tonemap.h"
 
 /* Settings; zero means "the scene's value" (size, N, exposure, contrast) or the stage's default. */
 typedef struct {

@@ -366,6 +366,7 @@ vec3 shade_skewed_sample(vec2 xi, float alpha) { return skewed_sample(xi, alpha)
 float shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
 vec3 shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
 float shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
+vec3 shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 
 /* ---- public helpers (lighting.h): for tests and the viewer's mip-level view ---- */
 

@@ -3,6 +3,7 @@
  *     lighting_pass.c ──> lighting.c (the port)          lighting_uniforms.c (host side)
  *            └──────────> lighting_batched.c ──> lighting_task.c ──> lighting.c
  *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
+ *     ground_truth_image.c ─> lighting.c (facing_normal: the exact pass bends normals as the shader does)
  *
  * The port exports the GLSL functions the others reuse (shade_*: the sample generators for the
  * per-alpha tables, pixel_rotation, the covered pixel's sum); the trace hooks below are the few
@@ -29,6 +30,7 @@ vec3 shade_skewed_sample(vec2 xi, float alpha);                         /* GLSL 
 float shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL sample_pdf */
 vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
+vec3 shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
 
 /* A covered pixel as main() has it once its frame is known. */
 typedef struct {

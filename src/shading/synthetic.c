@@ -5,6 +5,8 @@
 
 #include <math.h>
 
+#include "../scene/camera.h"
+
 bool sl_gbuffer_synthetic_spheres(sl_gbuffer *gb, int width, int height, const sl_camera *camera,
                                   const sl_synthetic_sphere *spheres, int count, mat4 *inv_view_proj,
                                   sl_error *err)

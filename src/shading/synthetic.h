@@ -15,7 +15,6 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../raster/gbuffer.h"
-#include "../raster/raster.h" /* sl_camera_view_proj */
 #include "../scene/scene.h"
 
 typedef struct {

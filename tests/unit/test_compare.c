@@ -1,4 +1,4 @@
-/* test_compare.c - the image comparison metrics (src/core/compare.c) against values worked out by
+/* test_compare.c - the image comparison metrics (src/post/compare.c) against values worked out by
  * hand on tiny images, the mask, NaN handling, the nearest-rank percentile and the diff colours. */
 #include <math.h>
 #include <stdio.h>
@@ -6,7 +6,7 @@
 
 #include "testutil.h"
 
-#include "core/compare.h"
+#include "post/compare.h"
 
 static void make_image(sl_image *img, int w, int h, int ch, float value)
 {

@@ -1,4 +1,4 @@
-/* test_ground_truth_image.c - ground truth of a whole G-buffer (src/ibl/ground_truth_image.c):
+/* test_ground_truth_image.c - ground truth of a whole G-buffer (src/shading/ground_truth_image.c):
  * every covered pixel equals the per-pixel reference sl_ground_truth_shade for the N and V the
  * lighting shader forms (both G terms), rows come out top first, the cache round-trips bit for
  * bit and is recomputed whenever an input changes or the file is damaged, the progress
@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ibl/ground_truth_image.h"
+#include "shading/ground_truth_image.h"
 #include "testutil.h"
 
 #define PI 3.14159265358979323846

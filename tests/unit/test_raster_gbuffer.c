@@ -10,6 +10,7 @@
 
 #include "core/image.h"
 #include "raster/raster.h"
+#include "scene/camera.h"
 #include "testutil.h"
 
 /* The plane x + z = 0 in object space, normal (1,0,1)/sqrt2, counter-clockwise seen from +normal. */

@@ -12,6 +12,7 @@
 #include <string.h>
 
 #include "raster/raster.h"
+#include "scene/camera.h"
 #include "testutil.h"
 
 static sl_raster *make_raster(int threads, int tile, bool plain)

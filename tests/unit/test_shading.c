@@ -6,7 +6,7 @@
 #include "shading_fixtures.h"
 #include "shading/lighting_trace.h"
 #include "shading/brdf.h"
-#include "shading/tonemap.h"
+#include "post/tonemap.h"
 
 #include <stddef.h>
 #include <stdio.h>

@@ -10,7 +10,7 @@
  *   max_abs   max v              mean_abs  mean v            rmse  sqrt(mean v^2)
  *   pixel relative error  rel(p) = max over channels of |a - b| / max(|a|, |b|, rel_floor)
  *   mean_rel  mean of rel(p)     p99_rel   99th percentile of rel(p) (nearest rank)
- *   tone map  T(x) = (e x / (e x + 1))^(c / 2.2)   (specification, "Tone Mapping"; src/shading/tonemap.h)
+ *   tone map  T(x) = (e x / (e x + 1))^(c / 2.2)   (specification, "Tone Mapping"; src/post/tonemap.h)
  *   psnr      10 log10(1 / mean (T(a) - T(b))^2), +inf when the tone-mapped images agree
  *   over1/8   share of pixels whose largest 8-bit difference |round(255 T(a)) - round(255 T(b))|
  *             exceeds 1 (resp. 8) levels, i.e. is more than 1/255 (8/255) apart
@@ -24,8 +24,8 @@
 
 #include <stdbool.h>
 
-#include "error.h"
-#include "image.h"
+#include "../core/error.h"
+#include "../core/image.h"
 
 #define SL_COMPARE_WORST 5
 

@@ -1,7 +1,7 @@
 /* ground_truth_image.c - ground truth of a whole G-buffer, cached on disk (see
  * ground_truth_image.h for the contract and the cache format).
  *
- * The per-pixel integral is sl_ground_truth_shade's loop (ground_truth.c) with one change: it
+ * The per-pixel integral is sl_ground_truth_shade's loop (src/ibl/ground_truth.c) with one change: it
  * accumulates the specular sums for both G terms at once. Both loops use the same node table
  * (sl_ground_truth) and the same operations in the same order, so each G term's result is
  * the one sl_ground_truth_shade returns; test_ground_truth_image checks that. */
@@ -14,6 +14,7 @@
 #include <string.h>
 
 #include "../core/timer.h"
+#include "lighting_internal.h"
 
 #define PI_D 3.14159265358979323846
 #define GT_IMAGE_MAGIC "softlight ground truth v1"
@@ -22,9 +23,7 @@
 #define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G"
 #define GT_HEADER_MAX 4096
 
-static const float MIN_NDOTV = 0.01f; /* lighting.frag's facing_normal */
-static const float MAX_ALPHA = 1e7f;  /* lighting.frag's alpha clamp */
-static const float TINY = 1e-30f;     /* lighting.frag's TINY (SL_BRDF_TINY) */
+static const float MAX_ALPHA = SHADE_MAX_ALPHA; /* lighting.frag's alpha clamp */
 
 /* ---- hashing: FNV-1a 64 ---- */
 
@@ -109,19 +108,6 @@ bool sl_gt_image_total(const sl_gt_image *img, sl_gt_geometry g, sl_image *total
 
 static bool finite3(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
-/* lighting.frag's facing_normal, the same float operations. */
-static vec3 facing_normal(vec3 N, vec3 V)
-{
-    float len2 = dot(N, N);
-    if (!(len2 > TINY))
-        return V;
-    N = scale(N, 1.0f / sqrtf(len2));
-    float NdotV = dot(N, V);
-    if (NdotV < MIN_NDOTV)
-        N = normalize(add(N, scale(V, MIN_NDOTV - NdotV)));
-    return N;
-}
-
 /* sl_ground_truth_shade for unit, environment-space n and v, with both G terms. */
 static void shade_both(const sl_ground_truth *gt, const double n[3], const double v[3], const double kd[3],
                        const double ks[3], double alpha, double intensity, double diffuse[3], double spec[2][3])
@@ -194,7 +180,7 @@ static void shade_texel(const sl_ground_truth *gt, const sl_gbuffer_texel *t, ve
                         double intensity, float *diffuse, float *spec0, float *spec1)
 {
     vec3 V = normalize(sub(eye, t->position));
-    vec3 N = facing_normal(t->normal, V);
+    vec3 N = shade_facing_normal(t->normal, V); /* the shader's own */
     double nw[3], vw[3];
     unit_d(N, nw);
     unit_d(V, vw);

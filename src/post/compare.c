@@ -3,14 +3,14 @@
  * limited by float accumulation; the values compared are whatever the images hold. */
 #include "compare.h"
 
-#include "glsl.h"
-#include "../shading/tonemap.h"
+#include "../core/glsl.h"
+#include "tonemap.h"
 
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
-/* The viewer's tone map (src/shading/tonemap.h, the specification's "Tone Mapping"), so that the
+/* The viewer's tone map (src/post/tonemap.h, the specification's "Tone Mapping"), so that the
  * 8-bit figures are about the pixels a user would actually see. */
 float sl_compare_tonemap(float x, float exposure, float contrast)
 {

@@ -1,7 +1,9 @@
 /* ground_truth_image.h - the ground truth of a whole G-buffer: eq. (1) with the BRDF of eq. (2)
- * at every covered pixel, integrated over every texel of the environment (ground_truth.h), with
- * an on-disk cache and a progress callback. What accuracy reports and `softlight truth` compare
- * the lighting shader's images against.
+ * at every covered pixel, integrated over every texel of the environment (src/ibl/ground_truth.h),
+ * with an on-disk cache and a progress callback. What accuracy reports and `softlight truth`
+ * compare the lighting shader's images against. It is the exact counterpart of the lighting pass
+ * (lighting.h), so it lives beside it in the shading stage: it reads a G-buffer (raster) and forms
+ * N and V as the shader does; src/ibl holds only the per-direction integral it calls.
  *
  * Consumes: a G-buffer (row 0 = bottom), the eye, the environment and its rotation/intensity as
  * the lighting stage takes them (d_env = Rz(-rotation) d_world, radiance x intensity).
@@ -32,9 +34,9 @@
 
 #include "../core/error.h"
 #include "../core/image.h"
+#include "../ibl/ground_truth.h"
+#include "../ibl/ibl.h"
 #include "../raster/gbuffer.h"
-#include "ground_truth.h"
-#include "ibl.h"
 
 /* Pixels done of `total` (covered pixels); called from the calling thread, the last call
  * with done == total. */
