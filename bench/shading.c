@@ -1,4 +1,4 @@
-/* shading.c - benchmark of the lighting pass (src/shading/lighting.c).
+/* shading.c - benchmark of the lighting pass (src/shading/lighting_pass.c).
  *
  * bench_shading [--frames F] [--env FILE.hdr] [--n 20,40,80] [--threads 1,2] [--plain] [--rotate]
  *               [--no-specular] [--no-background]

@@ -23,7 +23,7 @@
 #include "glsl.h"
 
 /* Always inlined: a call left in a `#pragma omp simd` loop stops it from vectorizing, and GCC's
- * inlining budget for a large caller (lighting.c's specular_samples) runs out before every call
+ * inlining budget for a large caller (lighting_batched.c's specular_samples) runs out before every call
  * site is inlined. */
 #define SL_FM_INLINE __attribute__((always_inline)) static inline
 

@@ -5,8 +5,8 @@
  *   G / ((L.N)(V.N)) = 1 / (L.H)^2   or   = 1        the two shadowing choices
  *   F(L, H) = Ks + (1 - Ks)(1 - L.H)^5               Schlick
  *
- * The same functions, with the same names, are in shaders/lighting.frag; lighting.c calls
- * these. Guards (docs/lighting.md, "Hard cases"): pow never sees a base <= 0 (N.H floored at
+ * The same functions, with the same names, are in shaders/lighting.frag; both lighting paths
+ * (lighting.c, lighting_batched.c) call these. Guards (docs/lighting.md, "Hard cases"): pow never sees a base <= 0 (N.H floored at
  * 1e-30, so alpha = 0 gives 1, not GLSL's undefined pow(0, 0)), 1 - L.H is clamped at 0
  * (L.H rounds above 1), and L.H is floored at 1e-3 inside 1/(L.H)^2.
  *

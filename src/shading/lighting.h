@@ -23,7 +23,12 @@
  * per-pixel rotation of the sample set, and sl_lighting_accumulate averages frames rendered
  * with frame = 0, 1, 2, ... (docs/lighting.md "Per-pixel rotation").
  *
- * Does not: tone map (tonemap.h), build the environment or irradiance (ibl), rasterize. */
+ * The stage's files: lighting.c (the port), lighting_batched.c (the fast path),
+ * lighting_uniforms.c (options and uniforms), lighting_task.c (per-thread tables and counters),
+ * lighting_pass.c (dispatch, the pass, accumulation), lighting_trace.c/.h (one pixel's trace);
+ * lighting_internal.h says which calls which.
+ *
+ * Does not: tone map (src/post/tonemap.h), build the environment or irradiance (ibl), rasterize. */
 #ifndef SL_LIGHTING_H
 #define SL_LIGHTING_H
 
