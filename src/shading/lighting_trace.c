@@ -58,7 +58,7 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
             t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
                           : "directions drawn about R",
-            t->plain ? "plain port" : "batched path: lod and uv by lighting_math.h, 4 partial sums");
+            t->plain ? "plain port" : "batched path: lod and uv by core/fast_math.h, 4 partial sums");
     fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
             t->microfacet ? "H (about +Z)" : "L (skewed)", "p(w)", "w", "w.N", "H", t->microfacet ? "V.H" : "L.H", "D",
             "G", "F", "lod", "Li", "contribution");
