@@ -248,6 +248,7 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
     bool lights = v->mode == VIEW_FINAL || v->mode == VIEW_MIP, ok = true;
     float lod_base = 0.0f;
     bool total_lod = stage == STAGE_ACCUMULATE && v->acc_total_lod;
+    l->samples = v->samples; /* the user's N: desc holds the last stage's until restored below */
     if (lights && total_lod && (ok = sl_renderer_prepare_lighting(&v->r, cam, err)))
         lod_base = v->r.uniforms->uLodBase;
     l->samples = p.samples;
