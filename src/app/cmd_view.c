@@ -92,23 +92,25 @@ static int min_int(int a, int b) { return a < b ? a : b; }
  * mip view, show the samples' levels, which averaging would blur). */
 static int acc_target(const viewer *v)
 {
-    if (v->mode != VIEW_FINAL || v->samples <= ACC_SAMPLES)
+    int n = v->r.desc.lighting.samples;
+    if (v->mode != VIEW_FINAL || n <= ACC_SAMPLES)
         return 0;
-    int k = (v->samples + ACC_SAMPLES - 1) / ACC_SAMPLES;
+    int k = (n + ACC_SAMPLES - 1) / ACC_SAMPLES;
     return k < MAX_ACC_FRAMES ? k : MAX_ACC_FRAMES;
 }
 
 static view_stage_params params_of(const viewer *v, int stage)
 {
+    const sl_lighting_options *user = &v->r.desc.lighting;
     bool final = v->mode == VIEW_FINAL;
     switch (stage) {
     case STAGE_MOVING:
-        return (view_stage_params){v->preview_div, min_int(v->samples, v->move_samples), final || v->rotate,
-                                   final ? v->move_frame : v->frame};
+        return (view_stage_params){v->preview_div, min_int(user->samples, v->move_samples), final || user->rotate,
+                                   final ? v->move_frame : user->frame};
     case STAGE_ACCUMULATE:
-        return (view_stage_params){1, min_int(v->samples, ACC_SAMPLES), true, (uint32_t)v->acc_count};
+        return (view_stage_params){1, min_int(user->samples, ACC_SAMPLES), true, (uint32_t)v->acc_count};
     default:
-        return (view_stage_params){1, v->samples, v->rotate, v->frame};
+        return (view_stage_params){1, user->samples, user->rotate, user->frame};
     }
 }
 
@@ -240,29 +242,18 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         v->raster_valid = true;
         v->raster_ms = v->r.timings.raster_ms;
     }
-    /* The stage's N and rotation go into the uniforms; desc keeps the user's settings. An
-     * accumulation frame reads the mip levels of the user's N (uLodBase = 1/2 log2(W H / N), the
-     * only place N enters the level), taken from the uniforms of N, so that the mean converges to
-     * the exact frame's filtering rather than to that of 8 samples (docs/viewer.md). */
-    sl_lighting_options *l = &v->r.desc.lighting;
-    bool lights = v->mode == VIEW_FINAL || v->mode == VIEW_MIP, ok = true;
-    float lod_base = 0.0f;
-    bool total_lod = stage == STAGE_ACCUMULATE && v->acc_total_lod;
-    l->samples = v->samples; /* the user's N: desc holds the last stage's until restored below */
-    if (lights && total_lod && (ok = sl_renderer_prepare_lighting(&v->r, cam, err)))
-        lod_base = v->r.uniforms->uLodBase;
-    l->samples = p.samples;
-    l->rotate = p.rotate;
-    l->frame = p.frame;
-    if (lights && ok)
-        ok = sl_renderer_prepare_lighting(&v->r, cam, err);
-    if (ok && lights && total_lod)
-        v->r.uniforms->uLodBase = lod_base;
-    l->samples = v->samples;
-    l->rotate = v->rotate;
-    l->frame = v->frame;
-    if (!ok)
-        return false;
+    /* The stage's N, rotation and frame go into the uniforms through a per-frame override;
+     * r.desc keeps the user's settings. An accumulation frame reads the mip levels of the user's
+     * N (lod_samples: uLodBase = 1/2 log2(W H / N), the only place N enters the level), so that
+     * the mean converges to the exact frame's filtering rather than to that of 8 samples
+     * (docs/viewer.md "Refinement"). */
+    if (v->mode == VIEW_FINAL || v->mode == VIEW_MIP) {
+        sl_lighting_frame f = {.samples = p.samples, .rotate = p.rotate, .frame = p.frame};
+        if (stage == STAGE_ACCUMULATE && v->acc_total_lod)
+            f.lod_samples = sl_lighting_options_resolve(&v->r.desc.lighting).lod_samples;
+        if (!sl_renderer_prepare_lighting_frame(&v->r, cam, &f, err))
+            return false;
+    }
     double t0 = sl_now_seconds();
     switch (v->mode) {
     case VIEW_FINAL:
@@ -374,20 +365,20 @@ static void state_line(const viewer *v, double now, char *buf, size_t size)
         snprintf(what, sizeof what, "full size, N %d%s", s->samples, s->rotate ? " rotated" : "");
     else
         snprintf(what, sizeof what, "1/%d size, N %d%s", s->div, s->samples, s->rotate ? " rotated" : "");
-    int target = acc_target(v), total = target * min_int(v->samples, ACC_SAMPLES);
+    int n = v->r.desc.lighting.samples, acc_n = min_int(n, ACC_SAMPLES);
+    int target = acc_target(v), total = target * acc_n;
     if (v->job_active && v->job_stage == STAGE_EXACT)
-        snprintf(buf, size, "refining: the exact frame, N %d, row %d of %d (over %s)", v->samples, v->shade.next_row,
+        snprintf(buf, size, "refining: the exact frame, N %d, row %d of %d (over %s)", n, v->shade.next_row,
                  v->r.radiance.height, v->shown_from == VIEW_SHOWN_MEAN ? "the mean" : what);
     else if (v->shown_stage == STAGE_ACCUMULATE && v->acc_count > 0 && !converged(v))
         snprintf(buf, size, "refining: mean of %d/%d frames, %d of %d samples a pixel (%.0f ms), then exact N %d",
-                 v->acc_count, target, v->acc_count * min_int(v->samples, ACC_SAMPLES), total, v->acc_ms, v->samples);
+                 v->acc_count, target, v->acc_count * acc_n, total, v->acc_ms, n);
     else if (converged(v))
         snprintf(buf, size, "done: %s%s", what, v->radiance_exact ? " (= softlight render)" : "");
     else if (interacting(v, now) && v->shown_stage == STAGE_MOVING && !v->job_active)
         snprintf(buf, size, "moving: %s (%.0f ms a frame)", what, v->preview_ms);
     else if (v->stage == STAGE_ACCUMULATE || (v->job_active && v->job_stage == STAGE_ACCUMULATE))
-        snprintf(buf, size, "refining: %s; accumulating %d frames of N %d", what, target,
-                 min_int(v->samples, ACC_SAMPLES));
+        snprintf(buf, size, "refining: %s; accumulating %d frames of N %d", what, target, acc_n);
     else
         snprintf(buf, size, "refining: %s", what);
 }
@@ -400,7 +391,7 @@ static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160
     int ow, oh;
     output_size(v, &ow, &oh);
     snprintf(buf[n++], 160, "%s  %dx%d (window %dx%d)  N %d  exposure %.3g  contrast %.2f", view_mode_name(v->mode),
-             v->shown.width, v->shown.height, ow, oh, v->samples, (double)d->tonemap.exposure,
+             v->shown.width, v->shown.height, ow, oh, l->samples, (double)d->tonemap.exposure,
              (double)d->tonemap.contrast);
     if (view_mode_needs_shading(v->mode))
         snprintf(buf[n++], 160, "raster %.1f ms  shading %.1f ms  tone map %.1f ms  present %.1f ms", v->raster_ms,
@@ -549,7 +540,7 @@ bool view_screenshot(viewer *v, const char *name, sl_error *err)
     const sl_camera *c = &v->camera.cam;
     printf("softlight view: wrote %s and %s (%dx%d, %s, N %d; camera eye %g,%g,%g target %g,%g,%g up %g,%g,%g "
            "fovy %g)\n",
-           png, hdr, v->shown.width, v->shown.height, view_mode_name(v->mode), v->samples, (double)c->eye.x,
+           png, hdr, v->shown.width, v->shown.height, view_mode_name(v->mode), v->r.desc.lighting.samples, (double)c->eye.x,
            (double)c->eye.y, (double)c->eye.z, (double)c->target.x, (double)c->target.y, (double)c->target.z,
            (double)c->up.x, (double)c->up.y, (double)c->up.z, (double)c->fovy_deg);
     fflush(stdout);
@@ -780,7 +771,7 @@ static void bench_record(viewer *v, double now)
     printf("softlight view: benchmark: %d moving frames in a %dx%d window (rendered %dx%d at the end; frames at "
            "%s), N %d rotated: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
            "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms\n",
-           n, ow, oh, b->last_w, b->last_h, divs, min_int(v->samples, v->move_samples), med, p90, worst, 1e3 / med,
+           n, ow, oh, b->last_w, b->last_h, divs, min_int(v->r.desc.lighting.samples, v->move_samples), med, p90, worst, 1e3 / med,
            sl_median(b->raster_ms, n), sl_median(b->shade_ms, n), sl_median(b->tonemap_ms, n), sl_median(b->present_ms, n));
     fflush(stdout);
     v->quit = true;

@@ -38,9 +38,6 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     }
     v->scene = scene;
     v->r = *r;
-    v->samples = v->r.desc.lighting.samples;
-    v->rotate = v->r.desc.lighting.rotate;
-    v->frame = v->r.desc.lighting.frame;
     if (!sl_scene_bounds(scene, &v->bounds_lo, &v->bounds_hi)) {
         v->bounds_lo = vec3s(-1.0f);
         v->bounds_hi = vec3s(1.0f);
@@ -262,7 +259,7 @@ static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
         break;
     case SDLK_n:
     case SDLK_b:
-        v->samples = power_of_two_step(v->samples, key == SDLK_n);
+        l->samples = power_of_two_step(l->samples, key == SDLK_n);
         view_restart_lighting(v);
         break;
     case SDLK_1:

@@ -208,14 +208,13 @@ typedef struct {
 
     /* what is rendered */
     sl_scene *scene;
-    sl_renderer r;
+    sl_renderer r;           /* r.desc: the user's settings (N, rotation, frame, toggles), which the
+                                exact stage lights with; other stages override N, rotation and
+                                frame per frame (sl_lighting_frame), never by writing r.desc */
     sl_render_desc cli_desc; /* the command line's settings, for scenes dropped later */
     vec3 bounds_lo, bounds_hi;
     view_camera camera;
     view_mode mode;
-    int samples;     /* the user's N; stages may use fewer */
-    bool rotate;     /* the user's rotation and frame number (--rotate, --frame): the exact stage's */
-    uint32_t frame;
     int move_samples; /* N while moving (--move-samples) */
     bool acc_total_lod; /* accumulation frames filter as for the user's N (--accumulate-lod total) */
     int fixed_div;   /* --move-div; 0: adaptive */
