@@ -1,7 +1,12 @@
 /* view_input.c - what the viewer's input does: keys, mouse, window events and dropped files turn
- * into changes of the viewer's state (camera, lighting options, view, scene, environment), each
- * followed by the restart of the refinement it needs (view_internal.h). cmd_view.c runs the loop
- * that calls view_handle_event for every SDL event, real or pushed by a --script. */
+ * into changes of the viewer's state (camera, lighting options, view, scene, environment) and an
+ * answer, the view_action the loop then takes: which restart of the refinement the change needs,
+ * or a screenshot (the contract is in view_internal.h).
+ *
+ * Why actions and not calls: input only edits state and says what follows from it; the loop
+ * (cmd_view.c), which calls view_handle_event for every SDL event, real or pushed by a
+ * --script, acts on the answer before the next event. So this file calls nothing above it (the
+ * refinement, screenshots), only the camera, the renderer and the message line. */
 #if SL_HAVE_SDL2
 #include <SDL.h>
 
@@ -28,7 +33,6 @@ static bool has_suffix(const char *s, const char *suffix)
     return n >= k && !strcasecmp(s + n - k, suffix);
 }
 
-/* Take over a loaded scene and its renderer (the old ones are freed). */
 void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
 {
     if (v->scene) {
@@ -38,9 +42,6 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     }
     v->scene = scene;
     v->r = *r;
-    v->samples = v->r.desc.lighting.samples;
-    v->rotate = v->r.desc.lighting.rotate;
-    v->frame = v->r.desc.lighting.frame;
     if (!sl_scene_bounds(scene, &v->bounds_lo, &v->bounds_hi)) {
         v->bounds_lo = vec3s(-1.0f);
         v->bounds_hi = vec3s(1.0f);
@@ -52,7 +53,6 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     snprintf(title, sizeof title, "softlight view - %s", scene->path);
     if (v->window)
         SDL_SetWindowTitle(v->window, title);
-    view_restart_camera(v);
 }
 
 /* Load a scene and build its renderer at the current size; on failure nothing changes. */
@@ -78,28 +78,30 @@ static bool load_scene(viewer *v, const char *path, int width, int height, sl_er
     return true;
 }
 
-static void handle_drop(viewer *v, const char *path)
+static view_action handle_drop(viewer *v, const char *path)
 {
     sl_error err = {0};
     if (has_suffix(path, ".hdr")) {
         if (!sl_renderer_set_environment(&v->r, path, &err)) {
             view_message(v, true, "%s (the environment stays)", err.msg);
-            return;
+            return VIEW_ACT_NONE;
         }
         /* The renderer rebuilds the irradiance only while the diffuse term is on. */
         v->irradiance_stale = v->r.desc.lighting.no_diffuse;
         v->env_replaced = true;
         view_message(v, false, "environment %s", path);
-        view_restart_lighting(v);
-    } else if (has_suffix(path, ".json")) {
+        return VIEW_ACT_RESTART_LIGHTING;
+    }
+    if (has_suffix(path, ".json")) {
         if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
             view_message(v, true, "%s (the scene stays)", err.msg);
-            return;
+            return VIEW_ACT_NONE;
         }
         view_message(v, false, "scene %s", path);
-    } else {
-        view_message(v, true, "%s: drop an .hdr environment or a .json scene", path);
+        return VIEW_ACT_RESTART_CAMERA;
     }
+    view_message(v, true, "%s: drop an .hdr environment or a .json scene", path);
+    return VIEW_ACT_NONE;
 }
 
 /* ------------------------------------------------------------------ input */
@@ -122,7 +124,7 @@ static int nav_index(SDL_Keycode key)
 }
 
 /* One step of a navigation key (a press or an auto-repeat). */
-static void navigate(viewer *v, int nav, bool fine)
+static view_action navigate(viewer *v, int nav, bool fine)
 {
     float step = fine ? 0.2f : 1.0f;
     switch (nav) {
@@ -136,9 +138,9 @@ static void navigate(viewer *v, int nav, bool fine)
     case VIEW_NAV_D: view_camera_pan(&v->camera, PAN_KEY_FRACTION * step, 0.0f); break;
     case VIEW_NAV_IN: view_camera_zoom(&v->camera, powf(ZOOM_STEP, step)); break;
     case VIEW_NAV_OUT: view_camera_zoom(&v->camera, 1.0f / powf(ZOOM_STEP, step)); break;
-    default: return;
+    default: return VIEW_ACT_NONE;
     }
-    view_restart_camera(v);
+    return VIEW_ACT_RESTART_CAMERA;
 }
 
 static int power_of_two_step(int n, bool up)
@@ -151,7 +153,7 @@ static int power_of_two_step(int n, bool up)
     return p == n ? (n > 1 ? n / 2 : 1) : p / 2;
 }
 
-static void cycle_irradiance(viewer *v)
+static view_action cycle_irradiance(viewer *v)
 {
     sl_lighting_options *l = &v->r.desc.lighting;
     bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
@@ -163,18 +165,18 @@ static void cycle_irradiance(viewer *v)
         l->irradiance = next;
         v->irradiance_stale = true;
         view_message(v, false, "irradiance %s (diffuse is off)", view_irradiance_name(next));
-        return;
+        return VIEW_ACT_NONE;
     }
     sl_error err = {0};
     if (!sl_renderer_set_irradiance(&v->r, next, &err)) {
         view_message(v, true, "%s", err.msg);
-        return;
+        return VIEW_ACT_NONE;
     }
     view_message(v, false, "irradiance %s (%.0f ms)", view_irradiance_name(next), v->r.timings.irradiance_ms);
-    view_restart_lighting(v);
+    return VIEW_ACT_RESTART_LIGHTING;
 }
 
-static void toggle_diffuse(viewer *v)
+static view_action toggle_diffuse(viewer *v)
 {
     sl_lighting_options *l = &v->r.desc.lighting;
     if (l->no_diffuse && (v->irradiance_stale || !v->r.have_irradiance)) {
@@ -184,15 +186,15 @@ static void toggle_diffuse(viewer *v)
             method = SL_IRRADIANCE_SH9; /* the scene's map belongs to the scene's environment */
         if (!sl_renderer_set_irradiance(&v->r, method, &err)) {
             view_message(v, true, "%s", err.msg);
-            return;
+            return VIEW_ACT_NONE;
         }
         v->irradiance_stale = false;
     }
     l->no_diffuse = !l->no_diffuse;
-    view_restart_lighting(v);
+    return VIEW_ACT_RESTART_LIGHTING;
 }
 
-static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
+static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
 {
     SDL_Keycode key = e->keysym.sym;
     bool shift = (e->keysym.mod & KMOD_SHIFT) != 0;
@@ -201,26 +203,25 @@ static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
     int nav = nav_index(key);
     if (nav >= 0) {
         v->held[nav] = true;
-        navigate(v, nav, shift && nav != VIEW_NAV_IN); /* shift: fine steps ('+' is shift+= on most layouts) */
-        return;
+        return navigate(v, nav, shift && nav != VIEW_NAV_IN); /* shift: fine steps ('+' is shift+= on most layouts) */
     }
     switch (key) { /* adjustments: auto-repeat applies */
     case SDLK_e:
         t->exposure = fminf(t->exposure * EXPOSURE_STEP, 1e6f);
         v->retonemap = true;
-        return;
+        return VIEW_ACT_NONE;
     case SDLK_q:
         t->exposure = fmaxf(t->exposure / EXPOSURE_STEP, 1e-3f);
         v->retonemap = true;
-        return;
+        return VIEW_ACT_NONE;
     case SDLK_c:
         t->contrast = fminf(t->contrast + CONTRAST_STEP, 10.0f);
         v->retonemap = true;
-        return;
+        return VIEW_ACT_NONE;
     case SDLK_x:
         t->contrast = fmaxf(t->contrast - CONTRAST_STEP, 0.1f);
         v->retonemap = true;
-        return;
+        return VIEW_ACT_NONE;
     case SDLK_RIGHTBRACKET:
     case SDLK_LEFTBRACKET: {
         float r = l->env_rotation_deg + (key == SDLK_RIGHTBRACKET ? ENV_ROTATION_STEP : -ENV_ROTATION_STEP);
@@ -230,14 +231,14 @@ static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
         if (r <= -180.0f)
             r += 360.0f;
         l->env_rotation_deg = r;
-        view_restart_lighting(v);
-        return;
+        return VIEW_ACT_RESTART_LIGHTING;
     }
     default:
         break;
     }
     if (e->repeat)
-        return;
+        return VIEW_ACT_NONE;
+    view_action act = VIEW_ACT_NONE;
     switch (key) { /* toggles and one-shot actions: a held key acts once */
     case SDLK_ESCAPE:
         if (v->show_help)
@@ -258,65 +259,64 @@ static void handle_key(viewer *v, const SDL_KeyboardEvent *e)
         break;
     case SDLK_r:
         view_camera_reset(&v->camera);
-        view_restart_camera(v);
+        act = VIEW_ACT_RESTART_CAMERA;
         break;
     case SDLK_n:
     case SDLK_b:
-        v->samples = power_of_two_step(v->samples, key == SDLK_n);
-        view_restart_lighting(v);
+        l->samples = power_of_two_step(l->samples, key == SDLK_n);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_1:
-        toggle_diffuse(v);
+        act = toggle_diffuse(v);
         break;
     case SDLK_2:
         l->no_specular = !l->no_specular;
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_3:
         l->no_point_lights = !l->no_point_lights;
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_i:
-        cycle_irradiance(v);
+        act = cycle_irradiance(v);
         break;
     case SDLK_l: {
         sl_lod_rule rule = sl_lighting_options_resolve(l).lod_rule;
         l->lod_rule = rule >= SL_LOD_PDF ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_k: {
         sl_estimator est = sl_lighting_options_resolve(l).estimator;
         l->estimator = est == SL_ESTIMATOR_MICROFACET ? SL_ESTIMATOR_SPEC : (sl_estimator)(est + 1);
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_g: {
         sl_gterm g = sl_lighting_options_resolve(l).gterm;
         l->gterm = g == SL_GTERM_INV_LH2 ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_v:
         v->mode = (view_mode)((v->mode + (shift ? VIEW_MODE_COUNT - 1 : 1)) % VIEW_MODE_COUNT);
-        view_restart_lighting(v);
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_F12:
-    case SDLK_p: {
-        sl_error err = {0};
-        if (!view_screenshot(v, NULL, &err))
-            view_message(v, true, "screenshot: %s", err.msg);
+    case SDLK_p:
+        act = VIEW_ACT_SCREENSHOT;
         break;
-    }
     default:
-        return;
+        return VIEW_ACT_NONE;
     }
     v->present_needed = true;
+    return act;
 }
 
-void view_handle_event(viewer *v, SDL_Event *e)
+view_action view_handle_event(viewer *v, SDL_Event *e)
 {
     double now = sl_now_seconds();
+    view_action act = VIEW_ACT_NONE;
     switch (e->type) {
     case SDL_QUIT:
         v->quit = true;
@@ -326,7 +326,7 @@ void view_handle_event(viewer *v, SDL_Event *e)
         case SDL_WINDOWEVENT_SIZE_CHANGED:
         case SDL_WINDOWEVENT_RESIZED:
             v->last_input = now;
-            view_restart_camera(v);
+            act = VIEW_ACT_RESTART_CAMERA;
             break;
         case SDL_WINDOWEVENT_CLOSE:
             v->quit = true;
@@ -340,7 +340,7 @@ void view_handle_event(viewer *v, SDL_Event *e)
         break;
     case SDL_KEYDOWN:
         v->last_input = now;
-        handle_key(v, &e->key);
+        act = handle_key(v, &e->key);
         break;
     case SDL_KEYUP: {
         int nav = nav_index(e->key.keysym.sym);
@@ -374,7 +374,7 @@ void view_handle_event(viewer *v, SDL_Event *e)
         else
             view_camera_pan(&v->camera, (float)e->motion.xrel / (float)oh, (float)e->motion.yrel / (float)oh);
         v->last_input = now;
-        view_restart_camera(v);
+        act = VIEW_ACT_RESTART_CAMERA;
         break;
     }
     case SDL_MOUSEWHEEL: {
@@ -382,19 +382,20 @@ void view_handle_event(viewer *v, SDL_Event *e)
         if (clicks) {
             view_camera_zoom(&v->camera, powf(ZOOM_STEP, (float)clicks));
             v->last_input = now;
-            view_restart_camera(v);
+            act = VIEW_ACT_RESTART_CAMERA;
         }
         break;
     }
     case SDL_DROPFILE:
         if (e->drop.file) {
-            handle_drop(v, e->drop.file);
+            act = handle_drop(v, e->drop.file);
             SDL_free(e->drop.file);
         }
         break;
     default:
         break;
     }
+    return act;
 }
 
 #else

@@ -1,12 +1,26 @@
 /* view_internal.h - the parts of `softlight view` shared between its files (not a public API;
- * only src/app/cmd_view.c and src/app/view_*.c include it):
- *   cmd_view.c     the loop, the refinement (moving, accumulate, exact), presenting, screenshots
- *   view_input.c   keys, mouse, window events and drops -> changes of the viewer's state
- *   view_camera.c  the orbit camera (Z-up world, orbit about +Z around the target)
- *   view_image.c   what the window shows: the tone-mapped frame, G-buffer channels, mip levels
- *   view_shade.c   the lighting pass in row slices (sl_lighting_shade_row)
- *   view_script.c  scripted input (--script) turned into ordinary SDL events
- *   view_hud.c     text: the heads-up display and the help overlay (SDL2_ttf)
+ * only src/app/cmd_view.c and src/app/view_*.c include it). A file per job:
+ *   cmd_view.c        the command: options, window and scene setup, the loop, acting on input
+ *   view_refine.c     the refinement: which stage next (moving, accumulate, exact), rendering it
+ *   view_present.c    the window: texture upload, the HUD, the help overlay, the message line
+ *   view_screenshot.c screenshots (the exact frame as .png + .hdr) and the script's snapshots
+ *   view_script.c     --script: reading it, and running it a turn of the loop at a time
+ *   view_input.c      keys, mouse, window events and drops -> state changes and a view_action
+ *   view_bench.c      --benchmark: a steady drag, timed from present to present
+ *   view_camera.c     the orbit camera (Z-up world, orbit about +Z around the target)
+ *   view_image.c      what the window shows: the tone-mapped frame, G-buffer channels, mip levels
+ *   view_shade.c      the lighting pass in row slices (sl_lighting_shade_row)
+ *   view_hud.c        text: the heads-up display and the help overlay (SDL2_ttf)
+ * Calls go one way (no file calls back into one that calls it):
+ *   cmd_view.c        -> every file below
+ *   view_script.c     -> view_screenshot.c, view_refine.c
+ *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
+ *   view_input.c      -> view_present.c (messages), view_camera.c
+ *   view_bench.c      -> view_refine.c, view_camera.c
+ *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c
+ *   view_refine.c     -> view_shade.c, view_image.c
+ * Input does not restart the refinement or take screenshots itself: view_handle_event answers
+ * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
  * (the viewer state below names SDL's types only through pointers). */
 #ifndef SL_VIEW_INTERNAL_H
@@ -28,7 +42,7 @@
 
 typedef struct {
     sl_camera home;   /* the scene's camera: reset returns to it exactly */
-    sl_camera cam;    /* what is rendered */
+    sl_camera cam;    /* what is rendered (cmd_view.c and view_input.c) */
     bool at_home;     /* cam == home, bit for bit */
     vec3 target;
     float distance, azimuth_deg, elevation_deg;
@@ -103,7 +117,7 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
                       double budget_s, int *first_row);
 void view_shade_free(view_shade_job *job);
 
-/* ---- view_script.c ---- */
+/* ---- view_script.c: the script's commands (running it: below the viewer's state) ---- */
 typedef enum {
     VIEW_CMD_WAIT,       /* wait MS: let MS milliseconds pass (frames keep running) */
     VIEW_CMD_SETTLE,     /* settle: wait until refinement has finished */
@@ -143,10 +157,6 @@ typedef struct {
  * fails before the window opens. (Needs SDL for the key names.) */
 bool view_script_load(const char *path, view_script *s, sl_error *err);
 void view_script_free(view_script *s);
-/* Push the SDL events of an input command (DRAG, MOVE, WHEEL, KEY, KEYDOWN, KEYUP, DROP) onto
- * the queue, exactly as a user's input would arrive. False when the queue is full. */
-struct SDL_Window;
-bool view_script_push(view_script *s, const view_cmd *cmd, struct SDL_Window *window, sl_error *err);
 
 /* ---- view_hud.c ---- */
 #define VIEW_HUD_MAX_LINES 40
@@ -162,10 +172,10 @@ struct SDL_Renderer;
 int view_hud_draw(view_hud *hud, struct SDL_Renderer *sdl, int slot_base, const char *const *lines, int count, int x,
                   int y, bool centre);
 
-/* ---- cmd_view.c and view_input.c: the viewer's state ----
- * cmd_view.c owns the loop, the refinement, presenting, screenshots and setup; view_input.c turns
- * keys, mouse, window events and drops into changes of this state (camera, options, scene) and
- * restarts the refinement through view_restart_camera / view_restart_lighting. */
+/* ---- the viewer's state ----
+ * One struct, passed first to every function below. Each group of fields names the file that
+ * owns it; the others read it, and ask for work through its flags (urgent, retonemap,
+ * texture_stale, present_needed, quit). Input edits the user's settings: camera, r.desc, mode. */
 #define VIEW_MAX_PREVIEW_DIV 8
 #define VIEW_ORBIT_DEG_PER_PIXEL 0.4f /* a left drag turns the camera this much a pixel */
 
@@ -197,7 +207,7 @@ typedef struct {
 } view_bench;
 
 typedef struct {
-    /* window */
+    /* window (cmd_view.c; view_present.c: the texture) */
     struct SDL_Window *window;
     struct SDL_Renderer *sdl;
     struct SDL_Texture *texture;
@@ -206,16 +216,15 @@ typedef struct {
     view_hud *hud;      /* NULL: no font, no text */
     bool show_hud, show_help;
 
-    /* what is rendered */
+    /* what is rendered (cmd_view.c and view_input.c) */
     sl_scene *scene;
-    sl_renderer r;
+    sl_renderer r;           /* r.desc: the user's settings (N, rotation, frame, toggles), which the
+                                exact stage lights with; other stages override N, rotation and
+                                frame per frame (sl_lighting_frame), never by writing r.desc */
     sl_render_desc cli_desc; /* the command line's settings, for scenes dropped later */
     vec3 bounds_lo, bounds_hi;
     view_camera camera;
     view_mode mode;
-    int samples;     /* the user's N; stages may use fewer */
-    bool rotate;     /* the user's rotation and frame number (--rotate, --frame): the exact stage's */
-    uint32_t frame;
     int move_samples; /* N while moving (--move-samples) */
     bool acc_total_lod; /* accumulation frames filter as for the user's N (--accumulate-lod total) */
     int fixed_div;   /* --move-div; 0: adaptive */
@@ -223,8 +232,8 @@ typedef struct {
     bool irradiance_stale; /* the environment changed while the diffuse term was off */
     bool env_replaced;     /* a dropped .hdr replaced the scene's environment (its map no longer fits) */
 
-    /* refinement */
-    int stage;       /* next stage to render; STAGE_COUNT: done */
+    /* refinement (view_refine.c) */
+    int stage;       /* next stage to render; VIEW_STAGE_COUNT: done */
     bool urgent;     /* something changed: render `stage` now, even during input */
     bool retonemap;  /* exposure/contrast changed: tone map and present only */
     int preview_div;
@@ -249,12 +258,12 @@ typedef struct {
     double last_present;
     bool present_needed;
 
-    /* input */
+    /* input (view_input.c) */
     double last_input;
     int drag_button;
     bool held[VIEW_NAV_COUNT];
 
-    /* messages, script, counters */
+    /* messages (view_present.c), script, counters */
     char message[256];
     double message_until;
     bool message_shown;
@@ -267,22 +276,81 @@ typedef struct {
     bool quit;
 } viewer;
 
-/* cmd_view.c */
-/* One line in the HUD for a few seconds; errors also go to stderr (the window may be hidden). */
-void view_message(viewer *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
+/* ---- view_refine.c ----
+ * Stages in order; `stage` is the next one to render, VIEW_STAGE_COUNT when done. */
+enum { VIEW_STAGE_MOVING, VIEW_STAGE_ACCUMULATE, VIEW_STAGE_EXACT, VIEW_STAGE_COUNT };
+#define VIEW_ACC_SAMPLES 8      /* N of one accumulation frame */
+#define VIEW_QUIET_SECONDS 0.15 /* input this recent still counts as "moving" */
+
 /* The camera, the scene or the window size changed: start again from the moving stage. */
 void view_restart_camera(viewer *v);
 /* Lighting settings or the view mode changed: the G-buffer stays, the accumulation restarts. */
 void view_restart_lighting(viewer *v);
-/* The exact frame of the current view as <name>.png and <name>.hdr (softlight-<n> when name is
- * NULL or empty); the refinement is completed first. */
-bool view_screenshot(viewer *v, const char *name, sl_error *err);
+/* Questions: the frames the current view accumulates (0: none); nothing left to render; input
+ * is in progress (a drag, a held key, input in the last VIEW_QUIET_SECONDS, a benchmark). */
+int view_acc_target(const viewer *v);
+bool view_converged(const viewer *v);
+bool view_interacting(const viewer *v, double now);
+/* The window's size in pixels, and the render size for a divisor (times --scale, clamped). */
+void view_output_size(const viewer *v, int *w, int *h);
+void view_render_size(const viewer *v, int div, int *w, int *h);
+/* For the loop, one at a time: a stage is due (not during input unless urgent, not minimized);
+ * start it (a moving frame whole, later stages' first step); continue the active stage by one
+ * slice of about 40 ms; after a moving frame was presented, advance its frame number and adapt
+ * the preview divisor to its cost (`frame_ms`, present included). False: a render failed (err). */
+bool view_refine_wanted(const viewer *v, double now);
+bool view_refine_start(viewer *v, sl_error *err);
+bool view_refine_continue(viewer *v, sl_error *err);
+void view_refine_moved(viewer *v, double frame_ms);
+/* After a failure: stop refining until the next restart (retrying would fail the same way). */
+void view_refine_stop(viewer *v);
+/* Render the exact frame now, whatever stage was next (a screenshot needs it). */
+bool view_refine_finish(viewer *v, sl_error *err);
+/* Exposure or contrast changed: tone map the linear image behind `shown` again. */
+bool view_refine_retonemap(viewer *v, sl_error *err);
+
+/* ---- view_present.c ---- */
+/* Draw `shown`, the HUD or the help, and present; counts frames (--frames quits). */
+void view_present(viewer *v);
+/* One line in the HUD for a few seconds; errors also go to stderr (the window may be hidden). */
+void view_message(viewer *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 const char *view_irradiance_name(sl_irradiance_method m); /* "sh9", "brute", "map" */
 
-/* view_input.c */
-/* Take over a loaded scene and its renderer (the old ones are freed) and reset the camera. */
+/* ---- view_screenshot.c ---- */
+/* The exact frame of the current view as <name>.png (what is shown, without the HUD) and
+ * <name>.hdr (linear radiance); softlight-<n> when name is NULL or empty. The refinement is
+ * completed first, so the files are full size, full N whatever the window showed. */
+bool view_screenshot(viewer *v, const char *name, sl_error *err);
+/* What is on screen now, without completing the refinement (the script's `snapshot`, for tests
+ * of the stages themselves): <base>.png as shown and <base>.pfm, the linear image behind it (the
+ * accumulated mean, or the moving or exact frame). */
+bool view_snapshot(viewer *v, const char *base, sl_error *err);
+
+/* ---- view_script.c: running ---- */
+/* Run the script commands that are due (one turn of the loop, before its events are handled). */
+void view_script_step(viewer *v, double now);
+
+/* ---- view_bench.c ---- */
+bool view_bench_init(view_bench *b, int frames, sl_error *err);
+void view_bench_free(view_bench *b);
+/* Input for the next benchmark frame: what a mouse drag of a few pixels does. */
+void view_bench_input(viewer *v, double now);
+/* A moving frame was presented at `now`: record it; after the last, report and quit. */
+void view_bench_record(viewer *v, double now);
+
+/* ---- view_input.c ---- */
+/* What an event asks of the loop beyond the state it changed. */
+typedef enum {
+    VIEW_ACT_NONE,
+    VIEW_ACT_RESTART_CAMERA,   /* the camera, the scene or the window size changed */
+    VIEW_ACT_RESTART_LIGHTING, /* lighting settings, the environment or the view mode changed */
+    VIEW_ACT_SCREENSHOT,       /* F12 or P: softlight-<n>.png and .hdr */
+} view_action;
+
+/* Take over a loaded scene and its renderer (the old ones are freed) and reset the camera to the
+ * scene's; the caller restarts the refinement. */
 void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r);
 union SDL_Event;
-void view_handle_event(viewer *v, union SDL_Event *e);
+view_action view_handle_event(viewer *v, union SDL_Event *e);
 
 #endif

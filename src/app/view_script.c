@@ -1,4 +1,5 @@
-/* view_script.c - scripted input for `softlight view --script FILE` (see view_internal.h).
+/* view_script.c - `softlight view --script FILE`: reading the script, and running it a turn of
+ * the loop at a time (view_script_step) (the contract is in view_internal.h).
  *
  * Why a script instead of xdotool: under Xvfb with no window manager, synthetic X input races
  * the window's mapping and focus; events pushed onto SDL's own queue go through exactly the
@@ -16,8 +17,12 @@
  *     drop scenes/envmaps/city.hdr    a file dropped on the window
  *     screenshot out/shot         out/shot.png and out/shot.hdr (no name: softlight-<n>)
  *     quit                        as closing the window
+ *     accumulated 4               wait until the still camera's mean holds 4 frames
+ *     snapshot out/acc4           out/acc4.png and out/acc4.pfm of what is on screen now
  *
- * Everything is checked when the file is read, so a typo fails before a window opens. */
+ * Everything is checked when the file is read, so a typo fails before a window opens. Running
+ * it, input commands become SDL events and go through view_input.c like a user's; the others
+ * ask the refinement (settle, accumulated) or write files (view_screenshot.c). */
 #if SL_HAVE_SDL2
 
 #include <SDL.h>
@@ -25,6 +30,7 @@
 #include "view_internal.h"
 
 #include <ctype.h>
+#include <stdio.h>
 #include <errno.h>
 #include <stdlib.h>
 #include <string.h>
@@ -42,6 +48,8 @@ static const struct {
     {"drop", VIEW_CMD_DROP},       {"screenshot", VIEW_CMD_SCREENSHOT}, {"quit", VIEW_CMD_QUIT},
     {"accumulated", VIEW_CMD_ACCUMULATED}, {"snapshot", VIEW_CMD_SNAPSHOT},
 };
+
+/* ------------------------------------------------------------------ reading */
 
 static bool parse_int(const char *s, long min, long max, int *out)
 {
@@ -262,6 +270,8 @@ void view_script_free(view_script *s)
     memset(s, 0, sizeof *s);
 }
 
+/* ------------------------------------------------------------------ input as SDL events */
+
 static bool push(SDL_Event *e, sl_error *err)
 {
     if (SDL_PushEvent(e) < 0)
@@ -307,7 +317,9 @@ static bool push_key(Uint32 window_id, Uint32 type, int key, int mod, sl_error *
     return push(&e, err);
 }
 
-bool view_script_push(view_script *s, const view_cmd *cmd, SDL_Window *window, sl_error *err)
+/* The SDL events of an input command (DRAG, MOVE, WHEEL, KEY, KEYDOWN, KEYUP, DROP), exactly as a
+ * user's input would arrive. False when the queue is full. */
+static bool push_command(view_script *s, const view_cmd *cmd, SDL_Window *window, sl_error *err)
 {
     Uint32 id = SDL_GetWindowID(window);
     switch (cmd->kind) {
@@ -369,6 +381,101 @@ bool view_script_push(view_script *s, const view_cmd *cmd, SDL_Window *window, s
         return sl_fail(err, SL_ERR_RANGE, "script line %d: not an input command", cmd->line);
     }
 }
+
+/* ------------------------------------------------------------------ running */
+
+/* Input commands in a row are pushed together (that is how a burst of real input arrives); a
+ * command that depends on their effect (settle, screenshot, resize) waits for the next turn,
+ * after the loop has handled the events. */
+void view_script_step(viewer *v, double now)
+{
+    view_script *s = &v->script;
+    bool pushed = false;
+    while (s->next < s->count && !v->quit) {
+        const view_cmd *c = &s->cmds[s->next];
+        sl_error err = {0};
+        switch (c->kind) {
+        case VIEW_CMD_WAIT:
+            if (!s->waiting) {
+                s->waiting = true;
+                s->wait_until = now + c->args[0] / 1000.0;
+            }
+            if (now < s->wait_until)
+                return;
+            s->waiting = false;
+            break;
+        case VIEW_CMD_SETTLE:
+            if (pushed || !view_converged(v) || view_interacting(v, now) || v->retonemap)
+                return;
+            break;
+        case VIEW_CMD_RESIZE:
+            if (pushed)
+                return;
+            if (!s->waiting) {
+                SDL_SetWindowSize(v->window, c->args[0], c->args[1]);
+                s->waiting = true;
+                s->wait_until = now + 2.0;
+                return;
+            } else {
+                int w, h;
+                SDL_GetWindowSize(v->window, &w, &h);
+                if ((w != c->args[0] || h != c->args[1]) && now < s->wait_until)
+                    return;
+                s->waiting = false;
+                v->last_input = now;
+                view_restart_camera(v);
+            }
+            break;
+        case VIEW_CMD_SCREENSHOT:
+            if (pushed)
+                return;
+            if (!view_screenshot(v, c->text, &err)) {
+                fprintf(stderr, "softlight view: script line %d: screenshot: %s\n", c->line, err.msg);
+                v->exit_status = 2;
+            }
+            break;
+        case VIEW_CMD_ACCUMULATED:
+            /* Runs in the first turn after the K-th accumulation frame, before the next begins. */
+            if (pushed)
+                return;
+            if (c->args[0] > view_acc_target(v) || v->acc_count > c->args[0]) {
+                fprintf(stderr,
+                        "softlight view: script line %d: accumulated %d: this view accumulates %d frames "
+                        "and holds %d\n",
+                        c->line, c->args[0], view_acc_target(v), v->acc_count);
+                v->exit_status = 2;
+                break;
+            }
+            if (v->acc_count < c->args[0])
+                return;
+            break;
+        case VIEW_CMD_SNAPSHOT:
+            if (pushed)
+                return;
+            if (!view_snapshot(v, c->text, &err)) {
+                fprintf(stderr, "softlight view: script line %d: %s\n", c->line, err.msg);
+                v->exit_status = 2;
+            }
+            break;
+        case VIEW_CMD_QUIT: {
+            SDL_Event e = {0};
+            e.type = SDL_QUIT;
+            SDL_PushEvent(&e);
+            s->next++;
+            return;
+        }
+        default:
+            if (!push_command(s, c, v->window, &err)) {
+                /* The queue is full: let the loop drain it and try again. */
+                return;
+            }
+            pushed = true;
+            break;
+        }
+        s->next++;
+    }
+}
+
 
 #else
 typedef int view_script_unused; /* this file is only built with SDL2 */

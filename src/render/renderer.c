@@ -215,13 +215,26 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 
 bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
+    return sl_renderer_prepare_lighting_frame(r, cam, NULL, err);
+}
+
+bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, const sl_lighting_frame *frame,
+                                        sl_error *err)
+{
     if (!cam)
         cam = &r->scene->camera;
     if (!update_env_lights(r, err))
         return false;
+    sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
+    if (frame) {
+        options.samples = frame->samples;
+        options.lod_samples = frame->lod_samples;
+        options.rotate = frame->rotate;
+        options.frame = frame->frame;
+    }
     mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);
     sl_lighting_desc desc = {
-        .options = r->desc.lighting,
+        .options = options,
         .env = &r->env,
         .irradiance = r->have_irradiance ? &r->irradiance : NULL,
         .eye = cam->eye,

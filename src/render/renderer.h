@@ -1,7 +1,8 @@
 /* renderer.h - one frame through every stage, and the state that outlives frames.
  *
  * Consumes: a loaded scene (src/scene) and render settings (scene file values, overridden by
- * the command line or the viewer).
+ * the command line or the viewer), and optionally a per-frame override of the sampling
+ * (sl_lighting_frame: the viewer's refinement stages).
  * Produces, per frame: the G-buffer (raster), linear HDR radiance (shading; row 0 = top) and
  * the tone-mapped display image in [0,1] (post), with the time each stage took.
  *
@@ -16,6 +17,7 @@
 #define SL_RENDERER_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "core/error.h"
 #include "core/image.h"
@@ -78,8 +80,24 @@ bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
 
 /* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera). */
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err);
-/* Set r->uniforms for lighting the current G-buffer seen from `cam` (what shade and trace use). */
+/* Set r->uniforms for lighting the current G-buffer seen from `cam` (what shade and trace use),
+ * with desc.lighting as it is. */
 bool sl_renderer_prepare_lighting(sl_renderer *r, const sl_camera *cam, sl_error *err);
+
+/* What one frame draws where it differs from desc.lighting: the viewer's refinement stages light
+ * with fewer samples, rotated, numbered frames, yet filtered as the user's N (docs/viewer.md
+ * "Refinement"). Passed per call, so desc keeps the user's settings and is never swapped. */
+typedef struct {
+    int samples;     /* N drawn, 1 .. SL_HAMMERSLEY_MAX */
+    int lod_samples; /* the N whose mip levels they read (uLodBase = 1/2 log2(W H / N)); 0 = samples */
+    bool rotate;     /* per-pixel rotation of the sample set (uRotate) */
+    uint32_t frame;  /* its frame number (uFrame) */
+} sl_lighting_frame;
+
+/* sl_renderer_prepare_lighting with `frame`'s four fields in place of desc.lighting's (NULL: as
+ * sl_renderer_prepare_lighting). */
+bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, const sl_lighting_frame *frame,
+                                        sl_error *err);
 /* Light the current G-buffer into r->radiance (same camera as the last raster). */
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err);
 /* Tone map r->radiance into r->display. */
