@@ -1,6 +1,8 @@
-/* shading_fixtures.h - shared set-up for the lighting-stage tests (test_shading.c,
- * test_hardcases.c): environments made to order, one-texel G-buffers placed at a chosen N.V,
- * the uniforms of a frame, the ground truth for one texel, and image statistics.
+/* shading_fixtures.h - shared set-up for the lighting-stage tests (test_shading.c, test_hardcases.c,
+ * test_lighting_fast.c, test_env_lights.c): environments made to order, one-texel G-buffers placed
+ * at a chosen N.V, a frame to light (synthetic spheres + G-buffer + irradiance, fx_frame), its
+ * uniforms and a checked pass (fx_render), the "1 and 2 threads give the same bits" check
+ * (fx_assert_same_for_thread_counts), the ground truth for one texel, and image statistics.
  * Header-only (static inline functions): each test executable is one translation unit. */
 #ifndef SHADING_FIXTURES_H
 #define SHADING_FIXTURES_H
@@ -9,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "ibl/env_lights.h"
 #include "ibl/ground_truth.h"
 #include "ibl/ibl.h"
 #include "shading/lighting.h"
@@ -41,18 +44,25 @@ static inline void fx_env(sl_env *env, int w, int h, fx_radiance_fn *f)
     sl_image_free(&img);
 }
 
-/* Uniforms for a 1x1 (or w x h) frame with the given options; heap (about 9 KB). */
-static inline sl_lighting_uniforms *fx_uniforms(const sl_env *env, const sl_irradiance *irr, sl_lighting_options opt,
-                                         vec3 eye, int w, int h)
+/* Uniforms for desc, on the heap (about 9 KB; free them); the test fails with the reason if
+ * sl_lighting_uniforms_init refuses desc. */
+static inline sl_lighting_uniforms *fx_uniforms_for(const sl_lighting_desc *desc)
 {
     sl_lighting_uniforms *u = malloc(sizeof *u);
     assert_non_null(u);
     sl_error err;
-    sl_lighting_desc d = {.options = opt, .env = env, .irradiance = irr, .eye = eye,
-                          .inv_view_proj = mat4_identity(), .width = w, .height = h};
-    if (!sl_lighting_uniforms_init(u, &d, &err))
+    if (!sl_lighting_uniforms_init(u, desc, &err))
         fail_msg("uniforms: %s", err.msg);
     return u;
+}
+
+/* Uniforms for a 1x1 (or w x h) frame with the given options and no view matrix. */
+static inline sl_lighting_uniforms *fx_uniforms(const sl_env *env, const sl_irradiance *irr, sl_lighting_options opt,
+                                         vec3 eye, int w, int h)
+{
+    sl_lighting_desc d = {.options = opt, .env = env, .irradiance = irr, .eye = eye,
+                          .inv_view_proj = mat4_identity(), .width = w, .height = h};
+    return fx_uniforms_for(&d);
 }
 
 /* A surface at the origin with normal +Z seen from a direction at N.V = nv (in the xz plane,
@@ -155,8 +165,37 @@ static inline unsigned char *fx_image_mask(const sl_gbuffer *gb)
     return m;
 }
 
-/* Three spheres (rough dielectric, glossy, metal with exponent metal_alpha) in front of a camera on -Y. */
-static inline void fx_sphere_scene(sl_gbuffer *gb, int w, int h, float metal_alpha, mat4 *inv_vp, vec3 *eye)
+/* ---- a frame to light ---- */
+
+/* What the image tests light: a G-buffer of synthetic spheres, the camera's eye and inverse
+ * view-projection, the environment (borrowed: tests build it in many ways) and its SH9 irradiance.
+ * env_lights (NULL unless a test sets it) goes into fx_frame_desc. */
+typedef struct {
+    const sl_env *env;
+    sl_irradiance irr;
+    sl_gbuffer gb;
+    mat4 inv_view_proj;
+    vec3 eye;
+    const sl_env_lights *env_lights;
+} fx_frame;
+
+/* count spheres seen by cam at w x h under env. */
+static inline void fx_frame_spheres(fx_frame *f, const sl_env *env, const sl_camera *cam, const sl_synthetic_sphere *s,
+                                    int count, int w, int h)
+{
+    memset(f, 0, sizeof *f);
+    f->env = env;
+    f->eye = cam->eye;
+    sl_error err;
+    if (!sl_irradiance_sh9(&f->irr, env, &err))
+        fail_msg("irradiance: %s", err.msg);
+    if (!sl_gbuffer_synthetic_spheres(&f->gb, w, h, cam, s, count, &f->inv_view_proj, &err))
+        fail_msg("synthetic: %s", err.msg);
+}
+
+/* The usual frame: three spheres (rough dielectric, glossy, metal with exponent metal_alpha) in
+ * front of a camera on -Y. */
+static inline void fx_frame_setup(fx_frame *f, const sl_env *env, int w, int h, float metal_alpha)
 {
     sl_camera cam = {.eye = vec3(0, -6, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 40,
                      .znear = 0.1f, .zfar = 100};
@@ -165,10 +204,67 @@ static inline void fx_sphere_scene(sl_gbuffer *gb, int w, int h, float metal_alp
         {vec3(0, 0, 0), 0.8f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), 80.0f},
         {vec3(1.6f, 0, 0), 0.8f, vec3s(0.0f), vec3(0.95f, 0.64f, 0.54f), metal_alpha},
     };
+    fx_frame_spheres(f, env, &cam, s, 3, w, h);
+}
+
+static inline void fx_frame_teardown(fx_frame *f)
+{
+    sl_gbuffer_free(&f->gb);
+    sl_irradiance_free(&f->irr);
+}
+
+/* The frame's lighting description with options o; a test adds point lights or swaps the env.
+ * The irradiance is always given: the uniforms ignore it when o.no_diffuse is set. */
+static inline sl_lighting_desc fx_frame_desc(const fx_frame *f, sl_lighting_options o)
+{
+    return (sl_lighting_desc){.options = o, .env = f->env, .irradiance = &f->irr, .eye = f->eye,
+                              .inv_view_proj = f->inv_view_proj, .width = f->gb.width, .height = f->gb.height,
+                              .env_lights = f->env_lights};
+}
+
+/* Light gb with desc on `threads` threads into out (allocated on first use): no pixel repaired
+ * (stats.nonfinite == 0) and every value finite. stats may be NULL. */
+static inline void fx_render(const sl_lighting_desc *desc, const sl_gbuffer *gb, int threads, sl_image *out,
+                             sl_lighting_stats *stats)
+{
+    sl_lighting_uniforms *u = fx_uniforms_for(desc);
+    sl_lighting_stats st;
     sl_error err;
-    if (!sl_gbuffer_synthetic_spheres(gb, w, h, &cam, s, 3, inv_vp, &err))
-        fail_msg("synthetic: %s", err.msg);
-    *eye = cam.eye;
+    if (!sl_lighting_pass(u, &st, gb, out, threads, &err))
+        fail_msg("lighting pass: %s", err.msg);
+    assert_int_equal(st.nonfinite, 0);
+    size_t n = (size_t)gb->width * (size_t)gb->height * 3;
+    for (size_t i = 0; i < n; i++)
+        if (!isfinite(out->data[i]))
+            fail_msg("value %zu of the image is %g", i, (double)out->data[i]);
+    if (stats)
+        *stats = st;
+    free(u);
+}
+
+/* fx_render of the frame with options o, one thread. */
+static inline void fx_frame_render(const fx_frame *f, sl_lighting_options o, sl_image *out)
+{
+    sl_lighting_desc d = fx_frame_desc(f, o);
+    fx_render(&d, &f->gb, 1, out, NULL);
+}
+
+/* The pass is bitwise identical for any thread count (lighting.h): run it with 1 and with 2
+ * threads and assert the same bits in every pixel (reporting the first that differs) and the
+ * same counters. out and stats (may be NULL) get the 1-thread result. */
+static inline void fx_assert_same_for_thread_counts(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
+                                                    sl_lighting_stats *stats)
+{
+    sl_image two = {0};
+    sl_lighting_stats s1, s2;
+    sl_error err;
+    if (!sl_lighting_pass(u, &s1, gb, out, 1, &err) || !sl_lighting_pass(u, &s2, gb, &two, 2, &err))
+        fail_msg("lighting pass: %s", err.msg);
+    assert_same_image(out, &two, "lighting pass, 1 thread against 2");
+    assert_same_texels(&s1, &s2, 1, sizeof s1, 0, "lighting counters, 1 thread against 2");
+    sl_image_free(&two);
+    if (stats)
+        *stats = s1;
 }
 
 #endif

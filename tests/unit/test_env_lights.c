@@ -390,12 +390,9 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
             sl_lighting_options o = {.samples = 8, .no_diffuse = true, .estimator = est,
                                      .gterm = g ? SL_GTERM_ONE : SL_GTERM_INV_LH2, .plain = plain,
                                      .env_lights = LAMP_COUNT, .env_rotation_deg = rot_deg, .env_intensity = intensity};
-            sl_lighting_uniforms *u = malloc(sizeof *u);
-            assert_non_null(u);
             sl_lighting_desc d = {.options = o, .env = env, .eye = scale(V, 10.0f), .inv_view_proj = mat4_identity(),
                                   .width = 1, .height = 1, .env_lights = el};
-            if (!sl_lighting_uniforms_init(u, &d, &err))
-                fail_msg("uniforms: %s", err.msg);
+            sl_lighting_uniforms *u = fx_uniforms_for(&d);
             vec3 c = fx_shade(u, fx_texel(N, vec3s(0.0f), ks, ALPHAS[a]));
             free(u);
             double e = 0.0;
@@ -511,12 +508,11 @@ static void test_exact_rotation_intensity(void **state)
     sl_lighting_trace *tr = malloc(sizeof *tr);
     assert_non_null(tr);
     for (int plain = 0; plain < 2; plain++) {
-        sl_lighting_uniforms *u = malloc(sizeof *u);
         sl_error err;
         sl_lighting_desc desc = {.options = {.samples = 16, .no_diffuse = true, .plain = plain, .env_lights = LAMP_COUNT},
                                  .env = &l->env, .eye = scale(V, 10.0f), .inv_view_proj = mat4_identity(), .width = 1,
                                  .height = 1, .env_lights = &l->el};
-        assert_true(sl_lighting_uniforms_init(u, &desc, &err));
+        sl_lighting_uniforms *u = fx_uniforms_for(&desc);
         assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, &err));
         assert_int_equal(tr->env_light_count, LAMP_COUNT);
         assert_true(tr->env_lights.x > 0.0f);
@@ -548,21 +544,17 @@ static void test_black_texels_as_lights(void **state)
     sl_gt_result r;
     assert_true(sl_ground_truth_shade(&l->gt, &q, &r, &err));
     for (int plain = 0; plain < 2; plain++) {
-        sl_lighting_uniforms *u = malloc(sizeof *u);
         sl_lighting_desc desc = {.options = {.samples = 8, .no_diffuse = true, .plain = plain, .env_lights = el.count},
                                  .env = &l->env, .eye = scale(V, 10.0f), .inv_view_proj = mat4_identity(), .width = 1,
                                  .height = 1, .env_lights = &el};
-        assert_true(sl_lighting_uniforms_init(u, &desc, &err));
         sl_gbuffer_texel t = fx_texel(N, vec3s(0.0f), vec3s(0.5f), 50.0f);
         sl_gbuffer gb = {1, 1, &t};
         sl_image out = {0};
-        sl_lighting_stats stats;
-        assert_true(sl_lighting_pass(u, &stats, &gb, &out, 1, &err));
-        if (stats.nonfinite != 0 || fabs(out.data[0] - r.specular[0]) > 1e-4 * r.specular[0])
-            fail_msg("%s path, %d env lights on %d lit texels: specular %.8g (%lld pixels repaired), truth %.8g", plain ? "plain" : "batched",
-                     el.count, LAMP_COUNT, (double)out.data[0], (long long)stats.nonfinite, r.specular[0]);
+        fx_render(&desc, &gb, 1, &out, NULL); /* no pixel repaired, every value finite */
+        if (fabs(out.data[0] - r.specular[0]) > 1e-4 * r.specular[0])
+            fail_msg("%s path, %d env lights on %d lit texels: specular %.8g, truth %.8g", plain ? "plain" : "batched",
+                     el.count, LAMP_COUNT, (double)out.data[0], r.specular[0]);
         sl_image_free(&out);
-        free(u);
     }
     sl_env_lights_free(&el);
 }
@@ -574,31 +566,6 @@ static vec3 sky_sun(vec3 d)
 {
     vec3 sky = vec3(0.5f + 0.4f * d.z, 0.6f + 0.2f * d.x, 1.0f - 0.3f * d.z);
     return dot(d, normalize(vec3(0.3f, -0.8f, 0.5f))) > 0.998f ? vec3(30000.0f, 27000.0f, 22000.0f) : sky;
-}
-
-static void render_el(const sl_env *env, const sl_env_lights *el, const sl_gbuffer *gb, mat4 inv, vec3 eye,
-                      sl_lighting_options o, sl_image *out)
-{
-    sl_lighting_uniforms *u = malloc(sizeof *u);
-    assert_non_null(u);
-    sl_error err;
-    sl_irradiance irr;
-    if (!o.no_diffuse)
-        assert_true(sl_irradiance_sh9(&irr, env, &err));
-    sl_lighting_desc d = {.options = o, .env = env, .irradiance = o.no_diffuse ? NULL : &irr, .eye = eye,
-                          .inv_view_proj = inv, .width = gb->width, .height = gb->height, .env_lights = el};
-    if (!sl_lighting_uniforms_init(u, &d, &err))
-        fail_msg("uniforms: %s", err.msg);
-    sl_lighting_stats st;
-    assert_true(sl_lighting_pass(u, &st, gb, out, 1, &err));
-    assert_int_equal(st.nonfinite, 0);
-    size_t n = (size_t)gb->width * (size_t)gb->height * 3;
-    for (size_t i = 0; i < n; i++)
-        if (!isfinite(out->data[i]))
-            fail_msg("value %zu of the image is %g", i, (double)out->data[i]);
-    if (!o.no_diffuse)
-        sl_irradiance_free(&irr);
-    free(u);
 }
 
 /* Specular nRMSE against the truth, luminance, over the covered pixels. */
@@ -639,15 +606,15 @@ static void test_sun_error_drops(void **state)
     const float alphas[2] = {1000.0f, 10000.0f};
     for (int a = 0; a < 2; a++) {
         sl_synthetic_sphere s = {vec3(0, 0, 0), 1.0f, vec3s(0.0f), vec3(0.9f, 0.8f, 0.7f), alphas[a]};
-        sl_gbuffer gb = {0};
-        mat4 inv;
-        assert_true(sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, &s, 1, &inv, &err));
-        unsigned char *mask = fx_image_mask(&gb);
+        fx_frame f;
+        fx_frame_spheres(&f, &env, &cam, &s, 1, W, H);
+        const sl_gbuffer *gb = &f.gb;
+        unsigned char *mask = fx_image_mask(gb);
         double *truth = calloc((size_t)W * H, sizeof *truth);
         assert_non_null(truth);
         for (int y = 0; y < H; y++)
             for (int x = 0; x < W; x++) {
-                const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+                const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
                 if (!sl_gbuffer_covered(t))
                     continue;
                 vec3 v = normalize(sub(cam.eye, t->position));
@@ -660,12 +627,13 @@ static void test_sun_error_drops(void **state)
         sl_lighting_options o = {.samples = 32, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_PDF,
                                  .distortion = true, .no_diffuse = true};
         sl_image off = {0}, on = {0}, off2 = {0};
-        render_el(&env, NULL, &gb, inv, cam.eye, o, &off);
+        fx_frame_render(&f, o, &off);
         /* K = 0 with lights at hand: the feature is off, bit for bit */
-        render_el(&env, &el, &gb, inv, cam.eye, o, &off2);
+        f.env_lights = &el;
+        fx_frame_render(&f, o, &off2);
         assert_memory_equal(off.data, off2.data, sizeof(float) * 3 * W * H);
         o.env_lights = 16;
-        render_el(&env, &el, &gb, inv, cam.eye, o, &on);
+        fx_frame_render(&f, o, &on);
         double e_off = nrmse(&off, truth, mask), e_on = nrmse(&on, truth, mask);
         print_message("alpha %g: specular nRMSE vs ground truth without env lights %.4g, with 16: %.4g (%.0fx)\n",
                       (double)alphas[a], e_off, e_on, e_off / e_on);
@@ -677,7 +645,7 @@ static void test_sun_error_drops(void **state)
         sl_image_free(&on);
         free(truth);
         free(mask);
-        sl_gbuffer_free(&gb);
+        fx_frame_teardown(&f);
     }
     sl_env_lights_free(&el);
     sl_ground_truth_free(&gt);
@@ -696,10 +664,9 @@ static void test_plain_vs_batched(void **state)
     sl_env_lights el;
     sl_error err;
     assert_true(sl_env_lights_extract(&el, &env, 24, &err));
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 72, 48, 5000.0f, &inv, &eye);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 72, 48, 5000.0f);
+    f.env_lights = &el;
     const sl_lighting_options variants[] = {
         {.samples = 20},
         {.samples = 32, .estimator = SL_ESTIMATOR_MICROFACET, .lod_rule = SL_LOD_PDF, .distortion = true},
@@ -711,9 +678,9 @@ static void test_plain_vs_batched(void **state)
         sl_image a = {0}, b = {0};
         sl_lighting_options o = variants[v];
         o.env_lights = 24;
-        render_el(&env, &el, &gb, inv, eye, o, &a);
+        fx_frame_render(&f, o, &a);
         o.plain = true;
-        render_el(&env, &el, &gb, inv, eye, o, &b);
+        fx_frame_render(&f, o, &b);
         double mx, mean;
         fx_image_rel_diff(&a, &b, &mx, &mean);
         print_message("variant %zu: batched vs plain with env lights: max rel %.3g, mean rel %.3g\n", v, mx, mean);
@@ -723,14 +690,14 @@ static void test_plain_vs_batched(void **state)
         /* the feature is wired in both paths: the image differs from the one without */
         sl_image c = {0};
         o.env_lights = 0;
-        render_el(&env, &el, &gb, inv, eye, o, &c);
+        fx_frame_render(&f, o, &c);
         fx_image_rel_diff(&b, &c, &mx, &mean);
         assert_true(mx > 1e-3);
         sl_image_free(&a);
         sl_image_free(&b);
         sl_image_free(&c);
     }
-    sl_gbuffer_free(&gb);
+    fx_frame_teardown(&f);
     sl_env_lights_free(&el);
     sl_env_free(&env);
 }

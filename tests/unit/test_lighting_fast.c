@@ -95,23 +95,6 @@ static void test_hash_hand_values(void **state)
     }
 }
 
-/* Render gb with the given options; `env` is the environment. */
-static void render(const sl_env *env, const sl_irradiance *irr, const sl_gbuffer *gb, mat4 inv, vec3 eye,
-                   sl_lighting_options o, sl_image *out)
-{
-    sl_lighting_uniforms *u = malloc(sizeof *u);
-    assert_non_null(u);
-    sl_error err;
-    sl_lighting_desc d = {.options = o, .env = env, .irradiance = irr, .eye = eye, .inv_view_proj = inv,
-                          .width = gb->width, .height = gb->height};
-    if (!sl_lighting_uniforms_init(u, &d, &err))
-        fail_msg("uniforms: %s", err.msg);
-    sl_lighting_stats st;
-    assert_true(sl_lighting_pass(u, &st, gb, out, 1, &err));
-    assert_int_equal(st.nonfinite, 0);
-    free(u);
-}
-
 /* The batched path against the plain port, option by option, on three spheres (rough,
  * glossy, a metal of alpha 5000) under a smooth sky and under a sky with a 200x sun. The two
  * differ by the fast functions' rounding (1e-7 .. 3e-7, above) moving a sample's lod and texel
@@ -123,10 +106,6 @@ static void test_batched_vs_plain(void **state)
     sl_env envs[2];
     fx_env(&envs[0], 128, 64, sky_gradient);
     fx_env(&envs[1], 256, 128, sky_with_sun);
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 96, 64, 5000.0f, &inv, &eye);
     const sl_lighting_options variants[] = {
         {.samples = 20},
         {.samples = 40, .lod_rule = SL_LOD_SPEC},
@@ -157,15 +136,14 @@ static void test_batched_vs_plain(void **state)
          .distortion = true},
     };
     for (int e = 0; e < 2; e++) {
-        sl_irradiance irr;
-        sl_error err;
-        assert_true(sl_irradiance_sh9(&irr, &envs[e], &err));
+        fx_frame f;
+        fx_frame_setup(&f, &envs[e], 96, 64, 5000.0f);
         for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
             sl_image a = {0}, b = {0};
             sl_lighting_options o = variants[v];
-            render(&envs[e], &irr, &gb, inv, eye, o, &a);
+            fx_frame_render(&f, o, &a);
             o.plain = true;
-            render(&envs[e], &irr, &gb, inv, eye, o, &b);
+            fx_frame_render(&f, o, &b);
             double mx, mean;
             fx_image_rel_diff(&a, &b, &mx, &mean);
             print_message("env %d variant %zu: batched vs plain: max rel %.3g, mean rel %.3g\n", e, v, mx, mean);
@@ -174,9 +152,8 @@ static void test_batched_vs_plain(void **state)
             sl_image_free(&a);
             sl_image_free(&b);
         }
-        sl_irradiance_free(&irr);
+        fx_frame_teardown(&f);
     }
-    sl_gbuffer_free(&gb);
     sl_env_free(&envs[0]);
     sl_env_free(&envs[1]);
 }
@@ -200,10 +177,8 @@ static void test_block_fetch_bitwise(void **state)
         assert_non_null(loose.levels[l].texels);
         memcpy(loose.levels[l].texels, env.levels[l].texels, n * sizeof(vec3));
     }
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 64, 48, 300.0f, &inv, &eye);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 64, 48, 300.0f);
     const sl_lighting_options variants[] = {
         {.samples = 24},
         {.samples = 24, .rotate = true, .lod_rule = SL_LOD_GEMS},
@@ -214,14 +189,16 @@ static void test_block_fetch_bitwise(void **state)
         sl_image a = {0}, b = {0};
         sl_lighting_options o = variants[v];
         o.no_diffuse = true;
-        render(&env, NULL, &gb, inv, eye, o, &a);
-        render(&loose, NULL, &gb, inv, eye, o, &b);
+        fx_frame_render(&f, o, &a);
+        sl_lighting_desc d = fx_frame_desc(&f, o);
+        d.env = &loose;
+        fx_render(&d, &f.gb, 1, &b, NULL);
         assert_memory_equal(a.data, b.data, sizeof(float) * 64 * 48 * 3);
         sl_image_free(&a);
         sl_image_free(&b);
     }
     sl_env_free(&loose);
-    sl_gbuffer_free(&gb);
+    fx_frame_teardown(&f);
     sl_env_free(&env);
 }
 
@@ -233,22 +210,18 @@ static void test_rotation_off_and_determinism(void **state)
     (void)state;
     sl_env env;
     fx_env(&env, 128, 64, sky_with_sun);
-    sl_irradiance irr;
     sl_error err;
-    assert_true(sl_irradiance_sh9(&irr, &env, &err));
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 80, 48, 1000.0f, &inv, &eye);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 80, 48, 1000.0f);
+    const sl_gbuffer *gb = &f.gb;
     const size_t bytes = sizeof(float) * 80 * 48 * 3;
     for (int plain = 0; plain < 2; plain++) {
         sl_image a = {0}, b = {0}, c = {0};
-        render(&env, &irr, &gb, inv, eye, (sl_lighting_options){.samples = 16, .plain = plain}, &a);
-        render(&env, &irr, &gb, inv, eye, (sl_lighting_options){.samples = 16, .plain = plain, .frame = 77}, &b);
+        fx_frame_render(&f, (sl_lighting_options){.samples = 16, .plain = plain}, &a);
+        fx_frame_render(&f, (sl_lighting_options){.samples = 16, .plain = plain, .frame = 77}, &b);
         assert_memory_equal(a.data, b.data, bytes);
-        render(&env, &irr, &gb, inv, eye, (sl_lighting_options){.samples = 16, .plain = plain, .rotate = true}, &b);
-        render(&env, &irr, &gb, inv, eye, (sl_lighting_options){.samples = 16, .plain = plain, .rotate = true, .frame = 1},
-               &c);
+        fx_frame_render(&f, (sl_lighting_options){.samples = 16, .plain = plain, .rotate = true}, &b);
+        fx_frame_render(&f, (sl_lighting_options){.samples = 16, .plain = plain, .rotate = true, .frame = 1}, &c);
         assert_true(memcmp(a.data, b.data, bytes) != 0);
         assert_true(memcmp(b.data, c.data, bytes) != 0);
         sl_image_free(&a);
@@ -256,22 +229,18 @@ static void test_rotation_off_and_determinism(void **state)
         sl_image_free(&c);
     }
     /* rotation on: pass (1 and 2 threads) = sl_lighting_shade per pixel = the trace's total */
-    sl_lighting_uniforms *u = malloc(sizeof *u);
-    sl_lighting_desc d = {.options = {.samples = 24, .rotate = true, .frame = 5}, .env = &env, .irradiance = &irr,
-                          .eye = eye, .inv_view_proj = inv, .width = 80, .height = 48};
-    assert_true(sl_lighting_uniforms_init(u, &d, &err));
-    sl_image p1 = {0}, p2 = {0};
-    assert_true(sl_lighting_pass(u, NULL, &gb, &p1, 1, &err));
-    assert_true(sl_lighting_pass(u, NULL, &gb, &p2, 2, &err));
-    assert_memory_equal(p1.data, p2.data, bytes);
+    sl_lighting_desc d = fx_frame_desc(&f, (sl_lighting_options){.samples = 24, .rotate = true, .frame = 5});
+    sl_lighting_uniforms *u = fx_uniforms_for(&d);
+    sl_image p1 = {0};
+    fx_assert_same_for_thread_counts(u, gb, &p1, NULL);
     sl_lighting_trace *tr = malloc(sizeof *tr);
     assert_non_null(tr);
     for (int y = 0; y < 48; y += 5)
         for (int x = 0; x < 80; x += 7) {
-            vec3 c = sl_lighting_shade(u, &gb, x, y, NULL, NULL);
+            vec3 c = sl_lighting_shade(u, gb, x, y, NULL, NULL);
             const float *p = sl_image_pixel(&p1, x, 47 - y);
             assert_memory_equal(&c, p, sizeof(float) * 3);
-            assert_true(sl_lighting_trace_pixel(u, &gb, x, 47 - y, tr, &err));
+            assert_true(sl_lighting_trace_pixel(u, gb, x, 47 - y, tr, &err));
             assert_memory_equal(&tr->total, p, sizeof(float) * 3);
             if (tr->covered) {
                 vec2 r = sl_lighting_pixel_rotation(x, y, 5);
@@ -280,14 +249,12 @@ static void test_rotation_off_and_determinism(void **state)
             }
         }
     vec3 row[80]; /* a whole row at once (the viewer's call) = the pass */
-    sl_lighting_shade_row(u, &gb, 0, 20, 80, NULL, row);
+    sl_lighting_shade_row(u, gb, 0, 20, 80, NULL, row);
     assert_memory_equal(row, sl_image_pixel(&p1, 0, 47 - 20), sizeof row);
     free(tr);
     free(u);
     sl_image_free(&p1);
-    sl_image_free(&p2);
-    sl_gbuffer_free(&gb);
-    sl_irradiance_free(&irr);
+    fx_frame_teardown(&f);
     sl_env_free(&env);
 }
 
@@ -301,56 +268,49 @@ static void test_microfacet_determinism(void **state)
     (void)state;
     sl_env env;
     fx_env(&env, 128, 64, sky_with_sun);
-    sl_irradiance irr;
     sl_error err;
-    assert_true(sl_irradiance_sh9(&irr, &env, &err));
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 80, 48, 1000.0f, &inv, &eye);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 80, 48, 1000.0f);
+    const sl_gbuffer *gb = &f.gb;
     const size_t bytes = sizeof(float) * 80 * 48 * 3;
     sl_lighting_trace *tr = malloc(sizeof *tr);
     assert_non_null(tr);
     for (int rot = 0; rot < 2; rot++) {
-        sl_lighting_uniforms *u = malloc(sizeof *u), *us = malloc(sizeof *us);
-        sl_lighting_desc d = {.options = {.samples = 24, .rotate = rot, .frame = 5, .lod_rule = SL_LOD_GEMS,
-                                          .estimator = SL_ESTIMATOR_MICROFACET},
-                              .env = &env, .irradiance = &irr, .eye = eye, .inv_view_proj = inv, .width = 80, .height = 48};
-        assert_true(sl_lighting_uniforms_init(u, &d, &err));
+        sl_lighting_desc d = fx_frame_desc(&f, (sl_lighting_options){.samples = 24, .rotate = rot, .frame = 5,
+                                                  .lod_rule = SL_LOD_GEMS, .estimator = SL_ESTIMATOR_MICROFACET});
+        sl_lighting_uniforms *u = fx_uniforms_for(&d);
         d.options.estimator = SL_ESTIMATOR_SPEC;
-        assert_true(sl_lighting_uniforms_init(us, &d, &err));
+        sl_lighting_uniforms *us = fx_uniforms_for(&d);
         sl_image p1 = {0}, p2 = {0};
-        assert_true(sl_lighting_pass(u, NULL, &gb, &p1, 1, &err));
-        assert_true(sl_lighting_pass(u, NULL, &gb, &p2, 2, &err));
-        assert_memory_equal(p1.data, p2.data, bytes);
+        fx_assert_same_for_thread_counts(u, gb, &p1, NULL);
         sl_lighting_task *task = sl_lighting_task_create(&err);
         assert_non_null(task);
         for (int y = 0; y < 48; y += 5)
             for (int x = 0; x < 80; x += 7) {
-                vec3 c = sl_lighting_shade(u, &gb, x, y, NULL, NULL);
+                vec3 c = sl_lighting_shade(u, gb, x, y, NULL, NULL);
                 const float *p = sl_image_pixel(&p1, x, 47 - y);
                 assert_memory_equal(&c, p, sizeof(float) * 3);
                 /* one task, the two estimators in turn: the tables must not mix */
-                vec3 s1 = sl_lighting_shade(us, &gb, x, y, task, NULL);
+                vec3 s1 = sl_lighting_shade(us, gb, x, y, task, NULL);
                 sl_lighting_task_reset(task);
-                vec3 m1 = sl_lighting_shade(u, &gb, x, y, task, NULL);
+                vec3 m1 = sl_lighting_shade(u, gb, x, y, task, NULL);
                 assert_memory_equal(&m1, p, sizeof(float) * 3);
                 sl_lighting_task_reset(task);
-                vec3 s2 = sl_lighting_shade(us, &gb, x, y, NULL, NULL);
+                vec3 s2 = sl_lighting_shade(us, gb, x, y, NULL, NULL);
                 assert_memory_equal(&s1, &s2, sizeof(float) * 3);
-                assert_true(sl_lighting_trace_pixel(u, &gb, x, 47 - y, tr, &err));
+                assert_true(sl_lighting_trace_pixel(u, gb, x, 47 - y, tr, &err));
                 assert_memory_equal(&tr->total, p, sizeof(float) * 3);
                 if (tr->covered)
                     assert_true(tr->microfacet);
             }
         vec3 row[80];
-        sl_lighting_shade_row(u, &gb, 0, 20, 80, NULL, row);
+        sl_lighting_shade_row(u, gb, 0, 20, 80, NULL, row);
         assert_memory_equal(row, sl_image_pixel(&p1, 0, 47 - 20), sizeof row);
         if (!rot) { /* rotation off: the frame number changes nothing */
             d.options.estimator = SL_ESTIMATOR_MICROFACET;
             d.options.frame = 77;
             assert_true(sl_lighting_uniforms_init(u, &d, &err));
-            assert_true(sl_lighting_pass(u, NULL, &gb, &p2, 2, &err));
+            assert_true(sl_lighting_pass(u, NULL, gb, &p2, 2, &err));
             assert_memory_equal(p1.data, p2.data, bytes);
         }
         sl_lighting_task_destroy(task);
@@ -360,8 +320,7 @@ static void test_microfacet_determinism(void **state)
         free(us);
     }
     free(tr);
-    sl_gbuffer_free(&gb);
-    sl_irradiance_free(&irr);
+    fx_frame_teardown(&f);
     sl_env_free(&env);
 }
 
@@ -409,15 +368,15 @@ static void test_rotation_converges(void **state)
     sl_synthetic_sphere s = {vec3(0, 0, 0), 1.0f, vec3s(0.0f), vec3s(0.9f), 1.0f};
     const int W = 64, H = 64;
     const float NV_MIN = 0.9f;
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    assert_true(sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, &s, 1, &inv, &err));
+    fx_frame f;
+    fx_frame_spheres(&f, &env, &cam, &s, 1, W, H);
+    const sl_gbuffer *gb = &f.gb;
     /* the truth, per covered pixel (image orientation: row 0 = top) */
     double *truth = calloc((size_t)W * H, sizeof *truth);
     assert_non_null(truth);
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
-            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
             if (!sl_gbuffer_covered(t))
                 continue;
             vec3 v = normalize(sub(cam.eye, t->position));
@@ -427,14 +386,14 @@ static void test_rotation_converges(void **state)
         }
     sl_lighting_options o = {.samples = 4, .no_diffuse = true, .estimator = SL_ESTIMATOR_CONSISTENT, .lod_rule = SL_LOD_NONE};
     sl_image plain = {0}, one = {0}, mean = {0}, frame = {0};
-    render(&env, NULL, &gb, inv, cam.eye, o, &plain);
+    fx_frame_render(&f, o, &plain);
     o.rotate = true;
     const int K = 16;
     for (int k = 0; k < K; k++) {
         o.frame = (uint32_t)k;
-        render(&env, NULL, &gb, inv, cam.eye, o, &frame);
+        fx_frame_render(&f, o, &frame);
         if (k == 0)
-            render(&env, NULL, &gb, inv, cam.eye, o, &one);
+            fx_frame_render(&f, o, &one);
         assert_true(sl_lighting_accumulate(&mean, &frame, k, &err));
     }
     double e_plain = 0, e_one = 0, e_mean = 0;
@@ -461,7 +420,7 @@ static void test_rotation_converges(void **state)
     sl_image_free(&one);
     sl_image_free(&mean);
     sl_image_free(&frame);
-    sl_gbuffer_free(&gb);
+    fx_frame_teardown(&f);
     sl_ground_truth_free(&gt);
     sl_env_free(&env);
 }

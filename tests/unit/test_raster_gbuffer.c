@@ -100,10 +100,7 @@ static void test_gbuffer_shader(void **state)
                       .objects = &(sl_object){.name = "tilted", .mesh = 0, .material = 0, .model = model},
                       .object_count = 1};
     sl_gbuffer gb = {0};
-    sl_error err = {0};
-    assert_true(sl_gbuffer_resize(&gb, W, H, &err));
-    sl_raster *r = make_raster(2, 16);
-    assert_true(sl_raster_scene(r, &scene, &cam, &gb, &err));
+    test_raster_scene(&(sl_raster_desc){.threads = 2, .tile_size = 16, .stats = true}, &scene, &cam, W, H, &gb);
 
     vec3 nw = normalize(mat3_mul_vec3(mat3_from_mat4(R), vec3(0.5f, 0, 1)));
     vec3 origin = vec3(0.2f, 0.1f, -0.3f);
@@ -137,7 +134,6 @@ static void test_gbuffer_shader(void **state)
     /* sanity of the reference: the naive M n differs from the right normal by far more */
     vec3 naive = normalize(mat3_mul_vec3(mat3_from_mat4(model), normalize(vec3(1, 0, 1))));
     assert_true(length(sub(naive, nw)) > 0.1f);
-    sl_raster_destroy(r);
     sl_gbuffer_free(&gb);
 }
 
@@ -181,31 +177,20 @@ static void test_determinism(void **state)
     const int configs[][2] = {{1, 16}, {2, 16}, {2, 32}, {3, 64}, {1, 128}, {2, 256}};
     sl_gbuffer ref = {0}, gb = {0};
     sl_raster_stats ref_stats = {0};
-    sl_error err = {0};
     for (int k = 0; k < 6; k++) {
-        sl_raster *r = make_raster(configs[k][0], configs[k][1]);
-        sl_gbuffer *out = k == 0 ? &ref : &gb;
-        assert_true(sl_gbuffer_resize(out, W, H, &err));
-        if (!sl_raster_scene(r, &s.scene, &s.cam, out, &err))
-            print_error("%s\n", err.msg);
-        sl_raster_stats st = sl_raster_get_stats(r);
+        sl_raster_desc desc = {.threads = configs[k][0], .tile_size = configs[k][1], .stats = true};
+        sl_raster_stats st = test_raster_scene(&desc, &s.scene, &s.cam, W, H, k == 0 ? &ref : &gb);
         if (k == 0) {
             ref_stats = st;
         } else {
-            size_t diff = 0;
-            for (size_t i = 0; i < (size_t)W * H; i++)
-                diff += memcmp(&ref.texels[i], &gb.texels[i], sizeof gb.texels[i]) != 0;
-            if (diff)
-                print_error("threads %d, tile %d: %zu texels differ from threads 1, tile 16\n", configs[k][0],
-                            configs[k][1], diff);
-            assert_int_equal(diff, 0);
+            assert_same_texels(ref.texels, gb.texels, (size_t)W * H, sizeof *gb.texels, W,
+                               "threads %d, tile %d against threads 1, tile 16", configs[k][0], configs[k][1]);
             /* counters that do not depend on the tiling (binned does: a triangle covering no
              * pixel centre may pass a big tile's conservative test and fail a small one's) */
             assert_int_equal(st.fragments_shaded, ref_stats.fragments_shaded);
             assert_int_equal(st.triangles_in, ref_stats.triangles_in);
             assert_int_equal(st.triangles_clipped, ref_stats.triangles_clipped);
         }
-        sl_raster_destroy(r);
     }
     assert_true(ref_stats.triangles_clipped > 0);
     /* The plane (material a) is visible and never overwritten by its coplanar twin (b). */
@@ -231,9 +216,7 @@ static void test_aov_roundtrip(void **state)
     scene_init(&s);
     sl_gbuffer gb = {0}, back = {0};
     sl_error err = {0};
-    assert_true(sl_gbuffer_resize(&gb, W, H, &err));
-    sl_raster *r = make_raster(2, 32);
-    assert_true(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
+    test_raster_scene(&(sl_raster_desc){.threads = 2, .tile_size = 32, .stats = true}, &s.scene, &s.cam, W, H, &gb);
     const char *dir = test_tmpdir();
     if (!sl_gbuffer_write_aovs(&gb, s.cam.eye, dir, &err))
         print_error("%s\n", err.msg);
@@ -292,7 +275,6 @@ static void test_aov_roundtrip(void **state)
             assert_true(p[1] == e);
         }
     sl_image_free(&nimg);
-    sl_raster_destroy(r);
     sl_gbuffer_free(&gb);
     sl_gbuffer_free(&back);
     free_mesh(&s.meshes[0]);

@@ -24,15 +24,6 @@ static sl_raster *make_raster(int threads, int tile, bool plain)
     return r;
 }
 
-/* Texels of two buffers that differ (texel_size bytes each). */
-static size_t count_diff(const void *a, const void *b, size_t n, size_t texel_size)
-{
-    size_t diff = 0;
-    for (size_t i = 0; i < n; i++)
-        diff += memcmp((const char *)a + i * texel_size, (const char *)b + i * texel_size, texel_size) != 0;
-    return diff;
-}
-
 /* ---- meshes ---- */
 
 /* A UV sphere (radius 1) with smooth normals: curved, many small triangles. */
@@ -146,12 +137,9 @@ static void test_gbuffer_span_vs_plain(void **state)
     scene_init(&s);
     sl_error err = {0};
     sl_gbuffer ref = {0}, gb = {0};
-    assert_true(sl_gbuffer_resize(&ref, W, H, &err));
     assert_true(sl_gbuffer_resize(&gb, W, H, &err));
-    sl_raster *plain = make_raster(1, 64, true);
-    assert_true(sl_raster_scene(plain, &s.scene, &s.cam, &ref, &err));
-    sl_raster_stats ps = sl_raster_get_stats(plain);
-    sl_raster_destroy(plain);
+    sl_raster_desc plain = {.threads = 1, .tile_size = 64, .stats = true, .plain = true};
+    sl_raster_stats ps = test_raster_scene(&plain, &s.scene, &s.cam, W, H, &ref);
     size_t covered = 0;
     for (size_t i = 0; i < (size_t)W * H; i++)
         covered += sl_gbuffer_covered(&ref.texels[i]);
@@ -162,15 +150,10 @@ static void test_gbuffer_span_vs_plain(void **state)
     const int configs[][2] = {{1, 64}, {2, 16}, {2, 32}, {3, 128}, {1, 256}};
     for (int k = 0; k < 5; k++) {
         memset(gb.texels, 0xA5, (size_t)W * H * sizeof *gb.texels); /* the clear must overwrite this */
-        sl_raster *r = make_raster(configs[k][0], configs[k][1], false);
-        assert_true(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
-        sl_raster_stats st = sl_raster_get_stats(r);
-        sl_raster_destroy(r);
-        size_t diff = count_diff(ref.texels, gb.texels, (size_t)W * H, sizeof *gb.texels);
-        if (diff)
-            print_error("threads %d, tile %d: %zu texels differ between span and plain paths\n", configs[k][0],
-                        configs[k][1], diff);
-        assert_int_equal(diff, 0);
+        sl_raster_desc desc = {.threads = configs[k][0], .tile_size = configs[k][1], .stats = true};
+        sl_raster_stats st = test_raster_scene(&desc, &s.scene, &s.cam, W, H, &gb);
+        assert_same_texels(ref.texels, gb.texels, (size_t)W * H, sizeof *gb.texels, W,
+                           "threads %d, tile %d: span path against plain path", configs[k][0], configs[k][1]);
         assert_int_equal(st.fragments_tested, ps.fragments_tested);
         assert_int_equal(st.fragments_shaded, ps.fragments_shaded);
     }
@@ -225,10 +208,8 @@ static void test_gbuffer_span_shader(void **state)
                              .front_facing = true, .x = xs[j], .y = 4};
         sl_gbuffer_frag(&u, &in, b + (size_t)xs[j] * STRIDE);
     }
-    size_t diff = count_diff(a, b, (size_t)(3 * N + 2), STRIDE);
-    if (diff)
-        print_error("%zu of %d texels differ (stride %d)\n", diff, N, STRIDE);
-    assert_int_equal(diff, 0);
+    assert_same_texels(a, b, (size_t)(3 * N + 2), STRIDE, 0, "span shader against sl_gbuffer_frag (stride %d)",
+                       STRIDE);
     const sl_gbuffer_texel *t5 = (const sl_gbuffer_texel *)(a + (size_t)xs[5] * STRIDE);
     const sl_gbuffer_texel *t6 = (const sl_gbuffer_texel *)(a + (size_t)xs[6] * STRIDE);
     const sl_gbuffer_texel *t7 = (const sl_gbuffer_texel *)(a + (size_t)xs[7] * STRIDE);
@@ -331,11 +312,9 @@ static void test_generic_span_vs_plain(void **state)
             draw_probe(r, out, W, H, depth, &clear);
             sl_raster_stats st = sl_raster_get_stats(r);
             sl_raster_destroy(r);
-            size_t diff = count_diff(ref, out, n, sizeof *out);
-            if (diff)
-                print_error("depth %d, threads %d, tile %d: %zu texels differ\n", depth, configs[k][0], configs[k][1],
-                            diff);
-            assert_int_equal(diff, 0);
+            assert_same_texels(ref, out, n, sizeof *out, W,
+                               "depth %d, threads %d, tile %d: span path against plain path", depth, configs[k][0],
+                               configs[k][1]);
             assert_int_equal(st.fragments_shaded, ps.fragments_shaded);
             assert_int_equal(st.fragments_tested, ps.fragments_tested);
         }
@@ -414,10 +393,7 @@ static void test_draw_list(void **state)
         assert_true(sl_raster_draw_list(r, &tb, draws, 7, &err));
         sl_raster_stats list = sl_raster_get_stats(r);
         sl_raster_destroy(r);
-        size_t diff = count_diff(a, b, n, sizeof *a);
-        if (diff)
-            print_error("plain %d: %zu texels differ between the list and single draws\n", plain, diff);
-        assert_int_equal(diff, 0);
+        assert_same_texels(a, b, n, sizeof *a, W, "plain %d: the list against single draws", plain);
         assert_int_equal(list.fragments_shaded, one.fragments_shaded);
         assert_int_equal(list.triangles_in, one.triangles_in);
         assert_int_equal(list.triangles_culled, one.triangles_culled);
@@ -503,10 +479,7 @@ static void test_span_fill_rule(void **state)
         assert_true(sl_raster_draw(r, &(sl_target){64, 64, sizeof(uint32_t), out, SL_NO_DEPTH},
                                    &(sl_draw){.program = &prog, .mesh = &m}, &err));
         sl_raster_destroy(r);
-        size_t diff = count_diff(ref, out, 64 * 64, sizeof(uint32_t));
-        if (diff)
-            print_error("tile %d: %zu pixels differ from the plain path\n", tiles[k], diff);
-        assert_int_equal(diff, 0);
+        assert_same_texels(ref, out, 64 * 64, sizeof(uint32_t), 64, "tile %d against the plain path", tiles[k]);
     }
 }
 
@@ -582,10 +555,8 @@ static void test_clear_batches(void **state)
             const sl_draw dc = {.program = &prog_count, .mesh = &grid, .clear = &clear};
             assert_true(sl_raster_draw(r, &tb, &dc, &err));
             sl_raster_destroy(r);
-            size_t diff = count_diff(a, b, (size_t)W * H, sizeof *a);
-            if (diff)
-                print_error("depth %d, plain %d: %zu texels differ\n", depth, plain, diff);
-            assert_int_equal(diff, 0);
+            assert_same_texels(a, b, (size_t)W * H, sizeof *a, W,
+                               "depth %d, plain %d: fused clear against cleared by hand", depth, plain);
             /* by hand: a corner pixel is never covered; the centre is covered by the grid
              * (once) and by the near triangle (with depth it wins; without, both count) */
             assert_true(b[0].tag == clear.tag && b[0].count == 100 && b[0].depth == 1.0f);
@@ -659,10 +630,8 @@ static void test_scene_clear(void **state)
                      .mesh = &s.meshes[s.objects[i].mesh]};
         assert_true(sl_raster_draw(r, &target, &d, &err));
     }
-    size_t diff = count_diff(a.texels, b.texels, (size_t)W * H, sizeof *a.texels);
-    if (diff)
-        print_error("%zu texels differ\n", diff);
-    assert_int_equal(diff, 0);
+    assert_same_texels(a.texels, b.texels, (size_t)W * H, sizeof *a.texels, W,
+                       "sl_raster_scene against sl_gbuffer_clear and the draws");
     /* an empty scene still clears */
     sl_scene empty = s.scene;
     empty.object_count = 0;

@@ -575,17 +575,12 @@ static void test_background(void **state)
     fx_env(&env, 256, 128, by_direction);
     sl_camera cam = {.eye = vec3(0, 0, 0), .target = vec3(1, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 60,
                      .znear = 0.1f, .zfar = 10};
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    sl_error err;
-    assert_true(sl_gbuffer_synthetic_spheres(&gb, 33, 33, &cam, NULL, 0, &inv, &err));
-    sl_lighting_uniforms *u = malloc(sizeof *u);
-    sl_lighting_desc d = {.options = {.no_diffuse = true, .env_intensity = 2.0f}, .env = &env, .eye = cam.eye,
-                          .inv_view_proj = inv, .width = 33, .height = 33};
-    assert_true(sl_lighting_uniforms_init(u, &d, &err));
+    fx_frame f;
+    fx_frame_spheres(&f, &env, &cam, NULL, 0, 33, 33);
+    sl_lighting_desc d = fx_frame_desc(&f, (sl_lighting_options){.no_diffuse = true, .env_intensity = 2.0f});
     sl_image out = {0};
     sl_lighting_stats st;
-    assert_true(sl_lighting_pass(u, &st, &gb, &out, 1, &err));
+    fx_render(&d, &f.gb, 1, &out, &st);
     assert_int_equal(st.background, 33 * 33);
     /* centre pixel looks along +X: (1 + 1, 1, 1) * 2, to the bilinear filter's accuracy */
     float *p = sl_image_pixel(&out, 16, 16);
@@ -596,8 +591,7 @@ static void test_background(void **state)
     assert_true(sl_image_pixel(&out, 16, 0)[2] > 2.0f + 0.5f);
     assert_true(sl_image_pixel(&out, 16, 32)[2] < 2.0f - 0.5f);
     sl_image_free(&out);
-    free(u);
-    sl_gbuffer_free(&gb);
+    fx_frame_teardown(&f);
     sl_env_free(&env);
 }
 
@@ -608,40 +602,30 @@ static void test_determinism(void **state)
     (void)state;
     sl_env env;
     fx_env(&env, 128, 64, sky_gradient);
-    sl_irradiance irr;
-    sl_error err;
-    assert_true(sl_irradiance_sh9(&irr, &env, &err));
-    sl_gbuffer gb = {0};
-    mat4 inv;
-    vec3 eye;
-    fx_sphere_scene(&gb, 96, 64, 5000.0f, &inv, &eye);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 96, 64, 5000.0f);
     sl_point_light light = {.position = vec3(2, -3, 3), .color = vec3s(1), .intensity = 10};
-    sl_lighting_uniforms *u = malloc(sizeof *u);
-    sl_lighting_desc d = {.options = {.samples = 20}, .env = &env, .irradiance = &irr, .eye = eye,
-                          .inv_view_proj = inv, .width = 96, .height = 64, .lights = &light, .light_count = 1};
-    assert_true(sl_lighting_uniforms_init(u, &d, &err));
-    sl_image a = {0}, b = {0};
-    sl_lighting_stats sa, sb;
-    assert_true(sl_lighting_pass(u, &sa, &gb, &a, 1, &err));
-    assert_true(sl_lighting_pass(u, &sb, &gb, &b, 2, &err));
-    assert_memory_equal(a.data, b.data, sizeof(float) * 96 * 64 * 3);
-    assert_int_equal(sa.samples, sb.samples);
+    sl_lighting_desc d = fx_frame_desc(&f, (sl_lighting_options){.samples = 20});
+    d.lights = &light;
+    d.light_count = 1;
+    sl_lighting_uniforms *u = fx_uniforms_for(&d);
+    sl_image a = {0};
+    sl_lighting_stats sa;
+    fx_assert_same_for_thread_counts(u, &f.gb, &a, &sa);
     assert_int_equal(sa.pixels, 96 * 64);
     assert_int_equal(sa.nonfinite, 0);
     assert_true(sa.background > 0 && sa.background < 96 * 64);
     for (int y = 0; y < 64; y += 7)
         for (int x = 0; x < 96; x += 5) {
-            vec3 c = sl_lighting_shade(u, &gb, x, y, NULL, NULL);
+            vec3 c = sl_lighting_shade(u, &f.gb, x, y, NULL, NULL);
             float *p = sl_image_pixel(&a, x, 63 - y);
             assert_memory_equal(&c.x, &p[0], sizeof(float));
             assert_memory_equal(&c.y, &p[1], sizeof(float));
             assert_memory_equal(&c.z, &p[2], sizeof(float));
         }
     sl_image_free(&a);
-    sl_image_free(&b);
     free(u);
-    sl_gbuffer_free(&gb);
-    sl_irradiance_free(&irr);
+    fx_frame_teardown(&f);
     sl_env_free(&env);
 }
 

@@ -48,6 +48,75 @@ void test_assert_near(double a, double b, double tol, const char *sa, const char
     }
 }
 
+/* Fail at file:line if a and b differ, naming the first differing texel (x,y in rows of width)
+ * and its first differing 32-bit word as a float and in hex. texel_size is a multiple of 4. */
+static void report_difference(const char *file, int line, const unsigned char *a, const unsigned char *b,
+                              size_t count, size_t texel_size, int width, const char *what, va_list ap)
+{
+    size_t first = count, differing = 0;
+    for (size_t i = 0; i < count; i++)
+        if (memcmp(a + i * texel_size, b + i * texel_size, texel_size) != 0 && differing++ == 0)
+            first = i;
+    if (!differing)
+        return;
+    const unsigned char *pa = a + first * texel_size, *pb = b + first * texel_size;
+    size_t word = 0;
+    while (4 * word + 4 < texel_size && !memcmp(pa + 4 * word, pb + 4 * word, 4))
+        word++;
+    uint32_t ua, ub;
+    float fa, fb;
+    memcpy(&ua, pa + 4 * word, 4);
+    memcpy(&ub, pb + 4 * word, 4);
+    memcpy(&fa, &ua, 4);
+    memcpy(&fb, &ub, 4);
+    char label[256];
+    vsnprintf(label, sizeof label, what, ap);
+    size_t w = width > 0 ? (size_t)width : count;
+    print_error("%s:%d: %s: %zu of %zu texels differ; the first at %zu,%zu, word %zu: %.9g (0x%08x) against "
+                "%.9g (0x%08x)\n",
+                file, line, label, differing, count, first % w, first / w, word, (double)fa, ua, (double)fb, ub);
+    _fail(file, line);
+}
+
+void test_assert_same_texels(const char *file, int line, const void *a, const void *b, size_t count,
+                             size_t texel_size, int width, const char *what, ...)
+{
+    va_list ap;
+    va_start(ap, what);
+    report_difference(file, line, a, b, count, texel_size, width, what, ap);
+    va_end(ap);
+}
+
+void test_assert_same_image(const char *file, int line, const sl_image *a, const sl_image *b, const char *what, ...)
+{
+    va_list ap;
+    va_start(ap, what);
+    if (a->width != b->width || a->height != b->height || a->channels != b->channels) {
+        char label[256];
+        vsnprintf(label, sizeof label, what, ap);
+        print_error("%s:%d: %s: images of %dx%dx%d and %dx%dx%d\n", file, line, label, a->width, a->height,
+                    a->channels, b->width, b->height, b->channels);
+        _fail(file, line);
+    }
+    report_difference(file, line, (const unsigned char *)a->data, (const unsigned char *)b->data,
+                      (size_t)a->width * (size_t)a->height, (size_t)a->channels * sizeof(float), a->width, what, ap);
+    va_end(ap);
+}
+
+sl_raster_stats test_raster_scene(const sl_raster_desc *desc, const sl_scene *scene, const sl_camera *cam, int w,
+                                  int h, sl_gbuffer *gb)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(desc, &err);
+    if (!r)
+        fail_msg("sl_raster_create: %s", err.msg);
+    if (!sl_gbuffer_resize(gb, w, h, &err) || !sl_raster_scene(r, scene, cam, gb, &err))
+        fail_msg("threads %d, tile %d: %s", desc->threads, desc->tile_size, err.msg);
+    sl_raster_stats st = sl_raster_get_stats(r);
+    sl_raster_destroy(r);
+    return st;
+}
+
 void test_texel_centre_dir(int w, int h, int i, int j, double d[3])
 {
     const double pi = 3.14159265358979323846;
