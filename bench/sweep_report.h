@@ -64,10 +64,7 @@ typedef struct {
 } scene_info;
 
 /* Names as the variant names, the CSV and the report spell them. */
-static inline const char *irr_name(sl_irradiance_method m)
-{
-    return m == SL_IRRADIANCE_BRUTE ? "brute" : m == SL_IRRADIANCE_MAP ? "map" : "sh9";
-}
+static inline const char *irr_name(sl_irradiance_method m) { return sl_irradiance_name(m); }
 static inline const char *est_name(const variant *v) { return sl_estimator_name(v->opt.estimator); }
 static inline const char *lod_name(const variant *v) { return sl_lod_rule_name(v->opt.lod_rule); }
 

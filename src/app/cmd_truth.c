@@ -16,6 +16,7 @@
 
 #include "app/args.h"
 #include "commands.h"
+#include "core/options.h"
 #include "core/timer.h"
 #include "post/compare.h"
 #include "render/renderer.h"
@@ -78,9 +79,15 @@ int cmd_truth(int argc, char **argv)
 {
     int size[2] = {0, 0}, g = -1, threads = 0, part = 0;
     const char *cache = NULL, *pfm = NULL, *parts = NULL, *png = NULL, *against = NULL;
+    /* --size, --g and --threads: the rendering options' rows of the option table (core/options.h) */
+    const sl_option *size_opt = &sl_options[SL_OPT_SIZE], *g_opt = &sl_options[SL_OPT_GTERM];
+    const sl_option *threads_opt = &sl_options[SL_OPT_THREADS];
+    char g_choices[64];
+    sl_option_choices(g_opt, g_choices, sizeof g_choices);
     sl_arg table[] = {
-        {"--size", NULL, SL_ARG_SIZE, size, 1, 8192, NULL, "WxH", "image size (default: the scene's; keep it small)", NULL},
-        {"--g", NULL, SL_ARG_CHOICE, &g, 0, 0, "inv-lh2|one", NULL, "G/(L.N V.N) of the truth (default inv-lh2)", NULL},
+        {size_opt->cli, NULL, SL_ARG_SIZE, size, size_opt->min, size_opt->max, NULL, "WxH",
+         "image size (default: the scene's; keep it small)", NULL},
+        {g_opt->cli, NULL, SL_ARG_CHOICE, &g, 0, 0, g_choices, NULL, "G/(L.N V.N) of the truth (default inv-lh2)", NULL},
         {"--cache", NULL, SL_ARG_STRING, &cache, 0, 0, NULL, "FILE", "read the truth from FILE when it matches, else write it", NULL},
         {"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "OUT.pfm", "radiance of --part (default: total = diffuse + specular), float32", NULL},
         {"--parts", NULL, SL_ARG_STRING, &parts, 0, 0, NULL, "DIR", "DIR/diffuse.pfm, specular.pfm, mask.pfm", NULL},
@@ -88,7 +95,8 @@ int cmd_truth(int argc, char **argv)
         {"--compare", NULL, SL_ARG_STRING, &against, 0, 0, NULL, "RENDER.pfm", "print the error of a rendering (same size)", NULL},
         {"--part", NULL, SL_ARG_CHOICE, &part, 0, 0, "total|diffuse|specular", NULL,
          "what --pfm, -o and --compare use (default total; render with --diffuse-only or --specular-only to match)", NULL},
-        {"--threads", "-j", SL_ARG_INT, &threads, 1, 256, NULL, "N", "worker threads (default: all cores)", NULL},
+        {threads_opt->cli, threads_opt->alias, SL_ARG_INT, &threads, threads_opt->min, threads_opt->max, NULL, "N",
+         "worker threads (default: all cores)", NULL},
     };
     const int count = (int)(sizeof table / sizeof table[0]);
     const char *positional[1];
@@ -104,7 +112,8 @@ int cmd_truth(int argc, char **argv)
                            "[--pfm OUT.pfm] [--compare RENDER.pfm] [options]", table, count);
         return help ? 0 : 2;
     }
-    const int gi = g == 1 ? SL_GT_G_ONE : SL_GT_G_INV_LH2;
+    const sl_gterm gterm = g >= 0 ? (sl_gterm)((int)g_opt->min + g) : (sl_gterm)g_opt->def[0];
+    const int gi = gterm == SL_GTERM_ONE ? SL_GT_G_ONE : SL_GT_G_INV_LH2;
     sl_scene scene;
     if (!sl_scene_load(positional[0], &scene, &err)) {
         fprintf(stderr, "softlight truth: %s\n", err.msg);
@@ -131,7 +140,7 @@ int cmd_truth(int argc, char **argv)
         memcpy(total.data, part == 1 ? gt.diffuse.data : gt.specular[gi].data,
                (size_t)total.width * (size_t)total.height * 3 * sizeof(float));
     printf("softlight truth: %s %dx%d, %ld covered pixels, G %s: %s\n", positional[0], gt.width, gt.height,
-           gt.covered, gi == SL_GT_G_ONE ? "one" : "inv-lh2",
+           gt.covered, sl_gterm_name(gterm),
            gt.from_cache ? "read from the cache" : "integrated");
     if (!gt.from_cache)
         printf("  %.1f s (%.2f ms per covered pixel)\n", gt.seconds,

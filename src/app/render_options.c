@@ -1,43 +1,86 @@
-/* render_options.c - see render_options.h. */
+/* render_options.c - the command line's words for the rendering options (see render_options.h).
+ * Each option's spelling, default and limits come from the option table (core/options.h); what
+ * is written here is only how --help describes it and where its value goes. */
 #include "render_options.h"
 
 #include <string.h>
 
+/* Metavar and help per option, in the table's order (which is --help's). A range or default in
+ * a help line is checked against the table by tests/unit/test_options.c. */
+static const struct {
+    const char *metavar, *help;
+} words[SL_OPT_CLI_COUNT] = {
+    [SL_OPT_SIZE] = {"WxH", "render size (default: the scene's)"},
+    [SL_OPT_SAMPLES] = {"N", "specular samples N per pixel (1..1024)"},
+    [SL_OPT_EXPOSURE] = {"E", "tone-map exposure e"},
+    [SL_OPT_CONTRAST] = {"C", "tone-map contrast c (exponent c/2.2)"},
+    [SL_OPT_SRGB] = {NULL, "encode with the exact sRGB curve instead of the 1/2.2 power"},
+    [SL_OPT_LOD] = {NULL, "mip-level rule for specular samples (default spec-d4; pdf: gems without its +1)"},
+    [SL_OPT_DISTORTION] = {NULL, "include the lat-long distortion in the mip level"},
+    [SL_OPT_GTERM] = {NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1"},
+    [SL_OPT_ESTIMATOR] = {NULL,
+                          "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling"},
+    [SL_OPT_IRRADIANCE] = {NULL, "diffuse irradiance (default: the scene's map if any, else sh9)"},
+    [SL_OPT_DIFFUSE_ONLY] = {NULL, "image-based diffuse term only"},
+    [SL_OPT_SPECULAR_ONLY] = {NULL, "image-based specular term only"},
+    [SL_OPT_NO_LIGHTS] = {NULL, "ignore the scene's point lights"},
+    [SL_OPT_THREADS] = {"N", "worker threads (default: all cores)"},
+    [SL_OPT_TILE] = {"S", "raster tile size in pixels (power of two)"},
+    [SL_OPT_ROTATE] = {NULL, "rotate the specular sample set per pixel (Cranley-Patterson): noise instead of banding"},
+    [SL_OPT_FRAME] = {"N", "frame number of the rotation (--rotate): average frames 0..K-1 to converge"},
+    [SL_OPT_PLAIN] = {NULL, "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) "
+                            "to compare with the fast ones or to step through in a debugger"},
+    [SL_OPT_ENV_LIGHTS] = {"K", "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)"},
+};
+
 void sl_render_options_table(sl_render_options *o, sl_arg *t)
 {
+    _Static_assert(SL_RENDER_OPTION_COUNT == SL_OPT_CLI_COUNT, "one command-line option per row of the table");
     memset(o, 0, sizeof *o);
     o->lod = o->gterm = o->estimator = o->irradiance = -1;
-    const sl_arg table[SL_RENDER_OPTION_COUNT] = {
-        {"--size", NULL, SL_ARG_SIZE, o->size, 1, SL_RASTER_MAX_SIZE, NULL, "WxH", "render size (default: the scene's)", NULL},
-        {"--samples", "-n", SL_ARG_INT, &o->samples, 1, SL_HAMMERSLEY_MAX, NULL, "N", "specular samples N per pixel (1..1024)", NULL},
-        {"--exposure", "-e", SL_ARG_FLOAT, &o->exposure, 0.001, 1e6, NULL, "E", "tone-map exposure e", NULL},
-        {"--contrast", "-c", SL_ARG_FLOAT, &o->contrast, 0.01, 100, NULL, "C", "tone-map contrast c (exponent c/2.2)", NULL},
-        {"--srgb", NULL, SL_ARG_FLAG, &o->srgb, 0, 0, NULL, NULL, "encode with the exact sRGB curve instead of the 1/2.2 power", NULL},
-        {"--lod", NULL, SL_ARG_CHOICE, &o->lod, 0, 0, "none|spec|spec-d4|gems|pdf", NULL,
-         "mip-level rule for specular samples (default spec-d4; pdf: gems without its +1)", NULL},
-        {"--distortion", NULL, SL_ARG_FLAG, &o->distortion, 0, 0, NULL, NULL, "include the lat-long distortion in the mip level", NULL},
-        {"--g", NULL, SL_ARG_CHOICE, &o->gterm, 0, 0, "inv-lh2|one", NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1", NULL},
-        {"--estimator", NULL, SL_ARG_CHOICE, &o->estimator, 0, 0, "spec|consistent|mf", NULL,
-         "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling", NULL},
-        {"--irradiance", NULL, SL_ARG_CHOICE, &o->irradiance, 0, 0, "sh9|brute|map", NULL,
-         "diffuse irradiance (default: the scene's map if any, else sh9)", NULL},
-        {"--diffuse-only", NULL, SL_ARG_FLAG, &o->diffuse_only, 0, 0, NULL, NULL, "image-based diffuse term only", NULL},
-        {"--specular-only", NULL, SL_ARG_FLAG, &o->specular_only, 0, 0, NULL, NULL, "image-based specular term only", NULL},
-        {"--no-lights", NULL, SL_ARG_FLAG, &o->no_lights, 0, 0, NULL, NULL, "ignore the scene's point lights", NULL},
-        {"--threads", "-j", SL_ARG_INT, &o->threads, 1, 256, NULL, "N", "worker threads (default: all cores)", NULL},
-        {"--tile", NULL, SL_ARG_INT, &o->tile, SL_TILE_MIN, SL_TILE_MAX, NULL, "S", "raster tile size in pixels (power of two)", NULL},
-        {"--rotate", NULL, SL_ARG_FLAG, &o->rotate, 0, 0, NULL, NULL,
-         "rotate the specular sample set per pixel (Cranley-Patterson): noise instead of banding", NULL},
-        {"--frame", NULL, SL_ARG_INT, &o->frame, 0, 1e9, NULL, "N",
-         "frame number of the rotation (--rotate): average frames 0..K-1 to converge", NULL},
-        {"--plain", NULL, SL_ARG_FLAG, &o->plain, 0, 0, NULL, NULL,
-         "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) "
-         "to compare with the fast ones or to step through in a debugger", NULL},
-        {"--env-lights", NULL, SL_ARG_INT, &o->env_lights, 0, SL_ENV_LIGHTS_MAX, NULL, "K",
-         "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)", NULL},
+    void *const value[SL_OPT_CLI_COUNT] = {
+        [SL_OPT_SIZE] = o->size,
+        [SL_OPT_SAMPLES] = &o->samples,
+        [SL_OPT_EXPOSURE] = &o->exposure,
+        [SL_OPT_CONTRAST] = &o->contrast,
+        [SL_OPT_SRGB] = &o->srgb,
+        [SL_OPT_LOD] = &o->lod,
+        [SL_OPT_DISTORTION] = &o->distortion,
+        [SL_OPT_GTERM] = &o->gterm,
+        [SL_OPT_ESTIMATOR] = &o->estimator,
+        [SL_OPT_IRRADIANCE] = &o->irradiance,
+        [SL_OPT_DIFFUSE_ONLY] = &o->diffuse_only,
+        [SL_OPT_SPECULAR_ONLY] = &o->specular_only,
+        [SL_OPT_NO_LIGHTS] = &o->no_lights,
+        [SL_OPT_THREADS] = &o->threads,
+        [SL_OPT_TILE] = &o->tile,
+        [SL_OPT_ROTATE] = &o->rotate,
+        [SL_OPT_FRAME] = &o->frame,
+        [SL_OPT_PLAIN] = &o->plain,
+        [SL_OPT_ENV_LIGHTS] = &o->env_lights,
     };
-    memcpy(t, table, sizeof table);
+    static const sl_arg_type types[] = {[SL_OPTION_FLAG] = SL_ARG_FLAG, [SL_OPTION_INT] = SL_ARG_INT,
+                                        [SL_OPTION_FLOAT] = SL_ARG_FLOAT, [SL_OPTION_SIZE] = SL_ARG_SIZE,
+                                        [SL_OPTION_CHOICE] = SL_ARG_CHOICE};
+    for (int id = 0; id < SL_OPT_CLI_COUNT; id++) {
+        const sl_option *opt = &sl_options[id];
+        const char *choices = NULL;
+        double min = opt->min, max = opt->max;
+        if (opt->type == SL_OPTION_CHOICE) {
+            /* the words in the table's order: argument k is value min + k (sl_render_options_desc) */
+            sl_option_choices(opt, o->choices[id], sizeof o->choices[id]);
+            choices = o->choices[id];
+            min = max = 0;
+        } else if (opt->type == SL_OPTION_FLAG) {
+            min = max = 0;
+        }
+        t[id] = (sl_arg){opt->cli, opt->alias, types[opt->type], value[id], min, max, choices, words[id].metavar,
+                         words[id].help, NULL};
+    }
 }
+
+/* The value a choice argument stands for: its index counts from the row's first value. */
+static int choice_value(sl_option_id id, int index) { return (int)sl_options[id].min + index; }
 
 bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_error *err)
 {
@@ -56,15 +99,14 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
     sl_lighting_options *l = &d->lighting;
     l->samples = o->samples;
     if (o->lod >= 0)
-        l->lod_rule = (sl_lod_rule)(SL_LOD_NONE + o->lod);
+        l->lod_rule = (sl_lod_rule)choice_value(SL_OPT_LOD, o->lod);
     l->distortion = o->distortion;
     if (o->gterm >= 0)
-        l->gterm = (sl_gterm)(SL_GTERM_INV_LH2 + o->gterm);
+        l->gterm = (sl_gterm)choice_value(SL_OPT_GTERM, o->gterm);
     if (o->estimator >= 0)
-        l->estimator = (sl_estimator)(SL_ESTIMATOR_SPEC + o->estimator);
+        l->estimator = (sl_estimator)choice_value(SL_OPT_ESTIMATOR, o->estimator);
     if (o->irradiance >= 0) {
-        static const sl_irradiance_method methods[] = {SL_IRRADIANCE_SH9, SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP};
-        l->irradiance = methods[o->irradiance];
+        l->irradiance = (sl_irradiance_method)choice_value(SL_OPT_IRRADIANCE, o->irradiance);
         d->irradiance_set = true;
     }
     l->plain = o->plain;

@@ -1,5 +1,6 @@
 /* render_options.h - the options every rendering command shares (render, trace, view, and
- * softlight-gl), parsed from one table so the C and GL programs accept the same words. */
+ * softlight-gl), parsed from one table so the C and GL programs accept the same words: the
+ * option table of core/options.h, one argument per row, with the help text written here. */
 #ifndef SL_RENDER_OPTIONS_H
 #define SL_RENDER_OPTIONS_H
 
@@ -20,9 +21,10 @@ typedef struct {
     bool plain;  /* the reference paths: per-pixel raster, the line-by-line port of lighting.frag */
     int frame;   /* the rotation's frame number (options.frame) */
     int env_lights; /* K brightest texels summed exactly (options.env_lights); 0 = off */
+    char choices[SL_OPT_CLI_COUNT][64]; /* a choice argument's words, "none|spec|...", from its row */
 } sl_render_options;
 
-#define SL_RENDER_OPTION_COUNT 19
+#define SL_RENDER_OPTION_COUNT 19 /* = SL_OPT_CLI_COUNT, the table's rows with a spelling */
 
 /* Fill `table` (SL_RENDER_OPTION_COUNT entries) to parse into `o`, which is reset to "not given". */
 void sl_render_options_table(sl_render_options *o, sl_arg *table);

@@ -205,21 +205,23 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         v->held[nav] = true;
         return navigate(v, nav, shift && nav != VIEW_NAV_IN); /* shift: fine steps ('+' is shift+= on most layouts) */
     }
-    switch (key) { /* adjustments: auto-repeat applies */
+    /* Adjustments: auto-repeat applies. Exposure stays in the option table's range, contrast in
+     * steps within a scene file's (0 < c <= 10). */
+    switch (key) {
     case SDLK_e:
-        t->exposure = fminf(t->exposure * EXPOSURE_STEP, 1e6f);
+        t->exposure = fminf(t->exposure * EXPOSURE_STEP, (float)sl_options[SL_OPT_EXPOSURE].max);
         v->retonemap = true;
         return VIEW_ACT_NONE;
     case SDLK_q:
-        t->exposure = fmaxf(t->exposure / EXPOSURE_STEP, 1e-3f);
+        t->exposure = fmaxf(t->exposure / EXPOSURE_STEP, (float)sl_options[SL_OPT_EXPOSURE].min);
         v->retonemap = true;
         return VIEW_ACT_NONE;
     case SDLK_c:
-        t->contrast = fminf(t->contrast + CONTRAST_STEP, 10.0f);
+        t->contrast = fminf(t->contrast + CONTRAST_STEP, (float)sl_option_file_max(&sl_options[SL_OPT_CONTRAST]));
         v->retonemap = true;
         return VIEW_ACT_NONE;
     case SDLK_x:
-        t->contrast = fmaxf(t->contrast - CONTRAST_STEP, 0.1f);
+        t->contrast = fmaxf(t->contrast - CONTRAST_STEP, CONTRAST_STEP);
         v->retonemap = true;
         return VIEW_ACT_NONE;
     case SDLK_RIGHTBRACKET:
@@ -281,20 +283,19 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         act = cycle_irradiance(v);
         break;
     case SDLK_l: {
-        sl_lod_rule rule = sl_lighting_options_resolve(l).lod_rule;
-        l->lod_rule = rule >= SL_LOD_PDF ? SL_LOD_NONE : (sl_lod_rule)(rule + 1);
+        l->lod_rule =
+            (sl_lod_rule)sl_option_next(&sl_options[SL_OPT_LOD], (int)sl_lighting_options_resolve(l).lod_rule);
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_k: {
-        sl_estimator est = sl_lighting_options_resolve(l).estimator;
-        l->estimator = est == SL_ESTIMATOR_MICROFACET ? SL_ESTIMATOR_SPEC : (sl_estimator)(est + 1);
+        l->estimator =
+            (sl_estimator)sl_option_next(&sl_options[SL_OPT_ESTIMATOR], (int)sl_lighting_options_resolve(l).estimator);
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_g: {
-        sl_gterm g = sl_lighting_options_resolve(l).gterm;
-        l->gterm = g == SL_GTERM_INV_LH2 ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
+        l->gterm = (sl_gterm)sl_option_next(&sl_options[SL_OPT_GTERM], (int)sl_lighting_options_resolve(l).gterm);
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }

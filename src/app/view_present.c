@@ -35,7 +35,7 @@ void view_message(viewer *v, bool error, const char *fmt, ...)
 
 const char *view_irradiance_name(sl_irradiance_method m)
 {
-    return m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_BRUTE ? "brute" : "sh9";
+    return sl_irradiance_name(m);
 }
 
 /* The refinement line of the HUD: what the image on screen is and what comes next. */

@@ -185,8 +185,10 @@ static bool parse_line(char *line, const char *path, int lineno, view_cmd *cmd, 
                            path, lineno, words[0], argc ? argv[0] : "");
         return true;
     case VIEW_CMD_RESIZE:
-        if (argc != 2 || !parse_int(argv[0], 1, 16384, &cmd->args[0]) || !parse_int(argv[1], 1, 16384, &cmd->args[1]))
-            return sl_fail(err, SL_ERR_FORMAT, "%s:%d: expected 'resize W H' with each in 1..16384", path, lineno);
+        if (argc != 2 || !parse_int(argv[0], 1, SL_RASTER_MAX_SIZE, &cmd->args[0]) ||
+            !parse_int(argv[1], 1, SL_RASTER_MAX_SIZE, &cmd->args[1]))
+            return sl_fail(err, SL_ERR_FORMAT, "%s:%d: expected 'resize W H' with each in 1..%d", path, lineno,
+                           SL_RASTER_MAX_SIZE);
         return true;
     case VIEW_CMD_DROP:
         if (!rest_copy[0])

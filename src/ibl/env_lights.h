@@ -25,7 +25,7 @@
 
 #include "ibl.h"
 
-#define SL_ENV_LIGHTS_MAX 64 /* MAX_ENV_LIGHTS in the GLSL */
+/* SL_ENV_LIGHTS_MAX (core/options.h): MAX_ENV_LIGHTS in the GLSL */
 
 typedef struct {
     int count;              /* K actually extracted: min(requested, texels with a direction) */

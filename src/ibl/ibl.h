@@ -22,9 +22,9 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../core/image.h"
+#include "../core/options.h" /* SL_HAMMERSLEY_MAX, sl_irradiance_method */
 
 #define SL_ENV_MAX_LEVELS 16
-#define SL_HAMMERSLEY_MAX 1024
 
 /* One mip level: width * height RGB texels, row 0 = top (v = 0). */
 typedef struct {
@@ -68,12 +68,6 @@ bool sl_hammersley_build(sl_hammersley *set, int n, sl_error *err);
 
 /* Irradiance E(n) = integral of L(w) max(0, n.w) dw, so the diffuse term is Kd/pi * E(n)
  * (irradiance.c). */
-typedef enum {
-    SL_IRRADIANCE_SH9,   /* 9 SH coefficients projected with exact texel solid angles */
-    SL_IRRADIANCE_BRUTE, /* a small lat-long map integrated by quadrature */
-    SL_IRRADIANCE_MAP,   /* a precomputed lat-long .hdr given in the scene */
-} sl_irradiance_method;
-
 typedef struct {
     sl_irradiance_method method;
     /* SH9: coefficients pre-multiplied by the cosine lobe's A_l, so E(n) = sum sh_i Y_i(n) with,

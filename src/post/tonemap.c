@@ -8,6 +8,8 @@
 
 #include <math.h>
 
+#include "../core/options.h"
+
 float sl_srgb_to_linear(float c)
 {
     c = c > 0.0f ? (c < 1.0f ? c : 1.0f) : 0.0f;
@@ -45,8 +47,8 @@ float sl_tonemap_value(float C, float exposure, float contrast, bool exact_srgb)
 
 bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)
 {
-    float e = opt && opt->exposure != 0.0f ? opt->exposure : 1.0f;
-    float c = opt && opt->contrast != 0.0f ? opt->contrast : 1.0f;
+    float e = opt && opt->exposure != 0.0f ? opt->exposure : (float)sl_options[SL_OPT_EXPOSURE].def[0];
+    float c = opt && opt->contrast != 0.0f ? opt->contrast : (float)sl_options[SL_OPT_CONTRAST].def[0];
     bool exact = opt && opt->exact_srgb;
     if (!(isfinite(e) && e > 0.0f) || !(isfinite(c) && c > 0.0f))
         return sl_fail(err, SL_ERR_RANGE, "tone map: exposure %g and contrast %g must be finite and > 0", (double)e,

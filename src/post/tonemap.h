@@ -20,7 +20,7 @@
 #include "../core/image.h"
 
 typedef struct {
-    float exposure;  /* e; 0 = 1 */
+    float exposure;  /* e; 0 = 1 (the option table's default, core/options.h) */
     float contrast;  /* c; 0 = 1 */
     bool exact_srgb; /* piecewise sRGB encode instead of the 1/2.2 power */
 } sl_tonemap_options;

@@ -29,6 +29,7 @@
 #define RAST_SUBPIXEL_BITS 8
 #define RAST_SUBPIXEL_ONE (1 << RAST_SUBPIXEL_BITS)
 #define RAST_GUARD_PX 16000.0f
+_Static_assert(SL_RASTER_MAX_SIZE < (int)RAST_GUARD_PX, "the largest target must lie inside the guard band");
 #define RAST_BLOCK 8                   /* coverage block inside a tile: 8x8 pixels */
 #define RAST_BATCH 65536               /* triangles set up and binned before the tiles are drawn */
 #define RAST_CACHE_LINE 64

@@ -32,14 +32,11 @@
 
 #include "../core/error.h"
 #include "../core/glsl.h"
+#include "../core/options.h" /* SL_RASTER_MAX_SIZE, SL_TILE_DEFAULT/MIN/MAX */
 #include "../scene/scene.h"
 #include "gbuffer.h"
 
 #define SL_MAX_VARYINGS 16         /* floats a vertex shader may pass to the fragment shader */
-#define SL_RASTER_MAX_SIZE 8192    /* largest target width or height */
-#define SL_TILE_DEFAULT 64         /* chosen from bench_raster's sweep (docs/performance.md) */
-#define SL_TILE_MIN 16
-#define SL_TILE_MAX 256
 #define SL_NO_DEPTH (-1L)          /* sl_target.depth_offset: depth test off */
 
 /* Object-space attributes of one vertex, as the mesh stores them. */

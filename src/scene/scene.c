@@ -16,25 +16,22 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "../core/image.h" /* sl_read_file */
+#include "../core/image.h"   /* sl_read_file */
+#include "../core/options.h" /* the render settings' defaults and limits */
 
 #define SCENE_MAX_FILE_BYTES ((size_t)16 << 20)
 #define JSON_PATH_MAX 256
 
-/* Defaults (docs/scene-format.md lists the same values). */
+/* Defaults (docs/scene-format.md lists the same values). Those of the render settings and the
+ * environment's intensity, and their limits, are the option table's (core/options.h). */
 #define DEFAULT_FOVY 45.0f
 #define DEFAULT_NEAR 0.1f
 #define DEFAULT_FAR 100.0f
-#define DEFAULT_WIDTH 1280
-#define DEFAULT_HEIGHT 720
-#define DEFAULT_SAMPLES 40
 #define DEFAULT_SLICES 64
 #define DEFAULT_STACKS 32
 #define DEFAULT_MATERIAL_NAME "default"
 
 /* Limits on values that are legal JSON but absurd for a frame. */
-#define MAX_IMAGE_SIZE 16384
-#define MAX_SAMPLES 1024
 #define MAX_ALPHA 1e6
 /* Far/near beyond this leaves a float depth buffer almost no precision. */
 #define MAX_DEPTH_RATIO 1e7
@@ -175,6 +172,30 @@ static bool read_int(parser *p, const cJSON *item, const char *path, int lo, int
     if (x < lo || x > hi)
         return fail_at(p, path, SL_ERR_RANGE, "%g is outside %d..%d", x, lo, hi);
     *out = (int)x;
+    return true;
+}
+
+/* The value of an option at its key `which` (a size has two) in `section`, the object its
+ * JSON path ("render.samples") starts with, held to the range the option table gives scene
+ * files; absent leaves *out as it is. */
+static bool read_option_int(parser *p, const cJSON *section, const sl_option *opt, int which, int *out)
+{
+    const char *path = opt->scene[which];
+    const cJSON *v = member(section, strchr(path, '.') + 1);
+    return !v || read_int(p, v, path, (int)sl_option_file_min(opt), (int)sl_option_file_max(opt), out);
+}
+static bool read_option_float(parser *p, const cJSON *section, const sl_option *opt, float *out)
+{
+    const char *path = opt->scene[0];
+    const cJSON *v = member(section, strchr(path, '.') + 1);
+    double lo = sl_option_file_min(opt), hi = sl_option_file_max(opt);
+    if (!v)
+        return true;
+    if (!read_float(p, v, path, lo, hi, out))
+        return false;
+    if (opt->file_min_open && !(*out > (float)lo))
+        return fail_at(p, path, SL_ERR_RANGE, "%g must be greater than %g (%g < %s <= %g)", (double)*out, lo, lo,
+                       opt->name, hi);
     return true;
 }
 
@@ -357,7 +378,7 @@ static float reduce_degrees(double deg) { return (float)fmod(deg, 360.0); }
 static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc *env)
 {
     static const char *const keys[] = {"hdr", "irradiance", "intensity", "rotation", NULL};
-    *env = (sl_environment_desc){.intensity = 1.0f};
+    *env = (sl_environment_desc){.intensity = (float)sl_options[SL_OPT_ENV_INTENSITY].def[0]};
     if (!item)
         return true;
     if (cJSON_IsString(item)) /* shorthand: "environment": "envmaps/studio.hdr" */
@@ -373,7 +394,7 @@ static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc 
         return false;
     if ((v = member(item, "irradiance")) && !read_path(p, v, "environment.irradiance", env->irradiance_path))
         return false;
-    if ((v = member(item, "intensity")) && !read_float(p, v, "environment.intensity", 0.0, 1e6, &env->intensity))
+    if (!read_option_float(p, item, &sl_options[SL_OPT_ENV_INTENSITY], &env->intensity))
         return false;
     double deg;
     if ((v = member(item, "rotation"))) {
@@ -697,33 +718,22 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
 static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
 {
     static const char *const keys[] = {"width", "height", "samples", "exposure", "contrast", NULL};
-    *r = (sl_render_settings){.width = DEFAULT_WIDTH,
-                              .height = DEFAULT_HEIGHT,
-                              .samples = DEFAULT_SAMPLES,
-                              .exposure = 1.0f,
-                              .contrast = 1.0f};
+    const sl_option *size = &sl_options[SL_OPT_SIZE], *samples = &sl_options[SL_OPT_SAMPLES];
+    const sl_option *exposure = &sl_options[SL_OPT_EXPOSURE], *contrast = &sl_options[SL_OPT_CONTRAST];
+    *r = (sl_render_settings){.width = (int)size->def[0],
+                              .height = (int)size->def[1],
+                              .samples = (int)samples->def[0],
+                              .exposure = (float)exposure->def[0],
+                              .contrast = (float)contrast->def[0]};
     if (!item)
         return true;
     if (!check_keys(p, item, "render", keys))
         return false;
-    const cJSON *v;
-    if ((v = member(item, "width")) && !read_int(p, v, "render.width", 1, MAX_IMAGE_SIZE, &r->width))
-        return false;
-    if ((v = member(item, "height")) && !read_int(p, v, "render.height", 1, MAX_IMAGE_SIZE, &r->height))
-        return false;
-    if ((v = member(item, "samples")) && !read_int(p, v, "render.samples", 1, MAX_SAMPLES, &r->samples))
-        return false;
-    /* Exposure: the specification's range for e (tone mapping section). */
-    if ((v = member(item, "exposure")) && !read_float(p, v, "render.exposure", 0.1, 10000.0, &r->exposure))
-        return false;
-    if ((v = member(item, "contrast"))) {
-        if (!read_float(p, v, "render.contrast", 0.0, 10.0, &r->contrast))
-            return false;
-        if (!(r->contrast > 0.0f))
-            return fail_at(p, "render.contrast", SL_ERR_RANGE, "%g must be greater than 0 (0 < contrast <= 10)",
-                           (double)r->contrast);
-    }
-    return true;
+    /* A size the rasterizer cannot draw fails here, with its path, not when the frame is made.
+     * Exposure and contrast: a scene file keeps to the specification's range for e. */
+    return read_option_int(p, item, size, 0, &r->width) && read_option_int(p, item, size, 1, &r->height) &&
+           read_option_int(p, item, samples, 0, &r->samples) && read_option_float(p, item, exposure, &r->exposure) &&
+           read_option_float(p, item, contrast, &r->contrast);
 }
 
 /* Build every distinct mesh. Each mesh is capped on its own (scene_internal.h); the scene as

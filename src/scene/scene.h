@@ -65,9 +65,10 @@ typedef struct {
     float rotation_deg;                /* about +Z */
 } sl_environment_desc;
 
+/* The "render" keys; defaults and limits are the option table's (core/options.h). */
 typedef struct {
-    int width, height;
-    int samples;        /* N, Hammersley pairs for the specular integral (1..1024) */
+    int width, height;  /* 1 .. SL_RASTER_MAX_SIZE */
+    int samples;        /* N, Hammersley pairs for the specular integral (1..SL_HAMMERSLEY_MAX) */
     float exposure;     /* e in the tone map, 0.1 .. 10000 */
     float contrast;     /* c in the tone map exponent c/2.2 */
 } sl_render_settings;

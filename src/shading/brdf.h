@@ -15,16 +15,10 @@
 #define SL_BRDF_H
 
 #include "../core/glsl.h"
+#include "../core/options.h" /* sl_gterm */
 
 #define SL_BRDF_TINY 1e-30f      /* floor of pow() and log2() arguments */
 #define SL_BRDF_MIN_LDOTH 1e-3f  /* floor of L.H in 1/(L.H)^2 */
-
-/* The G term: values match the GLSL uniform uGTerm; 0 means "the default" in option structs. */
-typedef enum {
-    SL_GTERM_DEFAULT = 0,
-    SL_GTERM_INV_LH2 = 1, /* G / (L.N V.N) = 1 / (L.H)^2 (default) */
-    SL_GTERM_ONE = 2,     /* G / (L.N V.N) = 1 */
-} sl_gterm;
 
 /* D(H) = (alpha + 2) / (2 pi) (N.H)^alpha. */
 static inline float sl_brdf_D(float NdotH, float alpha)

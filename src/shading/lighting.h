@@ -38,6 +38,7 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../core/image.h"
+#include "../core/options.h"
 #include "../ibl/env_lights.h"
 #include "../ibl/ibl.h"
 #include "../ibl/texture_lod.h"
@@ -46,27 +47,9 @@
 #include "brdf.h"
 
 #define SL_LIGHTING_MAX_LIGHTS 16      /* MAX_LIGHTS in the GLSL */
-#define SL_LIGHTING_DEFAULT_SAMPLES 40 /* N, specification: 20 to 40 */
 
-/* Enum values are the GLSL uniform values; 0 is "default" and never reaches the shader. */
-typedef enum {
-    SL_LOD_DEFAULT = 0,
-    SL_LOD_NONE = 1,    /* lod 0: every sample reads the full-resolution map */
-    SL_LOD_SPEC = 2,    /* 1/2 log2(W H / N) - 1/2 log2(D(H))            (specification) */
-    SL_LOD_SPEC_D4 = 3, /* 1/2 log2(W H / N) - 1/2 log2(D(H) / 4)        (its note; default) */
-    SL_LOD_GEMS = 4,    /* max(1/2 log2(Omega_s / Omega_p) + 1, 0), Omega_s = 1/(N p(w)),
-                           Omega_p = 4 pi / (W H)                         (GPU Gems 3, ch. 20.4) */
-    SL_LOD_PDF = 5,     /* max(1/2 log2(Omega_s / Omega_p), 0): gems without its +1 over-blur,
-                           the footprint of the drawn direction's own density ("pdf") */
-} sl_lod_rule;
-
-typedef enum {
-    SL_ESTIMATOR_DEFAULT = 0,
-    SL_ESTIMATOR_SPEC = 1,       /* eq. (3): divides by D(H); biased (ERRATA), matches the GLSL */
-    SL_ESTIMATOR_CONSISTENT = 2, /* divides by the density of the drawn w, p(w) */
-    SL_ESTIMATOR_MICROFACET = 3, /* H drawn from D(H) (N.H), w = reflect(-V, H), divides by
-                                    p(w) = D (N.H) / (4 V.H): bounded weights ("mf") */
-} sl_estimator;
+/* The modes sl_lod_rule, sl_estimator and sl_gterm, their names, defaults and limits: the option
+ * table, core/options.h. Enum values are the GLSL uniform values; 0 is "default". */
 
 /* Options, zero meaning "default" (resolved by sl_lighting_options_resolve). */
 typedef struct {
@@ -92,16 +75,8 @@ typedef struct {
                                       0 = off, else 1 .. SL_ENV_LIGHTS_MAX */
 } sl_lighting_options;
 
-/* Fill every zero field with its default. */
+/* Fill every zero field with its default (the option table's, core/options.h). */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt);
-/* Names for the command line and reports: "none", "spec", "spec-d4", "gems", "pdf";
- * "spec", "consistent", "mf"; "inv-lh2", "one". Parsers return false on an unknown name. */
-const char *sl_lod_rule_name(sl_lod_rule rule);
-const char *sl_estimator_name(sl_estimator estimator);
-const char *sl_gterm_name(sl_gterm gterm);
-bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule);
-bool sl_estimator_parse(const char *name, sl_estimator *estimator);
-bool sl_gterm_parse(const char *name, sl_gterm *gterm);
 
 /* The GLSL block HammersleyBlock under std140, byte for byte: float N at 0, vec4 array at 16,
  * pair k in hammersley[k / 2].xy (k even) or .zw (k odd). */

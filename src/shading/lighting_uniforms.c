@@ -1,6 +1,7 @@
-/* lighting_uniforms.c - the host side of the lighting shader: options (defaults, names), the
- * std140 Hammersley block, and the uniforms derived from a frame's description. softlight-gl's
- * src/gl/lighting_pass.c uploads these same uniforms to shaders/lighting.frag, field by field
+/* lighting_uniforms.c - the host side of the lighting shader: options resolved to the option
+ * table's defaults (core/options.h owns their names and limits), the std140 Hammersley block,
+ * and the uniforms derived from a frame's description. softlight-gl's src/gl/lighting_pass.c
+ * uploads these same uniforms to shaders/lighting.frag, field by field
  * (docs/architecture.md "Adding a uniform" lists every place a new one goes). */
 
 #include <stddef.h>
@@ -10,68 +11,23 @@
 #include "../ibl/texture_lod.h"
 #include "lighting.h"
 
+/* Zero means the option table's default (core/options.h). */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
 {
     sl_lighting_options r = opt ? *opt : (sl_lighting_options){0};
     if (r.samples == 0)
-        r.samples = SL_LIGHTING_DEFAULT_SAMPLES;
+        r.samples = (int)sl_options[SL_OPT_SAMPLES].def[0];
     if (r.lod_samples == 0)
         r.lod_samples = r.samples;
     if (r.lod_rule == SL_LOD_DEFAULT)
-        r.lod_rule = SL_LOD_SPEC_D4;
+        r.lod_rule = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0];
     if (r.gterm == SL_GTERM_DEFAULT)
-        r.gterm = SL_GTERM_INV_LH2;
+        r.gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0];
     if (r.estimator == SL_ESTIMATOR_DEFAULT)
-        r.estimator = SL_ESTIMATOR_SPEC;
+        r.estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0];
     if (r.env_intensity == 0.0f)
-        r.env_intensity = 1.0f;
+        r.env_intensity = (float)sl_options[SL_OPT_ENV_INTENSITY].def[0];
     return r;
-}
-
-static const char *const lod_names[] = {"default", "none", "spec", "spec-d4", "gems", "pdf"};
-static const char *const estimator_names[] = {"default", "spec", "consistent", "mf"};
-static const char *const gterm_names[] = {"default", "inv-lh2", "one"};
-
-const char *sl_lod_rule_name(sl_lod_rule rule)
-{
-    return (unsigned)rule <= SL_LOD_PDF ? lod_names[rule] : "?";
-}
-const char *sl_estimator_name(sl_estimator estimator)
-{
-    return (unsigned)estimator <= SL_ESTIMATOR_MICROFACET ? estimator_names[estimator] : "?";
-}
-const char *sl_gterm_name(sl_gterm gterm) { return (unsigned)gterm <= SL_GTERM_ONE ? gterm_names[gterm] : "?"; }
-
-static int parse_name(const char *name, const char *const *names, int count)
-{
-    for (int i = 0; name && i < count; i++)
-        if (!strcmp(name, names[i]))
-            return i;
-    return -1;
-}
-bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule)
-{
-    int i = parse_name(name, lod_names, SL_LOD_PDF + 1);
-    if (i < 0)
-        return false;
-    *rule = (sl_lod_rule)i;
-    return true;
-}
-bool sl_estimator_parse(const char *name, sl_estimator *estimator)
-{
-    int i = parse_name(name, estimator_names, 4);
-    if (i < 0)
-        return false;
-    *estimator = (sl_estimator)i;
-    return true;
-}
-bool sl_gterm_parse(const char *name, sl_gterm *gterm)
-{
-    int i = parse_name(name, gterm_names, 3);
-    if (i < 0)
-        return false;
-    *gterm = (sl_gterm)i;
-    return true;
 }
 
 void sl_hammersley_pack_std140(const sl_hammersley *set, sl_hammersley_block *block)

@@ -31,7 +31,7 @@ for u in $host; do grep -qx "$u" <<<"$glsl" || fail "$u: set by $gl, not a unifo
 
 # Sizes and option values: GLSL `const int NAME = V;` against the C definitions.
 glsl_const() { sed -n "s/^const int $1 = \([0-9]*\);.*/\1/p" "$frag"; }
-c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/shading/lighting.h src/shading/brdf.h src/ibl/env_lights.h src/ibl/ibl.h | head -1 | grep -oE '[0-9]+$'; }
+c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/ibl/env_lights.h src/ibl/ibl.h | head -1 | grep -oE '[0-9]+$'; }
 check() { # check GLSL_NAME C_NAME
     local g v; g=$(glsl_const "$1"); v=$(c_value "$2")
     [ -n "$g" ] && [ "$g" = "$v" ] || fail "$1 = '${g}' in $frag, $2 = '${v}' in C"

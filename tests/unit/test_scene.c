@@ -303,8 +303,8 @@ static void test_absurd_values(void **state)
     /* Non-finite: JSON has no NaN, but 1e999 parses to infinity. */
     parse_fails("{\"camera\": {\"fovy\": 1e999}}", "t.json: camera.fovy: inf is not a finite float");
     parse_fails("{\"camera\": {\"eye\": [0, -1e39, 0]}}", "camera.eye[1]: -1e+39 is not a finite float");
-    parse_fails("{\"render\": {\"width\": 0}}", "render.width: 0 is outside 1..16384");
-    parse_fails("{\"render\": {\"height\": 16385}}", "render.height: 16385 is outside 1..16384");
+    parse_fails("{\"render\": {\"width\": 0}}", "render.width: 0 is outside 1..8192");
+    parse_fails("{\"render\": {\"height\": 8193}}", "render.height: 8193 is outside 1..8192");
     parse_fails("{\"render\": {\"width\": 640.5}}", "render.width: expected an integer, got 640.5");
     parse_fails("{\"render\": {\"width\": \"640\"}}", "render.width: expected a number");
     parse_fails("{\"render\": {\"exposure\": 0.01}}", "render.exposure: 0.01 is outside 0.1..10000");
