@@ -427,7 +427,7 @@ static void test_load_meshes(void **state)
 
     /* A broken OBJ: the message says which object, which file and which line. */
     const char *bad = test_tmpfile("bad.obj");
-    test_write_bytes(bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", 33);
+    test_write_bytes(bad, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 7\n", 32);
     char scene_json[1024];
     snprintf(scene_json, sizeof scene_json,
              "{\"objects\": [{\"shape\": \"box\"}, {\"mesh\": \"bad.obj\"}, {\"mesh\": \"bad.obj\"}]}");
