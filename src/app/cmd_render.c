@@ -1,12 +1,12 @@
 /* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, and the G-buffer
- * as PFM files with --aov. Prints the time each stage took. */
-#include <errno.h>
+ * as PFM files with --aov, all replaced or none (one output set, core/output_set.h). Prints the
+ * time each stage took. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "commands.h"
+#include "core/output_set.h"
 #include "core/timer.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -18,13 +18,6 @@ static void default_png_name(const char *scene_path, char *out, size_t size)
     base = base ? base + 1 : scene_path;
     size_t n = strcspn(base, ".");
     snprintf(out, size, "%.*s.png", (int)n, base);
-}
-
-static bool make_dir(const char *dir, sl_error *err)
-{
-    if (mkdir(dir, 0777) == 0 || errno == EEXIST)
-        return true;
-    return sl_fail(err, SL_ERR_IO, "%s: cannot create directory: %s", dir, strerror(errno));
 }
 
 static void warn_repairs(const char *path, const sl_image_repairs *rep)
@@ -101,6 +94,7 @@ int cmd_render(int argc, char **argv)
     }
     int status = 2;
     sl_renderer r;
+    sl_output_set out = {0};
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
     warn_repairs(scene.environment.hdr_path, &r.env_repairs);
@@ -110,21 +104,26 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "softlight render: warning: %lld pixels had NaN/Inf radiance (replaced by 0)\n",
                 (long long)r.lighting_stats.nonfinite);
 
-    if (png && !sl_image_write_png(png, &r.display, &err))
+    /* Every output into one set: replaced together once all were written, or none of them. */
+    if (png && !sl_output_set_image(&out, png, sl_image_encode_png, &r.display, &err))
         goto done;
-    if (hdr && !sl_image_write_hdr(hdr, &r.radiance, &err))
+    if (hdr && !sl_output_set_image(&out, hdr, sl_image_encode_hdr, &r.radiance, &err))
         goto done;
-    if (pfm && !sl_image_write_pfm(pfm, &r.radiance, &err))
+    if (pfm && !sl_output_set_image(&out, pfm, sl_image_encode_pfm, &r.radiance, &err))
         goto done;
-    if (aov && !(make_dir(aov, &err) && sl_gbuffer_write_aovs(&r.gbuffer, scene.camera.eye, aov, &err)))
+    if (aov && !(sl_output_set_dir(&out, aov, &err) &&
+                 sl_gbuffer_add_aovs(&r.gbuffer, scene.camera.eye, aov, &out, &err)))
         goto done;
     if (normals) {
         sl_image img = {0};
-        bool ok = sl_gbuffer_normal_image(&r.gbuffer, &img, &err) && sl_image_write_png(normals, &img, &err);
+        bool ok = sl_gbuffer_normal_image(&r.gbuffer, &img, &err) &&
+                  sl_output_set_image(&out, normals, sl_image_encode_png, &img, &err);
         sl_image_free(&img);
         if (!ok)
             goto done;
     }
+    if (!sl_output_set_commit(&out, &err))
+        goto done;
     if (!quiet) {
         const sl_lighting_options *l = &r.uniforms->options;
         printf("softlight render: %s %dx%d N=%d lod=%s g=%s estimator=%s | raster %.1f ms, shading %.1f ms, "
@@ -143,6 +142,7 @@ int cmd_render(int argc, char **argv)
     }
     status = 0;
 done:
+    sl_output_set_free(&out);
     sl_renderer_free(&r);
 done_scene:
     if (status)

@@ -9,14 +9,13 @@
  * compare it with `softlight render --no-lights --pfm`, of the same size and G term. It costs
  * about 5.6 ms per covered pixel and core (a 1280x720 frame is hours): use a small --size, and
  * --cache so a second run is instant. Exit status: 0, or 2 on an error. */
-#include <errno.h>
 #include <stdio.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "app/args.h"
 #include "commands.h"
 #include "core/options.h"
+#include "core/output_set.h"
 #include "core/timer.h"
 #include "post/compare.h"
 #include "render/renderer.h"
@@ -41,19 +40,19 @@ static void on_progress(void *user, long done, long total)
         fputc('\n', stderr);
 }
 
-static bool write_parts(const char *dir, const sl_gt_image *gt, int g, sl_error *err)
+static bool add_parts(const char *dir, const sl_gt_image *gt, int g, sl_output_set *out, sl_error *err)
 {
-    if (mkdir(dir, 0777) != 0 && errno != EEXIST)
-        return sl_fail(err, SL_ERR_IO, "%s: cannot create directory: %s", dir, strerror(errno));
+    if (!sl_output_set_dir(out, dir, err))
+        return false;
     char path[1100];
     snprintf(path, sizeof path, "%s/diffuse.pfm", dir);
-    if (!sl_image_write_pfm(path, &gt->diffuse, err))
+    if (!sl_output_set_image(out, path, sl_image_encode_pfm, &gt->diffuse, err))
         return false;
     snprintf(path, sizeof path, "%s/specular.pfm", dir);
-    if (!sl_image_write_pfm(path, &gt->specular[g], err))
+    if (!sl_output_set_image(out, path, sl_image_encode_pfm, &gt->specular[g], err))
         return false;
     snprintf(path, sizeof path, "%s/mask.pfm", dir);
-    return sl_image_write_pfm(path, &gt->mask, err);
+    return sl_output_set_image(out, path, sl_image_encode_pfm, &gt->mask, err);
 }
 
 static bool compare_with(const char *path, const sl_image *truth, const sl_gt_image *gt,
@@ -125,6 +124,7 @@ int cmd_truth(int argc, char **argv)
     desc.lighting.no_diffuse = true; /* no irradiance is needed: the truth integrates the environment itself */
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};
+    sl_output_set out = {0};
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
     if (!sl_renderer_raster(&r, NULL, &err))
@@ -145,16 +145,21 @@ int cmd_truth(int argc, char **argv)
     if (!gt.from_cache)
         printf("  %.1f s (%.2f ms per covered pixel)\n", gt.seconds,
                gt.covered ? 1e3 * gt.seconds / (double)gt.covered : 0.0);
-    if (pfm && !sl_image_write_pfm(pfm, &total, &err))
+    /* Every output into one set: replaced together once all were written, or none of them. */
+    if (png && !(sl_tonemap_image(&total, &display, &r.desc.tonemap, &err) &&
+                 sl_output_set_image(&out, png, sl_image_encode_png, &display, &err)))
         goto done;
-    if (parts && !write_parts(parts, &gt, gi, &err))
+    if (pfm && !sl_output_set_image(&out, pfm, sl_image_encode_pfm, &total, &err))
         goto done;
-    if (png && !(sl_tonemap_image(&total, &display, &r.desc.tonemap, &err) && sl_image_write_png(png, &display, &err)))
+    if (parts && !add_parts(parts, &gt, gi, &out, &err))
         goto done;
     if (against && !compare_with(against, &total, &gt, &r.desc.tonemap, &err))
         goto done;
+    if (!sl_output_set_commit(&out, &err))
+        goto done;
     status = 0;
 done:
+    sl_output_set_free(&out);
     sl_image_free(&display);
     sl_image_free(&total);
     sl_gt_image_free(&gt);

@@ -11,9 +11,21 @@
 #include <strings.h>
 #include <unistd.h>
 
+#include "core/output_set.h"
 #include "view_internal.h"
 
 static bool file_exists(const char *path) { return access(path, F_OK) == 0; }
+
+/* A PNG and its linear image, replaced together or not at all (one output set). */
+static bool write_pair(const char *png, const sl_image *shown, const char *linear_path, sl_image_encoder encode,
+                       const sl_image *linear, sl_error *err)
+{
+    sl_output_set out = {0};
+    bool ok = sl_output_set_image(&out, png, sl_image_encode_png, shown, err) &&
+              sl_output_set_image(&out, linear_path, encode, linear, err) && sl_output_set_commit(&out, err);
+    sl_output_set_free(&out);
+    return ok;
+}
 
 bool view_screenshot(viewer *v, const char *name, sl_error *err)
 {
@@ -43,7 +55,7 @@ bool view_screenshot(viewer *v, const char *name, sl_error *err)
     }
     snprintf(png, sizeof png, "%s.png", base);
     snprintf(hdr, sizeof hdr, "%s.hdr", base);
-    if (!sl_image_write_png(png, &v->shown, err) || !sl_image_write_hdr(hdr, &v->r.radiance, err))
+    if (!write_pair(png, &v->shown, hdr, sl_image_encode_hdr, &v->r.radiance, err))
         return false;
     const sl_camera *c = &v->camera.cam;
     printf("softlight view: wrote %s and %s (%dx%d, %s, N %d; camera eye %g,%g,%g target %g,%g,%g up %g,%g,%g "
@@ -66,7 +78,7 @@ bool view_snapshot(viewer *v, const char *base, sl_error *err)
     char png[SL_PATH_MAX + 8], pfm[SL_PATH_MAX + 8];
     snprintf(png, sizeof png, "%s.png", base);
     snprintf(pfm, sizeof pfm, "%s.pfm", base);
-    if (!sl_image_write_png(png, &v->shown, err) || !sl_image_write_pfm(pfm, linear, err))
+    if (!write_pair(png, &v->shown, pfm, sl_image_encode_pfm, linear, err))
         return false;
     const view_stage_params *s = &v->shown_params;
     const char *stage = v->shown_stage == VIEW_STAGE_MOVING       ? "moving"

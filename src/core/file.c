@@ -1,11 +1,12 @@
 /* file.c - whole-file reads with a size cap and atomic whole-file writes, and on top of them
  * the reader and the writer every image format shares.
  *
- * Every image writer goes through sl_write_file_atomic, so a failed or interrupted
- * write never leaves a half file at the target: the bytes go to `path.tmpXXXXXX` in
- * the same directory (same file system, so rename is atomic), are flushed with fsync,
- * and only then renamed over the target. Any failure removes the temporary file. */
+ * A single file written is an output set of one (output_set.c), so a failed or interrupted
+ * write never leaves a half file at the target: the bytes go to a temporary beside it (same
+ * file system, so rename is atomic), are flushed with fsync, and only then renamed over the
+ * target. Any failure removes the temporary file. */
 #include "image.h"
+#include "output_set.h"
 
 #include <errno.h>
 #include <fcntl.h>
@@ -83,59 +84,11 @@ bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, siz
     return true;
 }
 
-/* The mode a new file would get from open(path, O_CREAT, 0666), or the target's own mode
- * when it exists, so that replacing a file does not change its permissions. mkstemp
- * creates 0600 files. umask can only be read by setting it; this happens on the writing
- * thread only and is restored at once. */
-static mode_t target_mode(const char *path)
-{
-    struct stat st;
-    if (stat(path, &st) == 0 && S_ISREG(st.st_mode))
-        return st.st_mode & 07777;
-    mode_t mask = umask(022);
-    umask(mask);
-    return 0666 & ~mask;
-}
-
 bool sl_write_file_atomic(const char *path, const void *bytes, size_t size, sl_error *err)
 {
-    size_t n = strlen(path);
-    char *tmp = malloc(n + sizeof ".tmpXXXXXX");
-    if (!tmp)
-        return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory", path);
-    memcpy(tmp, path, n);
-    memcpy(tmp + n, ".tmpXXXXXX", sizeof ".tmpXXXXXX");
-    int fd = mkstemp(tmp);
-    if (fd < 0) {
-        int e = errno;
-        free(tmp);
-        return sl_fail(err, SL_ERR_IO, "%s: cannot create a temporary file beside it: %s", path, strerror(e));
-    }
-    bool ok = true;
-    const unsigned char *p = bytes;
-    size_t done = 0;
-    while (ok && done < size) {
-        ssize_t put = write(fd, p + done, size - done);
-        if (put < 0 && errno == EINTR)
-            continue;
-        if (put <= 0)
-            ok = sl_fail(err, SL_ERR_IO, "%s: write failed after %zu of %zu bytes: %s", path, done, size,
-                         put < 0 ? strerror(errno) : "no progress");
-        else
-            done += (size_t)put;
-    }
-    if (ok && fchmod(fd, target_mode(path)) != 0)
-        ok = sl_fail(err, SL_ERR_IO, "%s: cannot set permissions: %s", path, strerror(errno));
-    if (ok && fsync(fd) != 0)
-        ok = sl_fail(err, SL_ERR_IO, "%s: fsync failed: %s", path, strerror(errno));
-    if (close(fd) != 0 && ok)
-        ok = sl_fail(err, SL_ERR_IO, "%s: close failed: %s", path, strerror(errno));
-    if (ok && rename(tmp, path) != 0)
-        ok = sl_fail(err, SL_ERR_IO, "%s: cannot rename the temporary file into place: %s", path,
-                     strerror(errno));
-    if (!ok)
-        unlink(tmp);
-    free(tmp);
+    sl_output_set one = {0};
+    bool ok = sl_output_set_bytes(&one, path, bytes, size, err) && sl_output_set_commit(&one, err);
+    sl_output_set_free(&one);
     return ok;
 }
 
@@ -156,13 +109,8 @@ bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, 
 
 bool sl_image_write_with(const char *path, sl_image_encoder encode, const sl_image *img, sl_error *err)
 {
-    unsigned char *bytes;
-    size_t size;
-    if (!encode(img, &bytes, &size, err)) {
-        sl_error_prefix(err, "%s: ", path);
-        return false;
-    }
-    bool ok = sl_write_file_atomic(path, bytes, size, err);
-    free(bytes);
+    sl_output_set one = {0};
+    bool ok = sl_output_set_image(&one, path, encode, img, err) && sl_output_set_commit(&one, err);
+    sl_output_set_free(&one);
     return ok;
 }

@@ -16,7 +16,8 @@
  *         rows bottom-to-top in the file as the format says; written little endian
  *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG textures as sRGB -> linear
  * Every write goes to a temporary name beside the target and is renamed into
- * place, so a failed write never leaves a half file. Loaded images are checked:
+ * place, so a failed write never leaves a half file; the files of one command go
+ * through one output set (output_set.h), all replaced or none. Loaded images are checked:
  * NaN, Inf and negative texels are counted, replaced by 0, and reported once
  * through the `repairs` out-parameter. */
 #ifndef SL_IMAGE_H
@@ -104,7 +105,9 @@ bool sl_image_write_with(const char *path, sl_image_encoder encode, const sl_ima
 
 /* Read a whole file into memory (caps at `max_bytes`); caller frees *bytes. */
 bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err);
-/* Write bytes atomically: `path.tmpXXXXXX` then rename. */
+/* Write bytes atomically: a temporary beside the target, then rename; an output set of one
+ * (core/output_set.h: symbolic links written through, non-regular targets refused). To write
+ * several files all or none, add them to one sl_output_set instead. */
 bool sl_write_file_atomic(const char *path, const void *bytes, size_t size, sl_error *err);
 
 #endif

@@ -12,15 +12,14 @@
  * `softlight-gl info` prints the renderer and exits 0, or says in one line why there is no GL
  * and exits 2 (what the tests use to decide whether GL can run here).
  * Exit status: 0 success, 2 any error (one line on stderr). */
-#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/stat.h>
 
 #include "app/args.h"
 #include "app/render_options.h"
 #include "render/renderer.h"
+#include "core/output_set.h"
 #include "core/timer.h"
 #include "post/tonemap.h"
 #include "scene/camera.h"
@@ -74,20 +73,21 @@ static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *
     return sl_renderer_prepare_lighting(&f->renderer, NULL, err);
 }
 
-static bool write_outputs(const gl_outputs *o, const frame *f, const sl_image *radiance, sl_error *err)
+/* The images, added to the command's output set (committed with the AOVs by render). */
+static bool add_outputs(const gl_outputs *o, const frame *f, const sl_image *radiance, sl_output_set *out,
+                        sl_error *err)
 {
-    if (o->hdr && !sl_image_write_hdr(o->hdr, radiance, err))
-        return false;
-    if (o->pfm && !sl_image_write_pfm(o->pfm, radiance, err))
-        return false;
     if (o->png) {
         sl_image ldr = {0};
-        bool ok = sl_tonemap_image(radiance, &ldr, &f->renderer.desc.tonemap, err) && sl_image_write_png(o->png, &ldr, err);
+        bool ok = sl_tonemap_image(radiance, &ldr, &f->renderer.desc.tonemap, err) &&
+                  sl_output_set_image(out, o->png, sl_image_encode_png, &ldr, err);
         sl_image_free(&ldr);
         if (!ok)
             return false;
     }
-    return true;
+    if (o->hdr && !sl_output_set_image(out, o->hdr, sl_image_encode_hdr, radiance, err))
+        return false;
+    return !o->pfm || sl_output_set_image(out, o->pfm, sl_image_encode_pfm, radiance, err);
 }
 
 /* The G-buffer and lighting passes, `runs` times each (1 normally), with per-stage medians.
@@ -99,6 +99,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
     sl_gbuffer gb = {0};
     sl_image radiance = {0};
+    sl_output_set out = {0};
     int runs = o->time_runs > 0 ? o->time_runs : 1;
     double *t_gbuffer = calloc((size_t)runs, sizeof(double)), *t_lighting = calloc((size_t)runs, sizeof(double));
     bool ok = false;
@@ -134,17 +135,17 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     long repaired = 0;
     if (!slgl_lighting_read(&l, &radiance, &repaired, err))
         goto done;
+    /* Every output into one set: replaced together once all were written, or none of them. */
+    if (!add_outputs(o, f, &radiance, &out, err))
+        goto done;
     if (o->aov_dir) {
-        if (mkdir(o->aov_dir, 0777) != 0 && errno != EEXIST) {
-            sl_fail(err, SL_ERR_IO, "%s: cannot create the directory: %s", o->aov_dir, strerror(errno));
-            goto done;
-        }
         if (!o->gbuffer_dir && !slgl_gbuffer_read(&g, &gb, err))
             goto done;
-        if (!sl_gbuffer_write_aovs(o->gbuffer_dir ? files : &gb, f->scene.camera.eye, o->aov_dir, err))
+        if (!sl_output_set_dir(&out, o->aov_dir, err) ||
+            !sl_gbuffer_add_aovs(o->gbuffer_dir ? files : &gb, f->scene.camera.eye, o->aov_dir, &out, err))
             goto done;
     }
-    if (!write_outputs(o, f, &radiance, err))
+    if (!sl_output_set_commit(&out, err))
         goto done;
     if (repaired)
         fprintf(stderr, "softlight-gl: warning: lighting.frag repaired %ld non-finite pixels (written as 0)\n",
@@ -155,6 +156,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
                o->gbuffer_dir ? " (skipped: --gbuffer)" : "", median_ms(t_lighting, runs));
     ok = true;
 done:
+    sl_output_set_free(&out);
     sl_image_free(&radiance);
     sl_gbuffer_free(&gb);
     if (meshes)

@@ -16,6 +16,7 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../core/image.h"
+#include "../core/output_set.h"
 
 typedef struct {
     vec3 position; /* world space */
@@ -48,6 +49,9 @@ void sl_gbuffer_free(sl_gbuffer *gb);
  * position.pfm, normal.pfm, view.pfm (normalize(eye - position), 0 where empty),
  * kd.pfm, ks.pfm (RGB), alpha.pfm, depth.pfm, mask.pfm (1 where covered). */
 bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err);
+/* The same files added to a command's output set (core/output_set.h), so that they are replaced
+ * together with its other outputs or not at all; `dir` must exist (sl_output_set_dir). */
+bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_output_set *out, sl_error *err);
 /* The reverse (position, normal, kd, ks, alpha, depth, mask; view is derived, not read).
  * Resizes gb to the files' size; a mask that disagrees with depth < 1 is an error. */
 bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);

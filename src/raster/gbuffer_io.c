@@ -74,6 +74,14 @@ bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err)
 
 bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err)
 {
+    sl_output_set out = {0};
+    bool ok = sl_gbuffer_add_aovs(gb, eye, dir, &out, err) && sl_output_set_commit(&out, err);
+    sl_output_set_free(&out);
+    return ok;
+}
+
+bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_output_set *out, sl_error *err)
+{
     if (!gb->texels)
         return sl_fail(err, SL_ERR_RANGE, "%s: empty G-buffer", dir);
     sl_image img[2] = {{0}, {0}};
@@ -89,7 +97,7 @@ bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_e
             for (int x = 0; x < gb->width; x++)
                 aov_get(sl_gbuffer_at(gb, x, y), eye, aov, sl_image_pixel(im, x, gb->height - 1 - y));
         char path[4096];
-        ok = aov_path(path, sizeof path, dir, aov, err) && sl_image_write_pfm(path, im, err);
+        ok = aov_path(path, sizeof path, dir, aov, err) && sl_output_set_image(out, path, sl_image_encode_pfm, im, err);
     }
     sl_image_free(&img[0]);
     sl_image_free(&img[1]);

@@ -68,8 +68,8 @@ expect_error pixel-outside 'outside' -- "$SL" trace "$T/good.json" --pixel 64,0
 expect_error no-dir 'nodir' -- "$SL" render "$T/good.json" -o "$T/nodir/a.png"
 
 # No half-written output anywhere: nothing but our inputs in $T, no temporaries.
-if ls "$T" | grep -qE '^a\.png|tmp'; then
-    echo "FAIL leftovers: $(ls "$T" | grep -E '^a\.png|tmp' | tr '\n' ' ')"; fails=$((fails + 1))
+if ls -A "$T" | grep -qE '^a\.png|tmp'; then
+    echo "FAIL leftovers: $(ls -A "$T" | grep -E '^a\.png|tmp' | tr '\n' ' ')"; fails=$((fails + 1))
 else
     echo "ok   no output or temporary file was left behind"; passes=$((passes + 1))
 fi

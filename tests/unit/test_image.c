@@ -78,14 +78,15 @@ static bool file_exists(const char *path)
     return stat(path, &st) == 0;
 }
 
-/* How many entries of `dir` contain ".tmp" (stray temporary files). */
+/* How many entries of `dir` are temporaries (".NAME.softlight-tmp.PID", or an older build's
+ * "NAME.tmpXXXXXX"). */
 static int count_temp_files(const char *dir)
 {
     DIR *d = opendir(dir);
     assert_non_null(d);
     int n = 0;
     for (struct dirent *e; (e = readdir(d));)
-        n += strstr(e->d_name, ".tmp") != NULL;
+        n += strstr(e->d_name, ".tmp") != NULL || strstr(e->d_name, ".softlight-tmp.") != NULL;
     closedir(d);
     return n;
 }
