@@ -91,7 +91,8 @@ static inline vec3 sl_mix_texels(const vec3 *T, int a, int b, float t)
 
 /* sl_env_bilinear for level l of a gather description: the same operations, so the same bits,
  * with sl_fast_floor for floorf; inlined into a simd loop it becomes gathers. */
-__attribute__((always_inline)) static inline vec3 sl_env_gather_bilinear(const sl_env_gather *g, int l, float u, float v)
+__attribute__((always_inline)) static inline vec3 sl_env_gather_bilinear(const sl_env_gather *g, int l, float u,
+                                                                       float v)
 {
     const vec3 *T = g->texels;
     int w = g->width[l], h = g->height[l], o = g->offset[l];

@@ -5,8 +5,9 @@
  * options.plain is set (the debug switch, docs/lighting.md "Two paths") and is what a reader
  * compares with the GLSL. The C-only lines are the trace hooks and counters (lighting_internal.h:
  * a pixel's trace is filled at a few named points, a no-op when the trace is NULL) and main()'s
- * split in two, main and main_surface, so the batched path (lighting_batched.c) shares the
- * covered pixel's sum. The batched path also reuses the sample generators exported at the end.
+ * split in three (shade_plain, then shade_surface_color for a covered pixel's sum and
+ * shade_finish for the NaN guard), so the batched path (lighting_batched.c) shares all but the
+ * specular loops. It also reuses the sample generators exported at the end.
  *
  * Does not: run over a G-buffer (lighting_pass.c), build uniforms (lighting_uniforms.c). */
 #include <math.h>
@@ -143,7 +144,8 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         float wN = dot(w, N);
         if (wN <= 0.0f) {
             below++;
-            trace_sample(trace, k, &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .sum = sum});
+            trace_sample(trace, k,
+                         &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .sum = sum});
             continue;
         }
         vec3 H = normalize(add(w, V));
@@ -277,10 +279,7 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
         vec3 E = irradiance(u, s->Nenv);
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         color = add(color, diffuse);
-        if (trace) {
-            trace->irradiance = E;
-            trace->diffuse = diffuse;
-        }
+        trace_diffuse(trace, E, diffuse);
     }
     if (u->uSpecular != 0) {
         vec3 spec;
@@ -293,24 +292,17 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
             if (u->uEnvLightCount > 0) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha);
                 spec = add(spec, exact);
-                if (trace) {
-                    trace->env_light_count = u->uEnvLightCount;
-                    trace->env_lights = exact;
-                }
+                trace_env_lights(trace, u->uEnvLightCount, exact);
             }
         }
         color = add(color, spec);
-        if (trace)
-            trace->specular = spec;
+        trace_specular(trace, spec);
     }
     if (u->uPointLights != 0) {
         for (int i = 0; i < u->uLightCount; i++) {
             vec3 light = point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
             color = add(color, light);
-            if (trace) {
-                trace->light[i] = light;
-                trace->lights = add(trace->lights, light);
-            }
+            trace_light(trace, i, light);
         }
     }
     return color;

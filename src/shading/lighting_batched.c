@@ -562,7 +562,8 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]), B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
             trace_surface(task, trace, &s, p->bent[i]);
             /* the samples' count only when they run, as the port records it */
-            trace_sample_frame(trace, s.Nenv, s.Venv, A, B, p->pole[i], u->uSpecular != 0 ? (int)u->uHammersley.N : 0, mf);
+            int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
+            trace_sample_frame(trace, s.Nenv, s.Venv, A, B, p->pole[i], traced_samples, mf);
             vec3 specular = vec3s(0.0f);
             if (u->uSpecular != 0) {
                 specular = specular_samples(u, s.Nenv, s.Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A, B, p->pole[i],
@@ -570,10 +571,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 if (u->uEnvLightCount > 0) {
                     vec3 exact = env_lights_samples(u, s.Nenv, s.Venv, s.Ks, s.alpha);
                     specular = add(specular, exact);
-                    if (trace) {
-                        trace->env_light_count = u->uEnvLightCount;
-                        trace->env_lights = exact;
-                    }
+                    trace_env_lights(trace, u->uEnvLightCount, exact);
                 }
             }
             color = shade_surface_color(u, &s, &specular, task, trace);

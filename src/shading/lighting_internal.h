@@ -157,6 +157,38 @@ static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_t
         t->samples[k] = *s;
 }
 
+/* The terms of main()'s sum: diffuse (with its irradiance), env lights (their exact part, inside
+ * the specular), specular, point light i. */
+static inline void trace_diffuse(sl_lighting_trace *t, vec3 E, vec3 diffuse)
+{
+    if (t) {
+        t->irradiance = E;
+        t->diffuse = diffuse;
+    }
+}
+
+static inline void trace_env_lights(sl_lighting_trace *t, int count, vec3 exact)
+{
+    if (t) {
+        t->env_light_count = count;
+        t->env_lights = exact;
+    }
+}
+
+static inline void trace_specular(sl_lighting_trace *t, vec3 specular)
+{
+    if (t)
+        t->specular = specular;
+}
+
+static inline void trace_light(sl_lighting_trace *t, int i, vec3 light)
+{
+    if (t) {
+        t->light[i] = light;
+        t->lights = add(t->lights, light);
+    }
+}
+
 /* After a pixel's samples: n drawn, `below` of them contributed 0, pole = the X x axis frame. */
 static inline void count_samples(sl_lighting_task *task, int n, int below, bool pole)
 {
