@@ -66,7 +66,8 @@ typedef struct {
 /* Names as the variant names, the CSV and the report spell them. */
 static inline const char *irr_name(sl_irradiance_method m)
 {
-    return m == SL_IRRADIANCE_BRUTE ? "brute" : m == SL_IRRADIANCE_MAP ? "map" : "sh9";
+    return m == SL_IRRADIANCE_BRUTE ? "brute" : m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_OCT ? "oct"
+         : m == SL_IRRADIANCE_DP ? "dp" : "sh9";
 }
 static inline const char *est_name(const variant *v) { return sl_estimator_name(v->opt.estimator); }
 static inline const char *lod_name(const variant *v) { return sl_lod_rule_name(v->opt.lod_rule); }

@@ -19,8 +19,8 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
         {"--g", NULL, SL_ARG_CHOICE, &o->gterm, 0, 0, "inv-lh2|one", NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1", NULL},
         {"--estimator", NULL, SL_ARG_CHOICE, &o->estimator, 0, 0, "spec|consistent|mf", NULL,
          "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling", NULL},
-        {"--irradiance", NULL, SL_ARG_CHOICE, &o->irradiance, 0, 0, "sh9|brute|map", NULL,
-         "diffuse irradiance (default: the scene's map if any, else sh9)", NULL},
+        {"--irradiance", NULL, SL_ARG_CHOICE, &o->irradiance, 0, 0, "sh9|brute|map|oct|dp", NULL,
+         "diffuse irradiance (default: the scene's map if any, else oct, the pole-free octahedral map)", NULL},
         {"--diffuse-only", NULL, SL_ARG_FLAG, &o->diffuse_only, 0, 0, NULL, NULL, "image-based diffuse term only", NULL},
         {"--specular-only", NULL, SL_ARG_FLAG, &o->specular_only, 0, 0, NULL, NULL, "image-based specular term only", NULL},
         {"--no-lights", NULL, SL_ARG_FLAG, &o->no_lights, 0, 0, NULL, NULL, "ignore the scene's point lights", NULL},
@@ -63,7 +63,8 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
     if (o->estimator >= 0)
         l->estimator = (sl_estimator)(SL_ESTIMATOR_SPEC + o->estimator);
     if (o->irradiance >= 0) {
-        static const sl_irradiance_method methods[] = {SL_IRRADIANCE_SH9, SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP};
+        static const sl_irradiance_method methods[] = {SL_IRRADIANCE_SH9, SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP,
+                                                        SL_IRRADIANCE_OCT, SL_IRRADIANCE_DP};
         l->irradiance = methods[o->irradiance];
         d->irradiance_set = true;
     }

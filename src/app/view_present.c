@@ -35,7 +35,8 @@ void view_message(viewer *v, bool error, const char *fmt, ...)
 
 const char *view_irradiance_name(sl_irradiance_method m)
 {
-    return m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_BRUTE ? "brute" : "sh9";
+    return m == SL_IRRADIANCE_MAP ? "map" : m == SL_IRRADIANCE_BRUTE ? "brute" : m == SL_IRRADIANCE_OCT ? "oct"
+         : m == SL_IRRADIANCE_DP ? "dp" : "sh9";
 }
 
 /* The refinement line of the HUD: what the image on screen is and what comes next. */
@@ -112,7 +113,7 @@ static const char *const help_text[] = {
     "N / B         samples N x2 / /2 (1..1024)",
     "] / [         rotate the environment +15 / -15 degrees",
     "1 2 3         toggle diffuse, specular, point lights",
-    "I             irradiance: sh9, brute, map (when the scene has one)",
+    "I             irradiance: oct, dp, sh9, brute, map (when the scene has one)",
     "L             mip-level rule: none, spec, spec-d4, gems, pdf",
     "K             estimator: spec, consistent, mf",
     "G             G term: inv-lh2, one",
