@@ -4,6 +4,7 @@
  *
  *   bench_irradiance_layouts [map.hdr ...]   (default: scenes/envmaps/ and three synthetic maps)
  *   SL_BENCH_QUICK=1: the default layouts only
+ *   SL_BENCH_READY=1 [map.hdr]: the time to make a new environment ready (read, mips, irradiance)
  *   SL_BENCH_EXACT=1: the fast build against the exact one (every level-0 texel a node): the
  *   error the build adds and the error the interpolation adds, apart
  *
@@ -240,6 +241,56 @@ static void lookup_cost(const sl_env *env, const config *cfg, int ncfg)
         printf("(sink)\n");
 }
 
+/* A new environment made ready as the viewer's drag and drop does it (renderer.c
+ * sl_renderer_set_environment): read the .hdr, build the mip chain, build the default irradiance.
+ * Wall time with all threads and process CPU time (all threads), median of 9, each stage timed
+ * in turn; the brute-force lat-long map (the old accurate option) alternates with it as a yardstick. */
+static void ready_time(const char *path)
+{
+    double wall[4][9], cpu[4][9];
+    for (int round = 0; round < 9; round++) {
+        sl_error err;
+        sl_image img;
+        sl_env env;
+        sl_irradiance irr;
+        double t0 = sl_now_seconds(), c0 = (double)clock() / CLOCKS_PER_SEC;
+        if (!sl_image_read_hdr(path, &img, NULL, &err))
+            exit(1);
+        double t1 = sl_now_seconds(), c1 = (double)clock() / CLOCKS_PER_SEC;
+        if (!sl_env_build(&env, &img, &err))
+            exit(1);
+        double t2 = sl_now_seconds(), c2 = (double)clock() / CLOCKS_PER_SEC;
+        if (!sl_irradiance_map(&irr, &env, NULL, &err))
+            exit(1);
+        double t3 = sl_now_seconds(), c3 = (double)clock() / CLOCKS_PER_SEC;
+        sl_irradiance_free(&irr);
+        if (!sl_irradiance_brute(&irr, &env, 64, &err))
+            exit(1);
+        double t4 = sl_now_seconds(), c4 = (double)clock() / CLOCKS_PER_SEC;
+        sl_irradiance_free(&irr);
+        sl_env_free(&env);
+        sl_image_free(&img);
+        double w[4] = {t1 - t0, t2 - t1, t3 - t2, t4 - t3}, c[4] = {c1 - c0, c2 - c1, c3 - c2, c4 - c3};
+        for (int k = 0; k < 4; k++) {
+            wall[k][round] = 1e3 * w[k];
+            cpu[k][round] = 1e3 * c[k];
+        }
+    }
+    static const char *names[4] = {"read .hdr", "mip chain", "oct irradiance (default)", "brute lat-long 64x32"};
+    printf("\n%s made ready (median of 9, ms):\n", path);
+    double total_wall = 0.0, total_cpu = 0.0;
+    for (int k = 0; k < 4; k++) {
+        qsort(wall[k], 9, sizeof(double), cmp_double);
+        qsort(cpu[k], 9, sizeof(double), cmp_double);
+        printf("  %-26s wall %7.1f   cpu %7.1f\n", names[k], wall[k][4], cpu[k][4]);
+        if (k < 3) {
+            total_wall += wall[k][4];
+            total_cpu += cpu[k][4];
+        }
+    }
+    printf("  %-26s wall %7.1f   cpu %7.1f\n", "ready (first three)", total_wall, total_cpu);
+}
+
 /* A 1024x512 synthetic map: a sky (1 + z above the horizon, 0.2 below) and a sun of radius 0.27
  * degrees and radiance 2e5 at polar angle theta_sun (degrees). */
 static bool synth(sl_env *env, double theta_sun, sl_error *err)
@@ -296,6 +347,10 @@ int main(int argc, char **argv)
         {"dp 2x47", SL_IRRADIANCE_DP, 47, 0, 0, 0},
         {"dp 2x47 exact", SL_IRRADIANCE_DP, 47, 0, 0, 1},
     };
+    if (getenv("SL_BENCH_READY")) {
+        ready_time(argc > 1 ? argv[1] : "scenes/envmaps/city.hdr");
+        return 0;
+    }
     bool q = getenv("SL_BENCH_QUICK") != NULL, x = getenv("SL_BENCH_EXACT") != NULL;
     const config *cfg = x ? exact : q ? quick : all;
     int ncfg = x ? (int)(sizeof exact / sizeof *exact)

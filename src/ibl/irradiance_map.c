@@ -33,9 +33,10 @@
  *    so a = sqrt(3 (1 - rho)). The ramp max(0, e) averaged over [e - a, e + a] is
  *    (e + a)^2 / (4 a) in between and exact outside. This is data driven: a group whose power
  *    sits in one small spot gets a small a, a uniform one the size of the group. Per channel the
- *    group adds n . S_c + w_c (ramp(e) - e), e = n . S^ (S of the luminance), w_c = S^ . S_c:
- *    exact above the horizon whatever the colours inside the group (a sun and a blue sky in one
- *    group have centroids apart), the smoothed clamp across it.
+ *    group adds w_c ramp(e) + beta (n . S_c - w_c e), e = n . S^ (S of the luminance), w_c =
+ *    S^ . S_c, beta = clamp((e + a) / 2a, 0, 1): exactly n . S_c above the horizon whatever the
+ *    colours inside the group (a sun and a blue sky in one group have centroids apart), 0 below
+ *    it, the smoothed clamp across.
  * Everything is accumulated in double per group; the sums per map texel are float, one sequential
  * loop per texel (OpenMP over texels), so the map does not depend on the thread count. */
 #include "ibl_internal.h"
@@ -361,18 +362,20 @@ static vec3 eval_nodes(const nodes *soft, const nodes *hard, float nx, float ny,
     const float *restrict s6 = soft->s[6], *restrict s7 = soft->s[7], *restrict s8 = soft->s[8];
 #pragma omp simd reduction(+ : er, eg, eb)
     for (size_t k = 0; k < soft->count; k++) {
-        /* n . S per channel (exact above the horizon) plus the smoothed clamp's correction
-         * w (ramp(e) - e), which is 0 above and takes the group out below */
+        /* w ramp(e) (the smoothed clamp) plus beta (n . S - w e): beta = 1 above (n . S, exact
+         * per channel), 0 below (nothing: a group's colour offsets must not leak below its
+         * horizon), linear across, so the sum is continuous in n */
         float e = nx * x[k] + ny * y[k] + nz * z[k];
         float t = e + a[k];
         t = t > 0.0f ? t : 0.0f;
         t = t < 2.0f * a[k] ? t : 2.0f * a[k];
         float above = e - a[k];
         above = above > 0.0f ? above : 0.0f;
-        float corr = t * t * q[k] + above - e;
-        er += nx * s0[k] + ny * s1[k] + nz * s2[k] + corr * r[k];
-        eg += nx * s3[k] + ny * s4[k] + nz * s5[k] + corr * g[k];
-        eb += nx * s6[k] + ny * s7[k] + nz * s8[k] + corr * b[k];
+        float ramp = t * t * q[k] + above;
+        float beta = 2.0f * t * q[k];
+        er += ramp * r[k] + beta * (nx * s0[k] + ny * s1[k] + nz * s2[k] - e * r[k]);
+        eg += ramp * g[k] + beta * (nx * s3[k] + ny * s4[k] + nz * s5[k] - e * g[k]);
+        eb += ramp * b[k] + beta * (nx * s6[k] + ny * s7[k] + nz * s8[k] - e * b[k]);
     }
     const float *restrict hx = hard->x, *restrict hy = hard->y, *restrict hz = hard->z;
     const float *restrict hr = hard->r, *restrict hg = hard->g, *restrict hb = hard->b;
