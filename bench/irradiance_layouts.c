@@ -330,6 +330,7 @@ int main(int argc, char **argv)
         {"dp 2x65", SL_IRRADIANCE_DP, 65, 0, 0, 0},
         {"dp 2x91", SL_IRRADIANCE_DP, 91, 0, 0, 0},
         {"oct 129, groups 64x32", SL_IRRADIANCE_OCT, 129, 4, 0, 0},
+        {"oct 129, groups 128x64", SL_IRRADIANCE_OCT, 129, 3, 0, 0},
         {"oct 129, groups 32x16", SL_IRRADIANCE_OCT, 129, 5, 0, 0},
         {"oct 129, 32x16, no bright", SL_IRRADIANCE_OCT, 129, 5, -1, 0},
     };

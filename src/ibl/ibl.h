@@ -100,7 +100,7 @@ int sl_irradiance_brute_default_level(const sl_env *env);
  * exact nodes and the rest grouped by the texel grid of one mip level (docs/ibl.md). Zero fields
  * are defaults. The lookup is sl_irradiance_eval (one bilinear fetch; uv below). */
 #define SL_IRRADIANCE_MAP_SIZE 129       /* texels per side (DP: per half) */
-#define SL_IRRADIANCE_MAP_GROUPS (64 * 32)  /* the finest level with at most this many texels groups the rest */
+#define SL_IRRADIANCE_MAP_GROUPS (32 * 16)  /* the finest level with at most this many texels groups the rest */
 #define SL_IRRADIANCE_BRIGHT_MAX 4096    /* at most this many bright texels summed exactly */
 #define SL_IRRADIANCE_BRIGHT_SHARE 0.25  /* bright: a texel with more power than this share of an average group */
 typedef struct {

@@ -152,7 +152,7 @@ static void test_constant(void **state)
             worst = fmax(worst, fabs(e.z - PI) / PI);
         }
         print_message("constant environment, %s 33: worst relative error %.3g\n", layout_names[l], worst);
-        assert_true(worst < 5e-4); /* measured 2.0e-4 (oct 33) */
+        assert_true(worst < 1e-3); /* measured 7.2e-4 (oct 33, 32x16 groups: the box only matches the variance) */
         sl_irradiance_free(&irr);
     }
     sl_env_free(&env);
