@@ -40,10 +40,13 @@
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|
 // Irradiance (diffuse term, Kd / pi * E(N)):
 //   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
-//                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP)
+//                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP,
+//                             3 OCT (default), 4 DP)
 //   vec3  uSH[9]              SH9 coefficients already multiplied by the cosine lobe's A_l,
 //                             order Y00, Y1-1, Y10, Y11, Y2-2, Y2-1, Y20, Y21, Y22
-//   sampler2D uIrradianceMap  lat-long irradiance E, LINEAR filtering, REPEAT s, CLAMP t, lod 0
+//   sampler2D uIrradianceMap  irradiance E, LINEAR filtering, lod 0: BRUTE and MAP lat-long
+//                             (REPEAT s, CLAMP t); OCT an S x S octahedral map, DP a 2S x S
+//                             dual-paraboloid map (CLAMP both; S = textureSize(...).y)
 // Samples (specification "Building a low-discrepancy list", with a std140-safe layout, ERRATA):
 //   uniform block HammersleyBlock (std140): float N at offset 0; vec4 hammersley[512] at
 //   offset 16, element k/2 holding pair k in .xy (k even) or .zw (k odd). 8208 bytes.
@@ -132,6 +135,9 @@ const int LOD_PDF = 5;
 const int GTERM_INV_LH2 = 1;
 const int ESTIMATOR_CONSISTENT = 2;
 const int ESTIMATOR_MICROFACET = 3;
+const int IRRADIANCE_SH9 = 0;
+const int IRRADIANCE_OCT = 3;
+const int IRRADIANCE_DP = 4;
 
 // Numerical guards (docs/lighting.md, "Hard cases"):
 const float MIN_NDOTV = 0.01;      // normals facing away from the eye are bent to N.V = 0.01
@@ -266,13 +272,47 @@ vec3 facing_normal(vec3 N, vec3 V)
     return N;
 }
 
+// The pole-free irradiance maps (ported in src/ibl/irradiance_map.c): vertex-centred grids,
+// grid point p in [-1, 1] at texel centre (p / 2 + 1/2) (S - 1) / S + 1 / (2 S), clamped to the
+// outer texel centres.
+float irradiance_grid_coord(float p, float s)
+{
+    float t = (p * 0.5 + 0.5) * ((s - 1.0) / s) + 0.5 / s;
+    t = t > 0.5 / s ? t : 0.5 / s;
+    return t < 1.0 - 0.5 / s ? t : 1.0 - 0.5 / s;
+}
+
+// Octahedral: p = N.xy / |N|_1, folded below the equator (sl_irradiance_oct_uv).
+vec2 irradiance_oct_uv(vec3 n, float s)
+{
+    float a = abs(n.x) + abs(n.y) + abs(n.z);
+    float px = n.x / a, py = n.y / a;
+    if (n.z < 0.0) {
+        float fx = (1.0 - abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+        float fy = (1.0 - abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+        px = fx;
+        py = fy;
+    }
+    return vec2(irradiance_grid_coord(px, s), irradiance_grid_coord(py, s));
+}
+
+// Dual paraboloid: z >= 0 in the left half at N.xy / (1 + z), z < 0 in the right half at
+// N.xy / (1 - z) (sl_irradiance_dp_uv).
+vec2 irradiance_dp_uv(vec3 n, float s)
+{
+    float half_ = n.z >= 0.0 ? 0.0 : 1.0;
+    float d = 1.0 + abs(n.z);
+    float px = n.x / d, py = n.y / d;
+    return vec2((irradiance_grid_coord(px, s) + half_) * 0.5, irradiance_grid_coord(py, s));
+}
+
 // Irradiance E(N) of the (unscaled) environment, N in environment space (ported in
-// src/ibl/irradiance.c, sl_irradiance_eval): SH9 or the map, clamped at 0 (SH9 rings below 0
-// opposite a strong sun).
+// src/ibl/irradiance.c, sl_irradiance_eval): SH9 or one fetch from a map, clamped at 0 (SH9
+// rings below 0 opposite a strong sun).
 vec3 irradiance(vec3 N)
 {
     vec3 e;
-    if (uIrradianceMethod == 0) {
+    if (uIrradianceMethod == IRRADIANCE_SH9) {
         const float k0 = 0.282094792, k1 = 0.488602512, k2 = 1.092548431, k3 = 0.315391565,
                     k4 = 0.546274215;
         float x = N.x, y = N.y, z = N.z;
@@ -285,6 +325,12 @@ vec3 irradiance(vec3 N)
         e = e + uSH[6] * (k3 * (3.0 * z * z - 1.0));
         e = e + uSH[7] * (k2 * x * z);
         e = e + uSH[8] * (k4 * (x * x - y * y));
+    } else if (uIrradianceMethod == IRRADIANCE_OCT) {
+        float s = float(textureSize(uIrradianceMap, 0).y);
+        e = textureLod(uIrradianceMap, irradiance_oct_uv(N, s), 0.0).rgb;
+    } else if (uIrradianceMethod == IRRADIANCE_DP) {
+        float s = float(textureSize(uIrradianceMap, 0).y);
+        e = textureLod(uIrradianceMap, irradiance_dp_uv(N, s), 0.0).rgb;
     } else {
         e = textureLod(uIrradianceMap, sl_dir_to_uv(N), 0.0).rgb;
     }

@@ -20,7 +20,7 @@ static const struct {
     [SL_OPT_GTERM] = {NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1"},
     [SL_OPT_ESTIMATOR] = {NULL,
                           "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling"},
-    [SL_OPT_IRRADIANCE] = {NULL, "diffuse irradiance (default: the scene's map if any, else sh9)"},
+    [SL_OPT_IRRADIANCE] = {NULL, "diffuse irradiance (default: the scene's map if any, else oct, the pole-free octahedral map)"},
     [SL_OPT_DIFFUSE_ONLY] = {NULL, "image-based diffuse term only"},
     [SL_OPT_SPECULAR_ONLY] = {NULL, "image-based specular term only"},
     [SL_OPT_NO_LIGHTS] = {NULL, "ignore the scene's point lights"},

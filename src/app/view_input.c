@@ -157,9 +157,12 @@ static view_action cycle_irradiance(viewer *v)
 {
     sl_lighting_options *l = &v->r.desc.lighting;
     bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
-    sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_SH9     ? SL_IRRADIANCE_BRUTE
-                                : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9)
-                                                                       : SL_IRRADIANCE_SH9;
+    /* oct -> dp -> sh9 -> brute -> (the scene's map) -> oct */
+    sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_OCT     ? SL_IRRADIANCE_DP
+                                : l->irradiance == SL_IRRADIANCE_DP    ? SL_IRRADIANCE_SH9
+                                : l->irradiance == SL_IRRADIANCE_SH9   ? SL_IRRADIANCE_BRUTE
+                                : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_OCT)
+                                                                       : SL_IRRADIANCE_OCT;
     if (l->no_diffuse) {
         /* Built when the diffuse term comes back on. */
         l->irradiance = next;
@@ -183,7 +186,7 @@ static view_action toggle_diffuse(viewer *v)
         sl_error err = {0};
         sl_irradiance_method method = l->irradiance;
         if (method == SL_IRRADIANCE_MAP && v->env_replaced)
-            method = SL_IRRADIANCE_SH9; /* the scene's map belongs to the scene's environment */
+            method = sl_irradiance_default(); /* the scene's map belongs to the scene's environment */
         if (!sl_renderer_set_irradiance(&v->r, method, &err)) {
             view_message(v, true, "%s", err.msg);
             return VIEW_ACT_NONE;

@@ -112,7 +112,7 @@ static const char *const help_text[] = {
     "N / B         samples N x2 / /2 (1..1024)",
     "] / [         rotate the environment +15 / -15 degrees",
     "1 2 3         toggle diffuse, specular, point lights",
-    "I             irradiance: sh9, brute, map (when the scene has one)",
+    "I             irradiance: oct, dp, sh9, brute, map (when the scene has one)",
     "L             mip-level rule: none, spec, spec-d4, gems, pdf",
     "K             estimator: spec, consistent, mf",
     "G             G term: inv-lh2, one",

@@ -20,6 +20,7 @@ static const char *const estimator_names[] = {
 };
 static const char *const irradiance_names[] = {
     [SL_IRRADIANCE_SH9] = "sh9", [SL_IRRADIANCE_BRUTE] = "brute", [SL_IRRADIANCE_MAP] = "map",
+    [SL_IRRADIANCE_OCT] = "oct", [SL_IRRADIANCE_DP] = "dp",
 };
 
 #define FLAG(id, spelling) [id] = {.name = spelling, .cli = "--" spelling, .type = SL_OPTION_FLAG}
@@ -48,9 +49,10 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     [SL_OPT_ESTIMATOR] = {.name = "estimator", .cli = "--estimator", .type = SL_OPTION_CHOICE,
                           .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC, .max = SL_ESTIMATOR_MICROFACET,
                           .names = estimator_names},
-    /* default: the scene's map if it names one, else SH9 (src/render/renderer.c) */
+    /* default: the scene's map if it names one, else this, the pole-free octahedral map
+     * (src/render/renderer.c; docs/ibl.md says why) */
     [SL_OPT_IRRADIANCE] = {.name = "irradiance", .cli = "--irradiance", .type = SL_OPTION_CHOICE,
-                           .def = {SL_IRRADIANCE_SH9}, .min = SL_IRRADIANCE_SH9, .max = SL_IRRADIANCE_MAP,
+                           .def = {SL_IRRADIANCE_OCT}, .min = SL_IRRADIANCE_SH9, .max = SL_IRRADIANCE_DP,
                            .names = irradiance_names},
     FLAG(SL_OPT_DIFFUSE_ONLY, "diffuse-only"),
     FLAG(SL_OPT_SPECULAR_ONLY, "specular-only"),
@@ -148,4 +150,9 @@ bool sl_gterm_parse(const char *name, sl_gterm *gterm)
         return false;
     *gterm = (sl_gterm)v;
     return true;
+}
+
+sl_irradiance_method sl_irradiance_default(void)
+{
+    return (sl_irradiance_method)sl_options[SL_OPT_IRRADIANCE].def[0];
 }

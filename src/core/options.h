@@ -65,11 +65,13 @@ typedef enum {
     SL_GTERM_ONE = 2,     /* G / (L.N V.N) = 1 */
 } sl_gterm;
 
-/* How the diffuse irradiance E(n) is obtained (src/ibl/ibl.h; uIrradianceMethod). */
+/* How the diffuse irradiance E(n) is obtained (src/ibl/ibl.h); the values are uIrradianceMethod's. */
 typedef enum {
-    SL_IRRADIANCE_SH9,   /* 9 SH coefficients projected with exact texel solid angles */
-    SL_IRRADIANCE_BRUTE, /* a small lat-long map integrated by quadrature */
-    SL_IRRADIANCE_MAP,   /* a precomputed lat-long .hdr given in the scene */
+    SL_IRRADIANCE_SH9 = 0,   /* 9 SH coefficients projected with exact texel solid angles */
+    SL_IRRADIANCE_BRUTE = 1, /* a small lat-long map integrated by quadrature */
+    SL_IRRADIANCE_MAP = 2,   /* a precomputed lat-long .hdr given in the scene, read as it is */
+    SL_IRRADIANCE_OCT = 3,   /* an octahedral map (irradiance_map.c): no pole, no seam; the default */
+    SL_IRRADIANCE_DP = 4,    /* a dual-paraboloid map (irradiance_map.c), both halves in one texture */
 } sl_irradiance_method;
 
 /* The rows, in the order `--help` lists them; rows past SL_OPT_CLI_COUNT have no command-line
@@ -139,12 +141,14 @@ double sl_option_file_min(const sl_option *opt);
 double sl_option_file_max(const sl_option *opt);
 
 /* The modes' names, from the rows above: "none", "spec", "spec-d4", "gems", "pdf"; "spec",
- * "consistent", "mf"; "inv-lh2", "one"; "sh9", "brute", "map". Parsers return false on an
+ * "consistent", "mf"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp". Parsers return false on an
  * unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);
 const char *sl_gterm_name(sl_gterm gterm);
 const char *sl_irradiance_name(sl_irradiance_method method);
+/* The irradiance a frame gets when the scene names no map: the row's default. */
+sl_irradiance_method sl_irradiance_default(void);
 bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule);
 bool sl_estimator_parse(const char *name, sl_estimator *estimator);
 bool sl_gterm_parse(const char *name, sl_gterm *gterm);

@@ -119,8 +119,13 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
         levels++;
     l->env_levels = levels;
     l->irradiance_map = 0;
-    if (irr && irr->method != SL_IRRADIANCE_SH9 && irr->map.level_count > 0)
+    if (irr && irr->method != SL_IRRADIANCE_SH9 && irr->map.level_count > 0) {
         l->irradiance_map = upload_latlong(&irr->map.levels[0], false);
+        /* the pole-free layouts clamp their coordinates to the outer texel centres (REPEAT
+         * would not be read either); CLAMP_TO_EDGE says so */
+        if (irr->method == SL_IRRADIANCE_OCT || irr->method == SL_IRRADIANCE_DP)
+            glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    }
     return slgl_check("uploading the environment", err);
 }
 

@@ -92,7 +92,7 @@ typedef struct {
     GLuint color;          /* RGBA32F radiance, a = 0 where the shader repaired a NaN/Inf */
     GLuint env;            /* level 0 + glGenerateMipmap */
     int env_levels;        /* GL's level count for that size */
-    GLuint irradiance_map; /* BRUTE and MAP irradiance; 0 for SH9 */
+    GLuint irradiance_map; /* every irradiance map (BRUTE, MAP, OCT, DP); 0 for SH9 */
     GLuint env_residual;   /* uEnvResidual: the environment less its env lights; 0 = env itself */
     GLuint ubo;            /* HammersleyBlock */
 } slgl_lighting;

@@ -75,7 +75,8 @@ typedef struct {
      * (2,1) (2,2):  Y = 0.282095;  0.488603 y, z, x;  1.092548 xy, yz;  0.315392 (3z^2 - 1);
      * 1.092548 xz;  0.546274 (x^2 - y^2). */
     vec3 sh[9];
-    sl_env map;     /* BRUTE and MAP: the irradiance map (one level is enough; bilinear lookup) */
+    sl_env map;     /* every method but SH9: the irradiance map (one level; bilinear lookup) */
+    int bright_nodes, group_nodes; /* OCT and DP: what the build summed (for reports) */
 } sl_irradiance;
 
 /* Each builder overwrites *irr (sl_irradiance_free an old one first); on failure *irr is empty. */
@@ -87,6 +88,26 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err);
 bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err);
 bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, sl_error *err);
 int sl_irradiance_brute_default_level(const sl_env *env);
+/* OCT and DP (irradiance_map.c): E at the map's texels from level 0, the brightest texels as
+ * exact nodes and the rest grouped by the texel grid of one mip level (docs/ibl.md). Zero fields
+ * are defaults. The lookup is sl_irradiance_eval (one bilinear fetch; uv below). */
+#define SL_IRRADIANCE_MAP_SIZE 129       /* texels per side (DP: per half) */
+#define SL_IRRADIANCE_MAP_GROUPS (32 * 16)  /* the finest level with at most this many texels groups the rest */
+#define SL_IRRADIANCE_BRIGHT_MAX 4096    /* at most this many bright texels summed exactly */
+#define SL_IRRADIANCE_BRIGHT_SHARE 0.25  /* bright: a texel with more power than this share of an average group */
+typedef struct {
+    sl_irradiance_method method; /* OCT or DP (SH9 = 0 means OCT) */
+    int size;                    /* odd, 3 .. 1025: texels per side, DP per half; 0 = SL_IRRADIANCE_MAP_SIZE */
+    int source_level;            /* the level whose grid groups the rest; 0 = default (see above) */
+    int bright_max;              /* 0 = SL_IRRADIANCE_BRIGHT_MAX, -1 = none (groups only) */
+    bool exact;                  /* every level-0 texel an exact node (slow: for measurements) */
+} sl_irradiance_map_desc;
+bool sl_irradiance_map(sl_irradiance *irr, const sl_env *env, const sl_irradiance_map_desc *desc, sl_error *err);
+int sl_irradiance_map_default_source_level(const sl_env *env);
+/* Texture coordinates of a unit direction in the S x S octahedral map and the 2S x S
+ * dual-paraboloid map (texel centres at (i + 1/2) / size, clamped to the outer texel centres). */
+vec2 sl_irradiance_oct_uv(vec3 n, int size);
+vec2 sl_irradiance_dp_uv(vec3 n, int size);
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err);
 /* n unit length; the result is clamped at 0 (SH9 can ring below it; NaN also gives 0). */
 vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n);

@@ -20,7 +20,8 @@
  *
  * MAP: a precomputed lat-long irradiance image from the scene.
  *
- * BRUTE and MAP are looked up with textureLod at lod 0 (bilinear, REPEAT in u, CLAMP in v). */
+ * BRUTE and MAP are looked up with textureLod at lod 0 (bilinear, REPEAT in u, CLAMP in v).
+ * OCT and DP, the pole-free layouts, are built in irradiance_map.c; their lookup is here. */
 #include "ibl_internal.h"
 
 #include <math.h>
@@ -191,6 +192,10 @@ vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n)
         e = add3(e, scale3(c[6], k3 * (3.0f * z * z - 1.0f)));
         e = add3(e, scale3(c[7], k2 * x * z));
         e = add3(e, scale3(c[8], k4 * (x * x - y * y)));
+    } else if (irr->method == SL_IRRADIANCE_OCT) {
+        e = textureLod(&irr->map, sl_irradiance_oct_uv(n, irr->map.levels[0].height), 0.0f);
+    } else if (irr->method == SL_IRRADIANCE_DP) {
+        e = textureLod(&irr->map, sl_irradiance_dp_uv(n, irr->map.levels[0].height), 0.0f);
     } else {
         e = textureLod(&irr->map, sl_dir_to_uv(n), 0.0f);
     }

@@ -32,6 +32,10 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
     case SL_IRRADIANCE_BRUTE:
         ok = sl_irradiance_brute(&r->irradiance, &r->env, r->desc.irradiance_map_width, err);
         break;
+    case SL_IRRADIANCE_OCT:
+    case SL_IRRADIANCE_DP:
+        ok = sl_irradiance_map(&r->irradiance, &r->env, &(sl_irradiance_map_desc){.method = method}, err);
+        break;
     case SL_IRRADIANCE_SH9:
     default:
         ok = sl_irradiance_sh9(&r->irradiance, &r->env, err);
@@ -92,7 +96,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     if (!d->lighting.samples)
         d->lighting.samples = s->samples;
     if (!d->irradiance_set)
-        d->lighting.irradiance = scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9;
+        d->lighting.irradiance = scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : sl_irradiance_default();
     if (d->lighting.env_intensity == 0.0f)
         d->lighting.env_intensity = scene->environment.intensity;
     if (d->lighting.env_rotation_deg == 0.0f)
@@ -155,10 +159,10 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
             sl_irradiance_free(&r->irradiance);
         r->have_irradiance = false;
     } else {
-        /* A loaded irradiance map belongs to the old environment: the new one gets SH9. */
+        /* A loaded irradiance map belongs to the old environment: the new one gets the default. */
         sl_irradiance_method method = r->desc.lighting.irradiance;
         if (method == SL_IRRADIANCE_MAP)
-            method = SL_IRRADIANCE_SH9;
+            method = sl_irradiance_default();
         if (!sl_renderer_set_irradiance(r, method, err)) { /* keeps the old irradiance */
             sl_env_free(&r->env);
             r->env = old;

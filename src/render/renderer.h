@@ -33,7 +33,7 @@ typedef struct {
     int width, height;
     sl_lighting_options lighting; /* samples 0 = scene's N; env intensity/rotation 0 = scene's */
     bool irradiance_set;          /* lighting.irradiance was chosen; else the scene's map if it
-                                     names one, otherwise SH9 */
+                                     names one, otherwise OCT */
     sl_tonemap_options tonemap;   /* exposure/contrast 0 = the scene's */
     int threads;                  /* 0 = all cores */
     int tile_size;                /* raster tiles; 0 = SL_TILE_DEFAULT */

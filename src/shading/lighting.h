@@ -61,7 +61,7 @@ typedef struct {
     bool distortion;               /* lat-long distortion d(theta) in the lod (default off) */
     sl_gterm gterm;                /* 0 = SL_GTERM_INV_LH2 */
     sl_estimator estimator;        /* 0 = SL_ESTIMATOR_SPEC */
-    sl_irradiance_method irradiance; /* must equal the irradiance's method; 0 = SH9 */
+    sl_irradiance_method irradiance; /* must equal the irradiance's method (SH9 = 0, BRUTE, MAP, OCT, DP) */
     bool no_diffuse, no_specular, no_point_lights; /* toggles (default: all on) */
     float env_intensity;           /* multiplies the environment; 0 = 1 */
     float env_rotation_deg;        /* environment rotated about +Z, degrees */

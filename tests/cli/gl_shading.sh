@@ -92,6 +92,21 @@ if "$SL" compare "$T/default/g.pfm" "$T/mf-default/g.pfm" --metric p99rel --tole
     echo "FAIL mf: GL with --estimator mf equals GL with the spec estimator"
     fail=1
 fi
+# Irradiance layouts (lighting.frag irradiance(): uIrradianceMethod 3 = octahedral, the default
+# every run above uses, 4 = dual paraboloid, 0 = SH9, 1 = the lat-long brute map), diffuse only so
+# the map is all there is: on the floor (N = +Z, the lat-long pole) under grazing.json's low sun,
+# and on the bunny. GL must agree on each, and the layouts must differ from each other (or GL
+# ignored uIrradianceMethod).
+for irr in oct dp sh9 brute; do
+    mf_run "irr-$irr" grazing --diffuse-only --irradiance "$irr"
+done
+mf_run irr-dp-bunny bunny --diffuse-only --irradiance dp
+for irr in dp sh9 brute; do
+    if "$SL" compare "$T/irr-oct/g.pfm" "$T/irr-$irr/g.pfm" --metric p99rel --tolerance 1e-6 >/dev/null; then
+        echo "FAIL irr-$irr: GL with --irradiance $irr equals GL with oct"
+        fail=1
+    fi
+done
 if [ "$fail" != 0 ]; then
     echo "gl_shading: FAILED"
     exit 1

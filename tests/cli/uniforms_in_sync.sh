@@ -42,6 +42,7 @@ for x in NONE SPEC SPEC_D4 GEMS PDF; do check "LOD_$x" "SL_LOD_$x"; done
 check GTERM_INV_LH2 SL_GTERM_INV_LH2
 check ESTIMATOR_CONSISTENT SL_ESTIMATOR_CONSISTENT
 check ESTIMATOR_MICROFACET SL_ESTIMATOR_MICROFACET
+for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
 [ -n "$pairs" ] && [ $((pairs * 2)) = "$max" ] || fail "hammersley[$pairs] in $frag holds $((pairs * 2)) pairs, SL_HAMMERSLEY_MAX = $max"

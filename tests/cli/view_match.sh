@@ -56,6 +56,9 @@ key l
 key l
 key l
 key i
+screenshot $T/dp
+key i
+key i
 screenshot $T/brute
 key i
 key n
@@ -103,6 +106,7 @@ consistent --estimator consistent
 mf --estimator mf
 gems --lod gems
 pdf --lod pdf
+dp --irradiance dp
 brute --irradiance brute
 n16 -n 16
 g-one --g one

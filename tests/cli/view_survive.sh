@@ -76,7 +76,7 @@ view_same "$T/top-down.hdr" "$T/top-down-ref.hdr" "the dropped scene renders as 
         echo "wheel $((i % 5 - 2))"
     done
     # Every toggle was pressed an even number of times and every cycle went round whole (20 x
-    # lod over 4, estimator 3 x over 3, G over 2, irradiance sh9/brute over 2), N went x2 /2, the
+    # lod over 4, estimator 3 x over 3, G over 2, irradiance oct/dp/sh9/brute over 4), N went x2 /2, the
     # environment +15 -15; only the view (20 mod 8 = 4: ks) and the camera are off.
     echo "settle"
     echo "screenshot $T/flood-ks"

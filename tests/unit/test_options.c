@@ -283,7 +283,7 @@ static void test_library_reads_the_table(void **state)
     assert_int_equal((int)lod->max, SL_LOD_PDF);
     assert_int_equal((int)est->max, SL_ESTIMATOR_MICROFACET);
     assert_int_equal((int)g->max, SL_GTERM_ONE);
-    assert_int_equal((int)irr->max, SL_IRRADIANCE_MAP);
+    assert_int_equal((int)irr->max, SL_IRRADIANCE_DP);
     assert_int_equal(sl_option_next(lod, SL_LOD_PDF), SL_LOD_NONE);
     assert_int_equal(sl_option_next(g, SL_GTERM_INV_LH2), SL_GTERM_ONE);
 
