@@ -84,7 +84,7 @@ static void bench_map(const char *path)
 {
     sl_image img;
     sl_error err = {0};
-    if (!sl_image_read_hdr(path, &img, NULL, &err)) {
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
@@ -132,7 +132,7 @@ static void bench_texture_lod(const char *path)
     sl_image img;
     sl_error err = {0};
     sl_env env;
-    if (!sl_image_read_hdr(path, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
@@ -179,7 +179,7 @@ static void bench_ground_truth(const char *path)
     sl_image img;
     sl_error err = {0};
     sl_env env;
-    if (!sl_image_read_hdr(path, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }

@@ -100,7 +100,7 @@ int main(int argc, char **argv)
     sl_image img = {0};
     sl_env env = {0};
     sl_irradiance irr = {0};
-    if (!sl_image_read_hdr(path, &img, NULL, &err) || !sl_env_build(&env, &img, &err) ||
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err) ||
         !sl_irradiance_sh9(&irr, &env, &err)) {
         fprintf(stderr, "bench_shading: %s\n", err.msg);
         return 1;

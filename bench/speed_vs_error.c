@@ -398,7 +398,7 @@ static bool run_gl(const config *c, const scene_entry *s, const scene_info *si, 
     sl_error err;
     sl_image_free(diffuse);
     sl_image_free(specular);
-    if (!sl_image_read_pfm(pfm[0], diffuse, NULL, &err) || !sl_image_read_pfm(pfm[1], specular, NULL, &err))
+    if (!sl_image_read_pfm(pfm[0], 0, diffuse, NULL, &err) || !sl_image_read_pfm(pfm[1], 0, specular, NULL, &err))
         die("GL output", &err);
     for (int a = 0; a < (c->anchor_frames > 0 ? 2 : 1); a++) {
         int w = a ? si->anchor_w : si->w, h = a ? si->anchor_h : si->h, runs = a ? c->anchor_frames : c->frames;

@@ -14,12 +14,16 @@
 
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
 
+/* An image memory budget that keeps a run within -rss_limit_mb and -timeout: old-style runs let
+ * a few bytes declare millions of pixels, and the budget is what refuses them. */
+#define FUZZ_BUDGET ((size_t)64 << 20)
+
 int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
 {
     sl_image img;
     sl_image_repairs rep;
     sl_error err = {0};
-    if (!sl_image_parse_hdr(data, size, "fuzz.hdr", &img, &rep, &err)) {
+    if (!sl_image_parse_hdr(data, size, "fuzz.hdr", FUZZ_BUDGET, &img, &rep, &err)) {
         if (img.data || strncmp(err.msg, "fuzz.hdr: ", 10) != 0) {
             fprintf(stderr, "bad failure: data %p, message '%s'\n", (void *)img.data, err.msg);
             abort();
@@ -35,7 +39,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!sl_image_encode_hdr(&img, &bytes, &len, &err))
         abort();
     sl_image back;
-    if (!sl_image_parse_hdr(bytes, len, "again.hdr", &back, NULL, &err)) {
+    if (!sl_image_parse_hdr(bytes, len, "again.hdr", FUZZ_BUDGET, &back, NULL, &err)) {
         fprintf(stderr, "re-reading the written file failed: %s\n", err.msg);
         abort();
     }

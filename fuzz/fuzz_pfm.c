@@ -18,7 +18,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sl_image img;
     sl_image_repairs rep;
     sl_error err = {0};
-    if (!sl_image_parse_pfm(data, size, "fuzz.pfm", &img, &rep, &err)) {
+    if (!sl_image_parse_pfm(data, size, "fuzz.pfm", (size_t)64 << 20, &img, &rep, &err)) {
         if (img.data || strncmp(err.msg, "fuzz.pfm: ", 10) != 0) {
             fprintf(stderr, "bad failure: data %p, message '%s'\n", (void *)img.data, err.msg);
             abort();
@@ -34,7 +34,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!sl_image_encode_pfm(&img, &bytes, &len, &err))
         abort();
     sl_image back;
-    if (!sl_image_parse_pfm(bytes, len, "again.pfm", &back, NULL, &err)) {
+    if (!sl_image_parse_pfm(bytes, len, "again.pfm", (size_t)64 << 20, &back, NULL, &err)) {
         fprintf(stderr, "re-reading the written file failed: %s\n", err.msg);
         abort();
     }

@@ -24,9 +24,9 @@ static bool load_float_image(const char *path, sl_image *img, sl_image_repairs *
 {
     memset(repairs, 0, sizeof *repairs);
     if (has_suffix(path, ".pfm") || has_suffix(path, ".PFM"))
-        return sl_image_read_pfm(path, img, repairs, err);
+        return sl_image_read_pfm(path, 0, img, repairs, err);
     if (has_suffix(path, ".hdr") || has_suffix(path, ".HDR"))
-        return sl_image_read_hdr(path, img, repairs, err);
+        return sl_image_read_hdr(path, 0, img, repairs, err);
     return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: expected a .pfm or .hdr image", path);
 }
 

@@ -1,11 +1,120 @@
-/* cmd_info.c - `softlight info scene.json`: what a scene holds and the memory a frame of it needs. */
+/* cmd_info.c - `softlight info scene.json`: what a scene holds and the memory a render of it
+ * needs at its peak, for the render options given (the same words as `render`). */
 #include <stdio.h>
+#include <sys/stat.h>
 
 #include "args.h"
 #include "commands.h"
 #include "core/image.h"
 #include "raster/gbuffer.h"
+#include "render_options.h"
 #include "scene/scene.h"
+
+/* The memory `softlight render` holds, in bytes, phase by phase: what each stage allocates and
+ * what is still held from the stages before (src/render/renderer.c's order). The peak is the
+ * largest phase. Measured with /usr/bin/time -v (max RSS) against this model: within 10% for
+ * environments from 1024x512 to 16384x8192 and frames up to 1920x1080 (docs/scene-format.md,
+ * "Limits"). A texel of an environment level is 12 bytes (vec3). */
+typedef struct {
+    size_t program;          /* the executable, its libraries, thread stacks: measured */
+    size_t env_load;         /* the .hdr file and its decoded image */
+    size_t env_build;        /* sl_env_build: image + a copy + the mip chain + a row buffer */
+    size_t env;              /* the mip chain, held from then on */
+    size_t irradiance;       /* held: an irradiance map (brute, map); SH9 is 9 colours */
+    size_t irradiance_build; /* while it is built, besides the environment */
+    size_t env_lights;       /* the residual's mip chain, held */
+    size_t env_lights_build; /* while extracted: 48 B/texel quadrature nodes and the residual image,
+                                then the residual's own sl_env_build */
+    size_t frame;            /* G-buffer, radiance, display image, PNG encoding, mesh copies */
+    size_t peak;
+    const char *peak_at;
+} memory_model;
+
+#define PROGRAM_BYTES ((size_t)10 << 20) /* max RSS of a 16x16 render without environment */
+
+/* Texels of a W x H mip chain down to 1x1 (sl_env_build's sizes). */
+static size_t chain_texels(int w, int h)
+{
+    size_t total = 0;
+    for (;; w = w / 2 > 1 ? w / 2 : 1, h = h / 2 > 1 ? h / 2 : 1) {
+        total += (size_t)w * (size_t)h;
+        if (w == 1 && h == 1)
+            return total;
+    }
+}
+
+/* sl_env_build of a W x H image (the image itself not counted): a level-0 copy, the chain, and
+ * a buffer of W/2 x H rows of three doubles. */
+static size_t env_build_bytes(int w, int h)
+{
+    return (size_t)w * (size_t)h * 12 + chain_texels(w, h) * 12 + (size_t)(w / 2 > 1 ? w / 2 : 1) * (size_t)h * 24;
+}
+
+static void phase(memory_model *m, size_t bytes, const char *what)
+{
+    if (bytes > m->peak) {
+        m->peak = bytes;
+        m->peak_at = what;
+    }
+}
+
+/* env_w x env_h: the environment (0 x 0: none, a 1x1 black map); irr_w x irr_h: the scene's
+ * irradiance map when the render reads it; file sizes as on disk. */
+static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
+                                 int irr_h, size_t irr_file, size_t mesh_bytes, long vertices)
+{
+    memory_model m = {.program = PROGRAM_BYTES};
+    if (env_w <= 0)
+        env_w = env_h = 1;
+    size_t P = (size_t)env_w * (size_t)env_h;
+    m.env_load = env_file + P * 12;
+    m.env_build = P * 12 + env_build_bytes(env_w, env_h);
+    m.env = chain_texels(env_w, env_h) * 12;
+    size_t base = m.program + mesh_bytes;
+    phase(&m, base + m.env_load, "reading the environment");
+    phase(&m, base + m.env_build, "building the environment's mip chain");
+    base += m.env;
+    if (!d->lighting.no_diffuse) {
+        if (d->lighting.irradiance == SL_IRRADIANCE_MAP && irr_w > 0) {
+            size_t Pi = (size_t)irr_w * (size_t)irr_h;
+            m.irradiance = Pi * 12;
+            m.irradiance_build = (irr_file + Pi * 12 > Pi * 24 ? irr_file + Pi * 12 : Pi * 24);
+        } else if (d->lighting.irradiance == SL_IRRADIANCE_BRUTE) {
+            int w = env_w, h = env_h; /* the finest level with at most SL_IRRADIANCE_BRUTE_TEXELS texels */
+            while ((long)w * h > SL_IRRADIANCE_BRUTE_TEXELS && (w > 1 || h > 1)) {
+                w = w / 2 > 1 ? w / 2 : 1;
+                h = h / 2 > 1 ? h / 2 : 1;
+            }
+            int mw = d->irradiance_map_width ? d->irradiance_map_width : 64;
+            m.irradiance = (size_t)mw * (size_t)(mw / 2 > 1 ? mw / 2 : 1) * 12;
+            m.irradiance_build = (size_t)w * (size_t)h * 48 + m.irradiance;
+        } else {
+            m.irradiance_build = (size_t)env_w * 40; /* SH9: one row of column moments */
+        }
+        phase(&m, base + m.irradiance_build, "computing the irradiance");
+        base += m.irradiance;
+    }
+    if (d->lighting.env_lights > 0) {
+        m.env_lights = m.env;
+        size_t extract = P * 48 + P * 12, residual = P * 12 + env_build_bytes(env_w, env_h);
+        m.env_lights_build = extract > residual ? extract : residual;
+        phase(&m, base + m.env_lights_build, "extracting the env lights");
+        base += m.env_lights;
+    }
+    /* G-buffer 56 B, radiance and display images 12 B each, the PNG's 8-bit pixels, its filtered
+     * rows and its growing zlib buffer (about 15 B together), per pixel; the rasterizer's copy of
+     * the transformed vertices (rast_vpos and varyings, about 80 B each). */
+    size_t pixels = (size_t)d->width * (size_t)d->height;
+    m.frame = pixels * (sizeof(sl_gbuffer_texel) + 12 + 12 + 15) + (size_t)vertices * 80;
+    phase(&m, base + m.frame, "rendering and writing the frame");
+    return m;
+}
+
+static size_t file_bytes(const char *path)
+{
+    struct stat st;
+    return stat(path, &st) == 0 && S_ISREG(st.st_mode) ? (size_t)st.st_size : 0;
+}
 
 static void print_vec3(const char *label, vec3 v)
 {
@@ -14,18 +123,27 @@ static void print_vec3(const char *label, vec3 v)
 
 int cmd_info(int argc, char **argv)
 {
-    const sl_arg table[] = {0};
+    sl_render_options ro;
+    sl_arg table[SL_RENDER_OPTION_COUNT];
+    sl_render_options_table(&ro, table);
     const char *positional[1];
     int npos;
     bool help;
     sl_error err = {0};
-    if (!sl_args_parse(argc, argv, 2, table, 0, positional, 1, &npos, &help, &err)) {
+    if (!sl_args_parse(argc, argv, 2, table, SL_RENDER_OPTION_COUNT, positional, 1, &npos, &help, &err)) {
         fprintf(stderr, "softlight info: %s\n", err.msg);
         return 2;
     }
     if (help || npos != 1) {
-        sl_args_print_help(help ? stdout : stderr, "softlight info SCENE.json", table, 0);
+        sl_args_print_help(help ? stdout : stderr,
+                           "softlight info SCENE.json [render options: the peak memory is that render's]", table,
+                           SL_RENDER_OPTION_COUNT);
         return help ? 0 : 2;
+    }
+    sl_render_desc desc;
+    if (!sl_render_options_desc(&ro, &desc, &err)) {
+        fprintf(stderr, "softlight info: %s\n", err.msg);
+        return 2;
     }
     sl_scene scene;
     if (!sl_scene_load(positional[0], &scene, &err)) {
@@ -69,35 +187,59 @@ int cmd_info(int argc, char **argv)
     printf("  fovy       %g degrees, near %g, far %g\n", (double)c->fovy_deg, (double)c->znear, (double)c->zfar);
 
     const sl_render_settings *s = &scene.settings;
+    /* what `render` with these options resolves (sl_renderer_init) */
+    if (!desc.width || !desc.height) {
+        desc.width = s->width;
+        desc.height = s->height;
+    }
+    if (!desc.irradiance_set)
+        desc.lighting.irradiance = scene.environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9;
     printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->width, s->height, s->samples,
            (double)s->exposure, (double)s->contrast);
 
-    size_t env_bytes = 0;
-    if (scene.environment.hdr_path[0]) {
+    /* Both images are read as `render` reads them (the same checks, the same memory budget). */
+    int env_w = 0, env_h = 0, irr_w = 0, irr_h = 0;
+    const sl_environment_desc *e = &scene.environment;
+    if (e->hdr_path[0]) {
         sl_image env;
-        if (!sl_image_read_hdr(scene.environment.hdr_path, &env, NULL, &err)) {
+        if (!sl_image_read_hdr(e->hdr_path, desc.image_budget, &env, NULL, &err)) {
             fprintf(stderr, "softlight info: %s\n", err.msg);
             sl_scene_free(&scene);
             return 2;
         }
-        /* A full mip chain adds a third to level 0. */
-        env_bytes = (size_t)env.width * (size_t)env.height * sizeof(vec3) * 4 / 3;
-        printf("  environment %s: %dx%d, intensity %g, rotation %g degrees%s%s\n", scene.environment.hdr_path,
-               env.width, env.height, (double)scene.environment.intensity, (double)scene.environment.rotation_deg,
-               scene.environment.irradiance_path[0] ? ", irradiance " : "", scene.environment.irradiance_path);
+        env_w = env.width;
+        env_h = env.height;
         sl_image_free(&env);
+        printf("  environment %s: %dx%d, intensity %g, rotation %g degrees%s%s\n", e->hdr_path, env_w, env_h,
+               (double)e->intensity, (double)e->rotation_deg, e->irradiance_path[0] ? ", irradiance " : "",
+               e->irradiance_path);
     } else {
         printf("  environment none (black)\n");
     }
+    if (e->irradiance_path[0] && desc.lighting.irradiance == SL_IRRADIANCE_MAP && !desc.lighting.no_diffuse) {
+        sl_image map;
+        if (!sl_image_read_hdr(e->irradiance_path, desc.image_budget, &map, NULL, &err)) {
+            fprintf(stderr, "softlight info: %s\n", err.msg);
+            sl_scene_free(&scene);
+            return 2;
+        }
+        irr_w = map.width;
+        irr_h = map.height;
+        sl_image_free(&map);
+    }
 
-    size_t pixels = (size_t)s->width * (size_t)s->height;
-    size_t gbuffer_bytes = pixels * sizeof(sl_gbuffer_texel);
-    size_t frame_bytes = pixels * (3 * sizeof(float) + 4); /* linear radiance + 8-bit output */
+    memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,
+                                  irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices);
     double mib = 1024.0 * 1024.0;
-    printf("  memory     G-buffer %.1f MiB (%zu B/pixel), frame %.1f MiB, environment + mips %.1f MiB, "
-           "meshes %.1f MiB\n",
-           (double)gbuffer_bytes / mib, sizeof(sl_gbuffer_texel), (double)frame_bytes / mib, (double)env_bytes / mib,
-           (double)mesh_bytes / mib);
+    printf("  memory     peak %.1f MiB while %s (a %dx%d render%s%s)\n", (double)m.peak / mib, m.peak_at,
+           desc.width, desc.height, desc.lighting.env_lights ? " with env lights" : "",
+           desc.lighting.irradiance == SL_IRRADIANCE_MAP && irr_w ? ", irradiance map" : "");
+    printf("             environment %.1f MiB held (mip chain), %.1f MiB while read, %.1f MiB while its mips are "
+           "built; irradiance %.1f MiB held, %.1f MiB while built; env lights %.1f MiB held, %.1f MiB while "
+           "extracted; frame %.1f MiB (G-buffer %zu B/pixel); meshes %.1f MiB; program %.1f MiB\n",
+           (double)m.env / mib, (double)m.env_load / mib, (double)m.env_build / mib, (double)m.irradiance / mib,
+           (double)m.irradiance_build / mib, (double)m.env_lights / mib, (double)m.env_lights_build / mib,
+           (double)m.frame / mib, sizeof(sl_gbuffer_texel), (double)mesh_bytes / mib, (double)m.program / mib);
     sl_scene_free(&scene);
     return 0;
 }

@@ -59,7 +59,7 @@ static bool compare_with(const char *path, const sl_image *truth, const sl_gt_im
                          const sl_tonemap_options *tm, sl_error *err)
 {
     sl_image img = {0};
-    if (!sl_image_read_pfm(path, &img, NULL, err))
+    if (!sl_image_read_pfm(path, 0, &img, NULL, err))
         return false;
     sl_compare_stats s;
     sl_compare_desc d = {.exposure = tm->exposure, .contrast = tm->contrast, .mask = &gt->mask};

@@ -31,6 +31,8 @@ static const struct {
     [SL_OPT_PLAIN] = {NULL, "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) "
                             "to compare with the fast ones or to step through in a debugger"},
     [SL_OPT_ENV_LIGHTS] = {"K", "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)"},
+    [SL_OPT_IMAGE_MEMORY] = {"MIB", "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); "
+                                    "an environment needs about 4.3 times that at its peak (softlight info)"},
 };
 
 void sl_render_options_table(sl_render_options *o, sl_arg *t)
@@ -58,6 +60,7 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
         [SL_OPT_FRAME] = &o->frame,
         [SL_OPT_PLAIN] = &o->plain,
         [SL_OPT_ENV_LIGHTS] = &o->env_lights,
+        [SL_OPT_IMAGE_MEMORY] = &o->image_memory,
     };
     static const sl_arg_type types[] = {[SL_OPTION_FLAG] = SL_ARG_FLAG, [SL_OPTION_INT] = SL_ARG_INT,
                                         [SL_OPTION_FLOAT] = SL_ARG_FLOAT, [SL_OPTION_SIZE] = SL_ARG_SIZE,
@@ -117,5 +120,6 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
     l->rotate = o->rotate;
     l->frame = (uint32_t)o->frame;
     l->env_lights = o->env_lights;
+    d->image_budget = (size_t)o->image_memory << 20;
     return true;
 }

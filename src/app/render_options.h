@@ -21,10 +21,11 @@ typedef struct {
     bool plain;  /* the reference paths: per-pixel raster, the line-by-line port of lighting.frag */
     int frame;   /* the rotation's frame number (options.frame) */
     int env_lights; /* K brightest texels summed exactly (options.env_lights); 0 = off */
+    int image_memory; /* the image memory budget in MiB (desc.image_budget); 0 = the default */
     char choices[SL_OPT_CLI_COUNT][64]; /* a choice argument's words, "none|spec|...", from its row */
 } sl_render_options;
 
-#define SL_RENDER_OPTION_COUNT 19 /* = SL_OPT_CLI_COUNT, the table's rows with a spelling */
+#define SL_RENDER_OPTION_COUNT 20 /* = SL_OPT_CLI_COUNT, the table's rows with a spelling */
 
 /* Fill `table` (SL_RENDER_OPTION_COUNT entries) to parse into `o`, which is reset to "not given". */
 void sl_render_options_table(sl_render_options *o, sl_arg *table);

@@ -8,9 +8,22 @@
  * What is read: the "#?RADIANCE" or "#?RGBE" magic, header lines up to a blank line
  * (FORMAT=32-bit_rle_rgbe required if present, XYZE refused, EXPOSURE and the rest
  * ignored: values are returned as stored, as rgbe.c does), the resolution line
- * "-Y height +X width" (other orientations are refused by name), then flat or
- * new-style run-length scanlines (2, 2, width_hi, width_lo, then each component's
- * runs). Old-style runs (a 1,1,1,count pixel) are refused as unsupported.
+ * "-Y height +X width" (other orientations are refused by name), then scanlines, each
+ * either new-style run-length coded (2, 2, width_hi, width_lo, then each component's runs)
+ * or flat pixels with the old-style runs of the pre-1991 format: a pixel (1, 1, 1, n)
+ * repeats the pixel before it n << shift times, where shift is 0 and grows by 8 with each
+ * run that directly follows another (Radiance's oldreadcolrs). As there, runs stay inside
+ * their scanline; one that starts a scanline or overflows it is an error.
+ *
+ * Header lines may end in CRLF (the magic, the blank line and the resolution line too). Such a
+ * file has usually been through a text conversion that also turned 0x0A bytes of its pixels
+ * into 0x0D 0x0A, so it is read only if its pixels end exactly at the end of the file, and any
+ * error in its pixels says that the header's lines end in CRLF. A header line that looks like
+ * the resolution line, or holds control bytes, is reported where it starts: the blank line
+ * that ends the header is missing.
+ *
+ * The declared size is checked against the image memory budget (image.h) before the image
+ * is allocated.
  *
  * Decoding: (m, e) -> m * 2^(e - 136), and e = 0 -> 0, as in Greg Ward's rgbe.c, the
  * library the specification ships (Radiance itself adds 0.5 to m; the difference is
@@ -40,6 +53,7 @@ typedef struct {
     size_t size, pos;
     const char *name;
     sl_error *err;
+    bool crlf; /* a header line ended in "\r\n" */
 } reader;
 
 /* Copy up to 40 bytes of the file into `out` for a message, replacing what is not printable. */
@@ -56,7 +70,7 @@ static const char *excerpt(const unsigned char *s, size_t len, char out[48])
     return out;
 }
 
-/* The next header line [*start, *start + *len) without its '\n'; the reader moves past it. */
+/* The next header line [*start, *start + *len) without its '\n' (or "\r\n"); the reader moves past it. */
 static bool next_line(reader *r, size_t *start, size_t *len, const char *what)
 {
     const unsigned char *nl = r->pos < r->size ? memchr(r->p + r->pos, '\n', r->size - r->pos) : NULL;
@@ -66,12 +80,27 @@ static bool next_line(reader *r, size_t *start, size_t *len, const char *what)
     *start = r->pos;
     *len = (size_t)(nl - (r->p + r->pos));
     r->pos += *len + 1;
+    if (*len > 0 && r->p[*start + *len - 1] == '\r') {
+        --*len;
+        r->crlf = true;
+    }
     return true;
+}
+
+/* Add to a message about the pixels of a file whose header lines end in CRLF what probably happened. */
+static bool crlf_hint(const reader *r)
+{
+    if (r->crlf && r->err) {
+        size_t n = strlen(r->err->msg);
+        snprintf(r->err->msg + n, sizeof r->err->msg - n,
+                 " (the header's lines end in CRLF: was the file converted as text, which also changes its pixels?)");
+    }
+    return false;
 }
 
 static bool parse_magic(reader *r)
 {
-    static const char *const magics[] = {"#?RADIANCE\n", "#?RGBE\n"};
+    static const char *const magics[] = {"#?RADIANCE\n", "#?RADIANCE\r\n", "#?RGBE\n", "#?RGBE\r\n"};
     for (size_t i = 0; i < sizeof magics / sizeof magics[0]; i++) {
         size_t n = strlen(magics[i]);
         size_t avail = r->size < n ? r->size : n;
@@ -82,12 +111,26 @@ static bool parse_magic(reader *r)
                            "%s: byte %zu: unexpected end of file, expected the line '#?RADIANCE' or '#?RGBE'",
                            r->name, r->size);
         r->pos = n;
+        r->crlf = magics[i][n - 2] == '\r';
         return true;
     }
     char ex[48];
     return sl_fail(r->err, SL_ERR_FORMAT,
                    "%s: byte 0: not a Radiance .hdr file: expected the line '#?RADIANCE' or '#?RGBE', found '%s'",
                    r->name, excerpt(r->p, r->size, ex));
+}
+
+bool sl_image_magic_hdr(const unsigned char *head, size_t size, const char *name, sl_error *err)
+{
+    reader r = {.p = head, .size = head ? size : 0, .name = name ? name : "(memory)", .err = err};
+    return parse_magic(&r);
+}
+
+/* "-Y 512 ...": what a resolution line starts with. */
+static bool looks_like_resolution(const unsigned char *s, size_t len)
+{
+    return len >= 4 && (s[0] == '-' || s[0] == '+') && (s[1] == 'X' || s[1] == 'Y') && s[2] == ' ' && s[3] >= '0' &&
+           s[3] <= '9';
 }
 
 /* Header lines up to the blank line; only FORMAT matters. */
@@ -100,6 +143,18 @@ static bool parse_header_lines(reader *r)
         if (len == 0)
             return true;
         const unsigned char *s = r->p + start;
+        char ex[48];
+        if (looks_like_resolution(s, len))
+            return sl_fail(r->err, SL_ERR_FORMAT,
+                           "%s: byte %zu: found the resolution line '%s' in the header: expected a blank line "
+                           "before it (the end of the header)",
+                           r->name, start, excerpt(s, len, ex));
+        for (size_t i = 0; i < len; i++)
+            if (s[i] < 32 && s[i] != '\t')
+                return sl_fail(r->err, SL_ERR_FORMAT,
+                               "%s: byte %zu: binary data (byte 0x%02x) in the header line starting at byte %zu: "
+                               "expected text lines ended by a blank line",
+                               r->name, start + i, s[i], start);
         static const char key[] = "FORMAT=";
         if (len < sizeof key - 1 || memcmp(s, key, sizeof key - 1) != 0)
             continue; /* EXPOSURE, GAMMA, SOFTWARE, comments: not needed to read the pixels */
@@ -107,7 +162,6 @@ static bool parse_header_lines(reader *r)
         size_t vlen = len - (sizeof key - 1);
         if (vlen == 15 && !memcmp(v, "32-bit_rle_rgbe", 15))
             continue;
-        char ex[48];
         if (vlen == 15 && !memcmp(v, "32-bit_rle_xyze", 15))
             return sl_fail(r->err, SL_ERR_UNSUPPORTED,
                            "%s: byte %zu: FORMAT=32-bit_rle_xyze (CIE XYZ) is not supported, only "
@@ -143,7 +197,7 @@ static bool parse_count(const unsigned char *s, size_t len, size_t *i, int *valu
 }
 
 /* "-Y height +X width": rows top to bottom, pixels left to right (the only orientation read). */
-static bool parse_resolution(reader *r, int *width, int *height)
+static bool parse_resolution(reader *r, int *width, int *height, size_t *at)
 {
     size_t start, len;
     if (!next_line(r, &start, &len, "resolution line (like '-Y 512 +X 1024')"))
@@ -167,6 +221,7 @@ static bool parse_resolution(reader *r, int *width, int *height)
                        r->name, start, s1, a1, s2, a2, excerpt(s, len, ex));
     *height = n1;
     *width = n2;
+    *at = start;
     if (n1 <= 0 || n2 <= 0)
         return sl_fail(r->err, SL_ERR_FORMAT, "%s: byte %zu: image size %dx%d: width and height must be positive",
                        r->name, start, n2, n1);
@@ -177,15 +232,16 @@ static bool parse_resolution(reader *r, int *width, int *height)
     return true;
 }
 
-/* The fewest bytes one scanline can take: four run-coded planes, or flat pixels. Checking
- * height * this against what is left turns a truncated or lying header into an error
- * before a large allocation. */
+/* The fewest bytes one scanline can take: a first pixel and old-style runs, k of them in a row
+ * repeating up to 256^k - 1 pixels (new-style scanlines take more). Checking height * this
+ * against what is left turns a truncated file into an error before a large allocation; the
+ * memory budget bounds what a short file can declare. */
 static size_t min_scanline_bytes(int width)
 {
-    if (width < RLE_MIN_WIDTH || width > RLE_MAX_WIDTH)
-        return 4 * (size_t)width;
-    size_t runs = ((size_t)width + RLE_MAX_RUN - 1) / RLE_MAX_RUN;
-    return 4 + 4 * 2 * runs;
+    size_t bytes = 4;
+    for (unsigned long long covered = 1; covered < (unsigned long long)width; covered = covered * 256 + 255)
+        bytes += 4;
+    return bytes;
 }
 
 /* Decode scanline `y` into four planes (r, g, b, e), each `width` bytes. */
@@ -196,24 +252,43 @@ static bool read_scanline(reader *r, int y, int width, unsigned char *planes)
     bool rle = width >= RLE_MIN_WIDTH && width <= RLE_MAX_WIDTH && left >= 4 && s[0] == 2 && s[1] == 2 &&
                !(s[2] & 0x80);
     if (!rle) {
-        size_t need = 4 * (size_t)width;
-        if (left < need)
-            return sl_fail(r->err, SL_ERR_FORMAT,
-                           "%s: byte %zu: unexpected end of file in scanline %d, expected %zu bytes of flat RGBE "
-                           "pixels from byte %zu",
-                           r->name, r->size, y, need, r->pos);
-        for (int x = 0; x < width; x++, s += 4) {
-            if (s[0] == 1 && s[1] == 1 && s[2] == 1)
-                return sl_fail(r->err, SL_ERR_UNSUPPORTED,
-                               "%s: byte %zu: scanline %d pixel %d is an old-style run (1,1,1,count), which "
-                               "softlight does not read",
-                               r->name, r->pos + 4 * (size_t)x, y, x);
-            planes[x] = s[0];
-            planes[width + x] = s[1];
-            planes[2 * width + x] = s[2];
-            planes[3 * width + x] = s[3];
+        /* flat pixels and old-style runs */
+        int shift = 0;
+        for (int x = 0; x < width;) {
+            if (r->size - r->pos < 4)
+                return sl_fail(r->err, SL_ERR_FORMAT,
+                               "%s: byte %zu: unexpected end of file in scanline %d, expected the RGBE pixel %d "
+                               "(4 bytes) from byte %zu",
+                               r->name, r->size, y, x, r->pos);
+            s = r->p + r->pos;
+            if (!(s[0] == 1 && s[1] == 1 && s[2] == 1)) {
+                for (int c = 0; c < 4; c++)
+                    planes[(size_t)c * (size_t)width + (size_t)x] = s[c];
+                x++;
+                shift = 0;
+                r->pos += 4;
+                continue;
+            }
+            if (x == 0)
+                return sl_fail(r->err, SL_ERR_FORMAT,
+                               "%s: byte %zu: scanline %d starts with an old-style run (1,1,1,%d): expected a "
+                               "pixel before it to repeat",
+                               r->name, r->pos, y, s[3]);
+            /* shift stays below 64; past 24, any non-zero count is more than a scanline holds */
+            unsigned long long run = shift > 24 ? (s[3] ? ~0ull : 0) : (unsigned long long)s[3] << shift;
+            if (run > (unsigned long long)(width - x))
+                return sl_fail(r->err, SL_ERR_FORMAT,
+                               "%s: byte %zu: scanline %d: old-style run of %s%llu at pixel %d overflows width %d",
+                               r->name, r->pos, y, run == ~0ull ? "more than " : "",
+                               run == ~0ull ? (unsigned long long)width : run, x, width);
+            for (int c = 0; c < 4; c++) {
+                unsigned char *plane = planes + (size_t)c * (size_t)width;
+                memset(plane + x, plane[x - 1], (size_t)run);
+            }
+            x += (int)run;
+            shift = shift > 24 ? shift : shift + 8;
+            r->pos += 4;
         }
-        r->pos += need;
         return true;
     }
     int declared = (s[2] << 8) | s[3];
@@ -269,7 +344,7 @@ static bool read_scanline(reader *r, int y, int width, unsigned char *planes)
     return true;
 }
 
-bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err)
 {
     *img = (sl_image){0};
@@ -277,14 +352,20 @@ bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *nam
         *repairs = (sl_image_repairs){0};
     reader r = {.p = bytes, .size = bytes ? size : 0, .name = name ? name : "(memory)", .err = err};
     int width = 0, height = 0;
-    if (!parse_magic(&r) || !parse_header_lines(&r) || !parse_resolution(&r, &width, &height))
+    size_t res_at = 0;
+    if (!parse_magic(&r) || !parse_header_lines(&r) || !parse_resolution(&r, &width, &height, &res_at))
         return false;
     size_t min_bytes = min_scanline_bytes(width) * (size_t)height;
-    if (r.size - r.pos < min_bytes)
-        return sl_fail(err, SL_ERR_FORMAT,
-                       "%s: byte %zu: unexpected end of file: %d scanlines of width %d need at least %zu bytes "
-                       "from byte %zu, only %zu remain",
-                       r.name, r.size, height, width, min_bytes, r.pos, r.size - r.pos);
+    if (r.size - r.pos < min_bytes) {
+        sl_fail(err, SL_ERR_FORMAT,
+                "%s: byte %zu: unexpected end of file: %d scanlines of width %d need at least %zu bytes "
+                "from byte %zu, only %zu remain",
+                r.name, r.size, height, width, min_bytes, r.pos, r.size - r.pos);
+        return crlf_hint(&r);
+    }
+    size_t need = (size_t)width * (size_t)height * 3 * sizeof(float); /* and 4 * width for one scanline */
+    if (!sl_image_check_budget(r.name, res_at, width, height, need, budget, err))
+        return false;
     unsigned char *planes = malloc(4 * (size_t)width);
     if (!planes)
         return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for a scanline of width %d", r.name, width);
@@ -303,7 +384,7 @@ bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *nam
         if (!read_scanline(&r, y, width, planes)) {
             free(planes);
             sl_image_free(img);
-            return false;
+            return crlf_hint(&r);
         }
         const unsigned char *pr = planes, *pg = planes + width, *pb = planes + 2 * width, *pe = planes + 3 * width;
         float *out = sl_image_pixel(img, 0, y);
@@ -315,14 +396,19 @@ bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *nam
         }
     }
     free(planes);
+    if (r.crlf && r.pos != r.size) {
+        sl_image_free(img);
+        sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: %zu bytes after the pixel data", r.name, r.pos, r.size - r.pos);
+        return crlf_hint(&r);
+    }
     /* RGBE cannot encode NaN, Inf or negatives; the pass keeps the loader contract uniform. */
     sl_image_repair(img, repairs);
     return true;
 }
 
-bool sl_image_read_hdr(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)
+bool sl_image_read_hdr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
-    return sl_image_read_with(path, sl_image_parse_hdr, img, repairs, err);
+    return sl_image_read_with(path, budget, sl_image_magic_hdr, sl_image_parse_hdr, img, repairs, err);
 }
 
 /* ---- writing ---- */

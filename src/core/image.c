@@ -76,3 +76,22 @@ long sl_image_repair(sl_image *img, sl_image_repairs *repairs)
         *repairs = r;
     return r.nan_count + r.inf_count + r.negative_count;
 }
+
+bool sl_image_check_budget(const char *name, size_t offset, int width, int height, size_t need, size_t budget,
+                           sl_error *err)
+{
+    size_t b = budget ? budget : SL_IMAGE_BUDGET_DEFAULT;
+    if (need <= b)
+        return true;
+    size_t mib = ((size_t)1 << 20), need_mib = need / mib + (need % mib != 0);
+    if (need_mib > SL_IMAGE_MEMORY_MAX_MIB)
+        return sl_fail(err, SL_ERR_RANGE,
+                       "%s: byte %zu: image %dx%d needs %zu MiB in memory, more than the largest image memory "
+                       "budget (%s %d)",
+                       name, offset, width, height, need_mib, sl_options[SL_OPT_IMAGE_MEMORY].cli,
+                       SL_IMAGE_MEMORY_MAX_MIB);
+    return sl_fail(err, SL_ERR_RANGE,
+                   "%s: byte %zu: image %dx%d needs %zu MiB in memory, more than the image memory budget of %zu MiB "
+                   "(raise it with %s %zu)",
+                   name, offset, width, height, need_mib, b / mib, sl_options[SL_OPT_IMAGE_MEMORY].cli, need_mib);
+}

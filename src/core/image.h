@@ -27,6 +27,7 @@
 #include <stddef.h>
 
 #include "error.h"
+#include "options.h"
 
 /* Limits for files read from disk: no side over 32768, no more than 2^28 pixels, and no
  * buffer over 4 GiB (2^28 RGB float pixels are 3 GiB). */
@@ -35,6 +36,13 @@
 #define SL_IMAGE_MAX_BYTES ((size_t)1 << 32)
 /* Whole-file size cap the readers pass to sl_read_file. */
 #define SL_IMAGE_MAX_FILE_BYTES ((size_t)1 << 31)
+/* The image memory budget (options.h, --image-memory): the bytes one image read from a file may
+ * take decoded. Every reader takes a budget in bytes (0 = this default) and checks the size a
+ * header declares against it before allocating anything of that size; a file larger than the
+ * budget (plus SL_IMAGE_HEADER_SLACK for headers) is refused before it is read, since no valid
+ * .hdr, .pfm or PNG is larger than its decoded floats. */
+#define SL_IMAGE_BUDGET_DEFAULT ((size_t)SL_IMAGE_MEMORY_DEFAULT_MIB << 20)
+#define SL_IMAGE_HEADER_SLACK ((size_t)1 << 20)
 
 typedef struct {
     int width, height, channels;
@@ -61,22 +69,31 @@ typedef struct {
 long sl_image_repair(sl_image *img, sl_image_repairs *repairs);
 
 /* Readers: on failure `img` is left empty and err says file, byte offset and what was expected.
- * `repairs` may be NULL. */
-bool sl_image_read_hdr(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-bool sl_image_read_pfm(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+ * `budget`: the image memory budget in bytes (0 = SL_IMAGE_BUDGET_DEFAULT). The file's first
+ * bytes are checked for the format's magic before the rest is read (a device or a FIFO that is
+ * not an image fails after a few bytes). `repairs` may be NULL. */
+bool sl_image_read_hdr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 /* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
  * NaN or Inf is an error; nothing is repaired. */
-bool sl_image_read_pfm_signed(const char *path, sl_image *img, sl_error *err);
+bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl_error *err);
 /* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
- * piecewise curve; alpha is dropped, grey is replicated. */
-bool sl_image_read_texture(const char *path, sl_image *img, sl_error *err);
+ * piecewise curve; alpha is dropped, grey is replicated. The budget counts stb's own buffers
+ * (its 8-bit image and the inflated PNG data) with the float image. */
+bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
 /* Parse from memory (what the readers and the fuzz targets call); `name` is used in messages. */
-bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
-bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
-bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
-                               sl_image_repairs *repairs, sl_error *err);
+bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                               sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* The budget check every reader makes once a header has declared a size: `need` bytes (the
+ * decoded image and the reader's own buffers) against `budget` (0 = the default). The error
+ * names the file, the byte offset of the declaration, the size, and the option that raises
+ * the budget. */
+bool sl_image_check_budget(const char *name, size_t offset, int width, int height, size_t need, size_t budget,
+                           sl_error *err);
 /* The exact sRGB -> linear curve (IEC 61966-2-1) of one 8-bit code, as the texture reader uses. */
 float sl_srgb8_to_linear(unsigned char code);
 
@@ -91,12 +108,19 @@ bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *siz
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 
-/* A parse-from-memory function (sl_image_parse_hdr, sl_image_parse_pfm), and the reader every
- * file format shares: the whole file (at most SL_IMAGE_MAX_FILE_BYTES) through `parse`. */
-typedef bool (*sl_image_parser)(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
-                                sl_image_repairs *repairs, sl_error *err);
-bool sl_image_read_with(const char *path, sl_image_parser parse, sl_image *img, sl_image_repairs *repairs,
-                        sl_error *err);
+/* A parse-from-memory function (sl_image_parse_hdr, sl_image_parse_pfm); a check of a file's
+ * first bytes (at most `size`, fewer only where the file ends) for the format's magic, failing
+ * with the parser's own message; and the reader every file format shares: the magic first, then
+ * the whole file (at most the budget plus SL_IMAGE_HEADER_SLACK) through `parse`. */
+typedef bool (*sl_image_parser)(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                                sl_image *img, sl_image_repairs *repairs, sl_error *err);
+typedef bool (*sl_magic_check)(const unsigned char *head, size_t size, const char *name, sl_error *err);
+bool sl_image_read_with(const char *path, size_t budget, sl_magic_check magic, sl_image_parser parse,
+                        sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* The magic checks of the formats (what sl_image_read_with is given), and how many bytes each needs. */
+#define SL_IMAGE_MAGIC_BYTES 16
+bool sl_image_magic_hdr(const unsigned char *head, size_t size, const char *name, sl_error *err);
+bool sl_image_magic_pfm(const unsigned char *head, size_t size, const char *name, sl_error *err);
 
 /* An encode-to-memory function (sl_image_encode_hdr/pfm/png), and the writer every format
  * shares: encode, then sl_write_file_atomic. */
@@ -105,6 +129,11 @@ bool sl_image_write_with(const char *path, sl_image_encoder encode, const sl_ima
 
 /* Read a whole file into memory (caps at `max_bytes`); caller frees *bytes. */
 bool sl_read_file(const char *path, size_t max_bytes, unsigned char **bytes, size_t *size, sl_error *err);
+/* The same, checking the first `head` bytes with `magic` (NULL: none) before reading further;
+ * `cap_name`, if not NULL, says in the too-large message what sets `max_bytes` (" (the image
+ * memory budget, --image-memory)"). */
+bool sl_read_file_checked(const char *path, size_t max_bytes, const char *cap_name, size_t head,
+                          sl_magic_check magic, unsigned char **bytes, size_t *size, sl_error *err);
 /* Write bytes atomically: a temporary beside the target, then rename; an output set of one
  * (core/output_set.h: symbolic links written through, non-regular targets refused). To write
  * several files all or none, add them to one sl_output_set instead. */

@@ -68,6 +68,9 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     FLAG(SL_OPT_PLAIN, "plain"),
     [SL_OPT_ENV_LIGHTS] = {.name = "env-lights", .cli = "--env-lights", .type = SL_OPTION_INT, .min = 0,
                            .max = SL_ENV_LIGHTS_MAX},
+    /* not in a scene file: a file must not raise the budget that guards against it */
+    [SL_OPT_IMAGE_MEMORY] = {.name = "image-memory", .cli = "--image-memory", .type = SL_OPTION_INT,
+                             .def = {SL_IMAGE_MEMORY_DEFAULT_MIB}, .min = 1, .max = SL_IMAGE_MEMORY_MAX_MIB},
     [SL_OPT_ENV_INTENSITY] = {.name = "env-intensity", .scene = {"environment.intensity"},
                               .type = SL_OPTION_FLOAT, .def = {1}, .min = 0, .max = 1e6},
 };

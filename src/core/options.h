@@ -35,6 +35,13 @@
 #define SL_TILE_DEFAULT 64
 #define SL_TILE_MIN 16
 #define SL_TILE_MAX 256
+/* The image memory budget, in MiB: the most one image read from a file (an environment, an
+ * irradiance map, a PFM or PNG) may take decoded, checked against the size its header declares
+ * before anything that size is allocated. The default reads an 8192x8192 RGB render (768 MiB)
+ * and an 8k environment (384 MiB) and refuses a 16384x8192 one (1536 MiB), which needs about
+ * 6.5 GiB at its peak (softlight info). The largest is image.h's SL_IMAGE_MAX_BYTES. */
+#define SL_IMAGE_MEMORY_DEFAULT_MIB 1024
+#define SL_IMAGE_MEMORY_MAX_MIB 4096
 
 /* The mip-level rule of the specular samples. Enum values of the modes are the GLSL uniform
  * values; 0 is "default" and never reaches the shader. */
@@ -96,6 +103,7 @@ typedef enum {
     SL_OPT_FRAME,
     SL_OPT_PLAIN,
     SL_OPT_ENV_LIGHTS,
+    SL_OPT_IMAGE_MEMORY,
     SL_OPT_CLI_COUNT,
     SL_OPT_ENV_INTENSITY = SL_OPT_CLI_COUNT, /* scene file only */
     SL_OPT_COUNT

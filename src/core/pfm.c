@@ -5,7 +5,8 @@
  *   rows from the BOTTOM of the image to the top.
  * The sign of the scale gives the byte order (negative = little endian, positive =
  * big endian); its magnitude is a unit hint that softlight ignores. Both byte orders are
- * read; files are written little endian with scale -1. The header is parsed strictly
+ * read; files are written little endian with scale -1. The declared size is checked against the
+ * image memory budget (image.h) before the image is allocated. The header is parsed strictly
  * and by hand (no strtod, so the locale cannot change it); a short data section, or
  * bytes after it, is an error naming the offset. */
 #include "image.h"
@@ -119,27 +120,36 @@ static bool parse_scale(reader *r, bool *little_endian)
     return true;
 }
 
+bool sl_image_magic_pfm(const unsigned char *head, size_t size, const char *name, sl_error *err)
+{
+    if (!head)
+        size = 0;
+    if (size < 2 && (size == 0 || head[0] == 'P'))
+        return sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: unexpected end of file, expected 'PF' or 'Pf'", name, size);
+    if (head[0] != 'P' || (head[1] != 'F' && head[1] != 'f'))
+        return sl_fail(err, SL_ERR_FORMAT,
+                       "%s: byte 0: not a PFM file: expected 'PF' (colour) or 'Pf' (grey), found '%c%c'", name,
+                       printable(head[0]), size > 1 ? printable(head[1]) : ' ');
+    return true;
+}
+
 /* The PFM parser; `signed_values` keeps negative floats (positions, normals) and turns NaN/Inf
  * into an error instead of repairing them. */
-static bool parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+static bool parse_pfm(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                       sl_image_repairs *repairs, bool signed_values, sl_error *err)
 {
     *img = (sl_image){0};
     if (repairs)
         *repairs = (sl_image_repairs){0};
     reader r = {.p = bytes, .size = bytes ? size : 0, .name = name ? name : "(memory)", .err = err};
-    if (r.size < 2 && (r.size == 0 || r.p[0] == 'P'))
-        return sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: unexpected end of file, expected 'PF' or 'Pf'", r.name,
-                       r.size);
-    if (r.p[0] != 'P' || (r.p[1] != 'F' && r.p[1] != 'f'))
-        return sl_fail(err, SL_ERR_FORMAT,
-                       "%s: byte 0: not a PFM file: expected 'PF' (colour) or 'Pf' (grey), found '%c%c'", r.name,
-                       printable(r.p[0]), r.size > 1 ? printable(r.p[1]) : ' ');
+    if (!sl_image_magic_pfm(r.p, r.size, r.name, err))
+        return false;
     int channels = r.p[1] == 'F' ? 3 : 1;
     r.pos = 2;
     int width = 0, height = 0;
     bool little_endian = true;
-    if (!skip_space(&r, "'PF'", "the width") || !parse_dim(&r, "width", &width) ||
+    size_t header_at = 0; /* where the width begins */
+    if (!skip_space(&r, "'PF'", "the width") || (header_at = r.pos, !parse_dim(&r, "width", &width)) ||
         !skip_space(&r, "the width", "the height") || !parse_dim(&r, "height", &height) ||
         !skip_space(&r, "the height", "the scale") || !parse_scale(&r, &little_endian))
         return false;
@@ -158,6 +168,9 @@ static bool parse_pfm(const unsigned char *bytes, size_t size, const char *name,
     if (left > need)
         return sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: %zu unexpected bytes after the pixel data", r.name,
                        r.pos + need, left - need);
+    if (!sl_image_check_budget(r.name, header_at, width, height,
+                               (size_t)width * (size_t)height * (size_t)channels * sizeof(float), budget, err))
+        return false;
     if (!sl_image_alloc(img, width, height, channels, err)) {
         sl_error_prefix(err, "%s: ", r.name);
         return false;
@@ -186,26 +199,26 @@ static bool parse_pfm(const unsigned char *bytes, size_t size, const char *name,
     return true;
 }
 
-bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
+bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err)
 {
-    return parse_pfm(bytes, size, name, img, repairs, false, err);
+    return parse_pfm(bytes, size, name, budget, img, repairs, false, err);
 }
 
-bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, sl_image *img,
-                               sl_image_repairs *repairs, sl_error *err)
+bool sl_image_parse_pfm_signed(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                               sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
-    return parse_pfm(bytes, size, name, img, repairs, true, err);
+    return parse_pfm(bytes, size, name, budget, img, repairs, true, err);
 }
 
-bool sl_image_read_pfm_signed(const char *path, sl_image *img, sl_error *err)
+bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl_error *err)
 {
-    return sl_image_read_with(path, sl_image_parse_pfm_signed, img, NULL, err);
+    return sl_image_read_with(path, budget, sl_image_magic_pfm, sl_image_parse_pfm_signed, img, NULL, err);
 }
 
-bool sl_image_read_pfm(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)
+bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
-    return sl_image_read_with(path, sl_image_parse_pfm, img, repairs, err);
+    return sl_image_read_with(path, budget, sl_image_magic_pfm, sl_image_parse_pfm, img, repairs, err);
 }
 
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err)

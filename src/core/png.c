@@ -4,11 +4,21 @@
  * This file holds the one copy of stb_image and stb_image_write in softlight (their
  * IMPLEMENTATION macros are defined here and nowhere else). stb_image is built for PNG
  * and JPEG only: .hdr files must never reach it (ERRATA.md: it can loop forever on a
- * truncated one); hdr.c reads those. */
+ * truncated one); hdr.c reads those.
+ *
+ * stb's own limits: STBI_MAX_DIMENSIONS (set to SL_IMAGE_MAX_SIDE below) and sizes that overflow
+ * an int; nothing else. Its inflater grows its output by doubling up to 2 GiB whatever the
+ * image's size, so a small PNG whose compressed data inflates past the image (a zlib bomb)
+ * could take gigabytes. Every allocation stb makes therefore goes through stb_alloc below,
+ * which refuses to let stb's live buffers exceed the image memory budget of the read in
+ * progress. stb has no context pointer for its allocator, so that budget is per thread
+ * (_Thread_local), set by sl_image_read_texture for the length of the stb call only. */
 #include "image.h"
 
 #include <limits.h>
 #include <math.h>
+#include <stdint.h>
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,6 +31,45 @@
 #pragma GCC diagnostic ignored "-Wunused-function"
 #pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+/* What stb may still allocate in the current thread's read (SIZE_MAX outside one), and the size
+ * stored before each block so that a free or a realloc gives its bytes back. */
+static _Thread_local size_t stb_left = SIZE_MAX;
+#define STB_HEADER 16 /* keeps stb's blocks aligned as malloc's */
+
+static void *stb_alloc(void *old, size_t size)
+{
+    size_t old_size = 0;
+    unsigned char *base = NULL;
+    if (old) {
+        base = (unsigned char *)old - STB_HEADER;
+        memcpy(&old_size, base, sizeof old_size);
+    }
+    if (size > SIZE_MAX - STB_HEADER || (size > old_size && size - old_size > stb_left))
+        return NULL;
+    unsigned char *p = realloc(base, size + STB_HEADER);
+    if (!p)
+        return NULL;
+    if (stb_left != SIZE_MAX)
+        stb_left = stb_left + old_size - size;
+    memcpy(p, &size, sizeof size);
+    return p + STB_HEADER;
+}
+
+static void stb_free(void *p)
+{
+    if (!p)
+        return;
+    unsigned char *base = (unsigned char *)p - STB_HEADER;
+    size_t size;
+    memcpy(&size, base, sizeof size);
+    if (stb_left != SIZE_MAX)
+        stb_left += size;
+    free(base);
+}
+
+#define STBI_MALLOC(sz) stb_alloc(NULL, sz)
+#define STBI_REALLOC(p, newsz) stb_alloc(p, newsz)
+#define STBI_FREE(p) stb_free(p)
 #define STB_IMAGE_IMPLEMENTATION
 #define STBI_ONLY_PNG
 #define STBI_ONLY_JPEG
@@ -117,12 +166,27 @@ float sl_srgb8_to_linear(unsigned char code)
     return (float)(c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4));
 }
 
-bool sl_image_read_texture(const char *path, sl_image *img, sl_error *err)
+/* The PNG signature or a JPEG's SOI marker and the first marker after it. */
+static bool magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err)
+{
+    static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}, jpeg[3] = {0xff, 0xd8, 0xff};
+    if ((size >= sizeof png && !memcmp(head, png, sizeof png)) || (size >= sizeof jpeg && !memcmp(head, jpeg, sizeof jpeg)))
+        return true;
+    return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG or JPEG file (expected the PNG signature or a JPEG "
+                   "start-of-image marker)", name);
+}
+
+bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err)
 {
     *img = (sl_image){0};
     unsigned char *bytes;
     size_t size;
-    if (!sl_read_file(path, (size_t)INT_MAX, &bytes, &size, err))
+    if (!budget)
+        budget = SL_IMAGE_BUDGET_DEFAULT;
+    size_t cap = budget < (size_t)INT_MAX - SL_IMAGE_HEADER_SLACK ? budget + SL_IMAGE_HEADER_SLACK : (size_t)INT_MAX;
+    char why[96];
+    snprintf(why, sizeof why, " by the image memory budget (raise it with %s)", sl_options[SL_OPT_IMAGE_MEMORY].cli);
+    if (!sl_read_file_checked(path, cap, why, SL_IMAGE_MAGIC_BYTES, magic_texture, &bytes, &size, err))
         return false;
     int w, h, n;
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &n)) {
@@ -135,8 +199,26 @@ bool sl_image_read_texture(const char *path, sl_image *img, sl_error *err)
         return sl_fail(err, SL_ERR_RANGE, "%s: image %dx%d has more than %lld pixels", path, w, h,
                        SL_IMAGE_MAX_PIXELS);
     }
+    /* The float image, stb's 8-bit RGB result, and at most two buffers of the file's own depth
+     * inside stb (inflated data and unfiltered image, or a JPEG's planes and the converted
+     * result); the header's offset is 16 in a PNG, unknown in a JPEG (reported as 0). */
+    size_t depth = stbi_is_16_bit_from_memory(bytes, (int)size) ? 2 : 1;
+    size_t pixels_count = (size_t)w * (size_t)h;
+    size_t stb_need = pixels_count * (3 + 2 * (size_t)n * depth) + (size_t)h;
+    if (!sl_image_check_budget(path, bytes[0] == 0x89 ? 16 : 0, w, h, pixels_count * 3 * sizeof(float) + stb_need,
+                               budget, err)) {
+        free(bytes);
+        return false;
+    }
+    stb_left = stb_need + ((size_t)1 << 20); /* and a MiB for stb's tables */
     unsigned char *pixels = stbi_load_from_memory(bytes, (int)size, &w, &h, &n, 3);
+    stb_left = SIZE_MAX;
     free(bytes);
+    if (!pixels && !strcmp(stbi_failure_reason(), "outofmem"))
+        return sl_fail(err, SL_ERR_RANGE,
+                       "%s: decoding the %dx%d image needs more memory than the image memory budget of %zu MiB "
+                       "allows (its compressed data inflates past the image?); raise it with %s",
+                       path, w, h, budget >> 20, sl_options[SL_OPT_IMAGE_MEMORY].cli);
     if (!pixels)
         return sl_fail(err, SL_ERR_FORMAT, "%s: cannot decode the image (stb_image: %s)", path,
                        stbi_failure_reason());

@@ -69,7 +69,7 @@ static void aov_set(sl_gbuffer_texel *t, int aov, const float *in)
 
 bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err)
 {
-    return sl_image_read_pfm_signed(path, img, err);
+    return sl_image_read_pfm_signed(path, 0, img, err);
 }
 
 bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err)

@@ -23,7 +23,7 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
             return sl_fail(err, SL_ERR_RANGE, "irradiance method 'map' needs environment.irradiance in %s",
                            scene->path);
         sl_image map;
-        if (!sl_image_read_hdr(scene->environment.irradiance_path, &map, NULL, err))
+        if (!sl_image_read_hdr(scene->environment.irradiance_path, r->desc.image_budget, &map, NULL, err))
             return false;
         ok = sl_irradiance_from_image(&r->irradiance, &map, err);
         sl_image_free(&map);
@@ -64,11 +64,11 @@ static bool update_env_lights(sl_renderer *r, sl_error *err)
 
 /* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
  * one code path (and the GL path's) instead of a special case per pixel. */
-static bool load_env(sl_env *env, const char *path, sl_image_repairs *repairs, sl_error *err)
+static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repairs *repairs, sl_error *err)
 {
     sl_image img;
     if (path[0]) {
-        if (!sl_image_read_hdr(path, &img, repairs, err))
+        if (!sl_image_read_hdr(path, budget, &img, repairs, err))
             return false;
         if (img.channels != 3) {
             sl_image_free(&img);
@@ -109,7 +109,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
         d->irradiance_map_width = 64;
 
     double t0 = sl_now_seconds();
-    if (!load_env(&r->env, scene->environment.hdr_path, &r->env_repairs, err))
+    if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, &r->env_repairs, err))
         return false;
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
@@ -149,7 +149,7 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
 {
     sl_env env;
     sl_image_repairs repairs = {0};
-    if (!load_env(&env, hdr_path, &repairs, err))
+    if (!load_env(&env, hdr_path, r->desc.image_budget, &repairs, err))
         return false;
     sl_env old = r->env;
     r->env = env;

@@ -39,6 +39,8 @@ typedef struct {
     int tile_size;                /* raster tiles; 0 = SL_TILE_DEFAULT */
     bool plain_raster;            /* the rasterizer's per-pixel reference path (sl_raster_desc.plain) */
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
+    size_t image_budget;          /* bytes one image read from a file may take decoded (the
+                                     environment, the irradiance map); 0 = SL_IMAGE_BUDGET_DEFAULT */
 } sl_render_desc;
 
 typedef struct {

@@ -344,7 +344,7 @@ static void test_real_map_sh9_is_projection_of_brute(void **state)
      * 5.5e-4 of the band-0 coefficient; tolerance 3e-3 of it. */
     sl_image img;
     sl_error err = {0};
-    if (!sl_image_read_hdr("scenes/envmaps/studio.hdr", &img, NULL, &err)) {
+    if (!sl_image_read_hdr("scenes/envmaps/studio.hdr", 0, &img, NULL, &err)) {
         print_error("%s\n", err.msg);
         fail();
     }

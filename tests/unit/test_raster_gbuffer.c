@@ -240,7 +240,7 @@ static void test_aov_roundtrip(void **state)
     sl_image view = {0}, mask = {0};
     assert_true(sl_gbuffer_read_aov_image(test_tmpfile("view.pfm"), &view, &err));
     /* (sl_image_read_pfm would have repaired the negative components to 0) */
-    assert_true(sl_image_read_pfm(test_tmpfile("mask.pfm"), &mask, NULL, &err));
+    assert_true(sl_image_read_pfm(test_tmpfile("mask.pfm"), 0, &mask, NULL, &err));
     int covered = 0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
