@@ -254,7 +254,7 @@ static void ready_time(const char *path)
         sl_env env;
         sl_irradiance irr;
         double t0 = sl_now_seconds(), c0 = (double)clock() / CLOCKS_PER_SEC;
-        if (!sl_image_read_hdr(path, &img, NULL, &err))
+        if (!sl_image_read_hdr(path, 0, &img, NULL, &err))
             exit(1);
         double t1 = sl_now_seconds(), c1 = (double)clock() / CLOCKS_PER_SEC;
         if (!sl_env_build(&env, &img, &err))
@@ -365,7 +365,7 @@ int main(int argc, char **argv)
     for (int m = 0; m < nmaps; m++) {
         const char *path = argc > 1 ? argv[m + 1] : defaults[m];
         sl_image img;
-        if (!sl_image_read_hdr(path, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+        if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
             fprintf(stderr, "%s: %s\n", path, err.msg);
             return 1;
         }
