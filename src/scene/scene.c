@@ -725,13 +725,17 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
         return true;
     if (!cJSON_IsArray(item))
         return fail_at(p, "lights", SL_ERR_FORMAT, "expected an array of lights [{\"position\": ...}, ...]");
-    int n = cJSON_GetArraySize(item);
-    scene->lights = calloc((size_t)n + 1, sizeof *scene->lights);
+    scene->lights = calloc(SL_LIGHTING_MAX_LIGHTS, sizeof *scene->lights);
     if (!scene->lights)
-        return fail_at(p, "lights", SL_ERR_MEMORY, "out of memory for %d lights", n);
+        return fail_at(p, "lights", SL_ERR_MEMORY, "out of memory for %d lights", SL_LIGHTING_MAX_LIGHTS);
     for (const cJSON *e = item->child; e; e = e->next) {
         char path[JSON_PATH_MAX], sub[JSON_PATH_MAX];
         join_index(path, "lights", scene->light_count);
+        /* The lighting shader's uniform arrays hold this many; a scene with more would pass
+         * `info` and fail only when a frame is lit (even one with point lights off). */
+        if (scene->light_count == SL_LIGHTING_MAX_LIGHTS)
+            return fail_at(p, path, SL_ERR_RANGE, "at most %d point lights (MAX_LIGHTS of shaders/lighting.frag)",
+                           SL_LIGHTING_MAX_LIGHTS);
         if (!check_keys(p, e, path, keys))
             return false;
         sl_point_light *l = &scene->lights[scene->light_count];

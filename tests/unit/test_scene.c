@@ -9,6 +9,7 @@
 #include <string.h>
 #include <time.h>
 
+#include "core/options.h" /* SL_LIGHTING_MAX_LIGHTS */
 #include "scene/scene.h"
 
 static void parse_ok(const char *json, sl_scene *s)
@@ -459,6 +460,24 @@ static void test_many_objects_linear(void **state)
     }
 }
 
+/* Issue 16 item 6: a 17th point light passed `info` and failed only when a frame was lit
+ * ("lighting: 17 point lights, at most 16", no file, no path, even with --no-lights). */
+static void test_light_limit(void **state)
+{
+    (void)state;
+    char json[4096] = "{\"lights\": [";
+    for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
+        strcat(json, i ? ", {\"position\": [0, 0, 1]}" : "{\"position\": [0, 0, 1]}");
+    strcat(json, "]}");
+    sl_scene s;
+    parse_ok(json, &s);
+    assert_int_equal(s.light_count, 16);
+    sl_scene_free(&s);
+    json[strlen(json) - 2] = '\0';
+    strcat(json, ", {\"position\": [0, 0, 2]}, {\"bad\": 1}]}");
+    parse_fails(json, "t.json: lights[16]: at most 16 point lights (MAX_LIGHTS of shaders/lighting.frag)");
+}
+
 static void test_json_syntax(void **state)
 {
     (void)state;
@@ -686,6 +705,7 @@ int main(void)
         cmocka_unit_test(test_object_errors),
         cmocka_unit_test(test_many_objects_linear),
         cmocka_unit_test(test_json_syntax),
+        cmocka_unit_test(test_light_limit),
         cmocka_unit_test(test_free_is_safe),
         cmocka_unit_test(test_load_meshes),
         cmocka_unit_test(test_load_relative),
