@@ -57,5 +57,14 @@ else
     echo "FAIL 16 point lights did not render"; fails=$((fails + 1))
 fi
 
+# Item 8: nesting past the JSON parser's limit was only "invalid JSON"; \u0000 in a key cut
+# it short without a word; bytes of the file were echoed raw into the message.
+{ printf '{"camera": {"eye": '; printf '[%.0s' $(seq 999); printf ']%.0s' $(seq 999); printf '}}'; } >"$T/deep.json"
+printf '{"objects": [{"shape": "box", "na\\u0000me": "x"}]}' >"$T/nul.json"
+printf '{"objects": [{"shape": "box", "\033[2J\033[31m": 1}]}' >"$T/esc.json"
+expect_error json-depth 'deep\.json:1:1018: camera\.eye\[0\]\[0\].*nested deeper than 1000 levels' -- "$SL" info "$T/deep.json"
+expect_error json-nul-key 'nul\.json:1:34: objects\[0\]: the key "na\\u0000me" holds \\u0000' -- "$SL" info "$T/nul.json"
+expect_error json-raw-bytes 'esc\.json: objects\[0\]: unknown key "\?\[2J\?\[31m"' -- "$SL" render "$T/esc.json" -o "$T/a.png" -q
+
 echo "$passes passed, $fails failed"
 [ "$fails" -eq 0 ]

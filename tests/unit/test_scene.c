@@ -478,6 +478,77 @@ static void test_light_limit(void **state)
     parse_fails(json, "t.json: lights[16]: at most 16 point lights (MAX_LIGHTS of shaders/lighting.frag)");
 }
 
+/* Issue 16 item 8: nesting past cJSON's limit was only "invalid JSON". */
+static void test_json_nesting(void **state)
+{
+    (void)state;
+    /* {"camera": {"eye": [[...]]}}: 2 objects, then n arrays */
+    char *json = malloc(4096);
+    assert_non_null(json);
+    for (int n = 998; n <= 999; n++) {
+        int at = sprintf(json, "{\"camera\": {\"eye\": ");
+        memset(json + at, '[', (size_t)n);
+        memset(json + at + n, ']', (size_t)n);
+        strcpy(json + at + 2 * n, "}}");
+        /* 1000 levels parse (and the shape is then wrong); 1001 do not */
+        parse_fails(json, n == 998 ? "t.json: camera.eye: expected an array of 3 numbers"
+                                   : "t.json:1:1018: camera.eye[0][0][0]");
+        if (n == 999)
+            parse_fails(json, "arrays and objects nested deeper than 1000 levels (the JSON parser's limit)");
+    }
+    free(json);
+    /* other syntax errors keep their message */
+    parse_fails("{\"a\": [[[1,]]]}", "t.json:1:12: invalid JSON near ']]]}'");
+}
+
+/* Issue 16 item 8: "\u0000" in a key cut it short without a word ("na\u0000me" was "na");
+ * in a value it cut the string (a mesh path) short. Both are refused, with the path. */
+static void test_json_nul(void **state)
+{
+    (void)state;
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"na\\u0000me\": \"x\"}]}",
+                "t.json:1:34: objects[0]: the key \"na\\u0000me\" holds \\u0000 (a NUL character)");
+    parse_fails("{\"cam\\u0000era\": {}}", "t.json:1:6: the key \"cam\\u0000era\" holds \\u0000");
+    parse_fails("{\"materials\": {\"m\": {\"kd\\u0000\": 1}}}", "t.json:1:25: materials.m: the key \"kd\\u0000\"");
+    parse_fails("{\"objects\": [{\"shape\": \"box\"}, {\"mesh\": \"a.obj\\u0000junk\"}]}",
+                "t.json:1:47: objects[1].mesh: the string \"a.obj\\u0000junk\" holds \\u0000");
+    parse_fails("{\"comment\": [\"a\", \"\\u0000\"]}", "t.json:1:20: comment[1]: the string");
+    /* an escaped backslash before u0000 is text, not the escape; other escapes are fine */
+    sl_scene s;
+    parse_ok("{\"objects\": [{\"shape\": \"box\", \"name\": \"a\\\\u0000\"}], \"comment\": \"\\u0001\\n\"}", &s);
+    assert_string_equal(s.objects[0].name, "a\\u0000");
+    sl_scene_free(&s);
+}
+
+/* Issue 16 item 8: bytes from the file were echoed raw into messages (an escape sequence in a
+ * key reached the terminal). Now masked as the .hdr and OBJ readers do; names and paths may not
+ * hold control characters at all. */
+static void test_messages_masked(void **state)
+{
+    (void)state;
+    parse_fails("{\"\x1b[2J\": 1}", "t.json: unknown key \"?[2J\"");
+    parse_fails("{\"camera\": {\"fovy\": 1, \"fovy\": 2, \"\x1b\": 0}}", "camera: duplicate key \"fovy\"");
+    parse_fails("{\"camera\": {\"\xff\xfe\": 1}}", "camera: unknown key \"??\"");
+    parse_fails("{\"objects\": [{\"shape\": \"\x1b[31mred\"}]}", "objects[0].shape: unknown shape \"?[31mred\"");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"material\": \"\x07\xc3\xa9\"}]}",
+                "objects[0].material: no material named \"???\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd\": \"#\x1b\x1b\x1b\x1b\x1b\x1b\"}}}", "got \"#??????\"");
+    parse_fails("{\"materials\": {\"m\\u001b[2J\": {}}}",
+                "t.json: materials.m?[2J: \"m?[2J\" holds a control character (byte 0x1b at 1)");
+    parse_fails("{\"objects\": [{\"mesh\": \"a\\n.obj\"}]}",
+                "objects[0].mesh: \"a?.obj\" holds a control character (byte 0x0a at 1)");
+    parse_fails("{\"objects\": [{\"shape\": \"box\", \"name\": \"a\\tb\"}]}", "objects[0].name: \"a?b\" holds");
+    /* a long key is cut at 64 bytes */
+    parse_fails("{\"render\": {\"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa\": 1}}",
+                "render: unknown key \"aaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaaa...\"");
+    /* non-ASCII names are still fine (UTF-8), only shown masked */
+    sl_scene s;
+    parse_ok("{\"materials\": {\"caf\xc3\xa9\": {}}, \"objects\": [{\"shape\": \"box\", \"material\": \"caf\xc3\xa9\"}]}",
+             &s);
+    assert_string_equal(s.materials[0].name, "caf\xc3\xa9");
+    sl_scene_free(&s);
+}
+
 static void test_json_syntax(void **state)
 {
     (void)state;
@@ -706,6 +777,9 @@ int main(void)
         cmocka_unit_test(test_many_objects_linear),
         cmocka_unit_test(test_json_syntax),
         cmocka_unit_test(test_light_limit),
+        cmocka_unit_test(test_json_nesting),
+        cmocka_unit_test(test_json_nul),
+        cmocka_unit_test(test_messages_masked),
         cmocka_unit_test(test_free_is_safe),
         cmocka_unit_test(test_load_meshes),
         cmocka_unit_test(test_load_relative),
