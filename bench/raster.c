@@ -16,8 +16,14 @@
  * --plain runs the rasterizer's plain per-pixel path (sl_raster_desc.plain) instead of
  * the span path, to compare the two.
  *
+ * --boxes N runs a third workload instead: N tiny boxes (the built-in box, 24 vertices and 12
+ * triangles, each about 3 pixels wide) on a square grid filling the frame, each its own draw
+ * (as N objects of a scene file): the per-draw cost, not setup or fill (issue 16 item 5:
+ * 300000 of them took 32 s with 2 threads where one thread took 1.3 s). Reported as frame
+ * time and microseconds per draw.
+ *
  * usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] [--size 1920x1080]
- *                     [--slices 1000] [--plain] */
+ *                     [--slices 1000] [--plain] [--boxes N] */
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -92,11 +98,59 @@ static double control_ms(int threads)
     return sl_median(t, 3);
 }
 
+/* --boxes: n boxes of side 2 * 0.004 on a square grid over [-4, 4]^2 at z = 0, seen from
+ * above (the scene the issue timed), one object and one draw each. */
+static int bench_boxes(int n, const int *threads, int nthreads, const int *tiles, int ntiles, int frames, int width,
+                       int height, bool plain)
+{
+    sl_mesh box = {0};
+    sl_error err = {0};
+    sl_material mat = {"grey", {0.5f, 0.5f, 0.5f}, {0.04f, 0.04f, 0.04f}, 50.0f};
+    sl_object *objs = malloc((size_t)n * sizeof *objs);
+    sl_gbuffer gb = {0};
+    if (!objs || !sl_mesh_box(&box, &err) || !sl_gbuffer_resize(&gb, width, height, &err)) {
+        fprintf(stderr, "bench_raster: %s\n", objs ? err.msg : "out of memory");
+        free(objs);
+        return 1;
+    }
+    int side = 1;
+    while (side * side < n)
+        side++;
+    for (int i = 0; i < n; i++) {
+        vec3 at = vec3((float)(i % side) / (float)side * 8.0f - 4.0f, (float)(i / side) / (float)side * 8.0f - 4.0f, 0);
+        objs[i] = (sl_object){"box", 0, 0, mat4_mul(mat4_translate(at), mat4_scale(vec3s(0.004f)))};
+    }
+    sl_scene scene = {.meshes = &box, .mesh_count = 1, .materials = &mat, .material_count = 1, .objects = objs,
+                      .object_count = n};
+    sl_camera cam = {.eye = {0, -0.01f, 9}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 50,
+                     .znear = 0.1f, .zfar = 20};
+    printf("bench_raster: %dx%d, %d frames (median), %d boxes (one draw each)%s\n", width, height, frames, n,
+           plain ? ", plain path" : "");
+    printf("%5s %7s | %9s %9s | %12s\n", "tile", "threads", "boxes ms", "us/draw", "fragments");
+    int rc = 0;
+    for (int ti = 0; ti < ntiles && rc == 0; ti++) {
+        for (int hi = 0; hi < nthreads && rc == 0; hi++) {
+            result a;
+            if (!run(&scene, &cam, &gb, threads[hi], tiles[ti], frames, plain, &a)) {
+                rc = 1;
+                break;
+            }
+            printf("%5d %7d | %9.1f %9.2f | %12lld\n", tiles[ti], threads[hi], a.ms, a.ms * 1e3 / (double)n,
+                   a.stats.fragments_tested);
+            fflush(stdout);
+        }
+    }
+    sl_gbuffer_free(&gb);
+    sl_mesh_free(&box);
+    free(objs);
+    return rc;
+}
+
 int main(int argc, char **argv)
 {
     int threads[MAX_LIST] = {1, 2}, nthreads = 2;
     int tiles[MAX_LIST] = {16, 32, 64, 128}, ntiles = 4;
-    int frames = 5, width = 1920, height = 1080, slices = 1000;
+    int frames = 5, width = 1920, height = 1080, slices = 1000, boxes = 0;
     bool plain = false;
     /* options come in pairs: --name value, except --plain */
     for (int i = 1; i < argc; i += 2) {
@@ -117,14 +171,18 @@ int main(int argc, char **argv)
             ok = (slices = atoi(v)) >= 8;
         else if (ok && !strcmp(a, "--size"))
             ok = sscanf(v, "%dx%d", &width, &height) == 2;
+        else if (ok && !strcmp(a, "--boxes"))
+            ok = (boxes = atoi(v)) > 0;
         else
             ok = false;
         if (!ok) {
             fprintf(stderr, "usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] "
-                            "[--size 1920x1080] [--slices 1000] [--plain]\n");
+                            "[--size 1920x1080] [--slices 1000] [--plain] [--boxes N]\n");
             return 2;
         }
     }
+    if (boxes > 0)
+        return bench_boxes(boxes, threads, nthreads, tiles, ntiles, frames, width, height, plain);
 
     /* tris: the sphere, 4 units away, filling about 60% of the frame height */
     sl_mesh sphere = {0};

@@ -1,7 +1,7 @@
 /* options.h - every option a user can set, one row each: its name, its spelling on the command
  * line and in a scene file, its default and its limits, and for the modes (lod rule, estimator,
  * G term, irradiance method) the name of each value. One limit per quantity: the largest image
- * side, the most samples, the most env lights are written here once.
+ * side, the most samples, the most env lights, the most point lights are written here once.
  *
  * Read by: the command line (src/app/render_options.c, also softlight-gl's), the viewer (mode
  * names, cycling a mode, its key and script limits), the scene reader (the render and
@@ -30,6 +30,10 @@
 #define SL_HAMMERSLEY_MAX 1024
 /* Most env lights K: MAX_ENV_LIGHTS in the GLSL (whole groups of 16 for the batched path). */
 #define SL_ENV_LIGHTS_MAX 64
+/* Most point lights of a scene: MAX_LIGHTS in the GLSL, the size of its uLight* arrays (and of
+ * sl_lighting_uniforms'). Here, not in shading/lighting.h, because the scene reader checks it
+ * where the lights are read (`lights[16]: at most 16 point lights`). */
+#define SL_LIGHTING_MAX_LIGHTS 16
 /* Raster tile side, a power of two; the default was chosen from bench_raster's sweep
  * (docs/performance.md); SL_SPAN_MAX (raster.h) equals the largest. */
 #define SL_TILE_DEFAULT 64

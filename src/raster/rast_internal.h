@@ -37,6 +37,11 @@ _Static_assert(SL_RASTER_MAX_SIZE < (int)RAST_GUARD_PX, "the largest target must
 #define RAST_CLIP_MAX 16               /* 3 vertices + one per clip plane, rounded up */
 #define RAST_BIN_FULL 0x80000000u      /* bin item flag: the triangle covers the whole tile */
 #define RAST_MAX_CALLS 65536           /* draws binned together (rast_tri.call is 16 bits: keeps it 136 bytes) */
+/* Fewer vertices, indices or triangles than this in a stage of a draw list and the stage runs
+ * on the calling thread: a parallel region costs a fork and a barrier, microseconds on an idle
+ * machine and up to milliseconds on a loaded one (a woken thread waits for a core), more than
+ * shading a few thousand vertices. Work is split into the same slices either way. */
+#define RAST_PARALLEL_MIN 4096
 
 /* Clip planes (bit = vertex outside). RAST_BAD marks a non-finite vertex. */
 enum {
@@ -119,11 +124,13 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
 } rast_span;
 
-/* Per-thread scratch for the tile stage. */
+/* Per-thread scratch for the tile stage, and each slice's answer of the index check. */
 typedef struct {
     _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
     rast_span *span;                        /* NULL for a plain context */
     sl_raster_stats stats;
+    int bad_call;       /* index check: the first draw of the slice with a bad index, or -1 */
+    long long bad_at;   /* and the last bad index position in that draw (within the slice) */
 } rast_task;
 
 /* One draw of a list: its program, uniforms and mesh, and where its vertex stage
@@ -135,6 +142,7 @@ typedef struct {
     sl_cull_mode cull;
     int nvary;
     long long first_tri;
+    size_t first_vertex;   /* of the list's vertices: vpos = sl_raster.vpos + first_vertex */
     const rast_vpos *vpos; /* vertex_count */
     const float *vvary;    /* vertex_count * nvary */
 } rast_call;

@@ -1,8 +1,9 @@
 /* raster.c - the rasterizer context and the draw calls that drive the stages.
  *
- * sl_raster_draw_list (sl_raster_draw is a list of one): validate, run each draw's
- * vertex shader over its vertices (parallel, each vertex written once by one
- * thread), then for each batch of RAST_BATCH triangles of the whole list: set up
+ * sl_raster_draw_list (sl_raster_draw is a list of one): validate, check every index
+ * and run each draw's vertex shader over its vertices, each in one pass over the whole
+ * list (parallel, each vertex written once by one thread; a small list on the calling
+ * thread, RAST_PARALLEL_MIN), then for each batch of RAST_BATCH triangles of the whole list: set up
  * and bin one contiguous slice per thread into its own chunk (setup.c), and
  * rasterize the tiles in parallel (tile.c). Chunks are read back in
  * slice order, so bins hold triangles in submission order for any thread count.
@@ -29,6 +30,7 @@ void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from)
     to->blocks_full += from->blocks_full;
     to->fragments_tested += from->fragments_tested;
     to->fragments_shaded += from->fragments_shaded;
+    to->parallel_regions += from->parallel_regions;
 }
 
 sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
@@ -186,28 +188,95 @@ static bool reserve(sl_raster *r, size_t nv, size_t nf, int calls, int tiles, si
     return true;
 }
 
-/* Check the indices of draw i (of a list of `total`): a bad one is an error, not a crash
- * (checked before any vertex is shaded). */
-static bool check_indices(const sl_raster *r, const sl_mesh *m, int i, int total, sl_error *err)
+/* The last call whose first element (triangle or vertex, by `vertex`) is at or before `at`. */
+static int call_at(const rast_call *calls, int count, long long at, bool vertex)
 {
-    long long bad = -1;
-    long long nidx = 3LL * m->triangle_count;
-    uint32_t vc = (uint32_t)m->vertex_count;
-#pragma omp parallel for schedule(static) num_threads(r->threads) reduction(max : bad)
-    for (long long k = 0; k < nidx; k++)
-        if (m->indices[k] >= vc && k > bad)
-            bad = k;
-    if (bad < 0)
-        return true;
-    sl_fail(err, SL_ERR_RANGE, "raster: index %lld is %u, mesh has %d vertices", bad, (unsigned)m->indices[bad],
-            m->vertex_count);
-    if (total > 1)
-        sl_error_prefix(err, "draw %d: ", i);
-    return false;
+    int lo = 0, hi = count - 1;
+    while (lo < hi) {
+        int mid = (lo + hi + 1) / 2;
+        long long first = vertex ? (long long)calls[mid].first_vertex : calls[mid].first_tri;
+        if (first <= at)
+            lo = mid;
+        else
+            hi = mid - 1;
+    }
+    return lo;
+}
+
+/* Index check, slice c of n over the list's 3 * tri_count indices: the first draw with an index
+ * out of range and, in it, the last bad position (what one draw's check reports). */
+static void check_slice(const rast_draw *d, int c, int n, rast_task *task)
+{
+    long long total = 3 * d->tri_count, lo = total * c / n, hi = total * (c + 1) / n;
+    task->bad_call = -1;
+    task->bad_at = -1;
+    for (int i = lo < hi ? call_at(d->calls, d->call_count, lo / 3, false) : d->call_count;
+         i < d->call_count && task->bad_call < 0; i++) {
+        const rast_call *call = &d->calls[i];
+        long long first = 3 * call->first_tri, end = first + 3LL * call->mesh->triangle_count;
+        if (first >= hi)
+            break;
+        const uint32_t *idx = call->mesh->indices;
+        uint32_t vc = (uint32_t)call->mesh->vertex_count;
+        for (long long g = first > lo ? first : lo; g < end && g < hi; g++)
+            if (idx[g - first] >= vc) {
+                task->bad_call = i;
+                task->bad_at = g - first;
+            }
+    }
+}
+
+/* Vertex stage, slice c of n over the list's vertices: each vertex is shaded once, by one
+ * thread, whichever slice holds it. */
+static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
+{
+    size_t lo = nv * (size_t)c / (size_t)n, hi = nv * (size_t)(c + 1) / (size_t)n;
+    for (int i = lo < hi ? call_at(d->calls, d->call_count, (long long)lo, true) : d->call_count;
+         i < d->call_count; i++) {
+        const rast_call *call = &d->calls[i];
+        const sl_mesh *m = call->mesh;
+        if (call->first_vertex >= hi)
+            break;
+        size_t k0 = lo > call->first_vertex ? lo - call->first_vertex : 0;
+        size_t k1 = hi - call->first_vertex < (size_t)m->vertex_count ? hi - call->first_vertex
+                                                                      : (size_t)m->vertex_count;
+        /* the list's own output buffers (sl_raster.vpos, .vvary), read-only for the later stages */
+        rast_vpos *vpos = (rast_vpos *)call->vpos;
+        float *vvary = (float *)call->vvary;
+        for (size_t k = k0; k < k1; k++) {
+            sl_vertex_in in = {
+                .position = m->positions[k],
+                .normal = m->normals ? m->normals[k] : vec3(0, 0, 0),
+                .texcoord = m->texcoords ? m->texcoords[k] : vec2(0, 0),
+                .index = (int)k,
+            };
+            rast_vpos *p = &vpos[k];
+            float *v = vvary + k * (size_t)call->nvary;
+            call->program->vertex(call->vs_uniforms, &in, &p->clip, v);
+            p->outcode = rast_outcode(p->clip, d->gx, d->gy);
+            for (int j = 0; j < call->nvary; j++)
+                if (!isfinite(v[j]))
+                    p->outcode = RAST_BAD;
+            if (p->outcode == 0)
+                rast_to_window(d->target, p->clip, &p->X, &p->Y, &p->z, &p->iw);
+        }
+    }
+}
+
+/* How many slices a stage of `work` items gets: one per thread, or one when the work is too
+ * small to pay for a parallel region (RAST_PARALLEL_MIN); counts the region it will open. */
+static int stage_slices(sl_raster *r, long long work)
+{
+    bool parallel = r->threads > 1 && work >= RAST_PARALLEL_MIN;
+    if (parallel && r->stats_on)
+        r->stats.parallel_regions++;
+    return parallel ? r->threads : 1;
 }
 
 /* Draws [first, first + count) of a list of `total` into the target, the first of them
- * (only) possibly clearing. */
+ * (only) possibly clearing. Each stage is one pass over the whole segment, whatever its number
+ * of draws: a parallel region per stage, not per draw (issue 16: 300,000 tiny boxes, two
+ * regions each, took 32 s with 2 threads and 1.3 s with one). */
 static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *list, int first, int count, int total,
                          sl_error *err)
 {
@@ -237,56 +306,59 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     size_t clear_bytes = draws[0].clear ? (size_t)r->tile_size * target->texel_size : 0;
     if (!reserve(r, nv, nf, count, tiles, clear_bytes, err))
         return false;
-    for (int i = 0; i < count; i++)
-        if (!check_indices(r, draws[i].mesh, first + i, total, err))
-            return false;
 
-    /* The vertex stage, draw by draw, each vertex written once by one thread. */
+    /* Where each draw's triangles and vertex stage output lie in the list's. */
     size_t vbase = 0, fbase = 0;
     long long tbase = 0;
     for (int i = 0; i < count; i++) {
         const sl_draw *dr = &draws[i];
-        const sl_mesh *m = dr->mesh;
-        const sl_program *prog = dr->program;
-        int nvary = prog->varying_count;
-        rast_call *call = &r->calls[i];
-        *call = (rast_call){
-            .program = prog,
+        r->calls[i] = (rast_call){
+            .program = dr->program,
             .vs_uniforms = dr->vs_uniforms,
             .fs_uniforms = dr->fs_uniforms,
-            .mesh = m,
+            .mesh = dr->mesh,
             .cull = dr->cull,
-            .nvary = nvary,
+            .nvary = dr->program->varying_count,
             .first_tri = tbase,
+            .first_vertex = vbase,
             .vpos = r->vpos + vbase,
             .vvary = r->vvary + fbase,
         };
-        rast_vpos *vpos = r->vpos + vbase;
-        float *vvary = r->vvary + fbase;
-        float gx = d.gx, gy = d.gy;
-#pragma omp parallel for schedule(static) num_threads(r->threads)
-        for (int k = 0; k < m->vertex_count; k++) {
-            sl_vertex_in in = {
-                .position = m->positions[k],
-                .normal = m->normals ? m->normals[k] : vec3(0, 0, 0),
-                .texcoord = m->texcoords ? m->texcoords[k] : vec2(0, 0),
-                .index = k,
-            };
-            rast_vpos *p = &vpos[k];
-            float *v = vvary + (size_t)k * (size_t)nvary;
-            prog->vertex(dr->vs_uniforms, &in, &p->clip, v);
-            p->outcode = rast_outcode(p->clip, gx, gy);
-            for (int j = 0; j < nvary; j++)
-                if (!isfinite(v[j]))
-                    p->outcode = RAST_BAD;
-            if (p->outcode == 0)
-                rast_to_window(target, p->clip, &p->X, &p->Y, &p->z, &p->iw);
-        }
-        vbase += (size_t)m->vertex_count;
-        fbase += (size_t)m->vertex_count * (size_t)nvary;
-        tbase += m->triangle_count;
+        vbase += (size_t)dr->mesh->vertex_count;
+        fbase += (size_t)dr->mesh->vertex_count * (size_t)dr->program->varying_count;
+        tbase += dr->mesh->triangle_count;
     }
     d.calls = r->calls;
+
+    /* Indices: a bad one is an error, not a crash, found before any vertex is shaded. The
+     * first draw with one is named, with its last bad index. */
+    int n = stage_slices(r, 3 * ntri);
+#pragma omp parallel for schedule(static) num_threads(r->threads) if (n > 1)
+    for (int c = 0; c < n; c++)
+        check_slice(&d, c, n, &r->tasks[c]);
+    int bad_call = -1;
+    long long bad_at = -1;
+    for (int c = 0; c < n; c++) {
+        const rast_task *t = &r->tasks[c];
+        if (t->bad_call >= 0 && (bad_call < 0 || t->bad_call < bad_call))
+            bad_call = t->bad_call, bad_at = t->bad_at;
+        else if (t->bad_call >= 0 && t->bad_call == bad_call && t->bad_at > bad_at)
+            bad_at = t->bad_at;
+    }
+    if (bad_call >= 0) {
+        const sl_mesh *m = draws[bad_call].mesh;
+        sl_fail(err, SL_ERR_RANGE, "raster: index %lld is %u, mesh has %d vertices", bad_at,
+                (unsigned)m->indices[bad_at], m->vertex_count);
+        if (total > 1)
+            sl_error_prefix(err, "draw %d: ", first + bad_call);
+        return false;
+    }
+
+    /* The vertex stage, over the list's vertices. */
+    n = stage_slices(r, (long long)nv);
+#pragma omp parallel for schedule(static) num_threads(r->threads) if (n > 1)
+    for (int c = 0; c < n; c++)
+        shade_slice(&d, nv, c, n);
 
     /* The clear rides on the first batch's tile pass, which then visits every tile (a
      * list without triangles still has that one batch). */
@@ -299,12 +371,15 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
             memcpy(&d.clear_depth, (const char *)draws[0].clear + target->depth_offset, sizeof(float));
     }
 
+    /* Set-up chunks are the same slices of each batch however many threads run them, so the
+     * bins, and the result, do not depend on the thread count. */
     int nchunks = r->chunk_count;
     rast_chunk *chunks = r->chunks;
     bool oom = false;
     for (long long b0 = 0; (b0 < ntri || (b0 == 0 && d.clear_row)) && !oom; b0 += RAST_BATCH) {
         long long nb = ntri - b0 < RAST_BATCH ? ntri - b0 : RAST_BATCH;
-#pragma omp parallel for schedule(static) num_threads(r->threads)
+        n = stage_slices(r, nb);
+#pragma omp parallel for schedule(static) num_threads(r->threads) if (n > 1)
         for (int c = 0; c < nchunks; c++) {
             rast_chunk *ch = &chunks[c];
             ch->tri_count = 0;
@@ -316,13 +391,21 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
             long long hi = b0 + nb * (c + 1) / nchunks;
             rast_setup_range(&d, ch, lo, hi);
         }
-        for (int c = 0; c < nchunks; c++)
+        long long binned = 0;
+        for (int c = 0; c < nchunks; c++) {
             oom |= chunks[c].oom;
+            binned += chunks[c].tri_count;
+        }
         if (oom)
             break;
-#pragma omp parallel for schedule(dynamic) num_threads(r->threads)
-        for (int t = 0; t < tiles; t++)
-            rast_tile(&d, chunks, nchunks, t, &r->tasks[omp_get_thread_num()]);
+        /* The tile pass: its work is the pixels covered, not the triangles, so it is parallel
+         * whenever anything was binned (or the target is cleared). */
+        if (binned > 0 || d.clear_row) {
+            n = stage_slices(r, RAST_PARALLEL_MIN);
+#pragma omp parallel for schedule(dynamic) num_threads(r->threads) if (n > 1)
+            for (int t = 0; t < tiles; t++)
+                rast_tile(&d, chunks, nchunks, t, &r->tasks[omp_get_thread_num()]);
+        }
         d.clear_row = NULL;
         if (r->stats_on)
             for (int c = 0; c < nchunks; c++)

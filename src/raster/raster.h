@@ -124,6 +124,8 @@ typedef struct {
     long long blocks_full;       /* 8x8 blocks filled without per-pixel edge tests */
     long long fragments_tested;  /* covered pixels reaching the depth test */
     long long fragments_shaded;  /* fragment shader invocations */
+    long long parallel_regions;  /* OpenMP parallel regions opened (a fork and a barrier each): a
+                                    handful per draw list, whatever its number of draws */
 } sl_raster_stats;
 
 typedef struct {

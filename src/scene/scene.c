@@ -69,6 +69,25 @@ static bool fail_at(parser *p, const char *path, sl_error_code code, const char 
     return sl_fail(p->err, code, "%s: %s", p->name, msg);
 }
 
+/* Up to `max` (at most 64) bytes of a key or string from the file for a message, each byte that
+ * is not printable ASCII shown as '?' and "..." after a longer one, as the .hdr and OBJ
+ * readers do: a scene file cannot put escape sequences or broken UTF-8 on a terminal. */
+#define MASKED_MAX 64
+static const char *masked(const char *s, size_t max, char out[MASKED_MAX + 4])
+{
+    size_t n = 0;
+    for (; s[n] && n < max && n < MASKED_MAX; n++) {
+        unsigned char ch = (unsigned char)s[n];
+        out[n] = ch >= 32 && ch < 127 ? (char)ch : '?';
+    }
+    if (s[n]) {
+        memcpy(out + n, "...", 3);
+        n += 3;
+    }
+    out[n] = '\0';
+    return out;
+}
+
 /* A path too long for the buffer (deep nesting, long names) ends in "..." rather than failing. */
 static void mark_truncated(char *out, int written)
 {
@@ -78,13 +97,15 @@ static void mark_truncated(char *out, int written)
 
 static void join_key(char *out, const char *path, const char *key)
 {
-    mark_truncated(out, snprintf(out, JSON_PATH_MAX, "%s%s%.64s", path, path[0] ? "." : "", key));
+    char shown[MASKED_MAX + 4];
+    mark_truncated(out, snprintf(out, JSON_PATH_MAX, "%s%s%s", path, path[0] ? "." : "", masked(key, 64, shown)));
 }
 
 static void join_index(char *out, const char *path, int i)
 {
     mark_truncated(out, snprintf(out, JSON_PATH_MAX, "%s[%d]", path, i));
 }
+
 
 /* ---- typed readers: each checks the JSON type and range of one value ---- */
 
@@ -110,11 +131,12 @@ static bool check_keys(parser *p, const cJSON *item, const char *path, const cha
 {
     if (!cJSON_IsObject(item))
         return fail_at(p, path, SL_ERR_FORMAT, "expected an object {...}");
+    char shown[MASKED_MAX + 4];
     for (const cJSON *child = item->child; child; child = child->next) {
         const char *key = child->string;
         for (const cJSON *prev = item->child; prev != child; prev = prev->next)
             if (strcmp(prev->string, key) == 0)
-                return fail_at(p, path, SL_ERR_FORMAT, "duplicate key \"%.64s\"", key);
+                return fail_at(p, path, SL_ERR_FORMAT, "duplicate key \"%s\"", masked(key, 64, shown));
         if (strcmp(key, "comment") == 0) {
             if (!comment_ok(child)) {
                 char sub[JSON_PATH_MAX];
@@ -131,8 +153,8 @@ static bool check_keys(parser *p, const cJSON *item, const char *path, const cha
             size_t used = 0;
             for (int i = 0; allowed[i] && used < sizeof list; i++)
                 used += (size_t)snprintf(list + used, sizeof list - used, "%s%s", i ? ", " : "", allowed[i]);
-            return fail_at(p, path[0] ? path : NULL, SL_ERR_FORMAT, "unknown key \"%.64s\" (expected %s%scomment)",
-                           key, list, list[0] ? " or " : "");
+            return fail_at(p, path[0] ? path : NULL, SL_ERR_FORMAT, "unknown key \"%s\" (expected %s%scomment)",
+                           masked(key, 64, shown), list, list[0] ? " or " : "");
         }
     }
     return true;
@@ -247,6 +269,7 @@ static bool read_color(parser *p, const cJSON *item, const char *path, double hi
 {
     if (cJSON_IsString(item)) {
         const char *s = item->valuestring;
+        char shown[MASKED_MAX + 4];
         double c[3];
         bool ok = strlen(s) == 7 && s[0] == '#';
         for (int i = 0; ok && i < 3; i++) {
@@ -255,7 +278,8 @@ static bool read_color(parser *p, const cJSON *item, const char *path, double hi
             c[i] = srgb_to_linear((double)(16 * h + l) / 255.0);
         }
         if (!ok)
-            return fail_at(p, path, SL_ERR_FORMAT, "expected an sRGB colour \"#rrggbb\", got \"%.32s\"", s);
+            return fail_at(p, path, SL_ERR_FORMAT, "expected an sRGB colour \"#rrggbb\", got \"%s\"",
+                           masked(s, 32, shown));
         *out = vec3(c[0], c[1], c[2]);
         return true;
     }
@@ -284,6 +308,20 @@ static bool read_color(parser *p, const cJSON *item, const char *path, double hi
     return true;
 }
 
+/* A name or a path holds no control character (U+0001..U+001F, U+007F; U+0000 is refused
+ * for every string, check_json): messages and `info` print them, and a file name with one is
+ * surely a mistake. */
+static bool check_no_control(parser *p, const char *s, const char *path)
+{
+    char shown[MASKED_MAX + 4];
+    for (size_t i = 0; s[i]; i++)
+        if ((unsigned char)s[i] < 32 || s[i] == 127)
+            return fail_at(p, path, SL_ERR_FORMAT,
+                           "\"%s\" holds a control character (byte 0x%02x at %zu): not allowed in names and paths",
+                           masked(s, 64, shown), (unsigned)(unsigned char)s[i], i);
+    return true;
+}
+
 static bool read_string(parser *p, const cJSON *item, const char *path, char *out, size_t cap)
 {
     if (!cJSON_IsString(item))
@@ -293,6 +331,8 @@ static bool read_string(parser *p, const cJSON *item, const char *path, char *ou
         return fail_at(p, path, SL_ERR_FORMAT, "expected a non-empty string");
     if (n >= cap)
         return fail_at(p, path, SL_ERR_RANGE, "%zu bytes is longer than the %zu allowed", n, cap - 1);
+    if (!check_no_control(p, item->valuestring, path))
+        return false;
     memcpy(out, item->valuestring, n + 1);
     return true;
 }
@@ -467,6 +507,8 @@ static bool parse_materials(parser *p, const cJSON *item, sl_scene *scene, name_
         size_t len = strlen(child->string);
         if (len == 0 || len >= SL_NAME_MAX)
             return fail_at(p, path, SL_ERR_RANGE, "a material name must have 1..%d bytes", SL_NAME_MAX - 1);
+        if (!check_no_control(p, child->string, path))
+            return false;
         sl_material *m = &scene->materials[scene->material_count];
         *m = default_material(child->string);
         if (!parse_material(p, child, path, m))
@@ -569,6 +611,52 @@ static bool same_source(const sl_mesh_source *a, const sl_mesh_source *b)
     return a->kind == b->kind && a->slices == b->slices && a->stacks == b->stacks && strcmp(a->path, b->path) == 0;
 }
 
+/* The distinct mesh sources seen so far, hashed (open addressing, at most half full: sized
+ * for every object naming its own source), so that finding an object's mesh costs O(1), not
+ * a scan of every mesh before it (80,000 objects naming distinct OBJ files took 18.6 s). */
+typedef struct {
+    int *slots; /* mesh index + 1; 0 = empty */
+    size_t mask;
+} source_map;
+
+/* FNV-1a over the kind, the tessellation and the path. */
+static uint32_t source_hash(const sl_mesh_source *s)
+{
+    uint32_t h = 2166136261u;
+    const int head[3] = {(int)s->kind, s->slices, s->stacks};
+    const unsigned char *b = (const unsigned char *)head;
+    for (size_t i = 0; i < sizeof head; i++)
+        h = (h ^ b[i]) * 16777619u;
+    for (const unsigned char *c = (const unsigned char *)s->path; *c; c++)
+        h = (h ^ *c) * 16777619u;
+    return h;
+}
+
+static bool source_map_init(source_map *map, size_t sources)
+{
+    size_t size = 16;
+    while (size < 2 * sources)
+        size *= 2;
+    map->slots = calloc(size, sizeof *map->slots);
+    map->mask = size - 1;
+    return map->slots != NULL;
+}
+
+/* The mesh of `src`: an earlier one with the same source, or a new one (first used by object
+ * `object`). The map has room for every object's source. */
+static int source_mesh(source_map *map, sl_scene *scene, int *first_user, const sl_mesh_source *src, int object)
+{
+    size_t s = source_hash(src) & map->mask;
+    for (; map->slots[s]; s = (s + 1) & map->mask)
+        if (same_source(&scene->mesh_sources[map->slots[s] - 1], src))
+            return map->slots[s] - 1;
+    int mesh = scene->mesh_count++;
+    scene->mesh_sources[mesh] = *src;
+    first_user[mesh] = object;
+    map->slots[s] = mesh + 1;
+    return mesh;
+}
+
 /* The object's default name: the OBJ file's base name without extension, or the shape. */
 static void default_object_name(char out[SL_NAME_MAX], const char *mesh_text, const char *shape)
 {
@@ -585,7 +673,8 @@ static void default_object_name(char out[SL_NAME_MAX], const char *mesh_text, co
 }
 
 static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scene *scene,
-                         const name_index *sorted, int named_materials, int *first_user, sl_object *obj)
+                         const name_index *sorted, int named_materials, source_map *sources, int *first_user,
+                         sl_object *obj)
 {
     static const char *const keys[] = {"name", "mesh", "shape", "slices", "stacks", "material", "transform",
                                        NULL};
@@ -593,7 +682,7 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
     if (!check_keys(p, item, path, keys))
         return false;
-    char sub[JSON_PATH_MAX];
+    char sub[JSON_PATH_MAX], shown[MASKED_MAX + 4];
     const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape");
     if (mesh && shape)
         return fail_at(p, path, SL_ERR_FORMAT, "has both \"mesh\" and \"shape\"; give one");
@@ -614,8 +703,8 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
             if (strcmp(shape->valuestring, shapes[i]) == 0)
                 shape_name = shapes[i], src.kind = kinds[i];
         if (!shape_name)
-            return fail_at(p, sub, SL_ERR_FORMAT, "unknown shape \"%.32s\" (expected sphere, plane or box)",
-                           shape->valuestring);
+            return fail_at(p, sub, SL_ERR_FORMAT, "unknown shape \"%s\" (expected sphere, plane or box)",
+                           masked(shape->valuestring, 32, shown));
     }
     const cJSON *v;
     if (src.kind == SL_MESH_SPHERE) {
@@ -649,7 +738,7 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
             return fail_at(p, sub, SL_ERR_FORMAT, "expected a material name (a string)");
         obj->material = find_material(sorted, named_materials, v->valuestring);
         if (obj->material < 0)
-            return fail_at(p, sub, SL_ERR_FORMAT, "no material named \"%.64s\"", v->valuestring);
+            return fail_at(p, sub, SL_ERR_FORMAT, "no material named \"%s\"", masked(v->valuestring, 64, shown));
     } else {
         /* No material: the one named "default" if the scene defines it, else a built-in grey. */
         obj->material = find_material(sorted, named_materials, DEFAULT_MATERIAL_NAME);
@@ -667,16 +756,7 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
         return false;
 
     /* One mesh per distinct source. */
-    obj->mesh = -1;
-    for (int i = 0; i < scene->mesh_count && obj->mesh < 0; i++)
-        if (same_source(&scene->mesh_sources[i], &src))
-            obj->mesh = i;
-    if (obj->mesh < 0) {
-        obj->mesh = scene->mesh_count;
-        scene->mesh_sources[scene->mesh_count] = src;
-        first_user[scene->mesh_count] = (int)(obj - scene->objects);
-        scene->mesh_count++;
-    }
+    obj->mesh = source_mesh(sources, scene, first_user, &src, (int)(obj - scene->objects));
     return true;
 }
 
@@ -687,13 +767,17 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
         return true;
     if (!cJSON_IsArray(item))
         return fail_at(p, "lights", SL_ERR_FORMAT, "expected an array of lights [{\"position\": ...}, ...]");
-    int n = cJSON_GetArraySize(item);
-    scene->lights = calloc((size_t)n + 1, sizeof *scene->lights);
+    scene->lights = calloc(SL_LIGHTING_MAX_LIGHTS, sizeof *scene->lights);
     if (!scene->lights)
-        return fail_at(p, "lights", SL_ERR_MEMORY, "out of memory for %d lights", n);
+        return fail_at(p, "lights", SL_ERR_MEMORY, "out of memory for %d lights", SL_LIGHTING_MAX_LIGHTS);
     for (const cJSON *e = item->child; e; e = e->next) {
         char path[JSON_PATH_MAX], sub[JSON_PATH_MAX];
         join_index(path, "lights", scene->light_count);
+        /* The lighting shader's uniform arrays hold this many; a scene with more would pass
+         * `info` and fail only when a frame is lit (even one with point lights off). */
+        if (scene->light_count == SL_LIGHTING_MAX_LIGHTS)
+            return fail_at(p, path, SL_ERR_RANGE, "at most %d point lights (MAX_LIGHTS of shaders/lighting.frag)",
+                           SL_LIGHTING_MAX_LIGHTS);
         if (!check_keys(p, e, path, keys))
             return false;
         sl_point_light *l = &scene->lights[scene->light_count];
@@ -789,6 +873,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         return false;
     name_index *sorted = NULL;
     int *first_user = NULL;
+    source_map sources = {0};
     bool ok = parse_camera(p, member(root, "camera"), &scene->camera) &&
               parse_environment(p, member(root, "environment"), &scene->environment) &&
               parse_render(p, member(root, "render"), &scene->settings) &&
@@ -801,7 +886,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         scene->objects = calloc(n + 1, sizeof *scene->objects);
         scene->mesh_sources = calloc(n + 1, sizeof *scene->mesh_sources);
         first_user = calloc(n + 1, sizeof *first_user);
-        if (!scene->objects || !scene->mesh_sources || !first_user)
+        if (!scene->objects || !scene->mesh_sources || !first_user || !source_map_init(&sources, n))
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
     }
     int named_materials = scene->material_count;
@@ -809,7 +894,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         char path[JSON_PATH_MAX];
         join_index(path, "objects", scene->object_count);
         sl_object *obj = &scene->objects[scene->object_count];
-        ok = parse_object(p, e, path, scene, sorted, named_materials, first_user, obj);
+        ok = parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj);
         if (ok)
             scene->object_count++;
     }
@@ -823,6 +908,141 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         ok = load_meshes_now(p, scene, first_user);
     free(sorted);
     free(first_user);
+    free(sources.slots);
+    return ok;
+}
+
+/* ---- what cJSON does not say: nesting past its limit, and U+0000 inside a string ---- */
+
+/* cJSON refuses arrays and objects nested deeper than this (CJSON_NESTING_LIMIT, 1000 in the
+ * packaged library) without a reason; scan_json says so, and where. */
+#define JSON_MAX_DEPTH CJSON_NESTING_LIMIT
+
+/* The JSON path of the place scan_json has reached. Bytes past the buffer are counted, not
+ * stored, so that leaving a deep level restores the path exactly; a path that long is shown
+ * ending in "..." (as mark_truncated does). */
+typedef struct {
+    char buf[JSON_PATH_MAX];
+    size_t len;
+} json_path;
+
+static void path_put(json_path *jp, const char *s, size_t n)
+{
+    for (size_t i = 0; i < n; i++, jp->len++)
+        if (jp->len < JSON_PATH_MAX - 1)
+            jp->buf[jp->len] = s[i];
+}
+
+/* "t.json:3:14: objects[0].name" (no path at the top level), for the message at `offset`. */
+static const char *json_where(const parser *p, const char *text, size_t offset, json_path *jp,
+                              char out[JSON_PATH_MAX + 128])
+{
+    size_t line, column;
+    line_column(text, offset, &line, &column);
+    if (jp->len < JSON_PATH_MAX - 1)
+        jp->buf[jp->len] = '\0';
+    else
+        memcpy(jp->buf + JSON_PATH_MAX - 4, "...", 4);
+    snprintf(out, JSON_PATH_MAX + 128, "%.100s:%zu:%zu%s%s", p->name, line, column, jp->len ? ": " : "",
+             jp->len ? jp->buf : "");
+    return out;
+}
+
+typedef struct {
+    size_t base;     /* path length of the array or object itself */
+    long index;      /* array: the element being read */
+    bool object;     /* an object: its strings alternate key, value */
+    bool expect_key; /* object: the next string is a key */
+} json_frame;
+
+/* Walks the JSON text [0, end), which cJSON has read as valid JSON as far as it goes, keeping
+ * the path of where it is, and stops at the first of: an array or object opened deeper than
+ * JSON_MAX_DEPTH (when `depth`; cJSON's own error is only "invalid JSON"), or a string, key or
+ * value, holding the escape \u0000 (when `nul`), which cJSON decodes to a NUL byte that
+ * silently ends the string ("na\u0000me" is read as the key "na"). False with the error
+ * (line, column and path); true when neither is found. */
+static bool scan_json(parser *p, const char *text, size_t end, bool depth, bool nul)
+{
+    json_frame *frames = calloc(JSON_MAX_DEPTH + 1, sizeof *frames);
+    if (!frames)
+        return sl_fail(p->err, SL_ERR_MEMORY, "%s: out of memory for the JSON checks", p->name);
+    json_path jp = {.len = 0};
+    int level = 0;
+    bool ok = true;
+    char where[JSON_PATH_MAX + 128], shown[MASKED_MAX + 4], number[24];
+    for (size_t i = 0; i < end && ok; i++) {
+        json_frame *top = level > 0 ? &frames[level - 1] : NULL;
+        switch (text[i]) {
+        case '{':
+        case '[':
+            if (level == JSON_MAX_DEPTH) {
+                if (depth)
+                    ok = sl_fail(p->err, SL_ERR_FORMAT,
+                                 "%s: arrays and objects nested deeper than %d levels (the JSON parser's limit)",
+                                 json_where(p, text, i, &jp, where), JSON_MAX_DEPTH);
+                i = end; /* cJSON read no further */
+                break;
+            }
+            frames[level++] = (json_frame){.base = jp.len, .object = text[i] == '{', .expect_key = text[i] == '{'};
+            if (text[i] == '[')
+                path_put(&jp, "[0]", 3);
+            break;
+        case '}':
+        case ']':
+            if (top) {
+                jp.len = top->base;
+                level--;
+            }
+            break;
+        case ',':
+            if (top) {
+                jp.len = top->base;
+                top->expect_key = top->object;
+                if (!top->object)
+                    path_put(&jp, number, (size_t)snprintf(number, sizeof number, "[%ld]", ++top->index));
+            }
+            break;
+        case '"': {
+            /* The string as written (escapes not decoded), and its first \u0000. */
+            size_t start = i + 1, j = start, zero = 0;
+            bool has_zero = false;
+            for (; j < end && text[j] != '"'; j++) {
+                if (text[j] != '\\')
+                    continue;
+                if (!has_zero && j + 5 < end && text[j + 1] == 'u' && memcmp(text + j + 2, "0000", 4) == 0)
+                    has_zero = true, zero = j;
+                j++; /* the escaped character: \" and \\ neither end nor start anything */
+            }
+            char raw[MASKED_MAX + 2];
+            size_t n = j - start <= MASKED_MAX ? j - start : MASKED_MAX + 1; /* masked() adds "..." */
+            memcpy(raw, text + start, n);
+            raw[n] = '\0';
+            masked(raw, MASKED_MAX, shown);
+            bool key = top && top->object && top->expect_key;
+            if (key) { /* the path of the object; its value's path adds the key */
+                jp.len = top->base;
+                top->expect_key = false;
+            }
+            if (has_zero && nul) {
+                ok = key ? sl_fail(p->err, SL_ERR_FORMAT,
+                                   "%s: the key \"%s\" holds \\u0000 (a NUL character), which would cut it short",
+                                   json_where(p, text, zero, &jp, where), shown)
+                         : sl_fail(p->err, SL_ERR_FORMAT,
+                                   "%s: the string \"%s\" holds \\u0000 (a NUL character), which would cut it short",
+                                   json_where(p, text, zero, &jp, where), shown);
+            }
+            if (key) {
+                if (top->base > 0)
+                    path_put(&jp, ".", 1);
+                path_put(&jp, shown, strlen(shown));
+            }
+            i = j;
+            break;
+        }
+        default: break; /* ':', numbers, true, false, null, white space */
+        }
+    }
+    free(frames);
     return ok;
 }
 
@@ -836,6 +1056,9 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
     cJSON *root = cJSON_ParseWithLengthOpts(json, size, &end, false);
     if (!root) {
         size_t at = end && end >= json && end <= json + size ? (size_t)(end - json) : 0;
+        /* Nested too deep: cJSON stops at the bracket past its limit. */
+        if (!scan_json(&p, json, at < size ? at + 1 : size, true, false))
+            return false;
         size_t line, column;
         line_column(json, at, &line, &column);
         char near[24];
@@ -856,7 +1079,7 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
                          column);
         }
     }
-    ok = ok && parse_document(&p, root, load_meshes, scene);
+    ok = ok && scan_json(&p, json, size, false, true) && parse_document(&p, root, load_meshes, scene);
     cJSON_Delete(root);
     if (!ok)
         sl_scene_free(scene);

@@ -46,7 +46,7 @@
 #include "../scene/scene.h"
 #include "brdf.h"
 
-#define SL_LIGHTING_MAX_LIGHTS 16      /* MAX_LIGHTS in the GLSL */
+/* SL_LIGHTING_MAX_LIGHTS (core/options.h): MAX_LIGHTS in the GLSL */
 
 /* The modes sl_lod_rule, sl_estimator and sl_gterm, their names, defaults and limits: the option
  * table, core/options.h. Enum values are the GLSL uniform values; 0 is "default". */
