@@ -14,11 +14,40 @@
  * the product of the two 1-D overlaps) and accumulates in double.
  *
  * Layout: one contiguous array of vec3 per level, row 0 = top, as in sl_env_level, and all
- * levels in one allocation (sl_env.block), level after level. */
+ * levels in one allocation (sl_env.block), level after level.
+ *
+ * Memory: on the machine the timings come from (a VM), the first touch of a fresh 4 KiB page
+ * costs about 10 us, so filling a new 1024x512 chain's 8 MiB took about 22 ms of page faults
+ * while the filter itself takes 2-3 ms; the old build also copied the image through a 6 MiB
+ * temporary and a 6 MiB scratch, as many faults again. So the block is asked for in 2 MiB
+ * transparent huge pages where the kernel offers them on request (Linux, madvise mode; a
+ * no-op elsewhere), level 0 is converted straight into it, and the even path needs no scratch.
+ *
+ * Two implementations of that one filter, chosen per level, giving the same bits:
+ * - downsample(): the general separable filter above, any sizes (used whenever an axis is odd
+ *   or stays at 1: 5x3 -> 2x1, 2x1 -> 1x1). One thread; scratch of one pass's rows.
+ * - downsample_even(): both axes even (w = 2 mw, h = 2 mh), which is every level but the last
+ *   of a power-of-two map and the bulk of the time (1024x512 -> 512x256 alone is 3/4 of the
+ *   work). make_taps gives each output exactly two taps of weight m / (2m) = 0.5 there, so
+ *   this path performs the general path's double operations, in its order, for that case:
+ *   per row and channel h = (0.0 + 0.5 a) + 0.5 b, then out = (float)((0.0 + 0.5 h0) + 0.5 h1)
+ *   (the general path's accumulator starts at 0.0; adding it is kept, as it turns a -0.0
+ *   input into +0.0). It fuses the two passes per output texel (no scratch), runs rows in
+ *   a loop the compiler vectorizes (GCC 12 -O2: the channel block, 64-byte vectors; forcing
+ *   the x loop with omp simd measured no faster: the level is memory-bound), and splits rows
+ *   over OpenMP threads on levels large enough to pay for it (EVEN_PARALLEL_MIN; no level of
+ *   a 1024x512 map). Every output texel is computed by the same operations whatever the
+ *   thread count, so the chain does not depend on it. tests/unit/test_ibl.c compares the two
+ *   paths bit for bit on even, odd and mixed sizes. */
+/* madvise and MADV_HUGEPAGE are not POSIX (the build asks for POSIX 2008 only) */
+#define _DEFAULT_SOURCE
 #include "ibl_internal.h"
 
 #include <stdlib.h>
 #include <string.h>
+#if defined(__linux__)
+#include <sys/mman.h>
+#endif
 
 /* One output texel's taps along one axis: at most 4 (a footprint of n/m <= 3 input texels
  * starting at a fractional position touches at most 4). */
@@ -82,13 +111,72 @@ static void downsample(const sl_env_level *src, sl_env_level *dst, const axis_ta
     }
 }
 
-bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
+/* Output texels below which a level is filtered by one thread. Measured on the shared 2-core
+ * machine (docs/ibl.md, "Made ready"): a 1024x512 map's largest level (512x256, 0.8 ms on one
+ * thread) gained at best 0.5 ms from a second thread and, whenever the other core was busy,
+ * lost up to 25 ms waiting for it, so only levels four times larger (from a 2048x1024 map's
+ * first level, about 3 ms of work) are split. The viewer renders on the other core during a
+ * drag and drop anyway. -DEVEN_PARALLEL_MIN=0 forces threads on every level (for measuring). */
+#ifndef EVEN_PARALLEL_MIN
+#define EVEN_PARALLEL_MIN (1024 * 512)
+#endif
+
+/* src (2 mw x 2 mh) -> dst (mw x mh): downsample() for two taps of weight 0.5 on each axis,
+ * with the same double operations in the same order (see the top of the file). */
+static void downsample_even(const sl_env_level *src, sl_env_level *dst)
+{
+    /* The rows are read and written as flat floats, r g b r g b ..., for the vectorizer. */
+    _Static_assert(sizeof(vec3) == 3 * sizeof(float), "vec3 is three packed floats");
+    int mw = dst->width, mh = dst->height;
+    size_t w = (size_t)src->width;
+    const float *base = (const float *)src->texels;
+    float *obase = (float *)dst->texels;
+#pragma omp parallel for schedule(static) if (mw * mh >= EVEN_PARALLEL_MIN)
+    for (int y = 0; y < mh; y++) {
+        const float *r0 = base + (size_t)(2 * y) * w * 3, *r1 = r0 + w * 3;
+        float *out = obase + (size_t)y * (size_t)mw * 3;
+        for (int x = 0; x < mw; x++) {
+            for (int c = 0; c < 3; c++) {
+                /* horizontal pass, rows 2y and 2y + 1: downsample()'s first loop */
+                double h0 = 0.0;
+                h0 += 0.5 * (double)r0[6 * x + c];
+                h0 += 0.5 * (double)r0[6 * x + 3 + c];
+                double h1 = 0.0;
+                h1 += 0.5 * (double)r1[6 * x + c];
+                h1 += 0.5 * (double)r1[6 * x + 3 + c];
+                /* vertical pass: downsample()'s second loop, taps in row order */
+                double v = 0.0;
+                v += 0.5 * h0;
+                v += 0.5 * h1;
+                out[3 * x + c] = (float)v;
+            }
+        }
+    }
+}
+
+/* The block for `bytes`, in transparent huge pages when it is big enough for them to matter
+ * (see the top of the file). free() releases it either way. */
+static void *alloc_block(size_t bytes)
+{
+#if defined(__linux__) && defined(MADV_HUGEPAGE)
+    const size_t huge = (size_t)2 << 20;
+    if (bytes >= 2 * huge) {
+        void *p = NULL;
+        if (posix_memalign(&p, huge, bytes) != 0)
+            return NULL;
+        /* advice only: 4 KiB pages if refused; the tail past the last whole 2 MiB stays small */
+        (void)madvise(p, bytes, MADV_HUGEPAGE);
+        return p;
+    }
+#endif
+    return malloc(bytes);
+}
+
+/* The whole chain; general_only forces downsample() on every level (the test's reference). */
+bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
 {
     *env = (sl_env){0};
     if (!ibl_check_image(img, "environment", err))
-        return false;
-    sl_env single;
-    if (!ibl_env_single_level(&single, img, err))
         return false;
 
     /* The chain's sizes first, so every level goes into one block (ibl.h, sl_env.block). */
@@ -103,38 +191,58 @@ bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
             break;
     }
     int w = img->width, h = img->height;
-    vec3 *block = malloc(total * sizeof *block);
-    double *rows = malloc((size_t)(w / 2 > 1 ? w / 2 : 1) * (size_t)h * 3 * sizeof(double));
+    vec3 *block = alloc_block(total * sizeof *block);
     axis_taps *tx = malloc((size_t)w * sizeof *tx);
     axis_taps *ty = malloc((size_t)h * sizeof *ty);
-    bool ok = block && rows && tx && ty;
+    /* downsample()'s scratch (mw x h doubles x 3), allocated by the first level that takes the
+     * general path: later levels are smaller, so it serves them too. */
+    double *rows = NULL;
+    bool ok = block && tx && ty;
     if (ok) {
         vec3 *next = block;
         for (int l = 0; l < count; l++) {
             env->levels[l] = (sl_env_level){.width = sizes[l][0], .height = sizes[l][1], .texels = next};
             next += (size_t)sizes[l][0] * (size_t)sizes[l][1];
         }
-        memcpy(block, single.levels[0].texels, (size_t)w * (size_t)h * sizeof *block);
-        env->level_count = count;
-        env->block = block;
-        for (int l = 1; l < count; l++) {
-            make_taps(env->levels[l - 1].width, env->levels[l].width, tx);
-            make_taps(env->levels[l - 1].height, env->levels[l].height, ty);
-            downsample(&env->levels[l - 1], &env->levels[l], tx, ty, rows);
+        /* Level 0 is the image as vec3, what ibl_env_single_level makes, written in place
+         * rather than copied twice. */
+        for (size_t k = 0, n = (size_t)w * (size_t)h; k < n; k++)
+            block[k] = vec3(img->data[3 * k], img->data[3 * k + 1], img->data[3 * k + 2]);
+        for (int l = 1; l < count && ok; l++) {
+            const sl_env_level *src = &env->levels[l - 1];
+            sl_env_level *dst = &env->levels[l];
+            if (!general_only && src->width == 2 * dst->width && src->height == 2 * dst->height) {
+                downsample_even(src, dst);
+                continue;
+            }
+            if (!rows)
+                rows = malloc((size_t)dst->width * (size_t)src->height * 3 * sizeof(double));
+            if (!rows) {
+                ok = false;
+                break;
+            }
+            make_taps(src->width, dst->width, tx);
+            make_taps(src->height, dst->height, ty);
+            downsample(src, dst, tx, ty, rows);
         }
-    } else {
-        free(block);
     }
-    sl_env_free(&single);
     free(rows);
     free(tx);
     free(ty);
     if (!ok) {
+        free(block);
         *env = (sl_env){0};
         return sl_fail(err, SL_ERR_MEMORY, "environment %dx%d: out of memory for the mip chain", img->width,
                        img->height);
     }
+    env->level_count = count;
+    env->block = block;
     return true;
+}
+
+bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
+{
+    return ibl_env_build_path(env, img, false, err);
 }
 
 void sl_env_free(sl_env *env)

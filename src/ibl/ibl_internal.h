@@ -59,4 +59,8 @@ bool ibl_check_image(const sl_image *img, const char *what, sl_error *err);
 /* An sl_env with level 0 only, a copy of `img` (already checked). */
 bool ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err);
 
+/* sl_env_build, with general_only = true forcing env.c's general filter on every level instead
+ * of its even-size fast path (the same bits; tests/unit/test_ibl.c checks that). */
+bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err);
+
 #endif

@@ -5,7 +5,12 @@
 #include <string.h>
 
 #include "ibl/ibl.h"
+#include "ibl/ibl_internal.h"
 #include "testutil.h"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
 
 /* ---- helpers ---- */
 
@@ -381,6 +386,65 @@ static void test_texture_lod_odd_sizes_in_bounds(void **state)
     }
 }
 
+/* env.c's even-size fast path against its general filter (ibl_env_build_path with general_only),
+ * every level bit for bit: the fast path must perform the same double operations in the same
+ * order. Random data spanning 40 binary orders of magnitude (so the double sums do round before
+ * the float conversion), with exact zeros and -0.0 (the general accumulator starts at +0.0,
+ * which turns -0.0 into +0.0), on even, odd and mixed sizes: 64x32 and 1024x512 take the fast
+ * path on every level but 2x1 -> 1x1, 12x5 and 6x4 (6x4 -> 3x2 -> 1x1) mix both, 5x3 and 37x19
+ * take only the general one. The fast build is also made with 1 and with 3 threads: the chain
+ * must not depend on the thread count (2048x1024 is the smallest size whose first level is
+ * split over threads, env.c's EVEN_PARALLEL_MIN). */
+static void test_env_fast_path_bit_identical(void **state)
+{
+    (void)state;
+    const int sizes[][2] = {{1, 1}, {2, 1}, {5, 3}, {37, 19}, {64, 32}, {12, 5}, {6, 4}, {1024, 512}, {2048, 1024}};
+    unsigned seed = 2024;
+    for (size_t c = 0; c < sizeof sizes / sizeof sizes[0]; c++) {
+        sl_image img = make_image(sizes[c][0], sizes[c][1]);
+        size_t n = (size_t)img.width * (size_t)img.height * 3;
+        for (size_t k = 0; k < n; k++) {
+            float u = lcg(&seed);
+            img.data[k] = u < 0.05f ? 0.0f : u < 0.1f ? -0.0f : ldexpf(lcg(&seed), (int)(40.0f * lcg(&seed)) - 20);
+        }
+        for (int y = 0; y < 2 && y < img.height; y++) /* a 2x2 footprint of -0.0 (level 1 is +0.0) */
+            for (int x = 0; x < 2 && x < img.width; x++)
+                set_texel(&img, x, y, -0.0f, -0.0f, -0.0f);
+        sl_env fast, general;
+        sl_error err = {0};
+        assert_true(ibl_env_build_path(&general, &img, true, &err));
+        int threads[] = {1, 3};
+        for (int t = 0; t < 2; t++) {
+#ifdef _OPENMP
+            int saved = omp_get_max_threads();
+            omp_set_num_threads(threads[t]);
+#endif
+            assert_true(ibl_env_build_path(&fast, &img, false, &err));
+#ifdef _OPENMP
+            omp_set_num_threads(saved);
+#endif
+            assert_int_equal(fast.level_count, general.level_count);
+            for (int l = 0; l < fast.level_count; l++) {
+                const sl_env_level *a = &fast.levels[l], *b = &general.levels[l];
+                assert_int_equal(a->width, b->width);
+                assert_int_equal(a->height, b->height);
+                assert_same_texels(a->texels, b->texels, (size_t)a->width * (size_t)a->height, sizeof(vec3),
+                                   a->width, "%dx%d level %d (%dx%d), %d threads", img.width, img.height, l,
+                                   a->width, a->height, threads[t]);
+            }
+            sl_env_free(&fast);
+        }
+        /* sl_env_build is the fast build */
+        assert_true(sl_env_build(&fast, &img, &err));
+        const sl_env_level *top = &fast.levels[fast.level_count - 1];
+        assert_same_texels(top->texels, general.levels[general.level_count - 1].texels, 1, sizeof(vec3), 0,
+                           "%dx%d, 1x1 level of sl_env_build", img.width, img.height);
+        sl_env_free(&fast);
+        sl_env_free(&general);
+        sl_image_free(&img);
+    }
+}
+
 /* ---- Hammersley ---- */
 
 static void test_hammersley(void **state)
@@ -429,6 +493,7 @@ int main(void)
         cmocka_unit_test(test_env_box_and_odd_weights),
         cmocka_unit_test(test_env_preserves_mean),
         cmocka_unit_test(test_env_rejects),
+        cmocka_unit_test(test_env_fast_path_bit_identical),
         cmocka_unit_test(test_texture_lod_level0),
         cmocka_unit_test(test_texture_lod_levels),
         cmocka_unit_test(test_texture_lod_non_finite),
