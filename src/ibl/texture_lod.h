@@ -17,13 +17,18 @@
 #include "../core/fast_math.h"
 #include "ibl.h"
 
-/* GL_LINEAR within one level: REPEAT in u, CLAMP_TO_EDGE in v, texel centres at (i + 1/2) / size. */
-static inline vec3 sl_env_bilinear(const sl_env_level *lv, float u, float v)
+/* GL_LINEAR within one level of w x h texels starting at T[o]: REPEAT in u, CLAMP_TO_EDGE in v,
+ * texel centres at (i + 1/2) / size. The one bilinear filter of the environment: sl_env_bilinear
+ * (one level) and sl_env_gather_bilinear (a level of the block) are this. Indices are int: a
+ * level has at most SL_IMAGE_MAX_PIXELS texels and a gathered block fewer than 2^31 / 3, so the
+ * vectorized fetch gathers with 32-bit indices; sl_fast_floor is floorf for |x| < 2^31. Texels
+ * are read component by component (a struct copy stops GCC's vectorizer). */
+__attribute__((always_inline)) static inline vec3 sl_texels_bilinear(const vec3 *T, int w, int h, int o, float u,
+                                                                     float v)
 {
-    int w = lv->width, h = lv->height;
     /* u in [0, 1], so x in [-1/2, w - 1/2] and x0 in [-1, w - 1]. */
     float x = u * (float)w - 0.5f;
-    float xf = floorf(x);
+    float xf = sl_fast_floor(x);
     float fx = x - xf;
     int x0 = (int)xf;
     int x1 = x0 + 1;
@@ -35,11 +40,18 @@ static inline vec3 sl_env_bilinear(const sl_env_level *lv, float u, float v)
     int y0 = (int)y;
     float fy = y - (float)y0;
     int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
-    const vec3 *r0 = lv->texels + (size_t)y0 * (size_t)w;
-    const vec3 *r1 = lv->texels + (size_t)y1 * (size_t)w;
-    vec3 top = mix3(r0[x0], r0[x1], fx);
-    vec3 bottom = mix3(r1[x0], r1[x1], fx);
+    int r0 = o + y0 * w, r1 = o + y1 * w;
+    vec3 top = vec3(mixf(T[r0 + x0].x, T[r0 + x1].x, fx), mixf(T[r0 + x0].y, T[r0 + x1].y, fx),
+                    mixf(T[r0 + x0].z, T[r0 + x1].z, fx));
+    vec3 bottom = vec3(mixf(T[r1 + x0].x, T[r1 + x1].x, fx), mixf(T[r1 + x0].y, T[r1 + x1].y, fx),
+                       mixf(T[r1 + x0].z, T[r1 + x1].z, fx));
     return mix3(top, bottom, fy);
+}
+
+/* GL_LINEAR within one level. */
+static inline vec3 sl_env_bilinear(const sl_env_level *lv, float u, float v)
+{
+    return sl_texels_bilinear(lv->texels, lv->width, lv->height, 0, u, v);
 }
 
 /* GL_LINEAR_MIPMAP_LINEAR between levels floor(lod) and floor(lod) + 1 (the last one twice). */
@@ -83,34 +95,12 @@ typedef struct {
 /* Describe env's chain (texture_lod.c); env must have at least one level. */
 void sl_env_gather_init(sl_env_gather *g, const sl_env *env);
 
-/* mix3(T[a], T[b], t), component by component (a struct copy stops GCC's vectorizer). */
-static inline vec3 sl_mix_texels(const vec3 *T, int a, int b, float t)
-{
-    return vec3(mixf(T[a].x, T[b].x, t), mixf(T[a].y, T[b].y, t), mixf(T[a].z, T[b].z, t));
-}
-
-/* sl_env_bilinear for level l of a gather description: the same operations, so the same bits,
- * with sl_fast_floor for floorf; inlined into a simd loop it becomes gathers. */
+/* sl_env_bilinear for level l of a gather description; inlined into a simd loop it becomes
+ * gathers. */
 __attribute__((always_inline)) static inline vec3 sl_env_gather_bilinear(const sl_env_gather *g, int l, float u,
                                                                        float v)
 {
-    const vec3 *T = g->texels;
-    int w = g->width[l], h = g->height[l], o = g->offset[l];
-    float x = u * (float)w - 0.5f;
-    float xf = sl_fast_floor(x);
-    float fx = x - xf;
-    int x0 = (int)xf;
-    int x1 = x0 + 1;
-    x0 = x0 < 0 ? x0 + w : x0;
-    x1 = x1 >= w ? x1 - w : x1;
-    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
-    int y0 = (int)y;
-    float fy = y - (float)y0;
-    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
-    int r0 = o + y0 * w, r1 = o + y1 * w;
-    vec3 top = sl_mix_texels(T, r0 + x0, r0 + x1, fx);
-    vec3 bottom = sl_mix_texels(T, r1 + x0, r1 + x1, fx);
-    return mix3(top, bottom, fy);
+    return sl_texels_bilinear(g->texels, g->width[l], g->height[l], g->offset[l], u, v);
 }
 
 /* sl_texture_lod_clamped over a gather description, with lod in [0, last] (no fract(lod) = 0
