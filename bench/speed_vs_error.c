@@ -69,11 +69,17 @@ static void variant_name(variant *v)
     char el[16] = "";
     if (v->opt.env_lights > 0)
         snprintf(el, sizeof el, "+env%d", v->opt.env_lights);
-    snprintf(v->name, sizeof v->name, "%s%s %s%s%s%s%s%s%s N%d%s", v->kind == KIND_GL ? "GL " : "", est_name(v),
+    snprintf(v->name, sizeof v->name, "%s%s %s%s%s%s%s%s%s%s N%d%s", v->kind == KIND_GL ? "GL " : "", est_name(v),
              lod_name(v), v->opt.distortion ? "+dist" : "", el, v->opt.gterm == SL_GTERM_ONE ? " G=1" : "",
-             v->irr != SL_IRRADIANCE_SH9 ? (v->irr == SL_IRRADIANCE_BRUTE ? " brute" : " map") : "",
+             v->irr != sl_irradiance_default() ? " " : "", v->irr != sl_irradiance_default() ? irr_name(v->irr) : "",
              v->opt.rotate ? " rot" : "", v->opt.plain ? " plain" : "", v->opt.samples, acc);
 }
+
+/* Every irradiance method the sweep measures; the diffuse images and the timing groups follow
+ * this order. */
+enum { IRRADIANCE_METHODS = 5 };
+static const sl_irradiance_method methods[IRRADIANCE_METHODS] = {SL_IRRADIANCE_OCT, SL_IRRADIANCE_DP, SL_IRRADIANCE_SH9,
+                                                                 SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP};
 
 /* flags for add_variant */
 enum { ROTATE = 1, PLAIN = 2 };
@@ -113,7 +119,7 @@ static int add_variant(variant_list *l, variant_kind kind, sl_estimator est, sl_
 static void build_variants(variant_list *l, bool with_gl)
 {
     const sl_gterm G = SL_GTERM_INV_LH2;
-    const sl_irradiance_method SH = SL_IRRADIANCE_SH9;
+    const sl_irradiance_method SH = sl_irradiance_default(); /* every variant but the irradiance rows */
     struct {
         variant_kind kind;
         sl_estimator est;
@@ -156,6 +162,8 @@ static void build_variants(variant_list *l, bool with_gl)
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_CONSISTENT, SL_LOD_SPEC_D4, true, SL_GTERM_ONE, SH, 40, NULL, false);
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_GEMS, true, SL_GTERM_ONE, SH, 40, NULL, false);
     /* irradiance */
+    add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_DP, 40, NULL, false);
+    add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_SH9, 40, NULL, false);
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_BRUTE, 40, NULL, false);
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_MAP, 40, NULL, false);
     /* the line-by-line port (options.plain) beside the default batched path (its fast log2/atan2) */
@@ -337,8 +345,7 @@ static void time_variants(sl_renderer *r, const variant_list *vl, const bool *se
                           bool anchor)
 {
     static double tf[MAX_VARIANTS][MAX_FRAMES], tl[MAX_VARIANTS][MAX_FRAMES], tc[MAX_VARIANTS][MAX_FRAMES];
-    const sl_irradiance_method methods[3] = {SL_IRRADIANCE_SH9, SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP};
-    for (int m = 0; m < 3; m++) {
+    for (int m = 0; m < IRRADIANCE_METHODS; m++) {
         bool any = false;
         for (int i = 0; i < vl->count; i++)
             any |= selected[i] && vl->v[i].irr == methods[m];
@@ -480,7 +487,7 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
         si->h = c->height;
     }
     sl_render_desc desc = {.width = si->w, .height = si->h, .threads = c->threads, .irradiance_set = true};
-    desc.lighting = (sl_lighting_options){.irradiance = SL_IRRADIANCE_SH9, .no_point_lights = true};
+    desc.lighting = (sl_lighting_options){.irradiance = sl_irradiance_default(), .no_point_lights = true};
     sl_renderer r;
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         die(s->path, &err);
@@ -526,9 +533,8 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
     use_irradiance(&r, SL_IRRADIANCE_BRUTE);
     write_irradiance_map(&r, map_path);
     snprintf(scene.environment.irradiance_path, sizeof scene.environment.irradiance_path, "%s", map_path);
-    sl_image diffuse[3] = {{0}, {0}, {0}}, spec = {0}, total = {0};
-    const sl_irradiance_method methods[3] = {SL_IRRADIANCE_SH9, SL_IRRADIANCE_BRUTE, SL_IRRADIANCE_MAP};
-    for (int m = 0; m < 3; m++) {
+    sl_image diffuse[IRRADIANCE_METHODS] = {{0}}, spec = {0}, total = {0};
+    for (int m = 0; m < IRRADIANCE_METHODS; m++) {
         use_irradiance(&r, methods[m]);
         variant dv = {.opt = {.samples = 1}};
         shade(&r, &dv, true, false);
@@ -543,7 +549,9 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
         const variant *v = &vl->v[i];
         result *rs = &res[i];
         int g = v->opt.gterm == SL_GTERM_ONE ? SL_GT_G_ONE : SL_GT_G_INV_LH2;
-        int m = v->irr == SL_IRRADIANCE_BRUTE ? 1 : v->irr == SL_IRRADIANCE_MAP ? 2 : 0;
+        int m = 0;
+        while (m < IRRADIANCE_METHODS - 1 && methods[m] != v->irr)
+            m++;
         const sl_image *dif = &diffuse[m];
         sl_image gl_dif = {0};
         if (v->kind == KIND_GL) {
@@ -590,7 +598,7 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
             selected[i] = selected[i] && vl->v[i].anchor;
         time_variants(&r, vl, selected, c->anchor_frames, res, true);
     }
-    for (int m = 0; m < 3; m++)
+    for (int m = 0; m < IRRADIANCE_METHODS; m++)
         sl_image_free(&diffuse[m]);
     sl_image_free(&spec);
     sl_image_free(&total);

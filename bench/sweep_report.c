@@ -347,8 +347,9 @@ static void write_design(FILE *f)
                "extraction is per environment (like the irradiance), so no frame time includes it; its cost\n"
                "is in the \"Env lights\" section.\n\n"
                "At N = 40: every mip rule (none, spec, spec-d4, gems, pdf) with and without the distortion, for all three\n"
-               "estimators; G = 1 (against a G = 1 ground truth); irradiance sh9 / brute (64x32 map from the\n"
-               "quadrature) / map (that map written as .hdr and loaded back, so RGBE-rounded). softlight-gl\n"
+               "estimators; G = 1 (against a G = 1 ground truth); irradiance oct (the default: every other row\n"
+               "uses it) / dp / sh9 / brute (64x32 map from the quadrature) / map (that map written as .hdr\n"
+               "and loaded back, so RGBE-rounded). softlight-gl\n"
                "(llvmpipe) runs the recipe, `consistent gems+dist`, `mf gems+dist`, `mf pdf+dist` and\n"
                "`mf pdf+dist+env32` at N = 40: error on\n"
                "softlight's G-buffer (`--gbuffer`), time of its own whole frames. The shader's only fast\n"
@@ -488,10 +489,10 @@ static void write_why_diffuse_and_cost(const report *rp, FILE *f)
     const variant_list *vl = rp->vl;
     const summary *sum = rp->sum;
     const summary *b = &sum[rp->base];
-    int irr_b = find(vl, "spec spec-d4 brute N40");
-    fprintf(f, "* The diffuse term is the same in all of these (SH9, nRMSE %.4f alone): a floor under every\n"
-               "  total figure; the brute-force map is better (%.4f, see the irradiance rows).\n",
-            b->e[1].nrmse, irr_b >= 0 && sum[irr_b].done ? sum[irr_b].e[1].nrmse : NAN);
+    int irr_sh9 = find(vl, "spec spec-d4 sh9 N40");
+    fprintf(f, "* The diffuse term is the same in all of these (the octahedral map, nRMSE %.4f alone): a floor\n"
+               "  under every total figure; SH9, the default before it, was %.4f (see the irradiance rows).\n",
+            b->e[1].nrmse, irr_sh9 >= 0 && sum[irr_sh9].done ? sum[irr_sh9].e[1].nrmse : NAN);
     int mp = find(vl, "mf gems+dist plain N40"), mb = find(vl, "mf gems+dist N40");
     int cp = find(vl, "consistent spec+dist plain N40"), cb = find(vl, "consistent spec+dist N40");
     if (mp >= 0 && mb >= 0 && cp >= 0 && cb >= 0 && sum[mp].done && sum[mb].done && sum[cp].done && sum[cb].done)
@@ -587,8 +588,8 @@ static void write_recommendations(const report *rp, FILE *f)
     if (rec_shader >= 0 && rec_shader != rec_fast)
         fprintf(f, "* Without the microfacet estimator, the best at that cost is `%s` (nRMSE %.4f).\n",
                 vl->v[rec_shader].name, sum[rec_shader].e[0].nrmse);
-    fprintf(f, "* Irradiance: the brute-force map (`--irradiance brute`) where its one-off cost is paid once per\n"
-               "  environment (rows below); G: the same G term as whatever the image is compared with.\n");
+    fprintf(f, "* Irradiance: the default octahedral map (`--irradiance oct`), built once per environment\n"
+               "  (rows below); G: the same G term as whatever the image is compared with.\n");
 }
 
 /* Progressive accumulation against one frame with as many samples (part of the recommendations). */
@@ -676,8 +677,9 @@ static void write_diffuse(const report *rp, FILE *f)
     const summary *sum = rp->sum;
     fprintf(f, "\n## Diffuse (irradiance method; set means)\n\n"
                "| irradiance | nRMSE diffuse | mean rel | p99 rel | >1/255 | >8/255 |\n|---|---:|---:|---:|---:|---:|\n");
-    const char *irrv[3] = {"spec spec-d4 N40", "spec spec-d4 brute N40", "spec spec-d4 map N40"};
-    for (int k = 0; k < 3; k++) {
+    const char *irrv[5] = {"spec spec-d4 N40", "spec spec-d4 dp N40", "spec spec-d4 sh9 N40", "spec spec-d4 brute N40",
+                           "spec spec-d4 map N40"};
+    for (int k = 0; k < 5; k++) {
         int i = find(vl, irrv[k]);
         if (i >= 0 && sum[i].done)
             fprintf(f, "| %s | %.4f | %.4f | %.4f | %.2f%% | %.2f%% |\n", irr_name(vl->v[i].irr), sum[i].e[1].nrmse,
