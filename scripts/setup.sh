@@ -12,6 +12,7 @@ packages=(
   libcmocka-dev                         # unit tests
   libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0  # softlight-gl on Mesa (llvmpipe)
   gnuplot-nox                           # benchmark plots
+  time                                  # /usr/bin/time: peak memory in tests/cli/image_limits.sh
   xvfb xdotool xauth                    # viewer end-to-end test without a display
 )
 

@@ -18,7 +18,7 @@
 typedef struct {
     size_t program;          /* the executable, its libraries, thread stacks: measured */
     size_t env_load;         /* the .hdr file and its decoded image */
-    size_t env_build;        /* sl_env_build: image + a copy + the mip chain + a row buffer */
+    size_t env_build;        /* sl_env_build: image + the mip chain (+ the odd-size filter's scratch) */
     size_t env;              /* the mip chain, held from then on */
     size_t irradiance;       /* held: an irradiance map (brute, map); SH9 is 9 colours */
     size_t irradiance_build; /* while it is built, besides the environment */
@@ -43,11 +43,22 @@ static size_t chain_texels(int w, int h)
     }
 }
 
-/* sl_env_build of a W x H image (the image itself not counted): a level-0 copy, the chain, and
- * a buffer of W/2 x H rows of three doubles. */
+/* sl_env_build of a W x H image (the image itself not counted): the chain, level 0 converted
+ * straight into it, and the general filter's scratch of mw x h rows of three doubles, allocated
+ * by the first level that is not an exact halving of the one before (src/ibl/env.c). */
 static size_t env_build_bytes(int w, int h)
 {
-    return (size_t)w * (size_t)h * 12 + chain_texels(w, h) * 12 + (size_t)(w / 2 > 1 ? w / 2 : 1) * (size_t)h * 24;
+    size_t scratch = 0;
+    for (int lw = w, lh = h; !(lw == 1 && lh == 1);) {
+        int mw = lw / 2 > 1 ? lw / 2 : 1, mh = lh / 2 > 1 ? lh / 2 : 1;
+        if (lw != 2 * mw || lh != 2 * mh) {
+            scratch = (size_t)mw * (size_t)lh * 24;
+            break;
+        }
+        lw = mw;
+        lh = mh;
+    }
+    return chain_texels(w, h) * 12 + scratch;
 }
 
 static void phase(memory_model *m, size_t bytes, const char *what)

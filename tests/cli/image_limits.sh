@@ -81,10 +81,9 @@ expect_error no-blank-line 'noblank\.hdr: byte 34: found the resolution line .-Y
 # info's peak against the measured peak (max RSS) of the same render, within 12%.
 if [ -z "${SL_SANITIZED:-}" ]; then
     peak=$("$SL" info "$T/mid.json" | sed -n 's/.*memory     peak \([0-9.]*\) MiB.*/\1/p')
-    rss=$(python3 -c 'import resource, subprocess, sys
-subprocess.run(sys.argv[1:], check=True, stdout=subprocess.DEVNULL)
-print(resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024)' "$SL" render "$T/mid.json" -o "$T/mid.png")
-    if [ -n "$peak" ] && [ -n "$rss" ] && python3 -c "import sys; p, r = $peak, $rss; sys.exit(0 if abs(p - r) <= 0.12 * r else 1)"; then
+    rss=$(/usr/bin/time -f '%M' "$SL" render "$T/mid.json" -o "$T/mid.png" 2>&1 >/dev/null | tail -n 1 |
+          awk '{ printf "%.1f", $1 / 1024 }')
+    if [ -n "$peak" ] && [ -n "$rss" ] && awk -v p="$peak" -v r="$rss" 'BEGIN { d = p - r; if (d < 0) d = -d; exit !(d <= 0.12 * r) }'; then
         ok "info's peak $peak MiB against a measured $rss MiB"
     else
         bad "info's peak '$peak' MiB against a measured '$rss' MiB (want within 12%)"
