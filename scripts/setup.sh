@@ -12,7 +12,7 @@ packages=(
   libcmocka-dev                         # unit tests
   libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0  # softlight-gl on Mesa (llvmpipe)
   gnuplot-nox                           # benchmark plots
-  time                                  # /usr/bin/time: peak memory in tests/cli/image_limits.sh
+  time python3                          # tests/cli/image_limits.sh: peak memory (/usr/bin/time), its .hdr generator
   xvfb xdotool xauth                    # viewer end-to-end test without a display
 )
 
