@@ -209,7 +209,7 @@ static bool pick_bright(const sl_env_level *l0, const grid *gd, double threshold
         double omega = gd->rdz[j] * gd->dphi;
         const vec3 *row = l0->texels + (size_t)j * (size_t)gd->w;
         for (int i = 0; i < gd->w; i++) {
-            double p = luma(row[i].x, row[i].y, row[i].z) * omega;
+            double p = luma((double)row[i].x, (double)row[i].y, (double)row[i].z) * omega;
             if (!(p > threshold))
                 continue;
             if (count == cap) {
@@ -287,7 +287,7 @@ static bool build_groups(const sl_env_level *l0, const grid *gd, int cw, int ch,
                     if (tk[i])
                         continue;
                     double *a = rowacc + (size_t)col_group[i] * 10;
-                    double L[3] = {row[i].x, row[i].y, row[i].z};
+                    double L[3] = {(double)row[i].x, (double)row[i].y, (double)row[i].z};
                     for (int c = 0; c < 3; c++) {
                         a[3 * c + 0] += L[c] * gd->cc[i];
                         a[3 * c + 1] += L[c] * gd->cs[i];
@@ -443,7 +443,7 @@ bool sl_irradiance_map(sl_irradiance *irr, const sl_env *env, const sl_irradianc
             double row = 0.0;
             for (int i = 0; i < l0->width; i++) {
                 vec3 L = l0->texels[(size_t)j * (size_t)l0->width + i];
-                row += luma(L.x, L.y, L.z);
+                row += luma((double)L.x, (double)L.y, (double)L.z);
             }
             total += row * gd.rdz[j] * gd.dphi;
         }
