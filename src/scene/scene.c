@@ -1013,6 +1013,8 @@ static bool scan_json(parser *p, const char *text, size_t end, bool depth, bool 
                     has_zero = true, zero = j;
                 j++; /* the escaped character: \" and \\ neither end nor start anything */
             }
+            if (j > end) /* a backslash as the last byte: the string ends with the text */
+                j = end;
             char raw[MASKED_MAX + 2];
             size_t n = j - start <= MASKED_MAX ? j - start : MASKED_MAX + 1; /* masked() adds "..." */
             memcpy(raw, text + start, n);

@@ -518,6 +518,16 @@ static void test_json_nul(void **state)
     parse_ok("{\"objects\": [{\"shape\": \"box\", \"name\": \"a\\\\u0000\"}], \"comment\": \"\\u0001\\n\"}", &s);
     assert_string_equal(s.objects[0].name, "a\\u0000");
     sl_scene_free(&s);
+    /* A backslash as the file's last byte: the string scan stepped past the end and copied a byte
+     * beyond the buffer (found by fuzz_scene; the exact-size buffer lets ASan see it). */
+    char *tail = malloc(3);
+    assert_non_null(tail);
+    memcpy(tail, "{\"\\", 3);
+    sl_error err;
+    sl_scene t;
+    assert_false(sl_scene_parse(tail, 3, "t.json", "base", false, &t, &err));
+    assert_non_null(strstr(err.msg, "t.json:1:"));
+    free(tail);
 }
 
 /* Issue 16 item 8: bytes from the file were echoed raw into messages (an escape sequence in a
