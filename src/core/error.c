@@ -39,3 +39,18 @@ void sl_error_prefix(sl_error *err, const char *fmt, ...)
     memcpy(err->msg + n, old, rest);
     err->msg[n + rest] = '\0';
 }
+
+const char *sl_error_excerpt(const char *s, size_t max, char *out)
+{
+    size_t n = 0;
+    for (; s[n] && n < max; n++) {
+        unsigned char ch = (unsigned char)s[n];
+        out[n] = ch >= 32 && ch < 127 ? (char)ch : '?';
+    }
+    if (s[n]) {
+        memcpy(out + n, "...", 3);
+        n += 3;
+    }
+    out[n] = '\0';
+    return out;
+}

@@ -8,6 +8,7 @@
 #define SL_ERROR_H
 
 #include <stdbool.h>
+#include <stddef.h>
 
 typedef enum {
     SL_OK = 0,
@@ -31,6 +32,11 @@ bool sl_fail(sl_error *err, sl_error_code code, const char *fmt, ...)
     __attribute__((format(printf, 3, 4)))
 #endif
     ;
+
+/* Up to `max` bytes of the string s for a message, each byte that is not printable ASCII shown
+ * as '?' and "..." after a longer one, so that an input file cannot put escape sequences or
+ * broken UTF-8 on a terminal. `out` holds max + 4 bytes; returns out. */
+const char *sl_error_excerpt(const char *s, size_t max, char *out);
 
 /* Prefix an existing message with context, e.g. "scene.json: " + "line 3: ...". */
 void sl_error_prefix(sl_error *err, const char *fmt, ...)

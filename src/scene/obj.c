@@ -131,22 +131,8 @@ static bool fail_line(obj_reader *r, sl_error_code code, const char *what, const
     return sl_fail(r->err, code, "%s:%zu: %s%s", r->name, r->line, what, detail ? detail : "");
 }
 
-/* Up to 32 bytes of input for a message, each byte that is not printable ASCII shown as '?'
- * (as hdr.c does), so that a file cannot put escape sequences or broken UTF-8 on a terminal. */
-static const char *excerpt(const char *s, char out[40])
-{
-    size_t n = 0;
-    for (; s[n] && n < 32; n++) {
-        unsigned char ch = (unsigned char)s[n];
-        out[n] = ch >= 32 && ch < 127 ? (char)ch : '?';
-    }
-    if (s[n]) {
-        memcpy(out + n, "...", 3);
-        n += 3;
-    }
-    out[n] = '\0';
-    return out;
-}
+/* Up to 32 bytes of input for a message, masked (sl_error_excerpt). */
+static const char *excerpt(const char *s, char out[40]) { return sl_error_excerpt(s, 32, out); }
 
 /* The output vertex for a corner, creating it on first use. */
 static bool vertex_for(obj_reader *r, corner c, uint32_t *index)

@@ -75,17 +75,7 @@ static bool fail_at(parser *p, const char *path, sl_error_code code, const char 
 #define MASKED_MAX 64
 static const char *masked(const char *s, size_t max, char out[MASKED_MAX + 4])
 {
-    size_t n = 0;
-    for (; s[n] && n < max && n < MASKED_MAX; n++) {
-        unsigned char ch = (unsigned char)s[n];
-        out[n] = ch >= 32 && ch < 127 ? (char)ch : '?';
-    }
-    if (s[n]) {
-        memcpy(out + n, "...", 3);
-        n += 3;
-    }
-    out[n] = '\0';
-    return out;
+    return sl_error_excerpt(s, max < MASKED_MAX ? max : MASKED_MAX, out);
 }
 
 /* A path too long for the buffer (deep nesting, long names) ends in "..." rather than failing. */
