@@ -199,16 +199,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         } else if (rotate) {
             rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
         } else {
-            for (int i = 0; i < m; i++) {
-                vec2 xi = shade_hammersley_point(u, k0 + i);
-                vec3 L = mf ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
-                b->xi1[i] = xi.x;
-                b->xi2[i] = xi.y;
-                b->Lx[i] = L.x;
-                b->Ly[i] = L.y;
-                b->Lz[i] = L.z;
-                b->pdf[i] = mf ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
-            }
+            shade_lobe_fill(u, alpha, mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
         }
         /* (1) directions, dot products, G, the Fresnel factor and the uv: specular_ibl's
          * operations, vectorized over the samples; or specular_microfacet's, where (L, pdf) are

@@ -199,6 +199,10 @@ static inline void count_samples(sl_lighting_task *task, int n, int below, bool 
     task->stats.pole_frames += pole;
 }
 
+/* Samples k0 .. k0 + m - 1 of the lobe for alpha, by the port's own generators (so their bits):
+ * a table's contents, or a block's when there is no task (tests, traces). */
+void shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
+                     float *Lx, float *Ly, float *Lz, float *pdf);
 /* The table for alpha in the task's cache, built on a miss (the tables of the last SLOTS
  * distinct alphas are kept: scenes have few materials). */
 const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);

@@ -51,6 +51,21 @@ static void own(sl_lighting_task *task, const sl_lighting_uniforms *u)
     }
 }
 
+void shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
+                     float *Lx, float *Ly, float *Lz, float *pdf)
+{
+    for (int i = 0; i < m; i++) {
+        vec2 xi = shade_hammersley_point(u, k0 + i);
+        vec3 L = microfacet ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
+        xi1[i] = xi.x;
+        xi2[i] = xi.y;
+        Lx[i] = L.x;
+        Ly[i] = L.y;
+        Lz[i] = L.z;
+        pdf[i] = microfacet ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
+    }
+}
+
 const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
 {
     int n = (int)u->uHammersley.N;
@@ -62,16 +77,7 @@ const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task
     }
     lobe_table *t = &task->slots[task->next];
     task->next = (task->next + 1) % SLOTS;
-    for (int k = 0; k < n; k++) {
-        vec2 xi = shade_hammersley_point(u, k);
-        vec3 L = microfacet ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
-        t->xi1[k] = xi.x;
-        t->xi2[k] = xi.y;
-        t->Lx[k] = L.x;
-        t->Ly[k] = L.y;
-        t->Lz[k] = L.z;
-        t->pdf[k] = microfacet ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
-    }
+    shade_lobe_fill(u, alpha, microfacet, 0, n, t->xi1, t->xi2, t->Lx, t->Ly, t->Lz, t->pdf);
     t->microfacet = microfacet;
     t->alpha = alpha;
     t->n = n;

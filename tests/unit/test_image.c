@@ -30,14 +30,6 @@
 
 /* ---- helpers ---- */
 
-#define assert_msg_contains(err, text)                                                        \
-    do {                                                                                      \
-        if (!strstr((err).msg, (text))) {                                                     \
-            print_error("error message \"%s\" does not contain \"%s\"\n", (err).msg, (text)); \
-            fail();                                                                           \
-        }                                                                                     \
-    } while (0)
-
 /* A small deterministic generator (numerical recipes LCG): tests must not depend on rand(). */
 static unsigned lcg_state = 12345u;
 static float lcg01(void)

@@ -13,14 +13,6 @@
 
 #include "core/image.h"
 
-#define assert_msg_contains(err, text)                                                        \
-    do {                                                                                      \
-        if (!strstr((err).msg, (text))) {                                                     \
-            print_error("error message \"%s\" does not contain \"%s\"\n", (err).msg, (text)); \
-            fail();                                                                           \
-        }                                                                                     \
-    } while (0)
-
 /* A growing byte buffer. */
 typedef struct {
     unsigned char *data;

@@ -20,14 +20,6 @@
 
 #include "core/output_set.h"
 
-#define assert_msg_contains(err, text)                                                        \
-    do {                                                                                      \
-        if (!strstr((err).msg, (text))) {                                                     \
-            print_error("error message \"%s\" does not contain \"%s\"\n", (err).msg, (text)); \
-            fail();                                                                           \
-        }                                                                                     \
-    } while (0)
-
 /* A fresh directory test_tmpdir()/name; returns it in `dir` (512 bytes). */
 static void fresh_dir(char *dir, const char *name)
 {

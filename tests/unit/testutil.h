@@ -10,6 +10,7 @@
 #include <stdarg.h>
 #include <stddef.h>
 #include <stdint.h>
+#include <string.h>
 
 #include <cmocka.h>
 
@@ -24,6 +25,15 @@ const char *test_tmpfile(const char *name);
 /* Write bytes to a file (asserts on failure). */
 void test_write_bytes(const char *path, const void *bytes, size_t size);
 /* Assert |a - b| <= tol, printing both values and the difference on failure. */
+/* The sl_error `err` (a value) says `text` somewhere in its message; prints both when not. */
+#define assert_msg_contains(err, text)                                                        \
+    do {                                                                                      \
+        if (!strstr((err).msg, (text))) {                                                     \
+            print_error("error message \"%s\" does not contain \"%s\"\n", (err).msg, (text)); \
+            fail();                                                                           \
+        }                                                                                     \
+    } while (0)
+
 #define assert_near(a, b, tol) test_assert_near((double)(a), (double)(b), (double)(tol), #a, #b, __FILE__, __LINE__)
 void test_assert_near(double a, double b, double tol, const char *sa, const char *sb, const char *file, int line);
 
