@@ -161,7 +161,7 @@ vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
     return sl_texture_sample(s, uv, sl_texture_lambda(s, dPdx, dPdy, 0.0f));
 }
 
-vec4 textureLod(const sl_sampler2D *s, vec2 uv, float lod)
+vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod)
 {
     return sl_texture_sample(s, uv, clamp_lambda(lod + s->state.lod_bias, &s->state));
 }
