@@ -37,6 +37,8 @@ static float safe_coord(float x)
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
 static int wrap_index(int i, int n, sl_wrap mode)
 {
+    if ((unsigned)i < (unsigned)n) /* inside: every mode leaves it (and skips the divisions) */
+        return i;
     switch (mode) {
     case SL_REPEAT: {
         int r = i % n;

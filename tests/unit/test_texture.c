@@ -561,6 +561,11 @@ static void test_bad_files(void **state)
         free(bytes);
     }
 
+    /* a JPEG Huffman table of more than 256 codes (fuzz_texture found stb writing past its
+     * tables): refused before stb reads it */
+    assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/dht_over_256.jpg", false, 0, &t, &err));
+    assert_msg_contains(err, "dht_over_256.jpg: byte 94: corrupt JPEG: a Huffman table (DHT) of 384 codes, more than 256");
+
     /* an absurd size declared by a header */
     assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/huge_40000x40000.png", false, 0, &t, &err));
     assert_msg_contains(err, "huge_40000x40000.png: ");
