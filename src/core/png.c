@@ -198,11 +198,11 @@ static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name
         if (marker == 0xd9)
             return true;
         size_t end = pos + 2 + (((size_t)b[pos + 2] << 8) | b[pos + 3]);
-        if (marker == 0xc4)
-            for (size_t q = pos + 4; q + 17 <= end && q + 17 <= size;) {
+        if (marker == 0xc4) /* tables while the segment lasts; stb reads bytes past the file's end as 0 */
+            for (size_t q = pos + 4; q < end;) {
                 size_t n = 0;
-                for (int i = 1; i <= 16; i++)
-                    n += b[q + (size_t)i];
+                for (size_t i = q + 1; i <= q + 16 && i < size; i++)
+                    n += b[i];
                 if (n > 256)
                     return sl_fail(err, SL_ERR_FORMAT,
                                    "%s: byte %zu: corrupt JPEG: a Huffman table (DHT) of %zu codes, more than 256",
@@ -210,6 +210,27 @@ static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name
                 q += 17 + n;
             }
         pos = end;
+    }
+    return true;
+}
+
+/* Debian 12's stb_image, given an empty IDAT chunk before any image data, adds its length to
+ * a NULL buffer pointer (undefined behaviour; found by fuzz_texture under UBSan). No PNG writer
+ * makes one; refuse it before stb reads the file. */
+static bool png_chunks_ok(const unsigned char *b, size_t size, const char *name, sl_error *err)
+{
+    for (size_t pos = 8; pos + 8 <= size;) {
+        size_t len = ((size_t)b[pos] << 24) | ((size_t)b[pos + 1] << 16) | ((size_t)b[pos + 2] << 8) | b[pos + 3];
+        const unsigned char *type = b + pos + 4;
+        if (!memcmp(type, "IDAT", 4)) {
+            if (len == 0)
+                return sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: corrupt PNG: an empty IDAT chunk before the "
+                               "image data", name, pos);
+            return true; /* image data from here on: stb's own checks */
+        }
+        if (!memcmp(type, "IEND", 4) || len > size)
+            return true;
+        pos += 12 + len;
     }
     return true;
 }
@@ -225,7 +246,7 @@ bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *nam
         return false;
     if (size > (size_t)INT_MAX)
         return sl_fail(err, SL_ERR_RANGE, "%s: the file is over %d bytes", name, INT_MAX);
-    if (bytes[0] == 0xff && !jpeg_tables_ok(bytes, size, name, err))
+    if (bytes[0] == 0xff ? !jpeg_tables_ok(bytes, size, name, err) : !png_chunks_ok(bytes, size, name, err))
         return false;
     int w, h, n;
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &n))

@@ -566,6 +566,10 @@ static void test_bad_files(void **state)
     assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/dht_over_256.jpg", false, 0, &t, &err));
     assert_msg_contains(err, "dht_over_256.jpg: byte 94: corrupt JPEG: a Huffman table (DHT) of 384 codes, more than 256");
 
+    /* an empty IDAT chunk before the image data (stb would add 0 to a NULL pointer) */
+    assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/empty_idat.png", false, 0, &t, &err));
+    assert_msg_contains(err, "empty_idat.png: byte 33: corrupt PNG: an empty IDAT chunk before the image data");
+
     /* an absurd size declared by a header */
     assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/huge_40000x40000.png", false, 0, &t, &err));
     assert_msg_contains(err, "huge_40000x40000.png: ");
