@@ -25,6 +25,12 @@
  * Both evaluate every value with the same expression, in the same order (no FMA
  * contraction: -std=c11 implies -ffp-contract=off), so they give the same bits;
  * tests/unit/test_raster_span.c compares them.
+ * Programs with flags (chosen per triangle, so programs without them pay one test):
+ *   quads  (sl_program.derivatives) aligned 2x2 quads over the same blocks, helpers for
+ *          uncovered and occluded lanes, the lanes run in rounds (quad.c) or through the
+ *          program's quad form (span path only), on both paths.
+ *   late   (sl_program.discards, no derivatives) pixel by pixel on both paths; the
+ *          shader writes a scratch texel, copied with its depth unless it discarded.
  *
  * Depth: while a tile is drawn its depth values live in the thread's tile plane
  * (contiguous, hot in cache), loaded from and stored back to the target's texels.
