@@ -22,12 +22,17 @@
 
 /* Triangle mesh in object space: shared vertices, 3 indices per triangle.
  * `normals` always present (computed angle-weighted when the OBJ has none);
- * `texcoords` may be NULL. */
+ * `texcoords` may be NULL, and `tangents` is present exactly when texcoords is: xyz a unit
+ * vector along dP/du orthogonal to the normal, w = +1 or -1 the handedness, as glTF's TANGENT
+ * (bitangent = cross(normal, tangent.xyz) * w, along dP/dv). Built-in shapes have analytic
+ * tangents; other meshes get them from positions and texture coordinates (mesh.c,
+ * scene_compute_tangents). */
 typedef struct {
     int vertex_count, triangle_count;
     vec3 *positions;
     vec3 *normals;
     vec2 *texcoords;
+    vec4 *tangents;
     uint32_t *indices;
 } sl_mesh;
 
