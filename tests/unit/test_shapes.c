@@ -195,11 +195,18 @@ static void assert_generated_match(sl_mesh *m, float min_dot)
     assert_non_null(analytic);
     memcpy(analytic, m->tangents, n * sizeof *analytic);
     assert_true(scene_compute_tangents(m));
+    bool *used = calloc(n, sizeof *used); /* the sphere's last pole vertex is in no triangle */
+    assert_non_null(used);
+    for (int k = 0; k < 3 * m->triangle_count; k++)
+        used[m->indices[k]] = true;
     for (size_t v = 0; v < n; v++) {
         vec4 a = analytic[v], g = m->tangents[v];
+        if (!used[v])
+            continue;
         assert_true(a.w == g.w);
         assert_true(a.x * g.x + a.y * g.y + a.z * g.z >= min_dot);
     }
+    free(used);
     free(analytic);
 }
 
