@@ -14,7 +14,8 @@
  *         within half a mantissa step (at most max(r, g, b) / 255.5).
  *   .pfm  Portable float map, 1 ("Pf") or 3 ("PF") channels, either byte order,
  *         rows bottom-to-top in the file as the format says; written little endian
- *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG textures as sRGB -> linear
+ *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG as sRGB -> linear floats, or as
+ *         stored (8/16-bit, 1-4 channels) for textures (sl_image_parse_raw)
  * Every write goes to a temporary name beside the target and is renamed into
  * place, so a failed write never leaves a half file; the files of one command go
  * through one output set (output_set.h), all replaced or none. Loaded images are checked:
@@ -77,10 +78,25 @@ bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_
 /* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
  * NaN or Inf is an error; nothing is repaired. */
 bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl_error *err);
-/* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
+/* PNG / JPEG (stb_image), 8- or 16-bit sRGB decoded to linear RGB (3 channels) with the exact
  * piecewise curve; alpha is dropped, grey is replicated. The budget counts stb's own buffers
  * (its 8-bit image and the inflated PNG data) with the float image. */
 bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
+/* A PNG or JPEG decoded as stored, for textures (raster/texture.c): `channels` 1..4 (grey,
+ * grey + alpha, RGB, RGBA) of `bits` 8 or 16 (PNG only; JPEG is 8) per channel, interleaved,
+ * row 0 = top. `pixels` belongs to stb's budgeted allocator: free it with sl_raw_image_free. The
+ * budget counts stb's buffers plus `extra` bytes the caller will allocate for the result (a
+ * texture and its mips), so one check refuses what the whole load would need. */
+typedef struct {
+    int width, height, channels, bits;
+    void *pixels;
+} sl_raw_image;
+bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                        size_t (*extra)(int width, int height, int channels, int bits), sl_raw_image *out,
+                        sl_error *err);
+void sl_raw_image_free(sl_raw_image *img);
+/* The PNG signature or a JPEG start-of-image marker (what sl_image_read_with is given). */
+bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err);
 /* Parse from memory (what the readers and the fuzz targets call); `name` is used in messages. */
 bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
