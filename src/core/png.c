@@ -177,6 +177,43 @@ bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *
                    "start-of-image marker)", name);
 }
 
+/* Debian 12's stb_image trusts a JPEG Huffman table's 16 code counts: more than 256 codes in
+ * one table (DHT) write past its 257-entry size list and 256-entry value list (found by
+ * fuzz_texture; later stb versions check it). Walk the JPEG's marker segments, skipping
+ * entropy-coded data (progressive files have tables between scans), and refuse such a table
+ * before stb sees it. Anything else malformed is left to stb's own checks. */
+static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name, sl_error *err)
+{
+    size_t pos = 2; /* after SOI */
+    while (pos + 4 <= size) {
+        if (b[pos] != 0xff) { /* entropy-coded data: up to the next marker that is not a stuffed 0 or a restart */
+            pos++;
+            continue;
+        }
+        unsigned marker = b[pos + 1];
+        if (marker == 0xff || marker == 0x00 || marker == 0x01 || marker == 0xd8 || (marker >= 0xd0 && marker <= 0xd7)) {
+            pos += marker == 0xff ? 1 : 2;
+            continue;
+        }
+        if (marker == 0xd9)
+            return true;
+        size_t end = pos + 2 + (((size_t)b[pos + 2] << 8) | b[pos + 3]);
+        if (marker == 0xc4)
+            for (size_t q = pos + 4; q + 17 <= end && q + 17 <= size;) {
+                size_t n = 0;
+                for (int i = 1; i <= 16; i++)
+                    n += b[q + (size_t)i];
+                if (n > 256)
+                    return sl_fail(err, SL_ERR_FORMAT,
+                                   "%s: byte %zu: corrupt JPEG: a Huffman table (DHT) of %zu codes, more than 256",
+                                   name, q, n);
+                q += 17 + n;
+            }
+        pos = end;
+    }
+    return true;
+}
+
 bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *name, size_t budget,
                         size_t (*extra)(int width, int height, int channels, int bits), sl_raw_image *out,
                         sl_error *err)
@@ -188,6 +225,8 @@ bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *nam
         return false;
     if (size > (size_t)INT_MAX)
         return sl_fail(err, SL_ERR_RANGE, "%s: the file is over %d bytes", name, INT_MAX);
+    if (bytes[0] == 0xff && !jpeg_tables_ok(bytes, size, name, err))
+        return false;
     int w, h, n;
     if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &n))
         return sl_fail(err, SL_ERR_FORMAT, "%s: not a PNG or JPEG image this reader accepts (stb_image: %s)", name,

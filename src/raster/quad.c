@@ -20,8 +20,33 @@
 
 void sl_quad_derivative(const sl_fragment_in *in, sl_derivative kind, const float *v, int n, float *d)
 {
+    bool coarse = kind == SL_DFDX_COARSE || kind == SL_DFDY_COARSE || kind == SL_FWIDTH_COARSE;
+    float dx[4], dy[4];
+    sl_quad_gradients(in, coarse, v, n, dx, dy);
+    for (int i = 0; i < n; i++) {
+        switch (kind) {
+        case SL_DFDX_FINE:
+        case SL_DFDX_COARSE:
+            d[i] = dx[i];
+            break;
+        case SL_DFDY_FINE:
+        case SL_DFDY_COARSE:
+            d[i] = dy[i];
+            break;
+        case SL_FWIDTH_FINE:
+        case SL_FWIDTH_COARSE:
+            d[i] = fabsf(dx[i]) + fabsf(dy[i]);
+            break;
+        }
+    }
+}
+
+/* Record v as this lane's next call; dx, dy from the round before's records of that call
+ * (0 where a lane of the pair has none): right minus left, upper minus lower. */
+void sl_quad_gradients(const sl_fragment_in *in, bool coarse, const float *v, int n, float *dx, float *dy)
+{
     for (int i = 0; i < n; i++)
-        d[i] = 0.0f;
+        dx[i] = dy[i] = 0.0f;
     sl_quad *q = in->quad;
     if (!q || !q->derivs)
         return;
@@ -32,35 +57,16 @@ void sl_quad_derivative(const sl_fragment_in *in, sl_derivative kind, const floa
     for (int i = 0; i < 4; i++)
         rec[i] = i < n ? v[i] : 0.0f;
     q->count[q->cur][lane] = k + 1;
-
-    /* the lanes whose difference this is (b - a), in x and (fwidth) in y */
-    int ax, bx, ay, by;
-    bool coarse = kind == SL_DFDX_COARSE || kind == SL_DFDY_COARSE || kind == SL_FWIDTH_COARSE;
-    if (coarse)
-        ax = 0, bx = 1, ay = 0, by = 2;
-    else
-        ax = lane & 2, bx = lane | 1, ay = lane & 1, by = lane | 2;
+    int ax = coarse ? 0 : lane & 2, bx = coarse ? 1 : lane | 1;
+    int ay = coarse ? 0 : lane & 1, by = coarse ? 2 : lane | 2;
     const int prev = q->cur ^ 1;
     const int *have = q->count[prev];
-    bool dx = have[ax] > k && have[bx] > k, dy = have[ay] > k && have[by] > k;
-    const float *xa = q->rec[prev][ax][k], *xb = q->rec[prev][bx][k];
-    const float *ya = q->rec[prev][ay][k], *yb = q->rec[prev][by][k];
-    for (int i = 0; i < n; i++) {
-        switch (kind) {
-        case SL_DFDX_FINE:
-        case SL_DFDX_COARSE:
-            d[i] = dx ? xb[i] - xa[i] : 0.0f;
-            break;
-        case SL_DFDY_FINE:
-        case SL_DFDY_COARSE:
-            d[i] = dy ? yb[i] - ya[i] : 0.0f;
-            break;
-        case SL_FWIDTH_FINE:
-        case SL_FWIDTH_COARSE:
-            d[i] = (dx ? fabsf(xb[i] - xa[i]) : 0.0f) + (dy ? fabsf(yb[i] - ya[i]) : 0.0f);
-            break;
-        }
-    }
+    if (have[ax] > k && have[bx] > k)
+        for (int i = 0; i < n; i++)
+            dx[i] = q->rec[prev][bx][k][i] - q->rec[prev][ax][k][i];
+    if (have[ay] > k && have[by] > k)
+        for (int i = 0; i < n; i++)
+            dy[i] = q->rec[prev][by][k][i] - q->rec[prev][ay][k][i];
 }
 
 void sl_discard(const sl_fragment_in *in)

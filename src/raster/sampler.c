@@ -37,6 +37,8 @@ static float safe_coord(float x)
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
 static int wrap_index(int i, int n, sl_wrap mode)
 {
+    if ((unsigned)i < (unsigned)n) /* inside: every mode leaves it (and skips the divisions) */
+        return i;
     switch (mode) {
     case SL_REPEAT: {
         int r = i % n;
@@ -161,7 +163,7 @@ vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
     return sl_texture_sample(s, uv, sl_texture_lambda(s, dPdx, dPdy, 0.0f));
 }
 
-vec4 textureLod(const sl_sampler2D *s, vec2 uv, float lod)
+vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod)
 {
     return sl_texture_sample(s, uv, clamp_lambda(lod + s->state.lod_bias, &s->state));
 }

@@ -14,7 +14,11 @@
  * own row of the quad (dFdy: of its own column). The coarse forms here are what GLSL
  * defines them as, one value for the quad (row y even for dFdxCoarse, column x even for
  * dFdyCoarse). How a derivative of any value the shader computes is found (rounds to
- * a fixed point), what it costs and its limits: docs/shader-api.md "Quads". */
+ * a fixed point), what it costs and its limits: docs/shader-api.md "Quads".
+
+ *
+ * texture(in, s, uv), the implicit-level sample, is in shader_texture.h (kept apart:
+ * texture.h's textureLod is also the environment's name in ibl.h). */
 #ifndef SL_SHADER_H
 #define SL_SHADER_H
 
@@ -31,6 +35,8 @@ typedef enum {
 
 /* The derivative `kind` of the n (1..4) floats v, into d (quad.c). */
 void sl_quad_derivative(const sl_fragment_in *in, sl_derivative kind, const float *v, int n, float *d);
+/* Both derivatives of the n (1..4) floats v from one record: dx, dy (coarse or fine). */
+void sl_quad_gradients(const sl_fragment_in *in, bool coarse, const float *v, int n, float *dx, float *dy);
 /* Mark the fragment discarded: nothing of it is written (quad.c). */
 void sl_discard(const sl_fragment_in *in);
 static inline void discard(const sl_fragment_in *in) { sl_discard(in); }

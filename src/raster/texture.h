@@ -19,7 +19,8 @@
  *   odd ones it is not a box (5 -> 2: texels 0 and 1 weighted 1/4, 3/4). Each level is stored
  *   (rounded to nearest) before the next is made from it. sRGB levels are filtered in linear
  *   and re-encoded with the exact curve; llvmpipe's encoder is an approximation, so a level
- *   can differ from llvmpipe's by one code (linear 0.5: exact 187.52 -> 188, llvmpipe 187).
+ *   can differ from llvmpipe's by one code (seen: exact 187.52 -> 188, llvmpipe 187; exact
+ *   140.497 -> 140, llvmpipe 141); UNORM levels matched llvmpipe's bytes exactly.
  * - A texture made without mipmaps has one level; a sampler whose min filter is a *_MIPMAP_*
  *   one is then incomplete in GL's sense, and every sample returns (0, 0, 0, 1), as GL does.
  *
@@ -56,6 +57,7 @@
 
 #include "../core/error.h"
 #include "../core/glsl.h"
+#include "../ibl/ibl.h" /* the environment's textureLod, the other overload of the name */
 
 typedef enum {
     SL_TEX_R8, SL_TEX_RG8, SL_TEX_RGB8, SL_TEX_RGBA8,     /* UNORM8 */
@@ -115,8 +117,13 @@ typedef struct {
     sl_sampler_state state;
 } sl_sampler2D;
 
-/* GLSL built-ins (GLSL names; results as GL returns them). */
-vec4 textureLod(const sl_sampler2D *s, vec2 uv, float lod);
+/* GLSL built-ins (GLSL names; results as GL returns them). textureLod is overloaded as in
+ * GLSL: on an sl_sampler2D it is sl_texture_lod, on the environment (an sl_env, ibl.h) the
+ * environment's own textureLod, chosen by _Generic on the first argument as glsl.h's are. */
+vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod);
+#define textureLod(s, uv, lod)                                                                              \
+    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod, default: textureLod)( \
+        s, uv, lod)
 vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy);
 /* Texel p of level lod, no filtering, no wrap: (0, 0, 0, 0) outside the level or the chain
  * (undefined in GL; what llvmpipe returns). */
