@@ -16,7 +16,7 @@
 #include <string.h>
 
 #include "gbuffer_textured.h"
-#include "shader.h"
+#include "shader_texture.h"
 
 /* gbuffer_textured.vert: main(). The tangent is a direction on the surface: it goes through
  * mat3(uModel), not the normal matrix; its handedness w passes through (scene transforms have no
@@ -36,17 +36,21 @@ void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *cli
     memcpy(varyings, out, sizeof out);
 }
 
-/* GLSL's texture(s, uv) in a fragment shader: the level of detail from the 2x2 quad's coarse
- * differences, one lambda per quad, as llvmpipe computes implicit derivatives (texture.h). */
-static vec4 texture_implicit(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv, int slot,
-                             const sl_gbuffer_tex_uniforms *u)
+/* GLSL's texture(s, uv): shader_texture.h's texture(), operation for operation (one lambda per
+ * quad from the coarse differences of uv, one derivative record), with the trace hook between its
+ * steps, where the derivatives and the level are at hand. */
+static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv, int slot,
+                           const sl_gbuffer_tex_uniforms *u)
 {
-    vec2 dx = dFdxCoarse(in, uv), dy = dFdyCoarse(in, uv);
-    float lambda = sl_texture_lambda(s, dx, dy, 0.0f);
-    vec4 v = sl_texture_sample(s, uv, lambda);
-    if (u->trace)
-        u->trace(u->trace_ctx, in, slot, uv, dx, dy, lambda, v);
-    return v;
+    if (!u->trace)
+        return texture(in, s, uv);
+    float v[2] = {uv.x, uv.y}, dx[2], dy[2];
+    sl_quad_gradients(in, true, v, 2, dx, dy);
+    vec2 dPdx = vec2(dx[0], dx[1]), dPdy = vec2(dy[0], dy[1]);
+    float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+    vec4 value = sl_texture_sample(s, uv, lambda);
+    u->trace(u->trace_ctx, in, slot, uv, dPdx, dPdy, lambda, value);
+    return value;
 }
 
 static vec2 map_uv(vec2 uv, vec4 st) { return vec2(uv.x * st.x + st.z, uv.y * st.y + st.w); }
@@ -65,15 +69,15 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
     vec4 kd = vec4(1, 1, 1, 1), ks = vec4(1, 1, 1, 1), gloss = vec4(1, 1, 1, 1), mask = vec4(1, 1, 1, 1);
     vec4 nt = vec4(0.5f, 0.5f, 1, 1);
     if (u->uMaps & SL_GBUFFER_MAP_KD)
-        kd = texture_implicit(in, &u->uKdMap, map_uv(vTexCoord, u->uKdMapST), SL_MAP_KD, u);
+        kd = texture_traced(in, &u->uKdMap, map_uv(vTexCoord, u->uKdMapST), SL_MAP_KD, u);
     if (u->uMaps & SL_GBUFFER_MAP_KS)
-        ks = texture_implicit(in, &u->uKsMap, map_uv(vTexCoord, u->uKsMapST), SL_MAP_KS, u);
+        ks = texture_traced(in, &u->uKsMap, map_uv(vTexCoord, u->uKsMapST), SL_MAP_KS, u);
     if (u->uMaps & SL_GBUFFER_MAP_ALPHA)
-        gloss = texture_implicit(in, &u->uAlphaMap, map_uv(vTexCoord, u->uAlphaMapST), SL_MAP_ALPHA, u);
+        gloss = texture_traced(in, &u->uAlphaMap, map_uv(vTexCoord, u->uAlphaMapST), SL_MAP_ALPHA, u);
     if (u->uMaps & SL_GBUFFER_MAP_NORMAL)
-        nt = texture_implicit(in, &u->uNormalMap, map_uv(vTexCoord, u->uNormalMapST), SL_MAP_NORMAL, u);
+        nt = texture_traced(in, &u->uNormalMap, map_uv(vTexCoord, u->uNormalMapST), SL_MAP_NORMAL, u);
     if (u->uMaps & SL_GBUFFER_MAP_MASK)
-        mask = texture_implicit(in, &u->uMaskMap, map_uv(vTexCoord, u->uMaskMapST), SL_MAP_MASK, u);
+        mask = texture_traced(in, &u->uMaskMap, map_uv(vTexCoord, u->uMaskMapST), SL_MAP_MASK, u);
 
     if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
         float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
