@@ -166,7 +166,7 @@ int cmd_info(int argc, char **argv)
     size_t mesh_bytes = 0;
     for (int i = 0; i < scene.mesh_count; i++) {
         const sl_mesh *m = &scene.meshes[i];
-        mesh_bytes += (size_t)m->vertex_count * (2 * sizeof(vec3) + (m->texcoords ? sizeof(vec2) : 0)) +
+        mesh_bytes += (size_t)m->vertex_count * (2 * sizeof(vec3) + (m->texcoords ? sizeof(vec2) + sizeof(vec4) : 0)) +
                       (size_t)m->triangle_count * 3 * sizeof(uint32_t);
     }
     for (int i = 0; i < scene.object_count; i++) {

@@ -269,6 +269,7 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
                 .position = m->positions[k],
                 .normal = m->normals ? m->normals[k] : vec3(0, 0, 0),
                 .texcoord = m->texcoords ? m->texcoords[k] : vec2(0, 0),
+                .tangent = m->tangents ? m->tangents[k] : vec4(0, 0, 0, 0),
                 .index = (int)k,
             };
             rast_vpos *p = &vpos[k];

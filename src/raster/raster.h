@@ -50,6 +50,7 @@ typedef struct {
     vec3 position;
     vec3 normal;   /* (0,0,0) when the mesh has none */
     vec2 texcoord; /* (0,0) when the mesh has none */
+    vec4 tangent;  /* xyz + handedness w (glTF TANGENT); (0,0,0,0) when the mesh has none */
     int index;     /* gl_VertexID: the vertex's index in the mesh */
 } sl_vertex_in;
 

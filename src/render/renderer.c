@@ -111,6 +111,9 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     double t0 = sl_now_seconds();
     if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, &r->env_repairs, err))
         return false;
+    /* The materials' textures, each image once, with its mips (raster/gbuffer_textured.h). */
+    if (!sl_scene_textures_load(scene, d->image_budget, &r->textures, err))
+        goto fail;
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
@@ -138,6 +141,7 @@ void sl_renderer_free(sl_renderer *r)
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
+    sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
     free(r->uniforms);
     sl_image_free(&r->radiance);
@@ -212,7 +216,8 @@ bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err)
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
-    bool ok = sl_raster_scene(r->raster, r->scene, cam ? cam : &r->scene->camera, &r->gbuffer, err);
+    bool ok = sl_raster_scene_textured(r->raster, r->scene, &r->textures, cam ? cam : &r->scene->camera,
+                                       &r->gbuffer, err);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

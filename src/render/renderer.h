@@ -9,6 +9,7 @@
  * Per environment (once, or when the viewer swaps it): the .hdr is loaded, checked and
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
  * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h).
+ * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
  *
@@ -24,6 +25,7 @@
 #include "ibl/ibl.h"
 #include "post/tonemap.h"
 #include "raster/gbuffer.h"
+#include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
@@ -44,7 +46,7 @@ typedef struct {
 } sl_render_desc;
 
 typedef struct {
-    double load_ms;     /* environment load + mips (per environment) */
+    double load_ms;     /* environment load + mips (per environment), textures (per scene) */
     double irradiance_ms;
     double env_lights_ms; /* extraction of the env lights and the residual's mips (when asked) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
@@ -59,6 +61,7 @@ typedef struct {
     sl_env_lights env_lights; /* built on first use for desc.lighting.env_lights > 0 */
     int env_lights_built;     /* the count they were extracted with; 0 = none */
     sl_raster *raster;
+    sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */
     sl_lighting_stats lighting_stats;

@@ -215,7 +215,8 @@ static bool read_option_float(parser *p, const cJSON *section, const sl_option *
 static bool read_numbers(parser *p, const cJSON *item, const char *path, int n, double *out)
 {
     if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n) {
-        static const char *const shape[] = {"", "", "", "an array of 3 numbers", "an array of 4 numbers"};
+        static const char *const shape[] = {"", "", "an array of 2 numbers", "an array of 3 numbers",
+                                            "an array of 4 numbers"};
         return fail_at(p, path, SL_ERR_FORMAT, "expected %s", shape[n]);
     }
     int i = 0;
@@ -440,9 +441,125 @@ static int compare_names(const void *a, const void *b)
     return strcmp(((const name_index *)a)->name, ((const name_index *)b)->name);
 }
 
-static bool parse_material(parser *p, const cJSON *item, const char *path, sl_material *m)
+/* ---- texture maps (docs/scene-format.md "Texture maps") ---- */
+
+static const char *const MAP_KEYS[SL_MAP_COUNT] = {"kd_map", "ks_map", "alpha_map", "normal_map", "mask_map"};
+/* Colour maps are sRGB by default (what image editors write); data maps are linear. */
+static const bool MAP_SRGB_DEFAULT[SL_MAP_COUNT] = {true, true, false, false, false};
+/* uv_scale and uv_offset: beyond this a float texture coordinate keeps too few fraction bits
+ * (2^-10 of a repeat at 1e4) for a filtered lookup to mean anything. */
+#define MAX_UV_TRANSFORM 1e4
+
+/* The scene's image for (path, srgb), added on first use: one file, one texture, however many
+ * maps name it. */
+static bool scene_image(parser *p, sl_scene *scene, const char *file, bool srgb, const char *path, int *index)
 {
-    static const char *const keys[] = {"kd", "ks", "alpha", NULL};
+    for (int i = 0; i < scene->image_count; i++) {
+        if (scene->images[i].srgb == srgb && strcmp(scene->images[i].path, file) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    if (scene->image_count == SL_SCENE_MAX_IMAGES)
+        return fail_at(p, path, SL_ERR_RANGE, "more than %d distinct image files in one scene", SL_SCENE_MAX_IMAGES);
+    if (!scene->images && !(scene->images = calloc(SL_SCENE_MAX_IMAGES, sizeof *scene->images)))
+        return fail_at(p, path, SL_ERR_MEMORY, "out of memory for the image table");
+    sl_scene_image *img = &scene->images[scene->image_count];
+    snprintf(img->path, sizeof img->path, "%s", file);
+    img->srgb = srgb;
+    _Static_assert(sizeof img->used_by == JSON_PATH_MAX, "a JSON path fits in used_by");
+    memcpy(img->used_by, path, strlen(path) + 1);
+    *index = scene->image_count++;
+    return true;
+}
+
+static bool read_uv_pair(parser *p, const cJSON *item, const char *path, vec2 *out)
+{
+    double v[2];
+    if (!read_numbers(p, item, path, 2, v))
+        return false;
+    for (int i = 0; i < 2; i++)
+        if (fabs(v[i]) > MAX_UV_TRANSFORM)
+            return fail_at(p, path, SL_ERR_RANGE, "%g is outside -%g..%g", v[i], MAX_UV_TRANSFORM, MAX_UV_TRANSFORM);
+    *out = vec2(v[0], v[1]);
+    return true;
+}
+
+/* One enumerated string among `names` (count of them); its index in *out. */
+static bool read_choice(parser *p, const cJSON *item, const char *path, const char *const names[], int count,
+                        int *out)
+{
+    char shown[MASKED_MAX + 4];
+    if (cJSON_IsString(item))
+        for (int i = 0; i < count; i++)
+            if (strcmp(item->valuestring, names[i]) == 0)
+                return *out = i, true;
+    return fail_at(p, path, SL_ERR_FORMAT, "expected \"%s\", \"%s\" or \"%s\"%s%s%s", names[0], names[1], names[2],
+                   cJSON_IsString(item) ? ", got \"" : "", cJSON_IsString(item) ? masked(item->valuestring, 32, shown) : "",
+                   cJSON_IsString(item) ? "\"" : "");
+}
+
+/* A map: "file.png", or {"file", "srgb", "wrap", "filter", "uv_scale", "uv_offset"}. */
+static bool parse_map(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_map_slot slot,
+                      sl_material_map *map)
+{
+    static const char *const keys[] = {"file", "srgb", "wrap", "filter", "uv_scale", "uv_offset", NULL};
+    static const char *const wraps[] = {"repeat", "clamp", "mirror"};
+    static const char *const filters[] = {"trilinear", "bilinear", "nearest"};
+    *map = (sl_material_map){.set = true, .uv_scale = vec2(1.0f, 1.0f)};
+    char file[SL_PATH_MAX], sub[JSON_PATH_MAX];
+    bool srgb = MAP_SRGB_DEFAULT[slot];
+    if (cJSON_IsString(item)) {
+        if (!read_path(p, item, path, file))
+            return false;
+    } else {
+        if (!cJSON_IsObject(item))
+            return fail_at(p, path, SL_ERR_FORMAT, "expected an image path or an object {\"file\": ...}");
+        if (!check_keys(p, item, path, keys))
+            return false;
+        const cJSON *v = member(item, "file");
+        join_key(sub, path, "file");
+        if (!v)
+            return fail_at(p, path, SL_ERR_FORMAT, "needs \"file\" (an image path)");
+        if (!read_path(p, v, sub, file))
+            return false;
+        if ((v = member(item, "srgb"))) {
+            join_key(sub, path, "srgb");
+            if (!cJSON_IsBool(v))
+                return fail_at(p, sub, SL_ERR_FORMAT, "expected true or false");
+            srgb = cJSON_IsTrue(v);
+        }
+        int choice;
+        if ((v = member(item, "wrap"))) {
+            join_key(sub, path, "wrap");
+            if (!read_choice(p, v, sub, wraps, 3, &choice))
+                return false;
+            map->wrap = (sl_map_wrap)choice;
+        }
+        if ((v = member(item, "filter"))) {
+            join_key(sub, path, "filter");
+            if (!read_choice(p, v, sub, filters, 3, &choice))
+                return false;
+            map->filter = (sl_map_filter)choice;
+        }
+        if ((v = member(item, "uv_scale"))) {
+            join_key(sub, path, "uv_scale");
+            if (!read_uv_pair(p, v, sub, &map->uv_scale))
+                return false;
+        }
+        if ((v = member(item, "uv_offset"))) {
+            join_key(sub, path, "uv_offset");
+            if (!read_uv_pair(p, v, sub, &map->uv_offset))
+                return false;
+        }
+    }
+    return scene_image(p, scene, file, srgb, path, &map->image);
+}
+
+static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_material *m)
+{
+    static const char *const keys[] = {"kd",         "ks",       "alpha",        "kd_map", "ks_map", "alpha_map",
+                                       "normal_map", "mask_map", "alpha_cutoff", NULL};
     if (!check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX];
@@ -461,6 +578,25 @@ static bool parse_material(parser *p, const cJSON *item, const char *path, sl_ma
         join_key(sub, path, "alpha");
         if (!read_float(p, v, sub, 0.0, MAX_ALPHA, &m->alpha))
             return false;
+    }
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        if (!(v = member(item, MAP_KEYS[slot])))
+            continue;
+        join_key(sub, path, MAP_KEYS[slot]);
+        if (!parse_map(p, scene, v, sub, (sl_map_slot)slot, &m->maps[slot]))
+            return false;
+        m->textured = true;
+    }
+    /* Coverage for the cutoff: mask_map.r, or kd_map's alpha; a mask alone cuts at glTF's 0.5. */
+    m->masked = m->maps[SL_MAP_MASK].set;
+    m->alpha_cutoff = 0.5f;
+    if ((v = member(item, "alpha_cutoff"))) {
+        join_key(sub, path, "alpha_cutoff");
+        if (!read_float(p, v, sub, 0.0, 1.0, &m->alpha_cutoff))
+            return false;
+        if (!m->maps[SL_MAP_MASK].set && !m->maps[SL_MAP_KD].set)
+            return fail_at(p, sub, SL_ERR_FORMAT, "needs a mask_map or a kd_map (whose alpha it cuts)");
+        m->masked = true;
     }
     return true;
 }
@@ -501,7 +637,7 @@ static bool parse_materials(parser *p, const cJSON *item, sl_scene *scene, name_
             return false;
         sl_material *m = &scene->materials[scene->material_count];
         *m = default_material(child->string);
-        if (!parse_material(p, child, path, m))
+        if (!parse_material(p, scene, child, path, m))
             return false;
         (*sorted)[scene->material_count] = (name_index){m->name, scene->material_count};
         scene->material_count++;
@@ -841,6 +977,29 @@ static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
     return true;
 }
 
+/* A material with maps needs texture coordinates on every mesh it is drawn on (the shapes
+ * always have them; an OBJ file has them when its faces name vt). */
+static bool check_maps_have_uvs(parser *p, const sl_scene *scene)
+{
+    for (int i = 0; i < scene->object_count; i++) {
+        const sl_object *o = &scene->objects[i];
+        const sl_material *m = &scene->materials[o->material];
+        if (!m->textured || scene->meshes[o->mesh].texcoords)
+            continue;
+        int slot = 0;
+        while (!m->maps[slot].set)
+            slot++;
+        char path[JSON_PATH_MAX];
+        join_index(path, "objects", i);
+        char shown[MASKED_MAX + 4];
+        return fail_at(p, path, SL_ERR_FORMAT,
+                       "material \"%s\" has a %s (%s) but the mesh %s has no texture coordinates (no vt on its faces)",
+                       masked(m->name, 64, shown), MAP_KEYS[slot], scene->images[m->maps[slot].image].path,
+                       scene->mesh_sources[o->mesh].path);
+    }
+    return true;
+}
+
 /* Line and column (1-based) of a byte offset, for JSON syntax errors. */
 static void line_column(const char *text, size_t offset, size_t *line, size_t *column)
 {
@@ -895,7 +1054,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
     }
     if (ok && load_meshes)
-        ok = load_meshes_now(p, scene, first_user);
+        ok = load_meshes_now(p, scene, first_user) && check_maps_have_uvs(p, scene);
     free(sorted);
     free(first_user);
     free(sources.slots);
@@ -1114,6 +1273,7 @@ void sl_scene_free(sl_scene *scene)
     free(scene->materials);
     free(scene->objects);
     free(scene->lights);
+    free(scene->images);
     memset(scene, 0, sizeof *scene);
 }
 

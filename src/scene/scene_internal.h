@@ -17,7 +17,7 @@
 /* All meshes of one scene together (about 1 GB of vertex data at this cap). */
 #define SCENE_MAX_TOTAL_VERTICES (1 << 25)
 
-/* Allocate positions, normals, indices (and texcoords when asked) for the given counts; the
+/* Allocate positions, normals, indices (and texcoords and tangents when asked) for the given counts; the
  * arrays are zeroed. On failure the mesh is left empty and err names `name`. */
 bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
                       sl_error *err);
@@ -29,6 +29,11 @@ bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool 
  * a vertex whose accumulated normal is zero or not finite gets +Z. Returns false only when
  * the scratch allocation fails (normals are then untouched). */
 bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep);
+
+/* Tangents (xyz unit, orthogonal to the normal; w = +-1) from positions, texture coordinates and
+ * the normals already computed; nothing to do without texture coordinates. Returns false only
+ * when the scratch allocation fails. */
+bool scene_compute_tangents(sl_mesh *mesh);
 
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
 bool scene_safe_normalize(vec3 v, vec3 *out);
