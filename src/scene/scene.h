@@ -31,12 +31,21 @@ typedef struct {
     uint32_t *indices;
 } sl_mesh;
 
+/* The microfacet set of a material's specular lobe (docs/lighting.md "Phong and GGX"). */
+typedef enum {
+    SL_BRDF_PHONG = 0, /* the specification's set: D with the Phong exponent alpha */
+    SL_BRDF_GGX,       /* GGX D and height-correlated Smith G, roughness r */
+} sl_brdf;
+
 /* The specification's material: Kd (diffuse albedo), Ks (Fresnel reflectance at
- * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror). */
+ * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror); or, with
+ * brdf = GGX, roughness (perceptual, glTF's, 0 = mirror .. 1) in place of alpha. */
 typedef struct {
     char name[SL_NAME_MAX];
     vec3 kd, ks;
     float alpha;
+    sl_brdf brdf;
+    float roughness; /* GGX only */
 } sl_material;
 
 typedef struct {

@@ -105,8 +105,8 @@ static void scene_init(test_scene *s)
 {
     s->meshes[0] = make_sphere(40, 20);
     s->meshes[1] = make_grid(6);
-    s->mats[0] = (sl_material){"a", {0.8f, 0.2f, 0.1f}, {0.04f, 0.05f, 0.06f}, 20.0f};
-    s->mats[1] = (sl_material){"b", {0.1f, 0.7f, 0.3f}, {0.9f, 0.8f, 0.7f}, 500.0f};
+    s->mats[0] = (sl_material){"a", {0.8f, 0.2f, 0.1f}, {0.04f, 0.05f, 0.06f}, 20.0f, SL_BRDF_PHONG, 0.0f};
+    s->mats[1] = (sl_material){"b", {0.1f, 0.7f, 0.3f}, {0.9f, 0.8f, 0.7f}, 500.0f, SL_BRDF_PHONG, 0.0f};
     s->objects[0] = (sl_object){"ground", 1, 1, mat4_mul(mat4_translate(vec3(0, 0, -1)), mat4_scale(vec3(30, 30, 1)))};
     s->objects[1] = (sl_object){"s1", 0, 0, mat4_translate(vec3(-0.6f, 0.3f, 0))};
     s->objects[2] =
@@ -170,7 +170,7 @@ static void test_gbuffer_span_shader(void **state)
     (void)state;
     enum { N = 37, STRIDE = 64 };
     sl_gbuffer_uniforms u;
-    sl_material m = {"m", {0.25f, 0.5f, 0.75f}, {0.1f, 0.2f, 0.3f}, 42.0f};
+    sl_material m = {"m", {0.25f, 0.5f, 0.75f}, {0.1f, 0.2f, 0.3f}, 42.0f, SL_BRDF_PHONG, 0.0f};
     sl_gbuffer_uniforms_init(&u, mat4_identity(), mat4_identity(), &m);
     static float vary[SL_GBUFFER_VARYINGS][SL_SPAN_MAX];
     static float z[SL_SPAN_MAX], iw[SL_SPAN_MAX];
