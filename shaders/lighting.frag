@@ -204,10 +204,12 @@ float sl_ggx_a2(float alpha)
     return a * a;
 }
 
-// D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2).
+// D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2), the bracket as (1 - (N.H)^2) + (N.H)^2 a^2: in
+// float a^2 - 1 is -1 for a^2 < 6e-8, and the literal form then divides by 0 at N.H = 1.
 float sl_ggx_D(float NdotH, float a2)
 {
-    float t = NdotH * NdotH * (a2 - 1.0) + 1.0;
+    float c2 = NdotH * NdotH;
+    float t = max(1.0 - c2, 0.0) + c2 * a2;
     return a2 / (PI * t * t);
 }
 
@@ -232,17 +234,18 @@ float sl_lobe_G(float LdotH, float NdotL, float NdotV, float alpha, int gterm)
 }
 
 // GGX importance sampling: cos(theta) of a direction drawn with density D(c) c about the axis,
-// c = sqrt((1 - xi2) / (1 + (a^2 - 1) xi2)) (the inverse of the CDF of D(c) c).
+// c = sqrt((1 - xi2) / (1 + (a^2 - 1) xi2)) (the inverse of the CDF of D(c) c), the denominator
+// as (1 - xi2) + a^2 xi2 (sl_ggx_D's reason).
 float ggx_cos_theta(float xi2, float a2)
 {
-    return sqrt((1.0 - xi2) / (1.0 + (a2 - 1.0) * xi2));
+    return sqrt((1.0 - xi2) / ((1.0 - xi2) + a2 * xi2));
 }
 
 // D at that c, from xi2 exactly: c^2 (a^2 - 1) + 1 = a^2 / (1 + (a^2 - 1) xi2), so
 // D = (1 + (a^2 - 1) xi2)^2 / (pi a^2).
 float ggx_D_of_xi(float xi2, float a2)
 {
-    float t = 1.0 + (a2 - 1.0) * xi2;
+    float t = (1.0 - xi2) + a2 * xi2;
     return t * t / (PI * a2);
 }
 

@@ -46,7 +46,7 @@ double sl_ground_truth_ggx_dvis(double nh, double nl, double nv, double a2)
 {
     if (!(nh > 0.0))
         return 0.0;
-    double t = nh * nh * (a2 - 1.0) + 1.0;
+    double t = (1.0 - nh * nh) + nh * nh * a2; /* brdf.h's form of nh^2 (a^2 - 1) + 1 */
     double d = a2 / (PI_D * t * t);
     double den = nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2);
     return den > 0.0 ? d * 0.5 / den : 0.0;

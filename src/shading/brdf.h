@@ -70,10 +70,13 @@ static inline float sl_ggx_a2(float alpha)
     return a * a;
 }
 
-/* D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2). */
+/* D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2), the bracket as (1 - (N.H)^2) + (N.H)^2 a^2: in
+ * float a^2 - 1 is -1 for a^2 < 6e-8 (r < 0.016), and the literal form then divides by 0 at
+ * N.H = 1. */
 static inline float sl_ggx_D(float NdotH, float a2)
 {
-    float t = NdotH * NdotH * (a2 - 1.0f) + 1.0f;
+    float c2 = NdotH * NdotH;
+    float t = maxf(1.0f - c2, 0.0f) + c2 * a2;
     return a2 / (SL_PI * t * t);
 }
 

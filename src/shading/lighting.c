@@ -58,13 +58,13 @@ static vec2 pixel_rotation(const sl_lighting_uniforms *u, int x, int y)
 /* GLSL: ggx_cos_theta */
 static float ggx_cos_theta(float xi2, float a2)
 {
-    return sqrtf((1.0f - xi2) / (1.0f + (a2 - 1.0f) * xi2));
+    return sqrtf((1.0f - xi2) / ((1.0f - xi2) + a2 * xi2));
 }
 
 /* GLSL: ggx_D_of_xi */
 static float ggx_D_of_xi(float xi2, float a2)
 {
-    float t = 1.0f + (a2 - 1.0f) * xi2;
+    float t = (1.0f - xi2) + a2 * xi2;
     return t * t / (PI * a2);
 }
 

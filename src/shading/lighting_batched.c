@@ -114,9 +114,9 @@ static void rotated_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, b
         float s1 = xi1[i] + rotation.x, s2 = xi2[i] + rotation.y;
         float x1 = s1 - sl_fast_floor(s1);
         float x2 = s2 - sl_fast_floor(s2);
-        float t = 1.0f + (a2 - 1.0f) * x2;
+        float t = (1.0f - x2) + a2 * x2;
         float ct = sqrtf((1.0f - x2) / t);
-        float st = sqrtf(maxf(1.0f - ct * ct, 0.0f));
+        float st = sqrtf(maxf(1.0f - ct * ct, 0.0f)); /* as sl_uv_to_dir's sin(acos(c)) rounds */
         float cp = cphi[i] * cr + sphi[i] * sr;
         float sp = sphi[i] * cr - cphi[i] * sr;
         b->xi1[i] = x1;
@@ -342,7 +342,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 float nh = b->NdotH[i];
-                float lg = log2_c_lod - 2.0f * sl_fast_log2(maxf(nh * nh * (a2 - 1.0f) + 1.0f, TINY)) + b->lod[i];
+                float c2 = nh * nh;
+                float lg = log2_c_lod - 2.0f * sl_fast_log2(maxf(maxf(1.0f - c2, 0.0f) + c2 * a2, TINY)) + b->lod[i];
                 b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
             }
         } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
@@ -427,7 +428,8 @@ static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V
         hz *= ih;
         float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
         float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
-        float t = NdotH * NdotH * (a2 - 1.0f) + 1.0f;
+        float c2 = NdotH * NdotH;
+        float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
         float D = a2 / (PI * t * t);
         float wl = maxf(wN, 0.0f);
         float G = 2.0f / maxf(wl * kv + NdotV * sqrtf(wl * wl * (1.0f - a2) + a2), TINY);
