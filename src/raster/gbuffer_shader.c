@@ -92,7 +92,7 @@ void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj
     u->uNormalMatrix = transpose(inverse(mat3_from_mat4(model)));
     u->uKd = m->kd;
     u->uKs = m->ks;
-    u->uAlpha = m->alpha;
+    u->uAlpha = m->brdf == SL_BRDF_GGX ? sl_gbuffer_ggx_alpha(m->roughness) : m->alpha; /* gbuffer.h */
 }
 
 sl_target sl_gbuffer_target(sl_gbuffer *gb)

@@ -33,6 +33,9 @@
 
 /* Limits on values that are legal JSON but absurd for a frame. */
 #define MAX_ALPHA 1e6
+/* GGX roughness is glTF's perceptual roughness, in [0, 1] by definition; default 0.5. */
+#define MAX_ROUGHNESS 1.0
+#define DEFAULT_ROUGHNESS 0.5f
 /* Far/near beyond this leaves a float depth buffer almost no precision. */
 #define MAX_DEPTH_RATIO 1e7
 /* Up closer than this (sine of the angle) to the view direction gives an unstable basis. */
@@ -558,12 +561,40 @@ static bool parse_map(parser *p, sl_scene *scene, const cJSON *item, const char 
 
 static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_material *m)
 {
-    static const char *const keys[] = {"kd",         "ks",       "alpha",        "kd_map", "ks_map", "alpha_map",
-                                       "normal_map", "mask_map", "alpha_cutoff", NULL};
+    static const char *const keys[] = {"kd",        "ks",         "alpha",    "brdf",         "roughness", "kd_map",
+                                       "ks_map",    "alpha_map",  "normal_map", "mask_map", "alpha_cutoff", NULL};
+    static const char *const brdfs[] = {"phong", "ggx"}; /* sl_brdf's values */
     if (!check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX];
     const cJSON *v;
+    if ((v = member(item, "brdf"))) {
+        char name[MASKED_MAX + 4];
+        join_key(sub, path, "brdf");
+        if (!cJSON_IsString(v) || !v->valuestring)
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected \"phong\" or \"ggx\"");
+        if (strcmp(v->valuestring, brdfs[SL_BRDF_PHONG]) == 0)
+            m->brdf = SL_BRDF_PHONG;
+        else if (strcmp(v->valuestring, brdfs[SL_BRDF_GGX]) == 0)
+            m->brdf = SL_BRDF_GGX;
+        else
+            return fail_at(p, sub, SL_ERR_FORMAT, "unknown brdf \"%s\": expected \"phong\" or \"ggx\"",
+                           masked(v->valuestring, 32, name));
+    }
+    /* each set has its own parameter: the other's is an error, not ignored */
+    if (m->brdf == SL_BRDF_GGX && member(item, "alpha")) {
+        join_key(sub, path, "alpha");
+        return fail_at(p, sub, SL_ERR_FORMAT, "alpha is the Phong exponent; a \"ggx\" material takes \"roughness\"");
+    }
+    if (m->brdf == SL_BRDF_PHONG && member(item, "roughness")) {
+        join_key(sub, path, "roughness");
+        return fail_at(p, sub, SL_ERR_FORMAT, "roughness needs \"brdf\": \"ggx\" (a Phong material takes \"alpha\")");
+    }
+    if ((v = member(item, "roughness"))) {
+        join_key(sub, path, "roughness");
+        if (!read_float(p, v, sub, 0.0, MAX_ROUGHNESS, &m->roughness))
+            return false;
+    }
     if ((v = member(item, "kd"))) {
         join_key(sub, path, "kd");
         if (!read_color(p, v, sub, 1.0, &m->kd))
@@ -603,7 +634,8 @@ static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const 
 
 static sl_material default_material(const char *name)
 {
-    sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f};
+    sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f, .brdf = SL_BRDF_PHONG,
+                     .roughness = DEFAULT_ROUGHNESS};
     snprintf(m.name, sizeof m.name, "%s", name);
     return m;
 }

@@ -62,13 +62,22 @@ typedef struct {
     char used_by[256];        /* the first map naming it, as a JSON path ("materials.leaf.kd_map"), for messages */
 } sl_scene_image;
 
+/* The microfacet set of a material's specular lobe (docs/lighting.md "Phong and GGX"). */
+typedef enum {
+    SL_BRDF_PHONG = 0, /* the specification's set: D with the Phong exponent alpha */
+    SL_BRDF_GGX,       /* GGX D and height-correlated Smith G, roughness r */
+} sl_brdf;
+
 /* The specification's material: Kd (diffuse albedo), Ks (Fresnel reflectance at
- * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror),
+ * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror); or, with
+ * brdf = GGX, roughness (perceptual, glTF's, 0 = mirror .. 1) in place of alpha;
  * optionally modulated by texture maps. */
 typedef struct {
     char name[SL_NAME_MAX];
     vec3 kd, ks;
     float alpha;
+    sl_brdf brdf;
+    float roughness; /* GGX only */
     sl_material_map maps[SL_MAP_COUNT];
     bool textured;       /* some map is set: drawn with the textured G-buffer program */
     bool masked;         /* discard where the coverage (mask_map.r, else kd_map.a) < alpha_cutoff */
