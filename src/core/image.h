@@ -80,9 +80,20 @@ bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl
 /* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
  * piecewise curve; alpha is dropped, grey is replicated. The budget counts stb's own buffers
  * (its 8-bit image and the inflated PNG data) with the float image. */
+/* OpenEXR (exr.c, through OpenEXRCore): R, G, B of the first part (or a grey Y, replicated), half,
+ * float or uint, scanline or tiled, any compression the library decodes; always 3 channels. Read
+ * by offsets, never whole: a regular file only. The budget counts the float image and one
+ * chunk's decoding buffers. */
+bool sl_image_read_exr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* Any radiance image by its first bytes: OpenEXR, Radiance .hdr or PFM (a file whose magic is none
+ * of them, or that is not a regular file, by its extension; .hdr's reader when that says nothing
+ * either). What environments and irradiance maps are read with. */
+bool sl_image_read_radiance(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
 /* Parse from memory (what the readers and the fuzz targets call); `name` is used in messages. */
 bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
+                        sl_image_repairs *repairs, sl_error *err);
+bool sl_image_parse_exr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
 bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
@@ -107,6 +118,8 @@ bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
 bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
+/* One image as an .exr: 3 channels as R, G, B, 1 as Y; 32-bit float, ZIP (core/exr.h writes layers). */
+bool sl_image_encode_exr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 
 /* A parse-from-memory function (sl_image_parse_hdr, sl_image_parse_pfm); a check of a file's
  * first bytes (at most `size`, fewer only where the file ends) for the format's magic, failing
@@ -121,6 +134,7 @@ bool sl_image_read_with(const char *path, size_t budget, sl_magic_check magic, s
 #define SL_IMAGE_MAGIC_BYTES 16
 bool sl_image_magic_hdr(const unsigned char *head, size_t size, const char *name, sl_error *err);
 bool sl_image_magic_pfm(const unsigned char *head, size_t size, const char *name, sl_error *err);
+bool sl_image_magic_exr(const unsigned char *head, size_t size, const char *name, sl_error *err);
 
 /* An encode-to-memory function (sl_image_encode_hdr/pfm/png), and the writer every format
  * shares: encode, then sl_write_file_atomic. */
