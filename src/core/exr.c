@@ -137,6 +137,7 @@ typedef struct {
     int count;         /* channels named, 1..4 */
     int img_channels;  /* channels of the image decoded into (>= count; 3 for a grey Y) */
     bool environment;  /* R, G, B or Y, repaired; a layer read keeps signed values */
+    char layer[72];    /* a layer whose suffixes are to be found: RGB, XYZ or none (names unset) */
     int index[4];      /* each name's index in the file's channel list */
 } channel_map;
 
@@ -176,6 +177,26 @@ static bool map_channels(const source *s, const exr_attr_chlist_t *list, channel
         }
         if (!rgb && m->count != 1)
             return missing_channels(s, list, "R, G, B channels (nor a grey Y)", err);
+    }
+    if (m->layer[0]) {
+        static const char *const sets[] = {"RGB", "XYZ"};
+        char first[80], ex[40];
+        m->count = m->img_channels = 1;
+        snprintf(m->names[0], sizeof m->names[0], "%s", m->layer);
+        for (int i = 0; i < 2; i++) {
+            snprintf(first, sizeof first, "%s.%c", m->layer, sets[i][0]);
+            if (find_channel(list, first) < 0)
+                continue;
+            m->count = m->img_channels = 3;
+            for (int k = 0; k < 3; k++)
+                snprintf(m->names[k], sizeof m->names[k], "%s.%c", m->layer, sets[i][k]);
+        }
+        if (m->count == 1 && find_channel(list, m->layer) < 0) {
+            char wanted[200];
+            sl_error_excerpt(m->layer, 32, ex);
+            snprintf(wanted, sizeof wanted, "layer %s (%s.R/G/B, %s.X/Y/Z or a channel %s)", ex, ex, ex, ex);
+            return missing_channels(s, list, wanted, err);
+        }
     }
     for (int k = 0; k < m->count; k++) {
         if ((m->index[k] = find_channel(list, m->names[k])) < 0) {
@@ -388,10 +409,14 @@ static channel_map environment_map(void)
     return (channel_map){.names = {"R", "G", "B"}, .count = 3, .img_channels = 3, .environment = true};
 }
 
-/* A layer's channel names, as sl_exr_encode writes them. */
+/* A layer's channel names, as sl_exr_encode writes them (suffixes NULL: found in the file). */
 static bool layer_map(const char *layer, const char *suffixes, channel_map *m, sl_error *err)
 {
     *m = (channel_map){0};
+    if (!suffixes && layer && layer[0] && strlen(layer) < sizeof m->layer) {
+        snprintf(m->layer, sizeof m->layer, "%s", layer);
+        return true;
+    }
     size_t n = suffixes ? strlen(suffixes) : 0;
     if (n > 4 || (!n && (!layer || !layer[0])) || (layer && strlen(layer) > 64))
         return sl_fail(err, SL_ERR_RANGE, "exr reader: bad layer request '%.20s' '%.8s'", layer ? layer : "",

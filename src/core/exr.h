@@ -54,7 +54,8 @@ bool sl_exr_encode(const sl_exr_layer *layers, int count, const sl_exr_options *
 
 /* Read one layer back (what sl_exr_encode wrote as `layer` with `suffixes`): an image of
  * strlen(suffixes) channels (1 for ""), signed values kept, NaN or Inf an error, the budget as
- * sl_image_read_exr's. For tests and tools comparing a render's layers. */
+ * sl_image_read_exr's. `suffixes` NULL: whichever of layer.R/G/B, layer.X/Y/Z or a channel named
+ * `layer` the file has. For tests and `softlight compare FILE.exr:LAYER`. */
 bool sl_exr_read_layer(const char *path, const char *layer, const char *suffixes, size_t budget, sl_image *img,
                        sl_error *err);
 bool sl_exr_parse_layer(const unsigned char *bytes, size_t size, const char *layer, const char *suffixes,
