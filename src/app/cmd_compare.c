@@ -23,7 +23,10 @@ static bool has_suffix(const char *s, const char *suffix)
 }
 
 /* FILE.pfm, FILE.hdr, FILE.exr (its R, G, B), or FILE.exr:LAYER (a layer of a multi-layer
- * .exr, as render --exr writes: signed values kept, as the AOV it equals). */
+ * .exr, as render --exr writes: signed values kept, as the AOV it equals; a PFM compared with
+ * such a layer is read signed too, so normal.pfm compares with FILE.exr:normal). */
+static bool is_exr_layer(const char *path) { return strstr(path, ".exr:") || strstr(path, ".EXR:"); }
+
 static bool load_float_image(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
     memset(repairs, 0, sizeof *repairs);
@@ -46,6 +49,16 @@ static bool load_float_image(const char *path, sl_image *img, sl_image_repairs *
     if (has_suffix(path, ".hdr") || has_suffix(path, ".HDR"))
         return sl_image_read_hdr(path, 0, img, repairs, err);
     return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: expected a .pfm, .hdr or .exr image (or FILE.exr:LAYER)", path);
+}
+
+/* A or B: a PFM beside an .exr layer is read signed (positions, normals), as the layer is. */
+static bool load_compared(const char *path, bool beside_layer, sl_image *img, sl_image_repairs *repairs, sl_error *err)
+{
+    if (beside_layer && (has_suffix(path, ".pfm") || has_suffix(path, ".PFM"))) {
+        memset(repairs, 0, sizeof *repairs);
+        return sl_image_read_pfm_signed(path, 0, img, err);
+    }
+    return load_float_image(path, img, repairs, err);
 }
 
 /* --edges DA,DB: sl_compare_edge_mask of the two depth images, and-ed into `mask` when one was given. */
@@ -172,7 +185,8 @@ int cmd_compare(int argc, char **argv)
     int status = 2;
     sl_image a = {0}, b = {0}, mask = {0}, diff = {0};
     sl_image_repairs ra, rb, rm;
-    if (!load_float_image(paths[0], &a, &ra, &err) || !load_float_image(paths[1], &b, &rb, &err) ||
+    bool layers = is_exr_layer(paths[0]) || is_exr_layer(paths[1]);
+    if (!load_compared(paths[0], layers, &a, &ra, &err) || !load_compared(paths[1], layers, &b, &rb, &err) ||
         (mask_path && !load_float_image(mask_path, &mask, &rm, &err)))
         goto done;
     if (edges && !edge_mask(edges, edge_band, depth_tol, mask_path ? &mask : NULL, &mask, &err))

@@ -445,7 +445,7 @@ static bool read_exr(const unsigned char *bytes, size_t size, const char *path, 
         source s = {.bytes = bytes, .fd = -1, .size = size, .name = path};
         return sl_image_magic_exr(bytes, s.size, s.name, err) && parse_source(&s, map, budget, img, repairs, err);
     }
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK /* a FIFO must not block the open */);
     if (fd < 0)
         return sl_fail(err, SL_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
     struct stat st;

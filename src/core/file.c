@@ -165,7 +165,7 @@ bool sl_image_read_radiance(const char *path, size_t budget, sl_image *img, sl_i
 {
     unsigned char head[4] = {0};
     size_t got = 0;
-    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    int fd = open(path, O_RDONLY | O_CLOEXEC | O_NONBLOCK /* a FIFO must not block the open */);
     struct stat st;
     if (fd >= 0) {
         if (fstat(fd, &st) == 0 && S_ISREG(st.st_mode)) {
