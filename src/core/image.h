@@ -6,7 +6,7 @@
  * inside the pipeline follow OpenGL instead (row 0 at the bottom); they turn
  * into sl_images once, with sl_image_flip_rows, when written out.
  *
- * Formats (one file each: hdr.c, pfm.c, png.c; image.c owns the buffer, file.c the I/O):
+ * Formats (one file each: hdr.c, pfm.c, exr.c, png.c; image.c owns the buffer, file.c the I/O):
  *   .hdr  Radiance RGBE, read (flat and new-style RLE scanlines, "-Y h +X w" only) and
  *         write (RLE for widths 8..32767, flat otherwise). A texel (m_r, m_g, m_b, e) decodes
  *         as m * 2^(e - 136) (e = 0 is black), the convention of Greg Ward's rgbe.c that the
@@ -14,6 +14,9 @@
  *         within half a mantissa step (at most max(r, g, b) / 255.5).
  *   .pfm  Portable float map, 1 ("Pf") or 3 ("PF") channels, either byte order,
  *         rows bottom-to-top in the file as the format says; written little endian
+ *   .exr  OpenEXR through OpenEXRCore (libopenexr-dev): read R, G, B (or a grey Y) of the first
+ *         part, half/float/uint, scanline or tiled, any compression the library decodes, by
+ *         offsets from a regular file (never read whole); write float or half layers (exr.h)
  *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG textures as sRGB -> linear
  * Every write goes to a temporary name beside the target and is renamed into
  * place, so a failed write never leaves a half file; the files of one command go
