@@ -1,6 +1,6 @@
-/* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, and the G-buffer
- * as PFM files with --aov, all replaced or none (one output set, core/output_set.h). Prints the
- * time each stage took. */
+/* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, the G-buffer
+ * as PFM files with --aov, the radiance and the G-buffer as one multi-layer OpenEXR with --exr,
+ * all replaced or none (one output set, core/output_set.h). Prints the time each stage took. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,16 +47,20 @@ static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 
 int cmd_render(int argc, char **argv)
 {
-    const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL;
+    const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
     bool quiet = false;
     int repeat = 1;
     sl_render_options ro;
-    sl_arg table[SL_RENDER_OPTION_COUNT + 7];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 9];
     sl_render_options_table(&ro, table);
     int n = SL_RENDER_OPTION_COUNT;
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
     table[n++] = (sl_arg){"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "FILE.pfm", "linear radiance as float32 PFM", NULL};
+    table[n++] = (sl_arg){"--exr", NULL, SL_ARG_STRING, &exr, 0, 0, NULL, "FILE.exr",
+                          "radiance (R, G, B) and every G-buffer channel as layers of one OpenEXR file, 32-bit float", NULL};
+    table[n++] = (sl_arg){"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
+                          "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL};
     table[n++] = (sl_arg){"--aov", NULL, SL_ARG_STRING, &aov, 0, 0, NULL, "DIR", "write the G-buffer channels as DIR/*.pfm", NULL};
     table[n++] = (sl_arg){"--normals", NULL, SL_ARG_STRING, &normals, 0, 0, NULL, "FILE.png", "normal visualisation (n*0.5+0.5)", NULL};
     table[n++] = (sl_arg){"--repeat", NULL, SL_ARG_INT, &repeat, 1, 1000, NULL, "N",
@@ -73,7 +77,7 @@ int cmd_render(int argc, char **argv)
     }
     if (help || npos != 1) {
         sl_args_print_help(help ? stdout : stderr, "softlight render SCENE.json [-o out.png] [--hdr out.hdr] "
-                           "[--pfm out.pfm] [--aov DIR] [options]", table, n);
+                           "[--pfm out.pfm] [--exr out.exr] [--aov DIR] [options]", table, n);
         return help ? 0 : 2;
     }
     sl_render_desc desc;
@@ -82,7 +86,7 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     char default_png[1024];
-    if (!png && !hdr && !pfm && !aov && !normals) {
+    if (!png && !hdr && !pfm && !aov && !normals && !exr) {
         default_png_name(positional[0], default_png, sizeof default_png);
         png = default_png;
     }
@@ -91,6 +95,15 @@ int cmd_render(int argc, char **argv)
     if (!sl_scene_load(positional[0], &scene, &err)) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
+    }
+    if (env) { /* a path as given on the command line: relative to here, not to the scene */
+        if (strlen(env) >= sizeof scene.environment.hdr_path) {
+            fprintf(stderr, "softlight render: --env: path too long\n");
+            sl_scene_free(&scene);
+            return 2;
+        }
+        snprintf(scene.environment.hdr_path, sizeof scene.environment.hdr_path, "%s", env);
+        scene.environment.irradiance_path[0] = '\0'; /* the scene's map belongs to its own environment */
     }
     int status = 2;
     sl_renderer r;
@@ -110,6 +123,8 @@ int cmd_render(int argc, char **argv)
     if (hdr && !sl_output_set_image(&out, hdr, sl_image_encode_hdr, &r.radiance, &err))
         goto done;
     if (pfm && !sl_output_set_image(&out, pfm, sl_image_encode_pfm, &r.radiance, &err))
+        goto done;
+    if (exr && !sl_gbuffer_add_exr(&r.gbuffer, scene.camera.eye, &r.radiance, exr, &out, &err))
         goto done;
     if (aov && !(sl_output_set_dir(&out, aov, &err) &&
                  sl_gbuffer_add_aovs(&r.gbuffer, scene.camera.eye, aov, &out, &err)))
@@ -135,7 +150,7 @@ int cmd_render(int argc, char **argv)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
                    r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
-        const char *outs[] = {png, hdr, pfm, aov, normals};
+        const char *outs[] = {png, hdr, pfm, exr, aov, normals};
         for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++)
             if (outs[i])
                 printf("wrote %s\n", outs[i]);

@@ -62,6 +62,12 @@ bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_e
 /* The same files added to a command's output set (core/output_set.h), so that they are replaced
  * together with its other outputs or not at all; `dir` must exist (sl_output_set_dir). */
 bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_output_set *out, sl_error *err);
+/* The same channels and the radiance (RGB, row 0 = top: the renderer's r.radiance) as one
+ * multi-layer OpenEXR file added to the output set (softlight render --exr): R, G, B, then
+ * position.X/Y/Z, normal.X/Y/Z, view.X/Y/Z, kd.R/G/B, ks.R/G/B, alpha, depth, mask, 32-bit float
+ * (the same numbers as the PFMs), ZIP-compressed, rows top first. */
+bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance, const char *path,
+                        sl_output_set *out, sl_error *err);
 /* The reverse (position, normal, kd, ks, alpha, depth, mask; view is derived, not read).
  * Resizes gb to the files' size; a mask that disagrees with depth < 1 is an error. */
 bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);

@@ -23,7 +23,7 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
             return sl_fail(err, SL_ERR_RANGE, "irradiance method 'map' needs environment.irradiance in %s",
                            scene->path);
         sl_image map;
-        if (!sl_image_read_hdr(scene->environment.irradiance_path, r->desc.image_budget, &map, NULL, err))
+        if (!sl_image_read_radiance(scene->environment.irradiance_path, r->desc.image_budget, &map, NULL, err))
             return false;
         ok = sl_irradiance_from_image(&r->irradiance, &map, err);
         sl_image_free(&map);
@@ -68,7 +68,7 @@ static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repa
 {
     sl_image img;
     if (path[0]) {
-        if (!sl_image_read_hdr(path, budget, &img, repairs, err))
+        if (!sl_image_read_radiance(path, budget, &img, repairs, err))
             return false;
         if (img.channels != 3) {
             sl_image_free(&img);
