@@ -33,4 +33,8 @@ bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
 bool scene_safe_normalize(vec3 v, vec3 *out);
 
+/* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
+ * `glb`, then the JSON types of nodes, materials and accessors, with the JSON path. */
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err);
+
 #endif
