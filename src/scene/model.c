@@ -52,6 +52,7 @@
 
 typedef struct {
     const char *name; /* the model as given (messages) */
+    bool gltf;        /* a glTF file (.gltf, .glb): its camera is read as the specification's */
     /* Import from memory: the one file there is. */
     const char *mem_path;
     const unsigned char *mem;
@@ -364,20 +365,26 @@ static bool find_node(const struct aiNode *node, const struct aiString *name, ma
     return false;
 }
 
-static void convert_camera(const struct aiScene *s, sl_model *model)
+static void convert_camera(const struct aiScene *s, bool gltf, sl_model *model)
 {
     const struct aiCamera *c = s->mCameras[0];
     mat4 node = mat4_identity();
     find_node(s->mRootNode, &c->mName, mat4_identity(), 0, &node);
     mat4 w = mat4_mul(y_up_to_z_up(), node);
-    vec3 eye = xyz(mat4_mul_vec4(w, vec4_from3(ai3(c->mPosition), 1.0f)));
-    vec3 dir = xyz(mat4_mul_vec4(w, vec4_from3(ai3(c->mLookAt), 0.0f)));
-    vec3 up = xyz(mat4_mul_vec4(w, vec4_from3(ai3(c->mUp), 0.0f)));
-    vec3 f, u;
-    /* assimp's mHorizontalFOV is half the horizontal angle; with the aspect that gives the
-     * vertical angle softlight's camera takes. No aspect: take it as square. */
+    /* assimp documents the camera's position, look-at and up relative to its node, and
+     * mHorizontalFOV as half the horizontal angle. Its glTF importer (5.2) copies the node's
+     * translation into mPosition as well (placing the camera twice as far) and stores
+     * yfov * aspectRatio: for glTF, the camera is the specification's (at the node's origin,
+     * looking down -Z, +Y up) and yfov = mHorizontalFOV / aspect (measured, test_model). */
     float aspect = c->mAspect > 0.0f ? c->mAspect : 1.0f;
-    float fovy = 2.0f * atanf(tanf(c->mHorizontalFOV) / aspect) * (180.0f / 3.14159265f);
+    vec3 pos = gltf ? vec3s(0.0f) : ai3(c->mPosition);
+    vec3 look = gltf ? vec3(0.0f, 0.0f, -1.0f) : ai3(c->mLookAt), up0 = gltf ? vec3(0.0f, 1.0f, 0.0f) : ai3(c->mUp);
+    float fovy_rad = gltf ? c->mHorizontalFOV / aspect : 2.0f * atanf(tanf(c->mHorizontalFOV) / aspect);
+    float fovy = fovy_rad * (180.0f / 3.14159265f);
+    vec3 eye = xyz(mat4_mul_vec4(w, vec4_from3(pos, 1.0f)));
+    vec3 dir = xyz(mat4_mul_vec4(w, vec4_from3(look, 0.0f)));
+    vec3 up = xyz(mat4_mul_vec4(w, vec4_from3(up0, 0.0f)));
+    vec3 f, u;
     if (!finite3(eye) || !scene_safe_normalize(dir, &f) || !scene_safe_normalize(up, &u) ||
         length3(cross(f, u)) < 1e-3f || !(fovy > 0.1f && fovy < 179.0f) || !(c->mClipPlaneNear > 0.0f) ||
         !(c->mClipPlaneFar > c->mClipPlaneNear) || c->mOrthographicWidth > 0.0f)
@@ -664,9 +671,11 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
     if (model->instance_count == 0)
         return sl_fail(err, SL_ERR_FORMAT, "%s: no node places a mesh", name);
     if (s->mNumCameras > 0 && s->mCameras[0])
-        convert_camera(s, model);
+        convert_camera(s, fa->gltf, model);
     return true;
 }
+
+static bool is_gltf(const char *ext) { return strcasecmp(ext, "gltf") == 0 || strcasecmp(ext, "glb") == 0; }
 
 static bool import(const char *open_path, file_access *fa, sl_model *model, sl_error *err)
 {
@@ -706,8 +715,6 @@ static const char *extension(const char *path)
     return dot && (!slash || dot > slash) ? dot + 1 : "";
 }
 
-static bool is_gltf(const char *ext) { return strcasecmp(ext, "gltf") == 0 || strcasecmp(ext, "glb") == 0; }
-
 bool sl_path_is_scene(const char *path)
 {
     const char *ext = extension(path);
@@ -725,8 +732,8 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     if (!ext[0] || !aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown));
-    file_access fa = {.name = path};
-    if (is_gltf(ext)) {
+    file_access fa = {.name = path, .gltf = is_gltf(ext)};
+    if (fa.gltf) {
         size_t size;
         unsigned char *bytes = read_regular(&fa, path, &size);
         if (!bytes)
@@ -746,7 +753,7 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     snprintf(model->path, sizeof model->path, "%s", name);
     char path[64];
     snprintf(path, sizeof path, "memory.%.16s", hint);
-    file_access fa = {.name = name, .mem_path = path, .mem = data, .mem_size = size};
+    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
     if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, err))

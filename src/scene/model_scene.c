@@ -22,6 +22,8 @@
 
 /* The scene reader's limit on the Phong exponent (scene.c MAX_ALPHA). */
 #define MODEL_MAX_ALPHA 1e6f
+/* The name assimp gives the material it adds when a file has none (AI_DEFAULT_MATERIAL_NAME). */
+#define AI_DEFAULT_NAME "DefaultMaterial"
 #define DEFAULT_ENVIRONMENT SL_SHADER_DIR "/../scenes/envmaps/studio.hdr"
 
 
@@ -61,6 +63,29 @@ static void base_name(const char *path, char out[32])
     b = b ? b + 1 : path;
     size_t n = strcspn(b, ".");
     snprintf(out, 32, "%.*s", (int)(n < 31 ? n : 31), b);
+}
+
+/* The empty mesh each model source held until it was expanded goes; objects' indices follow. */
+static void drop_placeholders(sl_scene *scene, int sources)
+{
+    int kept = 0;
+    int *remap = calloc((size_t)scene->mesh_count, sizeof *remap);
+    if (!remap)
+        return; /* harmless: empty meshes no object draws */
+    for (int i = 0; i < scene->mesh_count; i++) {
+        remap[i] = kept;
+        if (i < sources && scene->mesh_sources[i].kind == SL_MESH_MODEL) {
+            sl_mesh_free(&scene->meshes[i]);
+            continue;
+        }
+        scene->meshes[kept] = scene->meshes[i];
+        scene->mesh_sources[kept] = scene->mesh_sources[i];
+        kept++;
+    }
+    for (int o = 0; o < scene->object_count; o++)
+        scene->objects[o].mesh = remap[scene->objects[o].mesh];
+    scene->mesh_count = kept;
+    free(remap);
 }
 
 bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
@@ -149,8 +174,10 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             sl_object *out = &objects[n++];
             snprintf(out->name, sizeof out->name, "%.40s/%d", obj->name, k);
             out->mesh = mesh_base[obj->mesh] + inst->mesh;
-            out->material = material_given[o] ? obj->material
-                                               : material_base[obj->mesh] + m->meshes[inst->mesh].material;
+            int file_material = m->meshes[inst->mesh].material;
+            /* assimp's stand-in for "no material" (an OBJ without MTL) is the scene's default. */
+            bool stand_in = strcmp(m->materials[file_material].name, AI_DEFAULT_NAME) == 0;
+            out->material = material_given[o] || stand_in ? obj->material : material_base[obj->mesh] + file_material;
             out->model = mat4_mul(obj->model, inst->world);
         }
     }
@@ -158,6 +185,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
         free(scene->objects);
         scene->objects = objects;
         scene->object_count = n;
+        drop_placeholders(scene, sources);
     }
     for (int i = 0; models && i < sources; i++)
         sl_model_free(&models[i]);

@@ -31,8 +31,11 @@ static void triangle_bin(unsigned char out[BIN_SIZE], float nan_x, unsigned shor
  * colour and metallic-roughness textures from image 0, MASK at 0.3, double-sided. */
 static void gltf_text(char *out, size_t cap, const char *nodes, const char *buffer, const char *images)
 {
+    /* A node 2, if `nodes` has one, is a root too (the camera test's). */
+    bool third = strstr(nodes, "\"camera\"") != NULL;
     snprintf(out, cap,
-             "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0]}],\n"
+             "{\"asset\": {\"version\": \"2.0\"}, \"scene\": 0, \"scenes\": [{\"nodes\": [0%s]}],\n"
+             " %s\n"
              " \"nodes\": %s,\n"
              " \"meshes\": [{\"primitives\": [{\"attributes\": {\"POSITION\": 0, \"TEXCOORD_0\": 1},"
              " \"indices\": 2, \"material\": 0}]}],\n"
@@ -51,6 +54,9 @@ static void gltf_text(char *out, size_t cap, const char *nodes, const char *buff
              "   {\"buffer\": 0, \"byteOffset\": 36, \"byteLength\": 24},\n"
              "   {\"buffer\": 0, \"byteOffset\": 60, \"byteLength\": 6}%s],\n"
              " \"buffers\": [%s]}\n",
+             third ? ", 2" : "",
+             third ? "\"cameras\": [{\"type\": \"perspective\", \"perspective\": {\"yfov\": 0.8, "
+                     "\"aspectRatio\": 1.5, \"znear\": 0.1, \"zfar\": 100}}]," : "",
              nodes, images, strstr(images, "bufferView") ? ",\n {\"buffer\": 0, \"byteOffset\": 68, \"byteLength\": PNGLEN}" : "",
              buffer);
 }
@@ -302,6 +308,88 @@ static void test_obj_mtl(void **state)
     sl_model_free(&m);
 }
 
+/* The file's first camera: glTF's at its node's origin looking down -Z, +Y up, yfov 0.8 rad.
+ * Node at (0, 0, 5) Y-up is (0, -5, 0) Z-up, looking along +Y (from -Z), up +Z. */
+static void test_gltf_camera(void **state)
+{
+    (void)state;
+    unsigned char bin[BIN_SIZE];
+    triangle_bin(bin, 0.0f, 2);
+    write_gltf_files("cam", "[{\"mesh\": 0}, {}, {\"camera\": 0, \"translation\": [0, 0, 5]}]", bin);
+    sl_model m;
+    load_ok(test_tmpfile("cam.gltf"), &m);
+    assert_true(m.has_camera);
+    assert_near(m.camera.eye.x, 0.0f, 1e-6f);
+    assert_near(m.camera.eye.y, -5.0f, 1e-6f);
+    assert_near(m.camera.eye.z, 0.0f, 1e-6f);
+    vec3 dir = sub3(m.camera.target, m.camera.eye);
+    assert_near(dir.y, 1.0f, 1e-6f);
+    assert_near(m.camera.up.z, 1.0f, 1e-6f);
+    assert_near(m.camera.fovy_deg, 0.8 * 180.0 / 3.14159265358979, 1e-3);
+    assert_near(m.camera.znear, 0.1f, 1e-6f);
+    sl_model_free(&m);
+
+    /* The default scene around it takes that camera. */
+    sl_scene scene;
+    sl_error err = {0};
+    assert_true(sl_scene_load(test_tmpfile("cam.gltf"), &scene, &err));
+    assert_near(scene.camera.eye.y, -5.0f, 1e-6f);
+    assert_int_equal(scene.object_count, 1);
+    /* Interim mapping of metallic-roughness: Kd = 0.8 (1 - 0.25) = 0.6, Ks = 0.04 + 0.25 (0.8 - 0.04)
+     * = 0.23, a = 0.36, alpha = 2 / 0.1296 - 2 = 13.432. */
+    const sl_material *mat = &scene.materials[scene.objects[0].material];
+    assert_near(mat->kd.x, 0.6f, 1e-6f);
+    assert_near(mat->ks.x, 0.23f, 1e-6f);
+    assert_near(mat->alpha, 2.0 / (0.36 * 0.36) - 2.0, 1e-3);
+    sl_scene_free(&scene);
+}
+
+/* A scene object {"model": ...}: its transform on top of the node's, its material overriding. */
+static void test_scene_model_object(void **state)
+{
+    (void)state;
+    unsigned char bin[BIN_SIZE];
+    triangle_bin(bin, 0.0f, 2);
+    write_gltf_files("obj", NODES, bin);
+    size_t png_size;
+    unsigned char *png = png_bytes(&png_size);
+    test_write_bytes(test_tmpfile("tex.png"), png, png_size);
+    free(png);
+    const char *json = "{\"materials\": {\"red\": {\"kd\": [0.8, 0, 0]}},\n"
+                       " \"objects\": [{\"model\": \"obj.gltf\", \"transform\": {\"translate\": [10, 0, 0]}},\n"
+                       "             {\"model\": \"obj.gltf\", \"material\": \"red\"}, {\"shape\": \"plane\"}]}";
+    test_write_bytes(test_tmpfile("model-scene.json"), json, strlen(json));
+    sl_scene scene;
+    sl_error err = {0};
+    if (!sl_scene_load(test_tmpfile("model-scene.json"), &scene, &err))
+        fail_msg("%s", err.msg);
+    /* Two model objects (one instance each, sharing one mesh) and the plane. */
+    assert_int_equal(scene.object_count, 3);
+    assert_int_equal(scene.mesh_count, 2);
+    assert_int_equal(scene.objects[0].mesh, scene.objects[1].mesh);
+    /* (1,0,0) -> (3, -3, 2) by the nodes, then translated by (10, 0, 0). */
+    vec3 w = xyz(mat4_mul_vec4(scene.objects[0].model, vec4(1, 0, 0, 1)));
+    assert_near(w.x, 13.0f, 1e-5f);
+    assert_near(w.y, -3.0f, 1e-5f);
+    assert_string_equal(scene.materials[scene.objects[1].material].name, "red");
+    assert_near(scene.materials[scene.objects[0].material].kd.x, 0.6f, 1e-6f);
+    sl_scene_free(&scene);
+
+    /* Parsed without meshes, a model object is one object with a model source. */
+    assert_true(sl_scene_parse(json, strlen(json), "m.json", "", false, &scene, &err));
+    assert_int_equal(scene.mesh_sources[scene.objects[0].mesh].kind, SL_MESH_MODEL);
+    sl_scene_free(&scene);
+    const char *both = "{\"objects\": [{\"model\": \"a.glb\", \"mesh\": \"b.obj\"}]}";
+    assert_false(sl_scene_parse(both, strlen(both), "m.json", "", false, &scene, &err));
+    assert_msg_contains(err, "more than one of");
+    /* A bad model inside a scene names the scene, the object and the file. */
+    const char *bad = "{\"objects\": [{\"model\": \"missing.glb\"}]}";
+    test_write_bytes(test_tmpfile("bad-scene.json"), bad, strlen(bad));
+    assert_false(sl_scene_load(test_tmpfile("bad-scene.json"), &scene, &err));
+    assert_msg_contains(err, "objects[0].model: ");
+    assert_msg_contains(err, "missing.glb");
+}
+
 static void test_bad_files(void **state)
 {
     (void)state;
@@ -370,6 +458,8 @@ int main(void)
         cmocka_unit_test(test_gltf_with_bin_and_png),
         cmocka_unit_test(test_glb_embedded_image),
         cmocka_unit_test(test_obj_mtl),
+        cmocka_unit_test(test_gltf_camera),
+        cmocka_unit_test(test_scene_model_object),
         cmocka_unit_test(test_bad_files),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
