@@ -691,7 +691,7 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     if (!s) {
         /* A file the import needed and could not open says more than assimp's message. */
         if (fa->failed[0] && strcmp(fa->failed, open_path) != 0)
-            ok = sl_fail(err, SL_ERR_IO, "%s: cannot read \"%s\" (%s) that it names", fa->name,
+            ok = sl_fail(err, SL_ERR_IO, "%s: names \"%s\", which cannot be read (%s)", fa->name,
                          sl_error_excerpt(fa->failed, 200, shown), fa->failed_why);
         else if (fa->failed[0])
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
