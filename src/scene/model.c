@@ -660,11 +660,10 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
         d->base_color_tex = d->metallic_roughness_tex = d->normal_tex = d->occlusion_tex = d->emissive_tex =
             d->specular_tex = none;
     }
-    for (unsigned i = 0; i < s->mNumMeshes; i++) {
-        if (!convert_mesh(name, i, s->mMeshes[i], materials, &model->meshes[i], err))
+    /* Counted before it is filled, so that sl_model_free frees a mesh that failed half way. */
+    for (unsigned i = 0; i < s->mNumMeshes; i++)
+        if (model->mesh_count++, !convert_mesh(name, i, s->mMeshes[i], materials, &model->meshes[i], err))
             return false;
-        model->mesh_count++;
-    }
     walker w = {.name = name, .model = model, .mesh_count = s->mNumMeshes, .err = err};
     if (!walk(&w, s->mRootNode, y_up_to_z_up(), 0))
         return false;
