@@ -95,14 +95,42 @@ static bool check_node(checker *c, const cJSON *n, const char *path, int nodes, 
     return true;
 }
 
-static bool check_material(checker *c, const cJSON *m, const char *path)
+/* A textureInfo ({"index": N, "texCoord": K, ...}): assimp 5.2's glTF importer crashes on one
+ * without "index" (found by fuzz_model). */
+static bool check_texture_info(checker *c, const cJSON *parent, const char *key, const char *path, int textures)
+{
+    const cJSON *t = cJSON_GetObjectItemCaseSensitive(parent, key), *v;
+    if (!t)
+        return true;
+    char sub[160];
+    snprintf(sub, sizeof sub, "%s.%s", path, key);
+    if (!cJSON_IsObject(t))
+        return bad(c, sub, "an object {\"index\": ...}");
+    snprintf(sub, sizeof sub, "%s.%s.index", path, key);
+    if (!(v = cJSON_GetObjectItemCaseSensitive(t, "index")))
+        return bad(c, sub, "a texture index");
+    if (!index_in(c, v, sub, textures, "textures"))
+        return false;
+    snprintf(sub, sizeof sub, "%s.%s.texCoord", path, key);
+    return !(v = cJSON_GetObjectItemCaseSensitive(t, "texCoord")) || index_in(c, v, sub, 8, "UV sets at most");
+}
+
+static bool check_material(checker *c, const cJSON *m, const char *path, int textures)
 {
     char sub[128];
     const cJSON *pbr = cJSON_GetObjectItemCaseSensitive(m, "pbrMetallicRoughness"), *v;
+    static const char *const maps[] = {"normalTexture", "occlusionTexture", "emissiveTexture"};
+    for (int i = 0; i < 3; i++)
+        if (!check_texture_info(c, m, maps[i], path, textures))
+            return false;
     if (pbr) {
         snprintf(sub, sizeof sub, "%s.pbrMetallicRoughness", path);
         if (!cJSON_IsObject(pbr))
             return bad(c, sub, "an object");
+        snprintf(sub, sizeof sub, "%s.pbrMetallicRoughness", path);
+        if (!check_texture_info(c, pbr, "baseColorTexture", sub, textures) ||
+            !check_texture_info(c, pbr, "metallicRoughnessTexture", sub, textures))
+            return false;
         snprintf(sub, sizeof sub, "%s.pbrMetallicRoughness.baseColorFactor", path);
         if ((v = cJSON_GetObjectItemCaseSensitive(pbr, "baseColorFactor")) && !numbers(c, v, sub, 4))
             return false;
@@ -149,6 +177,50 @@ static bool check_accessor(checker *c, const cJSON *a, const char *path, int vie
     return true;
 }
 
+static bool check_texture(checker *c, const cJSON *t, const char *path, int images, int samplers)
+{
+    char sub[96];
+    const cJSON *v;
+    snprintf(sub, sizeof sub, "%s.source", path);
+    if ((v = cJSON_GetObjectItemCaseSensitive(t, "source")) && !index_in(c, v, sub, images, "images"))
+        return false;
+    snprintf(sub, sizeof sub, "%s.sampler", path);
+    return !(v = cJSON_GetObjectItemCaseSensitive(t, "sampler")) || index_in(c, v, sub, samplers, "samplers");
+}
+
+/* primitives: an array of objects whose attributes, indices and material are in range. */
+static bool check_mesh(checker *c, const cJSON *m, const char *path, int accessors, int materials)
+{
+    char sub[160];
+    const cJSON *prims = cJSON_GetObjectItemCaseSensitive(m, "primitives"), *v;
+    snprintf(sub, sizeof sub, "%s.primitives", path);
+    if (!cJSON_IsArray(prims))
+        return bad(c, sub, "an array of primitives");
+    int i = 0;
+    for (const cJSON *p = prims->child; p; p = p->next, i++) {
+        snprintf(sub, sizeof sub, "%s.primitives[%d]", path, i);
+        if (!cJSON_IsObject(p))
+            return bad(c, sub, "an object");
+        const cJSON *attrs = cJSON_GetObjectItemCaseSensitive(p, "attributes");
+        snprintf(sub, sizeof sub, "%s.primitives[%d].attributes", path, i);
+        if (!cJSON_IsObject(attrs))
+            return bad(c, sub, "an object {\"POSITION\": ...}");
+        for (const cJSON *a = attrs->child; a; a = a->next) {
+            char el[224];
+            snprintf(el, sizeof el, "%s.%.48s", sub, a->string);
+            if (!index_in(c, a, el, accessors, "accessors"))
+                return false;
+        }
+        snprintf(sub, sizeof sub, "%s.primitives[%d].indices", path, i);
+        if ((v = cJSON_GetObjectItemCaseSensitive(p, "indices")) && !index_in(c, v, sub, accessors, "accessors"))
+            return false;
+        snprintf(sub, sizeof sub, "%s.primitives[%d].material", path, i);
+        if ((v = cJSON_GetObjectItemCaseSensitive(p, "material")) && !index_in(c, v, sub, materials, "materials"))
+            return false;
+    }
+    return true;
+}
+
 static bool check_json(checker *c, const char *json, size_t size)
 {
     cJSON *root = cJSON_ParseWithLength(json, size);
@@ -171,7 +243,11 @@ static bool check_json(checker *c, const char *json, size_t size)
                 ok = check_node(c, e, path, count_of(root, "nodes"), count_of(root, "meshes"),
                                 count_of(root, "cameras"));
             else if (ok && strcmp(arrays[i], "materials") == 0)
-                ok = check_material(c, e, path);
+                ok = check_material(c, e, path, count_of(root, "textures"));
+            else if (ok && strcmp(arrays[i], "textures") == 0)
+                ok = check_texture(c, e, path, count_of(root, "images"), count_of(root, "samplers"));
+            else if (ok && strcmp(arrays[i], "meshes") == 0)
+                ok = check_mesh(c, e, path, count_of(root, "accessors"), count_of(root, "materials"));
             else if (ok && strcmp(arrays[i], "accessors") == 0)
                 ok = check_accessor(c, e, path, count_of(root, "bufferViews"));
         }

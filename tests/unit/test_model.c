@@ -441,6 +441,17 @@ static void test_bad_files(void **state)
     write_gltf_files("types2", "{\"mesh\": 0}", bin);
     load_fails(test_tmpfile("types2.gltf"), "nodes: expected an array");
 
+    /* A textureInfo without "index" (assimp 5.2 crashes on it: gltf_check.c refuses it first). */
+    write_gltf_files("noindex", NODES, bin);
+    char noindex[4096];
+    snprintf(buffer, sizeof buffer, "{\"uri\": \"noindex.bin\", \"byteLength\": %d}", BIN_SIZE);
+    gltf_text(noindex, sizeof noindex, NODES, buffer, "[{\"uri\": \"tex.png\"}]");
+    char *at = strstr(noindex, "\"baseColorTexture\": {\"index\"");
+    assert_non_null(at);
+    memcpy(at + 22, "inaex", 5);
+    test_write_bytes(test_tmpfile("noindex.gltf"), noindex, strlen(noindex));
+    load_fails(test_tmpfile("noindex.gltf"), "materials[0].pbrMetallicRoughness.baseColorTexture.index: expected a texture index");
+
     /* An unknown format, and a file that is not what its extension says. */
     test_write_bytes(test_tmpfile("model.xyz"), "hello", 5);
     load_fails(test_tmpfile("model.xyz"), "unknown model format");
