@@ -9,6 +9,8 @@
  * the value it reads so the message can say where. */
 #include "scene_internal.h"
 
+#include "model.h" /* sl_path_is_scene */
+
 #include <cjson/cJSON.h>
 #include <float.h>
 #include <stdarg.h>
@@ -45,6 +47,7 @@ typedef struct {
     const char *name;     /* the scene's name in messages */
     const char *base_dir; /* for relative paths; "" = as given */
     sl_error *err;
+    scene_model_camera *model_camera; /* the models' first camera, for the default scene; may be NULL */
 } parser;
 
 /* A material name and its index, sorted by name for duplicate checks and lookups. */
@@ -832,24 +835,31 @@ static void default_object_name(char out[SL_NAME_MAX], const char *mesh_text, co
 
 static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scene *scene,
                          const name_index *sorted, int named_materials, source_map *sources, int *first_user,
-                         sl_object *obj)
+                         sl_object *obj, bool *material_given)
 {
-    static const char *const keys[] = {"name", "mesh", "shape", "slices", "stacks", "material", "transform",
+    static const char *const keys[] = {"name", "mesh", "shape", "model", "slices", "stacks", "material", "transform",
                                        NULL};
     static const char *const shapes[] = {"sphere", "plane", "box"};
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
     if (!check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX], shown[MASKED_MAX + 4];
-    const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape");
-    if (mesh && shape)
-        return fail_at(p, path, SL_ERR_FORMAT, "has both \"mesh\" and \"shape\"; give one");
-    if (!mesh && !shape)
+    const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape"), *model = member(item, "model");
+    if (!!mesh + !!shape + !!model > 1)
+        return fail_at(p, path, SL_ERR_FORMAT, "has more than one of \"mesh\", \"shape\" and \"model\"; give one");
+    if (!mesh && !shape && !model)
         return fail_at(p, path, SL_ERR_FORMAT,
-                       "needs \"mesh\" (an .obj path) or \"shape\" (\"sphere\", \"plane\" or \"box\")");
+                       "needs \"mesh\" (an .obj path), \"shape\" (\"sphere\", \"plane\" or \"box\") or \"model\" "
+                       "(a glTF, OBJ, ... file)");
     sl_mesh_source src = {.kind = SL_MESH_OBJ};
     const char *shape_name = NULL;
-    if (mesh) {
+    if (model) {
+        join_key(sub, path, "model");
+        src.kind = SL_MESH_MODEL;
+        if (!read_path(p, model, sub, src.path))
+            return false;
+        mesh = model; /* the object's default name comes from the file's */
+    } else if (mesh) {
         join_key(sub, path, "mesh");
         if (!read_path(p, mesh, sub, src.path))
             return false;
@@ -890,6 +900,7 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
         default_object_name(obj->name, mesh ? mesh->valuestring : "", shape_name);
     }
 
+    *material_given = member(item, "material") != NULL;
     if ((v = member(item, "material"))) {
         join_key(sub, path, "material");
         if (!cJSON_IsString(v))
@@ -994,6 +1005,7 @@ static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
         case SL_MESH_SPHERE: ok = sl_mesh_sphere(m, src->slices, src->stacks, p->err); break;
         case SL_MESH_PLANE: ok = sl_mesh_plane(m, p->err); break;
         case SL_MESH_BOX: ok = sl_mesh_box(m, p->err); break;
+        case SL_MESH_MODEL: ok = true; break; /* scene_expand_models, below */
         default: ok = sl_fail(p->err, SL_ERR_FORMAT, "unknown mesh kind %d", (int)src->kind); break;
         }
         total_vertices += m->vertex_count;
@@ -1054,6 +1066,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         return false;
     name_index *sorted = NULL;
     int *first_user = NULL;
+    bool *material_given = NULL;
     source_map sources = {0};
     bool ok = parse_camera(p, member(root, "camera"), &scene->camera) &&
               parse_environment(p, member(root, "environment"), &scene->environment) &&
@@ -1067,7 +1080,8 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         scene->objects = calloc(n + 1, sizeof *scene->objects);
         scene->mesh_sources = calloc(n + 1, sizeof *scene->mesh_sources);
         first_user = calloc(n + 1, sizeof *first_user);
-        if (!scene->objects || !scene->mesh_sources || !first_user || !source_map_init(&sources, n))
+        material_given = calloc(n + 1, sizeof *material_given);
+        if (!scene->objects || !scene->mesh_sources || !first_user || !material_given || !source_map_init(&sources, n))
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
     }
     int named_materials = scene->material_count;
@@ -1075,7 +1089,8 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         char path[JSON_PATH_MAX];
         join_index(path, "objects", scene->object_count);
         sl_object *obj = &scene->objects[scene->object_count];
-        ok = parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj);
+        ok = parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj,
+                          &material_given[scene->object_count]);
         if (ok)
             scene->object_count++;
     }
@@ -1086,9 +1101,12 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
     }
     if (ok && load_meshes)
-        ok = load_meshes_now(p, scene, first_user) && check_maps_have_uvs(p, scene);
+        ok = load_meshes_now(p, scene, first_user) &&
+             scene_expand_models(scene, material_given, first_user, p->name, p->model_camera, p->err) &&
+             check_maps_have_uvs(p, scene);
     free(sorted);
     free(first_user);
+    free(material_given);
     free(sources.slots);
     return ok;
 }
@@ -1229,11 +1247,12 @@ static bool scan_json(parser *p, const char *text, size_t end, bool depth, bool 
     return ok;
 }
 
-bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
-                    sl_scene *scene, sl_error *err)
+static bool parse_scene(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                        sl_scene *scene, scene_model_camera *camera, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
-    parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err};
+    parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err,
+                .model_camera = camera};
     snprintf(scene->path, sizeof scene->path, "%s", p.name);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(json, size, &end, false);
@@ -1269,9 +1288,23 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
     return ok;
 }
 
+bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                    sl_scene *scene, sl_error *err)
+{
+    return parse_scene(json, size, name, base_dir, load_meshes, scene, NULL, err);
+}
+
+bool scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
+                             scene_model_camera *camera, sl_error *err)
+{
+    return parse_scene(json, size, name, base_dir, true, scene, camera, err);
+}
+
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
+    if (!sl_path_is_scene(path))
+        return scene_load_model_alone(path, scene, err);
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))

@@ -118,13 +118,15 @@ typedef struct {
     float contrast;     /* c in the tone map exponent c/2.2 */
 } sl_render_settings;
 
-/* Where each of scene->meshes came from: an OBJ file or a built-in shape. Objects naming the
- * same source share one mesh. */
-typedef enum { SL_MESH_OBJ, SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX } sl_mesh_kind;
+/* Where each of scene->meshes came from: an OBJ file, a built-in shape or a model file (through
+ * assimp, scene/model.h). Objects naming the same source share one mesh. A model's source is
+ * first one empty mesh; loading appends the model's meshes (each SL_MESH_MODEL with the path
+ * and `slices` = its index in the file) and replaces the object by one per mesh instance. */
+typedef enum { SL_MESH_OBJ, SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX, SL_MESH_MODEL } sl_mesh_kind;
 typedef struct {
     sl_mesh_kind kind;
-    char path[SL_PATH_MAX]; /* SL_MESH_OBJ: resolved file path; "" otherwise */
-    int slices, stacks;     /* SL_MESH_SPHERE: tessellation; 0 otherwise */
+    char path[SL_PATH_MAX]; /* SL_MESH_OBJ, SL_MESH_MODEL: resolved file path; "" otherwise */
+    int slices, stacks;     /* SL_MESH_SPHERE: tessellation; SL_MESH_MODEL: slices = mesh index; 0 otherwise */
 } sl_mesh_source;
 
 typedef struct {
@@ -150,7 +152,9 @@ typedef struct {
 
 /* Load a scene file and every mesh it names (image files are only named: the raster stage
  * decodes them, sl_scene_textures_load). On failure the scene is empty and
- * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`. */
+ * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`.
+ * A path that does not end in .json is a model file (sl_path_is_scene, scene/model.h): the
+ * default scene around it (docs/scene-format.md, "Models"). */
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err);
 /* Parse scene JSON from memory; `base_dir` resolves relative paths ("" or NULL = cwd); `name`
  * starts every error message. With `load_meshes` false no geometry is built: OBJ files are not

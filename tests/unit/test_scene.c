@@ -351,9 +351,9 @@ static void test_object_errors(void **state)
     (void)state;
     parse_fails("{\"objects\": {}}", "t.json: objects: expected an array");
     parse_fails("{\"objects\": [3]}", "t.json: objects[0]: expected an object");
-    parse_fails("{\"objects\": [{}]}", "objects[0]: needs \"mesh\" (an .obj path) or \"shape\"");
+    parse_fails("{\"objects\": [{}]}", "objects[0]: needs \"mesh\" (an .obj path), \"shape\"");
     parse_fails("{\"objects\": [{\"mesh\": \"a.obj\", \"shape\": \"box\"}]}",
-                "objects[0]: has both \"mesh\" and \"shape\"");
+                "objects[0]: has more than one of \"mesh\", \"shape\" and \"model\"");
     parse_fails("{\"objects\": [{\"shape\": \"cube\"}]}",
                 "objects[0].shape: unknown shape \"cube\" (expected sphere, plane or box)");
     parse_fails("{\"objects\": [{\"shape\": \"box\", \"slices\": 8}]}",
