@@ -16,6 +16,7 @@ packages=(
   gnuplot-nox                           # benchmark plots
   time python3                          # tests/cli/image_limits.sh: peak memory (/usr/bin/time), its .hdr generator
   xvfb xdotool xauth                    # viewer end-to-end test without a display
+  parallel                              # running shards (tests/cli/shard.sh, docs/sharding.md)
 )
 
 missing=()

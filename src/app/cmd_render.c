@@ -10,6 +10,7 @@
 #include "core/timer.h"
 #include "render_options.h"
 #include "scene/scene.h"
+#include "shard.h"
 
 /* The PNG name when none is given: the scene's name in the current directory. */
 static void default_png_name(const char *scene_path, char *out, size_t size)
@@ -48,9 +49,11 @@ static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 int cmd_render(int argc, char **argv)
 {
     const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
+    const char *shard_arg = NULL;
     bool quiet = false;
     int repeat = 1;
     sl_render_options ro;
+    sl_shard shard = {0};
     sl_arg table[SL_RENDER_OPTION_COUNT + 9];
     sl_render_options_table(&ro, table);
     int n = SL_RENDER_OPTION_COUNT;
@@ -65,6 +68,10 @@ int cmd_render(int argc, char **argv)
     table[n++] = (sl_arg){"--normals", NULL, SL_ARG_STRING, &normals, 0, 0, NULL, "FILE.png", "normal visualisation (n*0.5+0.5)", NULL};
     table[n++] = (sl_arg){"--repeat", NULL, SL_ARG_INT, &repeat, 1, 1000, NULL, "N",
                           "render N frames and report each stage's median time (for benchmarks)", NULL};
+    table[n++] = (sl_arg){"--shard", NULL, SL_ARG_STRING, &shard_arg, 0, 0, NULL, "I/N",
+                          "compute image rows band I of N only and write a partial file (softlight merge)", NULL};
+    table[n++] = (sl_arg){"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
+                          "where --shard writes its partial (default: the first output + .shard-I-of-N)", NULL};
     table[n++] = (sl_arg){"--quiet", "-q", SL_ARG_FLAG, &quiet, 0, 0, NULL, NULL, "print nothing but errors", NULL};
 
     const char *positional[1];
@@ -81,7 +88,9 @@ int cmd_render(int argc, char **argv)
         return help ? 0 : 2;
     }
     sl_render_desc desc;
-    if (!sl_render_options_desc(&ro, &desc, &err)) {
+    uint64_t identity = 0;
+    if (!sl_render_options_desc(&ro, &desc, &err) || (shard_arg && !sl_shard_parse(shard_arg, &shard, &err)) ||
+        (shard_arg && !sl_shard_identity("render", argc, argv, positional[0], &identity, &err))) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
@@ -108,8 +117,18 @@ int cmd_render(int argc, char **argv)
     int status = 2;
     sl_renderer r;
     sl_output_set out = {0};
+    if (shard.count) { /* the band of the scene's size, or of --size */
+        desc.banded = true;
+        sl_shard_rows(shard.index, shard.count, desc.height ? desc.height : scene.settings.height, &desc.band[0],
+                      &desc.band[1]);
+    }
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
+    if (shard.count) {
+        const char *first = png ? png : hdr ? hdr : pfm ? pfm : exr ? exr : normals ? normals : aov;
+        if (!sl_shard_begin(&shard, &out, "render", identity, r.desc.width, r.desc.height, first, &err))
+            goto done;
+    }
     warn_repairs(scene.environment.hdr_path, &r.env_repairs);
     if (!render_frames(&r, repeat, &err))
         goto done;
@@ -137,7 +156,7 @@ int cmd_render(int argc, char **argv)
         if (!ok)
             goto done;
     }
-    if (!sl_output_set_commit(&out, &err))
+    if (!sl_output_set_commit(&out, &err) || (shard.count && !sl_shard_finish(&shard, &err)))
         goto done;
     if (!quiet) {
         const sl_lighting_options *l = &r.uniforms->options;
@@ -151,13 +170,17 @@ int cmd_render(int argc, char **argv)
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
                    r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
         const char *outs[] = {png, hdr, pfm, exr, aov, normals};
-        for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++)
+        for (size_t i = 0; i < sizeof outs / sizeof outs[0] && !shard.count; i++)
             if (outs[i])
                 printf("wrote %s\n", outs[i]);
+        if (shard.count)
+            printf("wrote %s (rows %d..%d of %d; softlight merge joins the %d shards)\n", shard.partial,
+                   shard.part.y0, shard.part.y1, shard.part.height, shard.count);
     }
     status = 0;
 done:
     sl_output_set_free(&out);
+    sl_shard_free(&shard);
     sl_renderer_free(&r);
 done_scene:
     if (status)

@@ -127,6 +127,17 @@ bool sl_image_check_budget(const char *name, size_t offset, int width, int heigh
 /* The exact sRGB -> linear curve (IEC 61966-2-1) of one 8-bit code, as the texture reader uses. */
 float sl_srgb8_to_linear(unsigned char code);
 
+/* A display value in [0, 1] to its 8-bit code, rounding to nearest; NaN and negatives -> 0,
+ * 1 and above -> 255. What the PNG writer stores and the tone map's display codes are. */
+static inline int sl_unorm8(float v)
+{
+    if (!(v > 0.0f))
+        return 0;
+    if (v >= 1.0f)
+        return 255;
+    return (int)(v * 255.0f + 0.5f);
+}
+
 /* Writers: atomic (temporary file + rename). hdr needs 3 channels; pfm 1 or 3;
  * png takes 1 or 3 channels of already display-encoded values in [0,1]. */
 bool sl_image_write_hdr(const char *path, const sl_image *img, sl_error *err);

@@ -112,15 +112,8 @@ static void sink_write(void *context, void *data, int size)
     s->size += (size_t)size;
 }
 
-/* [0, 1] -> 0..255, rounding to nearest; NaN and negatives -> 0, above 1 -> 255. */
-static unsigned char to_byte(float v)
-{
-    if (!(v > 0.0f))
-        return 0;
-    if (v >= 1.0f)
-        return 255;
-    return (unsigned char)(v * 255.0f + 0.5f);
-}
+/* [0, 1] -> 0..255 (sl_unorm8, image.h). */
+static unsigned char to_byte(float v) { return (unsigned char)sl_unorm8(v); }
 
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err)
 {

@@ -213,11 +213,27 @@ bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err)
     return true;
 }
 
+/* A shard's band: the whole frame is rasterized (so every texel in the band is what the unsharded
+ * frame has), then the rows outside are emptied; per-pixel stages skip empty texels. */
+static void keep_band(sl_gbuffer *gb, const int band[2])
+{
+    const sl_gbuffer_texel empty = {.depth = 1.0f};
+    for (int y = 0; y < gb->height; y++) {
+        int row = gb->height - 1 - y; /* image row 0 = top = G-buffer row height - 1 */
+        if (row >= band[0] && row < band[1])
+            continue;
+        for (int x = 0; x < gb->width; x++)
+            *sl_gbuffer_at(gb, x, y) = empty;
+    }
+}
+
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
     bool ok = sl_raster_scene_textured(r->raster, r->scene, &r->textures, cam ? cam : &r->scene->camera,
                                        &r->gbuffer, err);
+    if (ok && r->desc.banded)
+        keep_band(&r->gbuffer, r->desc.band);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

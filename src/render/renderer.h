@@ -43,6 +43,10 @@ typedef struct {
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
     size_t image_budget;          /* bytes one image read from a file may take decoded (the
                                      environment, the irradiance map); 0 = SL_IMAGE_BUDGET_DEFAULT */
+    /* a shard (app/shard.h): only image rows [band[0], band[1]) (row 0 = top) keep their
+     * G-buffer texels after the raster, so lighting and ground truth cost only the band */
+    bool banded;
+    int band[2];
 } sl_render_desc;
 
 typedef struct {
@@ -83,7 +87,8 @@ bool sl_renderer_set_irradiance(sl_renderer *r, sl_irradiance_method method, sl_
 /* Change the render size (reallocates only when it changes). */
 bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
 
-/* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera). */
+/* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera); with a band, the
+ * texels outside it are cleared (every field 0, depth 1: nothing drawn). */
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err);
 /* Set r->uniforms for lighting the current G-buffer seen from `cam` (what shade and trace use),
  * with desc.lighting as it is. */
