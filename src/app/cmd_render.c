@@ -54,7 +54,7 @@ int cmd_render(int argc, char **argv)
     int repeat = 1;
     sl_render_options ro;
     sl_shard shard = {0};
-    sl_arg table[SL_RENDER_OPTION_COUNT + 9];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 11];
     sl_render_options_table(&ro, table);
     int n = SL_RENDER_OPTION_COUNT;
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
