@@ -109,7 +109,8 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
         total_vertices += scene->meshes[i].vertex_count;
     int new_objects = 0;
     for (int i = 0; ok && i < sources; i++) {
-        const sl_mesh_source *src = &scene->mesh_sources[i];
+        /* A copy: growing mesh_sources below moves the array. */
+        const sl_mesh_source source = scene->mesh_sources[i], *src = &source;
         if (src->kind != SL_MESH_MODEL)
             continue;
         sl_model *m = &models[i];
@@ -139,7 +140,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             scene->meshes[scene->mesh_count] = m->meshes[k].mesh;
             memset(&m->meshes[k].mesh, 0, sizeof m->meshes[k].mesh);
             scene->mesh_sources[scene->mesh_count] = (sl_mesh_source){.kind = SL_MESH_MODEL, .slices = k};
-            snprintf(scene->mesh_sources[scene->mesh_count].path, SL_PATH_MAX, "%s", src->path);
+            memcpy(scene->mesh_sources[scene->mesh_count].path, src->path, SL_PATH_MAX);
             scene->mesh_count++;
         }
         material_base[i] = scene->material_count;
