@@ -282,9 +282,6 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
     if (!ok)
         return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for normals", where);
     if (uv) {
-        out->tangents = calloc(am->mNumVertices, sizeof *out->tangents);
-        if (!out->tangents)
-            return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for tangents", where);
         /* Gram-Schmidt against the final normal; w from the bitangent's side. A tangent the UVs
          * leave undefined (degenerate mapping) gets any perpendicular: it only matters under a
          * normal map, where such a mapping has no meaning anyway. */
@@ -298,7 +295,7 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
                 float s = dot3(cross(n, t3), ai3(am->mBitangents[v]));
                 w = s < 0.0f ? -1.0f : 1.0f;
             }
-            out->tangents[v] = vec4_from3(t3, w);
+            m->tangents[v] = vec4_from3(t3, w); /* allocated with the UVs */
         }
     }
     return sl_mesh_validate(m, where, err);
@@ -604,7 +601,6 @@ void sl_model_free(sl_model *model)
         return;
     for (int i = 0; model->meshes && i < model->mesh_count; i++) {
         sl_mesh_free(&model->meshes[i].mesh);
-        free(model->meshes[i].tangents);
     }
     for (int i = 0; model->images && i < model->image_count; i++)
         free(model->images[i].bytes);

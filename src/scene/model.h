@@ -85,8 +85,8 @@ typedef struct {
 } sl_model_image;
 
 typedef struct {
-    sl_mesh mesh;   /* validated: finite positions, unit normals, indices in range */
-    vec4 *tangents; /* per vertex, xyz unit, w = handedness (+1/-1); NULL without UVs */
+    sl_mesh mesh;   /* validated: finite positions, unit normals, indices in range; with UVs,
+                       unit tangents with handedness w = +-1 (mesh.tangents) */
     int material;   /* index into sl_model.materials */
 } sl_model_mesh;
 

@@ -130,8 +130,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
                          name, first_user[i], SCENE_MAX_TOTAL_VERTICES);
             break;
         }
-        /* Meshes move into the scene (the model keeps empty ones); tangents wait for sl_mesh
-         * to carry them. */
+        /* Meshes move into the scene, tangents included (the model keeps empty ones). */
         mesh_base[i] = scene->mesh_count;
         ok = grow((void **)&scene->meshes, (size_t)(scene->mesh_count + m->mesh_count), sizeof *scene->meshes) &&
              grow((void **)&scene->mesh_sources, (size_t)(scene->mesh_count + m->mesh_count),

@@ -169,8 +169,8 @@ static void test_gltf_with_bin_and_png(void **state)
      * det = 0.25*1 - 0*0.75 = 0.25: T = ((1,0,0) - 0.75 (0,1,0)) / 0.25 ~ (1, -0.75, 0),
      * normalised (0.8, -0.6, 0). assimp's "v" is flipped, which flips the bitangent: w = -1
      * relative to N x T; the tangent's direction along u is the same. */
-    assert_non_null(m.meshes[0].tangents);
-    vec4 t = m.meshes[0].tangents[v1];
+    assert_non_null(m.meshes[0].mesh.tangents);
+    vec4 t = m.meshes[0].mesh.tangents[v1];
     assert_near(t.x, 0.8f, 1e-4f);
     assert_near(t.y, -0.6f, 1e-4f);
     assert_near(t.z, 0.0f, 1e-6f);
