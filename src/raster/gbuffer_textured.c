@@ -7,7 +7,8 @@
  * nothing for this program: no quads, no derivatives, no UV or tangent varyings.
  *
  * What a map does (docs/scene-format.md "Texture maps"): kd = uKd * kd_map.rgb, ks = uKs *
- * ks_map.rgb, alpha = uAlpha * alpha_map.r, the normal perturbed by normal_map in tangent space
+ * ks_map.rgb, alpha = uAlpha * alpha_map.r (a GGX material: the lobe parameter of roughness
+ * uRoughness * alpha_map.r, gbuffer.h), the normal perturbed by normal_map in tangent space
  * as glTF does it (B = cross(N, T) * w, N' = normalize(T n.x + B n.y + N n.z), n = rgb * 2 - 1),
  * discard where mask_map.r (else kd_map.a) < uAlphaCutoff. Each map reads its own transformed
  * coordinate vTexCoord * ST.xy + ST.zw with an implicit level of detail, as GLSL's texture(). */
@@ -100,7 +101,7 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
     g->normal = n;
     g->kd = mul3(u->uKd, vec3(kd.x, kd.y, kd.z));
     g->ks = mul3(u->uKs, vec3(ks.x, ks.y, ks.z));
-    g->alpha = u->uAlpha * gloss.x;
+    g->alpha = u->uRoughness >= 0.0f ? sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x) : u->uAlpha * gloss.x;
     g->depth = in->frag_coord.z;
 }
 
@@ -145,6 +146,7 @@ void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 v
     u->uKd = m->kd;
     u->uKs = m->ks;
     u->uAlpha = m->alpha;
+    u->uRoughness = m->brdf == SL_BRDF_GGX ? m->roughness : -1.0f;
     u->uAlphaCutoff = m->alpha_cutoff;
     sl_sampler2D *samplers[SL_MAP_COUNT] = {&u->uKdMap, &u->uKsMap, &u->uAlphaMap, &u->uNormalMap, &u->uMaskMap};
     vec4 *st[SL_MAP_COUNT] = {&u->uKdMapST, &u->uKsMapST, &u->uAlphaMapST, &u->uNormalMapST, &u->uMaskMapST};

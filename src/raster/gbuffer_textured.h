@@ -47,7 +47,8 @@ typedef struct {
     mat3 uNormalMatrix; /* transpose(inverse(mat3(uModel))) */
     mat3 uModel3;       /* mat3(uModel): takes tangents to world space */
     vec3 uKd, uKs;
-    float uAlpha;
+    float uAlpha;       /* Phong exponent, scaled by alpha_map.r */
+    float uRoughness;   /* GGX roughness, scaled by alpha_map.r; -1 for a Phong material */
     sl_sampler2D uKdMap, uKsMap, uAlphaMap, uNormalMap, uMaskMap;
     vec4 uKdMapST, uKsMapST, uAlphaMapST, uNormalMapST, uMaskMapST; /* uv * xy + zw */
     int uMaps;          /* SL_GBUFFER_MAP_* bits */
