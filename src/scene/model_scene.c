@@ -30,7 +30,7 @@
 /* One of the file's materials as softlight's (see the top of this file). */
 static sl_material map_material(const sl_model_material *m, const char *prefix)
 {
-    sl_material out;
+    sl_material out = {0}; /* no maps, Phong: what the fields below do not set */
     snprintf(out.name, sizeof out.name, "%.31s/%.31s", prefix, m->name);
     if (m->kind == SL_MODEL_MAT_PHONG) {
         out.kd = m->kd;
