@@ -47,6 +47,33 @@ pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
 [ -n "$pairs" ] && [ $((pairs * 2)) = "$max" ] || fail "hammersley[$pairs] in $frag holds $((pairs * 2)) pairs, SL_HAMMERSLEY_MAX = $max"
 
+# The textured G-buffer program: shaders/gbuffer_textured.vert + .frag, sl_gbuffer_tex_uniforms
+# (src/raster/gbuffer_textured.h) and src/gl/gbuffer_pass.c (which also sets gbuffer.vert/.frag's,
+# a subset of these names). trace/trace_ctx are C-only (softlight trace), not u-prefixed.
+tvert=shaders/gbuffer_textured.vert tfrag=shaders/gbuffer_textured.frag thdr=src/raster/gbuffer_textured.h
+tgl=src/gl/gbuffer_pass.c
+tglsl=$(sed -n 's/^uniform [A-Za-z0-9_]* \(u[A-Z][A-Za-z0-9]*\).*/\1/p' "$tvert" "$tfrag" | sort -u)
+tc=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_gbuffer_tex_uniforms;/{ print body }' "$thdr" |
+     sed 's,/\*.*\*/,,' | grep -o '\bu[A-Z][A-Za-z0-9]*\b' | sort -u)
+thost=$(grep -o '"u[A-Z][A-Za-z0-9]*' "$tgl" | tr -d '"' | sort -u)
+for u in $tglsl; do
+    grep -qx "$u" <<<"$tc" || fail "$u: in $tvert/$tfrag, not a field of sl_gbuffer_tex_uniforms ($thdr)"
+    grep -qx "$u" <<<"$thost" || fail "$u: in $tvert/$tfrag, never set by $tgl"
+done
+for u in $tc; do grep -qx "$u" <<<"$tglsl" || fail "$u: a field of sl_gbuffer_tex_uniforms, not a uniform of $tvert/$tfrag"; done
+for u in $thost; do grep -qx "$u" <<<"$tglsl" || fail "$u: set by $tgl, not a uniform of $tvert/$tfrag"; done
+# uMaps bits: GLSL's MAP_* = 1 << SL_MAP_* (scene.h's slot order), MAP_CUTOFF = 1 << SL_MAP_COUNT
+slot=0
+for x in KD KS ALPHA NORMAL MASK CUTOFF; do
+    g=$(sed -n "s/^const int MAP_$x = \([0-9]*\);.*/\1/p" "$tfrag")
+    [ "$g" = $((1 << slot)) ] || fail "MAP_$x = '$g' in $tfrag, expected $((1 << slot)) (SL_GBUFFER_MAP_$x)"
+    slot=$((slot + 1))
+done
+grep -q 'SL_MAP_KD, SL_MAP_KS, SL_MAP_ALPHA, SL_MAP_NORMAL, SL_MAP_MASK, SL_MAP_COUNT' src/scene/scene.h ||
+    fail "sl_map_slot's order in src/scene/scene.h is not the one $tfrag's MAP_* bits assume"
+
 n=$(wc -w <<<"$glsl")
-[ "$fails" -eq 0 ] && echo "uniforms in sync: $n uniforms of $frag in sl_lighting_uniforms and $gl; constants agree"
+nt=$(wc -w <<<"$tglsl")
+[ "$fails" -eq 0 ] && echo "uniforms in sync: $n uniforms of $frag in sl_lighting_uniforms and $gl; constants agree;" \
+    "$nt uniforms of $tvert/$tfrag in sl_gbuffer_tex_uniforms and $tgl"
 [ "$fails" -eq 0 ]
