@@ -270,6 +270,30 @@ static void drop_placeholders(sl_scene *scene, int sources)
     free(remap);
 }
 
+/* The material at *index without its maps, appended once (the copy's name ends in "/plain") and
+ * *index moved to it: a model may use one material on meshes with and without texture
+ * coordinates, and the raster stage refuses maps on a mesh that has none. */
+static bool untextured_copy(sl_scene *scene, int *index, sl_error *err)
+{
+    sl_material plain = scene->materials[*index];
+    memset(plain.maps, 0, sizeof plain.maps);
+    plain.textured = plain.masked = false;
+    char name[SL_NAME_MAX];
+    snprintf(name, sizeof name, "%.56s/plain", plain.name);
+    memcpy(plain.name, name, sizeof name);
+    for (int i = 0; i < scene->material_count; i++) {
+        if (strcmp(scene->materials[i].name, plain.name) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    if (!grow((void **)&scene->materials, (size_t)scene->material_count + 1, sizeof *scene->materials))
+        return sl_fail(err, SL_ERR_MEMORY, "out of memory for materials");
+    scene->materials[scene->material_count] = plain;
+    *index = scene->material_count++;
+    return true;
+}
+
 bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
                          scene_model_camera *camera, sl_error *err)
 {
@@ -372,6 +396,10 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             /* assimp's stand-in for "no material" (an OBJ without MTL) is the scene's default. */
             bool stand_in = strcmp(m->materials[file_material].name, AI_DEFAULT_NAME) == 0;
             out->material = material_given[o] || stand_in ? obj->material : material_base[obj->mesh] + file_material;
+            /* A file's textured material on a mesh without texture coordinates: its constants only. */
+            if (out->material != obj->material && !scene->meshes[out->mesh].texcoords &&
+                scene->materials[out->material].textured)
+                ok = untextured_copy(scene, &out->material, err);
             out->model = mat4_mul(obj->model, inst->world);
         }
     }

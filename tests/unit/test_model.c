@@ -554,6 +554,25 @@ static void test_gltf_material_drawn(void **state)
     assert_near(mat->alpha_cutoff, 0.3f, 1e-6f);
     check_clay_drawn(&scene);
     sl_scene_free(&scene);
+
+    /* The same material on a mesh without texture coordinates: drawn with its constants (Kd =
+     * 0.6, 0.3, 0.15), not refused by the raster stage, and not cut. */
+    char text[4096], buffer[128];
+    snprintf(buffer, sizeof buffer, "{\"uri\": \"drawn.bin\", \"byteLength\": %d}", BIN_SIZE);
+    gltf_text(text, sizeof text, NODES, buffer, "[{\"uri\": \"tex.png\"}]");
+    char *at = strstr(text, ", \"TEXCOORD_0\": 1");
+    assert_non_null(at);
+    memmove(at, at + 17, strlen(at + 17) + 1);
+    test_write_bytes(test_tmpfile("nouv.gltf"), text, strlen(text));
+    if (!sl_scene_load(test_tmpfile("nouv.gltf"), &scene, &err))
+        fail_msg("%s", err.msg);
+    assert_false(scene.materials[scene.objects[0].material].textured);
+    sl_gbuffer_texel t = centre_texel(&scene, AT_CUT);
+    assert_true(sl_gbuffer_covered(&t));
+    assert_near(t.kd.x, 0.6f, 1e-6f);
+    assert_near(t.kd.y, 0.3f, 1e-6f);
+    assert_near(t.kd.z, 0.15f, 1e-6f);
+    sl_scene_free(&scene);
 }
 
 static void test_glb_material_drawn(void **state)
