@@ -176,7 +176,10 @@ bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textu
         return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for %d textures", scene->path, scene->image_count);
     for (int i = 0; i < scene->image_count; i++) {
         const sl_scene_image *img = &scene->images[i];
-        if (!sl_texture_load(img->path, img->srgb, budget, &out->textures[i], err)) {
+        bool ok = img->bytes ? sl_texture_load_memory(img->bytes, img->size, img->path, img->srgb, budget,
+                                                      &out->textures[i], err)
+                             : sl_texture_load(img->path, img->srgb, budget, &out->textures[i], err);
+        if (!ok) {
             /* the loader names the file; say which scene and which material's map wanted it */
             sl_error_prefix(err, "%s: %s: ", scene->path, img->used_by);
             sl_scene_textures_free(out);

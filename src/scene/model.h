@@ -26,7 +26,7 @@
 #define SL_MODEL_MAX_IMAGES 1024
 #define SL_MODEL_MAX_NODE_DEPTH 256
 
-/* glTF's alphaMode. BLEND is kept as a description; the scene draws it as OPAQUE (no sorting
+/* glTF's alphaMode. BLEND is kept as a description; the scene draws it as MASK at 0.5 (no sorting
  * of transparent surfaces in a deferred G-buffer). */
 typedef enum { SL_ALPHA_OPAQUE, SL_ALPHA_MASK, SL_ALPHA_BLEND } sl_alpha_mode;
 

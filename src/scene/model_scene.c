@@ -7,12 +7,18 @@
  * onto softlight's, and the default scene (shipped environment, the file's first camera or one
  * framing the bounds). scene.c reads the "model" key and calls scene_expand_models.
  *
- * Materials, interim until scene materials gain textures and GGX (issue 13, "Materials"):
- * glTF metallic-roughness maps to Kd = baseColor (1 - metallic), Ks = mix(0.04, baseColor,
- * metallic) and the Phong exponent alpha = 2 / a^2 - 2 with a = max(r^2, 1e-4) (the Phong/GGX
- * equivalence; ERRATA.md: it misses GGX's tail); MTL maps Kd, Ks and Ns (the Phong exponent)
- * as they are. Textures, tangents, emissive, alpha modes and double-sidedness are imported
- * (model.h) but not yet drawn. */
+ * Materials (docs/scene-format.md "Models"): glTF metallic-roughness becomes a GGX material with
+ * roughness = roughnessFactor, Kd = baseColor (1 - metallic), Ks = mix(0.04, baseColor, metallic);
+ * baseColorTexture a kd_map (sRGB) whose texel multiplies Kd (exact: metallic is a constant factor),
+ * and the ks_map too when metallic is 1 (Ks = baseColor exactly); normalTexture a normal_map; MASK
+ * (and BLEND, which a G-buffer cannot blend) a cutoff on kd_map's alpha. MTL-style materials keep
+ * the Phong set: Kd, Ks, Ns, map_Kd and map_Ks (sRGB), map_Ns an alpha_map (exponent = Ns times its
+ * red channel), map_Bump / norm a tangent-space normal_map. What a material has that the G-buffer
+ * cannot carry yet (per-texel metallic and roughness, occlusion, emissive, a normal scale) is
+ * not drawn, and one warning line per model names it.
+ *
+ * Images: a file becomes a scene image by its path; an embedded one (.glb, data URI) by its bytes,
+ * copied into the scene ("MODEL#N"), so that the raster stage decodes each once either way. */
 #include "model.h"
 #include "scene_internal.h"
 
@@ -26,25 +32,189 @@
 #define AI_DEFAULT_NAME "DefaultMaterial"
 #define DEFAULT_ENVIRONMENT SL_SHADER_DIR "/../scenes/envmaps/studio.hdr"
 
+/* glTF sampler values (GL enums). */
+enum { GL_NEAREST_ = 9728, GL_LINEAR_ = 9729, GL_NEAREST_MIPMAP_NEAREST_ = 9984, GL_CLAMP_ = 33071,
+       GL_MIRROR_ = 33648 };
+
+/* What a model has that is not drawn, gathered over its materials for the one warning line. */
+enum {
+    IGNORED_MR_TEXTURE = 1 << 0,  /* metallicRoughnessTexture */
+    IGNORED_OCCLUSION = 1 << 1,   /* occlusionTexture */
+    IGNORED_EMISSIVE = 1 << 2,    /* emissiveFactor / emissiveTexture, MTL Ke / map_Ke */
+    IGNORED_NORMAL_SCALE = 1 << 3, /* normalTexture.scale != 1: drawn at 1 */
+    IGNORED_BLEND = 1 << 4,       /* alphaMode BLEND: drawn as MASK at 0.5 */
+    IGNORED_WRAP_T = 1 << 5,      /* wrapT differs from wrapS: wrapS on both axes */
+    IGNORED_UV_SET = 1 << 6,      /* a texture reads TEXCOORD_1..: read from TEXCOORD_0 */
+    IGNORED_DECODED = 1 << 7,     /* an embedded image assimp decoded to texels: map dropped */
+    IGNORED_MASK_CONSTANT = 1 << 8, /* MASK/BLEND without a base colour texture: drawn opaque */
+    IGNORED_COUNT = 9
+};
+static const char *const IGNORED_NAMES[IGNORED_COUNT] = {
+    "metallicRoughnessTexture (per-texel metallic and roughness; the factors are used)",
+    "occlusionTexture",
+    "emissive",
+    "normalTexture.scale (drawn at 1)",
+    "alphaMode BLEND (drawn as MASK at 0.5)",
+    "wrapT differing from wrapS (wrapS used on both axes)",
+    "texture coordinate sets other than 0 (set 0 used)",
+    "embedded images stored as decoded texels (maps dropped)",
+    "MASK without a base colour texture (drawn opaque)",
+};
+
+/* The scene image for one of the model's images in one colour space, added on first use (the
+ * scene's rule: one image per (path, srgb)). Embedded bytes are copied: the model is freed after
+ * the expansion, the scene keeps them until sl_scene_free. */
+static bool scene_image_of(sl_scene *scene, const sl_model *model, int image, bool srgb, const char *used_by,
+                           int *index, sl_error *err)
+{
+    const sl_model_image *im = &model->images[image];
+    char path[SL_PATH_MAX];
+    if (im->bytes)
+        snprintf(path, sizeof path, "%.1000s#%d", model->path, im->embedded);
+    else
+        snprintf(path, sizeof path, "%s", im->path);
+    for (int i = 0; i < scene->image_count; i++) {
+        if (scene->images[i].srgb == srgb && strcmp(scene->images[i].path, path) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    if (scene->image_count == SL_SCENE_MAX_IMAGES)
+        return sl_fail(err, SL_ERR_RANGE, "%s: more than %d distinct images in one scene", model->path,
+                       SL_SCENE_MAX_IMAGES);
+    if (!scene->images && !(scene->images = calloc(SL_SCENE_MAX_IMAGES, sizeof *scene->images)))
+        return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for the image table", model->path);
+    sl_scene_image *img = &scene->images[scene->image_count];
+    memset(img, 0, sizeof *img);
+    if (im->bytes) {
+        if (!(img->bytes = malloc(im->size)))
+            return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for embedded image %d", model->path, im->embedded);
+        memcpy(img->bytes, im->bytes, im->size);
+        img->size = im->size;
+    }
+    memcpy(img->path, path, sizeof path);
+    img->srgb = srgb;
+    snprintf(img->used_by, sizeof img->used_by, "%s", used_by);
+    *index = scene->image_count++;
+    return true;
+}
+
+/* glTF's sampler onto a scene map's one wrap and three filters (docs/scene-format.md "Models"):
+ * NEAREST minification, or NEAREST magnification with no or nearest-only minification, is
+ * "nearest"; LINEAR minification without mips is "bilinear"; mipmapped or unset is
+ * "trilinear". */
+static void map_sampler(const sl_model_sampler *s, sl_material_map *map, unsigned *ignored)
+{
+    int ws = s->wrap_s, wt = s->wrap_t;
+    map->wrap = ws == GL_CLAMP_ ? SL_MAP_CLAMP : ws == GL_MIRROR_ ? SL_MAP_MIRROR : SL_MAP_REPEAT;
+    sl_map_wrap t = wt == GL_CLAMP_ ? SL_MAP_CLAMP : wt == GL_MIRROR_ ? SL_MAP_MIRROR : SL_MAP_REPEAT;
+    if (t != map->wrap)
+        *ignored |= IGNORED_WRAP_T;
+    int mn = s->min_filter, mg = s->mag_filter;
+    if (mn == GL_NEAREST_ || (mg == GL_NEAREST_ && (mn == 0 || mn == GL_NEAREST_MIPMAP_NEAREST_)))
+        map->filter = SL_MAP_NEAREST;
+    else if (mn == GL_LINEAR_)
+        map->filter = SL_MAP_BILINEAR;
+    else
+        map->filter = SL_MAP_TRILINEAR;
+}
+
+/* A texture slot of the file's material as a scene map; false only on an error (an image
+ * table full, out of memory). A slot without an image leaves the map unset. */
+static bool map_texture(sl_scene *scene, const sl_model *model, const sl_model_texref *ref, bool srgb,
+                        const char *used_by, sl_material_map *map, unsigned *ignored, sl_error *err)
+{
+    if (ref->image < 0)
+        return true;
+    if (model->images[ref->image].width > 0) {
+        *ignored |= IGNORED_DECODED;
+        return true;
+    }
+    if (ref->uv_set != 0)
+        *ignored |= IGNORED_UV_SET;
+    *map = (sl_material_map){.set = true, .uv_scale = vec2(1.0f, 1.0f)};
+    map_sampler(&ref->sampler, map, ignored);
+    return scene_image_of(scene, model, ref->image, srgb, used_by, &map->image, err);
+}
 
 /* One of the file's materials as softlight's (see the top of this file). */
-static sl_material map_material(const sl_model_material *m, const char *prefix)
+static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_material *m, const char *prefix,
+                         sl_material *out, unsigned *ignored, sl_error *err)
 {
-    sl_material out = {0}; /* no maps, Phong: what the fields below do not set */
-    snprintf(out.name, sizeof out.name, "%.31s/%.31s", prefix, m->name);
+    memset(out, 0, sizeof *out);
+    snprintf(out->name, sizeof out->name, "%.31s/%.31s", prefix, m->name);
+    char used[320]; /* fits the format below; sl_scene_image.used_by keeps its first 255 */
+#define USED(slot) (snprintf(used, sizeof used, "%.200s: material \"%.31s\": %s", model->path, m->name, slot), used)
+    bool ok;
     if (m->kind == SL_MODEL_MAT_PHONG) {
-        out.kd = m->kd;
-        out.ks = m->ks;
-        out.alpha = m->ns < MODEL_MAX_ALPHA ? m->ns : MODEL_MAX_ALPHA;
-        return out;
+        out->brdf = SL_BRDF_PHONG;
+        out->kd = m->kd;
+        out->ks = m->ks;
+        out->alpha = m->ns < MODEL_MAX_ALPHA ? m->ns : MODEL_MAX_ALPHA;
+        ok = map_texture(scene, model, &m->base_color_tex, true, USED("map_Kd"), &out->maps[SL_MAP_KD], ignored,
+                         err) &&
+             map_texture(scene, model, &m->specular_tex, true, USED("map_Ks"), &out->maps[SL_MAP_KS], ignored, err) &&
+             map_texture(scene, model, &m->metallic_roughness_tex, false, USED("map_Ns"), &out->maps[SL_MAP_ALPHA],
+                         ignored, err) &&
+             map_texture(scene, model, &m->normal_tex, false, USED("map_Bump"), &out->maps[SL_MAP_NORMAL], ignored,
+                         err);
+    } else {
+        vec3 base = xyz(m->base_color);
+        out->brdf = SL_BRDF_GGX;
+        out->roughness = m->roughness;
+        out->kd = scale3(base, 1.0f - m->metallic);
+        out->ks = vec3(mixf(0.04f, base.x, m->metallic), mixf(0.04f, base.y, m->metallic),
+                       mixf(0.04f, base.z, m->metallic));
+        /* The Phong exponent of the same lobe (alpha = 2 / a^2 - 2), for readers that want one. */
+        float a = maxf(m->roughness * m->roughness, 1e-4f);
+        out->alpha = minf(2.0f / (a * a) - 2.0f, MODEL_MAX_ALPHA);
+        ok = map_texture(scene, model, &m->base_color_tex, true, USED("baseColorTexture"), &out->maps[SL_MAP_KD],
+                         ignored, err) &&
+             map_texture(scene, model, &m->normal_tex, false, USED("normalTexture"), &out->maps[SL_MAP_NORMAL],
+                         ignored, err);
+        /* A full metal's Ks is its base colour, texel included: the same image as ks_map. */
+        if (ok && m->metallic == 1.0f && out->maps[SL_MAP_KD].set)
+            out->maps[SL_MAP_KS] = out->maps[SL_MAP_KD];
+        if (m->metallic_roughness_tex.image >= 0)
+            *ignored |= IGNORED_MR_TEXTURE;
+        if (m->occlusion_tex.image >= 0)
+            *ignored |= IGNORED_OCCLUSION;
+        if (m->normal_tex.image >= 0 && m->normal_tex.scale != 1.0f)
+            *ignored |= IGNORED_NORMAL_SCALE;
+        /* MASK cuts where baseColorFactor.a * texel.a < alphaCutoff, i.e. texel.a < cutoff / factor.a. */
+        if (m->alpha_mode != SL_ALPHA_OPAQUE) {
+            float cutoff = m->alpha_mode == SL_ALPHA_BLEND ? 0.5f : m->alpha_cutoff;
+            if (m->alpha_mode == SL_ALPHA_BLEND)
+                *ignored |= IGNORED_BLEND;
+            if (out->maps[SL_MAP_KD].set) {
+                out->masked = true;
+                out->alpha_cutoff = m->base_color.w > 0.0f ? minf(cutoff / m->base_color.w, 1.0f) : 1.0f;
+            } else {
+                *ignored |= IGNORED_MASK_CONSTANT;
+            }
+        }
     }
-    vec3 base = xyz(m->base_color);
-    out.kd = scale3(base, 1.0f - m->metallic);
-    out.ks = vec3(mixf(0.04f, base.x, m->metallic), mixf(0.04f, base.y, m->metallic),
-                  mixf(0.04f, base.z, m->metallic));
-    float a = maxf(m->roughness * m->roughness, 1e-4f);
-    out.alpha = minf(2.0f / (a * a) - 2.0f, MODEL_MAX_ALPHA);
-    return out;
+#undef USED
+    if (m->emissive.x > 0.0f || m->emissive.y > 0.0f || m->emissive.z > 0.0f || m->emissive_tex.image >= 0)
+        *ignored |= IGNORED_EMISSIVE;
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        out->textured |= out->maps[slot].set;
+    return ok;
+}
+
+/* The one warning line for a model with something not drawn (stderr: the scene loader has no
+ * other channel for a message that is not an error). */
+static void warn_ignored(const char *path, unsigned ignored)
+{
+    if (!ignored)
+        return;
+    char line[1024];
+    int n = snprintf(line, sizeof line, "softlight: warning: %.300s: not drawn:", path);
+    for (int i = 0; i < IGNORED_COUNT && n > 0 && (size_t)n < sizeof line; i++)
+        if (ignored & (1u << i))
+            n += snprintf(line + n, sizeof line - (size_t)n, "%s %s", n > 0 && line[n - 1] == ':' ? "" : ",",
+                          IGNORED_NAMES[i]);
+    fprintf(stderr, "%s\n", line);
 }
 
 static bool grow(void **array, size_t count, size_t size)
@@ -54,6 +224,18 @@ static bool grow(void **array, size_t count, size_t size)
         return false;
     *array = p;
     return true;
+}
+
+/* The model's texture coordinates are glTF's (v = 0 at an image's first row, model.h); the
+ * scene's are OBJ's and GL's (v = 0 at the bottom row, docs/scene-format.md "Texture maps"):
+ * v -> 1 - v. The tangent (along dP/du) stays; the bitangent (along dP/dv) turns, so does its
+ * handedness w. */
+static void to_scene_uv(sl_mesh *mesh)
+{
+    for (int v = 0; mesh->texcoords && v < mesh->vertex_count; v++) {
+        mesh->texcoords[v].y = 1.0f - mesh->texcoords[v].y;
+        mesh->tangents[v].w = -mesh->tangents[v].w;
+    }
 }
 
 /* The base name of a path without its extension, for material and object names. */
@@ -86,6 +268,30 @@ static void drop_placeholders(sl_scene *scene, int sources)
         scene->objects[o].mesh = remap[scene->objects[o].mesh];
     scene->mesh_count = kept;
     free(remap);
+}
+
+/* The material at *index without its maps, appended once (the copy's name ends in "/plain") and
+ * *index moved to it: a model may use one material on meshes with and without texture
+ * coordinates, and the raster stage refuses maps on a mesh that has none. */
+static bool untextured_copy(sl_scene *scene, int *index, sl_error *err)
+{
+    sl_material plain = scene->materials[*index];
+    memset(plain.maps, 0, sizeof plain.maps);
+    plain.textured = plain.masked = false;
+    char name[SL_NAME_MAX];
+    snprintf(name, sizeof name, "%.56s/plain", plain.name);
+    memcpy(plain.name, name, sizeof name);
+    for (int i = 0; i < scene->material_count; i++) {
+        if (strcmp(scene->materials[i].name, plain.name) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    if (!grow((void **)&scene->materials, (size_t)scene->material_count + 1, sizeof *scene->materials))
+        return sl_fail(err, SL_ERR_MEMORY, "out of memory for materials");
+    scene->materials[scene->material_count] = plain;
+    *index = scene->material_count++;
+    return true;
 }
 
 bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
@@ -136,6 +342,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
              grow((void **)&scene->mesh_sources, (size_t)(scene->mesh_count + m->mesh_count),
                   sizeof *scene->mesh_sources);
         for (int k = 0; ok && k < m->mesh_count; k++) {
+            to_scene_uv(&m->meshes[k].mesh);
             scene->meshes[scene->mesh_count] = m->meshes[k].mesh;
             memset(&m->meshes[k].mesh, 0, sizeof m->meshes[k].mesh);
             scene->mesh_sources[scene->mesh_count] = (sl_mesh_source){.kind = SL_MESH_MODEL, .slices = k};
@@ -147,10 +354,21 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
                         sizeof *scene->materials);
         char prefix[32];
         base_name(src->path, prefix);
-        for (int k = 0; ok && k < m->material_count; k++)
-            scene->materials[scene->material_count++] = map_material(&m->materials[k], prefix);
-        if (!ok)
+        if (!ok) {
             sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for the meshes of %s", name, src->path);
+            break;
+        }
+        unsigned ignored = 0;
+        for (int k = 0; ok && k < m->material_count; k++) {
+            ok = map_material(scene, m, &m->materials[k], prefix, &scene->materials[scene->material_count], &ignored,
+                              err);
+            scene->material_count += ok;
+        }
+        if (!ok) {
+            sl_error_prefix(err, "%s: objects[%d].model: ", name, first_user[i]);
+            break;
+        }
+        warn_ignored(src->path, ignored);
     }
     for (int o = 0; ok && o < scene->object_count; o++) {
         int mesh = scene->objects[o].mesh;
@@ -178,6 +396,10 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             /* assimp's stand-in for "no material" (an OBJ without MTL) is the scene's default. */
             bool stand_in = strcmp(m->materials[file_material].name, AI_DEFAULT_NAME) == 0;
             out->material = material_given[o] || stand_in ? obj->material : material_base[obj->mesh] + file_material;
+            /* A file's textured material on a mesh without texture coordinates: its constants only. */
+            if (out->material != obj->material && !scene->meshes[out->mesh].texcoords &&
+                scene->materials[out->material].textured)
+                ok = untextured_copy(scene, &out->material, err);
             out->model = mat4_mul(obj->model, inst->world);
         }
     }

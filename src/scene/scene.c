@@ -1338,6 +1338,8 @@ void sl_scene_free(sl_scene *scene)
     free(scene->materials);
     free(scene->objects);
     free(scene->lights);
+    for (int i = 0; scene->images && i < scene->image_count; i++)
+        free(scene->images[i].bytes);
     free(scene->images);
     memset(scene, 0, sizeof *scene);
 }

@@ -55,9 +55,13 @@ typedef struct {
 
 /* An image file named by materials, loaded once per scene however many maps use it: the key is
  * the resolved path and the colour space. Decoding is the raster stage's (src/raster/texture.h,
- * sl_scene_textures_load); the scene only says which files and how. */
+ * sl_scene_textures_load); the scene only says which files and how. An image embedded in a model
+ * (.glb buffer view, data URI) has no file: the scene owns its encoded bytes (PNG, JPEG), and
+ * `path` is "MODEL#N" (its N-th embedded texture), for the key and for messages. */
 typedef struct {
-    char path[SL_PATH_MAX];   /* resolved */
+    char path[SL_PATH_MAX];   /* resolved; "MODEL#N" for an embedded image */
+    unsigned char *bytes;     /* embedded: the encoded file, owned (sl_scene_free); NULL for a file */
+    size_t size;
     bool srgb;                /* 8-bit colour decoded with the sRGB curve (GL_SRGB8 / SRGB8_ALPHA8) */
     char used_by[256];        /* the first map naming it, as a JSON path ("materials.leaf.kd_map"), for messages */
 } sl_scene_image;

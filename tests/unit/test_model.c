@@ -11,6 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "raster/gbuffer_textured.h"
 #include "scene/model.h"
 
 /* One triangle (0,0,0), (1,0,0), (0,1,0) in glTF's Y-up object space, UVs (0,0), (0.25,0.75),
@@ -335,12 +336,13 @@ static void test_gltf_camera(void **state)
     assert_true(sl_scene_load(test_tmpfile("cam.gltf"), &scene, &err));
     assert_near(scene.camera.eye.y, -5.0f, 1e-6f);
     assert_int_equal(scene.object_count, 1);
-    /* Interim mapping of metallic-roughness: Kd = 0.8 (1 - 0.25) = 0.6, Ks = 0.04 + 0.25 (0.8 - 0.04)
-     * = 0.23, a = 0.36, alpha = 2 / 0.1296 - 2 = 13.432. */
+    /* Metallic-roughness as GGX: Kd = 0.8 (1 - 0.25) = 0.6, Ks = 0.04 + 0.25 (0.8 - 0.04) = 0.23,
+     * roughness 0.6 as it is. */
     const sl_material *mat = &scene.materials[scene.objects[0].material];
+    assert_int_equal(mat->brdf, SL_BRDF_GGX);
     assert_near(mat->kd.x, 0.6f, 1e-6f);
     assert_near(mat->ks.x, 0.23f, 1e-6f);
-    assert_near(mat->alpha, 2.0 / (0.36 * 0.36) - 2.0, 1e-3);
+    assert_near(mat->roughness, 0.6f, 1e-6f);
     sl_scene_free(&scene);
 }
 
@@ -463,6 +465,219 @@ static void test_bad_files(void **state)
     load_fails(test_tmpfile("absent.gltf"), "absent.gltf");
 }
 
+/* ---- materials drawn: what arrives in the G-buffer ---- */
+
+/* A 2x2 RGBA PNG, bytes written out (the project's PNG writer takes 1 or 3 channels): texel
+ * (0,0) sRGB (255, 128, 0) opaque; (1,0) and (1,1) grey 200 opaque; (0,1) grey 200 with
+ * alpha 51 (0.2). Made with zlib by hand; 8-bit RGBA, no filter. */
+static const unsigned char RGBA_PNG[80] = {
+    0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a, 0x00, 0x00, 0x00, 0x0d, 0x49, 0x48, 0x44, 0x52,
+    0x00, 0x00, 0x00, 0x02, 0x00, 0x00, 0x00, 0x02, 0x08, 0x06, 0x00, 0x00, 0x00, 0x72, 0xb6, 0x0d,
+    0x24, 0x00, 0x00, 0x00, 0x17, 0x49, 0x44, 0x41, 0x54, 0x78, 0xda, 0x63, 0xf8, 0xdf, 0xc0, 0xf0,
+    0xff, 0xc4, 0x89, 0x13, 0xff, 0x19, 0x80, 0x84, 0x31, 0x88, 0x01, 0x00, 0x66, 0x77, 0x0b, 0xb8,
+    0x4c, 0x10, 0x21, 0x10, 0x00, 0x00, 0x00, 0x00, 0x49, 0x45, 0x4e, 0x44, 0xae, 0x42, 0x60, 0x82};
+
+/* The G-buffer texel at the centre of a 33x33 frame of `scene` looking from `eye` at `at`
+ * along +Y (the test models face -Y), through the textured G-buffer program. */
+static sl_gbuffer_texel centre_texel(sl_scene *scene, vec3 at)
+{
+    sl_error err = {0};
+    scene->camera = (sl_camera){.eye = sub3(at, vec3(0, 5, 0)), .target = at, .up = vec3(0, 0, 1),
+                                .fovy_deg = 30, .znear = 0.1f, .zfar = 100};
+    sl_scene_textures tex;
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    sl_gbuffer gb = {0};
+    if (!r || !sl_scene_textures_load(scene, 0, &tex, &err) || !sl_gbuffer_resize(&gb, 33, 33, &err) ||
+        !sl_raster_scene_textured(r, scene, &tex, &scene->camera, &gb, &err))
+        fail_msg("%s", err.msg);
+    sl_gbuffer_texel t = *sl_gbuffer_at(&gb, 16, 16);
+    sl_gbuffer_free(&gb);
+    sl_scene_textures_free(&tex);
+    sl_raster_destroy(r);
+    return t;
+}
+
+/* The glTF triangle under NODES: object (x, y, 0) -> scaled 2, translated (1, 2, 3), Z-up:
+ * world (1 + 2x, -3, 2 + 2y). Object (0.1, 0.1) (barycentrics 0.1, 0.1 on vertices 1 and 2)
+ * has UV 0.1 (0.25, 0.75) + 0.1 (0, 1) = (0.025, 0.175): texel (0,0). Object (0.1, 0.8) has UV
+ * (0.025, 0.875): texel (0,1), alpha 0.2. */
+#define AT_OPAQUE vec3(1.2f, -3.0f, 2.2f)
+#define AT_CUT vec3(1.2f, -3.0f, 3.6f)
+
+/* What the material `clay` (gltf_text) draws: GGX r = 0.6, Kd = (0.8, 0.4, 0.2) (1 - 0.25) =
+ * (0.6, 0.3, 0.15) times the texel (1, srgb(128) = 0.21586, 0) (magFilter NEAREST: the texel
+ * itself), Ks = mix(0.04, base, 0.25) = (0.23, 0.13, 0.08) from the factors; MASK 0.3 cuts the
+ * texel of alpha 0.2. */
+static void check_clay_drawn(sl_scene *scene)
+{
+    sl_gbuffer_texel t = centre_texel(scene, AT_OPAQUE);
+    assert_true(sl_gbuffer_covered(&t));
+    assert_near(t.kd.x, 0.6f, 1e-6f);
+    assert_near(t.kd.y, 0.3f * sl_srgb8_to_linear(128), 1e-6f);
+    assert_near(t.kd.y, 0.3f * 0.21586f, 1e-5f);
+    assert_near(t.kd.z, 0.0f, 1e-7f);
+    assert_near(t.ks.x, 0.23f, 1e-6f);
+    assert_near(t.ks.y, 0.13f, 1e-6f);
+    assert_near(t.ks.z, 0.08f, 1e-6f);
+    assert_near(t.alpha, sl_gbuffer_ggx_alpha(0.6f), 1e-6f);
+    assert_near(t.normal.y, -1.0f, 1e-5f);
+    t = centre_texel(scene, AT_CUT);
+    assert_false(sl_gbuffer_covered(&t));
+}
+
+static void test_gltf_material_drawn(void **state)
+{
+    (void)state;
+    unsigned char bin[BIN_SIZE];
+    triangle_bin(bin, 0.0f, 2);
+    write_gltf_files("drawn", NODES, bin);
+    test_write_bytes(test_tmpfile("tex.png"), RGBA_PNG, sizeof RGBA_PNG);
+    sl_scene scene;
+    sl_error err = {0};
+    if (!sl_scene_load(test_tmpfile("drawn.gltf"), &scene, &err))
+        fail_msg("%s", err.msg);
+    /* A textured GGX material whose kd_map names the file, sRGB, with the glTF sampler's clamp
+     * (wrapS; wrapT is repeat: differing axes, wrapS wins) and magFilter NEAREST. */
+    const sl_material *mat = &scene.materials[scene.objects[0].material];
+    assert_int_equal(mat->brdf, SL_BRDF_GGX);
+    assert_true(mat->textured);
+    assert_true(mat->maps[SL_MAP_KD].set);
+    assert_false(mat->maps[SL_MAP_KS].set); /* metallic 0.25: Ks from the factors */
+    assert_false(mat->maps[SL_MAP_ALPHA].set); /* the metallicRoughnessTexture is not drawn */
+    assert_int_equal(scene.image_count, 1);
+    assert_string_equal(scene.images[mat->maps[SL_MAP_KD].image].path, test_tmpfile("tex.png"));
+    assert_true(scene.images[0].srgb);
+    assert_null(scene.images[0].bytes);
+    assert_int_equal(mat->maps[SL_MAP_KD].wrap, SL_MAP_CLAMP);
+    assert_int_equal(mat->maps[SL_MAP_KD].filter, SL_MAP_NEAREST);
+    assert_true(mat->masked);
+    assert_near(mat->alpha_cutoff, 0.3f, 1e-6f);
+    check_clay_drawn(&scene);
+    sl_scene_free(&scene);
+
+    /* The same material on a mesh without texture coordinates: drawn with its constants (Kd =
+     * 0.6, 0.3, 0.15), not refused by the raster stage, and not cut. */
+    char text[4096], buffer[128];
+    snprintf(buffer, sizeof buffer, "{\"uri\": \"drawn.bin\", \"byteLength\": %d}", BIN_SIZE);
+    gltf_text(text, sizeof text, NODES, buffer, "[{\"uri\": \"tex.png\"}]");
+    char *at = strstr(text, ", \"TEXCOORD_0\": 1");
+    assert_non_null(at);
+    memmove(at, at + 17, strlen(at + 17) + 1);
+    test_write_bytes(test_tmpfile("nouv.gltf"), text, strlen(text));
+    if (!sl_scene_load(test_tmpfile("nouv.gltf"), &scene, &err))
+        fail_msg("%s", err.msg);
+    assert_false(scene.materials[scene.objects[0].material].textured);
+    sl_gbuffer_texel t = centre_texel(&scene, AT_CUT);
+    assert_true(sl_gbuffer_covered(&t));
+    assert_near(t.kd.x, 0.6f, 1e-6f);
+    assert_near(t.kd.y, 0.3f, 1e-6f);
+    assert_near(t.kd.z, 0.15f, 1e-6f);
+    sl_scene_free(&scene);
+}
+
+static void test_glb_material_drawn(void **state)
+{
+    (void)state;
+    size_t size;
+    unsigned char *glb = glb_bytes(&size, RGBA_PNG, sizeof RGBA_PNG);
+    test_write_bytes(test_tmpfile("drawn.glb"), glb, size);
+    free(glb);
+    remove(test_tmpfile("tex.png")); /* nothing on disk: the image is the .glb's */
+    sl_scene scene;
+    sl_error err = {0};
+    if (!sl_scene_load(test_tmpfile("drawn.glb"), &scene, &err))
+        fail_msg("%s", err.msg);
+    /* One scene image holding the embedded bytes, named after the model. */
+    assert_int_equal(scene.image_count, 1);
+    char name[SL_PATH_MAX];
+    snprintf(name, sizeof name, "%s#0", test_tmpfile("drawn.glb"));
+    assert_string_equal(scene.images[0].path, name);
+    assert_int_equal(scene.images[0].size, sizeof RGBA_PNG);
+    assert_memory_equal(scene.images[0].bytes, RGBA_PNG, sizeof RGBA_PNG);
+    check_clay_drawn(&scene);
+    sl_scene_free(&scene);
+}
+
+/* A metal (metallic 1) takes its Ks from the texture too; BLEND is drawn as MASK at 0.5. */
+static void test_gltf_metal_blend(void **state)
+{
+    (void)state;
+    unsigned char bin[BIN_SIZE];
+    triangle_bin(bin, 0.0f, 2);
+    char text[4096], buffer[128];
+    snprintf(buffer, sizeof buffer, "{\"uri\": \"metal.bin\", \"byteLength\": %d}", BIN_SIZE);
+    gltf_text(text, sizeof text, NODES, buffer, "[{\"uri\": \"tex.png\"}]");
+    char *at = strstr(text, "\"metallicFactor\": 0.25");
+    assert_non_null(at);
+    memcpy(at, "\"metallicFactor\": 1.00", 22);
+    at = strstr(text, "\"MASK\"");
+    memcpy(at, "\"BLEND\"", 7); /* overwrites the comma after "MASK" */
+    at += 7;
+    memmove(at + 1, at, strlen(at) + 1);
+    *at = ',';
+    test_write_bytes(test_tmpfile("metal.gltf"), text, strlen(text));
+    test_write_bytes(test_tmpfile("metal.bin"), bin, BIN_SIZE);
+    test_write_bytes(test_tmpfile("tex.png"), RGBA_PNG, sizeof RGBA_PNG);
+    sl_scene scene;
+    sl_error err = {0};
+    if (!sl_scene_load(test_tmpfile("metal.gltf"), &scene, &err))
+        fail_msg("%s", err.msg);
+    const sl_material *mat = &scene.materials[scene.objects[0].material];
+    assert_true(mat->maps[SL_MAP_KS].set);
+    assert_true(mat->masked);
+    assert_near(mat->alpha_cutoff, 0.5f, 1e-6f);
+    /* Kd = base (1 - 1) = 0; Ks = base * texel = (0.8, 0.4 * 0.21586, 0). */
+    sl_gbuffer_texel t = centre_texel(&scene, AT_OPAQUE);
+    assert_near(t.kd.x, 0.0f, 1e-7f);
+    assert_near(t.ks.x, 0.8f, 1e-6f);
+    assert_near(t.ks.y, 0.4f * sl_srgb8_to_linear(128), 1e-6f);
+    assert_near(t.ks.z, 0.0f, 1e-7f);
+    assert_false(sl_gbuffer_covered((t = centre_texel(&scene, AT_CUT), &t)));
+    sl_scene_free(&scene);
+}
+
+/* OBJ + MTL: the Phong set with map_Kd (sRGB) and map_Ns (linear, scaling Ns). The quad
+ * (0..1)^2 at z = 0 turns Z-up into x, z in 0..1 at y = 0 facing -Y; OBJ point (0.25, 0.75) has
+ * vt (0.25, 0.75), glTF's (0.25, 0.25): texel (0,0); point (0.75, 0.25) has glTF (0.75, 0.75):
+ * texel (1,1), grey 200. */
+static void test_obj_mtl_drawn(void **state)
+{
+    (void)state;
+    const char *obj = "mtllib d.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nvt 0 1\n"
+                      "usemtl brass\nf 1/1 2/2 3/3 4/4\n";
+    const char *mtl = "newmtl brass\nKd 0.5 0.25 0.125\nKs 0.9 0.8 0.7\nNs 250\nmap_Kd tex.png\nmap_Ns tex.png\n";
+    test_write_bytes(test_tmpfile("d.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("d.mtl"), mtl, strlen(mtl));
+    test_write_bytes(test_tmpfile("tex.png"), RGBA_PNG, sizeof RGBA_PNG);
+    sl_scene scene;
+    sl_error err = {0};
+    if (!sl_scene_load(test_tmpfile("d.obj"), &scene, &err))
+        fail_msg("%s", err.msg);
+    const sl_material *mat = &scene.materials[scene.objects[0].material];
+    assert_int_equal(mat->brdf, SL_BRDF_PHONG);
+    assert_true(mat->maps[SL_MAP_KD].set && mat->maps[SL_MAP_ALPHA].set);
+    /* One file, two colour spaces: two scene images. */
+    assert_int_equal(scene.image_count, 2);
+    assert_true(scene.images[mat->maps[SL_MAP_KD].image].srgb);
+    assert_false(scene.images[mat->maps[SL_MAP_ALPHA].image].srgb);
+    /* Texel (0,0): kd = (0.5, 0.25 srgb(128), 0), alpha = 250 * 1 (linear 255). MTL gives no
+     * filter: trilinear, bilinear between texel centres at this magnification. The points are
+     * texel centres, but the pixel centre lands 1e-4 of the quad off them (float rounding in the
+     * projection), and a texel step here is 0.5 in kd: tolerance 2e-4. */
+    const float tol = 2e-4f;
+    sl_gbuffer_texel t = centre_texel(&scene, vec3(0.25f, 0.0f, 0.75f));
+    assert_near(t.kd.x, 0.5f, tol);
+    assert_near(t.kd.y, 0.25f * sl_srgb8_to_linear(128), tol);
+    assert_near(t.kd.z, 0.0f, tol);
+    assert_near(t.ks.x, 0.9f, 1e-6f);
+    assert_near(t.alpha, 250.0f, 250.0f * tol);
+    /* Texel (1,1): kd = 0.5 srgb(200), alpha = 250 * 200 / 255 (map_Ns is linear). */
+    t = centre_texel(&scene, vec3(0.75f, 0.0f, 0.25f));
+    assert_near(t.kd.x, 0.5f * sl_srgb8_to_linear(200), tol);
+    assert_near(t.alpha, 250.0f * 200.0f / 255.0f, 250.0f * tol);
+    sl_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -472,6 +687,10 @@ int main(void)
         cmocka_unit_test(test_gltf_camera),
         cmocka_unit_test(test_scene_model_object),
         cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_gltf_material_drawn),
+        cmocka_unit_test(test_glb_material_drawn),
+        cmocka_unit_test(test_gltf_metal_blend),
+        cmocka_unit_test(test_obj_mtl_drawn),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
