@@ -1,7 +1,8 @@
-/* cmd_trace.c - `softlight trace scene.json --pixel X,Y`: rasterize the frame, then run the C
- * lighting shader for one pixel with a trace, printing every intermediate value. The traced
- * code is the same function the lighting pass runs, so a breakpoint in sl_lighting_shade
- * (gdb: `break sl_lighting_shade if x == X`) follows the same path. */
+/* cmd_trace.c - `softlight trace scene.json --pixel X,Y`: rasterize the frame, recording the
+ * pixel's texture fetches (trace_fetches.c), then run the C lighting shader for one pixel with a
+ * trace, printing every intermediate value and then the fetches. The traced code is the same
+ * function the lighting pass runs, so a breakpoint in sl_lighting_shade (gdb: `break
+ * sl_lighting_shade if x == X`) follows the same path. */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -9,6 +10,7 @@
 #include "render_options.h"
 #include "scene/scene.h"
 #include "shading/lighting_trace.h"
+#include "trace_fetches.h"
 
 int cmd_trace(int argc, char **argv)
 {
@@ -46,6 +48,7 @@ int cmd_trace(int argc, char **argv)
     int status = 2;
     sl_renderer r;
     sl_lighting_trace *trace = NULL;
+    sl_trace_fetches *fetches = NULL;
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
     if (pixel[0] >= r.desc.width || pixel[1] >= r.desc.height) {
@@ -54,16 +57,21 @@ int cmd_trace(int argc, char **argv)
         goto done;
     }
     trace = malloc(sizeof *trace);
-    if (!trace) {
+    fetches = malloc(sizeof *fetches);
+    if (!trace || !fetches) {
         sl_fail(&err, SL_ERR_MEMORY, "out of memory for the trace");
         goto done;
     }
+    int gb_y = r.desc.height - 1 - pixel[1]; /* G-buffer row 0 = bottom */
+    sl_trace_fetches_hook(fetches, &r.textures, pixel[0], gb_y);
     if (!sl_renderer_raster(&r, NULL, &err) || !sl_renderer_prepare_lighting(&r, NULL, &err) ||
         !sl_lighting_trace_pixel(r.uniforms, &r.gbuffer, pixel[0], pixel[1], trace, &err))
         goto done;
     sl_lighting_trace_print(stdout, trace);
+    sl_trace_fetches_print(stdout, fetches, sl_gbuffer_at(&r.gbuffer, pixel[0], gb_y)->depth);
     status = 0;
 done:
+    free(fetches);
     free(trace);
     sl_renderer_free(&r);
 done_scene:

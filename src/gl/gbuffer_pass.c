@@ -1,12 +1,19 @@
 /* gbuffer_pass.c - the G-buffer pass in OpenGL: every object drawn with shaders/gbuffer.vert/.frag
- * into four RGBA32F colour targets and a 32-bit float depth target.
+ * (or, when its material has texture maps, shaders/gbuffer_textured.vert/.frag) into four RGBA32F
+ * colour targets and a 32-bit float depth target.
  *
  * It reproduces softlight's raster stage state for state, so that coverage and depth can be compared
  * bit for bit: the uniforms come from the same C function (sl_gbuffer_uniforms_init) with the same
  * view-projection (sl_camera_view_proj), the viewport is the whole target, depth test LESS against
  * a clear depth of 1, no culling (softlight's sl_raster_scene draws both faces), no blending, no
  * multisampling. Targets: 0 position (w = 1 where drawn), 1 normal, 2 kd, 3 ks + alpha; cleared to
- * 0 like sl_gbuffer_clear. Row 0 is the bottom row in both. */
+ * 0 like sl_gbuffer_clear. Row 0 is the bottom row in both.
+ *
+ * Textured materials: the uniforms come from sl_gbuffer_tex_uniforms_init, map i's texture is
+ * bound to unit i with a sampler object set from sl_gbuffer_map_sampler, and the mesh's texture
+ * coordinates and tangents are attributes 2 and 3. One GL program serves masked and unmasked
+ * materials (uMaps says whether to discard); softlight picks its early- or late-depth variant
+ * by the same bit, and the results agree since only a discard tells the two apart. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -34,6 +41,11 @@ bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err)
     g->height = height;
     if (!slgl_program_from_files("gbuffer.vert", "gbuffer.frag", &g->program, err))
         return false;
+    if (!slgl_program_from_files("gbuffer_textured.vert", "gbuffer_textured.frag", &g->tex_program, err)) {
+        slgl_gbuffer_destroy(g);
+        return false;
+    }
+    glGenSamplers(SL_MAP_COUNT, g->samplers);
     GLuint targets[4];
     for (int i = 0; i < 4; i++)
         targets[i] = make_target(GL_RGBA32F, GL_RGBA, width, height);
@@ -67,6 +79,10 @@ void slgl_gbuffer_destroy(slgl_gbuffer *g)
         glDeleteFramebuffers(1, &g->fbo);
     if (g->program)
         glDeleteProgram(g->program);
+    if (g->tex_program)
+        glDeleteProgram(g->tex_program);
+    if (g->samplers[0])
+        glDeleteSamplers(SL_MAP_COUNT, g->samplers);
     memset(g, 0, sizeof *g);
 }
 
@@ -91,6 +107,22 @@ bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err)
                      GL_STATIC_DRAW);
         glVertexAttribPointer(1, 3, GL_FLOAT, GL_FALSE, sizeof(vec3), NULL);
         glEnableVertexAttribArray(1);
+        if (m->texcoords) { /* tangents come with them (scene.h) */
+            glGenBuffers(1, &out->vbo_texcoord);
+            glBindBuffer(GL_ARRAY_BUFFER, out->vbo_texcoord);
+            glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)m->vertex_count * sizeof(vec2)), m->texcoords,
+                         GL_STATIC_DRAW);
+            glVertexAttribPointer(2, 2, GL_FLOAT, GL_FALSE, sizeof(vec2), NULL);
+            glEnableVertexAttribArray(2);
+        }
+        if (m->tangents) {
+            glGenBuffers(1, &out->vbo_tangent);
+            glBindBuffer(GL_ARRAY_BUFFER, out->vbo_tangent);
+            glBufferData(GL_ARRAY_BUFFER, (GLsizeiptr)((size_t)m->vertex_count * sizeof(vec4)), m->tangents,
+                         GL_STATIC_DRAW);
+            glVertexAttribPointer(3, 4, GL_FLOAT, GL_FALSE, sizeof(vec4), NULL);
+            glEnableVertexAttribArray(3);
+        }
         glGenBuffers(1, &out->ibo);
         glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, out->ibo);
         glBufferData(GL_ELEMENT_ARRAY_BUFFER, (GLsizeiptr)((size_t)m->triangle_count * 3 * sizeof(uint32_t)),
@@ -105,15 +137,85 @@ void slgl_meshes_destroy(slgl_mesh *meshes, int count)
 {
     for (int i = 0; i < count; i++) {
         slgl_mesh *m = &meshes[i];
-        GLuint buffers[3] = {m->vbo_position, m->vbo_normal, m->ibo};
-        glDeleteBuffers(3, buffers);
+        GLuint buffers[5] = {m->vbo_position, m->vbo_normal, m->vbo_texcoord, m->vbo_tangent, m->ibo};
+        glDeleteBuffers(5, buffers);
         if (m->vao)
             glDeleteVertexArrays(1, &m->vao);
         memset(m, 0, sizeof *m);
     }
 }
 
-bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *meshes, mat4 view_proj,
+/* Uniform locations of gbuffer.vert/.frag. */
+typedef struct {
+    GLint model, view_proj, normal, kd, ks, alpha;
+} plain_locations;
+
+/* Uniform locations of gbuffer_textured.vert/.frag; the samplers are set to their units once. */
+typedef struct {
+    GLint model, view_proj, normal, model3, kd, ks, alpha, roughness, maps, cutoff, st[SL_MAP_COUNT];
+} tex_locations;
+
+static tex_locations tex_locations_get(GLuint p)
+{
+    static const char *const samplers[SL_MAP_COUNT] = {"uKdMap", "uKsMap", "uAlphaMap", "uNormalMap", "uMaskMap"};
+    static const char *const st[SL_MAP_COUNT] = {"uKdMapST", "uKsMapST", "uAlphaMapST", "uNormalMapST",
+                                                 "uMaskMapST"};
+    tex_locations l = {
+        .model = glGetUniformLocation(p, "uModel"),
+        .view_proj = glGetUniformLocation(p, "uViewProj"),
+        .normal = glGetUniformLocation(p, "uNormalMatrix"),
+        .model3 = glGetUniformLocation(p, "uModel3"),
+        .kd = glGetUniformLocation(p, "uKd"),
+        .ks = glGetUniformLocation(p, "uKs"),
+        .alpha = glGetUniformLocation(p, "uAlpha"),
+        .roughness = glGetUniformLocation(p, "uRoughness"),
+        .maps = glGetUniformLocation(p, "uMaps"),
+        .cutoff = glGetUniformLocation(p, "uAlphaCutoff"),
+    };
+    glUseProgram(p);
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        l.st[slot] = glGetUniformLocation(p, st[slot]);
+        glUniform1i(glGetUniformLocation(p, samplers[slot]), slot); /* map slot i on texture unit i */
+    }
+    return l;
+}
+
+/* One textured object: softlight's uniform struct (sl_gbuffer_tex_uniforms_init, so both draws see
+ * the same matrices, constants and map bits), each bound map's texture and sampler state. */
+static void draw_textured(const slgl_gbuffer *g, const tex_locations *l, const sl_object *o, const sl_material *m,
+                          const sl_scene_textures *sl_textures, const slgl_textures *textures, mat4 view_proj)
+{
+    sl_gbuffer_tex_uniforms u;
+    sl_gbuffer_tex_uniforms_init(&u, o->model, view_proj, m, sl_textures);
+    const vec4 st[SL_MAP_COUNT] = {u.uKdMapST, u.uKsMapST, u.uAlphaMapST, u.uNormalMapST, u.uMaskMapST};
+    glUniformMatrix4fv(l->model, 1, GL_FALSE, &u.uModel.c[0].x);
+    glUniformMatrix4fv(l->view_proj, 1, GL_FALSE, &u.uViewProj.c[0].x);
+    glUniformMatrix3fv(l->normal, 1, GL_FALSE, &u.uNormalMatrix.c[0].x);
+    glUniformMatrix3fv(l->model3, 1, GL_FALSE, &u.uModel3.c[0].x);
+    glUniform3f(l->kd, u.uKd.x, u.uKd.y, u.uKd.z);
+    glUniform3f(l->ks, u.uKs.x, u.uKs.y, u.uKs.z);
+    glUniform1f(l->alpha, u.uAlpha);
+    glUniform1f(l->roughness, u.uRoughness);
+    glUniform1i(l->maps, u.uMaps);
+    glUniform1f(l->cutoff, u.uAlphaCutoff);
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        glUniform4f(l->st[slot], st[slot].x, st[slot].y, st[slot].z, st[slot].w);
+        glActiveTexture(GL_TEXTURE0 + (GLenum)slot);
+        if (!(u.uMaps & (1 << slot))) { /* unbound: the shader does not sample it */
+            glBindTexture(GL_TEXTURE_2D, 0);
+            continue;
+        }
+        const sl_material_map *map = &m->maps[slot];
+        glBindTexture(GL_TEXTURE_2D, textures->names[map->image]);
+        sl_sampler_state s = sl_gbuffer_map_sampler(map);
+        slgl_sampler_set(g->samplers[slot], &s);
+        glBindSampler((GLuint)slot, g->samplers[slot]);
+    }
+    glActiveTexture(GL_TEXTURE0);
+}
+
+bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *meshes,
+                       const sl_scene_textures *sl_textures, const slgl_textures *textures, mat4 view_proj,
                        sl_error *err)
 {
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
@@ -129,29 +231,44 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
     glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
-    glUseProgram(g->program);
-    GLint loc_model = glGetUniformLocation(g->program, "uModel");
-    GLint loc_view_proj = glGetUniformLocation(g->program, "uViewProj");
-    GLint loc_normal = glGetUniformLocation(g->program, "uNormalMatrix");
-    GLint loc_kd = glGetUniformLocation(g->program, "uKd");
-    GLint loc_ks = glGetUniformLocation(g->program, "uKs");
-    GLint loc_alpha = glGetUniformLocation(g->program, "uAlpha");
+    tex_locations tl = tex_locations_get(g->tex_program);
+    GLuint p = g->program;
+    plain_locations pl = {
+        .model = glGetUniformLocation(p, "uModel"),
+        .view_proj = glGetUniformLocation(p, "uViewProj"),
+        .normal = glGetUniformLocation(p, "uNormalMatrix"),
+        .kd = glGetUniformLocation(p, "uKd"),
+        .ks = glGetUniformLocation(p, "uKs"),
+        .alpha = glGetUniformLocation(p, "uAlpha"),
+    };
     for (int i = 0; i < scene->object_count; i++) {
         const sl_object *o = &scene->objects[i];
-        /* softlight's own uniform set, so both draws see bitwise the same matrices */
-        sl_gbuffer_uniforms u;
-        sl_gbuffer_uniforms_init(&u, o->model, view_proj, &scene->materials[o->material]);
-        glUniformMatrix4fv(loc_model, 1, GL_FALSE, &u.uModel.c[0].x);
-        glUniformMatrix4fv(loc_view_proj, 1, GL_FALSE, &u.uViewProj.c[0].x);
-        glUniformMatrix3fv(loc_normal, 1, GL_FALSE, &u.uNormalMatrix.c[0].x);
-        glUniform3f(loc_kd, u.uKd.x, u.uKd.y, u.uKd.z);
-        glUniform3f(loc_ks, u.uKs.x, u.uKs.y, u.uKs.z);
-        glUniform1f(loc_alpha, u.uAlpha);
-        const slgl_mesh *m = &meshes[o->mesh];
-        glBindVertexArray(m->vao);
-        glDrawElements(GL_TRIANGLES, m->index_count, GL_UNSIGNED_INT, NULL);
+        const sl_material *m = &scene->materials[o->material];
+        if (m->textured) {
+            if (!sl_textures || !textures || textures->count != scene->image_count)
+                return sl_fail(err, SL_ERR_RANGE, "object %d (%s): material \"%s\" has texture maps but the scene's "
+                               "textures are not uploaded", i, o->name, m->name);
+            glUseProgram(g->tex_program);
+            draw_textured(g, &tl, o, m, sl_textures, textures, view_proj);
+        } else {
+            /* softlight's own uniform set, so both draws see bitwise the same matrices */
+            sl_gbuffer_uniforms u;
+            sl_gbuffer_uniforms_init(&u, o->model, view_proj, m);
+            glUseProgram(g->program);
+            glUniformMatrix4fv(pl.model, 1, GL_FALSE, &u.uModel.c[0].x);
+            glUniformMatrix4fv(pl.view_proj, 1, GL_FALSE, &u.uViewProj.c[0].x);
+            glUniformMatrix3fv(pl.normal, 1, GL_FALSE, &u.uNormalMatrix.c[0].x);
+            glUniform3f(pl.kd, u.uKd.x, u.uKd.y, u.uKd.z);
+            glUniform3f(pl.ks, u.uKs.x, u.uKs.y, u.uKs.z);
+            glUniform1f(pl.alpha, u.uAlpha);
+        }
+        const slgl_mesh *mesh = &meshes[o->mesh];
+        glBindVertexArray(mesh->vao);
+        glDrawElements(GL_TRIANGLES, mesh->index_count, GL_UNSIGNED_INT, NULL);
     }
     glBindVertexArray(0);
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        glBindSampler((GLuint)slot, 0);
     return slgl_check("the G-buffer pass", err);
 }
 

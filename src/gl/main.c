@@ -96,6 +96,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
 {
     slgl_gbuffer g = {0};
     slgl_lighting l = {0};
+    slgl_textures textures = {0};
     slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
     sl_gbuffer gb = {0};
     sl_image radiance = {0};
@@ -115,13 +116,15 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;
-    } else if (!slgl_meshes_upload(&f->scene, meshes, err)) {
+    } else if (!slgl_meshes_upload(&f->scene, meshes, err) ||
+               !slgl_textures_upload(&f->renderer.textures, &textures, err)) {
         goto done;
     }
     glFinish();
     for (int run = 0; run < runs; run++) {
         double t0 = sl_now_seconds();
-        if (!o->gbuffer_dir && !slgl_gbuffer_draw(&g, &f->scene, meshes, f->view_proj, err))
+        if (!o->gbuffer_dir && !slgl_gbuffer_draw(&g, &f->scene, meshes, &f->renderer.textures, &textures,
+                                                    f->view_proj, err))
             goto done;
         glFinish();
         double t1 = sl_now_seconds();
@@ -162,6 +165,7 @@ done:
     if (meshes)
         slgl_meshes_destroy(meshes, f->scene.mesh_count);
     free(meshes);
+    slgl_textures_destroy(&textures);
     slgl_lighting_destroy(&l);
     slgl_gbuffer_destroy(&g);
     free(t_gbuffer);

@@ -11,7 +11,9 @@
  *   context.c        EGL on the surfaceless platform, a 3.3 core context, no window, no surface
  *   program.c        compile and link shaders from files, with their logs in the error
  *   gbuffer_pass.c   meshes -> G-buffer textures (RGBA32F x4 + DEPTH32F), read back as an sl_gbuffer;
- *                    or an sl_gbuffer (from softlight's AOV files) uploaded into the same textures
+ *                    or an sl_gbuffer (from softlight's AOV files) uploaded into the same textures;
+ *                    textured materials drawn with gbuffer_textured.vert/.frag
+ *   textures.c       the scene's decoded images -> GL textures (same formats, GL's mips), sampler state
  *   lighting_pass.c  G-buffer textures + environment + uniforms -> RGBA32F radiance, read back
  *   main.c           the command line
  * Functions shared across these files are prefixed slgl_. */
@@ -28,6 +30,7 @@
 #include "core/image.h"
 #include "ibl/ibl.h"
 #include "raster/gbuffer.h"
+#include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
@@ -64,21 +67,40 @@ typedef struct {
     GLuint fbo;
     GLuint position, normal, kd, ks_alpha; /* RGBA32F; position.w = 1 where covered */
     GLuint depth;                          /* DEPTH_COMPONENT32F */
-    GLuint program;
+    GLuint program;                        /* gbuffer.vert/.frag: untextured materials */
+    GLuint tex_program;                    /* gbuffer_textured.vert/.frag: materials with maps */
+    GLuint samplers[SL_MAP_COUNT];         /* one per texture unit = map slot */
 } slgl_gbuffer;
 
 typedef struct {
-    GLuint vao, vbo_position, vbo_normal, ibo;
+    GLuint vao, vbo_position, vbo_normal, vbo_texcoord, vbo_tangent, ibo;
     int index_count;
 } slgl_mesh;
+
+/* ---- textures.c ---- */
+/* The scene's textures in GL: names[i] is sl_scene_textures.textures[i]. */
+typedef struct {
+    GLuint *names;
+    int count;
+} slgl_textures;
+
+/* Upload each texture's level 0 in its own GL format (GL_SRGB8_ALPHA8 for SL_TEX_SRGB8_ALPHA8, ...)
+ * and glGenerateMipmap the rest. */
+bool slgl_textures_upload(const sl_scene_textures *in, slgl_textures *out, sl_error *err);
+void slgl_textures_destroy(slgl_textures *t);
+/* A sampler object's state from softlight's (filters, wrap, LOD bias and clamps). */
+void slgl_sampler_set(GLuint sampler, const sl_sampler_state *s);
 
 bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err);
 void slgl_gbuffer_destroy(slgl_gbuffer *g);
 /* Upload every mesh of the scene; `meshes` has scene->mesh_count entries. */
 bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err);
 void slgl_meshes_destroy(slgl_mesh *meshes, int count);
-/* The G-buffer pass: clear, then draw every object with gbuffer.vert/.frag. */
-bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *meshes, mat4 view_proj,
+/* The G-buffer pass: clear, then draw every object: with gbuffer.vert/.frag, or, when its material
+ * has maps, with gbuffer_textured.vert/.frag on `textures` (the GL twins of `sl_textures`, the
+ * renderer's, which give the uniforms their map bits as for softlight's draw). */
+bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *meshes,
+                       const sl_scene_textures *sl_textures, const slgl_textures *textures, mat4 view_proj,
                        sl_error *err);
 /* Read the targets back into `out` (allocated here, row 0 = bottom like softlight's G-buffer). */
 bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err);

@@ -50,7 +50,7 @@ static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2
     vec2 dPdx = vec2(dx[0], dx[1]), dPdy = vec2(dy[0], dy[1]);
     float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
     vec4 value = sl_texture_sample(s, uv, lambda);
-    u->trace(u->trace_ctx, in, slot, uv, dPdx, dPdy, lambda, value);
+    u->trace(u->trace_ctx, in, slot, s, uv, dPdx, dPdy, lambda, value);
     return value;
 }
 

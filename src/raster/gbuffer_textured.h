@@ -15,10 +15,11 @@
 #include "texture.h"
 
 /* Called by the fragment shader for each texture fetch when set (softlight trace): the map's
- * slot, the coordinate, its quad derivatives, the level of detail and the filtered value. Runs
- * for every lane of every quad, helpers included; the callee picks its pixel. */
-typedef void (*sl_texture_trace_fn)(void *ctx, const sl_fragment_in *in, int slot, vec2 uv, vec2 dPdx, vec2 dPdy,
-                                    float lambda, vec4 value);
+ * slot and sampler, the coordinate, its quad derivatives, the level of detail and the filtered
+ * value. Runs for every lane of every quad, helpers included, on the thread drawing the tile;
+ * the callee picks its pixel. */
+typedef void (*sl_texture_trace_fn)(void *ctx, const sl_fragment_in *in, int slot, const sl_sampler2D *s, vec2 uv,
+                                    vec2 dPdx, vec2 dPdy, float lambda, vec4 value);
 
 /* The scene's images decoded, each once, with full mip chains; textures[i] is scene->images[i]. */
 typedef struct {

@@ -182,6 +182,15 @@ int sl_texture_levels(const sl_texture *t) { return t->levels; }
 sl_texture_format sl_texture_get_format(const sl_texture *t) { return t->format; }
 size_t sl_texture_bytes(const sl_texture *t) { return t->bytes; }
 
+const void *sl_texture_level_texels(const sl_texture *t, int level, int *width, int *height)
+{
+    if (!t || level < 0 || level >= t->levels)
+        return NULL;
+    *width = t->level[level].width;
+    *height = t->level[level].height;
+    return t->level[level].texels;
+}
+
 /* ---- files ---- */
 
 /* The format a decoded PNG / JPEG becomes (texture.h: sl_texture_load). */

@@ -82,6 +82,9 @@ int sl_texture_levels(const sl_texture *t);
 sl_texture_format sl_texture_get_format(const sl_texture *t);
 size_t sl_texture_bytes(const sl_texture *t); /* storage incl. mips, for reports */
 const char *sl_texture_format_name(sl_texture_format fmt); /* "SRGB8_ALPHA8", for messages */
+/* Level `level` as stored: width * height texels of the format, tightly packed, row 0 = bottom;
+ * NULL outside the chain. softlight-gl uploads level 0 from here (and lets GL make the mips). */
+const void *sl_texture_level_texels(const sl_texture *t, int level, int *width, int *height);
 int sl_texture_format_bytes(sl_texture_format fmt);        /* bytes per texel */
 
 /* Files, with the full mip chain: PNG (8 and 16 bit, 1-4 channels), JPEG, Radiance .hdr (the
