@@ -139,7 +139,8 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
  * level is computed once for the quad (texture() computes the same lambda in every lane), and
  * each lane samples once per map: against the rounds, no second pass and no magnified sample
  * with the first round's zero derivatives. The trace hook runs once per lane with the final
- * values (the rounds also call it in their first round, with zero derivatives). Bit for bit the
+ * values (the rounds also call it in their first round, with zero derivatives; softlight trace
+ * keeps the last call of each map, so it prints the same either way). Bit for bit the
  * rounds' result: tests/cli/textured_quad_form.sh compares the G-buffers. */
 void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], void *const texel[4])
 {
@@ -165,7 +166,7 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
         for (int l = 0; l < 4; l++) {
             m[l].map[slot] = sl_texture_sample(s, uv[l], lambda);
             if (u->trace)
-                u->trace(u->trace_ctx, &in[l], slot, uv[l], dPdx, dPdy, lambda, m[l].map[slot]);
+                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, m[l].map[slot]);
         }
     }
     for (int l = 0; l < 4; l++)
