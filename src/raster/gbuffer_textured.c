@@ -56,29 +56,29 @@ static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2
 
 static vec2 map_uv(vec2 uv, vec4 st) { return vec2(uv.x * st.x + st.z, uv.y * st.y + st.w); }
 
-/* gbuffer_textured.frag: main(). Every map is sampled before the discard, so that each lane of a
- * quad records the same derivative calls (GLSL: derivatives after a discard are undefined). */
-void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+/* What a fragment read from each map slot (sl_map_slot), GL's defaults where none is bound. */
+typedef struct {
+    vec4 map[SL_MAP_COUNT];
+} map_values;
+
+static void maps_unbound(map_values *m)
 {
-    const sl_gbuffer_tex_uniforms *u = uniforms;
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        m->map[slot] = vec4(1, 1, 1, 1);
+    m->map[SL_MAP_NORMAL] = vec4(0.5f, 0.5f, 1, 1);
+}
+
+/* gbuffer_textured.frag after its samples: the discard, the normal map, the texel. Both forms
+ * of the shader end here, so they share every operation after the fetches. */
+static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m,
+                            void *texel)
+{
     const float *v = in->varyings;
     vec3 vWorldPos = vec3(v[0], v[1], v[2]);
     vec3 vNormal = vec3(v[3], v[4], v[5]);
-    vec2 vTexCoord = vec2(v[6], v[7]);
     vec4 vTangent = vec4(v[8], v[9], v[10], v[11]);
-
-    vec4 kd = vec4(1, 1, 1, 1), ks = vec4(1, 1, 1, 1), gloss = vec4(1, 1, 1, 1), mask = vec4(1, 1, 1, 1);
-    vec4 nt = vec4(0.5f, 0.5f, 1, 1);
-    if (u->uMaps & SL_GBUFFER_MAP_KD)
-        kd = texture_traced(in, &u->uKdMap, map_uv(vTexCoord, u->uKdMapST), SL_MAP_KD, u);
-    if (u->uMaps & SL_GBUFFER_MAP_KS)
-        ks = texture_traced(in, &u->uKsMap, map_uv(vTexCoord, u->uKsMapST), SL_MAP_KS, u);
-    if (u->uMaps & SL_GBUFFER_MAP_ALPHA)
-        gloss = texture_traced(in, &u->uAlphaMap, map_uv(vTexCoord, u->uAlphaMapST), SL_MAP_ALPHA, u);
-    if (u->uMaps & SL_GBUFFER_MAP_NORMAL)
-        nt = texture_traced(in, &u->uNormalMap, map_uv(vTexCoord, u->uNormalMapST), SL_MAP_NORMAL, u);
-    if (u->uMaps & SL_GBUFFER_MAP_MASK)
-        mask = texture_traced(in, &u->uMaskMap, map_uv(vTexCoord, u->uMaskMapST), SL_MAP_MASK, u);
+    vec4 kd = m->map[SL_MAP_KD], ks = m->map[SL_MAP_KS], gloss = m->map[SL_MAP_ALPHA];
+    vec4 nt = m->map[SL_MAP_NORMAL], mask = m->map[SL_MAP_MASK];
 
     if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
         float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
@@ -92,8 +92,8 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
     if ((u->uMaps & SL_GBUFFER_MAP_NORMAL) && dot(t, t) > 1e-30f) {
         t = normalize(t);
         vec3 b = scale3(cross(n, t), vTangent.w);
-        vec3 m = vec3(nt.x * 2.0f - 1.0f, nt.y * 2.0f - 1.0f, nt.z * 2.0f - 1.0f);
-        vec3 p = add3(add3(scale3(t, m.x), scale3(b, m.y)), scale3(n, m.z));
+        vec3 mt = vec3(nt.x * 2.0f - 1.0f, nt.y * 2.0f - 1.0f, nt.z * 2.0f - 1.0f);
+        vec3 p = add3(add3(scale3(t, mt.x), scale3(b, mt.y)), scale3(n, mt.z));
         n = dot(p, p) > 1e-30f ? normalize(p) : n;
     }
     sl_gbuffer_texel *g = texel;
@@ -105,6 +105,74 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
     g->depth = in->frag_coord.z;
 }
 
+/* The uniforms of map slot `slot`: its sampler and its uv transform. */
+static const sl_sampler2D *map_sampler(const sl_gbuffer_tex_uniforms *u, int slot)
+{
+    const sl_sampler2D *s[SL_MAP_COUNT] = {&u->uKdMap, &u->uKsMap, &u->uAlphaMap, &u->uNormalMap, &u->uMaskMap};
+    return s[slot];
+}
+static vec4 map_st(const sl_gbuffer_tex_uniforms *u, int slot)
+{
+    const vec4 st[SL_MAP_COUNT] = {u->uKdMapST, u->uKsMapST, u->uAlphaMapST, u->uNormalMapST, u->uMaskMapST};
+    return st[slot];
+}
+
+/* gbuffer_textured.frag: main(). Every map is sampled before the discard, so that each lane of a
+ * quad records the same derivative calls (GLSL: derivatives after a discard are undefined). The
+ * reference form: one lane at a time through the generic quad rounds (quad.c), each texture()
+ * call one derivative record. */
+void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    const sl_gbuffer_tex_uniforms *u = uniforms;
+    vec2 vTexCoord = vec2(in->varyings[6], in->varyings[7]);
+    map_values m;
+    maps_unbound(&m);
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        if (u->uMaps & (1 << slot))
+            m.map[slot] = texture_traced(in, map_sampler(u, slot), map_uv(vTexCoord, map_st(u, slot)), slot, u);
+    finish_fragment(u, in, &m, texel);
+}
+
+/* The quad form of the same shader (sl_program.fragment_quad): one call for the 2x2 quad, so
+ * the uv of each map is computed once per lane, its coarse derivatives are the differences of
+ * lanes 1 - 0 and 2 - 0 (shader.h's sl_quad_dfdx_coarse, the expression the rounds use), its
+ * level is computed once for the quad (texture() computes the same lambda in every lane), and
+ * each lane samples once per map: against the rounds, no second pass and no magnified sample
+ * with the first round's zero derivatives. The trace hook runs once per lane with the final
+ * values (the rounds also call it in their first round, with zero derivatives; softlight trace
+ * keeps the last call of each map, so it prints the same either way). Bit for bit the
+ * rounds' result: tests/cli/textured_quad_form.sh compares the G-buffers. */
+void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], void *const texel[4])
+{
+    const sl_gbuffer_tex_uniforms *u = uniforms;
+    map_values m[4];
+    for (int l = 0; l < 4; l++)
+        maps_unbound(&m[l]);
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        if (!(u->uMaps & (1 << slot)))
+            continue;
+        const sl_sampler2D *s = map_sampler(u, slot);
+        vec4 st = map_st(u, slot);
+        vec2 uv[4];
+        float us[4], vs[4];
+        for (int l = 0; l < 4; l++) {
+            uv[l] = map_uv(vec2(in[l].varyings[6], in[l].varyings[7]), st);
+            us[l] = uv[l].x;
+            vs[l] = uv[l].y;
+        }
+        vec2 dPdx = vec2(sl_quad_dfdx_coarse(us), sl_quad_dfdx_coarse(vs));
+        vec2 dPdy = vec2(sl_quad_dfdy_coarse(us), sl_quad_dfdy_coarse(vs));
+        float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+        for (int l = 0; l < 4; l++) {
+            m[l].map[slot] = sl_texture_sample(s, uv[l], lambda);
+            if (u->trace)
+                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, m[l].map[slot]);
+        }
+    }
+    for (int l = 0; l < 4; l++)
+        finish_fragment(u, &in[l], &m[l], texel[l]);
+}
+
 /* Two programs: one that may discard (a late depth test, as GL's rules require) for masked
  * materials, one that cannot and keeps the early test. */
 const sl_program sl_gbuffer_tex_program = {
@@ -112,6 +180,7 @@ const sl_program sl_gbuffer_tex_program = {
     .fragment = sl_gbuffer_tex_frag,
     .varying_count = SL_GBUFFER_TEX_VARYINGS,
     .derivatives = true,
+    .fragment_quad = sl_gbuffer_tex_frag_quad,
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -119,6 +188,7 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .varying_count = SL_GBUFFER_TEX_VARYINGS,
     .derivatives = true,
     .discards = true,
+    .fragment_quad = sl_gbuffer_tex_frag_quad,
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */

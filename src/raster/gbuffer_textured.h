@@ -5,7 +5,9 @@
  * texture coordinates and tangents. Produces: the same G-buffer texel as the built-in pair, with
  * kd, ks, alpha and the normal modulated by the maps; masked materials discard below the cutoff.
  * The program takes derivatives (texture() with an implicit level of detail), so it runs in 2x2
- * quads; the masked variant may discard, so its depth test runs after it. */
+ * quads, through its quad form on the span path (one call a quad, derivatives between lanes) and
+ * through the generic rounds on the plain path; the masked variant may discard, so its depth
+ * test runs after it. */
 #ifndef SL_GBUFFER_TEXTURED_H
 #define SL_GBUFFER_TEXTURED_H
 
@@ -61,7 +63,9 @@ typedef struct {
 /* Varyings: vWorldPos (3), vNormal (3), vTexCoord (2), vTangent (4: world xyz, handedness w). */
 #define SL_GBUFFER_TEX_VARYINGS 12
 void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
-void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel);
+void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel); /* the reference */
+/* The quad form (sl_program.fragment_quad) both programs carry: the same bits in one call a quad. */
+void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], void *const texel[4]);
 extern const sl_program sl_gbuffer_tex_program;        /* no discard: early depth test */
 extern const sl_program sl_gbuffer_tex_masked_program; /* alpha_cutoff: may discard, late depth test */
 

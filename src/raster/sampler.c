@@ -35,12 +35,14 @@ static float safe_coord(float x)
 }
 
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
-static int wrap_index(int i, int n, sl_wrap mode)
+static inline int wrap_index(int i, int n, sl_wrap mode)
 {
     if ((unsigned)i < (unsigned)n) /* inside: every mode leaves it (and skips the divisions) */
         return i;
     switch (mode) {
     case SL_REPEAT: {
+        if ((n & (n - 1)) == 0) /* a power of two: the remainder is a mask (two's complement) */
+            return (int)((unsigned)i & (unsigned)(n - 1));
         int r = i % n;
         return r < 0 ? r + n : r;
     }
@@ -56,30 +58,128 @@ static int wrap_index(int i, int n, sl_wrap mode)
     return i < 0 ? 0 : (i >= n ? n - 1 : i);
 }
 
-vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+/* The two indices bilinear filtering reads, i and i + 1, wrapped: wrap_index on each, with one
+ * wrap instead of two for REPEAT (i + 1 wraps to 0 exactly when i wrapped to n - 1). */
+static inline void wrap_pair(int i, int n, sl_wrap mode, int *i0, int *i1)
+{
+    if (i >= 0 && i < n - 1) {
+        *i0 = i;
+        *i1 = i + 1;
+    } else if (mode == SL_REPEAT) {
+        *i0 = wrap_index(i, n, mode);
+        *i1 = *i0 + 1 < n ? *i0 + 1 : 0;
+    } else {
+        *i0 = wrap_index(i, n, mode);
+        *i1 = wrap_index(i + 1, n, mode);
+    }
+}
+
+/* The fetch path, written once and instantiated per format (FORMAT_FUNCTIONS below): fmt is a
+ * constant in each instance, so tex_decode's switch and the texel size fold away and a sample
+ * pays one indirect call for its format instead of a switch per texel. */
+
+/* Bilinear filtering of level lv at texel-space (x, y) (texture_internal.h's tex_bilinear). */
+static inline __attribute__((always_inline)) vec4 bilinear_as(sl_texture_format fmt, const sl_texture *t,
+                                                               const tex_level *lv, float x, float y,
+                                                               sl_wrap wrap_s, sl_wrap wrap_t)
 {
     x = safe_coord(x);
     y = safe_coord(y);
     float fx = floorf(x), fy = floorf(y);
     float a = x - fx, b = y - fy;
-    int i = (int)fx, j = (int)fy;
-    int i0 = wrap_index(i, lv->width, wrap_s), i1 = wrap_index(i + 1, lv->width, wrap_s);
-    int j0 = wrap_index(j, lv->height, wrap_t), j1 = wrap_index(j + 1, lv->height, wrap_t);
-    vec4 bottom = mix4(tex_texel(t, lv, i0, j0), tex_texel(t, lv, i1, j0), a);
-    vec4 top = mix4(tex_texel(t, lv, i0, j1), tex_texel(t, lv, i1, j1), a);
+    int i0, i1, j0, j1;
+    wrap_pair((int)fx, lv->width, wrap_s, &i0, &i1);
+    wrap_pair((int)fy, lv->height, wrap_t, &j0, &j1);
+    const size_t tb = (size_t)tex_format_bytes(fmt), row = (size_t)lv->width * tb;
+    const unsigned char *r0 = lv->texels + (size_t)j0 * row, *r1 = lv->texels + (size_t)j1 * row;
+    vec4 bottom = mix4(tex_decode(t, fmt, r0 + (size_t)i0 * tb), tex_decode(t, fmt, r0 + (size_t)i1 * tb), a);
+    vec4 top = mix4(tex_decode(t, fmt, r1 + (size_t)i0 * tb), tex_decode(t, fmt, r1 + (size_t)i1 * tb), a);
     return mix4(bottom, top, b);
 }
 
 /* Level l filtered at uv: nearest (the texel containing uv) or bilinear (the four around it). */
-static vec4 sample_level(const sl_texture *t, int l, vec2 uv, bool linear, const sl_sampler_state *st)
+static inline __attribute__((always_inline)) vec4 level_as(sl_texture_format fmt, const sl_texture *t, int l,
+                                                            vec2 uv, bool linear, const sl_sampler_state *st)
 {
     const tex_level *lv = &t->level[l];
     float x = uv.x * (float)lv->width, y = uv.y * (float)lv->height;
     if (linear)
-        return tex_bilinear(t, lv, x - 0.5f, y - 0.5f, st->wrap_s, st->wrap_t);
+        return bilinear_as(fmt, t, lv, x - 0.5f, y - 0.5f, st->wrap_s, st->wrap_t);
     int i = wrap_index((int)floorf(safe_coord(x)), lv->width, st->wrap_s);
     int j = wrap_index((int)floorf(safe_coord(y)), lv->height, st->wrap_t);
-    return tex_texel(t, lv, i, j);
+    return tex_decode(t, fmt, lv->texels + ((size_t)j * (size_t)lv->width + (size_t)i) * (size_t)tex_format_bytes(fmt));
+}
+
+/* A complete texture sampled at an (already biased and clamped) lambda: the min/mag choice and
+ * the level selection of GL 4.6 section 8.14 (sl_texture_sample). */
+static inline __attribute__((always_inline)) vec4 sample_as(sl_texture_format fmt, const sl_texture *t,
+                                                             const sl_sampler_state *st, vec2 uv, float lambda)
+{
+    if (!(lambda > 0.0f)) /* magnified (c = 0 for every filter pair; NaN lands here too) */
+        return level_as(fmt, t, 0, uv, st->mag_filter == SL_LINEAR, st);
+    int last = t->levels - 1;
+    bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
+                  st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
+    switch (st->min_filter) {
+    case SL_NEAREST:
+    case SL_LINEAR:
+        return level_as(fmt, t, 0, uv, linear, st);
+    case SL_NEAREST_MIPMAP_NEAREST:
+    case SL_LINEAR_MIPMAP_NEAREST: {
+        /* the nearest level: round(lambda), halves to even as llvmpipe's iround (measured:
+         * 0.5 -> 0, 1.5 -> 2, 2.5 -> 2); GL's ceil(lambda + 1/2) - 1 rounds them down */
+        int l = lambda >= (float)last ? last : (int)rintf(lambda);
+        return level_as(fmt, t, l, uv, linear, st);
+    }
+    case SL_NEAREST_MIPMAP_LINEAR:
+    case SL_LINEAR_MIPMAP_LINEAR:
+        break;
+    }
+    if (lambda >= (float)last)
+        return level_as(fmt, t, last, uv, linear, st);
+    float fl = floorf(lambda);
+    int l = (int)fl;
+    return mix4(level_as(fmt, t, l, uv, linear, st), level_as(fmt, t, l + 1, uv, linear, st), lambda - fl);
+}
+
+/* One instance of each per format, and the tables that pick them by t->format. */
+typedef vec4 bilinear_fn(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t);
+typedef vec4 sample_fn(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda);
+#define FORMAT_FUNCTIONS(F)                                                                                    \
+    static vec4 bilinear_##F(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap ws, sl_wrap wt) \
+    {                                                                                                          \
+        return bilinear_as(SL_TEX_##F, t, lv, x, y, ws, wt);                                                   \
+    }                                                                                                          \
+    static vec4 sample_##F(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda)             \
+    {                                                                                                          \
+        return sample_as(SL_TEX_##F, t, st, uv, lambda);                                                       \
+    }
+FORMAT_FUNCTIONS(R8)
+FORMAT_FUNCTIONS(RG8)
+FORMAT_FUNCTIONS(RGB8)
+FORMAT_FUNCTIONS(RGBA8)
+FORMAT_FUNCTIONS(SRGB8)
+FORMAT_FUNCTIONS(SRGB8_ALPHA8)
+FORMAT_FUNCTIONS(R16)
+FORMAT_FUNCTIONS(RG16)
+FORMAT_FUNCTIONS(RGB16)
+FORMAT_FUNCTIONS(RGBA16)
+FORMAT_FUNCTIONS(R32F)
+FORMAT_FUNCTIONS(RGB32F)
+FORMAT_FUNCTIONS(RGBA32F)
+#define FORMAT_ENTRY(prefix, F) [SL_TEX_##F] = prefix##F
+#define FORMAT_TABLE(prefix)                                                                                    \
+    {FORMAT_ENTRY(prefix, R8),    FORMAT_ENTRY(prefix, RG8),    FORMAT_ENTRY(prefix, RGB8),                     \
+     FORMAT_ENTRY(prefix, RGBA8), FORMAT_ENTRY(prefix, SRGB8),  FORMAT_ENTRY(prefix, SRGB8_ALPHA8),             \
+     FORMAT_ENTRY(prefix, R16),   FORMAT_ENTRY(prefix, RG16),   FORMAT_ENTRY(prefix, RGB16),                    \
+     FORMAT_ENTRY(prefix, RGBA16), FORMAT_ENTRY(prefix, R32F),  FORMAT_ENTRY(prefix, RGB32F),                   \
+     FORMAT_ENTRY(prefix, RGBA32F)}
+static bilinear_fn *const bilinear_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(bilinear_);
+static sample_fn *const sample_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(sample_);
+
+vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+{
+    return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
 }
 
 static bool is_mipmap_filter(sl_filter f) { return f >= SL_NEAREST_MIPMAP_NEAREST; }
@@ -93,34 +193,9 @@ static bool complete(const sl_texture *t, const sl_sampler_state *st)
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
 {
     const sl_texture *t = s->texture;
-    const sl_sampler_state *st = &s->state;
-    if (!complete(t, st))
+    if (!complete(t, &s->state))
         return vec4(0, 0, 0, 1);
-    if (!(lambda > 0.0f)) /* magnified (c = 0 for every filter pair; NaN lands here too) */
-        return sample_level(t, 0, uv, st->mag_filter == SL_LINEAR, st);
-    int last = t->levels - 1;
-    bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
-                  st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
-    switch (st->min_filter) {
-    case SL_NEAREST:
-    case SL_LINEAR:
-        return sample_level(t, 0, uv, linear, st);
-    case SL_NEAREST_MIPMAP_NEAREST:
-    case SL_LINEAR_MIPMAP_NEAREST: {
-        /* the nearest level: round(lambda), halves to even as llvmpipe's iround (measured:
-         * 0.5 -> 0, 1.5 -> 2, 2.5 -> 2); GL's ceil(lambda + 1/2) - 1 rounds them down */
-        int l = lambda >= (float)last ? last : (int)rintf(lambda);
-        return sample_level(t, l, uv, linear, st);
-    }
-    case SL_NEAREST_MIPMAP_LINEAR:
-    case SL_LINEAR_MIPMAP_LINEAR:
-        break;
-    }
-    if (lambda >= (float)last)
-        return sample_level(t, last, uv, linear, st);
-    float fl = floorf(lambda);
-    int l = (int)fl;
-    return mix4(sample_level(t, l, uv, linear, st), sample_level(t, l + 1, uv, linear, st), lambda - fl);
+    return sample_for[t->format](t, &s->state, uv, lambda);
 }
 
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of

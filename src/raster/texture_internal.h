@@ -6,8 +6,9 @@
  * after the other in one allocation. A trilinear sample reads 8 texels: keeping 8-bit data
  * 8-bit keeps a texture 4x smaller than floats would (more of it stays in cache), and the
  * decode is a multiply (UNORM) or a lookup in the texture's own 256-entry table (sRGB), which
- * costs less than the cache misses a float copy would add. The format is switched on per
- * texel; a draw samples one texture with one format, so the branch predicts perfectly. */
+ * costs less than the cache misses a float copy would add. The format is switched on once per
+ * sample (sampler.c instantiates its filtering for each format, with tex_decode inlined and
+ * folded), not per texel. */
 #ifndef SL_TEXTURE_INTERNAL_H
 #define SL_TEXTURE_INTERNAL_H
 
@@ -32,14 +33,31 @@ struct sl_texture {
     float srgb[256];        /* sRGB formats: code -> linear, the exact curve (unused otherwise) */
 };
 
-/* Texel (x, y) of a level, decoded to GL's vec4 (missing channels (0, 0, 1)). */
-static inline vec4 tex_texel(const sl_texture *t, const tex_level *lv, int x, int y)
+/* Bytes of one texel of fmt, as a constant where fmt is one (the per-format fetch functions of
+ * sampler.c are instantiated with a constant format, so this and tex_decode fold away). */
+static inline int tex_format_bytes(sl_texture_format fmt)
 {
-    const unsigned char *p = lv->texels + ((size_t)y * (size_t)lv->width + (size_t)x) * (size_t)t->texel_bytes;
+    switch (fmt) {
+    case SL_TEX_R8: return 1;
+    case SL_TEX_RG8: case SL_TEX_R16: return 2;
+    case SL_TEX_RGB8: case SL_TEX_SRGB8: return 3;
+    case SL_TEX_RGBA8: case SL_TEX_SRGB8_ALPHA8: case SL_TEX_RG16: case SL_TEX_R32F: return 4;
+    case SL_TEX_RGB16: return 6;
+    case SL_TEX_RGBA16: return 8;
+    case SL_TEX_RGB32F: return 12;
+    case SL_TEX_RGBA32F: return 16;
+    }
+    return 0;
+}
+
+/* The texel at p, of format fmt, decoded to GL's vec4 (missing channels (0, 0, 1)). The one
+ * decode: tex_texel and every fetch of sampler.c go through it. */
+static inline vec4 tex_decode(const sl_texture *t, sl_texture_format fmt, const unsigned char *p)
+{
     const float u8 = 1.0f / 255.0f, u16 = 1.0f / 65535.0f;
     uint16_t h[4];
     float f[4];
-    switch (t->format) {
+    switch (fmt) {
     case SL_TEX_R8: return vec4(p[0] * u8, 0, 0, 1);
     case SL_TEX_RG8: return vec4(p[0] * u8, p[1] * u8, 0, 1);
     case SL_TEX_RGB8: return vec4(p[0] * u8, p[1] * u8, p[2] * u8, 1);
@@ -55,6 +73,13 @@ static inline vec4 tex_texel(const sl_texture *t, const tex_level *lv, int x, in
     case SL_TEX_RGBA32F: memcpy(f, p, 16); return vec4(f[0], f[1], f[2], f[3]);
     }
     return vec4(0, 0, 0, 1);
+}
+
+/* Texel (x, y) of a level, decoded (texelFetch, the mip builder). */
+static inline vec4 tex_texel(const sl_texture *t, const tex_level *lv, int x, int y)
+{
+    const unsigned char *p = lv->texels + ((size_t)y * (size_t)lv->width + (size_t)x) * (size_t)t->texel_bytes;
+    return tex_decode(t, t->format, p);
 }
 
 /* Bilinear filtering of one level at texel-space position (x, y) = (u w - 0.5, v h - 0.5),

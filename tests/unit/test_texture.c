@@ -595,6 +595,123 @@ static void test_bad_files(void **state)
     sl_texture_destroy(NULL);
 }
 
+/* ---- the fast fetch path against the plain one ---- */
+
+/* The sampler as first written (before sampler.c's per-format instances and its REPEAT masks):
+ * a switch per texel (tex_texel), a remainder per wrap. The fast path must give its bits. */
+static float ref_safe_coord(float x)
+{
+    const float limit = 16777216.0f;
+    if (x >= -limit)
+        return x <= limit ? x : limit;
+    return x < 0.0f ? -limit : 0.0f;
+}
+
+static int ref_wrap(int i, int n, sl_wrap mode)
+{
+    if (i >= 0 && i < n)
+        return i;
+    if (mode == SL_REPEAT) {
+        int r = i % n;
+        return r < 0 ? r + n : r;
+    }
+    if (mode == SL_MIRRORED_REPEAT) {
+        int r = i % (2 * n);
+        if (r < 0)
+            r += 2 * n;
+        return r < n ? r : 2 * n - 1 - r;
+    }
+    return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
+static vec4 ref_level(const sl_texture *t, int l, vec2 uv, bool linear, const sl_sampler_state *st)
+{
+    const tex_level *lv = &t->level[l];
+    float x = uv.x * (float)lv->width, y = uv.y * (float)lv->height;
+    if (!linear)
+        return tex_texel(t, lv, ref_wrap((int)floorf(ref_safe_coord(x)), lv->width, st->wrap_s),
+                         ref_wrap((int)floorf(ref_safe_coord(y)), lv->height, st->wrap_t));
+    x = ref_safe_coord(x - 0.5f);
+    y = ref_safe_coord(y - 0.5f);
+    float fx = floorf(x), fy = floorf(y);
+    int i = (int)fx, j = (int)fy;
+    int i0 = ref_wrap(i, lv->width, st->wrap_s), i1 = ref_wrap(i + 1, lv->width, st->wrap_s);
+    int j0 = ref_wrap(j, lv->height, st->wrap_t), j1 = ref_wrap(j + 1, lv->height, st->wrap_t);
+    vec4 bottom = mix4(tex_texel(t, lv, i0, j0), tex_texel(t, lv, i1, j0), x - fx);
+    vec4 top = mix4(tex_texel(t, lv, i0, j1), tex_texel(t, lv, i1, j1), x - fx);
+    return mix4(bottom, top, y - fy);
+}
+
+static vec4 ref_sample(const sl_sampler2D *s, vec2 uv, float lambda)
+{
+    const sl_texture *t = s->texture;
+    const sl_sampler_state *st = &s->state;
+    if (!(lambda > 0.0f))
+        return ref_level(t, 0, uv, st->mag_filter == SL_LINEAR, st);
+    bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
+                  st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
+    int last = t->levels - 1;
+    if (st->min_filter == SL_NEAREST || st->min_filter == SL_LINEAR)
+        return ref_level(t, 0, uv, linear, st);
+    if (st->min_filter == SL_NEAREST_MIPMAP_NEAREST || st->min_filter == SL_LINEAR_MIPMAP_NEAREST)
+        return ref_level(t, lambda >= (float)last ? last : (int)rintf(lambda), uv, linear, st);
+    if (lambda >= (float)last)
+        return ref_level(t, last, uv, linear, st);
+    float fl = floorf(lambda);
+    return mix4(ref_level(t, (int)fl, uv, linear, st), ref_level(t, (int)fl + 1, uv, linear, st), lambda - fl);
+}
+
+static float rnd(float lo, float hi) { return lo + (hi - lo) * (float)rand() / (float)RAND_MAX; }
+
+/* Every format, power-of-two and odd sizes, every filter and wrap pair, random positions (far
+ * outside [0, 1] too) and levels: the fast path's bits are the plain path's. */
+static void test_fast_path_bits(void **state)
+{
+    (void)state;
+    static const int sizes[][2] = {{16, 8}, {13, 7}, {1, 1}, {64, 3}};
+    unsigned char *data = malloc(64 * 8 * 16);
+    assert_non_null(data);
+    srand(7);
+    long checked = 0;
+    for (int f = 0; f < SL_TEX_FORMAT_COUNT; f++) {
+        assert_int_equal(tex_format_bytes((sl_texture_format)f), sl_texture_format_bytes((sl_texture_format)f));
+        for (size_t i = 0; i < 64 * 8 * 16; i++)
+            data[i] = (unsigned char)(rand() & 0xff);
+        if (f >= SL_TEX_R32F) /* finite floats in [0, 1) */
+            for (size_t i = 0; i < 64 * 8 * 4; i++) {
+                float v = (float)(rand() & 0xffff) / 65536.0f;
+                memcpy(data + 4 * i, &v, 4);
+            }
+        for (size_t z = 0; z < sizeof sizes / sizeof sizes[0]; z++) {
+            sl_texture *t = NULL;
+            sl_error err = {0};
+            assert_true(sl_texture_create((sl_texture_format)f, sizes[z][0], sizes[z][1], data, true, &t, &err));
+            for (int min = SL_NEAREST; min <= SL_LINEAR_MIPMAP_LINEAR; min++)
+                for (int w = 0; w < 9; w++) {
+                    sl_sampler2D s = sampler(t, (sl_filter)min, min & 1 ? SL_LINEAR : SL_NEAREST,
+                                             (sl_wrap)(w % 3), (sl_wrap)(w / 3));
+                    for (int k = 0; k < 200; k++) {
+                        float range = k < 150 ? 3.0f : 1e6f;
+                        vec2 uv = vec2(rnd(-range, range), rnd(-range, range));
+                        float lambda = rnd(-1.0f, (float)sl_texture_levels(t) + 1.0f);
+                        vec4 fast = sl_texture_sample(&s, uv, lambda), slow = ref_sample(&s, uv, lambda);
+                        if (memcmp(&fast, &slow, sizeof fast) != 0)
+                            fail_msg("%s %dx%d min %d wrap %d uv (%.9g, %.9g) lambda %.9g: (%.9g %.9g %.9g %.9g) "
+                                     "against (%.9g %.9g %.9g %.9g)",
+                                     sl_texture_format_name((sl_texture_format)f), sizes[z][0], sizes[z][1], min, w,
+                                     (double)uv.x, (double)uv.y, (double)lambda, (double)fast.x, (double)fast.y,
+                                     (double)fast.z, (double)fast.w, (double)slow.x, (double)slow.y,
+                                     (double)slow.z, (double)slow.w);
+                        checked++;
+                    }
+                }
+            sl_texture_destroy(t);
+        }
+    }
+    free(data);
+    assert_true(checked == 13L * 4 * 6 * 9 * 200);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -608,6 +725,7 @@ int main(void)
         cmocka_unit_test(test_texel_fetch_and_size),
         cmocka_unit_test(test_load_files),
         cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_fast_path_bits),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
