@@ -24,6 +24,11 @@
  * scenes of very different brightness (the city's sun) on one scale. Set figures are means over
  * the scenes, each scene weighing the same.
  *
+ * Two sets of scenes: the five Phong scenes, whose means are the headline figures, and the GGX
+ * scene (scenes/ggx.json, `"brdf": "ggx"`), run through the same variants and reported beside
+ * them ("GGX beside Phong" in the report, "all-ggx" rows in the CSV); its ground truth costs
+ * about three times a Phong pixel's (GGX's D and Smith visibility at every texel).
+ *
  * The "mf" variants are the shader's microfacet estimator (options.estimator =
  * SL_ESTIMATOR_MICROFACET, `--estimator mf`: H drawn from D(H) (N.H), w = reflect(-V, H), weight
  * by the exact density p(w) = D (N.H) / (4 V.H); docs/lighting.md). The "pdf" mip rule
