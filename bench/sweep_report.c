@@ -752,7 +752,9 @@ static void write_ggx(const report *rp, FILE *f)
     const summary *sum = rp->sum, *gs = rp->sum_ggx;
     int threads = c->threads > 0 ? c->threads : omp_get_max_threads();
     fprintf(f, "\n## GGX beside Phong\n\n"
-               "The GGX set (`\"brdf\": \"ggx\"`, docs/lighting.md \"Phong and GGX\"): ");
+               "This run: `bench/speed-vs-error.sh build -- --size %dx%d --frames %d --anchor-frames %d --scenes %s`.\n"
+               "The GGX set (`\"brdf\": \"ggx\"`, docs/lighting.md \"Phong and GGX\"): ",
+            c->width, c->height, c->frames, c->anchor_frames, c->scenes);
     for (int q = rp->scenes; q < rp->scenes + rp->ggx_scenes; q++)
         fprintf(f, "%s%s, %dx%d, %ld covered pixels, ground truth %.0f s (%.1f ms per covered pixel and core%s)",
                 q > rp->scenes ? "; " : "", si[q].name, si[q].w, si[q].h, si[q].covered, si[q].gt_seconds,
