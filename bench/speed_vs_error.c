@@ -24,6 +24,11 @@
  * scenes of very different brightness (the city's sun) on one scale. Set figures are means over
  * the scenes, each scene weighing the same.
  *
+ * Two sets of scenes: the five Phong scenes, whose means are the headline figures, and the GGX
+ * scene (scenes/ggx.json, `"brdf": "ggx"`), run through the same variants and reported beside
+ * them ("GGX beside Phong" in the report, "all-ggx" rows in the CSV); its ground truth costs
+ * about three times a Phong pixel's (GGX's D and Smith visibility at every texel).
+ *
  * The "mf" variants are the shader's microfacet estimator (options.estimator =
  * SL_ESTIMATOR_MICROFACET, `--estimator mf`: H drawn from D(H) (N.H), w = reflect(-V, H), weight
  * by the exact density p(w) = D (N.H) / (4 V.H); docs/lighting.md). The "pdf" mip rule
@@ -51,11 +56,14 @@
 
 typedef struct {
     const char *name, *path;
+    bool ggx; /* the GGX set, reported beside the Phong set (sweep_report.h) */
 } scene_entry;
 
+/* The Phong scenes, then the GGX ones: the report takes the GGX scenes last. */
 static const scene_entry all_scenes[] = {
-    {"default", "scenes/default.json"}, {"bunny", "scenes/bunny.json"}, {"city-sun", "scenes/city-sun.json"},
-    {"grazing", "scenes/grazing.json"}, {"top-down", "scenes/top-down.json"},
+    {"default", "scenes/default.json", false}, {"bunny", "scenes/bunny.json", false},
+    {"city-sun", "scenes/city-sun.json", false}, {"grazing", "scenes/grazing.json", false},
+    {"top-down", "scenes/top-down.json", false}, {"ggx", "scenes/ggx.json", true},
 };
 
 static const int sweep_n[] = {1, 2, 4, 8, 16, 20, 32, 40, 64, 128, 256};
@@ -477,6 +485,7 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
     if (!sl_scene_load(s->path, &scene, &err))
         die(s->path, &err);
     si->name = s->name;
+    si->ggx = s->ggx;
     si->anchor_w = scene.settings.width;
     si->anchor_h = scene.settings.height;
     double aspect = (double)si->anchor_w / si->anchor_h, px = (double)c->width * c->height;
@@ -617,7 +626,7 @@ int main(int argc, char **argv)
 {
     config c = {.width = 192, .height = 108, .frames = 5, .anchor_frames = 3, .out_dir = "out/speed-vs-error",
                 .cache_dir = "out/ground-truth", .doc = "docs/accuracy.md", .gl = NULL};
-    snprintf(c.scenes, sizeof c.scenes, "default,bunny,city-sun,grazing,top-down");
+    snprintf(c.scenes, sizeof c.scenes, "default,bunny,city-sun,grazing,top-down,ggx");
     static char gl_default[PATH_LEN];
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;

@@ -53,6 +53,7 @@ typedef struct {
 
 typedef struct {
     const char *name;
+    bool ggx;           /* a GGX scene: its own set, beside the Phong set (the set means) */
     int w, h, anchor_w, anchor_h;
     long covered;
     double gt_seconds;
@@ -69,8 +70,10 @@ static inline const char *est_name(const variant *v) { return sl_estimator_name(
 static inline const char *lod_name(const variant *v) { return sl_lod_rule_name(v->opt.lod_rule); }
 
 /* Write c->out_dir/speed-vs-error.csv, the plot data beside it, and c->doc unless it is NULL or
- * "none", from res[variant][scene] of `scenes` scenes; run_seconds and the load averages at the
- * start and the end go into the report's method. Exits (status 2) when a file cannot be written. */
+ * "none", from res[variant][scene] of `scenes` scenes, the Phong scenes first and the GGX scenes
+ * (si[k].ggx) after them: the set means, the claim and the plots are the Phong set's; the GGX
+ * scenes are a set of their own ("all-ggx" in the CSV, a section of the report) beside it.
+ * run_seconds and the load averages at the start and the end go into the report's method. Exits (status 2) when a file cannot be written. */
 void sweep_write_report(const config *c, const variant_list *vl, result res[][MAX_SCENES], const scene_info *si,
                         int scenes, double run_seconds, double load0, double load1);
 

@@ -299,6 +299,67 @@ static void test_unknown_and_duplicate_keys(void **state)
     parse_fails("{\"camera\": {\"comment\": [\"a\", 1]}}", "camera.comment: expected a string or an array");
 }
 
+/* The microfacet set per material: "brdf" and its parameter (scene.c's parse_material), each
+ * error with its JSON path. */
+static void test_brdf_keys(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok("{\"materials\": {\"p\": {\"alpha\": 50}, \"q\": {\"brdf\": \"phong\", \"alpha\": 7},"
+             " \"g\": {\"brdf\": \"ggx\", \"roughness\": 0.3}, \"d\": {\"brdf\": \"ggx\"},"
+             " \"z\": {\"brdf\": \"ggx\", \"roughness\": 0}, \"o\": {\"brdf\": \"ggx\", \"roughness\": 1}}}",
+             &s);
+    const sl_material *p = NULL, *q = NULL, *g = NULL, *d = NULL, *z = NULL, *o = NULL;
+    for (int i = 0; i < s.material_count; i++) {
+        const sl_material *m = &s.materials[i];
+        const char *n = m->name;
+        p = !strcmp(n, "p") ? m : p;
+        q = !strcmp(n, "q") ? m : q;
+        g = !strcmp(n, "g") ? m : g;
+        d = !strcmp(n, "d") ? m : d;
+        z = !strcmp(n, "z") ? m : z;
+        o = !strcmp(n, "o") ? m : o;
+    }
+    assert_non_null(p);
+    assert_non_null(q);
+    assert_non_null(g);
+    assert_non_null(d);
+    assert_non_null(z);
+    assert_non_null(o);
+    assert_int_equal(p->brdf, SL_BRDF_PHONG); /* the default for scene materials */
+    assert_near(p->alpha, 50.0f, 0.0f);
+    assert_int_equal(q->brdf, SL_BRDF_PHONG);
+    assert_near(q->alpha, 7.0f, 0.0f);
+    assert_int_equal(g->brdf, SL_BRDF_GGX);
+    assert_near(g->roughness, 0.3f, 0.0f);
+    assert_int_equal(d->brdf, SL_BRDF_GGX);
+    assert_near(d->roughness, 0.5f, 0.0f); /* documented default */
+    assert_near(z->roughness, 0.0f, 0.0f); /* both ends of [0, 1] are legal */
+    assert_near(o->roughness, 1.0f, 0.0f);
+    sl_scene_free(&s);
+
+    /* out of range, wrong types, unknown sets */
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"ggx\", \"roughness\": 1.5}}}",
+                "t.json: materials.m.roughness: 1.5 is outside 0..1");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"ggx\", \"roughness\": -0.01}}}",
+                "materials.m.roughness: -0.01 is outside 0..1");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"ggx\", \"roughness\": \"0.5\"}}}",
+                "materials.m.roughness: expected a number");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"ggx\", \"roughness\": 1e999}}}",
+                "materials.m.roughness: inf is not a finite float");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"beckmann\"}}}",
+                "t.json: materials.m.brdf: unknown brdf \"beckmann\": expected \"phong\" or \"ggx\"");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"GGX\"}}}", "materials.m.brdf: unknown brdf \"GGX\"");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": 1}}}", "materials.m.brdf: expected \"phong\" or \"ggx\"");
+    /* each set's parameter on the other set is an error, not silently ignored */
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"ggx\", \"alpha\": 100}}}",
+                "t.json: materials.m.alpha: alpha is the Phong exponent; a \"ggx\" material takes \"roughness\"");
+    parse_fails("{\"materials\": {\"m\": {\"roughness\": 0.5}}}",
+                "t.json: materials.m.roughness: roughness needs \"brdf\": \"ggx\"");
+    parse_fails("{\"materials\": {\"m\": {\"brdf\": \"phong\", \"roughness\": 0.5}}}",
+                "materials.m.roughness: roughness needs \"brdf\": \"ggx\"");
+}
+
 static void test_absurd_values(void **state)
 {
     (void)state;
@@ -876,6 +937,7 @@ int main(void)
         cmocka_unit_test(test_error_paths),
         cmocka_unit_test(test_unknown_and_duplicate_keys),
         cmocka_unit_test(test_absurd_values),
+        cmocka_unit_test(test_brdf_keys),
         cmocka_unit_test(test_object_errors),
         cmocka_unit_test(test_many_objects_linear),
         cmocka_unit_test(test_json_syntax),

@@ -1,0 +1,84 @@
+#!/usr/bin/env bash
+# trace_ggx.sh BUILD_DIR - `softlight trace` and `softlight truth --part` on GGX materials
+# (scenes/ggx.json; docs/lighting.md "Phong and GGX").
+#
+# The trace: a GGX pixel says so (its lobe line: the material's roughness r and a^2 = max(r^2,
+# 1e-4)^2), and every traced sample's D, G and contribution are recomputed here from the numbers
+# the trace prints (N in the environment frame, H, w.N, N.V, F, Li): D = a^2 / (pi ((1 - c^2) +
+# c^2 a^2)^2) with c = N.H, G = 4 Vis = 2 / (w.N sqrt(N.V^2 (1 - a^2) + a^2) + N.V sqrt(w.N^2
+# (1 - a^2) + a^2)), and the contribution F Li G w.N (V.H)/(N.H) for `mf`, F Li G w.N / 4 for
+# `spec`. The printed figures have 4-5 significant digits: 1% relative is far inside what a
+# wrong formula (Phong's D at the equivalent exponent, Phong's 1/(L.H)^2) moves. Both paths (the
+# batched default and --plain, the port). A Phong pixel has no lobe line.
+#
+# The truth: its specular part on the GGX scene against the microfacet estimator at N = 1024
+# (unbiased, filtered): nRMSE below 0.08 (measured 0.030 at 32x18), where eq. (3)'s `spec` is far
+# off (it keeps eq. (3)'s bias with GGX's lobe: measured 0.73).
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+SL="$1/softlight"
+T=$(mktemp -d)
+trap 'rm -rf "$T"' EXIT
+scene=scenes/ggx.json
+
+# check_trace FILE R: the lobe line says r = R, and each sample's D, G and contribution agree
+check_trace() {
+    local file=$1 r=$2
+    grep -q "lobe         GGX, roughness r = $r, " "$file" || { echo "FAIL: no GGX lobe line with r = $r"; cat "$file"; exit 1; }
+    tr '(),' '   ' <"$file" | awk -v r="$r" '
+        function rel(a, b) { return (a - b) / (b > 0 ? b : -b) }
+        function bad(what, got, want) { printf "FAIL: sample %d: %s printed %g, recomputed %g\n", k, what, got, want; fails++ }
+        /^ *lobe / { a2 = $NF; sub(/\)$/, "", a2) }
+        /^frame \(environment\)/ || /^frame  environment / { env = 1 }
+        env && $1 == "N" && nx == "" { nx = $2; ny = $3; nz = $4 }
+        $1 == "N.V" { nv = $2 }
+        /microfacet estimator/ { mf = 1 }
+        /^ +[0-9]+ / && NF == 31 {
+            k = $1; wn = $11; hx = $12; hy = $13; hz = $14; D = $16; G = $17; F = $18; lz = $6
+            Li = $22; c = $25
+            a = r * r; if (a < 1e-4) a = 1e-4; a2w = a * a
+            cn = nx * hx + ny * hy + nz * hz
+            Dw = a2w / (3.14159265358979 * ((1 - cn * cn) + cn * cn * a2w) ^ 2)
+            Gw = 2 / (wn * sqrt(nv * nv * (1 - a2w) + a2w) + nv * sqrt(wn * wn * (1 - a2w) + a2w))
+            cw = mf ? F * Li * G * wn * $15 / lz : F * Li * G * wn / 4
+            if (rel(D, Dw) > 0.01 || rel(D, Dw) < -0.01) bad("D", D, Dw)
+            if (rel(G, Gw) > 0.01 || rel(G, Gw) < -0.01) bad("G", G, Gw)
+            if (rel(c, cw) > 0.01 || rel(c, cw) < -0.01) bad("contribution", c, cw)
+            n++
+        }
+        END {
+            if (rel(a2, (r * r < 1e-4 ? 1e-4 : r * r) ^ 2) > 1e-4) { print "FAIL: a^2 " a2; fails++ }
+            if (n < 8) { print "FAIL: only " n " samples checked"; fails++ }
+            exit fails > 0
+        }' || { echo "    in $file:"; sed 's/^/    /' "$file" | head -40; exit 1; }
+}
+
+checked=0
+# 80,34: dielectric r = 0.5; 61,54: metal r = 0.25 (160x90)
+for px in "80,34 0.5" "61,54 0.25"; do
+    set -- $px
+    for est in mf spec; do
+        for path in "" --plain; do
+            "$SL" trace "$scene" --size 160x90 --pixel "$1" -n 16 --no-lights --estimator $est $path >"$T/t.txt"
+            check_trace "$T/t.txt" "$2"
+            checked=$((checked + 1))
+        done
+    done
+done
+"$SL" trace scenes/default.json --size 160x90 --pixel 80,45 -n 2 >"$T/p.txt"
+! grep -q "^  lobe" "$T/p.txt" || { echo "FAIL: a Phong pixel printed a GGX lobe line"; exit 1; }
+echo "ok   trace: D, G and contributions of $checked GGX traces recomputed within 1%"
+
+# the truth's GGX specular against the microfacet estimator
+"$SL" truth "$scene" --size 32x18 --cache "$T/g.gt" --part specular --pfm "$T/truth.pfm" >/dev/null 2>&1
+for est in "mf --lod pdf --distortion" "spec"; do
+    "$SL" render "$scene" --size 32x18 --specular-only --no-lights --estimator $est -n 1024 --pfm "$T/r.pfm" -q
+    n=$("$SL" truth "$scene" --size 32x18 --cache "$T/g.gt" --part specular --compare "$T/r.pfm" 2>/dev/null |
+        grep -o 'nrmse [0-9.]*' | cut -d' ' -f2)
+    [ -n "$n" ] || { echo "FAIL: truth --compare printed no nrmse"; exit 1; }
+    case $est in
+    mf*) awk -v n="$n" 'BEGIN { exit !(n < 0.08) }' || { echo "FAIL: truth GGX specular against mf N=1024: nrmse $n (max 0.08)"; exit 1; } ;;
+    spec) awk -v n="$n" 'BEGIN { exit !(n > 0.3) }' || { echo "FAIL: spec on GGX should keep eq. (3)'s bias: nrmse $n (expected > 0.3)"; exit 1; } ;;
+    esac
+    echo "ok   truth --part specular against $est N=1024: nrmse $n"
+done
