@@ -105,7 +105,7 @@ static int bench_boxes(int n, const int *threads, int nthreads, const int *tiles
 {
     sl_mesh box = {0};
     sl_error err = {0};
-    sl_material mat = {"grey", {0.5f, 0.5f, 0.5f}, {0.04f, 0.04f, 0.04f}, 50.0f};
+    sl_material mat = {.name = "grey", .kd = {0.5f, 0.5f, 0.5f}, .ks = {0.04f, 0.04f, 0.04f}, .alpha = 50.0f};
     sl_object *objs = malloc((size_t)n * sizeof *objs);
     sl_gbuffer gb = {0};
     if (!objs || !sl_mesh_box(&box, &err) || !sl_gbuffer_resize(&gb, width, height, &err)) {
@@ -191,7 +191,7 @@ int main(int argc, char **argv)
         fprintf(stderr, "bench_raster: %s\n", mesh_err.msg);
         return 1;
     }
-    sl_material mat = {"grey", {0.5f, 0.5f, 0.5f}, {0.04f, 0.04f, 0.04f}, 50.0f};
+    sl_material mat = {.name = "grey", .kd = {0.5f, 0.5f, 0.5f}, .ks = {0.04f, 0.04f, 0.04f}, .alpha = 50.0f};
     sl_object sphere_obj = {"sphere", 0, 0, mat4_identity()};
     sl_scene tris = {.meshes = &sphere, .mesh_count = 1, .materials = &mat, .material_count = 1,
                      .objects = &sphere_obj, .object_count = 1};

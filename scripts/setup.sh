@@ -8,12 +8,15 @@ packages=(
   build-essential cmake pkg-config      # compiler, build
   clang libclang-rt-14-dev libomp-dev   # fuzz targets (libFuzzer) and OpenMP for clang
   libstb-dev libcjson-dev               # image I/O, scene files
+  libopenexr-dev                        # .exr environments and --exr (its C library, OpenEXRCore)
+  libassimp-dev                         # model import (glTF 2.0, OBJ+MTL, ...)
   libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core  # viewer and its HUD font
   libcmocka-dev                         # unit tests
   libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0  # softlight-gl on Mesa (llvmpipe)
   gnuplot-nox                           # benchmark plots
   time python3                          # tests/cli/image_limits.sh: peak memory (/usr/bin/time), its .hdr generator
   xvfb xdotool xauth                    # viewer end-to-end test without a display
+  parallel                              # running shards (tests/cli/shard.sh, docs/sharding.md)
 )
 
 missing=()

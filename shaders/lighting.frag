@@ -18,7 +18,9 @@
 //   sampler2D uPosition   .xyz = world-space position (RGB32F or RGBA32F)
 //   sampler2D uNormal     .xyz = world-space normal (need not be unit; zero is handled)
 //   sampler2D uKd         .rgb = linear diffuse albedo Kd
-//   sampler2D uKsAlpha    .rgb = Ks (Schlick F0, linear), .a = alpha (Phong exponent >= 0)
+//   sampler2D uKsAlpha    .rgb = Ks (Schlick F0, linear), .a = the lobe parameter alpha: >= 0
+//                         the Phong exponent, <= -1 GGX with roughness r = -1 - alpha (a float
+//                         target: the sign is kept; src/raster/gbuffer.h)
 //   sampler2D uDepth      .r   = window depth; >= 1.0 means "no geometry" (the clear value).
 //                               A DEPTH_COMPONENT32F texture with TEXTURE_COMPARE_MODE = NONE
 //                               or an R32F copy both work.
@@ -151,6 +153,7 @@ const float POLE_EPS = 1e-6;       // |R.xy|^2 below this: Z x R vanishes, use X
 const float TINY = 1e-30;          // floor of pow() and log2() arguments
 const float MAX_ALPHA = 1e7;       // alpha beyond this is a mirror to float precision
 const float MIN_LIGHT_D2 = 1e-8;   // a light closer than 1e-4 has no defined direction
+const float GGX_MIN_A = 1e-4;      // GGX a = max(r^2, 1e-4): r = 0 stays a finite lobe
 
 // The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
 // GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
@@ -197,6 +200,60 @@ vec3 sl_brdf_F(vec3 Ks, float LdotH)
     return Ks + (vec3(1.0) - Ks) * (m2 * m2 * m);
 }
 
+// GGX, the second microfacet set (brdf.h): it replaces D and G; F stays Schlick's. A pixel's
+// lobe parameter alpha <= -1 is GGX with roughness r = -1 - alpha, a = max(r^2, GGX_MIN_A).
+float sl_ggx_a2(float alpha)
+{
+    float r = -1.0 - alpha;
+    float a = max(r * r, GGX_MIN_A);
+    return a * a;
+}
+
+// D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2), the bracket as (1 - (N.H)^2) + (N.H)^2 a^2: in
+// float a^2 - 1 is -1 for a^2 < 6e-8, and the literal form then divides by 0 at N.H = 1.
+float sl_ggx_D(float NdotH, float a2)
+{
+    float c2 = NdotH * NdotH;
+    float t = max(1.0 - c2, 0.0) + c2 * a2;
+    return a2 / (PI * t * t);
+}
+
+// G / ((L.N)(V.N)) = 4 Vis, Vis the height-correlated Smith visibility
+// 0.5 / ((N.L) sqrt((N.V)^2 (1 - a^2) + a^2) + (N.V) sqrt((N.L)^2 (1 - a^2) + a^2)).
+float sl_ggx_G(float NdotL, float NdotV, float a2)
+{
+    float gv = NdotL * sqrt(NdotV * NdotV * (1.0 - a2) + a2);
+    float gl = NdotV * sqrt(NdotL * NdotL * (1.0 - a2) + a2);
+    return 2.0 / (gv + gl);
+}
+
+// D and G of the pixel's set, by the sign of its lobe parameter (uGTerm is the Phong set's).
+float sl_lobe_D(float NdotH, float alpha)
+{
+    return alpha < 0.0 ? sl_ggx_D(NdotH, sl_ggx_a2(alpha)) : sl_brdf_D(NdotH, alpha);
+}
+
+float sl_lobe_G(float LdotH, float NdotL, float NdotV, float alpha, int gterm)
+{
+    return alpha < 0.0 ? sl_ggx_G(NdotL, NdotV, sl_ggx_a2(alpha)) : sl_brdf_G(LdotH, gterm);
+}
+
+// GGX importance sampling: cos(theta) of a direction drawn with density D(c) c about the axis,
+// c = sqrt((1 - xi2) / (1 + (a^2 - 1) xi2)) (the inverse of the CDF of D(c) c), the denominator
+// as (1 - xi2) + a^2 xi2 (sl_ggx_D's reason).
+float ggx_cos_theta(float xi2, float a2)
+{
+    return sqrt((1.0 - xi2) / ((1.0 - xi2) + a2 * xi2));
+}
+
+// D at that c, from xi2 exactly: c^2 (a^2 - 1) + 1 = a^2 / (1 + (a^2 - 1) xi2), so
+// D = (1 + (a^2 - 1) xi2)^2 / (pi a^2).
+float ggx_D_of_xi(float xi2, float a2)
+{
+    float t = (1.0 - xi2) + a2 * xi2;
+    return t * t / (PI * a2);
+}
+
 // Pair k of the Hammersley set: two pairs per vec4 (std140).
 vec2 hammersley_point(int k)
 {
@@ -227,18 +284,24 @@ vec2 pixel_rotation(ivec2 pixel)
 }
 
 // Specification steps 2-3: skew (xi1, xi2) to the lobe about +Z,
-// (u, v) = (xi1, acos(xi2^(1/(alpha+1))) / pi), then eq. (4).
+// (u, v) = (xi1, acos(xi2^(1/(alpha+1))) / pi), then eq. (4). GGX (alpha < 0) draws the same
+// structure with its own lobe: cos(theta) = ggx_cos_theta, density D(w.R) (w.R) about R.
 vec3 skewed_sample(vec2 xi, float alpha)
 {
-    vec2 uv = vec2(xi.x, acos(clamp(pow(xi.y, 1.0 / (alpha + 1.0)), -1.0, 1.0)) / PI);
+    float c = alpha < 0.0 ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 1.0));
+    vec2 uv = vec2(xi.x, acos(clamp(c, -1.0, 1.0)) / PI);
     return sl_uv_to_dir(uv);
 }
 
 // Density of the drawn direction w: p(w) = (alpha + 1) / (2 pi) (w.R)^alpha, with
 // (w.R)^alpha = xi2^(alpha / (alpha + 1)) exactly (w.R = xi2^(1/(alpha+1))); the xi form does not
-// underflow at large alpha as pow(w.R, alpha) does.
+// underflow at large alpha as pow(w.R, alpha) does. GGX: D(w.R) (w.R), D from xi2 exactly.
 float sample_pdf(vec2 xi, float alpha)
 {
+    if (alpha < 0.0) {
+        float a2 = sl_ggx_a2(alpha);
+        return ggx_D_of_xi(xi.y, a2) * ggx_cos_theta(xi.y, a2);
+    }
     return (alpha + 1.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 1.0));
 }
 
@@ -324,6 +387,14 @@ vec3 env_lod(vec3 w, float lod)
         return mix(a, env_oct_bilinear(min(l0 + 1, int(uEnvMaxLod)), uv), f);
     }
     return textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb;
+}
+
+// The G-buffer's lobe parameter (src/raster/gbuffer.h): >= 0 the Phong exponent, clamped to
+// [0, MAX_ALPHA]; <= -1 GGX with r = -1 - alpha, clamped to r <= 1; (-1, 0), which no material
+// writes, Phong 0.
+float lobe_param(float a)
+{
+    return a <= -1.0 ? max(a, -2.0) : clamp(a, 0.0, MAX_ALPHA);
 }
 
 // Unit normal, bent toward the eye where the interpolated normal faces away:
@@ -428,9 +499,9 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 H = normalize(w + V);
         float NdotH = dot(N, H);
         float LdotH = dot(w, H);
-        float D = sl_brdf_D(NdotH, alpha);
+        float D = sl_lobe_D(NdotH, alpha);
         vec3 F = sl_brdf_F(Ks, LdotH);
-        float G = sl_brdf_G(LdotH, uGTerm);
+        float G = sl_lobe_G(LdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN / 4.0;
@@ -445,16 +516,20 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 // Microfacet sampling, step 1: H about +Z with density D(H) (N.H). D is normalised so that
 // (alpha + 2) int_0^1 c^(alpha+1) dc = 1 (c = N.H), so c has the CDF c^(alpha+2) and
 // c = xi2^(1/(alpha+2)); the azimuth is eq. (4)'s, as in skewed_sample (only the exponent differs).
+// GGX (alpha < 0): c = ggx_cos_theta, which is GGX's D(H) (N.H) exactly.
 vec3 microfacet_sample(vec2 xi, float alpha)
 {
-    vec2 uv = vec2(xi.x, acos(clamp(pow(xi.y, 1.0 / (alpha + 2.0)), -1.0, 1.0)) / PI);
+    float c = alpha < 0.0 ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 2.0));
+    vec2 uv = vec2(xi.x, acos(clamp(c, -1.0, 1.0)) / PI);
     return sl_uv_to_dir(uv);
 }
 
 // D(H) of the drawn H: (N.H)^alpha = xi2^(alpha/(alpha+2)) exactly (N.H = xi2^(1/(alpha+2))); the
-// xi form does not underflow at large alpha as pow(N.H, alpha) does.
+// xi form does not underflow at large alpha as pow(N.H, alpha) does. GGX: ggx_D_of_xi.
 float microfacet_D(vec2 xi, float alpha)
 {
+    if (alpha < 0.0)
+        return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
     return (alpha + 2.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 2.0));
 }
 
@@ -471,11 +546,14 @@ float microfacet_D(vec2 xi, float alpha)
 // 2 (V.H)(N.H) > V.N, so N.H > V.N / (2 V.H) and the weight G' (w.N)(V.H)/(N.H) is at most
 // 2 / (V.N) for both G choices: bounded (200 at the bent-normal floor N.V = 0.01), where the
 // consistent estimator's D/p is not. Samples with V.H <= 0 (the microfacet faces away from
-// the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (ERRATA). N.H is the drawn
+// the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (ERRATA). GGX: the same
+// estimator with GGX's D (it cancels) and G' = 4 Vis, whose weight 4 Vis (w.N)(V.H)/(N.H) is the
+// usual G2 (V.H) / ((N.V)(N.H)). N.H is the drawn
 // cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,
 // and p(w) for gems (docs/lighting.md "Estimators").
 vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
+    float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
@@ -496,7 +574,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float NdotH = Hl.z;
         float pdf = D * NdotH / (4.0 * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
-        float G = sl_brdf_G(VdotH, uGTerm);
+        float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN * VdotH / NdotH;
@@ -522,7 +600,8 @@ vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha)
         if (NdotH <= 0.0)
             continue;
         float LdotH = dot(w, H);
-        vec3 f = sl_brdf_F(Ks, LdotH) * (sl_brdf_D(NdotH, alpha) * sl_brdf_G(LdotH, uGTerm) / 4.0);
+        float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, uGTerm);
+        vec3 f = sl_brdf_F(Ks, LdotH) * (sl_lobe_D(NdotH, alpha) * G / 4.0);
         sum = sum + f * uEnvLightRadiance[j].rgb * wN;
     }
     return sum * uEnvIntensity;
@@ -544,8 +623,10 @@ vec3 point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
     vec3 f = vec3(0.0);
     if (uDiffuse != 0)
         f = f + Kd * (1.0 / PI);
-    if (uSpecular != 0)
-        f = f + sl_brdf_F(Ks, LdotH) * (sl_brdf_D(dot(N, H), alpha) * sl_brdf_G(LdotH, uGTerm) / 4.0);
+    if (uSpecular != 0) {
+        float G = sl_lobe_G(LdotH, NdotL, dot(N, V), alpha, uGTerm);
+        f = f + sl_brdf_F(Ks, LdotH) * (sl_lobe_D(dot(N, H), alpha) * G / 4.0);
+    }
     return f * uLightColor[i] * (uLightIntensity[i] / d2 * NdotL);
 }
 
@@ -572,7 +653,7 @@ void main()
         vec3 Kd = texelFetch(uKd, pixel, 0).rgb;
         vec4 KsAlpha = texelFetch(uKsAlpha, pixel, 0);
         vec3 Ks = KsAlpha.rgb;
-        float alpha = clamp(KsAlpha.a, 0.0, MAX_ALPHA);
+        float alpha = lobe_param(KsAlpha.a);
         vec3 V = normalize(uEye - P);
         vec3 N = facing_normal(texelFetch(uNormal, pixel, 0).xyz, V);
         vec3 Nenv = uEnvRotation * N;

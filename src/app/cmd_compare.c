@@ -1,4 +1,5 @@
-/* cmd_compare.c - `softlight compare A B`: how far apart two renderings (.pfm or .hdr) are.
+/* cmd_compare.c - `softlight compare A B`: how far apart two renderings (.pfm, .hdr, .exr or a layer
+ * FILE.exr:LAYER of a multi-layer .exr) are.
  *
  * Prints the figures of sl_compare_images (src/post/compare.h) and the worst pixels, optionally
  * writes a false-colour difference PNG, and turns a tolerance into an exit status so scripts and
@@ -11,6 +12,7 @@
 
 #include "app/args.h"
 #include "app/commands.h"
+#include "core/exr.h"
 #include "core/image.h"
 #include "post/compare.h"
 
@@ -20,14 +22,43 @@ static bool has_suffix(const char *s, const char *suffix)
     return n >= k && !strcmp(s + n - k, suffix);
 }
 
+/* FILE.pfm, FILE.hdr, FILE.exr (its R, G, B), or FILE.exr:LAYER (a layer of a multi-layer
+ * .exr, as render --exr writes: signed values kept, as the AOV it equals; a PFM compared with
+ * such a layer is read signed too, so normal.pfm compares with FILE.exr:normal). */
+static bool is_exr_layer(const char *path) { return strstr(path, ".exr:") || strstr(path, ".EXR:"); }
+
 static bool load_float_image(const char *path, sl_image *img, sl_image_repairs *repairs, sl_error *err)
 {
     memset(repairs, 0, sizeof *repairs);
+    const char *colon = strstr(path, ".exr:");
+    if (!colon)
+        colon = strstr(path, ".EXR:");
+    if (colon) {
+        char file[4096];
+        size_t n = (size_t)(colon - path) + 4;
+        if (n >= sizeof file)
+            return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
+        memcpy(file, path, n);
+        file[n] = '\0';
+        return sl_exr_read_layer(file, path + n + 1, NULL, 0, img, err);
+    }
+    if (has_suffix(path, ".exr") || has_suffix(path, ".EXR"))
+        return sl_image_read_exr(path, 0, img, repairs, err);
     if (has_suffix(path, ".pfm") || has_suffix(path, ".PFM"))
         return sl_image_read_pfm(path, 0, img, repairs, err);
     if (has_suffix(path, ".hdr") || has_suffix(path, ".HDR"))
         return sl_image_read_hdr(path, 0, img, repairs, err);
-    return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: expected a .pfm or .hdr image", path);
+    return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: expected a .pfm, .hdr or .exr image (or FILE.exr:LAYER)", path);
+}
+
+/* A or B: a PFM beside an .exr layer is read signed (positions, normals), as the layer is. */
+static bool load_compared(const char *path, bool beside_layer, sl_image *img, sl_image_repairs *repairs, sl_error *err)
+{
+    if (beside_layer && (has_suffix(path, ".pfm") || has_suffix(path, ".PFM"))) {
+        memset(repairs, 0, sizeof *repairs);
+        return sl_image_read_pfm_signed(path, 0, img, err);
+    }
+    return load_float_image(path, img, repairs, err);
 }
 
 /* --edges DA,DB: sl_compare_edge_mask of the two depth images, and-ed into `mask` when one was given. */
@@ -132,7 +163,7 @@ int cmd_compare(int argc, char **argv)
          "smallest denominator of the relative error (default 1e-3)", NULL},
     };
     const int count = (int)(sizeof table / sizeof table[0]);
-    const char *usage = "softlight compare A B [options]   (A, B: .pfm or .hdr)";
+    const char *usage = "softlight compare A B [options]   (A, B: .pfm, .hdr, .exr or FILE.exr:LAYER)";
     const char *paths[2];
     int npos = 0;
     bool help = false;
@@ -154,7 +185,8 @@ int cmd_compare(int argc, char **argv)
     int status = 2;
     sl_image a = {0}, b = {0}, mask = {0}, diff = {0};
     sl_image_repairs ra, rb, rm;
-    if (!load_float_image(paths[0], &a, &ra, &err) || !load_float_image(paths[1], &b, &rb, &err) ||
+    bool layers = is_exr_layer(paths[0]) || is_exr_layer(paths[1]);
+    if (!load_compared(paths[0], layers, &a, &ra, &err) || !load_compared(paths[1], layers, &b, &rb, &err) ||
         (mask_path && !load_float_image(mask_path, &mask, &rm, &err)))
         goto done;
     if (edges && !edge_mask(edges, edge_band, depth_tol, mask_path ? &mask : NULL, &mask, &err))

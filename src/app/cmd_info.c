@@ -166,7 +166,7 @@ int cmd_info(int argc, char **argv)
     size_t mesh_bytes = 0;
     for (int i = 0; i < scene.mesh_count; i++) {
         const sl_mesh *m = &scene.meshes[i];
-        mesh_bytes += (size_t)m->vertex_count * (2 * sizeof(vec3) + (m->texcoords ? sizeof(vec2) : 0)) +
+        mesh_bytes += (size_t)m->vertex_count * (2 * sizeof(vec3) + (m->texcoords ? sizeof(vec2) + sizeof(vec4) : 0)) +
                       (size_t)m->triangle_count * 3 * sizeof(uint32_t);
     }
     for (int i = 0; i < scene.object_count; i++) {
@@ -213,7 +213,7 @@ int cmd_info(int argc, char **argv)
     const sl_environment_desc *e = &scene.environment;
     if (e->hdr_path[0]) {
         sl_image env;
-        if (!sl_image_read_hdr(e->hdr_path, desc.image_budget, &env, NULL, &err)) {
+        if (!sl_image_read_radiance(e->hdr_path, desc.image_budget, &env, NULL, &err)) {
             fprintf(stderr, "softlight info: %s\n", err.msg);
             sl_scene_free(&scene);
             return 2;
@@ -229,7 +229,7 @@ int cmd_info(int argc, char **argv)
     }
     if (e->irradiance_path[0] && desc.lighting.irradiance == SL_IRRADIANCE_MAP && !desc.lighting.no_diffuse) {
         sl_image map;
-        if (!sl_image_read_hdr(e->irradiance_path, desc.image_budget, &map, NULL, &err)) {
+        if (!sl_image_read_radiance(e->irradiance_path, desc.image_budget, &map, NULL, &err)) {
             fprintf(stderr, "softlight info: %s\n", err.msg);
             sl_scene_free(&scene);
             return 2;

@@ -1,6 +1,6 @@
-/* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, and the G-buffer
- * as PFM files with --aov, all replaced or none (one output set, core/output_set.h). Prints the
- * time each stage took. */
+/* cmd_render.c - `softlight render scene.json`: one frame to PNG / .hdr / .pfm, the G-buffer
+ * as PFM files with --aov, the radiance and the G-buffer as one multi-layer OpenEXR with --exr,
+ * all replaced or none (one output set, core/output_set.h). Prints the time each stage took. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -10,6 +10,7 @@
 #include "core/timer.h"
 #include "render_options.h"
 #include "scene/scene.h"
+#include "shard.h"
 
 /* The PNG name when none is given: the scene's name in the current directory. */
 static void default_png_name(const char *scene_path, char *out, size_t size)
@@ -47,20 +48,30 @@ static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 
 int cmd_render(int argc, char **argv)
 {
-    const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL;
+    const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
+    const char *shard_arg = NULL;
     bool quiet = false;
     int repeat = 1;
     sl_render_options ro;
-    sl_arg table[SL_RENDER_OPTION_COUNT + 7];
+    sl_shard shard = {0};
+    sl_arg table[SL_RENDER_OPTION_COUNT + 11];
     sl_render_options_table(&ro, table);
     int n = SL_RENDER_OPTION_COUNT;
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
     table[n++] = (sl_arg){"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "FILE.pfm", "linear radiance as float32 PFM", NULL};
+    table[n++] = (sl_arg){"--exr", NULL, SL_ARG_STRING, &exr, 0, 0, NULL, "FILE.exr",
+                          "radiance (R, G, B) and every G-buffer channel as layers of one OpenEXR file, 32-bit float", NULL};
+    table[n++] = (sl_arg){"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
+                          "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL};
     table[n++] = (sl_arg){"--aov", NULL, SL_ARG_STRING, &aov, 0, 0, NULL, "DIR", "write the G-buffer channels as DIR/*.pfm", NULL};
     table[n++] = (sl_arg){"--normals", NULL, SL_ARG_STRING, &normals, 0, 0, NULL, "FILE.png", "normal visualisation (n*0.5+0.5)", NULL};
     table[n++] = (sl_arg){"--repeat", NULL, SL_ARG_INT, &repeat, 1, 1000, NULL, "N",
                           "render N frames and report each stage's median time (for benchmarks)", NULL};
+    table[n++] = (sl_arg){"--shard", NULL, SL_ARG_STRING, &shard_arg, 0, 0, NULL, "I/N",
+                          "compute image rows band I of N only and write a partial file (softlight merge)", NULL};
+    table[n++] = (sl_arg){"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
+                          "where --shard writes its partial (default: the first output + .shard-I-of-N)", NULL};
     table[n++] = (sl_arg){"--quiet", "-q", SL_ARG_FLAG, &quiet, 0, 0, NULL, NULL, "print nothing but errors", NULL};
 
     const char *positional[1];
@@ -73,16 +84,18 @@ int cmd_render(int argc, char **argv)
     }
     if (help || npos != 1) {
         sl_args_print_help(help ? stdout : stderr, "softlight render SCENE.json [-o out.png] [--hdr out.hdr] "
-                           "[--pfm out.pfm] [--aov DIR] [options]", table, n);
+                           "[--pfm out.pfm] [--exr out.exr] [--aov DIR] [options]", table, n);
         return help ? 0 : 2;
     }
     sl_render_desc desc;
-    if (!sl_render_options_desc(&ro, &desc, &err)) {
+    uint64_t identity = 0;
+    if (!sl_render_options_desc(&ro, &desc, &err) || (shard_arg && !sl_shard_parse(shard_arg, &shard, &err)) ||
+        (shard_arg && !sl_shard_identity("render", argc, argv, positional[0], &identity, &err))) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
     char default_png[1024];
-    if (!png && !hdr && !pfm && !aov && !normals) {
+    if (!png && !hdr && !pfm && !aov && !normals && !exr) {
         default_png_name(positional[0], default_png, sizeof default_png);
         png = default_png;
     }
@@ -92,11 +105,30 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
+    if (env) { /* a path as given on the command line: relative to here, not to the scene */
+        if (strlen(env) >= sizeof scene.environment.hdr_path) {
+            fprintf(stderr, "softlight render: --env: path too long\n");
+            sl_scene_free(&scene);
+            return 2;
+        }
+        snprintf(scene.environment.hdr_path, sizeof scene.environment.hdr_path, "%s", env);
+        scene.environment.irradiance_path[0] = '\0'; /* the scene's map belongs to its own environment */
+    }
     int status = 2;
     sl_renderer r;
     sl_output_set out = {0};
+    if (shard.count) { /* the band of the scene's size, or of --size */
+        desc.banded = true;
+        sl_shard_rows(shard.index, shard.count, desc.height ? desc.height : scene.settings.height, &desc.band[0],
+                      &desc.band[1]);
+    }
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
+    if (shard.count) {
+        const char *first = png ? png : hdr ? hdr : pfm ? pfm : exr ? exr : normals ? normals : aov;
+        if (!sl_shard_begin(&shard, &out, "render", identity, r.desc.width, r.desc.height, first, &err))
+            goto done;
+    }
     warn_repairs(scene.environment.hdr_path, &r.env_repairs);
     if (!render_frames(&r, repeat, &err))
         goto done;
@@ -111,6 +143,8 @@ int cmd_render(int argc, char **argv)
         goto done;
     if (pfm && !sl_output_set_image(&out, pfm, sl_image_encode_pfm, &r.radiance, &err))
         goto done;
+    if (exr && !sl_gbuffer_add_exr(&r.gbuffer, scene.camera.eye, &r.radiance, exr, &out, &err))
+        goto done;
     if (aov && !(sl_output_set_dir(&out, aov, &err) &&
                  sl_gbuffer_add_aovs(&r.gbuffer, scene.camera.eye, aov, &out, &err)))
         goto done;
@@ -122,7 +156,7 @@ int cmd_render(int argc, char **argv)
         if (!ok)
             goto done;
     }
-    if (!sl_output_set_commit(&out, &err))
+    if (!sl_output_set_commit(&out, &err) || (shard.count && !sl_shard_finish(&shard, &err)))
         goto done;
     if (!quiet) {
         const sl_lighting_options *l = &r.uniforms->options;
@@ -135,14 +169,18 @@ int cmd_render(int argc, char **argv)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
                    r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
-        const char *outs[] = {png, hdr, pfm, aov, normals};
-        for (size_t i = 0; i < sizeof outs / sizeof outs[0]; i++)
+        const char *outs[] = {png, hdr, pfm, exr, aov, normals};
+        for (size_t i = 0; i < sizeof outs / sizeof outs[0] && !shard.count; i++)
             if (outs[i])
                 printf("wrote %s\n", outs[i]);
+        if (shard.count)
+            printf("wrote %s (rows %d..%d of %d; softlight merge joins the %d shards)\n", shard.partial,
+                   shard.part.y0, shard.part.y1, shard.part.height, shard.count);
     }
     status = 0;
 done:
     sl_output_set_free(&out);
+    sl_shard_free(&shard);
     sl_renderer_free(&r);
 done_scene:
     if (status)

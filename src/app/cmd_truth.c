@@ -3,7 +3,10 @@
  * progress on stderr, and optionally how far a rendering is from it.
  *
  *   softlight truth SCENE.json [--size WxH] [--g inv-lh2|one] [--cache FILE] [--pfm OUT.pfm]
- *                   [--parts DIR] [-o OUT.png] [--compare RENDER.pfm] [--threads N]
+ *                   [--parts DIR] [-o OUT.png] [--compare RENDER.pfm] [--threads N] [--shard I/N]
+ *
+ * --shard I/N integrates only band I of N of the image rows and writes a partial file instead
+ * of the outputs (app/shard.h); `softlight merge` joins the N partials into the same files.
  *
  * The truth is image-based light only (no point lights, no background: 0 outside the mask), so
  * compare it with `softlight render --no-lights --pfm`, of the same size and G term. It costs
@@ -20,6 +23,7 @@
 #include "post/compare.h"
 #include "render/renderer.h"
 #include "shading/ground_truth_image.h"
+#include "shard.h"
 
 typedef struct {
     double t0, last;
@@ -51,6 +55,13 @@ static bool add_parts(const char *dir, const sl_gt_image *gt, int g, sl_output_s
     snprintf(path, sizeof path, "%s/specular.pfm", dir);
     if (!sl_output_set_image(out, path, sl_image_encode_pfm, &gt->specular[g], err))
         return false;
+    /* both G terms by name, for bench_speed_vs_error --truth (its error per G term) */
+    snprintf(path, sizeof path, "%s/specular-inv-lh2.pfm", dir);
+    if (!sl_output_set_image(out, path, sl_image_encode_pfm, &gt->specular[SL_GT_G_INV_LH2], err))
+        return false;
+    snprintf(path, sizeof path, "%s/specular-one.pfm", dir);
+    if (!sl_output_set_image(out, path, sl_image_encode_pfm, &gt->specular[SL_GT_G_ONE], err))
+        return false;
     snprintf(path, sizeof path, "%s/mask.pfm", dir);
     return sl_output_set_image(out, path, sl_image_encode_pfm, &gt->mask, err);
 }
@@ -77,7 +88,8 @@ static bool compare_with(const char *path, const sl_image *truth, const sl_gt_im
 int cmd_truth(int argc, char **argv)
 {
     int size[2] = {0, 0}, g = -1, threads = 0, part = 0;
-    const char *cache = NULL, *pfm = NULL, *parts = NULL, *png = NULL, *against = NULL;
+    const char *cache = NULL, *pfm = NULL, *parts = NULL, *png = NULL, *against = NULL, *shard_arg = NULL;
+    sl_shard shard = {0};
     /* --size, --g and --threads: the rendering options' rows of the option table (core/options.h) */
     const sl_option *size_opt = &sl_options[SL_OPT_SIZE], *g_opt = &sl_options[SL_OPT_GTERM];
     const sl_option *threads_opt = &sl_options[SL_OPT_THREADS];
@@ -89,13 +101,18 @@ int cmd_truth(int argc, char **argv)
         {g_opt->cli, NULL, SL_ARG_CHOICE, &g, 0, 0, g_choices, NULL, "G/(L.N V.N) of the truth (default inv-lh2)", NULL},
         {"--cache", NULL, SL_ARG_STRING, &cache, 0, 0, NULL, "FILE", "read the truth from FILE when it matches, else write it", NULL},
         {"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "OUT.pfm", "radiance of --part (default: total = diffuse + specular), float32", NULL},
-        {"--parts", NULL, SL_ARG_STRING, &parts, 0, 0, NULL, "DIR", "DIR/diffuse.pfm, specular.pfm, mask.pfm", NULL},
+        {"--parts", NULL, SL_ARG_STRING, &parts, 0, 0, NULL, "DIR",
+         "DIR/diffuse.pfm, specular.pfm (--g), specular-inv-lh2.pfm, specular-one.pfm, mask.pfm", NULL},
         {"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "OUT.png", "tone-mapped --part (the scene's exposure)", NULL},
         {"--compare", NULL, SL_ARG_STRING, &against, 0, 0, NULL, "RENDER.pfm", "print the error of a rendering (same size)", NULL},
         {"--part", NULL, SL_ARG_CHOICE, &part, 0, 0, "total|diffuse|specular", NULL,
          "what --pfm, -o and --compare use (default total; render with --diffuse-only or --specular-only to match)", NULL},
         {threads_opt->cli, threads_opt->alias, SL_ARG_INT, &threads, threads_opt->min, threads_opt->max, NULL, "N",
          "worker threads (default: all cores)", NULL},
+        {"--shard", NULL, SL_ARG_STRING, &shard_arg, 0, 0, NULL, "I/N",
+         "integrate image rows band I of N only and write a partial file (softlight merge)", NULL},
+        {"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
+         "where --shard writes its partial (default: the first output + .shard-I-of-N)", NULL},
     };
     const int count = (int)(sizeof table / sizeof table[0]);
     const char *positional[1];
@@ -111,6 +128,16 @@ int cmd_truth(int argc, char **argv)
                            "[--pfm OUT.pfm] [--compare RENDER.pfm] [options]", table, count);
         return help ? 0 : 2;
     }
+    uint64_t identity = 0;
+    if (shard_arg && !(sl_shard_parse(shard_arg, &shard, &err) &&
+                       sl_shard_identity("truth", argc, argv, positional[0], &identity, &err))) {
+        fprintf(stderr, "softlight truth: %s\n", err.msg);
+        return 2;
+    }
+    if (shard_arg && against) {
+        fprintf(stderr, "softlight truth: --compare needs the whole image: merge the shards, then compare\n");
+        return 2;
+    }
     const sl_gterm gterm = g >= 0 ? (sl_gterm)((int)g_opt->min + g) : (sl_gterm)g_opt->def[0];
     const int gi = gterm == SL_GTERM_ONE ? SL_GT_G_ONE : SL_GT_G_INV_LH2;
     sl_scene scene;
@@ -122,6 +149,11 @@ int cmd_truth(int argc, char **argv)
     sl_renderer r;
     sl_render_desc desc = {.width = size[0], .height = size[1], .threads = threads};
     desc.lighting.no_diffuse = true; /* no irradiance is needed: the truth integrates the environment itself */
+    if (shard.count) { /* the band of the scene's size, or of --size */
+        desc.banded = true;
+        sl_shard_rows(shard.index, shard.count, desc.height ? desc.height : scene.settings.height, &desc.band[0],
+                      &desc.band[1]);
+    }
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};
     sl_output_set out = {0};
@@ -129,6 +161,11 @@ int cmd_truth(int argc, char **argv)
         goto done_scene;
     if (!sl_renderer_raster(&r, NULL, &err))
         goto done;
+    if (shard.count) {
+        const char *first = pfm ? pfm : parts ? parts : png;
+        if (!sl_shard_begin(&shard, &out, "truth", identity, r.desc.width, r.desc.height, first, &err))
+            goto done;
+    }
     truth_progress p = {.t0 = sl_now_seconds()};
     sl_gt_image_desc gd = {.env = &r.env, .gbuffer = &r.gbuffer, .eye = scene.camera.eye,
                            .env_rotation_deg = r.desc.lighting.env_rotation_deg,
@@ -155,11 +192,15 @@ int cmd_truth(int argc, char **argv)
         goto done;
     if (against && !compare_with(against, &total, &gt, &r.desc.tonemap, &err))
         goto done;
-    if (!sl_output_set_commit(&out, &err))
+    if (!sl_output_set_commit(&out, &err) || (shard.count && !sl_shard_finish(&shard, &err)))
         goto done;
+    if (shard.count)
+        printf("wrote %s (rows %d..%d of %d; softlight merge joins the %d shards)\n", shard.partial, shard.part.y0,
+               shard.part.y1, shard.part.height, shard.count);
     status = 0;
 done:
     sl_output_set_free(&out);
+    sl_shard_free(&shard);
     sl_image_free(&display);
     sl_image_free(&total);
     sl_gt_image_free(&gt);

@@ -9,5 +9,6 @@ int cmd_info(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
 int cmd_truth(int argc, char **argv);
+int cmd_merge(int argc, char **argv);
 
 #endif

@@ -15,6 +15,7 @@ static const struct {
     {"trace", cmd_trace, "run the lighting shader for one pixel and print every intermediate value"},
     {"compare", cmd_compare, "compare two .pfm/.hdr images (error metrics, difference image)"},
     {"truth", cmd_truth, "the ground-truth image of a scene (brute-force integral, cached)"},
+    {"merge", cmd_merge, "join the partial files of a --shard I/N run into its outputs"},
 };
 
 static void usage(FILE *out)

@@ -92,16 +92,14 @@ static view_action handle_drop(viewer *v, const char *path)
         view_message(v, false, "environment %s", path);
         return VIEW_ACT_RESTART_LIGHTING;
     }
-    if (has_suffix(path, ".json")) {
-        if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
-            view_message(v, true, "%s (the scene stays)", err.msg);
-            return VIEW_ACT_NONE;
-        }
-        view_message(v, false, "scene %s", path);
-        return VIEW_ACT_RESTART_CAMERA;
+    /* A .json scene, or any other file as a model in the default scene (`softlight view
+     * model.glb`); what is neither fails there with its reason ("unknown model format"). */
+    if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
+        view_message(v, true, "%s (the scene stays)", err.msg);
+        return VIEW_ACT_NONE;
     }
-    view_message(v, true, "%s: drop an .hdr environment or a .json scene", path);
-    return VIEW_ACT_NONE;
+    view_message(v, false, "%s %s", has_suffix(path, ".json") ? "scene" : "model", path);
+    return VIEW_ACT_RESTART_CAMERA;
 }
 
 /* ------------------------------------------------------------------ input */

@@ -16,8 +16,10 @@
  * Matrices are column-major like GLSL and OpenGL: m.c[col].x is row 0 of that
  * column, and a mat4 can be handed to glUniformMatrix4fv without transposing.
  *
+ * Integer vectors: ivec2 only (texelFetch and textureSize take and return one).
+ *
  * Does not: provide swizzles beyond .x/.y/.z/.w members and xyz(), or integer
- * vectors. */
+ * vectors beyond ivec2. */
 #ifndef SL_GLSL_H
 #define SL_GLSL_H
 
@@ -28,6 +30,7 @@ typedef struct { float x, y, z; } vec3;
 typedef struct { float x, y, z, w; } vec4;
 typedef struct { vec3 c[3]; } mat3;   /* c[column] */
 typedef struct { vec4 c[4]; } mat4;   /* c[column] */
+typedef struct { int x, y; } ivec2;
 
 #define SL_PI 3.14159265358979323846f
 
@@ -36,6 +39,7 @@ typedef struct { vec4 c[4]; } mat4;   /* c[column] */
 #define vec2(x, y) ((vec2){(float)(x), (float)(y)})
 #define vec3(x, y, z) ((vec3){(float)(x), (float)(y), (float)(z)})
 #define vec4(x, y, z, w) ((vec4){(float)(x), (float)(y), (float)(z), (float)(w)})
+#define ivec2(x, y) ((ivec2){(int)(x), (int)(y)})
 static inline vec2 vec2s(float s) { return (vec2){s, s}; }
 static inline vec3 vec3s(float s) { return (vec3){s, s, s}; }
 static inline vec4 vec4s(float s) { return (vec4){s, s, s, s}; }

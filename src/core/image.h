@@ -6,7 +6,7 @@
  * inside the pipeline follow OpenGL instead (row 0 at the bottom); they turn
  * into sl_images once, with sl_image_flip_rows, when written out.
  *
- * Formats (one file each: hdr.c, pfm.c, png.c; image.c owns the buffer, file.c the I/O):
+ * Formats (one file each: hdr.c, pfm.c, exr.c, png.c; image.c owns the buffer, file.c the I/O):
  *   .hdr  Radiance RGBE, read (flat and new-style RLE scanlines, "-Y h +X w" only) and
  *         write (RLE for widths 8..32767, flat otherwise). A texel (m_r, m_g, m_b, e) decodes
  *         as m * 2^(e - 136) (e = 0 is black), the convention of Greg Ward's rgbe.c that the
@@ -14,7 +14,11 @@
  *         within half a mantissa step (at most max(r, g, b) / 255.5).
  *   .pfm  Portable float map, 1 ("Pf") or 3 ("PF") channels, either byte order,
  *         rows bottom-to-top in the file as the format says; written little endian
- *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG textures as sRGB -> linear
+ *   .exr  OpenEXR through OpenEXRCore (libopenexr-dev): read R, G, B (or a grey Y) of the first
+ *         part, half/float/uint, scanline or tiled, any compression the library decodes, by
+ *         offsets from a regular file (never read whole); write float or half layers (exr.h)
+ *   .png  write 8-bit (from values in [0,1]); read PNG/JPEG as sRGB -> linear floats, or as
+ *         stored (8/16-bit, 1-4 channels) for textures (sl_image_parse_raw)
  * Every write goes to a temporary name beside the target and is renamed into
  * place, so a failed write never leaves a half file; the files of one command go
  * through one output set (output_set.h), all replaced or none. Loaded images are checked:
@@ -77,12 +81,38 @@ bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_
 /* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
  * NaN or Inf is an error; nothing is repaired. */
 bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl_error *err);
-/* PNG / JPEG (stb_image), 8-bit sRGB decoded to linear RGB (3 channels) with the exact
+/* OpenEXR (exr.c, through OpenEXRCore): R, G, B of the first part (or a grey Y, replicated), half,
+ * float or uint, scanline or tiled, any compression the library decodes; always 3 channels. Read
+ * by offsets, never whole: a regular file only. The budget counts the float image and one
+ * chunk's decoding buffers. */
+bool sl_image_read_exr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* Any radiance image by its first bytes: OpenEXR, Radiance .hdr or PFM (a file whose magic is none
+ * of them, or that is not a regular file, by its extension; .hdr's reader when that says nothing
+ * either). What environments and irradiance maps are read with. */
+bool sl_image_read_radiance(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* PNG / JPEG (stb_image), 8- or 16-bit sRGB decoded to linear RGB (3 channels) with the exact
  * piecewise curve; alpha is dropped, grey is replicated. The budget counts stb's own buffers
  * (its 8-bit image and the inflated PNG data) with the float image. */
 bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
+/* A PNG or JPEG decoded as stored, for textures (raster/texture.c): `channels` 1..4 (grey,
+ * grey + alpha, RGB, RGBA) of `bits` 8 or 16 (PNG only; JPEG is 8) per channel, interleaved,
+ * row 0 = top. `pixels` belongs to stb's budgeted allocator: free it with sl_raw_image_free. The
+ * budget counts stb's buffers plus `extra` bytes the caller will allocate for the result (a
+ * texture and its mips), so one check refuses what the whole load would need. */
+typedef struct {
+    int width, height, channels, bits;
+    void *pixels;
+} sl_raw_image;
+bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                        size_t (*extra)(int width, int height, int channels, int bits), sl_raw_image *out,
+                        sl_error *err);
+void sl_raw_image_free(sl_raw_image *img);
+/* The PNG signature or a JPEG start-of-image marker (what sl_image_read_with is given). */
+bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err);
 /* Parse from memory (what the readers and the fuzz targets call); `name` is used in messages. */
 bool sl_image_parse_hdr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
+                        sl_image_repairs *repairs, sl_error *err);
+bool sl_image_parse_exr(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
 bool sl_image_parse_pfm(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_image *img,
                         sl_image_repairs *repairs, sl_error *err);
@@ -97,6 +127,17 @@ bool sl_image_check_budget(const char *name, size_t offset, int width, int heigh
 /* The exact sRGB -> linear curve (IEC 61966-2-1) of one 8-bit code, as the texture reader uses. */
 float sl_srgb8_to_linear(unsigned char code);
 
+/* A display value in [0, 1] to its 8-bit code, rounding to nearest; NaN and negatives -> 0,
+ * 1 and above -> 255. What the PNG writer stores and the tone map's display codes are. */
+static inline int sl_unorm8(float v)
+{
+    if (!(v > 0.0f))
+        return 0;
+    if (v >= 1.0f)
+        return 255;
+    return (int)(v * 255.0f + 0.5f);
+}
+
 /* Writers: atomic (temporary file + rename). hdr needs 3 channels; pfm 1 or 3;
  * png takes 1 or 3 channels of already display-encoded values in [0,1]. */
 bool sl_image_write_hdr(const char *path, const sl_image *img, sl_error *err);
@@ -107,6 +148,8 @@ bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
 bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
+/* One image as an .exr: 3 channels as R, G, B, 1 as Y; 32-bit float, ZIP (core/exr.h writes layers). */
+bool sl_image_encode_exr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 
 /* A parse-from-memory function (sl_image_parse_hdr, sl_image_parse_pfm); a check of a file's
  * first bytes (at most `size`, fewer only where the file ends) for the format's magic, failing
@@ -121,6 +164,7 @@ bool sl_image_read_with(const char *path, size_t budget, sl_magic_check magic, s
 #define SL_IMAGE_MAGIC_BYTES 16
 bool sl_image_magic_hdr(const unsigned char *head, size_t size, const char *name, sl_error *err);
 bool sl_image_magic_pfm(const unsigned char *head, size_t size, const char *name, sl_error *err);
+bool sl_image_magic_exr(const unsigned char *head, size_t size, const char *name, sl_error *err);
 
 /* An encode-to-memory function (sl_image_encode_hdr/pfm/png), and the writer every format
  * shares: encode, then sl_write_file_atomic. */

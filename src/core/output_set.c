@@ -258,6 +258,8 @@ static void file_free(sl_output_file *f)
 
 bool sl_output_set_bytes(sl_output_set *set, const char *path, const void *bytes, size_t size, sl_error *err)
 {
+    if (set->capture)
+        return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: this output cannot be sharded (write it without --shard)", path);
     if (set->committed)
         return sl_fail(err, SL_ERR_RANGE, "%s: output set already committed", path);
     sl_output_file f = {.path = dup_string(path)};
@@ -299,6 +301,8 @@ bool sl_output_set_bytes(sl_output_set *set, const char *path, const void *bytes
 bool sl_output_set_image(sl_output_set *set, const char *path, sl_image_encoder encode, const sl_image *img,
                          sl_error *err)
 {
+    if (set->capture)
+        return set->capture(set->capture_user, path, encode, img, err);
     unsigned char *bytes;
     size_t size;
     if (!encode(img, &bytes, &size, err)) {
@@ -312,6 +316,8 @@ bool sl_output_set_image(sl_output_set *set, const char *path, sl_image_encoder 
 
 bool sl_output_set_dir(sl_output_set *set, const char *dir, sl_error *err)
 {
+    if (set->capture)
+        return set->capture(set->capture_user, dir, NULL, NULL, err);
     if (set->dir_count == set->dir_capacity) {
         int cap = set->dir_capacity ? 2 * set->dir_capacity : 4;
         char **grown = realloc(set->dirs, (size_t)cap * sizeof *grown);
@@ -344,6 +350,8 @@ bool sl_output_set_dir(sl_output_set *set, const char *dir, sl_error *err)
  * cut which renames reached the disk is the file system's choice: directories are not fsynced.) */
 bool sl_output_set_commit(sl_output_set *set, sl_error *err)
 {
+    if (set->capture)
+        return true;
     for (int k = 1; k <= set->count; k++) {
         sl_output_file *f = &set->files[k % set->count];
         if (rename(f->tmp, f->target) != 0)

@@ -39,6 +39,11 @@ typedef struct {
     char *tmp;    /* the temporary beside target; NULL once renamed or removed */
 } sl_output_file;
 
+/* A set that captures instead of writing: a shard of a command (--shard I/N) runs the command's
+ * own output code, and its partial file (core/partial.h) takes each image and directory. */
+typedef bool (*sl_output_capture_fn)(void *user, const char *path, sl_image_encoder encode, const sl_image *img,
+                                     sl_error *err);
+
 /* Zero-initialise ({0}); no other set-up. */
 typedef struct {
     sl_output_file *files;
@@ -46,6 +51,11 @@ typedef struct {
     char **dirs; /* directories sl_output_set_dir made */
     int dir_count, dir_capacity;
     bool committed;
+    /* When set, sl_output_set_image and sl_output_set_dir hand what they are given to `capture`
+     * (img NULL for a directory) and write nothing; sl_output_set_bytes refuses (raw bytes cannot
+     * be cut into row bands); commit does nothing. */
+    sl_output_capture_fn capture;
+    void *capture_user;
 } sl_output_set;
 
 /* Write `size` bytes to a temporary for `path` (fsynced). Naming a target already in the set

@@ -1,5 +1,6 @@
-/* png.c - 8-bit images through stb: PNG writing (stb_image_write) and PNG/JPEG texture
- * reading (stb_image) with the exact sRGB -> linear curve.
+/* png.c - PNG and JPEG through stb: PNG writing (stb_image_write, 8-bit), PNG/JPEG decoding
+ * as stored (8 or 16 bits, 1 to 4 channels: sl_image_parse_raw, what raster/texture.c loads)
+ * and the linear float reading of sl_image_read_texture (the exact sRGB -> linear curve).
  *
  * This file holds the one copy of stb_image and stb_image_write in softlight (their
  * IMPLEMENTATION macros are defined here and nowhere else). stb_image is built for PNG
@@ -12,7 +13,7 @@
  * could take gigabytes. Every allocation stb makes therefore goes through stb_alloc below,
  * which refuses to let stb's live buffers exceed the image memory budget of the read in
  * progress. stb has no context pointer for its allocator, so that budget is per thread
- * (_Thread_local), set by sl_image_read_texture for the length of the stb call only. */
+ * (_Thread_local), set by sl_image_parse_raw for the length of the stb call only. */
 #include "image.h"
 
 #include <limits.h>
@@ -111,15 +112,8 @@ static void sink_write(void *context, void *data, int size)
     s->size += (size_t)size;
 }
 
-/* [0, 1] -> 0..255, rounding to nearest; NaN and negatives -> 0, above 1 -> 255. */
-static unsigned char to_byte(float v)
-{
-    if (!(v > 0.0f))
-        return 0;
-    if (v >= 1.0f)
-        return 255;
-    return (unsigned char)(v * 255.0f + 0.5f);
-}
+/* [0, 1] -> 0..255 (sl_unorm8, image.h). */
+static unsigned char to_byte(float v) { return (unsigned char)sl_unorm8(v); }
 
 bool sl_image_encode_png(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err)
 {
@@ -167,13 +161,131 @@ float sl_srgb8_to_linear(unsigned char code)
 }
 
 /* The PNG signature or a JPEG's SOI marker and the first marker after it. */
-static bool magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err)
+bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err)
 {
     static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}, jpeg[3] = {0xff, 0xd8, 0xff};
     if ((size >= sizeof png && !memcmp(head, png, sizeof png)) || (size >= sizeof jpeg && !memcmp(head, jpeg, sizeof jpeg)))
         return true;
     return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG or JPEG file (expected the PNG signature or a JPEG "
                    "start-of-image marker)", name);
+}
+
+/* Debian 12's stb_image trusts a JPEG Huffman table's 16 code counts: more than 256 codes in
+ * one table (DHT) write past its 257-entry size list and 256-entry value list (found by
+ * fuzz_texture; later stb versions check it). Walk the JPEG's marker segments, skipping
+ * entropy-coded data (progressive files have tables between scans), and refuse such a table
+ * before stb sees it. Anything else malformed is left to stb's own checks. */
+static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name, sl_error *err)
+{
+    size_t pos = 2; /* after SOI */
+    while (pos + 4 <= size) {
+        if (b[pos] != 0xff) { /* entropy-coded data: up to the next marker that is not a stuffed 0 or a restart */
+            pos++;
+            continue;
+        }
+        unsigned marker = b[pos + 1];
+        if (marker == 0xff || marker == 0x00 || marker == 0x01 || marker == 0xd8 || (marker >= 0xd0 && marker <= 0xd7)) {
+            pos += marker == 0xff ? 1 : 2;
+            continue;
+        }
+        if (marker == 0xd9)
+            return true;
+        size_t end = pos + 2 + (((size_t)b[pos + 2] << 8) | b[pos + 3]);
+        if (marker == 0xc4) /* tables while the segment lasts; stb reads bytes past the file's end as 0 */
+            for (size_t q = pos + 4; q < end;) {
+                size_t n = 0;
+                for (size_t i = q + 1; i <= q + 16 && i < size; i++)
+                    n += b[i];
+                if (n > 256)
+                    return sl_fail(err, SL_ERR_FORMAT,
+                                   "%s: byte %zu: corrupt JPEG: a Huffman table (DHT) of %zu codes, more than 256",
+                                   name, q, n);
+                q += 17 + n;
+            }
+        pos = end;
+    }
+    return true;
+}
+
+/* Debian 12's stb_image, given an empty IDAT chunk before any image data, adds its length to
+ * a NULL buffer pointer (undefined behaviour; found by fuzz_texture under UBSan). No PNG writer
+ * makes one; refuse it before stb reads the file. */
+static bool png_chunks_ok(const unsigned char *b, size_t size, const char *name, sl_error *err)
+{
+    for (size_t pos = 8; pos + 8 <= size;) {
+        size_t len = ((size_t)b[pos] << 24) | ((size_t)b[pos + 1] << 16) | ((size_t)b[pos + 2] << 8) | b[pos + 3];
+        const unsigned char *type = b + pos + 4;
+        if (!memcmp(type, "IDAT", 4)) {
+            if (len == 0)
+                return sl_fail(err, SL_ERR_FORMAT, "%s: byte %zu: corrupt PNG: an empty IDAT chunk before the "
+                               "image data", name, pos);
+            return true; /* image data from here on: stb's own checks */
+        }
+        if (!memcmp(type, "IEND", 4) || len > size)
+            return true;
+        pos += 12 + len;
+    }
+    return true;
+}
+
+bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *name, size_t budget,
+                        size_t (*extra)(int width, int height, int channels, int bits), sl_raw_image *out,
+                        sl_error *err)
+{
+    *out = (sl_raw_image){0};
+    if (!budget)
+        budget = SL_IMAGE_BUDGET_DEFAULT;
+    if (!sl_image_magic_texture(bytes, size, name, err))
+        return false;
+    if (size > (size_t)INT_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "%s: the file is over %d bytes", name, INT_MAX);
+    if (bytes[0] == 0xff ? !jpeg_tables_ok(bytes, size, name, err) : !png_chunks_ok(bytes, size, name, err))
+        return false;
+    int w, h, n;
+    if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &n))
+        return sl_fail(err, SL_ERR_FORMAT, "%s: not a PNG or JPEG image this reader accepts (stb_image: %s)", name,
+                       stbi_failure_reason());
+    if ((long long)w * h > SL_IMAGE_MAX_PIXELS)
+        return sl_fail(err, SL_ERR_RANGE, "%s: image %dx%d has more than %lld pixels", name, w, h,
+                       SL_IMAGE_MAX_PIXELS);
+    /* stb's result and at most two buffers of the file's own depth inside stb (inflated data and
+     * unfiltered image, or a JPEG's planes and the converted result), then what the caller makes
+     * of it; the header's offset is 16 in a PNG, unknown in a JPEG (reported as 0). */
+    size_t depth = stbi_is_16_bit_from_memory(bytes, (int)size) ? 2 : 1;
+    size_t pixels_count = (size_t)w * (size_t)h;
+    size_t stb_need = pixels_count * 3 * (size_t)n * depth + (size_t)h;
+    size_t more = extra ? extra(w, h, n, (int)depth * 8) : 0;
+    if (!sl_image_check_budget(name, bytes[0] == 0x89 ? 16 : 0, w, h, stb_need + more, budget, err))
+        return false;
+    stb_left = stb_need + ((size_t)1 << 20); /* and a MiB for stb's tables */
+    void *pixels = depth == 2 ? (void *)stbi_load_16_from_memory(bytes, (int)size, &w, &h, &n, 0)
+                              : (void *)stbi_load_from_memory(bytes, (int)size, &w, &h, &n, 0);
+    stb_left = SIZE_MAX;
+    if (!pixels && !strcmp(stbi_failure_reason(), "outofmem"))
+        return sl_fail(err, SL_ERR_RANGE,
+                       "%s: decoding the %dx%d image needs more memory than the image memory budget of %zu MiB "
+                       "allows (its compressed data inflates past the image?); raise it with %s",
+                       name, w, h, budget >> 20, sl_options[SL_OPT_IMAGE_MEMORY].cli);
+    if (!pixels)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: cannot decode the image (stb_image: %s)", name,
+                       stbi_failure_reason());
+    *out = (sl_raw_image){w, h, n, (int)depth * 8, pixels};
+    return true;
+}
+
+void sl_raw_image_free(sl_raw_image *img)
+{
+    if (img->pixels)
+        stbi_image_free(img->pixels);
+    *img = (sl_raw_image){0};
+}
+
+/* The float RGB image sl_image_read_texture makes, beside stb's buffers. */
+static size_t float_rgb_bytes(int width, int height, int channels, int bits)
+{
+    (void)channels;
+    (void)bits;
+    return (size_t)width * (size_t)height * 3 * sizeof(float);
 }
 
 bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err)
@@ -186,53 +298,34 @@ bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_er
     size_t cap = budget < (size_t)INT_MAX - SL_IMAGE_HEADER_SLACK ? budget + SL_IMAGE_HEADER_SLACK : (size_t)INT_MAX;
     char why[96];
     snprintf(why, sizeof why, " by the image memory budget (raise it with %s)", sl_options[SL_OPT_IMAGE_MEMORY].cli);
-    if (!sl_read_file_checked(path, cap, why, SL_IMAGE_MAGIC_BYTES, magic_texture, &bytes, &size, err))
+    if (!sl_read_file_checked(path, cap, why, SL_IMAGE_MAGIC_BYTES, sl_image_magic_texture, &bytes, &size, err))
         return false;
-    int w, h, n;
-    if (!stbi_info_from_memory(bytes, (int)size, &w, &h, &n)) {
-        free(bytes);
-        return sl_fail(err, SL_ERR_FORMAT, "%s: not a PNG or JPEG image this reader accepts (stb_image: %s)", path,
-                       stbi_failure_reason());
-    }
-    if ((long long)w * h > SL_IMAGE_MAX_PIXELS) {
-        free(bytes);
-        return sl_fail(err, SL_ERR_RANGE, "%s: image %dx%d has more than %lld pixels", path, w, h,
-                       SL_IMAGE_MAX_PIXELS);
-    }
-    /* The float image, stb's 8-bit RGB result, and at most two buffers of the file's own depth
-     * inside stb (inflated data and unfiltered image, or a JPEG's planes and the converted
-     * result); the header's offset is 16 in a PNG, unknown in a JPEG (reported as 0). */
-    size_t depth = stbi_is_16_bit_from_memory(bytes, (int)size) ? 2 : 1;
-    size_t pixels_count = (size_t)w * (size_t)h;
-    size_t stb_need = pixels_count * (3 + 2 * (size_t)n * depth) + (size_t)h;
-    if (!sl_image_check_budget(path, bytes[0] == 0x89 ? 16 : 0, w, h, pixels_count * 3 * sizeof(float) + stb_need,
-                               budget, err)) {
-        free(bytes);
-        return false;
-    }
-    stb_left = stb_need + ((size_t)1 << 20); /* and a MiB for stb's tables */
-    unsigned char *pixels = stbi_load_from_memory(bytes, (int)size, &w, &h, &n, 3);
-    stb_left = SIZE_MAX;
+    sl_raw_image raw;
+    bool ok = sl_image_parse_raw(bytes, size, path, budget, float_rgb_bytes, &raw, err);
     free(bytes);
-    if (!pixels && !strcmp(stbi_failure_reason(), "outofmem"))
-        return sl_fail(err, SL_ERR_RANGE,
-                       "%s: decoding the %dx%d image needs more memory than the image memory budget of %zu MiB "
-                       "allows (its compressed data inflates past the image?); raise it with %s",
-                       path, w, h, budget >> 20, sl_options[SL_OPT_IMAGE_MEMORY].cli);
-    if (!pixels)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: cannot decode the image (stb_image: %s)", path,
-                       stbi_failure_reason());
-    if (!sl_image_alloc(img, w, h, 3, err)) {
-        stbi_image_free(pixels);
+    if (!ok)
+        return false;
+    if (!sl_image_alloc(img, raw.width, raw.height, 3, err)) {
+        sl_raw_image_free(&raw);
         sl_error_prefix(err, "%s: ", path);
         return false;
     }
+    /* grey is replicated, alpha dropped; 16-bit codes through the same curve in double */
     float lut[256];
     for (int i = 0; i < 256; i++)
         lut[i] = sl_srgb8_to_linear((unsigned char)i);
-    size_t count = (size_t)w * (size_t)h * 3;
+    size_t count = (size_t)raw.width * (size_t)raw.height;
+    int n = raw.channels, colour = n >= 3 ? 3 : 1;
     for (size_t i = 0; i < count; i++)
-        img->data[i] = lut[pixels[i]];
-    stbi_image_free(pixels);
+        for (int c = 0; c < 3; c++) {
+            size_t k = i * (size_t)n + (size_t)(colour == 3 ? c : 0);
+            if (raw.bits == 8) {
+                img->data[3 * i + (size_t)c] = lut[((const unsigned char *)raw.pixels)[k]];
+            } else {
+                double v = ((const unsigned short *)raw.pixels)[k] / 65535.0;
+                img->data[3 * i + (size_t)c] = (float)(v <= 0.04045 ? v / 12.92 : pow((v + 0.055) / 1.055, 2.4));
+            }
+        }
+    sl_raw_image_free(&raw);
     return true;
 }

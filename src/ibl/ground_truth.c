@@ -36,6 +36,22 @@ void sl_ground_truth_free(sl_ground_truth *gt)
     memset(gt, 0, sizeof *gt);
 }
 
+double sl_ground_truth_ggx_a2(double r)
+{
+    double a = r * r > 1e-4 ? r * r : 1e-4;
+    return a * a;
+}
+
+double sl_ground_truth_ggx_dvis(double nh, double nl, double nv, double a2)
+{
+    if (!(nh > 0.0))
+        return 0.0;
+    double t = (1.0 - nh * nh) + nh * nh * a2; /* brdf.h's form of nh^2 (a^2 - 1) + 1 */
+    double d = a2 / (PI_D * t * t);
+    double den = nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2);
+    return den > 0.0 ? d * 0.5 / den : 0.0;
+}
+
 static bool unit(vec3 a, double out[3])
 {
     double x = (double)a.x, y = (double)a.y, z = (double)a.z;
@@ -60,7 +76,9 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
     if (!unit(q->v, vw))
         return sl_fail(err, SL_ERR_RANGE, "ground truth: view direction (%g, %g, %g) is zero or not finite",
                        (double)q->v.x, (double)q->v.y, (double)q->v.z);
-    if (!(q->alpha >= 0.0) || !isfinite(q->alpha))
+    if (q->ggx && !(q->roughness >= 0.0 && q->roughness <= 1.0))
+        return sl_fail(err, SL_ERR_RANGE, "ground truth: GGX roughness %g, must be in [0, 1]", q->roughness);
+    if (!q->ggx && (!(q->alpha >= 0.0) || !isfinite(q->alpha)))
         return sl_fail(err, SL_ERR_RANGE, "ground truth: alpha %g, must be finite and >= 0", q->alpha);
     if (!(q->intensity >= 0.0) || !isfinite(q->intensity) || !isfinite(q->rotation))
         return sl_fail(err, SL_ERR_RANGE, "ground truth: intensity %g / rotation %g, must be finite (intensity >= 0)",
@@ -77,6 +95,8 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
     const double nv = nx * vx + ny * vy + nz * vz;
     const double alpha = q->alpha, d_norm = (alpha + 2.0) / (2.0 * PI_D);
     const bool g_one = q->g == SL_GT_G_ONE;
+    const bool ggx = q->ggx;
+    const double a2 = ggx ? sl_ground_truth_ggx_a2(q->roughness) : 0.0;
 
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
@@ -98,8 +118,13 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
         if (!(nh > 0.0))
             continue;
         double lh = 0.5 * len;
-        double gterm = g_one ? 1.0 : 1.0 / (lh * lh);
-        double k = 0.25 * d_norm * pow(nh, alpha) * gterm * c;
+        double k;
+        if (ggx) {
+            k = sl_ground_truth_ggx_dvis(nh, c, nv, a2) * c;
+        } else {
+            double gterm = g_one ? 1.0 : 1.0 / (lh * lh);
+            k = 0.25 * d_norm * pow(nh, alpha) * gterm * c;
+        }
         double p = 1.0 - lh;
         p = p > 0.0 ? p : 0.0;
         double p5 = (p * p) * (p * p) * p;

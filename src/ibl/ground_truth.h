@@ -5,6 +5,8 @@
  *   specular = integral D(H) Gterm F(w, H) / 4 * L(w) (w.N)+ dw
  *   D = (alpha + 2) / (2 pi) (N.H)^alpha,  F = Ks + (1 - Ks) (1 - L.H)^5,
  *   Gterm = G / (L.N V.N) = 1 / (L.H)^2  or  1  (the specification's two choices),
+ *   or, with `ggx` set, GGX's set (src/shading/brdf.h): a = max(r^2, 1e-4),
+ *   D = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2), Gterm = 4 Vis (height-correlated Smith), `g` unused;
  *   all times `intensity`. Light from below the horizon (w.N <= 0) contributes 0, and so do
  *   microfacets facing away from the surface (N.H <= 0, only possible when V.N < 0).
  *
@@ -41,7 +43,9 @@ typedef struct {
     vec3 n;            /* surface normal, world space (normalised here, in double) */
     vec3 v;            /* direction towards the eye, world space (normalised here) */
     vec3 kd, ks;       /* linear RGB */
-    double alpha;      /* Phong exponent of D, >= 0 */
+    double alpha;      /* Phong exponent of D, >= 0 (ignored with ggx) */
+    bool ggx;          /* GGX's D and G in place of the Phong set's */
+    double roughness;  /* GGX: perceptual roughness r in [0, 1] */
     sl_gt_geometry g;
     double rotation;   /* radians about +Z */
     double intensity;  /* multiplies the environment (explicit: 0 gives black) */
@@ -64,8 +68,15 @@ typedef struct {
 
 bool sl_ground_truth_init(sl_ground_truth *gt, const sl_env *env, sl_error *err);
 /* False (and err) on a non-finite or zero n or v, a negative or non-finite alpha or intensity,
- * or an unknown g. */
+ * a roughness outside [0, 1] (ggx), or an unknown g. */
+
 bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_gt_result *out, sl_error *err);
 void sl_ground_truth_free(sl_ground_truth *gt);
+
+/* GGX's D(H) G / (4 (L.N)(V.N)) = D Vis in double, for a^2 = a2 (the truth's and the exact pass's
+ * one formula): 0 when N.H <= 0 or the visibility's denominator is not positive. */
+double sl_ground_truth_ggx_dvis(double nh, double nl, double nv, double a2);
+/* a^2 of a roughness r: a = max(r^2, 1e-4). */
+double sl_ground_truth_ggx_a2(double r);
 
 #endif

@@ -10,7 +10,12 @@
  * Inputs that are negative or NaN count as 0 and +Inf as "infinitely bright" (x = 1), so the
  * output is always in [0, 1].
  *
- * Does not: quantize to 8 bits (png writing does), or adapt exposure automatically. */
+ * The display image (sl_tonemap_image) is what is presented: each value is an 8-bit code k
+ * stored as k/255, the code that rounding the exact curve above gives (sl_unorm8 of
+ * sl_tonemap_value, bit for bit; tonemap.c says how it is found fast). sl_tonemap_value keeps
+ * the unrounded curve for comparisons.
+ *
+ * Does not: adapt exposure automatically. */
 #ifndef SL_TONEMAP_H
 #define SL_TONEMAP_H
 
@@ -34,8 +39,16 @@ float sl_linear_to_gamma(float c); /* c^(1/2.2) */
 /* One channel value through the tone map (options already validated). */
 float sl_tonemap_value(float C, float exposure, float contrast, bool exact_srgb);
 
+/* The 257 thresholds of the 8-bit display codes for a contrast and curve: t[k] is the smallest
+ * float x = eC/(eC + 1) in [0, 1] whose code sl_unorm8(curve(x)) is k or more; t[0] = 0,
+ * t[256] = +Inf. About 7700 powf calls. */
+void sl_tonemap_thresholds(float contrast, bool exact_srgb, float t[257]);
+/* The code of x in [0, 1] from the thresholds: the k with t[k] <= x < t[k + 1]. */
+int sl_tonemap_code(float x, const float t[257]);
+
 /* Tone map a 3-channel linear image into `out` (allocated when out->data is NULL, else it must
- * have in's size and 3 channels; out may be in itself). Values in [0, 1], row order kept.
+ * have in's size and 3 channels; out may be in itself): the display image, each value k/255 with
+ * k = sl_unorm8(sl_tonemap_value(C, ...)) exactly. Row order kept.
  * SL_ERR_RANGE when exposure or contrast is not finite and > 0. OpenMP over rows. */
 bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err);
 

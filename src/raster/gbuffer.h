@@ -7,7 +7,13 @@
  * mask is exactly `depth < 1`. The vector toward the eye is not stored: it is
  * normalize(eye - position), derived where needed from the camera.
  *
- * 14 floats = 56 bytes per pixel (116 MB at 1920x1080; docs/gbuffer.md). */
+ * 14 floats = 56 bytes per pixel (116 MB at 1920x1080; docs/gbuffer.md).
+ *
+ * The specular lobe travels in `alpha` alone, so a scene without GGX has the texel it always had:
+ * alpha >= 0 is the Phong exponent, alpha <= -1 is a GGX lobe of perceptual roughness
+ * r = -1 - alpha in [0, 1] (so -1 .. -2). The gap (-1, 0) keeps r = 0 apart from Phong 0 with
+ * room for rounding; nothing writes it and the lighting shader reads it as Phong 0. Float
+ * targets keep the sign (GL: RGBA32F), and alpha.pfm shows the value raw. */
 #ifndef SL_GBUFFER_H
 #define SL_GBUFFER_H
 
@@ -23,7 +29,8 @@ typedef struct {
     vec3 normal;   /* unit, world space */
     vec3 kd;       /* linear RGB diffuse albedo */
     vec3 ks;       /* linear RGB Schlick F0 */
-    float alpha;   /* Phong exponent */
+    float alpha;   /* the lobe parameter: >= 0 the Phong exponent; <= -1 GGX with roughness
+                      r = -1 - alpha (sl_gbuffer_ggx_alpha) */
     float depth;   /* window depth in [0,1]; 1 = nothing drawn */
 } sl_gbuffer_texel;
 
@@ -37,6 +44,9 @@ static inline sl_gbuffer_texel *sl_gbuffer_at(const sl_gbuffer *gb, int x, int y
 {
     return gb->texels + (size_t)y * (size_t)gb->width + (size_t)x;
 }
+
+/* The alpha of a GGX lobe of roughness r in [0, 1]: -1 - r (see above). */
+static inline float sl_gbuffer_ggx_alpha(float r) { return -1.0f - r; }
 
 /* Allocate for width x height (no-op when the size is unchanged; contents undefined
  * until cleared). An empty {0} sl_gbuffer is a valid start. */
@@ -52,6 +62,12 @@ bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_e
 /* The same files added to a command's output set (core/output_set.h), so that they are replaced
  * together with its other outputs or not at all; `dir` must exist (sl_output_set_dir). */
 bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_output_set *out, sl_error *err);
+/* The same channels and the radiance (RGB, row 0 = top: the renderer's r.radiance) as one
+ * multi-layer OpenEXR file added to the output set (softlight render --exr): R, G, B, then
+ * position.X/Y/Z, normal.X/Y/Z, view.X/Y/Z, kd.R/G/B, ks.R/G/B, alpha, depth, mask, 32-bit float
+ * (the same numbers as the PFMs), ZIP-compressed, rows top first. */
+bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance, const char *path,
+                        sl_output_set *out, sl_error *err);
 /* The reverse (position, normal, kd, ks, alpha, depth, mask; view is derived, not read).
  * Resizes gb to the files' size; a mask that disagrees with depth < 1 is an error. */
 bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);

@@ -8,17 +8,24 @@
  *
  * Reading uses sl_image_read_pfm_signed, not sl_image_read_pfm: that reader repairs
  * negative texels to 0, as input radiance should be, but positions, normals and view
- * vectors are signed. */
+ * vectors are signed.
+ *
+ * The same channels go into one multi-layer .exr with the radiance (sl_gbuffer_add_exr): layer
+ * names are the AOV names, channel suffixes the components (normal.X, kd.R), a one-channel AOV a
+ * channel of its own name; 32-bit float, so each holds the PFM's numbers (half would round
+ * positions and depth, and overflow past 65504 radiance, which a sun reaches). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/exr.h"
 #include "gbuffer.h"
 #include "raster.h"
 
 enum { AOV_POSITION, AOV_NORMAL, AOV_VIEW, AOV_KD, AOV_KS, AOV_ALPHA, AOV_DEPTH, AOV_MASK, AOV_COUNT };
 static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask"};
 static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1};
+static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", ""};
 
 static bool aov_path(char *path, size_t size, const char *dir, int aov, sl_error *err)
 {
@@ -101,6 +108,44 @@ bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_out
     }
     sl_image_free(&img[0]);
     sl_image_free(&img[1]);
+    return ok;
+}
+
+/* One AOV as an image, row 0 = top (allocates img). */
+static bool aov_image(const sl_gbuffer *gb, vec3 eye, int aov, sl_image *img, sl_error *err)
+{
+    if (!sl_image_alloc(img, gb->width, gb->height, aov_channels[aov], err))
+        return false;
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++)
+            aov_get(sl_gbuffer_at(gb, x, y), eye, aov, sl_image_pixel(img, x, gb->height - 1 - y));
+    return true;
+}
+
+bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance, const char *path,
+                        sl_output_set *out, sl_error *err)
+{
+    if (!gb->texels)
+        return sl_fail(err, SL_ERR_RANGE, "%s: empty G-buffer", path);
+    if (radiance->width != gb->width || radiance->height != gb->height || radiance->channels != 3)
+        return sl_fail(err, SL_ERR_RANGE, "%s: radiance %dx%dx%d does not match the G-buffer %dx%d", path,
+                       radiance->width, radiance->height, radiance->channels, gb->width, gb->height);
+    sl_image img[AOV_COUNT] = {{0}};
+    sl_exr_layer layers[AOV_COUNT + 1] = {{"", "RGB", radiance}};
+    bool ok = true;
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        ok = aov_image(gb, eye, aov, &img[aov], err);
+        layers[aov + 1] = (sl_exr_layer){aov_names[aov], aov_suffixes[aov], &img[aov]};
+    }
+    unsigned char *bytes = NULL;
+    size_t size = 0;
+    ok = ok && sl_exr_encode(layers, AOV_COUNT + 1, &(sl_exr_options){.compression = SL_EXR_ZIP}, &bytes, &size, err);
+    if (!ok)
+        sl_error_prefix(err, "%s: ", path);
+    ok = ok && sl_output_set_bytes(out, path, bytes, size, err);
+    free(bytes);
+    for (int aov = 0; aov < AOV_COUNT; aov++)
+        sl_image_free(&img[aov]);
     return ok;
 }
 

@@ -13,6 +13,7 @@
 #include <string.h>
 
 #include "../scene/camera.h"
+#include "gbuffer_textured.h"
 #include "raster.h"
 
 /* gbuffer.vert: main() */
@@ -91,7 +92,7 @@ void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj
     u->uNormalMatrix = transpose(inverse(mat3_from_mat4(model)));
     u->uKd = m->kd;
     u->uKs = m->ks;
-    u->uAlpha = m->alpha;
+    u->uAlpha = m->brdf == SL_BRDF_GGX ? sl_gbuffer_ggx_alpha(m->roughness) : m->alpha; /* gbuffer.h */
 }
 
 sl_target sl_gbuffer_target(sl_gbuffer *gb)
@@ -107,6 +108,12 @@ sl_target sl_gbuffer_target(sl_gbuffer *gb)
 
 bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, sl_error *err)
 {
+    return sl_raster_scene_textured(r, scene, NULL, cam, gb, err);
+}
+
+bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
+                              const sl_camera *cam, sl_gbuffer *gb, sl_error *err)
+{
     if (!gb->texels)
         return sl_fail(err, SL_ERR_RANGE, "raster: G-buffer not allocated (call sl_gbuffer_resize)");
     if (!(cam->znear > 0.0f) || !(cam->zfar > cam->znear) || !(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
@@ -117,16 +124,29 @@ bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, 
         if (o->mesh < 0 || o->mesh >= scene->mesh_count || o->material < 0 || o->material >= scene->material_count)
             return sl_fail(err, SL_ERR_RANGE, "raster: object %d (%s) names mesh %d / material %d out of range", i,
                            o->name, o->mesh, o->material);
+        const sl_material *m = &scene->materials[o->material];
+        if (m->textured && (!textures || textures->count != scene->image_count))
+            return sl_fail(err, SL_ERR_RANGE,
+                           "raster: object %d (%s): material \"%s\" has texture maps but the scene's textures are not "
+                           "loaded (sl_scene_textures_load)", i, o->name, m->name);
+        if (m->textured && !scene->meshes[o->mesh].texcoords && scene->meshes[o->mesh].vertex_count > 0)
+            return sl_fail(err, SL_ERR_RANGE, "raster: object %d (%s): material \"%s\" has texture maps but its mesh "
+                           "has no texture coordinates", i, o->name, m->name);
     }
     if (scene->object_count == 0) {
         sl_gbuffer_clear(gb);
         return true;
     }
     size_t n = (size_t)scene->object_count;
+    size_t textured = 0;
+    for (size_t i = 0; i < n; i++)
+        textured += scene->materials[scene->objects[i].material].textured;
     sl_gbuffer_uniforms *u = malloc(n * sizeof *u);
+    sl_gbuffer_tex_uniforms *tu = textured ? malloc(textured * sizeof *tu) : NULL;
     sl_draw *draws = malloc(n * sizeof *draws);
-    if (!u || !draws) {
+    if (!u || !draws || (textured && !tu)) {
         free(u);
+        free(tu);
         free(draws);
         return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu objects", n);
     }
@@ -134,13 +154,24 @@ bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, 
      * pass: each tile is cleared where it is drawn (tile.c). */
     static const sl_gbuffer_texel empty = {.depth = 1.0f};
     mat4 view_proj = sl_camera_view_proj(cam, gb->width, gb->height);
-    for (size_t i = 0; i < n; i++) {
+    for (size_t i = 0, t = 0; i < n; i++) {
         const sl_object *o = &scene->objects[i];
-        sl_gbuffer_uniforms_init(&u[i], o->model, view_proj, &scene->materials[o->material]);
+        const sl_material *m = &scene->materials[o->material];
+        const sl_program *program = &sl_gbuffer_program;
+        const void *uniforms = &u[i];
+        if (m->textured) { /* the textured program only where a material has maps */
+            sl_gbuffer_tex_uniforms_init(&tu[t], o->model, view_proj, m, textures);
+            tu[t].trace = textures->trace;
+            tu[t].trace_ctx = textures->trace_ctx;
+            program = m->masked ? &sl_gbuffer_tex_masked_program : &sl_gbuffer_tex_program;
+            uniforms = &tu[t++];
+        } else {
+            sl_gbuffer_uniforms_init(&u[i], o->model, view_proj, m);
+        }
         draws[i] = (sl_draw){
-            .program = &sl_gbuffer_program,
-            .vs_uniforms = &u[i],
-            .fs_uniforms = &u[i],
+            .program = program,
+            .vs_uniforms = uniforms,
+            .fs_uniforms = uniforms,
             .mesh = &scene->meshes[o->mesh],
             .cull = SL_CULL_NONE,
             .clear = i == 0 ? &empty : NULL,
@@ -154,6 +185,7 @@ bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, 
             sl_error_prefix(err, "object %d (%s): ", i, scene->objects[i].name);
     }
     free(u);
+    free(tu);
     free(draws);
     return ok;
 }

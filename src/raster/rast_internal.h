@@ -124,10 +124,29 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
 } rast_span;
 
+/* The 2x2 quad of a derivative-taking program (quad.c runs its rounds; shader.h's
+ * built-ins write it). Lane l is pixel (qx + (l & 1), qy + (l >> 1)). In a round every
+ * lane runs the whole shader; its k-th derivative call records its argument in
+ * rec[cur][lane][k] and returns the difference of the round before's records of call k
+ * (rec[cur ^ 1]). A round that records exactly what the round before recorded is a
+ * fixed point: the quad is done (docs/shader-api.md "Quads"). The bound on calls keeps
+ * the records in the task (8 KiB): calls past it are recorded nowhere and return 0. */
+#define RAST_QUAD_CALLS 64
+struct sl_quad {
+    float rec[2][4][RAST_QUAD_CALLS][4]; /* [round parity][lane][call][component], unused components 0 */
+    int count[2][4];                     /* calls recorded per round parity and lane */
+    int cur;                             /* parity of the running round */
+    bool derivs;                         /* false: a discard-only program, derivatives return 0 */
+    bool discarded[4];                   /* discard() in this round */
+};
+
 /* Per-thread scratch for the tile stage, and each slice's answer of the index check. */
 typedef struct {
     _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
     rast_span *span;                        /* NULL for a plain context */
+    sl_quad *quad;                          /* quads and discards */
+    char *scratch;                          /* 4 texels: what a quad's lanes (or a discarding fragment) write */
+    size_t scratch_cap;                     /* bytes */
     sl_raster_stats stats;
     int bad_call;       /* index check: the first draw of the slice with a bad index, or -1 */
     long long bad_at;   /* and the last bad index position in that draw (within the slice) */
@@ -206,6 +225,16 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
 /* tile.c: draw every bin of tile `tile` from the chunks, in order (and clear it first
  * when d->clear_row is set: then every tile is visited, binned or not). */
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
+
+/* quad.c: the rounds of the generic quad path. */
+/* Start a quad: no records from a round before. */
+void rast_quad_begin(sl_quad *q, bool derivs);
+/* Start a round: flip the parity, clear this round's records and discard marks. */
+void rast_quad_round(sl_quad *q);
+/* After a round: did it record exactly what the round before recorded? */
+bool rast_quad_fixed(const sl_quad *q);
+/* The most calls a lane recorded in the last round (bounds the rounds: calls + 1). */
+int rast_quad_calls(const sl_quad *q);
 
 /* raster.c */
 void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from);

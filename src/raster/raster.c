@@ -30,6 +30,11 @@ void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from)
     to->blocks_full += from->blocks_full;
     to->fragments_tested += from->fragments_tested;
     to->fragments_shaded += from->fragments_shaded;
+    to->fragments_discarded += from->fragments_discarded;
+    to->fragments_late_z += from->fragments_late_z;
+    to->quads += from->quads;
+    to->quad_rounds += from->quad_rounds;
+    to->helper_invocations += from->helper_invocations;
     to->parallel_regions += from->parallel_regions;
 }
 
@@ -67,6 +72,7 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
         memset(r->tasks, 0, (size_t)r->threads * sizeof *r->tasks);
     for (int i = 0; ok && i < r->threads; i++) {
         ok = (r->tasks[i].depth = malloc((size_t)ts * (size_t)ts * sizeof(float))) != NULL;
+        ok = ok && (r->tasks[i].quad = malloc(sizeof(sl_quad))) != NULL;
         if (ok && !r->plain)
             ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL;
     }
@@ -93,6 +99,8 @@ void sl_raster_destroy(sl_raster *r)
     for (int i = 0; r->tasks && i < r->threads; i++) {
         free(r->tasks[i].depth);
         free(r->tasks[i].span);
+        free(r->tasks[i].quad);
+        free(r->tasks[i].scratch);
     }
     free(r->clear_row);
     free(r->chunks);
@@ -131,6 +139,8 @@ static bool validate_draw(const sl_draw *d, sl_error *err)
     const sl_program *p = d->program;
     if (!p->vertex || !p->fragment)
         return sl_fail(err, SL_ERR_RANGE, "raster: program without vertex or fragment shader");
+    if (p->fragment_quad && !p->derivatives)
+        return sl_fail(err, SL_ERR_RANGE, "raster: a quad form (fragment_quad) without derivatives = true");
     if (p->varying_count < 0 || p->varying_count > SL_MAX_VARYINGS)
         return sl_fail(err, SL_ERR_RANGE, "raster: %d varyings (at most %d)", p->varying_count, SL_MAX_VARYINGS);
     const sl_mesh *m = d->mesh;
@@ -142,8 +152,19 @@ static bool validate_draw(const sl_draw *d, sl_error *err)
 /* Make room for the vertex stage (nv vertices, nf varying floats), for the draws, for
  * one bin per tile in every chunk and for a tile row of clear texels (clear_bytes, 0
  * when the list does not clear). */
-static bool reserve(sl_raster *r, size_t nv, size_t nf, int calls, int tiles, size_t clear_bytes, sl_error *err)
+static bool reserve(sl_raster *r, size_t nv, size_t nf, int calls, int tiles, size_t clear_bytes,
+                    size_t scratch_bytes, sl_error *err)
 {
+    for (int i = 0; i < r->threads; i++) {
+        rast_task *t = &r->tasks[i];
+        if (scratch_bytes <= t->scratch_cap)
+            continue;
+        char *sc = realloc(t->scratch, scratch_bytes);
+        if (!sc)
+            return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu bytes of quad texels", scratch_bytes);
+        t->scratch = sc;
+        t->scratch_cap = scratch_bytes;
+    }
     if (clear_bytes > r->clear_row_cap) {
         char *row = realloc(r->clear_row, clear_bytes);
         if (!row)
@@ -248,6 +269,7 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
                 .position = m->positions[k],
                 .normal = m->normals ? m->normals[k] : vec3(0, 0, 0),
                 .texcoord = m->texcoords ? m->texcoords[k] : vec2(0, 0),
+                .tangent = m->tangents ? m->tangents[k] : vec4(0, 0, 0, 0),
                 .index = (int)k,
             };
             rast_vpos *p = &vpos[k];
@@ -304,7 +326,12 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     };
     int tiles = d.tiles_x * d.tiles_y;
     size_t clear_bytes = draws[0].clear ? (size_t)r->tile_size * target->texel_size : 0;
-    if (!reserve(r, nv, nf, count, tiles, clear_bytes, err))
+    /* a quad's 4 lanes (or one discarding fragment) write scratch texels first */
+    size_t scratch_bytes = 0;
+    for (int i = 0; i < count; i++)
+        if (draws[i].program->derivatives || draws[i].program->discards)
+            scratch_bytes = 4 * target->texel_size;
+    if (!reserve(r, nv, nf, count, tiles, clear_bytes, scratch_bytes, err))
         return false;
 
     /* Where each draw's triangles and vertex stage output lie in the list's. */

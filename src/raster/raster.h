@@ -12,17 +12,23 @@
  * degenerate and non-finite triangles dropped) -> binning into tiles -> per tile,
  * in parallel: clear (when asked), coverage tile -> 8x8 block -> row span -> pixel,
  * early depth test (LESS), then the fragment shader with perspective-correct
- * varyings, once per row span (fragment_span) or per fragment. A draw list bins
- * several draws together and draws each tile once for all of them. Primitive order
- * within a tile is kept, so the result is bitwise identical for any thread count and
- * tile size, and the span path's to the per-pixel path's (sl_raster_desc.plain).
- * The shader API is described in docs/shader-api.md.
+ * varyings, once per row span (fragment_span) or per fragment. A program that takes
+ * derivatives (sl_program.derivatives) runs in aligned 2x2 quads instead, with helper
+ * invocations for the quad's uncovered or occluded pixels; one that may discard
+ * (sl_program.discards) writes depth and texel after the shader, only if it did not
+ * discard. Programs with neither flag take the span and per-pixel paths unchanged.
+ * A draw list bins several draws together and draws each tile once for all of them.
+ * Primitive order within a tile is kept, so the result is bitwise identical for any
+ * thread count and tile size, and the span path's to the per-pixel path's
+ * (sl_raster_desc.plain), quads included. The shader API, the fragment built-ins
+ * (shader.h: dFdx, dFdy, fwidth, discard) and how derivatives of any value a C
+ * shader computes are found are described in docs/shader-api.md.
  *
  * Depth lives in the target's texels at `depth_offset` (the G-buffer texel's depth
  * field); while a tile is rasterized it is copied into a tile-local plane.
  *
  * Does not: blend, multisample, stencil, scissor, draw lines or points, or
- * clip against user planes. Fragment shaders cannot discard or move depth. */
+ * clip against user planes. Fragment shaders cannot move depth. */
 #ifndef SL_RASTER_H
 #define SL_RASTER_H
 
@@ -44,8 +50,13 @@ typedef struct {
     vec3 position;
     vec3 normal;   /* (0,0,0) when the mesh has none */
     vec2 texcoord; /* (0,0) when the mesh has none */
+    vec4 tangent;  /* xyz + handedness w (glTF TANGENT); (0,0,0,0) when the mesh has none */
     int index;     /* gl_VertexID: the vertex's index in the mesh */
 } sl_vertex_in;
+
+/* The 2x2 quad a fragment runs in (quad.c; opaque: shaders reach it through the
+ * built-ins of shader.h). */
+typedef struct sl_quad sl_quad;
 
 /* What a fragment shader sees (GLSL built-ins plus the interpolated varyings). */
 typedef struct {
@@ -53,6 +64,11 @@ typedef struct {
     vec4 frag_coord;       /* gl_FragCoord: x+0.5, y+0.5, window depth in [0,1], 1/w_clip */
     bool front_facing;     /* gl_FrontFacing: counter-clockwise in window coordinates */
     int x, y;              /* the pixel, row 0 = bottom */
+    /* Only for programs with `derivatives` or `discards` (NULL and 0 otherwise: then
+     * the derivative built-ins return 0 and discard() does nothing). */
+    sl_quad *quad;         /* the quad's derivative records and discard marks */
+    int lane;              /* 0..3: (x & 1) + 2 * (y & 1) */
+    bool helper;           /* gl_HelperInvocation: uncovered or occluded, writes nothing */
 } sl_fragment_in;
 
 /* What a span fragment shader sees: the n fragments of one triangle in one row that
@@ -80,11 +96,26 @@ typedef void (*sl_fragment_shader)(const void *uniforms, const sl_fragment_in *i
  * `fragment` called on each fragment of the span would (tested for the built-in pair). */
 typedef void (*sl_fragment_span_shader)(const void *uniforms, const sl_fragment_span *span);
 
+/* Optional quad form of a derivative-taking fragment shader: one call for the four
+ * lanes of a 2x2 quad (in[lane], lane = (x & 1) + 2 * (y & 1); helpers have
+ * in[l].helper set), each writing its own scratch texel[lane] (which starts as the
+ * target's texel), marking discards with discard(&in[l]). It takes its derivatives
+ * as differences between its lanes (shader.h: sl_quad_dfdx...), and must leave every
+ * scratch texel and discard mark exactly as `fragment` run through the generic rounds
+ * does (docs/shader-api.md "Quads"); the plain path (sl_raster_desc.plain) always runs
+ * the rounds, so test_raster_span-style comparisons check it. */
+typedef void (*sl_fragment_quad_shader)(const void *uniforms, const sl_fragment_in in[4], void *const texel[4]);
+
 typedef struct {
     sl_vertex_shader vertex;
     sl_fragment_shader fragment;
     int varying_count;                     /* 0 .. SL_MAX_VARYINGS */
-    sl_fragment_span_shader fragment_span; /* NULL: the pipeline calls `fragment` per fragment */
+    sl_fragment_span_shader fragment_span; /* NULL: the pipeline calls `fragment` per fragment; unused
+                                              by programs with `derivatives` or `discards` */
+    bool derivatives;                      /* the fragment shader takes derivatives (or samples with an
+                                              implicit level): it runs in 2x2 quads with helpers */
+    bool discards;                         /* the fragment shader may discard: depth is written after it */
+    sl_fragment_quad_shader fragment_quad; /* NULL: the generic rounds (`derivatives` programs only) */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */
@@ -123,7 +154,14 @@ typedef struct {
     long long tiles_full;        /* bin entries whose triangle covers the whole tile */
     long long blocks_full;       /* 8x8 blocks filled without per-pixel edge tests */
     long long fragments_tested;  /* covered pixels reaching the depth test */
-    long long fragments_shaded;  /* fragment shader invocations */
+    long long fragments_shaded;  /* fragments that passed the depth test and ran the shader (not helpers;
+                                    a quad's lane counts once however many rounds it ran) */
+    long long fragments_discarded; /* of those, discarded: nothing written */
+    long long fragments_late_z;  /* depth written after the shader (programs that may discard) */
+    long long quads;             /* 2x2 quads shaded (derivative-taking programs) */
+    long long quad_rounds;       /* rounds those quads ran (each round calls the shader on 4 lanes;
+                                    the quad form counts 1) */
+    long long helper_invocations; /* helper lanes of those quads (once per quad, as GL runs them) */
     long long parallel_regions;  /* OpenMP parallel regions opened (a fork and a barrier each): a
                                     handful per draw list, whatever its number of draws */
 } sl_raster_stats;

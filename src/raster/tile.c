@@ -25,6 +25,12 @@
  * Both evaluate every value with the same expression, in the same order (no FMA
  * contraction: -std=c11 implies -ffp-contract=off), so they give the same bits;
  * tests/unit/test_raster_span.c compares them.
+ * Programs with flags (chosen per triangle, so programs without them pay one test):
+ *   quads  (sl_program.derivatives) aligned 2x2 quads over the same blocks, helpers for
+ *          uncovered and occluded lanes, the lanes run in rounds (quad.c) or through the
+ *          program's quad form (span path only), on both paths.
+ *   late   (sl_program.discards, no derivatives) pixel by pixel on both paths; the
+ *          shader writes a scratch texel, copied with its depth unless it discarded.
  *
  * Depth: while a tile is drawn its depth values live in the thread's tile plane
  * (contiguous, hot in cache), loaded from and stored back to the target's texels.
@@ -53,32 +59,56 @@ typedef struct {
     char *texels;
     rast_span *span;     /* span path scratch */
     sl_fragment_span sp; /* span path: what the span shader gets (arrays point into span) */
+    sl_quad *quad;       /* quads and discards: the task's */
+    char *scratch;       /* 4 texels: what quad lanes and discarding fragments write first */
     long long tested, shaded, blocks_full;
+    long long discarded, late_z, quads, rounds, helpers;
 } tri_ctx;
 
 /* ---- the plain path ---- */
 
-/* One covered pixel: depth (choose per draw: `depth` is a constant after inlining),
- * perspective-correct varyings (interpolate v/w and 1/w linearly, divide), shade. */
-static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, int y, const bool depth)
+/* Window depth, clamped to [0, 1], at pixel offset (fx, fy) from the triangle's origin. */
+static inline __attribute__((always_inline)) float depth_at(const rast_tri *t, float fx, float fy)
+{
+    return clampf(t->z[0] + t->z[1] * fx + t->z[2] * fy, 0.0f, 1.0f);
+}
+
+/* Perspective-correct varyings at (fx, fy): v/w and 1/w interpolated linearly, divided.
+ * Returns 1/w (gl_FragCoord.w). Used wherever a fragment's inputs are made, so every
+ * path gets the same bits. */
+static inline __attribute__((always_inline)) float varyings_at(const tri_ctx *c, float fx, float fy, float *vary)
 {
     const rast_tri *t = c->t;
-    float fx = (float)x - t->ox, fy = (float)y - t->oy;
-    float z = clampf(t->z[0] + t->z[1] * fx + t->z[2] * fy, 0.0f, 1.0f);
-    c->tested++;
-    if (depth) {
-        float *zp = &c->zbuf[(y - c->py0) * c->ts + (x - c->px0)];
-        if (!(z < *zp))
-            return;
-        *zp = z;
-    }
     float iw = clampf(t->iw[0] + t->iw[1] * fx + t->iw[2] * fy, t->iw_lo, t->iw_hi);
     float w = 1.0f / iw;
-    float vary[SL_MAX_VARYINGS];
     const float *p = c->planes;
     int n = c->call->nvary;
     for (int i = 0; i < n; i++)
         vary[i] = (p[3 * i] + p[3 * i + 1] * fx + p[3 * i + 2] * fy) * w;
+    return iw;
+}
+
+/* One covered pixel: depth (choose per draw: `depth` is a constant after inlining),
+ * varyings, shade. `late` (a program that may discard, also a constant): the depth test
+ * comes first but depth and texel are written after the shader, only if it did not
+ * discard; the shader writes a scratch copy of the texel meanwhile. */
+static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, int y, const bool depth,
+                                                           const bool late)
+{
+    const rast_tri *t = c->t;
+    float fx = (float)x - t->ox, fy = (float)y - t->oy;
+    float z = depth_at(t, fx, fy);
+    c->tested++;
+    float *zp = NULL;
+    if (depth) {
+        zp = &c->zbuf[(y - c->py0) * c->ts + (x - c->px0)];
+        if (!(z < *zp))
+            return;
+        if (!late)
+            *zp = z;
+    }
+    float vary[SL_MAX_VARYINGS];
+    float iw = varyings_at(c, fx, fy, vary);
     sl_fragment_in in = {
         .varyings = vary,
         .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, z, iw),
@@ -88,16 +118,33 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     };
     const sl_target *tg = c->d->target;
     void *texel = c->texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tg->texel_size;
-    c->call->program->fragment(c->call->fs_uniforms, &in, texel);
     c->shaded++;
+    if (!late) {
+        c->call->program->fragment(c->call->fs_uniforms, &in, texel);
+        return;
+    }
+    in.quad = c->quad;
+    in.lane = (x & 1) + 2 * (y & 1);
+    rast_quad_begin(c->quad, false);
+    memcpy(c->scratch, texel, tg->texel_size);
+    c->call->program->fragment(c->call->fs_uniforms, &in, c->scratch);
+    if (c->quad->discarded[in.lane]) {
+        c->discarded++;
+        return;
+    }
+    memcpy(texel, c->scratch, tg->texel_size);
+    if (depth) {
+        *zp = z;
+        c->late_z++;
+    }
 }
 
 static inline __attribute__((always_inline)) void fill_rect(tri_ctx *c, int x0, int y0, int x1, int y1,
-                                                            const bool depth)
+                                                            const bool depth, const bool late)
 {
     for (int y = y0; y <= y1; y++)
         for (int x = x0; x <= x1; x++)
-            fragment(c, x, y, depth);
+            fragment(c, x, y, depth, late);
 }
 
 /* Block classification: 1 outside, 2 inside (no per-pixel test needed), 0 partial. */
@@ -116,11 +163,11 @@ static inline int classify(const rast_tri *t, int rx0, int ry0, int rx1, int ry1
 
 /* Draw triangle t over the rectangle [x0,x1] x [y0,y1] (its bounds inside the tile). */
 static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full, int x0, int y0, int x1, int y1,
-                                                           const bool depth)
+                                                           const bool depth, const bool late)
 {
     const rast_tri *t = c->t;
     if (full) {
-        fill_rect(c, x0, y0, x1, y1, depth);
+        fill_rect(c, x0, y0, x1, y1, depth, late);
         return;
     }
     int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
@@ -133,7 +180,7 @@ static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full
                 continue;
             if (cls == BLOCK_INSIDE) {
                 c->blocks_full++;
-                fill_rect(c, rx0, ry0, rx1, ry1, depth);
+                fill_rect(c, rx0, ry0, rx1, ry1, depth, late);
                 continue;
             }
             for (int y = ry0; y <= ry1; y++) {
@@ -142,7 +189,7 @@ static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full
                 int64_t e2 = t->ec[2] + t->ex[2] * rx0 + t->ey[2] * y;
                 for (int x = rx0; x <= rx1; x++) {
                     if ((e0 | e1 | e2) >= 0)
-                        fragment(c, x, y, depth);
+                        fragment(c, x, y, depth, late);
                     e0 += t->ex[0];
                     e1 += t->ex[1];
                     e2 += t->ex[2];
@@ -289,12 +336,24 @@ static inline __attribute__((always_inline)) void draw_tri_spans(tri_ctx *c, boo
 
 static void draw_tri_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri(c, full, x0, y0, x1, y1, true);
+    draw_tri(c, full, x0, y0, x1, y1, true, false);
 }
 
 static void draw_tri_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri(c, full, x0, y0, x1, y1, false);
+    draw_tri(c, full, x0, y0, x1, y1, false, false);
+}
+
+/* A program that may discard and takes no derivative: pixel by pixel on both paths
+ * (a span shader has no way to say which fragments it discarded). */
+static void draw_tri_late_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri(c, full, x0, y0, x1, y1, true, true);
+}
+
+static void draw_tri_late_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri(c, full, x0, y0, x1, y1, false, true);
 }
 
 /* Small triangles (few pixels a row) go pixel by pixel even on the span path: a span's
@@ -308,7 +367,7 @@ static inline bool small_tri(int x0, int y0, int x1, int y1)
 static void draw_tri_spans_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
     if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, true);
+        draw_tri(c, full, x0, y0, x1, y1, true, false);
     else
         draw_tri_spans(c, full, x0, y0, x1, y1, true);
 }
@@ -316,9 +375,160 @@ static void draw_tri_spans_depth(tri_ctx *c, bool full, int x0, int y0, int x1, 
 static void draw_tri_spans_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
     if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, false);
+        draw_tri(c, full, x0, y0, x1, y1, false, false);
     else
         draw_tri_spans(c, full, x0, y0, x1, y1, false);
+}
+
+/* ---- the quad path (programs that take derivatives) ---- */
+
+/* The quad at (qx, qy) (both even) whose lanes `cov` (bit l: pixel (qx + (l & 1),
+ * qy + (l >> 1))) the triangle covers. The depth test picks the live lanes (early write
+ * unless the program may discard); a quad with none is not shaded. Every lane's inputs
+ * are made at its pixel centre (the uncovered ones extrapolated from the same planes),
+ * the lanes run through the shader in rounds into scratch texels (quad.c), or once
+ * through the program's quad form on the span path; then each live lane that did not
+ * discard is written. Helpers write nothing. */
+static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int qy, unsigned cov, const bool depth)
+{
+    const rast_tri *t = c->t;
+    const sl_program *prog = c->call->program;
+    const bool late = prog->discards;
+    const sl_target *tg = c->d->target;
+    const size_t tsz = tg->texel_size;
+    float z[4];
+    unsigned live = 0;
+    for (int l = 0; l < 4; l++) {
+        int x = qx + (l & 1), y = qy + (l >> 1);
+        z[l] = depth_at(t, (float)x - t->ox, (float)y - t->oy);
+        if (!(cov >> l & 1))
+            continue;
+        c->tested++;
+        if (depth) {
+            float *zp = &c->zbuf[(y - c->py0) * c->ts + (x - c->px0)];
+            if (!(z[l] < *zp))
+                continue;
+            if (!late)
+                *zp = z[l];
+        }
+        live |= 1u << l;
+    }
+    if (!live)
+        return;
+
+    float vary[4][SL_MAX_VARYINGS];
+    sl_fragment_in in[4];
+    char *target[4];   /* the lane's texel, NULL outside the target (odd sizes) */
+    void *scratch[4];
+    for (int l = 0; l < 4; l++) {
+        int x = qx + (l & 1), y = qy + (l >> 1);
+        float iw = varyings_at(c, (float)x - t->ox, (float)y - t->oy, vary[l]);
+        in[l] = (sl_fragment_in){
+            .varyings = vary[l],
+            .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, z[l], iw),
+            .front_facing = t->front,
+            .x = x,
+            .y = y,
+            .quad = c->quad,
+            .lane = l,
+            .helper = !(live >> l & 1),
+        };
+        target[l] = x < tg->width && y < tg->height
+                        ? c->texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz
+                        : NULL;
+        scratch[l] = c->scratch + (size_t)l * tsz;
+    }
+    int rounds = 0;
+    bool quad_form = prog->fragment_quad && c->d->spans;
+    rast_quad_begin(c->quad, !quad_form);
+    do {
+        /* every round starts from the target's texels, so rounds do not see each other */
+        rast_quad_round(c->quad);
+        for (int l = 0; l < 4; l++) {
+            if (target[l])
+                memcpy(scratch[l], target[l], tsz);
+            else
+                memset(scratch[l], 0, tsz);
+        }
+        if (quad_form) {
+            prog->fragment_quad(c->call->fs_uniforms, in, scratch);
+        } else {
+            for (int l = 0; l < 4; l++)
+                prog->fragment(c->call->fs_uniforms, &in[l], scratch[l]);
+        }
+        rounds++;
+        /* a fixed point comes by round calls + 1 (quad.c); the bound only guards that proof */
+    } while (!quad_form && !rast_quad_fixed(c->quad) && rounds <= RAST_QUAD_CALLS);
+
+    c->quads++;
+    c->rounds += rounds;
+    for (int l = 0; l < 4; l++) {
+        if (!(live >> l & 1)) {
+            c->helpers++;
+            continue;
+        }
+        c->shaded++;
+        if (c->quad->discarded[l]) {
+            c->discarded++;
+            continue;
+        }
+        memcpy(target[l], scratch[l], tsz);
+        if (depth && late) {
+            int x = qx + (l & 1), y = qy + (l >> 1);
+            c->zbuf[(y - c->py0) * c->ts + (x - c->px0)] = z[l];
+            c->late_z++;
+        }
+    }
+}
+
+/* The quads of the triangle over [x0,x1] x [y0,y1], block by block as draw_tri: tiles
+ * and blocks have even sizes and origins, so a quad never straddles two, and lanes
+ * outside the rectangle are outside the triangle's bounds (uncovered). */
+static inline __attribute__((always_inline)) void draw_tri_quads(tri_ctx *c, bool full, int x0, int y0, int x1,
+                                                                 int y1, const bool depth)
+{
+    const rast_tri *t = c->t;
+    int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
+    int bstep = full ? 1 << 30 : RAST_BLOCK; /* full: the whole rectangle is one inside block */
+    for (int by = full ? y0 : by0; by <= y1; by += bstep) {
+        int ry0 = by > y0 ? by : y0, ry1 = full || by + RAST_BLOCK - 1 > y1 ? y1 : by + RAST_BLOCK - 1;
+        for (int bx = full ? x0 : bx0; bx <= x1; bx += bstep) {
+            int rx0 = bx > x0 ? bx : x0, rx1 = full || bx + RAST_BLOCK - 1 > x1 ? x1 : bx + RAST_BLOCK - 1;
+            int cls = full ? BLOCK_INSIDE : classify(t, rx0, ry0, rx1, ry1);
+            if (cls == BLOCK_OUTSIDE)
+                continue;
+            c->blocks_full += !full && cls == BLOCK_INSIDE;
+            for (int qy = ry0 & ~1; qy <= ry1; qy += 2)
+                for (int qx = rx0 & ~1; qx <= rx1; qx += 2) {
+                    unsigned cov = 0;
+                    for (int l = 0; l < 4; l++) {
+                        int x = qx + (l & 1), y = qy + (l >> 1);
+                        if (x < rx0 || x > rx1 || y < ry0 || y > ry1)
+                            continue;
+                        bool in = cls == BLOCK_INSIDE;
+                        if (!in) {
+                            int64_t e0 = t->ec[0] + t->ex[0] * x + t->ey[0] * y;
+                            int64_t e1 = t->ec[1] + t->ex[1] * x + t->ey[1] * y;
+                            int64_t e2 = t->ec[2] + t->ex[2] * x + t->ey[2] * y;
+                            in = (e0 | e1 | e2) >= 0;
+                        }
+                        cov |= (unsigned)in << l;
+                    }
+                    if (cov)
+                        quad(c, qx, qy, cov, depth);
+                }
+        }
+    }
+}
+
+static void draw_tri_quads_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri_quads(c, full, x0, y0, x1, y1, true);
+}
+
+static void draw_tri_quads_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri_quads(c, full, x0, y0, x1, y1, false);
 }
 
 /* ---- the tile ---- */
@@ -354,7 +564,8 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
                        texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset, sizeof(float));
     }
 
-    tri_ctx c = {.d = d, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span};
+    tri_ctx c = {.d = d, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span,
+                 .quad = task->quad, .scratch = task->scratch};
     bool spans = d->spans && task->span;
     if (spans) {
         for (int i = 0; i < SL_MAX_VARYINGS; i++)
@@ -376,7 +587,18 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             int x0 = t->xmin > px0 ? t->xmin : px0, x1 = t->xmax < px1 ? t->xmax : px1;
             int y0 = t->ymin > py0 ? t->ymin : py0, y1 = t->ymax < py1 ? t->ymax : py1;
             bool full = (item & RAST_BIN_FULL) != 0;
-            if (spans && depth)
+            /* one test per triangle: programs without the flags take the paths they always took */
+            const sl_program *prog = c.call->program;
+            if (prog->derivatives || prog->discards) {
+                if (prog->derivatives && depth)
+                    draw_tri_quads_depth(&c, full, x0, y0, x1, y1);
+                else if (prog->derivatives)
+                    draw_tri_quads_nodepth(&c, full, x0, y0, x1, y1);
+                else if (depth)
+                    draw_tri_late_depth(&c, full, x0, y0, x1, y1);
+                else
+                    draw_tri_late_nodepth(&c, full, x0, y0, x1, y1);
+            } else if (spans && depth)
                 draw_tri_spans_depth(&c, full, x0, y0, x1, y1);
             else if (spans)
                 draw_tri_spans_nodepth(&c, full, x0, y0, x1, y1);
@@ -389,6 +611,11 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     task->stats.fragments_tested += c.tested;
     task->stats.fragments_shaded += c.shaded;
     task->stats.blocks_full += c.blocks_full;
+    task->stats.fragments_discarded += c.discarded;
+    task->stats.fragments_late_z += c.late_z;
+    task->stats.quads += c.quads;
+    task->stats.quad_rounds += c.rounds;
+    task->stats.helper_invocations += c.helpers;
 
     if (depth)
         for (int y = py0; y <= py1; y++)

@@ -23,7 +23,7 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
             return sl_fail(err, SL_ERR_RANGE, "irradiance method 'map' needs environment.irradiance in %s",
                            scene->path);
         sl_image map;
-        if (!sl_image_read_hdr(scene->environment.irradiance_path, r->desc.image_budget, &map, NULL, err))
+        if (!sl_image_read_radiance(scene->environment.irradiance_path, r->desc.image_budget, &map, NULL, err))
             return false;
         ok = sl_irradiance_from_image(&r->irradiance, &map, err);
         sl_image_free(&map);
@@ -88,7 +88,7 @@ static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repa
 {
     sl_image img;
     if (path[0]) {
-        if (!sl_image_read_hdr(path, budget, &img, repairs, err))
+        if (!sl_image_read_radiance(path, budget, &img, repairs, err))
             return false;
         if (img.channels != 3) {
             sl_image_free(&img);
@@ -132,6 +132,9 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     double t0 = sl_now_seconds();
     if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, &r->env_repairs, err))
         return false;
+    /* The materials' textures, each image once, with its mips (raster/gbuffer_textured.h). */
+    if (!sl_scene_textures_load(scene, d->image_budget, &r->textures, err))
+        goto fail;
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
@@ -160,6 +163,7 @@ void sl_renderer_free(sl_renderer *r)
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
+    sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
     free(r->uniforms);
     sl_image_free(&r->radiance);
@@ -233,10 +237,27 @@ bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err)
     return true;
 }
 
+/* A shard's band: the whole frame is rasterized (so every texel in the band is what the unsharded
+ * frame has), then the rows outside are emptied; per-pixel stages skip empty texels. */
+static void keep_band(sl_gbuffer *gb, const int band[2])
+{
+    const sl_gbuffer_texel empty = {.depth = 1.0f};
+    for (int y = 0; y < gb->height; y++) {
+        int row = gb->height - 1 - y; /* image row 0 = top = G-buffer row height - 1 */
+        if (row >= band[0] && row < band[1])
+            continue;
+        for (int x = 0; x < gb->width; x++)
+            *sl_gbuffer_at(gb, x, y) = empty;
+    }
+}
+
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
-    bool ok = sl_raster_scene(r->raster, r->scene, cam ? cam : &r->scene->camera, &r->gbuffer, err);
+    bool ok = sl_raster_scene_textured(r->raster, r->scene, &r->textures, cam ? cam : &r->scene->camera,
+                                       &r->gbuffer, err);
+    if (ok && r->desc.banded)
+        keep_band(&r->gbuffer, r->desc.band);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

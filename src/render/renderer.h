@@ -10,6 +10,7 @@
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
  * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h), and for
  * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c).
+ * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
  *
@@ -25,6 +26,7 @@
 #include "ibl/ibl.h"
 #include "post/tonemap.h"
 #include "raster/gbuffer.h"
+#include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
@@ -42,10 +44,14 @@ typedef struct {
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
     size_t image_budget;          /* bytes one image read from a file may take decoded (the
                                      environment, the irradiance map); 0 = SL_IMAGE_BUDGET_DEFAULT */
+    /* a shard (app/shard.h): only image rows [band[0], band[1]) (row 0 = top) keep their
+     * G-buffer texels after the raster, so lighting and ground truth cost only the band */
+    bool banded;
+    int band[2];
 } sl_render_desc;
 
 typedef struct {
-    double load_ms;     /* environment load + mips (per environment) */
+    double load_ms;     /* environment load + mips (per environment), textures (per scene) */
     double irradiance_ms;
     double env_lights_ms; /* extraction of the env lights and the residual's mips (when asked) */
     double env_oct_ms;    /* the octahedral chain of what the samples read (--env-layout oct) */
@@ -64,6 +70,7 @@ typedef struct {
                                  lights' residual; built on first use */
     int env_oct_built;        /* -1 = none, else the env lights count of what it was built from */
     sl_raster *raster;
+    sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */
     sl_lighting_stats lighting_stats;
@@ -85,7 +92,8 @@ bool sl_renderer_set_irradiance(sl_renderer *r, sl_irradiance_method method, sl_
 /* Change the render size (reallocates only when it changes). */
 bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
 
-/* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera). */
+/* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera); with a band, the
+ * texels outside it are cleared (every field 0, depth 1: nothing drawn). */
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err);
 /* Set r->uniforms for lighting the current G-buffer seen from `cam` (what shade and trace use),
  * with desc.lighting as it is. */

@@ -731,6 +731,7 @@ static bool build_mesh(obj_reader *r, sl_mesh *mesh)
     }
     memcpy(mesh->indices, r->indices.data, r->indices.count * sizeof(uint32_t));
     bool ok = all_kept || scene_compute_normals(mesh, group, (uint32_t)r->positions.count, keep);
+    ok = ok && scene_compute_tangents(mesh); /* OBJ has no tangents: generated from vt */
     free(keep);
     free(group);
     if (!ok) {

@@ -9,6 +9,8 @@
  * the value it reads so the message can say where. */
 #include "scene_internal.h"
 
+#include "model.h" /* sl_path_is_scene */
+
 #include <cjson/cJSON.h>
 #include <float.h>
 #include <stdarg.h>
@@ -33,6 +35,9 @@
 
 /* Limits on values that are legal JSON but absurd for a frame. */
 #define MAX_ALPHA 1e6
+/* GGX roughness is glTF's perceptual roughness, in [0, 1] by definition; default 0.5. */
+#define MAX_ROUGHNESS 1.0
+#define DEFAULT_ROUGHNESS 0.5f
 /* Far/near beyond this leaves a float depth buffer almost no precision. */
 #define MAX_DEPTH_RATIO 1e7
 /* Up closer than this (sine of the angle) to the view direction gives an unstable basis. */
@@ -42,6 +47,7 @@ typedef struct {
     const char *name;     /* the scene's name in messages */
     const char *base_dir; /* for relative paths; "" = as given */
     sl_error *err;
+    scene_model_camera *model_camera; /* the models' first camera, for the default scene; may be NULL */
 } parser;
 
 /* A material name and its index, sorted by name for duplicate checks and lookups. */
@@ -215,7 +221,8 @@ static bool read_option_float(parser *p, const cJSON *section, const sl_option *
 static bool read_numbers(parser *p, const cJSON *item, const char *path, int n, double *out)
 {
     if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n) {
-        static const char *const shape[] = {"", "", "", "an array of 3 numbers", "an array of 4 numbers"};
+        static const char *const shape[] = {"", "", "an array of 2 numbers", "an array of 3 numbers",
+                                            "an array of 4 numbers"};
         return fail_at(p, path, SL_ERR_FORMAT, "expected %s", shape[n]);
     }
     int i = 0;
@@ -440,13 +447,157 @@ static int compare_names(const void *a, const void *b)
     return strcmp(((const name_index *)a)->name, ((const name_index *)b)->name);
 }
 
-static bool parse_material(parser *p, const cJSON *item, const char *path, sl_material *m)
+/* ---- texture maps (docs/scene-format.md "Texture maps") ---- */
+
+static const char *const MAP_KEYS[SL_MAP_COUNT] = {"kd_map", "ks_map", "alpha_map", "normal_map", "mask_map"};
+/* Colour maps are sRGB by default (what image editors write); data maps are linear. */
+static const bool MAP_SRGB_DEFAULT[SL_MAP_COUNT] = {true, true, false, false, false};
+/* uv_scale and uv_offset: beyond this a float texture coordinate keeps too few fraction bits
+ * (2^-10 of a repeat at 1e4) for a filtered lookup to mean anything. */
+#define MAX_UV_TRANSFORM 1e4
+
+/* The scene's image for (path, srgb), added on first use: one file, one texture, however many
+ * maps name it. */
+static bool scene_image(parser *p, sl_scene *scene, const char *file, bool srgb, const char *path, int *index)
 {
-    static const char *const keys[] = {"kd", "ks", "alpha", NULL};
+    for (int i = 0; i < scene->image_count; i++) {
+        if (scene->images[i].srgb == srgb && strcmp(scene->images[i].path, file) == 0) {
+            *index = i;
+            return true;
+        }
+    }
+    if (scene->image_count == SL_SCENE_MAX_IMAGES)
+        return fail_at(p, path, SL_ERR_RANGE, "more than %d distinct image files in one scene", SL_SCENE_MAX_IMAGES);
+    if (!scene->images && !(scene->images = calloc(SL_SCENE_MAX_IMAGES, sizeof *scene->images)))
+        return fail_at(p, path, SL_ERR_MEMORY, "out of memory for the image table");
+    sl_scene_image *img = &scene->images[scene->image_count];
+    snprintf(img->path, sizeof img->path, "%s", file);
+    img->srgb = srgb;
+    _Static_assert(sizeof img->used_by == JSON_PATH_MAX, "a JSON path fits in used_by");
+    memcpy(img->used_by, path, strlen(path) + 1);
+    *index = scene->image_count++;
+    return true;
+}
+
+static bool read_uv_pair(parser *p, const cJSON *item, const char *path, vec2 *out)
+{
+    double v[2];
+    if (!read_numbers(p, item, path, 2, v))
+        return false;
+    for (int i = 0; i < 2; i++)
+        if (fabs(v[i]) > MAX_UV_TRANSFORM)
+            return fail_at(p, path, SL_ERR_RANGE, "%g is outside -%g..%g", v[i], MAX_UV_TRANSFORM, MAX_UV_TRANSFORM);
+    *out = vec2(v[0], v[1]);
+    return true;
+}
+
+/* One enumerated string among `names` (count of them); its index in *out. */
+static bool read_choice(parser *p, const cJSON *item, const char *path, const char *const names[], int count,
+                        int *out)
+{
+    char shown[MASKED_MAX + 4];
+    if (cJSON_IsString(item))
+        for (int i = 0; i < count; i++)
+            if (strcmp(item->valuestring, names[i]) == 0)
+                return *out = i, true;
+    return fail_at(p, path, SL_ERR_FORMAT, "expected \"%s\", \"%s\" or \"%s\"%s%s%s", names[0], names[1], names[2],
+                   cJSON_IsString(item) ? ", got \"" : "", cJSON_IsString(item) ? masked(item->valuestring, 32, shown) : "",
+                   cJSON_IsString(item) ? "\"" : "");
+}
+
+/* A map: "file.png", or {"file", "srgb", "wrap", "filter", "uv_scale", "uv_offset"}. */
+static bool parse_map(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_map_slot slot,
+                      sl_material_map *map)
+{
+    static const char *const keys[] = {"file", "srgb", "wrap", "filter", "uv_scale", "uv_offset", NULL};
+    static const char *const wraps[] = {"repeat", "clamp", "mirror"};
+    static const char *const filters[] = {"trilinear", "bilinear", "nearest"};
+    *map = (sl_material_map){.set = true, .uv_scale = vec2(1.0f, 1.0f)};
+    char file[SL_PATH_MAX], sub[JSON_PATH_MAX];
+    bool srgb = MAP_SRGB_DEFAULT[slot];
+    if (cJSON_IsString(item)) {
+        if (!read_path(p, item, path, file))
+            return false;
+    } else {
+        if (!cJSON_IsObject(item))
+            return fail_at(p, path, SL_ERR_FORMAT, "expected an image path or an object {\"file\": ...}");
+        if (!check_keys(p, item, path, keys))
+            return false;
+        const cJSON *v = member(item, "file");
+        join_key(sub, path, "file");
+        if (!v)
+            return fail_at(p, path, SL_ERR_FORMAT, "needs \"file\" (an image path)");
+        if (!read_path(p, v, sub, file))
+            return false;
+        if ((v = member(item, "srgb"))) {
+            join_key(sub, path, "srgb");
+            if (!cJSON_IsBool(v))
+                return fail_at(p, sub, SL_ERR_FORMAT, "expected true or false");
+            srgb = cJSON_IsTrue(v);
+        }
+        int choice;
+        if ((v = member(item, "wrap"))) {
+            join_key(sub, path, "wrap");
+            if (!read_choice(p, v, sub, wraps, 3, &choice))
+                return false;
+            map->wrap = (sl_map_wrap)choice;
+        }
+        if ((v = member(item, "filter"))) {
+            join_key(sub, path, "filter");
+            if (!read_choice(p, v, sub, filters, 3, &choice))
+                return false;
+            map->filter = (sl_map_filter)choice;
+        }
+        if ((v = member(item, "uv_scale"))) {
+            join_key(sub, path, "uv_scale");
+            if (!read_uv_pair(p, v, sub, &map->uv_scale))
+                return false;
+        }
+        if ((v = member(item, "uv_offset"))) {
+            join_key(sub, path, "uv_offset");
+            if (!read_uv_pair(p, v, sub, &map->uv_offset))
+                return false;
+        }
+    }
+    return scene_image(p, scene, file, srgb, path, &map->image);
+}
+
+static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_material *m)
+{
+    static const char *const keys[] = {"kd",        "ks",         "alpha",    "brdf",         "roughness", "kd_map",
+                                       "ks_map",    "alpha_map",  "normal_map", "mask_map", "alpha_cutoff", NULL};
+    static const char *const brdfs[] = {"phong", "ggx"}; /* sl_brdf's values */
     if (!check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX];
     const cJSON *v;
+    if ((v = member(item, "brdf"))) {
+        char name[MASKED_MAX + 4];
+        join_key(sub, path, "brdf");
+        if (!cJSON_IsString(v) || !v->valuestring)
+            return fail_at(p, sub, SL_ERR_FORMAT, "expected \"phong\" or \"ggx\"");
+        if (strcmp(v->valuestring, brdfs[SL_BRDF_PHONG]) == 0)
+            m->brdf = SL_BRDF_PHONG;
+        else if (strcmp(v->valuestring, brdfs[SL_BRDF_GGX]) == 0)
+            m->brdf = SL_BRDF_GGX;
+        else
+            return fail_at(p, sub, SL_ERR_FORMAT, "unknown brdf \"%s\": expected \"phong\" or \"ggx\"",
+                           masked(v->valuestring, 32, name));
+    }
+    /* each set has its own parameter: the other's is an error, not ignored */
+    if (m->brdf == SL_BRDF_GGX && member(item, "alpha")) {
+        join_key(sub, path, "alpha");
+        return fail_at(p, sub, SL_ERR_FORMAT, "alpha is the Phong exponent; a \"ggx\" material takes \"roughness\"");
+    }
+    if (m->brdf == SL_BRDF_PHONG && member(item, "roughness")) {
+        join_key(sub, path, "roughness");
+        return fail_at(p, sub, SL_ERR_FORMAT, "roughness needs \"brdf\": \"ggx\" (a Phong material takes \"alpha\")");
+    }
+    if ((v = member(item, "roughness"))) {
+        join_key(sub, path, "roughness");
+        if (!read_float(p, v, sub, 0.0, MAX_ROUGHNESS, &m->roughness))
+            return false;
+    }
     if ((v = member(item, "kd"))) {
         join_key(sub, path, "kd");
         if (!read_color(p, v, sub, 1.0, &m->kd))
@@ -462,12 +613,32 @@ static bool parse_material(parser *p, const cJSON *item, const char *path, sl_ma
         if (!read_float(p, v, sub, 0.0, MAX_ALPHA, &m->alpha))
             return false;
     }
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        if (!(v = member(item, MAP_KEYS[slot])))
+            continue;
+        join_key(sub, path, MAP_KEYS[slot]);
+        if (!parse_map(p, scene, v, sub, (sl_map_slot)slot, &m->maps[slot]))
+            return false;
+        m->textured = true;
+    }
+    /* Coverage for the cutoff: mask_map.r, or kd_map's alpha; a mask alone cuts at glTF's 0.5. */
+    m->masked = m->maps[SL_MAP_MASK].set;
+    m->alpha_cutoff = 0.5f;
+    if ((v = member(item, "alpha_cutoff"))) {
+        join_key(sub, path, "alpha_cutoff");
+        if (!read_float(p, v, sub, 0.0, 1.0, &m->alpha_cutoff))
+            return false;
+        if (!m->maps[SL_MAP_MASK].set && !m->maps[SL_MAP_KD].set)
+            return fail_at(p, sub, SL_ERR_FORMAT, "needs a mask_map or a kd_map (whose alpha it cuts)");
+        m->masked = true;
+    }
     return true;
 }
 
 static sl_material default_material(const char *name)
 {
-    sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f};
+    sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f, .brdf = SL_BRDF_PHONG,
+                     .roughness = DEFAULT_ROUGHNESS};
     snprintf(m.name, sizeof m.name, "%s", name);
     return m;
 }
@@ -501,7 +672,7 @@ static bool parse_materials(parser *p, const cJSON *item, sl_scene *scene, name_
             return false;
         sl_material *m = &scene->materials[scene->material_count];
         *m = default_material(child->string);
-        if (!parse_material(p, child, path, m))
+        if (!parse_material(p, scene, child, path, m))
             return false;
         (*sorted)[scene->material_count] = (name_index){m->name, scene->material_count};
         scene->material_count++;
@@ -664,24 +835,31 @@ static void default_object_name(char out[SL_NAME_MAX], const char *mesh_text, co
 
 static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scene *scene,
                          const name_index *sorted, int named_materials, source_map *sources, int *first_user,
-                         sl_object *obj)
+                         sl_object *obj, bool *material_given)
 {
-    static const char *const keys[] = {"name", "mesh", "shape", "slices", "stacks", "material", "transform",
+    static const char *const keys[] = {"name", "mesh", "shape", "model", "slices", "stacks", "material", "transform",
                                        NULL};
     static const char *const shapes[] = {"sphere", "plane", "box"};
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
     if (!check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX], shown[MASKED_MAX + 4];
-    const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape");
-    if (mesh && shape)
-        return fail_at(p, path, SL_ERR_FORMAT, "has both \"mesh\" and \"shape\"; give one");
-    if (!mesh && !shape)
+    const cJSON *mesh = member(item, "mesh"), *shape = member(item, "shape"), *model = member(item, "model");
+    if (!!mesh + !!shape + !!model > 1)
+        return fail_at(p, path, SL_ERR_FORMAT, "has more than one of \"mesh\", \"shape\" and \"model\"; give one");
+    if (!mesh && !shape && !model)
         return fail_at(p, path, SL_ERR_FORMAT,
-                       "needs \"mesh\" (an .obj path) or \"shape\" (\"sphere\", \"plane\" or \"box\")");
+                       "needs \"mesh\" (an .obj path), \"shape\" (\"sphere\", \"plane\" or \"box\") or \"model\" "
+                       "(a glTF, OBJ, ... file)");
     sl_mesh_source src = {.kind = SL_MESH_OBJ};
     const char *shape_name = NULL;
-    if (mesh) {
+    if (model) {
+        join_key(sub, path, "model");
+        src.kind = SL_MESH_MODEL;
+        if (!read_path(p, model, sub, src.path))
+            return false;
+        mesh = model; /* the object's default name comes from the file's */
+    } else if (mesh) {
         join_key(sub, path, "mesh");
         if (!read_path(p, mesh, sub, src.path))
             return false;
@@ -722,6 +900,7 @@ static bool parse_object(parser *p, const cJSON *item, const char *path, sl_scen
         default_object_name(obj->name, mesh ? mesh->valuestring : "", shape_name);
     }
 
+    *material_given = member(item, "material") != NULL;
     if ((v = member(item, "material"))) {
         join_key(sub, path, "material");
         if (!cJSON_IsString(v))
@@ -826,6 +1005,7 @@ static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
         case SL_MESH_SPHERE: ok = sl_mesh_sphere(m, src->slices, src->stacks, p->err); break;
         case SL_MESH_PLANE: ok = sl_mesh_plane(m, p->err); break;
         case SL_MESH_BOX: ok = sl_mesh_box(m, p->err); break;
+        case SL_MESH_MODEL: ok = true; break; /* scene_expand_models, below */
         default: ok = sl_fail(p->err, SL_ERR_FORMAT, "unknown mesh kind %d", (int)src->kind); break;
         }
         total_vertices += m->vertex_count;
@@ -837,6 +1017,29 @@ static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
                             src->kind == SL_MESH_OBJ ? "mesh" : "shape");
             return false;
         }
+    }
+    return true;
+}
+
+/* A material with maps needs texture coordinates on every mesh it is drawn on (the shapes
+ * always have them; an OBJ file has them when its faces name vt). */
+static bool check_maps_have_uvs(parser *p, const sl_scene *scene)
+{
+    for (int i = 0; i < scene->object_count; i++) {
+        const sl_object *o = &scene->objects[i];
+        const sl_material *m = &scene->materials[o->material];
+        if (!m->textured || scene->meshes[o->mesh].texcoords)
+            continue;
+        int slot = 0;
+        while (!m->maps[slot].set)
+            slot++;
+        char path[JSON_PATH_MAX];
+        join_index(path, "objects", i);
+        char shown[MASKED_MAX + 4];
+        return fail_at(p, path, SL_ERR_FORMAT,
+                       "material \"%s\" has a %s (%s) but the mesh %s has no texture coordinates (no vt on its faces)",
+                       masked(m->name, 64, shown), MAP_KEYS[slot], scene->images[m->maps[slot].image].path,
+                       scene->mesh_sources[o->mesh].path);
     }
     return true;
 }
@@ -863,6 +1066,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         return false;
     name_index *sorted = NULL;
     int *first_user = NULL;
+    bool *material_given = NULL;
     source_map sources = {0};
     bool ok = parse_camera(p, member(root, "camera"), &scene->camera) &&
               parse_environment(p, member(root, "environment"), &scene->environment) &&
@@ -876,7 +1080,8 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         scene->objects = calloc(n + 1, sizeof *scene->objects);
         scene->mesh_sources = calloc(n + 1, sizeof *scene->mesh_sources);
         first_user = calloc(n + 1, sizeof *first_user);
-        if (!scene->objects || !scene->mesh_sources || !first_user || !source_map_init(&sources, n))
+        material_given = calloc(n + 1, sizeof *material_given);
+        if (!scene->objects || !scene->mesh_sources || !first_user || !material_given || !source_map_init(&sources, n))
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
     }
     int named_materials = scene->material_count;
@@ -884,7 +1089,8 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
         char path[JSON_PATH_MAX];
         join_index(path, "objects", scene->object_count);
         sl_object *obj = &scene->objects[scene->object_count];
-        ok = parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj);
+        ok = parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj,
+                          &material_given[scene->object_count]);
         if (ok)
             scene->object_count++;
     }
@@ -895,9 +1101,12 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
             ok = fail_at(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
     }
     if (ok && load_meshes)
-        ok = load_meshes_now(p, scene, first_user);
+        ok = load_meshes_now(p, scene, first_user) &&
+             scene_expand_models(scene, material_given, first_user, p->name, p->model_camera, p->err) &&
+             check_maps_have_uvs(p, scene);
     free(sorted);
     free(first_user);
+    free(material_given);
     free(sources.slots);
     return ok;
 }
@@ -1038,11 +1247,12 @@ static bool scan_json(parser *p, const char *text, size_t end, bool depth, bool 
     return ok;
 }
 
-bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
-                    sl_scene *scene, sl_error *err)
+static bool parse_scene(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                        sl_scene *scene, scene_model_camera *camera, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
-    parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err};
+    parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err,
+                .model_camera = camera};
     snprintf(scene->path, sizeof scene->path, "%s", p.name);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(json, size, &end, false);
@@ -1078,9 +1288,23 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
     return ok;
 }
 
+bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
+                    sl_scene *scene, sl_error *err)
+{
+    return parse_scene(json, size, name, base_dir, load_meshes, scene, NULL, err);
+}
+
+bool scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
+                             scene_model_camera *camera, sl_error *err)
+{
+    return parse_scene(json, size, name, base_dir, true, scene, camera, err);
+}
+
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
+    if (!sl_path_is_scene(path))
+        return scene_load_model_alone(path, scene, err);
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))
@@ -1114,6 +1338,7 @@ void sl_scene_free(sl_scene *scene)
     free(scene->materials);
     free(scene->objects);
     free(scene->lights);
+    free(scene->images);
     memset(scene, 0, sizeof *scene);
 }
 

@@ -6,7 +6,8 @@
  * the scene are resolved relative to the scene file when it is loaded.
  *
  * World space is Z-up, right-handed (DESIGN.md). Colours are linear RGB.
- * Does not: model a scene graph, animation, textures per object (yet), or cameras other than pinhole. */
+ * Does not: model a scene graph, animation, textures per object (materials carry the maps), decode
+ * images (it names them), or cameras other than pinhole. */
 #ifndef SL_SCENE_H
 #define SL_SCENE_H
 
@@ -22,21 +23,65 @@
 
 /* Triangle mesh in object space: shared vertices, 3 indices per triangle.
  * `normals` always present (computed angle-weighted when the OBJ has none);
- * `texcoords` may be NULL. */
+ * `texcoords` may be NULL, and `tangents` is present exactly when texcoords is: xyz a unit
+ * vector along dP/du orthogonal to the normal, w = +1 or -1 the handedness, as glTF's TANGENT
+ * (bitangent = cross(normal, tangent.xyz) * w, along dP/dv). Built-in shapes have analytic
+ * tangents; other meshes get them from positions and texture coordinates (mesh.c,
+ * scene_compute_tangents). */
 typedef struct {
     int vertex_count, triangle_count;
     vec3 *positions;
     vec3 *normals;
     vec2 *texcoords;
+    vec4 *tangents;
     uint32_t *indices;
 } sl_mesh;
 
+/* The texture maps a material may name (docs/scene-format.md "Texture maps"). Each multiplies the
+ * material's constant: kd = Kd * kd_map.rgb, ks = Ks * ks_map.rgb, alpha = alpha * alpha_map.r;
+ * normal_map perturbs the normal in tangent space (+Y up, OpenGL and glTF); mask_map.r, or
+ * kd_map's alpha when there is no mask_map, is compared with alpha_cutoff (discard below it). */
+typedef enum { SL_MAP_KD, SL_MAP_KS, SL_MAP_ALPHA, SL_MAP_NORMAL, SL_MAP_MASK, SL_MAP_COUNT } sl_map_slot;
+typedef enum { SL_MAP_REPEAT, SL_MAP_CLAMP, SL_MAP_MIRROR } sl_map_wrap;
+typedef enum { SL_MAP_TRILINEAR, SL_MAP_BILINEAR, SL_MAP_NEAREST } sl_map_filter;
+typedef struct {
+    bool set;               /* this slot has a map (a zeroed material has none) */
+    int image;              /* index into scene->images */
+    sl_map_wrap wrap;       /* both axes */
+    sl_map_filter filter;   /* trilinear: LINEAR_MIPMAP_LINEAR / LINEAR; bilinear: LINEAR / LINEAR;
+                               nearest: NEAREST / NEAREST (GL's min / mag filters) */
+    vec2 uv_scale, uv_offset; /* the map reads texture coordinate uv * uv_scale + uv_offset */
+} sl_material_map;
+
+/* An image file named by materials, loaded once per scene however many maps use it: the key is
+ * the resolved path and the colour space. Decoding is the raster stage's (src/raster/texture.h,
+ * sl_scene_textures_load); the scene only says which files and how. */
+typedef struct {
+    char path[SL_PATH_MAX];   /* resolved */
+    bool srgb;                /* 8-bit colour decoded with the sRGB curve (GL_SRGB8 / SRGB8_ALPHA8) */
+    char used_by[256];        /* the first map naming it, as a JSON path ("materials.leaf.kd_map"), for messages */
+} sl_scene_image;
+
+/* The microfacet set of a material's specular lobe (docs/lighting.md "Phong and GGX"). */
+typedef enum {
+    SL_BRDF_PHONG = 0, /* the specification's set: D with the Phong exponent alpha */
+    SL_BRDF_GGX,       /* GGX D and height-correlated Smith G, roughness r */
+} sl_brdf;
+
 /* The specification's material: Kd (diffuse albedo), Ks (Fresnel reflectance at
- * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror). */
+ * normal incidence, Schlick), alpha (Phong exponent, 0 = rough .. large = mirror); or, with
+ * brdf = GGX, roughness (perceptual, glTF's, 0 = mirror .. 1) in place of alpha;
+ * optionally modulated by texture maps. */
 typedef struct {
     char name[SL_NAME_MAX];
     vec3 kd, ks;
     float alpha;
+    sl_brdf brdf;
+    float roughness; /* GGX only */
+    sl_material_map maps[SL_MAP_COUNT];
+    bool textured;       /* some map is set: drawn with the textured G-buffer program */
+    bool masked;         /* discard where the coverage (mask_map.r, else kd_map.a) < alpha_cutoff */
+    float alpha_cutoff;  /* 0..1; default 0.5 (glTF's) when a mask_map is given */
 } sl_material;
 
 typedef struct {
@@ -73,13 +118,15 @@ typedef struct {
     float contrast;     /* c in the tone map exponent c/2.2 */
 } sl_render_settings;
 
-/* Where each of scene->meshes came from: an OBJ file or a built-in shape. Objects naming the
- * same source share one mesh. */
-typedef enum { SL_MESH_OBJ, SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX } sl_mesh_kind;
+/* Where each of scene->meshes came from: an OBJ file, a built-in shape or a model file (through
+ * assimp, scene/model.h). Objects naming the same source share one mesh. A model's source is
+ * first one empty mesh; loading appends the model's meshes (each SL_MESH_MODEL with the path
+ * and `slices` = its index in the file) and replaces the object by one per mesh instance. */
+typedef enum { SL_MESH_OBJ, SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX, SL_MESH_MODEL } sl_mesh_kind;
 typedef struct {
     sl_mesh_kind kind;
-    char path[SL_PATH_MAX]; /* SL_MESH_OBJ: resolved file path; "" otherwise */
-    int slices, stacks;     /* SL_MESH_SPHERE: tessellation; 0 otherwise */
+    char path[SL_PATH_MAX]; /* SL_MESH_OBJ, SL_MESH_MODEL: resolved file path; "" otherwise */
+    int slices, stacks;     /* SL_MESH_SPHERE: tessellation; SL_MESH_MODEL: slices = mesh index; 0 otherwise */
 } sl_mesh_source;
 
 typedef struct {
@@ -96,10 +143,18 @@ typedef struct {
     sl_point_light *lights;
     int light_count;
     sl_mesh_source *mesh_sources; /* mesh_count entries, parallel to meshes */
+    sl_scene_image *images;       /* image_count distinct image files the materials' maps name */
+    int image_count;
 } sl_scene;
 
-/* Load a scene file and every mesh it names. On failure the scene is empty and
- * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`. */
+/* Distinct image files one scene may name (each is a texture with its mips in memory). */
+#define SL_SCENE_MAX_IMAGES 64
+
+/* Load a scene file and every mesh it names (image files are only named: the raster stage
+ * decodes them, sl_scene_textures_load). On failure the scene is empty and
+ * err names the file and JSON path, e.g. `objects[3].material: no material named "gold"`.
+ * A path that does not end in .json is a model file (sl_path_is_scene, scene/model.h): the
+ * default scene around it (docs/scene-format.md, "Models"). */
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err);
 /* Parse scene JSON from memory; `base_dir` resolves relative paths ("" or NULL = cwd); `name`
  * starts every error message. With `load_meshes` false no geometry is built: OBJ files are not

@@ -17,7 +17,7 @@
 /* All meshes of one scene together (about 1 GB of vertex data at this cap). */
 #define SCENE_MAX_TOTAL_VERTICES (1 << 25)
 
-/* Allocate positions, normals, indices (and texcoords when asked) for the given counts; the
+/* Allocate positions, normals, indices (and texcoords and tangents when asked) for the given counts; the
  * arrays are zeroed. On failure the mesh is left empty and err names `name`. */
 bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
                       sl_error *err);
@@ -30,7 +30,33 @@ bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool 
  * the scratch allocation fails (normals are then untouched). */
 bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep);
 
+/* Tangents (xyz unit, orthogonal to the normal; w = +-1) from positions, texture coordinates and
+ * the normals already computed; nothing to do without texture coordinates. Returns false only
+ * when the scratch allocation fails. */
+bool scene_compute_tangents(sl_mesh *mesh);
+
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
 bool scene_safe_normalize(vec3 v, vec3 *out);
+
+/* The first camera of the models a scene loads (model_scene.c), for the default scene. */
+typedef struct {
+    bool has;
+    sl_camera camera;
+} scene_model_camera;
+
+/* sl_scene_parse with meshes loaded, noting the models' first camera in `camera` (scene.c). */
+bool scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
+                             scene_model_camera *camera, sl_error *err);
+/* Replace each object whose mesh is a model by one object per mesh instance of the file, adding
+ * its meshes and materials; `material_given[o]`: object o named a material, which overrides
+ * the file's; `first_user[mesh]` names the object in messages (model_scene.c). */
+bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
+                         scene_model_camera *camera, sl_error *err);
+/* The default scene around a model file given alone (model_scene.c). */
+bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
+
+/* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
+ * `glb`, then the JSON types of nodes, materials and accessors, with the JSON path. */
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err);
 
 #endif

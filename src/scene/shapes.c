@@ -3,7 +3,8 @@
  * All are unit sized and centred at the origin in a Z-up object space, with counter-
  * clockwise front faces seen from outside (OpenGL's default glFrontFace(GL_CCW)), so the
  * cross product of a triangle's edges (b - a) x (c - a) points along its vertex normals.
- * Texture coordinates span [0,1]^2 per shape (per face for the box). */
+ * Texture coordinates span [0,1]^2 per shape (per face for the box), with analytic tangents:
+ * xyz = normalize(dP/du), w = the sign that makes cross(N, T) * w point along dP/dv (glTF). */
 #include "scene_internal.h"
 
 bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
@@ -33,6 +34,9 @@ bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
             mesh->positions[v] = p;
             mesh->normals[v] = p; /* unit sphere: the normal is the position */
             mesh->texcoords[v] = vec2((float)j / (float)slices, (float)i / (float)stacks);
+            /* dP/du is along the parallel, (-sin phi, cos phi, 0), defined at the poles too; v grows
+             * with theta (downwards, toward -Z) while cross(N, T) points up the meridian: w = -1. */
+            mesh->tangents[v] = vec4(-sinf(phi), cosf(phi), 0.0f, -1.0f);
         }
     }
     /* Seen from outside, phi grows to the right and theta downwards, so for the quad with
@@ -63,6 +67,7 @@ bool sl_mesh_plane(sl_mesh *mesh, sl_error *err)
         mesh->positions[v] = vec3(corners[v][0], corners[v][1], 0.0f);
         mesh->normals[v] = vec3(0.0f, 0.0f, 1.0f);
         mesh->texcoords[v] = vec2(0.5f * (corners[v][0] + 1.0f), 0.5f * (corners[v][1] + 1.0f));
+        mesh->tangents[v] = vec4(1.0f, 0.0f, 0.0f, 1.0f); /* u along +X, v along +Y = cross(+Z, +X) */
     }
     static const uint32_t tris[6] = {0, 1, 2, 0, 2, 3};
     for (int k = 0; k < 6; k++)
@@ -91,6 +96,8 @@ bool sl_mesh_box(sl_mesh *mesh, sl_error *err)
             mesh->positions[i] = add3(n, add3(scale3(u, su[k]), scale3(v, sv[k])));
             mesh->normals[i] = n;
             mesh->texcoords[i] = vec2(0.5f * (su[k] + 1.0f), 0.5f * (sv[k] + 1.0f));
+            /* u runs along the face's u axis, v along its v = cross(n, u) (u x v = n): w = +1 */
+            mesh->tangents[i] = vec4(u.x, u.y, u.z, 1.0f);
         }
         uint32_t base = (uint32_t)(4 * f);
         uint32_t *tri = &mesh->indices[6 * f];

@@ -20,10 +20,9 @@
 #define GT_IMAGE_MAGIC "softlight ground truth v1"
 /* Part of the key: bump when the integral or the per-pixel conventions change, so stale
  * caches are recomputed rather than trusted. */
-#define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G"
+#define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G; GGX alpha <= -1"
 #define GT_HEADER_MAX 4096
 
-static const float MAX_ALPHA = SHADE_MAX_ALPHA; /* lighting.frag's alpha clamp */
 
 /* ---- hashing: FNV-1a 64 ---- */
 
@@ -115,6 +114,10 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
     const double nx = n[0], ny = n[1], nz = n[2], vx = v[0], vy = v[1], vz = v[2];
     const double nv = nx * vx + ny * vy + nz * vz;
     const double d_norm = (alpha + 2.0) / (2.0 * PI_D);
+    /* alpha < 0: a GGX lobe (lobe_param's range [-2, -1]), whose G has no --g choice: both
+     * planes get the same sums */
+    const bool ggx = alpha < 0.0;
+    const double a2 = ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0;
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
     double dr = 0, dg = 0, db = 0;
@@ -139,9 +142,14 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
         if (alpha * (1.0 - nh) > 746.0)
             continue;
         double lh = 0.5 * len;
-        double base = 0.25 * d_norm * pow(nh, alpha);
-        double k_one = base * 1.0 * c;               /* as ground_truth.c: 0.25 d pow * gterm * c */
-        double k_inv = base * (1.0 / (lh * lh)) * c;
+        double k_one, k_inv;
+        if (ggx) {
+            k_one = k_inv = sl_ground_truth_ggx_dvis(nh, c, nv, a2) * c; /* as ground_truth.c */
+        } else {
+            double base = 0.25 * d_norm * pow(nh, alpha);
+            k_one = base * 1.0 * c; /* as ground_truth.c: 0.25 d pow * gterm * c */
+            k_inv = base * (1.0 / (lh * lh)) * c;
+        }
         double p = 1.0 - lh;
         p = p > 0.0 ? p : 0.0;
         double p5 = (p * p) * (p * p) * p;
@@ -189,7 +197,7 @@ static void shade_texel(const sl_ground_truth *gt, const sl_gbuffer_texel *t, ve
     const double v[3] = {cr * vw[0] + sr * vw[1], -sr * vw[0] + cr * vw[1], vw[2]};
     const double kd[3] = {(double)t->kd.x, (double)t->kd.y, (double)t->kd.z};
     const double ks[3] = {(double)t->ks.x, (double)t->ks.y, (double)t->ks.z};
-    float a = t->alpha < 0.0f ? 0.0f : (t->alpha > MAX_ALPHA ? MAX_ALPHA : t->alpha);
+    float a = shade_lobe_param(t->alpha); /* the shader's own: Phong exponent, or GGX (< 0) */
     double d[3], s[2][3];
     shade_both(gt, n, v, kd, ks, (double)a, intensity, d, s);
     for (int ch = 0; ch < 3; ch++) {

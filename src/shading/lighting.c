@@ -56,29 +56,50 @@ static vec2 pixel_rotation(const sl_lighting_uniforms *u, int x, int y)
     return vec2((float)(h >> 8) * (1.0f / 16777216.0f), (float)(h2 >> 8) * (1.0f / 16777216.0f));
 }
 
+/* GLSL: ggx_cos_theta */
+static float ggx_cos_theta(float xi2, float a2)
+{
+    return sqrtf((1.0f - xi2) / ((1.0f - xi2) + a2 * xi2));
+}
+
+/* GLSL: ggx_D_of_xi */
+static float ggx_D_of_xi(float xi2, float a2)
+{
+    float t = (1.0f - xi2) + a2 * xi2;
+    return t * t / (PI * a2);
+}
+
 /* GLSL: skewed_sample */
 static vec3 skewed_sample(vec2 xi, float alpha)
 {
-    vec2 uv = vec2(xi.x, acosf(clamp(powf(xi.y, 1.0f / (alpha + 1.0f)), -1.0f, 1.0f)) / PI);
+    float c = alpha < 0.0f ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 1.0f));
+    vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
     return sl_uv_to_dir(uv);
 }
 
 /* GLSL: sample_pdf */
 static float sample_pdf(vec2 xi, float alpha)
 {
+    if (alpha < 0.0f) {
+        float a2 = sl_ggx_a2(alpha);
+        return ggx_D_of_xi(xi.y, a2) * ggx_cos_theta(xi.y, a2);
+    }
     return (alpha + 1.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 1.0f));
 }
 
 /* GLSL: microfacet_sample */
 static vec3 microfacet_sample(vec2 xi, float alpha)
 {
-    vec2 uv = vec2(xi.x, acosf(clamp(powf(xi.y, 1.0f / (alpha + 2.0f)), -1.0f, 1.0f)) / PI);
+    float c = alpha < 0.0f ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 2.0f));
+    vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
     return sl_uv_to_dir(uv);
 }
 
 /* GLSL: microfacet_D */
 static float microfacet_D(vec2 xi, float alpha)
 {
+    if (alpha < 0.0f)
+        return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
     return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
 }
 
@@ -113,6 +134,12 @@ static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
         return sl_oct_texture_lod(u->uEnvResidual, w, lod);
     return textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod);
+}
+
+/* GLSL: lobe_param */
+static float lobe_param(float a)
+{
+    return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, MAX_ALPHA);
 }
 
 /* GLSL: facing_normal */
@@ -165,9 +192,9 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 H = normalize(add(w, V));
         float NdotH = dot(N, H);
         float LdotH = dot(w, H);
-        float D = sl_brdf_D(NdotH, alpha);
+        float D = sl_lobe_D(NdotH, alpha);
         vec3 F = sl_brdf_F(Ks, LdotH);
-        float G = sl_brdf_G(LdotH, (sl_gterm)u->uGTerm);
+        float G = sl_lobe_G(LdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN / 4.0f;
@@ -189,6 +216,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                                 sl_lighting_task *task, sl_lighting_trace *trace)
 {
+    float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
@@ -216,7 +244,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float NdotH = Hl.z;
         float pdf = D * NdotH / (4.0f * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
-        float G = sl_brdf_G(VdotH, (sl_gterm)u->uGTerm);
+        float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN * VdotH / NdotH;
@@ -248,7 +276,8 @@ static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         if (NdotH <= 0.0f)
             continue;
         float LdotH = dot(w, H);
-        vec3 f = scale(sl_brdf_F(Ks, LdotH), sl_brdf_D(NdotH, alpha) * sl_brdf_G(LdotH, (sl_gterm)u->uGTerm) / 4.0f);
+        float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, (sl_gterm)u->uGTerm);
+        vec3 f = scale(sl_brdf_F(Ks, LdotH), sl_lobe_D(NdotH, alpha) * G / 4.0f);
         sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), wN));
     }
     return scale(sum, u->uEnvIntensity);
@@ -271,9 +300,10 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
     vec3 f = vec3s(0.0f);
     if (u->uDiffuse != 0)
         f = add(f, scale(Kd, 1.0f / PI));
-    if (u->uSpecular != 0)
-        f = add(f, scale(sl_brdf_F(Ks, LdotH),
-                         sl_brdf_D(dot(N, H), alpha) * sl_brdf_G(LdotH, (sl_gterm)u->uGTerm) / 4.0f));
+    if (u->uSpecular != 0) {
+        float G = sl_lobe_G(LdotH, NdotL, dot(N, V), alpha, (sl_gterm)u->uGTerm);
+        f = add(f, scale(sl_brdf_F(Ks, LdotH), sl_lobe_D(dot(N, H), alpha) * G / 4.0f));
+    }
     return scale(mul(f, u->uLightColor[i]), u->uLightIntensity[i] / d2 * NdotL);
 }
 
@@ -351,7 +381,7 @@ vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int
         vec3 P = t->position;
         vec3 Kd = t->kd;
         vec3 Ks = t->ks;
-        float alpha = clamp(t->alpha, 0.0f, MAX_ALPHA);
+        float alpha = lobe_param(t->alpha);
         vec3 V = normalize(sub(u->uEye, P));
         vec3 N = facing_normal(t->normal, V);
         vec3 Nenv = mat3_mul_vec3(u->uEnvRotation, N);
@@ -373,6 +403,7 @@ float shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
 vec3 shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
 float shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
 vec3 shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
+float shade_lobe_param(float a) { return lobe_param(a); }
 
 /* ---- public helpers (lighting.h): for tests and the viewer's mip-level view ---- */
 

@@ -45,7 +45,6 @@ static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
-static const float MAX_ALPHA = SHADE_MAX_ALPHA;
 #define PI SL_PI
 
 /* Samples are processed in blocks of BLOCK, so the per-sample arrays live on the stack (5 KB)
@@ -101,6 +100,35 @@ static void rotated_lobe(const azimuth_table *az, int k0, int m, float alpha, fl
     }
 }
 
+/* Stage (0) for a GGX lobe (alpha < 0), rotation on: rotated_lobe's azimuth, and the polar part
+ * of ggx_cos_theta, cos(theta) = sqrt((1 - xi2) / (1 + (a^2 - 1) xi2)); the table value is
+ * ggx_D_of_xi (microfacet: D(H)) or that times cos(theta) (sample_pdf: D(w.R) (w.R)). */
+static void rotated_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, bool microfacet, vec2 rotation,
+                             sample_block *b)
+{
+    float rho = 2.0f * PI * rotation.x;
+    float cr = cosf(rho), sr = sinf(rho);
+    const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
+    const float pdf_cos = microfacet ? 0.0f : 1.0f; /* a select of a factor, so the loop vectorizes */
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float s1 = xi1[i] + rotation.x, s2 = xi2[i] + rotation.y;
+        float x1 = s1 - sl_fast_floor(s1);
+        float x2 = s2 - sl_fast_floor(s2);
+        float t = (1.0f - x2) + a2 * x2;
+        float ct = sqrtf((1.0f - x2) / t);
+        float st = sqrtf(maxf(1.0f - ct * ct, 0.0f)); /* as sl_uv_to_dir's sin(acos(c)) rounds */
+        float cp = cphi[i] * cr + sphi[i] * sr;
+        float sp = sphi[i] * cr - cphi[i] * sr;
+        b->xi1[i] = x1;
+        b->xi2[i] = x2;
+        b->Lx[i] = cp * st;
+        b->Ly[i] = sp * st;
+        b->Lz[i] = ct;
+        b->pdf[i] = t * t / (PI * a2) * (pdf_cos * ct + (1.0f - pdf_cos));
+    }
+}
+
 /* clamp(lod, 0, max_lod) with NaN -> 0 (the fetch indexes with it) */
 static inline float clamp_lod(float lod, float max_lod)
 {
@@ -125,7 +153,7 @@ typedef struct {
 /* The trace of samples k0 .. k0 + m - 1 of a block, as the port records them; the running sum
  * is in sample order (the pass sums in four partial sums). */
 static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, const sample_block *b, const lobe_view *s,
-                        int k0, int m, vec3 Ks, float alpha, vec3 *sum)
+                        int k0, int m, vec3 Ks, float alpha, float NdotV, vec3 *sum)
 {
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
@@ -153,9 +181,9 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         ts->NdotH = b->NdotH[i];
         ts->LdotH = b->LdotH[i];
         ts->pdf = mf ? b->pw[i] : s->pdf[i];
-        ts->D = mf ? s->pdf[i] : sl_brdf_D(b->NdotH[i], alpha);
+        ts->D = mf ? s->pdf[i] : sl_lobe_D(b->NdotH[i], alpha);
         ts->F = add(Ks, scale(F1, b->m5[i]));
-        ts->G = sl_brdf_G(b->LdotH[i], (sl_gterm)u->uGTerm);
+        ts->G = sl_lobe_G(b->LdotH[i], b->wN[i], NdotV, alpha, (sl_gterm)u->uGTerm);
         ts->lod = b->lod[i];
         /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
         ts->Li = scale(fetch_clamped(u, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
@@ -182,10 +210,14 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
     const bool distortion = u->uDistortion != 0;
     const bool oct = u->uEnvLayout == ENV_LAYOUT_OCT;
+    const bool ggx = sl_lobe_is_ggx(alpha);
+    const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f;
+    const float NdotV = dot(N, V);
     const float base = u->uLodBase, max_lod = u->uEnvMaxLod, sin_min = u->uSinThetaMin;
     const float intensity = u->uEnvIntensity;
     /* log2 of D's constant (alpha + 2)/(2 pi); the lod of spec-d4 takes D/4 */
-    const float log2_c_lod = sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
+    const float log2_c_lod = ggx ? sl_fast_log2(a2 / PI) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f)
+                                 : sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
     const float log2_d4 = rule == LOD_SPEC_D4 ? 2.0f : 0.0f; /* microfacet: log2 D - log2 4 */
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     /* the texture as one block (texture_lod.h); without one, the fetch below redoes stage (3)
@@ -207,6 +239,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             Ly = lobe->Ly + k0;
             Lz = lobe->Lz + k0;
             pdf = lobe->pdf + k0;
+        } else if (rotate && ggx) {
+            rotated_lobe_ggx(az, k0, m, a2, mf, rotation, b);
         } else if (rotate) {
             rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
         } else {
@@ -297,6 +331,17 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             for (int i = 0; i < m; i++)
                 sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
         }
+        /* GGX: G' = 4 Vis(w.N, N.V) in place of the Phong set's G in the weights above (samples
+         * with w.N <= 0 get garbage that stage (4) drops) */
+        if (ggx) {
+            const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float wN = b->wN[i];
+                float g = 2.0f / (wN * kv + NdotV * sqrtf(maxf(wN * wN * (1.0f - a2) + a2, TINY)));
+                b->weight[i] = mf ? g * wN * b->vh[i] / b->NdotH[i] : g * wN / 4.0f;
+            }
+        }
         /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
          * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
         if (distortion && oct) { /* the octahedral texel's |w|_1^3 / pi */
@@ -316,6 +361,15 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 float lg = sl_fast_log2(maxf(pdf[i], TINY)) - log2_d4 + b->lod[i];
+                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+            }
+        } else if (ggx && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) {
+            /* log2 D = log2(a^2 / pi) - 2 log2((N.H)^2 (a^2 - 1) + 1) */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float nh = b->NdotH[i];
+                float c2 = nh * nh;
+                float lg = log2_c_lod - 2.0f * sl_fast_log2(maxf(maxf(1.0f - c2, 0.0f) + c2 * a2, TINY)) + b->lod[i];
                 b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
             }
         } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
@@ -338,7 +392,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         /* the consistent estimator: weight D / pdf, with the port's D (a pow per sample) */
         if (consistent)
             for (int i = 0; i < m; i++)
-                b->weight[i] = b->weight[i] * sl_brdf_D(b->NdotH[i], alpha) / pdf[i];
+                b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
         /* (3) radiance and contribution: textureLod from the block (texture_lod.h's operations
          * on the block's layout: gathers), c = F Li weight */
         if (oct) {
@@ -383,11 +437,52 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             acc[j].z += above ? b->cb[i] : 0.0f;
         }
         if (trace)
-            trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, &trace_sum);
+            trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, NdotV, &trace_sum);
     }
     vec3 sum = add(add(acc[0], acc[1]), add(acc[2], acc[3]));
     count_samples(task, n, below, pole);
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
+/* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
+ * brdf.h's formulas, the lights vectorized, the sum in light order. */
+static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    const int n = (u->uEnvLightCount + 15) & ~15; /* zero lights add exactly 0 (below) */
+    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
+    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
+    const float a2 = sl_ggx_a2(alpha), NdotV = dot(N, V);
+    const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z;
+        float hx = X[j] + V.x, hy = Y[j] + V.y, hz = Z[j] + V.z;
+        float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
+        hx *= ih;
+        hy *= ih;
+        hz *= ih;
+        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
+        float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
+        float c2 = NdotH * NdotH;
+        float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
+        float D = a2 / (PI * t * t);
+        float wl = maxf(wN, 0.0f);
+        float G = 2.0f / maxf(wl * kv + NdotV * sqrtf(wl * wl * (1.0f - a2) + a2), TINY);
+        float mm = maxf(1.0f - LdotH, 0.0f);
+        float m2 = mm * mm;
+        float m5 = m2 * m2 * mm;
+        float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f);
+        float k = D * G / 4.0f * wN * lit;
+        cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
+        cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
+        cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
+    }
+    vec3 sum = vec3s(0.0f);
+    for (int j = 0; j < n; j++)
+        sum = add(sum, vec3(cr[j], cg[j], cb[j]));
+    return scale(sum, u->uEnvIntensity);
 }
 
 /* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms),
@@ -395,6 +490,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                                                          float alpha)
 {
+    if (sl_lobe_is_ggx(alpha))
+        return env_lights_samples_ggx(u, N, V, Ks, alpha);
     /* Whole vectors: the arrays are zero past uEnvLightCount (a zero direction and radiance add
      * exactly 0), so rounding the count up to 16 keeps a small K off the scalar remainder loop,
      * which made K = 8 cost as much as K = 24. */
@@ -580,7 +677,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 .P = t[i].position,
                 .Kd = t[i].kd,
                 .Ks = t[i].ks,
-                .alpha = clamp(t[i].alpha, 0.0f, MAX_ALPHA),
+                .alpha = shade_lobe_param(t[i].alpha),
                 .V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]),
                 .N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
                 .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),

@@ -31,11 +31,12 @@ float shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL 
 vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
+float shade_lobe_param(float a); /* GLSL lobe_param: the G-buffer alpha clamped (Phong) or GGX's */
 
 /* A covered pixel as main() has it once its frame is known. */
 typedef struct {
     vec3 P, Kd, Ks;
-    float alpha;     /* clamped to [0, MAX_ALPHA] */
+    float alpha;     /* the lobe parameter (lobe_param): [0, MAX_ALPHA] Phong, [-2, -1] GGX */
     vec3 V, N;       /* world space, N after facing_normal */
     vec3 Nenv, Venv; /* environment space */
     vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */

@@ -40,6 +40,9 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     print3(f, "ks", t->texel.ks);
     fprintf(f, "  %-12s %.6g (used %.6g)\n  %-12s %.9g\n", "alpha", (double)t->texel.alpha, (double)t->alpha, "depth",
             (double)t->texel.depth);
+    if (sl_lobe_is_ggx(t->alpha)) /* the lobe parameter's GGX range (raster/gbuffer.h) */
+        fprintf(f, "  %-12s GGX, roughness r = %.6g, a^2 = %.6g (G: height-correlated Smith)\n", "lobe",
+                (double)(-1.0f - t->alpha), (double)sl_ggx_a2(t->alpha));
     fprintf(f, "frame (world)\n");
     print3(f, "V", t->V);
     print3(f, "N", t->N);

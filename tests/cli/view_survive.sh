@@ -44,6 +44,9 @@ screenshot $T/city
 drop scenes/top-down.json
 settle
 screenshot $T/top-down
+drop scenes/meshes/bunny.obj
+settle
+screenshot $T/bunny
 quit
 SCRIPT
 view_run "$SCENE" --size "$VIEW_TEST_SIZE" -n 8 --script "$T/drops.txt"
@@ -63,6 +66,10 @@ view_differ "$T/top-down.hdr" "$T/city.hdr" "dropping top-down.json loads that s
 "$SL" render scenes/top-down.json --size "$VIEW_TEST_SIZE" -n 40 --hdr "$T/top-down-ref40.hdr" -q
 # The dropped scene brings its own settings (N 40) unless the command line set them (-n 8 here).
 view_same "$T/top-down.hdr" "$T/top-down-ref.hdr" "the dropped scene renders as softlight render renders it" 0
+
+# A model dropped: the default scene around it, as `softlight render MODEL` renders it.
+"$SL" render scenes/meshes/bunny.obj --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/bunny-ref.hdr" -q
+view_same "$T/bunny.hdr" "$T/bunny-ref.hdr" "a dropped model renders as softlight render MODEL renders it" 0
 
 # A flood: 300 drags of 4 motion events, 200 key presses of every kind, wheel spins, without a
 # pause, then a reset of everything that was touched and a check that the frame is exact.

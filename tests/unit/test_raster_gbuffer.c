@@ -81,8 +81,8 @@ static sl_raster *make_raster(int threads, int tile)
     return r;
 }
 
-static const sl_material mat_a = {"a", {0.8f, 0.2f, 0.1f}, {0.04f, 0.05f, 0.06f}, 20.0f};
-static const sl_material mat_b = {"b", {0.1f, 0.7f, 0.3f}, {0.9f, 0.8f, 0.7f}, 500.0f};
+static const sl_material mat_a = {.name = "a", .kd = {0.8f, 0.2f, 0.1f}, .ks = {0.04f, 0.05f, 0.06f}, .alpha = 20.0f};
+static const sl_material mat_b = {.name = "b", .kd = {0.1f, 0.7f, 0.3f}, .ks = {0.9f, 0.8f, 0.7f}, .alpha = 500.0f};
 
 /* The tilted plane scaled by (2,1,1), rotated and moved: the world normal is
  * normalize(R (1/2, 0, 1)), not normalize(R S (1,0,1)): only the normal matrix gets it right.

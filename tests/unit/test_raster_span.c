@@ -5,13 +5,16 @@
  * sl_gbuffer_frag), for a program without a span shader (the per-fragment adapter), with
  * depth on and off, for several thread counts and tile sizes. The clear (sl_draw.clear)
  * must give what clearing every texel first and then drawing gives, also when a draw has
- * no triangles and when it has more than one batch (the clear belongs to the first only). */
+ * no triangles and when it has more than one batch (the clear belongs to the first only).
+ * Programs that take derivatives (2x2 quads) or discard keep the two paths equal too, and a
+ * quad form (sl_program.fragment_quad, run on the span path) gives the generic rounds' bits. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "raster/raster.h"
+#include "raster/shader.h"
 #include "scene/camera.h"
 #include "testutil.h"
 
@@ -105,8 +108,8 @@ static void scene_init(test_scene *s)
 {
     s->meshes[0] = make_sphere(40, 20);
     s->meshes[1] = make_grid(6);
-    s->mats[0] = (sl_material){"a", {0.8f, 0.2f, 0.1f}, {0.04f, 0.05f, 0.06f}, 20.0f};
-    s->mats[1] = (sl_material){"b", {0.1f, 0.7f, 0.3f}, {0.9f, 0.8f, 0.7f}, 500.0f};
+    s->mats[0] = (sl_material){.name = "a", .kd = {0.8f, 0.2f, 0.1f}, .ks = {0.04f, 0.05f, 0.06f}, .alpha = 20.0f};
+    s->mats[1] = (sl_material){.name = "b", .kd = {0.1f, 0.7f, 0.3f}, .ks = {0.9f, 0.8f, 0.7f}, .alpha = 500.0f};
     s->objects[0] = (sl_object){"ground", 1, 1, mat4_mul(mat4_translate(vec3(0, 0, -1)), mat4_scale(vec3(30, 30, 1)))};
     s->objects[1] = (sl_object){"s1", 0, 0, mat4_translate(vec3(-0.6f, 0.3f, 0))};
     s->objects[2] =
@@ -170,7 +173,7 @@ static void test_gbuffer_span_shader(void **state)
     (void)state;
     enum { N = 37, STRIDE = 64 };
     sl_gbuffer_uniforms u;
-    sl_material m = {"m", {0.25f, 0.5f, 0.75f}, {0.1f, 0.2f, 0.3f}, 42.0f};
+    sl_material m = {.name = "m", .kd = {0.25f, 0.5f, 0.75f}, .ks = {0.1f, 0.2f, 0.3f}, .alpha = 42.0f};
     sl_gbuffer_uniforms_init(&u, mat4_identity(), mat4_identity(), &m);
     static float vary[SL_GBUFFER_VARYINGS][SL_SPAN_MAX];
     static float z[SL_SPAN_MAX], iw[SL_SPAN_MAX];
@@ -424,6 +427,128 @@ static void test_draw_list(void **state)
     free(b);
 }
 
+/* ---- quads and discard on both paths ---- */
+
+/* The probe's inputs plus derivatives of a computed value and of one computed from a
+ * derivative, discarding where the first derivative is large: helpers, rounds, discard
+ * and late depth on perspective geometry. */
+static void fs_quad_probe(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    float a = in->varyings[0] * in->varyings[1] + in->frag_coord.w;
+    float da = dFdx(in, a);
+    float b = floorf(log2f(fabsf(da) + 1.0f)) * in->varyings[2];
+    vec2 db = vec2(dFdy(in, b), fwidth(in, b));
+    if (fabsf(da) > 0.05f) {
+        discard(in);
+        return;
+    }
+    fs_probe(uniforms, in, texel);
+    probe_texel *t = texel;
+    t->vary[3] = da;
+    t->vary[4] = db.x + db.y;
+}
+
+/* The same shader in quad form: the lanes' values, then their differences (shader.h). */
+static void fs_quad_probe_q(const void *uniforms, const sl_fragment_in in[4], void *const texel[4])
+{
+    float a[4], da[4], b[4];
+    for (int l = 0; l < 4; l++)
+        a[l] = in[l].varyings[0] * in[l].varyings[1] + in[l].frag_coord.w;
+    for (int l = 0; l < 4; l++) {
+        da[l] = sl_quad_dfdx(a, l);
+        b[l] = floorf(log2f(fabsf(da[l]) + 1.0f)) * in[l].varyings[2];
+    }
+    for (int l = 0; l < 4; l++) {
+        float dy = sl_quad_dfdy(b, l), fw = fabsf(sl_quad_dfdx(b, l)) + fabsf(dy);
+        if (fabsf(da[l]) > 0.05f) {
+            discard(&in[l]);
+            continue;
+        }
+        fs_probe(uniforms, &in[l], texel[l]);
+        probe_texel *t = texel[l];
+        t->vary[3] = da[l];
+        t->vary[4] = dy + fw;
+    }
+}
+
+/* Every fourth pixel column discarded, no derivative. */
+static void fs_probe_cut(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    if (in->x % 4 == 1) {
+        discard(in);
+        return;
+    }
+    fs_probe(uniforms, in, texel);
+}
+
+static const sl_program prog_quad = {.vertex = vs_probe, .fragment = fs_quad_probe, .varying_count = 5,
+                                     .derivatives = true, .discards = true};
+static const sl_program prog_quad_q = {.vertex = vs_probe, .fragment = fs_quad_probe, .varying_count = 5,
+                                       .derivatives = true, .discards = true, .fragment_quad = fs_quad_probe_q};
+static const sl_program prog_cut = {.vertex = vs_probe, .fragment = fs_probe_cut, .varying_count = 5,
+                                    .discards = true};
+
+/* Sphere and grid (draw_probe's) with one program, span path against plain path, for
+ * several thread counts and tile sizes, depth on and off; the quad form against the
+ * generic rounds (the plain path always runs the rounds). */
+static void test_quads_span_vs_plain(void **state)
+{
+    (void)state;
+    enum { W = 150, H = 111 };
+    size_t n = (size_t)W * H;
+    probe_texel *ref = malloc(n * sizeof *ref), *out = malloc(n * sizeof *out);
+    assert_non_null(ref);
+    assert_non_null(out);
+    const sl_program *progs[3] = {&prog_quad, &prog_quad_q, &prog_cut};
+    for (int p = 0; p < 3; p++)
+        for (int depth = 0; depth < 2; depth++) {
+            sl_mesh sphere = make_sphere(24, 12), grid = make_grid(5);
+            mat4 vp = mat4_mul(perspective(radians(50.0f), (float)W / (float)H, 0.5f, 20.0f),
+                               lookAt(vec3(0.4f, -3.5f, 1.0f), vec3(0, 0, 0), vec3(0, 0, 1)));
+            probe_uniforms u1 = {mat4_mul(vp, mat4_scale(vec3(1.3f, 1.3f, 1.3f)))};
+            probe_uniforms u2 = {mat4_mul(vp, mat4_rotate(vec3(1, 0.2f, 0), 1.1f))};
+            sl_draw draws[2] = {{.program = progs[p], .vs_uniforms = &u1, .mesh = &sphere},
+                                {.program = progs[p], .vs_uniforms = &u2, .mesh = &grid}};
+            sl_target target = {W, H, sizeof(probe_texel), ref,
+                                depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
+            sl_error err = {0};
+            memset(ref, 0, n * sizeof *ref);
+            for (size_t i = 0; i < n; i++)
+                ref[i].depth = 1.0f;
+            sl_raster *r = make_raster(1, 32, true);
+            assert_true(sl_raster_draw_list(r, &target, draws, 2, &err));
+            sl_raster_stats ps = sl_raster_get_stats(r);
+            sl_raster_destroy(r);
+            assert_true(ps.fragments_discarded > 100 && ps.fragments_shaded > ps.fragments_discarded + 1000);
+            if (p < 2)
+                assert_true(ps.helper_invocations > 100 && ps.quad_rounds >= 2 * ps.quads);
+            const int configs[][2] = {{1, 16}, {2, 64}, {3, 256}};
+            for (int k = 0; k < 3; k++) {
+                memset(out, 0, n * sizeof *out);
+                for (size_t i = 0; i < n; i++)
+                    out[i].depth = 1.0f;
+                target.texels = out;
+                r = make_raster(configs[k][0], configs[k][1], false);
+                assert_true(sl_raster_draw_list(r, &target, draws, 2, &err));
+                sl_raster_stats st = sl_raster_get_stats(r);
+                sl_raster_destroy(r);
+                target.texels = ref;
+                assert_same_texels(ref, out, n, sizeof *out, W, "program %d, depth %d, threads %d, tile %d: span path "
+                                   "against plain path", p, depth, configs[k][0], configs[k][1]);
+                assert_int_equal(st.fragments_shaded, ps.fragments_shaded);
+                assert_int_equal(st.fragments_discarded, ps.fragments_discarded);
+                assert_int_equal(st.fragments_late_z, ps.fragments_late_z);
+                assert_int_equal(st.helper_invocations, ps.helper_invocations);
+                if (p == 1) /* the quad form: one round a quad */
+                    assert_int_equal(st.quad_rounds, st.quads);
+            }
+            free_mesh(&sphere);
+            free_mesh(&grid);
+        }
+    free(ref);
+    free(out);
+}
+
 /* ---- the fill rule on the span path ---- */
 
 static void vs_window64(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *v)
@@ -651,6 +776,7 @@ int main(void)
         cmocka_unit_test(test_generic_span_vs_plain), cmocka_unit_test(test_clear_batches),
         cmocka_unit_test(test_clear_empty),           cmocka_unit_test(test_scene_clear),
         cmocka_unit_test(test_draw_list),             cmocka_unit_test(test_span_fill_rule),
+        cmocka_unit_test(test_quads_span_vs_plain),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -351,9 +351,9 @@ static void test_object_errors(void **state)
     (void)state;
     parse_fails("{\"objects\": {}}", "t.json: objects: expected an array");
     parse_fails("{\"objects\": [3]}", "t.json: objects[0]: expected an object");
-    parse_fails("{\"objects\": [{}]}", "objects[0]: needs \"mesh\" (an .obj path) or \"shape\"");
+    parse_fails("{\"objects\": [{}]}", "objects[0]: needs \"mesh\" (an .obj path), \"shape\"");
     parse_fails("{\"objects\": [{\"mesh\": \"a.obj\", \"shape\": \"box\"}]}",
-                "objects[0]: has both \"mesh\" and \"shape\"");
+                "objects[0]: has more than one of \"mesh\", \"shape\" and \"model\"");
     parse_fails("{\"objects\": [{\"shape\": \"cube\"}]}",
                 "objects[0].shape: unknown shape \"cube\" (expected sphere, plane or box)");
     parse_fails("{\"objects\": [{\"shape\": \"box\", \"slices\": 8}]}",
@@ -745,6 +745,99 @@ static void test_shipped_scenes(void **state)
 
 /* The complete example in docs/scene-format.md parses, so the documentation cannot drift
  * from the reader. */
+/* Texture maps: both spellings, defaults, one image per (file, colour space), the cutoff rules. */
+static void test_texture_maps(void **state)
+{
+    (void)state;
+    sl_scene s;
+    parse_ok("{\"materials\": {"
+             "\"a\": {\"kd_map\": \"bricks.png\", \"normal_map\": \"bricks_n.png\"},"
+             "\"b\": {\"kd\": [0.5, 1, 1], \"kd_map\": {\"file\": \"bricks.png\", \"wrap\": \"mirror\","
+             " \"filter\": \"nearest\", \"uv_scale\": [4, 2], \"uv_offset\": [0.5, -1]},"
+             " \"ks_map\": {\"file\": \"bricks.png\", \"srgb\": false}, \"alpha_map\": \"gloss.png\"},"
+             "\"c\": {\"mask_map\": \"leaf.png\"},"
+             "\"d\": {\"kd_map\": \"leaf.png\", \"alpha_cutoff\": 0.25},"
+             "\"e\": {\"kd\": [1, 0, 0]}}}",
+             &s);
+    assert_int_equal(s.material_count, 5);
+    /* bricks.png sRGB (a.kd, b.kd), bricks_n.png linear, bricks.png linear (b.ks), gloss.png, leaf.png
+     * linear (c.mask), leaf.png sRGB (d.kd): 6 images for 8 maps. */
+    assert_int_equal(s.image_count, 6);
+    const sl_material *a = &s.materials[0], *b = &s.materials[1], *c = &s.materials[2], *d = &s.materials[3];
+    assert_true(a->textured && !a->masked);
+    assert_true(a->maps[SL_MAP_KD].set && a->maps[SL_MAP_NORMAL].set && !a->maps[SL_MAP_KS].set);
+    assert_string_equal(s.images[a->maps[SL_MAP_KD].image].path, "base/bricks.png");
+    assert_true(s.images[a->maps[SL_MAP_KD].image].srgb);
+    assert_false(s.images[a->maps[SL_MAP_NORMAL].image].srgb); /* data maps are linear */
+    assert_string_equal(s.images[a->maps[SL_MAP_KD].image].used_by, "materials.a.kd_map");
+    assert_int_equal(a->maps[SL_MAP_KD].wrap, SL_MAP_REPEAT);
+    assert_int_equal(a->maps[SL_MAP_KD].filter, SL_MAP_TRILINEAR);
+    assert_near(a->maps[SL_MAP_KD].uv_scale.x, 1.0f, 0.0f);
+    assert_near(a->maps[SL_MAP_KD].uv_offset.y, 0.0f, 0.0f);
+    assert_int_equal(b->maps[SL_MAP_KD].image, a->maps[SL_MAP_KD].image); /* loaded once */
+    assert_true(b->maps[SL_MAP_KS].image != b->maps[SL_MAP_KD].image);    /* same file, linear */
+    assert_false(s.images[b->maps[SL_MAP_KS].image].srgb);
+    assert_int_equal(b->maps[SL_MAP_KD].wrap, SL_MAP_MIRROR);
+    assert_int_equal(b->maps[SL_MAP_KD].filter, SL_MAP_NEAREST);
+    assert_near(b->maps[SL_MAP_KD].uv_scale.x, 4.0f, 0.0f);
+    assert_near(b->maps[SL_MAP_KD].uv_offset.y, -1.0f, 0.0f);
+    assert_near(b->kd.x, 0.5f, 0.0f); /* the constant stays: a tint */
+    assert_true(c->masked && c->alpha_cutoff == 0.5f);
+    assert_true(d->masked && d->alpha_cutoff == 0.25f);
+    assert_false(s.materials[4].textured);
+    sl_scene_free(&s);
+
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": 3}}}", "materials.m.kd_map: expected an image path");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"srgb\": true}}}}", "materials.m.kd_map: needs \"file\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"wrap\": \"border\"}}}}",
+                "materials.m.kd_map.wrap: expected \"repeat\", \"clamp\" or \"mirror\", got \"border\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"filter\": 1}}}}",
+                "materials.m.kd_map.filter: expected \"trilinear\"");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"uv_scale\": [1e5, 1]}}}}",
+                "materials.m.kd_map.uv_scale: 100000 is outside -10000..10000");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"uv_offset\": [1]}}}}",
+                "materials.m.kd_map.uv_offset: expected an array of 2 numbers");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"srgb\": 1}}}}",
+                "materials.m.kd_map.srgb: expected true or false");
+    parse_fails("{\"materials\": {\"m\": {\"kd_map\": {\"file\": \"x.png\", \"mip\": 1}}}}",
+                "materials.m.kd_map: unknown key \"mip\"");
+    parse_fails("{\"materials\": {\"m\": {\"ks_map\": \"x.png\", \"alpha_cutoff\": 0.5}}}",
+                "materials.m.alpha_cutoff: needs a mask_map or a kd_map");
+    parse_fails("{\"materials\": {\"m\": {\"mask_map\": \"x.png\", \"alpha_cutoff\": 2}}}",
+                "materials.m.alpha_cutoff: 2 is outside 0..1");
+    /* 65 distinct files: over the limit, named at the map that crosses it. */
+    char json[8192];
+    int n = snprintf(json, sizeof json, "{\"materials\": {");
+    for (int i = 0; i <= SL_SCENE_MAX_IMAGES; i++)
+        n += snprintf(json + n, sizeof json - (size_t)n, "%s\"m%d\": {\"kd_map\": \"t%d.png\"}", i ? ", " : "", i, i);
+    snprintf(json + n, sizeof json - (size_t)n, "}}");
+    parse_fails(json, "materials.m64.kd_map: more than 64 distinct image files in one scene");
+}
+
+/* Maps on a mesh without texture coordinates: an error naming the object, the material, the map's
+ * file and the mesh. Shapes always have them. */
+static void test_maps_need_uvs(void **state)
+{
+    (void)state;
+    const char *obj = test_tmpfile("no_uv.obj");
+    test_write_bytes(obj, "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 32);
+    char json[1024];
+    snprintf(json, sizeof json,
+             "{\"materials\": {\"brick\": {\"kd_map\": \"bricks.png\"}},"
+             " \"objects\": [{\"shape\": \"plane\", \"material\": \"brick\"},"
+             " {\"mesh\": \"no_uv.obj\", \"material\": \"brick\"}]}");
+    sl_scene s;
+    sl_error err = {0};
+    assert_false(sl_scene_parse(json, strlen(json), "t.json", test_tmpdir(), true, &s, &err));
+    assert_msg_contains(err, "t.json: objects[1]: material \"brick\" has a kd_map (");
+    assert_msg_contains(err, "bricks.png) but the mesh ");
+    assert_msg_contains(err, "no_uv.obj has no texture coordinates");
+    assert_null(s.materials);
+    /* Without meshes loaded (the fuzz target), nothing is opened and nothing is checked. */
+    assert_true(sl_scene_parse(json, strlen(json), "t.json", test_tmpdir(), false, &s, &err));
+    sl_scene_free(&s);
+}
+
 static void test_documented_example(void **state)
 {
     (void)state;
@@ -794,6 +887,8 @@ int main(void)
         cmocka_unit_test(test_load_meshes),
         cmocka_unit_test(test_load_relative),
         cmocka_unit_test(test_shipped_scenes),
+        cmocka_unit_test(test_texture_maps),
+        cmocka_unit_test(test_maps_need_uvs),
         cmocka_unit_test(test_documented_example),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -4,9 +4,11 @@
 #include "testutil.h"
 
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "scene/scene.h"
+#include "scene/scene_internal.h" /* scene_compute_tangents */
 
 static const double PI_D = 3.14159265358979323846;
 
@@ -154,6 +156,103 @@ static void test_box(void **state)
     sl_mesh_free(&m);
 }
 
+/* Each triangle's own frame from its positions and UVs: T = dP/du, B = dP/dv (solved from two edges),
+ * normalised. Every vertex's tangent must agree with T in direction, and cross(N, T) * w with B in
+ * sign: what a normal map's +X and +Y (OpenGL, glTF) are relative to the surface. */
+static void assert_tangents_follow_uv(const sl_mesh *m, float min_dot)
+{
+    assert_non_null(m->tangents);
+    for (int t = 0; t < m->triangle_count; t++) {
+        const uint32_t *i = &m->indices[3 * t];
+        vec3 e1 = sub3(m->positions[i[1]], m->positions[i[0]]), e2 = sub3(m->positions[i[2]], m->positions[i[0]]);
+        vec2 w0 = m->texcoords[i[0]], w1 = m->texcoords[i[1]], w2 = m->texcoords[i[2]];
+        float du1 = w1.x - w0.x, dv1 = w1.y - w0.y, du2 = w2.x - w0.x, dv2 = w2.y - w0.y;
+        float det = du1 * dv2 - du2 * dv1;
+        assert_true(det != 0.0f);
+        vec3 T = normalize(scale3(sub3(scale3(e1, dv2), scale3(e2, dv1)), 1.0f / det));
+        vec3 B = normalize(scale3(sub3(scale3(e2, du1), scale3(e1, du2)), 1.0f / det));
+        for (int k = 0; k < 3; k++) {
+            vec4 tv = m->tangents[i[k]];
+            vec3 tx = vec3(tv.x, tv.y, tv.z);
+            assert_near(length3(tx), 1.0f, 1e-5f);
+            assert_near(dot3(tx, m->normals[i[k]]), 0.0f, 1e-5f);
+            if (dot3(tx, T) < min_dot || dot3(scale3(cross(m->normals[i[k]], tx), tv.w), B) < min_dot) {
+                print_error("triangle %d vertex %u: T.t = %g, B.b = %g\n", t, i[k], (double)dot3(tx, T),
+                            (double)dot3(scale3(cross(m->normals[i[k]], tx), tv.w), B));
+                fail();
+            }
+        }
+    }
+}
+
+/* The shapes' analytic tangents against the generated ones (Lengyel, mesh.c) on the same mesh:
+ * equal within float rounding on the plane and box (flat charts), within the facet angle on the
+ * sphere (the generated ones average the facets' dP/du). Handedness equal everywhere. */
+static void assert_generated_match(sl_mesh *m, float min_dot)
+{
+    size_t n = (size_t)m->vertex_count;
+    vec4 *analytic = malloc(n * sizeof *analytic);
+    assert_non_null(analytic);
+    memcpy(analytic, m->tangents, n * sizeof *analytic);
+    assert_true(scene_compute_tangents(m));
+    bool *used = calloc(n, sizeof *used); /* the sphere's last pole vertex is in no triangle */
+    assert_non_null(used);
+    for (int k = 0; k < 3 * m->triangle_count; k++)
+        used[m->indices[k]] = true;
+    for (size_t v = 0; v < n; v++) {
+        vec4 a = analytic[v], g = m->tangents[v];
+        if (!used[v])
+            continue;
+        assert_true(a.w == g.w);
+        assert_true(a.x * g.x + a.y * g.y + a.z * g.z >= min_dot);
+    }
+    free(used);
+    free(analytic);
+}
+
+static void test_tangents(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_mesh m;
+    assert_true(sl_mesh_plane(&m, &err));
+    assert_tangents_follow_uv(&m, 0.999999f);
+    assert_generated_match(&m, 0.999999f);
+    sl_mesh_free(&m);
+    assert_true(sl_mesh_box(&m, &err));
+    assert_tangents_follow_uv(&m, 0.999999f);
+    assert_generated_match(&m, 0.999999f);
+    sl_mesh_free(&m);
+    /* 32 slices: a facet spans 11.25 degrees; a vertex tangent is within half of it of the facet's
+     * dP/du (cos 5.625 deg = 0.9952). The pole triangles' dP/dv leans further from the meridian
+     * (measured 0.976): 0.97. */
+    assert_true(sl_mesh_sphere(&m, 32, 16, &err));
+    assert_tangents_follow_uv(&m, 0.97f);
+    assert_true(sl_mesh_validate(&m, "sphere", &err));
+    assert_generated_match(&m, 0.99f);
+    sl_mesh_free(&m);
+}
+
+/* Generated tangents on a hand-made quad whose UVs are mirrored (u runs along -X, v along +Y):
+ * T = -X, and cross(N, T) = cross(+Z, -X) = -Y points against dP/dv = +Y, so w = -1. */
+static void test_tangents_mirrored(void **state)
+{
+    (void)state;
+    static const char obj[] = "v -1 -1 0\nv 1 -1 0\nv 1 1 0\nv -1 1 0\n"
+                              "vt 1 0\nvt 0 0\nvt 0 1\nvt 1 1\nvn 0 0 1\n"
+                              "f 1/1/1 2/2/1 3/3/1\nf 1/1/1 3/3/1 4/4/1\n";
+    sl_mesh m;
+    sl_error err = {0};
+    assert_true(sl_mesh_parse_obj(obj, sizeof obj - 1, "mirror.obj", &m, &err));
+    assert_true(sl_mesh_validate(&m, "mirror.obj", &err));
+    for (int v = 0; v < m.vertex_count; v++) {
+        assert_near(m.tangents[v].x, -1.0f, 1e-6f);
+        assert_near(m.tangents[v].y, 0.0f, 1e-6f);
+        assert_true(m.tangents[v].w == -1.0f);
+    }
+    sl_mesh_free(&m);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -161,6 +260,8 @@ int main(void)
         cmocka_unit_test(test_sphere_limits),
         cmocka_unit_test(test_plane),
         cmocka_unit_test(test_box),
+        cmocka_unit_test(test_tangents),
+        cmocka_unit_test(test_tangents_mirrored),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

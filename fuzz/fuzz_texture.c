@@ -1,0 +1,52 @@
+/* fuzz_texture.c - libFuzzer target for texture files as sl_texture_load reads them
+ * (src/raster/texture.c): PNG and JPEG through png.c's stb (8 and 16 bits, 1 to 4 channels),
+ * Radiance .hdr through hdr.c, told apart by their first bytes, then the mip chain.
+ *
+ * Any input must either load or fail with an error naming the file, leaving no texture,
+ * without crashing, hanging or leaking. What loads must hold a whole chain whose samples are
+ * finite (the .hdr reader repairs NaN and Inf), at every level and filter. The seeds in
+ * fuzz/corpus/fuzz_texture were written byte by byte (PNG chunks with zlib data, a baseline
+ * JPEG of one DC-only block per component, a flat .hdr); test_texture reads them too. */
+#include <math.h>
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "raster/texture.h"
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size);
+
+/* Keeps a run within -rss_limit_mb: a few bytes of header can declare millions of pixels. */
+#define FUZZ_BUDGET ((size_t)64 << 20)
+
+int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
+{
+    sl_texture *t = NULL;
+    sl_error err = {0};
+    bool srgb = size % 2 == 1; /* both kinds of 8-bit colour, from the same corpus */
+    if (!sl_texture_load_memory(data, size, "fuzz.png", srgb, FUZZ_BUDGET, &t, &err)) {
+        if (t || strncmp(err.msg, "fuzz.png: ", 10) != 0) {
+            fprintf(stderr, "bad failure: texture %p, message '%s'\n", (void *)t, err.msg);
+            abort();
+        }
+        return 0;
+    }
+    sl_sampler2D s = {t, sl_sampler_default()};
+    s.state.min_filter = SL_LINEAR_MIPMAP_LINEAR;
+    int levels = sl_texture_levels(t);
+    ivec2 top = textureSize(&s, levels - 1);
+    if (top.x != 1 || top.y != 1 || textureSize(&s, levels).x != 0)
+        abort();
+    for (int l = 0; l < levels; l++) {
+        vec4 v = textureLod(&s, vec2(0.37f, 0.61f), (float)l + 0.5f);
+        vec4 f = texelFetch(&s, ivec2(0, 0), l);
+        if (!isfinite(v.x) || !isfinite(v.y) || !isfinite(v.z) || !isfinite(v.w) || !isfinite(f.x) ||
+            !isfinite(f.y) || !isfinite(f.z) || !isfinite(f.w)) {
+            fprintf(stderr, "level %d: non-finite sample\n", l);
+            abort();
+        }
+    }
+    sl_texture_destroy(t);
+    return 0;
+}

@@ -1,0 +1,199 @@
+/* gbuffer_textured.c - the G-buffer program for materials with texture maps, and the scene's
+ * textures (each image file decoded once, with its mips).
+ *
+ * GLSL twin: shaders/gbuffer_textured.vert, shaders/gbuffer_textured.frag, with the same names
+ * (uKdMap .. uMaskMap, uKdMapST .. uMaskMapST, uMaps, uAlphaCutoff; varyings vWorldPos, vNormal,
+ * vTexCoord, vTangent). Untextured materials keep the built-in pair (gbuffer_shader.c), which pays
+ * nothing for this program: no quads, no derivatives, no UV or tangent varyings.
+ *
+ * What a map does (docs/scene-format.md "Texture maps"): kd = uKd * kd_map.rgb, ks = uKs *
+ * ks_map.rgb, alpha = uAlpha * alpha_map.r (a GGX material: the lobe parameter of roughness
+ * uRoughness * alpha_map.r, gbuffer.h), the normal perturbed by normal_map in tangent space
+ * as glTF does it (B = cross(N, T) * w, N' = normalize(T n.x + B n.y + N n.z), n = rgb * 2 - 1),
+ * discard where mask_map.r (else kd_map.a) < uAlphaCutoff. Each map reads its own transformed
+ * coordinate vTexCoord * ST.xy + ST.zw with an implicit level of detail, as GLSL's texture(). */
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include "gbuffer_textured.h"
+#include "shader_texture.h"
+
+/* gbuffer_textured.vert: main(). The tangent is a direction on the surface: it goes through
+ * mat3(uModel), not the normal matrix; its handedness w passes through (scene transforms have no
+ * mirroring: negative scales are refused by the scene reader). */
+void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
+{
+    const sl_gbuffer_tex_uniforms *u = uniforms;
+    vec4 world = mat4_mul_vec4(u->uModel, vec4_from3(in->position, 1.0f));
+    vec3 vWorldPos = xyz(world);
+    vec3 vNormal = mat3_mul_vec3(u->uNormalMatrix, in->normal);
+    vec2 vTexCoord = in->texcoord;
+    vec3 t = mat3_mul_vec3(u->uModel3, vec3(in->tangent.x, in->tangent.y, in->tangent.z));
+    *clip = mat4_mul_vec4(u->uViewProj, world);
+    float out[SL_GBUFFER_TEX_VARYINGS] = {vWorldPos.x, vWorldPos.y, vWorldPos.z, vNormal.x, vNormal.y,
+                                          vNormal.z,   vTexCoord.x, vTexCoord.y, t.x,       t.y,
+                                          t.z,         in->tangent.w};
+    memcpy(varyings, out, sizeof out);
+}
+
+/* GLSL's texture(s, uv): shader_texture.h's texture(), operation for operation (one lambda per
+ * quad from the coarse differences of uv, one derivative record), with the trace hook between its
+ * steps, where the derivatives and the level are at hand. */
+static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv, int slot,
+                           const sl_gbuffer_tex_uniforms *u)
+{
+    if (!u->trace)
+        return texture(in, s, uv);
+    float v[2] = {uv.x, uv.y}, dx[2], dy[2];
+    sl_quad_gradients(in, true, v, 2, dx, dy);
+    vec2 dPdx = vec2(dx[0], dx[1]), dPdy = vec2(dy[0], dy[1]);
+    float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+    vec4 value = sl_texture_sample(s, uv, lambda);
+    u->trace(u->trace_ctx, in, slot, uv, dPdx, dPdy, lambda, value);
+    return value;
+}
+
+static vec2 map_uv(vec2 uv, vec4 st) { return vec2(uv.x * st.x + st.z, uv.y * st.y + st.w); }
+
+/* gbuffer_textured.frag: main(). Every map is sampled before the discard, so that each lane of a
+ * quad records the same derivative calls (GLSL: derivatives after a discard are undefined). */
+void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    const sl_gbuffer_tex_uniforms *u = uniforms;
+    const float *v = in->varyings;
+    vec3 vWorldPos = vec3(v[0], v[1], v[2]);
+    vec3 vNormal = vec3(v[3], v[4], v[5]);
+    vec2 vTexCoord = vec2(v[6], v[7]);
+    vec4 vTangent = vec4(v[8], v[9], v[10], v[11]);
+
+    vec4 kd = vec4(1, 1, 1, 1), ks = vec4(1, 1, 1, 1), gloss = vec4(1, 1, 1, 1), mask = vec4(1, 1, 1, 1);
+    vec4 nt = vec4(0.5f, 0.5f, 1, 1);
+    if (u->uMaps & SL_GBUFFER_MAP_KD)
+        kd = texture_traced(in, &u->uKdMap, map_uv(vTexCoord, u->uKdMapST), SL_MAP_KD, u);
+    if (u->uMaps & SL_GBUFFER_MAP_KS)
+        ks = texture_traced(in, &u->uKsMap, map_uv(vTexCoord, u->uKsMapST), SL_MAP_KS, u);
+    if (u->uMaps & SL_GBUFFER_MAP_ALPHA)
+        gloss = texture_traced(in, &u->uAlphaMap, map_uv(vTexCoord, u->uAlphaMapST), SL_MAP_ALPHA, u);
+    if (u->uMaps & SL_GBUFFER_MAP_NORMAL)
+        nt = texture_traced(in, &u->uNormalMap, map_uv(vTexCoord, u->uNormalMapST), SL_MAP_NORMAL, u);
+    if (u->uMaps & SL_GBUFFER_MAP_MASK)
+        mask = texture_traced(in, &u->uMaskMap, map_uv(vTexCoord, u->uMaskMapST), SL_MAP_MASK, u);
+
+    if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
+        float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
+        if (coverage < u->uAlphaCutoff) {
+            discard(in);
+            return;
+        }
+    }
+    vec3 n = dot(vNormal, vNormal) > 1e-30f ? normalize(vNormal) : vec3(0, 0, 1);
+    vec3 t = vec3(vTangent.x, vTangent.y, vTangent.z);
+    if ((u->uMaps & SL_GBUFFER_MAP_NORMAL) && dot(t, t) > 1e-30f) {
+        t = normalize(t);
+        vec3 b = scale3(cross(n, t), vTangent.w);
+        vec3 m = vec3(nt.x * 2.0f - 1.0f, nt.y * 2.0f - 1.0f, nt.z * 2.0f - 1.0f);
+        vec3 p = add3(add3(scale3(t, m.x), scale3(b, m.y)), scale3(n, m.z));
+        n = dot(p, p) > 1e-30f ? normalize(p) : n;
+    }
+    sl_gbuffer_texel *g = texel;
+    g->position = vWorldPos;
+    g->normal = n;
+    g->kd = mul3(u->uKd, vec3(kd.x, kd.y, kd.z));
+    g->ks = mul3(u->uKs, vec3(ks.x, ks.y, ks.z));
+    g->alpha = u->uRoughness >= 0.0f ? sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x) : u->uAlpha * gloss.x;
+    g->depth = in->frag_coord.z;
+}
+
+/* Two programs: one that may discard (a late depth test, as GL's rules require) for masked
+ * materials, one that cannot and keeps the early test. */
+const sl_program sl_gbuffer_tex_program = {
+    .vertex = sl_gbuffer_tex_vert,
+    .fragment = sl_gbuffer_tex_frag,
+    .varying_count = SL_GBUFFER_TEX_VARYINGS,
+    .derivatives = true,
+};
+const sl_program sl_gbuffer_tex_masked_program = {
+    .vertex = sl_gbuffer_tex_vert,
+    .fragment = sl_gbuffer_tex_frag,
+    .varying_count = SL_GBUFFER_TEX_VARYINGS,
+    .derivatives = true,
+    .discards = true,
+};
+
+/* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */
+sl_sampler_state sl_gbuffer_map_sampler(const sl_material_map *m)
+{
+    static const sl_wrap wraps[] = {[SL_MAP_REPEAT] = SL_REPEAT, [SL_MAP_CLAMP] = SL_CLAMP_TO_EDGE,
+                                    [SL_MAP_MIRROR] = SL_MIRRORED_REPEAT};
+    sl_sampler_state s = sl_sampler_default();
+    s.wrap_s = s.wrap_t = wraps[m->wrap];
+    s.min_filter = m->filter == SL_MAP_TRILINEAR  ? SL_LINEAR_MIPMAP_LINEAR
+                   : m->filter == SL_MAP_BILINEAR ? SL_LINEAR
+                                                  : SL_NEAREST;
+    s.mag_filter = m->filter == SL_MAP_NEAREST ? SL_NEAREST : SL_LINEAR;
+    return s;
+}
+
+void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m,
+                                  const sl_scene_textures *tex)
+{
+    memset(u, 0, sizeof *u);
+    u->uModel = model;
+    u->uViewProj = view_proj;
+    u->uNormalMatrix = transpose(inverse(mat3_from_mat4(model)));
+    u->uModel3 = mat3_from_mat4(model);
+    u->uKd = m->kd;
+    u->uKs = m->ks;
+    u->uAlpha = m->alpha;
+    u->uRoughness = m->brdf == SL_BRDF_GGX ? m->roughness : -1.0f;
+    u->uAlphaCutoff = m->alpha_cutoff;
+    sl_sampler2D *samplers[SL_MAP_COUNT] = {&u->uKdMap, &u->uKsMap, &u->uAlphaMap, &u->uNormalMap, &u->uMaskMap};
+    vec4 *st[SL_MAP_COUNT] = {&u->uKdMapST, &u->uKsMapST, &u->uAlphaMapST, &u->uNormalMapST, &u->uMaskMapST};
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        const sl_material_map *map = &m->maps[slot];
+        *st[slot] = vec4(1, 1, 0, 0);
+        if (!map->set || !tex || map->image < 0 || map->image >= tex->count)
+            continue;
+        samplers[slot]->texture = tex->textures[map->image];
+        samplers[slot]->state = sl_gbuffer_map_sampler(map);
+        *st[slot] = vec4(map->uv_scale.x, map->uv_scale.y, map->uv_offset.x, map->uv_offset.y);
+        u->uMaps |= 1 << slot;
+    }
+    if (m->masked)
+        u->uMaps |= SL_GBUFFER_MAP_CUTOFF;
+}
+
+/* ---- the scene's textures ---- */
+
+bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textures *out, sl_error *err)
+{
+    memset(out, 0, sizeof *out);
+    if (scene->image_count == 0)
+        return true;
+    out->textures = calloc((size_t)scene->image_count, sizeof *out->textures);
+    if (!out->textures)
+        return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for %d textures", scene->path, scene->image_count);
+    for (int i = 0; i < scene->image_count; i++) {
+        const sl_scene_image *img = &scene->images[i];
+        if (!sl_texture_load(img->path, img->srgb, budget, &out->textures[i], err)) {
+            /* the loader names the file; say which scene and which material's map wanted it */
+            sl_error_prefix(err, "%s: %s: ", scene->path, img->used_by);
+            sl_scene_textures_free(out);
+            return false;
+        }
+        out->count++;
+        out->bytes += sl_texture_bytes(out->textures[i]);
+    }
+    return true;
+}
+
+void sl_scene_textures_free(sl_scene_textures *t)
+{
+    if (!t)
+        return;
+    for (int i = 0; i < t->count; i++)
+        sl_texture_destroy(t->textures[i]);
+    free(t->textures);
+    memset(t, 0, sizeof *t);
+}

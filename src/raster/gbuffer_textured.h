@@ -1,0 +1,80 @@
+/* gbuffer_textured.h - the G-buffer program for textured materials (gbuffer_textured.c; GLSL
+ * twin: shaders/gbuffer_textured.vert/.frag) and the scene's decoded textures.
+ *
+ * Consumes: a material with maps (scene.h: sl_material_map), the scene's image list, a mesh with
+ * texture coordinates and tangents. Produces: the same G-buffer texel as the built-in pair, with
+ * kd, ks, alpha and the normal modulated by the maps; masked materials discard below the cutoff.
+ * The program takes derivatives (texture() with an implicit level of detail), so it runs in 2x2
+ * quads; the masked variant may discard, so its depth test runs after it. */
+#ifndef SL_GBUFFER_TEXTURED_H
+#define SL_GBUFFER_TEXTURED_H
+
+#include "raster.h"
+#include "texture.h"
+
+/* Called by the fragment shader for each texture fetch when set (softlight trace): the map's
+ * slot, the coordinate, its quad derivatives, the level of detail and the filtered value. Runs
+ * for every lane of every quad, helpers included; the callee picks its pixel. */
+typedef void (*sl_texture_trace_fn)(void *ctx, const sl_fragment_in *in, int slot, vec2 uv, vec2 dPdx, vec2 dPdy,
+                                    float lambda, vec4 value);
+
+/* The scene's images decoded, each once, with full mip chains; textures[i] is scene->images[i]. */
+typedef struct {
+    sl_texture **textures;
+    int count;
+    size_t bytes;              /* storage of all of them with their mips */
+    sl_texture_trace_fn trace; /* NULL; softlight trace sets it to print the fetches of its pixel */
+    void *trace_ctx;
+} sl_scene_textures;
+
+/* Decode every image the scene's materials name (sl_texture_load, `budget` bytes each, 0 = default).
+ * An error names the scene, the first map that named the file and the file:
+ * `textured.json: materials.leaf.kd_map: leaf.png: ...`; nothing is kept on failure. */
+bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textures *out, sl_error *err);
+void sl_scene_textures_free(sl_scene_textures *t);
+
+/* uMaps bits: which samplers are bound (1 << sl_map_slot), and whether to discard. */
+#define SL_GBUFFER_MAP_KD (1 << SL_MAP_KD)
+#define SL_GBUFFER_MAP_KS (1 << SL_MAP_KS)
+#define SL_GBUFFER_MAP_ALPHA (1 << SL_MAP_ALPHA)
+#define SL_GBUFFER_MAP_NORMAL (1 << SL_MAP_NORMAL)
+#define SL_GBUFFER_MAP_MASK (1 << SL_MAP_MASK)
+#define SL_GBUFFER_MAP_CUTOFF (1 << SL_MAP_COUNT)
+
+typedef struct {
+    mat4 uModel;
+    mat4 uViewProj;
+    mat3 uNormalMatrix; /* transpose(inverse(mat3(uModel))) */
+    mat3 uModel3;       /* mat3(uModel): takes tangents to world space */
+    vec3 uKd, uKs;
+    float uAlpha;       /* Phong exponent, scaled by alpha_map.r */
+    float uRoughness;   /* GGX roughness, scaled by alpha_map.r; -1 for a Phong material */
+    sl_sampler2D uKdMap, uKsMap, uAlphaMap, uNormalMap, uMaskMap;
+    vec4 uKdMapST, uKsMapST, uAlphaMapST, uNormalMapST, uMaskMapST; /* uv * xy + zw */
+    int uMaps;          /* SL_GBUFFER_MAP_* bits */
+    float uAlphaCutoff;
+    sl_texture_trace_fn trace; /* NULL except under softlight trace */
+    void *trace_ctx;
+} sl_gbuffer_tex_uniforms;
+
+/* Varyings: vWorldPos (3), vNormal (3), vTexCoord (2), vTangent (4: world xyz, handedness w). */
+#define SL_GBUFFER_TEX_VARYINGS 12
+void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings);
+void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel);
+extern const sl_program sl_gbuffer_tex_program;        /* no discard: early depth test */
+extern const sl_program sl_gbuffer_tex_masked_program; /* alpha_cutoff: may discard, late depth test */
+
+/* The sampler state a scene map asks for (what softlight-gl sets with glSamplerParameter too). */
+sl_sampler_state sl_gbuffer_map_sampler(const sl_material_map *m);
+/* Uniforms of one object: matrices and constants as sl_gbuffer_uniforms_init, plus the maps bound
+ * to `tex` (NULL binds none). */
+void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m,
+                                  const sl_scene_textures *tex);
+
+/* sl_raster_scene with the scene's textures: textured materials are drawn with the textured
+ * programs, the others with the built-in pair as before (sl_raster_scene is this with NULL, and
+ * refuses a scene with textured materials). */
+bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
+                              const sl_camera *cam, sl_gbuffer *gb, sl_error *err);
+
+#endif

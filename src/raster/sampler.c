@@ -1,0 +1,190 @@
+/* sampler.c - samplers: wrap modes, nearest and bilinear filtering of a level, the level of
+ * detail from derivatives and the min/mag and mip-level choice, and the GLSL built-ins on top.
+ *
+ * Every rule here is GL 4.6 section 8.14 as Mesa 22.3's llvmpipe implements it (texture.h says
+ * what was measured and how). The shader-facing functions are plain C calls a fragment shader
+ * makes per fragment; they only read the texture and the sampler, so any number of threads may
+ * sample one texture at once. */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "texture_internal.h"
+
+sl_sampler_state sl_sampler_default(void)
+{
+    return (sl_sampler_state){
+        .min_filter = SL_NEAREST_MIPMAP_LINEAR,
+        .mag_filter = SL_LINEAR,
+        .wrap_s = SL_REPEAT,
+        .wrap_t = SL_REPEAT,
+        .lod_bias = 0.0f,
+        .min_lod = -1000.0f,
+        .max_lod = 1000.0f,
+    };
+}
+
+/* A texel-space coordinate made safe to convert to int: NaN -> 0, beyond +-2^24 clamped (a
+ * float there has no fraction left, so no sample position is lost). */
+static float safe_coord(float x)
+{
+    const float limit = 16777216.0f;
+    if (x >= -limit)
+        return x <= limit ? x : limit;
+    return x < 0.0f ? -limit : 0.0f;
+}
+
+/* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
+static int wrap_index(int i, int n, sl_wrap mode)
+{
+    if ((unsigned)i < (unsigned)n) /* inside: every mode leaves it (and skips the divisions) */
+        return i;
+    switch (mode) {
+    case SL_REPEAT: {
+        int r = i % n;
+        return r < 0 ? r + n : r;
+    }
+    case SL_MIRRORED_REPEAT: {
+        int r = i % (2 * n);
+        if (r < 0)
+            r += 2 * n;
+        return r < n ? r : 2 * n - 1 - r;
+    }
+    case SL_CLAMP_TO_EDGE:
+        break;
+    }
+    return i < 0 ? 0 : (i >= n ? n - 1 : i);
+}
+
+vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+{
+    x = safe_coord(x);
+    y = safe_coord(y);
+    float fx = floorf(x), fy = floorf(y);
+    float a = x - fx, b = y - fy;
+    int i = (int)fx, j = (int)fy;
+    int i0 = wrap_index(i, lv->width, wrap_s), i1 = wrap_index(i + 1, lv->width, wrap_s);
+    int j0 = wrap_index(j, lv->height, wrap_t), j1 = wrap_index(j + 1, lv->height, wrap_t);
+    vec4 bottom = mix4(tex_texel(t, lv, i0, j0), tex_texel(t, lv, i1, j0), a);
+    vec4 top = mix4(tex_texel(t, lv, i0, j1), tex_texel(t, lv, i1, j1), a);
+    return mix4(bottom, top, b);
+}
+
+/* Level l filtered at uv: nearest (the texel containing uv) or bilinear (the four around it). */
+static vec4 sample_level(const sl_texture *t, int l, vec2 uv, bool linear, const sl_sampler_state *st)
+{
+    const tex_level *lv = &t->level[l];
+    float x = uv.x * (float)lv->width, y = uv.y * (float)lv->height;
+    if (linear)
+        return tex_bilinear(t, lv, x - 0.5f, y - 0.5f, st->wrap_s, st->wrap_t);
+    int i = wrap_index((int)floorf(safe_coord(x)), lv->width, st->wrap_s);
+    int j = wrap_index((int)floorf(safe_coord(y)), lv->height, st->wrap_t);
+    return tex_texel(t, lv, i, j);
+}
+
+static bool is_mipmap_filter(sl_filter f) { return f >= SL_NEAREST_MIPMAP_NEAREST; }
+
+/* GL's completeness: a mipmap min filter on a texture without its chain samples (0, 0, 0, 1). */
+static bool complete(const sl_texture *t, const sl_sampler_state *st)
+{
+    return t && (t->mipmapped || !is_mipmap_filter(st->min_filter));
+}
+
+vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
+{
+    const sl_texture *t = s->texture;
+    const sl_sampler_state *st = &s->state;
+    if (!complete(t, st))
+        return vec4(0, 0, 0, 1);
+    if (!(lambda > 0.0f)) /* magnified (c = 0 for every filter pair; NaN lands here too) */
+        return sample_level(t, 0, uv, st->mag_filter == SL_LINEAR, st);
+    int last = t->levels - 1;
+    bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
+                  st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
+    switch (st->min_filter) {
+    case SL_NEAREST:
+    case SL_LINEAR:
+        return sample_level(t, 0, uv, linear, st);
+    case SL_NEAREST_MIPMAP_NEAREST:
+    case SL_LINEAR_MIPMAP_NEAREST: {
+        /* the nearest level: round(lambda), halves to even as llvmpipe's iround (measured:
+         * 0.5 -> 0, 1.5 -> 2, 2.5 -> 2); GL's ceil(lambda + 1/2) - 1 rounds them down */
+        int l = lambda >= (float)last ? last : (int)rintf(lambda);
+        return sample_level(t, l, uv, linear, st);
+    }
+    case SL_NEAREST_MIPMAP_LINEAR:
+    case SL_LINEAR_MIPMAP_LINEAR:
+        break;
+    }
+    if (lambda >= (float)last)
+        return sample_level(t, last, uv, linear, st);
+    float fl = floorf(lambda);
+    int l = (int)fl;
+    return mix4(sample_level(t, l, uv, linear, st), sample_level(t, l + 1, uv, linear, st), lambda - fl);
+}
+
+/* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of
+ * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified). */
+static float log2_fast(float x)
+{
+    uint32_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    int e = (int)((bits >> 23) & 0xffu) - 127;
+    bits = (bits & 0x007fffffu) | 0x3f800000u;
+    float m;
+    memcpy(&m, &bits, sizeof m);
+    return (float)(e - 1) + m;
+}
+
+/* lambda clamped as llvmpipe clamps it: to max_lod first, then to min_lod. */
+static float clamp_lambda(float lambda, const sl_sampler_state *st)
+{
+    lambda = lambda < st->max_lod ? lambda : st->max_lod;
+    return lambda > st->min_lod ? lambda : st->min_lod;
+}
+
+float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
+{
+    const sl_texture *t = s->texture;
+    if (!t)
+        return 0.0f;
+    float w = (float)t->level[0].width, h = (float)t->level[0].height;
+    float sx = dPdx.x * w, tx = dPdx.y * h, sy = dPdy.x * w, ty = dPdy.y * h;
+    float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
+    float rho2 = rx > ry ? rx : ry;
+    if (!isfinite(rho2))
+        rho2 = 0.0f;
+    float lambda = 0.5f * log2_fast(rho2) + bias;
+    return clamp_lambda(lambda + s->state.lod_bias, &s->state);
+}
+
+vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
+{
+    return sl_texture_sample(s, uv, sl_texture_lambda(s, dPdx, dPdy, 0.0f));
+}
+
+vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod)
+{
+    return sl_texture_sample(s, uv, clamp_lambda(lod + s->state.lod_bias, &s->state));
+}
+
+vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod)
+{
+    const sl_texture *t = s->texture;
+    if (!complete(t, &s->state))
+        return vec4(0, 0, 0, 1);
+    if (lod < 0 || lod >= t->levels)
+        return vec4(0, 0, 0, 0);
+    const tex_level *lv = &t->level[lod];
+    if (p.x < 0 || p.y < 0 || p.x >= lv->width || p.y >= lv->height)
+        return vec4(0, 0, 0, 0);
+    return tex_texel(t, lv, p.x, p.y);
+}
+
+ivec2 textureSize(const sl_sampler2D *s, int lod)
+{
+    const sl_texture *t = s->texture;
+    if (!t || lod < 0 || lod >= t->levels)
+        return ivec2(0, 0);
+    return ivec2(t->level[lod].width, t->level[lod].height);
+}

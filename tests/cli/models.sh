@@ -1,0 +1,101 @@
+#!/usr/bin/env bash
+# models.sh BUILD_DIR - model files through assimp end to end (issue 13, "Import"):
+# `softlight render FILE` and `info FILE` with no scene file (the default scene: the file's
+# camera or one framing the bounds), an OBJ+MTL's material arriving, and bad files: status 2,
+# one line naming the file, no output written, no hang (a FIFO or /dev/zero named as a buffer).
+set -u
+SL=${1:?usage: $0 BUILD_DIR}/softlight
+T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-models.XXXXXX")
+trap 'rm -rf "$T"' EXIT
+fails=0; passes=0
+ok() { echo "ok   $1"; passes=$((passes + 1)); }
+bad() { echo "FAIL $1"; fails=$((fails + 1)); }
+
+# expect_error NAME PATTERN FILE: render FILE fails in 20 s with status 2 and one stderr line
+# naming FILE's base name and matching PATTERN; a.png is not written.
+expect_error() {
+    local name=$1 pattern=$2 file=$3
+    rm -f "$T/a.png"
+    timeout 20 "$SL" render "$file" -o "$T/a.png" --size 32x18 -q >"$T/out" 2>"$T/err"
+    local status=$? lines
+    lines=$(wc -l <"$T/err")
+    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err" ||
+        ! grep -qF -- "$(basename "$file")" "$T/err" || [ -e "$T/a.png" ]; then
+        bad "$name: status $status, $lines lines (want 2, 1 naming $(basename "$file") and matching /$pattern/): $(head -3 "$T/err")"
+    else
+        ok "$name: $(cat "$T/err")"
+    fi
+}
+
+# An OBJ quad with an MTL material: Kd and Ns arrive as the scene material's kd and alpha.
+cat >"$T/quad.obj" <<'OBJ'
+mtllib quad.mtl
+v -1 0 -1
+v 1 0 -1
+v 1 0 1
+v -1 0 1
+usemtl tile
+f 1 2 3 4
+OBJ
+printf 'newmtl tile\nKd 0.5 0.25 0.125\nKs 0.04 0.04 0.04\nNs 50\n' >"$T/quad.mtl"
+if "$SL" render "$T/quad.obj" -o "$T/quad.png" --size 64x36 -q 2>"$T/err" && [ -s "$T/quad.png" ]; then
+    ok "render quad.obj with no scene file"
+else
+    bad "render quad.obj: $(cat "$T/err")"
+fi
+"$SL" info "$T/quad.obj" >"$T/info" 2>&1
+if grep -q 'material quad/tile (kd 0.5 0.25 0.125, ks 0.04 0.04 0.04, alpha 50)' "$T/info"; then
+    ok "quad.obj's MTL material arrives"
+else
+    bad "quad.obj's material: $(grep material "$T/info")"
+fi
+
+# A glTF with its buffer in a data URI and a camera at (0, 0, 5) (Y-up): the default scene's eye
+# is (0, -5, 0) (Z-up).
+gltf() { # gltf FILE BUFFER_URI
+    python3 - "$1" "$2" <<'PY'
+import base64, json, struct, sys
+b = struct.pack('<9f', 0, 0, 0, 1, 0, 0, 0, 1, 0) + struct.pack('<4H', 0, 1, 2, 0)
+uri = sys.argv[2] if sys.argv[2] != 'data' else 'data:application/octet-stream;base64,' + base64.b64encode(b).decode()
+doc = {"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0, 1]}],
+       "nodes": [{"mesh": 0}, {"camera": 0, "translation": [0, 0, 5]}],
+       "cameras": [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1, "zfar": 100}}],
+       "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "indices": 1}]}],
+       "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3", "min": [0, 0, 0], "max": [1, 1, 0]},
+                     {"bufferView": 1, "componentType": 5123, "count": 3, "type": "SCALAR"}],
+       "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}, {"buffer": 0, "byteOffset": 36, "byteLength": 6}],
+       "buffers": [{"byteLength": len(b), "uri": uri}]}
+open(sys.argv[1], 'w').write(json.dumps(doc))
+PY
+}
+gltf "$T/tri.gltf" data
+if "$SL" render "$T/tri.gltf" -o "$T/tri.png" --size 64x36 -q 2>"$T/err" && [ -s "$T/tri.png" ]; then
+    ok "render tri.gltf with no scene file"
+else
+    bad "render tri.gltf: $(cat "$T/err")"
+fi
+"$SL" info "$T/tri.gltf" >"$T/info" 2>&1
+if grep -qE '^  eye +\(0, -5, 0\)' "$T/info"; then ok "tri.gltf's camera"; else bad "tri.gltf's camera: $(grep eye "$T/info")"; fi
+
+# Bad files.
+gltf "$T/nobin.gltf" nobin.bin
+expect_error "missing .bin" 'nobin\.bin", which cannot be read \(no such file\)' "$T/nobin.gltf"
+mkfifo "$T/fifo.bin"
+gltf "$T/fifo.gltf" fifo.bin
+expect_error "a FIFO as the buffer" 'not a regular file' "$T/fifo.gltf"
+gltf "$T/zero.gltf" /dev/zero
+# (assimp joins the absolute path to the model's folder: never read either way)
+expect_error "/dev/zero as the buffer" 'cannot be read' "$T/zero.gltf"
+mkfifo "$T/pipe.glb"
+expect_error "a FIFO as the model" 'not a regular file' "$T/pipe.glb"
+head -c 100 "$T/tri.gltf" >"$T/cut.gltf"
+expect_error "truncated .gltf" 'invalid JSON' "$T/cut.gltf"
+printf 'glTF\002\000\000\000\377\000\000\000' >"$T/cut.glb"
+head -c 20 /dev/zero >>"$T/cut.glb"
+expect_error "truncated .glb" 'truncated \.glb' "$T/cut.glb"
+echo hello >"$T/model.xyz"
+expect_error "unknown format" 'unknown model format' "$T/model.xyz"
+expect_error "no such file" 'no such file' "$T/absent.glb"
+
+echo "models: $passes passed, $fails failed"
+[ "$fails" -eq 0 ]

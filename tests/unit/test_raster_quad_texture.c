@@ -1,0 +1,121 @@
+/* test_raster_quad_texture.c - texture(in, s, uv) (src/raster/shader_texture.h): the implicit
+ * level of detail, one lambda per 2x2 quad from the coarse derivatives of uv, as llvmpipe.
+ * Apart from test_raster_quad.c because testutil.h brings ibl.h, whose textureLod (the
+ * environment's) has the name of texture.h's. */
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <string.h>
+
+#include <cmocka.h>
+
+#include "raster/shader_texture.h"
+
+enum { W = 64, H = 64 };
+
+typedef struct {
+    float d[8];
+    float depth;
+    int32_t tag, count, helper;
+} qtexel;
+
+static void vs_window(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *v)
+{
+    (void)uniforms;
+    *clip = vec4(in->position.x / 32.0f - 1.0f, in->position.y / 32.0f - 1.0f, in->position.z, 1.0f);
+    v[0] = v[1] = v[2] = 0.0f;
+}
+
+static sl_raster *make_raster(int threads, int tile, bool plain)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(
+        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true, .plain = plain}, &err);
+    assert_non_null(r);
+    return r;
+}
+
+static void fill(qtexel *t)
+{
+    for (int i = 0; i < W * H; i++)
+        t[i] = (qtexel){.d = {-7, -7, -7}, .depth = 1.0f, .tag = -1};
+}
+
+static void mark(qtexel *t, const sl_fragment_in *in)
+{
+    t->count++;
+    t->helper += in->helper;
+}
+
+/* ---- texture(): the implicit level, one per quad ---- */
+
+typedef struct {
+    const sl_sampler2D *s;
+    float scale; /* texels of level 0 per pixel in x */
+} tex_uniforms;
+
+/* a 64x64 checkerboard of single texels (0 and 1): its level 1 and above are 0.5 */
+static void fs_tex(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    const tex_uniforms *u = uniforms;
+    qtexel *t = texel;
+    float x = in->frag_coord.x, y = in->frag_coord.y;
+    vec2 uv = vec2(x * u->scale / 64.0f, y / 64.0f + x * x / 8192.0f); /* dv/dx grows along x */
+    vec4 c = texture(in, u->s, uv);
+    vec4 g = textureGrad(u->s, uv, dFdxCoarse(in, uv), dFdyCoarse(in, uv));
+    t->d[0] = c.x;
+    t->d[1] = g.x;
+    t->d[2] = sl_texture_lambda(u->s, dFdxCoarse(in, uv), dFdyCoarse(in, uv), 0.0f);
+    mark(t, in);
+}
+
+static const sl_program prog_tex = {.vertex = vs_window, .fragment = fs_tex, .varying_count = 3,
+                                    .derivatives = true};
+
+static void test_texture_implicit_lod(void **state)
+{
+    (void)state;
+    static float board[64 * 64];
+    for (int i = 0; i < 64 * 64; i++)
+        board[i] = (float)((i % 64 + i / 64) & 1);
+    sl_texture *tex = NULL;
+    sl_error err = {0};
+    assert_true(sl_texture_create(SL_TEX_R32F, 64, 64, board, true, &tex, &err));
+    sl_sampler2D s = {tex, sl_sampler_default()};
+    s.state.min_filter = SL_NEAREST_MIPMAP_NEAREST;
+    s.state.mag_filter = SL_NEAREST;
+    static qtexel t[W * H];
+    const float scales[2] = {4.0f, 1.0f};
+    for (int k = 0; k < 2; k++) {
+        tex_uniforms u = {&s, scales[k]};
+        sl_program prog = prog_tex;
+        fill(t);
+        sl_raster *r = make_raster(2, 16, k == 1);
+        vec3 p[3] = {{0, 0, 0}, {128, 0, 0}, {0, 128, 0}};
+        uint32_t idx[3] = {0, 1, 2};
+        sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
+        assert_true(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+                                   &(sl_draw){.program = &prog, .fs_uniforms = &u, .mesh = &m}, &err));
+        sl_raster_stats st = sl_raster_get_stats(r);
+        sl_raster_destroy(r);
+        assert_int_equal(st.quad_rounds, 2 * st.quads);
+        for (int y = 0; y < H; y++)
+            for (int x = 0; x < W; x++) {
+                const qtexel *q = &t[y * W + x], *q0 = &t[(y & ~1) * W + (x & ~1)];
+                assert_true(q->d[0] == q->d[1]);  /* texture() = textureGrad with the coarse derivatives */
+                assert_true(q->d[2] == q0->d[2]); /* one lambda per quad */
+                if (k == 0)                       /* 4 texels a pixel in u: rho >= 4, lambda >= 2: a mip, 0.5 */
+                    assert_true(q->d[2] >= 2.0f && q->d[0] == 0.5f);
+                else if (x < 16 && y < 16) /* about 1 texel a pixel: level 0, the texel itself */
+                    assert_true(q->d[2] < 0.5f && (q->d[0] == 0.0f || q->d[0] == 1.0f));
+            }
+    }
+    sl_texture_destroy(tex);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_texture_implicit_lod)};
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}

@@ -1,0 +1,105 @@
+/* test_tonemap.c - the display image (src/post/tonemap.c): its fast path gives, bit for bit, the
+ * 8-bit code of the exact curve (sl_unorm8 of sl_tonemap_value) over a dense sweep of radiance
+ * values and special values, for the gamma and sRGB curves at extreme contrasts; the thresholds
+ * are each the first float of their code (the curve's monotonicity at every code boundary, which
+ * exactness rests on); the stored levels k/255 give k back. */
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#include "testutil.h"
+
+#include "post/tonemap.h"
+
+static float next_down(float x)
+{
+    uint32_t u;
+    memcpy(&u, &x, 4);
+    u--;
+    memcpy(&x, &u, 4);
+    return x;
+}
+
+static const struct {
+    float contrast;
+    bool srgb;
+} curves[] = {{1.0f, false}, {1.0f, true}, {1.3f, true}, {0.01f, false}, {0.01f, true}, {2.2f, false},
+              {100.0f, false}, {100.0f, true}};
+#define CURVES (int)(sizeof curves / sizeof curves[0])
+
+static void test_thresholds_are_first_of_their_code(void **state)
+{
+    (void)state;
+    for (int c = 0; c < CURVES; c++) {
+        float t[257];
+        sl_tonemap_thresholds(curves[c].contrast, curves[c].srgb, t);
+        assert_true(t[0] == 0.0f && isinf(t[256]));
+        for (int k = 1; k < 256; k++) {
+            assert_true(t[k] >= t[k - 1] && t[k] <= 1.0f);
+            float curve_at = curves[c].srgb ? sl_linear_to_srgb(powf(t[k], curves[c].contrast))
+                                            : powf(t[k], curves[c].contrast / 2.2f);
+            assert_true(sl_unorm8(curve_at) >= k);
+            if (t[k] > 0.0f) { /* the float below is of a lower code */
+                float below = next_down(t[k]);
+                float cb = curves[c].srgb ? sl_linear_to_srgb(powf(below, curves[c].contrast))
+                                          : powf(below, curves[c].contrast / 2.2f);
+                assert_true(sl_unorm8(cb) < k);
+            }
+            if (t[k + 1] > t[k]) /* a code no float maps to shares its threshold with the next */
+                assert_int_equal(sl_tonemap_code(t[k], t), k);
+        }
+    }
+}
+
+static void test_levels_round_trip(void **state)
+{
+    (void)state;
+    for (int k = 0; k < 256; k++)
+        assert_int_equal(sl_unorm8((float)k / 255.0f), k);
+}
+
+/* 1280x720x3 values: log-spaced radiance from 1e-12 to 1e6, plus 0, -1, NaN, +Inf, denormals */
+static void test_image_matches_exact_curve(void **state)
+{
+    (void)state;
+    sl_image in = {0}, out = {0};
+    sl_error err = {0};
+    const int w = 1280, h = 720;
+    const size_t n = (size_t)w * h * 3;
+    assert_true(sl_image_alloc(&in, w, h, 3, &err));
+    for (size_t i = 0; i < n; i++)
+        in.data[i] = powf(10.0f, -12.0f + 18.0f * (float)i / (float)n);
+    const float specials[] = {0.0f, -1.0f, NAN, INFINITY, -INFINITY, 1e-40f, 1e-45f, 1.0f, 0.5f};
+    for (size_t s = 0; s < sizeof specials / sizeof specials[0]; s++)
+        in.data[s * 977] = specials[s];
+    const float exposures[] = {1.0f, 0.001f, 1e6f};
+    for (int c = 0; c < CURVES; c++)
+        for (int e = 0; e < 3; e++) {
+            sl_tonemap_options o = {.exposure = exposures[e], .contrast = curves[c].contrast,
+                                    .exact_srgb = curves[c].srgb};
+            assert_true(sl_tonemap_image(&in, &out, &o, &err));
+            long differ = 0;
+            for (size_t i = 0; i < n; i++) {
+                int want = sl_unorm8(sl_tonemap_value(in.data[i], o.exposure, o.contrast, o.exact_srgb));
+                differ += out.data[i] != (float)want / 255.0f;
+            }
+            assert_int_equal(differ, 0);
+        }
+    /* in place: the same result */
+    sl_tonemap_options o = {.exposure = 1.0f, .contrast = 1.0f};
+    assert_true(sl_tonemap_image(&in, &out, &o, &err));
+    assert_true(sl_tonemap_image(&in, &in, &o, &err));
+    assert_memory_equal(in.data, out.data, n * sizeof(float));
+    sl_image_free(&in);
+    sl_image_free(&out);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_thresholds_are_first_of_their_code),
+        cmocka_unit_test(test_levels_round_trip),
+        cmocka_unit_test(test_image_matches_exact_curve),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
