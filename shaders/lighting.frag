@@ -358,10 +358,13 @@ ivec2 env_oct_tap(int s, ivec2 t)
     return t;
 }
 
-// GL_LINEAR by hand within one level: the four taps through env_oct_tap.
+// GL_LINEAR by hand within one level: the four taps through env_oct_tap. The level's size is
+// level 0's shifted, not textureSize(uEnvResidual, level): on llvmpipe that query, given a level
+// that differs between the fragments it runs together (each sample picks its own), gives wrong
+// sizes and the taps land on the wrong texels (measured, docs/gl.md "Octahedral chain").
 vec3 env_oct_bilinear(int level, vec2 uv)
 {
-    int s = textureSize(uEnvResidual, level).x;
+    int s = textureSize(uEnvResidual, 0).x >> level;
     vec2 xy = uv * float(s) - 0.5;
     vec2 xf = floor(xy);
     vec2 f = xy - xf;
