@@ -37,6 +37,9 @@
 //   sampler2D uEnvResidual  what the specular samples read, set up as uEnv: uEnv itself, or, with
 //                         env lights, uEnv less them (src/ibl/env_lights.h: each extracted texel
 //                         keeps its colour at the luminance of the brightest texel left)
+//   int   uEnvLayout      the layout of uEnvResidual: 1 lat-long (as uEnv), 2 octahedral: an S x S
+//                         chain uploaded level by level (src/ibl/env_oct.c), MAX_LEVEL = levels - 1,
+//                         read with texelFetch (env_oct_bilinear: the fold at the edge is by hand)
 //   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
 //   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|
@@ -91,6 +94,7 @@ uniform float uSinThetaMin;
 uniform mat3 uEnvRotation;
 uniform float uEnvIntensity;
 uniform sampler2D uEnvResidual;
+uniform int uEnvLayout;
 
 const int MAX_ENV_LIGHTS = 64;
 uniform int uEnvLightCount;
@@ -137,6 +141,7 @@ const int LOD_PDF = 5;
 const int GTERM_INV_LH2 = 1;
 const int ESTIMATOR_CONSISTENT = 2;
 const int ESTIMATOR_MICROFACET = 3;
+const int ENV_LAYOUT_OCT = 2;
 const int IRRADIANCE_SH9 = 0;
 const int IRRADIANCE_OCT = 3;
 const int IRRADIANCE_DP = 4;
@@ -300,15 +305,20 @@ float sample_pdf(vec2 xi, float alpha)
     return (alpha + 1.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 1.0));
 }
 
-// The mip level of one sample (docs/lighting.md "Mip level"). d is the lat-long texel's solid
-// angle relative to the mean 4 pi / (W H): (pi/2) sin(theta), floored at row 0's centre.
+// The mip level of one sample (docs/lighting.md "Mip level"). d is the texel's solid angle
+// relative to the mean 4 pi / (W H): lat-long (pi/2) sin(theta), floored at row 0's centre;
+// octahedral |w|_1^3 / pi (src/ibl/env_oct.c).
 float mip_level(float D, float pdf, vec3 w)
 {
     if (uLodRule == LOD_NONE)
         return 0.0;
     float d = 1.0;
-    if (uDistortion != 0)
+    if (uDistortion != 0 && uEnvLayout == ENV_LAYOUT_OCT) {
+        float l1 = abs(w.x) + abs(w.y) + abs(w.z);
+        d = l1 * l1 * l1 / PI;
+    } else if (uDistortion != 0) {
         d = 0.5 * PI * max(sqrt(max(1.0 - w.z * w.z, 0.0)), uSinThetaMin);
+    }
     float lod;
     if (uLodRule == LOD_SPEC)
         lod = uLodBase - 0.5 * log2(max(D * d, TINY));
@@ -319,6 +329,67 @@ float mip_level(float D, float pdf, vec3 w)
     else
         lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY));
     return clamp(lod, 0.0, uEnvMaxLod);
+}
+
+// The octahedral chain (src/ibl/texture_lod.h, ported there as sl_oct_dir_to_uv, sl_oct_tap,
+// sl_oct_texels_bilinear, sl_oct_lod_clamped): p = w.xy / |w|_1, folded below the equator.
+vec2 env_oct_uv(vec3 w)
+{
+    float a = abs(w.x) + abs(w.y) + abs(w.z);
+    float px = w.x / a, py = w.y / a;
+    float fx = (1.0 - abs(py)) * (px >= 0.0 ? 1.0 : -1.0);
+    float fy = (1.0 - abs(px)) * (py >= 0.0 ? 1.0 : -1.0);
+    px = w.z < 0.0 ? fx : px;
+    py = w.z < 0.0 ? fy : py;
+    return clamp(vec2(px, py) * 0.5 + 0.5, 0.0, 1.0);
+}
+
+// A tap past the outer edge reads the texel mirrored across it: the direction beyond the fold.
+ivec2 env_oct_tap(int s, ivec2 t)
+{
+    if (t.x < 0 || t.x >= s) {
+        t.x = clamp(t.x, 0, s - 1);
+        t.y = s - 1 - t.y;
+    }
+    if (t.y < 0 || t.y >= s) {
+        t.y = clamp(t.y, 0, s - 1);
+        t.x = s - 1 - t.x;
+    }
+    return t;
+}
+
+// GL_LINEAR by hand within one level: the four taps through env_oct_tap. The level's size is
+// level 0's shifted, not textureSize(uEnvResidual, level): on llvmpipe that query, given a level
+// that differs between the fragments it runs together (each sample picks its own), gives wrong
+// sizes and the taps land on the wrong texels (measured, docs/gl.md "Octahedral chain").
+vec3 env_oct_bilinear(int level, vec2 uv)
+{
+    int s = textureSize(uEnvResidual, 0).x >> level;
+    vec2 xy = uv * float(s) - 0.5;
+    vec2 xf = floor(xy);
+    vec2 f = xy - xf;
+    ivec2 t = ivec2(xf);
+    vec3 c00 = texelFetch(uEnvResidual, env_oct_tap(s, t), level).rgb;
+    vec3 c10 = texelFetch(uEnvResidual, env_oct_tap(s, t + ivec2(1, 0)), level).rgb;
+    vec3 c01 = texelFetch(uEnvResidual, env_oct_tap(s, t + ivec2(0, 1)), level).rgb;
+    vec3 c11 = texelFetch(uEnvResidual, env_oct_tap(s, t + ivec2(1, 1)), level).rgb;
+    return mix(mix(c00, c10, f.x), mix(c01, c11, f.x), f.y);
+}
+
+// The specular samples' radiance at direction w and level lod (already clamped to [0, uEnvMaxLod]):
+// GL's trilinear textureLod of the lat-long chain, or the same filter by hand on the octahedral one.
+vec3 env_lod(vec3 w, float lod)
+{
+    if (uEnvLayout == ENV_LAYOUT_OCT) {
+        vec2 uv = env_oct_uv(w);
+        int l0 = int(lod);
+        float f = lod - float(l0);
+        vec3 a = env_oct_bilinear(l0, uv);
+        if (f == 0.0)
+            return a;
+        return mix(a, env_oct_bilinear(min(l0 + 1, int(uEnvMaxLod)), uv), f);
+    }
+    return textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb;
 }
 
 // The G-buffer's lobe parameter (src/raster/gbuffer.h): >= 0 the Phong exponent, clamped to
@@ -435,7 +506,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(D, pdf, w);
-        vec3 Li = textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN / 4.0;
         if (uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -508,7 +579,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(D, pdf, w);
-        vec3 Li = textureLod(uEnvResidual, sl_dir_to_uv(w), lod).rgb * uEnvIntensity;
+        vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN * VdotH / NdotH;
         vec3 c = F * Li * weight;
         sum = sum + c;

@@ -169,6 +169,10 @@ int cmd_render(int argc, char **argv)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
                    r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
+        if (r.env_oct_built >= 0)
+            printf("octahedral chain: %dx%d, %d levels, built in %.1f ms once per environment\n",
+                   r.env_oct.levels[0].width, r.env_oct.levels[0].height, r.env_oct.level_count,
+                   r.timings.env_oct_ms);
         const char *outs[] = {png, hdr, pfm, exr, aov, normals};
         for (size_t i = 0; i < sizeof outs / sizeof outs[0] && !shard.count; i++)
             if (outs[i])

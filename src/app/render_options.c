@@ -21,6 +21,8 @@ static const struct {
     [SL_OPT_ESTIMATOR] = {NULL,
                           "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling"},
     [SL_OPT_IRRADIANCE] = {NULL, "diffuse irradiance (default: the scene's map if any, else oct, the pole-free octahedral map)"},
+    [SL_OPT_ENV_LAYOUT] = {NULL, "the specular samples' mip chain: latlong (default; the specification's, as GL builds it) "
+                                 "or oct, an octahedral chain without pole or seam"},
     [SL_OPT_DIFFUSE_ONLY] = {NULL, "image-based diffuse term only"},
     [SL_OPT_SPECULAR_ONLY] = {NULL, "image-based specular term only"},
     [SL_OPT_NO_LIGHTS] = {NULL, "ignore the scene's point lights"},
@@ -39,7 +41,7 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
 {
     _Static_assert(SL_RENDER_OPTION_COUNT == SL_OPT_CLI_COUNT, "one command-line option per row of the table");
     memset(o, 0, sizeof *o);
-    o->lod = o->gterm = o->estimator = o->irradiance = -1;
+    o->lod = o->gterm = o->estimator = o->irradiance = o->env_layout = -1;
     void *const value[SL_OPT_CLI_COUNT] = {
         [SL_OPT_SIZE] = o->size,
         [SL_OPT_SAMPLES] = &o->samples,
@@ -51,6 +53,7 @@ void sl_render_options_table(sl_render_options *o, sl_arg *t)
         [SL_OPT_GTERM] = &o->gterm,
         [SL_OPT_ESTIMATOR] = &o->estimator,
         [SL_OPT_IRRADIANCE] = &o->irradiance,
+        [SL_OPT_ENV_LAYOUT] = &o->env_layout,
         [SL_OPT_DIFFUSE_ONLY] = &o->diffuse_only,
         [SL_OPT_SPECULAR_ONLY] = &o->specular_only,
         [SL_OPT_NO_LIGHTS] = &o->no_lights,
@@ -112,6 +115,8 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
         l->irradiance = (sl_irradiance_method)choice_value(SL_OPT_IRRADIANCE, o->irradiance);
         d->irradiance_set = true;
     }
+    if (o->env_layout >= 0)
+        l->env_layout = (sl_env_layout)choice_value(SL_OPT_ENV_LAYOUT, o->env_layout);
     l->plain = o->plain;
     d->plain_raster = o->plain;
     l->no_specular = o->diffuse_only;

@@ -13,7 +13,7 @@ typedef struct {
     int size[2];
     int samples;
     float exposure, contrast;
-    int lod, gterm, estimator, irradiance; /* choice index, -1 = not given */
+    int lod, gterm, estimator, irradiance, env_layout; /* choice index, -1 = not given */
     bool distortion, srgb;
     bool diffuse_only, specular_only, no_lights;
     int threads, tile;
@@ -25,7 +25,7 @@ typedef struct {
     char choices[SL_OPT_CLI_COUNT][64]; /* a choice argument's words, "none|spec|...", from its row */
 } sl_render_options;
 
-#define SL_RENDER_OPTION_COUNT 20 /* = SL_OPT_CLI_COUNT, the table's rows with a spelling */
+#define SL_RENDER_OPTION_COUNT 21 /* = SL_OPT_CLI_COUNT, the table's rows with a spelling */
 
 /* Fill `table` (SL_RENDER_OPTION_COUNT entries) to parse into `o`, which is reset to "not given". */
 void sl_render_options_table(sl_render_options *o, sl_arg *table);

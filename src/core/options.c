@@ -22,6 +22,9 @@ static const char *const irradiance_names[] = {
     [SL_IRRADIANCE_SH9] = "sh9", [SL_IRRADIANCE_BRUTE] = "brute", [SL_IRRADIANCE_MAP] = "map",
     [SL_IRRADIANCE_OCT] = "oct", [SL_IRRADIANCE_DP] = "dp",
 };
+static const char *const env_layout_names[] = {
+    [SL_ENV_LAYOUT_DEFAULT] = "default", [SL_ENV_LAYOUT_LATLONG] = "latlong", [SL_ENV_LAYOUT_OCT] = "oct",
+};
 
 #define FLAG(id, spelling) [id] = {.name = spelling, .cli = "--" spelling, .type = SL_OPTION_FLAG}
 
@@ -54,6 +57,10 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     [SL_OPT_IRRADIANCE] = {.name = "irradiance", .cli = "--irradiance", .type = SL_OPTION_CHOICE,
                            .def = {SL_IRRADIANCE_OCT}, .min = SL_IRRADIANCE_SH9, .max = SL_IRRADIANCE_DP,
                            .names = irradiance_names},
+    /* the specular samples' mip chain; docs/ibl.md "Specular layouts" says why the default */
+    [SL_OPT_ENV_LAYOUT] = {.name = "env-layout", .cli = "--env-layout",
+                           .type = SL_OPTION_CHOICE, .def = {SL_ENV_LAYOUT_LATLONG}, .min = SL_ENV_LAYOUT_LATLONG,
+                           .max = SL_ENV_LAYOUT_OCT, .names = env_layout_names},
     FLAG(SL_OPT_DIFFUSE_ONLY, "diffuse-only"),
     FLAG(SL_OPT_SPECULAR_ONLY, "specular-only"),
     FLAG(SL_OPT_NO_LIGHTS, "no-lights"),
@@ -129,6 +136,10 @@ const char *sl_gterm_name(sl_gterm gterm) { return sl_option_name(&sl_options[SL
 const char *sl_irradiance_name(sl_irradiance_method method)
 {
     return sl_option_name(&sl_options[SL_OPT_IRRADIANCE], (int)method);
+}
+const char *sl_env_layout_name(sl_env_layout layout)
+{
+    return sl_option_name(&sl_options[SL_OPT_ENV_LAYOUT], (int)layout);
 }
 bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule)
 {

@@ -85,6 +85,15 @@ typedef enum {
     SL_IRRADIANCE_DP = 4,    /* a dual-paraboloid map (irradiance_map.c), both halves in one texture */
 } sl_irradiance_method;
 
+/* The layout of the environment's mip chain that the specular samples read (uEnvLayout). The
+ * background always reads the lat-long level 0. docs/ibl.md "Specular layouts" has the measured
+ * comparison. */
+typedef enum {
+    SL_ENV_LAYOUT_DEFAULT = 0,
+    SL_ENV_LAYOUT_LATLONG = 1, /* the specification's lat-long chain, GL's glGenerateMipmap: the GL-matching recipe */
+    SL_ENV_LAYOUT_OCT = 2,     /* an octahedral S x S chain (env_oct.c): no pole, no seam */
+} sl_env_layout;
+
 /* The rows, in the order `--help` lists them; rows past SL_OPT_CLI_COUNT have no command-line
  * spelling. */
 typedef enum {
@@ -98,6 +107,7 @@ typedef enum {
     SL_OPT_GTERM,
     SL_OPT_ESTIMATOR,
     SL_OPT_IRRADIANCE,
+    SL_OPT_ENV_LAYOUT,
     SL_OPT_DIFFUSE_ONLY,
     SL_OPT_SPECULAR_ONLY,
     SL_OPT_NO_LIGHTS,
@@ -153,12 +163,13 @@ double sl_option_file_min(const sl_option *opt);
 double sl_option_file_max(const sl_option *opt);
 
 /* The modes' names, from the rows above: "none", "spec", "spec-d4", "gems", "pdf"; "spec",
- * "consistent", "mf"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp". Parsers return false on an
+ * "consistent", "mf"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an
  * unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);
 const char *sl_gterm_name(sl_gterm gterm);
 const char *sl_irradiance_name(sl_irradiance_method method);
+const char *sl_env_layout_name(sl_env_layout layout);
 /* The irradiance a frame gets when the scene names no map: the row's default. */
 sl_irradiance_method sl_irradiance_default(void);
 bool sl_lod_rule_parse(const char *name, sl_lod_rule *rule);

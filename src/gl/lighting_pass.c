@@ -9,7 +9,9 @@
  *
  * The environment goes up as GL_RGB32F with the image's top row (v = 0) as the texture's first row,
  * so t = v as in the C textureLod, and glGenerateMipmap builds the chain (2x2 box averages for the
- * power-of-two maps softlight ships, the same as sl_env_build). */
+ * power-of-two maps softlight ships, the same as sl_env_build). An octahedral chain (--env-layout
+ * oct, src/ibl/env_oct.c) goes up level by level as softlight built it (its filter weighs by solid
+ * angle, which glGenerateMipmap does not), and the GLSL filters it with texelFetch. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -45,6 +47,24 @@ static GLuint upload_latlong(const sl_env_level *level, bool mipmaps)
     }
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
+/* Every level of an octahedral chain as built (texelFetch reads it; no GL filtering). */
+static GLuint upload_levels(const sl_env *env)
+{
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    for (int l = 0; l < env->level_count; l++)
+        glTexImage2D(GL_TEXTURE_2D, l, GL_RGB32F, env->levels[l].width, env->levels[l].height, 0, GL_RGB, GL_FLOAT,
+                     env->levels[l].texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAX_LEVEL, env->level_count - 1);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST_MIPMAP_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return tex;
 }
@@ -110,7 +130,9 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
         glDeleteTextures(1, &l->env);
     if (l->env_residual)
         glDeleteTextures(1, &l->env_residual);
-    l->env_residual = residual ? upload_latlong(&residual->levels[0], true) : 0;
+    l->residual_oct = residual && residual->layout == SL_ENV_LAYOUT_OCT;
+    l->env_residual = !residual ? 0 : l->residual_oct ? upload_levels(residual) : upload_latlong(&residual->levels[0], true);
+    l->residual_levels = residual ? residual->level_count : 0;
     if (l->irradiance_map)
         glDeleteTextures(1, &l->irradiance_map);
     l->env = upload_latlong(&env->levels[0], true);
@@ -118,6 +140,8 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
     for (int w = env->levels[0].width, h = env->levels[0].height; w > 0 || h > 0; w /= 2, h /= 2)
         levels++;
     l->env_levels = levels;
+    if (!residual)
+        l->residual_levels = levels;
     l->irradiance_map = 0;
     if (irr && irr->method != SL_IRRADIANCE_SH9 && irr->map.level_count > 0) {
         l->irradiance_map = upload_latlong(&irr->map.levels[0], false);
@@ -149,6 +173,7 @@ static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
         glUniform4fv(loc(p, "uEnvLightRadiance"), u->uEnvLightCount, &u->uEnvLightRadiance[0].x);
     }
     glUniform1f(loc(p, "uEnvMaxLod"), u->uEnvMaxLod);
+    glUniform1i(loc(p, "uEnvLayout"), u->uEnvLayout);
     glUniform1f(loc(p, "uLodBase"), u->uLodBase);
     glUniform1f(loc(p, "uSinThetaMin"), u->uSinThetaMin);
     glUniformMatrix3fv(loc(p, "uEnvRotation"), 1, GL_FALSE, &u->uEnvRotation.c[0].x);
@@ -183,15 +208,18 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     if (!l->env)
         return sl_fail(err, SL_ERR_RANGE, "lighting: no environment uploaded");
     /* The GL chain must be the one the uniforms clamp the lod to. */
-    if ((int)u->uEnvMaxLod != l->env_levels - 1)
+    if ((int)u->uEnvMaxLod != l->residual_levels - 1)
         return sl_fail(err, SL_ERR_RANGE, "lighting: softlight's chain has %d levels, GL's %d",
-                       (int)u->uEnvMaxLod + 1, l->env_levels);
+                       (int)u->uEnvMaxLod + 1, l->residual_levels);
+    if ((u->uEnvLayout == SL_ENV_LAYOUT_OCT) != l->residual_oct)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the uniforms ask for the %s layout, GL holds the other",
+                       sl_env_layout_name((sl_env_layout)u->uEnvLayout));
     glBindBuffer(GL_UNIFORM_BUFFER, l->ubo);
     glBufferData(GL_UNIFORM_BUFFER, (GLsizeiptr)sizeof u->uHammersley, &u->uHammersley, GL_STATIC_DRAW);
     glBindBufferBase(GL_UNIFORM_BUFFER, HAMMERSLEY_BINDING, l->ubo);
 
-    /* Without env lights the samples read the environment itself. */
-    if ((u->uEnvLightCount > 0) != (l->env_residual != 0))
+    /* Without env lights or the octahedral layout the samples read the environment itself. */
+    if ((u->uEnvLightCount > 0 || l->residual_oct) != (l->env_residual != 0))
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights but %s residual environment uploaded",
                        u->uEnvLightCount, l->env_residual ? "a" : "no");
     GLuint residual = l->env_residual ? l->env_residual : l->env;

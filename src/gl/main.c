@@ -110,7 +110,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     }
     if (!slgl_gbuffer_create(&g, f->width, f->height, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
         !slgl_lighting_set_environment(&l, &f->renderer.env,
-                                       f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual : NULL,
+                                       f->renderer.env_oct_built >= 0     ? &f->renderer.env_oct
+                                       : f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual
+                                                                          : NULL,
                                        f->renderer.have_irradiance ? &f->renderer.irradiance : NULL, err))
         goto done;
     if (o->gbuffer_dir) {

@@ -115,7 +115,10 @@ typedef struct {
     GLuint env;            /* level 0 + glGenerateMipmap */
     int env_levels;        /* GL's level count for that size */
     GLuint irradiance_map; /* every irradiance map (BRUTE, MAP, OCT, DP); 0 for SH9 */
-    GLuint env_residual;   /* uEnvResidual: the environment less its env lights; 0 = env itself */
+    GLuint env_residual;   /* uEnvResidual: the environment less its env lights, or the octahedral
+                              chain of what the samples read; 0 = env itself */
+    int residual_levels;   /* its level count */
+    bool residual_oct;     /* it is octahedral: every level uploaded, read with texelFetch */
     GLuint ubo;            /* HammersleyBlock */
 } slgl_lighting;
 

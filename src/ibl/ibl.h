@@ -32,8 +32,10 @@ typedef struct {
     vec3 *texels;
 } sl_env_level;
 
-/* An environment map with its full mip chain down to 1x1 (env.c). */
+/* An environment map with its full mip chain down to 1x1: lat-long (env.c) or octahedral
+ * (env_oct.c, layout SL_ENV_LAYOUT_OCT: S x S levels, docs/ibl.md "Specular layouts"). */
 typedef struct {
+    sl_env_layout layout; /* 0 or SL_ENV_LAYOUT_LATLONG: lat-long; SL_ENV_LAYOUT_OCT: octahedral */
     int level_count;
     sl_env_level levels[SL_ENV_MAX_LEVELS];
     vec3 *block; /* sl_env_build: ONE allocation holding every level, level 0 first, each level's
@@ -48,6 +50,16 @@ typedef struct {
  * negative texel. On failure env is left empty. */
 bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err);
 void sl_env_free(sl_env *env);
+
+/* The octahedral chain of a lat-long environment (env_oct.c): size texels a side, a power of
+ * two up to SL_ENV_OCT_MAX_SIZE, 0 = sl_env_oct_default_size (the smallest power of two >= the
+ * lat-long width). Level 0 resampled from the lat-long chain, each level above the solid-angle-
+ * weighted mean of the one below, so all hold the same power. On failure oct is left empty. */
+#define SL_ENV_OCT_MAX_SIZE 4096
+bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, sl_error *err);
+int sl_env_oct_default_size(const sl_env *latlong);
+/* The exact solid angle of texel (i, j) of a size x size octahedral level (size a power of two). */
+double sl_env_oct_texel_solid_angle(int size, int i, int j);
 
 /* The specification's lat-long map, both ways (latlong.c). u is in [0, 1) (the seam direction
  * (-1, 0, 0) gives u = 0 for either sign of zero), z is clamped before acos: never NaN. */

@@ -33,6 +33,18 @@ vec3 textureLod(const sl_env *env, vec2 uv, float lod)
     return sl_texture_lod_clamped(env, u, v, lod);
 }
 
+vec3 sl_oct_texture_lod(const sl_env *env, vec3 d, float lod)
+{
+    if (env->level_count <= 0)
+        return vec3s(0.0f);
+    float u, v;
+    sl_oct_dir_to_uv(d.x, d.y, d.z, &u, &v);
+    int last = env->level_count - 1;
+    lod = lod > 0.0f ? lod : 0.0f; /* NaN -> 0 */
+    lod = lod < (float)last ? lod : (float)last;
+    return sl_oct_lod_clamped(env, u, v, lod);
+}
+
 void sl_env_gather_init(sl_env_gather *g, const sl_env *env)
 {
     size_t total = 0;

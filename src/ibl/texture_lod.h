@@ -113,4 +113,92 @@ __attribute__((always_inline)) static inline vec3 sl_env_gather_lod(const sl_env
     return mix3(sl_env_gather_bilinear(g, l0, u, v), sl_env_gather_bilinear(g, l1, u, v), f);
 }
 
+/* ---- The octahedral layout (env_oct.c): the same trilinear filter over S x S levels whose
+ * outer edge folds onto itself ---- */
+
+/* Octahedral coordinates of direction d (need not be unit; the lighting shader's
+ * env_oct_uv): p = d.xy / |d|_1, folded below the equator to ((1 - |p.y|) sgn p.x,
+ * (1 - |p.x|) sgn p.y) with sgn 0 = +1; (u, v) = (p + 1) / 2, clamped to [0, 1] (a zero or NaN
+ * d gives 0). Divisions and selects only: the port and the batched path get the same bits. */
+SL_FM_INLINE void sl_oct_dir_to_uv(float x, float y, float z, float *u, float *v)
+{
+    float a = fabsf(x) + fabsf(y) + fabsf(z);
+    float px = x / a, py = y / a;
+    float fx = (1.0f - fabsf(py)) * (px >= 0.0f ? 1.0f : -1.0f);
+    float fy = (1.0f - fabsf(px)) * (py >= 0.0f ? 1.0f : -1.0f);
+    px = z < 0.0f ? fx : px;
+    py = z < 0.0f ? fy : py;
+    float uu = px * 0.5f + 0.5f, vv = py * 0.5f + 0.5f;
+    *u = uu >= 0.0f ? minf(uu, 1.0f) : 0.0f; /* NaN -> 0 */
+    *v = vv >= 0.0f ? minf(vv, 1.0f) : 0.0f;
+}
+
+/* The unit direction at octahedral (u, v) in [0, 1]^2: the inverse of sl_oct_dir_to_uv. */
+static inline vec3 sl_oct_uv_to_dir(float u, float v)
+{
+    float px = 2.0f * u - 1.0f, py = 2.0f * v - 1.0f;
+    float z = 1.0f - fabsf(px) - fabsf(py);
+    float x = z < 0.0f ? (1.0f - fabsf(py)) * (px >= 0.0f ? 1.0f : -1.0f) : px;
+    float y = z < 0.0f ? (1.0f - fabsf(px)) * (py >= 0.0f ? 1.0f : -1.0f) : py;
+    return normalize(vec3(x, y, z));
+}
+
+/* Texel index (y s + x) of tap (x, y), x and y in [-1, s]: a tap past the outer edge reads the
+ * texel mirrored across it ((-1, y) is (0, s - 1 - y); (x, -1) is (s - 1 - x, 0)), the
+ * direction on the other side of the fold; past a corner both, which lands on the opposite
+ * corner (all four are -Z). */
+__attribute__((always_inline)) static inline int sl_oct_tap(int s, int x, int y)
+{
+    int xo = x < 0 || x >= s;
+    x = x < 0 ? 0 : (x >= s ? s - 1 : x);
+    y = xo ? s - 1 - y : y;
+    int yo = y < 0 || y >= s;
+    y = y < 0 ? 0 : (y >= s ? s - 1 : y);
+    x = yo ? s - 1 - x : x;
+    return y * s + x;
+}
+
+/* GL_LINEAR within one s x s octahedral level starting at T[o], u and v in [0, 1], texel
+ * centres at (i + 1/2) / s, the four taps through sl_oct_tap; blended as sl_texels_bilinear. */
+__attribute__((always_inline)) static inline vec3 sl_oct_texels_bilinear(const vec3 *T, int s, int o, float u, float v)
+{
+    float x = u * (float)s - 0.5f, y = v * (float)s - 0.5f;
+    float xf = sl_fast_floor(x), yf = sl_fast_floor(y);
+    float fx = x - xf, fy = y - yf;
+    int x0 = (int)xf, y0 = (int)yf;
+    int t00 = o + sl_oct_tap(s, x0, y0), t10 = o + sl_oct_tap(s, x0 + 1, y0);
+    int t01 = o + sl_oct_tap(s, x0, y0 + 1), t11 = o + sl_oct_tap(s, x0 + 1, y0 + 1);
+    vec3 top = vec3(mixf(T[t00].x, T[t10].x, fx), mixf(T[t00].y, T[t10].y, fx), mixf(T[t00].z, T[t10].z, fx));
+    vec3 bottom = vec3(mixf(T[t01].x, T[t11].x, fx), mixf(T[t01].y, T[t11].y, fx), mixf(T[t01].z, T[t11].z, fx));
+    return mix3(top, bottom, fy);
+}
+
+/* sl_texture_lod_clamped for an octahedral chain: u, v in [0, 1], lod in [0, level_count - 1]. */
+static inline vec3 sl_oct_lod_clamped(const sl_env *env, float u, float v, float lod)
+{
+    int last = env->level_count - 1;
+    int l0 = (int)lod;
+    float f = lod - (float)l0;
+    const sl_env_level *a = &env->levels[l0];
+    vec3 c = sl_oct_texels_bilinear(a->texels, a->width, 0, u, v);
+    if (f == 0.0f)
+        return c;
+    const sl_env_level *b = &env->levels[l0 < last ? l0 + 1 : last];
+    return mix3(c, sl_oct_texels_bilinear(b->texels, b->width, 0, u, v), f);
+}
+
+/* sl_env_gather_lod for an octahedral chain's block (the same bits as sl_oct_lod_clamped). */
+__attribute__((always_inline)) static inline vec3 sl_oct_gather_lod(const sl_env_gather *g, float u, float v, float lod)
+{
+    int l0 = (int)lod;
+    float f = lod - (float)l0;
+    int l1 = l0 < g->last ? l0 + 1 : g->last;
+    return mix3(sl_oct_texels_bilinear(g->texels, g->width[l0], g->offset[l0], u, v),
+                sl_oct_texels_bilinear(g->texels, g->width[l1], g->offset[l1], u, v), f);
+}
+
+/* The guarded entry point for an octahedral chain, as textureLod is for lat-long
+ * (texture_lod.c): direction d, NaN lod as 0; an empty env gives 0. */
+vec3 sl_oct_texture_lod(const sl_env *env, vec3 d, float lod);
+
 #endif

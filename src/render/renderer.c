@@ -55,10 +55,30 @@ static bool update_env_lights(sl_renderer *r, sl_error *err)
     double t0 = sl_now_seconds();
     sl_env_lights_free(&r->env_lights);
     r->env_lights_built = 0;
+    sl_env_free(&r->env_oct); /* resampled from the old residual */
+    r->env_oct_built = -1;
     if (!sl_env_lights_extract(&r->env_lights, &r->env, want, err))
         return false;
     r->env_lights_built = want;
     r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
+/* The octahedral chain of what the samples read (the residual when there are env lights),
+ * when the layout asks for it; rebuilt when the environment or the env lights change. */
+static bool update_env_oct(sl_renderer *r, sl_error *err)
+{
+    sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
+    int lights = o.env_lights > 0 ? r->env_lights_built : 0;
+    if (o.env_layout != SL_ENV_LAYOUT_OCT || r->env_oct_built == lights)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_free(&r->env_oct);
+    r->env_oct_built = -1;
+    if (!sl_env_build_oct(&r->env_oct, lights > 0 ? &r->env_lights.residual : &r->env, 0, err))
+        return false;
+    r->env_oct_built = lights;
+    r->timings.env_oct_ms = (sl_now_seconds() - t0) * 1e3;
     return true;
 }
 
@@ -87,6 +107,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     memset(r, 0, sizeof *r);
     r->scene = scene;
     r->desc = *desc;
+    r->env_oct_built = -1;
     sl_render_desc *d = &r->desc;
     const sl_render_settings *s = &scene->settings;
     if (!d->width || !d->height) {
@@ -117,7 +138,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
-    if (!update_env_lights(r, err)) /* per environment, like the irradiance: not in a frame's time */
+    if (!update_env_lights(r, err) || !update_env_oct(r, err)) /* per environment: not in a frame's time */
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {
@@ -138,6 +159,7 @@ void sl_renderer_free(sl_renderer *r)
 {
     sl_env_free(&r->env);
     sl_env_lights_free(&r->env_lights);
+    sl_env_free(&r->env_oct);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
@@ -176,6 +198,8 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_free(&old);
     sl_env_lights_free(&r->env_lights); /* extracted from the old one: rebuilt on the next frame */
     r->env_lights_built = 0;
+    sl_env_free(&r->env_oct); /* resampled from the old one: rebuilt on the next frame */
+    r->env_oct_built = -1;
     r->env_repairs = repairs;
     return true;
 }
@@ -248,7 +272,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
 {
     if (!cam)
         cam = &r->scene->camera;
-    if (!update_env_lights(r, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -269,6 +293,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .lights = r->scene->lights,
         .light_count = r->scene->light_count,
         .env_lights = r->env_lights_built > 0 ? &r->env_lights : NULL,
+        .env_oct = r->env_oct_built >= 0 ? &r->env_oct : NULL,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

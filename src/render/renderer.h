@@ -8,7 +8,8 @@
  *
  * Per environment (once, or when the viewer swaps it): the .hdr is loaded, checked and
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
- * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h).
+ * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h), and for
+ * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c).
  * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
@@ -53,6 +54,7 @@ typedef struct {
     double load_ms;     /* environment load + mips (per environment), textures (per scene) */
     double irradiance_ms;
     double env_lights_ms; /* extraction of the env lights and the residual's mips (when asked) */
+    double env_oct_ms;    /* the octahedral chain of what the samples read (--env-layout oct) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
 } sl_render_timings;
 
@@ -64,6 +66,9 @@ typedef struct {
     bool have_irradiance;
     sl_env_lights env_lights; /* built on first use for desc.lighting.env_lights > 0 */
     int env_lights_built;     /* the count they were extracted with; 0 = none */
+    sl_env env_oct;           /* --env-layout oct: the octahedral chain of env, or of the env
+                                 lights' residual; built on first use */
+    int env_oct_built;        /* -1 = none, else the env lights count of what it was built from */
     sl_raster *raster;
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;

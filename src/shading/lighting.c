@@ -22,6 +22,7 @@ static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
 static const int LOD_GEMS = SL_LOD_GEMS;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
+static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -108,8 +109,12 @@ static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w
     if (u->uLodRule == LOD_NONE)
         return 0.0f;
     float d = 1.0f;
-    if (u->uDistortion != 0)
+    if (u->uDistortion != 0 && u->uEnvLayout == ENV_LAYOUT_OCT) {
+        float l1 = fabsf(w.x) + fabsf(w.y) + fabsf(w.z);
+        d = l1 * l1 * l1 / PI;
+    } else if (u->uDistortion != 0) {
         d = 0.5f * PI * maxf(sqrtf(maxf(1.0f - w.z * w.z, 0.0f)), u->uSinThetaMin);
+    }
     float lod;
     if (u->uLodRule == LOD_SPEC)
         lod = u->uLodBase - 0.5f * log2f(maxf(D * d, TINY));
@@ -120,6 +125,15 @@ static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w
     else
         lod = u->uLodBase - 0.5f * log2f(maxf(4.0f * PI * pdf * d, TINY));
     return clamp(lod, 0.0f, u->uEnvMaxLod);
+}
+
+/* GLSL: env_lod (the octahedral branch is texture_lod.h's sl_oct_texture_lod: env_oct_uv, then
+ * the trilinear filter of env_oct_bilinear) */
+static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
+{
+    if (u->uEnvLayout == ENV_LAYOUT_OCT)
+        return sl_oct_texture_lod(u->uEnvResidual, w, lod);
+    return textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod);
 }
 
 /* GLSL: lobe_param */
@@ -182,7 +196,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
-        vec3 Li = scale(textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod), u->uEnvIntensity);
+        vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN / 4.0f;
         if (u->uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -232,7 +246,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
-        vec3 Li = scale(textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod), u->uEnvIntensity);
+        vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN * VdotH / NdotH;
         vec3 c = scale(mul(F, Li), weight);
         sum = add(sum, c);

@@ -61,6 +61,7 @@ typedef struct {
     bool distortion;               /* lat-long distortion d(theta) in the lod (default off) */
     sl_gterm gterm;                /* 0 = SL_GTERM_INV_LH2 */
     sl_estimator estimator;        /* 0 = SL_ESTIMATOR_SPEC */
+    sl_env_layout env_layout;      /* the specular samples' chain; 0 = SL_ENV_LAYOUT_LATLONG */
     sl_irradiance_method irradiance; /* must equal the irradiance's method (SH9 = 0, BRUTE, MAP, OCT, DP) */
     bool no_diffuse, no_specular, no_point_lights; /* toggles (default: all on) */
     float env_intensity;           /* multiplies the environment; 0 = 1 */
@@ -99,6 +100,8 @@ typedef struct {
     int light_count;                 /* 0 .. SL_LIGHTING_MAX_LIGHTS */
     const sl_env_lights *env_lights; /* required when options.env_lights > 0: extracted from env
                                         with that count; ignored otherwise */
+    const sl_env *env_oct;           /* required when options.env_layout is OCT: sl_env_build_oct of
+                                        what the samples read (env, or env_lights' residual) */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -106,7 +109,9 @@ typedef struct {
 typedef struct {
     const sl_env *uEnv;                  /* the environment (background) */
     const sl_env *uEnvResidual;          /* what the specular samples read: uEnv, or uEnv less its
-                                            env lights when there are any */
+                                            env lights when there are any; in the octahedral
+                                            layout, the octahedral chain of that */
+    int uEnvLayout;                      /* the layout of uEnvResidual (sl_env_layout) */
     float uEnvMaxLod;
     float uLodBase;
     float uSinThetaMin;

@@ -41,6 +41,7 @@ static const int LOD_GEMS = SL_LOD_GEMS;
 static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
+static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -135,6 +136,15 @@ static inline float clamp_lod(float lod, float max_lod)
     return lod < max_lod ? lod : max_lod;
 }
 
+/* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
+ * and the fetch when the chain has no block): the same bits as the gathers. */
+static vec3 fetch_clamped(const sl_lighting_uniforms *u, float tu, float tv, float lod)
+{
+    if (u->uEnvLayout == ENV_LAYOUT_OCT)
+        return sl_oct_lod_clamped(u->uEnvResidual, tu, tv, lod);
+    return sl_texture_lod_clamped(u->uEnvResidual, tu, tv, lod);
+}
+
 /* Where a block's per-sample values come from: a lobe table, or the block itself. */
 typedef struct {
     const float *xi1, *xi2, *Lx, *Ly, *Lz, *pdf;
@@ -176,7 +186,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         ts->G = sl_lobe_G(b->LdotH[i], b->wN[i], NdotV, alpha, (sl_gterm)u->uGTerm);
         ts->lod = b->lod[i];
         /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
-        ts->Li = scale(sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
+        ts->Li = scale(fetch_clamped(u, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
         ts->c = c;
         ts->sum = *sum;
     }
@@ -199,6 +209,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     const int rule = u->uLodRule;
     const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
     const bool distortion = u->uDistortion != 0;
+    const bool oct = u->uEnvLayout == ENV_LAYOUT_OCT;
     const bool ggx = sl_lobe_is_ggx(alpha);
     const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f;
     const float NdotV = dot(N, V);
@@ -275,7 +286,6 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
                 b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
                 b->m5[i] = m2 * m2 * mm;
                 b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
-                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
             }
         } else {
 #pragma omp simd
@@ -308,8 +318,18 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
                 b->LdotH[i] = LdotH;
                 b->m5[i] = m2 * m2 * mm;
                 b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN / 4.0f; /* G w.N / 4 */
-                sl_fast_dir_to_uv(wx, wy, wz, &b->u[i], &b->v[i]);
             }
+        }
+        /* the texture coordinates of w in the samples' layout: lat-long (the fast atan2s) or
+         * octahedral (the port's own divisions and selects: the same bits) */
+        if (oct) {
+#pragma omp simd
+            for (int i = 0; i < m; i++)
+                sl_oct_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
+        } else {
+#pragma omp simd
+            for (int i = 0; i < m; i++)
+                sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
         }
         /* GGX: G' = 4 Vis(w.N, N.V) in place of the Phong set's G in the weights above (samples
          * with w.N <= 0 get garbage that stage (4) drops) */
@@ -324,7 +344,13 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         }
         /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
          * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
-        if (distortion) {
+        if (distortion && oct) { /* the octahedral texel's |w|_1^3 / pi */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                float l1 = (fabsf(b->wx[i]) + fabsf(b->wy[i])) + fabsf(b->wz[i]);
+                b->lod[i] = sl_fast_log2(l1 * l1 * l1 / PI);
+            }
+        } else if (distortion) {
 #pragma omp simd
             for (int i = 0; i < m; i++)
                 b->lod[i] = sl_fast_log2(0.5f * PI * maxf(sqrtf(maxf(1.0f - b->wz[i] * b->wz[i], 0.0f)), sin_min));
@@ -369,17 +395,28 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
                 b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
         /* (3) radiance and contribution: textureLod from the block (texture_lod.h's operations
          * on the block's layout: gathers), c = F Li weight */
+        if (oct) {
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
-            vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            float m5 = b->m5[i], weight = b->weight[i];
-            b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
-            b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
-            b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+            for (int i = 0; i < m; i++) {
+                vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+                float m5 = b->m5[i], weight = b->weight[i];
+                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+            }
+        } else {
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+                float m5 = b->m5[i], weight = b->weight[i];
+                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+            }
         }
         if (!env->gather) { /* no block: the same filter through texture_lod.h, texel by texel */
             for (int i = 0; i < m; i++) {
-                vec3 t = sl_texture_lod_clamped(u->uEnvResidual, b->u[i], b->v[i], b->lod[i]);
+                vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
                 float weight = b->weight[i];
                 b->cr[i] = (Ks.x + F1.x * b->m5[i]) * (t.x * intensity) * weight;
                 b->cg[i] = (Ks.y + F1.y * b->m5[i]) * (t.y * intensity) * weight;

@@ -23,6 +23,8 @@ sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
         r.lod_rule = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0];
     if (r.gterm == SL_GTERM_DEFAULT)
         r.gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0];
+    if (r.env_layout == SL_ENV_LAYOUT_DEFAULT)
+        r.env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0];
     if (r.estimator == SL_ESTIMATOR_DEFAULT)
         r.estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0];
     if (r.env_intensity == 0.0f)
@@ -60,8 +62,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
     if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
-        (unsigned)o.gterm > SL_GTERM_ONE)
-        return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator or G term");
+        (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d point lights, at most %d", desc->light_count,
                        SL_LIGHTING_MAX_LIGHTS);
@@ -90,6 +92,9 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
             return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights asked for, but none extracted from this environment",
                            o.env_lights);
     }
+    const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
+    if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
 
     sl_hammersley set;
     if (!sl_hammersley_build(&set, o.samples, err))
@@ -98,7 +103,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
 
     const sl_env_level *l0 = &desc->env->levels[0];
     u->uEnv = desc->env;
-    u->uEnvResidual = el ? &el->residual : desc->env;
+    u->uEnvResidual = oct ? desc->env_oct : el ? &el->residual : desc->env;
+    u->uEnvLayout = (int)o.env_layout;
     _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
     u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
     for (int j = 0; j < u->uEnvLightCount; j++) {
@@ -111,9 +117,11 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->envLightG[j] = el->radiance[j].y;
         u->envLightB[j] = el->radiance[j].z;
     }
-    u->uEnvMaxLod = (float)(desc->env->level_count - 1);
+    /* The samples' chain sets the lod: the octahedral one has its own size and level count. */
+    const sl_env_level *s0 = &u->uEnvResidual->levels[0];
+    u->uEnvMaxLod = (float)(u->uEnvResidual->level_count - 1);
     /* In float, as a shader computing it would; log2 of a product of ints <= 2^28 is exact enough. */
-    u->uLodBase = 0.5f * log2f((float)l0->width * (float)l0->height / (float)o.lod_samples);
+    u->uLodBase = 0.5f * log2f((float)s0->width * (float)s0->height / (float)o.lod_samples);
     u->uSinThetaMin = sinf(SL_PI / (2.0f * (float)l0->height));
     /* world -> environment: rotate by -rotation about +Z (column-major). */
     float phi = radians(o.env_rotation_deg);

@@ -107,6 +107,19 @@ for irr in dp sh9 brute; do
         fail=1
     fi
 done
+# The octahedral specular chain (lighting.frag uEnvLayout = 2, env_lod's texelFetch filter with
+# the fold at the edge; C: texture_lod.h sl_oct_*): the mirror floor and spheres looking straight
+# down (R = +Z, the lat-long pole) at level 0 (--lod none) and with the default lod rule, so every
+# level of the chain is read, each sample at its own; grazing.json's floor with the accurate mode
+# (mf, pdf rule, the octahedral distortion). GL must agree, and differ from lat-long.
+mf_run oct-top top-down --specular-only --env-layout oct --lod none
+mf_run oct-top-lod top-down --specular-only --env-layout oct
+mf_run oct-grazing grazing --specular-only --env-layout oct --estimator mf --lod pdf --distortion
+mf_run ll-top top-down --specular-only --env-layout latlong --lod none
+if "$SL" compare "$T/oct-top/g.pfm" "$T/ll-top/g.pfm" --metric p99rel --tolerance 1e-3 >/dev/null; then
+    echo "FAIL oct-top: GL with --env-layout oct equals GL with latlong"
+    fail=1
+fi
 if [ "$fail" != 0 ]; then
     echo "gl_shading: FAILED"
     exit 1

@@ -43,6 +43,7 @@ check GTERM_INV_LH2 SL_GTERM_INV_LH2
 check ESTIMATOR_CONSISTENT SL_ESTIMATOR_CONSISTENT
 check ESTIMATOR_MICROFACET SL_ESTIMATOR_MICROFACET
 for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
+check ENV_LAYOUT_OCT SL_ENV_LAYOUT_OCT
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
 [ -n "$pairs" ] && [ $((pairs * 2)) = "$max" ] || fail "hammersley[$pairs] in $frag holds $((pairs * 2)) pairs, SL_HAMMERSLEY_MAX = $max"

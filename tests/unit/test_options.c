@@ -126,6 +126,7 @@ static void test_cli_reads_the_table(void **state)
                       : id == SL_OPT_GTERM     ? (int)d.lighting.gterm
                       : id == SL_OPT_ESTIMATOR ? (int)d.lighting.estimator
                       : id == SL_OPT_IRRADIANCE ? (int)d.lighting.irradiance
+                      : id == SL_OPT_ENV_LAYOUT ? (int)d.lighting.env_layout
                                                 : -1;
             assert_int_equal(got, v);
             if (id == SL_OPT_IRRADIANCE)
