@@ -73,7 +73,8 @@ static unsigned char *png_bytes(size_t *size)
     assert_true(sl_image_alloc(&img, 2, 2, 3, &err));
     for (int i = 0; i < 12; i++)
         img.data[i] = 0.5f;
-    img.data[0] = 1.0f, img.data[1] = sl_srgb8_to_linear(128), img.data[2] = 0.0f;
+    /* the encoder takes display values: code c is c / 255 */
+    img.data[0] = 1.0f, img.data[1] = 128.0f / 255.0f, img.data[2] = 0.0f;
     unsigned char *bytes = NULL;
     assert_true(sl_image_encode_png(&img, &bytes, size, &err));
     sl_image_free(&img);
