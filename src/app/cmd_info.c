@@ -161,6 +161,7 @@ int cmd_info(int argc, char **argv)
         fprintf(stderr, "softlight info: %s\n", err.msg);
         return 2;
     }
+    fputs(scene.warnings, stderr); /* what the scene loads but does not draw */
 
     long vertices = 0, triangles = 0;
     size_t mesh_bytes = 0;

@@ -105,6 +105,7 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
+    fputs(scene.warnings, stderr); /* what the scene loads but does not draw */
     if (env) { /* a path as given on the command line: relative to here, not to the scene */
         if (strlen(env) >= sizeof scene.environment.hdr_path) {
             fprintf(stderr, "softlight render: --env: path too long\n");

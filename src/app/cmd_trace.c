@@ -45,6 +45,7 @@ int cmd_trace(int argc, char **argv)
         fprintf(stderr, "softlight trace: %s\n", err.msg);
         return 2;
     }
+    fputs(scene.warnings, stderr); /* what the scene loads but does not draw */
     int status = 2;
     sl_renderer r;
     sl_lighting_trace *trace = NULL;

@@ -145,6 +145,7 @@ int cmd_truth(int argc, char **argv)
         fprintf(stderr, "softlight truth: %s\n", err.msg);
         return 2;
     }
+    fputs(scene.warnings, stderr); /* what the scene loads but does not draw */
     int status = 2;
     sl_renderer r;
     sl_render_desc desc = {.width = size[0], .height = size[1], .threads = threads};

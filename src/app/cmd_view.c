@@ -289,6 +289,7 @@ int cmd_view(int argc, char **argv)
         free(scene);
         goto done;
     }
+    fputs(scene->warnings, stderr); /* what the scene loads but does not draw */
     int ww, wh;
     initial_window_size(&opts, scene, scale, &ww, &wh);
     v.window = SDL_CreateWindow("softlight view", SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, ww, wh,

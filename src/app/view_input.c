@@ -65,6 +65,7 @@ static bool load_scene(viewer *v, const char *path, int width, int height, sl_er
         free(scene);
         return false;
     }
+    fputs(scene->warnings, stderr); /* what the scene loads but does not draw */
     sl_render_desc desc = v->cli_desc;
     desc.width = width;
     desc.height = height;

@@ -63,6 +63,7 @@ static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *
     memset(f, 0, sizeof *f);
     if (!sl_scene_load(scene_path, &f->scene, err))
         return false;
+    fputs(f->scene.warnings, stderr); /* what the scene loads but does not draw */
     f->scene_loaded = true;
     if (!sl_renderer_init(&f->renderer, &f->scene, desc, err))
         return false;

@@ -202,9 +202,9 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
     return ok;
 }
 
-/* The one warning line for a model with something not drawn (stderr: the scene loader has no
- * other channel for a message that is not an error). */
-static void warn_ignored(const char *path, unsigned ignored)
+/* The one warning line for a model with something not drawn, added to the scene's warnings (the
+ * commands print them: library code writes nothing to stderr). */
+static void warn_ignored(sl_scene *scene, const char *path, unsigned ignored)
 {
     if (!ignored)
         return;
@@ -214,7 +214,8 @@ static void warn_ignored(const char *path, unsigned ignored)
         if (ignored & (1u << i))
             n += snprintf(line + n, sizeof line - (size_t)n, "%s %s", n > 0 && line[n - 1] == ':' ? "" : ",",
                           IGNORED_NAMES[i]);
-    fprintf(stderr, "%s\n", line);
+    size_t used = strlen(scene->warnings);
+    snprintf(scene->warnings + used, sizeof scene->warnings - used, "%s\n", line);
 }
 
 static bool grow(void **array, size_t count, size_t size)
@@ -368,7 +369,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             sl_error_prefix(err, "%s: objects[%d].model: ", name, first_user[i]);
             break;
         }
-        warn_ignored(src->path, ignored);
+        warn_ignored(scene, src->path, ignored);
     }
     for (int o = 0; ok && o < scene->object_count; o++) {
         int mesh = scene->objects[o].mesh;

@@ -147,6 +147,8 @@ typedef struct {
     sl_point_light *lights;
     int light_count;
     sl_mesh_source *mesh_sources; /* mesh_count entries, parallel to meshes */
+    char warnings[2048];          /* what loads but is not drawn (model import), one line each ending
+                                     in "\n", "" when none: the commands print it to stderr */
     sl_scene_image *images;       /* image_count distinct image files the materials' maps name */
     int image_count;
 } sl_scene;
