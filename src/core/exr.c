@@ -214,7 +214,8 @@ static bool map_channels(const source *s, const exr_attr_chlist_t *list, channel
 
 /* Point the decoder's channels at the image: the mapped ones into their component as float,
  * the others skipped (a NULL pointer). `base` is the chunk's first pixel in the image. */
-static void aim_decoder(exr_decode_pipeline_t *dec, const channel_map *m, float *base, int width)
+static void aim_decoder(exr_decode_pipeline_t *dec, const channel_map *m, float *base, int width, float *unused,
+                        int32_t chunk_width)
 {
     for (int c = 0; c < dec->channel_count; c++) {
         exr_coding_channel_info_t *ch = &dec->channels[c];
@@ -222,11 +223,17 @@ static void aim_decoder(exr_decode_pipeline_t *dec, const channel_map *m, float 
         for (int k = 0; k < m->count; k++)
             if (!strcmp(ch->channel_name, m->names[k]))
                 comp = k;
-        ch->decode_to_ptr = comp < 0 ? NULL : (uint8_t *)(base + comp);
-        ch->user_pixel_stride = m->img_channels * (int32_t)sizeof(float);
-        ch->user_line_stride = width * m->img_channels * (int32_t)sizeof(float);
         ch->user_bytes_per_element = (int16_t)sizeof(float);
         ch->user_data_type = EXR_PIXEL_FLOAT;
+        if (comp < 0) { /* decoded and dropped: the library's NULL "skip" crashed under fuzzing */
+            ch->decode_to_ptr = (uint8_t *)unused;
+            ch->user_pixel_stride = (int32_t)sizeof(float);
+            ch->user_line_stride = chunk_width * (int32_t)sizeof(float);
+            continue;
+        }
+        ch->decode_to_ptr = (uint8_t *)(base + comp);
+        ch->user_pixel_stride = m->img_channels * (int32_t)sizeof(float);
+        ch->user_line_stride = width * m->img_channels * (int32_t)sizeof(float);
     }
 }
 
@@ -301,6 +308,7 @@ static bool parse_source(source *s, channel_map *map, size_t budget, sl_image *i
     }
     exr_decode_pipeline_t dec = {0};
     bool have_decoder = false, ok = false;
+    float *unused = NULL; /* where channels the image does not keep are decoded to */
     exr_storage_t storage;
     exr_attr_box2i_t dw;
     const exr_attr_chlist_t *list = NULL;
@@ -344,11 +352,16 @@ static bool parse_source(source *s, channel_map *map, size_t budget, sl_image *i
     ch = ch < height ? ch : height;
     uint64_t chunk_bound = (uint64_t)cw * (uint64_t)ch * pixel_bytes;
     uint64_t image_bytes = (uint64_t)width * (uint64_t)height * (uint64_t)map->img_channels * sizeof(float);
-    uint64_t need = image_bytes + 3 * chunk_bound;
+    uint64_t unused_bytes = (uint64_t)cw * (uint64_t)ch * sizeof(float);
+    uint64_t need = image_bytes + 3 * chunk_bound + unused_bytes;
     if (need > SIZE_MAX || !sl_image_check_budget(s->name, 8, width, height, (size_t)need, budget, err))
         goto done;
     if (!sl_image_alloc(img, width, height, map->img_channels, err)) {
         sl_error_prefix(err, "%s: ", s->name);
+        goto done;
+    }
+    if (!(unused = malloc((size_t)unused_bytes))) {
+        sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for a chunk's unused channels", s->name);
         goto done;
     }
 
@@ -376,7 +389,7 @@ static bool parse_source(source *s, channel_map *map, size_t budget, sl_image *i
             }
             bool first = !have_decoder;
             have_decoder = true;
-            aim_decoder(&dec, map, sl_image_pixel(img, (int)x0, (int)y0), width);
+            aim_decoder(&dec, map, sl_image_pixel(img, (int)x0, (int)y0), width, unused, cw);
             if ((first && (rv = exr_decoding_choose_default_routines(ctx, 0, &dec))) ||
                 (rv = exr_decoding_run(ctx, 0, &dec))) {
                 char doing[64];
@@ -395,6 +408,7 @@ static bool parse_source(source *s, channel_map *map, size_t budget, sl_image *i
         ok = all_finite(s, img, err);
     }
 done:
+    free(unused);
     if (have_decoder)
         exr_decoding_destroy(ctx, &dec);
     exr_finish(&ctx);

@@ -170,13 +170,21 @@ bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *
                    "start-of-image marker)", name);
 }
 
-/* Debian 12's stb_image trusts a JPEG Huffman table's 16 code counts: more than 256 codes in
- * one table (DHT) write past its 257-entry size list and 256-entry value list (found by
- * fuzz_texture; later stb versions check it). Walk the JPEG's marker segments, skipping
- * entropy-coded data (progressive files have tables between scans), and refuse such a table
- * before stb sees it. Anything else malformed is left to stb's own checks. */
+/* Debian 12's stb_image trusts a JPEG's Huffman tables in two ways that are undefined
+ * behaviour on corrupt files (both found by fuzz_texture; later stb versions check the first):
+ * - more than 256 codes in one table (DHT, its 16 code counts) write past its 257-entry size
+ *   list and 256-entry value list;
+ * - a scan (SOS) naming a table no DHT defined decodes with that table's uninitialised memory
+ *   (stb mallocs its decoder): the result depends on the heap, and a garbage table indexes past
+ *   its lists. A baseline scan uses each component's DC and AC tables; a progressive scan its DC
+ *   table in a first DC scan (Ss = 0, Ah = 0), its AC table in an AC scan (Ss > 0).
+ * Walk the JPEG's marker segments, skipping entropy-coded data (progressive files have tables
+ * between scans), and refuse either before stb sees it. Anything else malformed is left to stb's
+ * own checks. */
 static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name, sl_error *err)
 {
+    bool defined[2][4] = {{false}}; /* [DC 0, AC 1][table id] */
+    bool progressive = false;
     size_t pos = 2; /* after SOI */
     while (pos + 4 <= size) {
         if (b[pos] != 0xff) { /* entropy-coded data: up to the next marker that is not a stuffed 0 or a restart */
@@ -191,6 +199,8 @@ static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name
         if (marker == 0xd9)
             return true;
         size_t end = pos + 2 + (((size_t)b[pos + 2] << 8) | b[pos + 3]);
+        if (marker == 0xc2)
+            progressive = true;
         if (marker == 0xc4) /* tables while the segment lasts; stb reads bytes past the file's end as 0 */
             for (size_t q = pos + 4; q < end;) {
                 size_t n = 0;
@@ -200,8 +210,26 @@ static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name
                     return sl_fail(err, SL_ERR_FORMAT,
                                    "%s: byte %zu: corrupt JPEG: a Huffman table (DHT) of %zu codes, more than 256",
                                    name, q, n);
+                unsigned class = q < size ? b[q] >> 4 : 0, id = q < size ? b[q] & 15 : 0;
+                if (class < 2 && id < 4) /* stb refuses other classes and ids itself */
+                    defined[class][id] = true;
                 q += 17 + n;
             }
+        if (marker == 0xda && pos + 5 <= size) {
+            size_t count = b[pos + 4], spectral = pos + 5 + 2 * count; /* Ss, Se, Ah/Al after the components */
+            if (spectral + 3 > size)
+                return true; /* stb reports the cut header */
+            bool dc_scan = progressive ? b[spectral] == 0 && (b[spectral + 2] >> 4) == 0 : true;
+            bool ac_scan = progressive ? b[spectral] > 0 : true;
+            for (size_t c = 0; c < count; c++) {
+                unsigned dc = b[pos + 6 + 2 * c] >> 4, ac = b[pos + 6 + 2 * c] & 15;
+                if ((dc_scan && dc < 4 && !defined[0][dc]) || (ac_scan && ac < 4 && !defined[1][ac]))
+                    return sl_fail(err, SL_ERR_FORMAT,
+                                   "%s: byte %zu: corrupt JPEG: a scan (SOS) uses Huffman table %s%u, which no "
+                                   "DHT before it defines", name, pos, dc_scan && dc < 4 && !defined[0][dc] ? "DC" : "AC",
+                                   dc_scan && dc < 4 && !defined[0][dc] ? dc : ac);
+            }
+        }
         pos = end;
     }
     return true;

@@ -130,6 +130,23 @@ static void test_rgba_and_grey(void **state)
     sl_image_free(&back);
     free(bytes);
     sl_image_free(&grey);
+
+    /* Channels the reader does not keep (B and G beside a lone Y: grey) are decoded and dropped;
+     * OpenEXRCore's own "skip this channel" crashed on a tiled RLE file of this shape (fuzz_exr,
+     * fuzz/corpus/fuzz_exr/tiled_rle_unused_channels.exr). */
+    layer = (sl_exr_layer){"", "BGY", &rgba};
+    sl_image bgy;
+    ramp(&bgy, 9, 7, 3);
+    layer.img = &bgy;
+    encode(&layer, 1, (sl_exr_options){.half = true, .compression = SL_EXR_RLE, .tile = 4}, &bytes, &size);
+    read_env(bytes, size, &back, NULL);
+    for (int y = 0; y < 7; y++)
+        for (int x = 0; x < 9; x++)
+            for (int c = 0; c < 3; c++)
+                assert_true(sl_image_pixel(&back, x, y)[c] == sl_image_pixel(&bgy, x, y)[2]);
+    sl_image_free(&back);
+    free(bytes);
+    sl_image_free(&bgy);
     sl_image_free(&rgba);
 }
 
@@ -238,6 +255,14 @@ static void test_truncated_and_corrupt(void **state)
     assert_false(sl_image_parse_exr(bytes, size, "big.exr", 4096, &back, NULL, &err));
     assert_msg_contains(err, "big.exr: byte 8: image 40x30 needs");
     assert_msg_contains(err, "--image-memory");
+    /* the fuzzer's tiled RLE file whose unused channels crashed the library's skip path */
+    unsigned char *found;
+    size_t found_size;
+    assert_true(sl_read_file("fuzz/corpus/fuzz_exr/tiled_rle_unused_channels.exr", 1 << 20, &found, &found_size, &err));
+    if (!sl_image_parse_exr(found, found_size, "fuzzed.exr", 0, &back, NULL, &err))
+        assert_msg_contains(err, "fuzzed.exr: ");
+    sl_image_free(&back);
+    free(found);
     const unsigned char not_exr[8] = {'#', '?', 'R', 'A', 'D', 'I', 'A', 'N'};
     assert_false(sl_image_parse_exr(not_exr, sizeof not_exr, "x.exr", 0, &back, NULL, &err));
     assert_msg_contains(err, "x.exr: byte 0: not an OpenEXR file: expected the magic 76 2f 31 01, found 23 3f 52 41");

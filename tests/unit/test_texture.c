@@ -566,6 +566,12 @@ static void test_bad_files(void **state)
     assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/dht_over_256.jpg", false, 0, &t, &err));
     assert_msg_contains(err, "dht_over_256.jpg: byte 94: corrupt JPEG: a Huffman table (DHT) of 384 codes, more than 256");
 
+    /* a scan naming a Huffman table no DHT defined (stb would decode with uninitialised memory:
+     * fuzz_texture found UBSan errors that came and went with the heap's contents) */
+    assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/sos_undefined_table.jpg", false, 0, &t, &err));
+    assert_msg_contains(err, "sos_undefined_table.jpg: byte 128: corrupt JPEG: a scan (SOS) uses Huffman table AC1, "
+                             "which no DHT before it defines");
+
     /* an empty IDAT chunk before the image data (stb would add 0 to a NULL pointer) */
     assert_false(sl_texture_load("fuzz/corpus/fuzz_texture/empty_idat.png", false, 0, &t, &err));
     assert_msg_contains(err, "empty_idat.png: byte 33: corrupt PNG: an empty IDAT chunk before the image data");
