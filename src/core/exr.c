@@ -608,6 +608,35 @@ static void aim_encoder(exr_encode_pipeline_t *enc, const out_channel *chans, in
     }
 }
 
+/* OpenEXRCore 3.1 stores a chunk's compressed bytes whenever they are not MORE than the raw
+ * ones; but every reader (this library's and OpenEXR's C++ one) takes a chunk whose stored size
+ * equals its raw size as uncompressed, so a chunk that compresses to exactly its raw size reads
+ * back as garbage (found by fuzz_exr's write-and-reread; small or noisy images hit it). The
+ * writer's compress step is wrapped: the raw bytes are kept, and such a chunk stores them. */
+typedef struct {
+    exr_result_t (*compress)(exr_encode_pipeline_t *enc); /* the library's default */
+    void *raw;                                            /* the chunk's raw bytes, kept */
+    size_t raw_capacity;
+} compress_guard;
+
+static exr_result_t compress_or_store_raw(exr_encode_pipeline_t *enc)
+{
+    compress_guard *g = enc->encoding_user_data;
+    size_t raw_bytes = (size_t)enc->packed_bytes;
+    if (raw_bytes > g->raw_capacity) {
+        void *grown = realloc(g->raw, raw_bytes);
+        if (!grown)
+            return EXR_ERR_OUT_OF_MEMORY;
+        g->raw = grown;
+        g->raw_capacity = raw_bytes;
+    }
+    memcpy(g->raw, enc->packed_buffer, raw_bytes);
+    exr_result_t rv = g->compress(enc);
+    if (rv == EXR_ERR_SUCCESS && enc->compressed_bytes == raw_bytes && enc->compressed_buffer != enc->packed_buffer)
+        memcpy(enc->compressed_buffer, g->raw, raw_bytes);
+    return rv;
+}
+
 bool sl_exr_encode(const sl_exr_layer *layers, int count, const sl_exr_options *options, unsigned char **bytes,
                    size_t *size, sl_error *err)
 {
@@ -630,6 +659,7 @@ bool sl_exr_encode(const sl_exr_layer *layers, int count, const sl_exr_options *
     init.write_fn = sink_write;
     exr_context_t ctx = NULL;
     exr_encode_pipeline_t enc = {0};
+    compress_guard guard = {0};
     bool have_encoder = false, ok = false;
     int part = 0;
     exr_result_t rv = exr_start_write(&ctx, "(memory)", EXR_WRITE_FILE_DIRECTLY, &init);
@@ -668,8 +698,11 @@ bool sl_exr_encode(const sl_exr_layer *layers, int count, const sl_exr_options *
                 bool first = !have_encoder;
                 have_encoder = true;
                 aim_encoder(&enc, chans, n, o->tile ? tx * cw : 0, o->tile ? ty * ch : ci.start_y);
-                if (first)
-                    rv = exr_encoding_choose_default_routines(ctx, part, &enc);
+                if (first && !(rv = exr_encoding_choose_default_routines(ctx, part, &enc)) && enc.compress_fn) {
+                    guard.compress = enc.compress_fn;
+                    enc.compress_fn = compress_or_store_raw;
+                    enc.encoding_user_data = &guard;
+                }
                 if (!rv)
                     rv = exr_encoding_run(ctx, part, &enc);
             }
@@ -683,6 +716,7 @@ bool sl_exr_encode(const sl_exr_layer *layers, int count, const sl_exr_options *
 done:
     if (have_encoder)
         exr_encoding_destroy(ctx, &enc);
+    free(guard.raw);
     rv = exr_finish(&ctx); /* writes the chunk table */
     if (ok && (rv || k.io_failed))
         ok = lib_fail(&k, rv ? rv : EXR_ERR_WRITE_IO, "finishing the file", err);
