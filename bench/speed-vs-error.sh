@@ -3,7 +3,12 @@
 # (ground truth cached in out/ground-truth, CSV and plot data in out/speed-vs-error, the report in
 # docs/accuracy.md), then gnuplot for the report's plots in docs/accuracy/.
 #
-#   bench/speed-vs-error.sh [BUILD_DIR] [-- extra bench_speed_vs_error options]
+#   bench/speed-vs-error.sh [BUILD_DIR] [--shards N] [-- extra bench_speed_vs_error options]
+#
+# --shards N: the ground truth first, as N `softlight truth --shard I/N` runs per scene under GNU
+# parallel (add -S hosts to the parallel line to spread them over machines; docs/sharding.md),
+# merged into out/ground-truth/sharded/NAME-WxH/, which the sweep then reads (--truth) and checks.
+# Each shard keeps its own cache there, so a rerun with unchanged inputs integrates nothing.
 #
 # Run from anywhere; works in the source root. BUILD_DIR defaults to build (a Release build with
 # bench_speed_vs_error and, for the GL rows, softlight-gl). First run: about 15 minutes on a
@@ -12,11 +17,30 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${1:-build}
 [ $# -gt 0 ] && shift
+shards=0
+if [ "${1:-}" = "--shards" ]; then
+    shards=${2:?--shards needs a count}
+    shift 2
+fi
 [ "${1:-}" = "--" ] && shift
 bench="$build/bench_speed_vs_error"
 if [ ! -x "$bench" ]; then
     echo "speed-vs-error: $bench not found; build first: cmake --build $build --target bench_speed_vs_error" >&2
     exit 2
+fi
+if [ "$shards" -gt 0 ]; then
+    command -v parallel >/dev/null || { echo "speed-vs-error: --shards needs GNU parallel (apt-get install parallel)" >&2; exit 2; }
+    truth=out/ground-truth/sharded
+    mkdir -p "$truth/cache"
+    "$bench" --truth-jobs "$@" | while read -r name scene w h; do
+        dir=$truth/$name-${w}x$h
+        echo "speed-vs-error: ground truth of $name at ${w}x$h in $shards shards" >&2
+        parallel --halt now,fail=1 "$build/softlight" truth "$scene" --size "${w}x$h" --parts "$dir" --threads 1 \
+            --cache "$truth/cache/$name-${w}x$h-{}-of-$shards.gt" --shard "{}/$shards" ::: $(seq "$shards") >/dev/null
+        "$build/softlight" merge "$dir".shard-*-of-"$shards" >/dev/null
+        rm -f "$dir".shard-*-of-"$shards"
+    done
+    set -- --truth "$truth" "$@"
 fi
 data=out/speed-vs-error
 # passive OpenMP waiting: spinning threads on a shared machine distort every timing (docs/performance.md)

@@ -5,6 +5,11 @@
  *
  *   bench_speed_vs_error [--size WxH] [--frames F] [--anchor-frames F] [--out DIR] [--cache DIR]
  *                        [--doc FILE|none] [--gl PATH|none] [--scenes a,b,...] [--threads T]
+ *                        [--truth DIR] [--truth-jobs]
+ *
+ * --truth DIR reads each scene's ground truth from DIR/NAME-WxH (`softlight truth --parts`, e.g.
+ * merged from sharded runs: bench/speed-vs-error.sh --shards N, docs/sharding.md) instead of
+ * integrating it; --truth-jobs prints what to run for that (NAME SCENE W H per line) and exits.
  *
  * Per scene: the G-buffer is rasterized once at the error size (default 192x108; a scene of
  * another aspect gets the same pixel count), its ground truth (src/shading/ground_truth_image.h:
@@ -477,6 +482,88 @@ static double cached_seconds(const char *path)
     return t;
 }
 
+/* The error size of a scene: c's size for its aspect, else the same pixel count at the scene's. */
+static void error_size(const config *c, const sl_scene *scene, int *w, int *h)
+{
+    double aspect = (double)scene->settings.width / scene->settings.height, px = (double)c->width * c->height;
+    *w = (int)lround(sqrt(px * aspect));
+    *h = (int)lround(*w / aspect);
+    if (fabs(aspect - (double)c->width / c->height) < 1e-3) {
+        *w = c->width;
+        *h = c->height;
+    }
+}
+
+/* The ground truth of this run's G-buffer from DIR, written by `softlight truth SCENE --size WxH
+ * --parts DIR` (or merged from its --shard runs): diffuse, both specular G terms and the mask as
+ * PFMs (row 0 = top). Trusted only after two checks: the mask is this run's coverage, and 8
+ * covered pixels spread over the image, integrated here again, equal the files' values bit for bit
+ * (the truth of a pixel depends only on its texel and the frame's inputs: any difference in
+ * environment, rotation, intensity, eye or G-buffer shows). */
+static void read_truth_dir(const char *dir, const sl_gt_image_desc *gd, sl_gt_image *gt)
+{
+    sl_error err;
+    static const char *const files[4] = {"diffuse", "specular-inv-lh2", "specular-one", "mask"};
+    sl_image *planes[4] = {&gt->diffuse, &gt->specular[SL_GT_G_INV_LH2], &gt->specular[SL_GT_G_ONE], &gt->mask};
+    const sl_gbuffer *gb = gd->gbuffer;
+    *gt = (sl_gt_image){.width = gb->width, .height = gb->height, .from_cache = true};
+    for (int i = 0; i < 4; i++) {
+        char path[PATH_LEN + 32];
+        snprintf(path, sizeof path, "%s/%s.pfm", dir, files[i]);
+        if (!sl_image_read_pfm(path, 0, planes[i], NULL, &err))
+            die("--truth", &err);
+        if (planes[i]->width != gb->width || planes[i]->height != gb->height) {
+            fprintf(stderr, "bench_speed_vs_error: %s is %dx%d, this run's G-buffer %dx%d\n", path, planes[i]->width,
+                    planes[i]->height, gb->width, gb->height);
+            exit(2);
+        }
+    }
+    long covered = 0;
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++) {
+            bool mine = sl_gbuffer_covered(sl_gbuffer_at(gb, x, gb->height - 1 - y));
+            if (mine != (sl_image_pixel(&gt->mask, x, y)[0] > 0.5f)) {
+                fprintf(stderr, "bench_speed_vs_error: %s/mask.pfm differs from this run's coverage at (%d, %d) "
+                                "(row 0 = top): another scene, size or camera?\n", dir, x, y);
+                exit(2);
+            }
+            covered += mine;
+        }
+    gt->covered = covered;
+    /* the spot check: a G-buffer with only 8 of the covered texels, integrated without a cache */
+    sl_gbuffer probe = {0};
+    if (!sl_gbuffer_resize(&probe, gb->width, gb->height, &err))
+        die("--truth", &err);
+    sl_gbuffer_clear(&probe);
+    long step = covered / 8 > 0 ? covered / 8 : 1, k = 0;
+    for (size_t i = 0; i < (size_t)gb->width * (size_t)gb->height; i++)
+        if (sl_gbuffer_covered(&gb->texels[i]) && k++ % step == step / 2)
+            probe.texels[i] = gb->texels[i];
+    sl_gt_image_desc pd = *gd;
+    pd.gbuffer = &probe;
+    pd.cache_path = NULL;
+    pd.progress = NULL;
+    sl_gt_image again;
+    if (!sl_gt_image_compute(&again, &pd, &err))
+        die("--truth", &err);
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++) {
+            if (!sl_gbuffer_covered(sl_gbuffer_at(&probe, x, gb->height - 1 - y)))
+                continue;
+            for (int i = 0; i < 3; i++) {
+                const sl_image *mine = i == 0 ? &again.diffuse : &again.specular[i - 1];
+                if (memcmp(sl_image_pixel(mine, x, y), sl_image_pixel(planes[i], x, y), 3 * sizeof(float)) != 0) {
+                    fprintf(stderr, "bench_speed_vs_error: %s/%s.pfm at (%d, %d) is not this run's ground truth "
+                                    "(integrated again here): another environment, rotation, intensity or eye?\n",
+                            dir, files[i], x, y);
+                    exit(2);
+                }
+            }
+        }
+    sl_gt_image_free(&again);
+    sl_gbuffer_free(&probe);
+}
+
 static void run_scene(const config *c, const scene_entry *s, scene_info *si, const variant_list *vl,
                       result res[MAX_VARIANTS])
 {
@@ -488,13 +575,7 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
     si->ggx = s->ggx;
     si->anchor_w = scene.settings.width;
     si->anchor_h = scene.settings.height;
-    double aspect = (double)si->anchor_w / si->anchor_h, px = (double)c->width * c->height;
-    si->w = (int)lround(sqrt(px * aspect));
-    si->h = (int)lround(si->w / aspect);
-    if (fabs(aspect - (double)c->width / c->height) < 1e-3) {
-        si->w = c->width;
-        si->h = c->height;
-    }
+    error_size(c, &scene, &si->w, &si->h);
     sl_render_desc desc = {.width = si->w, .height = si->h, .threads = c->threads, .irradiance_set = true};
     desc.lighting = (sl_lighting_options){.irradiance = sl_irradiance_default(), .no_point_lights = true};
     sl_renderer r;
@@ -526,10 +607,16 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
                            .env_rotation_deg = r.desc.lighting.env_rotation_deg,
                            .env_intensity = r.desc.lighting.env_intensity, .threads = c->threads,
                            .cache_path = cache, .label = s->path, .progress = on_progress, .progress_user = &ps};
-    if (!sl_gt_image_compute(&gt, &gd, &err))
+    if (c->truth_dir) {
+        char dir[PATH_LEN];
+        snprintf(dir, sizeof dir, "%s/%s-%dx%d", c->truth_dir, s->name, si->w, si->h);
+        read_truth_dir(dir, &gd, &gt);
+        si->gt_read = true;
+    } else if (!sl_gt_image_compute(&gt, &gd, &err)) {
         die("ground truth", &err);
+    }
     si->covered = gt.covered;
-    si->gt_seconds = gt.from_cache ? cached_seconds(cache) : gt.seconds;
+    si->gt_seconds = si->gt_read ? 0.0 : gt.from_cache ? cached_seconds(cache) : gt.seconds;
     si->gt_cached = gt.from_cache;
     sl_image gt_total[2] = {{0}, {0}};
     for (int g = 0; g < 2; g++)
@@ -620,6 +707,16 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
 
 /* ------------------------------------------------------------------ main */
 
+/* --scenes is a comma list of names */
+static bool scene_selected(const char *list, const char *name)
+{
+    size_t len = strlen(name);
+    for (const char *p = strstr(list, name); p; p = strstr(p + 1, name))
+        if ((p == list || p[-1] == ',') && (!p[len] || p[len] == ','))
+            return true;
+    return false;
+}
+
 static bool parse_size(const char *s, int *w, int *h) { return sscanf(s, "%dx%d", w, h) == 2 && *w > 0 && *h > 0; }
 
 int main(int argc, char **argv)
@@ -628,6 +725,7 @@ int main(int argc, char **argv)
                 .cache_dir = "out/ground-truth", .doc = "docs/accuracy.md", .gl = NULL};
     snprintf(c.scenes, sizeof c.scenes, "default,bunny,city-sun,grazing,top-down,ggx");
     static char gl_default[PATH_LEN];
+    bool truth_jobs = false;
     for (int i = 1; i < argc; i++) {
         const char *a = argv[i], *v = i + 1 < argc ? argv[i + 1] : NULL;
         if (!strcmp(a, "--size") && v && parse_size(v, &c.width, &c.height))
@@ -648,13 +746,33 @@ int main(int argc, char **argv)
             c.gl = argv[++i];
         else if (!strcmp(a, "--scenes") && v)
             snprintf(c.scenes, sizeof c.scenes, "%s", argv[++i]);
+        else if (!strcmp(a, "--truth") && v)
+            c.truth_dir = argv[++i];
+        else if (!strcmp(a, "--truth-jobs"))
+            truth_jobs = true;
         else {
             fprintf(stderr,
                     "usage: bench_speed_vs_error [--size WxH] [--frames F] [--anchor-frames F] [--threads T]\n"
                     "       [--out DIR] [--cache DIR] [--doc FILE|none] [--gl PATH|none] [--scenes a,b,...]\n"
+                    "       [--truth DIR] [--truth-jobs]\n"
                     "(run from the source root; bench/speed-vs-error.sh runs it and makes the plots)\n");
             return 2;
         }
+    }
+    if (truth_jobs) { /* what bench/speed-vs-error.sh --shards runs: one line per scene, NAME PATH W H */
+        for (size_t k = 0; k < sizeof all_scenes / sizeof all_scenes[0]; k++) {
+            if (!scene_selected(c.scenes, all_scenes[k].name))
+                continue;
+            sl_error err;
+            sl_scene scene;
+            if (!sl_scene_load(all_scenes[k].path, &scene, &err))
+                die(all_scenes[k].path, &err);
+            int w, h;
+            error_size(&c, &scene, &w, &h);
+            printf("%s %s %d %d\n", all_scenes[k].name, all_scenes[k].path, w, h);
+            sl_scene_free(&scene);
+        }
+        return 0;
     }
     if (!c.gl) { /* softlight-gl beside this program, if it was built */
         snprintf(gl_default, sizeof gl_default, "%s", argv[0]);
@@ -685,10 +803,7 @@ int main(int argc, char **argv)
     fprintf(stderr, "speed vs error: %d variants, error size %dx%d, %d frames per timing, GL %s\n", vl.count, c.width,
             c.height, c.frames, with_gl ? c.gl : "off");
     for (size_t k = 0; k < sizeof all_scenes / sizeof all_scenes[0]; k++) {
-        /* --scenes is a comma list of names */
-        const char *p = strstr(c.scenes, all_scenes[k].name);
-        size_t len = strlen(all_scenes[k].name);
-        if (!p || (p != c.scenes && p[-1] != ',') || (p[len] && p[len] != ','))
+        if (!scene_selected(c.scenes, all_scenes[k].name))
             continue;
         double ts = sl_now_seconds();
         fprintf(stderr, "scene %s\n", all_scenes[k].name);

@@ -287,13 +287,19 @@ static void write_method(const report *rp, FILE *f)
                "  both). Cached in `%s/` (`src/shading/ground_truth_image.h`); ",
             c->cache_dir);
     double gt_total = 0;
-    bool all_cached = true;
+    bool all_cached = true, any_read = false;
     for (int k = 0; k < scenes; k++) {
         gt_total += si[k].gt_seconds;
         all_cached &= si[k].gt_cached;
+        any_read |= si[k].gt_read;
     }
-    fprintf(f, "computing it took %.0f s for the %d scenes (%s).\n", gt_total, scenes,
-            all_cached ? "when the cache was made; this run read it" : "in this run");
+    if (any_read)
+        fprintf(f, "this run read it from `%s/` (merged `softlight truth --parts --shard I/N` runs, checked\n"
+                   "  against this run's coverage and by integrating 8 of its pixels again; docs/sharding.md).\n",
+                c->truth_dir);
+    else
+        fprintf(f, "computing it took %.0f s for the %d scenes (%s).\n", gt_total, scenes,
+                all_cached ? "when the cache was made; this run read it" : "in this run");
     fprintf(f, "* **Error size**: %dx%d for the 16:9 scenes and the same pixel count for the others (", c->width,
             c->height);
     for (int k = 0; k < scenes; k++)
@@ -759,7 +765,7 @@ static void write_ggx(const report *rp, FILE *f)
         fprintf(f, "%s%s, %dx%d, %ld covered pixels, ground truth %.0f s (%.1f ms per covered pixel and core%s)",
                 q > rp->scenes ? "; " : "", si[q].name, si[q].w, si[q].h, si[q].covered, si[q].gt_seconds,
                 si[q].covered ? 1e3 * si[q].gt_seconds * threads / (double)si[q].covered : 0.0,
-                si[q].gt_cached ? ", when the cache was made" : "");
+                si[q].gt_read ? ", by the sharded runs" : si[q].gt_cached ? ", when the cache was made" : "");
     fprintf(f, ". The same variants as the Phong set, on the same G-buffer path, against the ground truth\n"
                "with GGX's D and height-correlated Smith visibility (GGX has one G: the `G=1` rows equal the\n"
                "others on it). `spec` on a GGX material is eq. (3)'s structure with GGX's lobe (samples drawn\n"

@@ -48,6 +48,7 @@ typedef struct {
     int width, height;  /* error size for 16:9; others keep the pixel count */
     int frames, anchor_frames, threads;
     const char *out_dir, *cache_dir, *doc, *gl;
+    const char *truth_dir; /* NULL: compute (or read the cache); else DIR/NAME-WxH from `softlight truth --parts` */
     char scenes[256];
 } config;
 
@@ -58,6 +59,7 @@ typedef struct {
     long covered;
     double gt_seconds;
     bool gt_cached;
+    bool gt_read;       /* read from c->truth_dir (sharded truth runs: their time is not this run's) */
     double env_lights_ms;  /* extracting 32 env lights and the residual's mips (median of 3) */
     int env_lights_count;
     double env_lights_share; /* their share of the map's luminous power */
