@@ -188,6 +188,24 @@ static bool check_texture(checker *c, const cJSON *t, const char *path, int imag
     return !(v = cJSON_GetObjectItemCaseSensitive(t, "sampler")) || index_in(c, v, sub, samplers, "samplers");
 }
 
+/* An image: a uri string or a bufferView in range, and a mimeType glTF 2.0 allows. assimp 5.2
+ * takes the text after the mimeType's '/' without checking there is one (a NULL + 1 pointer:
+ * found by fuzz_model). */
+static bool check_image(checker *c, const cJSON *im, const char *path, int views)
+{
+    char sub[96];
+    const cJSON *v;
+    snprintf(sub, sizeof sub, "%s.mimeType", path);
+    if ((v = cJSON_GetObjectItemCaseSensitive(im, "mimeType")) &&
+        !(cJSON_IsString(v) && (!strcmp(v->valuestring, "image/png") || !strcmp(v->valuestring, "image/jpeg"))))
+        return bad(c, sub, "\"image/png\" or \"image/jpeg\"");
+    snprintf(sub, sizeof sub, "%s.uri", path);
+    if ((v = cJSON_GetObjectItemCaseSensitive(im, "uri")) && !cJSON_IsString(v))
+        return bad(c, sub, "a string");
+    snprintf(sub, sizeof sub, "%s.bufferView", path);
+    return !(v = cJSON_GetObjectItemCaseSensitive(im, "bufferView")) || index_in(c, v, sub, views, "bufferViews");
+}
+
 /* primitives: an array of objects whose attributes, indices and material are in range. */
 static bool check_mesh(checker *c, const cJSON *m, const char *path, int accessors, int materials)
 {
@@ -250,6 +268,8 @@ static bool check_json(checker *c, const char *json, size_t size)
                 ok = check_mesh(c, e, path, count_of(root, "accessors"), count_of(root, "materials"));
             else if (ok && strcmp(arrays[i], "accessors") == 0)
                 ok = check_accessor(c, e, path, count_of(root, "bufferViews"));
+            else if (ok && strcmp(arrays[i], "images") == 0)
+                ok = check_image(c, e, path, count_of(root, "bufferViews"));
         }
     }
     cJSON_Delete(root);
