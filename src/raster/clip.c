@@ -8,22 +8,29 @@
  *
  * Watertightness: an edge shared by two triangles is cut at the same point in both,
  * because the intersection is always interpolated from the edge's inside vertex
- * towards its outside vertex, whatever direction the polygon walks the edge. */
+ * towards its outside vertex, whatever direction the polygon walks the edge.
+ *
+ * Precision: the cut is computed in double and rounded to float once. At the near plane w
+ * is small (the camera's near distance) while the edge's ends have w of the scene's size,
+ * so a float lerp cancels: w came out 1e-4 off relative, and with it the cut vertex's 1/w,
+ * against the varyings lerped with the same t (docs/gl.md "Clipped triangles"). */
 #include "rast_internal.h"
 
 #include <string.h>
 
-/* Signed distance to plane `p`, >= 0 inside. */
-static float plane_dist(unsigned p, vec4 c, float gx, float gy)
+/* Signed distance to plane `p`, >= 0 inside. In double, where each product of two floats is
+ * exact: the sign (the outcode) is the exact one, and the cut (lerp_vertex) does not cancel. */
+static double plane_dist(unsigned p, vec4 c, float gx, float gy)
 {
+    double x = (double)c.x, y = (double)c.y, z = (double)c.z, w = (double)c.w;
     switch (p) {
-    case RAST_PLANE_NEAR: return c.z + c.w;
-    case RAST_PLANE_FAR: return c.w - c.z;
-    case RAST_PLANE_W: return c.w - RAST_W_EPSILON;
-    case RAST_PLANE_LEFT: return c.x + gx * c.w;
-    case RAST_PLANE_RIGHT: return gx * c.w - c.x;
-    case RAST_PLANE_BOTTOM: return c.y + gy * c.w;
-    default: return gy * c.w - c.y; /* RAST_PLANE_TOP */
+    case RAST_PLANE_NEAR: return z + w;
+    case RAST_PLANE_FAR: return w - z;
+    case RAST_PLANE_W: return w - (double)RAST_W_EPSILON;
+    case RAST_PLANE_LEFT: return x + (double)gx * w;
+    case RAST_PLANE_RIGHT: return (double)gx * w - x;
+    case RAST_PLANE_BOTTOM: return y + (double)gy * w;
+    default: return (double)gy * w - y; /* RAST_PLANE_TOP */
     }
 }
 
@@ -34,18 +41,21 @@ unsigned rast_outcode(vec4 c, float gx, float gy)
     unsigned code = 0;
     for (int i = 0; i < RAST_PLANE_COUNT; i++) {
         unsigned p = 1u << i;
-        if (plane_dist(p, c, gx, gy) < 0.0f)
+        if (plane_dist(p, c, gx, gy) < 0.0)
             code |= p;
     }
     return code;
 }
 
-/* out = a + t (b - a), a being the inside vertex. */
-static void lerp_vertex(const rast_cvert *a, const rast_cvert *b, float t, int nvary, rast_cvert *out)
+static float lerp_d(float a, float b, double t) { return (float)((double)a + ((double)b - (double)a) * t); }
+
+/* out = a + t (b - a), a being the inside vertex; rounded to float once. */
+static void lerp_vertex(const rast_cvert *a, const rast_cvert *b, double t, int nvary, rast_cvert *out)
 {
-    out->clip = add4(a->clip, scale4(sub4(b->clip, a->clip), t));
+    vec4 ca = a->clip, cb = b->clip;
+    out->clip = vec4(lerp_d(ca.x, cb.x, t), lerp_d(ca.y, cb.y, t), lerp_d(ca.z, cb.z, t), lerp_d(ca.w, cb.w, t));
     for (int i = 0; i < nvary; i++)
-        out->v[i] = a->v[i] + (b->v[i] - a->v[i]) * t;
+        out->v[i] = lerp_d(a->v[i], b->v[i], t);
 }
 
 int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
@@ -64,8 +74,8 @@ int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float
         int m = 0;
         for (int k = 0; k < n; k++) {
             const rast_cvert *a = &src[k], *b = &src[(k + 1) % n];
-            float da = plane_dist(p, a->clip, gx, gy), db = plane_dist(p, b->clip, gx, gy);
-            bool ina = da >= 0.0f, inb = db >= 0.0f;
+            double da = plane_dist(p, a->clip, gx, gy), db = plane_dist(p, b->clip, gx, gy);
+            bool ina = da >= 0.0, inb = db >= 0.0;
             if (ina && m < RAST_CLIP_MAX)
                 dst[m++] = *a;
             if (ina != inb && m < RAST_CLIP_MAX) {

@@ -57,11 +57,10 @@ enum {
 };
 
 /* The vertex stage's output position: clip coordinates, and (when the vertex is
- * inside every plane) its snapped window position, depth and 1/w. */
+ * inside every plane) its snapped window position. */
 typedef struct {
     vec4 clip;
     int32_t X, Y;   /* window position in 1/256 pixel */
-    float z, iw;    /* window depth z_ndc*0.5+0.5, 1/w */
     unsigned outcode;
 } rast_vpos;
 
@@ -71,16 +70,19 @@ typedef struct {
     float v[SL_MAX_VARYINGS];
 } rast_cvert;
 
-/* A vertex entering triangle setup. */
+/* A vertex entering triangle setup: its snapped position for the edges, its clip
+ * coordinates for the attribute planes (setup.c: rast_window_exact). */
 typedef struct {
     int32_t X, Y;
-    float z, iw;
+    vec4 clip;
     const float *v; /* varying_count varyings, not yet divided by w */
 } rast_wvert;
 
 /* A set-up triangle, counter-clockwise. Edge k: E_k(x, y) = ex[k]*x + ey[k]*y + ec[k]
  * for the centre of pixel (x, y), biased by the fill rule so covered <=> all E_k >= 0.
- * Attributes are planes f(x, y) = f0 + fdx*(x - ox) + fdy*(y - oy) over pixel indices. */
+ * Attributes are planes f(x, y) = f0 + fdx*(x - ox) + fdy*(y - oy) over pixel indices;
+ * (ox, oy) is the first pixel of the bounds (integers: x - ox is exact in float), f0 the
+ * value at its centre. */
 typedef struct {
     int64_t ex[3], ey[3], ec[3];
     int32_t xmin, ymin, xmax, ymax; /* pixel bounds, inside the target */
@@ -206,17 +208,31 @@ unsigned rast_outcode(vec4 c, float gx, float gy);
 int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
                        rast_cvert out[RAST_CLIP_MAX]);
 
-/* Clip -> window: the one place the viewport transform is written, so a vertex shared by
- * two triangles lands on the same fixed-point position whichever path computed it. */
-static inline void rast_to_window(const sl_target *tg, vec4 c, int32_t *X, int32_t *Y, float *z, float *iw)
+/* Clip -> window, snapped: the one place the snapping viewport transform is written, so a
+ * vertex shared by two triangles lands on the same fixed-point position whichever path
+ * computed it. The edges (coverage) use this position. */
+static inline void rast_to_window(const sl_target *tg, vec4 c, int32_t *X, int32_t *Y)
 {
     float inv = 1.0f / c.w;
     float xw = (c.x * inv * 0.5f + 0.5f) * (float)tg->width;
     float yw = (c.y * inv * 0.5f + 0.5f) * (float)tg->height;
     *X = (int32_t)lrintf(xw * (float)RAST_SUBPIXEL_ONE);
     *Y = (int32_t)lrintf(yw * (float)RAST_SUBPIXEL_ONE);
-    *z = c.z * inv * 0.5f + 0.5f;
-    *iw = inv;
+}
+
+/* Clip -> window, exact: the same transform in double, not snapped, with window depth
+ * z_ndc*0.5+0.5 and 1/w. The attribute planes (depth, 1/w, v/w) are built on it, as llvmpipe
+ * builds them on its float positions: on the snapped ones a varying is off by its gradient
+ * times up to 1/512 pixel, and near a horizon that is a large share of its value (setup.c). */
+typedef struct {
+    double x, y, z, iw;
+} rast_exact;
+
+static inline rast_exact rast_window_exact(const sl_target *tg, vec4 c)
+{
+    double iw = 1.0 / (double)c.w;
+    return (rast_exact){((double)c.x * iw * 0.5 + 0.5) * (double)tg->width,
+                        ((double)c.y * iw * 0.5 + 0.5) * (double)tg->height, (double)c.z * iw * 0.5 + 0.5, iw};
 }
 
 /* setup.c: set up and bin triangles [first, last) of the draw list into `chunk`. */

@@ -280,7 +280,7 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
                 if (!isfinite(v[j]))
                     p->outcode = RAST_BAD;
             if (p->outcode == 0)
-                rast_to_window(d->target, p->clip, &p->X, &p->Y, &p->z, &p->iw);
+                rast_to_window(d->target, p->clip, &p->X, &p->Y);
         }
     }
 }

@@ -54,13 +54,28 @@ static bool bin_push(rast_chunk *ch, int tile, uint32_t item)
     return true;
 }
 
-/* Plane through three values at vertex-0-relative positions (x1,y1), (x2,y2) in pixels. */
-static void plane(float f0, float f1, float f2, float x1, float y1, float x2, float y2, float inv_det, float out[3])
+/* Where a triangle's attribute planes are built: its vertices' exact window positions
+ * relative to vertex 0, and the anchor (the centre of the plane origin's pixel) relative to
+ * vertex 0. All in double: a clipped triangle's vertices lie up to the guard band away
+ * (16000 pixels), and a vertex cut at the near plane has 1/w = 1/near while the pixels on the
+ * horizon have 1/w = 1/far; a float plane anchored there loses the far pixels' value to
+ * cancellation (measured on a floor crossing the near plane: world positions off by 4e-3 of
+ * their distance; in double, 1e-6 as llvmpipe's; docs/gl.md "Clipped triangles"). */
+typedef struct {
+    double x1, y1, x2, y2, inv_det; /* vertices 1 and 2, 1 / twice the area */
+    double ax, ay;                  /* the anchor */
+} plane_frame;
+
+/* Plane through values f0, f1, f2 at the frame's vertices: its value at the anchor and its
+ * gradient per pixel, rounded to float once. */
+static void plane(const plane_frame *fr, double f0, double f1, double f2, float out[3])
 {
-    float d1 = f1 - f0, d2 = f2 - f0;
-    out[0] = f0;
-    out[1] = (d1 * y2 - d2 * y1) * inv_det;
-    out[2] = (d2 * x1 - d1 * x2) * inv_det;
+    double d1 = f1 - f0, d2 = f2 - f0;
+    double gx = (d1 * fr->y2 - d2 * fr->y1) * fr->inv_det;
+    double gy = (d2 * fr->x1 - d1 * fr->x2) * fr->inv_det;
+    out[0] = (float)(f0 + gx * fr->ax + gy * fr->ay);
+    out[1] = (float)gx;
+    out[2] = (float)gy;
 }
 
 /* Set up one triangle of draw `call` in window coordinates and bin it. */
@@ -137,20 +152,44 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
         t->ec[k] = ec + (ea + eb) * (RAST_SUBPIXEL_ONE / 2);
     }
 
-    const float sub = 1.0f / (float)RAST_SUBPIXEL_ONE;
-    float x1 = (float)(v1.X - v0.X) * sub, y1 = (float)(v1.Y - v0.Y) * sub;
-    float x2 = (float)(v2.X - v0.X) * sub, y2 = (float)(v2.Y - v0.Y) * sub;
-    float inv_det = (float)(RAST_SUBPIXEL_ONE * RAST_SUBPIXEL_ONE) / (float)area;
-    t->ox = (float)v0.X * sub - 0.5f;
-    t->oy = (float)v0.Y * sub - 0.5f;
-    plane(v0.z, v1.z, v2.z, x1, y1, x2, y2, inv_det, t->z);
-    plane(v0.iw, v1.iw, v2.iw, x1, y1, x2, y2, inv_det, t->iw);
-    t->iw_lo = minf(v0.iw, minf(v1.iw, v2.iw));
-    t->iw_hi = maxf(v0.iw, maxf(v1.iw, v2.iw));
+    /* Attribute planes on the exact positions (rast_window_exact), anchored at the centre of
+     * the first pixel of the bounds. A sliver whose exact area is not close to its snapped one
+     * (the snap moved a vertex by a share of its size) takes the snapped positions, whose area
+     * is exact and non-zero: its gradients stay bounded. */
+    rast_exact e[3];
+    for (int k = 0; k < 3; k++)
+        e[k] = rast_window_exact(d->target, v[k]->clip);
+    const double sub = 1.0 / (double)RAST_SUBPIXEL_ONE;
+    double snapped_area = (double)area * sub * sub;
+    double px[3], py[3];
+    for (int k = 0; k < 3; k++) {
+        px[k] = e[k].x;
+        py[k] = e[k].y;
+    }
+    double exact_area = (px[1] - px[0]) * (py[2] - py[0]) - (px[2] - px[0]) * (py[1] - py[0]);
+    if (!(exact_area > 0.5 * snapped_area && exact_area < 2.0 * snapped_area)) {
+        for (int k = 0; k < 3; k++) {
+            px[k] = (double)v[k]->X * sub;
+            py[k] = (double)v[k]->Y * sub;
+        }
+        exact_area = snapped_area;
+    }
+    t->ox = (float)xlo;
+    t->oy = (float)ylo;
+    plane_frame fr = {
+        .x1 = px[1] - px[0], .y1 = py[1] - py[0], .x2 = px[2] - px[0], .y2 = py[2] - py[0],
+        .inv_det = 1.0 / exact_area,
+        .ax = (double)xlo + 0.5 - px[0], .ay = (double)ylo + 0.5 - py[0],
+    };
+    plane(&fr, e[0].z, e[1].z, e[2].z, t->z);
+    plane(&fr, e[0].iw, e[1].iw, e[2].iw, t->iw);
+    float iw0 = (float)e[0].iw, iw1 = (float)e[1].iw, iw2 = (float)e[2].iw;
+    t->iw_lo = minf(iw0, minf(iw1, iw2));
+    t->iw_hi = maxf(iw0, maxf(iw1, iw2));
     t->vary = (uint32_t)ch->vary_count;
     float *pv = ch->vary + ch->vary_count;
     for (int i = 0; i < call->nvary; i++)
-        plane(v0.v[i] * v0.iw, v1.v[i] * v1.iw, v2.v[i] * v2.iw, x1, y1, x2, y2, inv_det, pv + 3 * i);
+        plane(&fr, (double)v0.v[i] * e[0].iw, (double)v1.v[i] * e[1].iw, (double)v2.v[i] * e[2].iw, pv + 3 * i);
 
     /* Bin: every tile the bounds touch, unless an edge excludes the whole tile. */
     uint32_t index = (uint32_t)ch->tri_count;
@@ -208,9 +247,9 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
         ch->stats.triangles_in++;
         unsigned all = p0->outcode | p1->outcode | p2->outcode;
         if (all == 0) {
-            rast_wvert w0 = {p0->X, p0->Y, p0->z, p0->iw, vvary + (size_t)i0 * (size_t)nvary};
-            rast_wvert w1 = {p1->X, p1->Y, p1->z, p1->iw, vvary + (size_t)i1 * (size_t)nvary};
-            rast_wvert w2 = {p2->X, p2->Y, p2->z, p2->iw, vvary + (size_t)i2 * (size_t)nvary};
+            rast_wvert w0 = {p0->X, p0->Y, p0->clip, vvary + (size_t)i0 * (size_t)nvary};
+            rast_wvert w1 = {p1->X, p1->Y, p1->clip, vvary + (size_t)i1 * (size_t)nvary};
+            rast_wvert w2 = {p2->X, p2->Y, p2->clip, vvary + (size_t)i2 * (size_t)nvary};
             setup_triangle(d, call, (uint16_t)ci, ch, w0, w1, w2);
             continue;
         }
@@ -236,9 +275,11 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
         rast_wvert w[RAST_CLIP_MAX];
         bool finite = true;
         for (int k = 0; k < n; k++) {
-            rast_to_window(d->target, poly[k].clip, &w[k].X, &w[k].Y, &w[k].z, &w[k].iw);
+            vec4 c = poly[k].clip;
+            rast_to_window(d->target, c, &w[k].X, &w[k].Y);
+            w[k].clip = c;
             w[k].v = poly[k].v;
-            finite &= poly[k].clip.w > 0.0f && isfinite(w[k].iw) && isfinite(w[k].z);
+            finite &= c.w > 0.0f && isfinite(1.0f / c.w) && isfinite(c.z / c.w);
         }
         if (!finite) { /* rounding put a cut vertex at w <= 0: drop rather than divide by it */
             ch->stats.triangles_dropped++;
