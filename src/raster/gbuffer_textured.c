@@ -181,6 +181,7 @@ const sl_program sl_gbuffer_tex_program = {
     .varying_count = SL_GBUFFER_TEX_VARYINGS,
     .derivatives = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
+    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -189,6 +190,7 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .derivatives = true,
     .discards = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
+    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */
