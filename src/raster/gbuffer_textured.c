@@ -163,10 +163,12 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
         vec2 dPdx = vec2(sl_quad_dfdx_coarse(us), sl_quad_dfdx_coarse(vs));
         vec2 dPdy = vec2(sl_quad_dfdy_coarse(us), sl_quad_dfdy_coarse(vs));
         float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+        vec4 value[4];
+        sl_texture_sample4(s, uv, lambda, value); /* the four lanes' sl_texture_sample, one dispatch */
         for (int l = 0; l < 4; l++) {
-            m[l].map[slot] = sl_texture_sample(s, uv[l], lambda);
+            m[l].map[slot] = value[l];
             if (u->trace)
-                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, m[l].map[slot]);
+                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, value[l]);
         }
     }
     for (int l = 0; l < 4; l++)
