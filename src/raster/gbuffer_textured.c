@@ -163,10 +163,12 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
         vec2 dPdx = vec2(sl_quad_dfdx_coarse(us), sl_quad_dfdx_coarse(vs));
         vec2 dPdy = vec2(sl_quad_dfdy_coarse(us), sl_quad_dfdy_coarse(vs));
         float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+        vec4 value[4];
+        sl_texture_sample4(s, uv, lambda, value); /* the four lanes' sl_texture_sample, one dispatch */
         for (int l = 0; l < 4; l++) {
-            m[l].map[slot] = sl_texture_sample(s, uv[l], lambda);
+            m[l].map[slot] = value[l];
             if (u->trace)
-                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, m[l].map[slot]);
+                u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, value[l]);
         }
     }
     for (int l = 0; l < 4; l++)
@@ -181,6 +183,7 @@ const sl_program sl_gbuffer_tex_program = {
     .varying_count = SL_GBUFFER_TEX_VARYINGS,
     .derivatives = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
+    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -189,6 +192,7 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .derivatives = true,
     .discards = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
+    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */

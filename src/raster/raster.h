@@ -116,6 +116,11 @@ typedef struct {
                                               implicit level): it runs in 2x2 quads with helpers */
     bool discards;                         /* the fragment shader may discard: depth is written after it */
     sl_fragment_quad_shader fragment_quad; /* NULL: the generic rounds (`derivatives` programs only) */
+    bool quad_writes_texel;                /* fragment_quad writes every byte of the texel of each lane
+                                              that does not discard, and reads none: its texels then do
+                                              not start as the target's (not copied in), and a live lane
+                                              of a program that cannot discard writes the target's in
+                                              place (tile.c quad()) */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */

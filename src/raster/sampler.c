@@ -145,6 +145,7 @@ static inline __attribute__((always_inline)) vec4 sample_as(sl_texture_format fm
 /* One instance of each per format, and the tables that pick them by t->format. */
 typedef vec4 bilinear_fn(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t);
 typedef vec4 sample_fn(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda);
+typedef void sample4_fn(const sl_texture *t, const sl_sampler_state *st, const vec2 uv[4], float lambda, vec4 out[4]);
 #define FORMAT_FUNCTIONS(F)                                                                                    \
     static vec4 bilinear_##F(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap ws, sl_wrap wt) \
     {                                                                                                          \
@@ -153,6 +154,12 @@ typedef vec4 sample_fn(const sl_texture *t, const sl_sampler_state *st, vec2 uv,
     static vec4 sample_##F(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda)             \
     {                                                                                                          \
         return sample_as(SL_TEX_##F, t, st, uv, lambda);                                                       \
+    }                                                                                                          \
+    static void sample4_##F(const sl_texture *t, const sl_sampler_state *st, const vec2 uv[4], float lambda,    \
+                            vec4 out[4])                                                                       \
+    {                                                                                                          \
+        for (int l = 0; l < 4; l++)                                                                            \
+            out[l] = sample_as(SL_TEX_##F, t, st, uv[l], lambda);                                              \
     }
 FORMAT_FUNCTIONS(R8)
 FORMAT_FUNCTIONS(RG8)
@@ -176,6 +183,7 @@ FORMAT_FUNCTIONS(RGBA32F)
      FORMAT_ENTRY(prefix, RGBA32F)}
 static bilinear_fn *const bilinear_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(bilinear_);
 static sample_fn *const sample_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(sample_);
+static sample4_fn *const sample4_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(sample4_);
 
 vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
 {
@@ -196,6 +204,17 @@ vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
     if (!complete(t, &s->state))
         return vec4(0, 0, 0, 1);
     return sample_for[t->format](t, &s->state, uv, lambda);
+}
+
+void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, vec4 out[4])
+{
+    const sl_texture *t = s->texture;
+    if (!complete(t, &s->state)) {
+        for (int l = 0; l < 4; l++)
+            out[l] = vec4(0, 0, 0, 1);
+        return;
+    }
+    sample4_for[t->format](t, &s->state, uv, lambda, out);
 }
 
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of

@@ -140,5 +140,8 @@ float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
 /* Sampling at a given (already biased and clamped) lambda: the min/mag choice and the level
  * selection of GL 4.6 section 8.14. */
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda);
+/* The same for the four lanes of a quad at one lambda (a quad form's texture()): out[l] is
+ * sl_texture_sample(s, uv[l], lambda), bit for bit, with one format dispatch for the four. */
+void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, vec4 out[4]);
 
 #endif

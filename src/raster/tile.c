@@ -388,7 +388,11 @@ static void draw_tri_spans_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1
  * are made at its pixel centre (the uncovered ones extrapolated from the same planes),
  * the lanes run through the shader in rounds into scratch texels (quad.c), or once
  * through the program's quad form on the span path; then each live lane that did not
- * discard is written. Helpers write nothing. */
+ * discard is written. Helpers write nothing.
+ *
+ * A quad form that writes its whole texel (sl_program.quad_writes_texel) reads nothing
+ * of it, so its texels are not copied in: a live lane of a program that cannot discard
+ * writes the target's texel in place (no copy out either), the others write scratch. */
 static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int qy, unsigned cov, const bool depth)
 {
     const rast_tri *t = c->t;
@@ -396,11 +400,14 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     const bool late = prog->discards;
     const sl_target *tg = c->d->target;
     const size_t tsz = tg->texel_size;
+    /* the lanes' offsets from the triangle's origin: lane l is (fx[l & 1], fy[l >> 1]) */
+    const float fx[2] = {(float)qx - t->ox, (float)(qx + 1) - t->ox};
+    const float fy[2] = {(float)qy - t->oy, (float)(qy + 1) - t->oy};
     float z[4];
     unsigned live = 0;
     for (int l = 0; l < 4; l++) {
         int x = qx + (l & 1), y = qy + (l >> 1);
-        z[l] = depth_at(t, (float)x - t->ox, (float)y - t->oy);
+        z[l] = depth_at(t, fx[l & 1], fy[l >> 1]);
         if (!(cov >> l & 1))
             continue;
         c->tested++;
@@ -416,16 +423,28 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     if (!live)
         return;
 
+    /* The lanes' inputs, varyings_at's expressions for the four lanes at once: 1/w per
+     * lane, then each varying for the four lanes (a loop the compiler vectorizes). */
+    float iw[4], w[4];
+    for (int l = 0; l < 4; l++) {
+        iw[l] = clampf(t->iw[0] + t->iw[1] * fx[l & 1] + t->iw[2] * fy[l >> 1], t->iw_lo, t->iw_hi);
+        w[l] = 1.0f / iw[l];
+    }
     float vary[4][SL_MAX_VARYINGS];
+    const float *p = c->planes;
+    for (int i = 0, n = c->call->nvary; i < n; i++)
+        for (int l = 0; l < 4; l++)
+            vary[l][i] = (p[3 * i] + p[3 * i + 1] * fx[l & 1] + p[3 * i + 2] * fy[l >> 1]) * w[l];
     sl_fragment_in in[4];
-    char *target[4];   /* the lane's texel, NULL outside the target (odd sizes) */
-    void *scratch[4];
+    char *target[4]; /* the lane's texel, NULL outside the target (odd sizes) */
+    void *out[4];    /* what the shader writes: scratch, or the target's texel in place */
+    bool quad_form = prog->fragment_quad && c->d->spans;
+    bool fresh = quad_form && prog->quad_writes_texel; /* no copy in */
     for (int l = 0; l < 4; l++) {
         int x = qx + (l & 1), y = qy + (l >> 1);
-        float iw = varyings_at(c, (float)x - t->ox, (float)y - t->oy, vary[l]);
         in[l] = (sl_fragment_in){
             .varyings = vary[l],
-            .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, z[l], iw),
+            .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, z[l], iw[l]),
             .front_facing = t->front,
             .x = x,
             .y = y,
@@ -436,25 +455,25 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
         target[l] = x < tg->width && y < tg->height
                         ? c->texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz
                         : NULL;
-        scratch[l] = c->scratch + (size_t)l * tsz;
+        out[l] = fresh && !late && (live >> l & 1) ? target[l] : c->scratch + (size_t)l * tsz;
     }
     int rounds = 0;
-    bool quad_form = prog->fragment_quad && c->d->spans;
     rast_quad_begin(c->quad, !quad_form);
     do {
         /* every round starts from the target's texels, so rounds do not see each other */
         rast_quad_round(c->quad);
-        for (int l = 0; l < 4; l++) {
-            if (target[l])
-                memcpy(scratch[l], target[l], tsz);
-            else
-                memset(scratch[l], 0, tsz);
-        }
+        if (!fresh)
+            for (int l = 0; l < 4; l++) {
+                if (target[l])
+                    memcpy(out[l], target[l], tsz);
+                else
+                    memset(out[l], 0, tsz);
+            }
         if (quad_form) {
-            prog->fragment_quad(c->call->fs_uniforms, in, scratch);
+            prog->fragment_quad(c->call->fs_uniforms, in, out);
         } else {
             for (int l = 0; l < 4; l++)
-                prog->fragment(c->call->fs_uniforms, &in[l], scratch[l]);
+                prog->fragment(c->call->fs_uniforms, &in[l], out[l]);
         }
         rounds++;
         /* a fixed point comes by round calls + 1 (quad.c); the bound only guards that proof */
@@ -472,7 +491,8 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
             c->discarded++;
             continue;
         }
-        memcpy(target[l], scratch[l], tsz);
+        if (out[l] != target[l])
+            memcpy(target[l], out[l], tsz);
         if (depth && late) {
             int x = qx + (l & 1), y = qy + (l >> 1);
             c->zbuf[(y - c->py0) * c->ts + (x - c->px0)] = z[l];

@@ -678,7 +678,8 @@ static void test_fast_path_bits(void **state)
     unsigned char *data = malloc(64 * 8 * 16);
     assert_non_null(data);
     srand(7);
-    long checked = 0;
+    long checked = 0, checked4 = 0;
+    vec2 quad_uv[4];
     for (int f = 0; f < SL_TEX_FORMAT_COUNT; f++) {
         assert_int_equal(tex_format_bytes((sl_texture_format)f), sl_texture_format_bytes((sl_texture_format)f));
         for (size_t i = 0; i < 64 * 8 * 16; i++)
@@ -709,6 +710,17 @@ static void test_fast_path_bits(void **state)
                                      (double)fast.z, (double)fast.w, (double)slow.x, (double)slow.y,
                                      (double)slow.z, (double)slow.w);
                         checked++;
+                        /* the quad form's four-lane sample: each lane the one-lane sample's bits */
+                        quad_uv[k % 4] = uv;
+                        if (k % 4 == 3) {
+                            vec4 four[4];
+                            sl_texture_sample4(&s, quad_uv, lambda, four);
+                            for (int l = 0; l < 4; l++) {
+                                vec4 one = sl_texture_sample(&s, quad_uv[l], lambda);
+                                assert_memory_equal(&four[l], &one, sizeof one);
+                            }
+                            checked4++;
+                        }
                     }
                 }
             sl_texture_destroy(t);
@@ -716,6 +728,7 @@ static void test_fast_path_bits(void **state)
     }
     free(data);
     assert_true(checked == 13L * 4 * 6 * 9 * 200);
+    assert_true(checked4 == checked / 4);
 }
 
 int main(void)
