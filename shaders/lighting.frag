@@ -683,7 +683,8 @@ void main()
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);
         }
-        color = color + extra.gba; // emission
+        if (uDiffuse != 0)
+            color = color + extra.gba; // emission, view-independent: it travels with the diffuse term
     }
     bool finite = !any(isnan(color)) && !any(isinf(color));
     fragColor = finite ? vec4(color, 1.0) : vec4(0.0);

@@ -350,7 +350,10 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
             trace_light(trace, i, light);
         }
     }
-    color = add(color, s->emissive);
+    /* emission is view-independent: it travels with the diffuse term (--specular-only drops it,
+     * and the ground truth's diffuse part carries it) */
+    if (u->uDiffuse != 0)
+        color = add(color, s->emissive);
     trace_extra(trace, s->occlusion, s->emissive);
     return color;
 }
