@@ -1,6 +1,8 @@
 // gbuffer.frag - the G-buffer pass's fragment shader (GLSL twin of sl_gbuffer_frag in
 // src/raster/gbuffer_shader.c): writes what the lighting pass reads and nothing else.
-// Targets: 0 world position (w = 1 marks a covered pixel), 1 unit world normal, 2 Kd, 3 Ks + alpha.
+// Targets: 0 world position (w = 1 marks a covered pixel), 1 unit world normal, 2 Kd, 3 Ks + alpha;
+// 4 occlusion + emission, "none" here, bound only for a scene with a material that writes them (the
+// C twin leaves that plane alone: src/raster/gbuffer.h resolves it by depth).
 // Depth is the fixed-function window depth (gl_FragCoord.z) in a DEPTH_COMPONENT32F target.
 // An interpolated normal of zero length (opposite vertex normals) would make normalize() NaN;
 // +Z is written instead, as the C twin does.
@@ -17,6 +19,7 @@ layout(location = 0) out vec4 oPosition;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oKd;
 layout(location = 3) out vec4 oKsAlpha;
+layout(location = 4) out vec4 oExtra; // attached only when the scene has extra channels: "none"
 
 void main()
 {
@@ -24,4 +27,5 @@ void main()
     oNormal = vec4(dot(vNormal, vNormal) > 1e-30 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0), 0.0);
     oKd = vec4(uKd, 0.0);
     oKsAlpha = vec4(uKs, uAlpha);
+    oExtra = vec4(1.0, 0.0, 0.0, 0.0);
 }

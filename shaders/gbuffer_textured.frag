@@ -8,6 +8,11 @@
 // implicit level of detail. uMaps (uniform, so the branches are uniform control flow and the
 // derivatives are defined) says which samplers are bound and whether to discard.
 // Every map is sampled before the discard: derivatives after a discard are undefined.
+// glTF's metallic-roughness per texel (uMetallic >= 0): kd so far is the base colour, m =
+// uMetallic * mr.b, kd = base (1 - m), ks = mix(0.04, base, m), roughness times mr.g. oExtra
+// (occlusion 1 + strength (occlusion_map.r - 1), emission uEmissive * emissive_map.rgb) goes to the
+// fifth target, attached only for a scene that uses it (src/raster/gbuffer.h: the C program writes
+// the extra plane directly, tagged with its depth).
 #version 330 core
 
 in vec3 vWorldPos;
@@ -24,11 +29,20 @@ uniform sampler2D uKsMap;
 uniform sampler2D uAlphaMap;
 uniform sampler2D uNormalMap;
 uniform sampler2D uMaskMap;
+uniform sampler2D uMetallicRoughnessMap;
+uniform sampler2D uOcclusionMap;
+uniform sampler2D uEmissiveMap;
 uniform vec4 uKdMapST;
 uniform vec4 uKsMapST;
 uniform vec4 uAlphaMapST;
 uniform vec4 uNormalMapST;
 uniform vec4 uMaskMapST;
+uniform vec4 uMetallicRoughnessMapST;
+uniform vec4 uOcclusionMapST;
+uniform vec4 uEmissiveMapST;
+uniform float uMetallic;
+uniform float uOcclusionStrength;
+uniform vec3 uEmissive;
 uniform int uMaps;
 uniform float uAlphaCutoff;
 
@@ -38,12 +52,16 @@ const int MAP_KS = 2;
 const int MAP_ALPHA = 4;
 const int MAP_NORMAL = 8;
 const int MAP_MASK = 16;
-const int MAP_CUTOFF = 32;
+const int MAP_METALLIC_ROUGHNESS = 32;
+const int MAP_OCCLUSION = 64;
+const int MAP_EMISSIVE = 128;
+const int MAP_CUTOFF = 256;
 
 layout(location = 0) out vec4 oPosition;
 layout(location = 1) out vec4 oNormal;
 layout(location = 2) out vec4 oKd;
 layout(location = 3) out vec4 oKsAlpha;
+layout(location = 4) out vec4 oExtra;
 
 vec2 map_uv(vec2 uv, vec4 st) { return vec2(uv.x * st.x + st.z, uv.y * st.y + st.w); }
 
@@ -51,6 +69,7 @@ void main()
 {
     vec4 kd = vec4(1.0), ks = vec4(1.0), gloss = vec4(1.0), mask = vec4(1.0);
     vec4 nt = vec4(0.5, 0.5, 1.0, 1.0);
+    vec4 mr = vec4(1.0), occ = vec4(1.0), em = vec4(1.0);
     if ((uMaps & MAP_KD) != 0)
         kd = texture(uKdMap, map_uv(vTexCoord, uKdMapST));
     if ((uMaps & MAP_KS) != 0)
@@ -61,6 +80,12 @@ void main()
         nt = texture(uNormalMap, map_uv(vTexCoord, uNormalMapST));
     if ((uMaps & MAP_MASK) != 0)
         mask = texture(uMaskMap, map_uv(vTexCoord, uMaskMapST));
+    if ((uMaps & MAP_METALLIC_ROUGHNESS) != 0)
+        mr = texture(uMetallicRoughnessMap, map_uv(vTexCoord, uMetallicRoughnessMapST));
+    if ((uMaps & MAP_OCCLUSION) != 0)
+        occ = texture(uOcclusionMap, map_uv(vTexCoord, uOcclusionMapST));
+    if ((uMaps & MAP_EMISSIVE) != 0)
+        em = texture(uEmissiveMap, map_uv(vTexCoord, uEmissiveMapST));
 
     if ((uMaps & MAP_CUTOFF) != 0) {
         float coverage = (uMaps & MAP_MASK) != 0 ? mask.x : kd.w;
@@ -80,4 +105,11 @@ void main()
     oNormal = vec4(n, 0.0);
     oKd = vec4(uKd * kd.rgb, 0.0);
     oKsAlpha = vec4(uKs * ks.rgb, uRoughness >= 0.0 ? -1.0 - uRoughness * gloss.x : uAlpha * gloss.x);
+    if (uMetallic >= 0.0) {
+        vec3 base = oKd.rgb;
+        float metal = uMetallic * mr.z;
+        oKd = vec4(base * (1.0 - metal), 0.0);
+        oKsAlpha = vec4(vec3(0.04) + (base - vec3(0.04)) * metal, -1.0 - uRoughness * gloss.x * mr.y);
+    }
+    oExtra = vec4(1.0 + uOcclusionStrength * (occ.x - 1.0), uEmissive * em.rgb);
 }

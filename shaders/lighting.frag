@@ -24,6 +24,9 @@
 //   sampler2D uDepth      .r   = window depth; >= 1.0 means "no geometry" (the clear value).
 //                               A DEPTH_COMPONENT32F texture with TEXTURE_COMPARE_MODE = NONE
 //                               or an R32F copy both work.
+//   sampler2D uExtra      .r = occlusion (scales diffuse, specular and env lights, not point
+//                         lights), .gba = emission (added last); read only when uHasExtra != 0,
+//                         the G-buffer's fifth target for a scene that uses them
 // Environment:
 //   sampler2D uEnv        lat-long HDR radiance (RGB32F/RGB16F), full mip chain by
 //                         glGenerateMipmap, MIN_FILTER = LINEAR_MIPMAP_LINEAR, MAG_FILTER =
@@ -86,6 +89,8 @@ uniform sampler2D uNormal;
 uniform sampler2D uKd;
 uniform sampler2D uKsAlpha;
 uniform sampler2D uDepth;
+uniform sampler2D uExtra; // .r occlusion, .gba emission: only when uHasExtra (src/raster/gbuffer.h)
+uniform int uHasExtra;
 
 uniform sampler2D uEnv;
 uniform float uEnvMaxLod;
@@ -672,10 +677,14 @@ void main()
             if (uEnvLightCount > 0)
                 color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
         }
+        vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);
+        color = color * extra.r; // occlusion: the image-based terms only
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);
         }
+        if (uDiffuse != 0)
+            color = color + extra.gba; // emission, view-independent: it travels with the diffuse term
     }
     bool finite = !any(isnan(color)) && !any(isinf(color));
     fragColor = finite ? vec4(color, 1.0) : vec4(0.0);

@@ -72,7 +72,7 @@ static void phase(memory_model *m, size_t bytes, const char *what)
 /* env_w x env_h: the environment (0 x 0: none, a 1x1 black map); irr_w x irr_h: the scene's
  * irradiance map when the render reads it; file sizes as on disk. */
 static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
-                                 int irr_h, size_t irr_file, size_t mesh_bytes, long vertices)
+                                 int irr_h, size_t irr_file, size_t mesh_bytes, long vertices, size_t gbuffer_pixel)
 {
     memory_model m = {.program = PROGRAM_BYTES};
     if (env_w <= 0)
@@ -112,11 +112,11 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         phase(&m, base + m.env_lights_build, "extracting the env lights");
         base += m.env_lights;
     }
-    /* G-buffer 56 B, radiance and display images 12 B each, the PNG's 8-bit pixels, its filtered
+    /* G-buffer 56 B (76 with the extra plane: gbuffer.h), radiance and display images 12 B each, the PNG's 8-bit pixels, its filtered
      * rows and its growing zlib buffer (about 15 B together), per pixel; the rasterizer's copy of
      * the transformed vertices (rast_vpos and varyings, about 80 B each). */
     size_t pixels = (size_t)d->width * (size_t)d->height;
-    m.frame = pixels * (sizeof(sl_gbuffer_texel) + 12 + 12 + 15) + (size_t)vertices * 80;
+    m.frame = pixels * (gbuffer_pixel + 12 + 12 + 15) + (size_t)vertices * 80;
     phase(&m, base + m.frame, "rendering and writing the frame");
     return m;
 }
@@ -240,18 +240,24 @@ int cmd_info(int argc, char **argv)
         sl_image_free(&map);
     }
 
+    /* the G-buffer's extra plane only when a drawn material writes it (sl_raster_scene_textured's rule) */
+    bool extra = false;
+    for (int i = 0; i < scene.object_count; i++)
+        extra |= sl_material_extra(&scene.materials[scene.objects[i].material]);
+    size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra);
     memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,
-                                  irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices);
+                                  irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices, gbuffer_pixel);
     double mib = 1024.0 * 1024.0;
     printf("  memory     peak %.1f MiB while %s (a %dx%d render%s%s)\n", (double)m.peak / mib, m.peak_at,
            desc.width, desc.height, desc.lighting.env_lights ? " with env lights" : "",
            desc.lighting.irradiance == SL_IRRADIANCE_MAP && irr_w ? ", irradiance map" : "");
     printf("             environment %.1f MiB held (mip chain), %.1f MiB while read, %.1f MiB while its mips are "
            "built; irradiance %.1f MiB held, %.1f MiB while built; env lights %.1f MiB held, %.1f MiB while "
-           "extracted; frame %.1f MiB (G-buffer %zu B/pixel); meshes %.1f MiB; program %.1f MiB\n",
+           "extracted; frame %.1f MiB (G-buffer %zu B/pixel%s); meshes %.1f MiB; program %.1f MiB\n",
            (double)m.env / mib, (double)m.env_load / mib, (double)m.env_build / mib, (double)m.irradiance / mib,
            (double)m.irradiance_build / mib, (double)m.env_lights / mib, (double)m.env_lights_build / mib,
-           (double)m.frame / mib, sizeof(sl_gbuffer_texel), (double)mesh_bytes / mib, (double)m.program / mib);
+           (double)m.frame / mib, gbuffer_pixel, extra ? " with occlusion and emission" : "", (double)mesh_bytes / mib,
+           (double)m.program / mib);
     sl_scene_free(&scene);
     return 0;
 }

@@ -12,7 +12,9 @@
 
 #include "trace_fetches.h"
 
-static const char *const map_names[SL_MAP_COUNT] = {"kd_map", "ks_map", "alpha_map", "normal_map", "mask_map"};
+static const char *const map_names[SL_MAP_COUNT] = {"kd_map",       "ks_map",        "alpha_map",
+                                                    "normal_map",   "mask_map",      "metallic_roughness_map",
+                                                    "occlusion_map", "emissive_map"};
 
 static void record(void *ctx, const sl_fragment_in *in, int slot, const sl_sampler2D *s, vec2 uv, vec2 dPdx,
                    vec2 dPdy, float lambda, vec4 value)

@@ -7,7 +7,9 @@
  * view-projection (sl_camera_view_proj), the viewport is the whole target, depth test LESS against
  * a clear depth of 1, no culling (softlight's sl_raster_scene draws both faces), no blending, no
  * multisampling. Targets: 0 position (w = 1 where drawn), 1 normal, 2 kd, 3 ks + alpha; cleared to
- * 0 like sl_gbuffer_clear. Row 0 is the bottom row in both.
+ * 0 like sl_gbuffer_clear; for a scene with occlusion or emission, 4 the extra channels (cleared to
+ * "none", written by both programs: gbuffer.frag writes "none" where the C program leaves its plane
+ * to the depth-tag resolve, src/raster/gbuffer.h). Row 0 is the bottom row in both.
  *
  * Textured materials: the uniforms come from sl_gbuffer_tex_uniforms_init, map i's texture is
  * bound to unit i with a sampler object set from sl_gbuffer_map_sampler, and the mesh's texture
@@ -34,7 +36,7 @@ static GLuint make_target(GLenum internal, GLenum format, int width, int height)
     return tex;
 }
 
-bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err)
+bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, bool extra, sl_error *err)
 {
     memset(g, 0, sizeof *g);
     g->width = width;
@@ -46,22 +48,24 @@ bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err)
         return false;
     }
     glGenSamplers(SL_MAP_COUNT, g->samplers);
-    GLuint targets[4];
-    for (int i = 0; i < 4; i++)
+    int count = extra ? 5 : 4;
+    GLuint targets[5] = {0};
+    for (int i = 0; i < count; i++)
         targets[i] = make_target(GL_RGBA32F, GL_RGBA, width, height);
     g->position = targets[0];
     g->normal = targets[1];
     g->kd = targets[2];
     g->ks_alpha = targets[3];
+    g->extra = targets[4];
     g->depth = make_target(GL_DEPTH_COMPONENT32F, GL_DEPTH_COMPONENT, width, height);
     glGenFramebuffers(1, &g->fbo);
     glBindFramebuffer(GL_FRAMEBUFFER, g->fbo);
-    for (int i = 0; i < 4; i++)
+    for (int i = 0; i < count; i++)
         glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0 + (GLenum)i, GL_TEXTURE_2D, targets[i], 0);
     glFramebufferTexture2D(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_TEXTURE_2D, g->depth, 0);
-    static const GLenum draw_buffers[4] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
-                                           GL_COLOR_ATTACHMENT3};
-    glDrawBuffers(4, draw_buffers);
+    static const GLenum draw_buffers[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                           GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+    glDrawBuffers(count, draw_buffers);
     GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
     if (status != GL_FRAMEBUFFER_COMPLETE) {
         slgl_gbuffer_destroy(g);
@@ -73,8 +77,8 @@ bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err)
 
 void slgl_gbuffer_destroy(slgl_gbuffer *g)
 {
-    GLuint textures[5] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth};
-    glDeleteTextures(5, textures);
+    GLuint textures[6] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, g->extra};
+    glDeleteTextures(6, textures);
     if (g->fbo)
         glDeleteFramebuffers(1, &g->fbo);
     if (g->program)
@@ -152,14 +156,18 @@ typedef struct {
 
 /* Uniform locations of gbuffer_textured.vert/.frag; the samplers are set to their units once. */
 typedef struct {
-    GLint model, view_proj, normal, model3, kd, ks, alpha, roughness, maps, cutoff, st[SL_MAP_COUNT];
+    GLint model, view_proj, normal, model3, kd, ks, alpha, roughness, maps, cutoff, metallic, occlusion, emissive,
+        st[SL_MAP_COUNT];
 } tex_locations;
 
 static tex_locations tex_locations_get(GLuint p)
 {
-    static const char *const samplers[SL_MAP_COUNT] = {"uKdMap", "uKsMap", "uAlphaMap", "uNormalMap", "uMaskMap"};
-    static const char *const st[SL_MAP_COUNT] = {"uKdMapST", "uKsMapST", "uAlphaMapST", "uNormalMapST",
-                                                 "uMaskMapST"};
+    static const char *const samplers[SL_MAP_COUNT] = {"uKdMap",   "uKsMap",   "uAlphaMap",
+                                                       "uNormalMap", "uMaskMap", "uMetallicRoughnessMap",
+                                                       "uOcclusionMap", "uEmissiveMap"};
+    static const char *const st[SL_MAP_COUNT] = {"uKdMapST",   "uKsMapST",   "uAlphaMapST",
+                                                 "uNormalMapST", "uMaskMapST", "uMetallicRoughnessMapST",
+                                                 "uOcclusionMapST", "uEmissiveMapST"};
     tex_locations l = {
         .model = glGetUniformLocation(p, "uModel"),
         .view_proj = glGetUniformLocation(p, "uViewProj"),
@@ -171,6 +179,9 @@ static tex_locations tex_locations_get(GLuint p)
         .roughness = glGetUniformLocation(p, "uRoughness"),
         .maps = glGetUniformLocation(p, "uMaps"),
         .cutoff = glGetUniformLocation(p, "uAlphaCutoff"),
+        .metallic = glGetUniformLocation(p, "uMetallic"),
+        .occlusion = glGetUniformLocation(p, "uOcclusionStrength"),
+        .emissive = glGetUniformLocation(p, "uEmissive"),
     };
     glUseProgram(p);
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
@@ -187,7 +198,9 @@ static void draw_textured(const slgl_gbuffer *g, const tex_locations *l, const s
 {
     sl_gbuffer_tex_uniforms u;
     sl_gbuffer_tex_uniforms_init(&u, o->model, view_proj, m, sl_textures);
-    const vec4 st[SL_MAP_COUNT] = {u.uKdMapST, u.uKsMapST, u.uAlphaMapST, u.uNormalMapST, u.uMaskMapST};
+    const vec4 st[SL_MAP_COUNT] = {u.uKdMapST,   u.uKsMapST,   u.uAlphaMapST,
+                                   u.uNormalMapST, u.uMaskMapST, u.uMetallicRoughnessMapST,
+                                   u.uOcclusionMapST, u.uEmissiveMapST};
     glUniformMatrix4fv(l->model, 1, GL_FALSE, &u.uModel.c[0].x);
     glUniformMatrix4fv(l->view_proj, 1, GL_FALSE, &u.uViewProj.c[0].x);
     glUniformMatrix3fv(l->normal, 1, GL_FALSE, &u.uNormalMatrix.c[0].x);
@@ -198,6 +211,9 @@ static void draw_textured(const slgl_gbuffer *g, const tex_locations *l, const s
     glUniform1f(l->roughness, u.uRoughness);
     glUniform1i(l->maps, u.uMaps);
     glUniform1f(l->cutoff, u.uAlphaCutoff);
+    glUniform1f(l->metallic, u.uMetallic);
+    glUniform1f(l->occlusion, u.uOcclusionStrength);
+    glUniform3f(l->emissive, u.uEmissive.x, u.uEmissive.y, u.uEmissive.z);
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
         glUniform4f(l->st[slot], st[slot].x, st[slot].y, st[slot].z, st[slot].w);
         glActiveTexture(GL_TEXTURE0 + (GLenum)slot);
@@ -231,6 +247,10 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
     glClearColor(0.0f, 0.0f, 0.0f, 0.0f);
     glClearDepth(1.0);
     glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
+    if (g->extra) {
+        static const GLfloat none[4] = {1.0f, 0.0f, 0.0f, 0.0f};
+        glClearBufferfv(GL_COLOR, 4, none);
+    }
     tex_locations tl = tex_locations_get(g->tex_program);
     GLuint p = g->program;
     plain_locations pl = {
@@ -310,9 +330,16 @@ bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err)
     glReadPixels(0, 0, g->width, g->height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
     for (size_t i = 0; i < n; i++)
         out->texels[i].depth = depth[i];
+    bool ok = sl_gbuffer_use_extra(out, g->extra != 0, err);
+    if (ok && g->extra) { /* tagged with the texel's depth, as softlight's resolve leaves them */
+        read_rgba(GL_COLOR_ATTACHMENT4, g->width, g->height, buf);
+        for (size_t i = 0; i < n; i++)
+            out->extra[i] = (sl_gbuffer_extra){buf[4 * i], vec3(buf[4 * i + 1], buf[4 * i + 2], buf[4 * i + 3]),
+                                               depth[i]};
+    }
     free(buf);
     free(depth);
-    return slgl_check("reading the G-buffer back", err);
+    return ok && slgl_check("reading the G-buffer back", err);
 }
 
 bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
@@ -325,7 +352,12 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
     if (!buf)
         return sl_fail(err, SL_ERR_MEMORY, "no memory to upload a %dx%d G-buffer", g->width, g->height);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    for (int target = 0; target < 5; target++) {
+    if ((in->extra != NULL) != (g->extra != 0)) {
+        free(buf);
+        return sl_fail(err, SL_ERR_RANGE, "G-buffer files %s extra channels, the GL G-buffer %s",
+                       in->extra ? "have" : "have no", g->extra ? "has" : "has none");
+    }
+    for (int target = 0; target < (g->extra ? 6 : 5); target++) {
         for (size_t i = 0; i < n; i++) {
             const sl_gbuffer_texel *t = &in->texels[i];
             float covered = sl_gbuffer_covered(t) ? 1.0f : 0.0f;
@@ -333,13 +365,15 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
                      : target == 1 ? vec4_from3(t->normal, 0.0f)
                      : target == 2 ? vec4_from3(t->kd, 0.0f)
                      : target == 3 ? vec4_from3(t->ks, t->alpha)
+                     : target == 5 ? vec4(in->extra[i].occlusion, in->extra[i].emissive.x, in->extra[i].emissive.y,
+                                          in->extra[i].emissive.z)
                                    : vec4(t->depth, 0, 0, 0);
             if (target == 4)
                 buf[i] = v.x;
             else
                 memcpy(&buf[4 * i], &v, sizeof v);
         }
-        GLuint tex[5] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth};
+        GLuint tex[6] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, g->extra};
         glBindTexture(GL_TEXTURE_2D, tex[target]);
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g->width, g->height, target == 4 ? GL_DEPTH_COMPONENT : GL_RGBA,
                         GL_FLOAT, buf);

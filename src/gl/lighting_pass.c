@@ -28,7 +28,17 @@ static const char *const fullscreen_vert = "#version 330 core\n"
                                            "}\n";
 
 /* Texture units of the samplers. */
-enum { UNIT_POSITION, UNIT_NORMAL, UNIT_KD, UNIT_KS_ALPHA, UNIT_DEPTH, UNIT_ENV, UNIT_IRRADIANCE, UNIT_ENV_RESIDUAL };
+enum {
+    UNIT_POSITION,
+    UNIT_NORMAL,
+    UNIT_KD,
+    UNIT_KS_ALPHA,
+    UNIT_DEPTH,
+    UNIT_ENV,
+    UNIT_IRRADIANCE,
+    UNIT_ENV_RESIDUAL,
+    UNIT_EXTRA /* the G-buffer's occlusion + emission target, when it has one */
+};
 #define HAMMERSLEY_BINDING 1
 
 static GLuint upload_latlong(const sl_env_level *level, bool mipmaps)
@@ -164,6 +174,7 @@ static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uKd"), UNIT_KD);
     glUniform1i(loc(p, "uKsAlpha"), UNIT_KS_ALPHA);
     glUniform1i(loc(p, "uDepth"), UNIT_DEPTH);
+    glUniform1i(loc(p, "uExtra"), UNIT_EXTRA);
     glUniform1i(loc(p, "uEnv"), UNIT_ENV);
     glUniform1i(loc(p, "uIrradianceMap"), UNIT_IRRADIANCE);
     glUniform1i(loc(p, "uEnvResidual"), UNIT_ENV_RESIDUAL);
@@ -223,8 +234,11 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights but %s residual environment uploaded",
                        u->uEnvLightCount, l->env_residual ? "a" : "no");
     GLuint residual = l->env_residual ? l->env_residual : l->env;
-    GLuint units[8] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map, residual};
-    for (int i = 0; i < 8; i++) {
+    GLuint units[9] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map, residual,
+                       g->extra};
+    glUseProgram(l->program);
+    glUniform1i(loc(l->program, "uHasExtra"), g->extra != 0);
+    for (int i = 0; i < 9; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);
     }

@@ -109,7 +109,13 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
-    if (!slgl_gbuffer_create(&g, f->width, f->height, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
+    /* the extra target only where softlight allocates its extra plane (src/raster/gbuffer.h) */
+    bool extra = false;
+    for (int i = 0; i < f->scene.object_count; i++)
+        extra |= sl_material_extra(&f->scene.materials[f->scene.objects[i].material]);
+    if (o->gbuffer_dir)
+        extra = files->extra != NULL;
+    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
         !slgl_lighting_set_environment(&l, &f->renderer.env,
                                        f->renderer.env_oct_built >= 0     ? &f->renderer.env_oct
                                        : f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual

@@ -67,6 +67,7 @@ typedef struct {
     GLuint fbo;
     GLuint position, normal, kd, ks_alpha; /* RGBA32F; position.w = 1 where covered */
     GLuint depth;                          /* DEPTH_COMPONENT32F */
+    GLuint extra;                          /* RGBA32F occlusion + emission; 0 unless asked for */
     GLuint program;                        /* gbuffer.vert/.frag: untextured materials */
     GLuint tex_program;                    /* gbuffer_textured.vert/.frag: materials with maps */
     GLuint samplers[SL_MAP_COUNT];         /* one per texture unit = map slot */
@@ -91,7 +92,9 @@ void slgl_textures_destroy(slgl_textures *t);
 /* A sampler object's state from softlight's (filters, wrap, LOD bias and clamps). */
 void slgl_sampler_set(GLuint sampler, const sl_sampler_state *s);
 
-bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, sl_error *err);
+/* `extra`: a fifth target for the extra channels (occlusion, emission: src/raster/gbuffer.h), for a
+ * scene with a material that writes them. */
+bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, bool extra, sl_error *err);
 void slgl_gbuffer_destroy(slgl_gbuffer *g);
 /* Upload every mesh of the scene; `meshes` has scene->mesh_count entries. */
 bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err);

@@ -2,7 +2,8 @@
  *
  * Layout and size are in docs/gbuffer.md (56 bytes a pixel, array of structs,
  * row 0 = bottom). Clearing 116 MB at 1920x1080 is memory-bound, so it is spread
- * over the OpenMP threads by rows; every texel gets the same bits either way. */
+ * over the OpenMP threads by rows; every texel gets the same bits either way. The extra plane
+ * (occlusion, emission; gbuffer.h) is allocated, cleared and resolved here, only when asked for. */
 #include "gbuffer.h"
 
 #include <stdlib.h>
@@ -25,13 +26,57 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     gb->texels = t;
     gb->width = width;
     gb->height = height;
+    bool extra = gb->extra != NULL;
+    free(gb->extra); /* the old size's */
+    gb->extra = NULL;
+    return sl_gbuffer_use_extra(gb, extra, err);
+}
+
+bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err)
+{
+    if (!on || !gb->texels) {
+        free(gb->extra);
+        gb->extra = NULL;
+        return true;
+    }
+    if (gb->extra)
+        return true;
+    size_t n = (size_t)gb->width * (size_t)gb->height;
+    if (!(gb->extra = malloc(n * sizeof *gb->extra)))
+        return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the extra channels of %dx%d (%zu bytes)",
+                       gb->width, gb->height, n * sizeof *gb->extra);
+    sl_gbuffer_extra_clear(gb);
     return true;
+}
+
+void sl_gbuffer_extra_clear(sl_gbuffer *gb)
+{
+    if (!gb->extra)
+        return;
+    const sl_gbuffer_extra none = {.occlusion = 1.0f, .depth = -1.0f};
+    long n = (long)gb->width * gb->height;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; i++)
+        gb->extra[i] = none;
+}
+
+void sl_gbuffer_extra_resolve(sl_gbuffer *gb)
+{
+    if (!gb->extra)
+        return;
+    const sl_gbuffer_extra none = {.occlusion = 1.0f, .depth = -1.0f};
+    long n = (long)gb->width * gb->height;
+#pragma omp parallel for schedule(static)
+    for (long i = 0; i < n; i++)
+        if (gb->extra[i].depth != gb->texels[i].depth)
+            gb->extra[i] = none;
 }
 
 void sl_gbuffer_clear(sl_gbuffer *gb)
 {
     if (!gb->texels)
         return;
+    sl_gbuffer_extra_clear(gb);
     const sl_gbuffer_texel empty = {.depth = 1.0f};
     int w = gb->width;
 #pragma omp parallel for schedule(static)
@@ -45,6 +90,8 @@ void sl_gbuffer_clear(sl_gbuffer *gb)
 void sl_gbuffer_free(sl_gbuffer *gb)
 {
     free(gb->texels);
+    free(gb->extra);
     gb->texels = NULL;
+    gb->extra = NULL;
     gb->width = gb->height = 0;
 }

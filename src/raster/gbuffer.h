@@ -7,7 +7,8 @@
  * mask is exactly `depth < 1`. The vector toward the eye is not stored: it is
  * normalize(eye - position), derived where needed from the camera.
  *
- * 14 floats = 56 bytes per pixel (116 MB at 1920x1080; docs/gbuffer.md).
+ * 14 floats = 56 bytes per pixel (116 MB at 1920x1080; docs/gbuffer.md); 20 more in the extra
+ * plane (occlusion, emission) for a scene that uses them (below).
  *
  * The specular lobe travels in `alpha` alone, so a scene without GGX has the texel it always had:
  * alpha >= 0 is the Phong exponent, alpha <= -1 is a GGX lobe of perceptual roughness
@@ -34,10 +35,30 @@ typedef struct {
     float depth;   /* window depth in [0,1]; 1 = nothing drawn */
 } sl_gbuffer_texel;
 
+/* The extra channels, in a plane beside the texels that exists only for a scene with a material
+ * that writes them (scene.h sl_material_extra): a scene without occlusion or emission keeps the
+ * 56-byte texel, its memory and its speed. The textured program writes a fragment's extra texel
+ * directly (its uniforms carry the plane, like an image store in GLSL), tagged with its depth;
+ * the untextured program does not know the plane exists. After the draws, sl_gbuffer_extra_resolve
+ * keeps the extra texels whose tag equals the G-buffer texel's depth (the fragment that won) and
+ * sets the others to "none" (occlusion 1, emission 0), so readers take them as they are. */
+typedef struct {
+    float occlusion; /* scales the image-based terms (diffuse, specular, env lights), not point lights */
+    vec3 emissive;   /* linear RGB radiance added to the pixel's */
+    float depth;     /* the writer's window depth: the tag the resolve compares */
+} sl_gbuffer_extra;
+
 typedef struct {
     int width, height;
     sl_gbuffer_texel *texels; /* width * height, row 0 = bottom */
+    sl_gbuffer_extra *extra;  /* NULL, or width * height extra texels (sl_gbuffer_use_extra) */
 } sl_gbuffer;
+
+/* Bytes per pixel of a G-buffer: 56, or 76 with the extra plane. */
+static inline size_t sl_gbuffer_pixel_bytes(bool extra)
+{
+    return sizeof(sl_gbuffer_texel) + (extra ? sizeof(sl_gbuffer_extra) : 0);
+}
 
 static inline bool sl_gbuffer_covered(const sl_gbuffer_texel *t) { return t->depth < 1.0f; }
 static inline sl_gbuffer_texel *sl_gbuffer_at(const sl_gbuffer *gb, int x, int y)
@@ -51,8 +72,14 @@ static inline float sl_gbuffer_ggx_alpha(float r) { return -1.0f - r; }
 /* Allocate for width x height (no-op when the size is unchanged; contents undefined
  * until cleared). An empty {0} sl_gbuffer is a valid start. */
 bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err);
-/* Per frame: every field 0, depth 1. */
+/* Per frame: every field 0, depth 1 (and the extra plane's texels "none", tag -1). */
 void sl_gbuffer_clear(sl_gbuffer *gb);
+/* Allocate the extra plane (on: for the G-buffer's size, kept while the size is) or free it. */
+bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err);
+/* Per frame, before the draws: every extra texel "none" with tag -1 (no depth equals it). */
+void sl_gbuffer_extra_clear(sl_gbuffer *gb);
+/* After the draws: extra texels whose tag differs from the texel's depth become "none". */
+void sl_gbuffer_extra_resolve(sl_gbuffer *gb);
 void sl_gbuffer_free(sl_gbuffer *gb);
 
 /* AOVs (gbuffer_io.c), one PFM per channel group, shown upright by a PFM viewer:

@@ -13,7 +13,11 @@
  * The same channels go into one multi-layer .exr with the radiance (sl_gbuffer_add_exr): layer
  * names are the AOV names, channel suffixes the components (normal.X, kd.R), a one-channel AOV a
  * channel of its own name; 32-bit float, so each holds the PFM's numbers (half would round
- * positions and depth, and overflow past 65504 radiance, which a sun reaches). */
+ * positions and depth, and overflow past 65504 radiance, which a sun reaches).
+ *
+ * A G-buffer with the extra plane (gbuffer.h: occlusion, emission) adds occlusion.pfm and
+ * emissive.pfm (layers `occlusion`, `emissive.R/G/B`); one without it writes neither, and reading
+ * takes the plane when both files are there. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,10 +26,27 @@
 #include "gbuffer.h"
 #include "raster.h"
 
-enum { AOV_POSITION, AOV_NORMAL, AOV_VIEW, AOV_KD, AOV_KS, AOV_ALPHA, AOV_DEPTH, AOV_MASK, AOV_COUNT };
-static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask"};
-static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1};
-static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", ""};
+/* The last two are the extra plane's (gbuffer.h), written only by a G-buffer that has it. */
+enum {
+    AOV_POSITION,
+    AOV_NORMAL,
+    AOV_VIEW,
+    AOV_KD,
+    AOV_KS,
+    AOV_ALPHA,
+    AOV_DEPTH,
+    AOV_MASK,
+    AOV_OCCLUSION,
+    AOV_EMISSIVE,
+    AOV_COUNT
+};
+static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask",
+                                                 "occlusion", "emissive"};
+static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1, 1, 3};
+static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", "", "", "RGB"};
+
+/* How many AOVs a G-buffer has: the extra plane's two only with it. */
+static int aov_count(const sl_gbuffer *gb) { return gb->extra ? AOV_COUNT : AOV_OCCLUSION; }
 
 static bool aov_path(char *path, size_t size, const char *dir, int aov, sl_error *err)
 {
@@ -35,9 +56,11 @@ static bool aov_path(char *path, size_t size, const char *dir, int aov, sl_error
     return true;
 }
 
-/* The AOV value of one texel, in `out` (1 or 3 floats). */
-static void aov_get(const sl_gbuffer_texel *t, vec3 eye, int aov, float *out)
+/* The AOV value of texel (x, y), in `out` (1 or 3 floats). */
+static void aov_get(const sl_gbuffer *gb, int x, int y, vec3 eye, int aov, float *out)
 {
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+    const sl_gbuffer_extra *e = gb->extra ? gb->extra + (t - gb->texels) : NULL;
     bool covered = sl_gbuffer_covered(t);
     vec3 v = vec3s(0.0f);
     switch (aov) {
@@ -53,17 +76,25 @@ static void aov_get(const sl_gbuffer_texel *t, vec3 eye, int aov, float *out)
     case AOV_KS: v = t->ks; break;
     case AOV_ALPHA: out[0] = t->alpha; return;
     case AOV_DEPTH: out[0] = t->depth; return;
-    default: out[0] = covered ? 1.0f : 0.0f; return;
+    case AOV_MASK: out[0] = covered ? 1.0f : 0.0f; return;
+    case AOV_OCCLUSION: out[0] = e ? e->occlusion : 1.0f; return;
+    default: v = e ? e->emissive : vec3s(0.0f); break;
     }
     out[0] = v.x;
     out[1] = v.y;
     out[2] = v.z;
 }
 
-static void aov_set(sl_gbuffer_texel *t, int aov, const float *in)
+static void aov_set(sl_gbuffer *gb, int x, int y, int aov, const float *in)
 {
+    sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+    sl_gbuffer_extra *e = gb->extra ? gb->extra + (t - gb->texels) : NULL;
     vec3 v = aov_channels[aov] == 3 ? vec3(in[0], in[1], in[2]) : vec3s(in[0]);
+    if (e) /* tagged as the resolve leaves the plane (gbuffer.h) */
+        e->depth = t->depth;
     switch (aov) {
+    case AOV_OCCLUSION: if (e) e->occlusion = in[0]; break;
+    case AOV_EMISSIVE: if (e) e->emissive = v; break;
     case AOV_POSITION: t->position = v; break;
     case AOV_NORMAL: t->normal = v; break;
     case AOV_KD: t->kd = v; break;
@@ -98,11 +129,11 @@ bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_out
         return false;
     }
     bool ok = true;
-    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+    for (int aov = 0; ok && aov < aov_count(gb); aov++) {
         sl_image *im = &img[aov_channels[aov] == 3];
         for (int y = 0; y < gb->height; y++)
             for (int x = 0; x < gb->width; x++)
-                aov_get(sl_gbuffer_at(gb, x, y), eye, aov, sl_image_pixel(im, x, gb->height - 1 - y));
+                aov_get(gb, x, y, eye, aov, sl_image_pixel(im, x, gb->height - 1 - y));
         char path[4096];
         ok = aov_path(path, sizeof path, dir, aov, err) && sl_output_set_image(out, path, sl_image_encode_pfm, im, err);
     }
@@ -118,7 +149,7 @@ static bool aov_image(const sl_gbuffer *gb, vec3 eye, int aov, sl_image *img, sl
         return false;
     for (int y = 0; y < gb->height; y++)
         for (int x = 0; x < gb->width; x++)
-            aov_get(sl_gbuffer_at(gb, x, y), eye, aov, sl_image_pixel(img, x, gb->height - 1 - y));
+            aov_get(gb, x, y, eye, aov, sl_image_pixel(img, x, gb->height - 1 - y));
     return true;
 }
 
@@ -133,13 +164,14 @@ bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance
     sl_image img[AOV_COUNT] = {{0}};
     sl_exr_layer layers[AOV_COUNT + 1] = {{"", "RGB", radiance}};
     bool ok = true;
-    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+    int count = aov_count(gb);
+    for (int aov = 0; ok && aov < count; aov++) {
         ok = aov_image(gb, eye, aov, &img[aov], err);
         layers[aov + 1] = (sl_exr_layer){aov_names[aov], aov_suffixes[aov], &img[aov]};
     }
     unsigned char *bytes = NULL;
     size_t size = 0;
-    ok = ok && sl_exr_encode(layers, AOV_COUNT + 1, &(sl_exr_options){.compression = SL_EXR_ZIP}, &bytes, &size, err);
+    ok = ok && sl_exr_encode(layers, count + 1, &(sl_exr_options){.compression = SL_EXR_ZIP}, &bytes, &size, err);
     if (!ok)
         sl_error_prefix(err, "%s: ", path);
     ok = ok && sl_output_set_bytes(out, path, bytes, size, err);
@@ -154,7 +186,20 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
     sl_image img = {0};
     bool ok = true;
     int width = 0, height = 0;
-    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+    /* the extra plane's files come as a pair, or not at all */
+    char extra_path[2][4096];
+    if (!aov_path(extra_path[0], sizeof extra_path[0], dir, AOV_OCCLUSION, err) ||
+        !aov_path(extra_path[1], sizeof extra_path[1], dir, AOV_EMISSIVE, err))
+        return false;
+    FILE *f[2] = {fopen(extra_path[0], "rb"), fopen(extra_path[1], "rb")};
+    bool extra = f[0] && f[1], half = !extra && (f[0] || f[1]);
+    for (int i = 0; i < 2; i++)
+        if (f[i])
+            fclose(f[i]);
+    if (half)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: occlusion.pfm and emissive.pfm come together (the G-buffer's extra "
+                       "channels); only %s is there", dir, f[0] ? "occlusion.pfm" : "emissive.pfm");
+    for (int aov = 0; ok && aov < (extra ? AOV_COUNT : AOV_OCCLUSION); aov++) {
         if (aov == AOV_VIEW)
             continue;
         char path[4096];
@@ -163,7 +208,7 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
         if (aov == AOV_POSITION) {
             width = img.width;
             height = img.height;
-            ok = sl_gbuffer_resize(gb, width, height, err);
+            ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, err);
             if (ok)
                 sl_gbuffer_clear(gb);
         } else if (img.width != width || img.height != height) {
@@ -177,7 +222,7 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
                 sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
                 const float *p = sl_image_pixel(&img, x, height - 1 - y);
                 if (aov != AOV_MASK) {
-                    aov_set(t, aov, p);
+                    aov_set(gb, x, y, aov, p);
                 } else if ((p[0] != 0.0f) != sl_gbuffer_covered(t)) {
                     ok = sl_fail(err, SL_ERR_FORMAT, "%s: pixel (%d, %d) from the bottom: mask %g but depth %g", path,
                                  x, y, (double)p[0], (double)t->depth);

@@ -125,18 +125,25 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
             return sl_fail(err, SL_ERR_RANGE, "raster: object %d (%s) names mesh %d / material %d out of range", i,
                            o->name, o->mesh, o->material);
         const sl_material *m = &scene->materials[o->material];
-        if (m->textured && (!textures || textures->count != scene->image_count))
+        if (sl_material_has_maps(m) && (!textures || textures->count != scene->image_count))
             return sl_fail(err, SL_ERR_RANGE,
                            "raster: object %d (%s): material \"%s\" has texture maps but the scene's textures are not "
                            "loaded (sl_scene_textures_load)", i, o->name, m->name);
-        if (m->textured && !scene->meshes[o->mesh].texcoords && scene->meshes[o->mesh].vertex_count > 0)
+        if (sl_material_has_maps(m) && !scene->meshes[o->mesh].texcoords && scene->meshes[o->mesh].vertex_count > 0)
             return sl_fail(err, SL_ERR_RANGE, "raster: object %d (%s): material \"%s\" has texture maps but its mesh "
                            "has no texture coordinates", i, o->name, m->name);
     }
+    /* The extra plane only for a scene that draws a material writing it (gbuffer.h). */
+    bool extra = false;
+    for (int i = 0; i < scene->object_count; i++)
+        extra |= sl_material_extra(&scene->materials[scene->objects[i].material]);
+    if (!sl_gbuffer_use_extra(gb, extra, err))
+        return false;
     if (scene->object_count == 0) {
         sl_gbuffer_clear(gb);
         return true;
     }
+    sl_gbuffer_extra_clear(gb);
     size_t n = (size_t)scene->object_count;
     size_t textured = 0;
     for (size_t i = 0; i < n; i++)
@@ -161,8 +168,12 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         const void *uniforms = &u[i];
         if (m->textured) { /* the textured program only where a material has maps */
             sl_gbuffer_tex_uniforms_init(&tu[t], o->model, view_proj, m, textures);
-            tu[t].trace = textures->trace;
-            tu[t].trace_ctx = textures->trace_ctx;
+            tu[t].trace = textures ? textures->trace : NULL;
+            tu[t].trace_ctx = textures ? textures->trace_ctx : NULL;
+            if (sl_material_extra(m)) {
+                tu[t].extra = gb->extra;
+                tu[t].extra_width = gb->width;
+            }
             program = m->masked ? &sl_gbuffer_tex_masked_program : &sl_gbuffer_tex_program;
             uniforms = &tu[t++];
         } else {
@@ -184,6 +195,8 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         if (sscanf(err->msg, "draw %d:", &i) == 1 && i >= 0 && i < scene->object_count)
             sl_error_prefix(err, "object %d (%s): ", i, scene->objects[i].name);
     }
+    if (ok)
+        sl_gbuffer_extra_resolve(gb);
     free(u);
     free(tu);
     free(draws);

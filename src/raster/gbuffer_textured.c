@@ -11,7 +11,9 @@
  * uRoughness * alpha_map.r, gbuffer.h), the normal perturbed by normal_map in tangent space
  * as glTF does it (B = cross(N, T) * w, N' = normalize(T n.x + B n.y + N n.z), n = rgb * 2 - 1),
  * discard where mask_map.r (else kd_map.a) < uAlphaCutoff. Each map reads its own transformed
- * coordinate vTexCoord * ST.xy + ST.zw with an implicit level of detail, as GLSL's texture(). */
+ * coordinate vTexCoord * ST.xy + ST.zw with an implicit level of detail, as GLSL's texture().
+ * glTF's metallic-roughness per texel (uMetallic >= 0) and the extra channels (occlusion,
+ * emission) are separate functions after the texel is written, so the common path is unchanged. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -68,6 +70,32 @@ static void maps_unbound(map_values *m)
     m->map[SL_MAP_NORMAL] = vec4(0.5f, 0.5f, 1, 1);
 }
 
+/* gbuffer_textured.frag: metallic_roughness. glTF's metallic-roughness per texel: the texel's kd so
+ * far is the base colour (uKd * kd_map.rgb); m = uMetallic * mr.b, kd = base (1 - m),
+ * ks = 0.04 + (base - 0.04) m (mix(0.04, base, m)), roughness times mr.g. */
+static void metallic_roughness(const sl_gbuffer_tex_uniforms *u, const map_values *m, sl_gbuffer_texel *g)
+{
+    vec4 mr = m->map[SL_MAP_METALLIC_ROUGHNESS], gloss = m->map[SL_MAP_ALPHA];
+    vec3 base = g->kd;
+    float metal = u->uMetallic * mr.z;
+    g->kd = scale3(base, 1.0f - metal);
+    g->ks = vec3(0.04f + (base.x - 0.04f) * metal, 0.04f + (base.y - 0.04f) * metal, 0.04f + (base.z - 0.04f) * metal);
+    g->alpha = sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x * mr.y);
+}
+
+/* gbuffer_textured.frag: oExtra. The fragment's extra texel, tagged with its depth (gbuffer.h);
+ * helpers write nothing, as they write no texel. */
+static void write_extra(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m)
+{
+    if (in->helper)
+        return;
+    vec4 occ = m->map[SL_MAP_OCCLUSION], em = m->map[SL_MAP_EMISSIVE];
+    sl_gbuffer_extra *e = u->extra + (size_t)in->y * (size_t)u->extra_width + (size_t)in->x;
+    e->occlusion = 1.0f + u->uOcclusionStrength * (occ.x - 1.0f);
+    e->emissive = mul3(u->uEmissive, vec3(em.x, em.y, em.z));
+    e->depth = in->frag_coord.z;
+}
+
 /* gbuffer_textured.frag after its samples: the discard, the normal map, the texel. Both forms
  * of the shader end here, so they share every operation after the fetches. */
 static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m,
@@ -103,17 +131,26 @@ static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_
     g->ks = mul3(u->uKs, vec3(ks.x, ks.y, ks.z));
     g->alpha = u->uRoughness >= 0.0f ? sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x) : u->uAlpha * gloss.x;
     g->depth = in->frag_coord.z;
+    if (u->uMetallic >= 0.0f)
+        metallic_roughness(u, m, g);
+    if (u->extra)
+        write_extra(u, in, m);
 }
 
 /* The uniforms of map slot `slot`: its sampler and its uv transform. */
 static const sl_sampler2D *map_sampler(const sl_gbuffer_tex_uniforms *u, int slot)
 {
-    const sl_sampler2D *s[SL_MAP_COUNT] = {&u->uKdMap, &u->uKsMap, &u->uAlphaMap, &u->uNormalMap, &u->uMaskMap};
+    const sl_sampler2D *s[SL_MAP_COUNT] = {&u->uKdMap,     &u->uKsMap,
+                                           &u->uAlphaMap,  &u->uNormalMap,
+                                           &u->uMaskMap,   &u->uMetallicRoughnessMap,
+                                           &u->uOcclusionMap, &u->uEmissiveMap};
     return s[slot];
 }
 static vec4 map_st(const sl_gbuffer_tex_uniforms *u, int slot)
 {
-    const vec4 st[SL_MAP_COUNT] = {u->uKdMapST, u->uKsMapST, u->uAlphaMapST, u->uNormalMapST, u->uMaskMapST};
+    const vec4 st[SL_MAP_COUNT] = {u->uKdMapST,   u->uKsMapST,   u->uAlphaMapST,
+                                   u->uNormalMapST, u->uMaskMapST, u->uMetallicRoughnessMapST,
+                                   u->uOcclusionMapST, u->uEmissiveMapST};
     return st[slot];
 }
 
@@ -222,8 +259,16 @@ void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 v
     u->uAlpha = m->alpha;
     u->uRoughness = m->brdf == SL_BRDF_GGX ? m->roughness : -1.0f;
     u->uAlphaCutoff = m->alpha_cutoff;
-    sl_sampler2D *samplers[SL_MAP_COUNT] = {&u->uKdMap, &u->uKsMap, &u->uAlphaMap, &u->uNormalMap, &u->uMaskMap};
-    vec4 *st[SL_MAP_COUNT] = {&u->uKdMapST, &u->uKsMapST, &u->uAlphaMapST, &u->uNormalMapST, &u->uMaskMapST};
+    u->uMetallic = m->brdf == SL_BRDF_GGX && m->metallic >= 0.0f ? m->metallic : -1.0f;
+    u->uOcclusionStrength = m->occlusion_strength;
+    u->uEmissive = m->emissive;
+    sl_sampler2D *samplers[SL_MAP_COUNT] = {&u->uKdMap,     &u->uKsMap,
+                                            &u->uAlphaMap,  &u->uNormalMap,
+                                            &u->uMaskMap,   &u->uMetallicRoughnessMap,
+                                            &u->uOcclusionMap, &u->uEmissiveMap};
+    vec4 *st[SL_MAP_COUNT] = {&u->uKdMapST,   &u->uKsMapST,   &u->uAlphaMapST,
+                              &u->uNormalMapST, &u->uMaskMapST, &u->uMetallicRoughnessMapST,
+                              &u->uOcclusionMapST, &u->uEmissiveMapST};
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
         const sl_material_map *map = &m->maps[slot];
         *st[slot] = vec4(1, 1, 0, 0);

@@ -42,6 +42,9 @@ void sl_scene_textures_free(sl_scene_textures *t);
 #define SL_GBUFFER_MAP_ALPHA (1 << SL_MAP_ALPHA)
 #define SL_GBUFFER_MAP_NORMAL (1 << SL_MAP_NORMAL)
 #define SL_GBUFFER_MAP_MASK (1 << SL_MAP_MASK)
+#define SL_GBUFFER_MAP_METALLIC_ROUGHNESS (1 << SL_MAP_METALLIC_ROUGHNESS)
+#define SL_GBUFFER_MAP_OCCLUSION (1 << SL_MAP_OCCLUSION)
+#define SL_GBUFFER_MAP_EMISSIVE (1 << SL_MAP_EMISSIVE)
 #define SL_GBUFFER_MAP_CUTOFF (1 << SL_MAP_COUNT)
 
 typedef struct {
@@ -52,10 +55,19 @@ typedef struct {
     vec3 uKd, uKs;
     float uAlpha;       /* Phong exponent, scaled by alpha_map.r */
     float uRoughness;   /* GGX roughness, scaled by alpha_map.r; -1 for a Phong material */
-    sl_sampler2D uKdMap, uKsMap, uAlphaMap, uNormalMap, uMaskMap;
-    vec4 uKdMapST, uKsMapST, uAlphaMapST, uNormalMapST, uMaskMapST; /* uv * xy + zw */
+    float uMetallic;    /* >= 0: metallic-roughness per texel (uKd the base colour); -1 otherwise */
+    float uOcclusionStrength; /* occlusion = 1 + strength (occlusion_map.r - 1) */
+    vec3 uEmissive;     /* emission = uEmissive * emissive_map.rgb */
+    sl_sampler2D uKdMap, uKsMap, uAlphaMap, uNormalMap, uMaskMap, uMetallicRoughnessMap, uOcclusionMap,
+        uEmissiveMap;
+    vec4 uKdMapST, uKsMapST, uAlphaMapST, uNormalMapST, uMaskMapST, uMetallicRoughnessMapST, uOcclusionMapST,
+        uEmissiveMapST; /* uv * xy + zw */
     int uMaps;          /* SL_GBUFFER_MAP_* bits */
     float uAlphaCutoff;
+    /* The G-buffer's extra plane (gbuffer.h sl_gbuffer_extra; GLSL: the fifth colour target), set
+     * by sl_raster_scene_textured for a material that writes it; NULL: nothing written. */
+    sl_gbuffer_extra *extra;
+    int extra_width;
     sl_texture_trace_fn trace; /* NULL except under softlight trace */
     void *trace_ctx;
 } sl_gbuffer_tex_uniforms;

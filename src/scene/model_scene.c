@@ -7,15 +7,18 @@
  * onto softlight's, and the default scene (shipped environment, the file's first camera or one
  * framing the bounds). scene.c reads the "model" key and calls scene_expand_models.
  *
- * Materials (docs/scene-format.md "Models"): glTF metallic-roughness becomes a GGX material with
- * roughness = roughnessFactor, Kd = baseColor (1 - metallic), Ks = mix(0.04, baseColor, metallic);
+ * Materials (docs/scene-format.md "Models"): glTF metallic-roughness becomes a GGX material. With
+ * a metallicRoughnessTexture it is drawn per texel (scene.h sl_material.metallic: kd = the base
+ * colour, the texture a metallic_roughness_map, the factors metallic and roughness); without one,
+ * roughness = roughnessFactor, Kd = baseColor (1 - metallic), Ks = mix(0.04, baseColor, metallic),
  * baseColorTexture a kd_map (sRGB) whose texel multiplies Kd (exact: metallic is a constant factor),
- * and the ks_map too when metallic is 1 (Ks = baseColor exactly); normalTexture a normal_map; MASK
- * (and BLEND, which a G-buffer cannot blend) a cutoff on kd_map's alpha. MTL-style materials keep
- * the Phong set: Kd, Ks, Ns, map_Kd and map_Ks (sRGB), map_Ns an alpha_map (exponent = Ns times its
- * red channel), map_Bump / norm a tangent-space normal_map. What a material has that the G-buffer
- * cannot carry yet (per-texel metallic and roughness, occlusion, emissive, a normal scale) is
- * not drawn, and one warning line per model names it.
+ * and the ks_map too when metallic is 1 (Ks = baseColor exactly). normalTexture a normal_map;
+ * occlusionTexture an occlusion_map with its strength; emissiveFactor and emissiveTexture (sRGB)
+ * emissive and an emissive_map (MTL's Ke and map_Ke the same); MASK (and BLEND, which a G-buffer
+ * cannot blend) a cutoff on kd_map's alpha. MTL-style materials keep the Phong set: Kd, Ks, Ns,
+ * map_Kd and map_Ks (sRGB), map_Ns an alpha_map (exponent = Ns times its red channel), map_Bump /
+ * norm a tangent-space normal_map. What a material has that the G-buffer cannot carry (a normal
+ * scale, BLEND, ...) is not drawn, and one warning line per model names it.
  *
  * Images: a file becomes a scene image by its path; an embedded one (.glb, data URI) by its bytes,
  * copied into the scene ("MODEL#N"), so that the raster stage decodes each once either way. */
@@ -38,21 +41,15 @@ enum { GL_NEAREST_ = 9728, GL_LINEAR_ = 9729, GL_NEAREST_MIPMAP_NEAREST_ = 9984,
 
 /* What a model has that is not drawn, gathered over its materials for the one warning line. */
 enum {
-    IGNORED_MR_TEXTURE = 1 << 0,  /* metallicRoughnessTexture */
-    IGNORED_OCCLUSION = 1 << 1,   /* occlusionTexture */
-    IGNORED_EMISSIVE = 1 << 2,    /* emissiveFactor / emissiveTexture, MTL Ke / map_Ke */
-    IGNORED_NORMAL_SCALE = 1 << 3, /* normalTexture.scale != 1: drawn at 1 */
-    IGNORED_BLEND = 1 << 4,       /* alphaMode BLEND: drawn as MASK at 0.5 */
-    IGNORED_WRAP_T = 1 << 5,      /* wrapT differs from wrapS: wrapS on both axes */
-    IGNORED_UV_SET = 1 << 6,      /* a texture reads TEXCOORD_1..: read from TEXCOORD_0 */
-    IGNORED_DECODED = 1 << 7,     /* an embedded image assimp decoded to texels: map dropped */
-    IGNORED_MASK_CONSTANT = 1 << 8, /* MASK/BLEND without a base colour texture: drawn opaque */
-    IGNORED_COUNT = 9
+    IGNORED_NORMAL_SCALE = 1 << 0, /* normalTexture.scale != 1: drawn at 1 */
+    IGNORED_BLEND = 1 << 1,       /* alphaMode BLEND: drawn as MASK at 0.5 */
+    IGNORED_WRAP_T = 1 << 2,      /* wrapT differs from wrapS: wrapS on both axes */
+    IGNORED_UV_SET = 1 << 3,      /* a texture reads TEXCOORD_1..: read from TEXCOORD_0 */
+    IGNORED_DECODED = 1 << 4,     /* an embedded image assimp decoded to texels: map dropped */
+    IGNORED_MASK_CONSTANT = 1 << 5, /* MASK/BLEND without a base colour texture: drawn opaque */
+    IGNORED_COUNT = 6
 };
 static const char *const IGNORED_NAMES[IGNORED_COUNT] = {
-    "metallicRoughnessTexture (per-texel metallic and roughness; the factors are used)",
-    "occlusionTexture",
-    "emissive",
     "normalTexture.scale (drawn at 1)",
     "alphaMode BLEND (drawn as MASK at 0.5)",
     "wrapT differing from wrapS (wrapS used on both axes)",
@@ -142,6 +139,8 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
                          sl_material *out, unsigned *ignored, sl_error *err)
 {
     memset(out, 0, sizeof *out);
+    out->metallic = -1.0f;
+    out->occlusion_strength = 1.0f;
     snprintf(out->name, sizeof out->name, "%.31s/%.31s", prefix, m->name);
     char used[320]; /* fits the format below; sl_scene_image.used_by keeps its first 255 */
 #define USED(slot) (snprintf(used, sizeof used, "%.200s: material \"%.31s\": %s", model->path, m->name, slot), used)
@@ -172,13 +171,23 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
                          ignored, err) &&
              map_texture(scene, model, &m->normal_tex, false, USED("normalTexture"), &out->maps[SL_MAP_NORMAL],
                          ignored, err);
-        /* A full metal's Ks is its base colour, texel included: the same image as ks_map. */
-        if (ok && m->metallic == 1.0f && out->maps[SL_MAP_KD].set)
+        if (ok && m->metallic_roughness_tex.image >= 0) {
+            /* per texel: the G-buffer program computes Kd and Ks from the base colour */
+            out->kd = base;
+            out->metallic = m->metallic;
+            ok = map_texture(scene, model, &m->metallic_roughness_tex, false, USED("metallicRoughnessTexture"),
+                             &out->maps[SL_MAP_METALLIC_ROUGHNESS], ignored, err);
+        } else if (ok && m->metallic == 1.0f && out->maps[SL_MAP_KD].set) {
+            /* A full metal's Ks is its base colour, texel included: the same image as ks_map. */
             out->maps[SL_MAP_KS] = out->maps[SL_MAP_KD];
-        if (m->metallic_roughness_tex.image >= 0)
-            *ignored |= IGNORED_MR_TEXTURE;
-        if (m->occlusion_tex.image >= 0)
-            *ignored |= IGNORED_OCCLUSION;
+        }
+        if (ok && m->occlusion_tex.image >= 0) {
+            ok = map_texture(scene, model, &m->occlusion_tex, false, USED("occlusionTexture"),
+                             &out->maps[SL_MAP_OCCLUSION], ignored, err);
+            out->occlusion_strength = m->occlusion_tex.scale < 0.0f   ? 0.0f
+                                      : m->occlusion_tex.scale > 1.0f ? 1.0f
+                                                                      : m->occlusion_tex.scale;
+        }
         if (m->normal_tex.image >= 0 && m->normal_tex.scale != 1.0f)
             *ignored |= IGNORED_NORMAL_SCALE;
         /* MASK cuts where baseColorFactor.a * texel.a < alphaCutoff, i.e. texel.a < cutoff / factor.a. */
@@ -194,11 +203,13 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
             }
         }
     }
+    /* glTF: emissive = emissiveFactor * emissiveTexture (sRGB); a texture under a zero factor emits nothing */
+    out->emissive = m->emissive;
+    if (ok && m->emissive_tex.image >= 0 && sl_material_extra(out))
+        ok = map_texture(scene, model, &m->emissive_tex, true, USED("emissiveTexture"), &out->maps[SL_MAP_EMISSIVE],
+                         ignored, err);
 #undef USED
-    if (m->emissive.x > 0.0f || m->emissive.y > 0.0f || m->emissive.z > 0.0f || m->emissive_tex.image >= 0)
-        *ignored |= IGNORED_EMISSIVE;
-    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
-        out->textured |= out->maps[slot].set;
+    scene_material_finish(out);
     return ok;
 }
 
@@ -278,7 +289,9 @@ static bool untextured_copy(sl_scene *scene, int *index, sl_error *err)
 {
     sl_material plain = scene->materials[*index];
     memset(plain.maps, 0, sizeof plain.maps);
-    plain.textured = plain.masked = false;
+    plain.masked = false;
+    plain.occlusion_strength = 1.0f;
+    scene_material_finish(&plain); /* a metallic material's constants folded; emission kept */
     char name[SL_NAME_MAX];
     snprintf(name, sizeof name, "%.56s/plain", plain.name);
     memcpy(plain.name, name, sizeof name);
@@ -399,7 +412,7 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
             out->material = material_given[o] || stand_in ? obj->material : material_base[obj->mesh] + file_material;
             /* A file's textured material on a mesh without texture coordinates: its constants only. */
             if (out->material != obj->material && !scene->meshes[out->mesh].texcoords &&
-                scene->materials[out->material].textured)
+                sl_material_has_maps(&scene->materials[out->material]))
                 ok = untextured_copy(scene, &out->material, err);
             out->model = mat4_mul(obj->model, inst->world);
         }

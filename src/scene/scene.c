@@ -449,9 +449,14 @@ static int compare_names(const void *a, const void *b)
 
 /* ---- texture maps (docs/scene-format.md "Texture maps") ---- */
 
-static const char *const MAP_KEYS[SL_MAP_COUNT] = {"kd_map", "ks_map", "alpha_map", "normal_map", "mask_map"};
-/* Colour maps are sRGB by default (what image editors write); data maps are linear. */
-static const bool MAP_SRGB_DEFAULT[SL_MAP_COUNT] = {true, true, false, false, false};
+static const char *const MAP_KEYS[SL_MAP_COUNT] = {"kd_map",   "ks_map",   "alpha_map",
+                                                   "normal_map", "mask_map", "metallic_roughness_map",
+                                                   "occlusion_map", "emissive_map"};
+/* Colour maps are sRGB by default (what image editors write, glTF's rule); data maps are linear. */
+static const bool MAP_SRGB_DEFAULT[SL_MAP_COUNT] = {true, true, false, false, false, false, false, true};
+/* Emitted radiance: far above a lamp's in the shipped environments, far below float overflow
+ * once summed with the image-based terms. */
+#define MAX_EMISSIVE 1e4
 /* uv_scale and uv_offset: beyond this a float texture coordinate keeps too few fraction bits
  * (2^-10 of a repeat at 1e4) for a filtered lookup to mean anything. */
 #define MAX_UV_TRANSFORM 1e4
@@ -562,10 +567,63 @@ static bool parse_map(parser *p, sl_scene *scene, const cJSON *item, const char 
     return scene_image(p, scene, file, srgb, path, &map->image);
 }
 
+/* glTF's keys (docs/scene-format.md "Metallic-roughness, occlusion, emission"): metallic (with a
+ * metallic_roughness_map, 1 when not given), occlusion_strength, emissive. Run after the maps. */
+static bool parse_pbr(parser *p, const cJSON *item, const char *path, sl_material *m)
+{
+    char sub[JSON_PATH_MAX];
+    const cJSON *v;
+    bool mr_map = m->maps[SL_MAP_METALLIC_ROUGHNESS].set;
+    if ((v = member(item, "metallic")) || mr_map) {
+        join_key(sub, path, v ? "metallic" : "metallic_roughness_map");
+        if (m->brdf != SL_BRDF_GGX)
+            return fail_at(p, sub, SL_ERR_FORMAT, "a metallic-roughness material needs \"brdf\": \"ggx\"");
+        if (member(item, "ks") || m->maps[SL_MAP_KS].set)
+            return fail_at(p, sub, SL_ERR_FORMAT,
+                           "a metallic-roughness material takes its ks from kd (the base colour): no ks or ks_map");
+        m->metallic = 1.0f;
+        if (v && !read_float(p, v, sub, 0.0, 1.0, &m->metallic))
+            return false;
+    }
+    if ((v = member(item, "occlusion_strength"))) {
+        join_key(sub, path, "occlusion_strength");
+        if (!read_float(p, v, sub, 0.0, 1.0, &m->occlusion_strength))
+            return false;
+        if (!m->maps[SL_MAP_OCCLUSION].set)
+            return fail_at(p, sub, SL_ERR_FORMAT, "needs an occlusion_map");
+    }
+    if ((v = member(item, "emissive"))) {
+        join_key(sub, path, "emissive");
+        if (!read_color(p, v, sub, MAX_EMISSIVE, &m->emissive))
+            return false;
+    } else if (m->maps[SL_MAP_EMISSIVE].set) {
+        m->emissive = vec3s(1.0f); /* the map alone: its texels are the radiance */
+    }
+    scene_material_finish(m);
+    return true;
+}
+
+/* A metallic material without per-texel inputs is folded into constant kd and ks (then drawn by
+ * the untextured program, as before); `textured` says which program draws it. */
+void scene_material_finish(sl_material *m)
+{
+    if (m->metallic >= 0.0f && !m->maps[SL_MAP_KD].set && !m->maps[SL_MAP_METALLIC_ROUGHNESS].set) {
+        vec3 base = m->kd;
+        float k = m->metallic;
+        m->kd = scale3(base, 1.0f - k);
+        m->ks = vec3(mixf(0.04f, base.x, k), mixf(0.04f, base.y, k), mixf(0.04f, base.z, k));
+        m->metallic = -1.0f;
+    }
+    m->textured = sl_material_has_maps(m) || sl_material_extra(m);
+}
+
 static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const char *path, sl_material *m)
 {
-    static const char *const keys[] = {"kd",        "ks",         "alpha",    "brdf",         "roughness", "kd_map",
-                                       "ks_map",    "alpha_map",  "normal_map", "mask_map", "alpha_cutoff", NULL};
+    static const char *const keys[] = {"kd",        "ks",         "alpha",        "brdf",
+                                       "roughness", "kd_map",     "ks_map",       "alpha_map",
+                                       "normal_map", "mask_map",  "alpha_cutoff", "metallic",
+                                       "metallic_roughness_map", "occlusion_map", "occlusion_strength", "emissive",
+                                       "emissive_map", NULL};
     static const char *const brdfs[] = {"phong", "ggx"}; /* sl_brdf's values */
     if (!check_keys(p, item, path, keys))
         return false;
@@ -621,6 +679,8 @@ static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const 
             return false;
         m->textured = true;
     }
+    if (!parse_pbr(p, item, path, m))
+        return false;
     /* Coverage for the cutoff: mask_map.r, or kd_map's alpha; a mask alone cuts at glTF's 0.5. */
     m->masked = m->maps[SL_MAP_MASK].set;
     m->alpha_cutoff = 0.5f;
@@ -638,7 +698,7 @@ static bool parse_material(parser *p, sl_scene *scene, const cJSON *item, const 
 static sl_material default_material(const char *name)
 {
     sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f, .brdf = SL_BRDF_PHONG,
-                     .roughness = DEFAULT_ROUGHNESS};
+                     .roughness = DEFAULT_ROUGHNESS, .metallic = -1.0f, .occlusion_strength = 1.0f};
     snprintf(m.name, sizeof m.name, "%s", name);
     return m;
 }
@@ -1028,7 +1088,7 @@ static bool check_maps_have_uvs(parser *p, const sl_scene *scene)
     for (int i = 0; i < scene->object_count; i++) {
         const sl_object *o = &scene->objects[i];
         const sl_material *m = &scene->materials[o->material];
-        if (!m->textured || scene->meshes[o->mesh].texcoords)
+        if (!sl_material_has_maps(m) || scene->meshes[o->mesh].texcoords)
             continue;
         int slot = 0;
         while (!m->maps[slot].set)

@@ -40,8 +40,21 @@ typedef struct {
 /* The texture maps a material may name (docs/scene-format.md "Texture maps"). Each multiplies the
  * material's constant: kd = Kd * kd_map.rgb, ks = Ks * ks_map.rgb, alpha = alpha * alpha_map.r;
  * normal_map perturbs the normal in tangent space (+Y up, OpenGL and glTF); mask_map.r, or
- * kd_map's alpha when there is no mask_map, is compared with alpha_cutoff (discard below it). */
-typedef enum { SL_MAP_KD, SL_MAP_KS, SL_MAP_ALPHA, SL_MAP_NORMAL, SL_MAP_MASK, SL_MAP_COUNT } sl_map_slot;
+ * kd_map's alpha when there is no mask_map, is compared with alpha_cutoff (discard below it).
+ * glTF's three more: metallic_roughness_map (G roughness, B metallic, times the factors; the
+ * material's kd is then the base colour), occlusion_map (R, with occlusion_strength: scales the
+ * image-based terms) and emissive_map (times emissive, added to the radiance). */
+typedef enum {
+    SL_MAP_KD,
+    SL_MAP_KS,
+    SL_MAP_ALPHA,
+    SL_MAP_NORMAL,
+    SL_MAP_MASK,
+    SL_MAP_METALLIC_ROUGHNESS,
+    SL_MAP_OCCLUSION,
+    SL_MAP_EMISSIVE,
+    SL_MAP_COUNT
+} sl_map_slot;
 typedef enum { SL_MAP_REPEAT, SL_MAP_CLAMP, SL_MAP_MIRROR } sl_map_wrap;
 typedef enum { SL_MAP_TRILINEAR, SL_MAP_BILINEAR, SL_MAP_NEAREST } sl_map_filter;
 typedef struct {
@@ -82,11 +95,34 @@ typedef struct {
     float alpha;
     sl_brdf brdf;
     float roughness; /* GGX only */
+    /* glTF metallic-roughness per texel (metallic >= 0; -1 otherwise): kd is the base colour, ks
+     * unused; the textured program computes kd = base (1 - m), ks = mix(0.04, base, m) with
+     * m = metallic * metallic_roughness_map.b, roughness * metallic_roughness_map.g. The scene
+     * reader folds a metallic material without kd_map and metallic_roughness_map into kd, ks. */
+    float metallic;
+    float occlusion_strength; /* occlusion = 1 + strength (occlusion_map.r - 1); 1 without a map */
+    vec3 emissive;            /* linear RGB radiance added, times emissive_map.rgb (sRGB) */
     sl_material_map maps[SL_MAP_COUNT];
-    bool textured;       /* some map is set: drawn with the textured G-buffer program */
+    bool textured;       /* drawn with the textured G-buffer program: some map is set, or it writes
+                            the G-buffer's extra channels (sl_material_extra) */
     bool masked;         /* discard where the coverage (mask_map.r, else kd_map.a) < alpha_cutoff */
     float alpha_cutoff;  /* 0..1; default 0.5 (glTF's) when a mask_map is given */
 } sl_material;
+
+/* Whether a material writes the G-buffer's extra channels (occlusion, emission: gbuffer.h
+ * sl_gbuffer_extra), which a scene allocates only when one of its materials does. */
+static inline bool sl_material_extra(const sl_material *m)
+{
+    return m->maps[SL_MAP_OCCLUSION].set || m->emissive.x > 0.0f || m->emissive.y > 0.0f || m->emissive.z > 0.0f;
+}
+/* Whether a material samples any map (textured may be set for the extra channels alone). */
+static inline bool sl_material_has_maps(const sl_material *m)
+{
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        if (m->maps[slot].set)
+            return true;
+    return false;
+}
 
 typedef struct {
     char name[SL_NAME_MAX];

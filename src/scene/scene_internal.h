@@ -37,6 +37,9 @@ bool scene_compute_tangents(sl_mesh *mesh);
 
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
 bool scene_safe_normalize(vec3 v, vec3 *out);
+/* After a material's keys or a model's material are read: a metallic material without per-texel
+ * inputs folded into constant kd, ks; `textured` set from its maps and extra channels (scene.c). */
+void scene_material_finish(sl_material *m);
 
 /* The first camera of the models a scene loads (model_scene.c), for the default scene. */
 typedef struct {

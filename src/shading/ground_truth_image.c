@@ -50,7 +50,10 @@ static uint64_t gbuffer_hash(const sl_gbuffer *gb)
     _Static_assert(sizeof(sl_gbuffer_texel) == 14 * sizeof(float), "G-buffer texel has no padding to hash");
     uint64_t h = fnv(FNV_START, &gb->width, sizeof gb->width);
     h = fnv(h, &gb->height, sizeof gb->height);
-    return fnv(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
+    h = fnv(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
+    if (gb->extra) /* occlusion and emission change the result (the tag is their writer's depth) */
+        h = fnv(h, gb->extra, (size_t)gb->width * (size_t)gb->height * sizeof *gb->extra);
+    return h;
 }
 
 static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, const sl_gt_image_desc *d)
@@ -183,6 +186,18 @@ static void unit_d(vec3 a, double out[3])
     out[2] = z / len;
 }
 
+/* The G-buffer's extra channels (gbuffer.h), as the lighting shader applies them: occlusion scales
+ * the image-based terms (both parts here), emission joins the diffuse part (view-independent). */
+static void apply_extra(const sl_gbuffer_extra *e, float *diffuse, float *spec0, float *spec1)
+{
+    const float em[3] = {e->emissive.x, e->emissive.y, e->emissive.z};
+    for (int c = 0; c < 3; c++) {
+        diffuse[c] = diffuse[c] * e->occlusion + em[c];
+        spec0[c] *= e->occlusion;
+        spec1[c] *= e->occlusion;
+    }
+}
+
 /* One covered texel: N, V as the shader forms them, then into the environment frame. */
 static void shade_texel(const sl_ground_truth *gt, const sl_gbuffer_texel *t, vec3 eye, double cr, double sr,
                         double intensity, float *diffuse, float *spec0, float *spec1)
@@ -265,6 +280,9 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
             sl_image_pixel(&out->mask, x, row)[0] = 1.0f;
             shade_texel(&gt, t, eye, cr, sr, intensity, sl_image_pixel(&out->diffuse, x, row),
                         sl_image_pixel(&out->specular[0], x, row), sl_image_pixel(&out->specular[1], x, row));
+            if (gb->extra)
+                apply_extra(&gb->extra[t - gb->texels], sl_image_pixel(&out->diffuse, x, row),
+                            sl_image_pixel(&out->specular[0], x, row), sl_image_pixel(&out->specular[1], x, row));
             row_done++;
         }
         long now;

@@ -342,6 +342,7 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
         color = add(color, spec);
         trace_specular(trace, spec);
     }
+    color = scale(color, s->occlusion);
     if (u->uPointLights != 0) {
         for (int i = 0; i < u->uLightCount; i++) {
             vec3 light = point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
@@ -349,6 +350,11 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
             trace_light(trace, i, light);
         }
     }
+    /* emission is view-independent: it travels with the diffuse term (--specular-only drops it,
+     * and the ground truth's diffuse part carries it) */
+    if (u->uDiffuse != 0)
+        color = add(color, s->emissive);
+    trace_extra(trace, s->occlusion, s->emissive);
     return color;
 }
 
@@ -387,7 +393,8 @@ vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int
         vec3 Nenv = mat3_mul_vec3(u->uEnvRotation, N);
         vec3 Venv = mat3_mul_vec3(u->uEnvRotation, V);
         vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
-        shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation};
+        sl_gbuffer_extra e = shade_extra(gb, x, y);
+        shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = shade_surface_color(u, &s, NULL, task, trace);
     }

@@ -683,6 +683,8 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),
                 .Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
                 .rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
+                .occlusion = shade_extra(gb, x, y).occlusion,
+                .emissive = shade_extra(gb, x, y).emissive,
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]), B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
             trace_surface(task, trace, &s, p->bent[i]);

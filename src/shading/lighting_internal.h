@@ -40,9 +40,19 @@ typedef struct {
     vec3 V, N;       /* world space, N after facing_normal */
     vec3 Nenv, Venv; /* environment space */
     vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */
+    float occlusion; /* the G-buffer's extra plane (gbuffer.h): 1 and 0 when it has none */
+    vec3 emissive;
 } shade_surface;
 
-/* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), point lights.
+/* The extra channels of pixel (x, y): "none" (occlusion 1, emission 0) without the plane. */
+static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
+{
+    const sl_gbuffer_extra none = {.occlusion = 1.0f};
+    return gb->extra ? gb->extra[(size_t)y * (size_t)gb->width + (size_t)x] : none;
+}
+
+/* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
+ * point lights, emission.
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops. */
 vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *specular,
@@ -187,6 +197,14 @@ static inline void trace_light(sl_lighting_trace *t, int i, vec3 light)
     if (t) {
         t->light[i] = light;
         t->lights = add(t->lights, light);
+    }
+}
+
+static inline void trace_extra(sl_lighting_trace *t, float occlusion, vec3 emissive)
+{
+    if (t) {
+        t->occlusion = occlusion;
+        t->emissive = emissive;
     }
 }
 

@@ -14,6 +14,7 @@ bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb
     memset(trace, 0, sizeof *trace);
     trace->x = x;
     trace->y = y;
+    trace->extra = gb->extra != NULL;
     sl_lighting_shade(u, gb, x, gb->height - 1 - y, NULL, trace);
     return true;
 }
@@ -94,7 +95,11 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  %-12s (%.6g, %.6g, %.6g): the exact part from %d env lights (in specular; the samples read the residual)\n",
                 "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
                 t->env_light_count);
+    if (t->extra)
+        fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);
     print3(f, "lights", t->lights);
+    if (t->extra)
+        print3(f, "emissive", t->emissive);
     print3(f, "total", t->total);
     if (t->repaired)
         fprintf(f, "  a NaN/Inf was replaced by 0\n");

@@ -53,6 +53,9 @@ struct sl_lighting_trace {
     vec3 env_lights;         /* their exact part of the specular (included in specular) */
     vec3 irradiance, diffuse, specular, lights, background;
     vec3 light[SL_LIGHTING_MAX_LIGHTS];
+    float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
+    vec3 emissive;           /* added last */
+    bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */
 };

@@ -5,6 +5,7 @@ the pixels both cover, and the share of those more than 1/255 apart in any compo
 of scenes/textured.json (world z = 0) is reported apart from the other objects (see
 gl_textured.sh for why). Prints one line per channel and group:
     CHANNEL GROUP PIXELS MAX SHARE_OVER_1_255"""
+import os
 import struct
 import sys
 
@@ -27,7 +28,10 @@ def main():
     pos = read_pfm(c_dir + "/position.pfm")[3]
     covered = [i for i in range(len(mask_c)) if mask_c[i] > 0.5 and mask_g[i] > 0.5]
     floor = {i for i in covered if abs(pos[3 * i + 2]) < 1e-6}
-    for name in ("position", "normal", "kd", "ks", "alpha", "depth"):
+    # the extra plane's AOVs (occlusion, emission) when both G-buffers have them
+    extra = tuple(n for n in ("occlusion", "emissive")
+                  if os.path.exists(c_dir + "/" + n + ".pfm") and os.path.exists(g_dir + "/" + n + ".pfm"))
+    for name in ("position", "normal", "kd", "ks", "alpha", "depth") + extra:
         _, _, ch, a = read_pfm(c_dir + "/" + name + ".pfm")
         b = read_pfm(g_dir + "/" + name + ".pfm")[3]
         for group in ("objects", "floor"):

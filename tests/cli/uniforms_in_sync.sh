@@ -20,7 +20,7 @@ c=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_light
 # GL host: every "uName" string it looks up, and the block by its block name
 host=$( { grep -o '"u[A-Z][A-Za-z0-9]*' "$gl" | tr -d '"'
           grep -q '"HammersleyBlock"' "$gl" && echo uHammersley; } | sort -u)
-gbuffer="uPosition uNormal uKd uKsAlpha uDepth"
+gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac
@@ -65,12 +65,12 @@ for u in $tc; do grep -qx "$u" <<<"$tglsl" || fail "$u: a field of sl_gbuffer_te
 for u in $thost; do grep -qx "$u" <<<"$tglsl" || fail "$u: set by $tgl, not a uniform of $tvert/$tfrag"; done
 # uMaps bits: GLSL's MAP_* = 1 << SL_MAP_* (scene.h's slot order), MAP_CUTOFF = 1 << SL_MAP_COUNT
 slot=0
-for x in KD KS ALPHA NORMAL MASK CUTOFF; do
+for x in KD KS ALPHA NORMAL MASK METALLIC_ROUGHNESS OCCLUSION EMISSIVE CUTOFF; do
     g=$(sed -n "s/^const int MAP_$x = \([0-9]*\);.*/\1/p" "$tfrag")
     [ "$g" = $((1 << slot)) ] || fail "MAP_$x = '$g' in $tfrag, expected $((1 << slot)) (SL_GBUFFER_MAP_$x)"
     slot=$((slot + 1))
 done
-grep -q 'SL_MAP_KD, SL_MAP_KS, SL_MAP_ALPHA, SL_MAP_NORMAL, SL_MAP_MASK, SL_MAP_COUNT' src/scene/scene.h ||
+tr -d ' \n' <src/scene/scene.h | grep -q 'SL_MAP_KD,SL_MAP_KS,SL_MAP_ALPHA,SL_MAP_NORMAL,SL_MAP_MASK,SL_MAP_METALLIC_ROUGHNESS,SL_MAP_OCCLUSION,SL_MAP_EMISSIVE,SL_MAP_COUNT' ||
     fail "sl_map_slot's order in src/scene/scene.h is not the one $tfrag's MAP_* bits assume"
 
 n=$(wc -w <<<"$glsl")

@@ -347,13 +347,14 @@ static void test_gltf_camera(void **state)
     assert_true(sl_scene_load(test_tmpfile("cam.gltf"), &scene, &err));
     assert_near(scene.camera.eye.y, -5.0f, 1e-6f);
     assert_int_equal(scene.object_count, 1);
-    /* Metallic-roughness as GGX: Kd = 0.8 (1 - 0.25) = 0.6, Ks = 0.04 + 0.25 (0.8 - 0.04) = 0.23,
-     * roughness 0.6 as it is. */
+    /* Metallic-roughness as GGX, per texel (the file has a metallicRoughnessTexture): kd holds the
+     * base colour 0.8, metallic 0.25 and roughness 0.6 the factors. */
     const sl_material *mat = &scene.materials[scene.objects[0].material];
     assert_int_equal(mat->brdf, SL_BRDF_GGX);
-    assert_near(mat->kd.x, 0.6f, 1e-6f);
-    assert_near(mat->ks.x, 0.23f, 1e-6f);
+    assert_near(mat->kd.x, 0.8f, 1e-6f);
+    assert_near(mat->metallic, 0.25f, 1e-6f);
     assert_near(mat->roughness, 0.6f, 1e-6f);
+    assert_true(mat->maps[SL_MAP_METALLIC_ROUGHNESS].set);
     sl_scene_free(&scene);
 }
 
@@ -385,7 +386,7 @@ static void test_scene_model_object(void **state)
     assert_near(w.x, 13.0f, 1e-5f);
     assert_near(w.y, -3.0f, 1e-5f);
     assert_string_equal(scene.materials[scene.objects[1].material].name, "red");
-    assert_near(scene.materials[scene.objects[0].material].kd.x, 0.6f, 1e-6f);
+    assert_near(scene.materials[scene.objects[0].material].kd.x, 0.8f, 1e-6f); /* the base colour */
     sl_scene_free(&scene);
 
     /* Parsed without meshes, a model object is one object with a model source. */
@@ -515,22 +516,23 @@ static sl_gbuffer_texel centre_texel(sl_scene *scene, vec3 at)
 #define AT_OPAQUE vec3(1.2f, -3.0f, 2.2f)
 #define AT_CUT vec3(1.2f, -3.0f, 3.6f)
 
-/* What the material `clay` (gltf_text) draws: GGX r = 0.6, Kd = (0.8, 0.4, 0.2) (1 - 0.25) =
- * (0.6, 0.3, 0.15) times the texel (1, srgb(128) = 0.21586, 0) (magFilter NEAREST: the texel
- * itself), Ks = mix(0.04, base, 0.25) = (0.23, 0.13, 0.08) from the factors; MASK 0.3 cuts the
- * texel of alpha 0.2. */
+/* What the material `clay` (gltf_text) draws at texel (0,0) (magFilter NEAREST: the texel
+ * itself): base = (0.8, 0.4, 0.2) times the sRGB texel (1, srgb(128) = 0.21586, 0); the same image
+ * read linear as metallicRoughnessTexture: G = 128/255, B = 0, so metallic = 0.25 * 0 = 0 (a
+ * dielectric: Kd = base, Ks = 0.04) and roughness = 0.6 * 128/255; MASK 0.3 cuts the texel of
+ * alpha 0.2. */
 static void check_clay_drawn(sl_scene *scene)
 {
     sl_gbuffer_texel t = centre_texel(scene, AT_OPAQUE);
     assert_true(sl_gbuffer_covered(&t));
-    assert_near(t.kd.x, 0.6f, 1e-6f);
-    assert_near(t.kd.y, 0.3f * sl_srgb8_to_linear(128), 1e-6f);
-    assert_near(t.kd.y, 0.3f * 0.21586f, 1e-5f);
+    assert_near(t.kd.x, 0.8f, 1e-6f);
+    assert_near(t.kd.y, 0.4f * sl_srgb8_to_linear(128), 1e-6f);
+    assert_near(t.kd.y, 0.4f * 0.21586f, 1e-5f);
     assert_near(t.kd.z, 0.0f, 1e-7f);
-    assert_near(t.ks.x, 0.23f, 1e-6f);
-    assert_near(t.ks.y, 0.13f, 1e-6f);
-    assert_near(t.ks.z, 0.08f, 1e-6f);
-    assert_near(t.alpha, sl_gbuffer_ggx_alpha(0.6f), 1e-6f);
+    assert_near(t.ks.x, 0.04f, 1e-7f);
+    assert_near(t.ks.y, 0.04f, 1e-7f);
+    assert_near(t.ks.z, 0.04f, 1e-7f);
+    assert_near(t.alpha, sl_gbuffer_ggx_alpha(0.6f * 128.0f / 255.0f), 1e-6f);
     assert_near(t.normal.y, -1.0f, 1e-5f);
     t = centre_texel(scene, AT_CUT);
     assert_false(sl_gbuffer_covered(&t));
@@ -553,9 +555,12 @@ static void test_gltf_material_drawn(void **state)
     assert_int_equal(mat->brdf, SL_BRDF_GGX);
     assert_true(mat->textured);
     assert_true(mat->maps[SL_MAP_KD].set);
-    assert_false(mat->maps[SL_MAP_KS].set); /* metallic 0.25: Ks from the factors */
-    assert_false(mat->maps[SL_MAP_ALPHA].set); /* the metallicRoughnessTexture is not drawn */
-    assert_int_equal(scene.image_count, 1);
+    assert_false(mat->maps[SL_MAP_KS].set); /* Ks per texel from the base colour */
+    assert_false(mat->maps[SL_MAP_ALPHA].set);
+    assert_true(mat->maps[SL_MAP_METALLIC_ROUGHNESS].set);
+    /* the file twice: sRGB as base colour, linear as metallic-roughness */
+    assert_int_equal(scene.image_count, 2);
+    assert_false(scene.images[mat->maps[SL_MAP_METALLIC_ROUGHNESS].image].srgb);
     assert_string_equal(scene.images[mat->maps[SL_MAP_KD].image].path, test_tmpfile("tex.png"));
     assert_true(scene.images[0].srgb);
     assert_null(scene.images[0].bytes);
@@ -598,8 +603,8 @@ static void test_glb_material_drawn(void **state)
     sl_error err = {0};
     if (!sl_scene_load(test_tmpfile("drawn.glb"), &scene, &err))
         fail_msg("%s", err.msg);
-    /* One scene image holding the embedded bytes, named after the model. */
-    assert_int_equal(scene.image_count, 1);
+    /* One scene image per colour space holding the embedded bytes, named after the model. */
+    assert_int_equal(scene.image_count, 2);
     char name[SL_PATH_MAX];
     snprintf(name, sizeof name, "%s#0", test_tmpfile("drawn.glb"));
     assert_string_equal(scene.images[0].path, name);
@@ -609,7 +614,8 @@ static void test_glb_material_drawn(void **state)
     sl_scene_free(&scene);
 }
 
-/* A metal (metallic 1) takes its Ks from the texture too; BLEND is drawn as MASK at 0.5. */
+/* A metal (metallic 1, no metallicRoughnessTexture) takes its Ks from the base colour texture too;
+ * BLEND is drawn as MASK at 0.5. */
 static void test_gltf_metal_blend(void **state)
 {
     (void)state;
@@ -621,6 +627,11 @@ static void test_gltf_metal_blend(void **state)
     char *at = strstr(text, "\"metallicFactor\": 0.25");
     assert_non_null(at);
     memcpy(at, "\"metallicFactor\": 1.00", 22);
+    /* factors only: without the metallicRoughnessTexture */
+    const char *mr = ", \"metallicRoughnessTexture\": {\"index\": 0}";
+    at = strstr(text, mr);
+    assert_non_null(at);
+    memmove(at, at + strlen(mr), strlen(at + strlen(mr)) + 1);
     at = strstr(text, "\"MASK\"");
     memcpy(at, "\"BLEND\"", 7); /* overwrites the comma after "MASK" */
     at += 7;
