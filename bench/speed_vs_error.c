@@ -179,6 +179,9 @@ static void build_variants(variant_list *l, bool with_gl)
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_SH9, 40, NULL, false);
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_BRUTE, 40, NULL, false);
     add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SL_IRRADIANCE_MAP, 40, NULL, false);
+    /* the split-sum method (--estimator splitsum): no samples, so N and the lod rule do not apply */
+    add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPLITSUM, SL_LOD_SPEC_D4, false, G, SH, 40, NULL, false);
+    add_variant(l, KIND_SHADER, SL_ESTIMATOR_SPLITSUM, SL_LOD_SPEC_D4, false, SL_GTERM_ONE, SH, 40, NULL, false);
     /* the line-by-line port (options.plain) beside the default batched path (its fast log2/atan2) */
     add_variant_ex(l, KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, G, SH, 40, NULL, false, PLAIN, 1, 0);
     add_variant_ex(l, KIND_SHADER, SL_ESTIMATOR_CONSISTENT, SL_LOD_SPEC, true, G, SH, 40, NULL, false, PLAIN, 1, 0);

@@ -74,7 +74,15 @@
 //   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
 //   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
 //   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w)),
-//                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w))
+//                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w)),
+//                     4 = split sum (no samples: uSplitSum* below)
+// Split sum (uEstimator 4; src/ibl/prefilter.c, src/shading/splitsum_lut.h):
+//   sampler2D uSplitSumPhong, uSplitSumGGX  lat-long chains, level k the environment (what the
+//                         samples read) convolved with the lobe of width r = k / uSplitSumMaxLod at
+//                         N = V = R; uploaded level by level, LINEAR_MIPMAP_LINEAR, REPEAT s, CLAMP t
+//   float uSplitSumMaxLod their level count - 1
+//   sampler2D uSplitSumLut  SPLITSUM_LUT_SIZE x (3 SPLITSUM_LUT_SIZE) RGB32F, LINEAR, CLAMP: .x = A,
+//                         .y = B of the BRDF's albedo Ks A + B over (N.V, r), one set per block of rows
 //   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
 //   int uRotate       1 = Cranley-Patterson rotation: every Hammersley pair is offset by the
 //                     pixel's pseudo-random vector pixel_rotation() mod 1 (0 = off: the same set
@@ -125,6 +133,11 @@ uniform vec3 uLightPosition[MAX_LIGHTS];
 uniform vec3 uLightColor[MAX_LIGHTS];
 uniform float uLightIntensity[MAX_LIGHTS];
 
+uniform sampler2D uSplitSumPhong;
+uniform sampler2D uSplitSumGGX;
+uniform sampler2D uSplitSumLut;
+uniform float uSplitSumMaxLod;
+
 uniform int uLodRule;
 uniform int uDistortion;
 uniform int uGTerm;
@@ -146,6 +159,12 @@ const int LOD_PDF = 5;
 const int GTERM_INV_LH2 = 1;
 const int ESTIMATOR_CONSISTENT = 2;
 const int ESTIMATOR_MICROFACET = 3;
+const int ESTIMATOR_SPLITSUM = 4;
+const int SPLITSUM_LUT_SIZE = 32;
+const int SPLITSUM_SETS = 3;
+const int SPLITSUM_PHONG_INV_LH2 = 0;
+const int SPLITSUM_PHONG_ONE = 1;
+const int SPLITSUM_GGX = 2;
 const int ENV_LAYOUT_OCT = 2;
 const int IRRADIANCE_SH9 = 0;
 const int IRRADIANCE_OCT = 3;
@@ -592,6 +611,38 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
     return sum * (1.0 / float(max(n, 1)));
 }
 
+// The lobe width of the split-sum chain and table: GGX's roughness, or the Phong exponent's
+// equal-peak one (2 / (alpha + 2))^(1/4) (src/shading/splitsum_lut.h)
+float splitsum_width(float alpha)
+{
+    return alpha < 0.0 ? -1.0 - alpha : sqrt(sqrt(2.0 / (alpha + 2.0)));
+}
+
+// The table at the texel centres of its set: N.V = i / (S - 1) is column i, r = j / (S - 1) row
+// set S + j
+vec2 splitsum_lut(int set, float NdotV, float r)
+{
+    float s = float(SPLITSUM_LUT_SIZE);
+    vec2 uv = vec2((clamp(NdotV, 0.0, 1.0) * (s - 1.0) + 0.5) / s,
+                   (float(set) * s + clamp(r, 0.0, 1.0) * (s - 1.0) + 0.5) / (s * float(SPLITSUM_SETS)));
+    return texture(uSplitSumLut, uv).xy;
+}
+
+// Split sum (Karis 2013): the prefiltered environment along R at the lobe's level, times the
+// BRDF's albedo Ks A + B. No samples; N = V = R is the prefilter's assumption.
+vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    float NdotV = dot(N, V);
+    vec3 R = normalize(N * (2.0 * NdotV) - V);
+    float r = splitsum_width(alpha);
+    float lod = r * uSplitSumMaxLod;
+    vec2 uv = sl_dir_to_uv(R);
+    vec3 P = alpha < 0.0 ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
+    int set = alpha < 0.0 ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    vec2 ab = splitsum_lut(set, NdotV, r);
+    return P * (Ks * ab.x + ab.y) * uEnvIntensity;
+}
+
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
 // the node weight), so this is the ground truth's sum over those texels: the BRDF (2) at w,
 // times w.N; 0 below the horizon and for facets facing away (N.H <= 0). Environment space.
@@ -670,7 +721,9 @@ void main()
         if (uDiffuse != 0)
             color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
         if (uSpecular != 0) {
-            if (uEstimator == ESTIMATOR_MICROFACET)
+            if (uEstimator == ESTIMATOR_SPLITSUM)
+                color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
+            else if (uEstimator == ESTIMATOR_MICROFACET)
                 color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
             else
                 color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);

@@ -174,6 +174,14 @@ int cmd_render(int argc, char **argv)
             printf("octahedral chain: %dx%d, %d levels, built in %.1f ms once per environment\n",
                    r.env_oct.levels[0].width, r.env_oct.levels[0].height, r.env_oct.level_count,
                    r.timings.env_oct_ms);
+        if (r.splitsum_built >= 0)
+            printf("split sum: prefiltered chains %dx%d, %d levels (%s%s%s), and the BRDF table, built in %.1f ms "
+                   "once per environment\n",
+                   sl_renderer_splitsum_chain(&r, false)->levels[0].width,
+                   sl_renderer_splitsum_chain(&r, false)->levels[0].height,
+                   sl_renderer_splitsum_chain(&r, false)->level_count, r.splitsum_phong.level_count ? "Phong" : "",
+                   r.splitsum_phong.level_count && r.splitsum_ggx.level_count ? " and " : "",
+                   r.splitsum_ggx.level_count ? "GGX" : "", r.timings.splitsum_ms);
         const char *outs[] = {png, hdr, pfm, exr, aov, normals};
         for (size_t i = 0; i < sizeof outs / sizeof outs[0] && !shard.count; i++)
             if (outs[i])

@@ -19,7 +19,7 @@ static const struct {
     [SL_OPT_DISTORTION] = {NULL, "include the lat-long distortion in the mip level"},
     [SL_OPT_GTERM] = {NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1"},
     [SL_OPT_ESTIMATOR] = {NULL,
-                          "specular estimator: the specification's eq. (3) (default), consistent, or microfacet sampling"},
+                          "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, or the split-sum lookup (prefiltered environment, no samples)"},
     [SL_OPT_IRRADIANCE] = {NULL, "diffuse irradiance (default: the scene's map if any, else oct, the pole-free octahedral map)"},
     [SL_OPT_ENV_LAYOUT] = {NULL, "the specular samples' mip chain: latlong (default; the specification's, as GL builds it) "
                                  "or oct, an octahedral chain without pole or seam"},

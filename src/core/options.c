@@ -16,7 +16,7 @@ static const char *const gterm_names[] = {
 };
 static const char *const estimator_names[] = {
     [SL_ESTIMATOR_DEFAULT] = "default", [SL_ESTIMATOR_SPEC] = "spec", [SL_ESTIMATOR_CONSISTENT] = "consistent",
-    [SL_ESTIMATOR_MICROFACET] = "mf",
+    [SL_ESTIMATOR_MICROFACET] = "mf", [SL_ESTIMATOR_SPLITSUM] = "splitsum",
 };
 static const char *const irradiance_names[] = {
     [SL_IRRADIANCE_SH9] = "sh9", [SL_IRRADIANCE_BRUTE] = "brute", [SL_IRRADIANCE_MAP] = "map",
@@ -50,7 +50,7 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     [SL_OPT_GTERM] = {.name = "gterm", .cli = "--g", .type = SL_OPTION_CHOICE, .def = {SL_GTERM_INV_LH2},
                       .min = SL_GTERM_INV_LH2, .max = SL_GTERM_ONE, .names = gterm_names},
     [SL_OPT_ESTIMATOR] = {.name = "estimator", .cli = "--estimator", .type = SL_OPTION_CHOICE,
-                          .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC, .max = SL_ESTIMATOR_MICROFACET,
+                          .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC, .max = SL_ESTIMATOR_SPLITSUM,
                           .names = estimator_names},
     /* default: the scene's map if it names one, else this, the pole-free octahedral map
      * (src/render/renderer.c; docs/ibl.md says why) */

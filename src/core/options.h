@@ -67,6 +67,9 @@ typedef enum {
     SL_ESTIMATOR_CONSISTENT = 2, /* divides by the density of the drawn w, p(w) */
     SL_ESTIMATOR_MICROFACET = 3, /* H drawn from D(H) (N.H), w = reflect(-V, H), divides by
                                     p(w) = D (N.H) / (4 V.H): bounded weights ("mf") */
+    SL_ESTIMATOR_SPLITSUM = 4,   /* no samples: the environment prefiltered per lobe width
+                                    (src/ibl/prefilter.c) at R times a table of the BRDF's
+                                    scale and bias (src/shading/splitsum_lut.h); N = V assumed */
 } sl_estimator;
 
 /* The G term (uGTerm). */
@@ -163,7 +166,7 @@ double sl_option_file_min(const sl_option *opt);
 double sl_option_file_max(const sl_option *opt);
 
 /* The modes' names, from the rows above: "none", "spec", "spec-d4", "gems", "pdf"; "spec",
- * "consistent", "mf"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an
+ * "consistent", "mf", "splitsum"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an
  * unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);

@@ -37,7 +37,11 @@ enum {
     UNIT_ENV,
     UNIT_IRRADIANCE,
     UNIT_ENV_RESIDUAL,
-    UNIT_EXTRA /* the G-buffer's occlusion + emission target, when it has one */
+    UNIT_EXTRA, /* the G-buffer's occlusion + emission target, when it has one */
+    UNIT_SPLITSUM_PHONG,
+    UNIT_SPLITSUM_GGX,
+    UNIT_SPLITSUM_LUT,
+    UNIT_COUNT
 };
 #define HAMMERSLEY_BINDING 1
 
@@ -77,6 +81,41 @@ static GLuint upload_levels(const sl_env *env)
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return tex;
+}
+
+/* A split-sum chain as softlight prefiltered it: every level, filtered by GL (trilinear, as the
+ * C textureLod), REPEAT in s and CLAMP in t like the environment. */
+static GLuint upload_prefiltered(const sl_env *env)
+{
+    GLuint tex = upload_levels(env);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR_MIPMAP_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_REPEAT);
+    return tex;
+}
+
+bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_env *ggx, const sl_splitsum_lut *lut,
+                                sl_error *err)
+{
+    GLuint old[3] = {l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
+    glDeleteTextures(3, old);
+    l->splitsum_phong = l->splitsum_ggx = l->splitsum_lut = 0;
+    l->splitsum_levels = 0;
+    if (!phong || !ggx || !lut)
+        return true;
+    l->splitsum_phong = upload_prefiltered(phong);
+    l->splitsum_ggx = upload_prefiltered(ggx);
+    l->splitsum_levels = phong->level_count;
+    glGenTextures(1, &l->splitsum_lut);
+    glBindTexture(GL_TEXTURE_2D, l->splitsum_lut);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, SL_SPLITSUM_LUT_SIZE, SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE, 0, GL_RGB,
+                 GL_FLOAT, lut->texels);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return slgl_check("uploading the split-sum chains and table", err);
 }
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err)
@@ -120,8 +159,9 @@ bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err
 
 void slgl_lighting_destroy(slgl_lighting *l)
 {
-    GLuint textures[4] = {l->color, l->env, l->irradiance_map, l->env_residual};
-    glDeleteTextures(4, textures);
+    GLuint textures[7] = {l->color,          l->env,          l->irradiance_map, l->env_residual,
+                          l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
+    glDeleteTextures(7, textures);
     if (l->ubo)
         glDeleteBuffers(1, &l->ubo);
     if (l->fbo)
@@ -178,6 +218,10 @@ static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uEnv"), UNIT_ENV);
     glUniform1i(loc(p, "uIrradianceMap"), UNIT_IRRADIANCE);
     glUniform1i(loc(p, "uEnvResidual"), UNIT_ENV_RESIDUAL);
+    glUniform1i(loc(p, "uSplitSumPhong"), UNIT_SPLITSUM_PHONG);
+    glUniform1i(loc(p, "uSplitSumGGX"), UNIT_SPLITSUM_GGX);
+    glUniform1i(loc(p, "uSplitSumLut"), UNIT_SPLITSUM_LUT);
+    glUniform1f(loc(p, "uSplitSumMaxLod"), u->uSplitSumMaxLod);
     glUniform1i(loc(p, "uEnvLightCount"), u->uEnvLightCount);
     if (u->uEnvLightCount > 0) {
         glUniform4fv(loc(p, "uEnvLightDir"), u->uEnvLightCount, &u->uEnvLightDir[0].x);
@@ -234,11 +278,14 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights but %s residual environment uploaded",
                        u->uEnvLightCount, l->env_residual ? "a" : "no");
     GLuint residual = l->env_residual ? l->env_residual : l->env;
-    GLuint units[9] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map, residual,
-                       g->extra};
+    if (u->uEstimator == SL_ESTIMATOR_SPLITSUM && (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: split sum asked for, but its chains of %d levels are not uploaded",
+                       (int)u->uSplitSumMaxLod + 1);
+    GLuint units[UNIT_COUNT] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map,
+                                residual, g->extra, l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
     glUseProgram(l->program);
     glUniform1i(loc(l->program, "uHasExtra"), g->extra != 0);
-    for (int i = 0; i < 9; i++) {
+    for (int i = 0; i < UNIT_COUNT; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);
     }

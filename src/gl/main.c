@@ -120,7 +120,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
                                        f->renderer.env_oct_built >= 0     ? &f->renderer.env_oct
                                        : f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual
                                                                           : NULL,
-                                       f->renderer.have_irradiance ? &f->renderer.irradiance : NULL, err))
+                                       f->renderer.have_irradiance ? &f->renderer.irradiance : NULL, err) ||
+        !slgl_lighting_set_splitsum(&l, sl_renderer_splitsum_chain(&f->renderer, false),
+                                    sl_renderer_splitsum_chain(&f->renderer, true), f->renderer.splitsum_lut, err))
         goto done;
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))

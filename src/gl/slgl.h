@@ -123,6 +123,8 @@ typedef struct {
     int residual_levels;   /* its level count */
     bool residual_oct;     /* it is octahedral: every level uploaded, read with texelFetch */
     GLuint ubo;            /* HammersleyBlock */
+    GLuint splitsum_phong, splitsum_ggx, splitsum_lut; /* --estimator splitsum (0 otherwise) */
+    int splitsum_levels;   /* the chains' level count */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);
@@ -131,6 +133,10 @@ void slgl_lighting_destroy(slgl_lighting *l);
 /* residual: the environment less its env lights (sl_env_lights.residual), or NULL when there are none. */
 bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl_env *residual,
                                    const sl_irradiance *irr, sl_error *err);
+/* Upload the split-sum chains of both lobe sets (level by level, as softlight prefiltered them)
+ * and the BRDF's table (src/shading/splitsum_lut.h); phong NULL: none (another estimator). */
+bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_env *ggx, const sl_splitsum_lut *lut,
+                                sl_error *err);
 /* Run lighting.frag over the G-buffer with softlight's uniforms. */
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);
 /* Read the radiance back into `radiance` (allocated when empty; row 0 = top); *repaired counts

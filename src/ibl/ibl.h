@@ -61,6 +61,22 @@ int sl_env_oct_default_size(const sl_env *latlong);
 /* The exact solid angle of texel (i, j) of a size x size octahedral level (size a power of two). */
 double sl_env_oct_texel_solid_angle(int size, int i, int j);
 
+/* The split-sum method's prefiltered chain (prefilter.c; --estimator splitsum): level k the
+ * environment convolved with the reflection lobe of width r = k / (levels - 1) at N = V = R,
+ * lat-long, with the sizes of the environment's mip chain (level 0, r = 0, is the environment's
+ * level 0). Width r is GGX's perceptual roughness; a Phong exponent alpha has width
+ * (2 / (alpha + 2))^(1/4) (equal peak of D, brdf.h). Zero fields are defaults. */
+#define SL_PREFILTER_LEVELS 6   /* widths 0, 0.2, .. 1: the r = 1 lobe needs no more than 32x16 of a 1024x512 map */
+#define SL_PREFILTER_SAMPLES 64 /* per texel; docs/lighting.md "Split sum" has the measured choice */
+typedef struct {
+    bool ggx;    /* the GGX lobe, else the Phong set's */
+    int levels;  /* 1 .. SL_ENV_MAX_LEVELS; 0 = SL_PREFILTER_LEVELS */
+    int samples; /* 1 .. SL_HAMMERSLEY_MAX; 0 = SL_PREFILTER_SAMPLES */
+} sl_prefilter_desc;
+bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *desc, sl_error *err);
+/* The lobe width of level k of a chain of `levels`. */
+float sl_prefilter_width(int level, int levels);
+
 /* The specification's lat-long map, both ways (latlong.c). u is in [0, 1) (the seam direction
  * (-1, 0, 0) gives u = 0 for either sign of zero), z is clamped before acos: never NaN. */
 vec2 sl_dir_to_uv(vec3 d);

@@ -82,6 +82,43 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
     return true;
 }
 
+/* The split-sum method's prefiltered chains of what the samples read, for both lobe sets, and
+ * the BRDF's table (once), when the estimator asks for them; rebuilt when the environment or
+ * the env lights change. A scene with another estimator pays nothing. */
+static bool update_splitsum(sl_renderer *r, sl_error *err)
+{
+    sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
+    int lights = o.env_lights > 0 ? r->env_lights_built : 0;
+    if (o.estimator != SL_ESTIMATOR_SPLITSUM || r->splitsum_built == lights)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_free(&r->splitsum_phong);
+    sl_env_free(&r->splitsum_ggx);
+    r->splitsum_built = -1;
+    const sl_env *src = lights > 0 ? &r->env_lights.residual : &r->env;
+    if (!r->splitsum_lut) {
+        r->splitsum_lut = malloc(sizeof *r->splitsum_lut);
+        if (!r->splitsum_lut)
+            return sl_fail(err, SL_ERR_MEMORY, "no memory for the split-sum table");
+        sl_splitsum_lut_build(r->splitsum_lut);
+    }
+    /* only the lobe sets the scene's materials use (the Phong one when there are none) */
+    bool phong = false, ggx = false;
+    for (int m = 0; m < r->scene->material_count; m++) {
+        ggx |= r->scene->materials[m].brdf == SL_BRDF_GGX;
+        phong |= r->scene->materials[m].brdf != SL_BRDF_GGX;
+    }
+    phong |= !ggx;
+    if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false}, err)) ||
+        (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true}, err))) {
+        sl_env_free(&r->splitsum_phong);
+        return false;
+    }
+    r->splitsum_built = lights;
+    r->timings.splitsum_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
 /* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
  * one code path (and the GL path's) instead of a special case per pixel. */
 static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repairs *repairs, sl_error *err)
@@ -108,6 +145,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->scene = scene;
     r->desc = *desc;
     r->env_oct_built = -1;
+    r->splitsum_built = -1;
     sl_render_desc *d = &r->desc;
     const sl_render_settings *s = &scene->settings;
     if (!d->width || !d->height) {
@@ -138,7 +176,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->timings.load_ms = (sl_now_seconds() - t0) * 1e3;
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
-    if (!update_env_lights(r, err) || !update_env_oct(r, err)) /* per environment: not in a frame's time */
+    /* per environment: not in a frame's time */
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, err))
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {
@@ -160,6 +199,9 @@ void sl_renderer_free(sl_renderer *r)
     sl_env_free(&r->env);
     sl_env_lights_free(&r->env_lights);
     sl_env_free(&r->env_oct);
+    sl_env_free(&r->splitsum_phong);
+    sl_env_free(&r->splitsum_ggx);
+    free(r->splitsum_lut);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
@@ -200,6 +242,9 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     r->env_lights_built = 0;
     sl_env_free(&r->env_oct); /* resampled from the old one: rebuilt on the next frame */
     r->env_oct_built = -1;
+    sl_env_free(&r->splitsum_phong); /* prefiltered from the old one: likewise */
+    sl_env_free(&r->splitsum_ggx);
+    r->splitsum_built = -1;
     r->env_repairs = repairs;
     return true;
 }
@@ -272,7 +317,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
 {
     if (!cam)
         cam = &r->scene->camera;
-    if (!update_env_lights(r, err) || !update_env_oct(r, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -294,8 +339,19 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .light_count = r->scene->light_count,
         .env_lights = r->env_lights_built > 0 ? &r->env_lights : NULL,
         .env_oct = r->env_oct_built >= 0 ? &r->env_oct : NULL,
+        .splitsum_phong = sl_renderer_splitsum_chain(r, false),
+        .splitsum_ggx = sl_renderer_splitsum_chain(r, true),
+        .splitsum_lut = r->splitsum_lut,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
+}
+
+const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx)
+{
+    if (r->splitsum_built < 0)
+        return NULL;
+    const sl_env *want = ggx ? &r->splitsum_ggx : &r->splitsum_phong;
+    return want->level_count > 0 ? want : ggx ? &r->splitsum_phong : &r->splitsum_ggx;
 }
 
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)

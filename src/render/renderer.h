@@ -9,7 +9,8 @@
  * Per environment (once, or when the viewer swaps it): the .hdr is loaded, checked and
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
  * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h), and for
- * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c).
+ * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c), and for
+ * --estimator splitsum its prefiltered chains (src/ibl/prefilter.c) and the BRDF's table.
  * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
@@ -55,6 +56,8 @@ typedef struct {
     double irradiance_ms;
     double env_lights_ms; /* extraction of the env lights and the residual's mips (when asked) */
     double env_oct_ms;    /* the octahedral chain of what the samples read (--env-layout oct) */
+    double splitsum_ms;   /* --estimator splitsum: the prefiltered chains (the lobe sets the scene
+                             uses) and the BRDF's table */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
 } sl_render_timings;
 
@@ -69,6 +72,10 @@ typedef struct {
     sl_env env_oct;           /* --env-layout oct: the octahedral chain of env, or of the env
                                  lights' residual; built on first use */
     int env_oct_built;        /* -1 = none, else the env lights count of what it was built from */
+    sl_env splitsum_phong, splitsum_ggx; /* --estimator splitsum: what the samples read, prefiltered
+                                 per lobe width (src/ibl/prefilter.c); built on first use */
+    int splitsum_built;       /* -1 = none, else the env lights count of what they were built from */
+    sl_splitsum_lut *splitsum_lut; /* the BRDF's table (heap, 37 KB), built with the chains, once */
     sl_raster *raster;
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
@@ -113,6 +120,9 @@ typedef struct {
  * sl_renderer_prepare_lighting). */
 bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, const sl_lighting_frame *frame,
                                         sl_error *err);
+/* The split-sum chain of a lobe set (NULL when none is built). A set no material uses is not
+ * prefiltered: the other set's chain stands in for it (no pixel reads it). */
+const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx);
 /* Light the current G-buffer into r->radiance (same camera as the last raster). */
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err);
 /* Tone map r->radiance into r->display. */

@@ -23,6 +23,13 @@ static const int LOD_GEMS = SL_LOD_GEMS;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
+static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
+static const int GTERM_INV_LH2 = SL_GTERM_INV_LH2;
+static const int SPLITSUM_LUT_SIZE = SL_SPLITSUM_LUT_SIZE;
+static const int SPLITSUM_SETS = SL_SPLITSUM_SETS;
+static const int SPLITSUM_PHONG_INV_LH2 = SL_SPLITSUM_PHONG_INV_LH2;
+static const int SPLITSUM_PHONG_ONE = SL_SPLITSUM_PHONG_ONE;
+static const int SPLITSUM_GGX = SL_SPLITSUM_GGX;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -259,6 +266,43 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
+/* GLSL: splitsum_width (splitsum_lut.h: GGX's roughness, or the Phong exponent's equal-peak one) */
+static float splitsum_width(float alpha)
+{
+    return sl_splitsum_width(alpha);
+}
+
+/* GLSL: splitsum_lut. texture() of the table at the texel centres of set `set`: N.V = i / (S - 1)
+ * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). */
+static vec2 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
+{
+    float s = (float)SPLITSUM_LUT_SIZE;
+    vec2 uv = vec2((clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / s,
+                   ((float)set * s + clamp(r, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / (s * (float)SPLITSUM_SETS));
+    vec3 t = sl_texels_bilinear(u->uSplitSumLut->texels, SPLITSUM_LUT_SIZE, SPLITSUM_SETS * SPLITSUM_LUT_SIZE, 0, uv.x,
+                                uv.y);
+    return vec2(t.x, t.y);
+}
+
+/* GLSL: specular_splitsum. The split-sum approximation (Karis 2013): the environment
+ * prefiltered with the lobe at N = V = R (src/ibl/prefilter.c), read along R at the lobe's
+ * level, times the BRDF's albedo Ks A + B (splitsum_lut.h). No samples. */
+static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+                              sl_lighting_trace *trace)
+{
+    float NdotV = dot(N, V);
+    vec3 R = normalize(sub(scale(N, 2.0f * NdotV), V));
+    float r = splitsum_width(alpha);
+    float lod = r * u->uSplitSumMaxLod;
+    vec2 uv = sl_dir_to_uv(R);
+    vec3 P = alpha < 0.0f ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
+    int set = alpha < 0.0f ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    vec2 ab = splitsum_lut(u, set, NdotV, r);
+    vec3 spec = scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
+    trace_splitsum(trace, N, V, R, r, lod, P, ab);
+    return spec;
+}
+
 /* GLSL: specular_env_lights. Each env light is one texel's quadrature node (its centroid
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
  * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
@@ -330,9 +374,12 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
         if (specular) {
             spec = *specular; /* the batched path's, env lights included */
         } else {
-            spec = u->uEstimator == ESTIMATOR_MICROFACET
-                       ? specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace)
-                       : specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+            if (u->uEstimator == ESTIMATOR_SPLITSUM)
+                spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
+            else if (u->uEstimator == ESTIMATOR_MICROFACET)
+                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+            else
+                spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             if (u->uEnvLightCount > 0) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha);
                 spec = add(spec, exact);
@@ -411,6 +458,11 @@ vec3 shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi
 float shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
 vec3 shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 float shade_lobe_param(float a) { return lobe_param(a); }
+vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+                             sl_lighting_trace *trace)
+{
+    return specular_splitsum(u, N, V, Ks, alpha, trace);
+}
 
 /* ---- public helpers (lighting.h): for tests and the viewer's mip-level view ---- */
 

@@ -45,6 +45,7 @@
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 #include "brdf.h"
+#include "splitsum_lut.h"
 
 /* SL_LIGHTING_MAX_LIGHTS (core/options.h): MAX_LIGHTS in the GLSL */
 
@@ -102,6 +103,9 @@ typedef struct {
                                         with that count; ignored otherwise */
     const sl_env *env_oct;           /* required when options.env_layout is OCT: sl_env_build_oct of
                                         what the samples read (env, or env_lights' residual) */
+    const sl_env *splitsum_phong, *splitsum_ggx; /* required when options.estimator is SPLITSUM:
+                                        sl_env_prefilter of what the samples read, each lobe set */
+    const sl_splitsum_lut *splitsum_lut;         /* ... and the BRDF's table (splitsum_lut.h) */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -131,6 +135,11 @@ typedef struct {
     int uEnvLightCount;                  /* 0 .. SL_ENV_LIGHTS_MAX */
     vec4 uEnvLightDir[SL_ENV_LIGHTS_MAX];      /* .xyz: unit direction, environment space */
     vec4 uEnvLightRadiance[SL_ENV_LIGHTS_MAX]; /* .rgb: radiance times the texel's node weight */
+    /* the split-sum method (estimator SPLITSUM; NULL otherwise): the prefiltered chains of the
+     * two lobe sets, the BRDF's table, and the lod of lobe width 1 (levels - 1) */
+    const sl_env *uSplitSumPhong, *uSplitSumGGX;
+    const sl_splitsum_lut *uSplitSumLut;
+    float uSplitSumMaxLod;
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */

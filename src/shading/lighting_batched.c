@@ -41,6 +41,7 @@ static const int LOD_GEMS = SL_LOD_GEMS;
 static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
+static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
@@ -693,8 +694,11 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
             trace_sample_frame(trace, s.Nenv, s.Venv, A, B, p->pole[i], traced_samples, mf);
             vec3 specular = vec3s(0.0f);
             if (u->uSpecular != 0) {
-                specular = specular_samples(u, s.Nenv, s.Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A, B, p->pole[i],
-                                            s.Ks, s.alpha, s.rotation, task, trace);
+                /* split sum: one lookup per pixel, the port's own (nothing to batch) */
+                specular = u->uEstimator == ESTIMATOR_SPLITSUM
+                               ? shade_specular_splitsum(u, s.Nenv, s.Venv, s.Ks, s.alpha, trace)
+                               : specular_samples(u, s.Nenv, s.Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A, B,
+                                                  p->pole[i], s.Ks, s.alpha, s.rotation, task, trace);
                 if (u->uEnvLightCount > 0) {
                     vec3 exact = env_lights_samples(u, s.Nenv, s.Venv, s.Ks, s.alpha);
                     specular = add(specular, exact);

@@ -32,6 +32,9 @@ vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL 
 float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
 float shade_lobe_param(float a); /* GLSL lobe_param: the G-buffer alpha clamped (Phong) or GGX's */
+/* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
+vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+                             sl_lighting_trace *trace);
 
 /* A covered pixel as main() has it once its frame is known. */
 typedef struct {
@@ -160,6 +163,22 @@ static inline void trace_sample_frame(sl_lighting_trace *t, vec3 N, vec3 V, vec3
     t->pole_frame = pole;
     t->sample_count = n;
     t->microfacet = microfacet;
+}
+
+/* The split-sum lookup (specular_splitsum): its frame, lobe width, level, prefiltered radiance
+ * and the table's scale and bias. */
+static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, float r, float lod, vec3 P, vec2 ab)
+{
+    if (!t)
+        return;
+    t->NdotV = dot(N, V);
+    t->R = R;
+    t->sample_count = 0;
+    t->splitsum = true;
+    t->splitsum_width = r;
+    t->splitsum_lod = lod;
+    t->splitsum_prefiltered = P;
+    t->splitsum_ab = ab;
 }
 
 static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_trace_sample *s)

@@ -59,7 +59,16 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     print3(f, "B", t->B);
     const char *axis = t->microfacet ? "N" : "R";
     fprintf(f, "  %-12s %s (frame about %s)\n", "A axis", t->pole_frame ? "X (axis near a pole)" : "Z", axis);
-    fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
+    if (t->splitsum)
+        fprintf(f,
+                "split sum (no samples; %s)\n  %-12s %.6g\n  %-12s %.6g\n  %-12s (%.6g, %.6g, %.6g)\n"
+                "  %-12s A %.6g (times Ks), B %.6g\n",
+                t->plain ? "plain port" : "batched path", "width r", (double)t->splitsum_width, "lod",
+                (double)t->splitsum_lod, "prefiltered", (double)t->splitsum_prefiltered.x,
+                (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z, "table",
+                (double)t->splitsum_ab.x, (double)t->splitsum_ab.y);
+    else
+        fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
             t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
                           : "directions drawn about R",
             t->plain ? "plain port" : "batched path: lod and uv by core/fast_math.h, 4 partial sums");

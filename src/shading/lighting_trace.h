@@ -46,6 +46,11 @@ struct sl_lighting_trace {
                                 the microfacet estimator */
     bool pole_frame;
     bool microfacet;         /* the microfacet estimator ran (specular_microfacet) */
+    bool splitsum;           /* the split-sum estimator ran (specular_splitsum): no samples, */
+    float splitsum_width;    /* ... the lobe width r, */
+    float splitsum_lod;      /* ... the prefiltered chain's level r (levels - 1), */
+    vec3 splitsum_prefiltered; /* ... what it read along R (before the intensity), */
+    vec2 splitsum_ab;        /* ... and the table's A (times Ks) and B */
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];

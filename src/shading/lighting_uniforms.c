@@ -61,7 +61,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MICROFACET ||
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_SPLITSUM ||
         (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
@@ -95,6 +95,11 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
     if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
+    const bool splitsum = o.estimator == SL_ESTIMATOR_SPLITSUM;
+    if (splitsum && (!desc->splitsum_phong || !desc->splitsum_ggx || !desc->splitsum_lut ||
+                     desc->splitsum_phong->level_count < 1 ||
+                     desc->splitsum_phong->level_count != desc->splitsum_ggx->level_count))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the split-sum estimator asked for, but no prefiltered chains or table given");
 
     sl_hammersley set;
     if (!sl_hammersley_build(&set, o.samples, err))
@@ -141,6 +146,12 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->uLightPosition[i] = desc->lights[i].position;
         u->uLightColor[i] = desc->lights[i].color;
         u->uLightIntensity[i] = desc->lights[i].intensity;
+    }
+    if (splitsum) {
+        u->uSplitSumPhong = desc->splitsum_phong;
+        u->uSplitSumGGX = desc->splitsum_ggx;
+        u->uSplitSumLut = desc->splitsum_lut;
+        u->uSplitSumMaxLod = (float)(desc->splitsum_phong->level_count - 1);
     }
     u->uLodRule = (int)o.lod_rule;
     u->uDistortion = o.distortion ? 1 : 0;

@@ -31,7 +31,7 @@ for u in $host; do grep -qx "$u" <<<"$glsl" || fail "$u: set by $gl, not a unifo
 
 # Sizes and option values: GLSL `const int NAME = V;` against the C definitions.
 glsl_const() { sed -n "s/^const int $1 = \([0-9]*\);.*/\1/p" "$frag"; }
-c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/ibl/env_lights.h src/ibl/ibl.h | head -1 | grep -oE '[0-9]+$'; }
+c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/shading/splitsum_lut.h src/ibl/env_lights.h src/ibl/ibl.h | head -1 | grep -oE '[0-9]+$'; }
 check() { # check GLSL_NAME C_NAME
     local g v; g=$(glsl_const "$1"); v=$(c_value "$2")
     [ -n "$g" ] && [ "$g" = "$v" ] || fail "$1 = '${g}' in $frag, $2 = '${v}' in C"
@@ -42,6 +42,10 @@ for x in NONE SPEC SPEC_D4 GEMS PDF; do check "LOD_$x" "SL_LOD_$x"; done
 check GTERM_INV_LH2 SL_GTERM_INV_LH2
 check ESTIMATOR_CONSISTENT SL_ESTIMATOR_CONSISTENT
 check ESTIMATOR_MICROFACET SL_ESTIMATOR_MICROFACET
+check ESTIMATOR_SPLITSUM SL_ESTIMATOR_SPLITSUM
+check SPLITSUM_LUT_SIZE SL_SPLITSUM_LUT_SIZE
+check SPLITSUM_SETS SL_SPLITSUM_SETS
+for x in PHONG_INV_LH2 PHONG_ONE GGX; do check "SPLITSUM_$x" "SL_SPLITSUM_$x"; done
 for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
 check ENV_LAYOUT_OCT SL_ENV_LAYOUT_OCT
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")

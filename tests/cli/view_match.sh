@@ -48,6 +48,8 @@ screenshot $T/consistent
 key k
 screenshot $T/mf
 key k
+screenshot $T/splitsum
+key k
 key l
 screenshot $T/gems
 key l
@@ -104,6 +106,7 @@ no-diffuse --specular-only
 no-specular --diffuse-only
 consistent --estimator consistent
 mf --estimator mf
+splitsum --estimator splitsum
 gems --lod gems
 pdf --lod pdf
 dp --irradiance dp

@@ -171,7 +171,9 @@ static void test_options_resolve_and_names(void **state)
     d.light_count = SL_LIGHTING_MAX_LIGHTS + 1;
     assert_false(sl_lighting_uniforms_init(u, &d, &err));
     d.light_count = 0;
-    d.options.estimator = (sl_estimator)(SL_ESTIMATOR_MICROFACET + 1);
+    d.options.estimator = (sl_estimator)(SL_ESTIMATOR_SPLITSUM + 1);
+    assert_false(sl_lighting_uniforms_init(u, &d, &err));
+    d.options.estimator = SL_ESTIMATOR_SPLITSUM; /* without its prefiltered chains and table */
     assert_false(sl_lighting_uniforms_init(u, &d, &err));
     d.options.estimator = SL_ESTIMATOR_MICROFACET;
     assert_true(sl_lighting_uniforms_init(u, &d, &err));

@@ -1,0 +1,49 @@
+/* splitsum_lut.h - the second half of the split-sum approximation (--estimator splitsum): the
+ * BRDF's directional albedo split around Schlick's F0 = Ks, as a 2-D table over (N.V, lobe width).
+ *
+ *     integral of f_spec (N.w) dw = Ks A(N.V, r) + B(N.V, r)
+ *     A = E[(1 - Fc) W],  B = E[Fc W],  Fc = (1 - V.H)^5,  W = G' (N.w) (V.H) / (N.H)
+ *
+ * W is the microfacet estimator's weight (lighting.c, specular_microfacet: H drawn from
+ * D(H) (N.H), w = reflect(-V, H), G' = G / ((N.w)(N.V)) of brdf.h), so the table holds the
+ * specification's D, G and F exactly as the shader evaluates them. The shading is then
+ *     specular = P(R, r) (Ks A + B)
+ * with P the prefiltered chain (src/ibl/prefilter.c). The lobe width r is GGX's roughness, or
+ * (2 / (alpha + 2))^(1/4) for a Phong exponent (the same peak of D; brdf.h).
+ *
+ * Layout: one texture of SL_SPLITSUM_LUT_SIZE columns (N.V = i / (SIZE - 1)) and
+ * SL_SPLITSUM_SETS * SIZE rows (set s, width r = j / (SIZE - 1) in row s SIZE + j); a texel's
+ * .x = A, .y = B, .z = 0 (RGB: the same bilinear filter as the environment, texture_lod.h, and
+ * GL_RGB32F in softlight-gl). Read at texel centres, so the lookup never leaves its set's rows.
+ * N.V = 0 is evaluated at 0.01, the shader's smallest N.V (facing_normal). */
+#ifndef SL_SPLITSUM_LUT_H
+#define SL_SPLITSUM_LUT_H
+
+#include "../core/glsl.h"
+#include "../core/options.h"
+
+#define SL_SPLITSUM_LUT_SIZE 32      /* per axis: A and B are smooth; 32 is Karis' and Filament's order */
+#define SL_SPLITSUM_LUT_SAMPLES 256 /* per entry (Hammersley); test_splitsum's tolerances say what it gives */
+
+/* The sets: the Phong set with each G term, and GGX (the values index rows; the GLSL has them). */
+typedef enum {
+    SL_SPLITSUM_PHONG_INV_LH2 = 0,
+    SL_SPLITSUM_PHONG_ONE = 1,
+    SL_SPLITSUM_GGX = 2,
+    SL_SPLITSUM_SETS = 3
+} sl_splitsum_set;
+
+typedef struct {
+    vec3 texels[SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE * SL_SPLITSUM_LUT_SIZE];
+} sl_splitsum_lut;
+
+/* Fill the table (about 0.8 M BRDF evaluations, in parallel; deterministic). */
+void sl_splitsum_lut_build(sl_splitsum_lut *lut);
+/* One entry computed directly (the table's (i, j) is this at N.V = max(i / (SIZE - 1), 0.01),
+ * r = j / (SIZE - 1)): A in .x, B in .y. For tests. */
+vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples);
+/* The lobe width of a lobe parameter (the G-buffer alpha after lobe_param): GGX's r = -1 - alpha,
+ * a Phong exponent's (2 / (alpha + 2))^(1/4). */
+float sl_splitsum_width(float alpha);
+
+#endif
