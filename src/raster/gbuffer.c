@@ -49,27 +49,28 @@ bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err)
     return true;
 }
 
+/* "Nothing drawn here": no occlusion, no emission, a depth no fragment has. */
+static const sl_gbuffer_extra extra_none = {.occlusion = 1.0f, .depth = -1.0f};
+
 void sl_gbuffer_extra_clear(sl_gbuffer *gb)
 {
     if (!gb->extra)
         return;
-    const sl_gbuffer_extra none = {.occlusion = 1.0f, .depth = -1.0f};
     long n = (long)gb->width * gb->height;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < n; i++)
-        gb->extra[i] = none;
+        gb->extra[i] = extra_none;
 }
 
 void sl_gbuffer_extra_resolve(sl_gbuffer *gb)
 {
     if (!gb->extra)
         return;
-    const sl_gbuffer_extra none = {.occlusion = 1.0f, .depth = -1.0f};
     long n = (long)gb->width * gb->height;
 #pragma omp parallel for schedule(static)
     for (long i = 0; i < n; i++)
         if (gb->extra[i].depth != gb->texels[i].depth)
-            gb->extra[i] = none;
+            gb->extra[i] = extra_none;
 }
 
 void sl_gbuffer_clear(sl_gbuffer *gb)

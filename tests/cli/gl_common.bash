@@ -47,3 +47,12 @@ gl_check_share() {
     echo "FAIL $1: ${share}% of pixels differ by more than 8/255 after the tone map (allowed $3%)"
     return 1
 }
+
+# gl_bound DIFF CHANNEL GROUP MAX SHARE: a line of tests/cli/gbuffer_diff.py's output (channel,
+# group, pixels, max, share > 1/255) must exist and stay within MAX and SHARE; sets fail=1 if not.
+gl_bound() {
+    awk -v c="$2" -v g="$3" -v m="$4" -v s="$5" '$1 == c && $2 == g {
+        found = 1
+        if ($4 > m || $5 > s) { printf "FAIL %s (%s): max %s (allowed %s), share %s (allowed %s)\n", c, g, $4, m, $5, s; exit 1 }
+    } END { if (!found) { printf "FAIL %s (%s): not measured\n", c, g; exit 1 } }' "$1" || fail=1
+}

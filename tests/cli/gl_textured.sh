@@ -35,13 +35,7 @@ fail=0
 python3 tests/cli/gbuffer_diff.py "$T/c" "$T/g" >"$T/diff.txt"
 echo "channel group pixels max share>1/255"
 cat "$T/diff.txt"
-# bound CHANNEL GROUP MAX SHARE
-bound() {
-    awk -v c="$1" -v g="$2" -v m="$3" -v s="$4" '$1 == c && $2 == g {
-        found = 1
-        if ($4 > m || $5 > s) { printf "FAIL %s (%s): max %s (allowed %s), share %s (allowed %s)\n", c, g, $4, m, $5, s; exit 1 }
-    } END { if (!found) { printf "FAIL %s (%s): not measured\n", c, g; exit 1 } }' "$T/diff.txt" || fail=1
-}
+bound() { gl_bound "$T/diff.txt" "$@"; } # CHANNEL GROUP MAX SHARE
 bound depth objects 1e-5 0
 bound depth floor 1e-5 0
 bound ks objects 0 0
