@@ -223,11 +223,11 @@ static bool jpeg_tables_ok(const unsigned char *b, size_t size, const char *name
             bool ac_scan = progressive ? b[spectral] > 0 : true;
             for (size_t c = 0; c < count; c++) {
                 unsigned dc = b[pos + 6 + 2 * c] >> 4, ac = b[pos + 6 + 2 * c] & 15;
-                if ((dc_scan && dc < 4 && !defined[0][dc]) || (ac_scan && ac < 4 && !defined[1][ac]))
+                bool dc_missing = dc_scan && dc < 4 && !defined[0][dc], ac_missing = ac_scan && ac < 4 && !defined[1][ac];
+                if (dc_missing || ac_missing)
                     return sl_fail(err, SL_ERR_FORMAT,
                                    "%s: byte %zu: corrupt JPEG: a scan (SOS) uses Huffman table %s%u, which no "
-                                   "DHT before it defines", name, pos, dc_scan && dc < 4 && !defined[0][dc] ? "DC" : "AC",
-                                   dc_scan && dc < 4 && !defined[0][dc] ? dc : ac);
+                                   "DHT before it defines", name, pos, dc_missing ? "DC" : "AC", dc_missing ? dc : ac);
             }
         }
         pos = end;
