@@ -305,7 +305,7 @@ bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textu
             return false;
         }
         out->count++;
-        out->bytes += sl_texture_bytes(out->textures[i]);
+        out->bytes += sl_texture_bytes(out->textures[i]) + sl_texture_plane_bytes(out->textures[i]);
     }
     return true;
 }

@@ -25,7 +25,7 @@ typedef void (*sl_texture_trace_fn)(void *ctx, const sl_fragment_in *in, int slo
 typedef struct {
     sl_texture **textures;
     int count;
-    size_t bytes;              /* storage of all of them with their mips */
+    size_t bytes;              /* storage of all of them with their mips and decoded planes */
     sl_texture_trace_fn trace; /* NULL; softlight trace sets it to print the fetches of its pixel */
     void *trace_ctx;
 } sl_scene_textures;

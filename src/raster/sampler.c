@@ -98,10 +98,10 @@ static inline __attribute__((always_inline)) vec4 bilinear_as(sl_texture_format 
 }
 
 /* Level l filtered at uv: nearest (the texel containing uv) or bilinear (the four around it). */
-static inline __attribute__((always_inline)) vec4 level_as(sl_texture_format fmt, const sl_texture *t, int l,
-                                                            vec2 uv, bool linear, const sl_sampler_state *st)
+static inline __attribute__((always_inline)) vec4 level_as(sl_texture_format fmt, const sl_texture *t,
+                                                            const tex_level *lv, vec2 uv, bool linear,
+                                                            const sl_sampler_state *st)
 {
-    const tex_level *lv = &t->level[l];
     float x = uv.x * (float)lv->width, y = uv.y * (float)lv->height;
     if (linear)
         return bilinear_as(fmt, t, lv, x - 0.5f, y - 0.5f, st->wrap_s, st->wrap_t);
@@ -111,35 +111,37 @@ static inline __attribute__((always_inline)) vec4 level_as(sl_texture_format fmt
 }
 
 /* A complete texture sampled at an (already biased and clamped) lambda: the min/mag choice and
- * the level selection of GL 4.6 section 8.14 (sl_texture_sample). */
+ * the level selection of GL 4.6 section 8.14 (sl_texture_sample). `lv` is the chain read: the
+ * stored levels (t->level, format fmt) or the decoded plane (t->plane, RGBA32F). */
 static inline __attribute__((always_inline)) vec4 sample_as(sl_texture_format fmt, const sl_texture *t,
-                                                             const sl_sampler_state *st, vec2 uv, float lambda)
+                                                             const tex_level *lv, const sl_sampler_state *st,
+                                                             vec2 uv, float lambda)
 {
     if (!(lambda > 0.0f)) /* magnified (c = 0 for every filter pair; NaN lands here too) */
-        return level_as(fmt, t, 0, uv, st->mag_filter == SL_LINEAR, st);
+        return level_as(fmt, t, &lv[0], uv, st->mag_filter == SL_LINEAR, st);
     int last = t->levels - 1;
     bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
                   st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
     switch (st->min_filter) {
     case SL_NEAREST:
     case SL_LINEAR:
-        return level_as(fmt, t, 0, uv, linear, st);
+        return level_as(fmt, t, &lv[0], uv, linear, st);
     case SL_NEAREST_MIPMAP_NEAREST:
     case SL_LINEAR_MIPMAP_NEAREST: {
         /* the nearest level: round(lambda), halves to even as llvmpipe's iround (measured:
          * 0.5 -> 0, 1.5 -> 2, 2.5 -> 2); GL's ceil(lambda + 1/2) - 1 rounds them down */
         int l = lambda >= (float)last ? last : (int)rintf(lambda);
-        return level_as(fmt, t, l, uv, linear, st);
+        return level_as(fmt, t, &lv[l], uv, linear, st);
     }
     case SL_NEAREST_MIPMAP_LINEAR:
     case SL_LINEAR_MIPMAP_LINEAR:
         break;
     }
     if (lambda >= (float)last)
-        return level_as(fmt, t, last, uv, linear, st);
+        return level_as(fmt, t, &lv[last], uv, linear, st);
     float fl = floorf(lambda);
     int l = (int)fl;
-    return mix4(level_as(fmt, t, l, uv, linear, st), level_as(fmt, t, l + 1, uv, linear, st), lambda - fl);
+    return mix4(level_as(fmt, t, &lv[l], uv, linear, st), level_as(fmt, t, &lv[l + 1], uv, linear, st), lambda - fl);
 }
 
 /* One instance of each per format, and the tables that pick them by t->format. */
@@ -153,13 +155,13 @@ typedef void sample4_fn(const sl_texture *t, const sl_sampler_state *st, const v
     }                                                                                                          \
     static vec4 sample_##F(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda)             \
     {                                                                                                          \
-        return sample_as(SL_TEX_##F, t, st, uv, lambda);                                                       \
+        return sample_as(SL_TEX_##F, t, t->level, st, uv, lambda);                                             \
     }                                                                                                          \
     static void sample4_##F(const sl_texture *t, const sl_sampler_state *st, const vec2 uv[4], float lambda,    \
                             vec4 out[4])                                                                       \
     {                                                                                                          \
         for (int l = 0; l < 4; l++)                                                                            \
-            out[l] = sample_as(SL_TEX_##F, t, st, uv[l], lambda);                                              \
+            out[l] = sample_as(SL_TEX_##F, t, t->level, st, uv[l], lambda);                                    \
     }
 FORMAT_FUNCTIONS(R8)
 FORMAT_FUNCTIONS(RG8)
@@ -185,6 +187,19 @@ static bilinear_fn *const bilinear_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(bilin
 static sample_fn *const sample_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(sample_);
 static sample4_fn *const sample4_for[SL_TEX_FORMAT_COUNT] = FORMAT_TABLE(sample4_);
 
+/* The decoded plane (texture_internal.h): every format's texels already decoded to RGBA32F, so
+ * one instance serves them all; a texel is one 16-byte load and the filter's mixes are vec4 mixes
+ * of floats the byte path would have decoded to the same bits. */
+static vec4 sample_plane(const sl_texture *t, const sl_sampler_state *st, vec2 uv, float lambda)
+{
+    return sample_as(SL_TEX_RGBA32F, t, t->plane, st, uv, lambda);
+}
+static void sample4_plane(const sl_texture *t, const sl_sampler_state *st, const vec2 uv[4], float lambda, vec4 out[4])
+{
+    for (int l = 0; l < 4; l++)
+        out[l] = sample_as(SL_TEX_RGBA32F, t, t->plane, st, uv[l], lambda);
+}
+
 vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
 {
     return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
@@ -203,7 +218,7 @@ vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
     const sl_texture *t = s->texture;
     if (!complete(t, &s->state))
         return vec4(0, 0, 0, 1);
-    return sample_for[t->format](t, &s->state, uv, lambda);
+    return t->plane_storage ? sample_plane(t, &s->state, uv, lambda) : sample_for[t->format](t, &s->state, uv, lambda);
 }
 
 void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, vec4 out[4])
@@ -214,7 +229,10 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
             out[l] = vec4(0, 0, 0, 1);
         return;
     }
-    sample4_for[t->format](t, &s->state, uv, lambda, out);
+    if (t->plane_storage)
+        sample4_plane(t, &s->state, uv, lambda, out);
+    else
+        sample4_for[t->format](t, &s->state, uv, lambda, out);
 }
 
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of

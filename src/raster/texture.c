@@ -150,10 +150,45 @@ static bool texture_alloc(sl_texture_format fmt, int width, int height, bool mip
     return true;
 }
 
+/* Every level after level 0, then the decoded plane of the final levels. */
 static void build_mips(sl_texture *t)
 {
     for (int l = 1; l < t->levels; l++)
         build_level(t, l);
+    tex_plane_build(t);
+}
+
+void tex_plane_build(sl_texture *t)
+{
+    size_t texels = 0;
+    for (int l = 0; l < t->levels; l++)
+        texels += (size_t)t->level[l].width * (size_t)t->level[l].height;
+    size_t bytes = texels * 4 * sizeof(float);
+    if (t->plane_storage || t->format == SL_TEX_RGBA32F || bytes > TEX_PLANE_MAX_BYTES)
+        return; /* RGBA32F: the stored levels are that plane already */
+    float *p = malloc(bytes);
+    if (!p)
+        return; /* optional: the samplers read the stored levels instead */
+    size_t offset = 0;
+    for (int l = 0; l < t->levels; l++) {
+        const tex_level *lv = &t->level[l];
+        t->plane[l] = (tex_level){lv->width, lv->height, (const unsigned char *)(p + offset)};
+        for (int y = 0; y < lv->height; y++)
+            for (int x = 0; x < lv->width; x++, offset += 4) {
+                vec4 v = tex_texel(t, lv, x, y);
+                memcpy(p + offset, &v, sizeof v);
+            }
+    }
+    t->plane_storage = p;
+    t->plane_bytes = bytes;
+}
+
+void tex_plane_drop(sl_texture *t)
+{
+    free(t->plane_storage);
+    t->plane_storage = NULL;
+    t->plane_bytes = 0;
+    memset(t->plane, 0, sizeof t->plane);
 }
 
 bool sl_texture_create(sl_texture_format fmt, int width, int height, const void *level0, bool mipmaps,
@@ -175,12 +210,14 @@ void sl_texture_destroy(sl_texture *t)
     if (!t)
         return;
     free(t->storage);
+    free(t->plane_storage);
     free(t);
 }
 
 int sl_texture_levels(const sl_texture *t) { return t->levels; }
 sl_texture_format sl_texture_get_format(const sl_texture *t) { return t->format; }
 size_t sl_texture_bytes(const sl_texture *t) { return t->bytes; }
+size_t sl_texture_plane_bytes(const sl_texture *t) { return t->plane_bytes; }
 
 const void *sl_texture_level_texels(const sl_texture *t, int level, int *width, int *height)
 {

@@ -81,6 +81,8 @@ void sl_texture_destroy(sl_texture *t); /* NULL is fine */
 int sl_texture_levels(const sl_texture *t);
 sl_texture_format sl_texture_get_format(const sl_texture *t);
 size_t sl_texture_bytes(const sl_texture *t); /* storage incl. mips, for reports */
+/* The decoded copy the samplers read (texture_internal.h: small textures only), 0 if none. */
+size_t sl_texture_plane_bytes(const sl_texture *t);
 const char *sl_texture_format_name(sl_texture_format fmt); /* "SRGB8_ALPHA8", for messages */
 /* Level `level` as stored: width * height texels of the format, tightly packed, row 0 = bottom;
  * NULL outside the chain. softlight-gl uploads level 0 from here (and lets GL make the mips). */

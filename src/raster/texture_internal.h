@@ -8,7 +8,19 @@
  * decode is a multiply (UNORM) or a lookup in the texture's own 256-entry table (sRGB), which
  * costs less than the cache misses a float copy would add. The format is switched on once per
  * sample (sampler.c instantiates its filtering for each format, with tex_decode inlined and
- * folded), not per texel. */
+ * folded), not per texel.
+ *
+ * The decoded plane: a texture whose chain decoded to RGBA32F takes at most
+ * TEX_PLANE_MAX_BYTES also keeps that copy (`plane`, the same level sizes, 16 bytes a texel),
+ * and the samplers read it instead of the stored bytes. Each texel in it is tex_decode's value
+ * (for sRGB the exact curve, per texel, before filtering, as before), so a sample gives the
+ * same bits from either; what it saves is the work per texel: a trilinear sRGB sample was 8
+ * texels of 3 byte loads and 3 table lookups each, now 8 16-byte loads, and the filter's mixes
+ * work on whole vec4s. Small textures only, because the copy is 4x the bytes of RGBA8 (5.3x
+ * RGB8): a texture that stays in cache either way gains the decode, a large one would lose
+ * more to cache misses on 4x the bytes than it gains (not measured; the cap keeps such textures
+ * on the byte path). The stored levels stay as they are: texelFetch, the mip builder and
+ * sl_texture_level_texels (the GL upload) read them. */
 #ifndef SL_TEXTURE_INTERNAL_H
 #define SL_TEXTURE_INTERNAL_H
 
@@ -31,7 +43,20 @@ struct sl_texture {
     unsigned char *storage; /* every level, level 0 first */
     size_t bytes;
     float srgb[256];        /* sRGB formats: code -> linear, the exact curve (unused otherwise) */
+    tex_level plane[SL_TEXTURE_MAX_LEVELS]; /* the decoded plane (above): RGBA32F texels */
+    float *plane_storage;   /* NULL: no plane, the samplers read `level` */
+    size_t plane_bytes;
 };
+
+/* The largest decoded plane kept (above): 4 MiB, a 512x512 texture with its mips (5.3 MiB would
+ * be over; 256x256 is 1.3 MiB), small enough that a few of them share a core's L2 and L3. */
+#define TEX_PLANE_MAX_BYTES ((size_t)4 << 20)
+
+/* Make the decoded plane of a texture whose levels are final (texture.c calls it after the
+ * mips), when it fits TEX_PLANE_MAX_BYTES and memory allows: without it sampling is the same,
+ * only slower. tex_plane_drop frees it (the tests compare the two paths with it). */
+void tex_plane_build(sl_texture *t);
+void tex_plane_drop(sl_texture *t);
 
 /* Bytes of one texel of fmt, as a constant where fmt is one (the per-format fetch functions of
  * sampler.c are instantiated with a constant format, so this and tex_decode fold away). */
