@@ -53,7 +53,12 @@ typedef struct {
     const rast_draw *d;
     const rast_call *call; /* the current triangle's draw */
     const rast_tri *t;
-    const float *planes; /* varying planes */
+    /* the triangle's varying planes by coefficient (setup.c stores f0, fdx, fdy per varying;
+     * copied per triangle: three short loops), so that the per-fragment and per-quad loops over
+     * the varyings read each array contiguously and vectorize; the values and the expression are
+     * the planes', so the bits are too */
+    _Alignas(RAST_CACHE_LINE) float p0[SL_MAX_VARYINGS];
+    float pdx[SL_MAX_VARYINGS], pdy[SL_MAX_VARYINGS];
     float *zbuf;         /* tile-local depth */
     int px0, py0, ts;    /* tile origin and size */
     char *texels;
@@ -81,10 +86,9 @@ static inline __attribute__((always_inline)) float varyings_at(const tri_ctx *c,
     const rast_tri *t = c->t;
     float iw = clampf(t->iw[0] + t->iw[1] * fx + t->iw[2] * fy, t->iw_lo, t->iw_hi);
     float w = 1.0f / iw;
-    const float *p = c->planes;
     int n = c->call->nvary;
     for (int i = 0; i < n; i++)
-        vary[i] = (p[3 * i] + p[3 * i + 1] * fx + p[3 * i + 2] * fy) * w;
+        vary[i] = (c->p0[i] + c->pdx[i] * fx + c->pdy[i] * fy) * w;
     return iw;
 }
 
@@ -257,8 +261,7 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     }
     int nvary = c->call->nvary;
     for (int i = 0; i < nvary; i++) {
-        const float *pl = c->planes + 3 * i;
-        float p0 = pl[0], p1 = pl[1], p2fy = pl[2] * fy;
+        float p0 = c->p0[i], p1 = c->pdx[i], p2fy = c->pdy[i] * fy;
         float *out = s->vary[i];
 #pragma omp simd
         for (int j = 0; j < m; j++) {
@@ -401,13 +404,15 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     const sl_target *tg = c->d->target;
     const size_t tsz = tg->texel_size;
     /* the lanes' offsets from the triangle's origin: lane l is (fx[l & 1], fy[l >> 1]) */
-    const float fx[2] = {(float)qx - t->ox, (float)(qx + 1) - t->ox};
-    const float fy[2] = {(float)qy - t->oy, (float)(qy + 1) - t->oy};
+    const float fx0 = (float)qx - t->ox, fx1 = (float)(qx + 1) - t->ox;
+    const float fy0 = (float)qy - t->oy, fy1 = (float)(qy + 1) - t->oy;
+    const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
     float z[4];
+    for (int l = 0; l < 4; l++)
+        z[l] = depth_at(t, fx[l], fy[l]);
     unsigned live = 0;
     for (int l = 0; l < 4; l++) {
         int x = qx + (l & 1), y = qy + (l >> 1);
-        z[l] = depth_at(t, fx[l & 1], fy[l >> 1]);
         if (!(cov >> l & 1))
             continue;
         c->tested++;
@@ -423,18 +428,21 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     if (!live)
         return;
 
-    /* The lanes' inputs, varyings_at's expressions for the four lanes at once: 1/w per
-     * lane, then each varying for the four lanes (a loop the compiler vectorizes). */
+    /* The lanes' inputs, varyings_at's expressions: 1/w for the four lanes at once, then each
+     * lane's varyings in one loop over the coefficient arrays (both loops vectorize). */
     float iw[4], w[4];
     for (int l = 0; l < 4; l++) {
-        iw[l] = clampf(t->iw[0] + t->iw[1] * fx[l & 1] + t->iw[2] * fy[l >> 1], t->iw_lo, t->iw_hi);
+        iw[l] = clampf(t->iw[0] + t->iw[1] * fx[l] + t->iw[2] * fy[l], t->iw_lo, t->iw_hi);
         w[l] = 1.0f / iw[l];
     }
     float vary[4][SL_MAX_VARYINGS];
-    const float *p = c->planes;
-    for (int i = 0, n = c->call->nvary; i < n; i++)
-        for (int l = 0; l < 4; l++)
-            vary[l][i] = (p[3 * i] + p[3 * i + 1] * fx[l & 1] + p[3 * i + 2] * fy[l >> 1]) * w[l];
+    const int n = c->call->nvary;
+    for (int l = 0; l < 4; l++) {
+        const float lx = fx[l], ly = fy[l], lw = w[l];
+#pragma omp simd
+        for (int i = 0; i < n; i++)
+            vary[l][i] = (c->p0[i] + c->pdx[i] * lx + c->pdy[i] * ly) * lw;
+    }
     sl_fragment_in in[4];
     char *target[4]; /* the lane's texel, NULL outside the target (odd sizes) */
     void *out[4];    /* what the shader writes: scratch, or the target's texel in place */
@@ -603,7 +611,12 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             const rast_tri *t = &ch->tris[item & ~RAST_BIN_FULL];
             c.t = t;
             c.call = &d->calls[t->call];
-            c.planes = ch->vary + t->vary;
+            const float *planes = ch->vary + t->vary;
+            for (int k = 0, n = c.call->nvary; k < n; k++) {
+                c.p0[k] = planes[3 * k];
+                c.pdx[k] = planes[3 * k + 1];
+                c.pdy[k] = planes[3 * k + 2];
+            }
             int x0 = t->xmin > px0 ? t->xmin : px0, x1 = t->xmax < px1 ? t->xmax : px1;
             int y0 = t->ymin > py0 ? t->ymin : py0, y1 = t->ymax < py1 ? t->ymax : py1;
             bool full = (item & RAST_BIN_FULL) != 0;
