@@ -96,25 +96,12 @@ static void write_extra(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *
     e->depth = in->frag_coord.z;
 }
 
-/* gbuffer_textured.frag after its samples: the discard, the normal map, the texel. Both forms
- * of the shader end here, so they share every operation after the fetches. */
-static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m,
-                            void *texel)
+/* gbuffer_textured.frag: the normal, perturbed by the normal map's texel nt when one is bound. The
+ * reference form's; shading_normals4 below is the same for a quad's four lanes. */
+static vec3 shading_normal(const sl_gbuffer_tex_uniforms *u, const float *v, vec4 nt)
 {
-    const float *v = in->varyings;
-    vec3 vWorldPos = vec3(v[0], v[1], v[2]);
     vec3 vNormal = vec3(v[3], v[4], v[5]);
     vec4 vTangent = vec4(v[8], v[9], v[10], v[11]);
-    vec4 kd = m->map[SL_MAP_KD], ks = m->map[SL_MAP_KS], gloss = m->map[SL_MAP_ALPHA];
-    vec4 nt = m->map[SL_MAP_NORMAL], mask = m->map[SL_MAP_MASK];
-
-    if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
-        float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
-        if (coverage < u->uAlphaCutoff) {
-            discard(in);
-            return;
-        }
-    }
     vec3 n = dot(vNormal, vNormal) > 1e-30f ? normalize(vNormal) : vec3(0, 0, 1);
     vec3 t = vec3(vTangent.x, vTangent.y, vTangent.z);
     if ((u->uMaps & SL_GBUFFER_MAP_NORMAL) && dot(t, t) > 1e-30f) {
@@ -123,6 +110,87 @@ static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_
         vec3 mt = vec3(nt.x * 2.0f - 1.0f, nt.y * 2.0f - 1.0f, nt.z * 2.0f - 1.0f);
         vec3 p = add3(add3(scale3(t, mt.x), scale3(b, mt.y)), scale3(n, mt.z));
         n = dot(p, p) > 1e-30f ? normalize(p) : n;
+    }
+    return n;
+}
+
+/* shading_normal for the four lanes of a quad, in vector loops over the lanes: each lane's
+ * value is shading_normal's, operation for operation (dot as ((x x + y y) + z z), normalize as
+ * a product with 1 / sqrt, cross and the sums in its order), with selects for its branches, so
+ * the bits are the same (tests/cli/textured_quad_form.sh); the three square roots and divisions
+ * of a lane then cost what one costs for four. */
+static void shading_normals4(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in in[4], const map_values m[4],
+                             vec3 out[4])
+{
+    float vx[4], vy[4], vz[4], nx[4], ny[4], nz[4];
+    for (int l = 0; l < 4; l++) {
+        vx[l] = in[l].varyings[3];
+        vy[l] = in[l].varyings[4];
+        vz[l] = in[l].varyings[5];
+    }
+#pragma omp simd
+    for (int l = 0; l < 4; l++) {
+        float d = vx[l] * vx[l] + vy[l] * vy[l] + vz[l] * vz[l];
+        bool ok = d > 1e-30f;
+        float inv = 1.0f / sqrtf(ok ? d : 1.0f);
+        nx[l] = ok ? vx[l] * inv : 0.0f;
+        ny[l] = ok ? vy[l] * inv : 0.0f;
+        nz[l] = ok ? vz[l] * inv : 1.0f;
+    }
+    if (u->uMaps & SL_GBUFFER_MAP_NORMAL) {
+        float tx[4], ty[4], tz[4], tw[4], mx[4], my[4], mz[4];
+        for (int l = 0; l < 4; l++) {
+            const float *v = in[l].varyings;
+            vec4 nt = m[l].map[SL_MAP_NORMAL];
+            tx[l] = v[8];
+            ty[l] = v[9];
+            tz[l] = v[10];
+            tw[l] = v[11];
+            mx[l] = nt.x;
+            my[l] = nt.y;
+            mz[l] = nt.z;
+        }
+#pragma omp simd
+        for (int l = 0; l < 4; l++) {
+            float td = tx[l] * tx[l] + ty[l] * ty[l] + tz[l] * tz[l];
+            bool tok = td > 1e-30f;
+            float tinv = 1.0f / sqrtf(tok ? td : 1.0f);
+            float ux = tx[l] * tinv, uy = ty[l] * tinv, uz = tz[l] * tinv;
+            float bx = (ny[l] * uz - nz[l] * uy) * tw[l];
+            float by = (nz[l] * ux - nx[l] * uz) * tw[l];
+            float bz = (nx[l] * uy - ny[l] * ux) * tw[l];
+            float ax = mx[l] * 2.0f - 1.0f, ay = my[l] * 2.0f - 1.0f, az = mz[l] * 2.0f - 1.0f;
+            float px = ux * ax + bx * ay + nx[l] * az;
+            float py = uy * ax + by * ay + ny[l] * az;
+            float pz = uz * ax + bz * ay + nz[l] * az;
+            float pd = px * px + py * py + pz * pz;
+            bool pok = tok && pd > 1e-30f;
+            float pinv = 1.0f / sqrtf(pok ? pd : 1.0f);
+            nx[l] = pok ? px * pinv : nx[l];
+            ny[l] = pok ? py * pinv : ny[l];
+            nz[l] = pok ? pz * pinv : nz[l];
+        }
+    }
+    for (int l = 0; l < 4; l++)
+        out[l] = vec3(nx[l], ny[l], nz[l]);
+}
+
+/* gbuffer_textured.frag after its samples and the normal: the discard, the texel. Both forms
+ * of the shader end here, so they share every operation after the fetches. */
+static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m, vec3 n,
+                            void *texel)
+{
+    const float *v = in->varyings;
+    vec3 vWorldPos = vec3(v[0], v[1], v[2]);
+    vec4 kd = m->map[SL_MAP_KD], ks = m->map[SL_MAP_KS], gloss = m->map[SL_MAP_ALPHA];
+    vec4 mask = m->map[SL_MAP_MASK];
+
+    if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
+        float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
+        if (coverage < u->uAlphaCutoff) {
+            discard(in);
+            return;
+        }
     }
     sl_gbuffer_texel *g = texel;
     g->position = vWorldPos;
@@ -167,7 +235,7 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
     for (int slot = 0; slot < SL_MAP_COUNT; slot++)
         if (u->uMaps & (1 << slot))
             m.map[slot] = texture_traced(in, map_sampler(u, slot), map_uv(vTexCoord, map_st(u, slot)), slot, u);
-    finish_fragment(u, in, &m, texel);
+    finish_fragment(u, in, &m, shading_normal(u, in->varyings, m.map[SL_MAP_NORMAL]), texel);
 }
 
 /* The quad form of the same shader (sl_program.fragment_quad): one call for the 2x2 quad, so
@@ -208,8 +276,10 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
                 u->trace(u->trace_ctx, &in[l], slot, s, uv[l], dPdx, dPdy, lambda, value[l]);
         }
     }
+    vec3 n[4];
+    shading_normals4(u, in, m, n);
     for (int l = 0; l < 4; l++)
-        finish_fragment(u, &in[l], &m[l], texel[l]);
+        finish_fragment(u, &in[l], &m[l], n[l], texel[l]);
 }
 
 /* Two programs: one that may discard (a late depth test, as GL's rules require) for masked

@@ -35,7 +35,7 @@ static float safe_coord(float x)
 }
 
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
-static inline int wrap_index(int i, int n, sl_wrap mode)
+static inline __attribute__((always_inline)) int wrap_index(int i, int n, sl_wrap mode)
 {
     if ((unsigned)i < (unsigned)n) /* inside: every mode leaves it (and skips the divisions) */
         return i;
@@ -60,7 +60,7 @@ static inline int wrap_index(int i, int n, sl_wrap mode)
 
 /* The two indices bilinear filtering reads, i and i + 1, wrapped: wrap_index on each, with one
  * wrap instead of two for REPEAT (i + 1 wraps to 0 exactly when i wrapped to n - 1). */
-static inline void wrap_pair(int i, int n, sl_wrap mode, int *i0, int *i1)
+static inline __attribute__((always_inline)) void wrap_pair(int i, int n, sl_wrap mode, int *i0, int *i1)
 {
     if (i >= 0 && i < n - 1) {
         *i0 = i;
