@@ -428,7 +428,8 @@ static void fetch_rgba8(const sl_texture *t, int x, int y, double e[4], const ch
 {
     sl_sampler2D s = {t, sl_sampler_default()};
     vec4 v = texelFetch(&s, ivec2(x, y), 0);
-    if (fabs(v.x - e[0]) > 1e-6 || fabs(v.y - e[1]) > 1e-6 || fabs(v.z - e[2]) > 1e-6 || fabs(v.w - e[3]) > 1e-6) {
+    if (fabs((double)v.x - e[0]) > 1e-6 || fabs((double)v.y - e[1]) > 1e-6 || fabs((double)v.z - e[2]) > 1e-6 ||
+        fabs((double)v.w - e[3]) > 1e-6) {
         print_error("%s texel %d,%d: (%g,%g,%g,%g) expected (%g,%g,%g,%g)\n", what, x, y, (double)v.x, (double)v.y,
                     (double)v.z, (double)v.w, e[0], e[1], e[2], e[3]);
         fail();
