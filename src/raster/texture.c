@@ -1,5 +1,6 @@
 /* texture.c - textures: storage in the format's own width, the mip chain as llvmpipe's
- * glGenerateMipmap makes it, and loading from PNG / JPEG / .hdr files.
+ * glGenerateMipmap makes it, the decoded plane of small textures (what the samplers read:
+ * texture_internal.h), and loading from PNG / JPEG / .hdr files.
  *
  * The layout and the per-texel decode are in texture_internal.h (shared with sampler.c); the
  * rules every function here follows (row 0 at the bottom, how levels are made) are in

@@ -403,7 +403,8 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     const bool late = prog->discards;
     const sl_target *tg = c->d->target;
     const size_t tsz = tg->texel_size;
-    /* the lanes' offsets from the triangle's origin: lane l is (fx[l & 1], fy[l >> 1]) */
+    /* the lanes' offsets from the triangle's origin: lane l (pixel (qx + (l & 1), qy + (l >> 1)))
+     * is at (fx[l], fy[l]) */
     const float fx0 = (float)qx - t->ox, fx1 = (float)(qx + 1) - t->ox;
     const float fy0 = (float)qy - t->oy, fy1 = (float)(qy + 1) - t->oy;
     const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
