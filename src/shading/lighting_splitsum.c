@@ -14,11 +14,13 @@
  *       core/fast_math.h's atan2, and the table (splitsum_lut) gathered from its texels;
  *   (4) the prefiltered chain's trilinear fetch gathered from its block (ibl/texture_lod.h),
  *       the Phong or the GGX chain: one loop per chain a span uses, a select when it mixes;
- *   (5) the irradiance: SH9 in sl_irradiance_eval's order of operations, vectorized; a map
- *       per pixel through sl_irradiance_eval;
+ *   (5) the irradiance, vectorized: SH9 in sl_irradiance_eval's order of operations, or the
+ *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
  *   (7) per pixel: the background of empty pixels, the trace hooks, the NaN guard.
+ * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
+ * vectorizes it alone (inlined into one large caller, some loops stay scalar).
  * The same operations run whether a loop is vectorized or not (only +, -, *, /, sqrt and
  * selects; -ffp-contract=off), so the pass, sl_lighting_shade and the trace agree bit for bit.
  *
@@ -27,6 +29,7 @@
 #include <string.h>
 
 #include "../core/fast_math.h"
+#include "../ibl/irradiance_uv.h"
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
 
@@ -68,7 +71,7 @@ bool shade_splitsum_fast(const sl_lighting_uniforms *u)
 /* (1) texels to arrays. An empty pixel (depth >= 1) gets a stand-in, a point one unit below
  * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
  * reads. */
-static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+__attribute__((noinline)) static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                        splitsum_block *b)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
@@ -102,7 +105,7 @@ static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* (2) main() up to the estimator: V, facing_normal (its branches as selects of values computed
  * by the same operations), the environment frame, and R = reflect(-V, N). */
-static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
     const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
@@ -147,7 +150,7 @@ static inline float clamp_index(float x, float hi)
 
 /* (3) splitsum_width, the level, R's lat-long uv and the table's A, B (splitsum_lut: texel
  * centres of the pixel's set; the set is GGX for alpha < 0, else the Phong set of uGTerm). */
-static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     enum { S = SL_SPLITSUM_LUT_SIZE };
     const float max_lod = u->uSplitSumMaxLod;
@@ -200,7 +203,7 @@ static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block 
 }
 
 /* (4) the prefiltered radiance P, then the specular term P (Ks A + B) times the intensity. */
-static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     int ggx = 0;
     for (int i = 0; i < count; i++)
@@ -229,44 +232,71 @@ static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_bl
     }
 }
 
-/* (5) irradiance(Nenv): SH9 as sl_irradiance_eval sums it (same order, so the same bits), or
- * the irradiance map per pixel. Negative (SH ringing) and NaN become 0. */
-static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+/* (5) irradiance(Nenv), as sl_irradiance_eval computes it: SH9 summed in its order (the same
+ * bits); a map's level 0 filtered bilinearly at the layout's uv (ibl/irradiance_uv.h: the same
+ * bits for OCT and DP; the lat-long map through the fast atan2, within 2.4e-7 rad of the port's
+ * uv). Negative (SH ringing) and NaN become 0. */
+__attribute__((noinline)) static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const sl_irradiance *irr = u->uIrradiance;
-    if (irr->method != SL_IRRADIANCE_SH9) {
+    if (irr->method == SL_IRRADIANCE_SH9) {
+        const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f, k4 = 0.546274215f;
+        const vec3 *c = irr->sh;
+        const vec3 c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], c4 = c[4], c5 = c[5], c6 = c[6], c7 = c[7], c8 = c[8];
+#pragma omp simd
         for (int i = 0; i < count; i++) {
-            vec3 e = sl_irradiance_eval(irr, vec3(b->NEx[i], b->NEy[i], b->NEz[i]));
+            float x = b->NEx[i], y = b->NEy[i], z = b->NEz[i];
+            vec3 e = scale(c0, k0);
+            e = add(e, scale(c1, k1 * y));
+            e = add(e, scale(c2, k1 * z));
+            e = add(e, scale(c3, k1 * x));
+            e = add(e, scale(c4, k2 * x * y));
+            e = add(e, scale(c5, k2 * y * z));
+            e = add(e, scale(c6, k3 * (3.0f * z * z - 1.0f)));
+            e = add(e, scale(c7, k2 * x * z));
+            e = add(e, scale(c8, k4 * (x * x - y * y)));
             b->er[i] = e.x;
             b->eg[i] = e.y;
             b->eb[i] = e.z;
         }
-        return;
+    } else {
+        /* the map's uv per layout (a loop each: one loop choosing per lane does not vectorize) */
+        const sl_env_level *l0 = &irr->map.levels[0];
+        float tu[SPAN], tv[SPAN];
+        if (irr->method == SL_IRRADIANCE_OCT) {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_irradiance_oct_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
+        } else if (irr->method == SL_IRRADIANCE_DP) {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_irradiance_dp_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
+        } else {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_fast_dir_to_uv(b->NEx[i], b->NEy[i], b->NEz[i], &tu[i], &tv[i]);
+        }
+        const vec3 *T = l0->texels;
+        const int w = l0->width, h = l0->height;
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 e = sl_texels_bilinear(T, w, h, 0, tu[i], tv[i]);
+            b->er[i] = e.x;
+            b->eg[i] = e.y;
+            b->eb[i] = e.z;
+        }
     }
-    const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f, k4 = 0.546274215f;
-    const vec3 *c = irr->sh;
-    const vec3 c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], c4 = c[4], c5 = c[5], c6 = c[6], c7 = c[7], c8 = c[8];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        float x = b->NEx[i], y = b->NEy[i], z = b->NEz[i];
-        vec3 e = scale(c0, k0);
-        e = add(e, scale(c1, k1 * y));
-        e = add(e, scale(c2, k1 * z));
-        e = add(e, scale(c3, k1 * x));
-        e = add(e, scale(c4, k2 * x * y));
-        e = add(e, scale(c5, k2 * y * z));
-        e = add(e, scale(c6, k3 * (3.0f * z * z - 1.0f)));
-        e = add(e, scale(c7, k2 * x * z));
-        e = add(e, scale(c8, k4 * (x * x - y * y)));
-        b->er[i] = e.x > 0.0f ? e.x : 0.0f;
-        b->eg[i] = e.y > 0.0f ? e.y : 0.0f;
-        b->eb[i] = e.z > 0.0f ? e.z : 0.0f;
+        b->er[i] = b->er[i] > 0.0f ? b->er[i] : 0.0f;
+        b->eg[i] = b->eg[i] > 0.0f ? b->eg[i] : 0.0f;
+        b->eb[i] = b->eb[i] > 0.0f ? b->eb[i] : 0.0f;
     }
 }
 
 /* (6) main()'s sum without the point lights, in shade_surface_color's order: diffuse
  * (Kd / pi) E I, plus the specular term, times the occlusion. */
-static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const float I = u->uEnvIntensity;
     const float d = u->uDiffuse != 0 ? 1.0f : 0.0f, s = u->uSpecular != 0 ? 1.0f : 0.0f;
@@ -285,7 +315,7 @@ static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *
 /* (6) point_light j for the span, added to the colour: lighting.c's formula, Phong's
  * (N.H)^alpha as exp2(alpha log2 N.H) with the argument kept >= -126 (below, D < 1e-37),
  * GGX's D and G as brdf.h has them, each set computed and one selected. */
-static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, splitsum_block *b,
+__attribute__((noinline)) static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, splitsum_block *b,
                               sl_lighting_trace *trace)
 {
     const vec3 LP = u->uLightPosition[j];
@@ -346,7 +376,7 @@ static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, s
 
 /* (7) background() for the span: the batched path's view ray, fast lat-long map and level-0
  * gather (lighting_batched.c background_stage), or texel by texel without a block. */
-static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
+__attribute__((noinline)) static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
 {
     const float I = u->uEnvIntensity;
     const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
