@@ -408,12 +408,11 @@ __attribute__((noinline)) static void background_stage(const sl_lighting_uniform
     }
 }
 
-void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
-                         sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
+/* Stages (1) to (6) for a span with covered pixels (an empty pixel's lanes compute values that
+ * nobody reads). */
+static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                           splitsum_block *b, sl_lighting_trace *trace)
 {
-    splitsum_block blk;
-    splitsum_block *b = &blk;
-    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     load_stage(u, gb, x0, y, count, b);
     frame_stage(u, count, b);
     lookup_stage(u, count, b);
@@ -429,11 +428,21 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
     if (u->uPointLights != 0)
         for (int j = 0; j < u->uLightCount; j++)
             point_light_stage(u, j, count, b, trace);
+}
+
+void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                         sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
+{
+    splitsum_block blk;
+    splitsum_block *b = &blk;
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     if (empty > 0)
         background_stage(u, x0, y, count, b);
+    if (empty < count) /* a span of background alone (much of a frame) lights nothing */
+        surface_stages(u, gb, x0, y, count, b, trace);
     for (int i = 0; i < count; i++) {
         const int x = x0 + i;
         vec3 color;
