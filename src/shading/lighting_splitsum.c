@@ -4,10 +4,11 @@
  * stays the reference; test_lighting_splitsum bounds the difference.
  *
  * Why a file of its own: a split-sum pixel has no samples, so the batched path's structure
- * (lighting_batched.c: a per-pixel call into the sample loops) leaves nothing to vectorize and
- * the frame cost ~50 ns a pixel in scalar calls (the port's textureLod, sl_dir_to_uv's acos and
- * atan2, the table's filter, the irradiance, point lights with powf). Here every stage runs over
- * the whole span at once, structure of arrays:
+ * (lighting_batched.c: a per-pixel call into the sample loops) leaves nothing to vectorize: a
+ * 1280x720 frame took 29-63 ms on 2 cores in scalar calls (the port's textureLod, sl_dir_to_uv's
+ * acos and atan2, the table's filter, the irradiance, point lights with powf; docs/performance.md
+ * "Split sum: the fast path"). Here every stage runs over the whole span at once, structure of
+ * arrays (the background first; a span of background alone skips (1) to (6)):
  *   (1) the texels to arrays (empty pixels get a harmless stand-in, so every lane stays finite);
  *   (2) V, facing_normal, the environment frame and R (the batched pixel stage's operations);
  *   (3) the lobe width r (splitsum_width), the level r (levels - 1), R's lat-long uv through
@@ -18,7 +19,8 @@
  *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
- *   (7) per pixel: the background of empty pixels, the trace hooks, the NaN guard.
+ *   (7) the background of empty pixels (the batched path's view ray and level-0 gather); then
+ *       per pixel the trace hooks and the NaN guard.
  * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
  * vectorizes it alone (inlined into one large caller, some loops stay scalar).
  * The same operations run whether a loop is vectorized or not (only +, -, *, /, sqrt and
@@ -71,7 +73,8 @@ bool shade_splitsum_fast(const sl_lighting_uniforms *u)
 /* (1) texels to arrays. An empty pixel (depth >= 1) gets a stand-in, a point one unit below
  * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
  * reads. */
-__attribute__((noinline)) static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                        splitsum_block *b)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
@@ -105,7 +108,8 @@ static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* (2) main() up to the estimator: V, facing_normal (its branches as selects of values computed
  * by the same operations), the environment frame, and R = reflect(-V, N). */
-__attribute__((noinline)) static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
     const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
@@ -150,7 +154,8 @@ static inline float clamp_index(float x, float hi)
 
 /* (3) splitsum_width, the level, R's lat-long uv and the table's A, B (splitsum_lut: texel
  * centres of the pixel's set; the set is GGX for alpha < 0, else the Phong set of uGTerm). */
-__attribute__((noinline)) static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     enum { S = SL_SPLITSUM_LUT_SIZE };
     const float max_lod = u->uSplitSumMaxLod;
@@ -203,7 +208,8 @@ static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block 
 }
 
 /* (4) the prefiltered radiance P, then the specular term P (Ks A + B) times the intensity. */
-__attribute__((noinline)) static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     int ggx = 0;
     for (int i = 0; i < count; i++)
@@ -236,7 +242,8 @@ __attribute__((noinline)) static void specular_stage(const sl_lighting_uniforms 
  * bits); a map's level 0 filtered bilinearly at the layout's uv (ibl/irradiance_uv.h: the same
  * bits for OCT and DP; the lat-long map through the fast atan2, within 2.4e-7 rad of the port's
  * uv). Negative (SH ringing) and NaN become 0. */
-__attribute__((noinline)) static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const sl_irradiance *irr = u->uIrradiance;
     if (irr->method == SL_IRRADIANCE_SH9) {
@@ -296,7 +303,8 @@ __attribute__((noinline)) static void irradiance_stage(const sl_lighting_uniform
 
 /* (6) main()'s sum without the point lights, in shade_surface_color's order: diffuse
  * (Kd / pi) E I, plus the specular term, times the occlusion. */
-__attribute__((noinline)) static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const float I = u->uEnvIntensity;
     const float d = u->uDiffuse != 0 ? 1.0f : 0.0f, s = u->uSpecular != 0 ? 1.0f : 0.0f;
@@ -315,7 +323,8 @@ __attribute__((noinline)) static void sum_stage(const sl_lighting_uniforms *u, i
 /* (6) point_light j for the span, added to the colour: lighting.c's formula, Phong's
  * (N.H)^alpha as exp2(alpha log2 N.H) with the argument kept >= -126 (below, D < 1e-37),
  * GGX's D and G as brdf.h has them, each set computed and one selected. */
-__attribute__((noinline)) static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, splitsum_block *b,
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, splitsum_block *b,
                               sl_lighting_trace *trace)
 {
     const vec3 LP = u->uLightPosition[j];
@@ -376,7 +385,8 @@ __attribute__((noinline)) static void point_light_stage(const sl_lighting_unifor
 
 /* (7) background() for the span: the batched path's view ray, fast lat-long map and level-0
  * gather (lighting_batched.c background_stage), or texel by texel without a block. */
-__attribute__((noinline)) static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
 {
     const float I = u->uEnvIntensity;
     const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
