@@ -63,9 +63,9 @@ void view_bench_record(viewer *v, double now)
     b->last_present = now;
     if (i + 1 < b->frames)
         return;
-    int n = b->frames, ow, oh, moving_n = v->r.desc.lighting.samples;
-    if (moving_n > v->move_samples)
-        moving_n = v->move_samples;
+    int n = b->frames, ow, oh;
+    char lit[64];
+    view_stage_describe(&v->shown_params, lit, sizeof lit);
     view_output_size(v, &ow, &oh);
     double worst = 0.0;
     for (int k = 0; k < n; k++)
@@ -78,9 +78,9 @@ void view_bench_record(viewer *v, double now)
             snprintf(divs + len, sizeof divs - len, "%s1/%d: %d", len ? ", " : "", d, b->div_counts[d]);
         }
     printf("softlight view: benchmark: %d moving frames in a %dx%d window (rendered %dx%d at the end; frames at "
-           "%s), N %d rotated: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
+           "%s), %s: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
            "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms\n",
-           n, ow, oh, b->last_w, b->last_h, divs, moving_n, med, p90, worst, 1e3 / med, sl_median(b->raster_ms, n),
+           n, ow, oh, b->last_w, b->last_h, divs, lit, med, p90, worst, 1e3 / med, sl_median(b->raster_ms, n),
            sl_median(b->shade_ms, n), sl_median(b->tonemap_ms, n), sl_median(b->present_ms, n));
     fflush(stdout);
     v->quit = true;

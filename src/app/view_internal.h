@@ -184,6 +184,7 @@ typedef struct {
     int samples;     /* N */
     bool rotate;     /* per-pixel rotation of the sample set (uRotate) */
     uint32_t frame;  /* its frame number (uFrame) */
+    sl_estimator estimator; /* SL_ESTIMATOR_DEFAULT: the user's; moving frames: SPLITSUM */
 } view_stage_params;
 
 /* What the linear image behind `shown` is (for exposure changes and snapshots). */
@@ -226,6 +227,8 @@ typedef struct {
     view_camera camera;
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */
+    bool move_user;   /* --move-estimator user: moving frames sample with the user's estimator
+                         (N move_samples, rotated) instead of the split sum */
     bool acc_total_lod; /* accumulation frames filter as for the user's N (--accumulate-lod total) */
     int fixed_div;   /* --move-div; 0: adaptive */
     float scale;     /* --scale */
@@ -315,6 +318,9 @@ void view_present(viewer *v);
 /* One line in the HUD for a few seconds; errors also go to stderr (the window may be hidden). */
 void view_message(viewer *v, bool error, const char *fmt, ...) __attribute__((format(printf, 3, 4)));
 const char *view_irradiance_name(sl_irradiance_method m); /* "sh9", "brute", "map" */
+/* How a stage lit its frame, for the HUD, snapshots and the benchmark: "split sum" or
+ * "N 8 rotated" (view_present.c). */
+void view_stage_describe(const view_stage_params *s, char *buf, size_t size);
 
 /* ---- view_screenshot.c ---- */
 /* The exact frame of the current view as <name>.png (what is shown, without the HUD) and

@@ -38,15 +38,25 @@ const char *view_irradiance_name(sl_irradiance_method m)
     return sl_irradiance_name(m);
 }
 
+void view_stage_describe(const view_stage_params *s, char *buf, size_t size)
+{
+    if (s->estimator == SL_ESTIMATOR_SPLITSUM)
+        snprintf(buf, size, "split sum");
+    else
+        snprintf(buf, size, "N %d%s", s->samples, s->rotate ? " rotated" : "");
+}
+
 /* The refinement line of the HUD: what the image on screen is and what comes next. */
 static void state_line(const viewer *v, double now, char *buf, size_t size)
 {
     const view_stage_params *s = &v->shown_params;
     char what[96];
+    char lit[64];
+    view_stage_describe(s, lit, sizeof lit);
     if (s->div == 1)
-        snprintf(what, sizeof what, "full size, N %d%s", s->samples, s->rotate ? " rotated" : "");
+        snprintf(what, sizeof what, "full size, %s", lit);
     else
-        snprintf(what, sizeof what, "1/%d size, N %d%s", s->div, s->samples, s->rotate ? " rotated" : "");
+        snprintf(what, sizeof what, "1/%d size, %s", s->div, lit);
     int n = v->r.desc.lighting.samples, acc_n = n < VIEW_ACC_SAMPLES ? n : VIEW_ACC_SAMPLES;
     int target = view_acc_target(v), total = target * acc_n;
     if (v->job_active && v->job_stage == VIEW_STAGE_EXACT)

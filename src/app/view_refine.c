@@ -1,8 +1,11 @@
 /* view_refine.c - the viewer's progressive refinement: which stage renders next and rendering it
  * (docs/viewer.md "Refinement"; the contract is in view_internal.h).
  *
- *     moving    1/preview_div of the window per axis, N = min(N, --move-samples), the sample
- *               set rotated per pixel with a new frame number each frame; whole frames
+ *     moving    1/preview_div of the window per axis (starting at full size), lit with the
+ *               split-sum estimator (no samples: the sweep's best error for the time, and a
+ *               few ns a pixel; its chains are prefiltered once per environment); with
+ *               --move-estimator user, or in the mip view, the user's estimator with
+ *               N = min(N, --move-samples), rotated per pixel, a new frame number each frame; whole frames
  *     accumulate full size, frames of min(N, VIEW_ACC_SAMPLES) rotated samples, frame = 0, 1,
  *               2, ..., filtered with the mip levels of N, averaged (sl_lighting_accumulate)
  *               until they hold at least N samples a pixel
@@ -54,24 +57,38 @@ static view_stage_params params_of(const viewer *v, int stage)
     bool final = v->mode == VIEW_FINAL;
     switch (stage) {
     case VIEW_STAGE_MOVING:
+        if (final && !v->move_user) /* N, rotation and frame stay the user's: the split sum ignores them */
+            return (view_stage_params){v->preview_div, user->samples, user->rotate, user->frame,
+                                       SL_ESTIMATOR_SPLITSUM};
         return (view_stage_params){v->preview_div, min_int(user->samples, v->move_samples), final || user->rotate,
-                                   final ? v->move_frame : user->frame};
+                                   final ? v->move_frame : user->frame, SL_ESTIMATOR_DEFAULT};
     case VIEW_STAGE_ACCUMULATE:
-        return (view_stage_params){1, min_int(user->samples, VIEW_ACC_SAMPLES), true, (uint32_t)v->acc_count};
+        return (view_stage_params){1, min_int(user->samples, VIEW_ACC_SAMPLES), true, (uint32_t)v->acc_count,
+                                   SL_ESTIMATOR_DEFAULT};
     default:
-        return (view_stage_params){1, user->samples, user->rotate, user->frame};
+        return (view_stage_params){1, user->samples, user->rotate, user->frame, SL_ESTIMATOR_DEFAULT};
     }
 }
 
-/* Stages that would render the same image as the one before them are skipped (N and the
- * rotation only matter to views that light the G-buffer). */
+/* The estimator a stage lights with, resolved (DEFAULT: the user's). */
+static sl_estimator stage_estimator(const viewer *v, view_stage_params p)
+{
+    if (p.estimator != SL_ESTIMATOR_DEFAULT)
+        return p.estimator;
+    return sl_lighting_options_resolve(&v->r.desc.lighting).estimator;
+}
+
+/* Stages that would render the same image as the one before them are skipped (N, the rotation
+ * and the estimator only matter to views that light the G-buffer; a split-sum moving frame at
+ * full size is the exact frame when the user's estimator is the split sum). */
 static bool same_params(const viewer *v, view_stage_params a, view_stage_params b)
 {
     if (a.div != b.div)
         return false;
     if (!view_mode_needs_lighting(v->mode))
         return true;
-    return a.samples == b.samples && a.rotate == b.rotate && (!a.rotate || a.frame == b.frame);
+    return a.samples == b.samples && a.rotate == b.rotate && (!a.rotate || a.frame == b.frame) &&
+           stage_estimator(v, a) == stage_estimator(v, b);
 }
 
 static bool stage_needed(const viewer *v, int stage)
@@ -222,7 +239,7 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
      * the mean converges to the exact frame's filtering rather than to that of 8 samples
      * (docs/viewer.md "Refinement"). */
     if (v->mode == VIEW_FINAL || v->mode == VIEW_MIP) {
-        sl_lighting_frame f = {.samples = p.samples, .rotate = p.rotate, .frame = p.frame};
+        sl_lighting_frame f = {.samples = p.samples, .rotate = p.rotate, .frame = p.frame, .estimator = p.estimator};
         if (stage == VIEW_STAGE_ACCUMULATE && v->acc_total_lod)
             f.lod_samples = sl_lighting_options_resolve(&v->r.desc.lighting).lod_samples;
         if (!sl_renderer_prepare_lighting_frame(&v->r, cam, &f, err))

@@ -84,8 +84,10 @@ bool view_snapshot(viewer *v, const char *base, sl_error *err)
     const char *stage = v->shown_stage == VIEW_STAGE_MOVING       ? "moving"
                         : v->shown_stage == VIEW_STAGE_ACCUMULATE ? "accumulating"
                                                                   : "exact";
-    printf("softlight view: snapshot %s and %s (%dx%d, %s, N %d%s, frame %u, %d frames averaged%s)\n", png, pfm,
-           linear->width, linear->height, stage, s->samples, s->rotate ? " rotated" : "", (unsigned)s->frame,
+    char lit[64];
+    view_stage_describe(s, lit, sizeof lit);
+    printf("softlight view: snapshot %s and %s (%dx%d, %s, %s, frame %u, %d frames averaged%s)\n", png, pfm,
+           linear->width, linear->height, stage, lit, (unsigned)s->frame,
            v->shown_from == VIEW_SHOWN_MEAN ? v->acc_count : 1,
            v->radiance_exact && v->shown_from == VIEW_SHOWN_RADIANCE ? ", exact" : "");
     fflush(stdout);

@@ -40,6 +40,7 @@
  * Everything is accumulated in double per group; the sums per map texel are float, one sequential
  * loop per texel (OpenMP over texels), so the map does not depend on the thread count. */
 #include "ibl_internal.h"
+#include "irradiance_uv.h"
 
 #include <math.h>
 #include <stdint.h>
@@ -53,35 +54,18 @@ static double luma(double r, double g, double b) { return 0.2126 * r + 0.7152 * 
 
 /* ---- layouts: direction -> uv (float, the lookup) and grid point -> direction (double, the build) ---- */
 
-/* Texel centre coordinate of grid point p in [-1, 1] on a side of s texels, clamped so the
- * bilinear footprint never leaves the side (CLAMP_TO_EDGE semantics under any wrap mode). */
-static float grid_coord(float p, int s)
-{
-    float t = (p * 0.5f + 0.5f) * ((float)(s - 1) / (float)s) + 0.5f / (float)s;
-    float lo = 0.5f / (float)s, hi = 1.0f - 0.5f / (float)s;
-    t = t > lo ? t : lo; /* NaN -> lo */
-    return t < hi ? t : hi;
-}
-
 vec2 sl_irradiance_oct_uv(vec3 n, int size)
 {
-    float a = fabsf(n.x) + fabsf(n.y) + fabsf(n.z);
-    float px = n.x / a, py = n.y / a;
-    if (n.z < 0.0f) {
-        float fx = (1.0f - fabsf(py)) * (px >= 0.0f ? 1.0f : -1.0f);
-        float fy = (1.0f - fabsf(px)) * (py >= 0.0f ? 1.0f : -1.0f);
-        px = fx;
-        py = fy;
-    }
-    return vec2(grid_coord(px, size), grid_coord(py, size));
+    vec2 t;
+    sl_irradiance_oct_uv_inline(n.x, n.y, n.z, size, &t.x, &t.y);
+    return t;
 }
 
 vec2 sl_irradiance_dp_uv(vec3 n, int size)
 {
-    float half = n.z >= 0.0f ? 0.0f : 1.0f;
-    float d = 1.0f + fabsf(n.z);
-    float px = n.x / d, py = n.y / d;
-    return vec2((grid_coord(px, size) + half) * 0.5f, grid_coord(py, size));
+    vec2 t;
+    sl_irradiance_dp_uv_inline(n.x, n.y, n.z, size, &t.x, &t.y);
+    return t;
 }
 
 static void oct_dir(double px, double py, double d[3])

@@ -144,21 +144,32 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     }
     const sl_env_level *l0 = &src->levels[0];
     out->layout = SL_ENV_LAYOUT_LATLONG;
+    /* One block for the chain, as sl_env_build makes it: the split-sum fetch of the lighting
+     * pass (lighting_splitsum.c) gathers from it with one index per texel. */
+    size_t total = 0;
     for (int k = 0; k < levels; k++) {
         /* GL's mip sizes: max(1, floor(size / 2^k)) */
         int w = l0->width >> k, h = l0->height >> k;
+        out->levels[k].width = w > 0 ? w : 1;
+        out->levels[k].height = h > 0 ? h : 1;
+        total += (size_t)out->levels[k].width * (size_t)out->levels[k].height;
+    }
+    out->block = malloc(total * sizeof(vec3));
+    if (!out->block) {
+        free(ls);
+        free(scratch);
+        memset(out, 0, sizeof *out);
+        return sl_fail(err, SL_ERR_MEMORY, "prefilter: no memory for the chain (%zu texels)", total);
+    }
+    out->level_count = levels;
+    size_t offset = 0;
+    for (int k = 0; k < levels; k++) {
+        out->levels[k].texels = out->block + offset;
+        offset += (size_t)out->levels[k].width * (size_t)out->levels[k].height;
+    }
+    for (int k = 0; k < levels; k++) {
+        int w = out->levels[k].width, h = out->levels[k].height;
         sl_env_level *dst = &out->levels[k];
-        dst->width = w > 0 ? w : 1;
-        dst->height = h > 0 ? h : 1;
-        dst->texels = malloc((size_t)dst->width * (size_t)dst->height * sizeof(vec3));
-        out->level_count = k + 1;
-        if (!dst->texels) {
-            free(ls);
-            free(scratch);
-            sl_env_free(out);
-            return sl_fail(err, SL_ERR_MEMORY, "prefilter: no memory for level %d (%dx%d)", k, dst->width,
-                           dst->height);
-        }
         if (k == 0) { /* r = 0: the mirror reads the environment itself */
             memcpy(dst->texels, l0->texels, (size_t)w * (size_t)h * sizeof(vec3));
             continue;

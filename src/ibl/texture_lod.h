@@ -22,7 +22,7 @@
  * (one level) and sl_env_gather_bilinear (a level of the block) are this. Indices are int: a
  * level has at most SL_IMAGE_MAX_PIXELS texels and a gathered block fewer than 2^31 / 3, so the
  * vectorized fetch gathers with 32-bit indices; sl_fast_floor is floorf for |x| < 2^31. Texels
- * are read component by component (a struct copy stops GCC's vectorizer). */
+ * are read component by component, as floats (a struct copy stops GCC's vectorizer). */
 __attribute__((always_inline)) static inline vec3 sl_texels_bilinear(const vec3 *T, int w, int h, int o, float u,
                                                                      float v)
 {
@@ -40,11 +40,14 @@ __attribute__((always_inline)) static inline vec3 sl_texels_bilinear(const vec3 
     int y0 = (int)y;
     float fy = y - (float)y0;
     int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
-    int r0 = o + y0 * w, r1 = o + y1 * w;
-    vec3 top = vec3(mixf(T[r0 + x0].x, T[r0 + x1].x, fx), mixf(T[r0 + x0].y, T[r0 + x1].y, fx),
-                    mixf(T[r0 + x0].z, T[r0 + x1].z, fx));
-    vec3 bottom = vec3(mixf(T[r1 + x0].x, T[r1 + x1].x, fx), mixf(T[r1 + x0].y, T[r1 + x1].y, fx),
-                       mixf(T[r1 + x0].z, T[r1 + x1].z, fx));
+    /* Float offsets (3 per texel) in int: a vectorized loop then gathers with 32-bit indices
+     * and scale 4; through T[i].x GCC 12 widened the index to 64 bits and emulated every gather
+     * with scalar loads and inserts (the split-sum fetch's profile). Same values, same bits. */
+    const float *F = &T[0].x;
+    int a = 3 * (o + y0 * w + x0), b = 3 * (o + y0 * w + x1);
+    int c = 3 * (o + y1 * w + x0), d = 3 * (o + y1 * w + x1);
+    vec3 top = vec3(mixf(F[a], F[b], fx), mixf(F[a + 1], F[b + 1], fx), mixf(F[a + 2], F[b + 2], fx));
+    vec3 bottom = vec3(mixf(F[c], F[d], fx), mixf(F[c + 1], F[d + 1], fx), mixf(F[c + 2], F[d + 2], fx));
     return mix3(top, bottom, fy);
 }
 

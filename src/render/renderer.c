@@ -83,11 +83,15 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
 }
 
 /* The split-sum method's prefiltered chains of what the samples read, for both lobe sets, and
- * the BRDF's table (once), when the estimator asks for them; rebuilt when the environment or
- * the env lights change. A scene with another estimator pays nothing. */
-static bool update_splitsum(sl_renderer *r, sl_error *err)
+ * the BRDF's table (once), when the estimator asks for them (`estimator`: the frame's, which the
+ * viewer's moving frames set; SL_ESTIMATOR_DEFAULT: desc's); rebuilt when the environment or
+ * the env lights change, never per frame. A scene and a viewer that never use the estimator pay
+ * nothing. */
+static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *err)
 {
     sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
+    if (estimator != SL_ESTIMATOR_DEFAULT)
+        o.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
     if (o.estimator != SL_ESTIMATOR_SPLITSUM || r->splitsum_built == lights)
         return true;
@@ -177,7 +181,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
     /* per environment: not in a frame's time */
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, SL_ESTIMATOR_DEFAULT, err))
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {
@@ -317,7 +321,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
 {
     if (!cam)
         cam = &r->scene->camera;
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, err))
+    sl_estimator estimator = frame ? frame->estimator : SL_ESTIMATOR_DEFAULT;
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -325,6 +330,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         options.lod_samples = frame->lod_samples;
         options.rotate = frame->rotate;
         options.frame = frame->frame;
+        if (frame->estimator != SL_ESTIMATOR_DEFAULT)
+            options.estimator = frame->estimator;
     }
     mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);
     sl_lighting_desc desc = {

@@ -114,6 +114,8 @@ typedef struct {
     int lod_samples; /* the N whose mip levels they read (uLodBase = 1/2 log2(W H / N)); 0 = samples */
     bool rotate;     /* per-pixel rotation of the sample set (uRotate) */
     uint32_t frame;  /* its frame number (uFrame) */
+    sl_estimator estimator; /* SL_ESTIMATOR_DEFAULT: desc's; the viewer's moving frames ask for
+                               SPLITSUM (its chains are then prefiltered once per environment) */
 } sl_lighting_frame;
 
 /* sl_renderer_prepare_lighting with `frame`'s four fields in place of desc.lighting's (NULL: as

@@ -147,6 +147,9 @@ typedef struct {
     /* C only, for the batched path's vectorized fetch: uEnv and uEnvResidual as single blocks
      * (ibl/texture_lod.h); without a block it fetches texel by texel (same bits). */
     sl_env_gather envGather, residualGather;
+    /* C only, for the split-sum fast path (lighting_splitsum.c): the two prefiltered chains
+     * as blocks (zeroed when the estimator is not SPLITSUM) */
+    sl_env_gather splitSumPhongGather, splitSumGGXGather;
     /* C only: the env lights as structure of arrays, for the batched path's vector loads */
     float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
     float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];

@@ -1,7 +1,8 @@
 /* lighting_internal.h - what the files of the lighting stage share, and which way they call:
  *
  *     lighting_pass.c ──> lighting.c (the port)          lighting_uniforms.c (host side)
- *            └──────────> lighting_batched.c ──> lighting_task.c ──> lighting.c
+ *            ├──────────> lighting_batched.c ──> lighting_task.c ──> lighting.c
+ *            └──────────> lighting_splitsum.c (split sum) ──> lighting.c (lobe_param)
  *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
  *     ground_truth_image.c ─> lighting.c (facing_normal: the exact pass bends normals as the shader does)
  *
@@ -253,6 +254,16 @@ const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lightin
  * A trace (count 1) records what the pixel computed. */
 void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                 sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out);
+
+/* ---- the split-sum fast path (lighting_splitsum.c) ---- */
+
+/* Whether it runs for these uniforms: estimator SPLITSUM, not plain, no env lights, both
+ * prefiltered chains as blocks of the same size. */
+bool shade_splitsum_fast(const sl_lighting_uniforms *u);
+/* main() with specular_splitsum, vectorized over pixels x0 .. x0 + count - 1 (count <= SPAN) of
+ * G-buffer row y into out[]; a trace (count 1) records what the pixel computed. */
+void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                         sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out);
 
 /* main(), the port: G-buffer texel (x, y) (lighting.c). */
 vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,

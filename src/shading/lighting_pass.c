@@ -1,5 +1,6 @@
 /* lighting_pass.c - runs the lighting shader over a G-buffer: the dispatch between the port
- * (lighting.c, options.plain) and the batched path (lighting_batched.c), the pass (OpenMP over
+ * (lighting.c, options.plain), the batched path (lighting_batched.c) and the split-sum fast
+ * path (lighting_splitsum.c, for --estimator splitsum), the pass (OpenMP over
  * tiles, one task per thread), and the accumulation of rotated frames. */
 
 #include <omp.h>
@@ -15,18 +16,24 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
     if (u->options.plain)
         return shade_plain(u, gb, x, y, task, trace);
     vec3 c;
-    shade_span(u, gb, x, y, 1, task, trace, &c);
+    if (shade_splitsum_fast(u))
+        shade_span_splitsum(u, gb, x, y, 1, task, trace, &c);
+    else
+        shade_span(u, gb, x, y, 1, task, trace, &c);
     return c;
 }
 
 void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                            sl_lighting_task *task, vec3 *out)
 {
+    const bool splitsum = shade_splitsum_fast(u);
     for (int x = x0; x < x0 + count; x += SPAN) {
         int n = x0 + count - x < SPAN ? x0 + count - x : SPAN;
         if (u->options.plain)
             for (int i = 0; i < n; i++)
                 out[x - x0 + i] = shade_plain(u, gb, x + i, y, task, NULL);
+        else if (splitsum)
+            shade_span_splitsum(u, gb, x, y, n, task, NULL, out + (x - x0));
         else
             shade_span(u, gb, x, y, n, task, NULL, out + (x - x0));
     }

@@ -152,6 +152,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->uSplitSumGGX = desc->splitsum_ggx;
         u->uSplitSumLut = desc->splitsum_lut;
         u->uSplitSumMaxLod = (float)(desc->splitsum_phong->level_count - 1);
+        sl_env_gather_init(&u->splitSumPhongGather, u->uSplitSumPhong);
+        sl_env_gather_init(&u->splitSumGGXGather, u->uSplitSumGGX);
     }
     u->uLodRule = (int)o.lod_rule;
     u->uDistortion = o.distortion ? 1 : 0;

@@ -1,0 +1,489 @@
+/* lighting_splitsum.c - the split-sum estimator's fast path (--estimator splitsum without
+ * --plain): main() of shaders/lighting.frag with specular_splitsum, over a span of a tile row
+ * in loops that GCC vectorizes (`#pragma omp simd`). The port (lighting.c, specular_splitsum)
+ * stays the reference; test_lighting_splitsum bounds the difference.
+ *
+ * Why a file of its own: a split-sum pixel has no samples, so the batched path's structure
+ * (lighting_batched.c: a per-pixel call into the sample loops) leaves nothing to vectorize: a
+ * 1280x720 frame took 29-63 ms on 2 cores in scalar calls (the port's textureLod, sl_dir_to_uv's
+ * acos and atan2, the table's filter, the irradiance, point lights with powf; docs/performance.md
+ * "Split sum: the fast path"). Here every stage runs over the whole span at once, structure of
+ * arrays (the background first; a span of background alone skips (1) to (6)):
+ *   (1) the texels to arrays (empty pixels get a harmless stand-in, so every lane stays finite);
+ *   (2) V, facing_normal, the environment frame and R (the batched pixel stage's operations);
+ *   (3) the lobe width r (splitsum_width), the level r (levels - 1), R's lat-long uv through
+ *       core/fast_math.h's atan2, and the table (splitsum_lut) gathered from its texels;
+ *   (4) the prefiltered chain's trilinear fetch gathered from its block (ibl/texture_lod.h),
+ *       the Phong or the GGX chain: one loop per chain a span uses, a select when it mixes;
+ *   (5) the irradiance, vectorized: SH9 in sl_irradiance_eval's order of operations, or the
+ *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
+ *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
+ *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
+ *   (7) the background of empty pixels (the batched path's view ray and level-0 gather); then
+ *       per pixel the trace hooks and the NaN guard.
+ * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
+ * vectorizes it alone (inlined into one large caller, some loops stay scalar).
+ * The same operations run whether a loop is vectorized or not (only +, -, *, /, sqrt and
+ * selects; -ffp-contract=off), so the pass, sl_lighting_shade and the trace agree bit for bit.
+ *
+ * Does not: env lights (their exact term is the batched path's loop, lighting_pass.c sends
+ * those frames there), the per-pixel estimators, an environment chain without a block. */
+#include <string.h>
+
+#include "../core/fast_math.h"
+#include "../ibl/irradiance_uv.h"
+#include "../ibl/texture_lod.h"
+#include "lighting_internal.h"
+
+/* GLSL constants, as lighting.c has them */
+static const float MIN_NDOTV = SHADE_MIN_NDOTV;
+static const float TINY = SL_BRDF_TINY;
+static const float MIN_LIGHT_D2 = 1e-8f; /* lighting.c point_light */
+#define PI SL_PI
+
+/* One span, structure of arrays. */
+typedef struct {
+    /* (1) the texels */
+    float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN];
+    float kdr[SPAN], kdg[SPAN], kdb[SPAN], ksr[SPAN], ksg[SPAN], ksb[SPAN], alpha[SPAN];
+    float occ[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    /* (2) the frame: world V, N; environment NE, VE, R */
+    float Vx[SPAN], Vy[SPAN], Vz[SPAN], Nx[SPAN], Ny[SPAN], Nz[SPAN];
+    float NEx[SPAN], NEy[SPAN], NEz[SPAN], Rx[SPAN], Ry[SPAN], Rz[SPAN], NdotV[SPAN];
+    int bent[SPAN];
+    /* (3) the lookup: width, level, R's uv, the table's A and B */
+    float r[SPAN], lod[SPAN], u[SPAN], v[SPAN], A[SPAN], B[SPAN];
+    /* (4) the prefiltered radiance along R (a second chain's, for a mixed span) */
+    float pr[SPAN], pg[SPAN], pb[SPAN], qr[SPAN], qg[SPAN], qb[SPAN];
+    /* (5) the irradiance; (6) the specular term and the colour */
+    float er[SPAN], eg[SPAN], eb[SPAN], sr[SPAN], sg[SPAN], sb[SPAN], cr[SPAN], cg[SPAN], cb[SPAN];
+    /* (7) the background of empty pixels */
+    float bgr[SPAN], bgg[SPAN], bgb[SPAN];
+} splitsum_block;
+
+bool shade_splitsum_fast(const sl_lighting_uniforms *u)
+{
+    return u->uEstimator == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 &&
+           u->splitSumPhongGather.gather && u->splitSumGGXGather.gather &&
+           u->uSplitSumPhong->level_count == u->uSplitSumGGX->level_count &&
+           u->uSplitSumPhong->levels[0].width == u->uSplitSumGGX->levels[0].width &&
+           u->uSplitSumPhong->levels[0].height == u->uSplitSumGGX->levels[0].height;
+}
+
+/* (1) texels to arrays. An empty pixel (depth >= 1) gets a stand-in, a point one unit below
+ * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
+ * reads. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                       splitsum_block *b)
+{
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    for (int i = 0; i < count; i++) {
+        bool empty = t[i].depth >= 1.0f;
+        vec3 P = empty ? sub(u->uEye, vec3(0.0f, 0.0f, 1.0f)) : t[i].position;
+        vec3 n = empty ? vec3(0.0f, 0.0f, 1.0f) : t[i].normal;
+        vec3 kd = empty ? vec3s(0.0f) : t[i].kd, ks = empty ? vec3s(0.0f) : t[i].ks;
+        sl_gbuffer_extra e = shade_extra(gb, x0 + i, y);
+        b->Px[i] = P.x;
+        b->Py[i] = P.y;
+        b->Pz[i] = P.z;
+        b->nx[i] = n.x;
+        b->ny[i] = n.y;
+        b->nz[i] = n.z;
+        b->kdr[i] = kd.x;
+        b->kdg[i] = kd.y;
+        b->kdb[i] = kd.z;
+        b->ksr[i] = ks.x;
+        b->ksg[i] = ks.y;
+        b->ksb[i] = ks.z;
+        b->alpha[i] = empty ? 1.0f : shade_lobe_param(t[i].alpha);
+        b->occ[i] = e.occlusion;
+        b->emr[i] = e.emissive.x;
+        b->emg[i] = e.emissive.y;
+        b->emb[i] = e.emissive.z;
+    }
+}
+
+static inline float select_f(bool c, float a, float b) { return c ? a : b; }
+
+/* (2) main() up to the estimator: V, facing_normal (its branches as selects of values computed
+ * by the same operations), the environment frame, and R = reflect(-V, N). */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+{
+    const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
+    const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        vec3 V = normalize(vec3(ex - b->Px[i], ey - b->Py[i], ez - b->Pz[i]));
+        vec3 n = vec3(b->nx[i], b->ny[i], b->nz[i]);
+        float len2 = dot(n, n);
+        vec3 Nn = scale(n, 1.0f / sqrtf(len2));
+        float NdotV0 = dot(Nn, V);
+        vec3 Nb = normalize(add(Nn, scale(V, MIN_NDOTV - NdotV0)));
+        bool keep = len2 > TINY, bend = NdotV0 < MIN_NDOTV;
+        vec3 N = vec3(select_f(keep, select_f(bend, Nb.x, Nn.x), V.x), select_f(keep, select_f(bend, Nb.y, Nn.y), V.y),
+                      select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
+        vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
+        vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
+        float NdotV = dot(NE, VE);
+        vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
+        b->Vx[i] = V.x;
+        b->Vy[i] = V.y;
+        b->Vz[i] = V.z;
+        b->Nx[i] = N.x;
+        b->Ny[i] = N.y;
+        b->Nz[i] = N.z;
+        b->NEx[i] = NE.x;
+        b->NEy[i] = NE.y;
+        b->NEz[i] = NE.z;
+        b->Rx[i] = R.x;
+        b->Ry[i] = R.y;
+        b->Rz[i] = R.z;
+        b->NdotV[i] = NdotV;
+        b->bent[i] = dot(n, V) < MIN_NDOTV * length(n);
+    }
+}
+
+/* x clamped to [0, hi], NaN to 0: these values index texels. */
+static inline float clamp_index(float x, float hi)
+{
+    x = x > 0.0f ? x : 0.0f;
+    return x < hi ? x : hi;
+}
+
+/* (3) splitsum_width, the level, R's lat-long uv and the table's A, B (splitsum_lut: texel
+ * centres of the pixel's set; the set is GGX for alpha < 0, else the Phong set of uGTerm). */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+{
+    enum { S = SL_SPLITSUM_LUT_SIZE };
+    const float max_lod = u->uSplitSumMaxLod;
+    const float phong_set = (float)(u->uGTerm == SL_GTERM_INV_LH2 ? SL_SPLITSUM_PHONG_INV_LH2 : SL_SPLITSUM_PHONG_ONE);
+    const vec3 *lut = u->uSplitSumLut->texels;
+    float tx[SPAN], ty[SPAN];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        float alpha = b->alpha[i];
+        /* sl_splitsum_width of either set, blended by a 0/1 factor (exact: x 1 + y 0 = x for
+         * finite y; a select lets GCC sink the division into a branch and give up) */
+        float g = alpha < 0.0f ? 1.0f : 0.0f;
+        float r = (-1.0f - alpha) * g + sqrtf(sqrtf(2.0f / (maxf(alpha, 0.0f) + 2.0f))) * (1.0f - g);
+        float uu, vv;
+        sl_fast_dir_to_uv(b->Rx[i], b->Ry[i], b->Rz[i], &uu, &vv);
+        float set = g * (float)SL_SPLITSUM_GGX + (1.0f - g) * phong_set;
+        b->r[i] = r;
+        b->lod[i] = clamp_index(r * max_lod, max_lod);
+        b->u[i] = uu;
+        b->v[i] = vv;
+        /* the table's texel coordinates: the port's uv times the size, minus half a texel,
+         * without the round trip (so within float rounding of the port's) */
+        tx[i] = clamp_index(b->NdotV[i], 1.0f) * (float)(S - 1);
+        ty[i] = set * (float)S + clamp_index(r, 1.0f) * (float)(S - 1);
+    }
+    /* Bilinear within the set: the coordinates are in range, so no wrap, and the last row and
+     * column of a set clamp to themselves. */
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        int x0 = (int)tx[i], y0 = (int)ty[i];
+        float fx = tx[i] - (float)x0, fy = ty[i] - (float)y0;
+        int x1 = x0 + (fx > 0.0f ? 1 : 0), y1 = y0 + (fy > 0.0f ? 1 : 0);
+        const vec3 *t00 = lut + (y0 * S + x0), *t10 = lut + (y0 * S + x1);
+        const vec3 *t01 = lut + (y1 * S + x0), *t11 = lut + (y1 * S + x1);
+        b->A[i] = mixf(mixf(t00->x, t10->x, fx), mixf(t01->x, t11->x, fx), fy);
+        b->B[i] = mixf(mixf(t00->y, t10->y, fx), mixf(t01->y, t11->y, fx), fy);
+    }
+}
+
+/* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b). */
+static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block *b, float *fr, float *fg, float *fb)
+{
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        vec3 c = sl_env_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
+        fr[i] = c.x;
+        fg[i] = c.y;
+        fb[i] = c.z;
+    }
+}
+
+/* (4) the prefiltered radiance P, then the specular term P (Ks A + B) times the intensity. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+{
+    int ggx = 0;
+    for (int i = 0; i < count; i++)
+        ggx += b->alpha[i] < 0.0f;
+    if (ggx < count) /* the Phong chain for the span */
+        fetch_chain(&u->splitSumPhongGather, count, b, b->pr, b->pg, b->pb);
+    if (ggx > 0 && ggx < count) { /* mixed: the GGX chain too, and a select */
+        fetch_chain(&u->splitSumGGXGather, count, b, b->qr, b->qg, b->qb);
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            bool g = b->alpha[i] < 0.0f;
+            b->pr[i] = select_f(g, b->qr[i], b->pr[i]);
+            b->pg[i] = select_f(g, b->qg[i], b->pg[i]);
+            b->pb[i] = select_f(g, b->qb[i], b->pb[i]);
+        }
+    } else if (ggx == count) {
+        fetch_chain(&u->splitSumGGXGather, count, b, b->pr, b->pg, b->pb);
+    }
+    const float I = u->uEnvIntensity;
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        float A = b->A[i], B = b->B[i];
+        b->sr[i] = (b->pr[i] * (b->ksr[i] * A + B)) * I;
+        b->sg[i] = (b->pg[i] * (b->ksg[i] * A + B)) * I;
+        b->sb[i] = (b->pb[i] * (b->ksb[i] * A + B)) * I;
+    }
+}
+
+/* (5) irradiance(Nenv), as sl_irradiance_eval computes it: SH9 summed in its order (the same
+ * bits); a map's level 0 filtered bilinearly at the layout's uv (ibl/irradiance_uv.h: the same
+ * bits for OCT and DP; the lat-long map through the fast atan2, within 2.4e-7 rad of the port's
+ * uv). Negative (SH ringing) and NaN become 0. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+{
+    const sl_irradiance *irr = u->uIrradiance;
+    if (irr->method == SL_IRRADIANCE_SH9) {
+        const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f, k4 = 0.546274215f;
+        const vec3 *c = irr->sh;
+        const vec3 c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], c4 = c[4], c5 = c[5], c6 = c[6], c7 = c[7], c8 = c[8];
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            float x = b->NEx[i], y = b->NEy[i], z = b->NEz[i];
+            vec3 e = scale(c0, k0);
+            e = add(e, scale(c1, k1 * y));
+            e = add(e, scale(c2, k1 * z));
+            e = add(e, scale(c3, k1 * x));
+            e = add(e, scale(c4, k2 * x * y));
+            e = add(e, scale(c5, k2 * y * z));
+            e = add(e, scale(c6, k3 * (3.0f * z * z - 1.0f)));
+            e = add(e, scale(c7, k2 * x * z));
+            e = add(e, scale(c8, k4 * (x * x - y * y)));
+            b->er[i] = e.x;
+            b->eg[i] = e.y;
+            b->eb[i] = e.z;
+        }
+    } else {
+        /* the map's uv per layout (a loop each: one loop choosing per lane does not vectorize) */
+        const sl_env_level *l0 = &irr->map.levels[0];
+        float tu[SPAN], tv[SPAN];
+        if (irr->method == SL_IRRADIANCE_OCT) {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_irradiance_oct_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
+        } else if (irr->method == SL_IRRADIANCE_DP) {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_irradiance_dp_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
+        } else {
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                sl_fast_dir_to_uv(b->NEx[i], b->NEy[i], b->NEz[i], &tu[i], &tv[i]);
+        }
+        const vec3 *T = l0->texels;
+        const int w = l0->width, h = l0->height;
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 e = sl_texels_bilinear(T, w, h, 0, tu[i], tv[i]);
+            b->er[i] = e.x;
+            b->eg[i] = e.y;
+            b->eb[i] = e.z;
+        }
+    }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        b->er[i] = b->er[i] > 0.0f ? b->er[i] : 0.0f;
+        b->eg[i] = b->eg[i] > 0.0f ? b->eg[i] : 0.0f;
+        b->eb[i] = b->eb[i] > 0.0f ? b->eb[i] : 0.0f;
+    }
+}
+
+/* (6) main()'s sum without the point lights, in shade_surface_color's order: diffuse
+ * (Kd / pi) E I, plus the specular term, times the occlusion. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
+{
+    const float I = u->uEnvIntensity;
+    const float d = u->uDiffuse != 0 ? 1.0f : 0.0f, s = u->uSpecular != 0 ? 1.0f : 0.0f;
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        /* a term that is off adds exactly 0 (0 x finite); the port skips it */
+        float dr = ((b->kdr[i] * (1.0f / PI)) * b->er[i]) * I;
+        float dg = ((b->kdg[i] * (1.0f / PI)) * b->eg[i]) * I;
+        float db = ((b->kdb[i] * (1.0f / PI)) * b->eb[i]) * I;
+        b->cr[i] = (dr * d + b->sr[i] * s) * b->occ[i];
+        b->cg[i] = (dg * d + b->sg[i] * s) * b->occ[i];
+        b->cb[i] = (db * d + b->sb[i] * s) * b->occ[i];
+    }
+}
+
+/* (6) point_light j for the span, added to the colour: lighting.c's formula, Phong's
+ * (N.H)^alpha as exp2(alpha log2 N.H) with the argument kept >= -126 (below, D < 1e-37),
+ * GGX's D and G as brdf.h has them, each set computed and one selected. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, splitsum_block *b,
+                              sl_lighting_trace *trace)
+{
+    const vec3 LP = u->uLightPosition[j];
+    const vec3 LC = u->uLightColor[j];
+    const float LI = u->uLightIntensity[j];
+    const float diffuse = u->uDiffuse != 0 ? 1.0f : 0.0f, specular = u->uSpecular != 0 ? 1.0f : 0.0f;
+    const float g_inv = u->uGTerm == SL_GTERM_INV_LH2 ? 1.0f : 0.0f;
+    float lr[SPAN], lg[SPAN], lb[SPAN];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        float tx = LP.x - b->Px[i], ty = LP.y - b->Py[i], tz = LP.z - b->Pz[i];
+        float d2 = (tx * tx + ty * ty) + tz * tz;
+        float il = 1.0f / sqrtf(maxf(d2, MIN_LIGHT_D2));
+        vec3 L = vec3(tx * il, ty * il, tz * il);
+        vec3 N = vec3(b->Nx[i], b->Ny[i], b->Nz[i]), V = vec3(b->Vx[i], b->Vy[i], b->Vz[i]);
+        float NdotL = dot(N, L);
+        vec3 H = normalize(add(L, V));
+        float LdotH = dot(L, H), NdotH = dot(N, H), NdotV = dot(N, V);
+        float alpha = b->alpha[i];
+        float gsel = alpha < 0.0f ? 1.0f : 0.0f;
+        /* Phong: D = (alpha + 2) / (2 pi) (N.H)^alpha, G = 1/(L.H)^2 or 1 */
+        float pa = maxf(alpha, 0.0f);
+        /* exp2 needs its argument >= -126: the log2 is floored at -125 / alpha (D < 1e-37
+         * there), not the product (GCC does not vectorize a max of exp2's argument) */
+        float l2 = maxf(sl_fast_log2(maxf(NdotH, TINY)), -125.0f / maxf(pa, 1.0f));
+        float Dp = (pa + 2.0f) / (2.0f * PI) * sl_fast_exp2(pa * l2);
+        float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+        float Gp = (1.0f / (LH * LH)) * g_inv + (1.0f - g_inv); /* 0/1 blend, as in lookup_stage */
+        /* GGX: a^2 from alpha in [-2, -1] (clamped for Phong lanes, whose value is dropped) */
+        float rg = -1.0f - minf(alpha, -1.0f);
+        float a = maxf(rg * rg, SL_GGX_MIN_A);
+        float a2 = a * a;
+        float c2 = NdotH * NdotH;
+        float t = maxf(1.0f - c2, 0.0f) + c2 * a2;
+        float Dg = a2 / (PI * t * t);
+        float gv = NdotL * sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
+        float gl = NdotV * sqrtf(NdotL * NdotL * (1.0f - a2) + a2);
+        float Gg = 2.0f / maxf(gv + gl, TINY); /* > 0 wherever the light is lit */
+        float D = Dg * gsel + Dp * (1.0f - gsel), G = Gg * gsel + Gp * (1.0f - gsel); /* 0/1 blends */
+        float m = maxf(1.0f - LdotH, 0.0f);
+        float m2 = m * m;
+        float m5 = m2 * m2 * m;
+        float k = D * G / 4.0f * specular;
+        float fr = b->kdr[i] * (1.0f / PI) * diffuse + (b->ksr[i] + (1.0f - b->ksr[i]) * m5) * k;
+        float fg = b->kdg[i] * (1.0f / PI) * diffuse + (b->ksg[i] + (1.0f - b->ksg[i]) * m5) * k;
+        float fb = b->kdb[i] * (1.0f / PI) * diffuse + (b->ksb[i] + (1.0f - b->ksb[i]) * m5) * k;
+        float w = LI / maxf(d2, MIN_LIGHT_D2) * NdotL; /* d2 itself wherever lit */
+        bool lit = (d2 >= MIN_LIGHT_D2) & (NdotL > 0.0f); /* &, not &&: no branch in the loop */
+        lr[i] = select_f(lit, fr * LC.x * w, 0.0f);
+        lg[i] = select_f(lit, fg * LC.y * w, 0.0f);
+        lb[i] = select_f(lit, fb * LC.z * w, 0.0f);
+        b->cr[i] += lr[i];
+        b->cg[i] += lg[i];
+        b->cb[i] += lb[i];
+    }
+    trace_light(trace, j, vec3(lr[0], lg[0], lb[0]));
+}
+
+/* (7) background() for the span: the batched path's view ray, fast lat-long map and level-0
+ * gather (lighting_batched.c background_stage), or texel by texel without a block. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
+{
+    const float I = u->uEnvIntensity;
+    const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
+    const vec2 viewport = u->uViewport;
+    const sl_env_gather *env = &u->envGather;
+    const sl_env_level *l0 = &u->uEnv->levels[0];
+    if (env->gather) {
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+            float bu, bv;
+            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+            vec3 c = sl_env_gather_bilinear(env, 0, bu, bv);
+            b->bgr[i] = c.x * I;
+            b->bgg[i] = c.y * I;
+            b->bgb[i] = c.z * I;
+        }
+        return;
+    }
+    for (int i = 0; i < count; i++) {
+        vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+        float bu, bv;
+        sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+        vec3 c = sl_env_bilinear(l0, bu, bv);
+        b->bgr[i] = c.x * I;
+        b->bgg[i] = c.y * I;
+        b->bgb[i] = c.z * I;
+    }
+}
+
+/* Stages (1) to (6) for a span with covered pixels (an empty pixel's lanes compute values that
+ * nobody reads). */
+static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                           splitsum_block *b, sl_lighting_trace *trace)
+{
+    load_stage(u, gb, x0, y, count, b);
+    frame_stage(u, count, b);
+    lookup_stage(u, count, b);
+    specular_stage(u, count, b);
+    if (u->uDiffuse != 0) {
+        irradiance_stage(u, count, b);
+    } else { /* sum_stage multiplies the diffuse term by 0 */
+        memset(b->er, 0, sizeof b->er);
+        memset(b->eg, 0, sizeof b->eg);
+        memset(b->eb, 0, sizeof b->eb);
+    }
+    sum_stage(u, count, b);
+    if (u->uPointLights != 0)
+        for (int j = 0; j < u->uLightCount; j++)
+            point_light_stage(u, j, count, b, trace);
+}
+
+void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                         sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
+{
+    splitsum_block blk;
+    splitsum_block *b = &blk;
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    int empty = 0;
+    for (int i = 0; i < count; i++)
+        empty += t[i].depth >= 1.0f;
+    if (empty > 0)
+        background_stage(u, x0, y, count, b);
+    if (empty < count) /* a span of background alone (much of a frame) lights nothing */
+        surface_stages(u, gb, x0, y, count, b, trace);
+    for (int i = 0; i < count; i++) {
+        const int x = x0 + i;
+        vec3 color;
+        trace_texel(trace, &t[i], vec2((float)x + 0.5f, (float)y + 0.5f), false);
+        if (t[i].depth >= 1.0f) {
+            color = vec3(b->bgr[i], b->bgg[i], b->bgb[i]);
+            trace_background(task, trace, color);
+        } else {
+            /* emission travels with the diffuse term (lighting.c shade_surface_color) */
+            vec3 em = u->uDiffuse != 0 ? vec3(b->emr[i], b->emg[i], b->emb[i]) : vec3s(0.0f);
+            color = add(vec3(b->cr[i], b->cg[i], b->cb[i]), em);
+            if (task)
+                task->stats.bent_normals += b->bent[i];
+            if (trace) { /* count is 1: what the pixel computed, at the port's hooks */
+                shade_surface s = {
+                    .P = t[i].position, .Kd = t[i].kd, .Ks = t[i].ks, .alpha = b->alpha[i],
+                    .V = vec3(b->Vx[i], b->Vy[i], b->Vz[i]), .N = vec3(b->Nx[i], b->Ny[i], b->Nz[i]),
+                    .Nenv = vec3(b->NEx[i], b->NEy[i], b->NEz[i]),
+                    .Venv = mat3_mul_vec3(u->uEnvRotation, vec3(b->Vx[i], b->Vy[i], b->Vz[i])),
+                    .occlusion = b->occ[i], .emissive = vec3(b->emr[i], b->emg[i], b->emb[i])};
+                trace_surface(NULL, trace, &s, b->bent[i]);
+                vec3 E = vec3(b->er[i], b->eg[i], b->eb[i]);
+                if (u->uDiffuse != 0)
+                    trace_diffuse(trace, E, scale(mul(scale(s.Kd, 1.0f / PI), E), u->uEnvIntensity));
+                trace_splitsum(trace, s.Nenv, s.Venv, vec3(b->Rx[i], b->Ry[i], b->Rz[i]), b->r[i], b->lod[i],
+                               vec3(b->pr[i], b->pg[i], b->pb[i]), vec2(b->A[i], b->B[i]));
+                if (u->uSpecular != 0)
+                    trace_specular(trace, vec3(b->sr[i], b->sg[i], b->sb[i]));
+                trace_extra(trace, s.occlusion, s.emissive);
+            }
+        }
+        out[i] = shade_finish(color, task, trace);
+    }
+}
