@@ -165,7 +165,8 @@ __attribute__((always_inline)) static inline vec3 sl_pair_bilinear(const sl_env_
 }
 
 /* sl_env_gather_lod from the pair rows (g->pairs must be set): the same bits. */
-__attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_env_gather *g, float u, float v, float lod)
+__attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_env_gather *g, float u, float v,
+                                                                    float lod)
 {
     int l0 = (int)lod;
     float f = lod - (float)l0;

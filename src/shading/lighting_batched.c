@@ -437,9 +437,9 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
          * k mod 4 and the four are added at the end, (0 + 1) + (2 + 3): four short dependency
          * chains instead of one long one (the port adds in sample order; the difference is float
          * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
-         * and the trace agree bit for bit. Written as two loops GCC vectorizes: the horizon test over the block, then four
-         * samples at a time into the four sums (one 4-lane add a channel; BLOCK is a multiple of
-         * 4, so sample k0 + i goes into sum i mod 4). */
+         * and the trace agree bit for bit. Written as two loops GCC vectorizes: the horizon test
+         * over the block, then four samples at a time into the four sums (one 4-lane add a
+         * channel; BLOCK is a multiple of 4, so sample k0 + i goes into sum i mod 4). */
         int below_block = 0;
         const float *drop = mf ? b->vh : b->wN; /* microfacet: V.H <= 0 drops the sample too */
 #pragma omp simd
@@ -466,7 +466,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         if (trace)
             trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, NdotV, &trace_sum);
     }
-    vec3 sum = vec3((sx[0] + sx[1]) + (sx[2] + sx[3]), (sy[0] + sy[1]) + (sy[2] + sy[3]), (sz[0] + sz[1]) + (sz[2] + sz[3]));
+    vec3 sum = vec3((sx[0] + sx[1]) + (sx[2] + sx[3]), (sy[0] + sy[1]) + (sy[2] + sy[3]),
+                    (sz[0] + sz[1]) + (sz[2] + sz[3]));
     count_samples(task, n, below, pole);
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
