@@ -6,6 +6,7 @@
 #include "args.h"
 #include "commands.h"
 #include "core/image.h"
+#include "ibl/ibl.h"
 #include "raster/gbuffer.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -43,6 +44,19 @@ static size_t chain_texels(int w, int h)
     }
 }
 
+/* The chain sl_env_build keeps: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS
+ * texels the pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row). */
+static size_t env_held_bytes(int w, int h)
+{
+    size_t texels = chain_texels(w, h), rows = 0;
+    for (;; w = w / 2 > 1 ? w / 2 : 1, h = h / 2 > 1 ? h / 2 : 1) {
+        rows += (size_t)h;
+        if (w == 1 && h == 1)
+            break;
+    }
+    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 : 0);
+}
+
 /* sl_env_build of a W x H image (the image itself not counted): the chain, level 0 converted
  * straight into it, and the general filter's scratch of mw x h rows of three doubles, allocated
  * by the first level that is not an exact halving of the one before (src/ibl/env.c). */
@@ -58,7 +72,7 @@ static size_t env_build_bytes(int w, int h)
         lw = mw;
         lh = mh;
     }
-    return chain_texels(w, h) * 12 + scratch;
+    return env_held_bytes(w, h) + scratch;
 }
 
 static void phase(memory_model *m, size_t bytes, const char *what)
@@ -80,7 +94,7 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
     size_t P = (size_t)env_w * (size_t)env_h;
     m.env_load = env_file + P * 12;
     m.env_build = P * 12 + env_build_bytes(env_w, env_h);
-    m.env = chain_texels(env_w, env_h) * 12;
+    m.env = env_held_bytes(env_w, env_h);
     size_t base = m.program + mesh_bytes;
     phase(&m, base + m.env_load, "reading the environment");
     phase(&m, base + m.env_build, "building the environment's mip chain");

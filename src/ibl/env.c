@@ -172,6 +172,34 @@ static void *alloc_block(size_t bytes)
     return malloc(bytes);
 }
 
+/* sl_env.pairs (ibl.h): every level's rows with their first texel repeated at the end, or NULL
+ * (too large, or no memory: the fetch then reads the block; nothing is lost but speed). */
+static float *build_pairs(const sl_env *env, size_t texels)
+{
+    size_t rows = 0;
+    for (int l = 0; l < env->level_count; l++)
+        rows += (size_t)env->levels[l].height;
+    if (texels > SL_ENV_PAIRS_MAX_TEXELS)
+        return NULL;
+    float *pairs = malloc((texels + rows) * 3 * sizeof *pairs);
+    if (!pairs)
+        return NULL;
+    float *out = pairs;
+    for (int l = 0; l < env->level_count; l++) {
+        const sl_env_level *lv = &env->levels[l];
+        for (int y = 0; y < lv->height; y++) {
+            const vec3 *row = lv->texels + (size_t)y * (size_t)lv->width;
+            for (int x = 0; x <= lv->width; x++) {
+                vec3 t = row[x < lv->width ? x : 0];
+                *out++ = t.x;
+                *out++ = t.y;
+                *out++ = t.z;
+            }
+        }
+    }
+    return pairs;
+}
+
 /* The whole chain; general_only forces downsample() on every level (the test's reference). */
 bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
 {
@@ -237,6 +265,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
     }
     env->level_count = count;
     env->block = block;
+    env->pairs = build_pairs(env, total);
     return true;
 }
 
@@ -249,6 +278,7 @@ void sl_env_free(sl_env *env)
 {
     if (!env)
         return;
+    free(env->pairs);
     if (env->block)
         free(env->block);
     else

@@ -53,13 +53,18 @@ void sl_env_gather_init(sl_env_gather *g, const sl_env *env)
     g->gather = env->block != NULL && total < (size_t)INT32_MAX / 3; /* 3 floats a texel */
     g->texels = g->gather ? env->block : env->levels[0].texels;
     g->last = env->level_count - 1;
-    size_t offset = 0;
+    /* the pair rows have one texel more a row; SL_ENV_PAIRS_MAX_TEXELS keeps their indices in int */
+    g->pairs = g->gather && env->layout != SL_ENV_LAYOUT_OCT ? env->pairs : NULL;
+    size_t offset = 0, pair_offset = 0;
     for (int l = 0; l < SL_ENV_MAX_LEVELS; l++) {
         const sl_env_level *lv = &env->levels[g->gather && l < env->level_count ? l : 0];
         g->offset[l] = (int)offset;
+        g->pair_offset[l] = (int)pair_offset;
         g->width[l] = lv->width;
         g->height[l] = lv->height;
-        if (g->gather)
+        if (g->gather) {
             offset += (size_t)lv->width * (size_t)lv->height;
+            pair_offset += (size_t)(lv->width + 1) * (size_t)lv->height;
+        }
     }
 }

@@ -13,6 +13,8 @@
 #define SL_TEXTURE_LOD_H
 
 #include <stddef.h>
+#include <stdint.h>
+#include <string.h>
 
 #include "../core/fast_math.h"
 #include "ibl.h"
@@ -93,6 +95,9 @@ typedef struct {
     const vec3 *texels; /* the block, or level 0's texels */
     int last;           /* level_count - 1 */
     int offset[SL_ENV_MAX_LEVELS], width[SL_ENV_MAX_LEVELS], height[SL_ENV_MAX_LEVELS];
+    const float *pairs; /* sl_env.pairs (NULL: none), level l's texel (x, y) at 3 (pair_offset[l] +
+                           y (width + 1) + x) */
+    int pair_offset[SL_ENV_MAX_LEVELS];
 } sl_env_gather;
 
 /* Describe env's chain (texture_lod.c); env must have at least one level. */
@@ -114,6 +119,62 @@ __attribute__((always_inline)) static inline vec3 sl_env_gather_lod(const sl_env
     float f = lod - (float)l0;
     int l1 = l0 < g->last ? l0 + 1 : g->last;
     return mix3(sl_env_gather_bilinear(g, l0, u, v), sl_env_gather_bilinear(g, l1, u, v), f);
+}
+
+/* Two floats from one 64-bit read: in a vectorized loop, one 64-bit gather instead of two
+ * 32-bit ones (the fetch is bound by gathered elements, not bytes). The bits of p[0] and p[1]. */
+__attribute__((always_inline)) static inline void sl_load_float2(const float *p, float *a, float *b)
+{
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    uint64_t q;
+    memcpy(&q, p, sizeof q);
+    *a = sl_fm_float((uint32_t)q);
+    *b = sl_fm_float((uint32_t)(q >> 32));
+#else
+    *a = p[0];
+    *b = p[1];
+#endif
+}
+
+/* sl_env_gather_bilinear of level l read from the pair rows (sl_env.pairs): the same texels,
+ * the same operations, so the same bits; x0 wraps to w - 1 and x1 = x0 + 1 is then the copy
+ * of column 0 at the row's end, so each row's two texels are the 6 floats from 3 (row + x0). */
+__attribute__((always_inline)) static inline vec3 sl_pair_bilinear(const sl_env_gather *g, int l, float u, float v)
+{
+    const int w = g->width[l], h = g->height[l];
+    float x = u * (float)w - 0.5f;
+    float xf = sl_fast_floor(x);
+    float fx = x - xf;
+    int x0 = (int)xf;
+    x0 = x0 < 0 ? x0 + w : x0;
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
+    int y0 = (int)y;
+    float fy = y - (float)y0;
+    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    /* float indices, added to the block's base as ints: the form GCC turns into gathers
+     * (a pointer moved by a constant first is not) */
+    const int k0 = 3 * (g->pair_offset[l] + y0 * (w + 1) + x0), k1 = 3 * (g->pair_offset[l] + y1 * (w + 1) + x0);
+    const float *P = g->pairs;
+    float a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5; /* texel x0 RGB, texel x1 RGB */
+    sl_load_float2(P + k0, &a0, &a1);
+    sl_load_float2(P + (k0 + 2), &a2, &a3);
+    sl_load_float2(P + (k0 + 4), &a4, &a5);
+    sl_load_float2(P + k1, &b0, &b1);
+    sl_load_float2(P + (k1 + 2), &b2, &b3);
+    sl_load_float2(P + (k1 + 4), &b4, &b5);
+    vec3 top = vec3(mixf(a0, a3, fx), mixf(a1, a4, fx), mixf(a2, a5, fx));
+    vec3 bottom = vec3(mixf(b0, b3, fx), mixf(b1, b4, fx), mixf(b2, b5, fx));
+    return mix3(top, bottom, fy);
+}
+
+/* sl_env_gather_lod from the pair rows (g->pairs must be set): the same bits. */
+__attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_env_gather *g, float u, float v,
+                                                                    float lod)
+{
+    int l0 = (int)lod;
+    float f = lod - (float)l0;
+    int l1 = l0 < g->last ? l0 + 1 : g->last;
+    return mix3(sl_pair_bilinear(g, l0, u, v), sl_pair_bilinear(g, l1, u, v), f);
 }
 
 /* ---- The octahedral layout (env_oct.c): the same trilinear filter over S x S levels whose

@@ -6,17 +6,22 @@
  * 2 ms for the whole presentation. The displayed value of a channel is an 8-bit code, and the
  * code is a step function of x = eC/(eC + 1): it is k exactly when T[k] <= x < T[k+1], where
  * the 255 thresholds T[k] (the smallest float x whose exact curve value rounds to k) are found
- * once per call by bisection over the float bits with the exact curve itself. Per value the
- * loop computes x exactly as sl_tonemap_value does, guesses the code with the vectorizable
- * log2/exp2 of core/fast_math.h, and accepts it when T[code] <= x < T[code+1] (two reads from
- * a 1 KB table); a value whose guess misses (a code boundary within the guess's rounding, or a
- * denormal x) is redone by bisection over T. So each code is the exact curve's, bit for bit,
- * as long as the exact curve never decreases between two floats, which tests/unit/test_tonemap.c
- * checks around every threshold. */
+ * by bisection over the float bits with the exact curve itself. x is in turn a function of
+ * ec = eC alone, so the code steps at thresholds U[k] of ec too (found by bisection with x's own
+ * two divisions, and checked: ec_threshold says why that check makes them exact). Per value the
+ * loop then needs no division and no curve: ec's top 16 bits (exponent and 7 mantissa bits)
+ * pick a segment of a 22 KB table, which says the code below and above the one threshold inside
+ * it; ec's low 16 bits against the threshold's pick one of the two. A segment with two or more
+ * thresholds (very high contrast), or near a threshold that failed its check, goes to the exact
+ * path (x, then bisection over T). So each code is the exact curve's, bit for bit, as long as
+ * the exact curve never decreases between two floats, which tests/unit/test_tonemap.c checks
+ * around every threshold; it also compares the table with the formula around every U[k]. */
 #include "tonemap.h"
 
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
 
 #include "../core/fast_math.h"
 #include "../core/options.h"
@@ -54,14 +59,17 @@ float sl_linear_to_gamma(float c)
 
 /* x = eC / (eC + 1) in [0, 1]. `!(C > 0)` catches NaN as well as C <= 0. eC/(eC + 1) would be
  * Inf/Inf = NaN for eC = +Inf and loses nothing when written as 1 - 1/(eC + 1) for eC > 1.
- * Inlined into the vector loop: it must stay the same operations in the same order. */
-static inline float tonemap_x(float C, float exposure)
+ * Both quotients, then a select: a division under a condition keeps GCC from vectorizing. */
+static inline float tonemap_x_of_ec(float ec)
 {
-    /* both quotients, then a select: a division under a condition keeps GCC from vectorizing */
-    float ec = exposure * C;
-    ec = C > 0.0f ? ec : 0.0f;
     float below = ec / (ec + 1.0f), above = 1.0f - 1.0f / (ec + 1.0f);
     return ec < 1.0f ? below : above;
+}
+static inline float tonemap_x(float C, float exposure)
+{
+    float ec = exposure * C;
+    ec = C > 0.0f ? ec : 0.0f;
+    return tonemap_x_of_ec(ec);
 }
 
 static float tonemap_curve(float x, float contrast, bool exact_srgb)
@@ -111,72 +119,54 @@ int sl_tonemap_code(float x, const float t[257])
     return a;
 }
 
-/* A guess at the code of x, within one of it almost always: the curve through fast_math.h's
- * log2 and exp2 (a few 1e-7 relative). x is first raised to `xmin`, which keeps every exponent
- * within exp2's range (guess_floor); below it the code is 0 anyway. Selects on inputs and
- * outputs only: a clamp between log2 and exp2 stops GCC from vectorizing the loop. */
-SL_FM_INLINE float code_of(float v)
+/* ec thresholds: u[k] is the smallest float ec >= 0 whose x reaches t[k], found by bisection over
+ * the bits of [0, +Inf] (non-negative floats order as their bits). Bisection assumes x grows with
+ * ec, which is exact for ec >= 1 (1 - 1/(ec + 1): each step correctly rounded and monotonic) but
+ * not for ec < 1, where ec and ec + 1 round separately and x can step back by an ulp. There x is
+ * within 2^-23 relative of the true ec/(ec + 1), which grows by at least 2^-26 relative per float
+ * step of ec, so x(ec') > x(ec) once ec' is 17 or more steps above ec: checking that x is below
+ * t[k] for the SL_TONEMAP_WINDOW floats under u[k] and at or above it for as many from u[k]
+ * proves that the one step at u[k] is the whole truth. A threshold that fails the check is marked
+ * bad, and the segments around it are left to the exact path. */
+#define SL_TONEMAP_WINDOW 64
+/* a segment left to the exact path: code below 255, code above 0 */
+#define SEG_EXACT (0xffu << 16)
+static bool ec_threshold(float tk, float *u)
 {
-    v = v * 255.0f + 0.5f; /* the code plus a fraction, truncated where it is used */
-    return v > 0.0f ? (v < 255.0f ? v : 255.0f) : 0.0f;
-}
-SL_FM_INLINE float guess_gamma(float x, float xmin, float g)
-{
-    return code_of(sl_fast_exp2(sl_fast_log2(x > xmin ? x : xmin) * g));
-}
-SL_FM_INLINE float guess_srgb(float x, float xmin, float contrast)
-{
-    float l = sl_fast_log2(x > xmin ? x : xmin);
-    float y = sl_fast_exp2(l * contrast);
-    float s = 1.055f * sl_fast_exp2(l * (contrast / 2.4f)) - 0.055f;
-    return code_of(y <= 0.0031308f ? 12.92f * y : s);
-}
-/* The smallest x the guesses take: 1e-30 (fast log2's range), or where x^p reaches 2^-125 for
- * the largest exponent p (exp2's range); the exact code there is 0 for any sane curve, and
- * where it is not, the guess misses and the value is redone exactly. */
-static float guess_floor(float p)
-{
-    float l = -125.0f / p;
-    return l > -99.0f ? exp2f(l) : 1e-30f;
-}
-
-/* One chunk of values: x into xs, the accepted code's level into dst, -1 where the guess
- * missed; returns the number of misses. Three loops, because GCC 12 vectorizes each but not
- * the three fused. */
-static int present_chunk(const float *restrict src, float *restrict dst, float *restrict xs, float *restrict ks,
-                         int count, float e, float c, bool exact, const float *restrict t,
-                         const float *restrict level)
-{
-#pragma omp simd
-    for (int i = 0; i < count; i++)
-        xs[i] = tonemap_x(src[i], e);
-    const float g = c / 2.2f, xmin = guess_floor(exact ? c : g);
-    if (exact) {
-#pragma omp simd
-        for (int i = 0; i < count; i++)
-            ks[i] = guess_srgb(xs[i], xmin, c);
-    } else {
-#pragma omp simd
-        for (int i = 0; i < count; i++)
-            ks[i] = guess_gamma(xs[i], xmin, g);
+    const uint32_t inf = sl_fm_bits(INFINITY);
+    uint32_t a = 0, b = inf;
+    while (a < b) {
+        uint32_t mid = a + (b - a) / 2;
+        if (tonemap_x_of_ec(sl_fm_float(mid)) >= tk)
+            b = mid;
+        else
+            a = mid + 1;
     }
-    int missed = 0;
-#pragma omp simd reduction(+ : missed)
-    for (int i = 0; i < count; i++) {
-        float x = xs[i];
-        int k = (int)ks[i];
-        float lo = t[k], hi = t[k + 1], v = level[k];
-        int hit = (lo <= x) & (x < hi);
-        dst[i] = hit ? v : -1.0f;
-        missed += 1 - hit;
+    *u = sl_fm_float(a);
+    for (uint32_t j = 1; j <= SL_TONEMAP_WINDOW; j++) {
+        if (a >= j && !(tonemap_x_of_ec(sl_fm_float(a - j)) < tk))
+            return false;
+        if (a + j - 1 <= inf && !(tonemap_x_of_ec(sl_fm_float(a + j - 1)) >= tk))
+            return false;
     }
-    return missed;
+    return true;
 }
 
-/* Values per task: 16 KB of x beside 16 KB in and out, within L1 and L2. */
-#define TONEMAP_CHUNK 4096
+/* The code of ec by the ec thresholds: the largest k with u[k] <= ec. */
+static int ec_code(uint32_t ec_bits, const float u[257])
+{
+    int a = 0, b = 255;
+    while (a < b) {
+        int mid = (a + b + 1) / 2;
+        if (sl_fm_bits(u[mid]) <= ec_bits)
+            a = mid;
+        else
+            b = mid - 1;
+    }
+    return a;
+}
 
-bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)
+bool sl_tonemap_prepare(const sl_tonemap_options *opt, sl_tonemap_table *tab, sl_error *err)
 {
     float e = opt && opt->exposure != 0.0f ? opt->exposure : (float)sl_options[SL_OPT_EXPOSURE].def[0];
     float c = opt && opt->contrast != 0.0f ? opt->contrast : (float)sl_options[SL_OPT_CONTRAST].def[0];
@@ -184,6 +174,94 @@ bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_option
     if (!(isfinite(e) && e > 0.0f) || !(isfinite(c) && c > 0.0f))
         return sl_fail(err, SL_ERR_RANGE, "tone map: exposure %g and contrast %g must be finite and > 0", (double)e,
                        (double)c);
+    tab->exposure = e;
+    tab->contrast = c;
+    tab->exact_srgb = exact;
+    sl_tonemap_thresholds(c, exact, tab->t);
+    bool bad[257] = {false};
+    tab->u[0] = 0.0f;
+    tab->u[256] = INFINITY;
+    for (int k = 1; k <= 255; k++)
+        bad[k] = !ec_threshold(tab->t[k], &tab->u[k]);
+
+    /* Segments: keys from the first nonzero threshold's to the last one's, at most the table's
+     * size (a curve whose codes spread over more binades leaves the lowest ones to segment 0,
+     * which then holds several thresholds and goes to the exact path). */
+    int first = 1;
+    while (first < 255 && tab->u[first] == 0.0f)
+        first++;
+    int top = (int)(sl_fm_bits(tab->u[255]) >> SL_TONEMAP_SHIFT);
+    int base = (int)(sl_fm_bits(tab->u[first]) >> SL_TONEMAP_SHIFT);
+    if (top - base + 1 > SL_TONEMAP_SEGMENTS_MAX - 2)
+        base = top - (SL_TONEMAP_SEGMENTS_MAX - 2) + 1;
+    tab->base = base;
+    tab->count = top - base + 1 + 2;
+    for (int s = 0; s < tab->count; s++) {
+        /* the bits of the segment's first and last ec: segment 0 is [0, first key), the last one
+         * runs to +Inf, the others are one key each */
+        uint32_t lo = s == 0 ? 0u : (uint32_t)(base + s - 1) << SL_TONEMAP_SHIFT;
+        uint32_t hi = s == tab->count - 1 ? sl_fm_bits(INFINITY) : ((uint32_t)(base + s) << SL_TONEMAP_SHIFT) - 1u;
+        int klo = ec_code(lo, tab->u), khi = ec_code(hi, tab->u);
+        bool one_step = true; /* every code between changes at one ec, and none of them is bad */
+        for (int k = klo + 1; k <= khi; k++)
+            one_step = one_step && tab->u[k] == tab->u[khi] && !bad[k];
+        /* segment 0 spans many keys: the low bits say nothing there */
+        one_step = one_step && (s > 0 || khi == klo);
+        uint32_t pos = khi > klo ? sl_fm_bits(tab->u[khi]) & 0xffffu : 0u;
+        tab->seg[s] = one_step ? pos | (uint32_t)klo << 16 | (uint32_t)khi << 24 : SEG_EXACT;
+    }
+    /* A bad threshold's window may reach the next segment: those go to the exact path too. */
+    for (int k = 1; k <= 255; k++) {
+        if (!bad[k])
+            continue;
+        uint32_t ub = sl_fm_bits(tab->u[k]);
+        uint32_t lo = ub > SL_TONEMAP_WINDOW ? ub - SL_TONEMAP_WINDOW : 0u;
+        uint32_t hi = ub + SL_TONEMAP_WINDOW;
+        for (int s = 0; s < tab->count; s++) {
+            uint32_t slo = s == 0 ? 0u : (uint32_t)(base + s - 1) << SL_TONEMAP_SHIFT;
+            uint32_t shi = s == tab->count - 1 ? UINT32_MAX : ((uint32_t)(base + s) << SL_TONEMAP_SHIFT) - 1u;
+            if (slo <= hi && lo <= shi)
+                tab->seg[s] = SEG_EXACT;
+        }
+    }
+    return true;
+}
+
+/* Values per task: 16 KB in and out, and the chunk's codes in L1. */
+#define TONEMAP_CHUNK 1024
+
+/* One chunk: the display values into dst, -1 where the segment is left to the exact path;
+ * returns the number of those. One vectorized loop: a shift, a clamp, one gather, a compare. */
+static int present_chunk(const float *restrict src, float *restrict dst, int count, const sl_tonemap_table *tab)
+{
+    const float e = tab->exposure;
+    const int base = tab->base, last = tab->count - 1;
+    const uint32_t *restrict seg = tab->seg;
+    int missed = 0;
+    /* No reduction clause and no select on the miss (an OR with its mask): with either, GCC 12
+     * does not vectorize the loop. */
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        float C = src[i];
+        float ec = e * C;
+        ec = C > 0.0f ? ec : 0.0f; /* as tonemap_x: NaN and C <= 0 are 0 */
+        uint32_t b = sl_fm_bits(ec);
+        int s = (int)(b >> SL_TONEMAP_SHIFT) - base + 1;
+        s = s < 0 ? 0 : s;
+        s = s > last ? last : s;
+        uint32_t g = seg[s];
+        int below = (int)(g >> 16 & 0xffu), above = (int)(g >> 24);
+        int code = (b & 0xffffu) >= (g & 0xffffu) ? above : below;
+        int miss = above < below;
+        code = code | -miss;            /* -1: the exact path's */
+        dst[i] = (float)code / 255.0f; /* the level sl_unorm8 gives the code back from */
+        missed += miss;
+    }
+    return missed;
+}
+
+bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, sl_error *err)
+{
     if (!in->data || in->channels != 3)
         return sl_fail(err, SL_ERR_RANGE, "tone map: input must be a 3-channel image");
     if (out->data) {
@@ -193,25 +271,37 @@ bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_option
     } else if (!sl_image_alloc(out, in->width, in->height, 3, err)) {
         return false;
     }
-    float t[257], level[256];
-    sl_tonemap_thresholds(c, exact, t);
-    for (int k = 0; k < 256; k++)
-        level[k] = (float)k / 255.0f; /* sl_unorm8 gives k back (test_tonemap) */
     const size_t n = (size_t)in->width * (size_t)in->height * 3;
     const long chunks = (long)((n + TONEMAP_CHUNK - 1) / TONEMAP_CHUNK);
-#pragma omp parallel for schedule(static)
+    /* Few threads for a small image: a parallel region costs more than 64 chunks of work. */
+#pragma omp parallel for schedule(static) if (chunks >= 64)
     for (long ci = 0; ci < chunks; ci++) {
         const size_t i0 = (size_t)ci * TONEMAP_CHUNK;
         const int count = (int)(n - i0 < TONEMAP_CHUNK ? n - i0 : TONEMAP_CHUNK);
-        float xs[TONEMAP_CHUNK]; /* x of each value, also for the misses (out may be in itself) */
-        float ks[TONEMAP_CHUNK]; /* the guessed codes (+ a fraction) */
-        float *dst = out->data + i0;
-        int missed = present_chunk(in->data + i0, dst, xs, ks, count, e, c, exact, t, level);
+        /* in place, misses need the source: the chunk goes through vals */
+        float vals[TONEMAP_CHUNK];
+        const float *src = in->data + i0;
+        float *dst = in->data == out->data ? vals : out->data + i0;
+        int missed = present_chunk(src, dst, count, tab);
         for (int i = 0; missed && i < count; i++)
             if (dst[i] < 0.0f) {
-                dst[i] = level[sl_tonemap_code(xs[i], t)];
+                float ec = tab->exposure * src[i];
+                ec = src[i] > 0.0f ? ec : 0.0f;
+                dst[i] = (float)sl_tonemap_code(tonemap_x_of_ec(ec), tab->t) / 255.0f;
                 missed--;
             }
+        if (dst == vals)
+            memcpy(out->data + i0, vals, (size_t)count * sizeof(float));
     }
     return true;
+}
+
+bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)
+{
+    sl_tonemap_table *tab = malloc(sizeof *tab);
+    if (!tab)
+        return sl_fail(err, SL_ERR_MEMORY, "tone map: out of memory for its table");
+    bool ok = sl_tonemap_prepare(opt, tab, err) && sl_tonemap_apply(tab, in, out, err);
+    free(tab);
+    return ok;
 }

@@ -20,6 +20,7 @@
 #define SL_TONEMAP_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "../core/error.h"
 #include "../core/image.h"
@@ -45,6 +46,29 @@ float sl_tonemap_value(float C, float exposure, float contrast, bool exact_srgb)
 void sl_tonemap_thresholds(float contrast, bool exact_srgb, float t[257]);
 /* The code of x in [0, 1] from the thresholds: the k with t[k] <= x < t[k + 1]. */
 int sl_tonemap_code(float x, const float t[257]);
+
+/* The display image's table for one exposure, contrast and curve (tonemap.c says how it is
+ * built and why it is exact): the code thresholds in x and in ec = eC, and the segments of ec:
+ * 128 per binade (the top 7 bits of the mantissa) over the binades where codes change. Each
+ * segment holds the one threshold inside it, as the low 16 bits of its float (the segment has
+ * the high 16), the code below it and the code from it on: one 32-bit read per value. A segment
+ * with more than one threshold, or one the exactness check did not pass, is left to the exact
+ * path (code below 255, code above 0). About 0.2 ms to build; 20 KB read per value. */
+#define SL_TONEMAP_SHIFT 16 /* ec's bits >> 16: sign, exponent and 7 mantissa bits */
+#define SL_TONEMAP_SEGMENTS_MAX ((40 << 7) + 2) /* 40 binades, below and above */
+typedef struct {
+    float exposure, contrast; /* resolved (0 -> the option table's default) */
+    bool exact_srgb;
+    float t[257];    /* sl_tonemap_thresholds */
+    float u[257];    /* u[k]: the smallest ec whose code is k or more */
+    int base, count; /* the first regular segment's key (ec's bits >> SL_TONEMAP_SHIFT), segments in all */
+    uint32_t seg[SL_TONEMAP_SEGMENTS_MAX]; /* threshold's low 16 bits | code below << 16 | code from it << 24 */
+} sl_tonemap_table;
+/* Resolve and check the options (SL_ERR_RANGE unless exposure and contrast are finite and > 0)
+ * and build the table. */
+bool sl_tonemap_prepare(const sl_tonemap_options *opt, sl_tonemap_table *tab, sl_error *err);
+/* sl_tonemap_image with a prepared table. */
+bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, sl_error *err);
 
 /* Tone map a 3-channel linear image into `out` (allocated when out->data is NULL, else it must
  * have in's size and 3 channels; out may be in itself): the display image, each value k/255 with

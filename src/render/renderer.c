@@ -214,6 +214,7 @@ void sl_renderer_free(sl_renderer *r)
     free(r->uniforms);
     sl_image_free(&r->radiance);
     sl_image_free(&r->display);
+    free(r->tonemap_table);
     memset(r, 0, sizeof *r);
 }
 
@@ -375,7 +376,22 @@ bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)
 bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
 {
     double t0 = sl_now_seconds();
-    bool ok = sl_tonemap_image(&r->radiance, &r->display, &r->desc.tonemap, err);
+    /* the table costs about 0.2 ms to build: kept while the options stay (the viewer's keys
+     * change them between frames) */
+    const sl_tonemap_options *o = &r->desc.tonemap, *b = &r->tonemap_built;
+    bool stale = !r->tonemap_table || o->exposure != b->exposure || o->contrast != b->contrast ||
+                 o->exact_srgb != b->exact_srgb;
+    if (!r->tonemap_table && !(r->tonemap_table = malloc(sizeof *r->tonemap_table)))
+        return sl_fail(err, SL_ERR_MEMORY, "tone map: out of memory for its table");
+    if (stale) {
+        if (!sl_tonemap_prepare(o, r->tonemap_table, err)) {
+            free(r->tonemap_table); /* not built: the next call starts again */
+            r->tonemap_table = NULL;
+            return false;
+        }
+        r->tonemap_built = *o;
+    }
+    bool ok = sl_tonemap_apply(r->tonemap_table, &r->radiance, &r->display, err);
     r->timings.tonemap_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

@@ -83,6 +83,9 @@ typedef struct {
     sl_lighting_stats lighting_stats;
     sl_image radiance;      /* linear, row 0 = top */
     sl_image display;       /* tone mapped, [0,1], row 0 = top */
+    sl_tonemap_table *tonemap_table; /* heap (~22 KB), built on first use and whenever
+                                        desc.tonemap no longer matches tonemap_built */
+    sl_tonemap_options tonemap_built;
     sl_image_repairs env_repairs;
     sl_render_timings timings;
 } sl_renderer;

@@ -226,7 +226,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     const sl_env_gather *env = &u->residualGather;
     sample_block blk;
     sample_block *b = &blk;
-    vec3 acc[4] = {vec3s(0.0f), vec3s(0.0f), vec3s(0.0f), vec3s(0.0f)};
+    float sx[4] = {0.0f, 0.0f, 0.0f, 0.0f}, sy[4] = {0.0f, 0.0f, 0.0f, 0.0f}, sz[4] = {0.0f, 0.0f, 0.0f, 0.0f};
     vec3 trace_sum = vec3s(0.0f);
     int below = 0;
     for (int k0 = 0; k0 < n; k0 += BLOCK) {
@@ -405,6 +405,15 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
                 b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
                 b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
             }
+        } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+                float m5 = b->m5[i], weight = b->weight[i];
+                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+            }
         } else {
 #pragma omp simd
             for (int i = 0; i < m; i++) {
@@ -428,19 +437,37 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
          * k mod 4 and the four are added at the end, (0 + 1) + (2 + 3): four short dependency
          * chains instead of one long one (the port adds in sample order; the difference is float
          * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
-         * and the trace agree bit for bit. */
+         * and the trace agree bit for bit. Written as two loops GCC vectorizes: the horizon test
+         * over the block, then four samples at a time into the four sums (one 4-lane add a
+         * channel; BLOCK is a multiple of 4, so sample k0 + i goes into sum i mod 4). */
+        int below_block = 0;
+        const float *drop = mf ? b->vh : b->wN; /* microfacet: V.H <= 0 drops the sample too */
+#pragma omp simd
         for (int i = 0; i < m; i++) {
-            bool above = !(b->wN[i] <= 0.0f) && !(mf && b->vh[i] <= 0.0f);
-            int j = (k0 + i) & 3;
-            below += !above;
-            acc[j].x += above ? b->cr[i] : 0.0f;
-            acc[j].y += above ? b->cg[i] : 0.0f;
-            acc[j].z += above ? b->cb[i] : 0.0f;
+            int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
+            below_block += 1 - above;
+            b->cr[i] = above ? b->cr[i] : 0.0f; /* the trace reads only the samples above */
+            b->cg[i] = above ? b->cg[i] : 0.0f;
+            b->cb[i] = above ? b->cb[i] : 0.0f;
+        }
+        below += below_block;
+        int i = 0;
+        for (; i + 4 <= m; i += 4)
+            for (int j = 0; j < 4; j++) {
+                sx[j] += b->cr[i + j];
+                sy[j] += b->cg[i + j];
+                sz[j] += b->cb[i + j];
+            }
+        for (; i < m; i++) {
+            sx[i & 3] += b->cr[i];
+            sy[i & 3] += b->cg[i];
+            sz[i & 3] += b->cb[i];
         }
         if (trace)
             trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, NdotV, &trace_sum);
     }
-    vec3 sum = add(add(acc[0], acc[1]), add(acc[2], acc[3]));
+    vec3 sum = vec3((sx[0] + sx[1]) + (sx[2] + sx[3]), (sy[0] + sy[1]) + (sy[2] + sy[3]),
+                    (sz[0] + sz[1]) + (sz[2] + sz[3]));
     count_samples(task, n, below, pole);
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }

@@ -5,6 +5,7 @@
  * exactness rests on); the stored levels k/255 give k back. */
 #include <math.h>
 #include <stdint.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "testutil.h"
@@ -94,12 +95,80 @@ static void test_image_matches_exact_curve(void **state)
     sl_image_free(&out);
 }
 
+/* Fills `in` with the floats whose bits are start, start + stride, ..., tone maps it and counts
+ * the values whose level differs from the formula's code. */
+static long differ_from(sl_image *in, sl_image *out, uint32_t start, uint32_t stride, const sl_tonemap_options *o)
+{
+    const size_t n = (size_t)in->width * (size_t)in->height * 3;
+    for (size_t i = 0; i < n; i++) {
+        uint32_t bi = start + (uint32_t)i * stride;
+        float c;
+        memcpy(&c, &bi, 4);
+        in->data[i] = c;
+    }
+    sl_error err = {0};
+    assert_true(sl_tonemap_image(in, out, o, &err));
+    long differ = 0;
+    for (size_t i = 0; i < n; i++) {
+        int want = sl_unorm8(sl_tonemap_value(in->data[i], o->exposure, o->contrast, o->exact_srgb));
+        differ += out->data[i] != (float)want / 255.0f;
+    }
+    return differ;
+}
+
+/* The segment table against the formula at every code: the 3072 floats around each code's
+ * threshold in C (ec = eC, so u[k] / e), where a wrong threshold, segment or rounding of ec
+ * would show; for every curve, at exposures 1 (ec = C exactly) and 0.37 (ec rounds). Then a
+ * stride through every binade where the default curves change code. */
+static void test_table_matches_formula_at_every_code(void **state)
+{
+    (void)state;
+    sl_image in = {0}, out = {0};
+    sl_error err = {0};
+    assert_true(sl_image_alloc(&in, 1024, 1, 3, &err));
+    sl_tonemap_table *tab = malloc(sizeof *tab);
+    assert_non_null(tab);
+    const float exposures[] = {1.0f, 0.37f};
+    for (int c = 0; c < CURVES; c++)
+        for (int e = 0; e < 2; e++) {
+            sl_tonemap_options o = {.exposure = exposures[e], .contrast = curves[c].contrast,
+                                    .exact_srgb = curves[c].srgb};
+            assert_true(sl_tonemap_prepare(&o, tab, &err));
+            for (int k = 1; k < 256; k++) {
+                if (tab->u[k] == tab->u[k - 1] || !(tab->u[k] > 0.0f) || isinf(tab->u[k]))
+                    continue;
+                float c0 = tab->u[k] / o.exposure;
+                uint32_t b;
+                memcpy(&b, &c0, 4);
+                long d = differ_from(&in, &out, b - 1536, 1, &o); /* 3072 values, from 1536 below */
+                if (d)
+                    fail_msg("curve %d exposure %g code %d: %ld values differ", c, (double)o.exposure, k, d);
+            }
+        }
+    sl_image_free(&in);
+    sl_image_free(&out);
+    /* every 97th float from 2^-24 to beyond 2^12 (the default curves' codes change within it) */
+    assert_true(sl_image_alloc(&in, 1 << 12, 1 << 8, 3, &err)); /* 3 Mi values */
+    for (int c = 0; c < 2; c++) {
+        sl_tonemap_options o = {.exposure = 1.0f, .contrast = 1.0f, .exact_srgb = c == 1};
+        const float lo = 0x1p-24f;
+        uint32_t b;
+        memcpy(&b, &lo, 4);
+        assert_int_equal(differ_from(&in, &out, b, 97, &o), 0);
+        assert_true(in.data[3 * 4096 * 256 - 1] > 4096.0f); /* the sweep reached past 2^12 */
+    }
+    free(tab);
+    sl_image_free(&in);
+    sl_image_free(&out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_thresholds_are_first_of_their_code),
         cmocka_unit_test(test_levels_round_trip),
         cmocka_unit_test(test_image_matches_exact_curve),
+        cmocka_unit_test(test_table_matches_formula_at_every_code),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
