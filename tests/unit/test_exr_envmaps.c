@@ -128,7 +128,7 @@ static void test_shipped_environments_as_exr(void **state)
                              (double)want, (double)src.data[i]);
                 changed += back.data[i] != src.data[i];
                 if (src.data[i] >= 6.103515625e-05f) /* half's smallest normal, 2^-14 */
-                    tex_rel = fmax(tex_rel, fabs((double)back.data[i] - src.data[i]) / src.data[i]);
+                    tex_rel = fmax(tex_rel, fabs((double)back.data[i] - (double)src.data[i]) / (double)src.data[i]);
             }
             assert_true(tex_rel <= HALF_REL);
             if (!var->render) {
@@ -142,7 +142,7 @@ static void test_shipped_environments_as_exr(void **state)
             assert_int_equal(floats_of(&img), floats_of(&ref));
             double img_rel = 0.0;
             for (size_t i = 0; i < floats_of(&img); i++)
-                img_rel = fmax(img_rel, fabs((double)img.data[i] - ref.data[i]) / fmax(ref.data[i], 1e-6));
+                img_rel = fmax(img_rel, fabs((double)img.data[i] - (double)ref.data[i]) / fmax((double)ref.data[i], 1e-6));
             if (changed == 0)
                 assert_same_texels(img.data, ref.data, floats_of(&img) / 3, 12, img.width, "%s render", name);
             else
