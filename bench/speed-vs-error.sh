@@ -53,7 +53,8 @@ OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive} "$bench" --out "$data" --cache out/g
 # report wherever --doc sent it
 doc=docs/accuracy.md prev=
 for a in "$@"; do [ "$prev" = --doc ] && doc=$a; prev=$a; done
-[ "$doc" = none ] || python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" >>"$doc"
+python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/fronts.md"
+[ "$doc" = none ] || cat "$data/fronts.md" >>"$doc"
 mkdir -p docs/accuracy
 plot() { # col, ylabel, output
     gnuplot -e "dir='$data'; out='docs/accuracy/$3'; col=$1; ylab='$2'" bench/gnuplot/speed-vs-error.gp
