@@ -22,7 +22,8 @@
                 each placed by a node (translation; the panel also a rotation, tilted back 12
                 degrees). The texture square is an 8x8 grid of bevelled tiles: the left half
                 (u < 0.5) metal, the right half dielectric, roughness rising down the square.
-  pbr.bin       the buffer: positions, normals (sphere only), texture coordinates, indices.
+  pbr.bin       the buffer: positions, normals (both meshes: flat ones on the panel), texture
+                coordinates, indices (uint16).
   pbr_base.png  256x256 sRGB baseColorTexture: per tile column a metal (gold, copper, silver,
                 iron) on the left half and a paint (red, green, blue, white) on the right, darker
                 grooves between the tiles.
