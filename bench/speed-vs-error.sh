@@ -5,6 +5,8 @@
 #
 #   bench/speed-vs-error.sh [BUILD_DIR] [--shards N] [-- extra bench_speed_vs_error options]
 #
+# After the report, bench/sweep_fronts.py appends its split-sum and GGX Pareto tables (from the CSV).
+#
 # --shards N: the ground truth first, as N `softlight truth --shard I/N` runs per scene under GNU
 # parallel (add -S hosts to the parallel line to spread them over machines; docs/sharding.md),
 # merged into out/ground-truth/sharded/NAME-WxH/, which the sweep then reads (--truth) and checks.
@@ -46,6 +48,13 @@ data=out/speed-vs-error
 # passive OpenMP waiting: spinning threads on a shared machine distort every timing (docs/performance.md)
 OMP_WAIT_POLICY=${OMP_WAIT_POLICY:-passive} "$bench" --out "$data" --cache out/ground-truth \
     --doc docs/accuracy.md "$@"
+# the report's last sections, from the same run's CSV: the Pareto fronts of the Phong and GGX sets
+# with split-sum's place on each, split-sum per scene (bench/sweep_fronts.py); appended to the
+# report wherever --doc sent it
+doc=docs/accuracy.md prev=
+for a in "$@"; do [ "$prev" = --doc ] && doc=$a; prev=$a; done
+python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/fronts.md"
+[ "$doc" = none ] || cat "$data/fronts.md" >>"$doc"
 mkdir -p docs/accuracy
 plot() { # col, ylabel, output
     gnuplot -e "dir='$data'; out='docs/accuracy/$3'; col=$1; ylab='$2'" bench/gnuplot/speed-vs-error.gp

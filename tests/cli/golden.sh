@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# golden.sh BUILD_DIR - golden images: four shipped scenes (the three Phong ones, and ggx: the
-# GGX set, its point light included) rendered at 192x108 must match the references in
+# golden.sh BUILD_DIR - golden images: five shipped scenes (the three Phong ones; ggx: the GGX
+# set, its point light included; pbr: a glTF model with all five metallic-roughness textures)
+# rendered at 192x108 must match the references in
 # tests/golden/ (linear radiance, float PFM). Tolerances, the same for every scene: the
 # 99th-percentile relative error at most 0.01 and at most 0.5% of pixels more than 1/255 apart
 # after the tone map. The same build reproduces the references exactly; the slack is for other
@@ -11,14 +12,14 @@
 # difference image is written.
 #
 # Regenerate after an intended change of the shading (and say why in the commit):
-#   for s in default bunny city-sun ggx; do
+#   for s in default bunny city-sun ggx pbr; do
 #     build/softlight render scenes/$s.json --size 192x108 --pfm tests/golden/$s-192x108.pfm -q; done
 set -u
 SL=${1:?usage: $0 BUILD_DIR}/softlight
 T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-golden.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 fails=0; passes=0
-for s in default bunny city-sun ggx; do
+for s in default bunny city-sun ggx pbr; do
     ref=tests/golden/$s-192x108.pfm
     if ! "$SL" render "scenes/$s.json" --size 192x108 --pfm "$T/$s.pfm" -q; then
         echo "FAIL $s: render failed"; fails=$((fails + 1)); continue
