@@ -5,8 +5,9 @@
  * width (UNORM8 stays 1 byte a channel, UNORM16 2, floats 4), rows bottom first, the levels one
  * after the other in one allocation. A trilinear sample reads 8 texels: keeping 8-bit data
  * 8-bit keeps a texture 4x smaller than floats would (more of it stays in cache), and the
- * decode is a multiply (UNORM) or a lookup in the texture's own 256-entry table (sRGB), which
- * costs less than the cache misses a float copy would add. The format is switched on once per
+ * decode is a multiply (UNORM) or a lookup in the texture's own 256-entry table (sRGB): for a
+ * large texture that costs less than the cache misses a float copy would add (small ones keep
+ * such a copy as well: the decoded plane, below). The format is switched on once per
  * sample (sampler.c instantiates its filtering for each format, with tex_decode inlined and
  * folded), not per texel.
  *

@@ -6,7 +6,7 @@
  * trace follows it (docs/lighting.md "Two paths").
  *
  * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage), the
- * background of empty pixels (background_stage); then per pixel the samples in stages
+ * background of empty pixels (shade_background_span); then per pixel the samples in stages
  * (specular_samples): (0) the skewed samples, from the task's per-alpha table
  * (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
  * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
@@ -644,9 +644,8 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
     }
 }
 
-/* background(), batched over the span: the same view ray, the fast lat-long map, and level 0
- * alone (lod 0), gathered from the block when there is one. */
-static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, pixel_block *p)
+void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
+                           float *bg_b)
 {
     const float I = u->uEnvIntensity;
     const sl_env_level *l0 = &u->uEnv->levels[0];
@@ -661,9 +660,9 @@ static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int c
             float bu, bv;
             sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
             vec3 c = sl_env_gather_bilinear(env, 0, bu, bv);
-            p->bg_r[i] = c.x * I;
-            p->bg_g[i] = c.y * I;
-            p->bg_b[i] = c.z * I;
+            bg_r[i] = c.x * I;
+            bg_g[i] = c.y * I;
+            bg_b[i] = c.z * I;
         }
     } else {
         for (int i = 0; i < count; i++) {
@@ -671,9 +670,9 @@ static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int c
             float bu, bv;
             sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
             vec3 c = sl_env_bilinear(l0, bu, bv);
-            p->bg_r[i] = c.x * I;
-            p->bg_g[i] = c.y * I;
-            p->bg_b[i] = c.z * I;
+            bg_r[i] = c.x * I;
+            bg_g[i] = c.y * I;
+            bg_b[i] = c.z * I;
         }
     }
 }
@@ -692,7 +691,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     if (empty > 0)
-        background_stage(u, x0, y, count, p);
+        shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     for (int i = 0; i < count; i++) {
         const int x = x0 + i;
         vec3 color;

@@ -77,6 +77,12 @@ __attribute__((always_inline)) static inline vec3 shade_background_dir(const vec
     return add(add(scale(r[0], d.x), scale(r[1], d.y)), scale(r[2], d.z));
 }
 
+/* background() over a span, both fast paths (lighting_batched.c): the view ray, the fast
+ * lat-long map and level 0 alone, gathered from the block when there is one; times the
+ * intensity, into bg_r/g/b[0 .. count). */
+void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
+                           float *bg_b);
+
 /* ---- per-thread scratch (lighting_task.c) ---- */
 
 enum { SLOTS = 8 };

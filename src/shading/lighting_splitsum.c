@@ -19,7 +19,7 @@
  *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
- *   (7) the background of empty pixels (the batched path's view ray and level-0 gather); then
+ *   (7) the background of empty pixels (shade_background_span, the batched path's); then
  *       per pixel the trace hooks and the NaN guard.
  * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
  * vectorizes it alone (inlined into one large caller, some loops stay scalar).
@@ -383,41 +383,6 @@ static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, s
     trace_light(trace, j, vec3(lr[0], lg[0], lb[0]));
 }
 
-/* (7) background() for the span: the batched path's view ray, fast lat-long map and level-0
- * gather (lighting_batched.c background_stage), or texel by texel without a block. */
-__attribute__((noinline)) /* a stage: see the top of the file */
-static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
-{
-    const float I = u->uEnvIntensity;
-    const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
-    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
-    const vec2 viewport = u->uViewport;
-    const sl_env_gather *env = &u->envGather;
-    const sl_env_level *l0 = &u->uEnv->levels[0];
-    if (env->gather) {
-#pragma omp simd
-        for (int i = 0; i < count; i++) {
-            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
-            float bu, bv;
-            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
-            vec3 c = sl_env_gather_bilinear(env, 0, bu, bv);
-            b->bgr[i] = c.x * I;
-            b->bgg[i] = c.y * I;
-            b->bgb[i] = c.z * I;
-        }
-        return;
-    }
-    for (int i = 0; i < count; i++) {
-        vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
-        float bu, bv;
-        sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
-        vec3 c = sl_env_bilinear(l0, bu, bv);
-        b->bgr[i] = c.x * I;
-        b->bgg[i] = c.y * I;
-        b->bgb[i] = c.z * I;
-    }
-}
-
 /* Stages (1) to (6) for a span with covered pixels (an empty pixel's lanes compute values that
  * nobody reads). */
 static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
@@ -450,7 +415,7 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     if (empty > 0)
-        background_stage(u, x0, y, count, b);
+        shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
         surface_stages(u, gb, x0, y, count, b, trace);
     for (int i = 0; i < count; i++) {
