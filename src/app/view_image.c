@@ -187,15 +187,19 @@ bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_imag
     return true;
 }
 
-void view_image_to_rgb8(const sl_image *img, uint8_t *pixels, int pitch)
+/* One channel's 8-bit code, rounded like the PNG writer; NaN -> 0. */
+static inline uint32_t code8(float v)
+{
+    v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f;
+    return (uint32_t)(v * 255.0f + 0.5f);
+}
+
+void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch)
 {
     for (int y = 0; y < img->height; y++) {
         const float *src = sl_image_pixel(img, 0, y);
-        uint8_t *dst = pixels + (size_t)y * (size_t)pitch;
-        for (int i = 0; i < img->width * 3; i++) {
-            float v = src[i];
-            v = v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; /* NaN -> 0 */
-            dst[i] = (uint8_t)(v * 255.0f + 0.5f);
-        }
+        uint32_t *dst = (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch);
+        for (int x = 0; x < img->width; x++)
+            dst[x] = 0xff000000u | code8(src[3 * x]) << 16 | code8(src[3 * x + 1]) << 8 | code8(src[3 * x + 2]);
     }
 }

@@ -87,8 +87,10 @@ bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, 
  * `max_level_seen` returns the largest per-pixel mean (for the HUD). Needs prepared uniforms. */
 bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out, float *max_level_seen,
                     sl_error *err);
-/* 8-bit RGB of a 3-channel [0,1] image, rounded like the PNG writer (v * 255 + 0.5). */
-void view_image_to_rgb8(const sl_image *img, uint8_t *pixels, int pitch);
+/* A 3-channel [0,1] image as SDL_PIXELFORMAT_XRGB8888 (one 32-bit word a pixel, what SDL's
+ * renderers and X servers take without converting), each code rounded like the PNG writer
+ * (v * 255 + 0.5). `pitch` in bytes, a multiple of 4 (SDL's locked textures are). */
+void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch);
 /* Copy `src` into `dst`, (re)allocating it to src's size. */
 bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
 

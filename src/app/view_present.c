@@ -146,7 +146,7 @@ static bool upload(viewer *v)
     if (!v->texture || v->texture_w != img->width || v->texture_h != img->height) {
         if (v->texture)
             SDL_DestroyTexture(v->texture);
-        v->texture = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGB24, SDL_TEXTUREACCESS_STREAMING, img->width,
+        v->texture = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGB888, SDL_TEXTUREACCESS_STREAMING, img->width,
                                        img->height);
         if (!v->texture) {
             view_message(v, true, "SDL texture %dx%d: %s", img->width, img->height, SDL_GetError());
@@ -161,7 +161,7 @@ static bool upload(viewer *v)
         int pitch;
         if (SDL_LockTexture(v->texture, NULL, &pixels, &pitch) != 0)
             return false;
-        view_image_to_rgb8(img, pixels, pitch);
+        view_image_to_xrgb8888(img, pixels, pitch);
         SDL_UnlockTexture(v->texture);
         v->texture_stale = false;
     }
