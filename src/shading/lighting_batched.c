@@ -43,7 +43,6 @@ static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
-static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
 #define PI SL_PI
@@ -580,12 +579,11 @@ static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* main() up to the samples (V, facing_normal, the environment frame) and specular_ibl's frame
  * (R, A, B; A, B about N for specular_microfacet), for pixels x0 .. x0 + count - 1 of G-buffer row y; empty pixels compute garbage
- * that nothing reads. facing_normal's two branches are selects: the chosen value is computed
- * by the same operations, so the same bits. */
+ * that nothing reads. The view frame is shade_view_frame_at (lighting_internal.h). */
 static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, pixel_block *p)
 {
-    const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
-    const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+    const vec3 eye = u->uEye;
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET; /* the frame is about N, not R */
     for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
         p->Px[i] = t[i].position.x;
@@ -597,21 +595,11 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
     }
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        vec3 V = normalize(vec3(ex - p->Px[i], ey - p->Py[i], ez - p->Pz[i]));
-        /* facing_normal */
-        vec3 n = vec3(p->nx[i], p->ny[i], p->nz[i]);
-        float len2 = dot(n, n);
-        vec3 Nn = scale(n, 1.0f / sqrtf(len2));
-        float NdotV0 = dot(Nn, V);
-        vec3 Nb = normalize(add(Nn, scale(V, MIN_NDOTV - NdotV0)));
-        bool keep = len2 > TINY, bend = NdotV0 < MIN_NDOTV;
-        vec3 N = vec3(select_f(keep, select_f(bend, Nb.x, Nn.x), V.x), select_f(keep, select_f(bend, Nb.y, Nn.y), V.y),
-                      select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
-        vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
-        vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
+        shade_view_frame f =
+            shade_view_frame_at(eye, vec3(p->Px[i], p->Py[i], p->Pz[i]), vec3(p->nx[i], p->ny[i], p->nz[i]), r);
+        const vec3 V = f.V, N = f.N, NE = f.NE, VE = f.VE, R = f.R;
+        const float NdotV = f.NdotV;
         /* specular_ibl's frame about R, or specular_microfacet's about N */
-        float NdotV = dot(NE, VE);
-        vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
         vec3 Z = vec3(select_f(mf, NE.x, R.x), select_f(mf, NE.y, R.y), select_f(mf, NE.z, R.z));
         bool pole = Z.x * Z.x + Z.y * Z.y < POLE_EPS;
         vec3 axis = vec3(select_f(pole, 1.0f, 0.0f), 0.0f, select_f(pole, 0.0f, 1.0f));
@@ -640,7 +628,7 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
         p->By[i] = B.y;
         p->Bz[i] = B.z;
         p->pole[i] = pole;
-        p->bent[i] = dot(n, V) < MIN_NDOTV * length(n);
+        p->bent[i] = f.bent;
     }
 }
 

@@ -83,6 +83,40 @@ __attribute__((always_inline)) static inline vec3 shade_background_dir(const vec
 void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
                            float *bg_b);
 
+/* The pixel's view frame for both fast paths' vectorized loops: V from P to the eye,
+ * facing_normal (its two branches as selects of values computed by the port's operations, so
+ * the same bits), the environment frame NE, VE (r = uEnvRotation by column: mat3_mul_vec3's
+ * operations), NE.VE, R = reflect(-VE, NE), and whether facing_normal bent n. Returned by
+ * value: GCC vectorizes a loop around it then, not when it writes through a pointer. */
+typedef struct {
+    vec3 V, N, NE, VE, R;
+    float NdotV;
+    int bent;
+} shade_view_frame;
+
+__attribute__((always_inline)) static inline shade_view_frame shade_view_frame_at(vec3 eye, vec3 P, vec3 n,
+                                                                                  const vec3 r[3])
+{
+    shade_view_frame f;
+    vec3 V = normalize(sub(eye, P));
+    float len2 = dot(n, n);
+    vec3 Nn = scale(n, 1.0f / sqrtf(len2));
+    float NdotV0 = dot(Nn, V);
+    vec3 Nb = normalize(add(Nn, scale(V, SHADE_MIN_NDOTV - NdotV0)));
+    bool keep = len2 > SL_BRDF_TINY, bend = NdotV0 < SHADE_MIN_NDOTV;
+    /* per component: GCC if-converts scalar selects, not whole-struct ones */
+    vec3 N = vec3(keep ? (bend ? Nb.x : Nn.x) : V.x, keep ? (bend ? Nb.y : Nn.y) : V.y,
+                  keep ? (bend ? Nb.z : Nn.z) : V.z);
+    f.V = V;
+    f.N = N;
+    f.NE = add(add(scale(r[0], N.x), scale(r[1], N.y)), scale(r[2], N.z));
+    f.VE = add(add(scale(r[0], V.x), scale(r[1], V.y)), scale(r[2], V.z));
+    f.NdotV = dot(f.NE, f.VE);
+    f.R = normalize(sub(scale(f.NE, 2.0f * f.NdotV), f.VE));
+    f.bent = dot(n, V) < SHADE_MIN_NDOTV * length(n);
+    return f;
+}
+
 /* ---- per-thread scratch (lighting_task.c) ---- */
 
 enum { SLOTS = 8 };

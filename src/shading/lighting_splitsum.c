@@ -36,7 +36,6 @@
 #include "lighting_internal.h"
 
 /* GLSL constants, as lighting.c has them */
-static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float TINY = SL_BRDF_TINY;
 static const float MIN_LIGHT_D2 = 1e-8f; /* lighting.c point_light */
 #define PI SL_PI
@@ -106,42 +105,31 @@ static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
 
 static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
-/* (2) main() up to the estimator: V, facing_normal (its branches as selects of values computed
- * by the same operations), the environment frame, and R = reflect(-V, N). */
+/* (2) main() up to the estimator: shade_view_frame_at (V, facing_normal, the environment frame,
+ * R = reflect(-V, N)) into the span's arrays. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void frame_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
-    const float ex = u->uEye.x, ey = u->uEye.y, ez = u->uEye.z;
-    const vec3 c0 = u->uEnvRotation.c[0], c1 = u->uEnvRotation.c[1], c2 = u->uEnvRotation.c[2];
+    const vec3 eye = u->uEye;
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        vec3 V = normalize(vec3(ex - b->Px[i], ey - b->Py[i], ez - b->Pz[i]));
-        vec3 n = vec3(b->nx[i], b->ny[i], b->nz[i]);
-        float len2 = dot(n, n);
-        vec3 Nn = scale(n, 1.0f / sqrtf(len2));
-        float NdotV0 = dot(Nn, V);
-        vec3 Nb = normalize(add(Nn, scale(V, MIN_NDOTV - NdotV0)));
-        bool keep = len2 > TINY, bend = NdotV0 < MIN_NDOTV;
-        vec3 N = vec3(select_f(keep, select_f(bend, Nb.x, Nn.x), V.x), select_f(keep, select_f(bend, Nb.y, Nn.y), V.y),
-                      select_f(keep, select_f(bend, Nb.z, Nn.z), V.z));
-        vec3 NE = add(add(scale(c0, N.x), scale(c1, N.y)), scale(c2, N.z)); /* mat3_mul_vec3 */
-        vec3 VE = add(add(scale(c0, V.x), scale(c1, V.y)), scale(c2, V.z));
-        float NdotV = dot(NE, VE);
-        vec3 R = normalize(sub(scale(NE, 2.0f * NdotV), VE));
-        b->Vx[i] = V.x;
-        b->Vy[i] = V.y;
-        b->Vz[i] = V.z;
-        b->Nx[i] = N.x;
-        b->Ny[i] = N.y;
-        b->Nz[i] = N.z;
-        b->NEx[i] = NE.x;
-        b->NEy[i] = NE.y;
-        b->NEz[i] = NE.z;
-        b->Rx[i] = R.x;
-        b->Ry[i] = R.y;
-        b->Rz[i] = R.z;
-        b->NdotV[i] = NdotV;
-        b->bent[i] = dot(n, V) < MIN_NDOTV * length(n);
+        shade_view_frame f =
+            shade_view_frame_at(eye, vec3(b->Px[i], b->Py[i], b->Pz[i]), vec3(b->nx[i], b->ny[i], b->nz[i]), r);
+        b->bent[i] = f.bent;
+        b->Vx[i] = f.V.x;
+        b->Vy[i] = f.V.y;
+        b->Vz[i] = f.V.z;
+        b->Nx[i] = f.N.x;
+        b->Ny[i] = f.N.y;
+        b->Nz[i] = f.N.z;
+        b->NEx[i] = f.NE.x;
+        b->NEy[i] = f.NE.y;
+        b->NEz[i] = f.NE.z;
+        b->Rx[i] = f.R.x;
+        b->Ry[i] = f.R.y;
+        b->Rz[i] = f.R.z;
+        b->NdotV[i] = f.NdotV;
     }
 }
 
