@@ -6,6 +6,7 @@
 #define SL_IRRADIANCE_UV_H
 
 #include "../core/fast_math.h"
+#include "octahedral.h"
 
 /* Texel centre coordinate of grid point p in [-1, 1] on a side of s texels, clamped so the
  * bilinear footprint never leaves the side (CLAMP_TO_EDGE semantics under any wrap mode). */
@@ -17,15 +18,11 @@ SL_FM_INLINE float sl_irradiance_grid_coord(float p, int s)
     return t < hi ? t : hi;
 }
 
-/* OCT: p = n.xy / |n|_1, folded for n.z < 0 to (1 - |p.yx|) sign(p) (a select, not a branch). */
+/* OCT: the fold of octahedral.h at the grid's texel centres. */
 SL_FM_INLINE void sl_irradiance_oct_uv_inline(float x, float y, float z, int size, float *u, float *v)
 {
-    float a = fabsf(x) + fabsf(y) + fabsf(z);
-    float px = x / a, py = y / a;
-    float fx = (1.0f - fabsf(py)) * (px >= 0.0f ? 1.0f : -1.0f);
-    float fy = (1.0f - fabsf(px)) * (py >= 0.0f ? 1.0f : -1.0f);
-    px = z < 0.0f ? fx : px;
-    py = z < 0.0f ? fy : py;
+    float px, py;
+    sl_oct_fold(x, y, z, &px, &py);
     *u = sl_irradiance_grid_coord(px, size);
     *v = sl_irradiance_grid_coord(py, size);
 }

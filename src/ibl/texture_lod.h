@@ -18,6 +18,7 @@
 
 #include "../core/fast_math.h"
 #include "ibl.h"
+#include "octahedral.h"
 
 /* GL_LINEAR within one level of w x h texels starting at T[o]: REPEAT in u, CLAMP_TO_EDGE in v,
  * texel centres at (i + 1/2) / size. The one bilinear filter of the environment: sl_env_bilinear
@@ -186,12 +187,8 @@ __attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_en
  * d gives 0). Divisions and selects only: the port and the batched path get the same bits. */
 SL_FM_INLINE void sl_oct_dir_to_uv(float x, float y, float z, float *u, float *v)
 {
-    float a = fabsf(x) + fabsf(y) + fabsf(z);
-    float px = x / a, py = y / a;
-    float fx = (1.0f - fabsf(py)) * (px >= 0.0f ? 1.0f : -1.0f);
-    float fy = (1.0f - fabsf(px)) * (py >= 0.0f ? 1.0f : -1.0f);
-    px = z < 0.0f ? fx : px;
-    py = z < 0.0f ? fy : py;
+    float px, py;
+    sl_oct_fold(x, y, z, &px, &py);
     float uu = px * 0.5f + 0.5f, vv = py * 0.5f + 0.5f;
     *u = uu >= 0.0f ? minf(uu, 1.0f) : 0.0f; /* NaN -> 0 */
     *v = vv >= 0.0f ? minf(vv, 1.0f) : 0.0f;
