@@ -70,25 +70,51 @@ def smoothstep(a, b, x):
     return t * t * (3 - 2 * t)
 
 
+def field_png(path, n, texel):
+    """An n x n RGB PNG of texel(x, y) -> (r, g, b) codes, y down the image (rows top first)."""
+    write_png(path, n, n, [[c for x in range(n) for c in texel(x, y)] for y in range(n)])
+
+
+class GltfBuffer:
+    """One .bin with its bufferViews and accessors: add() appends 4-byte aligned data."""
+
+    def __init__(self):
+        self.buf, self.views, self.accessors = bytearray(), [], []
+
+    def add(self, data, target, **acc):
+        while len(self.buf) % 4:
+            self.buf.append(0)
+        self.views.append({"buffer": 0, "byteOffset": len(self.buf), "byteLength": len(data), "target": target})
+        self.buf.extend(data)
+        self.accessors.append(dict(bufferView=len(self.views) - 1, **acc))
+        return len(self.accessors) - 1
+
+    def positions(self, pos):
+        lo = [min(p[i] for p in pos) for i in range(3)]
+        hi = [max(p[i] for p in pos) for i in range(3)]
+        return self.add(b"".join(struct.pack("<3f", *p) for p in pos), 34962, componentType=5126, count=len(pos),
+                        type="VEC3", min=lo, max=hi)
+
+    def uvs(self, uv):
+        return self.add(b"".join(struct.pack("<2f", *t) for t in uv), 34962, componentType=5126, count=len(uv),
+                        type="VEC2")
+
+
 def fur_png(path, n=256):
     light, dark = (222, 196, 160), (110, 78, 52)
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            u, v = 2 * math.pi * x / n, 2 * math.pi * y / n
-            patch = math.sin(3 * u + 1.3 * math.sin(2 * v)) + math.sin(2 * v + 0.7) * math.cos(u - 0.4)
-            t = smoothstep(0.6, 0.9, patch)
-            stripe = 0.93 + 0.07 * math.sin(48 * u + 3 * math.sin(5 * v))
-            row += [int(round(stripe * (l + (d - l) * t))) for l, d in zip(light, dark)]
-        rows.append(row)
-    write_png(path, n, n, rows)
+
+    def texel(x, y):
+        u, v = 2 * math.pi * x / n, 2 * math.pi * y / n
+        patch = math.sin(3 * u + 1.3 * math.sin(2 * v)) + math.sin(2 * v + 0.7) * math.cos(u - 0.4)
+        t = smoothstep(0.6, 0.9, patch)
+        stripe = 0.93 + 0.07 * math.sin(48 * u + 3 * math.sin(5 * v))
+        return [int(round(stripe * (l + (d - l) * t))) for l, d in zip(light, dark)]
+    field_png(path, n, texel)
 
 
 def brass_png(path, n=64):
     a, b = (236, 196, 110), (180, 132, 60)
-    rows = [[c for x in range(n) for c in (a if ((x // 8) + (y // 8)) % 2 == 0 else b)] for y in range(n)]
-    write_png(path, n, n, rows)
+    field_png(path, n, lambda x, y: a if ((x // 8) + (y // 8)) % 2 == 0 else b)
 
 
 def read_bunny():
@@ -163,61 +189,44 @@ PBR_PAINTS = ((180, 40, 35), (50, 140, 60), (40, 70, 170), (230, 230, 225))
 
 
 def pbr_base_png(path, n=256):
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            col, _, edge, _ = tile_field(x, y, n)
-            c = PBR_METALS[col % 4] if col < TILES // 2 else PBR_PAINTS[col % 4]
-            t = smoothstep(1.0, 3.0, edge)  # 0 in the groove
-            row += [int(round(60 + (v - 60) * t)) for v in c]
-        rows.append(row)
-    write_png(path, n, n, rows)
+    def texel(x, y):
+        col, _, edge, _ = tile_field(x, y, n)
+        c = PBR_METALS[col % 4] if col < TILES // 2 else PBR_PAINTS[col % 4]
+        t = smoothstep(1.0, 3.0, edge)  # 0 in the groove
+        return [int(round(60 + (v - 60) * t)) for v in c]
+    field_png(path, n, texel)
 
 
 def pbr_orm_png(path, n=256):
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            col, trow, edge, _ = tile_field(x, y, n)
-            occlusion = 0.3 + 0.7 * smoothstep(0.5, 5.0, edge)
-            roughness = 0.1 + 0.9 * trow / (TILES - 1)
-            metal = col < TILES // 2 and edge > 1.0
-            row += [int(round(255 * occlusion)), int(round(255 * roughness)), 255 if metal else 0]
-        rows.append(row)
-    write_png(path, n, n, rows)
+    def texel(x, y):
+        col, trow, edge, _ = tile_field(x, y, n)
+        occlusion = 0.3 + 0.7 * smoothstep(0.5, 5.0, edge)
+        roughness = 0.1 + 0.9 * trow / (TILES - 1)
+        metal = col < TILES // 2 and edge > 1.0
+        return [int(round(255 * occlusion)), int(round(255 * roughness)), 255 if metal else 0]
+    field_png(path, n, texel)
 
 
 def pbr_normal_png(path, n=256):
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            dx = (pbr_height(x + 1, y, n) - pbr_height(x - 1, y, n)) / 2
-            dy = (pbr_height(x, y + 1, n) - pbr_height(x, y - 1, n)) / 2
-            # +Y is up the image (y runs down it): the normal leans against the slope
-            nx, ny, nz = -dx, dy, 1.0
-            k = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
-            row += [int(round(255 * (0.5 + 0.5 * c * k))) for c in (nx, ny, nz)]
-        rows.append(row)
-    write_png(path, n, n, rows)
+    def texel(x, y):
+        dx = (pbr_height(x + 1, y, n) - pbr_height(x - 1, y, n)) / 2
+        dy = (pbr_height(x, y + 1, n) - pbr_height(x, y - 1, n)) / 2
+        # +Y is up the image (y runs down it): the normal leans against the slope
+        nx, ny, nz = -dx, dy, 1.0
+        k = 1.0 / math.sqrt(nx * nx + ny * ny + nz * nz)
+        return [int(round(255 * (0.5 + 0.5 * c * k))) for c in (nx, ny, nz)]
+    field_png(path, n, texel)
 
 
 def pbr_emit_png(path, n=128):
-    rows = []
-    for y in range(n):
-        row = []
-        for x in range(n):
-            _, trow, edge, centre = tile_field(x, y, n)
-            c = (0, 0, 0)
-            if trow == 3 and edge < 1.0:
-                c = (0, 200, 255)
-            elif trow == 6 and centre < 2.5 * n / 256 * 2:
-                c = (255, 140, 30)
-            row += c
-        rows.append(row)
-    write_png(path, n, n, rows)
+    def texel(x, y):
+        _, trow, edge, centre = tile_field(x, y, n)
+        if trow == 3 and edge < 1.0:
+            return (0, 200, 255)
+        if trow == 6 and centre < 2.5 * n / 256 * 2:
+            return (255, 140, 30)
+        return (0, 0, 0)
+    field_png(path, n, texel)
 
 
 def uv_sphere(radius, centre_y, segments=64, rings=32):
@@ -273,30 +282,18 @@ def pbr_model():
     pbr_orm_png(os.path.join(OUT, "pbr_orm.png"))
     pbr_normal_png(os.path.join(OUT, "pbr_normal.png"))
     pbr_emit_png(os.path.join(OUT, "pbr_emit.png"))
-    buf, views, accessors, meshes = bytearray(), [], [], []
-
-    def add(data, target, **acc):
-        while len(buf) % 4:
-            buf.append(0)
-        views.append({"buffer": 0, "byteOffset": len(buf), "byteLength": len(data), "target": target})
-        buf.extend(data)
-        accessors.append(dict(bufferView=len(views) - 1, **acc))
-        return len(accessors) - 1
-
+    gb, meshes = GltfBuffer(), []
     for name, (pos, nrm, uv, tris) in (("sphere", uv_sphere(0.9, 0.9)), ("panel", panel(0.9, 1.8, 0.06))):
-        lo = [min(p[i] for p in pos) for i in range(3)]
-        hi = [max(p[i] for p in pos) for i in range(3)]
-        a_pos = add(b"".join(struct.pack("<3f", *p) for p in pos), 34962, componentType=5126, count=len(pos),
-                    type="VEC3", min=lo, max=hi)
-        a_nrm = add(b"".join(struct.pack("<3f", *p) for p in nrm), 34962, componentType=5126, count=len(nrm),
-                    type="VEC3")
-        a_uv = add(b"".join(struct.pack("<2f", *t) for t in uv), 34962, componentType=5126, count=len(uv),
-                   type="VEC2")
-        a_idx = add(b"".join(struct.pack("<3H", *t) for t in tris), 34963, componentType=5123, count=3 * len(tris),
-                    type="SCALAR")
+        a_pos = gb.positions(pos)
+        a_nrm = gb.add(b"".join(struct.pack("<3f", *p) for p in nrm), 34962, componentType=5126, count=len(nrm),
+                       type="VEC3")
+        a_uv = gb.uvs(uv)
+        a_idx = gb.add(b"".join(struct.pack("<3H", *t) for t in tris), 34963, componentType=5123,
+                       count=3 * len(tris), type="SCALAR")
         meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": a_pos, "NORMAL": a_nrm,
                                                                     "TEXCOORD_0": a_uv},
                                                      "indices": a_idx, "material": 0}]})
+    buf, views, accessors = gb.buf, gb.views, gb.accessors
     with open(os.path.join(OUT, "pbr.bin"), "wb") as f:
         f.write(buf)
     tilt = math.radians(-12.0)  # about +X: the panel's top leans away from the camera (-Z)
@@ -337,26 +334,14 @@ def main():
     buv = bunny_uv(bpos)
     ppos, puv, ptris = box((-6.5, -1.5, -5.0), (6.5, 0.0, 5.0))
 
-    buf, views, accessors, meshes = bytearray(), [], [], []
-    def add(data, target, **acc):
-        while len(buf) % 4:
-            buf.append(0)
-        views.append({"buffer": 0, "byteOffset": len(buf), "byteLength": len(data), "target": target})
-        buf.extend(data)
-        accessors.append(dict(bufferView=len(views) - 1, **acc))
-        return len(accessors) - 1
-
+    gb, meshes = GltfBuffer(), []
     for name, pos, uv, tris, material in (("bunny", bpos, buv, btris, 0), ("pedestal", ppos, puv, ptris, 1)):
-        lo = [min(p[i] for p in pos) for i in range(3)]
-        hi = [max(p[i] for p in pos) for i in range(3)]
-        a_pos = add(b"".join(struct.pack("<3f", *p) for p in pos), 34962, componentType=5126, count=len(pos),
-                    type="VEC3", min=lo, max=hi)
-        a_uv = add(b"".join(struct.pack("<2f", *t) for t in uv), 34962, componentType=5126, count=len(uv),
-                   type="VEC2")
-        a_idx = add(b"".join(struct.pack("<3I", *t) for t in tris), 34963, componentType=5125, count=3 * len(tris),
-                    type="SCALAR")
+        a_pos, a_uv = gb.positions(pos), gb.uvs(uv)
+        a_idx = gb.add(b"".join(struct.pack("<3I", *t) for t in tris), 34963, componentType=5125,
+                       count=3 * len(tris), type="SCALAR")
         meshes.append({"name": name, "primitives": [{"attributes": {"POSITION": a_pos, "TEXCOORD_0": a_uv},
                                                      "indices": a_idx, "material": material}]})
+    buf, views, accessors = gb.buf, gb.views, gb.accessors
     with open(os.path.join(OUT, "bunny.bin"), "wb") as f:
         f.write(buf)
     doc = {
