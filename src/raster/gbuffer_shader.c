@@ -62,12 +62,7 @@ void sl_gbuffer_frag_span(const void *uniforms, const sl_fragment_span *span)
     int n = span->n;
 #pragma omp simd
     for (int j = 0; j < n; j++) {
-        float d = vx[j] * vx[j] + vy[j] * vy[j] + vz[j] * vz[j];
-        bool ok = d > 1e-30f;
-        float inv = 1.0f / sqrtf(ok ? d : 1.0f);
-        nx[j] = ok ? vx[j] * inv : 0.0f;
-        ny[j] = ok ? vy[j] * inv : 0.0f;
-        nz[j] = ok ? vz[j] * inv : 1.0f;
+        sl_gbuffer_normal_lane(vx[j], vy[j], vz[j], &nx[j], &ny[j], &nz[j]);
     }
     sl_gbuffer_texel g = {.kd = u->uKd, .ks = u->uKs, .alpha = u->uAlpha};
     for (int j = 0; j < n; j++) {

@@ -130,12 +130,7 @@ static void shading_normals4(const sl_gbuffer_tex_uniforms *u, const sl_fragment
     }
 #pragma omp simd
     for (int l = 0; l < 4; l++) {
-        float d = vx[l] * vx[l] + vy[l] * vy[l] + vz[l] * vz[l];
-        bool ok = d > 1e-30f;
-        float inv = 1.0f / sqrtf(ok ? d : 1.0f);
-        nx[l] = ok ? vx[l] * inv : 0.0f;
-        ny[l] = ok ? vy[l] * inv : 0.0f;
-        nz[l] = ok ? vz[l] * inv : 1.0f;
+        sl_gbuffer_normal_lane(vx[l], vy[l], vz[l], &nx[l], &ny[l], &nz[l]);
     }
     if (u->uMaps & SL_GBUFFER_MAP_NORMAL) {
         float tx[4], ty[4], tz[4], tw[4], mx[4], my[4], mz[4];

@@ -94,4 +94,18 @@ void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 v
 bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
                               const sl_camera *cam, sl_gbuffer *gb, sl_error *err);
 
+/* The G-buffer normal of an interpolated one, lane by lane for the two programs' vectorized
+ * loops (gbuffer_shader.c's span form, gbuffer_textured.c's quad form): n / |n|, or (0, 0, 1)
+ * where |n|^2 <= 1e-30; the reference shaders' `dot(n, n) > 1e-30 ? normalize(n) : vec3(0, 0, 1)`
+ * with the same operations, so the same bits. */
+static inline void sl_gbuffer_normal_lane(float x, float y, float z, float *nx, float *ny, float *nz)
+{
+    float d = x * x + y * y + z * z;
+    bool ok = d > 1e-30f;
+    float inv = 1.0f / sqrtf(ok ? d : 1.0f);
+    *nx = ok ? x * inv : 0.0f;
+    *ny = ok ? y * inv : 0.0f;
+    *nz = ok ? z * inv : 1.0f;
+}
+
 #endif
