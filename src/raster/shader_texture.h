@@ -19,7 +19,7 @@ static inline vec4 textureBias(const sl_fragment_in *in, const sl_sampler2D *s, 
 {
     float v[2] = {uv.x, uv.y}, dx[2], dy[2];
     sl_quad_gradients(in, true, v, 2, dx, dy);
-    float lambda = sl_texture_lambda(s, (vec2){dx[0], dx[1]}, (vec2){dy[0], dy[1]}, bias);
+    float lambda = sl_texture_lambda_quad(s, (vec2){dx[0], dx[1]}, (vec2){dy[0], dy[1]}, bias);
     return sl_texture_sample(s, uv, lambda);
 }
 static inline vec4 texture(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv)

@@ -136,9 +136,13 @@ vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod);
 /* Size of level lod: (0, 0) outside the chain (undefined in GL). */
 ivec2 textureSize(const sl_sampler2D *s, int lod);
 
-/* The level of detail GL computes from derivatives, as llvmpipe computes it (above): exposed
- * for the quad code (texture()) and the trace. bias is the shader's (texture(s, uv, bias)). */
+/* The level of detail GL computes from derivatives, as llvmpipe computes it (above). bias is
+ * the shader's (texture(s, uv, bias)). sl_texture_lambda is textureGrad's (explicit
+ * derivatives: a non-finite rho counts as 0, magnified); sl_texture_lambda_quad is texture()'s,
+ * from a quad's coarse differences (a non-finite rho, from a helper lane's infinite or NaN
+ * input, selects the last level, as llvmpipe). Equal for finite derivatives. */
 float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
+float sl_texture_lambda_quad(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
 /* Sampling at a given (already biased and clamped) lambda: the min/mag choice and the level
  * selection of GL 4.6 section 8.14. */
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda);
