@@ -3,8 +3,8 @@
  *
  * The level is computed as llvmpipe computes it: one lambda per 2x2 quad, from the coarse
  * derivatives of uv (lane 1 - lane 0 in x, lane 2 - lane 0 in y: llvmpipe's
- * lp_build_packed_ddx_ddy_twocoord), through sl_texture_lambda; the position stays per
- * pixel. A call counts as one derivative call (one record of uv), so a program that calls
+ * lp_build_packed_ddx_ddy_twocoord), through sl_texture_lambda_quad; the position stays
+ * per pixel. A call counts as one derivative call (one record of uv), so a program that calls
  * it needs `derivatives = true`; without it the level is that of zero derivatives (the
  * base level, magnified). Kept out of shader.h because texture.h's textureLod is also
  * ibl.h's name for the environment lookup: a file that needs both includes only one. */
