@@ -129,12 +129,13 @@ static void vs_persp(const void *uniforms, const sl_vertex_in *in, vec4 *clip, f
 
 static void fs_persp(const void *uniforms, const sl_fragment_in *in, void *texel)
 {
-    (void)uniforms;
+    const sl_sampler2D *s = uniforms; /* a 64x64 texture */
     qtexel *t = texel;
     float v = in->varyings[0];
     t->d[0] = dFdxCoarse(in, v);
     t->d[1] = dFdyCoarse(in, v);
     t->d[2] = v;
+    t->d[3] = sl_texture_lambda_quad(s, vec2(t->d[0], 0), vec2(t->d[1], 0), 0.0f); /* texture(s, vec2(v, 0)) */
     mark(t, in);
 }
 
@@ -152,6 +153,11 @@ static const sl_program prog_persp = {.vertex = vs_persp, .fragment = fs_persp, 
 static void test_helpers_extrapolate(void **state)
 {
     (void)state;
+    static float zeros[64 * 64];
+    sl_texture *tex = NULL;
+    sl_error terr = {0};
+    assert_true(sl_texture_create(SL_TEX_R32F, 64, 64, zeros, true, &tex, &terr));
+    sl_sampler2D s = {tex, sl_sampler_default()};
     static qtexel t[W * H];
     for (int k = 0; k < 2; k++) { /* spans, then plain: the same values */
         fill(t);
@@ -161,7 +167,7 @@ static void test_helpers_extrapolate(void **state)
         sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
         sl_error err = {0};
         assert_true(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
-                                   &(sl_draw){.program = &prog_persp, .mesh = &m}, &err));
+                                   &(sl_draw){.program = &prog_persp, .fs_uniforms = &s, .mesh = &m}, &err));
         sl_raster_destroy(r);
         const qtexel *q = &t[24 * W + 22];
         assert_int_equal(q->count, 1);
@@ -170,7 +176,12 @@ static void test_helpers_extrapolate(void **state)
         assert_true(fabsf(q->d[2] - 1.8367347f) < 2e-6f);
         assert_true(fabsf(q->d[0] - (2.0434783f - 1.8367347f)) < 4e-6f);
         assert_true(fabsf(q->d[1] - (1.9565217f - 1.8367347f)) < 4e-6f);
+        /* the quad's level for a 64-texel texture read at (v, 0): rho = 64 dFdx = 13.23159,
+         * rho^2 = 175.0749 = 1.367773 * 2^7, lambda = 0.5 (7 + 0.367773) = 3.683886 (with the
+         * helpers clamped it was 0.5 log2_fast((64 * 0.1422127)^2) = 3.15) */
+        assert_true(fabsf(q->d[3] - 3.683886f) < 1e-4f);
     }
+    sl_texture_destroy(tex);
 }
 
 int main(void)
