@@ -100,7 +100,8 @@ void sl_trace_fetches_print(FILE *out, const sl_trace_fetches *t, float gbuffer_
         fprintf(out, "    %-10s (%.8g, %.8g)\n", "uv", (double)f->uv.x, (double)f->uv.y);
         fprintf(out, "    %-10s (%.8g, %.8g)\n", "dPdx", (double)f->dPdx.x, (double)f->dPdx.y);
         fprintf(out, "    %-10s (%.8g, %.8g)\n", "dPdy", (double)f->dPdy.x, (double)f->dPdy.y);
-        fprintf(out, "    %-10s %.8g\n", "lambda", (double)f->lambda);
+        fprintf(out, "    %-10s %.8g (the 2x2 quad's: dPdx = lane 1 - lane 0, dPdy = lane 2 - lane 0)\n", "lambda",
+                (double)f->lambda);
         fprintf(out, "    %-10s ", "level");
         print_level(out, f);
         fprintf(out, "\n    %-10s (%.8g, %.8g, %.8g, %.8g)\n", "value", (double)f->value.x, (double)f->value.y,

@@ -50,7 +50,7 @@ static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2
     float v[2] = {uv.x, uv.y}, dx[2], dy[2];
     sl_quad_gradients(in, true, v, 2, dx, dy);
     vec2 dPdx = vec2(dx[0], dx[1]), dPdy = vec2(dy[0], dy[1]);
-    float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+    float lambda = sl_texture_lambda_quad(s, dPdx, dPdy, 0.0f);
     vec4 value = sl_texture_sample(s, uv, lambda);
     u->trace(u->trace_ctx, in, slot, s, uv, dPdx, dPdy, lambda, value);
     return value;
@@ -262,7 +262,7 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
         }
         vec2 dPdx = vec2(sl_quad_dfdx_coarse(us), sl_quad_dfdx_coarse(vs));
         vec2 dPdy = vec2(sl_quad_dfdy_coarse(us), sl_quad_dfdy_coarse(vs));
-        float lambda = sl_texture_lambda(s, dPdx, dPdy, 0.0f);
+        float lambda = sl_texture_lambda_quad(s, dPdx, dPdy, 0.0f);
         vec4 value[4];
         sl_texture_sample4(s, uv, lambda, value); /* the four lanes' sl_texture_sample, one dispatch */
         for (int l = 0; l < 4; l++) {

@@ -89,7 +89,8 @@ typedef struct {
     float ox, oy;
     float z[3];                     /* z0, dz/dx, dz/dy */
     float iw[3];                    /* 1/w plane */
-    float iw_lo, iw_hi;             /* range of 1/w over the vertices: interpolation stays inside */
+    float iw_lo, iw_hi;             /* range of 1/w over the vertices: a covered pixel's stays inside
+                                       (helpers extrapolate: tile.c quad()) */
     uint32_t vary;                  /* offset of varying_count planes (3 floats each, of v/w) in the chunk pool */
     uint16_t call;                  /* index of its draw in rast_draw.calls (< RAST_MAX_CALLS) */
     bool front;

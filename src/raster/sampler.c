@@ -236,7 +236,8 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
 }
 
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of
- * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified). */
+ * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified),
+ * +infinity 128. */
 static float log2_fast(float x)
 {
     uint32_t bits;
@@ -255,7 +256,13 @@ static float clamp_lambda(float lambda, const sl_sampler_state *st)
     return lambda > st->min_lod ? lambda : st->min_lod;
 }
 
-float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
+/* lambda from derivatives (texture.h): rho^2 the larger squared length in texels of level 0,
+ * 0.5 log2_fast(rho^2), the biases, the clamps. A non-finite rho^2 (an infinite or NaN
+ * derivative) gives what llvmpipe gives: with explicit derivatives it counts as 0 (lp_build_rho
+ * zeroes it: magnified), with a quad's implicit ones it is not checked and log2_fast of it is
+ * 128 or more (the last level; measured: a NaN or an infinite uv in lane 0 makes the other lanes
+ * read the 1x1 level). */
+static float lambda_from(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias, bool explicit_derivatives)
 {
     const sl_texture *t = s->texture;
     if (!t)
@@ -265,9 +272,19 @@ float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
     float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
     float rho2 = rx > ry ? rx : ry;
     if (!isfinite(rho2))
-        rho2 = 0.0f;
+        rho2 = explicit_derivatives ? 0.0f : INFINITY;
     float lambda = 0.5f * log2_fast(rho2) + bias;
     return clamp_lambda(lambda + s->state.lod_bias, &s->state);
+}
+
+float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
+{
+    return lambda_from(s, dPdx, dPdy, bias, true);
+}
+
+float sl_texture_lambda_quad(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
+{
+    return lambda_from(s, dPdx, dPdy, bias, false);
 }
 
 vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)

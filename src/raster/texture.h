@@ -31,7 +31,8 @@
  *   lambda = 0.5 * log2f_fast(rho^2) + shader bias + sampler bias, clamped to [min, max lod],
  *            where log2f_fast(m 2^e) = e + (m - 1), m in [1, 2): llvmpipe's piecewise linear
  *            log2, exact at powers of two, up to 0.086 below log2 (0.043 in lambda) between;
- *            a non-finite rho^2 counts as 0. Matched bit for bit on 512 textureGrad samples.
+ *            a non-finite rho^2 counts as 0 for textureGrad, as +inf (the last level) for a
+ *            quad (below). Matched bit for bit on 512 textureGrad samples.
  *   magnified when lambda <= 0 (c = 0 for every filter pair, as GL 4.6 and llvmpipe);
  *   *_MIPMAP_NEAREST: level round(lambda), halves to even as llvmpipe (textureLod 0.5 -> 0,
  *   1.5 -> 2; GL's ceil(lambda + 0.5) - 1 differs only at exact halves; llvmpipe's textureGrad
@@ -39,11 +40,15 @@
  *   floor(lambda) and the next, weight fract(lambda),
  *   no "brilinear" (llvmpipe's is off by default); levels clamped to the chain.
  *   Explicit derivatives (textureGrad) and explicit lods (textureLod) give a lambda per pixel
- *   in llvmpipe; implicit derivatives (texture()) give one per 2x2 quad (the quad code,
- *   raster-quads, decides which). Tolerance against llvmpipe that results: lambda exact (bit
- *   for bit); bilinear values exact for float and sRGB textures; UNORM8 (non-sRGB) textures
- *   below 1/255, since llvmpipe filters them in 8-bit fixed point and rounds the result to 8
- *   bits (measured: at most 0.955/255 over 1000 positions between two texels).
+ *   in llvmpipe; implicit derivatives (texture()) give one per 2x2 quad, from the coarse
+ *   differences lane 1 - lane 0 and lane 2 - lane 0 (sl_texture_lambda_quad; helpers'
+ *   inputs extrapolated unclamped, tile.c quad()). Tolerance against llvmpipe that results:
+ *   lambda exact (bit for bit) for explicit derivatives, within 0.001 per quad (float
+ *   rounding of uv; docs/shader-api.md "Level of detail"); bilinear values exact for float
+ *   and sRGB textures; UNORM8 (non-sRGB) textures below 1/255 per level, since llvmpipe
+ *   filters them in 8-bit fixed point and rounds the result to 8 bits (measured: at most
+ *   0.955/255 over 1000 positions between two texels), about 2.5/255 trilinear (it also
+ *   truncates the level weight to 1/256 and blends the levels in fixed point).
  *
  * Does not: cube maps, arrays, 3D, border colours (CLAMP_TO_BORDER), anisotropy, shadow
  * compare, texture swizzles, base/max level other than the whole chain, or the LOD bias clamp
@@ -136,9 +141,13 @@ vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod);
 /* Size of level lod: (0, 0) outside the chain (undefined in GL). */
 ivec2 textureSize(const sl_sampler2D *s, int lod);
 
-/* The level of detail GL computes from derivatives, as llvmpipe computes it (above): exposed
- * for the quad code (texture()) and the trace. bias is the shader's (texture(s, uv, bias)). */
+/* The level of detail GL computes from derivatives, as llvmpipe computes it (above). bias is
+ * the shader's (texture(s, uv, bias)). sl_texture_lambda is textureGrad's (explicit
+ * derivatives: a non-finite rho counts as 0, magnified); sl_texture_lambda_quad is texture()'s,
+ * from a quad's coarse differences (a non-finite rho, from a helper lane's infinite or NaN
+ * input, selects the last level, as llvmpipe). Equal for finite derivatives. */
 float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
+float sl_texture_lambda_quad(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
 /* Sampling at a given (already biased and clamped) lambda: the min/mag choice and the level
  * selection of GL 4.6 section 8.14. */
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda);

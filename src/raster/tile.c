@@ -430,10 +430,16 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
         return;
 
     /* The lanes' inputs, varyings_at's expressions: 1/w for the four lanes at once, then each
-     * lane's varyings in one loop over the coefficient arrays (both loops vectorize). */
+     * lane's varyings in one loop over the coefficient arrays (both loops vectorize). A helper's
+     * 1/w is the plane extrapolated, unclamped, as llvmpipe makes it: a helper lies outside the
+     * triangle, where clamping to the vertices' range bent its varyings and so the quad's
+     * derivatives (lambda up to 1.4 off llvmpipe's on textured.json's sphere seam; unclamped,
+     * within 0.001 on every quad: docs/shader-api.md "Level of detail"). Live lanes keep the
+     * clamp, which only holds their rounding inside the triangle. */
     float iw[4], w[4];
     for (int l = 0; l < 4; l++) {
-        iw[l] = clampf(t->iw[0] + t->iw[1] * fx[l] + t->iw[2] * fy[l], t->iw_lo, t->iw_hi);
+        float plane = t->iw[0] + t->iw[1] * fx[l] + t->iw[2] * fy[l];
+        iw[l] = live >> l & 1 ? clampf(plane, t->iw_lo, t->iw_hi) : plane;
         w[l] = 1.0f / iw[l];
     }
     float vary[4][SL_MAX_VARYINGS];

@@ -14,18 +14,13 @@ gl_setup "$1"
 
 P99_TOL=0.05
 OVER8_PERCENT=0.1
-# scenes/pbr.json: a normal-mapped glTF model with mirror-like metal (GGX roughness 0.1) in its top
-# row of tiles. Its G-buffers differ by the per-quad texture lod drift of issue 12 (normal up to
-# 0.11 apart, gl_pbr.sh), and sharp reflections turn that into a few pixels far apart: first run
-# p99 rel 0.069, 0.21% of pixels > 8/255. GL lighting on softlight's own G-buffer agrees as
-# tightly as on the other scenes (gl_shading.sh, gl_pbr.sh: p99 0.0014), so the shading is the same.
-P99_TOL_PBR=0.1
-OVER8_PERCENT_PBR=0.4
+# scenes/pbr.json (a normal-mapped glTF model with mirror-like metal) needed a looser bound while
+# the textured G-buffer's lambda drifted from llvmpipe's per quad (p99 rel 0.069, 0.21% > 8/255);
+# with the same lambda it is within the common one (measured: p99 0.036, 0.038% > 8/255).
 fail=0
 for scene in scenes/*.json; do
     name=$(basename "$scene" .json)
     p99_tol=$P99_TOL over8=$OVER8_PERCENT
-    [ "$name" = pbr ] && p99_tol=$P99_TOL_PBR over8=$OVER8_PERCENT_PBR
     mkdir -p "$T/$name/c" "$T/$name/g"
     "$SL" render "$scene" --size "$GL_TEST_SIZE" --aov "$T/$name/c" --pfm "$T/$name/c.pfm" >/dev/null
     "$GL" render "$scene" --size "$GL_TEST_SIZE" --aov "$T/$name/g" --pfm "$T/$name/g.pfm" >/dev/null
@@ -48,4 +43,4 @@ if [ "$fail" != 0 ]; then
     echo "gl_pipeline: FAILED"
     exit 1
 fi
-echo "gl_pipeline: whole frames agree within p99 rel $P99_TOL away from edges, >8/255 on <= $OVER8_PERCENT% of pixels (pbr: $P99_TOL_PBR, $OVER8_PERCENT_PBR%)"
+echo "gl_pipeline: whole frames agree within p99 rel $P99_TOL away from edges, >8/255 on <= $OVER8_PERCENT% of pixels"

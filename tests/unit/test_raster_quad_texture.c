@@ -2,6 +2,7 @@
  * level of detail, one lambda per 2x2 quad from the coarse derivatives of uv, as llvmpipe.
  * Apart from test_raster_quad.c because testutil.h brings ibl.h, whose textureLod (the
  * environment's) has the name of texture.h's. */
+#include <math.h>
 #include <setjmp.h>
 #include <stdarg.h>
 #include <stddef.h>
@@ -66,7 +67,7 @@ static void fs_tex(const void *uniforms, const sl_fragment_in *in, void *texel)
     vec4 g = textureGrad(u->s, uv, dFdxCoarse(in, uv), dFdyCoarse(in, uv));
     t->d[0] = c.x;
     t->d[1] = g.x;
-    t->d[2] = sl_texture_lambda(u->s, dFdxCoarse(in, uv), dFdyCoarse(in, uv), 0.0f);
+    t->d[2] = sl_texture_lambda_quad(u->s, dFdxCoarse(in, uv), dFdyCoarse(in, uv), 0.0f);
     mark(t, in);
 }
 
@@ -114,8 +115,78 @@ static void test_texture_implicit_lod(void **state)
     sl_texture_destroy(tex);
 }
 
+/* ---- helpers extrapolate the triangle's planes, 1/w included ---- */
+
+/* position.z carries the vertex's clip w; the varying v = (x / 47.5) w, so v / w = x / 47.5 */
+static void vs_persp(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *v)
+{
+    (void)uniforms;
+    float w = in->position.z;
+    *clip = vec4((in->position.x / 32.0f - 1.0f) * w, (in->position.y / 32.0f - 1.0f) * w, 0.0f, w);
+    v[0] = in->position.x / 47.5f * w;
+    v[1] = v[2] = 0.0f;
+}
+
+static void fs_persp(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    const sl_sampler2D *s = uniforms; /* a 64x64 texture */
+    qtexel *t = texel;
+    float v = in->varyings[0];
+    t->d[0] = dFdxCoarse(in, v);
+    t->d[1] = dFdyCoarse(in, v);
+    t->d[2] = v;
+    t->d[3] = sl_texture_lambda_quad(s, vec2(t->d[0], 0), vec2(t->d[1], 0), 0.0f); /* texture(s, vec2(v, 0)) */
+    mark(t, in);
+}
+
+static const sl_program prog_persp = {.vertex = vs_persp, .fragment = fs_persp, .varying_count = 3,
+                                      .derivatives = true};
+
+/* A triangle (0, 0) w 1, (47.5, 0) w 4, (0, 47.5) w 4: 1/w = 1 - 0.75 (x + y) / 47.5 is smallest
+ * (1/4) along the whole hypotenuse, so a helper beyond it has a 1/w below every vertex's. The
+ * quad at (22, 24) has one live lane (centre sum x + y = 47) and three helpers (48, 48, 49): GL
+ * runs them on the planes extrapolated (v = (x / 47.5) / (1/w)), and so must we: clamping the
+ * helpers' 1/w to the vertices' range (what softlight did before) gives dFdx 0.1421 instead of
+ * 0.2067, a lambda 0.54 lower. Hand-computed at the centres: lane 0 (22.5, 24.5): 1/w =
+ * 0.2578947, v = 1.8367347; lane 1 (23.5, 24.5): 1/w = 0.2421053, v = 2.0434783; lane 2
+ * (22.5, 25.5): 1/w = 0.2421053, v = 1.9565217. */
+static void test_helpers_extrapolate(void **state)
+{
+    (void)state;
+    static float zeros[64 * 64];
+    sl_texture *tex = NULL;
+    sl_error terr = {0};
+    assert_true(sl_texture_create(SL_TEX_R32F, 64, 64, zeros, true, &tex, &terr));
+    sl_sampler2D s = {tex, sl_sampler_default()};
+    static qtexel t[W * H];
+    for (int k = 0; k < 2; k++) { /* spans, then plain: the same values */
+        fill(t);
+        sl_raster *r = make_raster(1, 16, k == 1);
+        vec3 p[3] = {{0, 0, 1}, {47.5f, 0, 4}, {0, 47.5f, 4}};
+        uint32_t idx[3] = {0, 1, 2};
+        sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
+        sl_error err = {0};
+        assert_true(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+                                   &(sl_draw){.program = &prog_persp, .fs_uniforms = &s, .mesh = &m}, &err));
+        sl_raster_destroy(r);
+        const qtexel *q = &t[24 * W + 22];
+        assert_int_equal(q->count, 1);
+        assert_int_equal(t[24 * W + 23].count, 0); /* lanes 1, 2, 3: helpers, nothing written */
+        assert_int_equal(t[25 * W + 22].count, 0);
+        assert_true(fabsf(q->d[2] - 1.8367347f) < 2e-6f);
+        assert_true(fabsf(q->d[0] - (2.0434783f - 1.8367347f)) < 4e-6f);
+        assert_true(fabsf(q->d[1] - (1.9565217f - 1.8367347f)) < 4e-6f);
+        /* the quad's level for a 64-texel texture read at (v, 0): rho = 64 dFdx = 13.23159,
+         * rho^2 = 175.0749 = 1.367773 * 2^7, lambda = 0.5 (7 + 0.367773) = 3.683886 (with the
+         * helpers clamped it was 0.5 log2_fast((64 * 0.1422127)^2) = 3.15) */
+        assert_true(fabsf(q->d[3] - 3.683886f) < 1e-4f);
+    }
+    sl_texture_destroy(tex);
+}
+
 int main(void)
 {
-    const struct CMUnitTest tests[] = {cmocka_unit_test(test_texture_implicit_lod)};
+    const struct CMUnitTest tests[] = {cmocka_unit_test(test_texture_implicit_lod),
+                                       cmocka_unit_test(test_helpers_extrapolate)};
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

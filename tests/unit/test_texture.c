@@ -359,6 +359,19 @@ static void test_lambda(void **state)
     assert_true(sl_texture_lambda(&s, vec2(0, 0), vec2(0, 0), 0) == -63.5f);
     assert_true(sl_texture_lambda(&s, vec2(INFINITY, 0), vec2(0, 0), 0) == -63.5f);
     assert_true(sl_texture_lambda(&s, vec2(nanf(""), 0), vec2(0, 0), 0) == -63.5f);
+    /* texture()'s lambda (a quad's implicit derivatives): the same rule for finite ones; a
+     * non-finite rho (a helper lane's infinite or NaN uv) is not zeroed as textureGrad's is:
+     * log2_fast(+inf) = 128 -> 64, clamped to the chain, the last level (llvmpipe, measured) */
+    assert_true(sl_texture_lambda_quad(&s, vec2(3 * px, 4 * px), vec2(0, 0), 0) == 2.28125f);
+    assert_true(sl_texture_lambda_quad(&s, vec2(3 * px, 0), vec2(0, 3 * px), 0.5f) == 2.0625f);
+    assert_true(sl_texture_lambda_quad(&s, vec2(0, 0), vec2(0, 0), 0) == -63.5f);
+    assert_true(sl_texture_lambda_quad(&s, vec2(INFINITY, 0), vec2(0, 0), 0) == 64.0f);
+    assert_true(sl_texture_lambda_quad(&s, vec2(0, 0), vec2(0, nanf("")), 0) == 64.0f);
+    assert_near(sl_texture_sample(&s, vec2(0.3f, 0.6f), sl_texture_lambda_quad(&s, vec2(INFINITY, 0), vec2(0, 0), 0)).x,
+                4.0, 0.0); /* level 4, 1x1, holds 4 */
+    s.state.max_lod = 1.25f; /* the sampler's clamp still applies */
+    assert_true(sl_texture_lambda_quad(&s, vec2(INFINITY, 0), vec2(0, 0), 0) == 1.25f);
+    s.state.max_lod = 1000.0f;
     /* textureGrad samples at that lambda: trilinear 1.5625 reads 1.5625 */
     assert_near(textureGrad(&s, vec2(0.3f, 0.6f), vec2(3 * px, 0), vec2(0, 3 * px)).x, 1.5625, 1e-6);
     sl_texture_destroy(t);
