@@ -68,7 +68,8 @@
 //   vec3  uLightPosition[16]       world space
 //   vec3  uLightColor[16]          linear RGB
 //   float uLightIntensity[16]      radiance added = f * color * intensity / d^2 * max(N.L, 0)
-// Options (the values of the C enums in src/shading/lighting.h, already resolved):
+// Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
+// compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
 //                     5 pdf (GPU Gems 3's level of p(w) without its +1)
 //   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
