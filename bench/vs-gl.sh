@@ -11,7 +11,9 @@
 #
 # Each program runs the scene at its own size and N. Stages compared:
 #   G-buffer   softlight raster         vs  softlight-gl gbuffer pass
-#   lighting   softlight shading        vs  softlight-gl lighting pass (shaders/lighting.frag)
+#   lighting   softlight shading        vs  softlight-gl lighting pass (shaders/lighting.frag,
+#              compiled for the scene's options and features: docs/gl.md "One program per scene";
+#              SL_GL_GENERAL=1 in the environment times the general shader instead)
 #   frame      raster + shading + tone map  vs  gbuffer + lighting (GL's tone map is not timed
 #              separately by softlight-gl; it is left out, which favours GL)
 # Printed per scene: the median over rounds of each program's per-run medians, and the median of

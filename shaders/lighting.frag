@@ -68,7 +68,8 @@
 //   vec3  uLightPosition[16]       world space
 //   vec3  uLightColor[16]          linear RGB
 //   float uLightIntensity[16]      radiance added = f * color * intensity / d^2 * max(N.L, 0)
-// Options (the values of the C enums in src/shading/lighting.h, already resolved):
+// Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
+// compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
 //                     5 pdf (GPU Gems 3's level of p(w) without its +1)
 //   int uDistortion   1 = include the lat-long distortion d(theta) in the lod, 0 = not
@@ -98,7 +99,11 @@ uniform sampler2D uKd;
 uniform sampler2D uKsAlpha;
 uniform sampler2D uDepth;
 uniform sampler2D uExtra; // .r occlusion, .gba emission: only when uHasExtra (src/raster/gbuffer.h)
+#ifdef SL_SPECIALIZED
+const int uHasExtra = SL_HAS_EXTRA;
+#else
 uniform int uHasExtra;
+#endif
 
 uniform sampler2D uEnv;
 uniform float uEnvMaxLod;
@@ -107,14 +112,22 @@ uniform float uSinThetaMin;
 uniform mat3 uEnvRotation;
 uniform float uEnvIntensity;
 uniform sampler2D uEnvResidual;
+#ifdef SL_SPECIALIZED
+const int uEnvLayout = SL_ENV_LAYOUT;
+#else
 uniform int uEnvLayout;
+#endif
 
 const int MAX_ENV_LIGHTS = 64;
 uniform int uEnvLightCount;
 uniform vec4 uEnvLightDir[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
 
+#ifdef SL_SPECIALIZED
+const int uIrradianceMethod = SL_IRRADIANCE_METHOD;
+#else
 uniform int uIrradianceMethod;
+#endif
 uniform vec3 uSH[9];
 uniform sampler2D uIrradianceMap;
 
@@ -138,6 +151,26 @@ uniform sampler2D uSplitSumGGX;
 uniform sampler2D uSplitSumLut;
 uniform float uSplitSumMaxLod;
 
+uniform uint uFrame;
+
+// ---- Specialization (src/gl/lighting_pass.c) ----
+// softlight-gl compiles this file once per combination of the options and scene features it
+// uses, with SL_SPECIALIZED and the SL_* values below #defined after the #version line: the
+// options become constants, so the compiler drops every branch the scene cannot take. llvmpipe
+// runs fragments as SIMD lanes under execution masks and pays for the code of a branch no lane
+// takes; the C pass models only what a scene needs, and the GL twin it is measured against must
+// too (docs/gl.md "One program per scene"). Without SL_SPECIALIZED this is the general shader
+// (what src/shading/lighting.c ports), every option a uniform.
+#ifdef SL_SPECIALIZED
+const int uLodRule = SL_LOD_RULE;
+const int uDistortion = SL_DISTORTION;
+const int uGTerm = SL_GTERM;
+const int uEstimator = SL_ESTIMATOR;
+const int uDiffuse = SL_DIFFUSE;
+const int uSpecular = SL_SPECULAR;
+const int uPointLights = SL_POINT_LIGHTS; // 0 also when the scene has no point light
+const int uRotate = SL_ROTATE;
+#else
 uniform int uLodRule;
 uniform int uDistortion;
 uniform int uGTerm;
@@ -146,7 +179,11 @@ uniform int uDiffuse;
 uniform int uSpecular;
 uniform int uPointLights;
 uniform int uRotate;
-uniform uint uFrame;
+// The scene's features: which microfacet sets its G-buffer holds, whether it has env lights.
+#define SL_PHONG 1
+#define SL_GGX 1
+#define SL_ENV_LIGHTS 1
+#endif
 
 layout(location = 0) out vec4 fragColor;
 
@@ -251,15 +288,22 @@ float sl_ggx_G(float NdotL, float NdotV, float a2)
     return 2.0 / (gv + gl);
 }
 
+// The pixel's microfacet set: GGX for a negative lobe parameter. A program specialized for a
+// scene with one set only answers without looking (SL_PHONG, SL_GGX).
+bool sl_lobe_is_ggx(float alpha)
+{
+    return SL_PHONG == 0 || (SL_GGX != 0 && alpha < 0.0);
+}
+
 // D and G of the pixel's set, by the sign of its lobe parameter (uGTerm is the Phong set's).
 float sl_lobe_D(float NdotH, float alpha)
 {
-    return alpha < 0.0 ? sl_ggx_D(NdotH, sl_ggx_a2(alpha)) : sl_brdf_D(NdotH, alpha);
+    return sl_lobe_is_ggx(alpha) ? sl_ggx_D(NdotH, sl_ggx_a2(alpha)) : sl_brdf_D(NdotH, alpha);
 }
 
 float sl_lobe_G(float LdotH, float NdotL, float NdotV, float alpha, int gterm)
 {
-    return alpha < 0.0 ? sl_ggx_G(NdotL, NdotV, sl_ggx_a2(alpha)) : sl_brdf_G(LdotH, gterm);
+    return sl_lobe_is_ggx(alpha) ? sl_ggx_G(NdotL, NdotV, sl_ggx_a2(alpha)) : sl_brdf_G(LdotH, gterm);
 }
 
 // GGX importance sampling: cos(theta) of a direction drawn with density D(c) c about the axis,
@@ -312,7 +356,7 @@ vec2 pixel_rotation(ivec2 pixel)
 // structure with its own lobe: cos(theta) = ggx_cos_theta, density D(w.R) (w.R) about R.
 vec3 skewed_sample(vec2 xi, float alpha)
 {
-    float c = alpha < 0.0 ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 1.0));
+    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 1.0));
     vec2 uv = vec2(xi.x, acos(clamp(c, -1.0, 1.0)) / PI);
     return sl_uv_to_dir(uv);
 }
@@ -322,7 +366,7 @@ vec3 skewed_sample(vec2 xi, float alpha)
 // underflow at large alpha as pow(w.R, alpha) does. GGX: D(w.R) (w.R), D from xi2 exactly.
 float sample_pdf(vec2 xi, float alpha)
 {
-    if (alpha < 0.0) {
+    if (sl_lobe_is_ggx(alpha)) {
         float a2 = sl_ggx_a2(alpha);
         return ggx_D_of_xi(xi.y, a2) * ggx_cos_theta(xi.y, a2);
     }
@@ -546,7 +590,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 // GGX (alpha < 0): c = ggx_cos_theta, which is GGX's D(H) (N.H) exactly.
 vec3 microfacet_sample(vec2 xi, float alpha)
 {
-    float c = alpha < 0.0 ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 2.0));
+    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : pow(xi.y, 1.0 / (alpha + 2.0));
     vec2 uv = vec2(xi.x, acos(clamp(c, -1.0, 1.0)) / PI);
     return sl_uv_to_dir(uv);
 }
@@ -555,7 +599,7 @@ vec3 microfacet_sample(vec2 xi, float alpha)
 // xi form does not underflow at large alpha as pow(N.H, alpha) does. GGX: ggx_D_of_xi.
 float microfacet_D(vec2 xi, float alpha)
 {
-    if (alpha < 0.0)
+    if (sl_lobe_is_ggx(alpha))
         return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
     return (alpha + 2.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 2.0));
 }
@@ -615,7 +659,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 // equal-peak one (2 / (alpha + 2))^(1/4) (src/shading/splitsum_lut.h)
 float splitsum_width(float alpha)
 {
-    return alpha < 0.0 ? -1.0 - alpha : sqrt(sqrt(2.0 / (alpha + 2.0)));
+    return sl_lobe_is_ggx(alpha) ? -1.0 - alpha : sqrt(sqrt(2.0 / (alpha + 2.0)));
 }
 
 // The table at the texel centres of its set: N.V = i / (S - 1) is column i, r = j / (S - 1) row
@@ -637,8 +681,8 @@ vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
     float r = splitsum_width(alpha);
     float lod = r * uSplitSumMaxLod;
     vec2 uv = sl_dir_to_uv(R);
-    vec3 P = alpha < 0.0 ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
-    int set = alpha < 0.0 ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
+    int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
     vec2 ab = splitsum_lut(set, NdotV, r);
     return P * (Ks * ab.x + ab.y) * uEnvIntensity;
 }
@@ -727,7 +771,7 @@ void main()
                 color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
             else
                 color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-            if (uEnvLightCount > 0)
+            if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
                 color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
         }
         vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);

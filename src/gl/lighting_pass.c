@@ -11,7 +11,14 @@
  * so t = v as in the C textureLod, and glGenerateMipmap builds the chain (2x2 box averages for the
  * power-of-two maps softlight ships, the same as sl_env_build). An octahedral chain (--env-layout
  * oct, src/ibl/env_oct.c) goes up level by level as softlight built it (its filter weighs by solid
- * angle, which glGenerateMipmap does not), and the GLSL filters it with texelFetch. */
+ * angle, which glGenerateMipmap does not), and the GLSL filters it with texelFetch.
+ *
+ * One program per combination of options and scene features (lighting.frag "Specialization"),
+ * compiled the first time a draw asks for it: the C pass runs only the code a scene needs, and
+ * llvmpipe, which runs every branch some lane of a SIMD batch might take, must not pay for the
+ * rest either, or the comparison flatters softlight. $SL_GL_GENERAL (any value) compiles the file
+ * without defines instead: the general shader, every option a uniform (measurements, docs/gl.md). */
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -118,13 +125,95 @@ bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_
     return slgl_check("uploading the split-sum chains and table", err);
 }
 
+/* The key of the program for these uniforms on this G-buffer. */
+static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u)
+{
+    slgl_lighting_key k;
+    memset(&k, 0, sizeof k);
+    k.lod_rule = u->uLodRule;
+    k.distortion = u->uDistortion;
+    k.gterm = u->uGTerm;
+    k.estimator = u->uEstimator;
+    k.diffuse = u->uDiffuse;
+    k.specular = u->uSpecular;
+    k.rotate = u->uRotate;
+    k.env_layout = u->uEnvLayout;
+    k.irradiance_method = u->uIrradianceMethod;
+    k.point_lights = u->uPointLights != 0 && u->uLightCount > 0;
+    k.has_extra = g->extra != 0;
+    k.env_lights = u->uEnvLightCount > 0;
+    k.phong = l->phong;
+    k.ggx = l->ggx;
+    return k;
+}
+
+/* Compile lighting.frag for `k` (or the general shader) and bind its uniform block. */
+static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GLuint *program, sl_error *err)
+{
+    char defines[600];
+    snprintf(defines, sizeof defines,
+             "#define SL_SPECIALIZED 1\n#define SL_LOD_RULE %d\n#define SL_DISTORTION %d\n#define SL_GTERM %d\n"
+             "#define SL_ESTIMATOR %d\n#define SL_DIFFUSE %d\n#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
+             "#define SL_ENV_LAYOUT %d\n#define SL_IRRADIANCE_METHOD %d\n#define SL_POINT_LIGHTS %d\n"
+             "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d",
+             k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
+             k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx);
+    if (!slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag",
+                                   l->general ? NULL : defines, program, err))
+        return false;
+    /* The specification's recipe: bind the buffer to a binding point, then the block to it. */
+    GLuint block = glGetUniformBlockIndex(*program, "HammersleyBlock");
+    GLint block_size = 0;
+    if (block != GL_INVALID_INDEX)
+        glGetActiveUniformBlockiv(*program, block, GL_UNIFORM_BLOCK_DATA_SIZE, &block_size);
+    /* a program without samples (split sum, or no specular term) may have no block at all */
+    if (block_size > (GLint)sizeof(sl_hammersley_block)) {
+        glDeleteProgram(*program);
+        *program = 0;
+        return sl_fail(err, SL_ERR_GL, "lighting.frag: HammersleyBlock is %d bytes, the C block %zu", block_size,
+                       sizeof(sl_hammersley_block));
+    }
+    if (block != GL_INVALID_INDEX)
+        glUniformBlockBinding(*program, block, HAMMERSLEY_BINDING);
+    return slgl_check("building a lighting program", err);
+}
+
+/* The program for `k`: one already built, or a new one in the next slot (the oldest goes). */
+static bool program_for(slgl_lighting *l, const slgl_lighting_key *k, GLuint *program, sl_error *err)
+{
+    for (int i = 0; i < l->program_count; i++)
+        if (l->general || !memcmp(&l->keys[i], k, sizeof *k)) {
+            *program = l->programs[i];
+            return true;
+        }
+    int slot = l->program_next;
+    if (l->programs[slot])
+        glDeleteProgram(l->programs[slot]);
+    l->programs[slot] = 0;
+    if (!build_program(l, k, &l->programs[slot], err))
+        return false;
+    l->keys[slot] = *k;
+    l->program_next = (slot + 1) % SLGL_LIGHTING_PROGRAMS;
+    if (l->program_count < SLGL_LIGHTING_PROGRAMS)
+        l->program_count++;
+    *program = l->programs[slot];
+    return true;
+}
+
+void slgl_lighting_set_lobes(slgl_lighting *l, bool phong, bool ggx)
+{
+    l->phong = phong || !ggx; /* a program for no set at all would be GGX's (lighting.frag sl_lobe_is_ggx) */
+    l->ggx = ggx;
+}
+
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err)
 {
     memset(l, 0, sizeof *l);
     l->width = width;
     l->height = height;
-    if (!slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag", &l->program, err))
-        return false;
+    l->phong = l->ggx = true;
+    const char *general = getenv("SL_GL_GENERAL");
+    l->general = general != NULL && general[0] != '\0';
     glGenVertexArrays(1, &l->vao); /* core profile draws need a bound VAO, even an empty one */
     glGenTextures(1, &l->color);
     glBindTexture(GL_TEXTURE_2D, l->color);
@@ -140,20 +229,6 @@ bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err
         return sl_fail(err, SL_ERR_GL, "lighting framebuffer incomplete (0x%04x)", (unsigned)status);
     }
     glGenBuffers(1, &l->ubo);
-    /* The specification's recipe: bind the buffer to a binding point, then the block to it. */
-    GLuint block = glGetUniformBlockIndex(l->program, "HammersleyBlock");
-    if (block == GL_INVALID_INDEX) {
-        slgl_lighting_destroy(l);
-        return sl_fail(err, SL_ERR_GL, "lighting.frag: no uniform block HammersleyBlock");
-    }
-    GLint block_size = 0;
-    glGetActiveUniformBlockiv(l->program, block, GL_UNIFORM_BLOCK_DATA_SIZE, &block_size);
-    if (block_size > (GLint)sizeof(sl_hammersley_block)) {
-        slgl_lighting_destroy(l);
-        return sl_fail(err, SL_ERR_GL, "lighting.frag: HammersleyBlock is %d bytes, the C block %zu", block_size,
-                       sizeof(sl_hammersley_block));
-    }
-    glUniformBlockBinding(l->program, block, HAMMERSLEY_BINDING);
     return slgl_check("creating the lighting pass", err);
 }
 
@@ -168,8 +243,9 @@ void slgl_lighting_destroy(slgl_lighting *l)
         glDeleteFramebuffers(1, &l->fbo);
     if (l->vao)
         glDeleteVertexArrays(1, &l->vao);
-    if (l->program)
-        glDeleteProgram(l->program);
+    for (int i = 0; i < SLGL_LIGHTING_PROGRAMS; i++)
+        if (l->programs[i])
+            glDeleteProgram(l->programs[i]);
     memset(l, 0, sizeof *l);
 }
 
@@ -206,9 +282,10 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
 static GLint loc(GLuint program, const char *name) { return glGetUniformLocation(program, name); }
 
 /* Copy sl_lighting_uniforms into the program, field by field, name by name. */
-static void set_uniforms(const slgl_lighting *l, const sl_lighting_uniforms *u)
+static void set_uniforms(GLuint p, const sl_lighting_uniforms *u)
 {
-    GLuint p = l->program;
+    /* a name the program's specialization made a constant, or left unused, has location -1,
+     * which glUniform ignores */
     glUniform1i(loc(p, "uPosition"), UNIT_POSITION);
     glUniform1i(loc(p, "uNormal"), UNIT_NORMAL);
     glUniform1i(loc(p, "uKd"), UNIT_KD);
@@ -283,8 +360,12 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
                        (int)u->uSplitSumMaxLod + 1);
     GLuint units[UNIT_COUNT] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map,
                                 residual, g->extra, l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
-    glUseProgram(l->program);
-    glUniform1i(loc(l->program, "uHasExtra"), g->extra != 0);
+    slgl_lighting_key key = program_key(l, g, u);
+    GLuint program;
+    if (!program_for(l, &key, &program, err))
+        return false;
+    glUseProgram(program);
+    glUniform1i(loc(program, "uHasExtra"), g->extra != 0);
     for (int i = 0; i < UNIT_COUNT; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);
@@ -299,8 +380,7 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
-    glUseProgram(l->program);
-    set_uniforms(l, u);
+    set_uniforms(program, u);
     glBindVertexArray(l->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);

@@ -91,6 +91,29 @@ static bool add_outputs(const gl_outputs *o, const frame *f, const sl_image *rad
     return !o->pfm || sl_output_set_image(out, o->pfm, sl_image_encode_pfm, radiance, err);
 }
 
+/* Which microfacet sets the lit pixels use, for the lighting program's specialization: those of
+ * the drawn objects' materials, or, with --gbuffer, of the covered texels (alpha <= -1 is GGX,
+ * src/raster/gbuffer.h; lighting.frag's lobe_param keeps that sign). */
+static void lobes_used(const sl_scene *scene, const sl_gbuffer *files, bool *phong, bool *ggx)
+{
+    *phong = *ggx = false;
+    if (files) {
+        size_t n = (size_t)files->width * (size_t)files->height;
+        for (size_t i = 0; i < n; i++)
+            if (sl_gbuffer_covered(&files->texels[i])) {
+                bool is_ggx = files->texels[i].alpha <= -1.0f;
+                *ggx |= is_ggx;
+                *phong |= !is_ggx;
+            }
+        return;
+    }
+    for (int i = 0; i < scene->object_count; i++) {
+        bool is_ggx = scene->materials[scene->objects[i].material].brdf == SL_BRDF_GGX;
+        *ggx |= is_ggx;
+        *phong |= !is_ggx;
+    }
+}
+
 /* The G-buffer and lighting passes, `runs` times each (1 normally), with per-stage medians.
  * `files` is softlight's G-buffer read from --gbuffer DIR (NULL without it). */
 static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_error *err)
@@ -124,6 +147,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         !slgl_lighting_set_splitsum(&l, sl_renderer_splitsum_chain(&f->renderer, false),
                                     sl_renderer_splitsum_chain(&f->renderer, true), f->renderer.splitsum_lut, err))
         goto done;
+    bool phong, ggx;
+    lobes_used(&f->scene, files, &phong, &ggx);
+    slgl_lighting_set_lobes(&l, phong, ggx);
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;

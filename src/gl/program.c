@@ -3,7 +3,8 @@
  * The shaders are read from disk rather than embedded so that the GLSL that runs is exactly the file
  * a reader diffs against the C port. The directory is the source tree's shaders/ (SL_SHADER_DIR,
  * fixed at build time) unless $SL_SHADER_DIR names another. A compile or link failure carries the
- * driver's log (first lines) in the error, prefixed with the file name. */
+ * driver's log (first lines) in the error, prefixed with the file name. A fragment shader can be
+ * compiled with #defines (lighting.frag's per-scene programs, src/gl/lighting_pass.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -37,7 +38,9 @@ static bool compile(GLenum type, const char *label, const char *src, GLuint *sha
     return sl_fail(err, SL_ERR_GL, "%s: does not compile: %s", label, log);
 }
 
-static bool compile_file(GLenum type, const char *name, GLuint *shader, sl_error *err)
+/* `defines` (NULL: none) go after the file's first line, which GLSL requires to be #version; a
+ * #line directive puts the file's own line numbers back into the compiler's log. */
+static bool compile_file(GLenum type, const char *name, const char *defines, GLuint *shader, sl_error *err)
 {
     char path[1200];
     snprintf(path, sizeof path, "%s/%s", slgl_shader_dir(), name);
@@ -53,7 +56,27 @@ static bool compile_file(GLenum type, const char *name, GLuint *shader, sl_error
     memcpy(src, bytes, size);
     src[size] = '\0';
     free(bytes);
-    bool ok = compile(type, path, src, shader, err);
+    bool ok;
+    char *eol = strchr(src, '\n');
+    if (defines && (strncmp(src, "#version", 8) != 0 || !eol)) {
+        ok = sl_fail(err, SL_ERR_FORMAT, "%s: defines given, but the first line is not #version", path);
+    } else if (defines) {
+        const char *head = "\n#line 2\n";
+        size_t version = (size_t)(eol + 1 - src), nd = strlen(defines), nh = strlen(head);
+        char *full = malloc(size + nd + nh + 1);
+        if (!full) {
+            free(src);
+            return sl_fail(err, SL_ERR_MEMORY, "%s: no memory", path);
+        }
+        memcpy(full, src, version);
+        memcpy(full + version, defines, nd);
+        memcpy(full + version + nd, head, nh);
+        memcpy(full + version + nd + nh, src + version, size - version + 1);
+        ok = compile(type, path, full, shader, err);
+        free(full);
+    } else {
+        ok = compile(type, path, src, shader, err);
+    }
     free(src);
     return ok;
 }
@@ -84,23 +107,23 @@ bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuin
 {
     GLuint vert, frag;
     *program = 0;
-    if (!compile_file(GL_VERTEX_SHADER, vert_name, &vert, err))
+    if (!compile_file(GL_VERTEX_SHADER, vert_name, NULL, &vert, err))
         return false;
-    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, &frag, err)) {
+    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, NULL, &frag, err)) {
         glDeleteShader(vert);
         return false;
     }
     return link(vert, frag, frag_name, program, err);
 }
 
-bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name, GLuint *program,
-                               sl_error *err)
+bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name,
+                               const char *frag_defines, GLuint *program, sl_error *err)
 {
     GLuint vert, frag;
     *program = 0;
     if (!compile(GL_VERTEX_SHADER, vert_label, vert_src, &vert, err))
         return false;
-    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, &frag, err)) {
+    if (!compile_file(GL_FRAGMENT_SHADER, frag_name, frag_defines, &frag, err)) {
         glDeleteShader(vert);
         return false;
     }

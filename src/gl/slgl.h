@@ -54,9 +54,10 @@ bool slgl_check(const char *what, sl_error *err);
 /* Compile shaders/<vert> and shaders/<frag> (from SL_SHADER_DIR, or $SL_SHADER_DIR when set) into a
  * linked program; the compiler's log is in err on failure. */
 bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuint *program, sl_error *err);
-/* A program from a file fragment shader and a vertex shader given as source (the full-screen triangle). */
-bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name, GLuint *program,
-                               sl_error *err);
+/* A program from a file fragment shader and a vertex shader given as source (the full-screen triangle);
+ * frag_defines (NULL: none), "#define NAME VALUE" lines, are compiled after the file's #version. */
+bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name,
+                               const char *frag_defines, GLuint *program, sl_error *err);
 /* The directory shaders are read from. */
 const char *slgl_shader_dir(void);
 
@@ -111,9 +112,26 @@ bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err);
 bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err);
 
 /* ---- lighting_pass.c ---- */
+/* What one lighting program is compiled for (lighting.frag "Specialization"): the resolved options
+ * and the scene's features, each an SL_* #define of that program. */
+typedef struct {
+    int lod_rule, distortion, gterm, estimator, diffuse, specular, rotate, env_layout, irradiance_method;
+    int point_lights; /* uPointLights and at least one light */
+    int has_extra;    /* the G-buffer has the extra target */
+    int env_lights;   /* at least one env light */
+    int phong, ggx;   /* the microfacet sets the G-buffer holds (slgl_lighting_set_lobes) */
+} slgl_lighting_key;
+
+#define SLGL_LIGHTING_PROGRAMS 8 /* programs kept; the oldest goes when a ninth is asked for */
+
 typedef struct {
     int width, height;
-    GLuint program, vao, fbo;
+    slgl_lighting_key keys[SLGL_LIGHTING_PROGRAMS];
+    GLuint programs[SLGL_LIGHTING_PROGRAMS]; /* lighting.frag per key, built on first use */
+    int program_count, program_next;
+    bool phong, ggx;       /* the lobe sets to compile for; both until slgl_lighting_set_lobes */
+    bool general;          /* $SL_GL_GENERAL set: one unspecialized program (what the C port reads) */
+    GLuint vao, fbo;
     GLuint color;          /* RGBA32F radiance, a = 0 where the shader repaired a NaN/Inf */
     GLuint env;            /* level 0 + glGenerateMipmap */
     int env_levels;        /* GL's level count for that size */
@@ -137,7 +155,11 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
  * and the BRDF's table (src/shading/splitsum_lut.h); phong NULL: none (another estimator). */
 bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_env *ggx, const sl_splitsum_lut *lut,
                                 sl_error *err);
-/* Run lighting.frag over the G-buffer with softlight's uniforms. */
+/* The microfacet sets the lit pixels use (at least one): the programs compiled from now on leave
+ * the other set's code out. */
+void slgl_lighting_set_lobes(slgl_lighting *l, bool phong, bool ggx);
+/* Run lighting.frag over the G-buffer with softlight's uniforms, through the program specialized
+ * for them (compiled on first use). */
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);
 /* Read the radiance back into `radiance` (allocated when empty; row 0 = top); *repaired counts
  * the pixels the shader zeroed for being non-finite. */

@@ -79,7 +79,7 @@ static float ggx_D_of_xi(float xi2, float a2)
 /* GLSL: skewed_sample */
 static vec3 skewed_sample(vec2 xi, float alpha)
 {
-    float c = alpha < 0.0f ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 1.0f));
+    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 1.0f));
     vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
     return sl_uv_to_dir(uv);
 }
@@ -87,7 +87,7 @@ static vec3 skewed_sample(vec2 xi, float alpha)
 /* GLSL: sample_pdf */
 static float sample_pdf(vec2 xi, float alpha)
 {
-    if (alpha < 0.0f) {
+    if (sl_lobe_is_ggx(alpha)) {
         float a2 = sl_ggx_a2(alpha);
         return ggx_D_of_xi(xi.y, a2) * ggx_cos_theta(xi.y, a2);
     }
@@ -97,7 +97,7 @@ static float sample_pdf(vec2 xi, float alpha)
 /* GLSL: microfacet_sample */
 static vec3 microfacet_sample(vec2 xi, float alpha)
 {
-    float c = alpha < 0.0f ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 2.0f));
+    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 2.0f));
     vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
     return sl_uv_to_dir(uv);
 }
@@ -105,7 +105,7 @@ static vec3 microfacet_sample(vec2 xi, float alpha)
 /* GLSL: microfacet_D */
 static float microfacet_D(vec2 xi, float alpha)
 {
-    if (alpha < 0.0f)
+    if (sl_lobe_is_ggx(alpha))
         return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
     return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
 }
@@ -295,8 +295,8 @@ static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec
     float r = splitsum_width(alpha);
     float lod = r * u->uSplitSumMaxLod;
     vec2 uv = sl_dir_to_uv(R);
-    vec3 P = alpha < 0.0f ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
-    int set = alpha < 0.0f ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
+    int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
     vec2 ab = splitsum_lut(u, set, NdotV, r);
     vec3 spec = scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
     trace_splitsum(trace, N, V, R, r, lod, P, ab);
