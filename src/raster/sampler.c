@@ -214,8 +214,9 @@ static vec4 sample_plane(const sl_texture *t, const sl_sampler_state *st, vec2 u
 
 /* Level lv of the decoded plane filtered bilinearly at four lanes' uv, each lane with
  * level_as's and bilinear_as's operations in their order (so their bits): the texel-space
- * coordinates in a vector loop over the lanes, then each lane's four texels, 16-byte loads,
- * mixed a channel at a time. */
+ * coordinates of the four lanes first (an omp simd loop that GCC 12 still compiles to scalar
+ * code, -fopt-info-vec: "no vectype" for the vec2 reads, also with them copied to float arrays
+ * first), then each lane's four texels, 16-byte loads, mixed a channel at a time. */
 static inline __attribute__((always_inline)) void bilinear4_plane(const tex_level *lv, const vec2 uv[4],
                                                                    const sl_sampler_state *st, vec4 out[4])
 {
