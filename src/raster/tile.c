@@ -38,12 +38,16 @@
  * Clear (sl_draw.clear, first batch of a draw): the tile's texels are set to the clear
  * value just before the tile is drawn, and its depth plane starts at the clear depth
  * instead of being loaded (a tile nothing is drawn into stops after the clear: its
- * texels hold the clear depth already, so its depth plane is not written back). The clear is then done by the thread that owns the tile,
- * in parallel, and the fragment shader's writes find the lines in cache (a 64x64 tile
- * of 56-byte texels is 224 KB, inside L2): the target goes through memory once per
- * frame instead of twice (a separate clear pass, then the draw). Clearing only the
- * texels no fragment wrote, after the tile, measured no faster, and would break
- * shaders that read their texel (blending, counting). */
+ * texels hold the clear depth already, so its depth plane is not written back). The
+ * clear is then done by the thread that owns the tile, in parallel, and the fragment
+ * shader's writes find the lines in cache (a 64x64 tile of 56-byte texels is 224 KB,
+ * inside L2): the target goes through memory once per frame instead of twice (a
+ * separate clear pass, then the draw). Clearing only the texels no fragment wrote,
+ * after the tile, measured no faster, and would break shaders that read their texel
+ * (blending, counting). Drawing the tile in a per-thread buffer and writing it out
+ * with streaming stores (no read of the target's lines) measured no faster either:
+ * what the clear costs is the G-buffer's write to memory (docs/performance.md,
+ * "Textured G-buffer pass", fourth pass). */
 #include "rast_internal.h"
 
 #include <string.h>
