@@ -110,38 +110,55 @@ static inline __attribute__((always_inline)) vec4 level_as(sl_texture_format fmt
     return tex_decode(t, fmt, lv->texels + ((size_t)j * (size_t)lv->width + (size_t)i) * (size_t)tex_format_bytes(fmt));
 }
 
-/* A complete texture sampled at an (already biased and clamped) lambda: the min/mag choice and
- * the level selection of GL 4.6 section 8.14 (sl_texture_sample). `lv` is the chain read: the
- * stored levels (t->level, format fmt) or the decoded plane (t->plane, RGBA32F). */
-static inline __attribute__((always_inline)) vec4 sample_as(sl_texture_format fmt, const sl_texture *t,
-                                                             const tex_level *lv, const sl_sampler_state *st,
-                                                             vec2 uv, float lambda)
+/* The levels a sample at an (already biased and clamped) lambda reads: the min/mag choice and
+ * the level selection of GL 4.6 section 8.14 (sl_texture_sample), made once per sample (and once
+ * per quad by the four-lane form, whose lanes share lambda). Level `level`, and with two levels
+ * level + 1 mixed in by `frac`; each filtered bilinearly (`linear`) or nearest. */
+typedef struct {
+    int level, count;
+    float frac;
+    bool linear;
+} tex_pick;
+
+static inline __attribute__((always_inline)) tex_pick pick_levels(const sl_texture *t, const sl_sampler_state *st,
+                                                                   float lambda)
 {
     if (!(lambda > 0.0f)) /* magnified (c = 0 for every filter pair; NaN lands here too) */
-        return level_as(fmt, t, &lv[0], uv, st->mag_filter == SL_LINEAR, st);
+        return (tex_pick){0, 1, 0.0f, st->mag_filter == SL_LINEAR};
     int last = t->levels - 1;
     bool linear = st->min_filter == SL_LINEAR || st->min_filter == SL_LINEAR_MIPMAP_NEAREST ||
                   st->min_filter == SL_LINEAR_MIPMAP_LINEAR;
     switch (st->min_filter) {
     case SL_NEAREST:
     case SL_LINEAR:
-        return level_as(fmt, t, &lv[0], uv, linear, st);
+        return (tex_pick){0, 1, 0.0f, linear};
     case SL_NEAREST_MIPMAP_NEAREST:
-    case SL_LINEAR_MIPMAP_NEAREST: {
+    case SL_LINEAR_MIPMAP_NEAREST:
         /* the nearest level: round(lambda), halves to even as llvmpipe's iround (measured:
          * 0.5 -> 0, 1.5 -> 2, 2.5 -> 2); GL's ceil(lambda + 1/2) - 1 rounds them down */
-        int l = lambda >= (float)last ? last : (int)rintf(lambda);
-        return level_as(fmt, t, &lv[l], uv, linear, st);
-    }
+        return (tex_pick){lambda >= (float)last ? last : (int)rintf(lambda), 1, 0.0f, linear};
     case SL_NEAREST_MIPMAP_LINEAR:
     case SL_LINEAR_MIPMAP_LINEAR:
         break;
     }
     if (lambda >= (float)last)
-        return level_as(fmt, t, &lv[last], uv, linear, st);
+        return (tex_pick){last, 1, 0.0f, linear};
     float fl = floorf(lambda);
-    int l = (int)fl;
-    return mix4(level_as(fmt, t, &lv[l], uv, linear, st), level_as(fmt, t, &lv[l + 1], uv, linear, st), lambda - fl);
+    return (tex_pick){(int)fl, 2, lambda - fl, linear};
+}
+
+/* A complete texture sampled at an (already biased and clamped) lambda (sl_texture_sample). `lv`
+ * is the chain read: the stored levels (t->level, format fmt) or the decoded plane (t->plane,
+ * RGBA32F). */
+static inline __attribute__((always_inline)) vec4 sample_as(sl_texture_format fmt, const sl_texture *t,
+                                                             const tex_level *lv, const sl_sampler_state *st,
+                                                             vec2 uv, float lambda)
+{
+    tex_pick p = pick_levels(t, st, lambda);
+    vec4 v = level_as(fmt, t, &lv[p.level], uv, p.linear, st);
+    if (p.count == 1)
+        return v;
+    return mix4(v, level_as(fmt, t, &lv[p.level + 1], uv, p.linear, st), p.frac);
 }
 
 /* One instance of each per format, and the tables that pick them by t->format. */
@@ -194,10 +211,59 @@ static vec4 sample_plane(const sl_texture *t, const sl_sampler_state *st, vec2 u
 {
     return sample_as(SL_TEX_RGBA32F, t, t->plane, st, uv, lambda);
 }
+
+/* Level lv of the decoded plane filtered bilinearly at four lanes' uv, each lane with
+ * level_as's and bilinear_as's operations in their order (so their bits): the texel-space
+ * coordinates of the four lanes first (an omp simd loop that GCC 12 still compiles to scalar
+ * code, -fopt-info-vec: "no vectype" for the vec2 reads, also with them copied to float arrays
+ * first), then each lane's four texels, 16-byte loads, mixed a channel at a time. */
+static inline __attribute__((always_inline)) void bilinear4_plane(const tex_level *lv, const vec2 uv[4],
+                                                                   const sl_sampler_state *st, vec4 out[4])
+{
+    const float *texels = (const float *)(const void *)lv->texels;
+    const int w = lv->width, h = lv->height;
+    float a[4], b[4];
+    int i[4], j[4];
+#pragma omp simd
+    for (int l = 0; l < 4; l++) {
+        float x = safe_coord(uv[l].x * (float)w - 0.5f), y = safe_coord(uv[l].y * (float)h - 0.5f);
+        float fx = floorf(x), fy = floorf(y);
+        a[l] = x - fx;
+        b[l] = y - fy;
+        i[l] = (int)fx;
+        j[l] = (int)fy;
+    }
+    for (int l = 0; l < 4; l++) {
+        int i0, i1, j0, j1;
+        wrap_pair(i[l], w, st->wrap_s, &i0, &i1);
+        wrap_pair(j[l], h, st->wrap_t, &j0, &j1);
+        const float *r0 = texels + (size_t)j0 * (size_t)w * 4, *r1 = texels + (size_t)j1 * (size_t)w * 4;
+        const float *p00 = r0 + (size_t)i0 * 4, *p01 = r0 + (size_t)i1 * 4;
+        const float *p10 = r1 + (size_t)i0 * 4, *p11 = r1 + (size_t)i1 * 4;
+        float v[4];
+        for (int c = 0; c < 4; c++)
+            v[c] = mixf(mixf(p00[c], p01[c], a[l]), mixf(p10[c], p11[c], a[l]), b[l]);
+        out[l] = vec4(v[0], v[1], v[2], v[3]);
+    }
+}
+
+/* The quad form's sample from the plane: the levels picked once for the four lanes (they share
+ * lambda), each level filtered for all four at once; each lane's value is sample_plane's. */
 static void sample4_plane(const sl_texture *t, const sl_sampler_state *st, const vec2 uv[4], float lambda, vec4 out[4])
 {
+    tex_pick p = pick_levels(t, st, lambda);
+    if (!p.linear) {
+        for (int l = 0; l < 4; l++)
+            out[l] = sample_as(SL_TEX_RGBA32F, t, t->plane, st, uv[l], lambda);
+        return;
+    }
+    bilinear4_plane(&t->plane[p.level], uv, st, out);
+    if (p.count == 1)
+        return;
+    vec4 next[4];
+    bilinear4_plane(&t->plane[p.level + 1], uv, st, next);
     for (int l = 0; l < 4; l++)
-        out[l] = sample_as(SL_TEX_RGBA32F, t, t->plane, st, uv[l], lambda);
+        out[l] = mix4(out[l], next[l], p.frac);
 }
 
 vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)

@@ -37,12 +37,17 @@
  *
  * Clear (sl_draw.clear, first batch of a draw): the tile's texels are set to the clear
  * value just before the tile is drawn, and its depth plane starts at the clear depth
- * instead of being loaded. The clear is then done by the thread that owns the tile,
- * in parallel, and the fragment shader's writes find the lines in cache (a 64x64 tile
- * of 56-byte texels is 224 KB, inside L2): the target goes through memory once per
- * frame instead of twice (a separate clear pass, then the draw). Clearing only the
- * texels no fragment wrote, after the tile, measured no faster, and would break
- * shaders that read their texel (blending, counting). */
+ * instead of being loaded (a tile nothing is drawn into stops after the clear: its
+ * texels hold the clear depth already, so its depth plane is not written back). The
+ * clear is then done by the thread that owns the tile, in parallel, and the fragment
+ * shader's writes find the lines in cache (a 64x64 tile of 56-byte texels is 224 KB,
+ * inside L2): the target goes through memory once per frame instead of twice (a
+ * separate clear pass, then the draw). Clearing only the texels no fragment wrote,
+ * after the tile, measured no faster, and would break shaders that read their texel
+ * (blending, counting). Drawing the tile in a per-thread buffer and writing it out
+ * with streaming stores (no read of the target's lines) measured no faster either:
+ * what the clear costs is the G-buffer's write to memory (docs/performance.md,
+ * "Textured G-buffer pass", fourth pass). */
 #include "rast_internal.h"
 
 #include <string.h>
@@ -571,10 +576,10 @@ static void draw_tri_quads_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task)
 {
     const char *clear = d->clear_row;
-    bool any = clear != NULL;
+    bool any = false;
     for (int ci = 0; ci < chunk_count && !any; ci++)
         any = chunks[ci].bins[tile].count > 0;
-    if (!any)
+    if (!any && !clear)
         return;
 
     const sl_target *tg = d->target;
@@ -588,6 +593,8 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     if (clear)
         for (int y = py0; y <= py1; y++)
             memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)px0) * tsz, clear, (size_t)(px1 - px0 + 1) * tsz);
+    if (!any) /* cleared, nothing drawn: the clear texel holds the clear depth already */
+        return;
     if (depth && clear) {
         for (int y = py0; y <= py1; y++)
             for (int x = px0; x <= px1; x++)
