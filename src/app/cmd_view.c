@@ -288,6 +288,12 @@ int cmd_view(int argc, char **argv)
         return 2;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
+    /* SDL's software renderer draws into the window's own surface and presents it with
+     * SDL_UpdateWindowSurface (XShmPutImage under X11): no GL. Under Xvfb, where SDL's GL renderer
+     * runs on Mesa's software GL, it presented a 1280x720 frame in less time (docs/viewer.md
+     * "Presenting"). A user's SDL_RENDER_DRIVER still wins (SDL: the environment beats a hint set
+     * at normal priority), e.g. opengl on a machine with a GPU. */
+    SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
     SDL_StopTextInput();
 
     int status = 2;

@@ -196,6 +196,8 @@ static inline uint32_t code8(float v)
 
 void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch)
 {
+    /* rows over the threads: one thread took 1.9-3 ms at 1280x720, most of the upload */
+#pragma omp parallel for schedule(static)
     for (int y = 0; y < img->height; y++) {
         const float *src = sl_image_pixel(img, 0, y);
         uint32_t *dst = (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch);
