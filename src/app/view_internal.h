@@ -101,18 +101,16 @@ bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
 typedef struct {
     sl_lighting_task **tasks; /* one per thread, kept between jobs */
     int thread_count;
-    vec3 *rows;               /* thread_count rows of row_capacity pixels: shade_row's output */
-    int row_capacity;
     int next_row;             /* next image row (row 0 = top) */
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
 } view_shade_job;
 
-/* Start a job for freshly prepared uniforms and a G-buffer `width` pixels wide (threads <= 0:
- * OpenMP's default). `same_cost`: the last job's rows cost the same (the next frame of an
- * accumulation), so its measured row cost sizes the first slice; else it is measured again. */
-bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cost, sl_error *err);
+/* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default); rows are shaded
+ * straight into the output image. `same_cost`: the last job's rows cost the same (the next frame
+ * of an accumulation), so its measured row cost sizes the first slice; else it is measured again. */
+bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err);
 /* Shade rows until about `budget_s` seconds have passed (at least two rows a thread). `first_row`
  * gets the first row done by this call. True when every row of `out` is done. */
 bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
