@@ -11,6 +11,7 @@
  * for any thread count and slicing. */
 #include "view_internal.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 
@@ -56,7 +57,9 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
      * expensive slice. */
     const int least = 2 * job->thread_count; /* fewer rows would leave threads idle */
     int rows = least;
-    if (job->row_seconds > 0.0) {
+    if (isinf(budget_s)) { /* no budget (a whole stage at once): one parallel region, no slices */
+        rows = height - y0;
+    } else if (job->row_seconds > 0.0) {
         double fit = budget_s / job->row_seconds;
         rows = fit < 2.0 * job->last_rows ? (int)fit : 2 * job->last_rows;
     }
