@@ -184,9 +184,21 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
     }
 }
 
-/* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b). */
+/* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b): from the chain's
+ * pair rows when it has them (ibl.h sl_env.pairs: half the gathers, the same bits), else from
+ * its block. */
 static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block *b, float *fr, float *fg, float *fb)
 {
+    if (g->pairs) {
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 c = sl_pair_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
+            fr[i] = c.x;
+            fg[i] = c.y;
+            fb[i] = c.z;
+        }
+        return;
+    }
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         vec3 c = sl_env_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
