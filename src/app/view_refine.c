@@ -328,7 +328,7 @@ static bool render_stage(viewer *v, int stage, sl_error *err)
     if (!stage_begin(v, stage, err))
         return false;
     while (v->job_active)
-        if (!stage_continue(v, INFINITY, err))
+        if (!stage_continue(v, (double)INFINITY, err))
             return false;
     return true;
 }
