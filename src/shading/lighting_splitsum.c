@@ -171,16 +171,22 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
         ty[i] = set * (float)S + clamp_index(r, 1.0f) * (float)(S - 1);
     }
     /* Bilinear within the set: the coordinates are in range, so no wrap, and the last row and
-     * column of a set clamp to themselves. */
+     * column of a set clamp to themselves. A texel's A and B are adjacent floats, read as one
+     * 64-bit value (texture_lod.h sl_load_float2: 4 gathered elements a pixel instead of 8, the
+     * same bits); the offsets are float indices from the table's base (the form GCC gathers). */
+    const float *L = &lut[0].x;
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         int x0 = (int)tx[i], y0 = (int)ty[i];
         float fx = tx[i] - (float)x0, fy = ty[i] - (float)y0;
         int x1 = x0 + (fx > 0.0f ? 1 : 0), y1 = y0 + (fy > 0.0f ? 1 : 0);
-        const vec3 *t00 = lut + (y0 * S + x0), *t10 = lut + (y0 * S + x1);
-        const vec3 *t01 = lut + (y1 * S + x0), *t11 = lut + (y1 * S + x1);
-        b->A[i] = mixf(mixf(t00->x, t10->x, fx), mixf(t01->x, t11->x, fx), fy);
-        b->B[i] = mixf(mixf(t00->y, t10->y, fx), mixf(t01->y, t11->y, fx), fy);
+        float a00, b00, a10, b10, a01, b01, a11, b11;
+        sl_load_float2(L + 3 * (y0 * S + x0), &a00, &b00);
+        sl_load_float2(L + 3 * (y0 * S + x1), &a10, &b10);
+        sl_load_float2(L + 3 * (y1 * S + x0), &a01, &b01);
+        sl_load_float2(L + 3 * (y1 * S + x1), &a11, &b11);
+        b->A[i] = mixf(mixf(a00, a10, fx), mixf(a01, a11, fx), fy);
+        b->B[i] = mixf(mixf(b00, b10, fx), mixf(b01, b11, fx), fy);
     }
 }
 
