@@ -1,7 +1,7 @@
 /* lighting_pass.c - runs the lighting shader over a G-buffer: the dispatch between the port
  * (lighting.c, options.plain), the batched path (lighting_batched.c) and the split-sum fast
- * path (lighting_splitsum.c, for --estimator splitsum), the pass (OpenMP over
- * tiles, one task per thread), and the accumulation of rotated frames. */
+ * path (lighting_splitsum.c, for --estimator splitsum), the pass (OpenMP over bands of whole
+ * rows, one task per thread), and the accumulation of rotated frames. */
 
 #include <omp.h>
 #include <stdlib.h>
