@@ -288,6 +288,15 @@ int cmd_view(int argc, char **argv)
         return 2;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
+    /* SDL's software renderer draws into the window's own surface and presents it with
+     * SDL_UpdateWindowSurface; with framebuffer acceleration off that surface is shared memory
+     * put to the X server (XShmPutImage), no GL at all (else SDL backs it with a GL texture
+     * again). Under Xvfb, where GL is Mesa's software GL, this presents a 1280x720 frame several
+     * times faster (docs/viewer.md "Presenting"). A user's SDL_RENDER_DRIVER or
+     * SDL_FRAMEBUFFER_ACCELERATION still wins (SDL: the environment beats a hint set at normal
+     * priority), e.g. SDL_RENDER_DRIVER=opengl on a machine with a GPU. */
+    SDL_SetHint(SDL_HINT_RENDER_DRIVER, "software");
+    SDL_SetHint(SDL_HINT_FRAMEBUFFER_ACCELERATION, "0");
     SDL_StopTextInput();
 
     int status = 2;

@@ -6,6 +6,8 @@
  * (view_bench_record); the refinement and the window do not know it runs, except that a running
  * benchmark counts as interacting, so the camera never settles. */
 #if SL_HAVE_SDL2
+#include <SDL.h>
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -77,11 +79,13 @@ void view_bench_record(viewer *v, double now)
             size_t len = strlen(divs);
             snprintf(divs + len, sizeof divs - len, "%s1/%d: %d", len ? ", " : "", d, b->div_counts[d]);
         }
+    SDL_RendererInfo info = {0};
+    const char *presenter = SDL_GetRendererInfo(v->sdl, &info) == 0 && info.name ? info.name : "?";
     printf("softlight view: benchmark: %d moving frames in a %dx%d window (rendered %dx%d at the end; frames at "
            "%s), %s: frame median %.1f ms, p90 %.1f ms, worst %.1f ms (%.1f frames a second at the median); "
-           "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms\n",
+           "medians: raster %.1f, lighting %.1f, tone map %.1f, present %.1f ms (SDL renderer %s)\n",
            n, ow, oh, b->last_w, b->last_h, divs, lit, med, p90, worst, 1e3 / med, sl_median(b->raster_ms, n),
-           sl_median(b->shade_ms, n), sl_median(b->tonemap_ms, n), sl_median(b->present_ms, n));
+           sl_median(b->shade_ms, n), sl_median(b->tonemap_ms, n), sl_median(b->present_ms, n), presenter);
     fflush(stdout);
     v->quit = true;
 }

@@ -91,8 +91,9 @@ bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_imag
  * renderers and X servers take without converting), each code rounded like the PNG writer
  * (v * 255 + 0.5). `pitch` in bytes, a multiple of 4 (SDL's locked textures are). */
 void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch);
-/* Copy `src` into `dst`, (re)allocating it to src's size. */
-bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
+/* `dst` gets `src`'s pixels: swapped when both have the same size (src then holds dst's old
+ * pixels, a buffer of its size for the next tone map), else copied into dst (reallocated). */
+bool view_image_take(sl_image *dst, sl_image *src, sl_error *err);
 
 /* ---- view_shade.c ----
  * The lighting pass in slices of image rows, top first, so the viewer can handle input between
@@ -101,20 +102,19 @@ bool view_image_copy(sl_image *dst, const sl_image *src, sl_error *err);
 typedef struct {
     sl_lighting_task **tasks; /* one per thread, kept between jobs */
     int thread_count;
-    vec3 *rows;               /* thread_count rows of row_capacity pixels: shade_row's output */
-    int row_capacity;
     int next_row;             /* next image row (row 0 = top) */
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
 } view_shade_job;
 
-/* Start a job for freshly prepared uniforms and a G-buffer `width` pixels wide (threads <= 0:
- * OpenMP's default). `same_cost`: the last job's rows cost the same (the next frame of an
- * accumulation), so its measured row cost sizes the first slice; else it is measured again. */
-bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cost, sl_error *err);
-/* Shade rows until about `budget_s` seconds have passed (at least two rows a thread). `first_row`
- * gets the first row done by this call. True when every row of `out` is done. */
+/* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default); rows are shaded
+ * straight into the output image. `same_cost`: the last job's rows cost the same (the next frame
+ * of an accumulation), so its measured row cost sizes the first slice; else it is measured again. */
+bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err);
+/* Shade rows until about `budget_s` seconds have passed (at least two rows a thread; INFINITY:
+ * every row left, in one parallel region). `first_row` gets the first row done by this call.
+ * True when every row of `out` is done. */
 bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
                       double budget_s, int *first_row);
 void view_shade_free(view_shade_job *job);

@@ -171,10 +171,13 @@ static bool upload(viewer *v)
 void view_present(viewer *v)
 {
     double t0 = sl_now_seconds();
-    SDL_SetRenderDrawColor(v->sdl, 0, 0, 0, 255);
-    SDL_RenderClear(v->sdl);
-    if (upload(v))
+    /* the image covers the whole window: a clear only when there is none */
+    if (upload(v)) {
         SDL_RenderCopy(v->sdl, v->texture, NULL, NULL);
+    } else {
+        SDL_SetRenderDrawColor(v->sdl, 0, 0, 0, 255);
+        SDL_RenderClear(v->sdl);
+    }
     double now = sl_now_seconds();
     if (v->hud && v->show_hud && !v->show_help) {
         const char *lines[VIEW_HUD_MAX_LINES];

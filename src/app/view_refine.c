@@ -255,7 +255,7 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         }
         if (stage == VIEW_STAGE_ACCUMULATE && v->acc_count == 0)
             v->acc_ms = 0.0;
-        if (!view_shade_begin(&v->shade, v->r.desc.threads, w, stage == VIEW_STAGE_ACCUMULATE && v->acc_count > 0,
+        if (!view_shade_begin(&v->shade, v->r.desc.threads, stage == VIEW_STAGE_ACCUMULATE && v->acc_count > 0,
                               err))
             return false;
         v->job_active = true;
@@ -312,7 +312,7 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         v->acc_ms += v->shade_ms;
         v->shown_from = VIEW_SHOWN_MEAN;
     } else {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_copy(&v->shown, &v->r.display, err))
+        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
             return false;
         v->tonemap_ms = v->r.timings.tonemap_ms;
         v->shown_from = VIEW_SHOWN_RADIANCE;
@@ -328,7 +328,7 @@ static bool render_stage(viewer *v, int stage, sl_error *err)
     if (!stage_begin(v, stage, err))
         return false;
     while (v->job_active)
-        if (!stage_continue(v, 1e30, err))
+        if (!stage_continue(v, (double)INFINITY, err))
             return false;
     return true;
 }
@@ -406,7 +406,7 @@ bool view_refine_retonemap(viewer *v, sl_error *err)
 {
     v->retonemap = false;
     if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_RADIANCE) {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_copy(&v->shown, &v->r.display, err))
+        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
             return false;
         v->tonemap_ms = v->r.timings.tonemap_ms;
         v->texture_stale = true;

@@ -11,12 +11,15 @@
  * for any thread count and slicing. */
 #include "view_internal.h"
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 
 #include "core/timer.h"
 
-bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cost, sl_error *err)
+_Static_assert(sizeof(vec3) == 3 * sizeof(float), "an image row of 3 floats a pixel is a row of vec3");
+
+bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err)
 {
     int n = threads > 0 ? threads : omp_get_max_threads();
     if (job->tasks && job->thread_count != n)
@@ -31,14 +34,6 @@ bool view_shade_begin(view_shade_job *job, int threads, int width, bool same_cos
                 view_shade_free(job);
                 return false;
             }
-    }
-    if (width > job->row_capacity) {
-        /* One row of radiance per thread: shade_row writes vec3s, the image holds floats. */
-        vec3 *rows = realloc(job->rows, (size_t)n * (size_t)width * sizeof *rows);
-        if (!rows)
-            return sl_fail(err, SL_ERR_MEMORY, "view: out of memory for %d rows of %d pixels", n, width);
-        job->rows = rows;
-        job->row_capacity = width;
     }
     /* The uniforms were re-initialised in place: cached sample tables are stale. */
     for (int i = 0; i < n; i++)
@@ -62,7 +57,9 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
      * expensive slice. */
     const int least = 2 * job->thread_count; /* fewer rows would leave threads idle */
     int rows = least;
-    if (job->row_seconds > 0.0) {
+    if (isinf(budget_s)) { /* no budget (a whole stage at once): one parallel region, no slices */
+        rows = height - y0;
+    } else if (job->row_seconds > 0.0) {
         double fit = budget_s / job->row_seconds;
         rows = fit < 2.0 * job->last_rows ? (int)fit : 2 * job->last_rows;
     }
@@ -76,16 +73,12 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     {
         int t = omp_get_thread_num();
         sl_lighting_task *task = job->tasks[t];
-        vec3 *c = job->rows + (size_t)t * (size_t)job->row_capacity;
 #pragma omp for schedule(dynamic)
         for (int y = y0; y < y1; y++) {
-            float *row = sl_image_pixel(out, 0, y);
-            sl_lighting_shade_row(u, gb, 0, height - 1 - y, width, task, c); /* G-buffer row 0 = bottom */
-            for (int x = 0; x < width; x++) {
-                row[3 * x + 0] = c[x].x;
-                row[3 * x + 1] = c[x].y;
-                row[3 * x + 2] = c[x].z;
-            }
+            /* the image's row is the row's vec3s (three floats each): shaded in place, as the
+             * library's pass does */
+            vec3 *row = (vec3 *)(void *)sl_image_pixel(out, 0, y);
+            sl_lighting_shade_row(u, gb, 0, height - 1 - y, width, task, row); /* G-buffer row 0 = bottom */
         }
     }
     double dt = sl_now_seconds() - t0;
@@ -103,9 +96,6 @@ void view_shade_free(view_shade_job *job)
     for (int i = 0; job->tasks && i < job->thread_count; i++)
         sl_lighting_task_destroy(job->tasks[i]);
     free(job->tasks);
-    free(job->rows);
     job->tasks = NULL;
-    job->rows = NULL;
-    job->row_capacity = 0;
     job->thread_count = 0;
 }

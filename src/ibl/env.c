@@ -174,7 +174,7 @@ static void *alloc_block(size_t bytes)
 
 /* sl_env.pairs (ibl.h): every level's rows with their first texel repeated at the end, or NULL
  * (too large, or no memory: the fetch then reads the block; nothing is lost but speed). */
-static float *build_pairs(const sl_env *env, size_t texels)
+float *ibl_env_build_pairs(const sl_env *env, size_t texels)
 {
     size_t rows = 0;
     for (int l = 0; l < env->level_count; l++)
@@ -265,7 +265,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
     }
     env->level_count = count;
     env->block = block;
-    env->pairs = build_pairs(env, total);
+    env->pairs = ibl_env_build_pairs(env, total);
     return true;
 }
 

@@ -42,12 +42,13 @@ typedef struct {
                     texels right after the previous level's, so a texel of any level has one
                     index from here (the lighting shader's vectorized fetch). NULL: each level
                     is its own allocation. sl_env_free handles both. */
-    float *pairs; /* sl_env_build, lat-long chains of at most SL_ENV_PAIRS_MAX_TEXELS texels: the
-                     chain again, level after level, each row of w texels followed by a copy of
-                     its first (w + 1 texels of 3 floats), so the two texels a REPEAT bilinear
-                     reads in a row are always 6 consecutive floats (texture_lod.h
-                     sl_pair_bilinear: three 64-bit reads instead of six 32-bit ones). NULL for
-                     larger chains and other layouts, which the fetch reads from `block`. */
+    float *pairs; /* sl_env_build and sl_env_prefilter, lat-long chains of at most
+                     SL_ENV_PAIRS_MAX_TEXELS texels: the chain again, level after level, each
+                     row of w texels followed by a copy of its first (w + 1 texels of 3
+                     floats), so the two texels a REPEAT bilinear reads in a row are always
+                     6 consecutive floats (texture_lod.h sl_pair_bilinear: three 64-bit reads
+                     instead of six 32-bit ones). NULL for larger chains and other layouts,
+                     which the fetch reads from `block`. */
 } sl_env;
 /* 2^22 texels: a 2048 x 1024 map's chain (2.8 Mi texels, 34 MB more); a 4096 x 2048 one gets none. */
 #define SL_ENV_PAIRS_MAX_TEXELS ((size_t)1 << 22)

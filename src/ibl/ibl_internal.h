@@ -63,4 +63,8 @@ bool ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err);
  * of its even-size fast path (the same bits; tests/unit/test_ibl.c checks that). */
 bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err);
 
+/* sl_env.pairs for a lat-long chain of `texels` texels in all (env.c; the prefiltered chains
+ * have them too): NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
+float *ibl_env_build_pairs(const sl_env *env, size_t texels);
+
 #endif

@@ -25,6 +25,7 @@
 #include <string.h>
 
 #include "ibl.h"
+#include "ibl_internal.h"
 #include "texture_lod.h"
 
 #define PI_F 3.14159265358979f
@@ -179,5 +180,8 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     }
     free(ls);
     free(scratch);
+    /* the pair rows (ibl.h), as sl_env_build has them: the split-sum fetch's bilinear rows in
+     * 64-bit reads (lighting_splitsum.c); NULL costs only speed */
+    out->pairs = ibl_env_build_pairs(out, total);
     return true;
 }

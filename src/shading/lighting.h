@@ -199,7 +199,7 @@ void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
                            sl_lighting_task *task, vec3 *out);
 
 /* The lighting pass: every texel of gb into `out` (allocated when out->data is NULL, else it
- * must be gb's size with 3 channels), row 0 = top. OpenMP over 32x32 tiles, dynamic schedule;
+ * must be gb's size with 3 channels), row 0 = top. OpenMP over bands of whole rows, dynamic schedule;
  * bitwise identical for any thread count. threads <= 0: OpenMP's default. stats may be NULL. */
 bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
                       sl_image *out, int threads, sl_error *err);

@@ -15,7 +15,7 @@
 #include "lighting.h"
 #include "lighting_trace.h"
 
-/* The batched path shades a row of up to SPAN pixels at a time; the pass's tiles are SPAN wide. */
+/* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
 enum { SPAN = 32 };
 
 /* GLSL constants that more than one file needs (lighting.frag has them with these values). */

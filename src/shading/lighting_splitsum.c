@@ -19,8 +19,9 @@
  *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
- *   (7) the background of empty pixels (shade_background_span, the batched path's); then
- *       per pixel the trace hooks and the NaN guard.
+ *   (7) the background of empty pixels (shade_background_span, the batched path's);
+ *   (8) each pixel's colour and the NaN guard: vector loops without a trace (finish_stage),
+ *       else per pixel with the trace hooks.
  * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
  * vectorizes it alone (inlined into one large caller, some loops stay scalar).
  * The same operations run whether a loop is vectorized or not (only +, -, *, /, sqrt and
@@ -170,22 +171,40 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
         ty[i] = set * (float)S + clamp_index(r, 1.0f) * (float)(S - 1);
     }
     /* Bilinear within the set: the coordinates are in range, so no wrap, and the last row and
-     * column of a set clamp to themselves. */
+     * column of a set clamp to themselves. A texel's A and B are adjacent floats, read as one
+     * 64-bit value (texture_lod.h sl_load_float2: 4 gathered elements a pixel instead of 8, the
+     * same bits); the offsets are float indices from the table's base (the form GCC gathers). */
+    const float *L = &lut[0].x;
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         int x0 = (int)tx[i], y0 = (int)ty[i];
         float fx = tx[i] - (float)x0, fy = ty[i] - (float)y0;
         int x1 = x0 + (fx > 0.0f ? 1 : 0), y1 = y0 + (fy > 0.0f ? 1 : 0);
-        const vec3 *t00 = lut + (y0 * S + x0), *t10 = lut + (y0 * S + x1);
-        const vec3 *t01 = lut + (y1 * S + x0), *t11 = lut + (y1 * S + x1);
-        b->A[i] = mixf(mixf(t00->x, t10->x, fx), mixf(t01->x, t11->x, fx), fy);
-        b->B[i] = mixf(mixf(t00->y, t10->y, fx), mixf(t01->y, t11->y, fx), fy);
+        float a00, b00, a10, b10, a01, b01, a11, b11;
+        sl_load_float2(L + 3 * (y0 * S + x0), &a00, &b00);
+        sl_load_float2(L + 3 * (y0 * S + x1), &a10, &b10);
+        sl_load_float2(L + 3 * (y1 * S + x0), &a01, &b01);
+        sl_load_float2(L + 3 * (y1 * S + x1), &a11, &b11);
+        b->A[i] = mixf(mixf(a00, a10, fx), mixf(a01, a11, fx), fy);
+        b->B[i] = mixf(mixf(b00, b10, fx), mixf(b01, b11, fx), fy);
     }
 }
 
-/* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b). */
+/* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b): from the chain's
+ * pair rows when it has them (ibl.h sl_env.pairs: half the gathers, the same bits), else from
+ * its block. */
 static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block *b, float *fr, float *fg, float *fb)
 {
+    if (g->pairs) {
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 c = sl_pair_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
+            fr[i] = c.x;
+            fg[i] = c.y;
+            fb[i] = c.z;
+        }
+        return;
+    }
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         vec3 c = sl_env_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
@@ -393,6 +412,65 @@ static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
             point_light_stage(u, j, count, b, trace);
 }
 
+/* x - x is 0 exactly for a finite x, NaN for NaN and Inf (isfinite does not vectorize). */
+static inline bool finite3(float r, float g, float b) { return (r - r == 0.0f) & (g - g == 0.0f) & (b - b == 0.0f); }
+
+/* (8) without a trace (the pass, the viewer): each pixel's colour, the background or the
+ * surface's sum plus its emission, through shade_finish's NaN guard, in vector loops over the
+ * span (per pixel calls were 10% of the stage). The same operations as the traced loop below,
+ * so the same bits. The counters as shade_finish, trace_background and the bent normals. */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void finish_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, int empty,
+                         sl_lighting_task *task, splitsum_block *b, vec3 *out)
+{
+    float *cr = b->cr, *cg = b->cg, *cb = b->cb;
+    if (empty == count) { /* the surface stages did not run */
+        cr = b->bgr;
+        cg = b->bgg;
+        cb = b->bgb;
+    } else {
+        if (u->uDiffuse == 0) { /* emission travels with the diffuse term: + 0, as the loop below */
+            memset(b->emr, 0, sizeof b->emr);
+            memset(b->emg, 0, sizeof b->emg);
+            memset(b->emb, 0, sizeof b->emb);
+        }
+        int bent = 0;
+        if (empty == 0) {
+#pragma omp simd reduction(+ : bent)
+            for (int i = 0; i < count; i++) {
+                cr[i] = cr[i] + b->emr[i];
+                cg[i] = cg[i] + b->emg[i];
+                cb[i] = cb[i] + b->emb[i];
+                bent += b->bent[i];
+            }
+        } else { /* mixed: the background arrays are filled too */
+#pragma omp simd reduction(+ : bent)
+            for (int i = 0; i < count; i++) {
+                bool covered = !(t[i].depth >= 1.0f);
+                cr[i] = select_f(covered, cr[i] + b->emr[i], b->bgr[i]);
+                cg[i] = select_f(covered, cg[i] + b->emg[i], b->bgg[i]);
+                cb[i] = select_f(covered, cb[i] + b->emb[i], b->bgb[i]);
+                bent += covered ? b->bent[i] : 0;
+            }
+        }
+        if (task)
+            task->stats.bent_normals += bent;
+    }
+    int nonfinite = 0;
+#pragma omp simd reduction(+ : nonfinite)
+    for (int i = 0; i < count; i++) {
+        bool ok = finite3(cr[i], cg[i], cb[i]);
+        out[i].x = select_f(ok, cr[i], 0.0f);
+        out[i].y = select_f(ok, cg[i], 0.0f);
+        out[i].z = select_f(ok, cb[i], 0.0f);
+        nonfinite += ok ? 0 : 1;
+    }
+    if (task) {
+        task->stats.nonfinite += nonfinite;
+        task->stats.background += empty;
+    }
+}
+
 void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                          sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
 {
@@ -406,6 +484,10 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
         shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
         surface_stages(u, gb, x0, y, count, b, trace);
+    if (!trace) {
+        finish_stage(u, t, count, empty, task, b, out);
+        return;
+    }
     for (int i = 0; i < count; i++) {
         const int x = x0 + i;
         vec3 color;
