@@ -213,15 +213,13 @@ int cmd_info(int argc, char **argv)
     printf("  fovy       %g degrees, near %g, far %g\n", (double)c->fovy_deg, (double)c->znear, (double)c->zfar);
 
     const sl_render_settings *s = &scene.settings;
-    /* what `render` with these options resolves (sl_renderer_init) */
-    if (!desc.width || !desc.height) {
-        desc.width = s->width;
-        desc.height = s->height;
-    }
-    if (!desc.irradiance_set)
-        desc.lighting.irradiance = scene.environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_SH9;
+    sl_render_desc_resolve(&desc, &scene); /* what `render` with these options uses */
     printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->width, s->height, s->samples,
            (double)s->exposure, (double)s->contrast);
+    sl_lighting_options modes = sl_lighting_options_resolve(&desc.lighting);
+    printf("  lighting   estimator %s, lod %s, g %s, env layout %s, irradiance %s (with these options)\n",
+           sl_estimator_name(modes.estimator), sl_lod_rule_name(modes.lod_rule), sl_gterm_name(modes.gterm),
+           sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance));
 
     /* Both images are read as `render` reads them (the same checks, the same memory budget). */
     int env_w = 0, env_h = 0, irr_w = 0, irr_h = 0;

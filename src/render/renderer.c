@@ -143,14 +143,8 @@ static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repa
     return ok;
 }
 
-bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err)
+void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene)
 {
-    memset(r, 0, sizeof *r);
-    r->scene = scene;
-    r->desc = *desc;
-    r->env_oct_built = -1;
-    r->splitsum_built = -1;
-    sl_render_desc *d = &r->desc;
     const sl_render_settings *s = &scene->settings;
     if (!d->width || !d->height) {
         d->width = s->width;
@@ -170,6 +164,26 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
         d->tonemap.contrast = s->contrast;
     if (!d->irradiance_map_width)
         d->irradiance_map_width = 64;
+    /* 0 is each mode's "default": the command line did not choose, the scene may have */
+    if (d->lighting.lod_rule == SL_LOD_DEFAULT)
+        d->lighting.lod_rule = s->lod;
+    if (d->lighting.gterm == SL_GTERM_DEFAULT)
+        d->lighting.gterm = s->gterm;
+    if (d->lighting.estimator == SL_ESTIMATOR_DEFAULT)
+        d->lighting.estimator = s->estimator;
+    if (d->lighting.env_layout == SL_ENV_LAYOUT_DEFAULT)
+        d->lighting.env_layout = s->env_layout;
+}
+
+bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err)
+{
+    memset(r, 0, sizeof *r);
+    r->scene = scene;
+    r->desc = *desc;
+    r->env_oct_built = -1;
+    r->splitsum_built = -1;
+    sl_render_desc *d = &r->desc;
+    sl_render_desc_resolve(d, scene);
 
     double t0 = sl_now_seconds();
     if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, &r->env_repairs, err))

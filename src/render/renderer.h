@@ -90,6 +90,11 @@ typedef struct {
     sl_render_timings timings;
 } sl_renderer;
 
+/* Fill the zero fields of `d` from the scene (size, N, exposure, contrast, the lighting's modes
+ * of its "render" section, the environment's intensity and rotation) and the irradiance method
+ * (the scene's map if it names one, else the default): what a render of `scene` with `d` uses.
+ * sl_renderer_init calls it; `softlight info` too, to report what the render would take. */
+void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene);
 /* Resolve settings against the scene, load the environment, build mips and irradiance. */
 bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err);
 void sl_renderer_free(sl_renderer *r);

@@ -334,6 +334,23 @@ static bool read_string(parser *p, const cJSON *item, const char *path, char *ou
     return true;
 }
 
+/* A choice option by name ("render.estimator": "splitsum"; "default" where 0 means the
+ * default), absent leaves *out as it is. */
+static bool read_option_choice(parser *p, const cJSON *section, const sl_option *opt, int *out)
+{
+    const char *path = opt->scene[0];
+    const cJSON *v = member(section, strchr(path, '.') + 1);
+    char name[32], shown[MASKED_MAX + 4], words[96];
+    if (!v)
+        return true;
+    if (!read_string(p, v, path, name, sizeof name))
+        return false;
+    if (sl_option_parse(opt, name, out))
+        return true;
+    sl_option_choices(opt, words, sizeof words);
+    return fail_at(p, path, SL_ERR_RANGE, "unknown %s \"%s\" (expected %s)", opt->name, masked(name, 32, shown), words);
+}
+
 /* A file path from the scene, resolved relative to the scene file's folder. */
 static bool read_path(parser *p, const cJSON *item, const char *path, char out[SL_PATH_MAX])
 {
@@ -1030,23 +1047,39 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
 
 static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
 {
-    static const char *const keys[] = {"width", "height", "samples", "exposure", "contrast", NULL};
+    static const char *const keys[] = {"width",  "height", "samples",   "exposure",   "contrast",
+                                       "lod",    "gterm",  "estimator", "env_layout", NULL};
     const sl_option *size = &sl_options[SL_OPT_SIZE], *samples = &sl_options[SL_OPT_SAMPLES];
     const sl_option *exposure = &sl_options[SL_OPT_EXPOSURE], *contrast = &sl_options[SL_OPT_CONTRAST];
     *r = (sl_render_settings){.width = (int)size->def[0],
                               .height = (int)size->def[1],
                               .samples = (int)samples->def[0],
                               .exposure = (float)exposure->def[0],
-                              .contrast = (float)contrast->def[0]};
+                              .contrast = (float)contrast->def[0],
+                              .lod = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0],
+                              .gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0],
+                              .estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0],
+                              .env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0]};
     if (!item)
         return true;
     if (!check_keys(p, item, "render", keys))
         return false;
     /* A size the rasterizer cannot draw fails here, with its path, not when the frame is made.
      * Exposure and contrast: a scene file keeps to the specification's range for e. */
-    return read_option_int(p, item, size, 0, &r->width) && read_option_int(p, item, size, 1, &r->height) &&
-           read_option_int(p, item, samples, 0, &r->samples) && read_option_float(p, item, exposure, &r->exposure) &&
-           read_option_float(p, item, contrast, &r->contrast);
+    int lod = (int)r->lod, gterm = (int)r->gterm, estimator = (int)r->estimator, layout = (int)r->env_layout;
+    bool ok = read_option_int(p, item, size, 0, &r->width) && read_option_int(p, item, size, 1, &r->height) &&
+              read_option_int(p, item, samples, 0, &r->samples) &&
+              read_option_float(p, item, exposure, &r->exposure) &&
+              read_option_float(p, item, contrast, &r->contrast) &&
+              read_option_choice(p, item, &sl_options[SL_OPT_LOD], &lod) &&
+              read_option_choice(p, item, &sl_options[SL_OPT_GTERM], &gterm) &&
+              read_option_choice(p, item, &sl_options[SL_OPT_ESTIMATOR], &estimator) &&
+              read_option_choice(p, item, &sl_options[SL_OPT_ENV_LAYOUT], &layout);
+    r->lod = (sl_lod_rule)lod;
+    r->gterm = (sl_gterm)gterm;
+    r->estimator = (sl_estimator)estimator;
+    r->env_layout = (sl_env_layout)layout;
+    return ok;
 }
 
 /* Build every distinct mesh. Each mesh is capped on its own (scene_internal.h); the scene as

@@ -17,6 +17,7 @@
 
 #include "../core/error.h"
 #include "../core/glsl.h"
+#include "../core/options.h"
 
 #define SL_NAME_MAX 64
 #define SL_PATH_MAX 1024
@@ -156,6 +157,12 @@ typedef struct {
     int samples;        /* N, Hammersley pairs for the specular integral (1..SL_HAMMERSLEY_MAX) */
     float exposure;     /* e in the tone map, 0.1 .. 10000 */
     float contrast;     /* c in the tone map exponent c/2.2 */
+    /* The lighting's modes, by name ("estimator": "splitsum"), each its option's default when
+     * absent; the command line's choice wins (sl_render_desc_resolve). */
+    sl_lod_rule lod;
+    sl_gterm gterm;
+    sl_estimator estimator;
+    sl_env_layout env_layout;
 } sl_render_settings;
 
 /* Where each of scene->meshes came from: an OBJ file, a built-in shape or a model file (through

@@ -181,6 +181,10 @@ static double scene_value(const sl_scene *s, int id, int which)
     case SL_OPT_EXPOSURE: return (double)s->settings.exposure;
     case SL_OPT_CONTRAST: return (double)s->settings.contrast;
     case SL_OPT_ENV_INTENSITY: return (double)s->environment.intensity;
+    case SL_OPT_LOD: return (double)s->settings.lod;
+    case SL_OPT_GTERM: return (double)s->settings.gterm;
+    case SL_OPT_ESTIMATOR: return (double)s->settings.estimator;
+    case SL_OPT_ENV_LAYOUT: return (double)s->settings.env_layout;
     default: break;
     }
     print_error("row %s has a scene key this test does not know: add it here\n", sl_options[id].name);
@@ -212,6 +216,35 @@ static void expect_scene_value(const char *path, int id, int which, double value
     sl_scene_free(&s);
 }
 
+/* A choice key given by name ("render.estimator": "splitsum") reads as `value`. */
+static void expect_scene_choice(const char *path, int id, const char *name, int value)
+{
+    char json[256], text[64];
+    snprintf(text, sizeof text, "\"%s\"", name);
+    scene_json(json, sizeof json, path, text);
+    sl_scene s;
+    sl_error err = {0};
+    if (!parse_scene(json, &s, &err)) {
+        print_error("%s: %s\n", json, err.msg);
+        fail();
+    }
+    assert_true(scene_value(&s, id, 0) == (double)value);
+    sl_scene_free(&s);
+}
+
+/* A choice key given `text` (JSON) fails with `want`. */
+static void expect_scene_choice_error(const char *path, const char *text, const char *want)
+{
+    char json[256];
+    scene_json(json, sizeof json, path, text);
+    sl_scene s;
+    sl_error err = {0};
+    if (parse_scene(json, &s, &err) || !strstr(err.msg, want)) {
+        print_error("%s: expected an error containing '%s', got '%s'\n", json, want, err.msg);
+        fail();
+    }
+}
+
 static void expect_scene_error(const char *path, double value, const char *want)
 {
     char json[256], text[64];
@@ -240,6 +273,21 @@ static void test_scene_reads_the_table(void **state)
             char want[160];
             /* the default */
             assert_true(scene_value(&s, id, which) == (double)(float)o->def[which]);
+            if (o->type == SL_OPTION_CHOICE) {
+                /* every name the command line takes, "default" where 0 means it, and no other word */
+                for (int v = 0; v <= (int)o->max; v++) {
+                    if (v < (int)o->min && !(v == 0 && o->names[0]))
+                        continue;
+                    expect_scene_choice(path, id, o->names[v], v);
+                }
+                char words[96];
+                assert_true(sl_option_choices(o, words, sizeof words));
+                snprintf(want, sizeof want, "t.json: %s: unknown %s \"fast\" (expected %s)", path, o->name, words);
+                expect_scene_choice_error(path, "\"fast\"", want);
+                snprintf(want, sizeof want, "t.json: %s: expected a string", path);
+                expect_scene_choice_error(path, "1", want);
+                continue;
+            }
             /* the range, at both ends and past them */
             expect_scene_value(path, id, which, hi);
             if (o->file_min_open) {
@@ -260,7 +308,9 @@ static void test_scene_reads_the_table(void **state)
             }
         }
     }
-    assert_int_equal(keys, 6); /* render.width, height, samples, exposure, contrast; environment.intensity */
+    /* render.width, height, samples, exposure, contrast, lod, gterm, estimator, env_layout;
+     * environment.intensity */
+    assert_int_equal(keys, 10);
     sl_scene_free(&s);
 }
 
