@@ -136,6 +136,17 @@ static inline float clamp_lod(float lod, float max_lod)
     return lod < max_lod ? lod : max_lod;
 }
 
+/* Stage (3)'s contribution of sample i, c = F Li weight, from its fetched radiance t (Li = t
+ * times the intensity): one expression for every fetch (inlined in each loop, which still
+ * vectorizes). */
+static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity)
+{
+    float m5 = b->m5[i], weight = b->weight[i];
+    b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+    b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+    b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+}
+
 /* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
  * and the fetch when the chain has no block): the same bits as the gathers. */
 static vec3 fetch_clamped(const sl_lighting_uniforms *u, float tu, float tv, float lod)
@@ -399,37 +410,25 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                float m5 = b->m5[i], weight = b->weight[i];
-                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
-                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
-                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+                store_contribution(b, i, t, Ks, F1, intensity);
             }
         } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                float m5 = b->m5[i], weight = b->weight[i];
-                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
-                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
-                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+                store_contribution(b, i, t, Ks, F1, intensity);
             }
         } else {
 #pragma omp simd
             for (int i = 0; i < m; i++) {
                 vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                float m5 = b->m5[i], weight = b->weight[i];
-                b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
-                b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
-                b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+                store_contribution(b, i, t, Ks, F1, intensity);
             }
         }
         if (!env->gather) { /* no block: the same filter through texture_lod.h, texel by texel */
             for (int i = 0; i < m; i++) {
                 vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
-                float weight = b->weight[i];
-                b->cr[i] = (Ks.x + F1.x * b->m5[i]) * (t.x * intensity) * weight;
-                b->cg[i] = (Ks.y + F1.y * b->m5[i]) * (t.y * intensity) * weight;
-                b->cb[i] = (Ks.z + F1.z * b->m5[i]) * (t.z * intensity) * weight;
+                store_contribution(b, i, t, Ks, F1, intensity);
             }
         }
         /* (4) the sum. Samples below the horizon add nothing. Sample k goes into partial sum
