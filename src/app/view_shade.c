@@ -17,8 +17,6 @@
 
 #include "core/timer.h"
 
-_Static_assert(sizeof(vec3) == 3 * sizeof(float), "an image row of 3 floats a pixel is a row of vec3");
-
 bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err)
 {
     int n = threads > 0 ? threads : omp_get_max_threads();

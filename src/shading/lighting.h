@@ -197,6 +197,8 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
  * with the same bits. The pixels must lie inside gb. */
 void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                            sl_lighting_task *task, vec3 *out);
+/* So `out` may be a row of an sl_image of 3 channels, shaded in place (the pass, the viewer). */
+_Static_assert(sizeof(vec3) == 3 * sizeof(float), "an image row of 3 floats a pixel is a row of vec3");
 
 /* The lighting pass: every texel of gb into `out` (allocated when out->data is NULL, else it
  * must be gb's size with 3 channels), row 0 = top. OpenMP over bands of whole rows, dynamic schedule;

@@ -9,8 +9,6 @@
 
 #include "lighting_internal.h"
 
-_Static_assert(sizeof(vec3) == 3 * sizeof(float), "an image row of 3 floats a pixel is a row of vec3");
-
 /* The port or the batched path, as options.plain says; both count into the task. */
 vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
                        sl_lighting_task *task, sl_lighting_trace *trace)
@@ -41,7 +39,7 @@ void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
     }
 }
 
-/* A tile is BAND_ROWS whole rows: the G-buffer and the image are read and written in address
+/* A band is BAND_ROWS whole rows: the G-buffer and the image are read and written in address
  * order, which the hardware prefetcher follows (32x32 tiles jumped to a new page every 32
  * texels, and the split sum spent a fifth of its time waiting for its first G-buffer read). */
 enum { BAND_ROWS = 4 };
@@ -74,15 +72,15 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
             return false;
         }
     }
-    const int tile_count = (gb->height + BAND_ROWS - 1) / BAND_ROWS;
-    /* Each tile writes only its own pixels; each pixel's value depends on nothing but its
+    const int band_count = (gb->height + BAND_ROWS - 1) / BAND_ROWS;
+    /* Each band writes only its own pixels; each pixel's value depends on nothing but its
      * texel and the read-only uniforms, so the image does not depend on the thread count. */
 #pragma omp parallel num_threads(nthreads)
     {
         sl_lighting_task *task = tasks[omp_get_thread_num()];
 #pragma omp for schedule(dynamic)
-        for (int tile = 0; tile < tile_count; tile++) {
-            int y0 = tile * BAND_ROWS;
+        for (int band = 0; band < band_count; band++) {
+            int y0 = band * BAND_ROWS;
             int y1 = y0 + BAND_ROWS < gb->height ? y0 + BAND_ROWS : gb->height;
             for (int y = y0; y < y1; y++) {
                 /* the image's row is the row's vec3s (three floats each): shaded in place */
