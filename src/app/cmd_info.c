@@ -10,6 +10,7 @@
 #include "raster/gbuffer.h"
 #include "render_options.h"
 #include "scene/scene.h"
+#include "shading/splitsum_lut.h"
 
 /* The memory `softlight render` holds, in bytes, phase by phase: what each stage allocates and
  * what is still held from the stages before (src/render/renderer.c's order). The peak is the
@@ -26,12 +27,16 @@ typedef struct {
     size_t env_lights;       /* the residual's mip chain, held */
     size_t env_lights_build; /* while extracted: 48 B/texel quadrature nodes and the residual image,
                                 then the residual's own sl_env_build */
+    size_t env_oct;          /* --env-layout oct: the octahedral chain, held */
+    size_t env_oct_build;    /* while built: the chain and its texels' solid angles (4 B each) */
+    size_t splitsum;         /* --estimator splitsum: one prefiltered chain (with its pair rows) per
+                                lobe set the materials use, and the BRDF table, held */
     size_t frame;            /* G-buffer, radiance, display image, PNG encoding, mesh copies */
     size_t peak;
     const char *peak_at;
 } memory_model;
 
-#define PROGRAM_BYTES ((size_t)10 << 20) /* max RSS of a 16x16 render without environment */
+#define PROGRAM_BYTES ((size_t)16 << 20) /* max RSS of a 16x16 render without environment: 15.5 MiB */
 
 /* Texels of a W x H mip chain down to 1x1 (sl_env_build's sizes). */
 static size_t chain_texels(int w, int h)
@@ -83,11 +88,26 @@ static void phase(memory_model *m, size_t bytes, const char *what)
     }
 }
 
-/* env_w x env_h: the environment (0 x 0: none, a 1x1 black map); irr_w x irr_h: the scene's
- * irradiance map when the render reads it; file sizes as on disk. */
-static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
-                                 int irr_h, size_t irr_file, size_t mesh_bytes, long vertices, size_t gbuffer_pixel)
+/* Texels of the octahedral chain sl_env_build_oct makes from a lat-long chain env_w wide: S x S
+ * down to 1x1, S the smallest power of two >= env_w (at most SL_ENV_OCT_MAX_SIZE). */
+static size_t oct_chain_texels(int env_w)
 {
+    size_t s = 1, total = 0;
+    while (s < (size_t)env_w && s < SL_ENV_OCT_MAX_SIZE)
+        s *= 2;
+    for (; s >= 1; s /= 2)
+        total += s * s;
+    return total;
+}
+
+/* env_w x env_h: the environment (0 x 0: none, a 1x1 black map); irr_w x irr_h: the scene's
+ * irradiance map when the render reads it; file sizes as on disk; lobe_sets: how many split-sum
+ * chains the materials need (update_splitsum in src/render/renderer.c: Phong, GGX or both). */
+static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
+                                 int irr_h, size_t irr_file, size_t mesh_bytes, long vertices, size_t gbuffer_pixel,
+                                 int lobe_sets)
+{
+    sl_lighting_options modes = sl_lighting_options_resolve(&d->lighting);
     memory_model m = {.program = PROGRAM_BYTES};
     if (env_w <= 0)
         env_w = env_h = 1;
@@ -125,6 +145,18 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         m.env_lights_build = extract > residual ? extract : residual;
         phase(&m, base + m.env_lights_build, "extracting the env lights");
         base += m.env_lights;
+    }
+    if (modes.env_layout == SL_ENV_LAYOUT_OCT) {
+        size_t texels = oct_chain_texels(env_w);
+        m.env_oct = texels * 12;
+        m.env_oct_build = texels * 16;
+        phase(&m, base + m.env_oct_build, "building the octahedral chain");
+        base += m.env_oct;
+    }
+    if (modes.estimator == SL_ESTIMATOR_SPLITSUM) {
+        m.splitsum = (size_t)lobe_sets * env_held_bytes(env_w, env_h) + sizeof(sl_splitsum_lut);
+        phase(&m, base + m.splitsum, "prefiltering for the split sum");
+        base += m.splitsum;
     }
     /* G-buffer 56 B (76 with the extra plane: gbuffer.h), radiance and display images 12 B each, the PNG's 8-bit pixels, its filtered
      * rows and its growing zlib buffer (about 15 B together), per pixel; the rasterizer's copy of
@@ -257,17 +289,26 @@ int cmd_info(int argc, char **argv)
     for (int i = 0; i < scene.object_count; i++)
         extra |= sl_material_extra(&scene.materials[scene.objects[i].material]);
     size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra);
+    bool phong = false, ggx = false; /* the split sum's lobe sets: update_splitsum's rule */
+    for (int i = 0; i < scene.material_count; i++) {
+        ggx |= scene.materials[i].brdf == SL_BRDF_GGX;
+        phong |= scene.materials[i].brdf != SL_BRDF_GGX;
+    }
+    phong |= !ggx;
     memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,
-                                  irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices, gbuffer_pixel);
+                                  irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices, gbuffer_pixel,
+                                  (int)phong + (int)ggx);
     double mib = 1024.0 * 1024.0;
     printf("  memory     peak %.1f MiB while %s (a %dx%d render%s%s)\n", (double)m.peak / mib, m.peak_at,
            desc.width, desc.height, desc.lighting.env_lights ? " with env lights" : "",
            desc.lighting.irradiance == SL_IRRADIANCE_MAP && irr_w ? ", irradiance map" : "");
     printf("             environment %.1f MiB held (mip chain), %.1f MiB while read, %.1f MiB while its mips are "
            "built; irradiance %.1f MiB held, %.1f MiB while built; env lights %.1f MiB held, %.1f MiB while "
-           "extracted; frame %.1f MiB (G-buffer %zu B/pixel%s); meshes %.1f MiB; program %.1f MiB\n",
+           "extracted; octahedral chain %.1f MiB held; split-sum chains %.1f MiB held; frame %.1f MiB (G-buffer "
+           "%zu B/pixel%s); meshes %.1f MiB; program %.1f MiB\n",
            (double)m.env / mib, (double)m.env_load / mib, (double)m.env_build / mib, (double)m.irradiance / mib,
            (double)m.irradiance_build / mib, (double)m.env_lights / mib, (double)m.env_lights_build / mib,
+           (double)m.env_oct / mib, (double)m.splitsum / mib,
            (double)m.frame / mib, gbuffer_pixel, extra ? " with occlusion and emission" : "", (double)mesh_bytes / mib,
            (double)m.program / mib);
     sl_scene_free(&scene);
