@@ -249,9 +249,10 @@ int cmd_info(int argc, char **argv)
     printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->width, s->height, s->samples,
            (double)s->exposure, (double)s->contrast);
     sl_lighting_options modes = sl_lighting_options_resolve(&desc.lighting);
-    printf("  lighting   estimator %s, lod %s, g %s, env layout %s, irradiance %s (with these options)\n",
+    printf("  lighting   estimator %s, lod %s, g %s, env layout %s, irradiance %s%s%s (with these options)\n",
            sl_estimator_name(modes.estimator), sl_lod_rule_name(modes.lod_rule), sl_gterm_name(modes.gterm),
-           sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance));
+           sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance),
+           modes.distortion ? ", distortion" : "", modes.rotate ? ", rotate" : "");
 
     /* Both images are read as `render` reads them (the same checks, the same memory budget). */
     int env_w = 0, env_h = 0, irr_w = 0, irr_h = 0;

@@ -46,7 +46,8 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     FLAG(SL_OPT_SRGB, "srgb"),
     [SL_OPT_LOD] = {.name = "lod", .cli = "--lod", .scene = {"render.lod"}, .type = SL_OPTION_CHOICE, .def = {SL_LOD_SPEC_D4},
                     .min = SL_LOD_NONE, .max = SL_LOD_PDF, .names = lod_names},
-    FLAG(SL_OPT_DISTORTION, "distortion"),
+    [SL_OPT_DISTORTION] = {.name = "distortion", .cli = "--distortion", .scene = {"render.distortion"},
+                           .type = SL_OPTION_FLAG},
     [SL_OPT_GTERM] = {.name = "gterm", .cli = "--g", .scene = {"render.gterm"}, .type = SL_OPTION_CHOICE, .def = {SL_GTERM_INV_LH2},
                       .min = SL_GTERM_INV_LH2, .max = SL_GTERM_ONE, .names = gterm_names},
     [SL_OPT_ESTIMATOR] = {.name = "estimator", .cli = "--estimator", .scene = {"render.estimator"}, .type = SL_OPTION_CHOICE,
@@ -54,7 +55,8 @@ const sl_option sl_options[SL_OPT_COUNT] = {
                           .names = estimator_names},
     /* default: the scene's map if it names one, else this, the pole-free octahedral map
      * (src/render/renderer.c; docs/ibl.md says why) */
-    [SL_OPT_IRRADIANCE] = {.name = "irradiance", .cli = "--irradiance", .type = SL_OPTION_CHOICE,
+    [SL_OPT_IRRADIANCE] = {.name = "irradiance", .cli = "--irradiance", .scene = {"render.irradiance"},
+                           .type = SL_OPTION_CHOICE,
                            .def = {SL_IRRADIANCE_OCT}, .min = SL_IRRADIANCE_SH9, .max = SL_IRRADIANCE_DP,
                            .names = irradiance_names},
     /* the specular samples' mip chain; docs/ibl.md "Specular layouts" says why the default */
@@ -70,7 +72,7 @@ const sl_option sl_options[SL_OPT_COUNT] = {
     /* a power of two (the rasterizer checks) */
     [SL_OPT_TILE] = {.name = "tile", .cli = "--tile", .type = SL_OPTION_INT, .def = {SL_TILE_DEFAULT},
                      .min = SL_TILE_MIN, .max = SL_TILE_MAX},
-    FLAG(SL_OPT_ROTATE, "rotate"),
+    [SL_OPT_ROTATE] = {.name = "rotate", .cli = "--rotate", .scene = {"render.rotate"}, .type = SL_OPTION_FLAG},
     [SL_OPT_FRAME] = {.name = "frame", .cli = "--frame", .type = SL_OPTION_INT, .min = 0, .max = 1e9},
     FLAG(SL_OPT_PLAIN, "plain"),
     [SL_OPT_ENV_LIGHTS] = {.name = "env-lights", .cli = "--env-lights", .type = SL_OPTION_INT, .min = 0,

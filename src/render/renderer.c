@@ -153,7 +153,9 @@ void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene)
     if (!d->lighting.samples)
         d->lighting.samples = s->samples;
     if (!d->irradiance_set)
-        d->lighting.irradiance = scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP : sl_irradiance_default();
+        d->lighting.irradiance = s->irradiance >= 0                     ? (sl_irradiance_method)s->irradiance
+                                 : scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP
+                                                                         : sl_irradiance_default();
     if (d->lighting.env_intensity == 0.0f)
         d->lighting.env_intensity = scene->environment.intensity;
     if (d->lighting.env_rotation_deg == 0.0f)
@@ -173,6 +175,8 @@ void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene)
         d->lighting.estimator = s->estimator;
     if (d->lighting.env_layout == SL_ENV_LAYOUT_DEFAULT)
         d->lighting.env_layout = s->env_layout;
+    d->lighting.distortion |= s->distortion;
+    d->lighting.rotate |= s->rotate;
 }
 
 bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err)

@@ -351,6 +351,19 @@ static bool read_option_choice(parser *p, const cJSON *section, const sl_option 
     return fail_at(p, path, SL_ERR_RANGE, "unknown %s \"%s\" (expected %s)", opt->name, masked(name, 32, shown), words);
 }
 
+/* A flag option as true or false ("render.rotate": true); absent leaves *out as it is. */
+static bool read_option_flag(parser *p, const cJSON *section, const sl_option *opt, bool *out)
+{
+    const char *path = opt->scene[0];
+    const cJSON *v = member(section, strchr(path, '.') + 1);
+    if (!v)
+        return true;
+    if (!cJSON_IsBool(v))
+        return fail_at(p, path, SL_ERR_FORMAT, "expected true or false");
+    *out = cJSON_IsTrue(v);
+    return true;
+}
+
 /* A file path from the scene, resolved relative to the scene file's folder. */
 static bool read_path(parser *p, const cJSON *item, const char *path, char out[SL_PATH_MAX])
 {
@@ -1047,8 +1060,9 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
 
 static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
 {
-    static const char *const keys[] = {"width",  "height", "samples",   "exposure",   "contrast",
-                                       "lod",    "gterm",  "estimator", "env_layout", NULL};
+    static const char *const keys[] = {"width",      "height",     "samples",    "exposure", "contrast", "lod",
+                                       "gterm",      "estimator",  "env_layout", "irradiance", "distortion", "rotate",
+                                       NULL};
     const sl_option *size = &sl_options[SL_OPT_SIZE], *samples = &sl_options[SL_OPT_SAMPLES];
     const sl_option *exposure = &sl_options[SL_OPT_EXPOSURE], *contrast = &sl_options[SL_OPT_CONTRAST];
     *r = (sl_render_settings){.width = (int)size->def[0],
@@ -1059,7 +1073,8 @@ static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
                               .lod = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0],
                               .gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0],
                               .estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0],
-                              .env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0]};
+                              .env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0],
+                              .irradiance = -1};
     if (!item)
         return true;
     if (!check_keys(p, item, "render", keys))
@@ -1074,7 +1089,10 @@ static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
               read_option_choice(p, item, &sl_options[SL_OPT_LOD], &lod) &&
               read_option_choice(p, item, &sl_options[SL_OPT_GTERM], &gterm) &&
               read_option_choice(p, item, &sl_options[SL_OPT_ESTIMATOR], &estimator) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_ENV_LAYOUT], &layout);
+              read_option_choice(p, item, &sl_options[SL_OPT_ENV_LAYOUT], &layout) &&
+              read_option_choice(p, item, &sl_options[SL_OPT_IRRADIANCE], &r->irradiance) &&
+              read_option_flag(p, item, &sl_options[SL_OPT_DISTORTION], &r->distortion) &&
+              read_option_flag(p, item, &sl_options[SL_OPT_ROTATE], &r->rotate);
     r->lod = (sl_lod_rule)lod;
     r->gterm = (sl_gterm)gterm;
     r->estimator = (sl_estimator)estimator;

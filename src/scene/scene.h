@@ -163,6 +163,11 @@ typedef struct {
     sl_gterm gterm;
     sl_estimator estimator;
     sl_env_layout env_layout;
+    int irradiance;  /* an sl_irradiance_method, or -1 when not named (then the environment's map
+                        if it names one, else the option's default) */
+    /* Flags, false when absent; the command line can turn them on, not off. */
+    bool distortion; /* --distortion */
+    bool rotate;     /* --rotate */
 } sl_render_settings;
 
 /* Where each of scene->meshes came from: an OBJ file, a built-in shape or a model file (through

@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # scene_modes.sh BUILD_DIR - the lighting's modes named in a scene file's "render" section
-# ("estimator", "lod", "gterm", "env_layout"; docs/scene-format.md) give the render the same
+# ("estimator", "lod", "gterm", "env_layout", "irradiance", and the flags "distortion" and
+# "rotate"; docs/scene-format.md) give the render the same
 # command-line options give, bit for bit, in softlight and in softlight-gl; a mode given on the
 # command line wins over the scene's; `softlight info` reports the modes a render would use;
 # an unknown name is one error line naming the file and the key, exit 2, nothing written.
@@ -32,12 +33,14 @@ same() {
 
 SIZE=(--size 96x54)
 scene "$T/plain.json" '{}'
-scene "$T/modes.json" '{"estimator": "mf", "lod": "pdf", "gterm": "one", "env_layout": "oct"}'
+scene "$T/modes.json" '{"estimator": "mf", "lod": "pdf", "gterm": "one", "env_layout": "oct", "irradiance": "sh9",
+                        "distortion": true, "rotate": true}'
 scene "$T/splitsum.json" '{"estimator": "splitsum"}'
 scene "$T/default.json" '{"estimator": "default", "lod": "default"}'
 scene "$T/bad.json" '{"estimator": "fastest"}'
 
-"$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mf --lod pdf --g one --env-layout oct --pfm "$T/cli.pfm" >/dev/null &&
+MODES=(--estimator mf --lod pdf --g one --env-layout oct --irradiance sh9 --distortion --rotate)
+"$SL" render "$T/plain.json" "${SIZE[@]}" "${MODES[@]}" --pfm "$T/cli.pfm" >/dev/null &&
     "$SL" render "$T/modes.json" "${SIZE[@]}" --pfm "$T/file.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
 same "softlight: the scene's modes = the same options on the command line" "$T/cli.pfm" "$T/file.pfm"
 "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator splitsum --pfm "$T/cli_ss.pfm" >/dev/null &&
@@ -52,7 +55,7 @@ if cmp -s "$T/plain.pfm" "$T/file.pfm"; then
     echo "FAIL: the modes changed nothing (the test would pass without reading them)"; fails=$((fails + 1))
 fi
 
-want="lighting   estimator mf, lod pdf, g one, env layout oct"
+want="lighting   estimator mf, lod pdf, g one, env layout oct, irradiance sh9, distortion, rotate"
 if "$SL" info "$T/modes.json" | grep -qF "$want"; then echo "ok   info reports the scene's modes"
 else echo "FAIL info: no line '$want'"; "$SL" info "$T/modes.json" | grep lighting; fails=$((fails + 1)); fi
 
@@ -67,8 +70,8 @@ fi
 
 # softlight-gl reads the same section (sl_renderer_init): its render of the scene's modes is
 # its render of the same options, bit for bit (skipped where it has no GL context)
-if [ -x "$GL" ] && "$GL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/gl_cli.pfm" \
-    --estimator mf --lod pdf --g one --env-layout oct >/dev/null 2>"$T/glerr"; then
+if [ -x "$GL" ] && "$GL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/gl_cli.pfm" "${MODES[@]}" \
+    >/dev/null 2>"$T/glerr"; then
     "$GL" render "$T/modes.json" "${SIZE[@]}" --pfm "$T/gl_file.pfm" >/dev/null || { echo "FAIL: gl render"; exit 1; }
     same "softlight-gl: the scene's modes = the same options on the command line" "$T/gl_cli.pfm" "$T/gl_file.pfm"
     "$GL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/gl_plain.pfm" >/dev/null || { echo "FAIL: gl render"; exit 1; }

@@ -185,6 +185,9 @@ static double scene_value(const sl_scene *s, int id, int which)
     case SL_OPT_GTERM: return (double)s->settings.gterm;
     case SL_OPT_ESTIMATOR: return (double)s->settings.estimator;
     case SL_OPT_ENV_LAYOUT: return (double)s->settings.env_layout;
+    case SL_OPT_IRRADIANCE: return (double)s->settings.irradiance;
+    case SL_OPT_DISTORTION: return s->settings.distortion ? 1.0 : 0.0;
+    case SL_OPT_ROTATE: return s->settings.rotate ? 1.0 : 0.0;
     default: break;
     }
     print_error("row %s has a scene key this test does not know: add it here\n", sl_options[id].name);
@@ -264,8 +267,17 @@ static void test_scene_reads_the_table(void **state)
             const char *path = o->scene[which];
             double lo = sl_option_file_min(o), hi = sl_option_file_max(o);
             char want[160];
-            /* the default */
-            assert_true(scene_value(&s, id, which) == (double)(float)o->def[which]);
+            /* the default; an irradiance not named is -1: the environment's map if it names one,
+             * else the option's default (sl_render_desc_resolve) */
+            double absent = id == SL_OPT_IRRADIANCE ? -1.0 : (double)(float)o->def[which];
+            assert_true(scene_value(&s, id, which) == absent);
+            if (o->type == SL_OPTION_FLAG) {
+                expect_scene_reads(path, id, 0, "true", 1.0);
+                expect_scene_reads(path, id, 0, "false", 0.0);
+                snprintf(want, sizeof want, "t.json: %s: expected true or false", path);
+                expect_scene_text_error(path, "1", want);
+                continue;
+            }
             if (o->type == SL_OPTION_CHOICE) {
                 /* every name the command line takes, "default" where 0 means it, and no other word */
                 for (int v = 0; v <= (int)o->max; v++) {
@@ -301,9 +313,9 @@ static void test_scene_reads_the_table(void **state)
             }
         }
     }
-    /* render.width, height, samples, exposure, contrast, lod, gterm, estimator, env_layout;
-     * environment.intensity */
-    assert_int_equal(keys, 10);
+    /* render.width, height, samples, exposure, contrast, lod, gterm, estimator, env_layout,
+     * irradiance, distortion, rotate; environment.intensity */
+    assert_int_equal(keys, 13);
     sl_scene_free(&s);
 }
 
