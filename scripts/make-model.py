@@ -137,21 +137,32 @@ def bunny_uv(pos):
     return [(2 * (p[0] - x0) / (x1 - x0), 2 * (y1 - p[1]) / (y1 - y0)) for p in pos]
 
 
-def box(lo, hi):
-    """24 vertices (4 per face, outward winding), UVs one unit per 8 object units (one checker square per object unit)."""
-    pos, uv, tris = [], [], []
+def box_faces(lo, hi):
+    """The six faces of the box lo..hi, each as (axis, sign, a, b, corners): the face lies at
+    hi[axis] (sign +1) or lo[axis] (-1), a and b are the other two axes in the order that winds it
+    outward, corners its four (s, t, position) with s along a and t along b, in winding order."""
     for axis in range(3):
         for sign in (-1, 1):
             a, b = [(axis + 1) % 3, (axis + 2) % 3][:: sign]
-            base = len(pos)
+            corners = []
             for (s, t) in ((0, 0), (1, 0), (1, 1), (0, 1)):
                 p = [0.0, 0.0, 0.0]
                 p[axis] = hi[axis] if sign > 0 else lo[axis]
                 p[a] = lo[a] + s * (hi[a] - lo[a])
                 p[b] = lo[b] + t * (hi[b] - lo[b])
-                pos.append(tuple(p))
-                uv.append((s * (hi[a] - lo[a]) / 8, t * (hi[b] - lo[b]) / 8))
-            tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+                corners.append((s, t, tuple(p)))
+            yield axis, sign, a, b, corners
+
+
+def box(lo, hi):
+    """24 vertices (4 per face, outward winding), UVs one unit per 8 object units (one checker square per object unit)."""
+    pos, uv, tris = [], [], []
+    for axis, sign, a, b, corners in box_faces(lo, hi):
+        base = len(pos)
+        for s, t, p in corners:
+            pos.append(p)
+            uv.append((s * (hi[a] - lo[a]) / 8, t * (hi[b] - lo[b]) / 8))
+        tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
     return pos, uv, tris
 
 
@@ -256,24 +267,18 @@ def panel(half_w, height, half_t):
     v down), the other faces the square scaled to their size; flat normals, 4 vertices a face."""
     pos, nrm, uv, tris = [], [], [], []
     lo, hi = (-half_w, 0.0, -half_t), (half_w, height, half_t)
-    for axis in range(3):
-        for sign in (-1, 1):
-            a, b = [(axis + 1) % 3, (axis + 2) % 3][:: sign]
-            base = len(pos)
-            for (s, t) in ((0, 0), (1, 0), (1, 1), (0, 1)):
-                p = [0.0, 0.0, 0.0]
-                p[axis] = hi[axis] if sign > 0 else lo[axis]
-                p[a] = lo[a] + s * (hi[a] - lo[a])
-                p[b] = lo[b] + t * (hi[b] - lo[b])
-                pos.append(tuple(p))
-                q = [0.0, 0.0, 0.0]
-                q[axis] = float(sign)
-                nrm.append(tuple(q))
-                if axis == 2:  # front and back: the whole square, v down the panel
-                    uv.append(((p[0] - lo[0]) / (hi[0] - lo[0]), (hi[1] - p[1]) / (hi[1] - lo[1])))
-                else:
-                    uv.append((s * (hi[a] - lo[a]) / (2 * half_w), t * (hi[b] - lo[b]) / (2 * half_w)))
-            tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
+    for axis, sign, a, b, corners in box_faces(lo, hi):
+        base = len(pos)
+        for s, t, p in corners:
+            pos.append(p)
+            q = [0.0, 0.0, 0.0]
+            q[axis] = float(sign)
+            nrm.append(tuple(q))
+            if axis == 2:  # front and back: the whole square, v down the panel
+                uv.append(((p[0] - lo[0]) / (hi[0] - lo[0]), (hi[1] - p[1]) / (hi[1] - lo[1])))
+            else:
+                uv.append((s * (hi[a] - lo[a]) / (2 * half_w), t * (hi[b] - lo[b]) / (2 * half_w)))
+        tris += [(base, base + 1, base + 2), (base, base + 2, base + 3)]
     return pos, nrm, uv, tris
 
 
