@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "core/image.h"
 #include "ibl/ibl.h"
+#include "ibl/texel_e5.h"
 #include "raster/gbuffer.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -45,16 +46,21 @@ static size_t chain_texels(int w, int h)
 }
 
 /* The chain sl_env_build keeps: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS
- * texels the pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row). */
+ * texels the pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row) and the
+ * compact rows (sl_env.e5: 4 bytes a texel, W + 1 a row, sl_e5_row(H, levels) rows). */
 static size_t env_held_bytes(int w, int h)
 {
+    const int w0 = w, h0 = h;
     size_t texels = chain_texels(w, h), rows = 0;
+    int levels = 0;
     for (;; w = w / 2 > 1 ? w / 2 : 1, h = h / 2 > 1 ? h / 2 : 1) {
         rows += (size_t)h;
+        levels++;
         if (w == 1 && h == 1)
             break;
     }
-    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 : 0);
+    size_t e5 = ((size_t)w0 + 1) * (size_t)sl_e5_row(h0, levels) * 4;
+    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 + e5 : 0);
 }
 
 /* sl_env_build of a W x H image (the image itself not counted): the chain, level 0 converted
