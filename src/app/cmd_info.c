@@ -7,6 +7,7 @@
 #include "commands.h"
 #include "core/image.h"
 #include "ibl/ibl.h"
+#include "ibl/texel_e5.h"
 #include "raster/gbuffer.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -49,17 +50,23 @@ static size_t chain_texels(int w, int h)
     }
 }
 
-/* The chain sl_env_build keeps: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS
- * texels the pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row). */
-static size_t env_held_bytes(int w, int h)
+/* A chain that is kept: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS texels the
+ * pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row); with `compact` (what
+ * sl_env_build keeps; the split sum's prefiltered chains are not) also the compact rows (sl_env.e5:
+ * 4 bytes a texel, W + 1 a row, sl_e5_row(H, levels) rows). */
+static size_t chain_held_bytes(int w, int h, bool compact)
 {
+    const int w0 = w, h0 = h;
     size_t texels = chain_texels(w, h), rows = 0;
+    int levels = 0;
     for (;; w = w / 2 > 1 ? w / 2 : 1, h = h / 2 > 1 ? h / 2 : 1) {
         rows += (size_t)h;
+        levels++;
         if (w == 1 && h == 1)
             break;
     }
-    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 : 0);
+    size_t e5 = ((size_t)w0 + 1) * (size_t)sl_e5_row(h0, levels) * 4;
+    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 + (compact ? e5 : 0) : 0);
 }
 
 /* sl_env_build of a W x H image (the image itself not counted): the chain, level 0 converted
@@ -77,7 +84,7 @@ static size_t env_build_bytes(int w, int h)
         lw = mw;
         lh = mh;
     }
-    return env_held_bytes(w, h) + scratch;
+    return chain_held_bytes(w, h, true) + scratch;
 }
 
 static void phase(memory_model *m, size_t bytes, const char *what)
@@ -114,7 +121,7 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
     size_t P = (size_t)env_w * (size_t)env_h;
     m.env_load = env_file + P * 12;
     m.env_build = P * 12 + env_build_bytes(env_w, env_h);
-    m.env = env_held_bytes(env_w, env_h);
+    m.env = chain_held_bytes(env_w, env_h, true);
     size_t base = m.program + mesh_bytes;
     phase(&m, base + m.env_load, "reading the environment");
     phase(&m, base + m.env_build, "building the environment's mip chain");
@@ -154,7 +161,7 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         base += m.env_oct;
     }
     if (modes.estimator == SL_ESTIMATOR_SPLITSUM) {
-        m.splitsum = (size_t)lobe_sets * env_held_bytes(env_w, env_h) + sizeof(sl_splitsum_lut);
+        m.splitsum = (size_t)lobe_sets * chain_held_bytes(env_w, env_h, false) + sizeof(sl_splitsum_lut);
         phase(&m, base + m.splitsum, "prefiltering for the split sum");
         base += m.splitsum;
     }

@@ -42,6 +42,7 @@
 /* madvise and MADV_HUGEPAGE are not POSIX (the build asks for POSIX 2008 only) */
 #define _DEFAULT_SOURCE
 #include "ibl_internal.h"
+#include "texel_e5.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -200,6 +201,43 @@ float *ibl_env_build_pairs(const sl_env *env, size_t texels)
     return pairs;
 }
 
+/* sl_env.e5 (ibl.h): the chain in the compact texel (texel_e5.h) at one row stride, level l's
+ * row y at row sl_e5_row(H, l) + y, and the chain's exponent offset in *emin; NULL when the
+ * chain is too large or has sizes other than sl_env_build's, or no memory. Level 0 holds the
+ * chain's brightest channel: every later level is an average of it. */
+uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
+{
+    if (texels > SL_ENV_PAIRS_MAX_TEXELS || env->level_count < 1)
+        return NULL;
+    const int W = env->levels[0].width, H = env->levels[0].height, L = env->level_count;
+    for (int l = 0; l < L; l++) /* the sizes the fetch computes by shifts */
+        if (env->levels[l].width != sl_e5_size(W, l) || env->levels[l].height != sl_e5_size(H, l))
+            return NULL;
+    const size_t stride = (size_t)W + 1, rows = (size_t)sl_e5_row(H, L);
+    if (stride * rows > (size_t)INT32_MAX / 2) /* int indices in the fetch */
+        return NULL;
+    uint32_t *e5 = calloc(stride * rows, sizeof *e5);
+    if (!e5)
+        return NULL;
+    const sl_env_level *l0 = &env->levels[0];
+    float max_value = 0.0f;
+    for (size_t k = 0, n = (size_t)l0->width * (size_t)l0->height; k < n; k++)
+        max_value = maxf(max_value, maxf(maxf(l0->texels[k].x, l0->texels[k].y), l0->texels[k].z));
+    *emin = sl_e5_emin(max_value);
+    for (int l = 0; l < L; l++) {
+        const sl_env_level *lv = &env->levels[l];
+        for (int y = 0; y < lv->height; y++) {
+            const vec3 *row = lv->texels + (size_t)y * (size_t)lv->width;
+            uint32_t *out = e5 + (size_t)(sl_e5_row(H, l) + y) * stride;
+            for (int x = 0; x <= lv->width; x++) {
+                vec3 t = row[x < lv->width ? x : 0];
+                out[x] = sl_e5_encode(t.x, t.y, t.z, *emin);
+            }
+        }
+    }
+    return e5;
+}
+
 /* The whole chain; general_only forces downsample() on every level (the test's reference). */
 bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
 {
@@ -266,6 +304,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
     env->level_count = count;
     env->block = block;
     env->pairs = ibl_env_build_pairs(env, total);
+    env->e5 = ibl_env_build_e5(env, total, &env->e5_emin);
     return true;
 }
 
@@ -279,6 +318,7 @@ void sl_env_free(sl_env *env)
     if (!env)
         return;
     free(env->pairs);
+    free(env->e5);
     if (env->block)
         free(env->block);
     else

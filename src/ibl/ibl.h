@@ -18,6 +18,7 @@
 #define SL_IBL_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "../core/error.h"
 #include "../core/glsl.h"
@@ -49,6 +50,13 @@ typedef struct {
                      6 consecutive floats (texture_lod.h sl_pair_bilinear: three 64-bit reads
                      instead of six 32-bit ones). NULL for larger chains and other layouts,
                      which the fetch reads from `block`. */
+    uint32_t *e5; /* sl_env_build, lat-long chains of at most SL_ENV_PAIRS_MAX_TEXELS texels: the
+                     pair rows again in the compact shared-exponent texel (texel_e5.h, 32 bits,
+                     channel error at most 1.96e-3 of the texel's max channel), so a bilinear
+                     row pair is one 64-bit read: the lighting pass's specular fetch
+                     (texture_lod.h sl_e5_gather_lod). NULL where `pairs` is, and for the
+                     prefiltered chains (the split-sum fetch reads `pairs`). */
+    int e5_emin;  /* the chain's exponent offset: a channel is m 2^(e + e5_emin) */
 } sl_env;
 /* 2^22 texels: a 2048 x 1024 map's chain (2.8 Mi texels, 34 MB more); a 4096 x 2048 one gets none. */
 #define SL_ENV_PAIRS_MAX_TEXELS ((size_t)1 << 22)

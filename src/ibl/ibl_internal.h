@@ -67,4 +67,8 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
  * have them too): NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
 float *ibl_env_build_pairs(const sl_env *env, size_t texels);
 
+/* sl_env.e5 for a lat-long chain of `texels` texels, and its exponent offset in *emin (env.c):
+ * NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
+uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin);
+
 #endif

