@@ -78,6 +78,9 @@ void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *cli
 void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel); /* the reference */
 /* The quad form (sl_program.fragment_quad) both programs carry: the same bits in one call a quad. */
 void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], void *const texel[4]);
+/* The multi-quad form (sl_program.fragment_quads) both programs carry: the same bits, up to
+ * SL_QUADS_MAX quads a call in structure-of-arrays form; what the span path calls. */
+void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q);
 extern const sl_program sl_gbuffer_tex_program;        /* no discard: early depth test */
 extern const sl_program sl_gbuffer_tex_masked_program; /* alpha_cutoff: may discard, late depth test */
 

@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "raster.h" /* SL_QUADS_MAX: the most quads a multi-quad call samples */
 #include "texture_internal.h"
 
 sl_sampler_state sl_sampler_default(void)
@@ -266,17 +267,159 @@ static void sample4_plane(const sl_texture *t, const sl_sampler_state *st, const
         out[l] = mix4(out[l], next[l], p.frac);
 }
 
-vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
-{
-    return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
-}
-
 static bool is_mipmap_filter(sl_filter f) { return f >= SL_NEAREST_MIPMAP_NEAREST; }
 
 /* GL's completeness: a mipmap min filter on a texture without its chain samples (0, 0, 0, 1). */
 static bool complete(const sl_texture *t, const sl_sampler_state *st)
 {
     return t && (t->mipmapped || !is_mipmap_filter(st->min_filter));
+}
+
+/* ---- the multi-quad form: n quads' lanes in structure-of-arrays form ----
+ * The same values as sample4_plane's, lane for lane, from vector loops over up to 64 lanes:
+ * the levels picked per quad (pick_levels), then each lane's texel-space coordinates, its wrapped
+ * indices and its eight texels (gathers from the plane, where every level lies in one
+ * allocation) and the mixes in sample_as's order. Only the plane and linear filtering: a quad
+ * magnified or minified with a NEAREST filter, and textures without a plane, go through
+ * sl_texture_sample4 (the same bits, four lanes at a time). */
+#define QUAD_LANES (4 * SL_QUADS_MAX)
+
+/* Wrapped index pairs of n lanes (wrap_pair's results): the vector forms where there is one
+ * (CLAMP_TO_EDGE clamps both; REPEAT of a power of two masks), else wrap_pair per lane. */
+static inline __attribute__((always_inline)) void wrap_pairs(int lanes, const int *i, const int *size, sl_wrap mode,
+                                                             bool pow2, int *i0, int *i1)
+{
+    if (mode == SL_CLAMP_TO_EDGE) {
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            int last = size[j] - 1, a = i[j], b = i[j] + 1;
+            i0[j] = a < 0 ? 0 : (a > last ? last : a);
+            i1[j] = b < 0 ? 0 : (b > last ? last : b);
+        }
+    } else if (mode == SL_REPEAT && pow2) {
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            int mask = size[j] - 1, a = i[j] & mask;
+            i0[j] = a;
+            i1[j] = (a + 1) & mask;
+        }
+    } else {
+        for (int j = 0; j < lanes; j++)
+            wrap_pair(i[j], size[j], mode, &i0[j], &i1[j]);
+    }
+}
+
+static bool is_pow2(int n) { return (n & (n - 1)) == 0; }
+
+/* Level lv[j] of each lane filtered bilinearly at (u[j], v[j]), into rgba: bilinear4_plane's
+ * operations, lane for lane. */
+static void bilinear_lanes(const sl_texture *t, const sl_sampler_state *st, int lanes, const float *u, const float *v,
+                           const int *lv, float *const rgba[4])
+{
+    const float *plane = t->plane_storage;
+    int base[SL_TEXTURE_MAX_LEVELS], wl[SL_TEXTURE_MAX_LEVELS], hl[SL_TEXTURE_MAX_LEVELS];
+    for (int l = 0; l < t->levels; l++) {
+        base[l] = (int)((const float *)(const void *)t->plane[l].texels - plane);
+        wl[l] = t->plane[l].width;
+        hl[l] = t->plane[l].height;
+    }
+    _Alignas(64) float a[QUAD_LANES], b[QUAD_LANES];
+    _Alignas(64) int w[QUAD_LANES], h[QUAD_LANES], i[QUAD_LANES], jj[QUAD_LANES];
+    _Alignas(64) int i0[QUAD_LANES], i1[QUAD_LANES], j0[QUAD_LANES], j1[QUAD_LANES];
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        int l = lv[j];
+        w[j] = wl[l];
+        h[j] = hl[l];
+        float x = safe_coord(u[j] * (float)w[j] - 0.5f), y = safe_coord(v[j] * (float)h[j] - 0.5f);
+        float fx = floorf(x), fy = floorf(y);
+        a[j] = x - fx;
+        b[j] = y - fy;
+        i[j] = (int)fx;
+        jj[j] = (int)fy;
+    }
+    wrap_pairs(lanes, i, w, st->wrap_s, is_pow2(t->level[0].width), i0, i1);
+    wrap_pairs(lanes, jj, h, st->wrap_t, is_pow2(t->level[0].height), j0, j1);
+    float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        int row0 = base[lv[j]] + j0[j] * w[j] * 4, row1 = base[lv[j]] + j1[j] * w[j] * 4;
+        int o00 = row0 + i0[j] * 4, o01 = row0 + i1[j] * 4, o10 = row1 + i0[j] * 4, o11 = row1 + i1[j] * 4;
+        float fa = a[j], fb = b[j];
+        r[j] = mixf(mixf(plane[o00], plane[o01], fa), mixf(plane[o10], plane[o11], fa), fb);
+        g[j] = mixf(mixf(plane[o00 + 1], plane[o01 + 1], fa), mixf(plane[o10 + 1], plane[o11 + 1], fa), fb);
+        bl[j] = mixf(mixf(plane[o00 + 2], plane[o01 + 2], fa), mixf(plane[o10 + 2], plane[o11 + 2], fa), fb);
+        al[j] = mixf(mixf(plane[o00 + 3], plane[o01 + 3], fa), mixf(plane[o10 + 3], plane[o11 + 3], fa), fb);
+    }
+}
+
+void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                             float *const rgba[4])
+{
+    const sl_texture *t = s->texture;
+    const sl_sampler_state *st = &s->state;
+    const int lanes = 4 * n;
+    if (!complete(t, st)) {
+        for (int j = 0; j < lanes; j++) {
+            rgba[0][j] = rgba[1][j] = rgba[2][j] = 0.0f;
+            rgba[3][j] = 1.0f;
+        }
+        return;
+    }
+    /* the levels of each quad; quads the vector path does not take are sampled four lanes at a
+     * time (slow: 1) */
+    _Alignas(64) int lv0[QUAD_LANES], lv1[QUAD_LANES];
+    _Alignas(64) float frac[QUAD_LANES];
+    bool slow[SL_QUADS_MAX], any_fast = false, any_two = false;
+    for (int q = 0; q < n; q++) {
+        tex_pick p = pick_levels(t, st, lambda[q]);
+        slow[q] = !t->plane_storage || !p.linear;
+        any_fast |= !slow[q];
+        any_two |= !slow[q] && p.count == 2;
+        for (int l = 0; l < 4; l++) {
+            lv0[4 * q + l] = slow[q] ? 0 : p.level;
+            lv1[4 * q + l] = slow[q] || p.count == 1 ? -1 : p.level + 1;
+            frac[4 * q + l] = p.frac;
+        }
+    }
+    if (any_fast) {
+        bilinear_lanes(t, st, lanes, u, v, lv0, rgba);
+        if (any_two) {
+            _Alignas(64) float r1[QUAD_LANES], g1[QUAD_LANES], b1[QUAD_LANES], a1[QUAD_LANES];
+            _Alignas(64) int lv[QUAD_LANES];
+            float *const next[4] = {r1, g1, b1, a1};
+            for (int j = 0; j < lanes; j++)
+                lv[j] = lv1[j] < 0 ? lv0[j] : lv1[j];
+            bilinear_lanes(t, st, lanes, u, v, lv, next);
+            for (int c = 0; c < 4; c++) {
+                float *o = rgba[c];
+                const float *o1 = next[c];
+#pragma omp simd
+                for (int j = 0; j < lanes; j++)
+                    o[j] = lv1[j] < 0 ? o[j] : mixf(o[j], o1[j], frac[j]);
+            }
+        }
+    }
+    for (int q = 0; q < n; q++) {
+        if (!slow[q])
+            continue;
+        vec2 uv[4];
+        vec4 out[4];
+        for (int l = 0; l < 4; l++)
+            uv[l] = vec2(u[4 * q + l], v[4 * q + l]);
+        sl_texture_sample4(s, uv, lambda[q], out);
+        for (int l = 0; l < 4; l++) {
+            rgba[0][4 * q + l] = out[l].x;
+            rgba[1][4 * q + l] = out[l].y;
+            rgba[2][4 * q + l] = out[l].z;
+            rgba[3][4 * q + l] = out[l].w;
+        }
+    }
+}
+
+vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+{
+    return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
 }
 
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
@@ -304,7 +447,7 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of
  * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified),
  * +infinity 128. */
-static float log2_fast(float x)
+static inline __attribute__((always_inline)) float log2_fast(float x)
 {
     uint32_t bits;
     memcpy(&bits, &x, sizeof bits);
@@ -341,6 +484,35 @@ static float lambda_from(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias
         rho2 = explicit_derivatives ? 0.0f : INFINITY;
     float lambda = 0.5f * log2_fast(rho2) + bias;
     return clamp_lambda(lambda + s->state.lod_bias, &s->state);
+}
+
+/* lambda_from's implicit form for n quads at once: the coarse differences of each quad's lanes
+ * (shader.h's sl_quad_dfdx_coarse / sl_quad_dfdy_coarse), then lambda_from's operations in its
+ * order, with a select for its non-finite branch, in one vector loop over the quads. */
+void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda)
+{
+    const sl_texture *t = s->texture;
+    if (!t) {
+        for (int q = 0; q < n; q++)
+            lambda[q] = 0.0f;
+        return;
+    }
+    const float w = (float)t->level[0].width, h = (float)t->level[0].height;
+    const float lod_bias = s->state.lod_bias, min_lod = s->state.min_lod, max_lod = s->state.max_lod;
+#pragma omp simd
+    for (int q = 0; q < n; q++) {
+        const float *uq = u + 4 * q, *vq = v + 4 * q;
+        float sx = (uq[1] - uq[0]) * w, tx = (vq[1] - vq[0]) * h;
+        float sy = (uq[2] - uq[0]) * w, ty = (vq[2] - vq[0]) * h;
+        float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
+        float rho2 = rx > ry ? rx : ry;
+        uint32_t bits;
+        memcpy(&bits, &rho2, sizeof bits);
+        rho2 = (bits & 0x7f800000u) == 0x7f800000u ? INFINITY : rho2; /* !isfinite: the last level */
+        float l = 0.5f * log2_fast(rho2) + bias + lod_bias;
+        l = l < max_lod ? l : max_lod;
+        lambda[q] = l > min_lod ? l : min_lod;
+    }
 }
 
 float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)
