@@ -27,12 +27,12 @@ sl_sampler_state sl_sampler_default(void)
 
 /* A texel-space coordinate made safe to convert to int: NaN -> 0, beyond +-2^24 clamped (a
  * float there has no fraction left, so no sample position is lost). */
-static float safe_coord(float x)
+static inline __attribute__((always_inline)) float safe_coord(float x)
 {
     const float limit = 16777216.0f;
-    if (x >= -limit)
-        return x <= limit ? x : limit;
-    return x < 0.0f ? -limit : 0.0f;
+    /* plain selects (no nested one): GCC 12 if-converts them, so the multi-quad loops vectorize */
+    float c = x <= limit ? x : limit, d = x < 0.0f ? -limit : 0.0f;
+    return x >= -limit ? c : d;
 }
 
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
@@ -326,13 +326,17 @@ static void bilinear_lanes(const sl_texture *t, const sl_sampler_state *st, int 
     _Alignas(64) float a[QUAD_LANES], b[QUAD_LANES];
     _Alignas(64) int w[QUAD_LANES], h[QUAD_LANES], i[QUAD_LANES], jj[QUAD_LANES];
     _Alignas(64) int i0[QUAD_LANES], i1[QUAD_LANES], j0[QUAD_LANES], j1[QUAD_LANES];
+    for (int j = 0; j < lanes; j++) {
+        w[j] = wl[lv[j]];
+        h[j] = hl[lv[j]];
+    }
 #pragma omp simd
     for (int j = 0; j < lanes; j++) {
-        int l = lv[j];
-        w[j] = wl[l];
-        h[j] = hl[l];
         float x = safe_coord(u[j] * (float)w[j] - 0.5f), y = safe_coord(v[j] * (float)h[j] - 0.5f);
-        float fx = floorf(x), fy = floorf(y);
+        /* floorf by truncation (GCC 12 does not vectorize floorf under -ftrapping-math): exact
+         * for safe_coord's range, and x is never -0 (u w - 0.5 rounds an exact 0 to +0) */
+        float tx = (float)(int)x, ty = (float)(int)y;
+        float fx = tx > x ? tx - 1.0f : tx, fy = ty > y ? ty - 1.0f : ty;
         a[j] = x - fx;
         b[j] = y - fy;
         i[j] = (int)fx;
@@ -447,15 +451,19 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of
  * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified),
  * +infinity 128. */
-static inline __attribute__((always_inline)) float log2_fast(float x)
+static inline __attribute__((always_inline)) float log2_fast_bits(uint32_t bits)
 {
-    uint32_t bits;
-    memcpy(&bits, &x, sizeof bits);
     int e = (int)((bits >> 23) & 0xffu) - 127;
     bits = (bits & 0x007fffffu) | 0x3f800000u;
     float m;
     memcpy(&m, &bits, sizeof m);
     return (float)(e - 1) + m;
+}
+static inline __attribute__((always_inline)) float log2_fast(float x)
+{
+    uint32_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    return log2_fast_bits(bits);
 }
 
 /* lambda clamped as llvmpipe clamps it: to max_lod first, then to min_lod. */
@@ -508,8 +516,10 @@ void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const
         float rho2 = rx > ry ? rx : ry;
         uint32_t bits;
         memcpy(&bits, &rho2, sizeof bits);
-        rho2 = (bits & 0x7f800000u) == 0x7f800000u ? INFINITY : rho2; /* !isfinite: the last level */
-        float l = 0.5f * log2_fast(rho2) + bias + lod_bias;
+        /* !isfinite: +inf, the last level (as a mask: GCC 12 does not if-convert this select) */
+        uint32_t nonfinite = (uint32_t) - (int32_t)((bits & 0x7f800000u) == 0x7f800000u);
+        bits = (bits & ~nonfinite) | (0x7f800000u & nonfinite);
+        float l = 0.5f * log2_fast_bits(bits) + bias + lod_bias;
         l = l < max_lod ? l : max_lod;
         lambda[q] = l > min_lod ? l : min_lod;
     }
