@@ -294,7 +294,7 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
  * SL_QUADS_MAX quads a call, in structure-of-arrays form, so that each step runs as a vector loop
  * over the lanes (or, for the levels of detail, over the quads): the uv transform of each map,
  * the quads' lambdas (sl_texture_lambda_quads, one per quad from the same coarse differences),
- * the fetches (sl_texture_sample_quads), the normals; then finish_texel per lane. Each lane's
+ * the fetches (sl_texture_sample_quads), the normals, the texel's values (finish_lanes). Each lane's
  * values are the quad form's, bit for bit (tests/cli/textured_quad_form.sh compares it with the
  * rounds). The trace hook gets each lane's fetch with the quad form's arguments. */
 #define TEX_QUAD_LANES (4 * SL_QUADS_MAX)
@@ -316,6 +316,89 @@ static void trace_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quad
         vec2 dPdx = vec2(us[b + 1] - us[b], vs[b + 1] - vs[b]), dPdy = vec2(us[b + 2] - us[b], vs[b + 2] - vs[b]);
         u->trace(u->trace_ctx, &in, slot, map_sampler(u, slot), vec2(us[j], vs[j]), dPdx, dPdy, lambda[k],
                  vec4(rgba[0][j], rgba[1][j], rgba[2][j], rgba[3][j]));
+    }
+}
+
+/* finish_texel (with metallic_roughness) and write_extra for every lane of a multi-quad call:
+ * their expressions, operation for operation, as vector loops over the lanes into arrays, then
+ * one loop that stores each lane's texel. val[slot][c]: channel c of the slot's fetch (read only
+ * for bound slots; an unbound one reads as 1, GL's default texel). */
+static const float unbound_lanes[TEX_QUAD_LANES] = {
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+_Static_assert(TEX_QUAD_LANES == 64, "unbound_lanes holds one 1 per lane");
+
+static void finish_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quads *q,
+                         float (*val)[4][TEX_QUAD_LANES], const float *nx, const float *ny, const float *nz)
+{
+    const int lanes = 4 * q->n;
+    const float *map[SL_MAP_COUNT][4];
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        for (int c = 0; c < 4; c++)
+            map[slot][c] = u->uMaps & (1 << slot) ? val[slot][c] : unbound_lanes;
+    _Alignas(64) float kr[TEX_QUAD_LANES], kg[TEX_QUAD_LANES], kb[TEX_QUAD_LANES];
+    _Alignas(64) float sr[TEX_QUAD_LANES], sg[TEX_QUAD_LANES], sb[TEX_QUAD_LANES], alpha[TEX_QUAD_LANES];
+    _Alignas(64) int32_t keep[TEX_QUAD_LANES];
+    const float *kdr = map[SL_MAP_KD][0], *kdg = map[SL_MAP_KD][1], *kdb = map[SL_MAP_KD][2];
+    const float *ksr = map[SL_MAP_KS][0], *ksg = map[SL_MAP_KS][1], *ksb = map[SL_MAP_KS][2];
+    const float *gloss = map[SL_MAP_ALPHA][0];
+    const float *coverage = u->uMaps & SL_GBUFFER_MAP_MASK ? map[SL_MAP_MASK][0] : map[SL_MAP_KD][3];
+    const bool cutoff = (u->uMaps & SL_GBUFFER_MAP_CUTOFF) != 0, ggx = u->uRoughness >= 0.0f;
+    const float cut = u->uAlphaCutoff, rough = u->uRoughness, phong = u->uAlpha;
+    const vec3 ukd = u->uKd, uks = u->uKs;
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        keep[j] = !cutoff || !(coverage[j] < cut);
+        kr[j] = ukd.x * kdr[j];
+        kg[j] = ukd.y * kdg[j];
+        kb[j] = ukd.z * kdb[j];
+        sr[j] = uks.x * ksr[j];
+        sg[j] = uks.y * ksg[j];
+        sb[j] = uks.z * ksb[j];
+        alpha[j] = ggx ? sl_gbuffer_ggx_alpha(rough * gloss[j]) : phong * gloss[j];
+    }
+    if (u->uMetallic >= 0.0f) { /* metallic_roughness */
+        const float *mg = map[SL_MAP_METALLIC_ROUGHNESS][1], *mb = map[SL_MAP_METALLIC_ROUGHNESS][2];
+        const float metallic = u->uMetallic;
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            float metal = metallic * mb[j], keepf = 1.0f - metal;
+            float br = kr[j], bg = kg[j], bb = kb[j];
+            kr[j] = br * keepf;
+            kg[j] = bg * keepf;
+            kb[j] = bb * keepf;
+            sr[j] = 0.04f + (br - 0.04f) * metal;
+            sg[j] = 0.04f + (bg - 0.04f) * metal;
+            sb[j] = 0.04f + (bb - 0.04f) * metal;
+            alpha[j] = sl_gbuffer_ggx_alpha(rough * gloss[j] * mg[j]);
+        }
+    }
+    const float *px = q->varyings[0], *py = q->varyings[1], *pz = q->varyings[2];
+    for (int j = 0; j < lanes; j++) {
+        if (!keep[j]) {
+            q->discarded[j] = 1;
+            continue;
+        }
+        sl_gbuffer_texel *g = q->texel[j];
+        g->position = vec3(px[j], py[j], pz[j]);
+        g->normal = vec3(nx[j], ny[j], nz[j]);
+        g->kd = vec3(kr[j], kg[j], kb[j]);
+        g->ks = vec3(sr[j], sg[j], sb[j]);
+        g->alpha = alpha[j];
+        g->depth = q->frag_z[j];
+    }
+    if (!u->extra)
+        return;
+    const float *occ = map[SL_MAP_OCCLUSION][0];
+    const float *er = map[SL_MAP_EMISSIVE][0], *eg = map[SL_MAP_EMISSIVE][1], *eb = map[SL_MAP_EMISSIVE][2];
+    for (int j = 0; j < lanes; j++) {
+        if (!keep[j] || q->helper[j]) /* write_extra */
+            continue;
+        int x = q->qx[j >> 2] + (j & 1), y = q->qy[j >> 2] + ((j >> 1) & 1);
+        sl_gbuffer_extra *e = u->extra + (size_t)y * (size_t)u->extra_width + (size_t)x;
+        e->occlusion = 1.0f + u->uOcclusionStrength * (occ[j] - 1.0f);
+        e->emissive = vec3(u->uEmissive.x * er[j], u->uEmissive.y * eg[j], u->uEmissive.z * eb[j]);
+        e->depth = q->frag_z[j];
     }
 }
 
@@ -346,20 +429,7 @@ void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
     _Alignas(64) float nx[TEX_QUAD_LANES], ny[TEX_QUAD_LANES], nz[TEX_QUAD_LANES];
     shading_normals(u, lanes, q->varyings, val[SL_MAP_NORMAL][0], val[SL_MAP_NORMAL][1], val[SL_MAP_NORMAL][2], nx, ny,
                     nz);
-    const float *px = q->varyings[0], *py = q->varyings[1], *pz = q->varyings[2];
-    for (int j = 0; j < lanes; j++) {
-        map_values m;
-        maps_unbound(&m);
-        for (int slot = 0; slot < SL_MAP_COUNT; slot++)
-            if (u->uMaps & (1 << slot))
-                m.map[slot] = vec4(val[slot][0][j], val[slot][1][j], val[slot][2][j], val[slot][3][j]);
-        if (!finish_texel(u, vec3(px[j], py[j], pz[j]), q->frag_z[j], &m, vec3(nx[j], ny[j], nz[j]), q->texel[j])) {
-            q->discarded[j] = 1;
-            continue;
-        }
-        if (u->extra)
-            write_extra(u, q->qx[j >> 2] + (j & 1), q->qy[j >> 2] + ((j >> 1) & 1), q->helper[j] != 0, q->frag_z[j], &m);
-    }
+    finish_lanes(u, q, val, nx, ny, nz);
 }
 
 /* Two programs: one that may discard (a late depth test, as GL's rules require) for masked
