@@ -311,10 +311,12 @@ static inline __attribute__((always_inline)) void wrap_pairs(int lanes, const in
 
 static bool is_pow2(int n) { return (n & (n - 1)) == 0; }
 
-/* Level lv[j] of each lane filtered bilinearly at (u[j], v[j]), into rgba: bilinear4_plane's
- * operations, lane for lane. */
-static void bilinear_lanes(const sl_texture *t, const sl_sampler_state *st, int lanes, const float *u, const float *v,
-                           const int *lv, float *const rgba[4])
+/* Where bilinear filtering of level lv[j] at (u[j], v[j]) reads, for each lane: the offsets (in
+ * floats, from the plane's start: its levels lie in one allocation) of its four texels, o[0..3]
+ * = (i0, j0), (i1, j0), (i0, j1), (i1, j1), and the weights a, b; bilinear4_plane's operations,
+ * lane for lane, in vector loops. */
+static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, int lanes, const float *u,
+                             const float *v, const int *lv, int (*o)[QUAD_LANES], float *a, float *b)
 {
     const float *plane = t->plane_storage;
     int base[SL_TEXTURE_MAX_LEVELS], wl[SL_TEXTURE_MAX_LEVELS], hl[SL_TEXTURE_MAX_LEVELS];
@@ -323,12 +325,12 @@ static void bilinear_lanes(const sl_texture *t, const sl_sampler_state *st, int 
         wl[l] = t->plane[l].width;
         hl[l] = t->plane[l].height;
     }
-    _Alignas(64) float a[QUAD_LANES], b[QUAD_LANES];
-    _Alignas(64) int w[QUAD_LANES], h[QUAD_LANES], i[QUAD_LANES], jj[QUAD_LANES];
+    _Alignas(64) int w[QUAD_LANES], h[QUAD_LANES], bs[QUAD_LANES], i[QUAD_LANES], jj[QUAD_LANES];
     _Alignas(64) int i0[QUAD_LANES], i1[QUAD_LANES], j0[QUAD_LANES], j1[QUAD_LANES];
     for (int j = 0; j < lanes; j++) {
         w[j] = wl[lv[j]];
         h[j] = hl[lv[j]];
+        bs[j] = base[lv[j]];
     }
 #pragma omp simd
     for (int j = 0; j < lanes; j++) {
@@ -344,17 +346,24 @@ static void bilinear_lanes(const sl_texture *t, const sl_sampler_state *st, int 
     }
     wrap_pairs(lanes, i, w, st->wrap_s, is_pow2(t->level[0].width), i0, i1);
     wrap_pairs(lanes, jj, h, st->wrap_t, is_pow2(t->level[0].height), j0, j1);
-    float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
 #pragma omp simd
     for (int j = 0; j < lanes; j++) {
-        int row0 = base[lv[j]] + j0[j] * w[j] * 4, row1 = base[lv[j]] + j1[j] * w[j] * 4;
-        int o00 = row0 + i0[j] * 4, o01 = row0 + i1[j] * 4, o10 = row1 + i0[j] * 4, o11 = row1 + i1[j] * 4;
-        float fa = a[j], fb = b[j];
-        r[j] = mixf(mixf(plane[o00], plane[o01], fa), mixf(plane[o10], plane[o11], fa), fb);
-        g[j] = mixf(mixf(plane[o00 + 1], plane[o01 + 1], fa), mixf(plane[o10 + 1], plane[o11 + 1], fa), fb);
-        bl[j] = mixf(mixf(plane[o00 + 2], plane[o01 + 2], fa), mixf(plane[o10 + 2], plane[o11 + 2], fa), fb);
-        al[j] = mixf(mixf(plane[o00 + 3], plane[o01 + 3], fa), mixf(plane[o10 + 3], plane[o11 + 3], fa), fb);
+        int row0 = bs[j] + j0[j] * w[j] * 4, row1 = bs[j] + j1[j] * w[j] * 4;
+        o[0][j] = row0 + i0[j] * 4;
+        o[1][j] = row0 + i1[j] * 4;
+        o[2][j] = row1 + i0[j] * 4;
+        o[3][j] = row1 + i1[j] * 4;
     }
+}
+
+/* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
+ * bilinear4_plane's mixes. */
+static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, int (*o)[QUAD_LANES],
+                                                                   float a, float b, float out[4])
+{
+    const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
+    for (int c = 0; c < 4; c++)
+        out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
 }
 
 void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
@@ -387,21 +396,30 @@ void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const
         }
     }
     if (any_fast) {
-        bilinear_lanes(t, st, lanes, u, v, lv0, rgba);
+        /* the texel offsets and weights in vector loops; then the fetch lane by lane, a texel a
+         * 16-byte load (gathers, a float each, were slower: four times the loads) */
+        const float *plane = t->plane_storage;
+        _Alignas(64) int o0[4][QUAD_LANES], o1[4][QUAD_LANES], lv[QUAD_LANES];
+        _Alignas(64) float a0[QUAD_LANES], b0[QUAD_LANES], a1[QUAD_LANES], b1[QUAD_LANES];
+        bilinear_offsets(t, st, lanes, u, v, lv0, o0, a0, b0);
         if (any_two) {
-            _Alignas(64) float r1[QUAD_LANES], g1[QUAD_LANES], b1[QUAD_LANES], a1[QUAD_LANES];
-            _Alignas(64) int lv[QUAD_LANES];
-            float *const next[4] = {r1, g1, b1, a1};
             for (int j = 0; j < lanes; j++)
                 lv[j] = lv1[j] < 0 ? lv0[j] : lv1[j];
-            bilinear_lanes(t, st, lanes, u, v, lv, next);
-            for (int c = 0; c < 4; c++) {
-                float *o = rgba[c];
-                const float *o1 = next[c];
-#pragma omp simd
-                for (int j = 0; j < lanes; j++)
-                    o[j] = lv1[j] < 0 ? o[j] : mixf(o[j], o1[j], frac[j]);
+            bilinear_offsets(t, st, lanes, u, v, lv, o1, a1, b1);
+        }
+        float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
+        for (int j = 0; j < lanes; j++) {
+            float c0[4], c1[4];
+            bilinear_texels(plane, j, o0, a0[j], b0[j], c0);
+            if (lv1[j] >= 0) {
+                bilinear_texels(plane, j, o1, a1[j], b1[j], c1);
+                for (int c = 0; c < 4; c++)
+                    c0[c] = mixf(c0[c], c1[c], frac[j]);
             }
+            r[j] = c0[0];
+            g[j] = c0[1];
+            bl[j] = c0[2];
+            al[j] = c0[3];
         }
     }
     for (int q = 0; q < n; q++) {
