@@ -555,37 +555,49 @@ static void quads_flush(tri_ctx *c, const bool depth)
         for (int j = 0; j < lanes; j++)
             out[j] = (p0 + p1 * b->fx[j] + p2 * b->fy[j]) * b->w[j];
     }
-    for (int j = 0; j < lanes; j++) {
-        int x = b->qx[j >> 2] + (j & 1), y = b->qy[j >> 2] + ((j >> 1) & 1);
-        char *target = x < tg->width && y < tg->height
-                           ? c->texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz
-                           : NULL;
-        b->target[j] = target;
-        b->texel[j] = fresh && !late && !b->helper[j] ? target : c->scratch + (size_t)j * tsz;
+    const size_t row = (size_t)tg->width * tsz;
+    for (int k = 0; k < n; k++) {
+        int qx = b->qx[k], qy = b->qy[k];
+        char *lane0 = c->texels + (size_t)qy * row + (size_t)qx * tsz;
+        bool right = qx + 1 < tg->width, top = qy + 1 < tg->height; /* false only at odd sizes */
+        char *target[4] = {lane0, right ? lane0 + tsz : NULL, top ? lane0 + row : NULL,
+                           right && top ? lane0 + row + tsz : NULL};
+        for (int l = 0; l < 4; l++) {
+            int j = 4 * k + l;
+            b->target[j] = target[l];
+            b->texel[j] = fresh && !late && !b->helper[j] ? target[l] : c->scratch + (size_t)j * tsz;
+        }
+    }
+    for (int j = 0; j < lanes; j++)
         b->discarded[j] = 0;
-        if (!fresh) {
-            if (target)
-                memcpy(b->texel[j], target, tsz);
+    if (!fresh)
+        for (int j = 0; j < lanes; j++) {
+            if (b->target[j])
+                memcpy(b->texel[j], b->target[j], tsz);
             else
                 memset(b->texel[j], 0, tsz);
         }
-    }
     b->in.n = n;
     b->in.front_facing = t->front;
     prog->fragment_quads(c->call->fs_uniforms, &b->in);
 
     c->quads += n;
     c->rounds += n;
+    int helpers = 0, discarded = 0;
     for (int j = 0; j < lanes; j++) {
-        if (b->helper[j]) {
-            c->helpers++;
+        helpers += b->helper[j];
+        discarded += b->discarded[j] & !b->helper[j];
+    }
+    c->helpers += helpers;
+    c->shaded += lanes - helpers;
+    c->discarded += discarded;
+    if (fresh && !late && discarded == 0) { /* every live lane wrote its texel in place */
+        b->n = 0;
+        return;
+    }
+    for (int j = 0; j < lanes; j++) {
+        if (b->helper[j] || b->discarded[j])
             continue;
-        }
-        c->shaded++;
-        if (b->discarded[j]) {
-            c->discarded++;
-            continue;
-        }
         if (b->texel[j] != b->target[j])
             memcpy(b->target[j], b->texel[j], tsz);
         if (depth && late) {
@@ -609,20 +621,18 @@ static inline __attribute__((always_inline)) void quad_gather(tri_ctx *c, int qx
     float z[4];
     for (int l = 0; l < 4; l++)
         z[l] = depth_at(t, fx[l], fy[l]);
-    unsigned live = 0;
-    for (int l = 0; l < 4; l++) {
-        int x = qx + (l & 1), y = qy + (l >> 1);
-        if (!(cov >> l & 1))
-            continue;
-        c->tested++;
-        if (depth) {
-            float *zp = &c->zbuf[(y - c->py0) * c->ts + (x - c->px0)];
-            if (!(z[l] < *zp))
-                continue;
-            if (!late)
-                *zp = z[l];
+    unsigned live = cov;
+    c->tested += (cov & 1) + (cov >> 1 & 1) + (cov >> 2 & 1) + (cov >> 3 & 1);
+    if (depth) {
+        float *z0 = &c->zbuf[(qy - c->py0) * c->ts + (qx - c->px0)];
+        float *zp[4] = {z0, z0 + 1, z0 + c->ts, z0 + c->ts + 1};
+        live = 0;
+        for (int l = 0; l < 4; l++) {
+            bool pass = (cov >> l & 1) && z[l] < *zp[l];
+            if (pass && !late)
+                *zp[l] = z[l];
+            live |= (unsigned)pass << l;
         }
-        live |= 1u << l;
     }
     if (!live)
         return;
