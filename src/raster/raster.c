@@ -143,6 +143,8 @@ static bool validate_draw(const sl_draw *d, sl_error *err)
         return sl_fail(err, SL_ERR_RANGE, "raster: program without vertex or fragment shader");
     if (p->fragment_quad && !p->derivatives)
         return sl_fail(err, SL_ERR_RANGE, "raster: a quad form (fragment_quad) without derivatives = true");
+    if (p->fragment_quads && !p->derivatives)
+        return sl_fail(err, SL_ERR_RANGE, "raster: a multi-quad form (fragment_quads) without derivatives = true");
     if (p->varying_count < 0 || p->varying_count > SL_MAX_VARYINGS)
         return sl_fail(err, SL_ERR_RANGE, "raster: %d varyings (at most %d)", p->varying_count, SL_MAX_VARYINGS);
     const sl_mesh *m = d->mesh;
