@@ -11,6 +11,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "raster/raster.h" /* SL_QUADS_MAX */
 #include "raster/texture.h"
 #include "raster/texture_internal.h"
 #include "testutil.h"
@@ -695,8 +696,10 @@ static void test_fast_path_bits(void **state)
     unsigned char *data = malloc(64 * 8 * 16);
     assert_non_null(data);
     srand(7);
-    long checked = 0, checked4 = 0;
+    long checked = 0, checked4 = 0, checked_quads = 0;
     vec2 quad_uv[4];
+    float mu[4 * SL_QUADS_MAX], mv[4 * SL_QUADS_MAX], mlambda[SL_QUADS_MAX];
+    int mq = 0;
     for (int f = 0; f < SL_TEX_FORMAT_COUNT; f++) {
         assert_int_equal(tex_format_bytes((sl_texture_format)f), sl_texture_format_bytes((sl_texture_format)f));
         for (size_t i = 0; i < 64 * 8 * 16; i++)
@@ -741,6 +744,28 @@ static void test_fast_path_bits(void **state)
                                     assert_memory_equal(&four[l], &one, sizeof one);
                                 }
                                 checked4++;
+                                /* the multi-quad sample: this quad joins the call's (each quad its own
+                                 * lambda), checked lane by lane when 16 are gathered or the run ends */
+                                for (int l = 0; l < 4; l++) {
+                                    mu[4 * mq + l] = quad_uv[l].x;
+                                    mv[4 * mq + l] = quad_uv[l].y;
+                                }
+                                mlambda[mq++] = lambda;
+                            }
+                            if (mq == SL_QUADS_MAX || (k == 199 && mq > 0)) {
+                                float r[4 * SL_QUADS_MAX], g[4 * SL_QUADS_MAX], b[4 * SL_QUADS_MAX], a[4 * SL_QUADS_MAX];
+                                float *const rgba[4] = {r, g, b, a};
+                                sl_texture_sample_quads(&s, mq, mu, mv, mlambda, rgba);
+                                for (int j = 0; j < 4 * mq; j++) {
+                                    vec4 many = vec4(r[j], g[j], b[j], a[j]);
+                                    vec4 one = sl_texture_sample(&s, vec2(mu[j], mv[j]), mlambda[j / 4]);
+                                    if (memcmp(&many, &one, sizeof one) != 0)
+                                        fail_msg("%s %dx%d min %d wrap %d plane %d: multi-quad lane %d of %d differs",
+                                                 sl_texture_format_name((sl_texture_format)f), sizes[z][0],
+                                                 sizes[z][1], min, w, pass == 0, j, 4 * mq);
+                                    checked_quads++;
+                                }
+                                mq = 0;
                             }
                         }
                     }
@@ -751,6 +776,55 @@ static void test_fast_path_bits(void **state)
     free(data);
     assert_true(checked == 2 * 13L * 4 * 6 * 9 * 200);
     assert_true(checked4 == checked / 4);
+    assert_true(checked_quads == checked);
+}
+
+/* The multi-quad lambda (sl_texture_lambda_quads) against the quad's (sl_texture_lambda_quad of
+ * the coarse differences), bit for bit: random quads from magnified to past the last level, a
+ * sampler bias and lod clamps, and quads with an infinite or NaN lane (the last level). */
+static void test_lambda_quads(void **state)
+{
+    (void)state;
+    sl_texture *t = NULL;
+    sl_error err = {0};
+    unsigned char texels[64 * 32 * 4] = {0};
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 64, 32, texels, true, &t, &err));
+    srand(11);
+    long checked = 0;
+    for (int cfg = 0; cfg < 3; cfg++) {
+        sl_sampler2D s = sampler(t, SL_LINEAR_MIPMAP_LINEAR, SL_LINEAR, SL_REPEAT, SL_REPEAT);
+        if (cfg == 1)
+            s.state.lod_bias = 0.75f;
+        if (cfg == 2) {
+            s.state.min_lod = 0.5f;
+            s.state.max_lod = 3.25f;
+        }
+        for (int round = 0; round < 50; round++) {
+            float u[4 * SL_QUADS_MAX], v[4 * SL_QUADS_MAX], lambda[SL_QUADS_MAX];
+            int n = 1 + round % SL_QUADS_MAX;
+            for (int q = 0; q < n; q++) {
+                float scale = powf(2.0f, rnd(-12.0f, 4.0f)), u0 = rnd(-2, 2), v0 = rnd(-2, 2);
+                for (int l = 0; l < 4; l++) {
+                    u[4 * q + l] = u0 + rnd(-scale, scale);
+                    v[4 * q + l] = v0 + rnd(-scale, scale);
+                }
+            }
+            if (round % 5 == 4) { /* a helper's non-finite input */
+                u[1] = INFINITY;
+                v[4 * (n - 1) + 2] = NAN;
+            }
+            sl_texture_lambda_quads(&s, n, u, v, 0.0f, lambda);
+            for (int q = 0; q < n; q++) {
+                const float *uq = u + 4 * q, *vq = v + 4 * q;
+                float one = sl_texture_lambda_quad(&s, vec2(uq[1] - uq[0], vq[1] - vq[0]),
+                                                   vec2(uq[2] - uq[0], vq[2] - vq[0]), 0.0f);
+                assert_memory_equal(&lambda[q], &one, sizeof one);
+                checked++;
+            }
+        }
+    }
+    sl_texture_destroy(t);
+    assert_true(checked > 1000);
 }
 
 int main(void)
@@ -767,6 +841,7 @@ int main(void)
         cmocka_unit_test(test_load_files),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_fast_path_bits),
+        cmocka_unit_test(test_lambda_quads),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
