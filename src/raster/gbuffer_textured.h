@@ -5,8 +5,9 @@
  * texture coordinates and tangents. Produces: the same G-buffer texel as the built-in pair, with
  * kd, ks, alpha and the normal modulated by the maps; masked materials discard below the cutoff.
  * The program takes derivatives (texture() with an implicit level of detail), so it runs in 2x2
- * quads, through its quad form on the span path (one call a quad, derivatives between lanes) and
- * through the generic rounds on the plain path; the masked variant may discard, so its depth
+ * quads, through its multi-quad form on the span path (one call for up to 16 quads, structure of
+ * arrays, derivatives between lanes; the quad form, one call a quad, is kept for programs drawn
+ * without it) and through the generic rounds on the plain path; the masked variant may discard, so its depth
  * test runs after it. */
 #ifndef SL_GBUFFER_TEXTURED_H
 #define SL_GBUFFER_TEXTURED_H

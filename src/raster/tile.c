@@ -28,7 +28,9 @@
  * Programs with flags (chosen per triangle, so programs without them pay one test):
  *   quads  (sl_program.derivatives) aligned 2x2 quads over the same blocks, helpers for
  *          uncovered and occluded lanes, the lanes run in rounds (quad.c) or through the
- *          program's quad form (span path only), on both paths.
+ *          program's quad form (span path only), on both paths; a program with a multi-quad
+ *          form (span path only) has up to 16 quads gathered and shaded in one call
+ *          (quad_gather, quads_flush).
  *   late   (sl_program.discards, no derivatives) pixel by pixel on both paths; the
  *          shader writes a scratch texel, copied with its depth unless it discarded.
  *
