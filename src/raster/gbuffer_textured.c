@@ -297,7 +297,6 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
  * the fetches (sl_texture_sample_quads), the normals, the texel's values (finish_lanes). Each lane's
  * values are the quad form's, bit for bit (tests/cli/textured_quad_form.sh compares it with the
  * rounds). The trace hook gets each lane's fetch with the quad form's arguments. */
-#define TEX_QUAD_LANES (4 * SL_QUADS_MAX)
 static void trace_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quads *q, int slot, const float *us,
                         const float *vs, const float *lambda, float *const rgba[4])
 {
@@ -323,22 +322,22 @@ static void trace_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quad
  * their expressions, operation for operation, as vector loops over the lanes into arrays, then
  * one loop that stores each lane's texel. val[slot][c]: channel c of the slot's fetch (read only
  * for bound slots; an unbound one reads as 1, GL's default texel). */
-static const float unbound_lanes[TEX_QUAD_LANES] = {
+static const float unbound_lanes[SL_QUAD_LANES] = {
     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
-_Static_assert(TEX_QUAD_LANES == 64, "unbound_lanes holds one 1 per lane");
+_Static_assert(SL_QUAD_LANES == 64, "unbound_lanes holds one 1 per lane");
 
 static void finish_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quads *q,
-                         float (*val)[4][TEX_QUAD_LANES], const float *nx, const float *ny, const float *nz)
+                         float (*val)[4][SL_QUAD_LANES], const float *nx, const float *ny, const float *nz)
 {
     const int lanes = 4 * q->n;
     const float *map[SL_MAP_COUNT][4];
     for (int slot = 0; slot < SL_MAP_COUNT; slot++)
         for (int c = 0; c < 4; c++)
             map[slot][c] = u->uMaps & (1 << slot) ? val[slot][c] : unbound_lanes;
-    _Alignas(64) float kr[TEX_QUAD_LANES], kg[TEX_QUAD_LANES], kb[TEX_QUAD_LANES];
-    _Alignas(64) float sr[TEX_QUAD_LANES], sg[TEX_QUAD_LANES], sb[TEX_QUAD_LANES], alpha[TEX_QUAD_LANES];
-    _Alignas(64) int32_t keep[TEX_QUAD_LANES];
+    _Alignas(64) float kr[SL_QUAD_LANES], kg[SL_QUAD_LANES], kb[SL_QUAD_LANES];
+    _Alignas(64) float sr[SL_QUAD_LANES], sg[SL_QUAD_LANES], sb[SL_QUAD_LANES], alpha[SL_QUAD_LANES];
+    _Alignas(64) int32_t keep[SL_QUAD_LANES];
     const float *kdr = map[SL_MAP_KD][0], *kdg = map[SL_MAP_KD][1], *kdb = map[SL_MAP_KD][2];
     const float *ksr = map[SL_MAP_KS][0], *ksg = map[SL_MAP_KS][1], *ksb = map[SL_MAP_KS][2];
     const float *gloss = map[SL_MAP_ALPHA][0];
@@ -406,14 +405,14 @@ void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
 {
     const sl_gbuffer_tex_uniforms *u = uniforms;
     const int lanes = 4 * q->n;
-    _Alignas(64) float val[SL_MAP_COUNT][4][TEX_QUAD_LANES];
+    _Alignas(64) float val[SL_MAP_COUNT][4][SL_QUAD_LANES];
     const float *tu = q->varyings[6], *tv = q->varyings[7];
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
         if (!(u->uMaps & (1 << slot)))
             continue;
         const sl_sampler2D *s = map_sampler(u, slot);
         const vec4 st = map_st(u, slot);
-        _Alignas(64) float us[TEX_QUAD_LANES], vs[TEX_QUAD_LANES];
+        _Alignas(64) float us[SL_QUAD_LANES], vs[SL_QUAD_LANES];
         float lambda[SL_QUADS_MAX];
 #pragma omp simd
         for (int j = 0; j < lanes; j++) {
@@ -426,7 +425,7 @@ void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
         if (u->trace)
             trace_lanes(u, q, slot, us, vs, lambda, rgba);
     }
-    _Alignas(64) float nx[TEX_QUAD_LANES], ny[TEX_QUAD_LANES], nz[TEX_QUAD_LANES];
+    _Alignas(64) float nx[SL_QUAD_LANES], ny[SL_QUAD_LANES], nz[SL_QUAD_LANES];
     shading_normals(u, lanes, q->varyings, val[SL_MAP_NORMAL][0], val[SL_MAP_NORMAL][1], val[SL_MAP_NORMAL][2], nx, ny,
                     nz);
     finish_lanes(u, q, val, nx, ny, nz);

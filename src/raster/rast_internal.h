@@ -131,20 +131,18 @@ typedef struct {
  * quads_flush), structure of arrays over lanes (lane l of quad q at 4 q + l): what the depth
  * test left of each quad (its offsets from the triangle's origin, depth, live lanes), then the
  * inputs made for all lanes at once, and what the shader gets. */
-#define RAST_QUAD_LANES (4 * SL_QUADS_MAX)
 typedef struct {
-    _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) float fx[RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) float fy[RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) float z[RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) float iw[RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) float w[RAST_QUAD_LANES];
-    _Alignas(RAST_CACHE_LINE) void *texel[RAST_QUAD_LANES]; /* what the shader writes */
-    char *target[RAST_QUAD_LANES];                           /* the lane's texel, NULL outside */
-    uint8_t helper[RAST_QUAD_LANES];
-    uint8_t discarded[RAST_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float fx[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float fy[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float z[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float iw[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float w[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) void *texel[SL_QUAD_LANES]; /* what the shader writes */
+    char *target[SL_QUAD_LANES];                           /* the lane's texel, NULL outside */
+    uint8_t helper[SL_QUAD_LANES];
+    uint8_t discarded[SL_QUAD_LANES];
     int32_t qx[SL_QUADS_MAX], qy[SL_QUADS_MAX];
-    unsigned live[SL_QUADS_MAX]; /* bit l: lane l passed coverage and depth */
     int n;                       /* quads gathered */
     sl_fragment_quads in;        /* the shader's view (arrays point into this) */
 } rast_quads;

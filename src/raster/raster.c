@@ -331,11 +331,11 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     int tiles = d.tiles_x * d.tiles_y;
     size_t clear_bytes = draws[0].clear ? (size_t)r->tile_size * target->texel_size : 0;
     /* a quad's 4 lanes (or one discarding fragment) write scratch texels first; a multi-quad
-     * shader's lanes, up to RAST_QUAD_LANES */
+     * shader's lanes, up to SL_QUAD_LANES */
     size_t scratch_bytes = 0;
     for (int i = 0; i < count; i++) {
         const sl_program *p = draws[i].program;
-        size_t lanes = p->derivatives && p->fragment_quads ? RAST_QUAD_LANES : 4;
+        size_t lanes = p->derivatives && p->fragment_quads ? SL_QUAD_LANES : 4;
         if ((p->derivatives || p->discards) && lanes * target->texel_size > scratch_bytes)
             scratch_bytes = lanes * target->texel_size;
     }

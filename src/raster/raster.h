@@ -112,7 +112,8 @@ typedef void (*sl_fragment_quad_shader)(const void *uniforms, const sl_fragment_
  * what fragment_quad's in[l] holds for that quad (helpers included, extrapolated). The shader
  * writes texel[4 q + l] (scratch or the target's texel, as for fragment_quad) and sets
  * discarded[4 q + l] to 1 for a lane it discards (all 0 on entry). */
-#define SL_QUADS_MAX 16 /* quads a call: an 8x8 block's, 64 lanes */
+#define SL_QUADS_MAX 16                   /* quads a call: an 8x8 block's */
+#define SL_QUAD_LANES (4 * SL_QUADS_MAX) /* lanes a call: 64 */
 typedef struct {
     int n;                                  /* quads, 1 .. SL_QUADS_MAX */
     const int32_t *qx, *qy;                 /* per quad: its lane 0's pixel (both even) */

@@ -282,7 +282,6 @@ static bool complete(const sl_texture *t, const sl_sampler_state *st)
  * allocation) and the mixes in sample_as's order. Only the plane and linear filtering: a quad
  * magnified or minified with a NEAREST filter, and textures without a plane, go through
  * sl_texture_sample4 (the same bits, four lanes at a time). */
-#define QUAD_LANES (4 * SL_QUADS_MAX)
 
 /* Wrapped index pairs of n lanes (wrap_pair's results): the vector forms where there is one
  * (CLAMP_TO_EDGE clamps both; REPEAT of a power of two masks), else wrap_pair per lane. */
@@ -316,7 +315,7 @@ static bool is_pow2(int n) { return (n & (n - 1)) == 0; }
  * = (i0, j0), (i1, j0), (i0, j1), (i1, j1), and the weights a, b; bilinear4_plane's operations,
  * lane for lane, in vector loops. */
 static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, int lanes, const float *u,
-                             const float *v, const int *lv, int (*o)[QUAD_LANES], float *a, float *b)
+                             const float *v, const int *lv, int (*o)[SL_QUAD_LANES], float *a, float *b)
 {
     const float *plane = t->plane_storage;
     int base[SL_TEXTURE_MAX_LEVELS], wl[SL_TEXTURE_MAX_LEVELS], hl[SL_TEXTURE_MAX_LEVELS];
@@ -325,8 +324,8 @@ static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, in
         wl[l] = t->plane[l].width;
         hl[l] = t->plane[l].height;
     }
-    _Alignas(64) int w[QUAD_LANES], h[QUAD_LANES], bs[QUAD_LANES], i[QUAD_LANES], jj[QUAD_LANES];
-    _Alignas(64) int i0[QUAD_LANES], i1[QUAD_LANES], j0[QUAD_LANES], j1[QUAD_LANES];
+    _Alignas(64) int w[SL_QUAD_LANES], h[SL_QUAD_LANES], bs[SL_QUAD_LANES], i[SL_QUAD_LANES], jj[SL_QUAD_LANES];
+    _Alignas(64) int i0[SL_QUAD_LANES], i1[SL_QUAD_LANES], j0[SL_QUAD_LANES], j1[SL_QUAD_LANES];
     for (int j = 0; j < lanes; j++) {
         w[j] = wl[lv[j]];
         h[j] = hl[lv[j]];
@@ -358,7 +357,7 @@ static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, in
 
 /* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
  * bilinear4_plane's mixes. */
-static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, int (*o)[QUAD_LANES],
+static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, int (*o)[SL_QUAD_LANES],
                                                                    float a, float b, float out[4])
 {
     const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
@@ -381,8 +380,8 @@ void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const
     }
     /* the levels of each quad; quads the vector path does not take are sampled four lanes at a
      * time (slow: 1) */
-    _Alignas(64) int lv0[QUAD_LANES], lv1[QUAD_LANES];
-    _Alignas(64) float frac[QUAD_LANES];
+    _Alignas(64) int lv0[SL_QUAD_LANES], lv1[SL_QUAD_LANES];
+    _Alignas(64) float frac[SL_QUAD_LANES];
     bool slow[SL_QUADS_MAX], any_fast = false, any_two = false;
     for (int q = 0; q < n; q++) {
         tex_pick p = pick_levels(t, st, lambda[q]);
@@ -399,8 +398,8 @@ void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const
         /* the texel offsets and weights in vector loops; then the fetch lane by lane, a texel a
          * 16-byte load (gathers, a float each, were slower: four times the loads) */
         const float *plane = t->plane_storage;
-        _Alignas(64) int o0[4][QUAD_LANES], o1[4][QUAD_LANES], lv[QUAD_LANES];
-        _Alignas(64) float a0[QUAD_LANES], b0[QUAD_LANES], a1[QUAD_LANES], b1[QUAD_LANES];
+        _Alignas(64) int o0[4][SL_QUAD_LANES], o1[4][SL_QUAD_LANES], lv[SL_QUAD_LANES];
+        _Alignas(64) float a0[SL_QUAD_LANES], b0[SL_QUAD_LANES], a1[SL_QUAD_LANES], b1[SL_QUAD_LANES];
         bilinear_offsets(t, st, lanes, u, v, lv0, o0, a0, b0);
         if (any_two) {
             for (int j = 0; j < lanes; j++)

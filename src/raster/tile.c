@@ -642,7 +642,6 @@ static inline __attribute__((always_inline)) void quad_gather(tri_ctx *c, int qx
     int k = b->n++;
     b->qx[k] = qx;
     b->qy[k] = qy;
-    b->live[k] = live;
     for (int l = 0; l < 4; l++) {
         b->fx[4 * k + l] = fx[l];
         b->fy[4 * k + l] = fy[l];
