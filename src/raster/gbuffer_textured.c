@@ -85,15 +85,15 @@ static void metallic_roughness(const sl_gbuffer_tex_uniforms *u, const map_value
 
 /* gbuffer_textured.frag: oExtra. The fragment's extra texel, tagged with its depth (gbuffer.h);
  * helpers write nothing, as they write no texel. */
-static void write_extra(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m)
+static void write_extra(const sl_gbuffer_tex_uniforms *u, int x, int y, bool helper, float depth, const map_values *m)
 {
-    if (in->helper)
+    if (helper)
         return;
     vec4 occ = m->map[SL_MAP_OCCLUSION], em = m->map[SL_MAP_EMISSIVE];
-    sl_gbuffer_extra *e = u->extra + (size_t)in->y * (size_t)u->extra_width + (size_t)in->x;
+    sl_gbuffer_extra *e = u->extra + (size_t)y * (size_t)u->extra_width + (size_t)x;
     e->occlusion = 1.0f + u->uOcclusionStrength * (occ.x - 1.0f);
     e->emissive = mul3(u->uEmissive, vec3(em.x, em.y, em.z));
-    e->depth = in->frag_coord.z;
+    e->depth = depth;
 }
 
 /* gbuffer_textured.frag: the normal, perturbed by the normal map's texel nt when one is bound. The
@@ -114,78 +114,79 @@ static vec3 shading_normal(const sl_gbuffer_tex_uniforms *u, const float *v, vec
     return n;
 }
 
-/* shading_normal for the four lanes of a quad, in vector loops over the lanes: each lane's
- * value is shading_normal's, operation for operation (dot as ((x x + y y) + z z), normalize as
- * a product with 1 / sqrt, cross and the sums in its order), with selects for its branches, so
- * the bits are the same (tests/cli/textured_quad_form.sh); the three square roots and divisions
- * of a lane then cost what one costs for four. */
+/* shading_normal for `lanes` lanes, in vector loops over them: each lane's value is
+ * shading_normal's, operation for operation (dot as ((x x + y y) + z z), normalize as a product
+ * with 1 / sqrt, cross and the sums in its order), with selects for its branches, so the bits
+ * are the same (tests/cli/textured_quad_form.sh); the three square roots and divisions of a lane
+ * then cost what one costs for a vector of lanes. v[i][j]: varying i of lane j; mx, my, mz: the
+ * normal map's texel (read only when one is bound). */
+static void shading_normals(const sl_gbuffer_tex_uniforms *u, int lanes, const float *const v[SL_GBUFFER_TEX_VARYINGS],
+                            const float *mx, const float *my, const float *mz, float *nx, float *ny, float *nz)
+{
+    const float *vx = v[3], *vy = v[4], *vz = v[5];
+#pragma omp simd
+    for (int l = 0; l < lanes; l++) {
+        sl_gbuffer_normal_lane(vx[l], vy[l], vz[l], &nx[l], &ny[l], &nz[l]);
+    }
+    if (!(u->uMaps & SL_GBUFFER_MAP_NORMAL))
+        return;
+    const float *tx = v[8], *ty = v[9], *tz = v[10], *tw = v[11];
+#pragma omp simd
+    for (int l = 0; l < lanes; l++) {
+        float td = tx[l] * tx[l] + ty[l] * ty[l] + tz[l] * tz[l];
+        bool tok = td > 1e-30f;
+        float tinv = 1.0f / sqrtf(tok ? td : 1.0f);
+        float ux = tx[l] * tinv, uy = ty[l] * tinv, uz = tz[l] * tinv;
+        float bx = (ny[l] * uz - nz[l] * uy) * tw[l];
+        float by = (nz[l] * ux - nx[l] * uz) * tw[l];
+        float bz = (nx[l] * uy - ny[l] * ux) * tw[l];
+        float ax = mx[l] * 2.0f - 1.0f, ay = my[l] * 2.0f - 1.0f, az = mz[l] * 2.0f - 1.0f;
+        float px = ux * ax + bx * ay + nx[l] * az;
+        float py = uy * ax + by * ay + ny[l] * az;
+        float pz = uz * ax + bz * ay + nz[l] * az;
+        float pd = px * px + py * py + pz * pz;
+        bool pok = tok && pd > 1e-30f;
+        float pinv = 1.0f / sqrtf(pok ? pd : 1.0f);
+        nx[l] = pok ? px * pinv : nx[l];
+        ny[l] = pok ? py * pinv : ny[l];
+        nz[l] = pok ? pz * pinv : nz[l];
+    }
+}
+
+/* shading_normals for the four lanes of a quad form's call. */
 static void shading_normals4(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in in[4], const map_values m[4],
                              vec3 out[4])
 {
-    float vx[4], vy[4], vz[4], nx[4], ny[4], nz[4];
+    float vary[SL_GBUFFER_TEX_VARYINGS][4], mx[4], my[4], mz[4], nx[4], ny[4], nz[4];
+    const float *v[SL_GBUFFER_TEX_VARYINGS];
+    for (int i = 0; i < SL_GBUFFER_TEX_VARYINGS; i++) {
+        for (int l = 0; l < 4; l++)
+            vary[i][l] = in[l].varyings[i];
+        v[i] = vary[i];
+    }
     for (int l = 0; l < 4; l++) {
-        vx[l] = in[l].varyings[3];
-        vy[l] = in[l].varyings[4];
-        vz[l] = in[l].varyings[5];
+        vec4 nt = m[l].map[SL_MAP_NORMAL];
+        mx[l] = nt.x;
+        my[l] = nt.y;
+        mz[l] = nt.z;
     }
-#pragma omp simd
-    for (int l = 0; l < 4; l++) {
-        sl_gbuffer_normal_lane(vx[l], vy[l], vz[l], &nx[l], &ny[l], &nz[l]);
-    }
-    if (u->uMaps & SL_GBUFFER_MAP_NORMAL) {
-        float tx[4], ty[4], tz[4], tw[4], mx[4], my[4], mz[4];
-        for (int l = 0; l < 4; l++) {
-            const float *v = in[l].varyings;
-            vec4 nt = m[l].map[SL_MAP_NORMAL];
-            tx[l] = v[8];
-            ty[l] = v[9];
-            tz[l] = v[10];
-            tw[l] = v[11];
-            mx[l] = nt.x;
-            my[l] = nt.y;
-            mz[l] = nt.z;
-        }
-#pragma omp simd
-        for (int l = 0; l < 4; l++) {
-            float td = tx[l] * tx[l] + ty[l] * ty[l] + tz[l] * tz[l];
-            bool tok = td > 1e-30f;
-            float tinv = 1.0f / sqrtf(tok ? td : 1.0f);
-            float ux = tx[l] * tinv, uy = ty[l] * tinv, uz = tz[l] * tinv;
-            float bx = (ny[l] * uz - nz[l] * uy) * tw[l];
-            float by = (nz[l] * ux - nx[l] * uz) * tw[l];
-            float bz = (nx[l] * uy - ny[l] * ux) * tw[l];
-            float ax = mx[l] * 2.0f - 1.0f, ay = my[l] * 2.0f - 1.0f, az = mz[l] * 2.0f - 1.0f;
-            float px = ux * ax + bx * ay + nx[l] * az;
-            float py = uy * ax + by * ay + ny[l] * az;
-            float pz = uz * ax + bz * ay + nz[l] * az;
-            float pd = px * px + py * py + pz * pz;
-            bool pok = tok && pd > 1e-30f;
-            float pinv = 1.0f / sqrtf(pok ? pd : 1.0f);
-            nx[l] = pok ? px * pinv : nx[l];
-            ny[l] = pok ? py * pinv : ny[l];
-            nz[l] = pok ? pz * pinv : nz[l];
-        }
-    }
+    shading_normals(u, 4, v, mx, my, mz, nx, ny, nz);
     for (int l = 0; l < 4; l++)
         out[l] = vec3(nx[l], ny[l], nz[l]);
 }
 
-/* gbuffer_textured.frag after its samples and the normal: the discard, the texel. Both forms
- * of the shader end here, so they share every operation after the fetches. */
-static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m, vec3 n,
-                            void *texel)
+/* gbuffer_textured.frag after its samples and the normal: the discard (false), the texel. Every
+ * form of the shader ends here, so they share every operation after the fetches. */
+static bool finish_texel(const sl_gbuffer_tex_uniforms *u, vec3 vWorldPos, float depth, const map_values *m, vec3 n,
+                         void *texel)
 {
-    const float *v = in->varyings;
-    vec3 vWorldPos = vec3(v[0], v[1], v[2]);
     vec4 kd = m->map[SL_MAP_KD], ks = m->map[SL_MAP_KS], gloss = m->map[SL_MAP_ALPHA];
     vec4 mask = m->map[SL_MAP_MASK];
 
     if (u->uMaps & SL_GBUFFER_MAP_CUTOFF) {
         float coverage = (u->uMaps & SL_GBUFFER_MAP_MASK) ? mask.x : kd.w;
-        if (coverage < u->uAlphaCutoff) {
-            discard(in);
-            return;
-        }
+        if (coverage < u->uAlphaCutoff)
+            return false; /* discard */
     }
     sl_gbuffer_texel *g = texel;
     g->position = vWorldPos;
@@ -193,11 +194,23 @@ static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_
     g->kd = mul3(u->uKd, vec3(kd.x, kd.y, kd.z));
     g->ks = mul3(u->uKs, vec3(ks.x, ks.y, ks.z));
     g->alpha = u->uRoughness >= 0.0f ? sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x) : u->uAlpha * gloss.x;
-    g->depth = in->frag_coord.z;
+    g->depth = depth;
     if (u->uMetallic >= 0.0f)
         metallic_roughness(u, m, g);
+    return true;
+}
+
+/* finish_texel for a fragment of the reference and quad forms: discard, or the extra texel. */
+static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_in *in, const map_values *m, vec3 n,
+                            void *texel)
+{
+    const float *v = in->varyings;
+    if (!finish_texel(u, vec3(v[0], v[1], v[2]), in->frag_coord.z, m, n, texel)) {
+        discard(in);
+        return;
+    }
     if (u->extra)
-        write_extra(u, in, m);
+        write_extra(u, in->x, in->y, in->helper, in->frag_coord.z, m);
 }
 
 /* The uniforms of map slot `slot`: its sampler and its uv transform. */
@@ -277,6 +290,147 @@ void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], 
         finish_fragment(u, &in[l], &m[l], n[l], texel[l]);
 }
 
+/* The multi-quad form (sl_program.fragment_quads): the quad form's operations for up to
+ * SL_QUADS_MAX quads a call, in structure-of-arrays form, so that each step runs as a vector loop
+ * over the lanes (or, for the levels of detail, over the quads): the uv transform of each map,
+ * the quads' lambdas (sl_texture_lambda_quads, one per quad from the same coarse differences),
+ * the fetches (sl_texture_sample_quads), the normals, the texel's values (finish_lanes). Each lane's
+ * values are the quad form's, bit for bit (tests/cli/textured_quad_form.sh compares it with the
+ * rounds). The trace hook gets each lane's fetch with the quad form's arguments. */
+static void trace_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quads *q, int slot, const float *us,
+                        const float *vs, const float *lambda, float *const rgba[4])
+{
+    for (int j = 0; j < 4 * q->n; j++) {
+        int k = j >> 2, b = j & ~3, x = q->qx[k] + (j & 1), y = q->qy[k] + ((j >> 1) & 1);
+        float vary[SL_GBUFFER_TEX_VARYINGS];
+        for (int i = 0; i < SL_GBUFFER_TEX_VARYINGS; i++)
+            vary[i] = q->varyings[i][j];
+        sl_fragment_in in = {.varyings = vary,
+                             .frag_coord = vec4((float)x + 0.5f, (float)y + 0.5f, q->frag_z[j], q->frag_w[j]),
+                             .front_facing = q->front_facing,
+                             .x = x,
+                             .y = y,
+                             .lane = j & 3,
+                             .helper = q->helper[j] != 0};
+        vec2 dPdx = vec2(us[b + 1] - us[b], vs[b + 1] - vs[b]), dPdy = vec2(us[b + 2] - us[b], vs[b + 2] - vs[b]);
+        u->trace(u->trace_ctx, &in, slot, map_sampler(u, slot), vec2(us[j], vs[j]), dPdx, dPdy, lambda[k],
+                 vec4(rgba[0][j], rgba[1][j], rgba[2][j], rgba[3][j]));
+    }
+}
+
+/* finish_texel (with metallic_roughness) and write_extra for every lane of a multi-quad call:
+ * their expressions, operation for operation, as vector loops over the lanes into arrays, then
+ * one loop that stores each lane's texel. val[slot][c]: channel c of the slot's fetch (read only
+ * for bound slots; an unbound one reads as 1, GL's default texel). */
+static const float unbound_lanes[SL_QUAD_LANES] = {
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+_Static_assert(SL_QUAD_LANES == 64, "unbound_lanes holds one 1 per lane");
+
+static void finish_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_quads *q,
+                         float (*val)[4][SL_QUAD_LANES], const float *nx, const float *ny, const float *nz)
+{
+    const int lanes = 4 * q->n;
+    const float *map[SL_MAP_COUNT][4];
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++)
+        for (int c = 0; c < 4; c++)
+            map[slot][c] = u->uMaps & (1 << slot) ? val[slot][c] : unbound_lanes;
+    _Alignas(64) float kr[SL_QUAD_LANES], kg[SL_QUAD_LANES], kb[SL_QUAD_LANES];
+    _Alignas(64) float sr[SL_QUAD_LANES], sg[SL_QUAD_LANES], sb[SL_QUAD_LANES], alpha[SL_QUAD_LANES];
+    _Alignas(64) int32_t keep[SL_QUAD_LANES];
+    const float *kdr = map[SL_MAP_KD][0], *kdg = map[SL_MAP_KD][1], *kdb = map[SL_MAP_KD][2];
+    const float *ksr = map[SL_MAP_KS][0], *ksg = map[SL_MAP_KS][1], *ksb = map[SL_MAP_KS][2];
+    const float *gloss = map[SL_MAP_ALPHA][0];
+    const float *coverage = u->uMaps & SL_GBUFFER_MAP_MASK ? map[SL_MAP_MASK][0] : map[SL_MAP_KD][3];
+    const bool cutoff = (u->uMaps & SL_GBUFFER_MAP_CUTOFF) != 0, ggx = u->uRoughness >= 0.0f;
+    const float cut = u->uAlphaCutoff, rough = u->uRoughness, phong = u->uAlpha;
+    const vec3 ukd = u->uKd, uks = u->uKs;
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        keep[j] = !cutoff || !(coverage[j] < cut);
+        kr[j] = ukd.x * kdr[j];
+        kg[j] = ukd.y * kdg[j];
+        kb[j] = ukd.z * kdb[j];
+        sr[j] = uks.x * ksr[j];
+        sg[j] = uks.y * ksg[j];
+        sb[j] = uks.z * ksb[j];
+        alpha[j] = ggx ? sl_gbuffer_ggx_alpha(rough * gloss[j]) : phong * gloss[j];
+    }
+    if (u->uMetallic >= 0.0f) { /* metallic_roughness */
+        const float *mg = map[SL_MAP_METALLIC_ROUGHNESS][1], *mb = map[SL_MAP_METALLIC_ROUGHNESS][2];
+        const float metallic = u->uMetallic;
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            float metal = metallic * mb[j], keepf = 1.0f - metal;
+            float br = kr[j], bg = kg[j], bb = kb[j];
+            kr[j] = br * keepf;
+            kg[j] = bg * keepf;
+            kb[j] = bb * keepf;
+            sr[j] = 0.04f + (br - 0.04f) * metal;
+            sg[j] = 0.04f + (bg - 0.04f) * metal;
+            sb[j] = 0.04f + (bb - 0.04f) * metal;
+            alpha[j] = sl_gbuffer_ggx_alpha(rough * gloss[j] * mg[j]);
+        }
+    }
+    const float *px = q->varyings[0], *py = q->varyings[1], *pz = q->varyings[2];
+    for (int j = 0; j < lanes; j++) {
+        if (!keep[j]) {
+            q->discarded[j] = 1;
+            continue;
+        }
+        sl_gbuffer_texel *g = q->texel[j];
+        g->position = vec3(px[j], py[j], pz[j]);
+        g->normal = vec3(nx[j], ny[j], nz[j]);
+        g->kd = vec3(kr[j], kg[j], kb[j]);
+        g->ks = vec3(sr[j], sg[j], sb[j]);
+        g->alpha = alpha[j];
+        g->depth = q->frag_z[j];
+    }
+    if (!u->extra)
+        return;
+    const float *occ = map[SL_MAP_OCCLUSION][0];
+    const float *er = map[SL_MAP_EMISSIVE][0], *eg = map[SL_MAP_EMISSIVE][1], *eb = map[SL_MAP_EMISSIVE][2];
+    for (int j = 0; j < lanes; j++) {
+        if (!keep[j] || q->helper[j]) /* write_extra */
+            continue;
+        int x = q->qx[j >> 2] + (j & 1), y = q->qy[j >> 2] + ((j >> 1) & 1);
+        sl_gbuffer_extra *e = u->extra + (size_t)y * (size_t)u->extra_width + (size_t)x;
+        e->occlusion = 1.0f + u->uOcclusionStrength * (occ[j] - 1.0f);
+        e->emissive = vec3(u->uEmissive.x * er[j], u->uEmissive.y * eg[j], u->uEmissive.z * eb[j]);
+        e->depth = q->frag_z[j];
+    }
+}
+
+void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
+{
+    const sl_gbuffer_tex_uniforms *u = uniforms;
+    const int lanes = 4 * q->n;
+    _Alignas(64) float val[SL_MAP_COUNT][4][SL_QUAD_LANES];
+    const float *tu = q->varyings[6], *tv = q->varyings[7];
+    for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        if (!(u->uMaps & (1 << slot)))
+            continue;
+        const sl_sampler2D *s = map_sampler(u, slot);
+        const vec4 st = map_st(u, slot);
+        _Alignas(64) float us[SL_QUAD_LANES], vs[SL_QUAD_LANES];
+        float lambda[SL_QUADS_MAX];
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            us[j] = tu[j] * st.x + st.z; /* map_uv */
+            vs[j] = tv[j] * st.y + st.w;
+        }
+        sl_texture_lambda_quads(s, q->n, us, vs, 0.0f, lambda);
+        float *const rgba[4] = {val[slot][0], val[slot][1], val[slot][2], val[slot][3]};
+        sl_texture_sample_quads(s, q->n, us, vs, lambda, rgba);
+        if (u->trace)
+            trace_lanes(u, q, slot, us, vs, lambda, rgba);
+    }
+    _Alignas(64) float nx[SL_QUAD_LANES], ny[SL_QUAD_LANES], nz[SL_QUAD_LANES];
+    shading_normals(u, lanes, q->varyings, val[SL_MAP_NORMAL][0], val[SL_MAP_NORMAL][1], val[SL_MAP_NORMAL][2], nx, ny,
+                    nz);
+    finish_lanes(u, q, val, nx, ny, nz);
+}
+
 /* Two programs: one that may discard (a late depth test, as GL's rules require) for masked
  * materials, one that cannot and keeps the early test. */
 const sl_program sl_gbuffer_tex_program = {
@@ -285,7 +439,8 @@ const sl_program sl_gbuffer_tex_program = {
     .varying_count = SL_GBUFFER_TEX_VARYINGS,
     .derivatives = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
-    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
+    .quad_writes_texel = true, /* finish_texel sets every field of sl_gbuffer_texel */
+    .fragment_quads = sl_gbuffer_tex_frag_quads,
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -294,7 +449,8 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .derivatives = true,
     .discards = true,
     .fragment_quad = sl_gbuffer_tex_frag_quad,
-    .quad_writes_texel = true, /* finish_fragment sets every field of sl_gbuffer_texel */
+    .quad_writes_texel = true, /* finish_texel sets every field of sl_gbuffer_texel */
+    .fragment_quads = sl_gbuffer_tex_frag_quads,
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */

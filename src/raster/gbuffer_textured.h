@@ -5,8 +5,9 @@
  * texture coordinates and tangents. Produces: the same G-buffer texel as the built-in pair, with
  * kd, ks, alpha and the normal modulated by the maps; masked materials discard below the cutoff.
  * The program takes derivatives (texture() with an implicit level of detail), so it runs in 2x2
- * quads, through its quad form on the span path (one call a quad, derivatives between lanes) and
- * through the generic rounds on the plain path; the masked variant may discard, so its depth
+ * quads, through its multi-quad form on the span path (one call for up to 16 quads, structure of
+ * arrays, derivatives between lanes; the quad form, one call a quad, is kept for programs drawn
+ * without it) and through the generic rounds on the plain path; the masked variant may discard, so its depth
  * test runs after it. */
 #ifndef SL_GBUFFER_TEXTURED_H
 #define SL_GBUFFER_TEXTURED_H
@@ -78,6 +79,9 @@ void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *cli
 void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *texel); /* the reference */
 /* The quad form (sl_program.fragment_quad) both programs carry: the same bits in one call a quad. */
 void sl_gbuffer_tex_frag_quad(const void *uniforms, const sl_fragment_in in[4], void *const texel[4]);
+/* The multi-quad form (sl_program.fragment_quads) both programs carry: the same bits, up to
+ * SL_QUADS_MAX quads a call in structure-of-arrays form; what the span path calls. */
+void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q);
 extern const sl_program sl_gbuffer_tex_program;        /* no discard: early depth test */
 extern const sl_program sl_gbuffer_tex_masked_program; /* alpha_cutoff: may discard, late depth test */
 

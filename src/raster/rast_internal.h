@@ -127,6 +127,26 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
 } rast_span;
 
+/* The quads the tile stage gathers for a multi-quad shader (sl_program.fragment_quads; tile.c
+ * quads_flush), structure of arrays over lanes (lane l of quad q at 4 q + l): what the depth
+ * test left of each quad (its offsets from the triangle's origin, depth, live lanes), then the
+ * inputs made for all lanes at once, and what the shader gets. */
+typedef struct {
+    _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float fx[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float fy[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float z[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float iw[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) float w[SL_QUAD_LANES];
+    _Alignas(RAST_CACHE_LINE) void *texel[SL_QUAD_LANES]; /* what the shader writes */
+    char *target[SL_QUAD_LANES];                           /* the lane's texel, NULL outside */
+    uint8_t helper[SL_QUAD_LANES];
+    uint8_t discarded[SL_QUAD_LANES];
+    int32_t qx[SL_QUADS_MAX], qy[SL_QUADS_MAX];
+    int n;                       /* quads gathered */
+    sl_fragment_quads in;        /* the shader's view (arrays point into this) */
+} rast_quads;
+
 /* The 2x2 quad of a derivative-taking program (quad.c runs its rounds; shader.h's
  * built-ins write it). Lane l is pixel (qx + (l & 1), qy + (l >> 1)). In a round every
  * lane runs the whole shader; its k-th derivative call records its argument in
@@ -148,6 +168,7 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
     rast_span *span;                        /* NULL for a plain context */
     sl_quad *quad;                          /* quads and discards */
+    rast_quads *quads;                      /* multi-quad shaders; NULL for a plain context */
     char *scratch;                          /* 4 texels: what a quad's lanes (or a discarding fragment) write */
     size_t scratch_cap;                     /* bytes */
     sl_raster_stats stats;

@@ -74,7 +74,8 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
         ok = (r->tasks[i].depth = malloc((size_t)ts * (size_t)ts * sizeof(float))) != NULL;
         ok = ok && (r->tasks[i].quad = malloc(sizeof(sl_quad))) != NULL;
         if (ok && !r->plain)
-            ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL;
+            ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL &&
+                 (r->tasks[i].quads = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_quads))) != NULL;
     }
     if (!ok) {
         sl_raster_destroy(r);
@@ -99,6 +100,7 @@ void sl_raster_destroy(sl_raster *r)
     for (int i = 0; r->tasks && i < r->threads; i++) {
         free(r->tasks[i].depth);
         free(r->tasks[i].span);
+        free(r->tasks[i].quads);
         free(r->tasks[i].quad);
         free(r->tasks[i].scratch);
     }
@@ -141,6 +143,8 @@ static bool validate_draw(const sl_draw *d, sl_error *err)
         return sl_fail(err, SL_ERR_RANGE, "raster: program without vertex or fragment shader");
     if (p->fragment_quad && !p->derivatives)
         return sl_fail(err, SL_ERR_RANGE, "raster: a quad form (fragment_quad) without derivatives = true");
+    if (p->fragment_quads && !p->derivatives)
+        return sl_fail(err, SL_ERR_RANGE, "raster: a multi-quad form (fragment_quads) without derivatives = true");
     if (p->varying_count < 0 || p->varying_count > SL_MAX_VARYINGS)
         return sl_fail(err, SL_ERR_RANGE, "raster: %d varyings (at most %d)", p->varying_count, SL_MAX_VARYINGS);
     const sl_mesh *m = d->mesh;
@@ -326,11 +330,15 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     };
     int tiles = d.tiles_x * d.tiles_y;
     size_t clear_bytes = draws[0].clear ? (size_t)r->tile_size * target->texel_size : 0;
-    /* a quad's 4 lanes (or one discarding fragment) write scratch texels first */
+    /* a quad's 4 lanes (or one discarding fragment) write scratch texels first; a multi-quad
+     * shader's lanes, up to SL_QUAD_LANES */
     size_t scratch_bytes = 0;
-    for (int i = 0; i < count; i++)
-        if (draws[i].program->derivatives || draws[i].program->discards)
-            scratch_bytes = 4 * target->texel_size;
+    for (int i = 0; i < count; i++) {
+        const sl_program *p = draws[i].program;
+        size_t lanes = p->derivatives && p->fragment_quads ? SL_QUAD_LANES : 4;
+        if ((p->derivatives || p->discards) && lanes * target->texel_size > scratch_bytes)
+            scratch_bytes = lanes * target->texel_size;
+    }
     if (!reserve(r, nv, nf, count, tiles, clear_bytes, scratch_bytes, err))
         return false;
 

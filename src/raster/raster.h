@@ -106,6 +106,33 @@ typedef void (*sl_fragment_span_shader)(const void *uniforms, const sl_fragment_
  * the rounds, so test_raster_span-style comparisons check it. */
 typedef void (*sl_fragment_quad_shader)(const void *uniforms, const sl_fragment_in in[4], void *const texel[4]);
 
+/* What a multi-quad shader sees (sl_program.fragment_quads): n quads of one triangle, in
+ * structure-of-arrays form over their lanes. Lane l of quad q is element 4 q + l of every
+ * per-lane array: pixel (qx[q] + (l & 1), qy[q] + (l >> 1)). Each lane's values are bitwise
+ * what fragment_quad's in[l] holds for that quad (helpers included, extrapolated). The shader
+ * writes texel[4 q + l] (scratch or the target's texel, as for fragment_quad) and sets
+ * discarded[4 q + l] to 1 for a lane it discards (all 0 on entry). */
+#define SL_QUADS_MAX 16                   /* quads a call: an 8x8 block's */
+#define SL_QUAD_LANES (4 * SL_QUADS_MAX) /* lanes a call: 64 */
+typedef struct {
+    int n;                                  /* quads, 1 .. SL_QUADS_MAX */
+    const int32_t *qx, *qy;                 /* per quad: its lane 0's pixel (both even) */
+    const float *varyings[SL_MAX_VARYINGS]; /* varyings[i][4 q + l] */
+    const float *frag_z;                    /* per lane: gl_FragCoord.z */
+    const float *frag_w;                    /* per lane: gl_FragCoord.w */
+    const uint8_t *helper;                  /* per lane: 1 for a helper invocation */
+    bool front_facing;
+    void *const *texel;                     /* per lane: where the lane's texel goes */
+    uint8_t *discarded;                     /* per lane: set to 1 by the shader to discard */
+} sl_fragment_quads;
+
+/* Optional multi-quad form: one call for up to SL_QUADS_MAX quads (sl_fragment_quads), so a
+ * shader's per-lane and per-quad work (coordinates, levels of detail, fetches, normals) runs
+ * in vector loops over 64 lanes instead of 4. Same rule as fragment_quad: every texel and
+ * discard mark exactly as `fragment` run through the generic rounds leaves them. Used on the
+ * span path instead of fragment_quad when both are set. */
+typedef void (*sl_fragment_quads_shader)(const void *uniforms, const sl_fragment_quads *q);
+
 typedef struct {
     sl_vertex_shader vertex;
     sl_fragment_shader fragment;
@@ -121,6 +148,8 @@ typedef struct {
                                               not start as the target's (not copied in), and a live lane
                                               of a program that cannot discard writes the target's in
                                               place (tile.c quad()) */
+    sl_fragment_quads_shader fragment_quads; /* NULL: fragment_quad per quad (or the rounds); needs
+                                                `derivatives`; quad_writes_texel applies to it too */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */

@@ -9,6 +9,7 @@
 #include <stdint.h>
 #include <string.h>
 
+#include "raster.h" /* SL_QUADS_MAX: the most quads a multi-quad call samples */
 #include "texture_internal.h"
 
 sl_sampler_state sl_sampler_default(void)
@@ -26,12 +27,12 @@ sl_sampler_state sl_sampler_default(void)
 
 /* A texel-space coordinate made safe to convert to int: NaN -> 0, beyond +-2^24 clamped (a
  * float there has no fraction left, so no sample position is lost). */
-static float safe_coord(float x)
+static inline __attribute__((always_inline)) float safe_coord(float x)
 {
     const float limit = 16777216.0f;
-    if (x >= -limit)
-        return x <= limit ? x : limit;
-    return x < 0.0f ? -limit : 0.0f;
+    /* plain selects (no nested one): GCC 12 if-converts them, so the multi-quad loops vectorize */
+    float c = x <= limit ? x : limit, d = x < 0.0f ? -limit : 0.0f;
+    return x >= -limit ? c : d;
 }
 
 /* Texel index i of a level n texels wide, wrapped (GL 4.6 table 8.20, on integer indices). */
@@ -266,17 +267,180 @@ static void sample4_plane(const sl_texture *t, const sl_sampler_state *st, const
         out[l] = mix4(out[l], next[l], p.frac);
 }
 
-vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
-{
-    return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
-}
-
 static bool is_mipmap_filter(sl_filter f) { return f >= SL_NEAREST_MIPMAP_NEAREST; }
 
 /* GL's completeness: a mipmap min filter on a texture without its chain samples (0, 0, 0, 1). */
 static bool complete(const sl_texture *t, const sl_sampler_state *st)
 {
     return t && (t->mipmapped || !is_mipmap_filter(st->min_filter));
+}
+
+/* ---- the multi-quad form: n quads' lanes in structure-of-arrays form ----
+ * The same values as sample4_plane's, lane for lane, from vector loops over up to 64 lanes:
+ * the levels picked per quad (pick_levels), then each lane's texel-space coordinates, its wrapped
+ * indices and its eight texels (gathers from the plane, where every level lies in one
+ * allocation) and the mixes in sample_as's order. Only the plane and linear filtering: a quad
+ * magnified or minified with a NEAREST filter, and textures without a plane, go through
+ * sl_texture_sample4 (the same bits, four lanes at a time). */
+
+/* Wrapped index pairs of n lanes (wrap_pair's results): the vector forms where there is one
+ * (CLAMP_TO_EDGE clamps both; REPEAT of a power of two masks), else wrap_pair per lane. */
+static inline __attribute__((always_inline)) void wrap_pairs(int lanes, const int *i, const int *size, sl_wrap mode,
+                                                             bool pow2, int *i0, int *i1)
+{
+    if (mode == SL_CLAMP_TO_EDGE) {
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            int last = size[j] - 1, a = i[j], b = i[j] + 1;
+            i0[j] = a < 0 ? 0 : (a > last ? last : a);
+            i1[j] = b < 0 ? 0 : (b > last ? last : b);
+        }
+    } else if (mode == SL_REPEAT && pow2) {
+#pragma omp simd
+        for (int j = 0; j < lanes; j++) {
+            int mask = size[j] - 1, a = i[j] & mask;
+            i0[j] = a;
+            i1[j] = (a + 1) & mask;
+        }
+    } else {
+        for (int j = 0; j < lanes; j++)
+            wrap_pair(i[j], size[j], mode, &i0[j], &i1[j]);
+    }
+}
+
+static bool is_pow2(int n) { return (n & (n - 1)) == 0; }
+
+/* Where bilinear filtering of level lv[j] at (u[j], v[j]) reads, for each lane: the offsets (in
+ * floats, from the plane's start: its levels lie in one allocation) of its four texels, o[0..3]
+ * = (i0, j0), (i1, j0), (i0, j1), (i1, j1), and the weights a, b; bilinear4_plane's operations,
+ * lane for lane, in vector loops. */
+static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, int lanes, const float *u,
+                             const float *v, const int *lv, int (*o)[SL_QUAD_LANES], float *a, float *b)
+{
+    const float *plane = t->plane_storage;
+    int base[SL_TEXTURE_MAX_LEVELS], wl[SL_TEXTURE_MAX_LEVELS], hl[SL_TEXTURE_MAX_LEVELS];
+    for (int l = 0; l < t->levels; l++) {
+        base[l] = (int)((const float *)(const void *)t->plane[l].texels - plane);
+        wl[l] = t->plane[l].width;
+        hl[l] = t->plane[l].height;
+    }
+    _Alignas(64) int w[SL_QUAD_LANES], h[SL_QUAD_LANES], bs[SL_QUAD_LANES], i[SL_QUAD_LANES], jj[SL_QUAD_LANES];
+    _Alignas(64) int i0[SL_QUAD_LANES], i1[SL_QUAD_LANES], j0[SL_QUAD_LANES], j1[SL_QUAD_LANES];
+    for (int j = 0; j < lanes; j++) {
+        w[j] = wl[lv[j]];
+        h[j] = hl[lv[j]];
+        bs[j] = base[lv[j]];
+    }
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        float x = safe_coord(u[j] * (float)w[j] - 0.5f), y = safe_coord(v[j] * (float)h[j] - 0.5f);
+        /* floorf by truncation (GCC 12 does not vectorize floorf under -ftrapping-math): exact
+         * for safe_coord's range, and x is never -0 (u w - 0.5 rounds an exact 0 to +0) */
+        float tx = (float)(int)x, ty = (float)(int)y;
+        float fx = tx > x ? tx - 1.0f : tx, fy = ty > y ? ty - 1.0f : ty;
+        a[j] = x - fx;
+        b[j] = y - fy;
+        i[j] = (int)fx;
+        jj[j] = (int)fy;
+    }
+    wrap_pairs(lanes, i, w, st->wrap_s, is_pow2(t->level[0].width), i0, i1);
+    wrap_pairs(lanes, jj, h, st->wrap_t, is_pow2(t->level[0].height), j0, j1);
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        int row0 = bs[j] + j0[j] * w[j] * 4, row1 = bs[j] + j1[j] * w[j] * 4;
+        o[0][j] = row0 + i0[j] * 4;
+        o[1][j] = row0 + i1[j] * 4;
+        o[2][j] = row1 + i0[j] * 4;
+        o[3][j] = row1 + i1[j] * 4;
+    }
+}
+
+/* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
+ * bilinear4_plane's mixes. */
+static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, int (*o)[SL_QUAD_LANES],
+                                                                   float a, float b, float out[4])
+{
+    const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
+    for (int c = 0; c < 4; c++)
+        out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
+}
+
+void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                             float *const rgba[4])
+{
+    const sl_texture *t = s->texture;
+    const sl_sampler_state *st = &s->state;
+    const int lanes = 4 * n;
+    if (!complete(t, st)) {
+        for (int j = 0; j < lanes; j++) {
+            rgba[0][j] = rgba[1][j] = rgba[2][j] = 0.0f;
+            rgba[3][j] = 1.0f;
+        }
+        return;
+    }
+    /* the levels of each quad; quads the vector path does not take are sampled four lanes at a
+     * time (slow: 1) */
+    _Alignas(64) int lv0[SL_QUAD_LANES], lv1[SL_QUAD_LANES];
+    _Alignas(64) float frac[SL_QUAD_LANES];
+    bool slow[SL_QUADS_MAX], any_fast = false, any_two = false;
+    for (int q = 0; q < n; q++) {
+        tex_pick p = pick_levels(t, st, lambda[q]);
+        slow[q] = !t->plane_storage || !p.linear;
+        any_fast |= !slow[q];
+        any_two |= !slow[q] && p.count == 2;
+        for (int l = 0; l < 4; l++) {
+            lv0[4 * q + l] = slow[q] ? 0 : p.level;
+            lv1[4 * q + l] = slow[q] || p.count == 1 ? -1 : p.level + 1;
+            frac[4 * q + l] = p.frac;
+        }
+    }
+    if (any_fast) {
+        /* the texel offsets and weights in vector loops; then the fetch lane by lane, a texel a
+         * 16-byte load (gathers, a float each, were slower: four times the loads) */
+        const float *plane = t->plane_storage;
+        _Alignas(64) int o0[4][SL_QUAD_LANES], o1[4][SL_QUAD_LANES], lv[SL_QUAD_LANES];
+        _Alignas(64) float a0[SL_QUAD_LANES], b0[SL_QUAD_LANES], a1[SL_QUAD_LANES], b1[SL_QUAD_LANES];
+        bilinear_offsets(t, st, lanes, u, v, lv0, o0, a0, b0);
+        if (any_two) {
+            for (int j = 0; j < lanes; j++)
+                lv[j] = lv1[j] < 0 ? lv0[j] : lv1[j];
+            bilinear_offsets(t, st, lanes, u, v, lv, o1, a1, b1);
+        }
+        float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
+        for (int j = 0; j < lanes; j++) {
+            float c0[4], c1[4];
+            bilinear_texels(plane, j, o0, a0[j], b0[j], c0);
+            if (lv1[j] >= 0) {
+                bilinear_texels(plane, j, o1, a1[j], b1[j], c1);
+                for (int c = 0; c < 4; c++)
+                    c0[c] = mixf(c0[c], c1[c], frac[j]);
+            }
+            r[j] = c0[0];
+            g[j] = c0[1];
+            bl[j] = c0[2];
+            al[j] = c0[3];
+        }
+    }
+    for (int q = 0; q < n; q++) {
+        if (!slow[q])
+            continue;
+        vec2 uv[4];
+        vec4 out[4];
+        for (int l = 0; l < 4; l++)
+            uv[l] = vec2(u[4 * q + l], v[4 * q + l]);
+        sl_texture_sample4(s, uv, lambda[q], out);
+        for (int l = 0; l < 4; l++) {
+            rgba[0][4 * q + l] = out[l].x;
+            rgba[1][4 * q + l] = out[l].y;
+            rgba[2][4 * q + l] = out[l].z;
+            rgba[3][4 * q + l] = out[l].w;
+        }
+    }
+}
+
+vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+{
+    return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
 }
 
 vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda)
@@ -304,15 +468,19 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
 /* llvmpipe's lp_build_fast_log2: for x = m 2^e (m in [1, 2)), e + (m - 1): exact at powers of
  * two, piecewise linear between (at most 0.086 below log2). Zero gives -127 (magnified),
  * +infinity 128. */
-static float log2_fast(float x)
+static inline __attribute__((always_inline)) float log2_fast_bits(uint32_t bits)
 {
-    uint32_t bits;
-    memcpy(&bits, &x, sizeof bits);
     int e = (int)((bits >> 23) & 0xffu) - 127;
     bits = (bits & 0x007fffffu) | 0x3f800000u;
     float m;
     memcpy(&m, &bits, sizeof m);
     return (float)(e - 1) + m;
+}
+static inline __attribute__((always_inline)) float log2_fast(float x)
+{
+    uint32_t bits;
+    memcpy(&bits, &x, sizeof bits);
+    return log2_fast_bits(bits);
 }
 
 /* lambda clamped as llvmpipe clamps it: to max_lod first, then to min_lod. */
@@ -341,6 +509,37 @@ static float lambda_from(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias
         rho2 = explicit_derivatives ? 0.0f : INFINITY;
     float lambda = 0.5f * log2_fast(rho2) + bias;
     return clamp_lambda(lambda + s->state.lod_bias, &s->state);
+}
+
+/* lambda_from's implicit form for n quads at once: the coarse differences of each quad's lanes
+ * (shader.h's sl_quad_dfdx_coarse / sl_quad_dfdy_coarse), then lambda_from's operations in its
+ * order, with a select for its non-finite branch, in one vector loop over the quads. */
+void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda)
+{
+    const sl_texture *t = s->texture;
+    if (!t) {
+        for (int q = 0; q < n; q++)
+            lambda[q] = 0.0f;
+        return;
+    }
+    const float w = (float)t->level[0].width, h = (float)t->level[0].height;
+    const float lod_bias = s->state.lod_bias, min_lod = s->state.min_lod, max_lod = s->state.max_lod;
+#pragma omp simd
+    for (int q = 0; q < n; q++) {
+        const float *uq = u + 4 * q, *vq = v + 4 * q;
+        float sx = (uq[1] - uq[0]) * w, tx = (vq[1] - vq[0]) * h;
+        float sy = (uq[2] - uq[0]) * w, ty = (vq[2] - vq[0]) * h;
+        float rx = sx * sx + tx * tx, ry = sy * sy + ty * ty;
+        float rho2 = rx > ry ? rx : ry;
+        uint32_t bits;
+        memcpy(&bits, &rho2, sizeof bits);
+        /* !isfinite: +inf, the last level (as a mask: GCC 12 does not if-convert this select) */
+        uint32_t nonfinite = (uint32_t) - (int32_t)((bits & 0x7f800000u) == 0x7f800000u);
+        bits = (bits & ~nonfinite) | (0x7f800000u & nonfinite);
+        float l = 0.5f * log2_fast_bits(bits) + bias + lod_bias;
+        l = l < max_lod ? l : max_lod;
+        lambda[q] = l > min_lod ? l : min_lod;
+    }
 }
 
 float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias)

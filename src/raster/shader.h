@@ -1,6 +1,9 @@
 /* shader.h - the GLSL fragment built-ins for C fragment shaders: dFdx, dFdy and fwidth
  * (fine and coarse) on float, vec2, vec3 and vec4, and discard; plus the per-lane
- * differences a program's quad form (sl_program.fragment_quad) takes its own with.
+ * differences a program's quad form (sl_program.fragment_quad) takes its own with. A
+ * multi-quad form (sl_program.fragment_quads, raster.h) takes the same differences on its
+ * quads' lanes 4 q .. 4 q + 3 (lane 1 - lane 0, lane 2 - lane 0 for the coarse ones) and
+ * marks discards in sl_fragment_quads.discarded instead of calling discard().
  *
  * A C shader has no hidden state, so the fragment's sl_fragment_in is passed
  * explicitly: GLSL `dFdx(uv)` is `dFdx(in, uv)`, `discard;` is

@@ -155,4 +155,13 @@ vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda);
  * sl_texture_sample(s, uv[l], lambda), bit for bit, with one format dispatch for the four. */
 void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, vec4 out[4]);
 
+/* The multi-quad forms (a shader's sl_program.fragment_quads): n quads (1 .. SL_QUADS_MAX), lane l
+ * of quad q at 4 q + l of u and v. sl_texture_lambda_quads: lambda[q] is sl_texture_lambda_quad
+ * of quad q's coarse differences (lane 1 - lane 0, lane 2 - lane 0), bit for bit.
+ * sl_texture_sample_quads: rgba[c][4 q + l] is channel c of sl_texture_sample(s, (u, v),
+ * lambda[q]), bit for bit; the plane's linear filtering runs in vector loops over the lanes. */
+void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda);
+void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                             float *const rgba[4]);
+
 #endif

@@ -28,7 +28,9 @@
  * Programs with flags (chosen per triangle, so programs without them pay one test):
  *   quads  (sl_program.derivatives) aligned 2x2 quads over the same blocks, helpers for
  *          uncovered and occluded lanes, the lanes run in rounds (quad.c) or through the
- *          program's quad form (span path only), on both paths.
+ *          program's quad form (span path only), on both paths; a program with a multi-quad
+ *          form (span path only) has up to 16 quads gathered and shaded in one call
+ *          (quad_gather, quads_flush).
  *   late   (sl_program.discards, no derivatives) pixel by pixel on both paths; the
  *          shader writes a scratch texel, copied with its depth unless it discarded.
  *
@@ -70,6 +72,7 @@ typedef struct {
     rast_span *span;     /* span path scratch */
     sl_fragment_span sp; /* span path: what the span shader gets (arrays point into span) */
     sl_quad *quad;       /* quads and discards: the task's */
+    rast_quads *batch;   /* multi-quad shaders: the quads gathered so far (span path) */
     char *scratch;       /* 4 texels: what quad lanes and discarding fragments write first */
     long long tested, shaded, blocks_full;
     long long discarded, late_z, quads, rounds, helpers;
@@ -521,11 +524,139 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     }
 }
 
+/* ---- the multi-quad path (sl_program.fragment_quads, span path) ----
+ * quad() split in two: quad_gather runs its depth test and keeps the quad's lane offsets;
+ * quads_flush makes the inputs of every gathered lane at once (quad()'s expressions, in loops
+ * over up to 64 lanes), calls the shader once, then writes what quad() writes. The quads of
+ * one triangle cover disjoint pixels, so testing a later quad's depth before an earlier one
+ * is shaded changes nothing; the batch is flushed when full and at the end of the triangle. */
+static void quads_flush(tri_ctx *c, const bool depth)
+{
+    rast_quads *b = c->batch;
+    const int n = b->n, lanes = 4 * n;
+    if (n == 0)
+        return;
+    const rast_tri *t = c->t;
+    const sl_program *prog = c->call->program;
+    const bool late = prog->discards, fresh = prog->quad_writes_texel;
+    const sl_target *tg = c->d->target;
+    const size_t tsz = tg->texel_size;
+    const float iw0 = t->iw[0], iw1 = t->iw[1], iw2 = t->iw[2], lo = t->iw_lo, hi = t->iw_hi;
+#pragma omp simd
+    for (int j = 0; j < lanes; j++) {
+        float plane = iw0 + iw1 * b->fx[j] + iw2 * b->fy[j];
+        float iw = b->helper[j] ? plane : clampf(plane, lo, hi);
+        b->iw[j] = iw;
+        b->w[j] = 1.0f / iw;
+    }
+    const int nv = c->call->nvary;
+    for (int i = 0; i < nv; i++) {
+        const float p0 = c->p0[i], p1 = c->pdx[i], p2 = c->pdy[i];
+        float *out = b->vary[i];
+#pragma omp simd
+        for (int j = 0; j < lanes; j++)
+            out[j] = (p0 + p1 * b->fx[j] + p2 * b->fy[j]) * b->w[j];
+    }
+    const size_t row = (size_t)tg->width * tsz;
+    for (int k = 0; k < n; k++) {
+        int qx = b->qx[k], qy = b->qy[k];
+        char *lane0 = c->texels + (size_t)qy * row + (size_t)qx * tsz;
+        bool right = qx + 1 < tg->width, top = qy + 1 < tg->height; /* false only at odd sizes */
+        char *target[4] = {lane0, right ? lane0 + tsz : NULL, top ? lane0 + row : NULL,
+                           right && top ? lane0 + row + tsz : NULL};
+        for (int l = 0; l < 4; l++) {
+            int j = 4 * k + l;
+            b->target[j] = target[l];
+            b->texel[j] = fresh && !late && !b->helper[j] ? target[l] : c->scratch + (size_t)j * tsz;
+        }
+    }
+    for (int j = 0; j < lanes; j++)
+        b->discarded[j] = 0;
+    if (!fresh)
+        for (int j = 0; j < lanes; j++) {
+            if (b->target[j])
+                memcpy(b->texel[j], b->target[j], tsz);
+            else
+                memset(b->texel[j], 0, tsz);
+        }
+    b->in.n = n;
+    b->in.front_facing = t->front;
+    prog->fragment_quads(c->call->fs_uniforms, &b->in);
+
+    c->quads += n;
+    c->rounds += n;
+    int helpers = 0, discarded = 0;
+    for (int j = 0; j < lanes; j++) {
+        helpers += b->helper[j];
+        discarded += b->discarded[j] & !b->helper[j];
+    }
+    c->helpers += helpers;
+    c->shaded += lanes - helpers;
+    c->discarded += discarded;
+    if (fresh && !late && discarded == 0) { /* every live lane wrote its texel in place */
+        b->n = 0;
+        return;
+    }
+    for (int j = 0; j < lanes; j++) {
+        if (b->helper[j] || b->discarded[j])
+            continue;
+        if (b->texel[j] != b->target[j])
+            memcpy(b->target[j], b->texel[j], tsz);
+        if (depth && late) {
+            int x = b->qx[j >> 2] + (j & 1), y = b->qy[j >> 2] + ((j >> 1) & 1);
+            c->zbuf[(y - c->py0) * c->ts + (x - c->px0)] = b->z[j];
+            c->late_z++;
+        }
+    }
+    b->n = 0;
+}
+
+/* quad()'s depth test for the quad at (qx, qy); a quad with a live lane joins the batch. */
+static inline __attribute__((always_inline)) void quad_gather(tri_ctx *c, int qx, int qy, unsigned cov,
+                                                              const bool depth)
+{
+    const rast_tri *t = c->t;
+    const bool late = c->call->program->discards;
+    const float fx0 = (float)qx - t->ox, fx1 = (float)(qx + 1) - t->ox;
+    const float fy0 = (float)qy - t->oy, fy1 = (float)(qy + 1) - t->oy;
+    const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
+    float z[4];
+    for (int l = 0; l < 4; l++)
+        z[l] = depth_at(t, fx[l], fy[l]);
+    unsigned live = cov;
+    c->tested += (cov & 1) + (cov >> 1 & 1) + (cov >> 2 & 1) + (cov >> 3 & 1);
+    if (depth) {
+        float *z0 = &c->zbuf[(qy - c->py0) * c->ts + (qx - c->px0)];
+        float *zp[4] = {z0, z0 + 1, z0 + c->ts, z0 + c->ts + 1};
+        live = 0;
+        for (int l = 0; l < 4; l++) {
+            bool pass = (cov >> l & 1) && z[l] < *zp[l];
+            if (pass && !late)
+                *zp[l] = z[l];
+            live |= (unsigned)pass << l;
+        }
+    }
+    if (!live)
+        return;
+    rast_quads *b = c->batch;
+    int k = b->n++;
+    b->qx[k] = qx;
+    b->qy[k] = qy;
+    for (int l = 0; l < 4; l++) {
+        b->fx[4 * k + l] = fx[l];
+        b->fy[4 * k + l] = fy[l];
+        b->z[4 * k + l] = z[l];
+        b->helper[4 * k + l] = !(live >> l & 1);
+    }
+    if (b->n == SL_QUADS_MAX)
+        quads_flush(c, depth);
+}
+
 /* The quads of the triangle over [x0,x1] x [y0,y1], block by block as draw_tri: tiles
  * and blocks have even sizes and origins, so a quad never straddles two, and lanes
  * outside the rectangle are outside the triangle's bounds (uncovered). */
 static inline __attribute__((always_inline)) void draw_tri_quads(tri_ctx *c, bool full, int x0, int y0, int x1,
-                                                                 int y1, const bool depth)
+                                                                 int y1, const bool depth, const bool multi)
 {
     const rast_tri *t = c->t;
     int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
@@ -554,21 +685,35 @@ static inline __attribute__((always_inline)) void draw_tri_quads(tri_ctx *c, boo
                         }
                         cov |= (unsigned)in << l;
                     }
-                    if (cov)
+                    if (cov && multi)
+                        quad_gather(c, qx, qy, cov, depth);
+                    else if (cov)
                         quad(c, qx, qy, cov, depth);
                 }
         }
     }
+    if (multi)
+        quads_flush(c, depth);
 }
 
 static void draw_tri_quads_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, true);
+    draw_tri_quads(c, full, x0, y0, x1, y1, true, false);
 }
 
 static void draw_tri_quads_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, false);
+    draw_tri_quads(c, full, x0, y0, x1, y1, false, false);
+}
+
+static void draw_tri_multi_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri_quads(c, full, x0, y0, x1, y1, true, true);
+}
+
+static void draw_tri_multi_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
+{
+    draw_tri_quads(c, full, x0, y0, x1, y1, false, true);
 }
 
 /* ---- the tile ---- */
@@ -617,6 +762,20 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
         c.sp.frag_w = task->span->iw;
         c.sp.texel_size = tsz;
     }
+    if (spans && task->quads) {
+        rast_quads *b = task->quads;
+        c.batch = b;
+        b->n = 0;
+        for (int i = 0; i < SL_MAX_VARYINGS; i++)
+            b->in.varyings[i] = b->vary[i];
+        b->in.qx = b->qx;
+        b->in.qy = b->qy;
+        b->in.frag_z = b->z;
+        b->in.frag_w = b->iw;
+        b->in.helper = b->helper;
+        b->in.texel = b->texel;
+        b->in.discarded = b->discarded;
+    }
     for (int ci = 0; ci < chunk_count; ci++) {
         const rast_chunk *ch = &chunks[ci];
         const rast_bin *bin = &ch->bins[tile];
@@ -637,7 +796,12 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             /* one test per triangle: programs without the flags take the paths they always took */
             const sl_program *prog = c.call->program;
             if (prog->derivatives || prog->discards) {
-                if (prog->derivatives && depth)
+                bool multi = prog->derivatives && prog->fragment_quads && c.batch;
+                if (multi && depth)
+                    draw_tri_multi_depth(&c, full, x0, y0, x1, y1);
+                else if (multi)
+                    draw_tri_multi_nodepth(&c, full, x0, y0, x1, y1);
+                else if (prog->derivatives && depth)
                     draw_tri_quads_depth(&c, full, x0, y0, x1, y1);
                 else if (prog->derivatives)
                     draw_tri_quads_nodepth(&c, full, x0, y0, x1, y1);

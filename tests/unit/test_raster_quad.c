@@ -358,13 +358,19 @@ static void test_quads_deterministic(void **state)
     }
 }
 
-/* A quad form without derivatives = true is refused; derivative built-ins in a program
+/* A quad form (or a multi-quad form) without derivatives = true is refused; derivative built-ins in a program
  * without the flag return 0, and discard does nothing. */
 static void quad_form(const void *u, const sl_fragment_in in[4], void *const texel[4])
 {
     (void)u;
     (void)in;
     (void)texel;
+}
+
+static void quads_form(const void *u, const sl_fragment_quads *q)
+{
+    (void)u;
+    (void)q;
 }
 
 static void test_flags(void **state)
@@ -381,6 +387,12 @@ static void test_flags(void **state)
     assert_false(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
                                 &(sl_draw){.program = &bad, .mesh = &m}, &err));
     assert_msg_contains(err, "fragment_quad");
+    bad.fragment_quad = NULL;
+    bad.fragment_quads = quads_form;
+    err = (sl_error){0};
+    assert_false(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+                                &(sl_draw){.program = &bad, .mesh = &m}, &err));
+    assert_msg_contains(err, "fragment_quads");
     sl_program noflag = prog_cut_deriv;
     noflag.derivatives = noflag.discards = false;
     fill(t);

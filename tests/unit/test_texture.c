@@ -11,6 +11,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#include "raster/gbuffer_textured.h"
+#include "raster/raster.h" /* SL_QUADS_MAX */
 #include "raster/texture.h"
 #include "raster/texture_internal.h"
 #include "testutil.h"
@@ -695,8 +697,10 @@ static void test_fast_path_bits(void **state)
     unsigned char *data = malloc(64 * 8 * 16);
     assert_non_null(data);
     srand(7);
-    long checked = 0, checked4 = 0;
+    long checked = 0, checked4 = 0, checked_quads = 0;
     vec2 quad_uv[4];
+    float mu[4 * SL_QUADS_MAX], mv[4 * SL_QUADS_MAX], mlambda[SL_QUADS_MAX];
+    int mq = 0;
     for (int f = 0; f < SL_TEX_FORMAT_COUNT; f++) {
         assert_int_equal(tex_format_bytes((sl_texture_format)f), sl_texture_format_bytes((sl_texture_format)f));
         for (size_t i = 0; i < 64 * 8 * 16; i++)
@@ -741,6 +745,28 @@ static void test_fast_path_bits(void **state)
                                     assert_memory_equal(&four[l], &one, sizeof one);
                                 }
                                 checked4++;
+                                /* the multi-quad sample: this quad joins the call's (each quad its own
+                                 * lambda), checked lane by lane when 16 are gathered or the run ends */
+                                for (int l = 0; l < 4; l++) {
+                                    mu[4 * mq + l] = quad_uv[l].x;
+                                    mv[4 * mq + l] = quad_uv[l].y;
+                                }
+                                mlambda[mq++] = lambda;
+                            }
+                            if (mq == SL_QUADS_MAX || (k == 199 && mq > 0)) {
+                                float r[4 * SL_QUADS_MAX], g[4 * SL_QUADS_MAX], b[4 * SL_QUADS_MAX], a[4 * SL_QUADS_MAX];
+                                float *const rgba[4] = {r, g, b, a};
+                                sl_texture_sample_quads(&s, mq, mu, mv, mlambda, rgba);
+                                for (int j = 0; j < 4 * mq; j++) {
+                                    vec4 many = vec4(r[j], g[j], b[j], a[j]);
+                                    vec4 one = sl_texture_sample(&s, vec2(mu[j], mv[j]), mlambda[j / 4]);
+                                    if (memcmp(&many, &one, sizeof one) != 0)
+                                        fail_msg("%s %dx%d min %d wrap %d plane %d: multi-quad lane %d of %d differs",
+                                                 sl_texture_format_name((sl_texture_format)f), sizes[z][0],
+                                                 sizes[z][1], min, w, pass == 0, j, 4 * mq);
+                                    checked_quads++;
+                                }
+                                mq = 0;
                             }
                         }
                     }
@@ -751,6 +777,163 @@ static void test_fast_path_bits(void **state)
     free(data);
     assert_true(checked == 2 * 13L * 4 * 6 * 9 * 200);
     assert_true(checked4 == checked / 4);
+    assert_true(checked_quads == checked);
+}
+
+/* The multi-quad lambda (sl_texture_lambda_quads) against the quad's (sl_texture_lambda_quad of
+ * the coarse differences), bit for bit: random quads from magnified to past the last level, a
+ * sampler bias and lod clamps, and quads with an infinite or NaN lane (the last level). */
+static void test_lambda_quads(void **state)
+{
+    (void)state;
+    sl_texture *t = NULL;
+    sl_error err = {0};
+    unsigned char texels[64 * 32 * 4] = {0};
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 64, 32, texels, true, &t, &err));
+    srand(11);
+    long checked = 0;
+    for (int cfg = 0; cfg < 3; cfg++) {
+        sl_sampler2D s = sampler(t, SL_LINEAR_MIPMAP_LINEAR, SL_LINEAR, SL_REPEAT, SL_REPEAT);
+        if (cfg == 1)
+            s.state.lod_bias = 0.75f;
+        if (cfg == 2) {
+            s.state.min_lod = 0.5f;
+            s.state.max_lod = 3.25f;
+        }
+        for (int round = 0; round < 50; round++) {
+            float u[4 * SL_QUADS_MAX], v[4 * SL_QUADS_MAX], lambda[SL_QUADS_MAX];
+            int n = 1 + round % SL_QUADS_MAX;
+            for (int q = 0; q < n; q++) {
+                float scale = powf(2.0f, rnd(-12.0f, 4.0f)), u0 = rnd(-2, 2), v0 = rnd(-2, 2);
+                for (int l = 0; l < 4; l++) {
+                    u[4 * q + l] = u0 + rnd(-scale, scale);
+                    v[4 * q + l] = v0 + rnd(-scale, scale);
+                }
+            }
+            if (round % 5 == 4) { /* a helper's non-finite input */
+                u[1] = INFINITY;
+                v[4 * (n - 1) + 2] = NAN;
+            }
+            sl_texture_lambda_quads(&s, n, u, v, 0.0f, lambda);
+            for (int q = 0; q < n; q++) {
+                const float *uq = u + 4 * q, *vq = v + 4 * q;
+                float one = sl_texture_lambda_quad(&s, vec2(uq[1] - uq[0], vq[1] - vq[0]),
+                                                   vec2(uq[2] - uq[0], vq[2] - vq[0]), 0.0f);
+                assert_memory_equal(&lambda[q], &one, sizeof one);
+                checked++;
+            }
+        }
+    }
+    sl_texture_destroy(t);
+    assert_true(checked > 1000);
+}
+
+/* The textured G-buffer programs' three forms give the same bits: the multi-quad form (the span
+ * path), the quad form (the span path with fragment_quads taken away) and the reference through
+ * the generic rounds (the plain path). A sphere and a plane with every map slot bound (an sRGB kd
+ * map, a normal map, an odd-sized RGBA mask map: REPEAT of a non-power of two, MIRRORED and CLAMP
+ * wraps, nearest and bilinear filters), GGX with metallic-roughness and the extra plane, masked and
+ * not, 1 and 2 threads. */
+static void test_textured_program_forms(void **state)
+{
+    (void)state;
+    enum { W = 97, H = 61 };
+    sl_error err = {0};
+    srand(5);
+    unsigned char data[64 * 32 * 4];
+    for (size_t i = 0; i < sizeof data; i++)
+        data[i] = (unsigned char)(rand() & 0xff);
+    sl_texture *kd = NULL, *nm = NULL, *mask = NULL;
+    assert_true(sl_texture_create(SL_TEX_SRGB8, 64, 32, data, true, &kd, &err));
+    assert_true(sl_texture_create(SL_TEX_RGB8, 16, 16, data + 7, true, &nm, &err));
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 13, 7, data + 100, true, &mask, &err));
+    sl_mesh sphere, plane;
+    assert_true(sl_mesh_sphere(&sphere, 24, 12, &err));
+    assert_true(sl_mesh_plane(&plane, &err));
+    mat4 vp = mat4_mul(perspective(radians(50.0f), (float)W / (float)H, 0.5f, 40.0f),
+                       lookAt(vec3(0.4f, -3.5f, 1.2f), vec3(0, 0, 0), vec3(0, 0, 1)));
+    mat4 models[2] = {mat4_scale(vec3(1.2f, 1.2f, 1.2f)),
+                      mat4_mul(mat4_translate(vec3(0, 0, -1.2f)), mat4_scale(vec3(12, 12, 1)))};
+    sl_gbuffer_tex_uniforms u[2];
+    for (int o = 0; o < 2; o++) {
+        sl_gbuffer_tex_uniforms *x = &u[o];
+        memset(x, 0, sizeof *x);
+        x->uModel = models[o];
+        x->uViewProj = vp;
+        x->uNormalMatrix = transpose(inverse(mat3_from_mat4(models[o])));
+        x->uModel3 = mat3_from_mat4(models[o]);
+        x->uKd = vec3(0.9f, 0.7f, 0.5f);
+        x->uKs = vec3(0.04f, 0.05f, 0.06f);
+        x->uAlpha = 40.0f;
+        x->uRoughness = o == 0 ? 0.6f : -1.0f;
+        x->uMetallic = o == 0 ? 0.8f : -1.0f;
+        x->uOcclusionStrength = 0.5f;
+        x->uEmissive = vec3(0.1f, 0.2f, 0.3f);
+        x->uAlphaCutoff = 0.4f;
+        sl_sampler2D *smp[SL_MAP_COUNT] = {&x->uKdMap, &x->uKsMap, &x->uAlphaMap, &x->uNormalMap, &x->uMaskMap,
+                                           &x->uMetallicRoughnessMap, &x->uOcclusionMap, &x->uEmissiveMap};
+        vec4 *st[SL_MAP_COUNT] = {&x->uKdMapST, &x->uKsMapST, &x->uAlphaMapST, &x->uNormalMapST, &x->uMaskMapST,
+                                  &x->uMetallicRoughnessMapST, &x->uOcclusionMapST, &x->uEmissiveMapST};
+        const sl_texture *tex[SL_MAP_COUNT] = {kd, kd, nm, nm, mask, mask, nm, kd};
+        for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+            *smp[slot] = sampler(tex[slot], slot == 2 ? SL_LINEAR : slot == 6 ? SL_NEAREST_MIPMAP_NEAREST
+                                                                             : SL_LINEAR_MIPMAP_LINEAR,
+                                 slot == 3 ? SL_NEAREST : SL_LINEAR, (sl_wrap)(slot % 3), (sl_wrap)((slot + 1) % 3));
+            *st[slot] = vec4(1.0f + (float)slot, 2.5f - 0.25f * (float)slot, 0.1f * (float)slot, -0.2f);
+        }
+        x->uMaps = (1 << SL_MAP_COUNT) - 1;
+    }
+    sl_gbuffer gb[3] = {{0}, {0}, {0}};
+    for (int masked = 0; masked < 2; masked++)
+        for (int threads = 1; threads <= 2; threads++) {
+            const sl_program *base = masked ? &sl_gbuffer_tex_masked_program : &sl_gbuffer_tex_program;
+            sl_program quad = *base;
+            quad.fragment_quads = NULL;
+            const sl_program *progs[3] = {base, &quad, base};
+            for (int k = 0; k < 3; k++) {
+                for (int o = 0; o < 2; o++) {
+                    u[o].uMaps = masked ? (u[o].uMaps | SL_GBUFFER_MAP_CUTOFF) : (u[o].uMaps & ~SL_GBUFFER_MAP_CUTOFF);
+                    u[o].extra = NULL;
+                }
+                assert_true(sl_gbuffer_resize(&gb[k], W, H, &err));
+                assert_true(sl_gbuffer_use_extra(&gb[k], true, &err));
+                sl_gbuffer_clear(&gb[k]);
+                u[0].extra = gb[k].extra;
+                u[0].extra_width = W;
+                sl_draw draws[2] = {{.program = progs[k], .vs_uniforms = &u[0], .fs_uniforms = &u[0], .mesh = &sphere},
+                                    {.program = progs[k], .vs_uniforms = &u[1], .fs_uniforms = &u[1], .mesh = &plane}};
+                sl_raster *r = sl_raster_create(
+                    &(sl_raster_desc){.threads = threads, .tile_size = 32, .stats = true, .plain = k == 2}, &err);
+                assert_non_null(r);
+                sl_target tg = sl_gbuffer_target(&gb[k]);
+                assert_true(sl_raster_draw_list(r, &tg, draws, 2, &err));
+                sl_raster_stats stats = sl_raster_get_stats(r);
+                sl_raster_destroy(r);
+                sl_gbuffer_extra_resolve(&gb[k]); /* as sl_raster_scene_textured does */
+                assert_true(stats.quads > 500);
+                assert_true(!masked || stats.fragments_discarded > 100);
+                if (k < 2)
+                    assert_int_equal(stats.quad_rounds, stats.quads);
+            }
+            for (int k = 1; k < 3; k++) {
+                if (memcmp(gb[0].texels, gb[k].texels, (size_t)W * H * sizeof *gb[0].texels) != 0)
+                    fail_msg("masked %d threads %d: the multi-quad form's texels differ from the %s", masked, threads,
+                             k == 1 ? "quad form's" : "rounds'");
+                /* not against the rounds when masked: a lane of the rounds writes its extra texel in
+                 * a round and may discard in the next, which leaves the extra texel of a fragment that
+                 * wrote no texel (over an earlier one: the resolve then drops the earlier's) */
+                if ((k == 1 || !masked) && memcmp(gb[0].extra, gb[k].extra, (size_t)W * H * sizeof *gb[0].extra) != 0)
+                    fail_msg("masked %d threads %d: the extra plane differs from the %s", masked, threads,
+                             k == 1 ? "quad form's" : "rounds'");
+            }
+        }
+    for (int k = 0; k < 3; k++)
+        sl_gbuffer_free(&gb[k]);
+    sl_mesh_free(&sphere);
+    sl_mesh_free(&plane);
+    sl_texture_destroy(kd);
+    sl_texture_destroy(nm);
+    sl_texture_destroy(mask);
 }
 
 int main(void)
@@ -767,6 +950,8 @@ int main(void)
         cmocka_unit_test(test_load_files),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_fast_path_bits),
+        cmocka_unit_test(test_lambda_quads),
+        cmocka_unit_test(test_textured_program_forms),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
