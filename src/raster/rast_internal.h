@@ -117,7 +117,9 @@ typedef struct {
 
 /* One row span of the tile stage (tile.c), structure of arrays: the columns that pass,
  * their depth, 1/w, w and varyings, as the span fragment shader reads them; and the
- * coverage and depth-test flags of the row before packing. */
+ * coverage and depth-test flags of the row before packing. A small triangle packs the
+ * passing pixels of all its rows (at most RAST_BLOCK x RAST_BLOCK) into one set, row
+ * after row, with each pixel's row offset in fy. */
 typedef struct {
     _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) float z[SL_SPAN_MAX];
@@ -125,6 +127,7 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) float w[SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) int32_t x[SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) float fy[SL_SPAN_MAX]; /* small triangles: each fragment's row offset (tile.c) */
 } rast_span;
 
 /* The 2x2 quad of a derivative-taking program (quad.c runs its rounds; shader.h's

@@ -364,28 +364,130 @@ static void draw_tri_late_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1,
     draw_tri(c, full, x0, y0, x1, y1, false, true);
 }
 
-/* Small triangles (few pixels a row) go pixel by pixel even on the span path: a span's
- * fixed cost (three vector loops, the packing, a call) is not paid back by a handful of
- * pixels. The two give the same bits, so the choice is free. */
+/* Small triangles (few pixels a row): a span per row does not pay back its fixed cost
+ * (three vector loops, the packing, a call) with a handful of pixels. */
 static inline bool small_tri(int x0, int y0, int x1, int y1)
 {
     return x1 - x0 < RAST_SPAN_MIN_WIDTH && y1 - y0 < RAST_BLOCK;
 }
+_Static_assert(RAST_SPAN_MIN_WIDTH * RAST_BLOCK <= SL_SPAN_MAX, "a small triangle's pixels fit one rast_span");
 
+/* A small triangle of a program with a span form, over its whole bounds [x0,x1] x [y0,y1]
+ * at once: coverage and depth row by row (span_row's first loop, no block classification:
+ * the bounds are at most 8x8), the passing pixels of every row packed into one set, z, 1/w
+ * and the varyings interpolated for the whole set in one loop each, then one span call per
+ * row that has any. The pixel-by-pixel path it replaces took a branch per pixel (coverage,
+ * depth) and an indirect call per fragment. Every value is fragment()'s expression, term for
+ * term (fy per pixel instead of per row: the same product). */
+static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bool full, int x0, int y0, int x1,
+                                                                  int y1, const bool depth)
+{
+    const rast_tri *t = c->t;
+    rast_span *s = c->span;
+    const int n = x1 - x0 + 1;
+    const float ox = t->ox, z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
+    const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
+    int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+    int row_end[RAST_BLOCK];   /* packed fragments after each row */
+    int m = 0, tested = 0;
+    for (int y = y0; y <= y1; y++) {
+        const float fy = (float)y - t->oy, z2fy = z2 * fy;
+        const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
+        float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+#pragma omp simd
+        for (int j = 0; j < n; j++) {
+            int64_t x = x0 + j;
+            int32_t cov = 1;
+            if (!full) {
+                int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
+                cov = (e0 | e1 | e2) >= 0;
+            }
+            int32_t pass = cov;
+            if (depth) {
+                float fx = (float)(x0 + j) - ox;
+                float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
+                float old = zrow[j];
+                pass = cov & (z < old);
+                zrow[j] = pass ? z : old;
+            }
+            flags[j] = cov | pass << 1;
+        }
+        for (int j = 0; j < n; j++) {
+            s->x[m] = x0 + j;
+            s->fy[m] = fy;
+            m += flags[j] >> 1;
+            tested += flags[j] & 1;
+        }
+        row_end[y - y0] = m;
+    }
+    c->tested += tested;
+    if (m == 0)
+        return;
+
+    const float iw0 = t->iw[0], iw1 = t->iw[1], iw2 = t->iw[2], lo = t->iw_lo, hi = t->iw_hi;
+#pragma omp simd
+    for (int j = 0; j < m; j++) {
+        float fx = (float)s->x[j] - ox, fy = s->fy[j];
+        float iw = clampf(iw0 + iw1 * fx + iw2 * fy, lo, hi);
+        s->z[j] = clampf(z0 + z1 * fx + z2 * fy, 0.0f, 1.0f);
+        s->iw[j] = iw;
+        s->w[j] = 1.0f / iw;
+    }
+    const int nvary = c->call->nvary;
+    for (int i = 0; i < nvary; i++) {
+        const float p0 = c->p0[i], p1 = c->pdx[i], p2 = c->pdy[i];
+        float *out = s->vary[i];
+#pragma omp simd
+        for (int j = 0; j < m; j++) {
+            float fx = (float)s->x[j] - ox;
+            out[j] = (p0 + p1 * fx + p2 * s->fy[j]) * s->w[j];
+        }
+    }
+
+    /* one span a row: the arrays from the row's first packed fragment */
+    const sl_program *prog = c->call->program;
+    const sl_target *tg = c->d->target;
+    sl_fragment_span sp = c->sp;
+    sp.front_facing = t->front;
+    for (int y = y0, start = 0; y <= y1; y++) {
+        int end = row_end[y - y0];
+        if (end == start)
+            continue;
+        sp.n = end - start;
+        sp.y = y;
+        sp.x = s->x + start;
+        for (int i = 0; i < nvary; i++)
+            sp.varyings[i] = s->vary[i] + start;
+        sp.frag_z = s->z + start;
+        sp.frag_w = s->iw + start;
+        sp.row = c->texels + (size_t)y * (size_t)tg->width * tg->texel_size;
+        prog->fragment_span(c->call->fs_uniforms, &sp);
+        start = end;
+    }
+    c->shaded += m;
+}
+
+/* The span path: small triangles of a program with a span form as one set
+ * (small_tri_spans), of one without pixel by pixel (draw_tri), the others a span a row.
+ * All give the same bits, so the choice is free. */
 static void draw_tri_spans_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, true, false);
-    else
+    if (!small_tri(x0, y0, x1, y1))
         draw_tri_spans(c, full, x0, y0, x1, y1, true);
+    else if (c->call->program->fragment_span)
+        small_tri_spans(c, full, x0, y0, x1, y1, true);
+    else
+        draw_tri(c, full, x0, y0, x1, y1, true, false);
 }
 
 static void draw_tri_spans_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, false, false);
-    else
+    if (!small_tri(x0, y0, x1, y1))
         draw_tri_spans(c, full, x0, y0, x1, y1, false);
+    else if (c->call->program->fragment_span)
+        small_tri_spans(c, full, x0, y0, x1, y1, false);
+    else
+        draw_tri(c, full, x0, y0, x1, y1, false, false);
 }
 
 /* ---- the quad path (programs that take derivatives) ---- */
