@@ -75,6 +75,8 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
         ok = ok && (r->tasks[i].quad = malloc(sizeof(sl_quad))) != NULL;
         if (ok && !r->plain)
             ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL;
+        if (ok && !r->plain) /* zeroed: tile.c small_tri_spans reads lanes past what it packed */
+            memset(r->tasks[i].span, 0, sizeof(rast_span));
     }
     if (!ok) {
         sl_raster_destroy(r);
