@@ -56,12 +56,19 @@ enum {
     RAST_BAD = 1u << 7,
 };
 
+/* A window position, exact (rast_window_exact below): x, y in pixels, window depth, 1/w. */
+typedef struct {
+    double x, y, z, iw;
+} rast_exact;
+
 /* The vertex stage's output position: clip coordinates, and (when the vertex is
- * inside every plane) its snapped window position. */
+ * inside every plane) its snapped window position and its exact one, made once per
+ * vertex rather than in the setup of each triangle that shares it. */
 typedef struct {
     vec4 clip;
     int32_t X, Y;   /* window position in 1/256 pixel */
     unsigned outcode;
+    rast_exact win; /* rast_window_exact(clip), when outcode is 0 */
 } rast_vpos;
 
 /* A vertex during clipping: clip position and varyings. */
@@ -70,11 +77,11 @@ typedef struct {
     float v[SL_MAX_VARYINGS];
 } rast_cvert;
 
-/* A vertex entering triangle setup: its snapped position for the edges, its clip
- * coordinates for the attribute planes (setup.c: rast_window_exact). */
+/* A vertex entering triangle setup: its snapped position for the edges, its exact one
+ * for the attribute planes (setup.c). */
 typedef struct {
     int32_t X, Y;
-    vec4 clip;
+    rast_exact win;
     const float *v; /* varying_count varyings, not yet divided by w */
 } rast_wvert;
 
@@ -228,10 +235,6 @@ static inline void rast_to_window(const sl_target *tg, vec4 c, int32_t *X, int32
  * z_ndc*0.5+0.5 and 1/w. The attribute planes (depth, 1/w, v/w) are built on it, as llvmpipe
  * builds them on its float positions: on the snapped ones a varying is off by its gradient
  * times up to 1/512 pixel, and near a horizon that is a large share of its value (setup.c). */
-typedef struct {
-    double x, y, z, iw;
-} rast_exact;
-
 static inline rast_exact rast_window_exact(const sl_target *tg, vec4 c)
 {
     double iw = 1.0 / (double)c.w;

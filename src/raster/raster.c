@@ -281,8 +281,10 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
             for (int j = 0; j < call->nvary; j++)
                 if (!isfinite(v[j]))
                     p->outcode = RAST_BAD;
-            if (p->outcode == 0)
+            if (p->outcode == 0) {
                 rast_to_window(d->target, p->clip, &p->X, &p->Y);
+                p->win = rast_window_exact(d->target, p->clip);
+            }
         }
     }
 }
