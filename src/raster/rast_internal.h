@@ -31,6 +31,7 @@
 #define RAST_GUARD_PX 16000.0f
 _Static_assert(SL_RASTER_MAX_SIZE < (int)RAST_GUARD_PX, "the largest target must lie inside the guard band");
 #define RAST_BLOCK 8                   /* coverage block inside a tile: 8x8 pixels */
+#define RAST_SPAN_MIN_WIDTH 8         /* narrower triangles (and at most 8 rows) are small: tile.c */
 #define RAST_BATCH 65536               /* triangles set up and binned before the tiles are drawn */
 #define RAST_CACHE_LINE 64
 #define RAST_W_EPSILON 1e-6f           /* clip plane w >= eps: keeps the divide finite for any projection */
@@ -155,7 +156,7 @@ struct sl_quad {
 
 /* Per-thread scratch for the tile stage, and each slice's answer of the index check. */
 typedef struct {
-    _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
+    _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size, and RAST_SPAN_MIN_WIDTH of padding */
     rast_span *span;                        /* NULL for a plain context */
     sl_quad *quad;                          /* quads and discards */
     char *scratch;                          /* 4 texels: what a quad's lanes (or a discarding fragment) write */

@@ -71,7 +71,7 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
     if (r->tasks)
         memset(r->tasks, 0, (size_t)r->threads * sizeof *r->tasks);
     for (int i = 0; ok && i < r->threads; i++) {
-        ok = (r->tasks[i].depth = malloc((size_t)ts * (size_t)ts * sizeof(float))) != NULL;
+        ok = (r->tasks[i].depth = calloc((size_t)ts * (size_t)ts + RAST_SPAN_MIN_WIDTH, sizeof(float))) != NULL;
         ok = ok && (r->tasks[i].quad = malloc(sizeof(sl_quad))) != NULL;
         if (ok && !r->plain)
             ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL;

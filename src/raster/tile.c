@@ -56,7 +56,6 @@
 #include <emmintrin.h>
 #endif
 
-#define RAST_SPAN_MIN_WIDTH 8 /* narrower triangles (and at most 8 rows) are drawn per pixel */
 #define RAST_PREFETCH 8       /* bin items ahead whose triangle is loaded early */
 
 typedef struct {
@@ -399,14 +398,15 @@ static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bo
         const float fy = (float)y - t->oy, z2fy = z2 * fy;
         const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
         float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+        /* Always RAST_SPAN_MIN_WIDTH columns, those past n uncovered: a loop of a fixed count
+         * is one vector step, where n columns (often 2-6) went through the scalar remainder.
+         * Its depth loads and stores reach up to 7 floats past the row (a lane that fails
+         * stores back what it loaded): the plane is padded for that (raster.c). */
 #pragma omp simd
-        for (int j = 0; j < n; j++) {
+        for (int j = 0; j < RAST_SPAN_MIN_WIDTH; j++) {
             int64_t x = x0 + j;
-            int32_t cov = 1;
-            if (!full) {
-                int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
-                cov = (e0 | e1 | e2) >= 0;
-            }
+            int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
+            int32_t cov = (full | ((e0 | e1 | e2) >= 0)) & (j < n);
             int32_t pass = cov;
             if (depth) {
                 float fx = (float)(x0 + j) - ox;
