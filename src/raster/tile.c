@@ -229,13 +229,16 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
     float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
     int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+    /* The vector loops run to a multiple of 8 (n8, m8 below), the extra lanes uncovered or
+     * unread, so that no column goes through a scalar remainder: as in small_tri_spans. */
+    const int n8 = (n + 7) & ~7;
 #pragma omp simd
-    for (int j = 0; j < n; j++) {
+    for (int j = 0; j < n8; j++) {
         int64_t x = x0 + j;
-        int32_t cov = 1;
+        int32_t cov = j < n;
         if (edges) {
             int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
-            cov = (e0 | e1 | e2) >= 0;
+            cov &= (e0 | e1 | e2) >= 0;
         }
         int32_t pass = cov;
         if (depth) {
@@ -259,9 +262,10 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     if (m == 0)
         return;
 
+    const int m8 = (m + 7) & ~7;
     float iw0 = t->iw[0], iw1 = t->iw[1], iw2fy = t->iw[2] * fy, lo = t->iw_lo, hi = t->iw_hi;
 #pragma omp simd
-    for (int j = 0; j < m; j++) {
+    for (int j = 0; j < m8; j++) {
         float fx = (float)s->x[j] - ox;
         float iw = clampf(iw0 + iw1 * fx + iw2fy, lo, hi);
         s->z[j] = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
@@ -273,7 +277,7 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
         float p0 = c->p0[i], p1 = c->pdx[i], p2fy = c->pdy[i] * fy;
         float *out = s->vary[i];
 #pragma omp simd
-        for (int j = 0; j < m; j++) {
+        for (int j = 0; j < m8; j++) {
             float fx = (float)s->x[j] - ox;
             out[j] = (p0 + p1 * fx + p2fy) * s->w[j];
         }
