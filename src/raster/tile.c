@@ -20,7 +20,11 @@
  *          a second loop interpolates z, 1/w and the varyings for them in structure-of-
  *          arrays form, and the fragment shader is called once for the row
  *          (sl_program.fragment_span), or per fragment from those arrays when the
- *          program has no span form.
+ *          program has no span form. A small triangle (bounds at most 8 x 8 in the tile)
+ *          of a program with a span form is one set: all its rows tested, packed and
+ *          interpolated together, then a span call per row (small_tri_spans); without
+ *          a span form, pixel by pixel. The vector loops run to a multiple of 8 lanes,
+ *          the extra ones uncovered: no pixel goes through a scalar remainder.
  *   plain  (sl_raster_desc.plain) pixel by pixel, one fragment shader call each.
  * Both evaluate every value with the same expression, in the same order (no FMA
  * contraction: -std=c11 implies -ffp-contract=off), so they give the same bits;
@@ -47,7 +51,9 @@
  * (blending, counting). Drawing the tile in a per-thread buffer and writing it out
  * with streaming stores (no read of the target's lines) measured no faster either:
  * what the clear costs is the G-buffer's write to memory (docs/performance.md,
- * "Textured G-buffer pass", fourth pass). */
+ * "Textured G-buffer pass", fourth pass). The rows of a tile that no binned triangle
+ * reaches (every row of an empty tile) are the exception: no fragment will write them, so
+ * they are cleared with streaming stores, which skip the read of each line. */
 #include "rast_internal.h"
 
 #include <stdint.h>
