@@ -31,6 +31,7 @@
 #define RAST_GUARD_PX 16000.0f
 _Static_assert(SL_RASTER_MAX_SIZE < (int)RAST_GUARD_PX, "the largest target must lie inside the guard band");
 #define RAST_BLOCK 8                   /* coverage block inside a tile: 8x8 pixels */
+#define RAST_SPAN_MIN_WIDTH 8         /* narrower triangles (and at most 8 rows) are small: tile.c */
 #define RAST_BATCH 65536               /* triangles set up and binned before the tiles are drawn */
 #define RAST_CACHE_LINE 64
 #define RAST_W_EPSILON 1e-6f           /* clip plane w >= eps: keeps the divide finite for any projection */
@@ -56,12 +57,19 @@ enum {
     RAST_BAD = 1u << 7,
 };
 
+/* A window position, exact (rast_window_exact below): x, y in pixels, window depth, 1/w. */
+typedef struct {
+    double x, y, z, iw;
+} rast_exact;
+
 /* The vertex stage's output position: clip coordinates, and (when the vertex is
- * inside every plane) its snapped window position. */
+ * inside every plane) its snapped window position and its exact one, made once per
+ * vertex rather than in the setup of each triangle that shares it. */
 typedef struct {
     vec4 clip;
     int32_t X, Y;   /* window position in 1/256 pixel */
     unsigned outcode;
+    rast_exact win; /* rast_window_exact(clip), when outcode is 0 */
 } rast_vpos;
 
 /* A vertex during clipping: clip position and varyings. */
@@ -70,11 +78,11 @@ typedef struct {
     float v[SL_MAX_VARYINGS];
 } rast_cvert;
 
-/* A vertex entering triangle setup: its snapped position for the edges, its clip
- * coordinates for the attribute planes (setup.c: rast_window_exact). */
+/* A vertex entering triangle setup: its snapped position for the edges, its exact one
+ * for the attribute planes (setup.c). */
 typedef struct {
     int32_t X, Y;
-    vec4 clip;
+    rast_exact win;
     const float *v; /* varying_count varyings, not yet divided by w */
 } rast_wvert;
 
@@ -117,7 +125,9 @@ typedef struct {
 
 /* One row span of the tile stage (tile.c), structure of arrays: the columns that pass,
  * their depth, 1/w, w and varyings, as the span fragment shader reads them; and the
- * coverage and depth-test flags of the row before packing. */
+ * coverage and depth-test flags of the row before packing. A small triangle packs the
+ * passing pixels of all its rows (at most RAST_BLOCK x RAST_BLOCK) into one set, row
+ * after row, with each pixel's row offset in fy. */
 typedef struct {
     _Alignas(RAST_CACHE_LINE) float vary[SL_MAX_VARYINGS][SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) float z[SL_SPAN_MAX];
@@ -125,6 +135,7 @@ typedef struct {
     _Alignas(RAST_CACHE_LINE) float w[SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) int32_t x[SL_SPAN_MAX];
     _Alignas(RAST_CACHE_LINE) int32_t flags[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) float fy[SL_SPAN_MAX]; /* small triangles: each fragment's row offset (tile.c) */
 } rast_span;
 
 /* The quads the tile stage gathers for a multi-quad shader (sl_program.fragment_quads; tile.c
@@ -165,7 +176,7 @@ struct sl_quad {
 
 /* Per-thread scratch for the tile stage, and each slice's answer of the index check. */
 typedef struct {
-    _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size */
+    _Alignas(RAST_CACHE_LINE) float *depth; /* tile_size * tile_size, and RAST_SPAN_MIN_WIDTH of padding */
     rast_span *span;                        /* NULL for a plain context */
     sl_quad *quad;                          /* quads and discards */
     rast_quads *quads;                      /* multi-quad shaders; NULL for a plain context */
@@ -246,10 +257,6 @@ static inline void rast_to_window(const sl_target *tg, vec4 c, int32_t *X, int32
  * z_ndc*0.5+0.5 and 1/w. The attribute planes (depth, 1/w, v/w) are built on it, as llvmpipe
  * builds them on its float positions: on the snapped ones a varying is off by its gradient
  * times up to 1/512 pixel, and near a horizon that is a large share of its value (setup.c). */
-typedef struct {
-    double x, y, z, iw;
-} rast_exact;
-
 static inline rast_exact rast_window_exact(const sl_target *tg, vec4 c)
 {
     double iw = 1.0 / (double)c.w;

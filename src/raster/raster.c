@@ -71,11 +71,13 @@ sl_raster *sl_raster_create(const sl_raster_desc *desc, sl_error *err)
     if (r->tasks)
         memset(r->tasks, 0, (size_t)r->threads * sizeof *r->tasks);
     for (int i = 0; ok && i < r->threads; i++) {
-        ok = (r->tasks[i].depth = malloc((size_t)ts * (size_t)ts * sizeof(float))) != NULL;
+        ok = (r->tasks[i].depth = calloc((size_t)ts * (size_t)ts + RAST_SPAN_MIN_WIDTH, sizeof(float))) != NULL;
         ok = ok && (r->tasks[i].quad = malloc(sizeof(sl_quad))) != NULL;
         if (ok && !r->plain)
             ok = (r->tasks[i].span = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_span))) != NULL &&
                  (r->tasks[i].quads = aligned_alloc(RAST_CACHE_LINE, sizeof(rast_quads))) != NULL;
+        if (ok && !r->plain) /* zeroed: tile.c small_tri_spans reads lanes past what it packed */
+            memset(r->tasks[i].span, 0, sizeof(rast_span));
     }
     if (!ok) {
         sl_raster_destroy(r);
@@ -283,8 +285,10 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
             for (int j = 0; j < call->nvary; j++)
                 if (!isfinite(v[j]))
                     p->outcode = RAST_BAD;
-            if (p->outcode == 0)
+            if (p->outcode == 0) {
                 rast_to_window(d->target, p->clip, &p->X, &p->Y);
+                p->win = rast_window_exact(d->target, p->clip);
+            }
         }
     }
 }

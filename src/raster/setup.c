@@ -156,9 +156,7 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
      * the first pixel of the bounds. A sliver whose exact area is not close to its snapped one
      * (the snap moved a vertex by a share of its size) takes the snapped positions, whose area
      * is exact and non-zero: its gradients stay bounded. */
-    rast_exact e[3];
-    for (int k = 0; k < 3; k++)
-        e[k] = rast_window_exact(d->target, v[k]->clip);
+    const rast_exact e[3] = {v0.win, v1.win, v2.win};
     const double sub = 1.0 / (double)RAST_SUBPIXEL_ONE;
     double snapped_area = (double)area * sub * sub;
     double px[3], py[3];
@@ -247,9 +245,9 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
         ch->stats.triangles_in++;
         unsigned all = p0->outcode | p1->outcode | p2->outcode;
         if (all == 0) {
-            rast_wvert w0 = {p0->X, p0->Y, p0->clip, vvary + (size_t)i0 * (size_t)nvary};
-            rast_wvert w1 = {p1->X, p1->Y, p1->clip, vvary + (size_t)i1 * (size_t)nvary};
-            rast_wvert w2 = {p2->X, p2->Y, p2->clip, vvary + (size_t)i2 * (size_t)nvary};
+            rast_wvert w0 = {p0->X, p0->Y, p0->win, vvary + (size_t)i0 * (size_t)nvary};
+            rast_wvert w1 = {p1->X, p1->Y, p1->win, vvary + (size_t)i1 * (size_t)nvary};
+            rast_wvert w2 = {p2->X, p2->Y, p2->win, vvary + (size_t)i2 * (size_t)nvary};
             setup_triangle(d, call, (uint16_t)ci, ch, w0, w1, w2);
             continue;
         }
@@ -277,7 +275,7 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
         for (int k = 0; k < n; k++) {
             vec4 c = poly[k].clip;
             rast_to_window(d->target, c, &w[k].X, &w[k].Y);
-            w[k].clip = c;
+            w[k].win = rast_window_exact(d->target, c);
             w[k].v = poly[k].v;
             finite &= c.w > 0.0f && isfinite(1.0f / c.w) && isfinite(c.z / c.w);
         }

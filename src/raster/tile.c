@@ -20,7 +20,11 @@
  *          a second loop interpolates z, 1/w and the varyings for them in structure-of-
  *          arrays form, and the fragment shader is called once for the row
  *          (sl_program.fragment_span), or per fragment from those arrays when the
- *          program has no span form.
+ *          program has no span form. A small triangle (bounds at most 8 x 8 in the tile)
+ *          of a program with a span form is one set: all its rows tested, packed and
+ *          interpolated together, then a span call per row (small_tri_spans); without
+ *          a span form, pixel by pixel. The vector loops run to a multiple of 8 lanes,
+ *          the extra ones uncovered: no pixel goes through a scalar remainder.
  *   plain  (sl_raster_desc.plain) pixel by pixel, one fragment shader call each.
  * Both evaluate every value with the same expression, in the same order (no FMA
  * contraction: -std=c11 implies -ffp-contract=off), so they give the same bits;
@@ -49,12 +53,18 @@
  * (blending, counting). Drawing the tile in a per-thread buffer and writing it out
  * with streaming stores (no read of the target's lines) measured no faster either:
  * what the clear costs is the G-buffer's write to memory (docs/performance.md,
- * "Textured G-buffer pass", fourth pass). */
+ * "Textured G-buffer pass", fourth pass). The rows of a tile that no binned triangle
+ * reaches (every row of an empty tile) are the exception: no fragment will write them, so
+ * they are cleared with streaming stores, which skip the read of each line. */
 #include "rast_internal.h"
 
+#include <stdint.h>
 #include <string.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
-#define RAST_SPAN_MIN_WIDTH 8 /* narrower triangles (and at most 8 rows) are drawn per pixel */
+#define RAST_PREFETCH 8       /* bin items ahead whose triangle is loaded early */
 
 typedef struct {
     const rast_draw *d;
@@ -228,13 +238,16 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
     float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
     int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+    /* The vector loops run to a multiple of 8 (n8, m8 below), the extra lanes uncovered or
+     * unread, so that no column goes through a scalar remainder: as in small_tri_spans. */
+    const int n8 = (n + 7) & ~7;
 #pragma omp simd
-    for (int j = 0; j < n; j++) {
+    for (int j = 0; j < n8; j++) {
         int64_t x = x0 + j;
-        int32_t cov = 1;
+        int32_t cov = j < n;
         if (edges) {
             int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
-            cov = (e0 | e1 | e2) >= 0;
+            cov &= (e0 | e1 | e2) >= 0;
         }
         int32_t pass = cov;
         if (depth) {
@@ -258,9 +271,10 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     if (m == 0)
         return;
 
+    const int m8 = (m + 7) & ~7;
     float iw0 = t->iw[0], iw1 = t->iw[1], iw2fy = t->iw[2] * fy, lo = t->iw_lo, hi = t->iw_hi;
 #pragma omp simd
-    for (int j = 0; j < m; j++) {
+    for (int j = 0; j < m8; j++) {
         float fx = (float)s->x[j] - ox;
         float iw = clampf(iw0 + iw1 * fx + iw2fy, lo, hi);
         s->z[j] = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
@@ -272,7 +286,7 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
         float p0 = c->p0[i], p1 = c->pdx[i], p2fy = c->pdy[i] * fy;
         float *out = s->vary[i];
 #pragma omp simd
-        for (int j = 0; j < m; j++) {
+        for (int j = 0; j < m8; j++) {
             float fx = (float)s->x[j] - ox;
             out[j] = (p0 + p1 * fx + p2fy) * s->w[j];
         }
@@ -367,28 +381,136 @@ static void draw_tri_late_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1,
     draw_tri(c, full, x0, y0, x1, y1, false, true);
 }
 
-/* Small triangles (few pixels a row) go pixel by pixel even on the span path: a span's
- * fixed cost (three vector loops, the packing, a call) is not paid back by a handful of
- * pixels. The two give the same bits, so the choice is free. */
+/* Small triangles (few pixels a row): a span per row does not pay back its fixed cost
+ * (three vector loops, the packing, a call) with a handful of pixels. */
 static inline bool small_tri(int x0, int y0, int x1, int y1)
 {
     return x1 - x0 < RAST_SPAN_MIN_WIDTH && y1 - y0 < RAST_BLOCK;
 }
+_Static_assert(RAST_SPAN_MIN_WIDTH * RAST_BLOCK <= SL_SPAN_MAX, "a small triangle's pixels fit one rast_span");
 
+/* A small triangle of a program with a span form, over its whole bounds [x0,x1] x [y0,y1]
+ * at once: coverage and depth row by row (span_row's first loop, no block classification:
+ * the bounds are at most 8x8), the passing pixels of every row packed into one set, z, 1/w
+ * and the varyings interpolated for the whole set in one loop each, then one span call per
+ * row that has any. The pixel-by-pixel path it replaces took a branch per pixel (coverage,
+ * depth) and an indirect call per fragment. Every value is fragment()'s expression, term for
+ * term (fy per pixel instead of per row: the same product). */
+static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bool full, int x0, int y0, int x1,
+                                                                  int y1, const bool depth)
+{
+    const rast_tri *t = c->t;
+    rast_span *s = c->span;
+    const int n = x1 - x0 + 1;
+    const float ox = t->ox, z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
+    const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
+    int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+    int row_end[RAST_BLOCK];   /* packed fragments after each row */
+    int m = 0, tested = 0;
+    for (int y = y0; y <= y1; y++) {
+        const float fy = (float)y - t->oy, z2fy = z2 * fy;
+        const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
+        float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+        /* Always RAST_SPAN_MIN_WIDTH columns, those past n uncovered: a loop of a fixed count
+         * is one vector step, where n columns (often 2-6) went through the scalar remainder.
+         * Its depth loads and stores reach up to 7 floats past the row (a lane that fails
+         * stores back what it loaded): the plane is padded for that (raster.c). */
+#pragma omp simd
+        for (int j = 0; j < RAST_SPAN_MIN_WIDTH; j++) {
+            int64_t x = x0 + j;
+            int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
+            int32_t cov = (full | ((e0 | e1 | e2) >= 0)) & (j < n);
+            int32_t pass = cov;
+            if (depth) {
+                float fx = (float)(x0 + j) - ox;
+                float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
+                float old = zrow[j];
+                pass = cov & (z < old);
+                zrow[j] = pass ? z : old;
+            }
+            flags[j] = cov | pass << 1;
+        }
+        for (int j = 0; j < n; j++) {
+            s->x[m] = x0 + j;
+            s->fy[m] = fy;
+            m += flags[j] >> 1;
+            tested += flags[j] & 1;
+        }
+        row_end[y - y0] = m;
+    }
+    c->tested += tested;
+    if (m == 0)
+        return;
+
+    /* The loops run to m rounded up to 8 (m is often under 8: without the rounding those
+     * fragments would all go through the loops' scalar remainder). The lanes past m read
+     * x and fy left by earlier sets (finite: the span is zeroed when allocated, raster.c)
+     * and write results no span call reads. */
+    const int m8 = (m + 7) & ~7;
+    const float iw0 = t->iw[0], iw1 = t->iw[1], iw2 = t->iw[2], lo = t->iw_lo, hi = t->iw_hi;
+#pragma omp simd
+    for (int j = 0; j < m8; j++) {
+        float fx = (float)s->x[j] - ox, fy = s->fy[j];
+        float iw = clampf(iw0 + iw1 * fx + iw2 * fy, lo, hi);
+        s->z[j] = clampf(z0 + z1 * fx + z2 * fy, 0.0f, 1.0f);
+        s->iw[j] = iw;
+        s->w[j] = 1.0f / iw;
+    }
+    const int nvary = c->call->nvary;
+    for (int i = 0; i < nvary; i++) {
+        const float p0 = c->p0[i], p1 = c->pdx[i], p2 = c->pdy[i];
+        float *out = s->vary[i];
+#pragma omp simd
+        for (int j = 0; j < m8; j++) {
+            float fx = (float)s->x[j] - ox;
+            out[j] = (p0 + p1 * fx + p2 * s->fy[j]) * s->w[j];
+        }
+    }
+
+    /* one span a row: the arrays from the row's first packed fragment */
+    const sl_program *prog = c->call->program;
+    const sl_target *tg = c->d->target;
+    sl_fragment_span sp = c->sp;
+    sp.front_facing = t->front;
+    for (int y = y0, start = 0; y <= y1; y++) {
+        int end = row_end[y - y0];
+        if (end == start)
+            continue;
+        sp.n = end - start;
+        sp.y = y;
+        sp.x = s->x + start;
+        for (int i = 0; i < nvary; i++)
+            sp.varyings[i] = s->vary[i] + start;
+        sp.frag_z = s->z + start;
+        sp.frag_w = s->iw + start;
+        sp.row = c->texels + (size_t)y * (size_t)tg->width * tg->texel_size;
+        prog->fragment_span(c->call->fs_uniforms, &sp);
+        start = end;
+    }
+    c->shaded += m;
+}
+
+/* The span path: small triangles of a program with a span form as one set
+ * (small_tri_spans), of one without pixel by pixel (draw_tri), the others a span a row.
+ * All give the same bits, so the choice is free. */
 static void draw_tri_spans_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, true, false);
-    else
+    if (!small_tri(x0, y0, x1, y1))
         draw_tri_spans(c, full, x0, y0, x1, y1, true);
+    else if (c->call->program->fragment_span)
+        small_tri_spans(c, full, x0, y0, x1, y1, true);
+    else
+        draw_tri(c, full, x0, y0, x1, y1, true, false);
 }
 
 static void draw_tri_spans_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    if (small_tri(x0, y0, x1, y1))
-        draw_tri(c, full, x0, y0, x1, y1, false, false);
-    else
+    if (!small_tri(x0, y0, x1, y1))
         draw_tri_spans(c, full, x0, y0, x1, y1, false);
+    else if (c->call->program->fragment_span)
+        small_tri_spans(c, full, x0, y0, x1, y1, false);
+    else
+        draw_tri(c, full, x0, y0, x1, y1, false, false);
 }
 
 /* ---- the quad path (programs that take derivatives) ---- */
@@ -718,6 +840,35 @@ static void draw_tri_multi_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1
 
 /* ---- the tile ---- */
 
+/* Copy `bytes` of the clear row to dst with streaming (non-temporal) stores: for texels no
+ * fragment of this pass will write, which need not come through the cache. A store that fills
+ * a whole cache line needs no read of it first: the write of an empty region costs about half
+ * a cached copy's time (1.1 against 2.7 ms for a whole 1280x720 G-buffer in a throwaway
+ * benchmark, 2 cores). The ends, outside whole lines, are copied as usual; without SSE2 all of it. */
+static void clear_streaming(char *dst, const char *src, size_t bytes)
+{
+#if defined(__SSE2__)
+    size_t head = (size_t)(-(uintptr_t)dst & (RAST_CACHE_LINE - 1)), k;
+    head = head < bytes ? head : bytes;
+    memcpy(dst, src, head);
+    for (k = head; k + RAST_CACHE_LINE <= bytes; k += RAST_CACHE_LINE)
+        for (int q = 0; q < RAST_CACHE_LINE; q += 16)
+            _mm_stream_si128((__m128i *)(void *)(dst + k + q), _mm_loadu_si128((const __m128i *)(const void *)(src + k + q)));
+    memcpy(dst + k, src + k, bytes - k);
+#else
+    memcpy(dst, src, bytes);
+#endif
+}
+
+/* Streaming stores are not ordered with the others: fence them before the tile is done
+ * (the pass's closing barrier then publishes them like any store). */
+static void clear_streaming_done(void)
+{
+#if defined(__SSE2__)
+    _mm_sfence();
+#endif
+}
+
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task)
 {
     const char *clear = d->clear_row;
@@ -735,9 +886,29 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     bool depth = tg->depth_offset >= 0;
     char *texels = tg->texels;
     size_t tsz = tg->texel_size;
-    if (clear)
-        for (int y = py0; y <= py1; y++)
-            memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)px0) * tsz, clear, (size_t)(px1 - px0 + 1) * tsz);
+    if (clear) {
+        /* The rows no triangle of the tile reaches (all of them when nothing is binned) are
+         * cleared with streaming stores; the others through the cache, where the fragments
+         * will find them. */
+        int uy0 = py1 + 1, uy1 = py0 - 1;
+        for (int ci = 0; ci < chunk_count; ci++) {
+            const rast_chunk *ch = &chunks[ci];
+            for (int i = 0; i < ch->bins[tile].count; i++) {
+                const rast_tri *t = &ch->tris[ch->bins[tile].items[i] & ~RAST_BIN_FULL];
+                uy0 = t->ymin < uy0 ? t->ymin : uy0;
+                uy1 = t->ymax > uy1 ? t->ymax : uy1;
+            }
+        }
+        size_t bytes = (size_t)(px1 - px0 + 1) * tsz;
+        for (int y = py0; y <= py1; y++) {
+            char *row = texels + ((size_t)y * (size_t)tg->width + (size_t)px0) * tsz;
+            if (y < uy0 || y > uy1)
+                clear_streaming(row, clear, bytes);
+            else
+                memcpy(row, clear, bytes);
+        }
+        clear_streaming_done();
+    }
     if (!any) /* cleared, nothing drawn: the clear texel holds the clear depth already */
         return;
     if (depth && clear) {
@@ -782,6 +953,16 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
         for (int i = 0; i < bin->count; i++) {
             uint32_t item = bin->items[i];
             const rast_tri *t = &ch->tris[item & ~RAST_BIN_FULL];
+            /* The set-up triangles of a batch (about 14 MB for 65,536) are out of the caches by
+             * the time the tiles read them: start loading the next ones' (their 3 lines and their
+             * planes) while this one is drawn. A hint: no value depends on it. */
+            if (i + RAST_PREFETCH < bin->count) {
+                const rast_tri *next = &ch->tris[bin->items[i + RAST_PREFETCH] & ~RAST_BIN_FULL];
+                __builtin_prefetch(next);
+                __builtin_prefetch((const char *)next + RAST_CACHE_LINE);
+                __builtin_prefetch((const char *)next + sizeof *next - 1);
+                __builtin_prefetch(ch->vary + next->vary);
+            }
             c.t = t;
             c.call = &d->calls[t->call];
             const float *planes = ch->vary + t->vary;

@@ -165,6 +165,47 @@ static void test_gbuffer_span_vs_plain(void **state)
     scene_free(&s);
 }
 
+/* Small triangles (bounds at most 8 x 8 in a tile: tile.c small_tri_spans, which packs a
+ * triangle's rows into one set and runs its loops 8 columns wide, past the bounds, up to 7 floats
+ * past the tile's depth plane): a dense sphere filling an odd-sized target, so that small
+ * triangles lie on every tile border and at the target's last row and column. Span path and
+ * plain path give the same bits, and the frame is what the path is for: most triangles small. */
+static void test_small_triangles_span_vs_plain(void **state)
+{
+    (void)state;
+    enum { W = 97, H = 61 };
+    sl_mesh sphere = make_sphere(96, 48);
+    sl_material mat = {.name = "m", .kd = {0.5f, 0.4f, 0.3f}, .ks = {0.1f, 0.2f, 0.3f}, .alpha = 40.0f};
+    sl_object obj = {"sphere", 0, 0, mat4_scale(vec3(2.4f, 1.0f, 1.6f))};
+    sl_scene scene = {.meshes = &sphere, .mesh_count = 1, .materials = &mat, .material_count = 1,
+                      .objects = &obj, .object_count = 1};
+    sl_camera cam = {.eye = {0, -2.2f, 0.2f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 50,
+                     .znear = 0.5f, .zfar = 10};
+    sl_error err = {0};
+    sl_gbuffer ref = {0}, gb = {0};
+    assert_true(sl_gbuffer_resize(&gb, W, H, &err));
+    sl_raster_desc plain = {.threads = 1, .tile_size = 64, .stats = true, .plain = true};
+    sl_raster_stats ps = test_raster_scene(&plain, &scene, &cam, W, H, &ref);
+    /* of 9216 triangles (both faces drawn), about 2400 in view, 5 pixels tested each */
+    assert_true(ps.triangles_binned > 2000);
+    assert_true(ps.fragments_tested < 8 * ps.triangles_binned);
+    assert_true(sl_gbuffer_covered(&ref.texels[0]) && sl_gbuffer_covered(&ref.texels[(size_t)W * H - 1]));
+    const int configs[][2] = {{1, 16}, {2, 16}, {1, 32}, {2, 64}};
+    for (int k = 0; k < 4; k++) {
+        memset(gb.texels, 0xA5, (size_t)W * H * sizeof *gb.texels);
+        sl_raster_desc desc = {.threads = configs[k][0], .tile_size = configs[k][1], .stats = true};
+        sl_raster_stats st = test_raster_scene(&desc, &scene, &cam, W, H, &gb);
+        assert_same_texels(ref.texels, gb.texels, (size_t)W * H, sizeof *gb.texels, W,
+                           "threads %d, tile %d: small triangles, span path against plain path", configs[k][0],
+                           configs[k][1]);
+        assert_int_equal(st.fragments_tested, ps.fragments_tested);
+        assert_int_equal(st.fragments_shaded, ps.fragments_shaded);
+    }
+    sl_gbuffer_free(&ref);
+    sl_gbuffer_free(&gb);
+    free_mesh(&sphere);
+}
+
 /* The span shader against the per-pixel shader on chosen inputs: ordinary normals, a
  * zero normal and one too short to normalize (+Z, as sl_gbuffer_frag), large and tiny
  * magnitudes, a span with gaps in its columns and a texel stride larger than the texel. */
@@ -845,7 +886,8 @@ static void test_scene_clear(void **state)
 int main(void)
 {
     const struct CMUnitTest tests[] = {
-        cmocka_unit_test(test_gbuffer_span_vs_plain), cmocka_unit_test(test_gbuffer_span_shader),
+        cmocka_unit_test(test_gbuffer_span_vs_plain), cmocka_unit_test(test_small_triangles_span_vs_plain),
+        cmocka_unit_test(test_gbuffer_span_shader),
         cmocka_unit_test(test_generic_span_vs_plain), cmocka_unit_test(test_clear_batches),
         cmocka_unit_test(test_clear_empty),           cmocka_unit_test(test_scene_clear),
         cmocka_unit_test(test_draw_list),             cmocka_unit_test(test_span_fill_rule),
