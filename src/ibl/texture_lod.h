@@ -21,6 +21,31 @@
 #include "octahedral.h"
 #include "texel_e5.h"
 
+/* Where GL_LINEAR reads a lat-long level of w x h texels at (u, v): REPEAT in u, CLAMP_TO_EDGE in
+ * v, texel centres at (i + 1/2) / size. Columns x0 and x0 + 1 (wrapped: x0 = w - 1 reads column 0
+ * second), rows y0 and y1, weights fx and fy of the second of each. The three fetches below (float
+ * texels, pair rows, compact rows) read the same taps from this. u in [0, 1], so x in
+ * [-1/2, w - 1/2] and the floor in [-1, w - 1]. Clamping the coordinate (not the index) gives
+ * CLAMP_TO_EDGE: at the clamp both rows are the same or the fraction is 0. */
+typedef struct {
+    int x0, y0, y1;
+    float fx, fy;
+} sl_latlong_taps;
+__attribute__((always_inline)) static inline sl_latlong_taps sl_latlong_taps_at(int w, int h, float u, float v)
+{
+    sl_latlong_taps t;
+    float x = u * (float)w - 0.5f;
+    float xf = sl_fast_floor(x);
+    t.fx = x - xf;
+    int x0 = (int)xf;
+    t.x0 = x0 < 0 ? x0 + w : x0;
+    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
+    t.y0 = (int)y;
+    t.fy = y - (float)t.y0;
+    t.y1 = t.y0 + 1 < h ? t.y0 + 1 : h - 1;
+    return t;
+}
+
 /* GL_LINEAR within one level of w x h texels starting at T[o]: REPEAT in u, CLAMP_TO_EDGE in v,
  * texel centres at (i + 1/2) / size. The one bilinear filter of the environment: sl_env_bilinear
  * (one level) and sl_env_gather_bilinear (a level of the block) are this. Indices are int: a
@@ -30,20 +55,9 @@
 __attribute__((always_inline)) static inline vec3 sl_texels_bilinear(const vec3 *T, int w, int h, int o, float u,
                                                                      float v)
 {
-    /* u in [0, 1], so x in [-1/2, w - 1/2] and x0 in [-1, w - 1]. */
-    float x = u * (float)w - 0.5f;
-    float xf = sl_fast_floor(x);
-    float fx = x - xf;
-    int x0 = (int)xf;
-    int x1 = x0 + 1;
-    x0 = x0 < 0 ? x0 + w : x0;
-    x1 = x1 >= w ? x1 - w : x1;
-    /* Clamping the coordinate (not the index) gives CLAMP_TO_EDGE: at the clamp both rows
-     * are the same or the fraction is 0. */
-    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
-    int y0 = (int)y;
-    float fy = y - (float)y0;
-    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    const sl_latlong_taps t = sl_latlong_taps_at(w, h, u, v);
+    const int x0 = t.x0, x1 = t.x0 + 1 < w ? t.x0 + 1 : 0, y0 = t.y0, y1 = t.y1;
+    const float fx = t.fx, fy = t.fy;
     /* Float offsets (3 per texel) in int: a vectorized loop then gathers with 32-bit indices
      * and scale 4; through T[i].x GCC 12 widened the index to 64 bits and emulated every gather
      * with scalar loads and inserts (the split-sum fetch's profile). Same values, same bits. */
@@ -148,15 +162,9 @@ __attribute__((always_inline)) static inline void sl_load_float2(const float *p,
 __attribute__((always_inline)) static inline vec3 sl_pair_bilinear(const sl_env_gather *g, int l, float u, float v)
 {
     const int w = g->width[l], h = g->height[l];
-    float x = u * (float)w - 0.5f;
-    float xf = sl_fast_floor(x);
-    float fx = x - xf;
-    int x0 = (int)xf;
-    x0 = x0 < 0 ? x0 + w : x0;
-    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
-    int y0 = (int)y;
-    float fy = y - (float)y0;
-    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    const sl_latlong_taps t = sl_latlong_taps_at(w, h, u, v);
+    const int x0 = t.x0, y0 = t.y0, y1 = t.y1;
+    const float fx = t.fx, fy = t.fy;
     /* float indices, added to the block's base as ints: the form GCC turns into gathers
      * (a pointer moved by a constant first is not) */
     const int k0 = 3 * (g->pair_offset[l] + y0 * (w + 1) + x0), k1 = 3 * (g->pair_offset[l] + y1 * (w + 1) + x0);
@@ -189,15 +197,9 @@ __attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_en
 __attribute__((always_inline)) static inline vec3 sl_e5_bilinear(const sl_env_gather *g, int l, float u, float v)
 {
     const int w = sl_e5_size(g->e5_w, l), h = sl_e5_size(g->e5_h, l); /* shifts, not table reads */
-    float x = u * (float)w - 0.5f;
-    float xf = sl_fast_floor(x);
-    float fx = x - xf;
-    int x0 = (int)xf;
-    x0 = x0 < 0 ? x0 + w : x0;
-    float y = minf(maxf(v * (float)h - 0.5f, 0.0f), (float)(h - 1));
-    int y0 = (int)y;
-    float fy = y - (float)y0;
-    int y1 = y0 + 1 < h ? y0 + 1 : h - 1;
+    const sl_latlong_taps t = sl_latlong_taps_at(w, h, u, v);
+    const int x0 = t.x0, y0 = t.y0, y1 = t.y1;
+    const float fx = t.fx, fy = t.fy;
     const int row = sl_e5_row(g->e5_h, l), stride = g->e5_w + 1;
     const int k0 = (row + y0) * stride + x0, k1 = (row + y1) * stride + x0;
     uint64_t q0, q1;
