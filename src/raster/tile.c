@@ -223,6 +223,38 @@ static inline __attribute__((always_inline)) void draw_tri(tri_ctx *c, bool full
 
 /* ---- the span path ---- */
 
+/* Row y from column x0 of the current triangle, `count` columns (a multiple of 8, or a
+ * constant: one vector loop with no scalar remainder), of which the first n are the span:
+ * coverage (per pixel when `edges`; the others count as covered) and the depth test (when
+ * `depth`: the tile plane's row updated, lanes that fail storing back what they loaded, so the
+ * plane is padded past a row's end: raster.c), into flags[j]: bit 0 covered, bit 1 passed.
+ * Columns past n are neither. Every value is fragment()'s expression, term for term. */
+static inline __attribute__((always_inline)) void cover_and_test(const tri_ctx *c, int y, int x0, int n, int count,
+                                                                 const bool edges, const bool depth, int32_t *flags)
+{
+    const rast_tri *t = c->t;
+    const float fy = (float)y - t->oy, ox = t->ox;
+    const float z0 = t->z[0], z1 = t->z[1], z2fy = t->z[2] * fy;
+    const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
+    const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
+    float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+#pragma omp simd
+    for (int j = 0; j < count; j++) {
+        int64_t x = x0 + j;
+        int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
+        int32_t cov = (!edges | ((e0 | e1 | e2) >= 0)) & (j < n);
+        int32_t pass = cov;
+        if (depth) {
+            float fx = (float)(x0 + j) - ox;
+            float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
+            float old = zrow[j];
+            pass = cov & (z < old);
+            zrow[j] = pass ? z : old;
+        }
+        flags[j] = cov | pass << 1;
+    }
+}
+
 /* Row y, columns [x0, x1] of the current triangle: coverage (per pixel when `edges`),
  * the depth test (when `depth`), then one shader call for the passing fragments.
  * Every value is the plain path's expression, term for term: fragment() above. */
@@ -234,31 +266,10 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     int n = x1 - x0 + 1;
     float fy = (float)y - t->oy, ox = t->ox;
     float z0 = t->z[0], z1 = t->z[1], z2fy = t->z[2] * fy;
-    int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
-    int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
-    float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
-    int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
+    int32_t *flags = s->flags;
     /* The vector loops run to a multiple of 8 (n8, m8 below), the extra lanes uncovered or
      * unread, so that no column goes through a scalar remainder: as in small_tri_spans. */
-    const int n8 = (n + 7) & ~7;
-#pragma omp simd
-    for (int j = 0; j < n8; j++) {
-        int64_t x = x0 + j;
-        int32_t cov = j < n;
-        if (edges) {
-            int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
-            cov &= (e0 | e1 | e2) >= 0;
-        }
-        int32_t pass = cov;
-        if (depth) {
-            float fx = (float)(x0 + j) - ox;
-            float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
-            float old = zrow[j];
-            pass = cov & (z < old);
-            zrow[j] = pass ? z : old;
-        }
-        flags[j] = cov | pass << 1;
-    }
+    cover_and_test(c, y, x0, n, (n + 7) & ~7, edges, depth, flags);
 
     /* pack the passing columns */
     int m = 0, tested = 0;
@@ -403,33 +414,14 @@ static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bo
     rast_span *s = c->span;
     const int n = x1 - x0 + 1;
     const float ox = t->ox, z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
-    const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
     int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
     int row_end[RAST_BLOCK];   /* packed fragments after each row */
     int m = 0, tested = 0;
     for (int y = y0; y <= y1; y++) {
-        const float fy = (float)y - t->oy, z2fy = z2 * fy;
-        const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
-        float *zrow = c->zbuf + (y - c->py0) * c->ts + (x0 - c->px0);
+        const float fy = (float)y - t->oy;
         /* Always RAST_SPAN_MIN_WIDTH columns, those past n uncovered: a loop of a fixed count
-         * is one vector step, where n columns (often 2-6) went through the scalar remainder.
-         * Its depth loads and stores reach up to 7 floats past the row (a lane that fails
-         * stores back what it loaded): the plane is padded for that (raster.c). */
-#pragma omp simd
-        for (int j = 0; j < RAST_SPAN_MIN_WIDTH; j++) {
-            int64_t x = x0 + j;
-            int64_t e0 = r0 + a0 * x, e1 = r1 + a1 * x, e2 = r2 + a2 * x;
-            int32_t cov = (full | ((e0 | e1 | e2) >= 0)) & (j < n);
-            int32_t pass = cov;
-            if (depth) {
-                float fx = (float)(x0 + j) - ox;
-                float z = clampf(z0 + z1 * fx + z2fy, 0.0f, 1.0f);
-                float old = zrow[j];
-                pass = cov & (z < old);
-                zrow[j] = pass ? z : old;
-            }
-            flags[j] = cov | pass << 1;
-        }
+         * is one vector step, where n columns (often 2-6) went through the scalar remainder. */
+        cover_and_test(c, y, x0, n, RAST_SPAN_MIN_WIDTH, !full, depth, flags);
         for (int j = 0; j < n; j++) {
             s->x[m] = x0 + j;
             s->fy[m] = fy;
