@@ -489,8 +489,9 @@ static void fs_quad_probe(const void *uniforms, const sl_fragment_in *in, void *
     t->vary[4] = db.x + db.y;
 }
 
-/* The same shader in quad form: the lanes' values, then their differences (shader.h). */
-static void fs_quad_probe_q(const void *uniforms, const sl_fragment_in in[4], void *const texel[4])
+/* The same shader on one quad's four lanes: their values, then their differences (shader.h);
+ * discards[l] says which lanes discard (the caller marks them in its form's way). */
+static void probe_quad_lanes(const void *uniforms, const sl_fragment_in in[4], void *const texel[4], bool discards[4])
 {
     float a[4], da[4], b[4];
     for (int l = 0; l < 4; l++)
@@ -501,10 +502,9 @@ static void fs_quad_probe_q(const void *uniforms, const sl_fragment_in in[4], vo
     }
     for (int l = 0; l < 4; l++) {
         float dy = sl_quad_dfdy(b, l), fw = fabsf(sl_quad_dfdx(b, l)) + fabsf(dy);
-        if (fabsf(da[l]) > 0.05f) {
-            discard(&in[l]);
+        discards[l] = fabsf(da[l]) > 0.05f;
+        if (discards[l])
             continue;
-        }
         fs_probe(uniforms, &in[l], texel[l]);
         probe_texel *t = texel[l];
         t->vary[3] = da[l];
@@ -512,13 +512,23 @@ static void fs_quad_probe_q(const void *uniforms, const sl_fragment_in in[4], vo
     }
 }
 
+/* The same shader in quad form. */
+static void fs_quad_probe_q(const void *uniforms, const sl_fragment_in in[4], void *const texel[4])
+{
+    bool discards[4];
+    probe_quad_lanes(uniforms, in, texel, discards);
+    for (int l = 0; l < 4; l++)
+        if (discards[l])
+            discard(&in[l]);
+}
+
 /* The same shader in multi-quad form (sl_program.fragment_quads): each quad's lanes rebuilt as
  * sl_fragment_in from the structure of arrays (so fs_probe stores exactly the inputs the call
- * got), then fs_quad_probe_q's operations, discards marked in q->discarded. */
+ * got), then probe_quad_lanes, discards marked in q->discarded. */
 static void fs_quad_probe_m(const void *uniforms, const sl_fragment_quads *q)
 {
     for (int k = 0; k < q->n; k++) {
-        float vary[4][5], a[4], da[4], b[4];
+        float vary[4][5];
         sl_fragment_in in[4];
         for (int l = 0; l < 4; l++) {
             int j = 4 * k + l, x = q->qx[k] + (l & 1), y = q->qy[k] + (l >> 1);
@@ -532,23 +542,10 @@ static void fs_quad_probe_m(const void *uniforms, const sl_fragment_quads *q)
                                      .lane = l,
                                      .helper = q->helper[j] != 0};
         }
+        bool discards[4];
+        probe_quad_lanes(uniforms, in, q->texel + 4 * k, discards);
         for (int l = 0; l < 4; l++)
-            a[l] = in[l].varyings[0] * in[l].varyings[1] + in[l].frag_coord.w;
-        for (int l = 0; l < 4; l++) {
-            da[l] = sl_quad_dfdx(a, l);
-            b[l] = floorf(log2f(fabsf(da[l]) + 1.0f)) * in[l].varyings[2];
-        }
-        for (int l = 0; l < 4; l++) {
-            float dy = sl_quad_dfdy(b, l), fw = fabsf(sl_quad_dfdx(b, l)) + fabsf(dy);
-            if (fabsf(da[l]) > 0.05f) {
-                q->discarded[4 * k + l] = 1;
-                continue;
-            }
-            fs_probe(uniforms, &in[l], q->texel[4 * k + l]);
-            probe_texel *t = q->texel[4 * k + l];
-            t->vary[3] = da[l];
-            t->vary[4] = dy + fw;
-        }
+            q->discarded[4 * k + l] = discards[l];
     }
 }
 
