@@ -83,11 +83,11 @@ static void metallic_roughness(const sl_gbuffer_tex_uniforms *u, const map_value
     g->alpha = sl_gbuffer_ggx_alpha(u->uRoughness * gloss.x * mr.y);
 }
 
-/* gbuffer_textured.frag: oExtra. The fragment's extra texel, tagged with its depth (gbuffer.h);
- * helpers write nothing, as they write no texel. */
-static void write_extra(const sl_gbuffer_tex_uniforms *u, int x, int y, bool helper, float depth, const map_values *m)
+/* gbuffer_textured.frag: oExtra. The fragment's extra texel, tagged with its depth (gbuffer.h),
+ * where its stores take effect (sl_fragment_stores: not a helper's, as it writes no texel). */
+static void write_extra(const sl_gbuffer_tex_uniforms *u, int x, int y, bool store, float depth, const map_values *m)
 {
-    if (helper)
+    if (!store)
         return;
     vec4 occ = m->map[SL_MAP_OCCLUSION], em = m->map[SL_MAP_EMISSIVE];
     sl_gbuffer_extra *e = u->extra + (size_t)y * (size_t)u->extra_width + (size_t)x;
@@ -210,7 +210,7 @@ static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_
         return;
     }
     if (u->extra)
-        write_extra(u, in->x, in->y, in->helper, in->frag_coord.z, m);
+        write_extra(u, in->x, in->y, sl_fragment_stores(in), in->frag_coord.z, m);
 }
 
 /* The uniforms of map slot `slot`: its sampler and its uv transform. */
@@ -441,6 +441,8 @@ const sl_program sl_gbuffer_tex_program = {
     .fragment_quad = sl_gbuffer_tex_frag_quad,
     .quad_writes_texel = true, /* finish_texel sets every field of sl_gbuffer_texel */
     .fragment_quads = sl_gbuffer_tex_frag_quads,
+    /* no `stores`: it cannot discard and stores its extra texel at its own pixel, so the last
+     * of the rounds overwrites what the earlier rounds stored */
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -451,6 +453,7 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .fragment_quad = sl_gbuffer_tex_frag_quad,
     .quad_writes_texel = true, /* finish_texel sets every field of sl_gbuffer_texel */
     .fragment_quads = sl_gbuffer_tex_frag_quads,
+    .stores = true, /* the extra texel: a lane may store it in a round and discard in the next */
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */

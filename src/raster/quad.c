@@ -12,7 +12,13 @@
  * derivative; if calls 0..k-1 got the lock-step values, so does call k) it is the
  * lock-step result. Round r has the first r calls right, so a quad of K calls needs at
  * most K + 1 rounds; a shader whose calls read varyings only needs 2, one without any
- * call in the quad 1. */
+ * call in the quad 1.
+ *
+ * A store outside the texel (the image store of GLSL; the G-buffer's extra plane) cannot be
+ * taken back as a round's scratch texels are, and a lane may store in a round and discard
+ * in the next (a texture's alpha at a level the zero derivatives of round 1 picked). So a
+ * program that declares `stores` runs its rounds with stores off (sl_fragment_stores) and,
+ * at the fixed point, one more round that repeats the last one's bits with stores on. */
 #include "rast_internal.h"
 #include "shader.h"
 
@@ -75,10 +81,16 @@ void sl_discard(const sl_fragment_in *in)
         in->quad->discarded[in->lane] = true;
 }
 
-void rast_quad_begin(sl_quad *q, bool derivs)
+bool sl_fragment_stores(const sl_fragment_in *in)
+{
+    return !in->helper && !(in->quad && in->quad->rehearsal);
+}
+
+void rast_quad_begin(sl_quad *q, bool rounds, bool stores)
 {
     q->cur = 0;
-    q->derivs = derivs;
+    q->derivs = rounds;
+    q->rehearsal = rounds && stores;
     memset(q->count, 0, sizeof q->count);
     memset(q->discarded, 0, sizeof q->discarded);
 }
@@ -90,7 +102,7 @@ void rast_quad_round(sl_quad *q)
     memset(q->discarded, 0, sizeof q->discarded);
 }
 
-bool rast_quad_fixed(const sl_quad *q)
+static bool fixed(const sl_quad *q)
 {
     const int cur = q->cur, prev = cur ^ 1;
     for (int l = 0; l < 4; l++) {
@@ -106,10 +118,13 @@ bool rast_quad_fixed(const sl_quad *q)
     return true;
 }
 
-int rast_quad_calls(const sl_quad *q)
+bool rast_quad_done(sl_quad *q, int rounds)
 {
-    int m = 0;
-    for (int l = 0; l < 4; l++)
-        m = q->count[q->cur][l] > m ? q->count[q->cur][l] : m;
-    return m;
+    /* a fixed point comes by round calls + 1; the bound only guards that proof */
+    if (!fixed(q) && rounds <= RAST_QUAD_CALLS)
+        return false;
+    if (!q->rehearsal)
+        return true;
+    q->rehearsal = false; /* the fixed point's bits once more, stores on */
+    return false;
 }

@@ -172,6 +172,9 @@ struct sl_quad {
     int cur;                             /* parity of the running round */
     bool derivs;                         /* false: a discard-only program, derivatives return 0 */
     bool discarded[4];                   /* discard() in this round */
+    bool rehearsal;                      /* stores outside the texel do not count in this round
+                                            (sl_fragment_stores): a round before the fixed point of
+                                            a program with `stores` */
 };
 
 /* Per-thread scratch for the tile stage, and each slice's answer of the index check. */
@@ -272,14 +275,15 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
 void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
 
 /* quad.c: the rounds of the generic quad path. */
-/* Start a quad: no records from a round before. */
-void rast_quad_begin(sl_quad *q, bool derivs);
+/* Start a quad: no records from a round before. `rounds`: the quad runs the generic rounds
+ * (derivatives from the records); `stores`: its program stores outside the texel (sl_program). */
+void rast_quad_begin(sl_quad *q, bool rounds, bool stores);
 /* Start a round: flip the parity, clear this round's records and discard marks. */
 void rast_quad_round(sl_quad *q);
-/* After a round: did it record exactly what the round before recorded? */
-bool rast_quad_fixed(const sl_quad *q);
-/* The most calls a lane recorded in the last round (bounds the rounds: calls + 1). */
-int rast_quad_calls(const sl_quad *q);
+/* After round number `rounds` (1, 2, ...): is the quad done? Yes at the fixed point (this
+ * round recorded exactly what the round before recorded), or past the bound the proof gives;
+ * a program with stores then runs one more round, the same bits again, with its stores on. */
+bool rast_quad_done(sl_quad *q, int rounds);
 
 /* raster.c */
 void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from);

@@ -150,6 +150,13 @@ typedef struct {
                                               place (tile.c quad()) */
     sl_fragment_quads_shader fragment_quads; /* NULL: fragment_quad per quad (or the rounds); needs
                                                 `derivatives`; quad_writes_texel applies to it too */
+    bool stores;                           /* the fragment shader stores outside its texel (GLSL's image
+                                              stores: through its uniforms), only where
+                                              sl_fragment_stores(in) (shader.h): the generic rounds
+                                              then run once more, with stores on, after their fixed
+                                              point. A shader that cannot discard and stores only at
+                                              its own pixel may leave it off: its last round
+                                              overwrites what the earlier rounds stored */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */

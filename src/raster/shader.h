@@ -43,6 +43,11 @@ void sl_quad_gradients(const sl_fragment_in *in, bool coarse, const float *v, in
 /* Mark the fragment discarded: nothing of it is written (quad.c). */
 void sl_discard(const sl_fragment_in *in);
 static inline void discard(const sl_fragment_in *in) { sl_discard(in); }
+/* Does a store outside the fragment's texel (an image store: the uniforms' planes) take effect
+ * in this invocation? Not for a helper (as in GL), nor in a round of the generic quad rounds
+ * before their fixed point, whose values may still change (quad.c): a shader that stores
+ * guards each store with it and sets sl_program.stores. */
+bool sl_fragment_stores(const sl_fragment_in *in);
 
 /* The float, vec2, vec3 and vec4 forms of one derivative kind: fn1 .. fn4. */
 #define SL_DERIVATIVE_FORMS(fn, kind)                                                                             \

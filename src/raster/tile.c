@@ -147,7 +147,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     }
     in.quad = c->quad;
     in.lane = (x & 1) + 2 * (y & 1);
-    rast_quad_begin(c->quad, false);
+    rast_quad_begin(c->quad, false, false);
     memcpy(c->scratch, texel, tg->texel_size);
     c->call->program->fragment(c->call->fs_uniforms, &in, c->scratch);
     if (c->quad->discarded[in.lane]) {
@@ -595,7 +595,7 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
         out[l] = fresh && !late && (live >> l & 1) ? target[l] : c->scratch + (size_t)l * tsz;
     }
     int rounds = 0;
-    rast_quad_begin(c->quad, !quad_form);
+    rast_quad_begin(c->quad, !quad_form, prog->stores);
     do {
         /* every round starts from the target's texels, so rounds do not see each other */
         rast_quad_round(c->quad);
@@ -613,8 +613,7 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
                 prog->fragment(c->call->fs_uniforms, &in[l], out[l]);
         }
         rounds++;
-        /* a fixed point comes by round calls + 1 (quad.c); the bound only guards that proof */
-    } while (!quad_form && !rast_quad_fixed(c->quad) && rounds <= RAST_QUAD_CALLS);
+    } while (!quad_form && !rast_quad_done(c->quad, rounds));
 
     c->quads++;
     c->rounds += rounds;

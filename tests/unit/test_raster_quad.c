@@ -330,6 +330,65 @@ static void test_discard(void **state)
         }
 }
 
+/* ---- stores outside the texel (sl_program.stores) ---- */
+
+/* Stores into the plane its uniforms point to (an image store): one count a store. Round 1 of
+ * the rounds sees fwidth 0 and keeps every lane; from round 2 on, the left half (x < 32) sees
+ * the true 0.25 and discards. So a store in round 1 would leave counts where no texel is. */
+static void fs_store(const void *u, const sl_fragment_in *in, void *texel)
+{
+    int32_t *plane = (int32_t *)u;
+    qtexel *t = texel;
+    t->tag = 3;
+    if (fwidth(in, in->varyings[0]) > 0.0f && in->varyings[1] < 32.0f) {
+        discard(in);
+        return;
+    }
+    if (sl_fragment_stores(in))
+        plane[in->y * W + in->x]++;
+    mark(t, in);
+}
+
+static const sl_program prog_store = {.vertex = vs_window, .fragment = fs_store, .varying_count = 3,
+                                      .derivatives = true, .discards = true, .stores = true};
+
+/* Only the last round stores, once, and only for the lanes that keep their texel: none at the
+ * discarded left half, none from a helper (the triangle's diagonal quads have some). */
+static void test_stores(void **state)
+{
+    (void)state;
+    static qtexel t[W * H];
+    static int32_t plane[W * H];
+    for (int plain = 0; plain < 2; plain++)
+        for (int threads = 1; threads <= 2; threads++) {
+            fill(t);
+            memset(plane, 0, sizeof plane);
+            sl_raster *r = make_raster(threads, 16, plain);
+            vec3 p[3] = {vec3(0, 0, 0), vec3(64, 0, 0), vec3(0, 64, 0)};
+            uint32_t idx[3] = {0, 1, 2};
+            sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
+            sl_target target = {W, H, sizeof(qtexel), t, SL_NO_DEPTH};
+            sl_error err = {0};
+            assert_true(sl_raster_draw(r, &target, &(sl_draw){.program = &prog_store, .fs_uniforms = plane, .mesh = &m},
+                                       &err));
+            sl_raster_stats st = sl_raster_get_stats(r);
+            sl_raster_destroy(r);
+            int kept = 0;
+            for (int y = 0; y < H; y++)
+                for (int x = 0; x < W; x++) {
+                    bool keep = x + y < 63 && x >= 32;
+                    kept += keep;
+                    if (plane[y * W + x] != (keep ? 1 : 0) || t[y * W + x].tag != (keep ? 3 : -1))
+                        fail_msg("plain %d threads %d: pixel %d,%d stored %d times, tag %d", plain, threads, x, y,
+                                 plane[y * W + x], t[y * W + x].tag);
+                }
+            assert_int_equal(kept, 32 * 31 / 2);
+            /* the one call reads a varying: round 2 records what round 1 did (the fixed point),
+             * then round 3 repeats it with stores on */
+            assert_int_equal(st.quad_rounds, 3 * st.quads);
+        }
+}
+
 /* ---- determinism: any thread count and tile size, plain or not ---- */
 
 static void test_quads_deterministic(void **state)
@@ -409,7 +468,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_derivatives_exact), cmocka_unit_test(test_sliver_helpers),
-        cmocka_unit_test(test_chained_derivatives), cmocka_unit_test(test_discard),
+        cmocka_unit_test(test_chained_derivatives), cmocka_unit_test(test_discard), cmocka_unit_test(test_stores),
         cmocka_unit_test(test_quads_deterministic), cmocka_unit_test(test_flags),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
