@@ -55,7 +55,10 @@
  * what the clear costs is the G-buffer's write to memory (docs/performance.md,
  * "Textured G-buffer pass", fourth pass). The rows of a tile that no binned triangle
  * reaches (every row of an empty tile) are the exception: no fragment will write them, so
- * they are cleared with streaming stores, which skip the read of each line. */
+ * they are cleared with streaming stores, which skip the read of each line.
+ * The target's tile hooks (sl_target.tile_clear, tile_drawn) run here too: after the tile's clear,
+ * and after its triangles with the tile's depth plane, for data beside the texels (the G-buffer's
+ * extra plane is cleared and resolved that way, in cache, instead of in two passes over memory). */
 #include "rast_internal.h"
 
 #include <stdint.h>
@@ -900,6 +903,8 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
                 memcpy(row, clear, bytes);
         }
         clear_streaming_done();
+        if (tg->tile_clear)
+            tg->tile_clear(tg->tile_ctx, px0, py0, px1, py1);
     }
     if (!any) /* cleared, nothing drawn: the clear texel holds the clear depth already */
         return;
@@ -1006,4 +1011,6 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             for (int x = px0; x <= px1; x++)
                 memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset,
                        &task->depth[(y - py0) * ts + (x - px0)], sizeof(float));
+    if (tg->tile_drawn)
+        tg->tile_drawn(tg->tile_ctx, px0, py0, px1, py1, depth ? task->depth : NULL, ts);
 }
