@@ -744,7 +744,7 @@ static void fs_count(const void *uniforms, const sl_fragment_in *in, void *texel
 
 static const sl_program prog_count = {.vertex = vs_pass, .fragment = fs_count, .varying_count = 0};
 
-/* More than one batch (RAST_BATCH = 65536 triangles): a 182 x 182 grid is 66,248 triangles
+/* More than one batch (RAST_BATCH = 131072 triangles): a 257 x 257 grid is 132,098 triangles
  * over the middle of the target, at depth 0.5 (z = 0), plus a nearer triangle (z = -0.5,
  * depth 0.25) in the second batch's part of the index list. The second batch must draw
  * over the first, not clear it again; pixels outside the grid keep the clear value. */
@@ -752,8 +752,8 @@ static void test_clear_batches(void **state)
 {
     (void)state;
     enum { W = 96, H = 80 };
-    sl_mesh grid = make_grid(182);
-    assert_true(grid.triangle_count > 65536);
+    sl_mesh grid = make_grid(257);
+    assert_true(grid.triangle_count > 131072);
     for (int i = 0; i < grid.vertex_count; i++)
         grid.positions[i] = scale3(grid.positions[i], 0.5f); /* the middle half of the target */
     /* the last triangle (a corner of the grid, in the second batch) becomes a big nearer
