@@ -78,11 +78,13 @@ void sl_gbuffer_extra_clear_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1)
 {
     if (!gb->extra)
         return;
-    for (int y = y0; y <= y1; y++) {
-        sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)gb->width;
-        for (int x = x0; x <= x1; x++)
-            row[x] = extra_none;
-    }
+    /* the first row element by element, then the others copied from it: a tile row is a
+     * contiguous run, and one memcpy writes it faster than 20-byte stores do */
+    sl_gbuffer_extra *first = gb->extra + (size_t)y0 * (size_t)gb->width + (size_t)x0;
+    for (int x = x0; x <= x1; x++)
+        first[x - x0] = extra_none;
+    for (int y = y0 + 1; y <= y1; y++)
+        memcpy(gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0, first, (size_t)(x1 - x0 + 1) * sizeof *first);
 }
 
 /* sl_gbuffer_extra_resolve's test, over a tile with its depths at hand (tile.c keeps them in a
