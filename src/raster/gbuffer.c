@@ -6,6 +6,7 @@
  * (occlusion, emission; gbuffer.h) is allocated, cleared and resolved here, only when asked for. */
 #include "gbuffer.h"
 
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -71,6 +72,59 @@ void sl_gbuffer_extra_resolve(sl_gbuffer *gb)
     for (long i = 0; i < n; i++)
         if (gb->extra[i].depth != gb->texels[i].depth)
             gb->extra[i] = extra_none;
+}
+
+void sl_gbuffer_extra_clear_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1)
+{
+    if (!gb->extra)
+        return;
+    /* the first row element by element, then the others copied from it: a tile row is a
+     * contiguous run, and one memcpy writes it faster than 20-byte stores do */
+    sl_gbuffer_extra *first = gb->extra + (size_t)y0 * (size_t)gb->width + (size_t)x0;
+    for (int x = x0; x <= x1; x++)
+        first[x - x0] = extra_none;
+    for (int y = y0 + 1; y <= y1; y++)
+        memcpy(gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0, first, (size_t)(x1 - x0 + 1) * sizeof *first);
+}
+
+/* sl_gbuffer_extra_resolve's test, over a tile with its depths at hand (tile.c keeps them in a
+ * plane of their own): the texels' depths, 56 bytes apart, are not read at all. An extra texel
+ * already "none" (tag -1, never a depth) is left as it is rather than written again. */
+void sl_gbuffer_extra_resolve_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1, const float *depth, int stride)
+{
+    if (!gb->extra)
+        return;
+    for (int y = y0; y <= y1; y++) {
+        sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)gb->width;
+        const sl_gbuffer_texel *texels = gb->texels + (size_t)y * (size_t)gb->width;
+        for (int x = x0; x <= x1; x++) {
+            float tag = row[x].depth;
+            float d = depth ? depth[(y - y0) * stride + (x - x0)] : texels[x].depth;
+            if (tag != extra_none.depth && tag != d)
+                row[x] = extra_none;
+        }
+    }
+}
+
+static void tile_clear(void *ctx, int x0, int y0, int x1, int y1) { sl_gbuffer_extra_clear_rect(ctx, x0, y0, x1, y1); }
+
+static void tile_drawn(void *ctx, int x0, int y0, int x1, int y1, const float *depth, int stride)
+{
+    sl_gbuffer_extra_resolve_rect(ctx, x0, y0, x1, y1, depth, stride);
+}
+
+sl_target sl_gbuffer_target(sl_gbuffer *gb)
+{
+    return (sl_target){
+        .width = gb->width,
+        .height = gb->height,
+        .texel_size = sizeof(sl_gbuffer_texel),
+        .texels = gb->texels,
+        .depth_offset = (long)offsetof(sl_gbuffer_texel, depth),
+        .tile_clear = gb->extra ? tile_clear : NULL,
+        .tile_drawn = gb->extra ? tile_drawn : NULL,
+        .tile_ctx = gb,
+    };
 }
 
 void sl_gbuffer_clear(sl_gbuffer *gb)

@@ -41,7 +41,11 @@ typedef struct {
  * directly (its uniforms carry the plane, like an image store in GLSL), tagged with its depth;
  * the untextured program does not know the plane exists. After the draws, sl_gbuffer_extra_resolve
  * keeps the extra texels whose tag equals the G-buffer texel's depth (the fragment that won) and
- * sets the others to "none" (occlusion 1, emission 0), so readers take them as they are. */
+ * sets the others to "none" (occlusion 1, emission 0), so readers take them as they are.
+ * Drawn through sl_gbuffer_target, the plane is cleared and resolved tile by tile in the tile pass
+ * (the target's tile hooks, raster.h), against the tile's depths while they are in cache; the
+ * resolve is idempotent (a kept texel's tag stays its winner's depth, "none" has tag -1, never a
+ * depth), so resolving after every tile pass leaves what one resolve after the draws leaves. */
 typedef struct {
     float occlusion; /* scales the image-based terms (diffuse, specular, env lights), not point lights */
     vec3 emissive;   /* linear RGB radiance added to the pixel's */
@@ -80,6 +84,10 @@ bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err);
 void sl_gbuffer_extra_clear(sl_gbuffer *gb);
 /* After the draws: extra texels whose tag differs from the texel's depth become "none". */
 void sl_gbuffer_extra_resolve(sl_gbuffer *gb);
+/* The same two over pixels x0..x1, y0..y1 (inclusive); the resolve takes the rectangle's depths
+ * from depth[(y - y0) * stride + (x - x0)], or from the texels when depth is NULL. */
+void sl_gbuffer_extra_clear_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1);
+void sl_gbuffer_extra_resolve_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1, const float *depth, int stride);
 void sl_gbuffer_free(sl_gbuffer *gb);
 
 /* AOVs (gbuffer_io.c), one PFM per channel group, shown upright by a PFM viewer:

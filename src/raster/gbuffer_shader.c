@@ -97,17 +97,6 @@ void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj
     u->uAlpha = m->brdf == SL_BRDF_GGX ? sl_gbuffer_ggx_alpha(m->roughness) : m->alpha; /* gbuffer.h */
 }
 
-sl_target sl_gbuffer_target(sl_gbuffer *gb)
-{
-    return (sl_target){
-        .width = gb->width,
-        .height = gb->height,
-        .texel_size = sizeof(sl_gbuffer_texel),
-        .texels = gb->texels,
-        .depth_offset = (long)offsetof(sl_gbuffer_texel, depth),
-    };
-}
-
 bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, sl_gbuffer *gb, sl_error *err)
 {
     return sl_raster_scene_textured(r, scene, NULL, cam, gb, err);
@@ -145,7 +134,6 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         sl_gbuffer_clear(gb);
         return true;
     }
-    sl_gbuffer_extra_clear(gb);
     size_t n = (size_t)scene->object_count;
     size_t textured = 0;
     for (size_t i = 0; i < n; i++)
@@ -160,7 +148,8 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu objects", n);
     }
     /* The clear (every field 0, depth 1, as sl_gbuffer_clear) rides on the list's tile
-     * pass: each tile is cleared where it is drawn (tile.c). */
+     * pass: each tile is cleared where it is drawn (tile.c), and so is the extra plane's clear
+     * and resolve (the target's tile hooks, sl_gbuffer_target). */
     static const sl_gbuffer_texel empty = {.depth = 1.0f};
     mat4 view_proj = sl_camera_view_proj(cam, gb->width, gb->height);
     for (size_t i = 0, t = 0; i < n; i++) {
@@ -197,8 +186,6 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         if (sscanf(err->msg, "draw %d:", &i) == 1 && i >= 0 && i < scene->object_count)
             sl_error_prefix(err, "object %d (%s): ", i, scene->objects[i].name);
     }
-    if (ok)
-        sl_gbuffer_extra_resolve(gb);
     free(u);
     free(tu);
     free(draws);

@@ -401,6 +401,29 @@ static void finish_lanes(const sl_gbuffer_tex_uniforms *u, const sl_fragment_qua
     }
 }
 
+/* The earlier bound slot that samples the same texture with the same sampler state and uv
+ * transform as `slot` (glTF's packed occlusion-roughness-metallic image, bound as both the
+ * occlusion and the metallic-roughness map), or -1. Its fetch is the same computation on the same
+ * inputs, so `slot` can take its values bit for bit. Compared bitwise: 0 and -0 scale differently. */
+static int same_fetch(const sl_gbuffer_tex_uniforms *u, int slot)
+{
+    const sl_sampler2D *s = map_sampler(u, slot);
+    const vec4 st = map_st(u, slot);
+    for (int k = 0; k < slot; k++) {
+        if (!(u->uMaps & (1 << k)))
+            continue;
+        const sl_sampler2D *o = map_sampler(u, k);
+        const vec4 ot = map_st(u, k);
+        if (o->texture == s->texture && o->state.min_filter == s->state.min_filter &&
+            o->state.mag_filter == s->state.mag_filter && o->state.wrap_s == s->state.wrap_s &&
+            o->state.wrap_t == s->state.wrap_t && !memcmp(&o->state.lod_bias, &s->state.lod_bias, sizeof(float)) &&
+            !memcmp(&o->state.min_lod, &s->state.min_lod, sizeof(float)) &&
+            !memcmp(&o->state.max_lod, &s->state.max_lod, sizeof(float)) && !memcmp(&ot, &st, sizeof st))
+            return k;
+    }
+    return -1;
+}
+
 void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
 {
     const sl_gbuffer_tex_uniforms *u = uniforms;
@@ -410,6 +433,12 @@ void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
         if (!(u->uMaps & (1 << slot)))
             continue;
+        const int same = u->trace ? -1 : same_fetch(u, slot); /* a trace records every fetch */
+        if (same >= 0) {
+            for (int c = 0; c < 4; c++)
+                memcpy(val[slot][c], val[same][c], (size_t)lanes * sizeof(float));
+            continue;
+        }
         const sl_sampler2D *s = map_sampler(u, slot);
         const vec4 st = map_st(u, slot);
         _Alignas(64) float us[SL_QUAD_LANES], vs[SL_QUAD_LANES];

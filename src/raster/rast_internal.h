@@ -32,12 +32,12 @@
 _Static_assert(SL_RASTER_MAX_SIZE < (int)RAST_GUARD_PX, "the largest target must lie inside the guard band");
 #define RAST_BLOCK 8                   /* coverage block inside a tile: 8x8 pixels */
 #define RAST_SPAN_MIN_WIDTH 8         /* narrower triangles (and at most 8 rows) are small: tile.c */
-#define RAST_BATCH 65536               /* triangles set up and binned before the tiles are drawn */
+#define RAST_BATCH 131072              /* triangles set up and binned before the tiles are drawn */
 #define RAST_CACHE_LINE 64
 #define RAST_W_EPSILON 1e-6f           /* clip plane w >= eps: keeps the divide finite for any projection */
 #define RAST_CLIP_MAX 16               /* 3 vertices + one per clip plane, rounded up */
 #define RAST_BIN_FULL 0x80000000u      /* bin item flag: the triangle covers the whole tile */
-#define RAST_MAX_CALLS 65536           /* draws binned together (rast_tri.call is 16 bits: keeps it 136 bytes) */
+#define RAST_MAX_CALLS 65536           /* draws binned together (rast_tri.call is 16 bits: keeps it 128 bytes) */
 /* Fewer vertices, indices or triangles than this in a stage of a draw list and the stage runs
  * on the calling thread: a parallel region costs a fork and a barrier, microseconds on an idle
  * machine and up to milliseconds on a loaded one (a woken thread waits for a core), more than
@@ -88,13 +88,12 @@ typedef struct {
 
 /* A set-up triangle, counter-clockwise. Edge k: E_k(x, y) = ex[k]*x + ey[k]*y + ec[k]
  * for the centre of pixel (x, y), biased by the fill rule so covered <=> all E_k >= 0.
- * Attributes are planes f(x, y) = f0 + fdx*(x - ox) + fdy*(y - oy) over pixel indices;
- * (ox, oy) is the first pixel of the bounds (integers: x - ox is exact in float), f0 the
- * value at its centre. */
+ * Attributes are planes f(x, y) = f0 + fdx*(x - xmin) + fdy*(y - ymin) over pixel indices,
+ * from the first pixel of the bounds (integers below 2^13: x - xmin is exact in float), f0 the
+ * value at its centre. 128 bytes, two cache lines (the chunk's array is aligned to them). */
 typedef struct {
     int64_t ex[3], ey[3], ec[3];
-    int32_t xmin, ymin, xmax, ymax; /* pixel bounds, inside the target */
-    float ox, oy;
+    int32_t xmin, ymin, xmax, ymax; /* pixel bounds, inside the target; (xmin, ymin) is the planes' origin */
     float z[3];                     /* z0, dz/dx, dz/dy */
     float iw[3];                    /* 1/w plane */
     float iw_lo, iw_hi;             /* range of 1/w over the vertices: a covered pixel's stays inside
@@ -103,6 +102,7 @@ typedef struct {
     uint16_t call;                  /* index of its draw in rast_draw.calls (< RAST_MAX_CALLS) */
     bool front;
 } rast_tri;
+_Static_assert(sizeof(rast_tri) == 2 * RAST_CACHE_LINE, "a set-up triangle is two cache lines");
 
 typedef struct {
     uint32_t *items; /* triangle index in the chunk, | RAST_BIN_FULL */

@@ -165,6 +165,16 @@ typedef struct {
     size_t texel_size;
     void *texels;
     long depth_offset; /* byte offset of a float depth in each texel, or SL_NO_DEPTH */
+    /* Optional (NULL: none): per-tile hooks for data that programs write beside the texels (an
+     * image store, such as the G-buffer's extra plane, gbuffer.h), run by the thread that draws
+     * the tile while the tile is hot in cache. Pixels x0..x1, y0..y1 (inclusive, row 0 = bottom).
+     * tile_clear: the tile is being cleared (sl_draw.clear), before anything is drawn into it.
+     * tile_drawn: after a tile pass drew triangles into the tile (once per RAST_BATCH triangles of
+     * a list, so it must be idempotent), with the tile's depths as its texels now hold them:
+     * depth[(y - y0) * stride + (x - x0)] (NULL without a depth test). */
+    void (*tile_clear)(void *ctx, int x0, int y0, int x1, int y1);
+    void (*tile_drawn)(void *ctx, int x0, int y0, int x1, int y1, const float *depth, int stride);
+    void *tile_ctx;
 } sl_target;
 
 typedef enum {
@@ -252,7 +262,8 @@ extern const sl_program sl_gbuffer_program;
 
 /* Fill the uniforms from a model matrix, view-projection and material. */
 void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m);
-/* The G-buffer as a render target (depth in the texel's depth field). */
+/* The G-buffer as a render target (depth in the texel's depth field). With the extra plane, its
+ * tile hooks clear the plane with the texels and resolve it after each tile pass (gbuffer.c). */
 sl_target sl_gbuffer_target(sl_gbuffer *gb);
 
 /* Clear the G-buffer and draw every object of the scene with the built-in pair,

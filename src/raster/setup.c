@@ -39,6 +39,27 @@ static bool grow(void **p, size_t elem, size_t need, size_t *cap)
     return true;
 }
 
+/* grow() for the set-up triangles: the array starts on a cache line, so that each 128-byte
+ * triangle is two lines, not three (realloc keeps no alignment, so this copies). */
+static bool grow_tris(rast_chunk *ch, size_t need)
+{
+    size_t cap = (size_t)ch->tri_cap;
+    if (need <= cap)
+        return true;
+    size_t ncap = cap ? cap : 64;
+    while (ncap < need)
+        ncap *= 2;
+    rast_tri *q = aligned_alloc(RAST_CACHE_LINE, ncap * sizeof *q); /* a multiple of the alignment */
+    if (!q)
+        return false;
+    if (ch->tri_count > 0)
+        memcpy(q, ch->tris, (size_t)ch->tri_count * sizeof *q);
+    free(ch->tris);
+    ch->tris = q;
+    ch->tri_cap = (int)ncap;
+    return true;
+}
+
 static bool bin_push(rast_chunk *ch, int tile, uint32_t item)
 {
     rast_bin *b = &ch->bins[tile];
@@ -119,13 +140,9 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
         return;
     }
 
-    if (ch->tri_count == ch->tri_cap) {
-        size_t cap = (size_t)ch->tri_cap;
-        if (!grow((void **)&ch->tris, sizeof *ch->tris, cap + 1, &cap)) {
-            ch->oom = true;
-            return;
-        }
-        ch->tri_cap = (int)cap;
+    if (ch->tri_count == ch->tri_cap && !grow_tris(ch, (size_t)ch->tri_cap + 1)) {
+        ch->oom = true;
+        return;
     }
     size_t nv = (size_t)call->nvary * 3;
     if (!grow((void **)&ch->vary, sizeof *ch->vary, ch->vary_count + nv, &ch->vary_cap)) {
@@ -172,8 +189,6 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
         }
         exact_area = snapped_area;
     }
-    t->ox = (float)xlo;
-    t->oy = (float)ylo;
     plane_frame fr = {
         .x1 = px[1] - px[0], .y1 = py[1] - py[0], .x2 = px[2] - px[0], .y2 = py[2] - py[0],
         .inv_det = 1.0 / exact_area,

@@ -55,7 +55,10 @@
  * what the clear costs is the G-buffer's write to memory (docs/performance.md,
  * "Textured G-buffer pass", fourth pass). The rows of a tile that no binned triangle
  * reaches (every row of an empty tile) are the exception: no fragment will write them, so
- * they are cleared with streaming stores, which skip the read of each line. */
+ * they are cleared with streaming stores, which skip the read of each line.
+ * The target's tile hooks (sl_target.tile_clear, tile_drawn) run here too: after the tile's clear,
+ * and after its triangles with the tile's depth plane, for data beside the texels (the G-buffer's
+ * extra plane is cleared and resolved that way, in cache, instead of in two passes over memory). */
 #include "rast_internal.h"
 
 #include <stdint.h>
@@ -118,7 +121,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
                                                            const bool late)
 {
     const rast_tri *t = c->t;
-    float fx = (float)x - t->ox, fy = (float)y - t->oy;
+    float fx = (float)x - (float)t->xmin, fy = (float)y - (float)t->ymin;
     float z = depth_at(t, fx, fy);
     c->tested++;
     float *zp = NULL;
@@ -233,7 +236,7 @@ static inline __attribute__((always_inline)) void cover_and_test(const tri_ctx *
                                                                  const bool edges, const bool depth, int32_t *flags)
 {
     const rast_tri *t = c->t;
-    const float fy = (float)y - t->oy, ox = t->ox;
+    const float fy = (float)y - (float)t->ymin, ox = (float)t->xmin;
     const float z0 = t->z[0], z1 = t->z[1], z2fy = t->z[2] * fy;
     const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
     const int64_t r0 = t->ec[0] + t->ey[0] * y, r1 = t->ec[1] + t->ey[1] * y, r2 = t->ec[2] + t->ey[2] * y;
@@ -264,7 +267,7 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     const rast_tri *t = c->t;
     rast_span *s = c->span;
     int n = x1 - x0 + 1;
-    float fy = (float)y - t->oy, ox = t->ox;
+    float fy = (float)y - (float)t->ymin, ox = (float)t->xmin;
     float z0 = t->z[0], z1 = t->z[1], z2fy = t->z[2] * fy;
     int32_t *flags = s->flags;
     /* The vector loops run to a multiple of 8 (n8, m8 below), the extra lanes uncovered or
@@ -413,12 +416,12 @@ static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bo
     const rast_tri *t = c->t;
     rast_span *s = c->span;
     const int n = x1 - x0 + 1;
-    const float ox = t->ox, z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
+    const float ox = (float)t->xmin, z0 = t->z[0], z1 = t->z[1], z2 = t->z[2];
     int32_t *flags = s->flags; /* bit 0: covered, bit 1: passed the depth test */
     int row_end[RAST_BLOCK];   /* packed fragments after each row */
     int m = 0, tested = 0;
     for (int y = y0; y <= y1; y++) {
-        const float fy = (float)y - t->oy;
+        const float fy = (float)y - (float)t->ymin;
         /* Always RAST_SPAN_MIN_WIDTH columns, those past n uncovered: a loop of a fixed count
          * is one vector step, where n columns (often 2-6) went through the scalar remainder. */
         cover_and_test(c, y, x0, n, RAST_SPAN_MIN_WIDTH, !full, depth, flags);
@@ -527,8 +530,8 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
     const size_t tsz = tg->texel_size;
     /* the lanes' offsets from the triangle's origin: lane l (pixel (qx + (l & 1), qy + (l >> 1)))
      * is at (fx[l], fy[l]) */
-    const float fx0 = (float)qx - t->ox, fx1 = (float)(qx + 1) - t->ox;
-    const float fy0 = (float)qy - t->oy, fy1 = (float)(qy + 1) - t->oy;
+    const float fx0 = (float)qx - (float)t->xmin, fx1 = (float)(qx + 1) - (float)t->xmin;
+    const float fy0 = (float)qy - (float)t->ymin, fy1 = (float)(qy + 1) - (float)t->ymin;
     const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
     float z[4];
     for (int l = 0; l < 4; l++)
@@ -730,8 +733,8 @@ static inline __attribute__((always_inline)) void quad_gather(tri_ctx *c, int qx
 {
     const rast_tri *t = c->t;
     const bool late = c->call->program->discards;
-    const float fx0 = (float)qx - t->ox, fx1 = (float)(qx + 1) - t->ox;
-    const float fy0 = (float)qy - t->oy, fy1 = (float)(qy + 1) - t->oy;
+    const float fx0 = (float)qx - (float)t->xmin, fx1 = (float)(qx + 1) - (float)t->xmin;
+    const float fy0 = (float)qy - (float)t->ymin, fy1 = (float)(qy + 1) - (float)t->ymin;
     const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
     float z[4];
     for (int l = 0; l < 4; l++)
@@ -899,6 +902,8 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
                 memcpy(row, clear, bytes);
         }
         clear_streaming_done();
+        if (tg->tile_clear)
+            tg->tile_clear(tg->tile_ctx, px0, py0, px1, py1);
     }
     if (!any) /* cleared, nothing drawn: the clear texel holds the clear depth already */
         return;
@@ -944,14 +949,13 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
         for (int i = 0; i < bin->count; i++) {
             uint32_t item = bin->items[i];
             const rast_tri *t = &ch->tris[item & ~RAST_BIN_FULL];
-            /* The set-up triangles of a batch (about 14 MB for 65,536) are out of the caches by
-             * the time the tiles read them: start loading the next ones' (their 3 lines and their
+            /* The set-up triangles of a batch (about 13 MB for 65,536) are out of the caches by
+             * the time the tiles read them: start loading the next ones' (their 2 lines and their
              * planes) while this one is drawn. A hint: no value depends on it. */
             if (i + RAST_PREFETCH < bin->count) {
                 const rast_tri *next = &ch->tris[bin->items[i + RAST_PREFETCH] & ~RAST_BIN_FULL];
                 __builtin_prefetch(next);
                 __builtin_prefetch((const char *)next + RAST_CACHE_LINE);
-                __builtin_prefetch((const char *)next + sizeof *next - 1);
                 __builtin_prefetch(ch->vary + next->vary);
             }
             c.t = t;
@@ -1005,4 +1009,6 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
             for (int x = px0; x <= px1; x++)
                 memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset,
                        &task->depth[(y - py0) * ts + (x - px0)], sizeof(float));
+    if (tg->tile_drawn)
+        tg->tile_drawn(tg->tile_ctx, px0, py0, px1, py1, depth ? task->depth : NULL, ts);
 }

@@ -77,7 +77,7 @@ static void ct_init(count_target *c, int w, int h)
     c->h = h;
     c->count = calloc((size_t)w * (size_t)h, sizeof *c->count);
     assert_non_null(c->count);
-    c->target = (sl_target){w, h, sizeof(uint32_t), c->count, SL_NO_DEPTH};
+    c->target = (sl_target){.width = w, .height = h, .texel_size = sizeof(uint32_t), .texels = c->count, .depth_offset = SL_NO_DEPTH};
 }
 
 static void ct_free(count_target *c) { free(c->count); }
@@ -769,7 +769,7 @@ static void test_many_small_draws(void **state)
     count_target ref, c;
     ct_init(&ref, S, S);
     ct_init(&c, S, S);
-    sl_target tref = {S, S, sizeof(uint32_t), ref.count, SL_NO_DEPTH}, tc = tref;
+    sl_target tref = {.width = S, .height = S, .texel_size = sizeof(uint32_t), .texels = ref.count, .depth_offset = SL_NO_DEPTH}, tc = tref;
     tc.texels = c.count;
     sl_error err = {0};
     sl_raster *r = make_raster(1, 16, false);

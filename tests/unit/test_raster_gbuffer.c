@@ -315,6 +315,64 @@ static void test_gbuffer_alloc(void **state)
     free_mesh(&s.meshes[0]);
 }
 
+/* The extra plane's clear and resolve over rectangles (the tile hooks of sl_gbuffer_target) leave
+ * what the whole-plane functions leave, with the depths from a plane or from the texels; the
+ * resolve keeps a tag equal to its texel's depth and makes every other extra texel "none". */
+static void test_extra_rects(void **state)
+{
+    (void)state;
+    enum { W = 7, H = 5 };
+    sl_gbuffer a = {0}, b = {0};
+    sl_error err = {0};
+    assert_true(sl_gbuffer_resize(&a, W, H, &err) && sl_gbuffer_use_extra(&a, true, &err));
+    assert_true(sl_gbuffer_resize(&b, W, H, &err) && sl_gbuffer_use_extra(&b, true, &err));
+    sl_gbuffer_clear(&a);
+    memset(b.extra, 0x5a, W * H * sizeof *b.extra);
+    for (int y0 = 0; y0 < H; y0 += 3) /* tiles of 4 x 3, the last ones cut */
+        for (int x0 = 0; x0 < W; x0 += 4)
+            sl_gbuffer_extra_clear_rect(&b, x0, y0, x0 + 3 < W ? x0 + 3 : W - 1, y0 + 2 < H ? y0 + 2 : H - 1);
+    assert_memory_equal(a.extra, b.extra, W * H * sizeof *a.extra);
+    for (int i = 0; i < W * H; i++) { /* depths; tags: equal (i % 3 == 0), other, or none */
+        float d = 0.25f + 0.01f * (float)i;
+        a.texels[i].depth = i % 5 == 4 ? 1.0f : d;
+        a.extra[i] = (sl_gbuffer_extra){0.5f, vec3(2.0f, 3.0f, 4.0f), i % 3 == 0 ? a.texels[i].depth
+                                                                       : i % 3 == 1 ? d + 0.5f : -1.0f};
+        if (i % 3 == 2)
+            a.extra[i] = (sl_gbuffer_extra){1.0f, vec3(0, 0, 0), -1.0f};
+    }
+    memcpy(b.texels, a.texels, W * H * sizeof *a.texels);
+    memcpy(b.extra, a.extra, W * H * sizeof *a.extra);
+    sl_gbuffer_extra_resolve(&a);
+    for (int i = 0; i < W * H; i++) {
+        const sl_gbuffer_extra e = a.extra[i];
+        if (i % 3 == 0) /* kept */
+            assert_true(e.occlusion == 0.5f && e.emissive.x == 2.0f && e.depth == a.texels[i].depth);
+        else /* none */
+            assert_true(e.occlusion == 1.0f && e.emissive.x == 0.0f && e.emissive.z == 0.0f && e.depth == -1.0f);
+    }
+    float depth[3 * 4];
+    for (int y0 = 0; y0 < H; y0 += 3)
+        for (int x0 = 0; x0 < W; x0 += 4) {
+            int x1 = x0 + 3 < W ? x0 + 3 : W - 1, y1 = y0 + 2 < H ? y0 + 2 : H - 1;
+            for (int y = y0; y <= y1; y++)
+                for (int x = x0; x <= x1; x++)
+                    depth[(y - y0) * 4 + (x - x0)] = b.texels[y * W + x].depth;
+            /* the first tile column from the plane, the second from the texels; twice: idempotent */
+            for (int k = 0; k < 2; k++)
+                sl_gbuffer_extra_resolve_rect(&b, x0, y0, x1, y1, x0 == 0 ? depth : NULL, 4);
+        }
+    assert_memory_equal(a.extra, b.extra, W * H * sizeof *a.extra);
+    sl_target t = sl_gbuffer_target(&b);
+    assert_non_null(t.tile_clear);
+    assert_non_null(t.tile_drawn);
+    assert_true(sl_gbuffer_use_extra(&b, false, &err));
+    t = sl_gbuffer_target(&b);
+    assert_null(t.tile_clear);
+    assert_null(t.tile_drawn);
+    sl_gbuffer_free(&a);
+    sl_gbuffer_free(&b);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -322,6 +380,7 @@ int main(void)
         cmocka_unit_test(test_determinism),
         cmocka_unit_test(test_aov_roundtrip),
         cmocka_unit_test(test_gbuffer_alloc),
+        cmocka_unit_test(test_extra_rects),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -59,7 +59,7 @@ static void test_perspective(void **state)
     assert_non_null(tex);
     for (int i = 0; i < W * H; i++)
         tex[i].depth = 1.0f;
-    sl_target target = {W, H, sizeof *tex, tex, (long)offsetof(probe_texel, depth)};
+    sl_target target = {.width = W, .height = H, .texel_size = sizeof *tex, .texels = tex, .depth_offset = (long)offsetof(probe_texel, depth)};
     sl_error err = {0};
     sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 2, .tile_size = 16, .stats = true}, &err);
     assert_non_null(r);
@@ -172,7 +172,7 @@ static void test_clipped_floor(void **state)
     assert_non_null(tex);
     for (int i = 0; i < W * H; i++)
         tex[i].depth = 1.0f;
-    sl_target tg = {W, H, sizeof *tex, tex, (long)offsetof(floor_texel, depth)};
+    sl_target tg = {.width = W, .height = H, .texel_size = sizeof *tex, .texels = tex, .depth_offset = (long)offsetof(floor_texel, depth)};
     sl_error err = {0};
     sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 2, .tile_size = 32, .stats = true}, &err);
     assert_non_null(r);

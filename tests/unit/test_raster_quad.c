@@ -55,7 +55,7 @@ static sl_raster_stats draw_tri(sl_raster *r, const sl_program *prog, qtexel *t,
     vec3 p[3] = {a, b, c};
     uint32_t idx[3] = {0, 1, 2};
     sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
-    sl_target target = {W, H, sizeof(qtexel), t, depth ? (long)offsetof(qtexel, depth) : SL_NO_DEPTH};
+    sl_target target = {.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t, .depth_offset = depth ? (long)offsetof(qtexel, depth) : SL_NO_DEPTH};
     sl_error err = {0};
     sl_raster_reset_stats(r);
     assert_true(sl_raster_draw(r, &target, &(sl_draw){.program = prog, .mesh = &m}, &err));
@@ -443,13 +443,13 @@ static void test_flags(void **state)
     uint32_t idx[3] = {0, 1, 2};
     sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
     sl_error err = {0};
-    assert_false(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+    assert_false(sl_raster_draw(r, &(sl_target){.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t, .depth_offset = SL_NO_DEPTH},
                                 &(sl_draw){.program = &bad, .mesh = &m}, &err));
     assert_msg_contains(err, "fragment_quad");
     bad.fragment_quad = NULL;
     bad.fragment_quads = quads_form;
     err = (sl_error){0};
-    assert_false(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+    assert_false(sl_raster_draw(r, &(sl_target){.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t, .depth_offset = SL_NO_DEPTH},
                                 &(sl_draw){.program = &bad, .mesh = &m}, &err));
     assert_msg_contains(err, "fragment_quads");
     sl_program noflag = prog_cut_deriv;

@@ -96,7 +96,7 @@ static void test_texture_implicit_lod(void **state)
         vec3 p[3] = {{0, 0, 0}, {128, 0, 0}, {0, 128, 0}};
         uint32_t idx[3] = {0, 1, 2};
         sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
-        assert_true(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+        assert_true(sl_raster_draw(r, &(sl_target){.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t, .depth_offset = SL_NO_DEPTH},
                                    &(sl_draw){.program = &prog, .fs_uniforms = &u, .mesh = &m}, &err));
         sl_raster_stats st = sl_raster_get_stats(r);
         sl_raster_destroy(r);
@@ -166,7 +166,7 @@ static void test_helpers_extrapolate(void **state)
         uint32_t idx[3] = {0, 1, 2};
         sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
         sl_error err = {0};
-        assert_true(sl_raster_draw(r, &(sl_target){W, H, sizeof(qtexel), t, SL_NO_DEPTH},
+        assert_true(sl_raster_draw(r, &(sl_target){.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t, .depth_offset = SL_NO_DEPTH},
                                    &(sl_draw){.program = &prog_persp, .fs_uniforms = &s, .mesh = &m}, &err));
         sl_raster_destroy(r);
         const qtexel *q = &t[24 * W + 22];

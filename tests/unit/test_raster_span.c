@@ -314,7 +314,7 @@ static void draw_probe(sl_raster *r, probe_texel *texels, int w, int h, bool dep
     mat4 view = lookAt(vec3(0.4f, -3.5f, 1.0f), vec3(0, 0, 0), vec3(0, 0, 1));
     probe_uniforms u1 = {mat4_mul(mat4_mul(proj, view), mat4_scale(vec3(1.3f, 1.3f, 1.3f)))};
     probe_uniforms u2 = {mat4_mul(mat4_mul(proj, view), mat4_rotate(vec3(1, 0.2f, 0), 1.1f))};
-    sl_target target = {w, h, sizeof(probe_texel), texels, depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
+    sl_target target = {.width = w, .height = h, .texel_size = sizeof(probe_texel), .texels = texels, .depth_offset = depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
     sl_error err = {0};
     assert_true(sl_raster_draw(r, &target,
                                &(sl_draw){.program = &prog_probe, .vs_uniforms = &u1, .mesh = &sphere, .clear = clear},
@@ -423,7 +423,7 @@ static void test_draw_list(void **state)
         {.program = &prog_probe, .vs_uniforms = &u[3], .mesh = &sphere, .cull = SL_CULL_BACK},
         {.program = &prog_probe2, .vs_uniforms = &u[1], .mesh = &sphere},
     };
-    sl_target ta = {W, H, sizeof *a, a, (long)offsetof(probe_texel, depth)}, tb = ta;
+    sl_target ta = {.width = W, .height = H, .texel_size = sizeof *a, .texels = a, .depth_offset = (long)offsetof(probe_texel, depth)}, tb = ta;
     tb.texels = b;
     sl_error err = {0};
     for (int plain = 0; plain < 2; plain++) {
@@ -618,8 +618,7 @@ static void test_quads_span_vs_plain(void **state)
             probe_uniforms u2 = {mat4_mul(vp, mat4_rotate(vec3(1, 0.2f, 0), 1.1f))};
             sl_draw draws[2] = {{.program = progs[p], .vs_uniforms = &u1, .mesh = &sphere},
                                 {.program = progs[p], .vs_uniforms = &u2, .mesh = &grid}};
-            sl_target target = {W, H, sizeof(probe_texel), ref,
-                                depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
+            sl_target target = {.width = W, .height = H, .texel_size = sizeof(probe_texel), .texels = ref, .depth_offset = depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
             sl_error err = {0};
             memset(ref, 0, n * sizeof *ref);
             for (size_t i = 0; i < n; i++)
@@ -700,7 +699,7 @@ static void test_span_fill_rule(void **state)
     sl_error err = {0};
     memset(ref, 0, sizeof ref);
     sl_raster *r = make_raster(1, 16, true);
-    assert_true(sl_raster_draw(r, &(sl_target){64, 64, sizeof(uint32_t), ref, SL_NO_DEPTH},
+    assert_true(sl_raster_draw(r, &(sl_target){.width = 64, .height = 64, .texel_size = sizeof(uint32_t), .texels = ref, .depth_offset = SL_NO_DEPTH},
                                &(sl_draw){.program = &prog, .mesh = &m}, &err));
     sl_raster_destroy(r);
     int bad = 0;
@@ -712,7 +711,7 @@ static void test_span_fill_rule(void **state)
     for (int k = 0; k < 3; k++) {
         memset(out, 0, sizeof out);
         r = make_raster(2, tiles[k], false);
-        assert_true(sl_raster_draw(r, &(sl_target){64, 64, sizeof(uint32_t), out, SL_NO_DEPTH},
+        assert_true(sl_raster_draw(r, &(sl_target){.width = 64, .height = 64, .texel_size = sizeof(uint32_t), .texels = out, .depth_offset = SL_NO_DEPTH},
                                    &(sl_draw){.program = &prog, .mesh = &m}, &err));
         sl_raster_destroy(r);
         assert_same_texels(ref, out, 64 * 64, sizeof(uint32_t), 64, "tile %d against the plain path", tiles[k]);
@@ -745,7 +744,7 @@ static void fs_count(const void *uniforms, const sl_fragment_in *in, void *texel
 
 static const sl_program prog_count = {.vertex = vs_pass, .fragment = fs_count, .varying_count = 0};
 
-/* More than one batch (RAST_BATCH = 65536 triangles): a 182 x 182 grid is 66,248 triangles
+/* More than one batch (RAST_BATCH = 131072 triangles): a 257 x 257 grid is 132,098 triangles
  * over the middle of the target, at depth 0.5 (z = 0), plus a nearer triangle (z = -0.5,
  * depth 0.25) in the second batch's part of the index list. The second batch must draw
  * over the first, not clear it again; pixels outside the grid keep the clear value. */
@@ -753,8 +752,8 @@ static void test_clear_batches(void **state)
 {
     (void)state;
     enum { W = 96, H = 80 };
-    sl_mesh grid = make_grid(182);
-    assert_true(grid.triangle_count > 65536);
+    sl_mesh grid = make_grid(257);
+    assert_true(grid.triangle_count > 131072);
     for (int i = 0; i < grid.vertex_count; i++)
         grid.positions[i] = scale3(grid.positions[i], 0.5f); /* the middle half of the target */
     /* the last triangle (a corner of the grid, in the second batch) becomes a big nearer
@@ -778,7 +777,7 @@ static void test_clear_batches(void **state)
     sl_error err = {0};
     for (int depth = 0; depth < 2; depth++) {
         for (int plain = 0; plain < 2; plain++) {
-            sl_target ta = {W, H, sizeof *a, a, depth ? (long)offsetof(count_texel, depth) : SL_NO_DEPTH};
+            sl_target ta = {.width = W, .height = H, .texel_size = sizeof *a, .texels = a, .depth_offset = depth ? (long)offsetof(count_texel, depth) : SL_NO_DEPTH};
             sl_target tb = ta;
             tb.texels = b;
             /* reference: clear by hand, then draw */
@@ -826,7 +825,7 @@ static void test_clear_empty(void **state)
     sl_error err = {0};
     for (int k = 0; k < 4; k++) {
         memset(t, 0xEE, (size_t)W * H * sizeof *t);
-        sl_target target = {W, H, sizeof *t, t, (k & 2) ? (long)offsetof(count_texel, depth) : SL_NO_DEPTH};
+        sl_target target = {.width = W, .height = H, .texel_size = sizeof *t, .texels = t, .depth_offset = (k & 2) ? (long)offsetof(count_texel, depth) : SL_NO_DEPTH};
         sl_raster *r = make_raster(2, 32, false);
         const sl_draw dc = {.program = &prog_count, .mesh = meshes[k & 1], .clear = &clear};
         assert_true(sl_raster_draw(r, &target, &dc, &err));

@@ -884,8 +884,15 @@ static void test_textured_program_forms(void **state)
         x->uMaps = (1 << SL_MAP_COUNT) - 1;
     }
     sl_gbuffer gb[3] = {{0}, {0}, {0}};
+    /* shared 1: the occlusion slot samples the metallic-roughness slot's texture with its sampler
+     * and uv transform (glTF's packed image): the multi-quad form fetches it once (same_fetch) */
+    for (int shared = 0; shared < 2; shared++)
     for (int masked = 0; masked < 2; masked++)
         for (int threads = 1; threads <= 2; threads++) {
+            for (int o = 0; o < 2 && shared; o++) {
+                u[o].uOcclusionMap = u[o].uMetallicRoughnessMap;
+                u[o].uOcclusionMapST = u[o].uMetallicRoughnessMapST;
+            }
             const sl_program *base = masked ? &sl_gbuffer_tex_masked_program : &sl_gbuffer_tex_program;
             sl_program quad = *base;
             quad.fragment_quads = NULL;
@@ -917,12 +924,14 @@ static void test_textured_program_forms(void **state)
             }
             for (int k = 1; k < 3; k++) {
                 if (memcmp(gb[0].texels, gb[k].texels, (size_t)W * H * sizeof *gb[0].texels) != 0)
-                    fail_msg("masked %d threads %d: the multi-quad form's texels differ from the %s", masked, threads,
+                    fail_msg("shared %d masked %d threads %d: the multi-quad form's texels differ from the %s", shared,
+                             masked, threads,
                              k == 1 ? "quad form's" : "rounds'");
                 /* the rounds too when masked: a lane of the rounds may pass the cutoff in a round
                  * and discard in the next; its extra texel must not stay (sl_program.stores) */
                 if (memcmp(gb[0].extra, gb[k].extra, (size_t)W * H * sizeof *gb[0].extra) != 0)
-                    fail_msg("masked %d threads %d: the extra plane differs from the %s", masked, threads,
+                    fail_msg("shared %d masked %d threads %d: the extra plane differs from the %s", shared, masked,
+                             threads,
                              k == 1 ? "quad form's" : "rounds'");
             }
         }
