@@ -367,7 +367,8 @@ static void test_stores(void **state)
             vec3 p[3] = {vec3(0, 0, 0), vec3(64, 0, 0), vec3(0, 64, 0)};
             uint32_t idx[3] = {0, 1, 2};
             sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
-            sl_target target = {W, H, sizeof(qtexel), t, SL_NO_DEPTH};
+            sl_target target = {.width = W, .height = H, .texel_size = sizeof(qtexel), .texels = t,
+                                .depth_offset = SL_NO_DEPTH};
             sl_error err = {0};
             assert_true(sl_raster_draw(r, &target, &(sl_draw){.program = &prog_store, .fs_uniforms = plane, .mesh = &m},
                                        &err));
