@@ -744,6 +744,34 @@ static void fs_count(const void *uniforms, const sl_fragment_in *in, void *texel
 
 static const sl_program prog_count = {.vertex = vs_pass, .fragment = fs_count, .varying_count = 0};
 
+/* The target's tile hooks, counted per pixel (tiles are disjoint, so two threads never count
+ * the same pixel): how often each pixel was cleared, passed to tile_drawn, and passed with a
+ * depth that is not its texel's. */
+typedef struct {
+    int w;
+    const count_texel *texels;
+    int *cleared, *drawn, *wrong_depth;
+} hook_counts;
+
+static void hook_clear(void *ctx, int x0, int y0, int x1, int y1)
+{
+    hook_counts *h = ctx;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++)
+            h->cleared[y * h->w + x]++;
+}
+
+static void hook_drawn(void *ctx, int x0, int y0, int x1, int y1, const float *depth, int stride)
+{
+    hook_counts *h = ctx;
+    for (int y = y0; y <= y1; y++)
+        for (int x = x0; x <= x1; x++) {
+            h->drawn[y * h->w + x]++;
+            if (depth && depth[(y - y0) * stride + (x - x0)] != h->texels[y * h->w + x].depth)
+                h->wrong_depth[y * h->w + x]++;
+        }
+}
+
 /* More than one batch (RAST_BATCH = 131072 triangles): a 257 x 257 grid is 132,098 triangles
  * over the middle of the target, at depth 0.5 (z = 0), plus a nearer triangle (z = -0.5,
  * depth 0.25) in the second batch's part of the index list. The second batch must draw
@@ -785,11 +813,27 @@ static void test_clear_batches(void **state)
                 a[i] = clear;
             sl_raster *r = make_raster(2, 16, plain);
             assert_true(sl_raster_draw(r, &ta, &(sl_draw){.program = &prog_count, .mesh = &grid}, &err));
-            /* fused: from garbage */
+            /* fused: from garbage, with the tile hooks counting */
             memset(b, 0xEE, (size_t)W * H * sizeof *b);
+            int *counts = calloc(3 * (size_t)W * H, sizeof *counts);
+            assert_non_null(counts);
+            hook_counts h = {.w = W, .texels = b, .cleared = counts, .drawn = counts + W * H,
+                             .wrong_depth = counts + 2 * W * H};
+            tb.tile_clear = hook_clear;
+            tb.tile_drawn = hook_drawn;
+            tb.tile_ctx = &h;
             const sl_draw dc = {.program = &prog_count, .mesh = &grid, .clear = &clear};
             assert_true(sl_raster_draw(r, &tb, &dc, &err));
             sl_raster_destroy(r);
+            /* every pixel cleared once; the depths given are the texels'; the centre's tile drawn
+             * by both batches (the grid, then the near triangle), a corner's by the second's only */
+            for (int i = 0; i < W * H; i++) {
+                assert_int_equal(h.cleared[i], 1);
+                assert_int_equal(h.wrong_depth[i], 0);
+            }
+            assert_int_equal(h.drawn[(H / 2) * W + W / 2], 2);
+            assert_int_equal(h.drawn[(H / 10) * W + W / 10], 1);
+            free(counts);
             assert_same_texels(a, b, (size_t)W * H, sizeof *a, W,
                                "depth %d, plain %d: fused clear against cleared by hand", depth, plain);
             /* by hand: a corner pixel is never covered; the centre is covered by the grid
