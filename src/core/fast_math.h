@@ -7,7 +7,7 @@
  * vectorized without -ffast-math (glibc declares its vector variants only then). These are
  * the classic Cephes reductions with their minimax polynomials, in plain C, and are as good as
  * the GL driver's: measured over dense sweeps (docs/performance.md "Lighting", test_shading
- * test_fast_math), atan2 within 2.4e-7 rad, log2 within 1.2e-7 absolute on [1e-30, 1], exp2
+ * test_fast_math), atan2 within 2.6e-7 rad, log2 within 1.2e-7 absolute on [1e-30, 1], exp2
  * within 2 ulp on [-126, 0]; llvmpipe's are 1e-6 .. 1e-5 relative (tests/cli/gl_shading.sh).
  * The same inputs give the same bits whether a loop runs vectorized or scalar (only +, -, *, /,
  * sqrt, compares; -ffp-contract=off), so the pass, sl_lighting_shade and the trace agree.
@@ -84,14 +84,18 @@ SL_FM_INLINE float sl_fast_exp2(float x)
 
 /* atan2(y, x) in [-pi, pi]: t = min/max in [0, 1], reduced to [0, tan(pi/8)] by
  * (t - 1)/(t + 1) + pi/4, Cephes atanf polynomial, then the octant. atan2(0, 0) = 0;
- * y = -0 gives +pi for x < 0 (the lat-long map folds u = 1 to 0 either way). */
+ * y = -0 gives +pi for x < 0 (the lat-long map folds u = 1 to 0 either way).
+ * One division: above tan(pi/8) the reduced argument is (mn - mx)/(mn + mx), the same value as
+ * (t - 1)/(t + 1) without t's rounding, so the numerator and denominator are selected and
+ * divided once (the division is the costly operation of a vector loop; the lighting pass runs
+ * two atan2 a sample). */
 SL_FM_INLINE float sl_fast_atan2(float y, float x)
 {
     float ax = fabsf(x), ay = fabsf(y);
     float mx = maxf(ax, ay), mn = minf(ax, ay);
-    float t = mx > 0.0f ? mn / mx : 0.0f;
-    int big = t > 0.41421356f;
-    float r = big ? (t - 1.0f) / (t + 1.0f) : t;
+    int big = mn > 0.41421356f * mx;
+    float num = big ? mn - mx : mn, den = big ? mn + mx : mx;
+    float r = mx > 0.0f ? num / den : 0.0f;
     float z = r * r;
     float p = (((8.05374449538e-2f * z - 1.38776856032e-1f) * z + 1.99777106478e-1f) * z - 3.33329491539e-1f) * z * r + r;
     p = big ? p + 0.785398163f : p;

@@ -55,14 +55,31 @@ SL_FM_INLINE int sl_e5_row(int H, int l)
     return 2 * H - ((2 * H) >> l) + l;
 }
 
-/* The three channels of t: integer shifts, a power of two built from bits (bias = emin + 127,
- * the float exponent of 2^emin) and int-to-float conversions, all of which vectorize. */
+/* The texel's power of two 2^(e + emin), built from bits (bias = emin + 127, the float exponent
+ * of 2^emin): its channels are its three mantissas times this. */
+SL_FM_INLINE float sl_e5_scale(uint32_t t, int bias)
+{
+    return sl_fm_float((uint32_t)((int)(t >> 27) + bias) << 23);
+}
+
+/* The three 9-bit mantissas of t as floats (exact): shifts, masks and int-to-float conversions,
+ * all of which vectorize. The fetch folds sl_e5_scale into its filter weights instead of
+ * multiplying each channel by it (texture_lod.h sl_e5_bilinear). */
+SL_FM_INLINE void sl_e5_mantissas(uint32_t t, float *r, float *g, float *b)
+{
+    *r = (float)(int)(t & 511u);
+    *g = (float)(int)((t >> 9) & 511u);
+    *b = (float)(int)((t >> 18) & 511u);
+}
+
+/* The three channels of t: the mantissas times the scale. */
 SL_FM_INLINE void sl_e5_decode(uint32_t t, int bias, float *r, float *g, float *b)
 {
-    const float s = sl_fm_float((uint32_t)((int)(t >> 27) + bias) << 23);
-    *r = (float)(int)(t & 511u) * s;
-    *g = (float)(int)((t >> 9) & 511u) * s;
-    *b = (float)(int)((t >> 18) & 511u) * s;
+    const float s = sl_e5_scale(t, bias);
+    sl_e5_mantissas(t, r, g, b);
+    *r *= s;
+    *g *= s;
+    *b *= s;
 }
 
 #endif

@@ -191,10 +191,15 @@ __attribute__((always_inline)) static inline vec3 sl_pair_gather_lod(const sl_en
     return mix3(sl_pair_bilinear(g, l0, u, v), sl_pair_bilinear(g, l1, u, v), f);
 }
 
-/* sl_pair_bilinear from the compact rows (sl_env.e5, texel_e5.h): the same texel positions and
- * filter, on texels within 1.96e-3 of the max channel of the float ones; each row's two texels
- * are one 64-bit read. */
-__attribute__((always_inline)) static inline vec3 sl_e5_bilinear(const sl_env_gather *g, int l, float u, float v)
+/* sl_pair_bilinear from the compact rows (sl_env.e5, texel_e5.h), times a weight wl (the
+ * trilinear filter's weight of level l): the same texel positions and filter, on texels within
+ * 1.96e-3 of the max channel of the float ones; each row's two texels are one 64-bit read.
+ * Written as one weight per texel, wl times its bilinear weight times its power of two
+ * (sl_e5_scale), applied to its mantissas: the decode's multiply by the scale and the filter's
+ * mixes become one multiply and add a channel (the mixes' a + (b - a) f, as
+ * (1 - f) a + f b; the same value to float rounding). */
+__attribute__((always_inline)) static inline vec3 sl_e5_bilinear(const sl_env_gather *g, int l, float u, float v,
+                                                               float wl)
 {
     const int w = sl_e5_size(g->e5_w, l), h = sl_e5_size(g->e5_h, l); /* shifts, not table reads */
     const sl_latlong_taps t = sl_latlong_taps_at(w, h, u, v);
@@ -210,23 +215,28 @@ __attribute__((always_inline)) static inline vec3 sl_e5_bilinear(const sl_env_ga
 #else
     const uint32_t t00 = (uint32_t)(q0 >> 32), t10 = (uint32_t)q0, t01 = (uint32_t)(q1 >> 32), t11 = (uint32_t)q1;
 #endif
-    float a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5; /* texel x0 RGB, texel x1 RGB */
-    sl_e5_decode(t00, g->e5_bias, &a0, &a1, &a2);
-    sl_e5_decode(t10, g->e5_bias, &a3, &a4, &a5);
-    sl_e5_decode(t01, g->e5_bias, &b0, &b1, &b2);
-    sl_e5_decode(t11, g->e5_bias, &b3, &b4, &b5);
-    vec3 top = vec3(mixf(a0, a3, fx), mixf(a1, a4, fx), mixf(a2, a5, fx));
-    vec3 bottom = vec3(mixf(b0, b3, fx), mixf(b1, b4, fx), mixf(b2, b5, fx));
-    return mix3(top, bottom, fy);
+    const int bias = g->e5_bias;
+    const float top = wl * (1.0f - fy), bottom = wl * fy;
+    const float w00 = top * (1.0f - fx) * sl_e5_scale(t00, bias), w10 = top * fx * sl_e5_scale(t10, bias);
+    const float w01 = bottom * (1.0f - fx) * sl_e5_scale(t01, bias), w11 = bottom * fx * sl_e5_scale(t11, bias);
+    float a0, a1, a2, a3, a4, a5, b0, b1, b2, b3, b4, b5; /* mantissas: texel x0 RGB, texel x1 RGB */
+    sl_e5_mantissas(t00, &a0, &a1, &a2);
+    sl_e5_mantissas(t10, &a3, &a4, &a5);
+    sl_e5_mantissas(t01, &b0, &b1, &b2);
+    sl_e5_mantissas(t11, &b3, &b4, &b5);
+    return vec3((w00 * a0 + w10 * a3) + (w01 * b0 + w11 * b3), (w00 * a1 + w10 * a4) + (w01 * b1 + w11 * b4),
+                (w00 * a2 + w10 * a5) + (w01 * b2 + w11 * b5));
 }
 
-/* sl_pair_gather_lod from the compact rows (g->e5 must be set): 4 64-bit reads a sample. */
+/* sl_pair_gather_lod from the compact rows (g->e5 must be set): 4 64-bit reads a sample; the
+ * levels weighted 1 - f and f (mix's value to float rounding; f = 0 gives level l0's exactly,
+ * as level l1's finite texels then add +0). */
 __attribute__((always_inline)) static inline vec3 sl_e5_gather_lod(const sl_env_gather *g, float u, float v, float lod)
 {
     int l0 = (int)lod;
     float f = lod - (float)l0;
     int l1 = l0 < g->last ? l0 + 1 : g->last;
-    return mix3(sl_e5_bilinear(g, l0, u, v), sl_e5_bilinear(g, l1, u, v), f);
+    return add(sl_e5_bilinear(g, l0, u, v, 1.0f - f), sl_e5_bilinear(g, l1, u, v, f));
 }
 
 /* ---- The octahedral layout (env_oct.c): the same trilinear filter over S x S levels whose
