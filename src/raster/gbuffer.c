@@ -65,13 +65,7 @@ void sl_gbuffer_extra_clear(sl_gbuffer *gb)
 
 void sl_gbuffer_extra_resolve(sl_gbuffer *gb)
 {
-    if (!gb->extra)
-        return;
-    long n = (long)gb->width * gb->height;
-#pragma omp parallel for schedule(static)
-    for (long i = 0; i < n; i++)
-        if (gb->extra[i].depth != gb->texels[i].depth)
-            gb->extra[i] = extra_none;
+    sl_gbuffer_extra_resolve_rect(gb, 0, 0, gb->width - 1, gb->height - 1, NULL, 0);
 }
 
 void sl_gbuffer_extra_clear_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1)

@@ -24,13 +24,20 @@
 
 static int64_t floor_div256(int64_t n) { return n >= 0 ? n / 256 : -((-n + 255) / 256); }
 
+/* The capacity an array of capacity cap grows to for need elements: doubled from 64. */
+static size_t grown_cap(size_t cap, size_t need)
+{
+    size_t ncap = cap ? cap : 64;
+    while (ncap < need)
+        ncap *= 2;
+    return ncap;
+}
+
 static bool grow(void **p, size_t elem, size_t need, size_t *cap)
 {
     if (need <= *cap)
         return true;
-    size_t ncap = *cap ? *cap : 64;
-    while (ncap < need)
-        ncap *= 2;
+    size_t ncap = grown_cap(*cap, need);
     void *q = realloc(*p, ncap * elem);
     if (!q)
         return false;
@@ -43,12 +50,9 @@ static bool grow(void **p, size_t elem, size_t need, size_t *cap)
  * triangle is two lines, not three (realloc keeps no alignment, so this copies). */
 static bool grow_tris(rast_chunk *ch, size_t need)
 {
-    size_t cap = (size_t)ch->tri_cap;
-    if (need <= cap)
+    if (need <= (size_t)ch->tri_cap)
         return true;
-    size_t ncap = cap ? cap : 64;
-    while (ncap < need)
-        ncap *= 2;
+    size_t ncap = grown_cap((size_t)ch->tri_cap, need);
     rast_tri *q = aligned_alloc(RAST_CACHE_LINE, ncap * sizeof *q); /* a multiple of the alignment */
     if (!q)
         return false;
