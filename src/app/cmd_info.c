@@ -109,7 +109,7 @@ static size_t oct_chain_texels(int env_w)
 
 /* env_w x env_h: the environment (0 x 0: none, a 1x1 black map); irr_w x irr_h: the scene's
  * irradiance map when the render reads it; file sizes as on disk; lobe_sets: how many split-sum
- * chains the materials need (update_splitsum in src/render/renderer.c: Phong, GGX or both). */
+ * chains the materials need (sl_renderer_splitsum_sets: Phong, GGX or both). */
 static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
                                  int irr_h, size_t irr_file, size_t mesh_bytes, long vertices, size_t gbuffer_pixel,
                                  int lobe_sets)
@@ -297,12 +297,8 @@ int cmd_info(int argc, char **argv)
     for (int i = 0; i < scene.object_count; i++)
         extra |= sl_material_extra(&scene.materials[scene.objects[i].material]);
     size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra);
-    bool phong = false, ggx = false; /* the split sum's lobe sets: update_splitsum's rule */
-    for (int i = 0; i < scene.material_count; i++) {
-        ggx |= scene.materials[i].brdf == SL_BRDF_GGX;
-        phong |= scene.materials[i].brdf != SL_BRDF_GGX;
-    }
-    phong |= !ggx;
+    bool phong, ggx; /* the split sum's lobe sets */
+    sl_renderer_splitsum_sets(&scene, &phong, &ggx);
     memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,
                                   irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices, gbuffer_pixel,
                                   (int)phong + (int)ggx);

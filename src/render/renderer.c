@@ -87,6 +87,16 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
  * viewer's moving frames set; SL_ESTIMATOR_DEFAULT: desc's); rebuilt when the environment or
  * the env lights change, never per frame. A scene and a viewer that never use the estimator pay
  * nothing. */
+void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
+{
+    *phong = *ggx = false;
+    for (int m = 0; m < scene->material_count; m++) {
+        *ggx |= scene->materials[m].brdf == SL_BRDF_GGX;
+        *phong |= scene->materials[m].brdf != SL_BRDF_GGX;
+    }
+    *phong |= !*ggx;
+}
+
 static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *err)
 {
     sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
@@ -106,13 +116,8 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
             return sl_fail(err, SL_ERR_MEMORY, "no memory for the split-sum table");
         sl_splitsum_lut_build(r->splitsum_lut);
     }
-    /* only the lobe sets the scene's materials use (the Phong one when there are none) */
-    bool phong = false, ggx = false;
-    for (int m = 0; m < r->scene->material_count; m++) {
-        ggx |= r->scene->materials[m].brdf == SL_BRDF_GGX;
-        phong |= r->scene->materials[m].brdf != SL_BRDF_GGX;
-    }
-    phong |= !ggx;
+    bool phong, ggx;
+    sl_renderer_splitsum_sets(r->scene, &phong, &ggx);
     if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false}, err)) ||
         (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true}, err))) {
         sl_env_free(&r->splitsum_phong);
