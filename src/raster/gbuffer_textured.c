@@ -424,13 +424,37 @@ static int same_fetch(const sl_gbuffer_tex_uniforms *u, int slot)
     return -1;
 }
 
+/* The earlier fetched slot (not a same_fetch copy) whose sampler takes the same plan as `slot`'s
+ * (sl_texture_same_plan: a map of the same size and sampler state) with the same uv transform, or
+ * -1: its lambdas, levels, texel offsets and weights are the ones `slot` would compute, so only
+ * its texels are read (pbr.json: the base colour, normal and occlusion-roughness-metallic maps). */
+static int same_plan(const sl_gbuffer_tex_uniforms *u, int slot, const int *planned)
+{
+    const vec4 st = map_st(u, slot);
+    for (int k = 0; k < slot; k++) {
+        const vec4 ot = map_st(u, k);
+        if (planned[k] >= 0 && !memcmp(&ot, &st, sizeof st) && sl_texture_same_plan(map_sampler(u, k), map_sampler(u, slot)))
+            return k;
+    }
+    return -1;
+}
+
 void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
 {
     const sl_gbuffer_tex_uniforms *u = uniforms;
     const int lanes = 4 * q->n;
     _Alignas(64) float val[SL_MAP_COUNT][4][SL_QUAD_LANES];
+    /* the plans made so far (SL_GBUFFER_PLANS at most; a slot past them makes its own in `own`),
+     * and which one each slot fetched with (-1: none, a copy, or unbound) */
+    enum { SL_GBUFFER_PLANS = 3 };
+    sl_texture_quads_plan plans[SL_GBUFFER_PLANS], own;
+    _Alignas(64) float us[SL_GBUFFER_PLANS][SL_QUAD_LANES], vs[SL_GBUFFER_PLANS][SL_QUAD_LANES];
+    _Alignas(64) float own_u[SL_QUAD_LANES], own_v[SL_QUAD_LANES];
+    float lambda[SL_GBUFFER_PLANS][SL_QUADS_MAX], own_lambda[SL_QUADS_MAX];
+    int planned[SL_MAP_COUNT], plan_count = 0;
     const float *tu = q->varyings[6], *tv = q->varyings[7];
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
+        planned[slot] = -1;
         if (!(u->uMaps & (1 << slot)))
             continue;
         const int same = u->trace ? -1 : same_fetch(u, slot); /* a trace records every fetch */
@@ -440,19 +464,28 @@ void sl_gbuffer_tex_frag_quads(const void *uniforms, const sl_fragment_quads *q)
             continue;
         }
         const sl_sampler2D *s = map_sampler(u, slot);
+        float *const rgba[4] = {val[slot][0], val[slot][1], val[slot][2], val[slot][3]};
+        const int shared = u->trace ? -1 : same_plan(u, slot, planned);
+        if (shared >= 0) {
+            planned[slot] = planned[shared];
+            sl_texture_fetch_quads(s, &plans[planned[slot]], rgba);
+            continue;
+        }
+        const int k = plan_count < SL_GBUFFER_PLANS ? plan_count++ : -1;
+        sl_texture_quads_plan *plan = k >= 0 ? &plans[k] : &own;
+        float *pu = k >= 0 ? us[k] : own_u, *pv = k >= 0 ? vs[k] : own_v, *pl = k >= 0 ? lambda[k] : own_lambda;
         const vec4 st = map_st(u, slot);
-        _Alignas(64) float us[SL_QUAD_LANES], vs[SL_QUAD_LANES];
-        float lambda[SL_QUADS_MAX];
 #pragma omp simd
         for (int j = 0; j < lanes; j++) {
-            us[j] = tu[j] * st.x + st.z; /* map_uv */
-            vs[j] = tv[j] * st.y + st.w;
+            pu[j] = tu[j] * st.x + st.z; /* map_uv */
+            pv[j] = tv[j] * st.y + st.w;
         }
-        sl_texture_lambda_quads(s, q->n, us, vs, 0.0f, lambda);
-        float *const rgba[4] = {val[slot][0], val[slot][1], val[slot][2], val[slot][3]};
-        sl_texture_sample_quads(s, q->n, us, vs, lambda, rgba);
+        sl_texture_lambda_quads(s, q->n, pu, pv, 0.0f, pl);
+        sl_texture_plan_quads(s, q->n, pu, pv, pl, plan);
+        sl_texture_fetch_quads(s, plan, rgba);
+        planned[slot] = k;
         if (u->trace)
-            trace_lanes(u, q, slot, us, vs, lambda, rgba);
+            trace_lanes(u, q, slot, pu, pv, pl, rgba);
     }
     _Alignas(64) float nx[SL_QUAD_LANES], ny[SL_QUAD_LANES], nz[SL_QUAD_LANES];
     shading_normals(u, lanes, q->varyings, val[SL_MAP_NORMAL][0], val[SL_MAP_NORMAL][1], val[SL_MAP_NORMAL][2], nx, ny,

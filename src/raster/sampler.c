@@ -357,7 +357,7 @@ static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, in
 
 /* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
  * bilinear4_plane's mixes. */
-static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, int (*o)[SL_QUAD_LANES],
+static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, const int (*o)[SL_QUAD_LANES],
                                                                    float a, float b, float out[4])
 {
     const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
@@ -365,55 +365,68 @@ static inline __attribute__((always_inline)) void bilinear_texels(const float *p
         out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
 }
 
-void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
-                             float *const rgba[4])
+void sl_texture_plan_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                           sl_texture_quads_plan *plan)
 {
     const sl_texture *t = s->texture;
     const sl_sampler_state *st = &s->state;
     const int lanes = 4 * n;
-    if (!complete(t, st)) {
+    plan->n = n;
+    plan->u = u;
+    plan->v = v;
+    plan->lambda = lambda;
+    plan->complete = complete(t, st);
+    plan->any_fast = plan->any_two = false;
+    if (!plan->complete)
+        return;
+    /* the levels of each quad; quads the vector path does not take are sampled four lanes at a
+     * time (slow) */
+    _Alignas(64) int lv0[SL_QUAD_LANES], lv[SL_QUAD_LANES];
+    for (int q = 0; q < n; q++) {
+        tex_pick p = pick_levels(t, st, lambda[q]);
+        bool slow = !t->plane_storage || !p.linear;
+        plan->slow[q] = slow;
+        plan->any_fast |= !slow;
+        plan->any_two |= !slow && p.count == 2;
+        for (int l = 0; l < 4; l++) {
+            lv0[4 * q + l] = slow ? 0 : p.level;
+            plan->lv1[4 * q + l] = slow || p.count == 1 ? -1 : p.level + 1;
+            plan->frac[4 * q + l] = p.frac;
+        }
+    }
+    if (!plan->any_fast)
+        return;
+    /* the texel offsets and weights in vector loops */
+    bilinear_offsets(t, st, lanes, u, v, lv0, plan->o0, plan->a0, plan->b0);
+    if (plan->any_two) {
+        for (int j = 0; j < lanes; j++)
+            lv[j] = plan->lv1[j] < 0 ? lv0[j] : plan->lv1[j];
+        bilinear_offsets(t, st, lanes, u, v, lv, plan->o1, plan->a1, plan->b1);
+    }
+}
+
+void sl_texture_fetch_quads(const sl_sampler2D *s, const sl_texture_quads_plan *plan, float *const rgba[4])
+{
+    const int n = plan->n, lanes = 4 * n;
+    if (!plan->complete) {
         for (int j = 0; j < lanes; j++) {
             rgba[0][j] = rgba[1][j] = rgba[2][j] = 0.0f;
             rgba[3][j] = 1.0f;
         }
         return;
     }
-    /* the levels of each quad; quads the vector path does not take are sampled four lanes at a
-     * time (slow: 1) */
-    _Alignas(64) int lv0[SL_QUAD_LANES], lv1[SL_QUAD_LANES];
-    _Alignas(64) float frac[SL_QUAD_LANES];
-    bool slow[SL_QUADS_MAX], any_fast = false, any_two = false;
-    for (int q = 0; q < n; q++) {
-        tex_pick p = pick_levels(t, st, lambda[q]);
-        slow[q] = !t->plane_storage || !p.linear;
-        any_fast |= !slow[q];
-        any_two |= !slow[q] && p.count == 2;
-        for (int l = 0; l < 4; l++) {
-            lv0[4 * q + l] = slow[q] ? 0 : p.level;
-            lv1[4 * q + l] = slow[q] || p.count == 1 ? -1 : p.level + 1;
-            frac[4 * q + l] = p.frac;
-        }
-    }
-    if (any_fast) {
-        /* the texel offsets and weights in vector loops; then the fetch lane by lane, a texel a
-         * 16-byte load (gathers, a float each, were slower: four times the loads) */
-        const float *plane = t->plane_storage;
-        _Alignas(64) int o0[4][SL_QUAD_LANES], o1[4][SL_QUAD_LANES], lv[SL_QUAD_LANES];
-        _Alignas(64) float a0[SL_QUAD_LANES], b0[SL_QUAD_LANES], a1[SL_QUAD_LANES], b1[SL_QUAD_LANES];
-        bilinear_offsets(t, st, lanes, u, v, lv0, o0, a0, b0);
-        if (any_two) {
-            for (int j = 0; j < lanes; j++)
-                lv[j] = lv1[j] < 0 ? lv0[j] : lv1[j];
-            bilinear_offsets(t, st, lanes, u, v, lv, o1, a1, b1);
-        }
+    if (plan->any_fast) {
+        /* lane by lane, a texel a 16-byte load (gathers, a float each, were slower: four times
+         * the loads) */
+        const float *plane = s->texture->plane_storage;
         float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
         for (int j = 0; j < lanes; j++) {
             float c0[4], c1[4];
-            bilinear_texels(plane, j, o0, a0[j], b0[j], c0);
-            if (lv1[j] >= 0) {
-                bilinear_texels(plane, j, o1, a1[j], b1[j], c1);
+            bilinear_texels(plane, j, plan->o0, plan->a0[j], plan->b0[j], c0);
+            if (plan->lv1[j] >= 0) {
+                bilinear_texels(plane, j, plan->o1, plan->a1[j], plan->b1[j], c1);
                 for (int c = 0; c < 4; c++)
-                    c0[c] = mixf(c0[c], c1[c], frac[j]);
+                    c0[c] = mixf(c0[c], c1[c], plan->frac[j]);
             }
             r[j] = c0[0];
             g[j] = c0[1];
@@ -422,13 +435,13 @@ void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const
         }
     }
     for (int q = 0; q < n; q++) {
-        if (!slow[q])
+        if (!plan->slow[q])
             continue;
         vec2 uv[4];
         vec4 out[4];
         for (int l = 0; l < 4; l++)
-            uv[l] = vec2(u[4 * q + l], v[4 * q + l]);
-        sl_texture_sample4(s, uv, lambda[q], out);
+            uv[l] = vec2(plan->u[4 * q + l], plan->v[4 * q + l]);
+        sl_texture_sample4(s, uv, plan->lambda[q], out);
         for (int l = 0; l < 4; l++) {
             rgba[0][4 * q + l] = out[l].x;
             rgba[1][4 * q + l] = out[l].y;
@@ -436,6 +449,37 @@ void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const
             rgba[3][4 * q + l] = out[l].w;
         }
     }
+}
+
+void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                             float *const rgba[4])
+{
+    sl_texture_quads_plan plan;
+    sl_texture_plan_quads(s, n, u, v, lambda, &plan);
+    sl_texture_fetch_quads(s, &plan, rgba);
+}
+
+/* Floats compared bitwise: 0 and -0, or two NaNs, are not assumed to act alike. */
+static bool same_float(float a, float b) { return !memcmp(&a, &b, sizeof a); }
+
+bool sl_texture_same_plan(const sl_sampler2D *a, const sl_sampler2D *b)
+{
+    const sl_texture *ta = a->texture, *tb = b->texture;
+    const sl_sampler_state *sa = &a->state, *sb = &b->state;
+    if (!ta || !tb || sa->min_filter != sb->min_filter || sa->mag_filter != sb->mag_filter ||
+        sa->wrap_s != sb->wrap_s || sa->wrap_t != sb->wrap_t || !same_float(sa->lod_bias, sb->lod_bias) ||
+        !same_float(sa->min_lod, sb->min_lod) || !same_float(sa->max_lod, sb->max_lod))
+        return false;
+    if (complete(ta, sa) != complete(tb, sb) || ta->levels != tb->levels || !ta->plane_storage != !tb->plane_storage)
+        return false;
+    for (int l = 0; l < ta->levels; l++) {
+        if (ta->level[l].width != tb->level[l].width || ta->level[l].height != tb->level[l].height)
+            return false;
+        if (ta->plane_storage && (const float *)(const void *)ta->plane[l].texels - ta->plane_storage !=
+                                     (const float *)(const void *)tb->plane[l].texels - tb->plane_storage)
+            return false;
+    }
+    return true;
 }
 
 vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)

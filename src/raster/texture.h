@@ -63,6 +63,7 @@
 #include "../core/error.h"
 #include "../core/glsl.h"
 #include "../ibl/ibl.h" /* the environment's textureLod, the other overload of the name */
+#include "raster.h"        /* SL_QUADS_MAX, SL_QUAD_LANES: the multi-quad forms' sizes */
 
 typedef enum {
     SL_TEX_R8, SL_TEX_RG8, SL_TEX_RGB8, SL_TEX_RGBA8,     /* UNORM8 */
@@ -163,5 +164,29 @@ void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, v
 void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda);
 void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
                              float *const rgba[4]);
+
+/* sl_texture_sample_quads in its two steps, so that maps of one layout sampled at the same
+ * coordinates (glTF's base colour, normal and occlusion-roughness-metallic images, all one size)
+ * share the first: sl_texture_plan_quads picks each quad's levels and computes each lane's texel
+ * offsets and filter weights, which depend on the sampler state, the level sizes, u, v and lambda
+ * but not on the texels; sl_texture_fetch_quads reads and filters the texels of s with a plan.
+ * A plan made for sampler a serves sampler b (the same bits as b's own) when
+ * sl_texture_same_plan(a, b): the same sampler state, completeness, levels and level sizes, and
+ * both with a decoded plane of the same layout, or both without. The plan keeps u, v and lambda
+ * (pointers): they must outlive it. */
+typedef struct {
+    int n;                                            /* quads */
+    const float *u, *v, *lambda;                      /* what it was made for */
+    bool complete, any_fast, any_two;                 /* any quad on the vector path; with two levels */
+    bool slow[SL_QUADS_MAX];                          /* quads sampled four lanes at a time instead */
+    _Alignas(64) int lv1[SL_QUAD_LANES];              /* second level of each lane, -1 for one level */
+    _Alignas(64) float frac[SL_QUAD_LANES];           /* its weight */
+    _Alignas(64) int o0[4][SL_QUAD_LANES], o1[4][SL_QUAD_LANES]; /* texel offsets in floats, per level */
+    _Alignas(64) float a0[SL_QUAD_LANES], b0[SL_QUAD_LANES], a1[SL_QUAD_LANES], b1[SL_QUAD_LANES];
+} sl_texture_quads_plan;
+void sl_texture_plan_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
+                           sl_texture_quads_plan *plan);
+void sl_texture_fetch_quads(const sl_sampler2D *s, const sl_texture_quads_plan *plan, float *const rgba[4]);
+bool sl_texture_same_plan(const sl_sampler2D *a, const sl_sampler2D *b);
 
 #endif
