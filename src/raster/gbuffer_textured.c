@@ -14,6 +14,7 @@
  * coordinate vTexCoord * ST.xy + ST.zw with an implicit level of detail, as GLSL's texture().
  * glTF's metallic-roughness per texel (uMetallic >= 0) and the extra channels (occlusion,
  * emission) are separate functions after the texel is written, so the common path is unchanged. */
+#include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -213,21 +214,21 @@ static void finish_fragment(const sl_gbuffer_tex_uniforms *u, const sl_fragment_
         write_extra(u, in->x, in->y, sl_fragment_stores(in), in->frag_coord.z, m);
 }
 
-/* The uniforms of map slot `slot`: its sampler and its uv transform. */
-static const sl_sampler2D *map_sampler(const sl_gbuffer_tex_uniforms *u, int slot)
+/* The uniforms of map slot `slot`: its sampler and its uv transform, found by offset (the
+ * multi-quad form looks them up for every slot pair in same_fetch and same_plan, each call). */
+#define SLOT_FIELDS(F)                                                                                        \
+    {offsetof(sl_gbuffer_tex_uniforms, uKd##F), offsetof(sl_gbuffer_tex_uniforms, uKs##F),                     \
+     offsetof(sl_gbuffer_tex_uniforms, uAlpha##F), offsetof(sl_gbuffer_tex_uniforms, uNormal##F),              \
+     offsetof(sl_gbuffer_tex_uniforms, uMask##F), offsetof(sl_gbuffer_tex_uniforms, uMetallicRoughness##F),    \
+     offsetof(sl_gbuffer_tex_uniforms, uOcclusion##F), offsetof(sl_gbuffer_tex_uniforms, uEmissive##F)}
+static const size_t sampler_offset[SL_MAP_COUNT] = SLOT_FIELDS(Map), st_offset[SL_MAP_COUNT] = SLOT_FIELDS(MapST);
+static inline const sl_sampler2D *map_sampler(const sl_gbuffer_tex_uniforms *u, int slot)
 {
-    const sl_sampler2D *s[SL_MAP_COUNT] = {&u->uKdMap,     &u->uKsMap,
-                                           &u->uAlphaMap,  &u->uNormalMap,
-                                           &u->uMaskMap,   &u->uMetallicRoughnessMap,
-                                           &u->uOcclusionMap, &u->uEmissiveMap};
-    return s[slot];
+    return (const sl_sampler2D *)(const void *)((const char *)u + sampler_offset[slot]);
 }
-static vec4 map_st(const sl_gbuffer_tex_uniforms *u, int slot)
+static inline vec4 map_st(const sl_gbuffer_tex_uniforms *u, int slot)
 {
-    const vec4 st[SL_MAP_COUNT] = {u->uKdMapST,   u->uKsMapST,   u->uAlphaMapST,
-                                   u->uNormalMapST, u->uMaskMapST, u->uMetallicRoughnessMapST,
-                                   u->uOcclusionMapST, u->uEmissiveMapST};
-    return st[slot];
+    return *(const vec4 *)(const void *)((const char *)u + st_offset[slot]);
 }
 
 /* gbuffer_textured.frag: main(). Every map is sampled before the discard, so that each lane of a
@@ -433,7 +434,8 @@ static int same_plan(const sl_gbuffer_tex_uniforms *u, int slot, const int *plan
     const vec4 st = map_st(u, slot);
     for (int k = 0; k < slot; k++) {
         const vec4 ot = map_st(u, k);
-        if (planned[k] >= 0 && !memcmp(&ot, &st, sizeof st) && sl_texture_same_plan(map_sampler(u, k), map_sampler(u, slot)))
+        if (planned[k] >= 0 && !memcmp(&ot, &st, sizeof st) &&
+            sl_texture_same_plan(map_sampler(u, k), map_sampler(u, slot)))
             return k;
     }
     return -1;
