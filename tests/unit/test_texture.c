@@ -843,8 +843,9 @@ static void test_textured_program_forms(void **state)
     unsigned char data[64 * 32 * 4];
     for (size_t i = 0; i < sizeof data; i++)
         data[i] = (unsigned char)(rand() & 0xff);
-    sl_texture *kd = NULL, *nm = NULL, *mask = NULL;
+    sl_texture *kd = NULL, *nm = NULL, *mask = NULL, *kd2 = NULL;
     assert_true(sl_texture_create(SL_TEX_SRGB8, 64, 32, data, true, &kd, &err));
+    assert_true(sl_texture_create(SL_TEX_RGB8, 64, 32, data + 3, true, &kd2, &err));
     assert_true(sl_texture_create(SL_TEX_RGB8, 16, 16, data + 7, true, &nm, &err));
     assert_true(sl_texture_create(SL_TEX_RGBA8, 13, 7, data + 100, true, &mask, &err));
     sl_mesh sphere, plane;
@@ -885,13 +886,20 @@ static void test_textured_program_forms(void **state)
     }
     sl_gbuffer gb[3] = {{0}, {0}, {0}};
     /* shared 1: the occlusion slot samples the metallic-roughness slot's texture with its sampler
-     * and uv transform (glTF's packed image): the multi-quad form fetches it once (same_fetch) */
-    for (int shared = 0; shared < 2; shared++)
+     * and uv transform (glTF's packed image): the multi-quad form fetches it once (same_fetch).
+     * shared 2, also: the normal slot samples another texture of the kd map's size with its sampler
+     * and uv transform: the multi-quad form reads it with the kd slot's plan (same_plan) */
+    for (int shared = 0; shared < 3; shared++)
     for (int masked = 0; masked < 2; masked++)
         for (int threads = 1; threads <= 2; threads++) {
             for (int o = 0; o < 2 && shared; o++) {
                 u[o].uOcclusionMap = u[o].uMetallicRoughnessMap;
                 u[o].uOcclusionMapST = u[o].uMetallicRoughnessMapST;
+            }
+            for (int o = 0; o < 2 && shared == 2; o++) {
+                u[o].uNormalMap = (sl_sampler2D){kd2, u[o].uKdMap.state};
+                u[o].uNormalMapST = u[o].uKdMapST;
+                assert_true(sl_texture_same_plan(&u[o].uKdMap, &u[o].uNormalMap));
             }
             const sl_program *base = masked ? &sl_gbuffer_tex_masked_program : &sl_gbuffer_tex_program;
             sl_program quad = *base;
@@ -940,8 +948,73 @@ static void test_textured_program_forms(void **state)
     sl_mesh_free(&sphere);
     sl_mesh_free(&plane);
     sl_texture_destroy(kd);
+    sl_texture_destroy(kd2);
     sl_texture_destroy(nm);
     sl_texture_destroy(mask);
+}
+
+/* A fetch plan shared (sl_texture_plan_quads, sl_texture_fetch_quads): textures of one size under
+ * one sampler state take each other's plans, and a fetch through another texture's plan gives
+ * that texture's own multi-quad sample, bit for bit; a different size, sampler state or storage
+ * (no decoded plane) does not count as the same plan. */
+static void test_shared_plan(void **state)
+{
+    (void)state;
+    unsigned char data[32 * 16 * 4];
+    srand(11);
+    for (size_t i = 0; i < sizeof data; i++)
+        data[i] = (unsigned char)(rand() & 0xff);
+    sl_texture *a = NULL, *b = NULL, *small = NULL, *bytes = NULL;
+    sl_error err = {0};
+    assert_true(sl_texture_create(SL_TEX_SRGB8, 32, 16, data, true, &a, &err));
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 32, 16, data + 5, true, &b, &err));
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 16, 16, data, true, &small, &err));
+    assert_true(sl_texture_create(SL_TEX_RGBA8, 32, 16, data + 9, true, &bytes, &err));
+    tex_plane_drop(bytes);
+    long checked = 0;
+    for (int min = SL_NEAREST; min <= SL_LINEAR_MIPMAP_LINEAR; min++)
+        for (int w = 0; w < 9; w++) {
+            sl_filter mag = min & 1 ? SL_LINEAR : SL_NEAREST;
+            sl_wrap ws = (sl_wrap)(w % 3), wt = (sl_wrap)(w / 3);
+            sl_sampler2D sa = sampler(a, (sl_filter)min, mag, ws, wt), sb = sampler(b, (sl_filter)min, mag, ws, wt);
+            sl_sampler2D ssmall = sampler(small, (sl_filter)min, mag, ws, wt);
+            sl_sampler2D sbytes = sampler(bytes, (sl_filter)min, mag, ws, wt);
+            sl_sampler2D swrap = sampler(b, (sl_filter)min, mag, (sl_wrap)((w + 1) % 3), wt);
+            sl_sampler2D sbias = sb;
+            sbias.state.lod_bias = 0.5f;
+            assert_true(sl_texture_same_plan(&sa, &sb));
+            assert_true(sl_texture_same_plan(&sb, &sa));
+            assert_false(sl_texture_same_plan(&sa, &ssmall));
+            assert_false(sl_texture_same_plan(&sa, &sbytes));
+            assert_false(sl_texture_same_plan(&sa, &swrap));
+            assert_false(sl_texture_same_plan(&sa, &sbias));
+            for (int round = 0; round < 20; round++) {
+                int n = 1 + round % SL_QUADS_MAX;
+                float u[4 * SL_QUADS_MAX], v[4 * SL_QUADS_MAX], lambda[SL_QUADS_MAX];
+                for (int q = 0; q < n; q++) {
+                    float u0 = rnd(-2.0f, 3.0f), v0 = rnd(-2.0f, 3.0f), d = rnd(0.0f, 0.2f);
+                    for (int l = 0; l < 4; l++) {
+                        u[4 * q + l] = u0 + d * (float)(l & 1);
+                        v[4 * q + l] = v0 + d * (float)(l >> 1);
+                    }
+                }
+                sl_texture_lambda_quads(&sa, n, u, v, 0.0f, lambda);
+                sl_texture_quads_plan plan;
+                sl_texture_plan_quads(&sa, n, u, v, lambda, &plan);
+                float r[2][4 * SL_QUADS_MAX], g[2][4 * SL_QUADS_MAX], bl[2][4 * SL_QUADS_MAX], al[2][4 * SL_QUADS_MAX];
+                float *const shared[4] = {r[0], g[0], bl[0], al[0]}, *const own[4] = {r[1], g[1], bl[1], al[1]};
+                sl_texture_fetch_quads(&sb, &plan, shared);
+                sl_texture_sample_quads(&sb, n, u, v, lambda, own);
+                for (int c = 0; c < 4; c++)
+                    assert_memory_equal(shared[c], own[c], (size_t)(4 * n) * sizeof(float));
+                checked += 4 * n;
+            }
+        }
+    assert_true(checked > 10000);
+    sl_texture_destroy(a);
+    sl_texture_destroy(b);
+    sl_texture_destroy(small);
+    sl_texture_destroy(bytes);
 }
 
 int main(void)
@@ -960,6 +1033,7 @@ int main(void)
         cmocka_unit_test(test_fast_path_bits),
         cmocka_unit_test(test_lambda_quads),
         cmocka_unit_test(test_textured_program_forms),
+        cmocka_unit_test(test_shared_plan),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
