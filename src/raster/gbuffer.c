@@ -3,7 +3,13 @@
  * Layout and size are in docs/gbuffer.md (56 bytes a pixel, array of structs,
  * row 0 = bottom). Clearing 116 MB at 1920x1080 is memory-bound, so it is spread
  * over the OpenMP threads by rows; every texel gets the same bits either way. The extra plane
- * (occlusion, emission; gbuffer.h) is allocated, cleared and resolved here, only when asked for. */
+ * (occlusion, emission; gbuffer.h) is allocated, cleared and resolved here, only when asked for.
+ *
+ * Both planes start on a cache line: a tile's rows (64 texels of 56 or 20 bytes) are then whole
+ * lines at any width that is a multiple of 8 (1280, 1920), so two threads drawing neighbouring tiles
+ * never write one line. From malloc (16 bytes past a line) every row of a tile edge shared a line
+ * with the neighbour's, and those lines went back and forth between the cores while both tiles were
+ * cleared and shaded (docs/performance.md, "Session 9 (s9-gbuf)"). */
 #include "gbuffer.h"
 
 #include <stddef.h>
@@ -12,6 +18,14 @@
 
 #include "raster.h"
 
+#define GBUFFER_ALIGN 64 /* a cache line */
+
+/* `bytes` starting on a cache line (aligned_alloc wants a multiple of the alignment); free() frees it. */
+static void *plane_alloc(size_t bytes)
+{
+    return aligned_alloc(GBUFFER_ALIGN, (bytes + GBUFFER_ALIGN - 1) / GBUFFER_ALIGN * GBUFFER_ALIGN);
+}
+
 bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
 {
     if (width < 1 || height < 1 || width > SL_RASTER_MAX_SIZE || height > SL_RASTER_MAX_SIZE)
@@ -19,7 +33,7 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     if (gb->texels && gb->width == width && gb->height == height)
         return true;
     size_t n = (size_t)width * (size_t)height;
-    sl_gbuffer_texel *t = malloc(n * sizeof *t);
+    sl_gbuffer_texel *t = plane_alloc(n * sizeof *t);
     if (!t)
         return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for %dx%d (%zu bytes)", width, height,
                        n * sizeof *t);
@@ -43,7 +57,7 @@ bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err)
     if (gb->extra)
         return true;
     size_t n = (size_t)gb->width * (size_t)gb->height;
-    if (!(gb->extra = malloc(n * sizeof *gb->extra)))
+    if (!(gb->extra = plane_alloc(n * sizeof *gb->extra)))
         return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the extra channels of %dx%d (%zu bytes)",
                        gb->width, gb->height, n * sizeof *gb->extra);
     sl_gbuffer_extra_clear(gb);
