@@ -7,7 +7,7 @@
  * and bin one contiguous slice per thread into its own chunk (setup.c), and
  * rasterize the tiles in parallel (tile.c). Chunks are read back in
  * slice order, so bins hold triangles in submission order for any thread count.
- * Batching bounds the memory of set-up triangles (about 200 bytes each). A clear
+ * Batching bounds the memory of set-up triangles (128 bytes and 12 a varying each). A clear
  * (sl_draw.clear) is done by the first batch's tile pass, tile by tile (tile.c).
  * A list is drawn in one tile pass per batch rather than one per draw: each tile's
  * depth is loaded and stored, and its texels go through the cache, once per batch,
@@ -293,8 +293,9 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
     }
 }
 
-/* How many slices a stage of `work` items gets: one per thread, or one when the work is too
- * small to pay for a parallel region (RAST_PARALLEL_MIN); counts the region it will open. */
+/* How many slices a stage of `work` (in vertices' worth: RAST_WORK_*) gets: one per thread, or one
+ * when the work is too small to pay for a parallel region (RAST_PARALLEL_MIN); counts the region it
+ * will open. */
 static int stage_slices(sl_raster *r, long long work)
 {
     bool parallel = r->threads > 1 && work >= RAST_PARALLEL_MIN;
@@ -371,7 +372,7 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
 
     /* Indices: a bad one is an error, not a crash, found before any vertex is shaded. The
      * first draw with one is named, with its last bad index. */
-    int n = stage_slices(r, 3 * ntri);
+    int n = stage_slices(r, 3 * ntri / RAST_WORK_INDICES);
 #pragma omp parallel for schedule(static) num_threads(r->threads) if (n > 1)
     for (int c = 0; c < n; c++)
         check_slice(&d, c, n, &r->tasks[c]);
@@ -417,7 +418,7 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     bool oom = false;
     for (long long b0 = 0; (b0 < ntri || (b0 == 0 && d.clear_row)) && !oom; b0 += RAST_BATCH) {
         long long nb = ntri - b0 < RAST_BATCH ? ntri - b0 : RAST_BATCH;
-        n = stage_slices(r, nb);
+        n = stage_slices(r, nb * RAST_WORK_TRIANGLE);
 #pragma omp parallel for schedule(static) num_threads(r->threads) if (n > 1)
         for (int c = 0; c < nchunks; c++) {
             rast_chunk *ch = &chunks[c];
