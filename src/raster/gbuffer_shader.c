@@ -85,6 +85,7 @@ const sl_program sl_gbuffer_program = {
     .fragment = sl_gbuffer_frag,
     .varying_count = SL_GBUFFER_VARYINGS,
     .fragment_span = sl_gbuffer_frag_span,
+    .writes_depth = true, /* g->depth = frag_coord.z in both forms */
 };
 
 void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m)

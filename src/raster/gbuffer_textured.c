@@ -507,6 +507,7 @@ const sl_program sl_gbuffer_tex_program = {
     .fragment_quads = sl_gbuffer_tex_frag_quads,
     /* no `stores`: it cannot discard and stores its extra texel at its own pixel, so the last
      * of the rounds overwrites what the earlier rounds stored */
+    .writes_depth = true, /* finish_texel's and finish_lanes' g->depth */
 };
 const sl_program sl_gbuffer_tex_masked_program = {
     .vertex = sl_gbuffer_tex_vert,
@@ -518,6 +519,7 @@ const sl_program sl_gbuffer_tex_masked_program = {
     .quad_writes_texel = true, /* finish_texel sets every field of sl_gbuffer_texel */
     .fragment_quads = sl_gbuffer_tex_frag_quads,
     .stores = true, /* the extra texel: a lane may store it in a round and discard in the next */
+    .writes_depth = true, /* finish_texel's and finish_lanes' g->depth */
 };
 
 /* A scene map's sampler state: GL's filters for the scene's three names, wrap on both axes. */

@@ -220,6 +220,7 @@ typedef struct {
     int tile_size, tile_shift, tiles_x, tiles_y;
     bool stats;
     bool spans;          /* the span path (tile.c); false: per pixel */
+    bool depth_written;  /* every program of the list writes_depth: no copy of the tile's depth back */
     /* sl_draw.clear, during the first batch only: the clear texel repeated over a tile
      * row (tile_size texels), and its depth */
     const char *clear_row;

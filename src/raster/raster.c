@@ -338,8 +338,10 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
     /* a quad's 4 lanes (or one discarding fragment) write scratch texels first; a multi-quad
      * shader's lanes, up to SL_QUAD_LANES */
     size_t scratch_bytes = 0;
+    d.depth_written = true;
     for (int i = 0; i < count; i++) {
         const sl_program *p = draws[i].program;
+        d.depth_written &= p->writes_depth;
         size_t lanes = p->derivatives && p->fragment_quads ? SL_QUAD_LANES : 4;
         if ((p->derivatives || p->discards) && lanes * target->texel_size > scratch_bytes)
             scratch_bytes = lanes * target->texel_size;

@@ -157,6 +157,12 @@ typedef struct {
                                               point. A shader that cannot discard and stores only at
                                               its own pixel may leave it off: its last round
                                               overwrites what the earlier rounds stored */
+    bool writes_depth;                     /* every form of the fragment shader writes frag_coord.z
+                                              (frag_z) into the target's depth field (its texel's float
+                                              at sl_target.depth_offset) of each texel it writes: the
+                                              tile plane's depth, so a list of such programs leaves
+                                              the plane in its texels already and the tile does not
+                                              copy it back (tile.c) */
 } sl_program;
 
 /* A render target: width * height texels of texel_size bytes, row 0 = bottom. */

@@ -1006,7 +1006,10 @@ void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, in
     task->stats.quad_rounds += c.rounds;
     task->stats.helper_invocations += c.helpers;
 
-    if (depth)
+    /* the tile's depths back into its texels, unless every program wrote each fragment's depth
+     * there itself (sl_program.writes_depth): a fragment that passes sets the plane and its texel to
+     * the same z, and one that fails or discards changes neither */
+    if (depth && !d->depth_written)
         for (int y = py0; y <= py1; y++)
             for (int x = px0; x <= px1; x++)
                 memcpy(texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset,
