@@ -964,7 +964,7 @@ static void test_textured_program_forms(void **state)
 static void test_shared_plan(void **state)
 {
     (void)state;
-    unsigned char data[32 * 16 * 4];
+    unsigned char data[32 * 16 * 4 + 16]; /* and the offsets below */
     srand(11);
     for (size_t i = 0; i < sizeof data; i++)
         data[i] = (unsigned char)(rand() & 0xff);
