@@ -91,6 +91,14 @@ bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_imag
  * renderers and X servers take without converting), each code rounded like the PNG writer
  * (v * 255 + 0.5). `pitch` in bytes, a multiple of 4 (SDL's locked textures are). */
 void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch);
+/* What the window shows while `shown_pending` (a frame lit into r.radiance whose display image
+ * goes straight into the window, view_present.c): the tone map of r.radiance made into `shown`
+ * for the readers that need its values (screenshots, snapshots, the exact stage's rows), before
+ * anything overwrites r.radiance. Nothing to do when not pending. */
+typedef struct viewer viewer;
+bool view_shown_make(viewer *v, sl_error *err);
+/* The size of what the window shows (r.radiance's while pending, else `shown`'s; 0 x 0: none). */
+void view_shown_size(const viewer *v, int *w, int *h);
 /* `dst` gets `src`'s pixels: swapped when both have the same size (src then holds dst's old
  * pixels, a buffer of its size for the next tone map), else copied into dst (reallocated). */
 bool view_image_take(sl_image *dst, sl_image *src, sl_error *err);
@@ -209,7 +217,7 @@ typedef struct {
     int last_w, last_h;
 } view_bench;
 
-typedef struct {
+struct viewer {
     /* window (cmd_view.c; view_present.c: the texture) */
     struct SDL_Window *window;
     struct SDL_Renderer *sdl;
@@ -257,7 +265,11 @@ typedef struct {
     view_stage_params shown_params;
     int shown_stage;
     view_shown_source shown_from;
-    sl_image shown;  /* what the window shows, [0,1], row 0 = top */
+    sl_image shown;  /* what the window shows, [0,1], row 0 = top (unless shown_pending) */
+    bool shown_pending; /* the window shows the tone map of r.radiance, made in one pass into the
+                           texture (view_present.c); `shown` is made from it only when a reader
+                           needs it (view_shown_make): a moving frame's tone map and 8-bit
+                           conversion were two passes over the frame */
     float mip_max_seen;
     double raster_ms, shade_ms, tonemap_ms, present_ms;
     double last_present;
@@ -279,7 +291,7 @@ typedef struct {
     int shot_counter;
     int exit_status;
     bool quit;
-} viewer;
+};
 
 /* ---- view_refine.c ----
  * Stages in order; `stage` is the next one to render, VIEW_STAGE_COUNT when done. */

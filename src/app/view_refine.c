@@ -194,6 +194,7 @@ static bool tonemap_shown(viewer *v, const sl_image *linear, sl_error *err)
 {
     if (v->shown.data && (v->shown.width != linear->width || v->shown.height != linear->height))
         sl_image_free(&v->shown);
+    v->shown_pending = false;
     double t0 = sl_now_seconds();
     if (!sl_tonemap_image(linear, &v->shown, &v->r.desc.tonemap, err))
         return false;
@@ -209,11 +210,32 @@ static sl_image *job_target(viewer *v)
     return v->job_stage == VIEW_STAGE_ACCUMULATE ? &v->acc_frame : &v->r.radiance;
 }
 
+/* The lit frame in r.radiance goes to the window: its tone map is made in one pass into the
+ * window's texture at the next present (view_present.c), `shown` only when a reader needs it. The
+ * table is built here, so bad tone map settings fail here as sl_renderer_tonemap would. */
+static bool show_radiance(viewer *v, sl_error *err)
+{
+    if (!sl_renderer_tonemap_table(&v->r, err))
+        return false;
+    v->shown_pending = true;
+    v->texture_stale = true;
+    v->tonemap_ms = 0.0; /* the present measures the tone map */
+    v->shown_from = VIEW_SHOWN_RADIANCE;
+    return true;
+}
+
 /* Start a refinement stage: size, raster, then either the whole image (G-buffer views and the
  * mip view) or the first step of a sliced lighting pass (the final image). */
 static bool stage_begin(viewer *v, int stage, sl_error *err)
 {
     view_stage_params p = params_of(v, stage);
+    /* What the window shows must not lose r.radiance behind it: a moving frame replaces it whole
+     * (its radiance is of no use to anyone then); the other stages make it first (once a
+     * settle: the exact stage tone maps its rows over it, and all may resize r.radiance). */
+    if (stage == VIEW_STAGE_MOVING)
+        v->shown_pending = false;
+    else if (!view_shown_make(v, err))
+        return false;
     int w, h;
     view_render_size(v, p.div, &w, &h);
     v->job_active = false;
@@ -311,11 +333,8 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         v->acc_count++;
         v->acc_ms += v->shade_ms;
         v->shown_from = VIEW_SHOWN_MEAN;
-    } else {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
-            return false;
-        v->tonemap_ms = v->r.timings.tonemap_ms;
-        v->shown_from = VIEW_SHOWN_RADIANCE;
+    } else if (!show_radiance(v, err)) {
+        return false;
     }
     v->retonemap = false; /* the tone map just ran with the current settings */
     stage_finished(v);
@@ -406,10 +425,7 @@ bool view_refine_retonemap(viewer *v, sl_error *err)
 {
     v->retonemap = false;
     if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_RADIANCE) {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
-            return false;
-        v->tonemap_ms = v->r.timings.tonemap_ms;
-        v->texture_stale = true;
+        return show_radiance(v, err);
     } else if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_MEAN) {
         return tonemap_shown(v, &v->mean, err);
     }
