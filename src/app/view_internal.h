@@ -3,6 +3,7 @@
  *   cmd_view.c        the command: options, window and scene setup, the loop, acting on input
  *   view_refine.c     the refinement: which stage next (moving, accumulate, exact), rendering it
  *   view_present.c    the window: texture upload, the HUD, the help overlay, the message line
+ *   view_texture.c    the window's streaming texture: sized, locked, unlocked
  *   view_screenshot.c screenshots (the exact frame as .png + .hdr) and the script's snapshots
  *   view_script.c     --script: reading it, and running it a turn of the loop at a time
  *   view_input.c      keys, mouse, window events and drops -> state changes and a view_action
@@ -17,8 +18,9 @@
  *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
  *   view_input.c      -> view_present.c (messages), view_camera.c
  *   view_bench.c      -> view_refine.c, view_camera.c
- *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c
- *   view_refine.c     -> view_shade.c, view_image.c
+ *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c,
+ *                        view_texture.c
+ *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
  * Input does not restart the refinement or take screenshots itself: view_handle_event answers
  * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
@@ -114,6 +116,12 @@ typedef struct {
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
+    /* When display is set, each row is also tone mapped into it (row y at display + y
+     * display_pitch, sl_tonemap_row_xrgb8888) right after it is lit, while it is in cache:
+     * a moving frame goes straight into the window's texture (view_refine.c). */
+    const sl_tonemap_table *display_tab;
+    uint8_t *display;
+    int display_pitch;
 } view_shade_job;
 
 /* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default); rows are shaded
@@ -335,6 +343,12 @@ const char *view_irradiance_name(sl_irradiance_method m); /* "sh9", "brute", "ma
 /* How a stage lit its frame, for the HUD, snapshots and the benchmark: "split sum" or
  * "N 8 rotated" (view_present.c). */
 void view_stage_describe(const view_stage_params *s, char *buf, size_t size);
+
+/* ---- view_texture.c ---- */
+/* Lock the window's texture at w x h (recreated when its size differs) for writing: its pixels
+ * (XRGB8888 words) and pitch. False, with a message, when SDL cannot. */
+bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch);
+void view_texture_unlock(viewer *v);
 
 /* ---- view_screenshot.c ---- */
 /* The exact frame of the current view as <name>.png (what is shown, without the HUD) and

@@ -147,29 +147,19 @@ static bool upload(viewer *v, double *tone_ms)
     view_shown_size(v, &w, &h);
     if (w < 1 || h < 1)
         return false;
-    if (!v->texture || v->texture_w != w || v->texture_h != h) {
-        if (v->texture)
-            SDL_DestroyTexture(v->texture);
-        v->texture = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGB888, SDL_TEXTUREACCESS_STREAMING, w, h);
-        if (!v->texture) {
-            view_message(v, true, "SDL texture %dx%d: %s", w, h, SDL_GetError());
-            return false;
-        }
-        v->texture_w = w;
-        v->texture_h = h;
+    if (!v->texture || v->texture_w != w || v->texture_h != h)
         v->texture_stale = true;
-    }
     if (v->texture_stale) {
-        void *pixels;
+        uint8_t *pixels;
         int pitch;
-        if (SDL_LockTexture(v->texture, NULL, &pixels, &pitch) != 0)
+        if (!view_texture_lock(v, w, h, &pixels, &pitch))
             return false;
         if (v->shown_pending) {
             double t0 = sl_now_seconds();
             sl_error err = {0};
             const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, &err);
             if (!tab) {
-                SDL_UnlockTexture(v->texture);
+                view_texture_unlock(v);
                 view_message(v, true, "%s", err.msg);
                 return false;
             }
@@ -178,7 +168,7 @@ static bool upload(viewer *v, double *tone_ms)
         } else {
             view_image_to_xrgb8888(&v->shown, pixels, pitch);
         }
-        SDL_UnlockTexture(v->texture);
+        view_texture_unlock(v);
         v->texture_stale = false;
     }
     return true;

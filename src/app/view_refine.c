@@ -212,7 +212,8 @@ static sl_image *job_target(viewer *v)
 
 /* The lit frame in r.radiance goes to the window: its tone map is made in one pass into the
  * window's texture at the next present (view_present.c), `shown` only when a reader needs it. The
- * table is built here, so bad tone map settings fail here as sl_renderer_tonemap would. */
+ * table is built here, so bad tone map settings fail here as sl_renderer_tonemap would. (A
+ * moving frame's rows went into the texture as they were lit: stage_continue.) */
 static bool show_radiance(viewer *v, sl_error *err)
 {
     if (!sl_renderer_tonemap_table(&v->r, err))
@@ -305,7 +306,23 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
 {
     int first;
     sl_image *target = job_target(v);
+    /* A moving frame of the final view is lit whole: each row is tone mapped into the window's
+     * texture right after it is lit, while it is in cache (a pass of its own read the 11 MB
+     * frame back from memory), and the present only copies the texture. Where the texture
+     * cannot be locked, the present tone maps the frame instead. */
+    bool direct = false;
+    if (v->job_stage == VIEW_STAGE_MOVING && v->mode == VIEW_FINAL && isinf(budget_s)) {
+        const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, err);
+        if (!tab)
+            return false;
+        direct = view_texture_lock(v, target->width, target->height, &v->shade.display, &v->shade.display_pitch);
+        v->shade.display_tab = tab;
+    }
     bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, target, budget_s, &first);
+    if (direct) {
+        view_texture_unlock(v);
+        v->shade.display = NULL;
+    }
     if (v->job_stage != VIEW_STAGE_ACCUMULATE || done || v->acc_count == 0)
         v->shade_ms = v->shade.seconds * 1e3;
     if (!done) {
@@ -335,6 +352,8 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         v->shown_from = VIEW_SHOWN_MEAN;
     } else if (!show_radiance(v, err)) {
         return false;
+    } else if (direct) {
+        v->texture_stale = false; /* the rows are in the texture already */
     }
     v->retonemap = false; /* the tone map just ran with the current settings */
     stage_finished(v);

@@ -77,6 +77,9 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
              * library's pass does */
             vec3 *row = (vec3 *)(void *)sl_image_pixel(out, 0, y);
             sl_lighting_shade_row(u, gb, 0, height - 1 - y, width, task, row); /* G-buffer row 0 = bottom */
+            if (job->display)
+                sl_tonemap_row_xrgb8888(job->display_tab, &row[0].x, width,
+                                        (uint32_t *)(void *)(job->display + (size_t)y * (size_t)job->display_pitch));
         }
     }
     double dt = sl_now_seconds() - t0;

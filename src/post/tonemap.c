@@ -309,49 +309,53 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
     return true;
 }
 
-/* Pixels per chunk of the 32-bit path: 1020 values, whole pixels, codes in L1. */
+/* Pixels per chunk of the 32-bit path: 1020 values, whole pixels, in L1. */
 #define XRGB_CHUNK_PIXELS (TONEMAP_CHUNK / 3)
+
+void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int width, uint32_t *dst)
+{
+    const float e = tab->exposure;
+    const int base = tab->base, last = tab->count - 1;
+    const uint32_t *restrict seg = tab->seg;
+    for (int x0 = 0; x0 < width; x0 += XRGB_CHUNK_PIXELS) {
+        const int n = width - x0 < XRGB_CHUNK_PIXELS ? width - x0 : XRGB_CHUNK_PIXELS;
+        const float *restrict src = row + 3 * x0;
+        uint32_t *restrict out = dst + x0;
+        int missed = 0;
+        /* a pixel's three codes packed (strided loads: faster than codes to a buffer and a
+         * packing loop); a pixel with a code of -1 (the exact path's) is packed wrong and
+         * counted, and the loop after this one packs it again */
+#pragma omp simd
+        for (int i = 0; i < n; i++) {
+            int r = segment_code(src[3 * i], e, base, last, seg);
+            int g = segment_code(src[3 * i + 1], e, base, last, seg);
+            int b = segment_code(src[3 * i + 2], e, base, last, seg);
+            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            missed += (r | g | b) < 0;
+        }
+        for (int i = 0; missed && i < n; i++) {
+            int r = segment_code(src[3 * i], e, base, last, seg);
+            int g = segment_code(src[3 * i + 1], e, base, last, seg);
+            int b = segment_code(src[3 * i + 2], e, base, last, seg);
+            if ((r | g | b) >= 0)
+                continue;
+            r = r < 0 ? code_exact(tab, src[3 * i]) : r;
+            g = g < 0 ? code_exact(tab, src[3 * i + 1]) : g;
+            b = b < 0 ? code_exact(tab, src[3 * i + 2]) : b;
+            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            missed--;
+        }
+    }
+}
 
 void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch)
 {
     const int w = in->width, h = in->height;
-    const float e = tab->exposure;
-    const int base = tab->base, last = tab->count - 1;
-    const uint32_t *restrict seg = tab->seg;
     /* the same threshold as sl_tonemap_apply: a parallel region costs more than a small image */
 #pragma omp parallel for schedule(static) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
-    for (int y = 0; y < h; y++) {
-        const float *row = sl_image_pixel(in, 0, y);
-        uint32_t *dst = (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch);
-        for (int x0 = 0; x0 < w; x0 += XRGB_CHUNK_PIXELS) {
-            const int n = w - x0 < XRGB_CHUNK_PIXELS ? w - x0 : XRGB_CHUNK_PIXELS;
-            const float *src = row + 3 * x0;
-            uint32_t *out = dst + x0;
-            int missed = 0;
-            /* a pixel's three codes packed; a pixel with a code of -1 (the exact path's) is
-             * packed wrong and counted, and the loop after this one packs it again */
-#pragma omp simd
-            for (int i = 0; i < n; i++) {
-                int r = segment_code(src[3 * i], e, base, last, seg);
-                int g = segment_code(src[3 * i + 1], e, base, last, seg);
-                int b = segment_code(src[3 * i + 2], e, base, last, seg);
-                out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
-                missed += (r | g | b) < 0;
-            }
-            for (int i = 0; missed && i < n; i++) {
-                int r = segment_code(src[3 * i], e, base, last, seg);
-                int g = segment_code(src[3 * i + 1], e, base, last, seg);
-                int b = segment_code(src[3 * i + 2], e, base, last, seg);
-                if ((r | g | b) >= 0)
-                    continue;
-                r = r < 0 ? code_exact(tab, src[3 * i]) : r;
-                g = g < 0 ? code_exact(tab, src[3 * i + 1]) : g;
-                b = b < 0 ? code_exact(tab, src[3 * i + 2]) : b;
-                out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
-                missed--;
-            }
-        }
-    }
+    for (int y = 0; y < h; y++)
+        sl_tonemap_row_xrgb8888(tab, sl_image_pixel(in, 0, y), w,
+                                (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch));
 }
 
 bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)

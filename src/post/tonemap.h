@@ -76,6 +76,9 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
  * bytes equal that image's 8-bit conversion (v 255 + 0.5 rounded down gives k back). One pass
  * where a tone map and a conversion were two. OpenMP over rows. */
 void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch);
+/* One row of it: `width` RGB values from `row` into dst[0 .. width) (the viewer tone maps each
+ * row of a moving frame right after lighting it, while the row is in cache). */
+void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int width, uint32_t *dst);
 
 /* Tone map a 3-channel linear image into `out` (allocated when out->data is NULL, else it must
  * have in's size and 3 channels; out may be in itself): the display image, each value k/255 with
