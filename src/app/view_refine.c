@@ -352,11 +352,11 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         v->shown_from = VIEW_SHOWN_MEAN;
     } else if (!show_radiance(v, err)) {
         return false;
-    } else if (direct) {
-        v->texture_stale = false; /* the rows are in the texture already */
     }
     v->retonemap = false; /* the tone map just ran with the current settings */
     stage_finished(v);
+    if (direct)
+        v->texture_stale = false; /* the rows are in the texture already */
     return true;
 }
 
