@@ -15,7 +15,9 @@
  * thresholds (very high contrast), or near a threshold that failed its check, goes to the exact
  * path (x, then bisection over T). So each code is the exact curve's, bit for bit, as long as
  * the exact curve never decreases between two floats, which tests/unit/test_tonemap.c checks
- * around every threshold; it also compares the table with the formula around every U[k]. */
+ * around every threshold; it also compares the table with the formula around every U[k].
+ * The same lookup also writes the codes packed as 32-bit XRGB8888 pixels (sl_tonemap_row_xrgb8888),
+ * so the viewer's window gets the display image without a float image in between. */
 #include "tonemap.h"
 
 #include <math.h>
