@@ -59,8 +59,7 @@ void view_bench_record(viewer *v, double now)
         b->tonemap_ms[i] = v->tonemap_ms;
         b->present_ms[i] = v->present_ms;
         b->div_counts[v->shown_params.div]++;
-        b->last_w = v->shown.width;
-        b->last_h = v->shown.height;
+        view_shown_size(v, &b->last_w, &b->last_h);
     }
     b->last_present = now;
     if (i + 1 < b->frames)

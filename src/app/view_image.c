@@ -1,6 +1,7 @@
 /* view_image.c - the images the viewer can show besides the tone-mapped frame: G-buffer
- * channels and the per-pixel mip level of the specular samples, and the 8-bit conversion
- * every shown image goes through on its way into the window's texture. No SDL here. */
+ * channels and the per-pixel mip level of the specular samples, the 8-bit conversion every
+ * shown image goes through on its way into the window's texture, and the tone-mapped frame made
+ * into `shown` when it went straight into the window (view_shown_make). No SDL here. */
 #include "view_internal.h"
 
 #include <math.h>
@@ -28,6 +29,21 @@ static bool ensure_rgb(sl_image *img, int width, int height, sl_error *err)
         return true;
     sl_image_free(img);
     return sl_image_alloc(img, width, height, 3, err);
+}
+
+bool view_shown_make(viewer *v, sl_error *err)
+{
+    if (!v->shown_pending)
+        return true;
+    v->shown_pending = false;
+    return sl_renderer_tonemap(&v->r, err) && view_image_take(&v->shown, &v->r.display, err);
+}
+
+void view_shown_size(const viewer *v, int *w, int *h)
+{
+    const sl_image *img = v->shown_pending ? &v->r.radiance : &v->shown;
+    *w = img->data ? img->width : 0;
+    *h = img->data ? img->height : 0;
 }
 
 bool view_image_take(sl_image *dst, sl_image *src, sl_error *err)

@@ -35,6 +35,11 @@ static bool has_suffix(const char *s, const char *suffix)
 
 void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
 {
+    sl_error err = {0};
+    if (!view_shown_make(v, &err)) { /* r.radiance goes with the old renderer */
+        view_message(v, true, "%s", err.msg);
+        sl_image_free(&v->shown);
+    }
     if (v->scene) {
         sl_renderer_free(&v->r);
         sl_scene_free(v->scene);

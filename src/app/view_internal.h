@@ -3,6 +3,7 @@
  *   cmd_view.c        the command: options, window and scene setup, the loop, acting on input
  *   view_refine.c     the refinement: which stage next (moving, accumulate, exact), rendering it
  *   view_present.c    the window: texture upload, the HUD, the help overlay, the message line
+ *   view_texture.c    the window's streaming texture: sized, locked, unlocked
  *   view_screenshot.c screenshots (the exact frame as .png + .hdr) and the script's snapshots
  *   view_script.c     --script: reading it, and running it a turn of the loop at a time
  *   view_input.c      keys, mouse, window events and drops -> state changes and a view_action
@@ -17,8 +18,9 @@
  *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
  *   view_input.c      -> view_present.c (messages), view_camera.c
  *   view_bench.c      -> view_refine.c, view_camera.c
- *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c
- *   view_refine.c     -> view_shade.c, view_image.c
+ *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c,
+ *                        view_texture.c
+ *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
  * Input does not restart the refinement or take screenshots itself: view_handle_event answers
  * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
@@ -91,6 +93,14 @@ bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_imag
  * renderers and X servers take without converting), each code rounded like the PNG writer
  * (v * 255 + 0.5). `pitch` in bytes, a multiple of 4 (SDL's locked textures are). */
 void view_image_to_xrgb8888(const sl_image *img, uint8_t *pixels, int pitch);
+/* What the window shows while `shown_pending` (a frame lit into r.radiance whose display image
+ * goes straight into the window, view_present.c): the tone map of r.radiance made into `shown`
+ * for the readers that need its values (screenshots, snapshots, the exact stage's rows), before
+ * anything overwrites r.radiance. Nothing to do when not pending. */
+typedef struct viewer viewer;
+bool view_shown_make(viewer *v, sl_error *err);
+/* The size of what the window shows (r.radiance's while pending, else `shown`'s; 0 x 0: none). */
+void view_shown_size(const viewer *v, int *w, int *h);
 /* `dst` gets `src`'s pixels: swapped when both have the same size (src then holds dst's old
  * pixels, a buffer of its size for the next tone map), else copied into dst (reallocated). */
 bool view_image_take(sl_image *dst, sl_image *src, sl_error *err);
@@ -106,6 +116,12 @@ typedef struct {
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
+    /* When display is set, each row is also tone mapped into it (row y at display + y
+     * display_pitch, sl_tonemap_row_xrgb8888) right after it is lit, while it is in cache:
+     * a moving frame goes straight into the window's texture (view_refine.c). */
+    const sl_tonemap_table *display_tab;
+    uint8_t *display;
+    int display_pitch;
 } view_shade_job;
 
 /* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default); rows are shaded
@@ -209,7 +225,7 @@ typedef struct {
     int last_w, last_h;
 } view_bench;
 
-typedef struct {
+struct viewer {
     /* window (cmd_view.c; view_present.c: the texture) */
     struct SDL_Window *window;
     struct SDL_Renderer *sdl;
@@ -257,7 +273,11 @@ typedef struct {
     view_stage_params shown_params;
     int shown_stage;
     view_shown_source shown_from;
-    sl_image shown;  /* what the window shows, [0,1], row 0 = top */
+    sl_image shown;  /* what the window shows, [0,1], row 0 = top (unless shown_pending) */
+    bool shown_pending; /* the window shows the tone map of r.radiance, made in one pass into the
+                           texture (view_present.c); `shown` is made from it only when a reader
+                           needs it (view_shown_make): a moving frame's tone map and 8-bit
+                           conversion were two passes over the frame */
     float mip_max_seen;
     double raster_ms, shade_ms, tonemap_ms, present_ms;
     double last_present;
@@ -279,7 +299,7 @@ typedef struct {
     int shot_counter;
     int exit_status;
     bool quit;
-} viewer;
+};
 
 /* ---- view_refine.c ----
  * Stages in order; `stage` is the next one to render, VIEW_STAGE_COUNT when done. */
@@ -323,6 +343,12 @@ const char *view_irradiance_name(sl_irradiance_method m); /* "sh9", "brute", "ma
 /* How a stage lit its frame, for the HUD, snapshots and the benchmark: "split sum" or
  * "N 8 rotated" (view_present.c). */
 void view_stage_describe(const view_stage_params *s, char *buf, size_t size);
+
+/* ---- view_texture.c ---- */
+/* Lock the window's texture at w x h (recreated when its size differs) for writing: its pixels
+ * (XRGB8888 words) and pitch. False, with a message, when SDL cannot. */
+bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch);
+void view_texture_unlock(viewer *v);
 
 /* ---- view_screenshot.c ---- */
 /* The exact frame of the current view as <name>.png (what is shown, without the HUD) and

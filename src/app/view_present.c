@@ -81,10 +81,11 @@ static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160
     int n = 0;
     const sl_render_desc *d = &v->r.desc;
     const sl_lighting_options *l = &d->lighting;
-    int ow, oh;
+    int ow, oh, sw, sh;
     view_output_size(v, &ow, &oh);
+    view_shown_size(v, &sw, &sh);
     snprintf(buf[n++], 160, "%s  %dx%d (window %dx%d)  N %d  exposure %.3g  contrast %.2f", view_mode_name(v->mode),
-             v->shown.width, v->shown.height, ow, oh, l->samples, (double)d->tonemap.exposure,
+             sw, sh, ow, oh, l->samples, (double)d->tonemap.exposure,
              (double)d->tonemap.contrast);
     if (view_mode_needs_shading(v->mode))
         snprintf(buf[n++], 160, "raster %.1f ms  shading %.1f ms  tone map %.1f ms  present %.1f ms", v->raster_ms,
@@ -136,33 +137,38 @@ static const char *const help_text[] = {
 
 /* ------------------------------------------------------------------ the window */
 
-/* `shown` into the streaming texture (recreated when the size changed), converted only when it
- * changed since the last upload (texture_stale): a present with nothing new costs no conversion. */
-static bool upload(viewer *v)
+/* What the window shows into the streaming texture (recreated when the size changed), only when
+ * it changed since the last upload (texture_stale): a present with nothing new costs nothing.
+ * A lit frame (shown_pending) is tone mapped straight into the texture, one pass over the frame
+ * (its time is the tone map's, `tone_ms`); other images are converted from `shown`. */
+static bool upload(viewer *v, double *tone_ms)
 {
-    const sl_image *img = &v->shown;
-    if (!img->data)
+    int w, h;
+    view_shown_size(v, &w, &h);
+    if (w < 1 || h < 1)
         return false;
-    if (!v->texture || v->texture_w != img->width || v->texture_h != img->height) {
-        if (v->texture)
-            SDL_DestroyTexture(v->texture);
-        v->texture = SDL_CreateTexture(v->sdl, SDL_PIXELFORMAT_RGB888, SDL_TEXTUREACCESS_STREAMING, img->width,
-                                       img->height);
-        if (!v->texture) {
-            view_message(v, true, "SDL texture %dx%d: %s", img->width, img->height, SDL_GetError());
-            return false;
-        }
-        v->texture_w = img->width;
-        v->texture_h = img->height;
+    if (!v->texture || v->texture_w != w || v->texture_h != h)
         v->texture_stale = true;
-    }
     if (v->texture_stale) {
-        void *pixels;
+        uint8_t *pixels;
         int pitch;
-        if (SDL_LockTexture(v->texture, NULL, &pixels, &pitch) != 0)
+        if (!view_texture_lock(v, w, h, &pixels, &pitch))
             return false;
-        view_image_to_xrgb8888(img, pixels, pitch);
-        SDL_UnlockTexture(v->texture);
+        if (v->shown_pending) {
+            double t0 = sl_now_seconds();
+            sl_error err = {0};
+            const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, &err);
+            if (!tab) {
+                view_texture_unlock(v);
+                view_message(v, true, "%s", err.msg);
+                return false;
+            }
+            sl_tonemap_apply_xrgb8888(tab, &v->r.radiance, pixels, pitch);
+            *tone_ms = (sl_now_seconds() - t0) * 1e3;
+        } else {
+            view_image_to_xrgb8888(&v->shown, pixels, pitch);
+        }
+        view_texture_unlock(v);
         v->texture_stale = false;
     }
     return true;
@@ -170,9 +176,9 @@ static bool upload(viewer *v)
 
 void view_present(viewer *v)
 {
-    double t0 = sl_now_seconds();
+    double t0 = sl_now_seconds(), tone_ms = -1.0;
     /* the image covers the whole window: a clear only when there is none */
-    if (upload(v)) {
+    if (upload(v, &tone_ms)) {
         SDL_RenderCopy(v->sdl, v->texture, NULL, NULL);
     } else {
         SDL_SetRenderDrawColor(v->sdl, 0, 0, 0, 255);
@@ -192,6 +198,10 @@ void view_present(viewer *v)
     v->message_shown = now < v->message_until;
     v->last_present = sl_now_seconds();
     v->present_ms = (v->last_present - t0) * 1e3;
+    if (tone_ms >= 0.0) { /* the tone map ran in the upload: its time is the tone map's, not the present's */
+        v->tonemap_ms = tone_ms;
+        v->present_ms -= tone_ms;
+    }
     v->present_needed = false;
     v->frames++;
     if (v->max_frames > 0 && v->frames >= v->max_frames)

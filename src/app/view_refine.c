@@ -194,6 +194,7 @@ static bool tonemap_shown(viewer *v, const sl_image *linear, sl_error *err)
 {
     if (v->shown.data && (v->shown.width != linear->width || v->shown.height != linear->height))
         sl_image_free(&v->shown);
+    v->shown_pending = false;
     double t0 = sl_now_seconds();
     if (!sl_tonemap_image(linear, &v->shown, &v->r.desc.tonemap, err))
         return false;
@@ -209,11 +210,33 @@ static sl_image *job_target(viewer *v)
     return v->job_stage == VIEW_STAGE_ACCUMULATE ? &v->acc_frame : &v->r.radiance;
 }
 
+/* The lit frame in r.radiance goes to the window: its tone map is made in one pass into the
+ * window's texture at the next present (view_present.c), `shown` only when a reader needs it. The
+ * table is built here, so bad tone map settings fail here as sl_renderer_tonemap would. (A
+ * moving frame's rows went into the texture as they were lit: stage_continue.) */
+static bool show_radiance(viewer *v, sl_error *err)
+{
+    if (!sl_renderer_tonemap_table(&v->r, err))
+        return false;
+    v->shown_pending = true;
+    v->texture_stale = true;
+    v->tonemap_ms = 0.0; /* the present measures the tone map */
+    v->shown_from = VIEW_SHOWN_RADIANCE;
+    return true;
+}
+
 /* Start a refinement stage: size, raster, then either the whole image (G-buffer views and the
  * mip view) or the first step of a sliced lighting pass (the final image). */
 static bool stage_begin(viewer *v, int stage, sl_error *err)
 {
     view_stage_params p = params_of(v, stage);
+    /* What the window shows must not lose r.radiance behind it: a moving frame replaces it whole
+     * (its radiance is of no use to anyone then); the other stages make it first (once a
+     * settle: the exact stage tone maps its rows over it, and all may resize r.radiance). */
+    if (stage == VIEW_STAGE_MOVING)
+        v->shown_pending = false;
+    else if (!view_shown_make(v, err))
+        return false;
     int w, h;
     view_render_size(v, p.div, &w, &h);
     v->job_active = false;
@@ -283,7 +306,23 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
 {
     int first;
     sl_image *target = job_target(v);
+    /* A moving frame of the final view is lit whole: each row is tone mapped into the window's
+     * texture right after it is lit, while it is in cache (a pass of its own read the 11 MB
+     * frame back from memory), and the present only copies the texture. Where the texture
+     * cannot be locked, the present tone maps the frame instead. */
+    bool direct = false;
+    if (v->job_stage == VIEW_STAGE_MOVING && v->mode == VIEW_FINAL && isinf(budget_s)) {
+        const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, err);
+        if (!tab)
+            return false;
+        direct = view_texture_lock(v, target->width, target->height, &v->shade.display, &v->shade.display_pitch);
+        v->shade.display_tab = tab;
+    }
     bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, target, budget_s, &first);
+    if (direct) {
+        view_texture_unlock(v);
+        v->shade.display = NULL;
+    }
     if (v->job_stage != VIEW_STAGE_ACCUMULATE || done || v->acc_count == 0)
         v->shade_ms = v->shade.seconds * 1e3;
     if (!done) {
@@ -311,14 +350,13 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         v->acc_count++;
         v->acc_ms += v->shade_ms;
         v->shown_from = VIEW_SHOWN_MEAN;
-    } else {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
-            return false;
-        v->tonemap_ms = v->r.timings.tonemap_ms;
-        v->shown_from = VIEW_SHOWN_RADIANCE;
+    } else if (!show_radiance(v, err)) {
+        return false;
     }
     v->retonemap = false; /* the tone map just ran with the current settings */
     stage_finished(v);
+    if (direct)
+        v->texture_stale = false; /* the rows are in the texture already */
     return true;
 }
 
@@ -406,10 +444,7 @@ bool view_refine_retonemap(viewer *v, sl_error *err)
 {
     v->retonemap = false;
     if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_RADIANCE) {
-        if (!sl_renderer_tonemap(&v->r, err) || !view_image_take(&v->shown, &v->r.display, err))
-            return false;
-        v->tonemap_ms = v->r.timings.tonemap_ms;
-        v->texture_stale = true;
+        return show_radiance(v, err);
     } else if (v->mode == VIEW_FINAL && v->shown_from == VIEW_SHOWN_MEAN) {
         return tonemap_shown(v, &v->mean, err);
     }

@@ -34,6 +34,8 @@ bool view_screenshot(viewer *v, const char *name, sl_error *err)
             return false;
         view_present(v);
     }
+    if (!view_shown_make(v, err)) /* the PNG is `shown`; the shading below replaces r.radiance */
+        return false;
     if (!v->radiance_exact) {
         /* A G-buffer view: light the (current, full-size) G-buffer for the .hdr, as render does. */
         if (!sl_renderer_shade(&v->r, &v->camera.cam, err))
@@ -70,6 +72,8 @@ bool view_screenshot(viewer *v, const char *name, sl_error *err)
 
 bool view_snapshot(viewer *v, const char *base, sl_error *err)
 {
+    if (!view_shown_make(v, err))
+        return false;
     const sl_image *linear = v->shown_from == VIEW_SHOWN_MEAN       ? &v->mean
                              : v->shown_from == VIEW_SHOWN_RADIANCE ? &v->r.radiance
                                                                     : NULL;

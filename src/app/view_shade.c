@@ -6,7 +6,8 @@
  * refined. Each row goes through sl_lighting_shade_row, the pass's own unit of work (same bits;
  * it vectorizes the per-pixel part over the row: 1.1-1.4x faster than a call of
  * sl_lighting_shade per pixel, docs/performance.md "Viewer"). Inside a slice the
- * rows are shared between threads (OpenMP, dynamic schedule) as the library's pass shares tiles;
+ * rows are shared between threads (OpenMP, dynamic schedule) in bands of 4, as the library's pass
+ * shares them;
  * each pixel depends only on its texel and the read-only uniforms, so the result is identical
  * for any thread count and slicing. */
 #include "view_internal.h"
@@ -16,6 +17,8 @@
 #include <stdlib.h>
 
 #include "core/timer.h"
+
+enum { BAND_ROWS = 4 }; /* rows a chunk of the parallel loop, as sl_lighting_pass's bands */
 
 bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err)
 {
@@ -66,17 +69,29 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     if (rows > height - y0)
         rows = height - y0;
     const int y1 = y0 + rows;
+    /* The slice's rows in bands of BAND_ROWS in the G-buffer's address order (its row 0 is the
+     * image's bottom), as sl_lighting_pass takes them: image rows top first, one a chunk, took
+     * about 5% more CPU time on pbr.json's split sum (docs/performance.md "Viewer, session 9"). */
+    const int g0 = height - y1, g1 = height - y0; /* the slice's G-buffer rows [g0, g1) */
+    const int bands = (g1 - g0 + BAND_ROWS - 1) / BAND_ROWS;
     double t0 = sl_now_seconds();
 #pragma omp parallel num_threads(job->thread_count)
     {
         int t = omp_get_thread_num();
         sl_lighting_task *task = job->tasks[t];
 #pragma omp for schedule(dynamic)
-        for (int y = y0; y < y1; y++) {
-            /* the image's row is the row's vec3s (three floats each): shaded in place, as the
-             * library's pass does */
-            vec3 *row = (vec3 *)(void *)sl_image_pixel(out, 0, y);
-            sl_lighting_shade_row(u, gb, 0, height - 1 - y, width, task, row); /* G-buffer row 0 = bottom */
+        for (int band = 0; band < bands; band++) {
+            const int ga = g0 + band * BAND_ROWS, gz = ga + BAND_ROWS < g1 ? ga + BAND_ROWS : g1;
+            for (int gy = ga; gy < gz; gy++) {
+                const int y = height - 1 - gy; /* the image's row */
+                /* the image's row is the row's vec3s (three floats each): shaded in place, as the
+                 * library's pass does */
+                vec3 *row = (vec3 *)(void *)sl_image_pixel(out, 0, y);
+                sl_lighting_shade_row(u, gb, 0, gy, width, task, row);
+                if (job->display) /* the moving frame: its row into the window's texture */
+                    sl_tonemap_row_xrgb8888(job->display_tab, &row[0].x, width,
+                                            (uint32_t *)(void *)(job->display + (size_t)y * job->display_pitch));
+            }
         }
     }
     double dt = sl_now_seconds() - t0;

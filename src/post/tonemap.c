@@ -15,7 +15,9 @@
  * thresholds (very high contrast), or near a threshold that failed its check, goes to the exact
  * path (x, then bisection over T). So each code is the exact curve's, bit for bit, as long as
  * the exact curve never decreases between two floats, which tests/unit/test_tonemap.c checks
- * around every threshold; it also compares the table with the formula around every U[k]. */
+ * around every threshold; it also compares the table with the formula around every U[k].
+ * The same lookup also writes the codes packed as 32-bit XRGB8888 pixels (sl_tonemap_row_xrgb8888),
+ * so the viewer's window gets the display image without a float image in between. */
 #include "tonemap.h"
 
 #include <math.h>
@@ -230,8 +232,34 @@ bool sl_tonemap_prepare(const sl_tonemap_options *opt, sl_tonemap_table *tab, sl
 /* Values per task: 16 KB in and out, and the chunk's codes in L1. */
 #define TONEMAP_CHUNK 1024
 
+/* One value's code from the table: ec's top bits pick a segment, its low bits against the
+ * segment's threshold pick the code below or above it; -1 where the segment is left to the exact
+ * path (code_exact). A shift, a clamp, one gather, a compare: GCC vectorizes its callers' loops. */
+static inline int segment_code(float C, float e, int base, int last, const uint32_t *restrict seg)
+{
+    float ec = e * C;
+    ec = C > 0.0f ? ec : 0.0f; /* as tonemap_x: NaN and C <= 0 are 0 */
+    uint32_t b = sl_fm_bits(ec);
+    int s = (int)(b >> SL_TONEMAP_SHIFT) - base + 1;
+    s = s < 0 ? 0 : s;
+    s = s > last ? last : s;
+    uint32_t g = seg[s];
+    int below = (int)(g >> 16 & 0xffu), above = (int)(g >> 24);
+    int code = (b & 0xffffu) >= (g & 0xffffu) ? above : below;
+    int miss = above < below;
+    return code | -miss; /* -1: the exact path's */
+}
+
+/* The exact path's code of one value (a segment the table leaves to it). */
+static int code_exact(const sl_tonemap_table *tab, float C)
+{
+    float ec = tab->exposure * C;
+    ec = C > 0.0f ? ec : 0.0f;
+    return sl_tonemap_code(tonemap_x_of_ec(ec), tab->t);
+}
+
 /* One chunk: the display values into dst, -1 where the segment is left to the exact path;
- * returns the number of those. One vectorized loop: a shift, a clamp, one gather, a compare. */
+ * returns the number of those. */
 static int present_chunk(const float *restrict src, float *restrict dst, int count, const sl_tonemap_table *tab)
 {
     const float e = tab->exposure;
@@ -242,20 +270,9 @@ static int present_chunk(const float *restrict src, float *restrict dst, int cou
      * does not vectorize the loop. */
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        float C = src[i];
-        float ec = e * C;
-        ec = C > 0.0f ? ec : 0.0f; /* as tonemap_x: NaN and C <= 0 are 0 */
-        uint32_t b = sl_fm_bits(ec);
-        int s = (int)(b >> SL_TONEMAP_SHIFT) - base + 1;
-        s = s < 0 ? 0 : s;
-        s = s > last ? last : s;
-        uint32_t g = seg[s];
-        int below = (int)(g >> 16 & 0xffu), above = (int)(g >> 24);
-        int code = (b & 0xffffu) >= (g & 0xffffu) ? above : below;
-        int miss = above < below;
-        code = code | -miss;            /* -1: the exact path's */
+        int code = segment_code(src[i], e, base, last, seg);
         dst[i] = (float)code / 255.0f; /* the level sl_unorm8 gives the code back from */
-        missed += miss;
+        missed += code < 0;
     }
     return missed;
 }
@@ -285,15 +302,62 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
         int missed = present_chunk(src, dst, count, tab);
         for (int i = 0; missed && i < count; i++)
             if (dst[i] < 0.0f) {
-                float ec = tab->exposure * src[i];
-                ec = src[i] > 0.0f ? ec : 0.0f;
-                dst[i] = (float)sl_tonemap_code(tonemap_x_of_ec(ec), tab->t) / 255.0f;
+                dst[i] = (float)code_exact(tab, src[i]) / 255.0f;
                 missed--;
             }
         if (dst == vals)
             memcpy(out->data + i0, vals, (size_t)count * sizeof(float));
     }
     return true;
+}
+
+/* Pixels per chunk of the 32-bit path: 1020 values, whole pixels, in L1. */
+#define XRGB_CHUNK_PIXELS (TONEMAP_CHUNK / 3)
+
+void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int width, uint32_t *dst)
+{
+    const float e = tab->exposure;
+    const int base = tab->base, last = tab->count - 1;
+    const uint32_t *restrict seg = tab->seg;
+    for (int x0 = 0; x0 < width; x0 += XRGB_CHUNK_PIXELS) {
+        const int n = width - x0 < XRGB_CHUNK_PIXELS ? width - x0 : XRGB_CHUNK_PIXELS;
+        const float *restrict src = row + 3 * x0;
+        uint32_t *restrict out = dst + x0;
+        int missed = 0;
+        /* a pixel's three codes packed (strided loads: faster than codes to a buffer and a
+         * packing loop); a pixel with a code of -1 (the exact path's) is packed wrong and
+         * counted, and the loop after this one packs it again */
+#pragma omp simd
+        for (int i = 0; i < n; i++) {
+            int r = segment_code(src[3 * i], e, base, last, seg);
+            int g = segment_code(src[3 * i + 1], e, base, last, seg);
+            int b = segment_code(src[3 * i + 2], e, base, last, seg);
+            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            missed += (r | g | b) < 0;
+        }
+        for (int i = 0; missed && i < n; i++) {
+            int r = segment_code(src[3 * i], e, base, last, seg);
+            int g = segment_code(src[3 * i + 1], e, base, last, seg);
+            int b = segment_code(src[3 * i + 2], e, base, last, seg);
+            if ((r | g | b) >= 0)
+                continue;
+            r = r < 0 ? code_exact(tab, src[3 * i]) : r;
+            g = g < 0 ? code_exact(tab, src[3 * i + 1]) : g;
+            b = b < 0 ? code_exact(tab, src[3 * i + 2]) : b;
+            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            missed--;
+        }
+    }
+}
+
+void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch)
+{
+    const int w = in->width, h = in->height;
+    /* the same threshold as sl_tonemap_apply: a parallel region costs more than a small image */
+#pragma omp parallel for schedule(static) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
+    for (int y = 0; y < h; y++)
+        sl_tonemap_row_xrgb8888(tab, sl_image_pixel(in, 0, y), w,
+                                (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch));
 }
 
 bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)

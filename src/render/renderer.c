@@ -396,25 +396,33 @@ bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)
     return ok;
 }
 
-bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
+const sl_tonemap_table *sl_renderer_tonemap_table(sl_renderer *r, sl_error *err)
 {
-    double t0 = sl_now_seconds();
     /* the table costs about 0.2 ms to build: kept while the options stay (the viewer's keys
      * change them between frames) */
     const sl_tonemap_options *o = &r->desc.tonemap, *b = &r->tonemap_built;
     bool stale = !r->tonemap_table || o->exposure != b->exposure || o->contrast != b->contrast ||
                  o->exact_srgb != b->exact_srgb;
-    if (!r->tonemap_table && !(r->tonemap_table = malloc(sizeof *r->tonemap_table)))
-        return sl_fail(err, SL_ERR_MEMORY, "tone map: out of memory for its table");
+    if (!r->tonemap_table && !(r->tonemap_table = malloc(sizeof *r->tonemap_table))) {
+        sl_fail(err, SL_ERR_MEMORY, "tone map: out of memory for its table");
+        return NULL;
+    }
     if (stale) {
         if (!sl_tonemap_prepare(o, r->tonemap_table, err)) {
             free(r->tonemap_table); /* not built: the next call starts again */
             r->tonemap_table = NULL;
-            return false;
+            return NULL;
         }
         r->tonemap_built = *o;
     }
-    bool ok = sl_tonemap_apply(r->tonemap_table, &r->radiance, &r->display, err);
+    return r->tonemap_table;
+}
+
+bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
+{
+    double t0 = sl_now_seconds();
+    const sl_tonemap_table *tab = sl_renderer_tonemap_table(r, err);
+    bool ok = tab && sl_tonemap_apply(tab, &r->radiance, &r->display, err);
     r->timings.tonemap_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

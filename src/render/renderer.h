@@ -140,6 +140,10 @@ const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx);
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err);
 /* Tone map r->radiance into r->display. */
 bool sl_renderer_tonemap(sl_renderer *r, sl_error *err);
+/* The tone map's table for r->desc.tonemap (built, or rebuilt when the options changed; owned by
+ * r): what sl_renderer_tonemap applies, for callers that tone map into their own format (the
+ * viewer's window, sl_tonemap_apply_xrgb8888). NULL and err on bad options or no memory. */
+const sl_tonemap_table *sl_renderer_tonemap_table(sl_renderer *r, sl_error *err);
 /* All three. */
 bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err);
 

@@ -2,7 +2,8 @@
  * 8-bit code of the exact curve (sl_unorm8 of sl_tonemap_value) over a dense sweep of radiance
  * values and special values, for the gamma and sRGB curves at extreme contrasts; the thresholds
  * are each the first float of their code (the curve's monotonicity at every code boundary, which
- * exactness rests on); the stored levels k/255 give k back. */
+ * exactness rests on); the stored levels k/255 give k back; the viewer's one-pass path into 32-bit
+ * pixels gives the bytes of the display image's 8-bit conversion. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -162,6 +163,59 @@ static void test_table_matches_formula_at_every_code(void **state)
     sl_image_free(&out);
 }
 
+/* sl_tonemap_apply_xrgb8888 against sl_tonemap_apply and the viewer's conversion of its levels
+ * (v 255 + 0.5 rounded down, view_image.c): the same bytes, for every curve (the high contrasts
+ * send segments to the exact path) at three exposures, over radiance from 1e-12 to 1e6 and the
+ * special values; a pitch wider than the row leaves the padding alone. */
+static void test_xrgb8888_matches_display_image(void **state)
+{
+    (void)state;
+    const int w = 1283, h = 97, pitch = 4 * w + 12; /* a width that is no multiple of the chunk */
+    sl_image in = {0}, out = {0};
+    sl_error err = {0};
+    assert_true(sl_image_alloc(&in, w, h, 3, &err));
+    const size_t n = (size_t)w * h * 3;
+    for (size_t i = 0; i < n; i++)
+        in.data[i] = powf(10.0f, -12.0f + 18.0f * (float)((i * 7919) % n) / (float)n);
+    const float specials[] = {0.0f, -1.0f, NAN, INFINITY, -INFINITY, 1e-40f, 1e-45f, 1.0f, 0.5f};
+    for (size_t s = 0; s < sizeof specials / sizeof specials[0]; s++)
+        in.data[s * 977 + s % 3] = specials[s];
+    uint8_t *px = malloc((size_t)pitch * h);
+    sl_tonemap_table *tab = malloc(sizeof *tab);
+    assert_non_null(px);
+    assert_non_null(tab);
+    const float exposures[] = {1.0f, 0.001f, 1e6f};
+    for (int c = 0; c < CURVES; c++)
+        for (int e = 0; e < 3; e++) {
+            sl_tonemap_options o = {.exposure = exposures[e], .contrast = curves[c].contrast,
+                                    .exact_srgb = curves[c].srgb};
+            assert_true(sl_tonemap_prepare(&o, tab, &err));
+            assert_true(sl_tonemap_apply(tab, &in, &out, &err));
+            memset(px, 0x5a, (size_t)pitch * h);
+            sl_tonemap_apply_xrgb8888(tab, &in, px, pitch);
+            long differ = 0;
+            for (int y = 0; y < h; y++) {
+                for (int x = 0; x < w; x++) {
+                    const float *v = out.data + 3 * ((size_t)y * w + x);
+                    uint32_t want = 0xff000000u;
+                    for (int k = 0; k < 3; k++)
+                        want |= (uint32_t)(v[k] * 255.0f + 0.5f) << (16 - 8 * k);
+                    uint32_t got;
+                    memcpy(&got, px + (size_t)y * pitch + 4 * (size_t)x, 4);
+                    differ += got != want;
+                }
+                for (int b = 4 * w; b < pitch; b++)
+                    assert_int_equal(px[(size_t)y * pitch + b], 0x5a);
+            }
+            if (differ)
+                fail_msg("curve %d exposure %g: %ld pixels differ", c, (double)o.exposure, differ);
+        }
+    free(tab);
+    free(px);
+    sl_image_free(&in);
+    sl_image_free(&out);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -169,6 +223,7 @@ int main(void)
         cmocka_unit_test(test_levels_round_trip),
         cmocka_unit_test(test_image_matches_exact_curve),
         cmocka_unit_test(test_table_matches_formula_at_every_code),
+        cmocka_unit_test(test_xrgb8888_matches_display_image),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
