@@ -724,10 +724,11 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
     pixel_block pb;
     pixel_block *p = &pb;
-    pixel_stage(u, t, count, p);
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
+    if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
+        pixel_stage(u, t, count, p);
     if (empty > 0)
         shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     for (int i = 0; i < count; i++) {
