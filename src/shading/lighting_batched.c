@@ -5,8 +5,8 @@
  * from the port's by float rounding (test_lighting_fast bounds it); it is deterministic, and a
  * trace follows it (docs/lighting.md "Two paths").
  *
- * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage), the
- * background of empty pixels (shade_background_span); then per pixel the samples in stages
+ * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage; not
+ * for a span of background alone), the background of empty pixels (shade_background_span); then per pixel the samples in stages
  * (specular_samples): (0) the skewed samples, from the task's per-alpha table
  * (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
  * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
