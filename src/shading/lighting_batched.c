@@ -6,9 +6,9 @@
  * trace follows it (docs/lighting.md "Two paths").
  *
  * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage; not
- * for a span of background alone), the background of empty pixels (shade_background_span); then per pixel the samples in stages
- * (specular_samples): (0) the skewed samples, from the task's per-alpha table
- * (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
+ * for a span of background alone), the background of empty pixels (shade_background_span);
+ * then per pixel the samples in stages (specular_samples): (0) the skewed samples, from the
+ * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
  * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
  * environment's single block, ibl/texture_lod.h) and contributions; (4) the sum. Then the
  * port's own sum of the terms (shade_surface_color) and its NaN guard.
