@@ -8,10 +8,10 @@
  * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage; not
  * for a span of background alone), the background of empty pixels (shade_background_span);
  * then per pixel the samples in stages (specular_samples): (0) the skewed samples, from the
- * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
- * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
- * environment's single block, ibl/texture_lod.h) and contributions; (4) the sum. Then the
- * port's own sum of the terms (shade_surface_color) and its NaN guard.
+ * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot
+ * products, G, the Fresnel factor and the lat-long uv; (2) the mip levels; (3) the texture
+ * fetches (gathers from the environment's single block, ibl/texture_lod.h) and contributions;
+ * (4) the sum. Then the port's own sum of the terms (shade_surface_color) and its NaN guard.
  *
  * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
  * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
