@@ -5,13 +5,13 @@
  * from the port's by float rounding (test_lighting_fast bounds it); it is deterministic, and a
  * trace follows it (docs/lighting.md "Two paths").
  *
- * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage), the
- * background of empty pixels (shade_background_span); then per pixel the samples in stages
- * (specular_samples): (0) the skewed samples, from the task's per-alpha table
- * (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot products, G, the Fresnel
- * factor and the lat-long uv; (2) the mip levels; (3) the texture fetches (gathers from the
- * environment's single block, ibl/texture_lod.h) and contributions; (4) the sum. Then the
- * port's own sum of the terms (shade_surface_color) and its NaN guard.
+ * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage; not
+ * for a span of background alone), the background of empty pixels (shade_background_span);
+ * then per pixel the samples in stages (specular_samples): (0) the skewed samples, from the
+ * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot
+ * products, G, the Fresnel factor and the lat-long uv; (2) the mip levels; (3) the texture
+ * fetches (gathers from the environment's single block, ibl/texture_lod.h) and contributions;
+ * (4) the sum. Then the port's own sum of the terms (shade_surface_color) and its NaN guard.
  *
  * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
  * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
@@ -204,6 +204,116 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
     }
 }
 
+/* GGX's G' = 4 Vis(w.N, N.V) = 2 / (w.N kv + N.V sqrt((w.N)^2 (1 - a^2) + a^2)), kv the N.V half
+ * (brdf.h's sl_ggx_G over 2 (w.N)(N.V)); for w.N <= 0 a value stage (4) drops. */
+__attribute__((always_inline)) static inline float ggx_g(float wN, float NdotV, float kv, float a2)
+{
+    return 2.0f / (wN * kv + NdotV * sqrtf(maxf(wN * wN * (1.0f - a2) + a2, TINY)));
+}
+
+/* Stage (1) of the spec estimators (specular_ibl's operations, vectorized over the samples):
+ * w in the frame A, B, R, the dot products, the Fresnel factor and the weight G (w.N)/4, with
+ * the Phong set's G (1 or 1/(L.H)^2) or GGX's G' (ggx: a constant at each call, so the loop is
+ * chosen per pixel and a GGX lobe never computes the Phong G nor a Phong one the Smith term).
+ *
+ * H = (w + V)/|w + V| is never formed: with q = |w + V|^2 and rs = 1/sqrt(q), for unit w and V
+ * L.H = |w + V|/2 = q rs/2, N.H = N.(w + V) rs and 1/(L.H)^2 = 4/q = 4 rs^2: one square root and
+ * one division a sample where normalising w and H and dividing by (L.H)^2 took two and three
+ * (divisions and roots were the loop's costliest operations). q is summed from the components
+ * of w + V as normalize(w + V) does: 1 + w.V would cancel at grazing angles (1.2e-5 relative at
+ * N.V = 0.05, which alpha = 5000 raises to 3%), and N.H is N's dot product with w + V as the
+ * port's is with H (w.N + N.V, the same value, moved the consistent estimator's worst pixel at
+ * alpha 5000 from 0.28% to 0.48% of the port's). w is not normalised: the frame A, B, R and the
+ * sample L are unit to float rounding, so |w| = 1 within a few ulp (the port normalises; the
+ * difference is rounding, inside test_batched_vs_plain's bounds). The trace forms H itself. */
+__attribute__((always_inline)) static inline void spec_directions(sample_block *b, int m, const float *Lx,
+                                                                  const float *Ly, const float *Lz, vec3 N, vec3 V,
+                                                                  vec3 R, vec3 A, vec3 B, bool inv_lh2, bool ggx,
+                                                                  float a2)
+{
+    const float g_min = 1.0f / (SL_BRDF_MIN_LDOTH * SL_BRDF_MIN_LDOTH); /* 1/(L.H)^2 at the clamp */
+    const float NdotV = dot(N, V);
+    const float kv = ggx ? sqrtf(NdotV * NdotV * (1.0f - a2) + a2) : 0.0f;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
+        float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
+        float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
+        float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
+        float q = (hx * hx + hy * hy) + hz * hz;
+        float rs = 1.0f / sqrtf(q);
+        float wN = (wx * N.x + wy * N.y) + wz * N.z;
+        float LdotH = 0.5f * (q * rs);
+        float mm = maxf(1.0f - LdotH, 0.0f);
+        float m2 = mm * mm;
+        b->wx[i] = wx;
+        b->wy[i] = wy;
+        b->wz[i] = wz;
+        b->wN[i] = wN;
+        b->NdotH[i] = ((N.x * hx + N.y * hy) + N.z * hz) * rs;
+        b->LdotH[i] = LdotH;
+        b->m5[i] = m2 * m2 * mm;
+        if (ggx) {
+            b->weight[i] = ggx_g(wN, NdotV, kv, a2) * wN / 4.0f; /* G' w.N / 4 */
+        } else {
+            float g = LdotH >= SL_BRDF_MIN_LDOTH ? 4.0f * (rs * rs) : g_min; /* 1/max(L.H, min)^2 */
+            b->weight[i] = (inv_lh2 ? g : 1.0f) * wN / 4.0f;                /* G w.N / 4 */
+        }
+    }
+}
+
+/* Stage (1) of specular_microfacet: (L, pdf) are (H about +Z, D(H)) and A, B span the frame
+ * about N; w = reflect(-V, H), p(w) = D (N.H) / (4 V.H), and the weight G (w.N)(V.H)/(N.H) with
+ * the Phong set's G or GGX's G' (ggx constant at each call, as spec_directions). */
+__attribute__((always_inline)) static inline void microfacet_directions(sample_block *b, int m, const float *Lx,
+                                                                        const float *Ly, const float *Lz,
+                                                                        const float *pdf, vec3 N, vec3 V, vec3 A,
+                                                                        vec3 B, bool inv_lh2, bool ggx, float a2)
+{
+    const float NdotV = dot(N, V);
+    const float kv = ggx ? sqrtf(NdotV * NdotV * (1.0f - a2) + a2) : 0.0f;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
+        float hy = (A.y * Lx[i] + B.y * Ly[i]) + N.y * Lz[i];
+        float hz = (A.z * Lx[i] + B.z * Ly[i]) + N.z * Lz[i];
+        float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
+        hx *= ih;
+        hy *= ih;
+        hz *= ih;
+        float VdotH = (V.x * hx + V.y * hy) + V.z * hz;
+        float wx = hx * (2.0f * VdotH) - V.x;
+        float wy = hy * (2.0f * VdotH) - V.y;
+        float wz = hz * (2.0f * VdotH) - V.z;
+        float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
+        wx *= iw;
+        wy *= iw;
+        wz *= iw;
+        float wN = (wx * N.x + wy * N.y) + wz * N.z;
+        float NdotH = Lz[i];
+        float mm = maxf(1.0f - VdotH, 0.0f);
+        float m2 = mm * mm;
+        b->wx[i] = wx;
+        b->wy[i] = wy;
+        b->wz[i] = wz;
+        b->wN[i] = wN;
+        b->hx[i] = hx;
+        b->hy[i] = hy;
+        b->hz[i] = hz;
+        b->NdotH[i] = NdotH;
+        b->LdotH[i] = VdotH;
+        b->vh[i] = VdotH;
+        b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
+        b->m5[i] = m2 * m2 * mm;
+        if (ggx) {
+            b->weight[i] = ggx_g(wN, NdotV, kv, a2) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
+        } else {
+            float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
+            b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G (w.N)(V.H)/(N.H) */
+        }
+    }
+}
+
 /* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
  * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
  * stage computed: see the top of the file. Same samples, same sum order. */
@@ -261,84 +371,17 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         } else {
             shade_lobe_fill(u, alpha, mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
         }
-        /* (1) directions, dot products, G, the Fresnel factor and the uv: specular_ibl's
-         * operations, vectorized over the samples; or specular_microfacet's, where (L, pdf) are
-         * (H about +Z, D(H)) and A, B span the frame about N. A sample with N.H = 0 (a rotated
+        /* (1) directions, dot products, G (or GGX's G'), the Fresnel factor and the uv: one
+         * loop per estimator and lobe set, chosen per pixel. A sample with N.H = 0 (a rotated
          * xi2 of 0) divides by 0 here; it has w.N < 0, so stage (4) drops it. */
-        if (mf) {
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
-                float hy = (A.y * Lx[i] + B.y * Ly[i]) + N.y * Lz[i];
-                float hz = (A.z * Lx[i] + B.z * Ly[i]) + N.z * Lz[i];
-                float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
-                hx *= ih;
-                hy *= ih;
-                hz *= ih;
-                float VdotH = (V.x * hx + V.y * hy) + V.z * hz;
-                float wx = hx * (2.0f * VdotH) - V.x;
-                float wy = hy * (2.0f * VdotH) - V.y;
-                float wz = hz * (2.0f * VdotH) - V.z;
-                float iw = 1.0f / sqrtf((wx * wx + wy * wy) + wz * wz);
-                wx *= iw;
-                wy *= iw;
-                wz *= iw;
-                float wN = (wx * N.x + wy * N.y) + wz * N.z;
-                float NdotH = Lz[i];
-                float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
-                float mm = maxf(1.0f - VdotH, 0.0f);
-                float m2 = mm * mm;
-                b->wx[i] = wx;
-                b->wy[i] = wy;
-                b->wz[i] = wz;
-                b->wN[i] = wN;
-                b->hx[i] = hx;
-                b->hy[i] = hy;
-                b->hz[i] = hz;
-                b->NdotH[i] = NdotH;
-                b->LdotH[i] = VdotH;
-                b->vh[i] = VdotH;
-                b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
-                b->m5[i] = m2 * m2 * mm;
-                b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
-            }
-        } else {
-            /* H = (w + V)/|w + V| is never formed: with q = |w + V|^2 and rs = 1/sqrt(q), for unit
-             * w and V L.H = |w + V|/2 = q rs/2, N.H = N.(w + V) rs and 1/(L.H)^2 = 4/q = 4 rs^2:
-             * one square root and one division a sample where normalising w and H and dividing by
-             * (L.H)^2 took two and three (divisions and roots were the loop's costliest
-             * operations). q is summed from the components of w + V as normalize(w + V) does:
-             * 1 + w.V would cancel at grazing angles (1.2e-5 relative at N.V = 0.05, which
-             * alpha = 5000 raises to 3%), and N.H is N's dot product with w + V as the port's is
-             * with H (w.N + N.V, the same value, moved the consistent estimator's worst pixel at
-             * alpha 5000 from 0.28% to 0.48% of the port's). w is not normalised: the frame A, B, R and the sample
-             * L are unit to float rounding, so |w| = 1 within a few ulp (the port normalises; the
-             * difference is rounding, inside test_batched_vs_plain's bounds). The trace forms H
-             * itself. */
-            const float g_min = 1.0f / (SL_BRDF_MIN_LDOTH * SL_BRDF_MIN_LDOTH); /* 1/(L.H)^2 at the clamp */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
-                float wy = (A.y * Lx[i] + B.y * Ly[i]) + R.y * Lz[i];
-                float wz = (A.z * Lx[i] + B.z * Ly[i]) + R.z * Lz[i];
-                float hx = wx + V.x, hy = wy + V.y, hz = wz + V.z;
-                float q = (hx * hx + hy * hy) + hz * hz;
-                float rs = 1.0f / sqrtf(q);
-                float wN = (wx * N.x + wy * N.y) + wz * N.z;
-                float LdotH = 0.5f * (q * rs);
-                float mm = maxf(1.0f - LdotH, 0.0f);
-                float m2 = mm * mm;
-                float g = LdotH >= SL_BRDF_MIN_LDOTH ? 4.0f * (rs * rs) : g_min; /* 1/max(L.H, min)^2 */
-                b->wx[i] = wx;
-                b->wy[i] = wy;
-                b->wz[i] = wz;
-                b->wN[i] = wN;
-                b->NdotH[i] = ((N.x * hx + N.y * hy) + N.z * hz) * rs;
-                b->LdotH[i] = LdotH;
-                b->m5[i] = m2 * m2 * mm;
-                b->weight[i] = (inv_lh2 ? g : 1.0f) * wN / 4.0f; /* G w.N / 4 */
-            }
-        }
+        if (mf && ggx)
+            microfacet_directions(b, m, Lx, Ly, Lz, pdf, N, V, A, B, inv_lh2, true, a2);
+        else if (mf)
+            microfacet_directions(b, m, Lx, Ly, Lz, pdf, N, V, A, B, inv_lh2, false, a2);
+        else if (ggx)
+            spec_directions(b, m, Lx, Ly, Lz, N, V, R, A, B, inv_lh2, true, a2);
+        else
+            spec_directions(b, m, Lx, Ly, Lz, N, V, R, A, B, inv_lh2, false, a2);
         /* the texture coordinates of w in the samples' layout: lat-long (the fast atan2s) or
          * octahedral (the port's own divisions and selects: the same bits) */
         if (oct) {
@@ -349,17 +392,6 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 #pragma omp simd
             for (int i = 0; i < m; i++)
                 sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
-        }
-        /* GGX: G' = 4 Vis(w.N, N.V) in place of the Phong set's G in the weights above (samples
-         * with w.N <= 0 get garbage that stage (4) drops) */
-        if (ggx) {
-            const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float wN = b->wN[i];
-                float g = 2.0f / (wN * kv + NdotV * sqrtf(maxf(wN * wN * (1.0f - a2) + a2, TINY)));
-                b->weight[i] = mf ? g * wN * b->vh[i] / b->NdotH[i] : g * wN / 4.0f;
-            }
         }
         /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
          * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
@@ -692,10 +724,11 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
     pixel_block pb;
     pixel_block *p = &pb;
-    pixel_stage(u, t, count, p);
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
+    if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
+        pixel_stage(u, t, count, p);
     if (empty > 0)
         shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     for (int i = 0; i < count; i++) {
