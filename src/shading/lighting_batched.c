@@ -682,37 +682,45 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
     }
 }
 
-void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
-                           float *bg_b)
+/* How the background reads level 0: the environment's pair rows (texture_lod.h sl_pair_bilinear:
+ * 6 64-bit gathers where the block takes 12 32-bit ones), its single block (gathers), or the
+ * port's filter. The same texels and operations in all three, so the same bits. */
+enum { BACKGROUND_PAIRS, BACKGROUND_GATHER, BACKGROUND_SCALAR };
+
+/* The background's loop, its fetch a constant at each call (each call its own vector loop). */
+__attribute__((always_inline)) static inline void background_loop(const sl_lighting_uniforms *u, int x0, int y,
+                                                                  int count, int fetch, float *bg_r, float *bg_g,
+                                                                  float *bg_b)
 {
     const float I = u->uEnvIntensity;
     const sl_env_level *l0 = &u->uEnv->levels[0];
+    const sl_env_gather *env = &u->envGather;
     const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
     const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
     const vec2 viewport = u->uViewport;
-    if (u->envGather.gather) {
-        const sl_env_gather *env = &u->envGather;
 #pragma omp simd
-        for (int i = 0; i < count; i++) {
-            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
-            float bu, bv;
-            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
-            vec3 c = sl_env_gather_bilinear(env, 0, bu, bv);
-            bg_r[i] = c.x * I;
-            bg_g[i] = c.y * I;
-            bg_b[i] = c.z * I;
-        }
-    } else {
-        for (int i = 0; i < count; i++) {
-            vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
-            float bu, bv;
-            sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
-            vec3 c = sl_env_bilinear(l0, bu, bv);
-            bg_r[i] = c.x * I;
-            bg_g[i] = c.y * I;
-            bg_b[i] = c.z * I;
-        }
+    for (int i = 0; i < count; i++) {
+        vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
+        float bu, bv;
+        sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
+        vec3 c = fetch == BACKGROUND_PAIRS    ? sl_pair_bilinear(env, 0, bu, bv)
+                 : fetch == BACKGROUND_GATHER ? sl_env_gather_bilinear(env, 0, bu, bv)
+                                              : sl_env_bilinear(l0, bu, bv);
+        bg_r[i] = c.x * I;
+        bg_g[i] = c.y * I;
+        bg_b[i] = c.z * I;
     }
+}
+
+void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
+                           float *bg_b)
+{
+    if (u->envGather.gather && u->envGather.pairs)
+        background_loop(u, x0, y, count, BACKGROUND_PAIRS, bg_r, bg_g, bg_b);
+    else if (u->envGather.gather)
+        background_loop(u, x0, y, count, BACKGROUND_GATHER, bg_r, bg_g, bg_b);
+    else
+        background_loop(u, x0, y, count, BACKGROUND_SCALAR, bg_r, bg_g, bg_b);
 }
 
 /* main(), batched (lighting_internal.h): the pixel stage for the whole span, the background

@@ -19,8 +19,7 @@
  *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
- *   (7) the background of empty pixels (background_stage: the batched path's
- *       shade_background_span, read from the environment's pair rows when it has them);
+ *   (7) the background of empty pixels (shade_background_span, the batched path's);
  *   (8) each pixel's colour and the NaN guard: vector loops without a trace (finish_stage),
  *       else per pixel with the trace hooks.
  * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
@@ -472,34 +471,6 @@ static void finish_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *
     }
 }
 
-/* (7) the background of empty pixels: shade_background_span's view ray, uv and level-0 filter,
- * read from the environment's pair rows when it has them (texture_lod.h sl_pair_bilinear: the
- * same texels and operations, so the same bits, with 6 64-bit gathers where the block takes 12
- * 32-bit ones; the background was a tenth of the split sum's time on pbr.json). */
-__attribute__((noinline)) /* a stage: see the top of the file */
-static void background_stage(const sl_lighting_uniforms *u, int x0, int y, int count, splitsum_block *b)
-{
-    if (!u->envGather.gather || !u->envGather.pairs) {
-        shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
-        return;
-    }
-    const float I = u->uEnvIntensity;
-    const vec4 m[4] = {u->uInvViewProj.c[0], u->uInvViewProj.c[1], u->uInvViewProj.c[2], u->uInvViewProj.c[3]};
-    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
-    const vec2 viewport = u->uViewport;
-    const sl_env_gather *env = &u->envGather;
-#pragma omp simd
-    for (int i = 0; i < count; i++) {
-        vec3 d = shade_background_dir(m, r, viewport, vec2((float)(x0 + i) + 0.5f, (float)y + 0.5f));
-        float bu, bv;
-        sl_fast_dir_to_uv(d.x, d.y, d.z, &bu, &bv);
-        vec3 c = sl_pair_bilinear(env, 0, bu, bv);
-        b->bgr[i] = c.x * I;
-        b->bgg[i] = c.y * I;
-        b->bgb[i] = c.z * I;
-    }
-}
-
 void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                          sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
 {
@@ -510,7 +481,7 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     if (empty > 0)
-        background_stage(u, x0, y, count, b);
+        shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
         surface_stages(u, gb, x0, y, count, b, trace);
     if (!trace) {
