@@ -314,6 +314,12 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
 /* Pixels per chunk of the 32-bit path: 1020 values, whole pixels, in L1. */
 #define XRGB_CHUNK_PIXELS (TONEMAP_CHUNK / 3)
 
+/* A pixel's three codes as SDL_PIXELFORMAT_XRGB8888's 0xffRRGGBB. */
+static inline uint32_t xrgb8888(int r, int g, int b)
+{
+    return 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+}
+
 void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int width, uint32_t *dst)
 {
     const float e = tab->exposure;
@@ -332,7 +338,7 @@ void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int 
             int r = segment_code(src[3 * i], e, base, last, seg);
             int g = segment_code(src[3 * i + 1], e, base, last, seg);
             int b = segment_code(src[3 * i + 2], e, base, last, seg);
-            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            out[i] = xrgb8888(r, g, b);
             missed += (r | g | b) < 0;
         }
         for (int i = 0; missed && i < n; i++) {
@@ -344,7 +350,7 @@ void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int 
             r = r < 0 ? code_exact(tab, src[3 * i]) : r;
             g = g < 0 ? code_exact(tab, src[3 * i + 1]) : g;
             b = b < 0 ? code_exact(tab, src[3 * i + 2]) : b;
-            out[i] = 0xff000000u | (uint32_t)r << 16 | (uint32_t)g << 8 | (uint32_t)b;
+            out[i] = xrgb8888(r, g, b);
             missed--;
         }
     }

@@ -82,11 +82,6 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
     return true;
 }
 
-/* The split-sum method's prefiltered chains of what the samples read, for both lobe sets, and
- * the BRDF's table (once), when the estimator asks for them (`estimator`: the frame's, which the
- * viewer's moving frames set; SL_ESTIMATOR_DEFAULT: desc's); rebuilt when the environment or
- * the env lights change, never per frame. A scene and a viewer that never use the estimator pay
- * nothing. */
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
 {
     *phong = *ggx = false;
@@ -97,6 +92,11 @@ void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
     *phong |= !*ggx;
 }
 
+/* The split-sum method's prefiltered chains of what the samples read, for both lobe sets, and
+ * the BRDF's table (once), when the estimator asks for them (`estimator`: the frame's, which the
+ * viewer's moving frames set; SL_ESTIMATOR_DEFAULT: desc's); rebuilt when the environment or
+ * the env lights change, never per frame. A scene and a viewer that never use the estimator pay
+ * nothing. */
 static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *err)
 {
     sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
