@@ -21,8 +21,12 @@
  * MAP: a precomputed lat-long irradiance image from the scene.
  *
  * BRUTE and MAP are looked up with textureLod at lod 0 (bilinear, REPEAT in u, CLAMP in v).
- * OCT and DP, the pole-free layouts, are built in irradiance_map.c; their lookup is here. */
+ * OCT and DP, the pole-free layouts, are built in irradiance_map.c; their lookup is here, per
+ * direction (sl_irradiance_eval) and per span of directions (sl_irradiance_eval_span, the
+ * lighting pass's batched path: vector loops, the same bits). */
 #include "ibl_internal.h"
+#include "irradiance_uv.h"
+#include "texture_lod.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -175,23 +179,31 @@ bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error 
     return true;
 }
 
+/* The SH9 sum at unit n, in one order of operations for the scalar and the span lookup (the
+ * same bits). Inline, so a span's vector loop keeps the coefficients in registers. */
+__attribute__((always_inline)) static inline vec3 sh9_sum(const vec3 *c, float x, float y, float z)
+{
+    const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f, k4 = 0.546274215f;
+    vec3 e = scale3(c[0], k0);
+    e = add3(e, scale3(c[1], k1 * y));
+    e = add3(e, scale3(c[2], k1 * z));
+    e = add3(e, scale3(c[3], k1 * x));
+    e = add3(e, scale3(c[4], k2 * x * y));
+    e = add3(e, scale3(c[5], k2 * y * z));
+    e = add3(e, scale3(c[6], k3 * (3.0f * z * z - 1.0f)));
+    e = add3(e, scale3(c[7], k2 * x * z));
+    e = add3(e, scale3(c[8], k4 * (x * x - y * y)));
+    return e;
+}
+
+/* SH9 rings below 0 opposite a strong sun; "x > 0 ? x : 0" also turns NaN into 0. */
+static inline float clamp_e(float e) { return e > 0.0f ? e : 0.0f; }
+
 vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n)
 {
     vec3 e;
     if (irr->method == SL_IRRADIANCE_SH9) {
-        const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f,
-                    k4 = 0.546274215f;
-        float x = n.x, y = n.y, z = n.z;
-        const vec3 *c = irr->sh;
-        e = scale3(c[0], k0);
-        e = add3(e, scale3(c[1], k1 * y));
-        e = add3(e, scale3(c[2], k1 * z));
-        e = add3(e, scale3(c[3], k1 * x));
-        e = add3(e, scale3(c[4], k2 * x * y));
-        e = add3(e, scale3(c[5], k2 * y * z));
-        e = add3(e, scale3(c[6], k3 * (3.0f * z * z - 1.0f)));
-        e = add3(e, scale3(c[7], k2 * x * z));
-        e = add3(e, scale3(c[8], k4 * (x * x - y * y)));
+        e = sh9_sum(irr->sh, n.x, n.y, n.z);
     } else if (irr->method == SL_IRRADIANCE_OCT) {
         e = textureLod(&irr->map, sl_irradiance_oct_uv(n, irr->map.levels[0].height), 0.0f);
     } else if (irr->method == SL_IRRADIANCE_DP) {
@@ -199,11 +211,61 @@ vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n)
     } else {
         e = textureLod(&irr->map, sl_dir_to_uv(n), 0.0f);
     }
-    /* SH9 rings below 0 opposite a strong sun; "x > 0 ? x : 0" also turns NaN into 0. */
-    e.x = e.x > 0.0f ? e.x : 0.0f;
-    e.y = e.y > 0.0f ? e.y : 0.0f;
-    e.z = e.z > 0.0f ? e.z : 0.0f;
-    return e;
+    return vec3(clamp_e(e.x), clamp_e(e.y), clamp_e(e.z));
+}
+
+/* sl_irradiance_eval over a span (irradiance_uv.h), one vector loop per method. The pole-free
+ * maps' uv is clamped into (0, 1) (sl_irradiance_grid_coord), where textureLod's guards (a
+ * non-finite coordinate reads as 0, u wraps) change nothing and lod 0 is level 0's bilinear
+ * filter alone: the fetch is sl_texels_bilinear, the same bits. The lat-long maps go through
+ * libm's atan2 and acos (sl_dir_to_uv), which have no vector form of the same bits: a lane at
+ * a time, sl_irradiance_eval itself. */
+void sl_irradiance_eval_span(const sl_irradiance *irr, int count, const float *x, const float *y, const float *z,
+                             float *er, float *eg, float *eb)
+{
+    const bool map = irr->method == SL_IRRADIANCE_OCT || irr->method == SL_IRRADIANCE_DP;
+    if (irr->method == SL_IRRADIANCE_SH9) {
+        const vec3 *c = irr->sh;
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            vec3 e = sh9_sum(c, x[i], y[i], z[i]);
+            er[i] = clamp_e(e.x);
+            eg[i] = clamp_e(e.y);
+            eb[i] = clamp_e(e.z);
+        }
+    } else if (map && irr->map.level_count > 0) {
+        const sl_env_level *l0 = &irr->map.levels[0];
+        const vec3 *T = l0->texels;
+        const int w = l0->width, h = l0->height;
+        float tu[SL_IRRADIANCE_SPAN], tv[SL_IRRADIANCE_SPAN];
+        for (int i0 = 0; i0 < count; i0 += SL_IRRADIANCE_SPAN) {
+            const int m = count - i0 < SL_IRRADIANCE_SPAN ? count - i0 : SL_IRRADIANCE_SPAN;
+            /* the uv per layout (a loop each: one loop choosing per lane does not vectorize) */
+            if (irr->method == SL_IRRADIANCE_OCT) {
+#pragma omp simd
+                for (int i = 0; i < m; i++)
+                    sl_irradiance_oct_uv_inline(x[i0 + i], y[i0 + i], z[i0 + i], h, &tu[i], &tv[i]);
+            } else {
+#pragma omp simd
+                for (int i = 0; i < m; i++)
+                    sl_irradiance_dp_uv_inline(x[i0 + i], y[i0 + i], z[i0 + i], h, &tu[i], &tv[i]);
+            }
+#pragma omp simd
+            for (int i = 0; i < m; i++) {
+                vec3 e = sl_texels_bilinear(T, w, h, 0, tu[i], tv[i]);
+                er[i0 + i] = clamp_e(e.x);
+                eg[i0 + i] = clamp_e(e.y);
+                eb[i0 + i] = clamp_e(e.z);
+            }
+        }
+    } else {
+        for (int i = 0; i < count; i++) {
+            vec3 e = sl_irradiance_eval(irr, vec3(x[i], y[i], z[i]));
+            er[i] = e.x;
+            eg[i] = e.y;
+            eb[i] = e.z;
+        }
+    }
 }
 
 void sl_irradiance_free(sl_irradiance *irr)

@@ -359,12 +359,12 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
 }
 
 /* GLSL: main, from `if (uDiffuse != 0)` on (lighting_internal.h: shade_surface_color). */
-vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *specular,
-                         sl_lighting_task *task, sl_lighting_trace *trace)
+vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
+                         const vec3 *specular, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     vec3 color = vec3s(0.0f);
     if (u->uDiffuse != 0) {
-        vec3 E = irradiance(u, s->Nenv);
+        vec3 E = E_given ? *E_given : irradiance(u, s->Nenv); /* the batched path's, the same bits */
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         color = add(color, diffuse);
         trace_diffuse(trace, E, diffuse);
@@ -443,7 +443,7 @@ vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int
         sl_gbuffer_extra e = shade_extra(gb, x, y);
         shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
-        color = shade_surface_color(u, &s, NULL, task, trace);
+        color = shade_surface_color(u, &s, NULL, NULL, task, trace);
     }
     return shade_finish(color, task, trace);
 }

@@ -31,6 +31,7 @@
 #endif
 
 #include "../core/fast_math.h"
+#include "../ibl/irradiance_uv.h"
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
 
@@ -622,6 +623,7 @@ typedef struct {
     float NdotV[SPAN];
     float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN]; /* the texels' position, normal */
     int bent[SPAN], pole[SPAN];
+    float Er[SPAN], Eg[SPAN], Eb[SPAN];       /* irradiance(NE), with the diffuse term on */
     float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
 } pixel_block;
 
@@ -735,8 +737,13 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
-    if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
+    if (empty < count) { /* a span of background alone (most of ggx.json's) needs no frames */
         pixel_stage(u, t, count, p);
+        /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
+         * lane looks up a harmless garbage direction), the port's lookup's bits */
+        if (u->uDiffuse != 0)
+            sl_irradiance_eval_span(u->uIrradiance, count, p->NEx, p->NEy, p->NEz, p->Er, p->Eg, p->Eb);
+    }
     if (empty > 0)
         shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     for (int i = 0; i < count; i++) {
@@ -778,7 +785,8 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                     trace_env_lights(trace, u->uEnvLightCount, exact);
                 }
             }
-            color = shade_surface_color(u, &s, &specular, task, trace);
+            vec3 E = u->uDiffuse != 0 ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
+            color = shade_surface_color(u, &s, &E, &specular, task, trace);
         }
         out[i] = shade_finish(color, task, trace);
     }

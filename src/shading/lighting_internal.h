@@ -57,9 +57,11 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
 
 /* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
  * point lights, emission.
+ * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
+ * the whole span (sl_irradiance_eval_span: the same bits).
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops. */
-vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *specular,
+vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E, const vec3 *specular,
                          sl_lighting_task *task, sl_lighting_trace *trace);
 
 /* The end of main(): a NaN or Inf becomes 0 (counted, and traced). */
