@@ -11,7 +11,10 @@
  * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot
  * products, G, the Fresnel factor and the lat-long uv; (2) the mip levels; (3) the texture
  * fetches (gathers from the environment's single block, ibl/texture_lod.h) and contributions;
- * (4) the sum. Then the port's own sum of the terms (shade_surface_color) and its NaN guard.
+ * (4) the sum. The diffuse term's irradiance for the whole span (ibl sl_irradiance_eval_span,
+ * the port's lookup's bits). Then main()'s sum of the terms and its NaN guard, over the span in
+ * vector loops in the port's order (sum_stage), or per pixel by the port's own code
+ * (shade_surface_color, shade_finish) with a trace or point lights.
  *
  * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
  * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
@@ -725,25 +728,93 @@ void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int cou
         background_loop(u, x0, y, count, BACKGROUND_SCALAR, bg_r, bg_g, bg_b);
 }
 
+/* main()'s sum and its NaN guard over the span, when the pixels need nothing but the terms
+ * the span has in arrays (no trace, no point lights): shade_surface_color's operations in its
+ * order, then shade_finish's, as vector loops (the same bits; a term that is off is selected
+ * away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
+ * background on entry. */
+static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
+                      int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
+                      sl_lighting_task *task, vec3 *out)
+{
+    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    int covered[SPAN];
+    const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+    for (int i = 0; i < count; i++) { /* to structure of arrays (shade_extra's "none" without the plane) */
+        covered[i] = !(t[i].depth >= 1.0f);
+        kr[i] = t[i].kd.x;
+        kg[i] = t[i].kd.y;
+        kb[i] = t[i].kd.z;
+        occ[i] = ex ? ex[i].occlusion : 1.0f;
+        emr[i] = ex ? ex[i].emissive.x : 0.0f;
+        emg[i] = ex ? ex[i].emissive.y : 0.0f;
+        emb[i] = ex ? ex[i].emissive.z : 0.0f;
+    }
+    const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
+    const float I = u->uEnvIntensity;
+    float *o = &out[0].x;
+    int nonfinite = 0;
+#pragma omp simd reduction(+ : nonfinite)
+    for (int i = 0; i < count; i++) {
+        /* color = 0; + Kd/pi E I; + specular; times the occlusion; + emission: each sum formed,
+         * then kept or not (an addition under a branch stops GCC's vectorizer) */
+        float r = 0.0f, g = 0.0f, b = 0.0f;
+        float dr = r + ((kr[i] * (1.0f / PI)) * p->Er[i]) * I;
+        float dg = g + ((kg[i] * (1.0f / PI)) * p->Eg[i]) * I;
+        float db = b + ((kb[i] * (1.0f / PI)) * p->Eb[i]) * I;
+        r = diffuse ? dr : r;
+        g = diffuse ? dg : g;
+        b = diffuse ? db : b;
+        float sr = r + cr[i], sg = g + cg[i], sb = b + cb[i];
+        r = specular ? sr : r;
+        g = specular ? sg : g;
+        b = specular ? sb : b;
+        r = r * occ[i];
+        g = g * occ[i];
+        b = b * occ[i];
+        float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
+        r = diffuse ? er : r;
+        g = diffuse ? eg : g;
+        b = diffuse ? eb : b;
+        r = covered[i] ? r : cr[i];
+        g = covered[i] ? g : cg[i];
+        b = covered[i] ? b : cb[i];
+        bool finite = isfinite(r) && isfinite(g) && isfinite(b); /* shade_finish */
+        nonfinite += !finite;
+        o[3 * i] = finite ? r : 0.0f;
+        o[3 * i + 1] = finite ? g : 0.0f;
+        o[3 * i + 2] = finite ? b : 0.0f;
+    }
+    if (task)
+        task->stats.nonfinite += nonfinite;
+}
+
 /* main(), batched (lighting_internal.h): the pixel stage for the whole span, the background
- * stage when a pixel is empty, then per pixel the specular samples and the port's sum. */
+ * stage when a pixel is empty, the irradiance for the span, then per pixel the specular samples;
+ * main()'s sum for the span in vector loops (sum_stage), or per pixel through the port's
+ * (shade_surface_color) with a trace or point lights. */
 void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count, sl_lighting_task *task,
                 sl_lighting_trace *trace, vec3 *out)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
     pixel_block pb;
     pixel_block *p = &pb;
+    float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
-    if (empty < count) { /* a span of background alone (most of ggx.json's) needs no frames */
+    const bool irradiance = empty < count && u->uDiffuse != 0;
+    if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
         pixel_stage(u, t, count, p);
-        /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
-         * lane looks up a harmless garbage direction), the port's lookup's bits */
-        if (u->uDiffuse != 0)
-            sl_irradiance_eval_span(u->uIrradiance, count, p->NEx, p->NEy, p->NEz, p->Er, p->Eg, p->Eb);
-    }
+    /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
+     * lane looks up a harmless garbage direction), the port's lookup's bits */
+    if (irradiance)
+        sl_irradiance_eval_span(u->uIrradiance, count, p->NEx, p->NEy, p->NEz, p->Er, p->Eg, p->Eb);
+    else if (vector_sum) /* read (and selected away) by sum_stage */
+        for (int i = 0; i < count; i++)
+            p->Er[i] = p->Eg[i] = p->Eb[i] = 0.0f;
     if (empty > 0)
         shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     for (int i = 0; i < count; i++) {
@@ -764,8 +835,6 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),
                 .Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
                 .rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
-                .occlusion = shade_extra(gb, x, y).occlusion,
-                .emissive = shade_extra(gb, x, y).emissive,
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]), B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
             trace_surface(task, trace, &s, p->bent[i]);
@@ -785,9 +854,24 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                     trace_env_lights(trace, u->uEnvLightCount, exact);
                 }
             }
-            vec3 E = u->uDiffuse != 0 ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
-            color = shade_surface_color(u, &s, &E, &specular, task, trace);
+            if (vector_sum) {
+                color = specular;
+            } else {
+                sl_gbuffer_extra extra = shade_extra(gb, x, y);
+                s.occlusion = extra.occlusion;
+                s.emissive = extra.emissive;
+                vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
+                color = shade_surface_color(u, &s, &E, &specular, task, trace);
+            }
         }
-        out[i] = shade_finish(color, task, trace);
+        if (vector_sum) {
+            cr[i] = color.x;
+            cg[i] = color.y;
+            cb[i] = color.z;
+        } else {
+            out[i] = shade_finish(color, task, trace);
+        }
     }
+    if (vector_sum)
+        sum_stage(u, gb, t, x0, y, count, p, cr, cg, cb, task, out);
 }
