@@ -627,6 +627,7 @@ typedef struct {
     float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN]; /* the texels' position, normal */
     int bent[SPAN], pole[SPAN];
     float Er[SPAN], Eg[SPAN], Eb[SPAN];       /* irradiance(NE), with the diffuse term on */
+    vec3 B[SPAN];                             /* Bx, By, Bz as vectors (shade_span says why) */
     float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
 } pixel_block;
 
@@ -728,6 +729,28 @@ void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int cou
         background_loop(u, x0, y, count, BACKGROUND_SCALAR, bg_r, bg_g, bg_b);
 }
 
+/* The specular term of covered pixel i of the span (0 with it off), env lights included: the
+ * split sum's lookup (the port's own: nothing to batch) or the samples. */
+__attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighting_uniforms *u, const pixel_block *p,
+                                                                 int i, vec3 Ks, float alpha, vec2 rotation,
+                                                                 sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    if (u->uSpecular == 0)
+        return vec3s(0.0f);
+    const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
+    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM
+                        ? shade_specular_splitsum(u, N, V, Ks, alpha, trace)
+                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
+                                           vec3(p->Ax[i], p->Ay[i], p->Az[i]), p->B[i], p->pole[i], Ks, alpha,
+                                           rotation, task, trace);
+    if (u->uEnvLightCount > 0) {
+        vec3 exact = env_lights_samples(u, N, V, Ks, alpha);
+        specular = add(specular, exact);
+        trace_env_lights(trace, u->uEnvLightCount, exact);
+    }
+    return specular;
+}
+
 /* main()'s sum and its NaN guard over the span, when the pixels need nothing but the terms
  * the span has in arrays (no trace, no point lights): shade_surface_color's operations in its
  * order, then shade_finish's, as vector loops (the same bits; a term that is off is selected
@@ -817,6 +840,9 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
             p->Er[i] = p->Eg[i] = p->Eb[i] = 0.0f;
     if (empty > 0)
         shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
+    if (empty < count) /* B, a stack argument of specular_samples, from memory stored long before */
+        for (int i = 0; i < count; i++)
+            p->B[i] = vec3(p->Bx[i], p->By[i], p->Bz[i]);
     for (int i = 0; i < count; i++) {
         const int x = x0 + i;
         vec3 color;
@@ -824,6 +850,12 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
         if (t[i].depth >= 1.0f) {
             color = vec3(p->bg_r[i], p->bg_g[i], p->bg_b[i]);
             trace_background(task, trace, color);
+        } else if (vector_sum) {
+            /* no trace: the terms straight from the span's arrays and the texel (a shade_surface
+             * built field by field and read back as arguments stalled on store forwarding) */
+            count_bent(task, p->bent[i]);
+            vec2 rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
+            color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, task, NULL);
         } else {
             shade_surface s = {
                 .P = t[i].position,
@@ -835,34 +867,17 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),
                 .Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
                 .rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
+                .occlusion = shade_extra(gb, x, y).occlusion,
+                .emissive = shade_extra(gb, x, y).emissive,
             };
-            vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]), B = vec3(p->Bx[i], p->By[i], p->Bz[i]);
+            vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
             trace_surface(task, trace, &s, p->bent[i]);
             /* the samples' count only when they run, as the port records it */
             int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
-            trace_sample_frame(trace, s.Nenv, s.Venv, A, B, p->pole[i], traced_samples, mf);
-            vec3 specular = vec3s(0.0f);
-            if (u->uSpecular != 0) {
-                /* split sum: one lookup per pixel, the port's own (nothing to batch) */
-                specular = u->uEstimator == ESTIMATOR_SPLITSUM
-                               ? shade_specular_splitsum(u, s.Nenv, s.Venv, s.Ks, s.alpha, trace)
-                               : specular_samples(u, s.Nenv, s.Venv, vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A, B,
-                                                  p->pole[i], s.Ks, s.alpha, s.rotation, task, trace);
-                if (u->uEnvLightCount > 0) {
-                    vec3 exact = env_lights_samples(u, s.Nenv, s.Venv, s.Ks, s.alpha);
-                    specular = add(specular, exact);
-                    trace_env_lights(trace, u->uEnvLightCount, exact);
-                }
-            }
-            if (vector_sum) {
-                color = specular;
-            } else {
-                sl_gbuffer_extra extra = shade_extra(gb, x, y);
-                s.occlusion = extra.occlusion;
-                s.emissive = extra.emissive;
-                vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
-                color = shade_surface_color(u, &s, &E, &specular, task, trace);
-            }
+            trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples, mf);
+            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, task, trace);
+            vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
+            color = shade_surface_color(u, &s, &E, &specular, task, trace);
         }
         if (vector_sum) {
             cr[i] = color.x;

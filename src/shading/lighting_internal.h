@@ -175,11 +175,17 @@ static inline void trace_background(sl_lighting_task *task, sl_lighting_trace *t
         t->background = color;
 }
 
-/* The covered pixel's frame; bent: its normal was bent toward the eye (facing_normal). */
-static inline void trace_surface(sl_lighting_task *task, sl_lighting_trace *t, const shade_surface *s, bool bent)
+/* A covered pixel whose normal was bent toward the eye (facing_normal), counted. */
+static inline void count_bent(sl_lighting_task *task, bool bent)
 {
     if (task)
         task->stats.bent_normals += bent;
+}
+
+/* The covered pixel's frame; bent: its normal was bent toward the eye (facing_normal). */
+static inline void trace_surface(sl_lighting_task *task, sl_lighting_trace *t, const shade_surface *s, bool bent)
+{
+    count_bent(task, bent);
     if (!t)
         return;
     t->V = s->V;
