@@ -17,6 +17,10 @@ modes=(
   "--irradiance brute --diffuse-only"
   "--specular-only --no-lights --srgb -e 2 -c 1.3"
   "--lod none -n 7 --env-lights 3 --plain"
+  "--estimator splitsum"
+  "--estimator splitsum --irradiance sh9 --no-lights"
+  "--estimator splitsum --irradiance dp --env-layout oct"
+  "--estimator splitsum --irradiance brute --rotate"
 )
 differ=0
 run_both() {  # run_both NAME ARGS...: run ARGS with each build into $work/{base,new}/NAME

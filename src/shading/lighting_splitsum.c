@@ -15,8 +15,8 @@
  *       core/fast_math.h's atan2, and the table (splitsum_lut) gathered from its texels;
  *   (4) the prefiltered chain's trilinear fetch gathered from its block (ibl/texture_lod.h),
  *       the Phong or the GGX chain: one loop per chain a span uses, a select when it mixes;
- *   (5) the irradiance, vectorized: SH9 in sl_irradiance_eval's order of operations, or the
- *       map's bilinear fetch at its layout's uv (ibl/irradiance_uv.h);
+ *   (5) the irradiance, vectorized: sl_irradiance_eval_span (the port's bits) for SH9 and the
+ *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv;
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
  *   (7) the background of empty pixels (shade_background_span, the batched path's);
@@ -245,66 +245,31 @@ static void specular_stage(const sl_lighting_uniforms *u, int count, splitsum_bl
     }
 }
 
-/* (5) irradiance(Nenv), as sl_irradiance_eval computes it: SH9 summed in its order (the same
- * bits); a map's level 0 filtered bilinearly at the layout's uv (ibl/irradiance_uv.h: the same
- * bits for OCT and DP; the lat-long map through the fast atan2, within 2.4e-7 rad of the port's
- * uv). Negative (SH ringing) and NaN become 0. */
+/* (5) irradiance(Nenv), as sl_irradiance_eval computes it: SH9 and the OCT and DP maps through
+ * sl_irradiance_eval_span (ibl/irradiance.c: vector loops, the same bits); the lat-long maps
+ * here through the fast atan2 (within 2.4e-7 rad of the port's uv), where the span lookup would
+ * call libm a lane at a time. Negative (SH ringing) and NaN become 0. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
     const sl_irradiance *irr = u->uIrradiance;
-    if (irr->method == SL_IRRADIANCE_SH9) {
-        const float k0 = 0.282094792f, k1 = 0.488602512f, k2 = 1.092548431f, k3 = 0.315391565f, k4 = 0.546274215f;
-        const vec3 *c = irr->sh;
-        const vec3 c0 = c[0], c1 = c[1], c2 = c[2], c3 = c[3], c4 = c[4], c5 = c[5], c6 = c[6], c7 = c[7], c8 = c[8];
-#pragma omp simd
-        for (int i = 0; i < count; i++) {
-            float x = b->NEx[i], y = b->NEy[i], z = b->NEz[i];
-            vec3 e = scale(c0, k0);
-            e = add(e, scale(c1, k1 * y));
-            e = add(e, scale(c2, k1 * z));
-            e = add(e, scale(c3, k1 * x));
-            e = add(e, scale(c4, k2 * x * y));
-            e = add(e, scale(c5, k2 * y * z));
-            e = add(e, scale(c6, k3 * (3.0f * z * z - 1.0f)));
-            e = add(e, scale(c7, k2 * x * z));
-            e = add(e, scale(c8, k4 * (x * x - y * y)));
-            b->er[i] = e.x;
-            b->eg[i] = e.y;
-            b->eb[i] = e.z;
-        }
-    } else {
-        /* the map's uv per layout (a loop each: one loop choosing per lane does not vectorize) */
-        const sl_env_level *l0 = &irr->map.levels[0];
-        float tu[SPAN], tv[SPAN];
-        if (irr->method == SL_IRRADIANCE_OCT) {
-#pragma omp simd
-            for (int i = 0; i < count; i++)
-                sl_irradiance_oct_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
-        } else if (irr->method == SL_IRRADIANCE_DP) {
-#pragma omp simd
-            for (int i = 0; i < count; i++)
-                sl_irradiance_dp_uv_inline(b->NEx[i], b->NEy[i], b->NEz[i], l0->height, &tu[i], &tv[i]);
-        } else {
-#pragma omp simd
-            for (int i = 0; i < count; i++)
-                sl_fast_dir_to_uv(b->NEx[i], b->NEy[i], b->NEz[i], &tu[i], &tv[i]);
-        }
-        const vec3 *T = l0->texels;
-        const int w = l0->width, h = l0->height;
-#pragma omp simd
-        for (int i = 0; i < count; i++) {
-            vec3 e = sl_texels_bilinear(T, w, h, 0, tu[i], tv[i]);
-            b->er[i] = e.x;
-            b->eg[i] = e.y;
-            b->eb[i] = e.z;
-        }
+    if (irr->method == SL_IRRADIANCE_SH9 || irr->method == SL_IRRADIANCE_OCT || irr->method == SL_IRRADIANCE_DP) {
+        sl_irradiance_eval_span(irr, count, b->NEx, b->NEy, b->NEz, b->er, b->eg, b->eb);
+        return;
     }
+    const sl_env_level *l0 = &irr->map.levels[0];
+    float tu[SPAN], tv[SPAN];
+#pragma omp simd
+    for (int i = 0; i < count; i++)
+        sl_fast_dir_to_uv(b->NEx[i], b->NEy[i], b->NEz[i], &tu[i], &tv[i]);
+    const vec3 *T = l0->texels;
+    const int w = l0->width, h = l0->height;
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        b->er[i] = b->er[i] > 0.0f ? b->er[i] : 0.0f;
-        b->eg[i] = b->eg[i] > 0.0f ? b->eg[i] : 0.0f;
-        b->eb[i] = b->eb[i] > 0.0f ? b->eb[i] : 0.0f;
+        vec3 e = sl_texels_bilinear(T, w, h, 0, tu[i], tv[i]);
+        b->er[i] = e.x > 0.0f ? e.x : 0.0f;
+        b->eg[i] = e.y > 0.0f ? e.y : 0.0f;
+        b->eb[i] = e.z > 0.0f ? e.z : 0.0f;
     }
 }
 
