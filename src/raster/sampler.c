@@ -281,8 +281,9 @@ static bool complete(const sl_texture *t, const sl_sampler_state *st)
 /* ---- the multi-quad form: n quads' lanes in structure-of-arrays form ----
  * The same values as sample4_plane's, lane for lane, from vector loops over up to 64 lanes:
  * the levels picked per quad (pick_levels), then each lane's texel-space coordinates, its wrapped
- * indices and its eight texels (gathers from the plane, where every level lies in one
- * allocation) and the mixes in sample_as's order. Only the plane and linear filtering: a quad
+ * indices and its eight texels (16-byte loads from the plane, where every level lies in one
+ * allocation) and the mixes in sample_as's order (with AVX two lanes' four channels a vector,
+ * a quad at a time: bilinear_pair). Only the plane and linear filtering: a quad
  * magnified or minified with a NEAREST filter, and textures without a plane, go through
  * sl_texture_sample4 (the same bits, four lanes at a time). */
 
