@@ -8,7 +8,9 @@
  * times as "raster". Several builds' benches run alternately give comparable CPU figures.
  *
  * usage: bench_gbuffer [--size 1280x720] [--frames 15] [--threads 1] [--tile S] SCENE.json ...
- * (--tile: the raster's tile size, a power of two in [SL_TILE_MIN, SL_TILE_MAX]; 0 or none: the default) */
+ * (--tile: the raster's tile size, a power of two in [SL_TILE_MIN, SL_TILE_MAX]; 0 or none: the default)
+ * SL_BENCH_STATS=1 in the environment also prints one frame's raster counters (triangles, bin
+ * entries, fragments shaded, quads, helper lanes), with the counting on. */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,10 +50,11 @@ static int bench_scene(const char *path, int width, int height, int frames, int 
     }
     sl_raster *r = NULL;
     int status = 1;
+    const bool stats = getenv("SL_BENCH_STATS") != NULL; /* counters cost a little: off unless asked */
     static double wall[MAX_FRAMES], cpu[MAX_FRAMES];
     if (!sl_scene_textures_load(&scene, 0, &tex, &err))
         goto fail_scene;
-    if (!(r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile}, &err)) ||
+    if (!(r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = stats}, &err)) ||
         !sl_gbuffer_resize(&gb, width, height, &err))
         goto fail;
     for (int f = -1; f < frames; f++) {
@@ -66,6 +69,14 @@ static int bench_scene(const char *path, int width, int height, int frames, int 
     printf("%s %dx%d, %d thread(s), %d frames: wall median %.2f min %.2f ms, cpu median %.2f min %.2f ms\n", path,
            width, height, threads, frames, sl_median(wall, frames), min_of(wall, frames), sl_median(cpu, frames),
            min_of(cpu, frames));
+    if (stats) { /* one frame's counts: what the pass does, for per-item costs */
+        sl_raster_stats st = sl_raster_get_stats(r);
+        for (long long *c = &st.triangles_in; c <= &st.parallel_regions; c++)
+            *c /= frames + 1;
+        printf("  triangles %lld (binned %lld, bin entries %lld), fragments shaded %lld, quads %lld, helpers %lld\n",
+               st.triangles_in, st.triangles_binned, st.bin_entries, st.fragments_shaded, st.quads,
+               st.helper_invocations);
+    }
     status = 0;
 fail:
     sl_raster_destroy(r);
