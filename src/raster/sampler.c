@@ -359,19 +359,10 @@ static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, in
     }
 }
 
-/* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
- * bilinear4_plane's mixes. */
-static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, const int (*o)[SL_QUAD_LANES],
-                                                                   float a, float b, float out[4])
-{
-    const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
-    for (int c = 0; c < 4; c++)
-        out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
-}
-
 #if defined(__AVX__)
-/* bilinear_texels for lanes j and j + 1, lane j's channels in the low half: the same mixes,
- * operation for operation (a + (b - a) t, no contraction under -std=c11), so the same bits. */
+/* Lanes j and j + 1's bilinear values from their four texels each (16-byte loads), lane j's
+ * channels in the low half: bilinear4_plane's mixes, operation for operation (a + (b - a) t, no
+ * contraction under -std=c11), so the same bits. */
 static inline __attribute__((always_inline)) __m256 bilinear_pair(const float *plane, int j,
                                                                   const int (*o)[SL_QUAD_LANES], const float *a,
                                                                   const float *b)
@@ -392,6 +383,16 @@ static inline __attribute__((always_inline)) __m256 mix_pair(__m256 c0, __m256 c
 {
     __m256 t = _mm256_set_m128(_mm_set1_ps(frac[j + 1]), _mm_set1_ps(frac[j]));
     return _mm256_add_ps(c0, _mm256_mul_ps(_mm256_sub_ps(c1, c0), t));
+}
+#else
+/* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
+ * bilinear4_plane's mixes. */
+static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, const int (*o)[SL_QUAD_LANES],
+                                                                   float a, float b, float out[4])
+{
+    const float *p00 = plane + o[0][j], *p01 = plane + o[1][j], *p10 = plane + o[2][j], *p11 = plane + o[3][j];
+    for (int c = 0; c < 4; c++)
+        out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
 }
 #endif
 
