@@ -8,6 +8,9 @@
 #include <math.h>
 #include <stdint.h>
 #include <string.h>
+#if defined(__AVX__)
+#include <immintrin.h>
+#endif
 
 #include "raster.h" /* SL_QUADS_MAX: the most quads a multi-quad call samples */
 #include "texture_internal.h"
@@ -278,8 +281,9 @@ static bool complete(const sl_texture *t, const sl_sampler_state *st)
 /* ---- the multi-quad form: n quads' lanes in structure-of-arrays form ----
  * The same values as sample4_plane's, lane for lane, from vector loops over up to 64 lanes:
  * the levels picked per quad (pick_levels), then each lane's texel-space coordinates, its wrapped
- * indices and its eight texels (gathers from the plane, where every level lies in one
- * allocation) and the mixes in sample_as's order. Only the plane and linear filtering: a quad
+ * indices and its eight texels (16-byte loads from the plane, where every level lies in one
+ * allocation) and the mixes in sample_as's order (with AVX two lanes' four channels a vector,
+ * a quad at a time: bilinear_pair). Only the plane and linear filtering: a quad
  * magnified or minified with a NEAREST filter, and textures without a plane, go through
  * sl_texture_sample4 (the same bits, four lanes at a time). */
 
@@ -355,6 +359,32 @@ static void bilinear_offsets(const sl_texture *t, const sl_sampler_state *st, in
     }
 }
 
+#if defined(__AVX__)
+/* Lanes j and j + 1's bilinear values from their four texels each (16-byte loads), lane j's
+ * channels in the low half: bilinear4_plane's mixes, operation for operation (a + (b - a) t, no
+ * contraction under -std=c11), so the same bits. */
+static inline __attribute__((always_inline)) __m256 bilinear_pair(const float *plane, int j,
+                                                                  const int (*o)[SL_QUAD_LANES], const float *a,
+                                                                  const float *b)
+{
+    __m256 p00 = _mm256_loadu2_m128(plane + o[0][j + 1], plane + o[0][j]);
+    __m256 p01 = _mm256_loadu2_m128(plane + o[1][j + 1], plane + o[1][j]);
+    __m256 p10 = _mm256_loadu2_m128(plane + o[2][j + 1], plane + o[2][j]);
+    __m256 p11 = _mm256_loadu2_m128(plane + o[3][j + 1], plane + o[3][j]);
+    __m256 wa = _mm256_set_m128(_mm_set1_ps(a[j + 1]), _mm_set1_ps(a[j]));
+    __m256 wb = _mm256_set_m128(_mm_set1_ps(b[j + 1]), _mm_set1_ps(b[j]));
+    __m256 top = _mm256_add_ps(p00, _mm256_mul_ps(_mm256_sub_ps(p01, p00), wa));
+    __m256 bot = _mm256_add_ps(p10, _mm256_mul_ps(_mm256_sub_ps(p11, p10), wa));
+    return _mm256_add_ps(top, _mm256_mul_ps(_mm256_sub_ps(bot, top), wb));
+}
+
+/* mixf(c0, c1, frac) for lanes j and j + 1. */
+static inline __attribute__((always_inline)) __m256 mix_pair(__m256 c0, __m256 c1, const float *frac, int j)
+{
+    __m256 t = _mm256_set_m128(_mm_set1_ps(frac[j + 1]), _mm_set1_ps(frac[j]));
+    return _mm256_add_ps(c0, _mm256_mul_ps(_mm256_sub_ps(c1, c0), t));
+}
+#else
 /* One lane's bilinear value from its four texels (16-byte loads; the channels mixed together):
  * bilinear4_plane's mixes. */
 static inline __attribute__((always_inline)) void bilinear_texels(const float *plane, int j, const int (*o)[SL_QUAD_LANES],
@@ -364,6 +394,7 @@ static inline __attribute__((always_inline)) void bilinear_texels(const float *p
     for (int c = 0; c < 4; c++)
         out[c] = mixf(mixf(p00[c], p01[c], a), mixf(p10[c], p11[c], a), b);
 }
+#endif
 
 void sl_texture_plan_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
                            sl_texture_quads_plan *plan)
@@ -416,10 +447,33 @@ void sl_texture_fetch_quads(const sl_sampler2D *s, const sl_texture_quads_plan *
         return;
     }
     if (plan->any_fast) {
-        /* lane by lane, a texel a 16-byte load (gathers, a float each, were slower: four times
-         * the loads) */
+        /* a texel a 16-byte load (gathers, a float each, were slower: four times the loads) */
         const float *plane = s->texture->plane_storage;
         float *r = rgba[0], *g = rgba[1], *bl = rgba[2], *al = rgba[3];
+#if defined(__AVX__)
+        /* a quad at a time: two lanes' texels to a 256-bit vector, the mixes for two lanes' four
+         * channels at once, the four lanes' values transposed into the channel arrays */
+        for (int q = 0; q < n; q++) {
+            if (plan->slow[q])
+                continue;
+            const int j = 4 * q;
+            __m256 v01 = bilinear_pair(plane, j, plan->o0, plan->a0, plan->b0);
+            __m256 v23 = bilinear_pair(plane, j + 2, plan->o0, plan->a0, plan->b0);
+            if (plan->lv1[j] >= 0) { /* the quad's levels are one pick: all its lanes have two or one */
+                __m256 w01 = bilinear_pair(plane, j, plan->o1, plan->a1, plan->b1);
+                __m256 w23 = bilinear_pair(plane, j + 2, plan->o1, plan->a1, plan->b1);
+                v01 = mix_pair(v01, w01, plan->frac, j);
+                v23 = mix_pair(v23, w23, plan->frac, j + 2);
+            }
+            __m128 l0 = _mm256_castps256_ps128(v01), l1 = _mm256_extractf128_ps(v01, 1);
+            __m128 l2 = _mm256_castps256_ps128(v23), l3 = _mm256_extractf128_ps(v23, 1);
+            _MM_TRANSPOSE4_PS(l0, l1, l2, l3);
+            _mm_storeu_ps(r + j, l0);
+            _mm_storeu_ps(g + j, l1);
+            _mm_storeu_ps(bl + j, l2);
+            _mm_storeu_ps(al + j, l3);
+        }
+#else
         for (int j = 0; j < lanes; j++) {
             float c0[4], c1[4];
             bilinear_texels(plane, j, plan->o0, plan->a0[j], plan->b0[j], c0);
@@ -433,6 +487,7 @@ void sl_texture_fetch_quads(const sl_sampler2D *s, const sl_texture_quads_plan *
             bl[j] = c0[2];
             al[j] = c0[3];
         }
+#endif
     }
     for (int q = 0; q < n; q++) {
         if (!plan->slow[q])

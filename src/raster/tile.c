@@ -34,7 +34,7 @@
  *          uncovered and occluded lanes, the lanes run in rounds (quad.c) or through the
  *          program's quad form (span path only), on both paths; a program with a multi-quad
  *          form (span path only) has up to 16 quads gathered and shaded in one call
- *          (quad_gather, quads_flush).
+ *          (quad_row_gather, a row of quads at a time; quads_flush).
  *   late   (sl_program.discards, no derivatives) pixel by pixel on both paths; the
  *          shader writes a scratch texel, copied with its depth unless it discarded.
  *
@@ -641,9 +641,10 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
 }
 
 /* ---- the multi-quad path (sl_program.fragment_quads, span path) ----
- * quad() split in two: quad_gather runs its depth test and keeps the quad's lane offsets;
- * quads_flush makes the inputs of every gathered lane at once (quad()'s expressions, in loops
- * over up to 64 lanes), calls the shader once, then writes what quad() writes. The quads of
+ * quad() split in two: quad_row_gather runs the depth test of a row of quads and keeps each
+ * quad's lane offsets; quads_flush makes the inputs of every gathered lane at once (quad()'s
+ * expressions, in loops over up to 64 lanes), calls the shader once, then writes what quad()
+ * writes. The quads of
  * one triangle cover disjoint pixels, so testing a later quad's depth before an earlier one
  * is shaded changes nothing; the batch is flushed when full and at the end of the triangle. */
 static void quads_flush(tri_ctx *c, const bool depth)
@@ -727,52 +728,135 @@ static void quads_flush(tri_ctx *c, const bool depth)
     b->n = 0;
 }
 
-/* quad()'s depth test for the quad at (qx, qy); a quad with a live lane joins the batch. */
-static inline __attribute__((always_inline)) void quad_gather(tri_ctx *c, int qx, int qy, unsigned cov,
-                                                              const bool depth)
+/* The multi-quad path's coverage and depth test, a row of quads at a time: the quads at
+ * (xa + 2k, qy) (xa even) up to column hi, of the triangle over the rectangle [lo, hi] x [y0, y1]
+ * (lanes outside it uncovered), edge tests per lane when `edges`. One vector loop over both pixel
+ * rows makes each lane's depth (depth_at's expression), coverage (draw_tri_quads's) and depth
+ * test (quad()'s: the plane updated unless the program may discard, lanes that fail storing
+ * back what they loaded, as cover_and_test; its lanes past hi are uncovered); then each quad with
+ * a live lane joins the batch with its lanes' offsets, depths and helper flags. The per-lane branches and 64-bit edge
+ * products of draw_tri_quads's lane loop were 40% of rast_tile on pbr.json. */
+static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, int qy, int xa, int lo, int hi, int y0,
+                                                                  int y1, const bool edges, const bool depth)
 {
     const rast_tri *t = c->t;
     const bool late = c->call->program->discards;
-    const float fx0 = (float)qx - (float)t->xmin, fx1 = (float)(qx + 1) - (float)t->xmin;
+    const int count = (hi - xa + 1 + 7) & ~7; /* a multiple of 8, past the last quad's right lane */
+    const float ox = (float)t->xmin, z0 = t->z[0], z1 = t->z[1];
     const float fy0 = (float)qy - (float)t->ymin, fy1 = (float)(qy + 1) - (float)t->ymin;
-    const float fx[4] = {fx0, fx1, fx0, fx1}, fy[4] = {fy0, fy0, fy1, fy1};
-    float z[4];
-    for (int l = 0; l < 4; l++)
-        z[l] = depth_at(t, fx[l], fy[l]);
-    unsigned live = cov;
-    c->tested += (cov & 1) + (cov >> 1 & 1) + (cov >> 2 & 1) + (cov >> 3 & 1);
-    if (depth) {
-        float *z0 = &c->zbuf[(qy - c->py0) * c->ts + (qx - c->px0)];
-        float *zp[4] = {z0, z0 + 1, z0 + c->ts, z0 + c->ts + 1};
-        live = 0;
-        for (int l = 0; l < 4; l++) {
-            bool pass = (cov >> l & 1) && z[l] < *zp[l];
-            if (pass && !late)
-                *zp[l] = z[l];
-            live |= (unsigned)pass << l;
+    const float z2fy0 = t->z[2] * fy0, z2fy1 = t->z[2] * fy1;
+    const int64_t a0 = t->ex[0], a1 = t->ex[1], a2 = t->ex[2];
+    const int64_t r00 = t->ec[0] + t->ey[0] * qy, r01 = t->ec[1] + t->ey[1] * qy, r02 = t->ec[2] + t->ey[2] * qy;
+    const int64_t r10 = r00 + t->ey[0], r11 = r01 + t->ey[1], r12 = r02 + t->ey[2];
+    const int32_t row0 = qy >= y0 && qy <= y1, row1 = qy + 1 >= y0 && qy + 1 <= y1;
+    float *zr0 = c->zbuf + (qy - c->py0) * c->ts + (xa - c->px0), *zr1 = zr0 + c->ts;
+    _Alignas(RAST_CACHE_LINE) float zv0[SL_SPAN_MAX], zv1[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) int32_t fl0[SL_SPAN_MAX], fl1[SL_SPAN_MAX];
+    int tested = 0;
+#pragma omp simd reduction(+ : tested)
+    for (int j = 0; j < count; j++) {
+        const int64_t x = xa + j;
+        const int32_t col = x >= lo && x <= hi;
+        int32_t cov0 = col & row0, cov1 = col & row1;
+        if (edges) {
+            cov0 &= ((r00 + a0 * x) | (r01 + a1 * x) | (r02 + a2 * x)) >= 0;
+            cov1 &= ((r10 + a0 * x) | (r11 + a1 * x) | (r12 + a2 * x)) >= 0;
+        }
+        const float fx = (float)(xa + j) - ox;
+        const float za = clampf(z0 + z1 * fx + z2fy0, 0.0f, 1.0f), zb = clampf(z0 + z1 * fx + z2fy1, 0.0f, 1.0f);
+        int32_t pass0 = cov0, pass1 = cov1;
+        if (depth) {
+            const float olda = zr0[j], oldb = zr1[j];
+            pass0 = cov0 & (za < olda);
+            pass1 = cov1 & (zb < oldb);
+            if (!late) {
+                zr0[j] = pass0 ? za : olda;
+                zr1[j] = pass1 ? zb : oldb;
+            }
+        }
+        zv0[j] = za;
+        zv1[j] = zb;
+        fl0[j] = cov0 | pass0 << 1;
+        fl1[j] = cov1 | pass1 << 1;
+        tested += cov0 + cov1;
+    }
+    c->tested += tested;
+    rast_quads *b = c->batch;
+    for (int j = 0; xa + j <= hi; j += 2) {
+        const unsigned live = (unsigned)(fl0[j] >> 1) | (unsigned)(fl0[j + 1] >> 1) << 1 |
+                              (unsigned)(fl1[j] >> 1) << 2 | (unsigned)(fl1[j + 1] >> 1) << 3;
+        if (!live)
+            continue;
+        const int qx = xa + j, k = b->n++;
+        const float fx0 = (float)qx - ox, fx1 = (float)(qx + 1) - ox;
+        b->qx[k] = qx;
+        b->qy[k] = qy;
+        b->fx[4 * k] = fx0;
+        b->fx[4 * k + 1] = fx1;
+        b->fx[4 * k + 2] = fx0;
+        b->fx[4 * k + 3] = fx1;
+        b->fy[4 * k] = fy0;
+        b->fy[4 * k + 1] = fy0;
+        b->fy[4 * k + 2] = fy1;
+        b->fy[4 * k + 3] = fy1;
+        b->z[4 * k] = zv0[j];
+        b->z[4 * k + 1] = zv0[j + 1];
+        b->z[4 * k + 2] = zv1[j];
+        b->z[4 * k + 3] = zv1[j + 1];
+        for (int l = 0; l < 4; l++)
+            b->helper[4 * k + l] = !(live >> l & 1);
+        if (b->n == SL_QUADS_MAX)
+            quads_flush(c, depth);
+    }
+}
+
+/* The multi-quad path's draw_tri_quads: the same quads (a triangle's quads cover disjoint pixels
+ * and each lane's values depend on its quad alone, so the batches' make-up changes no bit),
+ * gathered a row of quads at a time (quad_row_gather) over each block row's run of blocks that
+ * are not outside, as draw_tri_spans walks them; edge tests only where a block of the run is
+ * partial. */
+static inline __attribute__((always_inline)) void draw_tri_multi(tri_ctx *c, bool full, int x0, int y0, int x1, int y1,
+                                                                 const bool depth)
+{
+    const rast_tri *t = c->t;
+    if (full) {
+        for (int qy = y0 & ~1; qy <= y1; qy += 2)
+            quad_row_gather(c, qy, x0 & ~1, x0, x1, y0, y1, false, depth);
+        quads_flush(c, depth);
+        return;
+    }
+    int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
+    for (int by = by0; by <= y1; by += RAST_BLOCK) {
+        int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
+        int lo = x1 + 1, hi = x0 - 1;
+        bool inside = true;
+        for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
+            int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
+            int cls = classify(t, rx0, ry0, rx1, ry1);
+            if (cls == BLOCK_OUTSIDE)
+                continue;
+            c->blocks_full += cls == BLOCK_INSIDE;
+            inside &= cls == BLOCK_INSIDE;
+            lo = rx0 < lo ? rx0 : lo;
+            hi = rx1 > hi ? rx1 : hi;
+        }
+        if (lo > hi)
+            continue;
+        for (int qy = ry0 & ~1; qy <= ry1; qy += 2) {
+            if (inside)
+                quad_row_gather(c, qy, lo & ~1, lo, hi, ry0, ry1, false, depth);
+            else
+                quad_row_gather(c, qy, lo & ~1, lo, hi, ry0, ry1, true, depth);
         }
     }
-    if (!live)
-        return;
-    rast_quads *b = c->batch;
-    int k = b->n++;
-    b->qx[k] = qx;
-    b->qy[k] = qy;
-    for (int l = 0; l < 4; l++) {
-        b->fx[4 * k + l] = fx[l];
-        b->fy[4 * k + l] = fy[l];
-        b->z[4 * k + l] = z[l];
-        b->helper[4 * k + l] = !(live >> l & 1);
-    }
-    if (b->n == SL_QUADS_MAX)
-        quads_flush(c, depth);
+    quads_flush(c, depth);
 }
 
 /* The quads of the triangle over [x0,x1] x [y0,y1], block by block as draw_tri: tiles
  * and blocks have even sizes and origins, so a quad never straddles two, and lanes
  * outside the rectangle are outside the triangle's bounds (uncovered). */
 static inline __attribute__((always_inline)) void draw_tri_quads(tri_ctx *c, bool full, int x0, int y0, int x1,
-                                                                 int y1, const bool depth, const bool multi)
+                                                                 int y1, const bool depth)
 {
     const rast_tri *t = c->t;
     int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
@@ -801,35 +885,31 @@ static inline __attribute__((always_inline)) void draw_tri_quads(tri_ctx *c, boo
                         }
                         cov |= (unsigned)in << l;
                     }
-                    if (cov && multi)
-                        quad_gather(c, qx, qy, cov, depth);
-                    else if (cov)
+                    if (cov)
                         quad(c, qx, qy, cov, depth);
                 }
         }
     }
-    if (multi)
-        quads_flush(c, depth);
 }
 
 static void draw_tri_quads_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, true, false);
+    draw_tri_quads(c, full, x0, y0, x1, y1, true);
 }
 
 static void draw_tri_quads_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, false, false);
+    draw_tri_quads(c, full, x0, y0, x1, y1, false);
 }
 
 static void draw_tri_multi_depth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, true, true);
+    draw_tri_multi(c, full, x0, y0, x1, y1, true);
 }
 
 static void draw_tri_multi_nodepth(tri_ctx *c, bool full, int x0, int y0, int x1, int y1)
 {
-    draw_tri_quads(c, full, x0, y0, x1, y1, false, true);
+    draw_tri_multi(c, full, x0, y0, x1, y1, false);
 }
 
 /* ---- the tile ---- */

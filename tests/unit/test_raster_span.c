@@ -611,20 +611,26 @@ static void test_quads_span_vs_plain(void **state)
     const sl_program *progs[5] = {&prog_quad, &prog_quad_q, &prog_cut, &prog_quad_m, &prog_quad_m_fresh};
     for (int p = 0; p < 5; p++)
         for (int depth = 0; depth < 2; depth++) {
-            sl_mesh sphere = make_sphere(24, 12), grid = make_grid(5);
+            sl_mesh sphere = make_sphere(24, 12), grid = make_grid(5), wall = make_grid(1);
             mat4 vp = mat4_mul(perspective(radians(50.0f), (float)W / (float)H, 0.5f, 20.0f),
                                lookAt(vec3(0.4f, -3.5f, 1.0f), vec3(0, 0, 0), vec3(0, 0, 1)));
             probe_uniforms u1 = {mat4_mul(vp, mat4_scale(vec3(1.3f, 1.3f, 1.3f)))};
             probe_uniforms u2 = {mat4_mul(vp, mat4_rotate(vec3(1, 0.2f, 0), 1.1f))};
-            sl_draw draws[2] = {{.program = progs[p], .vs_uniforms = &u1, .mesh = &sphere},
-                                {.program = progs[p], .vs_uniforms = &u2, .mesh = &grid}};
+            /* a wall behind them, two triangles over most of the target: bin items that cover
+             * whole tiles (setup.c's full flag), drawn without edge tests */
+            probe_uniforms u3 = {mat4_mul(vp, mat4_mul(mat4_translate(vec3(0, 2.5f, 0)),
+                                                       mat4_mul(mat4_rotate(vec3(1, 0, 0), radians(-90.0f)),
+                                                                mat4_scale(vec3(5, 5, 5)))))};
+            sl_draw draws[3] = {{.program = progs[p], .vs_uniforms = &u1, .mesh = &sphere},
+                                {.program = progs[p], .vs_uniforms = &u2, .mesh = &grid},
+                                {.program = progs[p], .vs_uniforms = &u3, .mesh = &wall}};
             sl_target target = {.width = W, .height = H, .texel_size = sizeof(probe_texel), .texels = ref, .depth_offset = depth ? (long)offsetof(probe_texel, depth) : SL_NO_DEPTH};
             sl_error err = {0};
             memset(ref, 0, n * sizeof *ref);
             for (size_t i = 0; i < n; i++)
                 ref[i].depth = 1.0f;
             sl_raster *r = make_raster(1, 32, true);
-            assert_true(sl_raster_draw_list(r, &target, draws, 2, &err));
+            assert_true(sl_raster_draw_list(r, &target, draws, 3, &err));
             sl_raster_stats ps = sl_raster_get_stats(r);
             sl_raster_destroy(r);
             if (p != 4)
@@ -638,7 +644,7 @@ static void test_quads_span_vs_plain(void **state)
                     out[i].depth = 1.0f;
                 target.texels = out;
                 r = make_raster(configs[k][0], configs[k][1], false);
-                assert_true(sl_raster_draw_list(r, &target, draws, 2, &err));
+                assert_true(sl_raster_draw_list(r, &target, draws, 3, &err));
                 sl_raster_stats st = sl_raster_get_stats(r);
                 sl_raster_destroy(r);
                 target.texels = ref;
@@ -651,9 +657,12 @@ static void test_quads_span_vs_plain(void **state)
                 if (p == 1 || p >= 3) /* the quad and multi-quad forms: one round a quad */
                     assert_int_equal(st.quad_rounds, st.quads);
                 assert_int_equal(st.quads, ps.quads);
+                if (configs[k][1] == 16) /* the wall covers whole 16x16 tiles (32: 12 of them) */
+                    assert_true(st.tiles_full > 0);
             }
             free_mesh(&sphere);
             free_mesh(&grid);
+            free_mesh(&wall);
         }
     free(ref);
     free(out);
