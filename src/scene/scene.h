@@ -233,7 +233,8 @@ void sl_mesh_compute_normals(sl_mesh *mesh); /* angle-weighted vertex normals */
 void sl_mesh_free(sl_mesh *mesh);
 /* Built-in shapes, unit sized and centred at the origin, counter-clockwise front faces seen from
  * outside, texture coordinates in [0,1]^2. The sphere has poles on +-Z, `slices` (3..1024)
- * around Z and `stacks` (2..512) from pole to pole. */
+ * around Z and `stacks` (2..512) from pole to pole. `mesh` is an output: its old contents are
+ * not freed, and it is all zeros on failure. */
 bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err); /* radius 1 */
 bool sl_mesh_plane(sl_mesh *mesh, sl_error *err);  /* [-1,1]^2 at z = 0, normal +Z */
 bool sl_mesh_box(sl_mesh *mesh, sl_error *err);    /* [-1,1]^3, flat normals per face */

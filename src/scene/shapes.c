@@ -7,10 +7,12 @@
  * xyz = normalize(dP/du), w = the sign that makes cross(N, T) * w point along dP/dv (glTF). */
 #include "scene_internal.h"
 
+#include <string.h>
+
 bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
 {
     if (slices < 3 || slices > SCENE_SPHERE_MAX_SLICES || stacks < 2 || stacks > SCENE_SPHERE_MAX_STACKS) {
-        sl_mesh_free(mesh);
+        memset(mesh, 0, sizeof *mesh); /* an output, as scene_mesh_alloc treats it: nothing to free */
         return sl_fail(err, SL_ERR_RANGE, "sphere: %d slices x %d stacks is outside 3..%d x 2..%d", slices, stacks,
                        SCENE_SPHERE_MAX_SLICES, SCENE_SPHERE_MAX_STACKS);
     }
