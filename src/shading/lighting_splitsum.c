@@ -73,8 +73,10 @@ bool shade_splitsum_fast(const sl_lighting_uniforms *u)
 static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* GLSL lobe_param (lighting.c): the G-buffer alpha clamped, Phong's to [0, MAX_ALPHA], GGX's to
- * [-2, -1]. The same expression, here inline: the port's is a call per pixel from another file
- * (2-3% of the split sum's samples, and a call keeps load_stage's loop scalar). */
+ * [-2, -1]. The same expression, here inline: the port's shade_lobe_param is a call per pixel
+ * into another file (2-3% of the split sum's samples). load_stage's loop stays scalar all the
+ * same (GCC has no vector type for the texel's stride of 14 floats; gathered from a table of
+ * offsets it was no faster: docs/performance.md "Split sum, session 10"). */
 static inline float lobe_param(float a)
 {
     return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, SHADE_MAX_ALPHA);
