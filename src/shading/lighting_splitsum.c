@@ -70,41 +70,63 @@ bool shade_splitsum_fast(const sl_lighting_uniforms *u)
            u->uSplitSumPhong->levels[0].height == u->uSplitSumGGX->levels[0].height;
 }
 
+static inline float select_f(bool c, float a, float b) { return c ? a : b; }
+
+/* GLSL lobe_param (lighting.c): the G-buffer alpha clamped, Phong's to [0, MAX_ALPHA], GGX's to
+ * [-2, -1]. The same expression, here inline: the port's shade_lobe_param is a call per pixel
+ * into another file (2-3% of the split sum's samples). load_stage's loop stays scalar all the
+ * same (GCC has no vector type for the texel's stride of 14 floats; gathered from a table of
+ * offsets it was no faster: docs/performance.md "Split sum, session 10"). */
+static inline float lobe_param(float a)
+{
+    return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, SHADE_MAX_ALPHA);
+}
+
 /* (1) texels to arrays. An empty pixel (depth >= 1) gets a stand-in, a point one unit below
  * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
- * reads. */
+ * reads. The extra plane (occlusion, emission; shade_extra) in a loop of its own, so neither
+ * loop tests for the plane per pixel. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                        splitsum_block *b)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    const vec3 below = sub(u->uEye, vec3(0.0f, 0.0f, 1.0f));
     for (int i = 0; i < count; i++) {
         bool empty = t[i].depth >= 1.0f;
-        vec3 P = empty ? sub(u->uEye, vec3(0.0f, 0.0f, 1.0f)) : t[i].position;
-        vec3 n = empty ? vec3(0.0f, 0.0f, 1.0f) : t[i].normal;
-        vec3 kd = empty ? vec3s(0.0f) : t[i].kd, ks = empty ? vec3s(0.0f) : t[i].ks;
-        sl_gbuffer_extra e = shade_extra(gb, x0 + i, y);
-        b->Px[i] = P.x;
-        b->Py[i] = P.y;
-        b->Pz[i] = P.z;
-        b->nx[i] = n.x;
-        b->ny[i] = n.y;
-        b->nz[i] = n.z;
-        b->kdr[i] = kd.x;
-        b->kdg[i] = kd.y;
-        b->kdb[i] = kd.z;
-        b->ksr[i] = ks.x;
-        b->ksg[i] = ks.y;
-        b->ksb[i] = ks.z;
-        b->alpha[i] = empty ? 1.0f : shade_lobe_param(t[i].alpha);
-        b->occ[i] = e.occlusion;
-        b->emr[i] = e.emissive.x;
-        b->emg[i] = e.emissive.y;
-        b->emb[i] = e.emissive.z;
+        b->Px[i] = select_f(empty, below.x, t[i].position.x);
+        b->Py[i] = select_f(empty, below.y, t[i].position.y);
+        b->Pz[i] = select_f(empty, below.z, t[i].position.z);
+        b->nx[i] = select_f(empty, 0.0f, t[i].normal.x);
+        b->ny[i] = select_f(empty, 0.0f, t[i].normal.y);
+        b->nz[i] = select_f(empty, 1.0f, t[i].normal.z);
+        b->kdr[i] = select_f(empty, 0.0f, t[i].kd.x);
+        b->kdg[i] = select_f(empty, 0.0f, t[i].kd.y);
+        b->kdb[i] = select_f(empty, 0.0f, t[i].kd.z);
+        b->ksr[i] = select_f(empty, 0.0f, t[i].ks.x);
+        b->ksg[i] = select_f(empty, 0.0f, t[i].ks.y);
+        b->ksb[i] = select_f(empty, 0.0f, t[i].ks.z);
+        b->alpha[i] = select_f(empty, 1.0f, lobe_param(t[i].alpha));
+    }
+    if (!gb->extra) { /* shade_extra's "none" */
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            b->occ[i] = 1.0f;
+            b->emr[i] = 0.0f;
+            b->emg[i] = 0.0f;
+            b->emb[i] = 0.0f;
+        }
+        return;
+    }
+    const sl_gbuffer_extra *e = gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0;
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        b->occ[i] = e[i].occlusion;
+        b->emr[i] = e[i].emissive.x;
+        b->emg[i] = e[i].emissive.y;
+        b->emb[i] = e[i].emissive.z;
     }
 }
-
-static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* (2) main() up to the estimator: shade_view_frame_at (V, facing_normal, the environment frame,
  * R = reflect(-V, N)) into the span's arrays. */

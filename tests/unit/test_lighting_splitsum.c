@@ -115,6 +115,42 @@ static void test_fast_vs_port(void **state)
     ss_teardown(&s);
 }
 
+/* The fast path against the port with the G-buffer's extra plane (occlusion and emission, read
+ * by load_stage in a loop of its own): a pattern of both over the image, the same bounds as
+ * test_fast_vs_port; without diffuse the emission is dropped (it travels with the diffuse term). */
+static void test_fast_vs_port_extra(void **state)
+{
+    (void)state;
+    ss_fixture s;
+    sl_error err;
+    ss_setup(&s, 160, 64);
+    sl_gbuffer *gb = &s.f.gb;
+    assert_true(sl_gbuffer_use_extra(gb, true, &err));
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++) {
+            sl_gbuffer_extra *e = &gb->extra[y * gb->width + x];
+            e->occlusion = 0.25f + 0.125f * (float)((x + y) % 7);
+            e->emissive = vec3(0.5f * (float)(x % 3), 0.25f * (float)(y % 5), (x % 11) == 0 ? 4.0f : 0.0f);
+            e->depth = sl_gbuffer_at(gb, x, y)->depth;
+        }
+    const sl_lighting_options opts[] = {{0}, {.no_diffuse = true}, {.no_specular = true}};
+    for (size_t v = 0; v < sizeof opts / sizeof opts[0]; v++) {
+        sl_lighting_desc d = ss_desc(&s, opts[v], 2);
+        sl_image a = {0}, b = {0};
+        fx_render(&d, gb, 1, &a, NULL);
+        d.options.plain = true;
+        fx_render(&d, gb, 1, &b, NULL);
+        double mx, mean;
+        fx_image_rel_diff(&a, &b, &mx, &mean);
+        print_message("extra plane, variant %zu: split-sum fast vs port: max rel %.3g, mean rel %.3g\n", v, mx, mean);
+        assert_true(mean < 1e-6);
+        assert_true(mx < 1e-4);
+        sl_image_free(&a);
+        sl_image_free(&b);
+    }
+    ss_teardown(&s);
+}
+
 /* The same bits from the pass on 1 and 2 threads, from sl_lighting_shade per pixel (with and
  * without a task), from a whole row, and from the trace (whose total is what the pass wrote, and
  * which records a split-sum lookup and the point lights). With env lights the batched path
@@ -182,6 +218,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_fast_vs_port),
+        cmocka_unit_test(test_fast_vs_port_extra),
         cmocka_unit_test(test_fast_determinism),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
