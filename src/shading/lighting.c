@@ -33,7 +33,6 @@ static const int SPLITSUM_GGX = SL_SPLITSUM_GGX;
 static const float MIN_NDOTV = SHADE_MIN_NDOTV;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
-static const float MAX_ALPHA = SHADE_MAX_ALPHA;
 static const float MIN_LIGHT_D2 = 1e-8f;
 #define PI SL_PI
 
@@ -141,12 +140,6 @@ static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
         return sl_oct_texture_lod(u->uEnvResidual, w, lod);
     return textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod);
-}
-
-/* GLSL: lobe_param */
-static float lobe_param(float a)
-{
-    return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, MAX_ALPHA);
 }
 
 /* GLSL: facing_normal */
@@ -434,7 +427,7 @@ vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int
         vec3 P = t->position;
         vec3 Kd = t->kd;
         vec3 Ks = t->ks;
-        float alpha = lobe_param(t->alpha);
+        float alpha = shade_lobe_param(t->alpha); /* GLSL lobe_param (lighting_internal.h) */
         vec3 V = normalize(sub(u->uEye, P));
         vec3 N = facing_normal(t->normal, V);
         vec3 Nenv = mat3_mul_vec3(u->uEnvRotation, N);
@@ -457,7 +450,6 @@ float shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
 vec3 shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
 float shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
 vec3 shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
-float shade_lobe_param(float a) { return lobe_param(a); }
 vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace)
 {

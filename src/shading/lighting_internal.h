@@ -23,6 +23,14 @@ enum { SPAN = 32 };
 #define SHADE_POLE_EPS 1e-6f  /* |R.xy|^2 below this: Z x R vanishes, use X x R instead */
 #define SHADE_MAX_ALPHA 1e7f  /* alpha beyond this is a mirror to float precision */
 
+/* GLSL lobe_param: the G-buffer alpha clamped, Phong's to [0, SHADE_MAX_ALPHA], GGX's (alpha
+ * <= -1) to [-2, -1]. Inline, as every path reads it per pixel (a call into lighting.c was 2-3%
+ * of the split sum's samples). */
+static inline float shade_lobe_param(float a)
+{
+    return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, SHADE_MAX_ALPHA);
+}
+
 /* ---- the port's functions that the other files call (lighting.c) ---- */
 
 vec2 shade_hammersley_point(const sl_lighting_uniforms *u, int k);     /* GLSL hammersley_point */
@@ -32,7 +40,6 @@ float shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL 
 vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
-float shade_lobe_param(float a); /* GLSL lobe_param: the G-buffer alpha clamped (Phong) or GGX's */
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
 vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);

@@ -72,20 +72,12 @@ bool shade_splitsum_fast(const sl_lighting_uniforms *u)
 
 static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
-/* GLSL lobe_param (lighting.c): the G-buffer alpha clamped, Phong's to [0, MAX_ALPHA], GGX's to
- * [-2, -1]. The same expression, here inline: the port's shade_lobe_param is a call per pixel
- * into another file (2-3% of the split sum's samples). load_stage's loop stays scalar all the
- * same (GCC has no vector type for the texel's stride of 14 floats; gathered from a table of
- * offsets it was no faster: docs/performance.md "Split sum, session 10"). */
-static inline float lobe_param(float a)
-{
-    return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, SHADE_MAX_ALPHA);
-}
-
 /* (1) texels to arrays. An empty pixel (depth >= 1) gets a stand-in, a point one unit below
  * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
  * reads. The extra plane (occlusion, emission; shade_extra) in a loop of its own, so neither
- * loop tests for the plane per pixel. */
+ * loop tests for the plane per pixel. The loop stays scalar (GCC has no vector type for the
+ * texel's stride of 14 floats; gathered from a table of offsets it was no faster:
+ * docs/performance.md "Split sum, session 10"). */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                        splitsum_block *b)
@@ -106,7 +98,7 @@ static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
         b->ksr[i] = select_f(empty, 0.0f, t[i].ks.x);
         b->ksg[i] = select_f(empty, 0.0f, t[i].ks.y);
         b->ksb[i] = select_f(empty, 0.0f, t[i].ks.z);
-        b->alpha[i] = select_f(empty, 1.0f, lobe_param(t[i].alpha));
+        b->alpha[i] = select_f(empty, 1.0f, shade_lobe_param(t[i].alpha));
     }
     if (!gb->extra) { /* shade_extra's "none" */
 #pragma omp simd
