@@ -30,7 +30,7 @@ typedef struct {
                                 then the residual's own sl_env_build */
     size_t env_oct;          /* --env-layout oct: the octahedral chain, held */
     size_t env_oct_build;    /* while built: the chain and its texels' solid angles (4 B each) */
-    size_t splitsum;         /* --estimator splitsum: one prefiltered chain (with its pair rows) per
+    size_t splitsum;         /* --estimator splitsum: one prefiltered chain (with its compact rows) per
                                 lobe set the materials use, and the BRDF table, held */
     size_t frame;            /* G-buffer, radiance, display image, PNG encoding, mesh copies */
     size_t peak;
@@ -50,11 +50,11 @@ static size_t chain_texels(int w, int h)
     }
 }
 
-/* A chain that is kept: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS texels the
- * pair rows (ibl.h sl_env.pairs: the chain again with one texel more a row); with `compact` (what
- * sl_env_build keeps; the split sum's prefiltered chains are not) also the compact rows (sl_env.e5:
- * 4 bytes a texel, W + 1 a row, sl_e5_row(H, levels) rows). */
-static size_t chain_held_bytes(int w, int h, bool compact)
+/* A chain that is kept: the block, and for chains of at most SL_ENV_PAIRS_MAX_TEXELS texels, with
+ * `pairs` (what sl_env_build keeps; the split sum's prefiltered chains do not) the pair rows
+ * (ibl.h sl_env.pairs: the chain again with one texel more a row), and the compact rows
+ * (sl_env.e5: 4 bytes a texel, W + 1 a row, sl_e5_row(H, levels) rows). */
+static size_t chain_held_bytes(int w, int h, bool pairs)
 {
     const int w0 = w, h0 = h;
     size_t texels = chain_texels(w, h), rows = 0;
@@ -66,7 +66,7 @@ static size_t chain_held_bytes(int w, int h, bool compact)
             break;
     }
     size_t e5 = ((size_t)w0 + 1) * (size_t)sl_e5_row(h0, levels) * 4;
-    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (texels + rows) * 12 + (compact ? e5 : 0) : 0);
+    return texels * 12 + (texels <= SL_ENV_PAIRS_MAX_TEXELS ? (pairs ? (texels + rows) * 12 : 0) + e5 : 0);
 }
 
 /* sl_env_build of a W x H image (the image itself not counted): the chain, level 0 converted

@@ -43,7 +43,7 @@ typedef struct {
                     texels right after the previous level's, so a texel of any level has one
                     index from here (the lighting shader's vectorized fetch). NULL: each level
                     is its own allocation. sl_env_free handles both. */
-    float *pairs; /* sl_env_build and sl_env_prefilter, lat-long chains of at most
+    float *pairs; /* sl_env_build, lat-long chains of at most
                      SL_ENV_PAIRS_MAX_TEXELS texels: the chain again, level after level, each
                      row of w texels followed by a copy of its first (w + 1 texels of 3
                      floats), so the two texels a REPEAT bilinear reads in a row are always
@@ -54,8 +54,9 @@ typedef struct {
                      pair rows again in the compact shared-exponent texel (texel_e5.h, 32 bits,
                      channel error at most 1.96e-3 of the texel's max channel), so a bilinear
                      row pair is one 64-bit read: the lighting pass's specular fetch
-                     (texture_lod.h sl_e5_gather_lod). NULL where `pairs` is, and for the
-                     prefiltered chains (the split-sum fetch reads `pairs`). */
+                     (texture_lod.h sl_e5_gather_lod). sl_env_prefilter too (without pair rows):
+                     the split-sum fetch (lighting_splitsum.c fetch_chain). NULL where `pairs`
+                     is (too large, other layouts). */
     int e5_emin;  /* the chain's exponent offset: a channel is m 2^(e + e5_emin) */
 } sl_env;
 /* 2^22 texels: a 2048 x 1024 map's chain (2.8 Mi texels, 34 MB more); a 4096 x 2048 one gets none. */

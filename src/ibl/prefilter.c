@@ -180,8 +180,13 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     }
     free(ls);
     free(scratch);
-    /* the pair rows (ibl.h), as sl_env_build has them: the split-sum fetch's bilinear rows in
-     * 64-bit reads (lighting_splitsum.c); NULL costs only speed */
-    out->pairs = ibl_env_build_pairs(out, total);
+    /* the compact rows (ibl.h sl_env.e5, texel_e5.h), as sl_env_build has them: the split-sum
+     * fetch (lighting_splitsum.c fetch_chain) reads a bilinear row pair in one 64-bit read, 4
+     * gathers a sample where the float pair rows took 12, a third of their bytes (level 0 of a
+     * 1024x512 chain: 2.1 MB against 6.3), within 2^-9 of a texel's largest channel
+     * (docs/performance.md "Compact texels for the split sum's chains"). No pair rows: nothing
+     * else reads a prefiltered chain fast (the port and GL read the block). NULL costs only
+     * speed: the fetch then reads the block. */
+    out->e5 = ibl_env_build_e5(out, total, &out->e5_emin);
     return true;
 }

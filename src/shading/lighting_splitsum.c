@@ -13,8 +13,10 @@
  *   (2) V, facing_normal, the environment frame and R (the batched pixel stage's operations);
  *   (3) the lobe width r (splitsum_width), the level r (levels - 1), R's lat-long uv through
  *       core/fast_math.h's atan2, and the table (splitsum_lut) gathered from its texels;
- *   (4) the prefiltered chain's trilinear fetch gathered from its block (ibl/texture_lod.h),
- *       the Phong or the GGX chain: one loop per chain a span uses, a select when it mixes;
+ *   (4) the prefiltered chain's trilinear fetch gathered from its compact rows (ibl/texel_e5.h,
+ *       texture_lod.h sl_e5_gather_lod; within 2^-9 of a texel's largest channel of the port's
+ *       float texels), the Phong or the GGX chain: one loop per chain a span uses, a select
+ *       when it mixes;
  *   (5) the irradiance, vectorized: sl_irradiance_eval_span (the port's bits) for SH9 and the
  *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv;
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
@@ -205,14 +207,16 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
 }
 
 /* (4) one chain's trilinear fetch along R for the whole span, into (r, g, b): from the chain's
- * pair rows when it has them (ibl.h sl_env.pairs: half the gathers, the same bits), else from
- * its block. */
+ * compact rows when it has them (ibl.h sl_env.e5, built by sl_env_prefilter: 4 64-bit gathers a
+ * sample, texels within 2^-9 of their largest channel, texel_e5.h), else from its block (the
+ * port's bits). Both chains of a span go through here, so the viewer's moving frame and its
+ * exact frame read the same texels. */
 static void fetch_chain(const sl_env_gather *g, int count, const splitsum_block *b, float *fr, float *fg, float *fb)
 {
-    if (g->pairs) {
+    if (g->e5) {
 #pragma omp simd
         for (int i = 0; i < count; i++) {
-            vec3 c = sl_pair_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
+            vec3 c = sl_e5_gather_lod(g, b->u[i], b->v[i], b->lod[i]);
             fr[i] = c.x;
             fg[i] = c.y;
             fb[i] = c.z;
