@@ -201,6 +201,10 @@ float *ibl_env_build_pairs(const sl_env *env, size_t texels)
     return pairs;
 }
 
+/* Levels of at least this many texels encode their compact rows on all threads (0.25 ms of
+ * work a thread at 4 ns a texel). */
+#define E5_PARALLEL_MIN ((size_t)256 * 256)
+
 /* sl_env.e5 (ibl.h): the chain in the compact texel (texel_e5.h) at one row stride, level l's
  * row y at row sl_e5_row(H, l) + y, and the chain's exponent offset in *emin; NULL when the
  * chain is too large or has sizes other than sl_env_build's, or no memory. Level 0 holds the
@@ -224,14 +228,21 @@ uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
     for (size_t k = 0, n = (size_t)l0->width * (size_t)l0->height; k < n; k++)
         max_value = maxf(max_value, maxf(maxf(l0->texels[k].x, l0->texels[k].y), l0->texels[k].z));
     *emin = sl_e5_emin(max_value);
+    const int e = *emin;
     for (int l = 0; l < L; l++) {
         const sl_env_level *lv = &env->levels[l];
+        /* rows in parallel (each texel on its own: the same bits on any thread count) on levels
+         * of E5_PARALLEL_MIN texels or more: the encode (texel_e5.c, in double, about 4 ns a
+         * texel) is most of the build; the split sum's two 1024x512 chains took 3 ms less of
+         * sl_env_prefilter on 2 threads (docs/performance.md "Compact texels for the split
+         * sum's chains") */
+#pragma omp parallel for schedule(static) if ((size_t)lv->width * (size_t)lv->height >= E5_PARALLEL_MIN)
         for (int y = 0; y < lv->height; y++) {
             const vec3 *row = lv->texels + (size_t)y * (size_t)lv->width;
             uint32_t *out = e5 + (size_t)(sl_e5_row(H, l) + y) * stride;
             for (int x = 0; x <= lv->width; x++) {
                 vec3 t = row[x < lv->width ? x : 0];
-                out[x] = sl_e5_encode(t.x, t.y, t.z, *emin);
+                out[x] = sl_e5_encode(t.x, t.y, t.z, e);
             }
         }
     }
