@@ -145,8 +145,9 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     }
     const sl_env_level *l0 = &src->levels[0];
     out->layout = SL_ENV_LAYOUT_LATLONG;
-    /* One block for the chain, as sl_env_build makes it: the split-sum fetch of the lighting
-     * pass (lighting_splitsum.c) gathers from it with one index per texel. */
+    /* One block for the chain, as sl_env_build makes it: the port and the GL upload read it, and
+     * the split-sum fetch of the lighting pass (lighting_splitsum.c) gathers from it with one
+     * index per texel where the chain has no compact rows (below). */
     size_t total = 0;
     for (int k = 0; k < levels; k++) {
         /* GL's mip sizes: max(1, floor(size / 2^k)) */
