@@ -334,6 +334,27 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     c->shaded += m;
 }
 
+/* The run of blocks that are not outside, in the block row [ry0, ry1] of the triangle's bounds
+ * [x0, x1] (blocks from bx0): its columns [*lo, *hi] (lo > hi: none), and whether every block of
+ * it is inside (the triangle is convex, so they form one run). */
+static inline bool block_row_run(tri_ctx *c, int bx0, int x0, int x1, int ry0, int ry1, int *lo, int *hi)
+{
+    bool inside = true;
+    *lo = x1 + 1;
+    *hi = x0 - 1;
+    for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
+        int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
+        int cls = classify(c->t, rx0, ry0, rx1, ry1);
+        if (cls == BLOCK_OUTSIDE)
+            continue;
+        c->blocks_full += cls == BLOCK_INSIDE;
+        inside &= cls == BLOCK_INSIDE;
+        *lo = rx0 < *lo ? rx0 : *lo;
+        *hi = rx1 > *hi ? rx1 : *hi;
+    }
+    return inside;
+}
+
 /* The span path's draw_tri: the same blocks, drawn a block row at a time. In each
  * block row the blocks that are not outside form one run (the triangle is convex);
  * each pixel row of the run is one span, tested per pixel unless every block of the
@@ -341,7 +362,6 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
 static inline __attribute__((always_inline)) void draw_tri_spans(tri_ctx *c, bool full, int x0, int y0, int x1,
                                                                  int y1, const bool depth)
 {
-    const rast_tri *t = c->t;
     if (full) {
         for (int y = y0; y <= y1; y++)
             span_row(c, y, x0, x1, false, depth);
@@ -350,18 +370,8 @@ static inline __attribute__((always_inline)) void draw_tri_spans(tri_ctx *c, boo
     int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
     for (int by = by0; by <= y1; by += RAST_BLOCK) {
         int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
-        int lo = x1 + 1, hi = x0 - 1;
-        bool inside = true;
-        for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
-            int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
-            int cls = classify(t, rx0, ry0, rx1, ry1);
-            if (cls == BLOCK_OUTSIDE)
-                continue;
-            c->blocks_full += cls == BLOCK_INSIDE;
-            inside &= cls == BLOCK_INSIDE;
-            lo = rx0 < lo ? rx0 : lo;
-            hi = rx1 > hi ? rx1 : hi;
-        }
+        int lo, hi;
+        const bool inside = block_row_run(c, bx0, x0, x1, ry0, ry1, &lo, &hi);
         if (lo > hi)
             continue;
         for (int y = ry0; y <= ry1; y++) {
@@ -818,7 +828,6 @@ static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, in
 static inline __attribute__((always_inline)) void draw_tri_multi(tri_ctx *c, bool full, int x0, int y0, int x1, int y1,
                                                                  const bool depth)
 {
-    const rast_tri *t = c->t;
     if (full) {
         for (int qy = y0 & ~1; qy <= y1; qy += 2)
             quad_row_gather(c, qy, x0 & ~1, x0, x1, y0, y1, false, depth);
@@ -828,18 +837,8 @@ static inline __attribute__((always_inline)) void draw_tri_multi(tri_ctx *c, boo
     int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
     for (int by = by0; by <= y1; by += RAST_BLOCK) {
         int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
-        int lo = x1 + 1, hi = x0 - 1;
-        bool inside = true;
-        for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
-            int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
-            int cls = classify(t, rx0, ry0, rx1, ry1);
-            if (cls == BLOCK_OUTSIDE)
-                continue;
-            c->blocks_full += cls == BLOCK_INSIDE;
-            inside &= cls == BLOCK_INSIDE;
-            lo = rx0 < lo ? rx0 : lo;
-            hi = rx1 > hi ? rx1 : hi;
-        }
+        int lo, hi;
+        const bool inside = block_row_run(c, bx0, x0, x1, ry0, ry1, &lo, &hi);
         if (lo > hi)
             continue;
         for (int qy = ry0 & ~1; qy <= ry1; qy += 2) {
