@@ -157,6 +157,15 @@ vec2 sl_irradiance_dp_uv(vec3 n, int size);
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err);
 /* n unit length; the result is clamped at 0 (SH9 can ring below it; NaN also gives 0). */
 vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n);
+/* The directions sl_irradiance_eval_span looks up per vector loop (its uv scratch on the stack). */
+enum { SL_IRRADIANCE_SPAN = 64 };
+
+/* sl_irradiance_eval of the directions (x[i], y[i], z[i]), i < count, into e{r,g,b}[i]: the same
+ * bits for every method. SH9 and the pole-free maps (OCT, DP) run as vector loops; the lat-long
+ * maps (BRUTE, MAP) a direction at a time (irradiance.c says why). Non-finite directions are
+ * safe, as in sl_irradiance_eval. */
+void sl_irradiance_eval_span(const sl_irradiance *irr, int count, const float *x, const float *y, const float *z,
+                             float *er, float *eg, float *eb);
 void sl_irradiance_free(sl_irradiance *irr);
 
 #endif

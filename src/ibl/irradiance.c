@@ -220,7 +220,7 @@ vec3 sl_irradiance_eval(const sl_irradiance *irr, vec3 n)
     return vec3(clamp_e(e.x), clamp_e(e.y), clamp_e(e.z));
 }
 
-/* sl_irradiance_eval over a span (irradiance_uv.h), one vector loop per method. The pole-free
+/* sl_irradiance_eval over a span (ibl.h), one vector loop per method. The pole-free
  * maps' uv is clamped into (0, 1) (sl_irradiance_grid_coord), where textureLod's guards (a
  * non-finite coordinate reads as 0, u wraps) change nothing and lod 0 is level 0's bilinear
  * filter alone: the fetch is sl_texels_bilinear, the same bits. The lat-long maps go through

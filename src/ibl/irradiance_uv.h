@@ -1,14 +1,12 @@
 /* irradiance_uv.h - the lookup coordinates of the pole-free irradiance maps (irradiance_map.c
  * builds them; docs/ibl.md "Pole-free irradiance maps"), inline and branch-free so a vectorized
- * loop (the split-sum fast path, shading/lighting_splitsum.c) computes them per lane; the
- * public sl_irradiance_oct_uv and sl_irradiance_dp_uv are these, so both give the same bits.
- * And the lookup of E over a span of directions built on them (irradiance.c), for the lighting
- * pass's batched path. */
+ * loop (sl_irradiance_eval_span, irradiance.c, which the lighting pass's batched and split-sum
+ * paths call) computes them per lane; the public sl_irradiance_oct_uv and sl_irradiance_dp_uv
+ * are these, so both give the same bits. */
 #ifndef SL_IRRADIANCE_UV_H
 #define SL_IRRADIANCE_UV_H
 
 #include "../core/fast_math.h"
-#include "ibl.h"
 #include "octahedral.h"
 
 /* Texel centre coordinate of grid point p in [-1, 1] on a side of s texels, clamped so the
@@ -39,15 +37,5 @@ SL_FM_INLINE void sl_irradiance_dp_uv_inline(float x, float y, float z, int size
     *u = (sl_irradiance_grid_coord(px, size) + half) * 0.5f;
     *v = sl_irradiance_grid_coord(py, size);
 }
-
-/* The directions sl_irradiance_eval_span looks up per vector loop (its uv scratch on the stack). */
-enum { SL_IRRADIANCE_SPAN = 64 };
-
-/* sl_irradiance_eval of the directions (x[i], y[i], z[i]), i < count, into e{r,g,b}[i]: the same
- * bits for every method. SH9 and the pole-free maps (OCT, DP) run as vector loops; the lat-long
- * maps (BRUTE, MAP) a direction at a time (irradiance.c says why). Non-finite directions are
- * safe, as in sl_irradiance_eval. */
-void sl_irradiance_eval_span(const sl_irradiance *irr, int count, const float *x, const float *y, const float *z,
-                             float *er, float *eg, float *eb);
 
 #endif

@@ -34,7 +34,6 @@
 #endif
 
 #include "../core/fast_math.h"
-#include "../ibl/irradiance_uv.h"
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
 

@@ -10,7 +10,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "ibl/irradiance_uv.h"
+#include "ibl/ibl.h"
 #include "shading/lighting_trace.h"
 #include "shading_fixtures.h"
 #include "testutil.h"
