@@ -334,25 +334,34 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
     c->shaded += m;
 }
 
-/* The run of blocks that are not outside, in the block row [ry0, ry1] of the triangle's bounds
- * [x0, x1] (blocks from bx0): its columns [*lo, *hi] (lo > hi: none), and whether every block of
- * it is inside (the triangle is convex, so they form one run). */
-static inline bool block_row_run(tri_ctx *c, int bx0, int x0, int x1, int ry0, int ry1, int *lo, int *hi)
+/* A block row of a triangle's bounds: its pixel rows [y0, y1] and the run of blocks in it that
+ * are not outside, columns [lo, hi] (the triangle is convex, so they form one run); inside when
+ * every block of the run is. */
+typedef struct {
+    int y0, y1, lo, hi;
+    bool inside;
+} block_run;
+
+/* The block row starting at `by` of the bounds [x0, x1] x [y0, y1]; false when it has no block
+ * that is not outside. */
+static inline bool block_row_run(tri_ctx *c, int by, int x0, int y0, int x1, int y1, block_run *run)
 {
-    bool inside = true;
-    *lo = x1 + 1;
-    *hi = x0 - 1;
-    for (int bx = bx0; bx <= x1; bx += RAST_BLOCK) {
+    run->y0 = by > y0 ? by : y0;
+    run->y1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
+    run->lo = x1 + 1;
+    run->hi = x0 - 1;
+    run->inside = true;
+    for (int bx = x0 & ~(RAST_BLOCK - 1); bx <= x1; bx += RAST_BLOCK) {
         int rx0 = bx > x0 ? bx : x0, rx1 = bx + RAST_BLOCK - 1 < x1 ? bx + RAST_BLOCK - 1 : x1;
-        int cls = classify(c->t, rx0, ry0, rx1, ry1);
+        int cls = classify(c->t, rx0, run->y0, rx1, run->y1);
         if (cls == BLOCK_OUTSIDE)
             continue;
         c->blocks_full += cls == BLOCK_INSIDE;
-        inside &= cls == BLOCK_INSIDE;
-        *lo = rx0 < *lo ? rx0 : *lo;
-        *hi = rx1 > *hi ? rx1 : *hi;
+        run->inside &= cls == BLOCK_INSIDE;
+        run->lo = rx0 < run->lo ? rx0 : run->lo;
+        run->hi = rx1 > run->hi ? rx1 : run->hi;
     }
-    return inside;
+    return run->lo <= run->hi;
 }
 
 /* The span path's draw_tri: the same blocks, drawn a block row at a time. In each
@@ -367,18 +376,15 @@ static inline __attribute__((always_inline)) void draw_tri_spans(tri_ctx *c, boo
             span_row(c, y, x0, x1, false, depth);
         return;
     }
-    int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
-    for (int by = by0; by <= y1; by += RAST_BLOCK) {
-        int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
-        int lo, hi;
-        const bool inside = block_row_run(c, bx0, x0, x1, ry0, ry1, &lo, &hi);
-        if (lo > hi)
+    for (int by = y0 & ~(RAST_BLOCK - 1); by <= y1; by += RAST_BLOCK) {
+        block_run run;
+        if (!block_row_run(c, by, x0, y0, x1, y1, &run))
             continue;
-        for (int y = ry0; y <= ry1; y++) {
-            if (inside)
-                span_row(c, y, lo, hi, false, depth);
+        for (int y = run.y0; y <= run.y1; y++) {
+            if (run.inside) /* a constant at each call: span_row without its edge tests */
+                span_row(c, y, run.lo, run.hi, false, depth);
             else
-                span_row(c, y, lo, hi, true, depth);
+                span_row(c, y, run.lo, run.hi, true, depth);
         }
     }
 }
@@ -744,8 +750,9 @@ static void quads_flush(tri_ctx *c, const bool depth)
  * rows makes each lane's depth (depth_at's expression), coverage (draw_tri_quads's) and depth
  * test (quad()'s: the plane updated unless the program may discard, lanes that fail storing
  * back what they loaded, as cover_and_test; its lanes past hi are uncovered); then each quad with
- * a live lane joins the batch with its lanes' offsets, depths and helper flags. The per-lane branches and 64-bit edge
- * products of draw_tri_quads's lane loop were 40% of rast_tile on pbr.json. */
+ * a live lane joins the batch with its lanes' offsets, depths and helper flags. The per-lane
+ * branches and 64-bit edge products of draw_tri_quads's lane loop were 40% of rast_tile on
+ * pbr.json. */
 static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, int qy, int xa, int lo, int hi, int y0,
                                                                   int y1, const bool edges, const bool depth)
 {
@@ -761,7 +768,7 @@ static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, in
     const int32_t row0 = qy >= y0 && qy <= y1, row1 = qy + 1 >= y0 && qy + 1 <= y1;
     float *zr0 = c->zbuf + (qy - c->py0) * c->ts + (xa - c->px0), *zr1 = zr0 + c->ts;
     _Alignas(RAST_CACHE_LINE) float zv0[SL_SPAN_MAX], zv1[SL_SPAN_MAX];
-    _Alignas(RAST_CACHE_LINE) int32_t fl0[SL_SPAN_MAX], fl1[SL_SPAN_MAX];
+    _Alignas(RAST_CACHE_LINE) int32_t live0[SL_SPAN_MAX], live1[SL_SPAN_MAX]; /* covered and passed */
     int tested = 0;
 #pragma omp simd reduction(+ : tested)
     for (int j = 0; j < count; j++) {
@@ -786,15 +793,15 @@ static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, in
         }
         zv0[j] = za;
         zv1[j] = zb;
-        fl0[j] = cov0 | pass0 << 1;
-        fl1[j] = cov1 | pass1 << 1;
+        live0[j] = pass0;
+        live1[j] = pass1;
         tested += cov0 + cov1;
     }
     c->tested += tested;
     rast_quads *b = c->batch;
     for (int j = 0; xa + j <= hi; j += 2) {
-        const unsigned live = (unsigned)(fl0[j] >> 1) | (unsigned)(fl0[j + 1] >> 1) << 1 |
-                              (unsigned)(fl1[j] >> 1) << 2 | (unsigned)(fl1[j + 1] >> 1) << 3;
+        const unsigned live = (unsigned)live0[j] | (unsigned)live0[j + 1] << 1 | (unsigned)live1[j] << 2 |
+                              (unsigned)live1[j + 1] << 3;
         if (!live)
             continue;
         const int qx = xa + j, k = b->n++;
@@ -834,18 +841,15 @@ static inline __attribute__((always_inline)) void draw_tri_multi(tri_ctx *c, boo
         quads_flush(c, depth);
         return;
     }
-    int bx0 = x0 & ~(RAST_BLOCK - 1), by0 = y0 & ~(RAST_BLOCK - 1);
-    for (int by = by0; by <= y1; by += RAST_BLOCK) {
-        int ry0 = by > y0 ? by : y0, ry1 = by + RAST_BLOCK - 1 < y1 ? by + RAST_BLOCK - 1 : y1;
-        int lo, hi;
-        const bool inside = block_row_run(c, bx0, x0, x1, ry0, ry1, &lo, &hi);
-        if (lo > hi)
+    for (int by = y0 & ~(RAST_BLOCK - 1); by <= y1; by += RAST_BLOCK) {
+        block_run run;
+        if (!block_row_run(c, by, x0, y0, x1, y1, &run))
             continue;
-        for (int qy = ry0 & ~1; qy <= ry1; qy += 2) {
-            if (inside)
-                quad_row_gather(c, qy, lo & ~1, lo, hi, ry0, ry1, false, depth);
+        for (int qy = run.y0 & ~1; qy <= run.y1; qy += 2) {
+            if (run.inside) /* a constant at each call: the loop without its edge tests */
+                quad_row_gather(c, qy, run.lo & ~1, run.lo, run.hi, run.y0, run.y1, false, depth);
             else
-                quad_row_gather(c, qy, lo & ~1, lo, hi, ry0, ry1, true, depth);
+                quad_row_gather(c, qy, run.lo & ~1, run.lo, run.hi, run.y0, run.y1, true, depth);
         }
     }
     quads_flush(c, depth);
