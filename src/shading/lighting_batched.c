@@ -208,7 +208,12 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
 }
 
 /* GGX's G' = 4 Vis(w.N, N.V) = 2 / (w.N kv + N.V sqrt((w.N)^2 (1 - a^2) + a^2)), kv the N.V half
- * (brdf.h's sl_ggx_G over 2 (w.N)(N.V)); for w.N <= 0 a value stage (4) drops. */
+ * (ggx_kv, once a pixel; brdf.h's sl_ggx_G over 2 (w.N)(N.V)); for w.N <= 0 a value stage (4)
+ * drops. */
+__attribute__((always_inline)) static inline float ggx_kv(float NdotV, float a2)
+{
+    return sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
+}
 __attribute__((always_inline)) static inline float ggx_g(float wN, float NdotV, float kv, float a2)
 {
     return 2.0f / (wN * kv + NdotV * sqrtf(maxf(wN * wN * (1.0f - a2) + a2, TINY)));
@@ -236,7 +241,7 @@ __attribute__((always_inline)) static inline void spec_directions(sample_block *
 {
     const float g_min = 1.0f / (SL_BRDF_MIN_LDOTH * SL_BRDF_MIN_LDOTH); /* 1/(L.H)^2 at the clamp */
     const float NdotV = dot(N, V);
-    const float kv = ggx ? sqrtf(NdotV * NdotV * (1.0f - a2) + a2) : 0.0f;
+    const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
 #pragma omp simd
     for (int i = 0; i < m; i++) {
         float wx = (A.x * Lx[i] + B.x * Ly[i]) + R.x * Lz[i];
@@ -274,7 +279,7 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
                                                                         vec3 B, bool inv_lh2, bool ggx, float a2)
 {
     const float NdotV = dot(N, V);
-    const float kv = ggx ? sqrtf(NdotV * NdotV * (1.0f - a2) + a2) : 0.0f;
+    const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
 #pragma omp simd
     for (int i = 0; i < m; i++) {
         float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
