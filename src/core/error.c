@@ -40,8 +40,15 @@ void sl_error_prefix(sl_error *err, const char *fmt, ...)
     err->msg[n + rest] = '\0';
 }
 
-const char *sl_error_excerpt(const char *s, size_t max, char *out)
+const char *sl_error_excerpt(const char *s, size_t max, char *out, size_t out_size)
 {
+    if (out_size < 4) { /* no room for one byte and "...": say nothing rather than overrun */
+        if (out_size)
+            out[0] = '\0';
+        return out;
+    }
+    if (max > out_size - 4)
+        max = out_size - 4;
     size_t n = 0;
     for (; s[n] && n < max; n++) {
         unsigned char ch = (unsigned char)s[n];

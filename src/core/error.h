@@ -35,8 +35,9 @@ bool sl_fail(sl_error *err, sl_error_code code, const char *fmt, ...)
 
 /* Up to `max` bytes of the string s for a message, each byte that is not printable ASCII shown
  * as '?' and "..." after a longer one, so that an input file cannot put escape sequences or
- * broken UTF-8 on a terminal. `out` holds max + 4 bytes; returns out. */
-const char *sl_error_excerpt(const char *s, size_t max, char *out);
+ * broken UTF-8 on a terminal. Writes at most `out_size` bytes (the excerpt is shortened to fit,
+ * "..." and the terminating NUL included), so no `max` can overrun `out`; returns out. */
+const char *sl_error_excerpt(const char *s, size_t max, char *out, size_t out_size);
 
 /* Prefix an existing message with context, e.g. "scene.json: " + "line 3: ...". */
 void sl_error_prefix(sl_error *err, const char *fmt, ...)

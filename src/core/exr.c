@@ -93,7 +93,7 @@ static void on_error(exr_const_context_t ctxt, exr_result_t code, const char *ms
     if (s->lib_msg[0])
         return;
     char clean[sizeof s->lib_msg];
-    sl_error_excerpt(msg ? msg : exr_get_default_error_message(code), sizeof clean - 4, clean);
+    sl_error_excerpt(msg ? msg : exr_get_default_error_message(code), sizeof clean, clean, sizeof clean);
     snprintf(s->lib_msg, sizeof s->lib_msg, "%s", clean);
 }
 
@@ -157,7 +157,7 @@ static bool missing_channels(const source *s, const exr_attr_chlist_t *list, con
     for (; i < list->num_channels && used + 24 < sizeof names; i++) {
         char ex[20];
         used += (size_t)snprintf(names + used, sizeof names - used, "%s%s", i ? ", " : "",
-                                 sl_error_excerpt(list->entries[i].name.str ? list->entries[i].name.str : "", 15, ex));
+                                 sl_error_excerpt(list->entries[i].name.str ? list->entries[i].name.str : "", 15, ex, sizeof ex));
     }
     return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: no %s in the first part; it has %d channel%s: %s%s", s->name, wanted,
                    list->num_channels, list->num_channels == 1 ? "" : "s", names, i < list->num_channels ? ", ..." : "");
@@ -193,7 +193,7 @@ static bool map_channels(const source *s, const exr_attr_chlist_t *list, channel
         }
         if (m->count == 1 && find_channel(list, m->layer) < 0) {
             char wanted[200];
-            sl_error_excerpt(m->layer, 32, ex);
+            sl_error_excerpt(m->layer, 32, ex, sizeof ex);
             snprintf(wanted, sizeof wanted, "layer %s (%s.R/G/B, %s.X/Y/Z or a channel %s)", ex, ex, ex, ex);
             return missing_channels(s, list, wanted, err);
         }
@@ -201,7 +201,7 @@ static bool map_channels(const source *s, const exr_attr_chlist_t *list, channel
     for (int k = 0; k < m->count; k++) {
         if ((m->index[k] = find_channel(list, m->names[k])) < 0) {
             char wanted[100], ex[84];
-            snprintf(wanted, sizeof wanted, "channel %s", sl_error_excerpt(m->names[k], 79, ex));
+            snprintf(wanted, sizeof wanted, "channel %s", sl_error_excerpt(m->names[k], 79, ex, sizeof ex));
             return missing_channels(s, list, wanted, err);
         }
         const exr_attr_chlist_entry_t *e = &list->entries[m->index[k]];

@@ -413,14 +413,14 @@ static void dir_of(const char *path, char out[SL_PATH_MAX])
 static bool find_image(const struct aiScene *s, sl_model *model, const char *dir, const char *ref,
                        file_access *fa, int *index, sl_error *err)
 {
-    char shown[80];
+    char shown[204];
     int embedded = -1;
     if (ref[0] == '*') {
         char *end;
         long n = strtol(ref + 1, &end, 10);
         if (*end || n < 0 || (unsigned long)n >= s->mNumTextures)
             return sl_fail(err, SL_ERR_FORMAT, "%s: embedded image \"%s\" out of range (%u images)", fa->name,
-                           sl_error_excerpt(ref, 64, shown), s->mNumTextures);
+                           sl_error_excerpt(ref, 64, shown, sizeof shown), s->mNumTextures);
         embedded = (int)n;
     } else {
         for (unsigned i = 0; i < s->mNumTextures && embedded < 0; i++)
@@ -432,10 +432,10 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
         int n = ref[0] == '/' ? snprintf(path, sizeof path, "%s", ref) : snprintf(path, sizeof path, "%s%s", dir, ref);
         if (n < 0 || n >= (int)sizeof path)
             return sl_fail(err, SL_ERR_RANGE, "%s: image path \"%s\" too long", fa->name,
-                           sl_error_excerpt(ref, 64, shown));
+                           sl_error_excerpt(ref, 64, shown, sizeof shown));
         struct stat st;
         if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
-            return sl_fail(err, SL_ERR_IO, "%s: image \"%s\": %s", fa->name, sl_error_excerpt(path, 200, shown),
+            return sl_fail(err, SL_ERR_IO, "%s: image \"%s\": %s", fa->name, sl_error_excerpt(path, 200, shown, sizeof shown),
                            stat(path, &st) != 0 ? "no such file" : "not a regular file");
     }
     for (int i = 0; i < model->image_count; i++) {
@@ -534,7 +534,7 @@ static bool convert_material(const struct aiScene *s, unsigned index, sl_model *
     sl_model_material *out = &model->materials[index];
     struct aiString name;
     if (aiGetMaterialString(m, AI_MATKEY_NAME, &name) == aiReturn_SUCCESS && name.length)
-        sl_error_excerpt(name.data, SL_NAME_MAX - 5, out->name);
+        sl_error_excerpt(name.data, SL_NAME_MAX - 5, out->name, sizeof out->name);
     else
         snprintf(out->name, sizeof out->name, "material%u", index);
     bool metallic_found;
@@ -620,7 +620,7 @@ static const char *assimp_reason(char out[204])
     for (; e && e[n] && e[n] != '\n' && n < 200; n++)
         line[n] = e[n];
     line[n] = '\0';
-    return sl_error_excerpt(n ? line : "unknown error", 200, out);
+    return sl_error_excerpt(n ? line : "unknown error", 200, out, 204);
 }
 
 static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *model, sl_error *err)
@@ -687,7 +687,7 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
         /* A file the import needed and could not open says more than assimp's message. */
         if (fa->failed[0] && strcmp(fa->failed, open_path) != 0)
             ok = sl_fail(err, SL_ERR_IO, "%s: names \"%s\", which cannot be read (%s)", fa->name,
-                         sl_error_excerpt(fa->failed, 200, shown), fa->failed_why);
+                         sl_error_excerpt(fa->failed, 200, shown, sizeof shown), fa->failed_why);
         else if (fa->failed[0])
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
         else if (strncmp(aiGetErrorString(), "No suitable reader", 18) == 0)
@@ -726,7 +726,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     snprintf(dotted, sizeof dotted, ".%.32s", ext);
     if (!ext[0] || !aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
-                       path, sl_error_excerpt(dotted, 32, shown));
+                       path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext)};
     if (fa.gltf) {
         size_t size;

@@ -132,7 +132,7 @@ static bool fail_line(obj_reader *r, sl_error_code code, const char *what, const
 }
 
 /* Up to 32 bytes of input for a message, masked (sl_error_excerpt). */
-static const char *excerpt(const char *s, char out[40]) { return sl_error_excerpt(s, 32, out); }
+static const char *excerpt(const char *s, char out[40]) { return sl_error_excerpt(s, 32, out, 40); }
 
 /* The output vertex for a corner, creating it on first use. */
 static bool vertex_for(obj_reader *r, corner c, uint32_t *index)

@@ -81,7 +81,7 @@ static bool fail_at(parser *p, const char *path, sl_error_code code, const char 
 #define MASKED_MAX 64
 static const char *masked(const char *s, size_t max, char out[MASKED_MAX + 4])
 {
-    return sl_error_excerpt(s, max < MASKED_MAX ? max : MASKED_MAX, out);
+    return sl_error_excerpt(s, max, out, MASKED_MAX + 4);
 }
 
 /* A path too long for the buffer (deep nesting, long names) ends in "..." rather than failing. */

@@ -700,6 +700,44 @@ static void test_obj_mtl_drawn(void **state)
     sl_scene_free(&scene);
 }
 
+/* A missing texture whose path is longer than any message buffer: one bounded line naming the
+ * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
+static void test_missing_texture_long_path(void **state)
+{
+    (void)state;
+    char name[192];
+    memset(name, 'x', sizeof name - 5);
+    memcpy(name + sizeof name - 5, ".png", 5);
+    const char *obj = "mtllib long.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nusemtl m\nf 1 2 3\n";
+    char mtl[512];
+    snprintf(mtl, sizeof mtl, "newmtl m\nKd 0.5 0.5 0.5\nmap_Kd %s\n", name);
+    test_write_bytes(test_tmpfile("long.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("long.mtl"), mtl, strlen(mtl));
+    load_fails(test_tmpfile("long.obj"), "xxxxxxxx");
+    sl_model m;
+    sl_error err = {0};
+    assert_false(sl_model_load(test_tmpfile("long.obj"), &m, &err));
+    assert_non_null(strstr(err.msg, "..."));
+}
+
+/* The excerpt never writes more than its buffer holds, whatever `max` says. */
+static void test_error_excerpt_bounds(void **state)
+{
+    (void)state;
+    char big[300];
+    memset(big, 'a', sizeof big - 1);
+    big[sizeof big - 1] = '\0';
+    char out[16];
+    memset(out, '#', sizeof out);
+    sl_error_excerpt(big, 200, out, 12);
+    assert_string_equal(out, "aaaaaaaa...");
+    assert_int_equal(out[12], '#');
+    sl_error_excerpt("ab\x1b", 200, out, sizeof out);
+    assert_string_equal(out, "ab?");
+    sl_error_excerpt("abc", 200, out, 3);
+    assert_string_equal(out, "");
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -713,6 +751,8 @@ int main(void)
         cmocka_unit_test(test_glb_material_drawn),
         cmocka_unit_test(test_gltf_metal_blend),
         cmocka_unit_test(test_obj_mtl_drawn),
+        cmocka_unit_test(test_missing_texture_long_path),
+        cmocka_unit_test(test_error_excerpt_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
