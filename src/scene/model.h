@@ -25,6 +25,7 @@
 #define SL_MODEL_MAX_MATERIALS 4096
 #define SL_MODEL_MAX_IMAGES 1024
 #define SL_MODEL_MAX_NODE_DEPTH 256
+#define SL_MODEL_MAX_NODES 65536
 
 /* glTF's alphaMode. BLEND is kept as a description; the scene draws it as MASK at 0.5 (no sorting
  * of transparent surfaces in a deferred G-buffer). */

@@ -700,6 +700,61 @@ static void test_obj_mtl_drawn(void **state)
     sl_scene_free(&scene);
 }
 
+/* A glTF document of `count` copies of `element` (a printf format that may take the next
+ * element's index, for a chain) as the array `key`, the last one `last`, after `head` (more
+ * top-level members). */
+static void write_repeated(const char *file, const char *head, const char *key, const char *element,
+                           const char *last, int count)
+{
+    size_t cap = strlen(head) + 64 + (size_t)count * (strlen(element) + 24);
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t n = (size_t)snprintf(text, cap, "{\"asset\": {\"version\": \"2.0\"}, %s\"%s\": [", head, key);
+    for (int i = 0; i < count; i++) {
+        n += (size_t)snprintf(text + n, cap - n, i ? "," : "");
+        n += (size_t)snprintf(text + n, cap - n, i + 1 < count ? element : last, i + 1);
+    }
+    n += (size_t)snprintf(text + n, cap - n, "]}");
+    test_write_bytes(test_tmpfile(file), text, n);
+    free(text);
+}
+
+/* The document's sizes and its node graph are checked before the importer runs, in linear time:
+ * a deep chain would overflow the importer's recursion, and 200,000 nodes took minutes in a check
+ * that counted an array per element. */
+static void test_gltf_graph_limits(void **state)
+{
+    (void)state;
+    const char *mesh = "\"meshes\": [{\"primitives\": [{\"attributes\": {}}]}], ";
+    /* A chain: node i's child is node i + 1, the last holds the mesh. */
+    write_repeated("chain.gltf", mesh, "nodes", "{\"children\": [%d]}", "{\"mesh\": 0}", 20000);
+    load_fails(test_tmpfile("chain.gltf"), "nodes nested deeper than 256 levels");
+    write_repeated("chain5k.gltf", mesh, "nodes", "{\"children\": [%d]}", "{\"mesh\": 0}", 5000);
+    load_fails(test_tmpfile("chain5k.gltf"), "nodes nested deeper than 256 levels");
+    /* Wide: 200,000 empty nodes, 100,000 meshes: over the caps, refused before any element. */
+    write_repeated("wide.gltf", "", "nodes", "{}", "{}", 200000);
+    load_fails(test_tmpfile("wide.gltf"), "200000 nodes (softlight reads at most 65536)");
+    write_repeated("meshes.gltf", "", "meshes", "{\"primitives\": []}", "{\"primitives\": []}", 100000);
+    load_fails(test_tmpfile("meshes.gltf"), "100000 meshes (softlight reads at most 4096)");
+    /* 2,000 nodes each placing a mesh of 40 primitives: 80,000 instances. */
+    char prims[2048] = "\"meshes\": [{\"primitives\": [";
+    for (int i = 0; i < 40; i++)
+        strcat(prims, i ? ", {\"attributes\": {}}" : "{\"attributes\": {}}");
+    strcat(prims, "]}], ");
+    write_repeated("instances.gltf", prims, "nodes", "{\"mesh\": 0}", "{\"mesh\": 0}", 2000);
+    load_fails(test_tmpfile("instances.gltf"), "80000 mesh instances (softlight draws at most 65536)");
+    /* Two parents: not a tree. */
+    write_repeated("dag.gltf", mesh, "nodes", "{\"children\": [2]}", "{\"mesh\": 0}", 3);
+    load_fails(test_tmpfile("dag.gltf"), "nodes[2] has two parents, nodes[0] and nodes[1]");
+    /* A required extension softlight does not implement, and a glTF 1.0 file. */
+    const char *draco = "{\"asset\": {\"version\": \"2.0\"}, \"extensionsRequired\": [\"KHR_draco_mesh_compression\"]}";
+    test_write_bytes(test_tmpfile("draco.gltf"), draco, strlen(draco));
+    load_fails(test_tmpfile("draco.gltf"), "requires the glTF extension KHR_draco_mesh_compression");
+    const char *v1 = "{\"asset\": {\"version\": \"1.0\"}, \"scenes\": {\"s\": {\"nodes\": []}}}";
+    test_write_bytes(test_tmpfile("v1.gltf"), v1, strlen(v1));
+    load_fails(test_tmpfile("v1.gltf"), "glTF version \"1.0\" (softlight reads glTF 2.0)");
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -752,6 +807,7 @@ int main(void)
         cmocka_unit_test(test_gltf_metal_blend),
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
+        cmocka_unit_test(test_gltf_graph_limits),
         cmocka_unit_test(test_error_excerpt_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
