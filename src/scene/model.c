@@ -411,7 +411,7 @@ static void dir_of(const char *path, char out[SL_PATH_MAX])
  * texture carries, or a file relative to the model) as an index into model->images, adding it
  * the first time. */
 static bool find_image(const struct aiScene *s, sl_model *model, const char *dir, const char *ref,
-                       file_access *fa, int *index, sl_error *err)
+                       const char *material, file_access *fa, int *index, sl_error *err)
 {
     char shown[204];
     int embedded = -1;
@@ -428,15 +428,13 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
                 embedded = (int)i;
     }
     char path[SL_PATH_MAX] = "";
-    if (embedded < 0) {
-        int n = ref[0] == '/' ? snprintf(path, sizeof path, "%s", ref) : snprintf(path, sizeof path, "%s%s", dir, ref);
-        if (n < 0 || n >= (int)sizeof path)
-            return sl_fail(err, SL_ERR_RANGE, "%s: image path \"%s\" too long", fa->name,
-                           sl_error_excerpt(ref, 64, shown, sizeof shown));
-        struct stat st;
-        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
-            return sl_fail(err, SL_ERR_IO, "%s: image \"%s\": %s", fa->name, sl_error_excerpt(path, 200, shown, sizeof shown),
-                           stat(path, &st) != 0 ? "no such file" : "not a regular file");
+    if (embedded < 0 && !scene_texture_path_resolve(dir, ref, path)) {
+        char mat[72];
+        return sl_fail(err, SL_ERR_IO,
+                       "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and "
+                       "for its file name alone)",
+                       fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
+                       sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
     }
     for (int i = 0; i < model->image_count; i++) {
         const sl_model_image *im = &model->images[i];
@@ -471,7 +469,7 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
 }
 
 static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiTextureType type, sl_model *model,
-                   const char *dir, file_access *fa, sl_model_texref *out, sl_error *err)
+                   const char *dir, const char *material, file_access *fa, sl_model_texref *out, sl_error *err)
 {
     *out = (sl_model_texref){.image = -1, .scale = 1.0f};
     struct aiString path;
@@ -502,7 +500,7 @@ static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiT
          aiGetMaterialFloatArray(m, "$tex.strength", type, 0, &scale, NULL) == aiReturn_SUCCESS) &&
         isfinite(scale))
         out->scale = scale;
-    return find_image(s, model, dir, path.data, fa, &out->image, err);
+    return find_image(s, model, dir, path.data, material, fa, &out->image, err);
 }
 
 static float get_float(const struct aiMaterial *m, const char *key, unsigned type, unsigned index, float def,
@@ -572,20 +570,20 @@ static bool convert_material(const struct aiScene *s, unsigned index, sl_model *
 
     bool mr = out->kind == SL_MODEL_MAT_METALLIC_ROUGHNESS;
     sl_model_texref none;
-    bool ok = texref(s, m, mr ? aiTextureType_BASE_COLOR : aiTextureType_DIFFUSE, model, dir, fa,
+    bool ok = texref(s, m, mr ? aiTextureType_BASE_COLOR : aiTextureType_DIFFUSE, model, dir, out->name, fa,
                      &out->base_color_tex, err) &&
-              texref(s, m, aiTextureType_EMISSIVE, model, dir, fa, &out->emissive_tex, err) &&
-              texref(s, m, aiTextureType_NORMALS, model, dir, fa, &out->normal_tex, err);
+              texref(s, m, aiTextureType_EMISSIVE, model, dir, out->name, fa, &out->emissive_tex, err) &&
+              texref(s, m, aiTextureType_NORMALS, model, dir, out->name, fa, &out->normal_tex, err);
     if (ok && mr) {
         /* Where assimp's glTF importer puts metallicRoughnessTexture and occlusionTexture. */
-        ok = texref(s, m, aiTextureType_UNKNOWN, model, dir, fa, &out->metallic_roughness_tex, err) &&
-             texref(s, m, aiTextureType_LIGHTMAP, model, dir, fa, &out->occlusion_tex, err);
+        ok = texref(s, m, aiTextureType_UNKNOWN, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
+             texref(s, m, aiTextureType_LIGHTMAP, model, dir, out->name, fa, &out->occlusion_tex, err);
         out->specular_tex = (sl_model_texref){.image = -1, .scale = 1.0f};
     } else if (ok) {
         /* MTL: map_Ns, map_Ks, and map_Bump (HEIGHT) where there is no norm (NORMALS). */
-        ok = texref(s, m, aiTextureType_SHININESS, model, dir, fa, &out->metallic_roughness_tex, err) &&
-             texref(s, m, aiTextureType_SPECULAR, model, dir, fa, &out->specular_tex, err) &&
-             texref(s, m, aiTextureType_HEIGHT, model, dir, fa, &none, err);
+        ok = texref(s, m, aiTextureType_SHININESS, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
+             texref(s, m, aiTextureType_SPECULAR, model, dir, out->name, fa, &out->specular_tex, err) &&
+             texref(s, m, aiTextureType_HEIGHT, model, dir, out->name, fa, &none, err);
         if (ok && out->normal_tex.image < 0)
             out->normal_tex = none;
         out->occlusion_tex = (sl_model_texref){.image = -1, .scale = 1.0f};

@@ -58,6 +58,11 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
 /* The default scene around a model file given alone (model_scene.c). */
 bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
 
+/* The file a model's texture reference `ref` names, relative to the model's folder `dir` ("" or
+ * ending in '/'): Windows separators, Blender's "//", case differences and foreign absolute paths
+ * resolved as texture_path.c describes. False when no regular file matches. */
+bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
+
 /* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
  * `glb`, then the JSON types of nodes, materials and accessors, with the JSON path. */
 bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err);

@@ -13,6 +13,9 @@
 
 #include "raster/gbuffer_textured.h"
 #include "scene/model.h"
+#include "scene/scene_internal.h"
+
+#include <sys/stat.h>
 
 /* One triangle (0,0,0), (1,0,0), (0,1,0) in glTF's Y-up object space, UVs (0,0), (0.25,0.75),
  * (0,1), indices 0 1 2 as unsigned shorts: 36 + 24 + 6 bytes, padded to 68. */
@@ -755,6 +758,50 @@ static void test_gltf_graph_limits(void **state)
     load_fails(test_tmpfile("v1.gltf"), "glTF version \"1.0\" (softlight reads glTF 2.0)");
 }
 
+/* Texture references as other tools write them find the file beside the model: Windows
+ * separators, Blender's "//", another case, an absolute path of another machine. */
+static void test_texture_path_forms(void **state)
+{
+    (void)state;
+    char dir[SL_PATH_MAX], got[SL_PATH_MAX], want[2 * SL_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", test_tmpfile(""));
+    mkdir(test_tmpfile("Maps"), 0755);
+    test_write_bytes(test_tmpfile("Wood.png"), "x", 1);
+    test_write_bytes(test_tmpfile("Maps/bark.JPG"), "x", 1);
+    static const struct {
+        const char *ref, *file;
+    } found[] = {
+        {"Wood.png", "Wood.png"},          {".\\Wood.png", "Wood.png"},          {"//Wood.png", "Wood.png"},
+        {"WOOD.PNG", "Wood.png"},          {"Q:/art/textures/wood.png", "Wood.png"},
+        {"/home/someone/wood.png", "Wood.png"}, {"maps\\BARK.jpg", "Maps/bark.JPG"},
+        {"./Maps/bark.JPG", "Maps/bark.JPG"}, {"C:\\x\\y\\wood.PNG", "Wood.png"},
+    };
+    for (size_t i = 0; i < sizeof found / sizeof found[0]; i++) {
+        snprintf(want, sizeof want, "%s%s", dir, found[i].file);
+        if (!scene_texture_path_resolve(dir, found[i].ref, got) || strcmp(got, want) != 0)
+            fail_msg("\"%s\": expected %s", found[i].ref, want);
+    }
+    /* bark.JPG is in Maps/, not beside the model: a bare name does not search folders. */
+    static const char *const missing[] = {"bark.jpg", "gone.png", "Maps", "Q:", "//", "..", ""};
+    for (size_t i = 0; i < sizeof missing / sizeof missing[0]; i++)
+        if (scene_texture_path_resolve(dir, missing[i], got))
+            fail_msg("\"%s\": expected no file, got %s", missing[i], got);
+    /* Through a model: an OBJ whose material names ".\WOOD.PNG". */
+    size_t png_size;
+    unsigned char *png = png_bytes(&png_size);
+    test_write_bytes(test_tmpfile("Wood.png"), png, png_size);
+    free(png);
+    const char *obj = "mtllib win.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+    const char *mtl = "newmtl m\nKd 1 1 1\nmap_Kd .\\WOOD.PNG\n";
+    test_write_bytes(test_tmpfile("win.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("win.mtl"), mtl, strlen(mtl));
+    sl_model m;
+    load_ok(test_tmpfile("win.obj"), &m);
+    assert_int_equal(m.image_count, 1);
+    assert_string_equal(m.images[0].path, test_tmpfile("Wood.png"));
+    sl_model_free(&m);
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -808,6 +855,7 @@ int main(void)
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
         cmocka_unit_test(test_gltf_graph_limits),
+        cmocka_unit_test(test_texture_path_forms),
         cmocka_unit_test(test_error_excerpt_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
