@@ -369,7 +369,7 @@ static bool check_asset(checker *c, const cJSON *root)
     return true;
 }
 
-static bool check_json(checker *c, const char *json, size_t size)
+static bool check_json(checker *c, const char *json, size_t size, size_t *buffer_bytes)
 {
     cJSON *root = cJSON_ParseWithLength(json, size);
     if (!root)
@@ -404,15 +404,26 @@ static bool check_json(checker *c, const char *json, size_t size)
         }
     }
     ok = ok && check_hierarchy(c, array[A_NODES], count[A_NODES], array[A_MESHES], count[A_MESHES]);
+    for (const cJSON *b = ok && array[A_BUFFERS] ? array[A_BUFFERS]->child : NULL; b; b = b->next) {
+        const cJSON *length = cJSON_GetObjectItemCaseSensitive(b, "byteLength");
+        if (cJSON_IsNumber(length) && length->valuedouble > 0 && buffer_bytes)
+            *buffer_bytes += length->valuedouble < (double)SL_MODEL_MAX_FILE_BYTES ? (size_t)length->valuedouble
+                                                                                 : SL_MODEL_MAX_FILE_BYTES;
+    }
     cJSON_Delete(root);
     return ok;
 }
 
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err)
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, size_t *buffer_bytes,
+                      sl_error *err)
 {
     checker c = {.name = name, .err = err};
+    size_t ignored = 0;
+    if (!buffer_bytes)
+        buffer_bytes = &ignored;
+    *buffer_bytes = 0;
     if (!glb)
-        return check_json(&c, (const char *)bytes, size);
+        return check_json(&c, (const char *)bytes, size, buffer_bytes);
     if (size < 20 || le32(bytes) != GLB_MAGIC)
         return sl_fail(err, SL_ERR_FORMAT, "%s: not a .glb file (%s)", name,
                        size < 20 ? "shorter than its 20-byte header" : "no \"glTF\" magic at byte 0");
@@ -424,5 +435,5 @@ bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const c
                        length, size);
     if (le32(bytes + 16) != GLB_JSON || json_len > length - 20)
         return sl_fail(err, SL_ERR_FORMAT, "%s: .glb's first chunk is not a JSON chunk within the file", name);
-    return check_json(&c, (const char *)bytes + 20, json_len);
+    return check_json(&c, (const char *)bytes + 20, json_len, buffer_bytes);
 }

@@ -702,6 +702,20 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     return ok;
 }
 
+/* One import, as scene_import_isolated runs it in its child. */
+typedef struct {
+    const char *path;
+    file_access *fa;
+} import_job;
+
+static bool import_job_run(void *ctx, sl_model *model, sl_error *err)
+{
+    import_job *job = ctx;
+    memset(model, 0, sizeof *model);
+    snprintf(model->path, sizeof model->path, "%s", job->path);
+    return import(job->path, job->fa, model, err);
+}
+
 static const char *extension(const char *path)
 {
     const char *slash = strrchr(path, '/'), *dot = strrchr(path, '.');
@@ -726,17 +740,29 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext)};
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return sl_fail(err, SL_ERR_IO, "%s: %s", path, stat(path, &st) != 0 ? "no such file" : "not a regular file");
+    size_t input_bytes = (size_t)st.st_size;
     if (fa.gltf) {
-        size_t size;
+        size_t size, buffers = 0;
         unsigned char *bytes = read_regular(&fa, path, &size);
         if (!bytes)
             return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
-        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, err);
+        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &buffers, err);
         free(bytes);
         if (!ok)
             return false;
+        input_bytes += buffers;
     }
-    return import(path, &fa, model, err);
+    /* The import runs in a child bounded in memory and time, both from the input's size
+     * (model_isolate.c says why). */
+    if (input_bytes > SL_MODEL_MAX_FILE_BYTES)
+        input_bytes = SL_MODEL_MAX_FILE_BYTES;
+    size_t memory = SL_MODEL_IMPORT_MEMORY_BASE + SL_MODEL_IMPORT_MEMORY_PER_BYTE * input_bytes;
+    int seconds = SL_MODEL_IMPORT_SECONDS_BASE + (int)(input_bytes >> 20) / SL_MODEL_IMPORT_MIB_PER_SECOND;
+    import_job job = {.path = path, .fa = &fa};
+    return scene_import_isolated(import_job_run, &job, path, memory, seconds, model, err);
 }
 
 bool sl_model_load_memory(const void *data, size_t size, const char *hint, const char *name, sl_model *model,
@@ -749,7 +775,7 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
-    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, err))
+    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, NULL, err))
         return false;
     return import(path, &fa, model, err);
 }

@@ -5,6 +5,7 @@
 #ifndef SL_SCENE_INTERNAL_H
 #define SL_SCENE_INTERNAL_H
 
+#include "model.h"
 #include "scene.h"
 
 /* Size caps: far above any mesh softlight renders at interactive rates, far below
@@ -64,7 +65,18 @@ bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
 bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
 
 /* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
- * `glb`, then the JSON types of nodes, materials and accessors, with the JSON path. */
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err);
+ * `glb`, then the caps, the JSON types of nodes, materials and accessors with the JSON path, and
+ * the node graph. `buffer_bytes` (may be NULL): the bytes its buffers declare, for the import's
+ * memory budget. */
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, size_t *buffer_bytes,
+                      sl_error *err);
+
+/* An import function run by scene_import_isolated: fills *model or *err. */
+typedef bool (*scene_import_fn)(void *ctx, sl_model *model, sl_error *err);
+/* Runs fn in a child process whose address space may grow by `memory_bytes` and which may run
+ * `seconds`, and returns its model or error; running out of either, or crashing, is an error
+ * naming `name` (model_isolate.c). */
+bool scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
+                           sl_model *model, sl_error *err);
 
 #endif
