@@ -621,13 +621,30 @@ static const char *assimp_reason(char out[204])
     return sl_error_excerpt(n ? line : "unknown error", 200, out, 204);
 }
 
+/* Whether every mesh is the placeholder assimp builds for a file without meshes (its
+ * SkeletonMeshBuilder: a pyramid per bone, made for a file of cameras, lights or bones, with a
+ * material of that name). Drawn, it would pass for the file's content. */
+static bool only_placeholder(const struct aiScene *s)
+{
+    for (unsigned i = 0; i < s->mNumMeshes; i++) {
+        const struct aiMesh *m = s->mMeshes[i];
+        struct aiString name;
+        if (!m || m->mMaterialIndex >= s->mNumMaterials ||
+            aiGetMaterialString(s->mMaterials[m->mMaterialIndex], AI_MATKEY_NAME, &name) != aiReturn_SUCCESS ||
+            strcmp(name.data, "SkeletonMaterial") != 0)
+            return false;
+    }
+    return true;
+}
+
 static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *model, sl_error *err)
 {
     const char *name = fa->name;
     if (!s->mRootNode)
         return sl_fail(err, SL_ERR_FORMAT, "%s: no node tree", name);
-    if (s->mNumMeshes == 0)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes", name);
+    if (s->mNumMeshes == 0 || only_placeholder(s))
+        return sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "
+                       "cameras, lights, points, lines or bones)", name);
     if (s->mNumMeshes > SL_MODEL_MAX_MESHES || s->mNumMaterials > SL_MODEL_MAX_MATERIALS)
         return sl_fail(err, SL_ERR_RANGE, "%s: %u meshes / %u materials exceed the caps %d / %d", name,
                        s->mNumMeshes, s->mNumMaterials, SL_MODEL_MAX_MESHES, SL_MODEL_MAX_MATERIALS);
@@ -688,6 +705,9 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
                          sl_error_excerpt(fa->failed, 200, shown, sizeof shown), fa->failed_why);
         else if (fa->failed[0])
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
+        else if (strstr(aiGetErrorString(), "No meshes remaining"))
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "
+                         "points or lines)", fa->name);
         else if (strncmp(aiGetErrorString(), "No suitable reader", 18) == 0)
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: no importer accepts its contents (truncated, or not the format its "
                          "extension says)", fa->name);
