@@ -369,7 +369,51 @@ static bool check_asset(checker *c, const cJSON *root)
     return true;
 }
 
-static bool check_json(checker *c, const char *json, size_t size, size_t *buffer_bytes)
+/* The triangles the meshes declare, for the import to be checked against (assimp drops a
+ * triangle with an index out of range, with a log line nobody sees): -1 when a primitive is not
+ * a triangle list (strips and fans are converted by the importer and not counted). Refuses a
+ * triangle list whose index (or vertex) count is not a multiple of 3. */
+static bool count_triangles(checker *c, const cJSON *meshes, const cJSON *accessors, int accessor_count,
+                            long long *triangles)
+{
+    *triangles = 0;
+    if (!meshes)
+        return true;
+    long long *counts = malloc((size_t)(accessor_count ? accessor_count : 1) * sizeof *counts);
+    if (!counts)
+        return sl_fail(c->err, SL_ERR_MEMORY, "%s: out of memory for the accessors", c->name);
+    int a = 0;
+    for (const cJSON *e = accessors ? accessors->child : NULL; e; e = e->next, a++)
+        counts[a] = (long long)cJSON_GetObjectItemCaseSensitive(e, "count")->valuedouble;
+    bool ok = true;
+    int m = 0;
+    for (const cJSON *mesh = meshes->child; ok && mesh; mesh = mesh->next, m++) {
+        int p = 0;
+        const cJSON *prims = cJSON_GetObjectItemCaseSensitive(mesh, "primitives");
+        for (const cJSON *prim = prims->child; ok && prim; prim = prim->next, p++) {
+            const cJSON *mode = cJSON_GetObjectItemCaseSensitive(prim, "mode");
+            const cJSON *indices = cJSON_GetObjectItemCaseSensitive(prim, "indices");
+            const cJSON *position =
+                cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(prim, "attributes"), "POSITION");
+            if (mode && !(cJSON_IsNumber(mode) && mode->valuedouble == 4.0)) {
+                *triangles = -1; /* points, lines, strips, fans */
+                continue;
+            }
+            if (!indices && !position)
+                continue; /* the importer refuses it with its own message */
+            long long n = counts[(indices ? indices : position)->valueint];
+            if (n % 3 != 0)
+                ok = sl_fail(c->err, SL_ERR_FORMAT, "%s: meshes[%d].primitives[%d]: %lld %s, not a multiple of 3 for "
+                             "a triangle list", c->name, m, p, n, indices ? "indices" : "vertices");
+            else if (*triangles >= 0)
+                *triangles += n / 3;
+        }
+    }
+    free(counts);
+    return ok;
+}
+
+static bool check_json(checker *c, const char *json, size_t size, scene_gltf_facts *facts)
 {
     cJSON *root = cJSON_ParseWithLength(json, size);
     if (!root)
@@ -404,36 +448,37 @@ static bool check_json(checker *c, const char *json, size_t size, size_t *buffer
         }
     }
     ok = ok && check_hierarchy(c, array[A_NODES], count[A_NODES], array[A_MESHES], count[A_MESHES]);
+    ok = ok && count_triangles(c, array[A_MESHES], array[A_ACCESSORS], count[A_ACCESSORS], &facts->triangles);
     for (const cJSON *b = ok && array[A_BUFFERS] ? array[A_BUFFERS]->child : NULL; b; b = b->next) {
         const cJSON *length = cJSON_GetObjectItemCaseSensitive(b, "byteLength");
-        if (cJSON_IsNumber(length) && length->valuedouble > 0 && buffer_bytes)
-            *buffer_bytes += length->valuedouble < (double)SL_MODEL_MAX_FILE_BYTES ? (size_t)length->valuedouble
-                                                                                 : SL_MODEL_MAX_FILE_BYTES;
+        if (cJSON_IsNumber(length) && length->valuedouble > 0)
+            facts->buffer_bytes += length->valuedouble < (double)SL_MODEL_MAX_FILE_BYTES ? (size_t)length->valuedouble
+                                                                                       : SL_MODEL_MAX_FILE_BYTES;
     }
     cJSON_Delete(root);
     return ok;
 }
 
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, size_t *buffer_bytes,
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
                       sl_error *err)
 {
     checker c = {.name = name, .err = err};
-    size_t ignored = 0;
-    if (!buffer_bytes)
-        buffer_bytes = &ignored;
-    *buffer_bytes = 0;
+    scene_gltf_facts ignored;
+    if (!facts)
+        facts = &ignored;
+    *facts = (scene_gltf_facts){0};
     if (!glb)
-        return check_json(&c, (const char *)bytes, size, buffer_bytes);
+        return check_json(&c, (const char *)bytes, size, facts);
     if (size < 20 || le32(bytes) != GLB_MAGIC)
         return sl_fail(err, SL_ERR_FORMAT, "%s: not a .glb file (%s)", name,
                        size < 20 ? "shorter than its 20-byte header" : "no \"glTF\" magic at byte 0");
     uint32_t version = le32(bytes + 4), length = le32(bytes + 8), json_len = le32(bytes + 12);
     if (version != 2)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: .glb version %u (softlight reads glTF 2.0)", name, version);
-    if (length > size)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: truncated .glb: its header says %u bytes, the file has %zu", name,
-                       length, size);
+    if (length != size)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: %s .glb: its header says %u bytes, the file has %zu", name,
+                       length > size ? "truncated" : "damaged", length, size);
     if (le32(bytes + 16) != GLB_JSON || json_len > length - 20)
         return sl_fail(err, SL_ERR_FORMAT, "%s: .glb's first chunk is not a JSON chunk within the file", name);
-    return check_json(&c, (const char *)bytes + 20, json_len, buffer_bytes);
+    return check_json(&c, (const char *)bytes + 20, json_len, facts);
 }

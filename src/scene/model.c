@@ -57,6 +57,8 @@ typedef struct {
     const char *mem_path;
     const unsigned char *mem;
     size_t mem_size;
+    /* glTF: the triangles its triangle lists declare (gltf_check.c); -1 = not known. */
+    long long triangles;
     /* The first file that could not be opened, and why. */
     char failed[SL_PATH_MAX];
     char failed_why[96];
@@ -648,6 +650,14 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
     if (s->mNumMeshes > SL_MODEL_MAX_MESHES || s->mNumMaterials > SL_MODEL_MAX_MATERIALS)
         return sl_fail(err, SL_ERR_RANGE, "%s: %u meshes / %u materials exceed the caps %d / %d", name,
                        s->mNumMeshes, s->mNumMaterials, SL_MODEL_MAX_MESHES, SL_MODEL_MAX_MATERIALS);
+    if (fa->triangles >= 0) {
+        long long got = 0;
+        for (unsigned i = 0; i < s->mNumMeshes; i++)
+            got += s->mMeshes[i]->mPrimitiveTypes == aiPrimitiveType_TRIANGLE ? s->mMeshes[i]->mNumFaces : 0;
+        if (got < fa->triangles)
+            return sl_fail(err, SL_ERR_FORMAT, "%s: %lld of its %lld triangles have an index out of range of their "
+                           "vertices", name, fa->triangles - got, fa->triangles);
+    }
     unsigned materials = s->mNumMaterials ? s->mNumMaterials : 1;
     model->meshes = calloc(s->mNumMeshes, sizeof *model->meshes);
     model->materials = calloc(materials, sizeof *model->materials);
@@ -759,21 +769,23 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     if (!ext[0] || !aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
-    file_access fa = {.name = path, .gltf = is_gltf(ext)};
+    file_access fa = {.name = path, .gltf = is_gltf(ext), .triangles = -1};
     struct stat st;
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, stat(path, &st) != 0 ? "no such file" : "not a regular file");
     size_t input_bytes = (size_t)st.st_size;
     if (fa.gltf) {
-        size_t size, buffers = 0;
+        size_t size;
+        scene_gltf_facts facts;
         unsigned char *bytes = read_regular(&fa, path, &size);
         if (!bytes)
             return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
-        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &buffers, err);
+        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &facts, err);
         free(bytes);
         if (!ok)
             return false;
-        input_bytes += buffers;
+        input_bytes += facts.buffer_bytes;
+        fa.triangles = facts.triangles;
     }
     /* The import runs in a child bounded in memory and time, both from the input's size
      * (model_isolate.c says why). */
@@ -792,10 +804,14 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     snprintf(model->path, sizeof model->path, "%s", name);
     char path[64];
     snprintf(path, sizeof path, "memory.%.16s", hint);
-    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size};
+    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size,
+                      .triangles = -1};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
-    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, NULL, err))
+    scene_gltf_facts facts;
+    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, &facts, err))
         return false;
+    if (is_gltf(hint))
+        fa.triangles = facts.triangles;
     return import(path, &fa, model, err);
 }

@@ -64,11 +64,18 @@ bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
  * resolved as texture_path.c describes. False when no regular file matches. */
 bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
 
+/* What a glTF document's checks learn for the import: the bytes its buffers declare (for the
+ * import's memory budget) and the triangles its triangle lists declare (-1 when it has other
+ * primitives), to find the ones the importer drops. */
+typedef struct {
+    size_t buffer_bytes;
+    long long triangles;
+} scene_gltf_facts;
+
 /* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
- * `glb`, then the caps, the JSON types of nodes, materials and accessors with the JSON path, and
- * the node graph. `buffer_bytes` (may be NULL): the bytes its buffers declare, for the import's
- * memory budget. */
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, size_t *buffer_bytes,
+ * `glb`, then the caps, the JSON types of nodes, materials and accessors with the JSON path, the
+ * node graph and the triangle lists' counts. `facts` may be NULL. */
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
                       sl_error *err);
 
 /* An import function run by scene_import_isolated: fills *model or *err. */

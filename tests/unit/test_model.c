@@ -802,6 +802,43 @@ static void test_texture_path_forms(void **state)
     sl_model_free(&m);
 }
 
+/* Index data the importer would take in part: an index out of range drops its triangle (the
+ * rest would be drawn without a word), a triangle list of 4 indices, a .glb longer than its
+ * header says. */
+static void test_gltf_index_counts(void **state)
+{
+    (void)state;
+    /* Two triangles over 3 vertices: (0, 1, 2) and (0, 2, 7). */
+    const char *doc =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+        "\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5123,\"count\":%d,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+        "\"byteLength\":%d}],\"buffers\":[{\"byteLength\":48,\"uri\":\"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAACAAcA\"}]}";
+    char text[2048];
+    int n = snprintf(text, sizeof text, doc, 6, 12);
+    test_write_bytes(test_tmpfile("range.gltf"), text, (size_t)n);
+    load_fails(test_tmpfile("range.gltf"), "1 of its 2 triangles have an index out of range");
+    n = snprintf(text, sizeof text, doc, 4, 8);
+    test_write_bytes(test_tmpfile("four.gltf"), text, (size_t)n);
+    load_fails(test_tmpfile("four.gltf"), "meshes[0].primitives[0]: 4 indices, not a multiple of 3");
+    /* The first triangle alone loads. */
+    n = snprintf(text, sizeof text, doc, 3, 6);
+    test_write_bytes(test_tmpfile("one.gltf"), text, (size_t)n);
+    sl_model m;
+    load_ok(test_tmpfile("one.gltf"), &m);
+    assert_int_equal(m.meshes[0].mesh.triangle_count, 1);
+    sl_model_free(&m);
+    /* A .glb with 8 bytes after the length its header gives. */
+    unsigned char glb[40] = "glTF\2\0\0\0";
+    glb[8] = 32; /* length 32, file 40 */
+    memcpy(glb + 12, "\x08\0\0\0JSON{}      ", 16);
+    test_write_bytes(test_tmpfile("long.glb"), glb, sizeof glb);
+    load_fails(test_tmpfile("long.glb"), "damaged .glb: its header says 32 bytes, the file has 40");
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -855,6 +892,7 @@ int main(void)
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
         cmocka_unit_test(test_gltf_graph_limits),
+        cmocka_unit_test(test_gltf_index_counts),
         cmocka_unit_test(test_texture_path_forms),
         cmocka_unit_test(test_error_excerpt_bounds),
     };
