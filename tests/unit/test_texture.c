@@ -690,6 +690,33 @@ static float rnd(float lo, float hi) { return lo + (hi - lo) * (float)rand() / (
 /* Every format, power-of-two and odd sizes, every filter and wrap pair, random positions (far
  * outside [0, 1] too) and levels: the fast path's bits are the plain path's, from the decoded
  * plane and from the stored bytes. */
+/* Two ~150-byte JPEGs whose DC coefficients are out of any valid range: in a baseline file the DC
+ * difference times its quantiser (254) overflows an int, in a progressive one the DC shifted left
+ * by the scan's successive-approximation bit does. Each must load as a whole texture or fail
+ * with an error naming the file; under UBSan (-fno-sanitize-recover) an integer overflow in
+ * the decoder aborts the test. */
+static void test_jpeg_dc_overflow_files(void **state)
+{
+    (void)state;
+    const char *files[] = {"dc_quant_overflow.jpg", "progressive_dc_shift_overflow.jpg"};
+    for (size_t f = 0; f < 2; f++)
+        for (int srgb = 0; srgb < 2; srgb++) {
+            char path[256];
+            snprintf(path, sizeof path, "fuzz/corpus/fuzz_texture/%s", files[f]);
+            sl_texture *t = NULL;
+            sl_error err = {0};
+            if (sl_texture_load(path, srgb, 0, &t, &err)) {
+                sl_sampler2D s = {t, sl_sampler_default()};
+                vec4 v = texelFetch(&s, ivec2(0, 0), 0);
+                assert_true(isfinite(v.x) && v.x >= 0 && v.x <= 1);
+                sl_texture_destroy(t);
+                continue;
+            }
+            assert_null(t);
+            assert_true(strncmp(err.msg, path, strlen(path)) == 0);
+        }
+}
+
 static void test_fast_path_bits(void **state)
 {
     (void)state;
@@ -1034,6 +1061,7 @@ int main(void)
         cmocka_unit_test(test_texel_fetch_and_size),
         cmocka_unit_test(test_load_files),
         cmocka_unit_test(test_bad_files),
+        cmocka_unit_test(test_jpeg_dc_overflow_files),
         cmocka_unit_test(test_fast_path_bits),
         cmocka_unit_test(test_lambda_quads),
         cmocka_unit_test(test_textured_program_forms),
