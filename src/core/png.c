@@ -7,10 +7,6 @@
  * defined here and nowhere else). */
 #include "image.h"
 
-#include <limits.h>
-#include <math.h>
-#include <stdint.h>
-#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -27,8 +23,6 @@
 #define STBI_WRITE_NO_STDIO
 #include <stb/stb_image_write.h>
 #pragma GCC diagnostic pop
-
-/* ---- writing ---- */
 
 typedef struct {
     unsigned char *data;

@@ -522,8 +522,8 @@ static void test_load_files(void **state)
     fetch_rgba8(t, 3, 5, (double[4]){200 / 255.0, 0, 0, 1}, "jpeg");
     sl_texture_destroy(t);
     /* colour JPEG: Y 200, Cb 128 - 10, Cr 128 + 20 -> R = Y + 1.402 (Cr - 128) = 228.04, G = Y -
-     * 0.34414 (Cb - 128) - 0.71414 (Cr - 128) = 189.16, B = Y + 1.772 (Cb - 128) = 182.28; stb's
-     * fixed-point conversion within a code */
+     * 0.34414 (Cb - 128) - 0.71414 (Cr - 128) = 189.16, B = Y + 1.772 (Cb - 128) = 182.28; the
+     * decoder's fixed-point conversion within a code */
     t = load("ycc_8x8.jpg", false);
     assert_int_equal(sl_texture_get_format(t), SL_TEX_RGB8);
     sl_sampler2D s = {t, sl_sampler_default()};
