@@ -175,7 +175,7 @@ static void *alloc_block(size_t bytes)
 
 /* sl_env.pairs (ibl.h): every level's rows with their first texel repeated at the end, or NULL
  * (too large, or no memory: the fetch then reads the block; nothing is lost but speed). */
-float *ibl_env_build_pairs(const sl_env *env, size_t texels)
+float *sl_ibl_env_build_pairs(const sl_env *env, size_t texels)
 {
     size_t rows = 0;
     for (int l = 0; l < env->level_count; l++)
@@ -209,7 +209,7 @@ float *ibl_env_build_pairs(const sl_env *env, size_t texels)
  * row y at row sl_e5_row(H, l) + y, and the chain's exponent offset in *emin; NULL when the
  * chain is too large or has sizes other than sl_env_build's, or no memory. Level 0 holds the
  * chain's brightest channel: every later level is an average of it. */
-uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
+uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
 {
     if (texels > SL_ENV_PAIRS_MAX_TEXELS || env->level_count < 1)
         return NULL;
@@ -250,10 +250,10 @@ uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
 }
 
 /* The whole chain; general_only forces downsample() on every level (the test's reference). */
-bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
+bool sl_ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
 {
     *env = (sl_env){0};
-    if (!ibl_check_image(img, "environment", err))
+    if (!sl_ibl_check_image(img, "environment", err))
         return false;
 
     /* The chain's sizes first, so every level goes into one block (ibl.h, sl_env.block). */
@@ -281,7 +281,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
             env->levels[l] = (sl_env_level){.width = sizes[l][0], .height = sizes[l][1], .texels = next};
             next += (size_t)sizes[l][0] * (size_t)sizes[l][1];
         }
-        /* Level 0 is the image as vec3, what ibl_env_single_level makes, written in place
+        /* Level 0 is the image as vec3, what sl_ibl_env_single_level makes, written in place
          * rather than copied twice. */
         for (size_t k = 0, n = (size_t)w * (size_t)h; k < n; k++)
             block[k] = vec3(img->data[3 * k], img->data[3 * k + 1], img->data[3 * k + 2]);
@@ -314,14 +314,14 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
     }
     env->level_count = count;
     env->block = block;
-    env->pairs = ibl_env_build_pairs(env, total);
-    env->e5 = ibl_env_build_e5(env, total, &env->e5_emin);
+    env->pairs = sl_ibl_env_build_pairs(env, total);
+    env->e5 = sl_ibl_env_build_e5(env, total, &env->e5_emin);
     return true;
 }
 
 bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
 {
-    return ibl_env_build_path(env, img, false, err);
+    return sl_ibl_env_build_path(env, img, false, err);
 }
 
 void sl_env_free(sl_env *env)

@@ -20,8 +20,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include <softlight/glsl.h>
+
 #include "../core/error.h"
-#include "../core/glsl.h"
 #include "../core/image.h"
 #include "../core/options.h" /* SL_HAMMERSLEY_MAX, sl_irradiance_method */
 
@@ -102,7 +103,13 @@ vec3 sl_uv_to_dir(vec2 uv);
 
 /* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). Non-finite uv reads
  * as 0, NaN lod as 0; never reads out of bounds; an empty env gives 0. */
-vec3 textureLod(const sl_env *env, vec2 uv, float lod);
+vec3 sl_env_texture_lod(const sl_env *env, vec2 uv, float lod);
+/* GLSL's textureLod as glsl.h spells it, with the environment as its other overload, chosen by
+ * the first argument as glsl.h's overloads are. */
+#undef textureLod
+#define textureLod(s, uv, lod)                                                                              \
+    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod, default: sl_env_texture_lod)( \
+        s, uv, lod)
 
 /* The specification's low-discrepancy set (hammersley.c): u = radical inverse of k
  * in base 2, v = (k + 0.5) / n, for k = 0 .. n - 1. Layout matches the GLSL block. */

@@ -58,7 +58,7 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
     if (!cols)
         return sl_fail(err, SL_ERR_MEMORY, "SH9 irradiance: out of memory");
     for (int i = 0; i < w; i++)
-        ibl_col_moments_at(w, i, &cols[i]);
+        sl_ibl_col_moments_at(w, i, &cols[i]);
 
     double c[9][3] = {{0}};
     for (int j = 0; j < h; j++) {
@@ -76,7 +76,7 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
             }
         }
         ibl_row_moments m;
-        ibl_row_moments_at(h, j, &m);
+        sl_ibl_row_moments_at(h, j, &m);
         double one_minus_zz = m.dz - m.zz; /* integral of 1 - z^2 = x^2 + y^2 */
         for (int ch = 0; ch < 3; ch++) {
             c[0][ch] += K0 * m.dz * sp[ch];                     /* 1 */
@@ -139,18 +139,18 @@ bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_wi
                        env->level_count - 1);
     int mw = map_width, mh = map_width / 2 > 1 ? map_width / 2 : 1;
     ibl_texels src;
-    if (!ibl_texels_build(&src, &env->levels[level], err))
+    if (!sl_ibl_texels_build(&src, &env->levels[level], err))
         return false;
     vec3 *texels = malloc((size_t)mw * (size_t)mh * sizeof *texels);
     if (!texels) {
-        ibl_texels_free(&src);
+        sl_ibl_texels_free(&src);
         return sl_fail(err, SL_ERR_MEMORY, "brute-force irradiance: out of memory for a %dx%d map", mw, mh);
     }
     irr->method = SL_IRRADIANCE_BRUTE;
     irr->map.level_count = 1;
     irr->map.levels[0] = (sl_env_level){.width = mw, .height = mh, .texels = texels};
     brute_fill(&irr->map.levels[0], &src);
-    ibl_texels_free(&src);
+    sl_ibl_texels_free(&src);
     return true;
 }
 
@@ -177,9 +177,9 @@ bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, s
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err)
 {
     memset(irr, 0, sizeof *irr);
-    if (!ibl_check_image(map, "irradiance map", err))
+    if (!sl_ibl_check_image(map, "irradiance map", err))
         return false;
-    if (!ibl_env_single_level(&irr->map, map, err))
+    if (!sl_ibl_env_single_level(&irr->map, map, err))
         return false;
     irr->method = SL_IRRADIANCE_MAP;
     return true;

@@ -165,14 +165,14 @@ static bool grid_init(grid *g, int w, int h)
     g->rdz = g->rz + h;
     for (int i = 0; i < w; i++) {
         ibl_col_moments m;
-        ibl_col_moments_at(w, i, &m);
+        sl_ibl_col_moments_at(w, i, &m);
         g->cc[i] = m.c;
         g->cs[i] = m.s;
         g->dphi = m.dphi;
     }
     for (int j = 0; j < h; j++) {
         ibl_row_moments m;
-        ibl_row_moments_at(h, j, &m);
+        sl_ibl_row_moments_at(h, j, &m);
         g->rs[j] = m.s;
         g->rz[j] = m.z;
         g->rdz[j] = m.dz;

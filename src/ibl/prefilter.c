@@ -188,6 +188,6 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
      * (docs/performance.md "Compact texels for the split sum's chains"). No pair rows: nothing
      * else reads a prefiltered chain fast (the port and GL read the block). NULL costs only
      * speed: the fetch then reads the block. */
-    out->e5 = ibl_env_build_e5(out, total, &out->e5_emin);
+    out->e5 = sl_ibl_env_build_e5(out, total, &out->e5_emin);
     return true;
 }

@@ -276,7 +276,7 @@ static bool check_json(checker *c, const char *json, size_t size)
     return ok;
 }
 
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err)
+bool sl_scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err)
 {
     checker c = {.name = name, .err = err};
     if (!glb)

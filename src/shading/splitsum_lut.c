@@ -32,7 +32,7 @@ static vec2 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersle
     vec3 V = vec3(sqrtf(maxf(1.0f - NdotV * NdotV, 0.0f)), 0.0f, NdotV);
     float a = 0.0f, b = 0.0f;
     for (int k = 0; k < hs->n; k++) {
-        vec3 H = shade_microfacet_sample(hs->points[k], alpha); /* about +Z = N */
+        vec3 H = sl_shade_microfacet_sample(hs->points[k], alpha); /* about +Z = N */
         float VdotH = dot(V, H);
         vec3 w = sub(scale(H, 2.0f * VdotH), V);
         float wN = w.z;

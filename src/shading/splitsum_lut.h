@@ -19,7 +19,7 @@
 #ifndef SL_SPLITSUM_LUT_H
 #define SL_SPLITSUM_LUT_H
 
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../core/options.h"
 
 #define SL_SPLITSUM_LUT_SIZE 32      /* per axis: A and B are smooth; 32 is Karis' and Filament's order */

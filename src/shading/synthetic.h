@@ -13,7 +13,7 @@
 #include <stdbool.h>
 
 #include "../core/error.h"
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 

@@ -386,7 +386,7 @@ static void test_texture_lod_odd_sizes_in_bounds(void **state)
     }
 }
 
-/* env.c's even-size fast path against its general filter (ibl_env_build_path with general_only),
+/* env.c's even-size fast path against its general filter (sl_ibl_env_build_path with general_only),
  * every level bit for bit: the fast path must perform the same double operations in the same
  * order. Random data spanning 40 binary orders of magnitude (so the double sums do round before
  * the float conversion), with exact zeros and -0.0 (the general accumulator starts at +0.0,
@@ -412,14 +412,14 @@ static void test_env_fast_path_bit_identical(void **state)
                 set_texel(&img, x, y, -0.0f, -0.0f, -0.0f);
         sl_env fast, general;
         sl_error err = {0};
-        assert_true(ibl_env_build_path(&general, &img, true, &err));
+        assert_true(sl_ibl_env_build_path(&general, &img, true, &err));
         int threads[] = {1, 3};
         for (int t = 0; t < 2; t++) {
 #ifdef _OPENMP
             int saved = omp_get_max_threads();
             omp_set_num_threads(threads[t]);
 #endif
-            assert_true(ibl_env_build_path(&fast, &img, false, &err));
+            assert_true(sl_ibl_env_build_path(&fast, &img, false, &err));
 #ifdef _OPENMP
             omp_set_num_threads(saved);
 #endif

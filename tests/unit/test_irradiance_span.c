@@ -175,7 +175,7 @@ static void test_batched_diffuse(void **state)
                 if (!trace->covered)
                     continue;
                 covered++;
-                /* shade_surface_color's operations with the diffuse term alone */
+                /* sl_shade_surface_color's operations with the diffuse term alone */
                 vec3 E = sl_irradiance_eval(&f.irr, trace->Nenv);
                 vec3 diffuse = scale(mul(scale(trace->texel.kd, 1.0f / SL_PI), E), u->uEnvIntensity);
                 vec3 color = add(scale(add(vec3s(0.0f), diffuse), trace->occlusion), trace->emissive);

@@ -116,13 +116,13 @@ static void fast_vs_port(bool compact)
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
         sl_lighting_desc d = ss_desc(&s, variants[v].o, variants[v].lights);
         sl_lighting_uniforms *u = fx_uniforms_for(&d);
-        assert_true(shade_splitsum_fast(u)); /* the fast path is what the pass runs */
+        assert_true(sl_shade_splitsum_fast(u)); /* the fast path is what the pass runs */
         free(u);
         sl_image a = {0}, b = {0};
         fx_render(&d, &s.f.gb, 1, &a, NULL);
         d.options.plain = true;
         u = fx_uniforms_for(&d);
-        assert_false(shade_splitsum_fast(u));
+        assert_false(sl_shade_splitsum_fast(u));
         free(u);
         fx_render(&d, &s.f.gb, 1, &b, NULL);
         double mx, mean;
@@ -291,7 +291,7 @@ static void test_fast_determinism(void **state)
     s.f.env_lights = &el;
     d = ss_desc(&s, (sl_lighting_options){.env_lights = 8}, 0);
     u = fx_uniforms_for(&d);
-    assert_false(shade_splitsum_fast(u));
+    assert_false(sl_shade_splitsum_fast(u));
     free(u);
     sl_env_lights_free(&el);
     ss_teardown(&s);
