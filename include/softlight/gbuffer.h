@@ -47,9 +47,9 @@ typedef struct sl_gbuffer {
  * cleared). An empty {0} sl_gbuffer is a valid start. */
 SL_API bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err);
 /* Per frame: every field 0, depth 1 (and the extra plane's texels "none"). */
-SL_API void sl_gbuffer_clear(sl_gbuffer *gb);
+SL_API void sl_gbuffer_clear(sl_gbuffer *gb, int threads);
 /* Allocate the extra plane (on) or free it. */
-SL_API bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err);
+SL_API bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, int threads, sl_error *err);
 SL_API void sl_gbuffer_free(sl_gbuffer *gb);
 /* The G-buffer as a render target (depth in the texel's depth field; with the extra plane, its
  * tile hooks clear and resolve the plane). */

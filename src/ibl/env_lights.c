@@ -28,7 +28,7 @@ static void rank_insert(ranked *best, int *kept, int cap, double y, size_t index
     best[at] = (ranked){y, index};
 }
 
-bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, sl_error *err)
+bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, int threads, sl_error *err)
 {
     memset(lights, 0, sizeof *lights);
     if (!env || env->level_count < 1)
@@ -85,7 +85,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         taken += luminance3(lights->radiance[j]);
     }
     sl_ibl_texels_free(&nodes);
-    bool ok = sl_env_build(&lights->residual, &img, err);
+    bool ok = sl_env_build(&lights->residual, &img, threads, err);
     sl_image_free(&img);
     if (!ok) {
         memset(lights, 0, sizeof *lights);

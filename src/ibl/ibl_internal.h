@@ -61,7 +61,7 @@ bool sl_ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err);
 
 /* sl_env_build, with general_only = true forcing env.c's general filter on every level instead
  * of its even-size fast path (the same bits; tests/unit/test_ibl.c checks that). */
-bool sl_ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err);
+bool sl_ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, int threads, sl_error *err);
 
 /* sl_env.pairs for a lat-long chain of `texels` texels in all (env.c; the prefiltered chains
  * have them too): NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
@@ -69,6 +69,6 @@ float *sl_ibl_env_build_pairs(const sl_env *env, size_t texels);
 
 /* sl_env.e5 for a lat-long chain of `texels` texels, and its exponent offset in *emin (env.c):
  * NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
-uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin);
+uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin, int threads);
 
 #endif

@@ -30,6 +30,7 @@
 #pragma clang diagnostic ignored "-Wpass-failed"
 #endif
 
+#include "../core/threads.h"
 #include "ibl_internal.h"
 #include "irradiance_uv.h"
 #include "texture_lod.h"
@@ -101,14 +102,14 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
 }
 
 /* The map texel (i, j) holds E at its centre direction, so bilinear lookup is exact there. */
-static void brute_fill(sl_env_level *map, const ibl_texels *src)
+static void brute_fill(sl_env_level *map, const ibl_texels *src, int threads)
 {
     int mw = map->width, mh = map->height;
     const double *restrict x = src->x, *restrict y = src->y, *restrict z = src->z;
     const double *restrict r = src->r, *restrict g = src->g, *restrict b = src->b;
     size_t count = src->count;
     long total = (long)mw * (long)mh;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (long k = 0; k < total; k++) {
         double u = ((double)(k % mw) + 0.5) / (double)mw;
         double v = ((double)(k / mw) + 0.5) / (double)mh;
@@ -127,7 +128,7 @@ static void brute_fill(sl_env_level *map, const ibl_texels *src)
     }
 }
 
-bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, sl_error *err)
+bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, int threads, sl_error *err)
 {
     memset(irr, 0, sizeof *irr);
     if (!env || env->level_count < 1)
@@ -149,7 +150,7 @@ bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_wi
     irr->method = SL_IRRADIANCE_BRUTE;
     irr->map.level_count = 1;
     irr->map.levels[0] = (sl_env_level){.width = mw, .height = mh, .texels = texels};
-    brute_fill(&irr->map.levels[0], &src);
+    brute_fill(&irr->map.levels[0], &src, threads);
     sl_ibl_texels_free(&src);
     return true;
 }
@@ -165,13 +166,13 @@ int sl_irradiance_brute_default_level(const sl_env *env)
     return level;
 }
 
-bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err)
+bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, int threads, sl_error *err)
 {
     if (!env || env->level_count < 1) {
         memset(irr, 0, sizeof *irr);
         return sl_fail(err, SL_ERR_RANGE, "brute-force irradiance: the environment has no levels");
     }
-    return sl_irradiance_brute_level(irr, env, map_width, sl_irradiance_brute_default_level(env), err);
+    return sl_irradiance_brute_level(irr, env, map_width, sl_irradiance_brute_default_level(env), threads, err);
 }
 
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err)

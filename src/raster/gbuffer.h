@@ -60,7 +60,7 @@ static inline float sl_gbuffer_ggx_alpha(float r) { return -1.0f - r; }
  * sl_gbuffer_use_extra (the plane for the G-buffer's size, kept while the size is) and
  * sl_gbuffer_free are public (softlight/gbuffer.h). */
 /* Per frame, before the draws: every extra texel "none" with tag -1 (no depth equals it). */
-void sl_gbuffer_extra_clear(sl_gbuffer *gb);
+void sl_gbuffer_extra_clear(sl_gbuffer *gb, int threads);
 /* After the draws: extra texels whose tag differs from the texel's depth become "none". */
 void sl_gbuffer_extra_resolve(sl_gbuffer *gb);
 /* The same two over pixels x0..x1, y0..y1 (inclusive); the resolve takes the rectangle's depths

@@ -35,7 +35,7 @@ static void ss_setup(ss_fixture *s, int w, int h)
     assert_true(sl_env_prefilter(&s->ggx, &s->env, &(sl_prefilter_desc){.ggx = true}, &err));
     s->lut = malloc(sizeof *s->lut);
     assert_non_null(s->lut);
-    sl_splitsum_lut_build(s->lut);
+    sl_splitsum_lut_build(s->lut, 0);
     sl_camera cam = {.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
                      .znear = 0.1f, .zfar = 100};
     sl_synthetic_sphere sp[5] = {
@@ -208,7 +208,7 @@ static void test_fast_vs_port_extra(void **state)
     sl_error err;
     ss_setup(&s, 160, 64);
     sl_gbuffer *gb = &s.f.gb;
-    assert_true(sl_gbuffer_use_extra(gb, true, &err));
+    assert_true(sl_gbuffer_use_extra(gb, true, 0, &err));
     for (int y = 0; y < gb->height; y++)
         for (int x = 0; x < gb->width; x++) {
             sl_gbuffer_extra *e = &gb->extra[y * gb->width + x];
@@ -287,7 +287,7 @@ static void test_fast_determinism(void **state)
     free(u);
     /* env lights: the fast path steps aside */
     sl_env_lights el;
-    assert_true(sl_env_lights_extract(&el, &s.env, 8, &err));
+    assert_true(sl_env_lights_extract(&el, &s.env, 8, 0, &err));
     s.f.env_lights = &el;
     d = ss_desc(&s, (sl_lighting_options){.env_lights = 8}, 0);
     u = fx_uniforms_for(&d);

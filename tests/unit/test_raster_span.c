@@ -910,7 +910,7 @@ static void test_scene_clear(void **state)
     memset(b.texels, 0x77, (size_t)W * H * sizeof *b.texels);
     sl_raster *r = make_raster(2, 32, false);
     assert_true(sl_raster_scene(r, &s.scene, &s.cam, &a, &err));
-    sl_gbuffer_clear(&b);
+    sl_gbuffer_clear(&b, 0);
     mat4 vp = sl_camera_view_proj(&s.cam, W, H);
     sl_target target = sl_gbuffer_target(&b);
     sl_program copied = sl_gbuffer_program;

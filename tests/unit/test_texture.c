@@ -915,8 +915,8 @@ static void test_textured_program_forms(void **state)
                     u[o].extra = NULL;
                 }
                 assert_true(sl_gbuffer_resize(&gb[k], W, H, &err));
-                assert_true(sl_gbuffer_use_extra(&gb[k], true, &err));
-                sl_gbuffer_clear(&gb[k]);
+                assert_true(sl_gbuffer_use_extra(&gb[k], true, 0, &err));
+                sl_gbuffer_clear(&gb[k], 0);
                 u[0].extra = gb[k].extra;
                 u[0].extra_width = W;
                 sl_draw draws[2] = {{.program = progs[k], .vs_uniforms = &u[0], .fs_uniforms = &u[0], .mesh = &sphere},
