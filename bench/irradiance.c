@@ -90,7 +90,7 @@ static void bench_map(const char *path)
     }
     sl_env env;
     double t0 = sl_now_seconds();
-    if (!sl_env_build(&env, &img, &err)) {
+    if (!sl_env_build(&env, &img, 0, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
@@ -98,7 +98,7 @@ static void bench_map(const char *path)
 
     sl_irradiance ref, sh;
     t0 = sl_now_seconds();
-    sl_irradiance_brute_level(&ref, &env, MAP_W, 0, &err);
+    sl_irradiance_brute_level(&ref, &env, MAP_W, 0, 0, &err);
     double t_ref = sl_now_seconds() - t0;
     t0 = sl_now_seconds();
     sl_irradiance_sh9(&sh, &env, &err);
@@ -113,7 +113,7 @@ static void bench_map(const char *path)
     for (int level = 1; level <= 5 && level < env.level_count; level++) {
         sl_irradiance b;
         t0 = sl_now_seconds();
-        sl_irradiance_brute_level(&b, &env, MAP_W, level, &err);
+        sl_irradiance_brute_level(&b, &env, MAP_W, level, 0, &err);
         double t = sl_now_seconds() - t0;
         errors eb = compare(&b, &ref, NULL);
         printf("  brute level %d (%dx%d): %7.1f ms  RMS %.4f%%  max %.4f%%%s\n", level, env.levels[level].width,
@@ -132,7 +132,7 @@ static void bench_texture_lod(const char *path)
     sl_image img;
     sl_error err = {0};
     sl_env env;
-    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, 0, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }
@@ -179,7 +179,7 @@ static void bench_ground_truth(const char *path)
     sl_image img;
     sl_error err = {0};
     sl_env env;
-    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, 0, &err)) {
         fprintf(stderr, "%s\n", err.msg);
         exit(1);
     }

@@ -123,7 +123,7 @@ static bool build(sl_irradiance *irr, const sl_env *env, const config *c)
     if (c->method == SL_IRRADIANCE_SH9)
         ok = sl_irradiance_sh9(irr, env, &err);
     else if (c->method == SL_IRRADIANCE_BRUTE)
-        ok = sl_irradiance_brute(irr, env, c->size, &err);
+        ok = sl_irradiance_brute(irr, env, c->size, 0, &err);
     else
         ok = sl_irradiance_map(irr, env,
                                &(sl_irradiance_map_desc){.method = c->method, .size = c->size,
@@ -257,14 +257,14 @@ static void ready_time(const char *path)
         if (!sl_image_read_hdr(path, 0, &img, NULL, &err))
             exit(1);
         double t1 = sl_now_seconds(), c1 = (double)clock() / CLOCKS_PER_SEC;
-        if (!sl_env_build(&env, &img, &err))
+        if (!sl_env_build(&env, &img, 0, &err))
             exit(1);
         double t2 = sl_now_seconds(), c2 = (double)clock() / CLOCKS_PER_SEC;
         if (!sl_irradiance_map(&irr, &env, NULL, &err))
             exit(1);
         double t3 = sl_now_seconds(), c3 = (double)clock() / CLOCKS_PER_SEC;
         sl_irradiance_free(&irr);
-        if (!sl_irradiance_brute(&irr, &env, 64, &err))
+        if (!sl_irradiance_brute(&irr, &env, 64, 0, &err))
             exit(1);
         double t4 = sl_now_seconds(), c4 = (double)clock() / CLOCKS_PER_SEC;
         sl_irradiance_free(&irr);
@@ -312,7 +312,7 @@ static bool synth(sl_env *env, double theta_sun, sl_error *err)
             t[1] = (float)(L * 0.9);
             t[2] = (float)(L * 0.8);
         }
-    bool ok = sl_env_build(env, &img, err);
+    bool ok = sl_env_build(env, &img, 0, err);
     sl_image_free(&img);
     return ok;
 }
@@ -365,7 +365,7 @@ int main(int argc, char **argv)
     for (int m = 0; m < nmaps; m++) {
         const char *path = argc > 1 ? argv[m + 1] : defaults[m];
         sl_image img;
-        if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err)) {
+        if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, 0, &err)) {
             fprintf(stderr, "%s: %s\n", path, err.msg);
             return 1;
         }

@@ -142,7 +142,7 @@ int main(int argc, char **argv)
     sl_image img = {0};
     sl_env env = {0};
     sl_irradiance irr = {0};
-    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, &err) ||
+    if (!sl_image_read_hdr(path, 0, &img, NULL, &err) || !sl_env_build(&env, &img, 0, &err) ||
         !sl_irradiance_sh9(&irr, &env, &err)) {
         fprintf(stderr, "bench_shading: %s\n", err.msg);
         return 1;
@@ -159,7 +159,7 @@ int main(int argc, char **argv)
         s[0] = (sl_synthetic_sphere){vec3(0, 0, 0), 7.0f, vec3(0.5f, 0.4f, 0.3f), vec3s(0.5f), 50.0f};
     sl_gbuffer gb = {0};
     mat4 inv;
-    if (!sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, s, no_background ? 1 : 9, &inv, &err)) {
+    if (!sl_gbuffer_synthetic_spheres(&gb, W, H, &cam, s, no_background ? 1 : 9, &inv, 0, &err)) {
         fprintf(stderr, "bench_shading: %s\n", err.msg);
         return 1;
     }
@@ -169,7 +169,7 @@ int main(int argc, char **argv)
     if (ggx) {
         for (int i = 0; i < 9; i++)
             s[i].alpha = sl_gbuffer_ggx_alpha(sqrtf(sqrtf(2.0f / (s[i].alpha + 2.0f))));
-        if (!sl_gbuffer_synthetic_spheres(&gbs[1], W, H, &cam, s, no_background ? 1 : 9, NULL, &err)) {
+        if (!sl_gbuffer_synthetic_spheres(&gbs[1], W, H, &cam, s, no_background ? 1 : 9, NULL, 0, &err)) {
             fprintf(stderr, "bench_shading: %s\n", err.msg);
             return 1;
         }

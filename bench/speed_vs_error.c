@@ -537,7 +537,7 @@ static void read_truth_dir(const char *dir, const sl_gt_image_desc *gd, sl_gt_im
     sl_gbuffer probe = {0};
     if (!sl_gbuffer_resize(&probe, gb->width, gb->height, &err))
         die("--truth", &err);
-    sl_gbuffer_clear(&probe);
+    sl_gbuffer_clear(&probe, 0);
     long step = covered / 8 > 0 ? covered / 8 : 1, k = 0;
     for (size_t i = 0; i < (size_t)gb->width * (size_t)gb->height; i++)
         if (sl_gbuffer_covered(&gb->texels[i]) && k++ % step == step / 2)
@@ -592,7 +592,7 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
     for (int k = 0; k < 3; k++) {
         sl_env_lights el;
         double t0 = sl_now_seconds();
-        if (!sl_env_lights_extract(&el, &r.env, 32, &err))
+        if (!sl_env_lights_extract(&el, &r.env, 32, 0, &err))
             die("env lights", &err);
         te[k] = (sl_now_seconds() - t0) * 1e3;
         si->env_lights_count = el.count;

@@ -41,7 +41,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     memcpy(ref, data, size);
     ref[size] = '\0';
     char out[SL_PATH_MAX];
-    if (scene_texture_path_resolve(folder(), ref, out)) {
+    if (sl_scene_texture_path_resolve(folder(), ref, out)) {
         struct stat st;
         if (strnlen(out, sizeof out) == sizeof out || stat(out, &st) != 0 || !S_ISREG(st.st_mode))
             abort();

@@ -184,7 +184,7 @@ int cmd_truth(int argc, char **argv)
         printf("  %.1f s (%.2f ms per covered pixel)\n", gt.seconds,
                gt.covered ? 1e3 * gt.seconds / (double)gt.covered : 0.0);
     /* Every output into one set: replaced together once all were written, or none of them. */
-    if (png && !(sl_tonemap_image(&total, &display, &r.desc.tonemap, &err) &&
+    if (png && !(sl_tonemap_image(&total, &display, &r.desc.tonemap, threads, &err) &&
                  sl_output_set_image(&out, png, sl_image_encode_png, &display, &err)))
         goto done;
     if (pfm && !sl_output_set_image(&out, pfm, sl_image_encode_pfm, &total, &err))

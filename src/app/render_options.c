@@ -3,7 +3,6 @@
  * is written here is only how --help describes it and where its value goes. */
 #include "render_options.h"
 
-#include <omp.h>
 #include <string.h>
 
 /* Metavar and help per option, in the table's order (which is --help's). A range or default in
@@ -98,12 +97,7 @@ bool sl_render_options_desc(const sl_render_options *o, sl_render_desc *d, sl_er
         return sl_fail(err, SL_ERR_RANGE, "--tile: %d is not a power of two", o->tile);
     d->width = o->size[0];
     d->height = o->size[1];
-    d->threads = o->threads;
-    /* -j bounds every parallel region, not only the passes that take a thread count: the
-     * clears, the tone map and load-time work use OpenMP's default team, whose extra thread
-     * would otherwise spin beside a -j 1 run (and show in its profile). */
-    if (o->threads > 0)
-        omp_set_num_threads(o->threads);
+    d->threads = o->threads; /* -j: every parallel region of the library takes it from here */
     d->tile_size = o->tile;
     d->tonemap.exposure = o->exposure;
     d->tonemap.contrast = o->contrast;

@@ -163,7 +163,7 @@ static bool upload(viewer *v, double *tone_ms)
                 view_message(v, true, "%s", err.msg);
                 return false;
             }
-            sl_tonemap_apply_xrgb8888(tab, &v->r.radiance, pixels, pitch);
+            sl_tonemap_apply_xrgb8888(tab, &v->r.radiance, pixels, pitch, v->r.desc.threads);
             *tone_ms = (sl_now_seconds() - t0) * 1e3;
         } else {
             view_image_to_xrgb8888(&v->shown, pixels, pitch);

@@ -196,7 +196,7 @@ static bool tonemap_shown(viewer *v, const sl_image *linear, sl_error *err)
         sl_image_free(&v->shown);
     v->shown_pending = false;
     double t0 = sl_now_seconds();
-    if (!sl_tonemap_image(linear, &v->shown, &v->r.desc.tonemap, err))
+    if (!sl_tonemap_image(linear, &v->shown, &v->r.desc.tonemap, v->r.desc.threads, err))
         return false;
     v->tonemap_ms = (sl_now_seconds() - t0) * 1e3;
     v->texture_stale = true;

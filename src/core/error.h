@@ -10,20 +10,10 @@
 #include <stdbool.h>
 #include <stddef.h>
 
-typedef enum {
-    SL_OK = 0,
-    SL_ERR_IO,        /* open, read, write, rename failed */
-    SL_ERR_FORMAT,    /* malformed or truncated file */
-    SL_ERR_UNSUPPORTED, /* well-formed but not something softlight handles */
-    SL_ERR_RANGE,     /* a parameter or value outside what makes sense */
-    SL_ERR_MEMORY,    /* allocation failed or a size would overflow */
-    SL_ERR_GL,        /* no EGL / OpenGL context, or a GL call failed */
-} sl_error_code;
+#include <softlight/types.h>
 
-typedef struct {
-    sl_error_code code;
-    char msg[512];
-} sl_error;
+/* sl_error_code and sl_error are public: softlight/types.h. */
+
 
 /* Fill `err` (if not NULL) with a code and a printf-style message; returns false
  * so that `return sl_fail(err, ...)` reads as a failing return. */

@@ -20,7 +20,7 @@
 #include <stdint.h>
 #include <string.h>
 
-#include "glsl.h"
+#include <softlight/glsl.h>
 
 /* Always inlined: a call left in a `#pragma omp simd` loop stops it from vectorizing, and GCC's
  * inlining budget for a large caller (lighting_batched.c's specular_samples) runs out before every call

@@ -1,7 +1,7 @@
 /* glsl.c - the non-trivial matrix built-ins of glsl.h (inverse, rotation, camera matrices). */
-#include "glsl.h"
+#include <softlight/glsl.h>
 
-mat4 mat4_inverse(mat4 m)
+mat4 sl_mat4_inverse(mat4 m)
 {
     /* Cofactor expansion on the flattened column-major array (as in MESA's gluInvertMatrix). */
     const float *a = &m.c[0].x;
@@ -49,7 +49,7 @@ mat4 mat4_inverse(mat4 m)
     return r;
 }
 
-mat4 mat4_rotate(vec3 axis, float angle)
+mat4 sl_mat4_rotate(vec3 axis, float angle)
 {
     vec3 a = normalize3(axis);
     float c = cosf(angle), s = sinf(angle), t = 1.0f - c;
@@ -59,7 +59,7 @@ mat4 mat4_rotate(vec3 axis, float angle)
                    {0, 0, 0, 1}}};
 }
 
-mat4 lookAt(vec3 eye, vec3 center, vec3 up)
+mat4 sl_mat4_look_at(vec3 eye, vec3 center, vec3 up)
 {
     vec3 f = normalize3(sub3(center, eye));
     vec3 s = normalize3(cross(f, up));
@@ -70,7 +70,7 @@ mat4 lookAt(vec3 eye, vec3 center, vec3 up)
                    {-dot3(s, eye), -dot3(u, eye), dot3(f, eye), 1}}};
 }
 
-mat4 perspective(float fovy, float aspect, float znear, float zfar)
+mat4 sl_mat4_perspective(float fovy, float aspect, float znear, float zfar)
 {
     float f = 1.0f / tanf(fovy * 0.5f);
     return (mat4){{{f / aspect, 0, 0, 0},

@@ -31,7 +31,7 @@
  * value returns within half a mantissa step of the largest component. */
 #include "image.h"
 
-#include "glsl.h"
+#include <softlight/glsl.h>
 
 #include <math.h>
 #include <stdint.h>

@@ -31,6 +31,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include <softlight/image.h>
+
 #include "error.h"
 #include "options.h"
 
@@ -49,52 +51,37 @@
 #define SL_IMAGE_BUDGET_DEFAULT ((size_t)SL_IMAGE_MEMORY_DEFAULT_MIB << 20)
 #define SL_IMAGE_HEADER_SLACK ((size_t)1 << 20)
 
-typedef struct {
-    int width, height, channels;
-    float *data; /* width * height * channels floats, row 0 = top */
-} sl_image;
-
-/* Allocate a zeroed image; false (and err) on absurd sizes or no memory:
- * width or height <= 0 or channels not 1, 3 or 4 -> SL_ERR_RANGE, a byte count that
- * overflows or exceeds SL_IMAGE_MAX_BYTES, or a failed allocation -> SL_ERR_MEMORY. */
-bool sl_image_alloc(sl_image *img, int width, int height, int channels, sl_error *err);
-void sl_image_free(sl_image *img);
+/* sl_image and sl_image_repairs are public (softlight/image.h), with sl_image_alloc (false and
+ * err on absurd sizes or no memory: width or height <= 0 or channels not 1, 3 or 4 ->
+ * SL_ERR_RANGE, a byte count that overflows or exceeds SL_IMAGE_MAX_BYTES, or a failed
+ * allocation -> SL_ERR_MEMORY), sl_image_free, sl_image_flip_rows, the file readers and
+ * writers. */
 static inline float *sl_image_pixel(const sl_image *img, int x, int y)
 {
     return img->data + ((size_t)y * (size_t)img->width + (size_t)x) * (size_t)img->channels;
 }
-/* Reverse the row order in place (top-first <-> bottom-first). */
-void sl_image_flip_rows(sl_image *img);
-
-/* What loading repaired: texels that were NaN, +-Inf or negative (set to 0). */
-typedef struct {
-    long nan_count, inf_count, negative_count;
-} sl_image_repairs;
 /* Count and replace non-finite and negative values; returns the total repaired. */
 long sl_image_repair(sl_image *img, sl_image_repairs *repairs);
 
-/* Readers: on failure `img` is left empty and err says file, byte offset and what was expected.
- * `budget`: the image memory budget in bytes (0 = SL_IMAGE_BUDGET_DEFAULT). The file's first
- * bytes are checked for the format's magic before the rest is read (a device or a FIFO that is
- * not an image fails after a few bytes). `repairs` may be NULL. */
-bool sl_image_read_hdr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+/* Readers (softlight/image.h: hdr, pfm, exr, radiance, texture): on failure `img` is left empty
+ * and err says file, byte offset and what was expected. `budget`: the image memory budget in
+ * bytes (0 = SL_IMAGE_BUDGET_DEFAULT). The file's first bytes are checked for the format's magic
+ * before the rest is read (a device or a FIFO that is not an image fails after a few bytes).
+ * `repairs` may be NULL.
+ * - OpenEXR (exr.c, through OpenEXRCore): R, G, B of the first part (or a grey Y, replicated),
+ *   half, float or uint, scanline or tiled, any compression the library decodes; always 3
+ *   channels. Read by offsets, never whole: a regular file only. The budget counts the float
+ *   image and one chunk's decoding buffers.
+ * - sl_image_read_radiance: any radiance image by its first bytes: OpenEXR, Radiance .hdr or PFM
+ *   (a file whose magic is none of them, or that is not a regular file, by its extension; .hdr's
+ *   reader when that says nothing either). What environments and irradiance maps are read with.
+ * - sl_image_read_texture: PNG (libpng) / JPEG (libjpeg-turbo), 8- or 16-bit sRGB decoded to
+ *   linear RGB (3 channels) with the exact piecewise curve; alpha is dropped, grey is replicated.
+ *   The budget counts the decoder's share (three images of the file's channels and depth) with
+ *   the float image. */
 /* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
  * NaN or Inf is an error; nothing is repaired. */
 bool sl_image_read_pfm_signed(const char *path, size_t budget, sl_image *img, sl_error *err);
-/* OpenEXR (exr.c, through OpenEXRCore): R, G, B of the first part (or a grey Y, replicated), half,
- * float or uint, scanline or tiled, any compression the library decodes; always 3 channels. Read
- * by offsets, never whole: a regular file only. The budget counts the float image and one
- * chunk's decoding buffers. */
-bool sl_image_read_exr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-/* Any radiance image by its first bytes: OpenEXR, Radiance .hdr or PFM (a file whose magic is none
- * of them, or that is not a regular file, by its extension; .hdr's reader when that says nothing
- * either). What environments and irradiance maps are read with. */
-bool sl_image_read_radiance(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-/* PNG (libpng) / JPEG (libjpeg-turbo), 8- or 16-bit sRGB decoded to linear RGB (3 channels) with
- * the exact piecewise curve; alpha is dropped, grey is replicated. The budget counts the
- * decoder's share (three images of the file's channels and depth) with the float image. */
-bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
 /* A PNG or JPEG decoded as stored, for textures (raster/texture.c): `channels` 1..4 (grey,
  * grey + alpha, RGB, RGBA; a palette is expanded to RGB or RGBA, a colour key to an alpha
  * channel) of `bits` 8 or 16 (PNG only; JPEG is 8) per channel, interleaved, row 0 = top; free
@@ -141,12 +128,9 @@ static inline int sl_unorm8(float v)
     return (int)(v * 255.0f + 0.5f);
 }
 
-/* Writers: atomic (temporary file + rename). hdr needs 3 channels; pfm 1 or 3;
- * png takes 1 or 3 channels of already display-encoded values in [0,1]. */
-bool sl_image_write_hdr(const char *path, const sl_image *img, sl_error *err);
-bool sl_image_write_pfm(const char *path, const sl_image *img, sl_error *err);
-bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
-/* The same encodings into memory (what the writers and the fuzz round trips call);
+/* Writers (softlight/image.h): atomic (temporary file + rename). hdr needs 3 channels; pfm 1
+ * or 3; png takes 1 or 3 channels of already display-encoded values in [0,1].
+ * The same encodings into memory (what the writers and the fuzz round trips call);
  * the caller frees *bytes with free(). */
 bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
 bool sl_image_encode_pfm(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);

@@ -330,7 +330,7 @@ bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err)
     glReadPixels(0, 0, g->width, g->height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
     for (size_t i = 0; i < n; i++)
         out->texels[i].depth = depth[i];
-    bool ok = sl_gbuffer_use_extra(out, g->extra != 0, err);
+    bool ok = sl_gbuffer_use_extra(out, g->extra != 0, 0, err);
     if (ok && g->extra) { /* tagged with the texel's depth, as softlight's resolve leaves them */
         read_rgba(GL_COLOR_ATTACHMENT4, g->width, g->height, buf);
         for (size_t i = 0; i < n; i++)

@@ -80,7 +80,7 @@ static bool add_outputs(const gl_outputs *o, const frame *f, const sl_image *rad
 {
     if (o->png) {
         sl_image ldr = {0};
-        bool ok = sl_tonemap_image(radiance, &ldr, &f->renderer.desc.tonemap, err) &&
+        bool ok = sl_tonemap_image(radiance, &ldr, &f->renderer.desc.tonemap, f->renderer.desc.threads, err) &&
                   sl_output_set_image(out, o->png, sl_image_encode_png, &ldr, err);
         sl_image_free(&ldr);
         if (!ok)

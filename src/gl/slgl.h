@@ -26,7 +26,7 @@
 #include <epoxy/gl.h>
 
 #include "core/error.h"
-#include "core/glsl.h"
+#include <softlight/glsl.h>
 #include "core/image.h"
 #include "ibl/ibl.h"
 #include "raster/gbuffer.h"

@@ -41,6 +41,7 @@
  *   paths bit for bit on even, odd and mixed sizes. */
 /* madvise and MADV_HUGEPAGE are not POSIX (the build asks for POSIX 2008 only) */
 #define _DEFAULT_SOURCE
+#include "../core/threads.h"
 #include "ibl_internal.h"
 #include "texel_e5.h"
 
@@ -124,7 +125,7 @@ static void downsample(const sl_env_level *src, sl_env_level *dst, const axis_ta
 
 /* src (2 mw x 2 mh) -> dst (mw x mh): downsample() for two taps of weight 0.5 on each axis,
  * with the same double operations in the same order (see the top of the file). */
-static void downsample_even(const sl_env_level *src, sl_env_level *dst)
+static void downsample_even(const sl_env_level *src, sl_env_level *dst, int threads)
 {
     /* The rows are read and written as flat floats, r g b r g b ..., for the vectorizer. */
     _Static_assert(sizeof(vec3) == 3 * sizeof(float), "vec3 is three packed floats");
@@ -132,7 +133,7 @@ static void downsample_even(const sl_env_level *src, sl_env_level *dst)
     size_t w = (size_t)src->width;
     const float *base = (const float *)src->texels;
     float *obase = (float *)dst->texels;
-#pragma omp parallel for schedule(static) if (mw * mh >= EVEN_PARALLEL_MIN)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if (mw * mh >= EVEN_PARALLEL_MIN)
     for (int y = 0; y < mh; y++) {
         const float *r0 = base + (size_t)(2 * y) * w * 3, *r1 = r0 + w * 3;
         float *out = obase + (size_t)y * (size_t)mw * 3;
@@ -175,7 +176,7 @@ static void *alloc_block(size_t bytes)
 
 /* sl_env.pairs (ibl.h): every level's rows with their first texel repeated at the end, or NULL
  * (too large, or no memory: the fetch then reads the block; nothing is lost but speed). */
-float *ibl_env_build_pairs(const sl_env *env, size_t texels)
+float *sl_ibl_env_build_pairs(const sl_env *env, size_t texels)
 {
     size_t rows = 0;
     for (int l = 0; l < env->level_count; l++)
@@ -209,7 +210,7 @@ float *ibl_env_build_pairs(const sl_env *env, size_t texels)
  * row y at row sl_e5_row(H, l) + y, and the chain's exponent offset in *emin; NULL when the
  * chain is too large or has sizes other than sl_env_build's, or no memory. Level 0 holds the
  * chain's brightest channel: every later level is an average of it. */
-uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
+uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin, int threads)
 {
     if (texels > SL_ENV_PAIRS_MAX_TEXELS || env->level_count < 1)
         return NULL;
@@ -236,7 +237,7 @@ uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
          * texel) is most of the build; the split sum's two 1024x512 chains took 3 ms less of
          * sl_env_prefilter on 2 threads (docs/performance.md "Compact texels for the split
          * sum's chains") */
-#pragma omp parallel for schedule(static) if ((size_t)lv->width * (size_t)lv->height >= E5_PARALLEL_MIN)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if ((size_t)lv->width * (size_t)lv->height >= E5_PARALLEL_MIN)
         for (int y = 0; y < lv->height; y++) {
             const vec3 *row = lv->texels + (size_t)y * (size_t)lv->width;
             uint32_t *out = e5 + (size_t)(sl_e5_row(H, l) + y) * stride;
@@ -250,10 +251,10 @@ uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin)
 }
 
 /* The whole chain; general_only forces downsample() on every level (the test's reference). */
-bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err)
+bool sl_ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, int threads, sl_error *err)
 {
     *env = (sl_env){0};
-    if (!ibl_check_image(img, "environment", err))
+    if (!sl_ibl_check_image(img, "environment", err))
         return false;
 
     /* The chain's sizes first, so every level goes into one block (ibl.h, sl_env.block). */
@@ -281,7 +282,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
             env->levels[l] = (sl_env_level){.width = sizes[l][0], .height = sizes[l][1], .texels = next};
             next += (size_t)sizes[l][0] * (size_t)sizes[l][1];
         }
-        /* Level 0 is the image as vec3, what ibl_env_single_level makes, written in place
+        /* Level 0 is the image as vec3, what sl_ibl_env_single_level makes, written in place
          * rather than copied twice. */
         for (size_t k = 0, n = (size_t)w * (size_t)h; k < n; k++)
             block[k] = vec3(img->data[3 * k], img->data[3 * k + 1], img->data[3 * k + 2]);
@@ -289,7 +290,7 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
             const sl_env_level *src = &env->levels[l - 1];
             sl_env_level *dst = &env->levels[l];
             if (!general_only && src->width == 2 * dst->width && src->height == 2 * dst->height) {
-                downsample_even(src, dst);
+                downsample_even(src, dst, threads);
                 continue;
             }
             if (!rows)
@@ -314,14 +315,14 @@ bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_
     }
     env->level_count = count;
     env->block = block;
-    env->pairs = ibl_env_build_pairs(env, total);
-    env->e5 = ibl_env_build_e5(env, total, &env->e5_emin);
+    env->pairs = sl_ibl_env_build_pairs(env, total);
+    env->e5 = sl_ibl_env_build_e5(env, total, &env->e5_emin, threads);
     return true;
 }
 
-bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err)
+bool sl_env_build(sl_env *env, const sl_image *img, int threads, sl_error *err)
 {
-    return ibl_env_build_path(env, img, false, err);
+    return sl_ibl_env_build_path(env, img, false, threads, err);
 }
 
 void sl_env_free(sl_env *env)

@@ -28,7 +28,7 @@ static void rank_insert(ranked *best, int *kept, int cap, double y, size_t index
     best[at] = (ranked){y, index};
 }
 
-bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, sl_error *err)
+bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, int threads, sl_error *err)
 {
     memset(lights, 0, sizeof *lights);
     if (!env || env->level_count < 1)
@@ -37,7 +37,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         return sl_fail(err, SL_ERR_RANGE, "env lights: %d requested, expected 1..%d", count, SL_ENV_LIGHTS_MAX);
     const sl_env_level *l0 = &env->levels[0];
     ibl_texels nodes;
-    if (!ibl_texels_build(&nodes, l0, err))
+    if (!sl_ibl_texels_build(&nodes, l0, err))
         return false;
 
     /* The count + 1 brightest: the last one sets the clamp. Texels without a direction (weight
@@ -57,7 +57,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
 
     sl_image img;
     if (!sl_image_alloc(&img, l0->width, l0->height, 3, err)) {
-        ibl_texels_free(&nodes);
+        sl_ibl_texels_free(&nodes);
         return false;
     }
     _Static_assert(sizeof(vec3) == 3 * sizeof(float), "a level's texels are the image's floats");
@@ -67,7 +67,7 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         size_t k = best[j].index;
         vec3 L = l0->texels[k];
         /* r = L * clamp / Y keeps the colour; the light gets the rest, times the node weight
-         * |integral of w| = (node radiance) / L, which ibl_texels_build already multiplied in */
+         * |integral of w| = (node radiance) / L, which sl_ibl_texels_build already multiplied in */
         double keep = best[j].y > 0.0 ? clamp / best[j].y : 0.0;
         vec3 residual = vec3((float)((double)L.x * keep), (float)((double)L.y * keep), (float)((double)L.z * keep));
         img.data[3 * k + 0] = residual.x;
@@ -84,8 +84,8 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
         lights->texel[j] = k;
         taken += luminance3(lights->radiance[j]);
     }
-    ibl_texels_free(&nodes);
-    bool ok = sl_env_build(&lights->residual, &img, err);
+    sl_ibl_texels_free(&nodes);
+    bool ok = sl_env_build(&lights->residual, &img, threads, err);
     sl_image_free(&img);
     if (!ok) {
         memset(lights, 0, sizeof *lights);

@@ -43,7 +43,7 @@ typedef struct {
 /* Extract the `count` brightest texels of env's level 0 (1 .. SL_ENV_LIGHTS_MAX) and build the
  * residual's mip chain. Ties are broken by texel index, so the result is deterministic. On
  * failure *lights is empty. */
-bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, sl_error *err);
+bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, int threads, sl_error *err);
 void sl_env_lights_free(sl_env_lights *lights);
 
 #endif

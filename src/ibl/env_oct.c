@@ -30,6 +30,7 @@
  * the solid angle it covers, the footprint the lighting shader's lod rule assumes (its
  * distortion factor for this layout is Omega_texel / (4 pi / S^2) = |w|_1^3 / pi, lighting.frag
  * mip_level). A constant environment stays constant at every level. */
+#include "../core/threads.h"
 #include "ibl_internal.h"
 
 #include <stdlib.h>
@@ -105,7 +106,7 @@ int sl_env_oct_default_size(const sl_env *latlong)
 
 /* Level 0 from the lat-long chain (see the top of the file); rows split over threads, each
  * texel computed the same way whatever their number. */
-static void resample_level0(const sl_env *ll, sl_env_level *dst, float *omega0)
+static void resample_level0(const sl_env *ll, sl_env_level *dst, float *omega0, int threads)
 {
     const int s = dst->width;
     const sl_env_level *l0 = &ll->levels[0];
@@ -115,7 +116,7 @@ static void resample_level0(const sl_env *ll, sl_env_level *dst, float *omega0)
     const float k = (2.0f * SL_PI / (float)l0->width) * (SL_PI / (float)l0->height);
     const float sin_min = sinf(SL_PI / (2.0f * (float)l0->height));
     const float sub_area = 1.0f / ((float)s * (float)OCT_SUB * (float)s * (float)OCT_SUB);
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (int j = 0; j < s; j++) {
         for (int i = 0; i < s; i++) {
             vec3 sum = vec3s(0.0f);
@@ -162,7 +163,7 @@ static void downsample_weighted(const sl_env_level *src, const float *om_src, sl
         }
 }
 
-bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, sl_error *err)
+bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, int threads, sl_error *err)
 {
     *oct = (sl_env){0};
     if (!latlong || latlong->level_count < 1)
@@ -189,7 +190,7 @@ bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, sl_error *er
         oct->levels[l] = (sl_env_level){.width = s, .height = s, .texels = block + offset};
         offset += (size_t)s * (size_t)s;
     }
-    resample_level0(latlong, &oct->levels[0], omega);
+    resample_level0(latlong, &oct->levels[0], omega, threads);
     float *om = omega;
     for (int l = 1; l < count; l++) {
         float *next = om + (size_t)oct->levels[l - 1].width * (size_t)oct->levels[l - 1].width;

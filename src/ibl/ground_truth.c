@@ -20,7 +20,7 @@ bool sl_ground_truth_init(sl_ground_truth *gt, const sl_env *env, sl_error *err)
     if (!env || env->level_count < 1)
         return sl_fail(err, SL_ERR_RANGE, "ground truth: the environment has no levels");
     ibl_texels t;
-    if (!ibl_texels_build(&t, &env->levels[0], err))
+    if (!sl_ibl_texels_build(&t, &env->levels[0], err))
         return false;
     *gt = (sl_ground_truth){.width = t.width, .height = t.height, .count = t.count,
                             .x = t.x, .y = t.y, .z = t.z, .r = t.r, .g = t.g, .b = t.b};
@@ -32,7 +32,7 @@ void sl_ground_truth_free(sl_ground_truth *gt)
     if (!gt)
         return;
     ibl_texels t = {.x = gt->x};
-    ibl_texels_free(&t); /* one block, owned through x */
+    sl_ibl_texels_free(&t); /* one block, owned through x */
     memset(gt, 0, sizeof *gt);
 }
 

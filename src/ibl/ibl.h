@@ -20,8 +20,9 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include <softlight/glsl.h>
+
 #include "../core/error.h"
-#include "../core/glsl.h"
 #include "../core/image.h"
 #include "../core/options.h" /* SL_HAMMERSLEY_MAX, sl_irradiance_method */
 
@@ -66,7 +67,7 @@ typedef struct {
  * to 1x1, each texel the exact area average of what it covers (2x2 box for even sizes; env.c).
  * Rejects images that are not 3-channel, have a side outside 1 .. 65535, or hold a NaN, Inf or
  * negative texel. On failure env is left empty. */
-bool sl_env_build(sl_env *env, const sl_image *img, sl_error *err);
+bool sl_env_build(sl_env *env, const sl_image *img, int threads, sl_error *err);
 void sl_env_free(sl_env *env);
 
 /* The octahedral chain of a lat-long environment (env_oct.c): size texels a side, a power of
@@ -74,7 +75,7 @@ void sl_env_free(sl_env *env);
  * lat-long width). Level 0 resampled from the lat-long chain, each level above the solid-angle-
  * weighted mean of the one below, so all hold the same power. On failure oct is left empty. */
 #define SL_ENV_OCT_MAX_SIZE 4096
-bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, sl_error *err);
+bool sl_env_build_oct(sl_env *oct, const sl_env *latlong, int size, int threads, sl_error *err);
 int sl_env_oct_default_size(const sl_env *latlong);
 /* The exact solid angle of texel (i, j) of a size x size octahedral level (size a power of two). */
 double sl_env_oct_texel_solid_angle(int size, int i, int j);
@@ -90,6 +91,7 @@ typedef struct {
     bool ggx;    /* the GGX lobe, else the Phong set's */
     int levels;  /* 1 .. SL_ENV_MAX_LEVELS; 0 = SL_PREFILTER_LEVELS */
     int samples; /* 1 .. SL_HAMMERSLEY_MAX; 0 = SL_PREFILTER_SAMPLES */
+    int threads; /* 0 = all cores */
 } sl_prefilter_desc;
 bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *desc, sl_error *err);
 /* The lobe width of level k of a chain of `levels`. */
@@ -102,7 +104,13 @@ vec3 sl_uv_to_dir(vec2 uv);
 
 /* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). Non-finite uv reads
  * as 0, NaN lod as 0; never reads out of bounds; an empty env gives 0. */
-vec3 textureLod(const sl_env *env, vec2 uv, float lod);
+vec3 sl_env_texture_lod(const sl_env *env, vec2 uv, float lod);
+/* GLSL's textureLod as glsl.h spells it, with the environment as its other overload, chosen by
+ * the first argument as glsl.h's overloads are. */
+#undef textureLod
+#define textureLod(s, uv, lod)                                                                              \
+    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod, default: sl_env_texture_lod)( \
+        s, uv, lod)
 
 /* The specification's low-discrepancy set (hammersley.c): u = radical inverse of k
  * in base 2, v = (k + 0.5) / n, for k = 0 .. n - 1. Layout matches the GLSL block. */
@@ -131,8 +139,8 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err);
  * mip level with at most SL_IRRADIANCE_BRUTE_TEXELS texels (sl_irradiance_brute_default_level);
  * _level names the level. docs/ibl.md has the measured error of each choice. */
 #define SL_IRRADIANCE_BRUTE_TEXELS (256 * 128)
-bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err);
-bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, sl_error *err);
+bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, int threads, sl_error *err);
+bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, int threads, sl_error *err);
 int sl_irradiance_brute_default_level(const sl_env *env);
 /* OCT and DP (irradiance_map.c): E at the map's texels from level 0, the brightest texels as
  * exact nodes and the rest grouped by the texel grid of one mip level (docs/ibl.md). Zero fields
@@ -147,6 +155,7 @@ typedef struct {
     int source_level;            /* the level whose grid groups the rest; 0 = default (see above) */
     int bright_max;              /* 0 = SL_IRRADIANCE_BRIGHT_MAX, -1 = none (groups only) */
     bool exact;                  /* every level-0 texel an exact node (slow: for measurements) */
+    int threads;                 /* 0 = all cores */
 } sl_irradiance_map_desc;
 bool sl_irradiance_map(sl_irradiance *irr, const sl_env *env, const sl_irradiance_map_desc *desc, sl_error *err);
 int sl_irradiance_map_default_source_level(const sl_env *env);

@@ -33,8 +33,8 @@ typedef struct {
     double s2;   /* integral of sin(2 phi) */
 } ibl_col_moments;
 
-void ibl_row_moments_at(int height, int j, ibl_row_moments *m);
-void ibl_col_moments_at(int width, int i, ibl_col_moments *m);
+void sl_ibl_row_moments_at(int height, int j, ibl_row_moments *m);
+void sl_ibl_col_moments_at(int width, int i, ibl_col_moments *m);
 
 /* Every texel of one level as quadrature nodes for cosine-weighted integrals, in double,
  * structure of arrays so the loops over them vectorise. For texel t:
@@ -49,26 +49,26 @@ typedef struct {
     double *r, *g, *b;
 } ibl_texels;
 
-bool ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err);
-void ibl_texels_free(ibl_texels *t);
+bool sl_ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err);
+void sl_ibl_texels_free(ibl_texels *t);
 
 /* Checks shared by every entry point that takes an image: 3 channels, a sane size, and
  * only finite, non-negative texels. `what` names the image in the message. */
-bool ibl_check_image(const sl_image *img, const char *what, sl_error *err);
+bool sl_ibl_check_image(const sl_image *img, const char *what, sl_error *err);
 
 /* An sl_env with level 0 only, a copy of `img` (already checked). */
-bool ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err);
+bool sl_ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err);
 
 /* sl_env_build, with general_only = true forcing env.c's general filter on every level instead
  * of its even-size fast path (the same bits; tests/unit/test_ibl.c checks that). */
-bool ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, sl_error *err);
+bool sl_ibl_env_build_path(sl_env *env, const sl_image *img, bool general_only, int threads, sl_error *err);
 
 /* sl_env.pairs for a lat-long chain of `texels` texels in all (env.c; the prefiltered chains
  * have them too): NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
-float *ibl_env_build_pairs(const sl_env *env, size_t texels);
+float *sl_ibl_env_build_pairs(const sl_env *env, size_t texels);
 
 /* sl_env.e5 for a lat-long chain of `texels` texels, and its exponent offset in *emin (env.c):
  * NULL when over SL_ENV_PAIRS_MAX_TEXELS or out of memory. */
-uint32_t *ibl_env_build_e5(const sl_env *env, size_t texels, int *emin);
+uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin, int threads);
 
 #endif

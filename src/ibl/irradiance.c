@@ -30,6 +30,7 @@
 #pragma clang diagnostic ignored "-Wpass-failed"
 #endif
 
+#include "../core/threads.h"
 #include "ibl_internal.h"
 #include "irradiance_uv.h"
 #include "texture_lod.h"
@@ -58,7 +59,7 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
     if (!cols)
         return sl_fail(err, SL_ERR_MEMORY, "SH9 irradiance: out of memory");
     for (int i = 0; i < w; i++)
-        ibl_col_moments_at(w, i, &cols[i]);
+        sl_ibl_col_moments_at(w, i, &cols[i]);
 
     double c[9][3] = {{0}};
     for (int j = 0; j < h; j++) {
@@ -76,7 +77,7 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
             }
         }
         ibl_row_moments m;
-        ibl_row_moments_at(h, j, &m);
+        sl_ibl_row_moments_at(h, j, &m);
         double one_minus_zz = m.dz - m.zz; /* integral of 1 - z^2 = x^2 + y^2 */
         for (int ch = 0; ch < 3; ch++) {
             c[0][ch] += K0 * m.dz * sp[ch];                     /* 1 */
@@ -101,14 +102,14 @@ bool sl_irradiance_sh9(sl_irradiance *irr, const sl_env *env, sl_error *err)
 }
 
 /* The map texel (i, j) holds E at its centre direction, so bilinear lookup is exact there. */
-static void brute_fill(sl_env_level *map, const ibl_texels *src)
+static void brute_fill(sl_env_level *map, const ibl_texels *src, int threads)
 {
     int mw = map->width, mh = map->height;
     const double *restrict x = src->x, *restrict y = src->y, *restrict z = src->z;
     const double *restrict r = src->r, *restrict g = src->g, *restrict b = src->b;
     size_t count = src->count;
     long total = (long)mw * (long)mh;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (long k = 0; k < total; k++) {
         double u = ((double)(k % mw) + 0.5) / (double)mw;
         double v = ((double)(k / mw) + 0.5) / (double)mh;
@@ -127,7 +128,7 @@ static void brute_fill(sl_env_level *map, const ibl_texels *src)
     }
 }
 
-bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, sl_error *err)
+bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_width, int level, int threads, sl_error *err)
 {
     memset(irr, 0, sizeof *irr);
     if (!env || env->level_count < 1)
@@ -139,18 +140,18 @@ bool sl_irradiance_brute_level(sl_irradiance *irr, const sl_env *env, int map_wi
                        env->level_count - 1);
     int mw = map_width, mh = map_width / 2 > 1 ? map_width / 2 : 1;
     ibl_texels src;
-    if (!ibl_texels_build(&src, &env->levels[level], err))
+    if (!sl_ibl_texels_build(&src, &env->levels[level], err))
         return false;
     vec3 *texels = malloc((size_t)mw * (size_t)mh * sizeof *texels);
     if (!texels) {
-        ibl_texels_free(&src);
+        sl_ibl_texels_free(&src);
         return sl_fail(err, SL_ERR_MEMORY, "brute-force irradiance: out of memory for a %dx%d map", mw, mh);
     }
     irr->method = SL_IRRADIANCE_BRUTE;
     irr->map.level_count = 1;
     irr->map.levels[0] = (sl_env_level){.width = mw, .height = mh, .texels = texels};
-    brute_fill(&irr->map.levels[0], &src);
-    ibl_texels_free(&src);
+    brute_fill(&irr->map.levels[0], &src, threads);
+    sl_ibl_texels_free(&src);
     return true;
 }
 
@@ -165,21 +166,21 @@ int sl_irradiance_brute_default_level(const sl_env *env)
     return level;
 }
 
-bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, sl_error *err)
+bool sl_irradiance_brute(sl_irradiance *irr, const sl_env *env, int map_width, int threads, sl_error *err)
 {
     if (!env || env->level_count < 1) {
         memset(irr, 0, sizeof *irr);
         return sl_fail(err, SL_ERR_RANGE, "brute-force irradiance: the environment has no levels");
     }
-    return sl_irradiance_brute_level(irr, env, map_width, sl_irradiance_brute_default_level(env), err);
+    return sl_irradiance_brute_level(irr, env, map_width, sl_irradiance_brute_default_level(env), threads, err);
 }
 
 bool sl_irradiance_from_image(sl_irradiance *irr, const sl_image *map, sl_error *err)
 {
     memset(irr, 0, sizeof *irr);
-    if (!ibl_check_image(map, "irradiance map", err))
+    if (!sl_ibl_check_image(map, "irradiance map", err))
         return false;
-    if (!ibl_env_single_level(&irr->map, map, err))
+    if (!sl_ibl_env_single_level(&irr->map, map, err))
         return false;
     irr->method = SL_IRRADIANCE_MAP;
     return true;

@@ -39,6 +39,7 @@
  *    it, the smoothed clamp across.
  * Everything is accumulated in double per group; the sums per map texel are float, one sequential
  * loop per texel (OpenMP over texels), so the map does not depend on the thread count. */
+#include "../core/threads.h"
 #include "ibl_internal.h"
 #include "irradiance_uv.h"
 
@@ -165,14 +166,14 @@ static bool grid_init(grid *g, int w, int h)
     g->rdz = g->rz + h;
     for (int i = 0; i < w; i++) {
         ibl_col_moments m;
-        ibl_col_moments_at(w, i, &m);
+        sl_ibl_col_moments_at(w, i, &m);
         g->cc[i] = m.c;
         g->cs[i] = m.s;
         g->dphi = m.dphi;
     }
     for (int j = 0; j < h; j++) {
         ibl_row_moments m;
-        ibl_row_moments_at(h, j, &m);
+        sl_ibl_row_moments_at(h, j, &m);
         g->rs[j] = m.s;
         g->rz[j] = m.z;
         g->rdz[j] = m.dz;
@@ -235,7 +236,7 @@ static bool pick_bright(const sl_env_level *l0, const grid *gd, double threshold
 
 /* The groups: level-0 texels (less the taken ones) grouped by a cw x ch grid. */
 static bool build_groups(const sl_env_level *l0, const grid *gd, int cw, int ch, const unsigned char *taken,
-                         nodes *out)
+                         nodes *out, int threads)
 {
     int w = gd->w, h = gd->h;
     size_t count = (size_t)cw * (size_t)ch;
@@ -251,7 +252,7 @@ static bool build_groups(const sl_env_level *l0, const grid *gd, int cw, int ch,
     for (int i = 0; i < w; i++)
         col_group[i] = (int)((long)i * cw / w);
     bool failed = false;
-#pragma omp parallel
+#pragma omp parallel num_threads(sl_threads(threads))
     {
         double *rowacc = malloc((size_t)cw * 10 * sizeof(double));
         if (!rowacc) {
@@ -436,7 +437,7 @@ bool sl_irradiance_map(sl_irradiance *irr, const sl_env *env, const sl_irradianc
             ok = pick_bright(l0, &gd, threshold, d.bright_max, taken, &hard);
         else
             ok = nodes_alloc(&hard, 0, 6);
-        ok = ok && build_groups(l0, &gd, cw, ch, taken, &soft);
+        ok = ok && build_groups(l0, &gd, cw, ch, taken, &soft, d.threads);
     }
     free(taken);
     grid_free(&gd);
@@ -447,7 +448,7 @@ bool sl_irradiance_map(sl_irradiance *irr, const sl_env *env, const sl_irradianc
         return sl_fail(err, SL_ERR_MEMORY, "irradiance map: out of memory");
     }
     long total = (long)mw * (long)mh;
-#pragma omp parallel for schedule(dynamic, 16)
+#pragma omp parallel for schedule(dynamic, 16) num_threads(sl_threads(d.threads))
     for (long k = 0; k < total; k++) {
         double n[3];
         texel_dir(d.method, d.size, k, n);

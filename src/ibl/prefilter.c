@@ -19,6 +19,7 @@
  * sampling: Colbert and Krivanek, GPU Gems 3 ch. 20.4, the --lod gems rule with the lat-long
  * texel's sin(theta) in its solid angle), so a few dozen samples per texel give a smooth result;
  * docs/lighting.md has the measured error of the sample count against a 1024-sample build. */
+#include "../core/threads.h"
 #include <math.h>
 #include <omp.h>
 #include <stdlib.h>
@@ -85,12 +86,13 @@ static int lobe_samples(const sl_hammersley *set, float r, bool ggx, int src_w, 
  * and leaves its v, lod and weight alone. So a row draws its samples once, for texel 0, and each
  * texel is then only the fetches, shifted. Rows in parallel; each texel is independent of the
  * others, so the result does not depend on the thread count. `scratch`: 4 n floats per thread. */
-static void filter_level(const sl_env *src, sl_env_level *dst, const lobe_sample *ls, int n, float *scratch)
+static void filter_level(const sl_env *src, sl_env_level *dst, const lobe_sample *ls, int n, float *scratch,
+                         int threads)
 {
     const float max_lod = (float)(src->level_count - 1);
     const float sin_min = sinf(PI_F / (2.0f * (float)src->levels[0].height));
     const float du = 1.0f / (float)dst->width;
-#pragma omp parallel for schedule(dynamic, 2)
+#pragma omp parallel for schedule(dynamic, 2) num_threads(threads)
     for (int j = 0; j < dst->height; j++) {
         float *su = scratch + (size_t)omp_get_thread_num() * 4 * (size_t)n;
         float *sv = su + n, *slod = sv + n, *sw = slod + n;
@@ -129,6 +131,7 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     memset(out, 0, sizeof *out);
     int levels = desc->levels ? desc->levels : SL_PREFILTER_LEVELS;
     int samples = desc->samples ? desc->samples : SL_PREFILTER_SAMPLES;
+    int threads = sl_threads(desc->threads);
     if (!src || src->level_count < 1 || (src->layout != SL_ENV_LAYOUT_DEFAULT && src->layout != SL_ENV_LAYOUT_LATLONG))
         return sl_fail(err, SL_ERR_RANGE, "prefilter: needs a lat-long environment chain");
     if (levels < 1 || levels > SL_ENV_MAX_LEVELS)
@@ -137,7 +140,7 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     if (!sl_hammersley_build(&set, samples, err))
         return false;
     lobe_sample *ls = malloc((size_t)samples * sizeof *ls);
-    float *scratch = malloc((size_t)omp_get_max_threads() * 4 * (size_t)samples * sizeof *scratch);
+    float *scratch = malloc((size_t)threads * 4 * (size_t)samples * sizeof *scratch);
     if (!ls || !scratch) {
         free(ls);
         free(scratch);
@@ -177,7 +180,7 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
             continue;
         }
         int n = lobe_samples(&set, sl_prefilter_width(k, levels), desc->ggx, l0->width, l0->height, ls);
-        filter_level(src, dst, ls, n, scratch);
+        filter_level(src, dst, ls, n, scratch, threads);
     }
     free(ls);
     free(scratch);
@@ -188,6 +191,6 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
      * (docs/performance.md "Compact texels for the split sum's chains"). No pair rows: nothing
      * else reads a prefiltered chain fast (the port and GL read the block). NULL costs only
      * speed: the fetch then reads the block. */
-    out->e5 = ibl_env_build_e5(out, total, &out->e5_emin);
+    out->e5 = sl_ibl_env_build_e5(out, total, &out->e5_emin, threads);
     return true;
 }

@@ -11,7 +11,7 @@
 
 #define PI_D 3.14159265358979323846
 
-void ibl_row_moments_at(int height, int j, ibl_row_moments *m)
+void sl_ibl_row_moments_at(int height, int j, ibl_row_moments *m)
 {
     double t0 = PI_D * (double)j / (double)height;
     double t1 = PI_D * (double)(j + 1) / (double)height;
@@ -24,7 +24,7 @@ void ibl_row_moments_at(int height, int j, ibl_row_moments *m)
     m->zz = (c0 * c0 * c0 - c1 * c1 * c1) / 3.0;           /* int cos^2 t sin t dt */
 }
 
-void ibl_col_moments_at(int width, int i, ibl_col_moments *m)
+void sl_ibl_col_moments_at(int width, int i, ibl_col_moments *m)
 {
     double lo = PI_D - 2.0 * PI_D * (double)(i + 1) / (double)width;
     double hi = PI_D - 2.0 * PI_D * (double)i / (double)width;
@@ -35,7 +35,7 @@ void ibl_col_moments_at(int width, int i, ibl_col_moments *m)
     m->s2 = 0.5 * (cos(2.0 * lo) - cos(2.0 * hi));
 }
 
-bool ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err)
+bool sl_ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err)
 {
     *t = (ibl_texels){0};
     int w = level->width, h = level->height;
@@ -50,10 +50,10 @@ bool ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err)
     *t = (ibl_texels){.width = w, .height = h, .count = n, .x = block, .y = block + n, .z = block + 2 * n,
                       .r = block + 3 * n, .g = block + 4 * n, .b = block + 5 * n};
     for (int i = 0; i < w; i++)
-        ibl_col_moments_at(w, i, &cols[i]);
+        sl_ibl_col_moments_at(w, i, &cols[i]);
     for (int j = 0; j < h; j++) {
         ibl_row_moments rm;
-        ibl_row_moments_at(h, j, &rm);
+        sl_ibl_row_moments_at(h, j, &rm);
         for (int i = 0; i < w; i++) {
             size_t k = (size_t)j * (size_t)w + (size_t)i;
             double mx = rm.s * cols[i].c, my = rm.s * cols[i].s, mz = rm.z * cols[i].dphi;
@@ -79,7 +79,7 @@ bool ibl_texels_build(ibl_texels *t, const sl_env_level *level, sl_error *err)
     return true;
 }
 
-void ibl_texels_free(ibl_texels *t)
+void sl_ibl_texels_free(ibl_texels *t)
 {
     if (!t)
         return;
@@ -87,7 +87,7 @@ void ibl_texels_free(ibl_texels *t)
     *t = (ibl_texels){0};
 }
 
-bool ibl_check_image(const sl_image *img, const char *what, sl_error *err)
+bool sl_ibl_check_image(const sl_image *img, const char *what, sl_error *err)
 {
     if (!img || !img->data)
         return sl_fail(err, SL_ERR_RANGE, "%s: no image", what);
@@ -109,7 +109,7 @@ bool ibl_check_image(const sl_image *img, const char *what, sl_error *err)
     return true;
 }
 
-bool ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err)
+bool sl_ibl_env_single_level(sl_env *env, const sl_image *img, sl_error *err)
 {
     *env = (sl_env){0};
     size_t n = (size_t)img->width * (size_t)img->height;

@@ -20,7 +20,7 @@
 
 #include <stdint.h>
 
-vec3 textureLod(const sl_env *env, vec2 uv, float lod)
+vec3 sl_env_texture_lod(const sl_env *env, vec2 uv, float lod)
 {
     if (env->level_count <= 0)
         return vec3s(0.0f);

@@ -3,7 +3,7 @@
  * limited by float accumulation; the values compared are whatever the images hold. */
 #include "compare.h"
 
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "tonemap.h"
 
 #include <math.h>

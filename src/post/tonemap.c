@@ -18,6 +18,7 @@
  * around every threshold; it also compares the table with the formula around every U[k].
  * The same lookup also writes the codes packed as 32-bit XRGB8888 pixels (sl_tonemap_row_xrgb8888),
  * so the viewer's window gets the display image without a float image in between. */
+#include "../core/threads.h"
 #include "tonemap.h"
 
 #include <math.h>
@@ -277,7 +278,7 @@ static int present_chunk(const float *restrict src, float *restrict dst, int cou
     return missed;
 }
 
-bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, sl_error *err)
+bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int threads, sl_error *err)
 {
     if (!in->data || in->channels != 3)
         return sl_fail(err, SL_ERR_RANGE, "tone map: input must be a 3-channel image");
@@ -291,7 +292,7 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
     const size_t n = (size_t)in->width * (size_t)in->height * 3;
     const long chunks = (long)((n + TONEMAP_CHUNK - 1) / TONEMAP_CHUNK);
     /* Few threads for a small image: a parallel region costs more than 64 chunks of work. */
-#pragma omp parallel for schedule(static) if (chunks >= 64)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if (chunks >= 64)
     for (long ci = 0; ci < chunks; ci++) {
         const size_t i0 = (size_t)ci * TONEMAP_CHUNK;
         const int count = (int)(n - i0 < TONEMAP_CHUNK ? n - i0 : TONEMAP_CHUNK);
@@ -356,22 +357,22 @@ void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int 
     }
 }
 
-void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch)
+void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch, int threads)
 {
     const int w = in->width, h = in->height;
     /* the same threshold as sl_tonemap_apply: a parallel region costs more than a small image */
-#pragma omp parallel for schedule(static) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
     for (int y = 0; y < h; y++)
         sl_tonemap_row_xrgb8888(tab, sl_image_pixel(in, 0, y), w,
                                 (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch));
 }
 
-bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err)
+bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, int threads, sl_error *err)
 {
     sl_tonemap_table *tab = malloc(sizeof *tab);
     if (!tab)
         return sl_fail(err, SL_ERR_MEMORY, "tone map: out of memory for its table");
-    bool ok = sl_tonemap_prepare(opt, tab, err) && sl_tonemap_apply(tab, in, out, err);
+    bool ok = sl_tonemap_prepare(opt, tab, err) && sl_tonemap_apply(tab, in, out, threads, err);
     free(tab);
     return ok;
 }

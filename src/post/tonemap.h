@@ -68,14 +68,14 @@ typedef struct {
  * and build the table. */
 bool sl_tonemap_prepare(const sl_tonemap_options *opt, sl_tonemap_table *tab, sl_error *err);
 /* sl_tonemap_image with a prepared table. */
-bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, sl_error *err);
+bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int threads, sl_error *err);
 
 /* The display image of a 3-channel linear image (tab prepared, in->data set) straight into
  * 32-bit pixels 0xffRRGGBB (SDL_PIXELFORMAT_XRGB8888: what the viewer's window takes), row y at
  * pixels + y pitch: each channel the code k whose level k/255 sl_tonemap_apply stores, so the
  * bytes equal that image's 8-bit conversion (v 255 + 0.5 rounded down gives k back). One pass
  * where a tone map and a conversion were two. OpenMP over rows. */
-void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch);
+void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch, int threads);
 /* One row of it: `width` RGB values from `row` into dst[0 .. width) (the viewer tone maps each
  * row of a moving frame right after lighting it, while the row is in cache). */
 void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int width, uint32_t *dst);
@@ -84,6 +84,6 @@ void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int 
  * have in's size and 3 channels; out may be in itself): the display image, each value k/255 with
  * k = sl_unorm8(sl_tonemap_value(C, ...)) exactly. Row order kept.
  * SL_ERR_RANGE when exposure or contrast is not finite and > 0. OpenMP over rows. */
-bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, sl_error *err);
+bool sl_tonemap_image(const sl_image *in, sl_image *out, const sl_tonemap_options *opt, int threads, sl_error *err);
 
 #endif

@@ -34,7 +34,7 @@ static double plane_dist(unsigned p, vec4 c, float gx, float gy)
     }
 }
 
-unsigned rast_outcode(vec4 c, float gx, float gy)
+unsigned sl_rast_outcode(vec4 c, float gx, float gy)
 {
     if (!isfinite(c.x) || !isfinite(c.y) || !isfinite(c.z) || !isfinite(c.w))
         return RAST_BAD;
@@ -58,7 +58,7 @@ static void lerp_vertex(const rast_cvert *a, const rast_cvert *b, double t, int 
         out->v[i] = lerp_d(a->v[i], b->v[i], t);
 }
 
-int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
+int sl_rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
                        rast_cvert out[RAST_CLIP_MAX])
 {
     rast_cvert buf[2][RAST_CLIP_MAX];

@@ -10,6 +10,7 @@
  * never write one line. From malloc (16 bytes past a line) every row of a tile edge shared a line
  * with the neighbour's, and those lines went back and forth between the cores while both tiles were
  * cleared and shaded (docs/performance.md, "Session 9 (s9-gbuf)"). */
+#include "../core/threads.h"
 #include "gbuffer.h"
 
 #include <stddef.h>
@@ -44,10 +45,10 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     bool extra = gb->extra != NULL;
     free(gb->extra); /* the old size's */
     gb->extra = NULL;
-    return sl_gbuffer_use_extra(gb, extra, err);
+    return sl_gbuffer_use_extra(gb, extra, 0, err);
 }
 
-bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err)
+bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, int threads, sl_error *err)
 {
     if (!on || !gb->texels) {
         free(gb->extra);
@@ -60,19 +61,19 @@ bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err)
     if (!(gb->extra = plane_alloc(n * sizeof *gb->extra)))
         return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the extra channels of %dx%d (%zu bytes)",
                        gb->width, gb->height, n * sizeof *gb->extra);
-    sl_gbuffer_extra_clear(gb);
+    sl_gbuffer_extra_clear(gb, threads);
     return true;
 }
 
 /* "Nothing drawn here": no occlusion, no emission, a depth no fragment has. */
 static const sl_gbuffer_extra extra_none = {.occlusion = 1.0f, .depth = -1.0f};
 
-void sl_gbuffer_extra_clear(sl_gbuffer *gb)
+void sl_gbuffer_extra_clear(sl_gbuffer *gb, int threads)
 {
     if (!gb->extra)
         return;
     long n = (long)gb->width * gb->height;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (long i = 0; i < n; i++)
         gb->extra[i] = extra_none;
 }
@@ -135,14 +136,14 @@ sl_target sl_gbuffer_target(sl_gbuffer *gb)
     };
 }
 
-void sl_gbuffer_clear(sl_gbuffer *gb)
+void sl_gbuffer_clear(sl_gbuffer *gb, int threads)
 {
     if (!gb->texels)
         return;
-    sl_gbuffer_extra_clear(gb);
+    sl_gbuffer_extra_clear(gb, threads);
     const sl_gbuffer_texel empty = {.depth = 1.0f};
     int w = gb->width;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (int y = 0; y < gb->height; y++) {
         sl_gbuffer_texel *row = gb->texels + (size_t)y * (size_t)w;
         for (int x = 0; x < w; x++)

@@ -20,20 +20,14 @@
 
 #include <stdbool.h>
 
+#include <softlight/gbuffer.h>
+#include <softlight/glsl.h>
+
 #include "../core/error.h"
-#include "../core/glsl.h"
 #include "../core/image.h"
 #include "../core/output_set.h"
 
-typedef struct {
-    vec3 position; /* world space */
-    vec3 normal;   /* unit, world space */
-    vec3 kd;       /* linear RGB diffuse albedo */
-    vec3 ks;       /* linear RGB Schlick F0 */
-    float alpha;   /* the lobe parameter: >= 0 the Phong exponent; <= -1 GGX with roughness
-                      r = -1 - alpha (sl_gbuffer_ggx_alpha) */
-    float depth;   /* window depth in [0,1]; 1 = nothing drawn */
-} sl_gbuffer_texel;
+/* sl_gbuffer_texel, sl_gbuffer_extra and sl_gbuffer are public: softlight/gbuffer.h. */
 
 /* The extra channels, in a plane beside the texels that exists only for a scene with a material
  * that writes them (scene.h sl_material_extra): a scene without occlusion or emission keeps the
@@ -46,17 +40,6 @@ typedef struct {
  * (the target's tile hooks, raster.h), against the tile's depths while they are in cache; the
  * resolve is idempotent (a kept texel's tag stays its winner's depth, "none" has tag -1, never a
  * depth), so resolving after every tile pass leaves what one resolve after the draws leaves. */
-typedef struct {
-    float occlusion; /* scales the image-based terms (diffuse, specular, env lights), not point lights */
-    vec3 emissive;   /* linear RGB radiance added to the pixel's */
-    float depth;     /* the writer's window depth: the tag the resolve compares */
-} sl_gbuffer_extra;
-
-typedef struct {
-    int width, height;
-    sl_gbuffer_texel *texels; /* width * height, row 0 = bottom */
-    sl_gbuffer_extra *extra;  /* NULL, or width * height extra texels (sl_gbuffer_use_extra) */
-} sl_gbuffer;
 
 /* Bytes per pixel of a G-buffer: 56, or 76 with the extra plane. */
 static inline size_t sl_gbuffer_pixel_bytes(bool extra)
@@ -73,28 +56,20 @@ static inline sl_gbuffer_texel *sl_gbuffer_at(const sl_gbuffer *gb, int x, int y
 /* The alpha of a GGX lobe of roughness r in [0, 1]: -1 - r (see above). */
 static inline float sl_gbuffer_ggx_alpha(float r) { return -1.0f - r; }
 
-/* Allocate for width x height (no-op when the size is unchanged; contents undefined
- * until cleared). An empty {0} sl_gbuffer is a valid start. */
-bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err);
-/* Per frame: every field 0, depth 1 (and the extra plane's texels "none", tag -1). */
-void sl_gbuffer_clear(sl_gbuffer *gb);
-/* Allocate the extra plane (on: for the G-buffer's size, kept while the size is) or free it. */
-bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, sl_error *err);
+/* sl_gbuffer_resize, sl_gbuffer_clear (the extra plane's texels "none", tag -1),
+ * sl_gbuffer_use_extra (the plane for the G-buffer's size, kept while the size is) and
+ * sl_gbuffer_free are public (softlight/gbuffer.h). */
 /* Per frame, before the draws: every extra texel "none" with tag -1 (no depth equals it). */
-void sl_gbuffer_extra_clear(sl_gbuffer *gb);
+void sl_gbuffer_extra_clear(sl_gbuffer *gb, int threads);
 /* After the draws: extra texels whose tag differs from the texel's depth become "none". */
 void sl_gbuffer_extra_resolve(sl_gbuffer *gb);
 /* The same two over pixels x0..x1, y0..y1 (inclusive); the resolve takes the rectangle's depths
  * from depth[(y - y0) * stride + (x - x0)], or from the texels when depth is NULL. */
 void sl_gbuffer_extra_clear_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1);
 void sl_gbuffer_extra_resolve_rect(sl_gbuffer *gb, int x0, int y0, int x1, int y1, const float *depth, int stride);
-void sl_gbuffer_free(sl_gbuffer *gb);
 
-/* AOVs (gbuffer_io.c), one PFM per channel group, shown upright by a PFM viewer:
- * position.pfm, normal.pfm, view.pfm (normalize(eye - position), 0 where empty),
- * kd.pfm, ks.pfm (RGB), alpha.pfm, depth.pfm, mask.pfm (1 where covered). */
-bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_error *err);
-/* The same files added to a command's output set (core/output_set.h), so that they are replaced
+/* AOVs (gbuffer_io.c): sl_gbuffer_write_aovs, sl_gbuffer_read_aovs (softlight/gbuffer.h).
+ * The same files added to a command's output set (core/output_set.h), so that they are replaced
  * together with its other outputs or not at all; `dir` must exist (sl_output_set_dir). */
 bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_output_set *out, sl_error *err);
 /* The same channels and the radiance (RGB, row 0 = top: the renderer's r.radiance) as one
@@ -103,13 +78,10 @@ bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_out
  * (the same numbers as the PFMs), ZIP-compressed, rows top first. */
 bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance, const char *path,
                         sl_output_set *out, sl_error *err);
-/* The reverse (position, normal, kd, ks, alpha, depth, mask; view is derived, not read).
- * Resizes gb to the files' size; a mask that disagrees with depth < 1 is an error. */
-bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);
-/* One AOV file as written: negative values kept (sl_image_read_pfm repairs them to 0,
+/* sl_gbuffer_read_aovs reads position, normal, kd, ks, alpha, depth, mask (view is derived,
+ * not read); a mask that disagrees with depth < 1 is an error.
+ * One AOV file as written: negative values kept (sl_image_read_pfm repairs them to 0,
  * right for radiance, wrong for positions, normals and view vectors); NaN or Inf refused. */
 bool sl_gbuffer_read_aov_image(const char *path, sl_image *img, sl_error *err);
-/* Debug view: normal * 0.5 + 0.5 as RGB, row 0 = top, 0 where empty. Allocates img. */
-bool sl_gbuffer_normal_image(const sl_gbuffer *gb, sl_image *img, sl_error *err);
 
 #endif

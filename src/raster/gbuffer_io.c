@@ -208,9 +208,9 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
         if (aov == AOV_POSITION) {
             width = img.width;
             height = img.height;
-            ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, err);
+            ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, 0, err);
             if (ok)
-                sl_gbuffer_clear(gb);
+                sl_gbuffer_clear(gb, 0);
         } else if (img.width != width || img.height != height) {
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: %dx%d, but position.pfm is %dx%d", path, img.width, img.height,
                          width, height);

@@ -20,7 +20,7 @@
 #include <string.h>
 
 #include "gbuffer_textured.h"
-#include "shader_texture.h"
+#include "texture.h"
 
 /* gbuffer_textured.vert: main(). The tangent is a direction on the surface: it goes through
  * mat3(uModel), not the normal matrix; its handedness w passes through (scene transforms have no
@@ -40,7 +40,7 @@ void sl_gbuffer_tex_vert(const void *uniforms, const sl_vertex_in *in, vec4 *cli
     memcpy(varyings, out, sizeof out);
 }
 
-/* GLSL's texture(s, uv): shader_texture.h's texture(), operation for operation (one lambda per
+/* GLSL's texture(s, uv): glsl.h's texture(), operation for operation (one lambda per
  * quad from the coarse differences of uv, one derivative record), with the trace hook between its
  * steps, where the derivatives and the level are at hand. */
 static vec4 texture_traced(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv, int slot,
@@ -249,7 +249,7 @@ void sl_gbuffer_tex_frag(const void *uniforms, const sl_fragment_in *in, void *t
 
 /* The quad form of the same shader (sl_program.fragment_quad): one call for the 2x2 quad, so
  * the uv of each map is computed once per lane, its coarse derivatives are the differences of
- * lanes 1 - 0 and 2 - 0 (shader.h's sl_quad_dfdx_coarse, the expression the rounds use), its
+ * lanes 1 - 0 and 2 - 0 (glsl.h's sl_quad_dfdx_coarse, the expression the rounds use), its
  * level is computed once for the quad (texture() computes the same lambda in every lane), and
  * each lane samples once per map: against the rounds, no second pass and no magnified sample
  * with the first round's zero derivatives. The trace hook runs once per lane with the final

@@ -1,5 +1,5 @@
 /* quad.c - the 2x2 quad of a derivative-taking fragment shader: the derivative and
- * discard built-ins (shader.h) and the rounds the tile stage runs a quad in (tile.c).
+ * discard built-ins (softlight/program.h) and the rounds the tile stage runs a quad in (tile.c).
  *
  * A C shader is an ordinary function run once per fragment: it cannot stop at a dFdx
  * and wait for its three neighbours as GPU lanes in lock-step do. So the tile stage runs
@@ -20,7 +20,7 @@
  * program that declares `stores` runs its rounds with stores off (sl_fragment_stores) and,
  * at the fixed point, one more round that repeats the last one's bits with stores on. */
 #include "rast_internal.h"
-#include "shader.h"
+#include "raster.h"
 
 #include <string.h>
 
@@ -86,7 +86,7 @@ bool sl_fragment_stores(const sl_fragment_in *in)
     return !in->helper && !(in->quad && in->quad->rehearsal);
 }
 
-void rast_quad_begin(sl_quad *q, bool rounds, bool stores)
+void sl_rast_quad_begin(sl_quad *q, bool rounds, bool stores)
 {
     q->cur = 0;
     q->derivs = rounds;
@@ -95,7 +95,7 @@ void rast_quad_begin(sl_quad *q, bool rounds, bool stores)
     memset(q->discarded, 0, sizeof q->discarded);
 }
 
-void rast_quad_round(sl_quad *q)
+void sl_rast_quad_round(sl_quad *q)
 {
     q->cur ^= 1;
     memset(q->count[q->cur], 0, sizeof q->count[q->cur]);
@@ -118,7 +118,7 @@ static bool fixed(const sl_quad *q)
     return true;
 }
 
-bool rast_quad_done(sl_quad *q, int rounds)
+bool sl_rast_quad_done(sl_quad *q, int rounds)
 {
     /* a fixed point comes by round calls + 1; the bound only guards that proof */
     if (!fixed(q) && rounds <= RAST_QUAD_CALLS)

@@ -164,7 +164,7 @@ typedef struct {
     sl_fragment_quads in;        /* the shader's view (arrays point into this) */
 } rast_quads;
 
-/* The 2x2 quad of a derivative-taking program (quad.c runs its rounds; shader.h's
+/* The 2x2 quad of a derivative-taking program (quad.c runs its rounds; glsl.h's
  * built-ins write it). Lane l is pixel (qx + (l & 1), qy + (l >> 1)). In a round every
  * lane runs the whole shader; its k-th derivative call records its argument in
  * rec[cur][lane][k] and returns the difference of the round before's records of call k
@@ -246,9 +246,9 @@ struct sl_raster {
 };
 
 /* clip.c */
-unsigned rast_outcode(vec4 c, float gx, float gy);
+unsigned sl_rast_outcode(vec4 c, float gx, float gy);
 /* Clip triangle `in` against the planes in `planes`; returns the polygon's vertex count (0 or 3..). */
-int rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
+int sl_rast_clip_triangle(const rast_cvert in[3], unsigned planes, int nvary, float gx, float gy,
                        rast_cvert out[RAST_CLIP_MAX]);
 
 /* Clip -> window, snapped: the one place the snapping viewport transform is written, so a
@@ -275,24 +275,24 @@ static inline rast_exact rast_window_exact(const sl_target *tg, vec4 c)
 }
 
 /* setup.c: set up and bin triangles [first, last) of the draw list into `chunk`. */
-void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last);
+void sl_rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last);
 
 /* tile.c: draw every bin of tile `tile` from the chunks, in order (and clear it first
  * when d->clear_row is set: then every tile is visited, binned or not). */
-void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
+void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task);
 
 /* quad.c: the rounds of the generic quad path. */
 /* Start a quad: no records from a round before. `rounds`: the quad runs the generic rounds
  * (derivatives from the records); `stores`: its program stores outside the texel (sl_program). */
-void rast_quad_begin(sl_quad *q, bool rounds, bool stores);
+void sl_rast_quad_begin(sl_quad *q, bool rounds, bool stores);
 /* Start a round: flip the parity, clear this round's records and discard marks. */
-void rast_quad_round(sl_quad *q);
+void sl_rast_quad_round(sl_quad *q);
 /* After round number `rounds` (1, 2, ...): is the quad done? Yes at the fixed point (this
  * round recorded exactly what the round before recorded), or past the bound the proof gives;
  * a program with stores then runs one more round, the same bits again, with its stores on. */
-bool rast_quad_done(sl_quad *q, int rounds);
+bool sl_rast_quad_done(sl_quad *q, int rounds);
 
 /* raster.c */
-void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from);
+void sl_rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from);
 
 #endif

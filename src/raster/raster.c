@@ -18,7 +18,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-void rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from)
+void sl_rast_stats_add(sl_raster_stats *to, const sl_raster_stats *from)
 {
     to->triangles_in += from->triangles_in;
     to->triangles_clipped += from->triangles_clipped;
@@ -281,7 +281,7 @@ static void shade_slice(const rast_draw *d, size_t nv, int c, int n)
             rast_vpos *p = &vpos[k];
             float *v = vvary + k * (size_t)call->nvary;
             call->program->vertex(call->vs_uniforms, &in, &p->clip, v);
-            p->outcode = rast_outcode(p->clip, d->gx, d->gy);
+            p->outcode = sl_rast_outcode(p->clip, d->gx, d->gy);
             for (int j = 0; j < call->nvary; j++)
                 if (!isfinite(v[j]))
                     p->outcode = RAST_BAD;
@@ -431,7 +431,7 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
             memset(&ch->stats, 0, sizeof ch->stats);
             long long lo = b0 + nb * c / nchunks;
             long long hi = b0 + nb * (c + 1) / nchunks;
-            rast_setup_range(&d, ch, lo, hi);
+            sl_rast_setup_range(&d, ch, lo, hi);
         }
         long long binned = 0;
         for (int c = 0; c < nchunks; c++) {
@@ -446,16 +446,16 @@ static bool draw_segment(sl_raster *r, const sl_target *target, const sl_draw *l
             n = stage_slices(r, RAST_PARALLEL_MIN);
 #pragma omp parallel for schedule(dynamic) num_threads(r->threads) if (n > 1)
             for (int t = 0; t < tiles; t++)
-                rast_tile(&d, chunks, nchunks, t, &r->tasks[omp_get_thread_num()]);
+                sl_rast_tile(&d, chunks, nchunks, t, &r->tasks[omp_get_thread_num()]);
         }
         d.clear_row = NULL;
         if (r->stats_on)
             for (int c = 0; c < nchunks; c++)
-                rast_stats_add(&r->stats, &chunks[c].stats);
+                sl_rast_stats_add(&r->stats, &chunks[c].stats);
     }
     if (r->stats_on)
         for (int i = 0; i < r->threads; i++)
-            rast_stats_add(&r->stats, &r->tasks[i].stats);
+            sl_rast_stats_add(&r->stats, &r->tasks[i].stats);
     for (int i = 0; i < r->threads; i++)
         memset(&r->tasks[i].stats, 0, sizeof r->tasks[i].stats);
     if (oom) {

@@ -82,7 +82,7 @@ static inline __attribute__((always_inline)) void wrap_pair(int i, int n, sl_wra
  * constant in each instance, so tex_decode's switch and the texel size fold away and a sample
  * pays one indirect call for its format instead of a switch per texel. */
 
-/* Bilinear filtering of level lv at texel-space (x, y) (texture_internal.h's tex_bilinear). */
+/* Bilinear filtering of level lv at texel-space (x, y) (texture_internal.h's sl_tex_bilinear). */
 static inline __attribute__((always_inline)) vec4 bilinear_as(sl_texture_format fmt, const sl_texture *t,
                                                                const tex_level *lv, float x, float y,
                                                                sl_wrap wrap_s, sl_wrap wrap_t)
@@ -537,7 +537,7 @@ bool sl_texture_same_plan(const sl_sampler2D *a, const sl_sampler2D *b)
     return true;
 }
 
-vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
+vec4 sl_tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t)
 {
     return bilinear_for[t->format](t, lv, x, y, wrap_s, wrap_t);
 }
@@ -611,7 +611,7 @@ static float lambda_from(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias
 }
 
 /* lambda_from's implicit form for n quads at once: the coarse differences of each quad's lanes
- * (shader.h's sl_quad_dfdx_coarse / sl_quad_dfdy_coarse), then lambda_from's operations in its
+ * (glsl.h's sl_quad_dfdx_coarse / sl_quad_dfdy_coarse), then lambda_from's operations in its
  * order, with a select for its non-finite branch, in one vector loop over the quads. */
 void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda)
 {
@@ -651,7 +651,7 @@ float sl_texture_lambda_quad(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float 
     return lambda_from(s, dPdx, dPdy, bias, false);
 }
 
-vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
+vec4 sl_texture_grad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
 {
     return sl_texture_sample(s, uv, sl_texture_lambda(s, dPdx, dPdy, 0.0f));
 }
@@ -661,7 +661,7 @@ vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod)
     return sl_texture_sample(s, uv, clamp_lambda(lod + s->state.lod_bias, &s->state));
 }
 
-vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod)
+vec4 sl_texel_fetch(const sl_sampler2D *s, ivec2 p, int lod)
 {
     const sl_texture *t = s->texture;
     if (!complete(t, &s->state))
@@ -674,7 +674,7 @@ vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod)
     return tex_texel(t, lv, p.x, p.y);
 }
 
-ivec2 textureSize(const sl_sampler2D *s, int lod)
+ivec2 sl_texture_size(const sl_sampler2D *s, int lod)
 {
     const sl_texture *t = s->texture;
     if (!t || lod < 0 || lod >= t->levels)

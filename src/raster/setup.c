@@ -243,7 +243,7 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
     ch->stats.bin_entries += binned;
 }
 
-void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last)
+void sl_rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, long long last)
 {
     /* Work on a copy (counters, counts) on this thread's stack; written back once. */
     rast_chunk local = *chunk, *ch = &local;
@@ -284,7 +284,7 @@ void rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first, lo
                 memcpy(in[k].v, vvary + (size_t)ids[k] * (size_t)nvary, (size_t)nvary * sizeof(float));
         }
         rast_cvert poly[RAST_CLIP_MAX];
-        int n = rast_clip_triangle(in, all, nvary, d->gx, d->gy, poly);
+        int n = sl_rast_clip_triangle(in, all, nvary, d->gx, d->gy, poly);
         if (n < 3) {
             ch->stats.triangles_dropped++;
             continue;

@@ -87,7 +87,7 @@ static void build_level(sl_texture *t, int l)
     float sx = (float)src->width / (float)dst->width, sy = (float)src->height / (float)dst->height;
     for (int y = 0; y < dst->height; y++)
         for (int x = 0; x < dst->width; x++) {
-            vec4 v = tex_bilinear(t, src, ((float)x + 0.5f) * sx - 0.5f, ((float)y + 0.5f) * sy - 0.5f,
+            vec4 v = sl_tex_bilinear(t, src, ((float)x + 0.5f) * sx - 0.5f, ((float)y + 0.5f) * sy - 0.5f,
                                   SL_CLAMP_TO_EDGE, SL_CLAMP_TO_EDGE);
             encode_texel(t->format, v, out + ((size_t)y * (size_t)dst->width + (size_t)x) * (size_t)t->texel_bytes);
         }
@@ -156,10 +156,10 @@ static void build_mips(sl_texture *t)
 {
     for (int l = 1; l < t->levels; l++)
         build_level(t, l);
-    tex_plane_build(t);
+    sl_tex_plane_build(t);
 }
 
-void tex_plane_build(sl_texture *t)
+void sl_tex_plane_build(sl_texture *t)
 {
     size_t texels = 0;
     for (int l = 0; l < t->levels; l++)
@@ -184,7 +184,7 @@ void tex_plane_build(sl_texture *t)
     t->plane_bytes = bytes;
 }
 
-void tex_plane_drop(sl_texture *t)
+void sl_tex_plane_drop(sl_texture *t)
 {
     free(t->plane_storage);
     t->plane_storage = NULL;

@@ -60,111 +60,19 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include <softlight/glsl.h>
+#include <softlight/texture.h>
+
 #include "../core/error.h"
-#include "../core/glsl.h"
 #include "../ibl/ibl.h" /* the environment's textureLod, the other overload of the name */
-#include "raster.h"        /* SL_QUADS_MAX, SL_QUAD_LANES: the multi-quad forms' sizes */
+#include "raster.h"
 
-typedef enum {
-    SL_TEX_R8, SL_TEX_RG8, SL_TEX_RGB8, SL_TEX_RGBA8,     /* UNORM8 */
-    SL_TEX_SRGB8, SL_TEX_SRGB8_ALPHA8,                    /* GL_SRGB8, GL_SRGB8_ALPHA8 */
-    SL_TEX_R16, SL_TEX_RG16, SL_TEX_RGB16, SL_TEX_RGBA16, /* UNORM16 (16-bit PNGs) */
-    SL_TEX_R32F, SL_TEX_RGB32F, SL_TEX_RGBA32F
-} sl_texture_format;
-#define SL_TEX_FORMAT_COUNT (SL_TEX_RGBA32F + 1)
+/* The formats, textures, sampler state and the sampling functions are public
+ * (softlight/texture.h); glsl.h spells the GLSL built-ins (textureLod, textureGrad, texelFetch,
+ * textureSize, texture) on top of them. What follows is the library's own. */
 
-/* Largest side of a texture: image.h's SL_IMAGE_MAX_SIDE (32768, so at most 16 levels). */
-#define SL_TEXTURE_MAX_LEVELS 16
-
-typedef struct sl_texture sl_texture; /* a 2D image with its full mip chain (or level 0 alone) */
-
-/* level0: width * height texels of fmt, tightly packed, row 0 = BOTTOM. mipmaps: build the
- * whole chain as glGenerateMipmap does (above). False (and err) for a size <= 0 or over
- * SL_IMAGE_MAX_SIDE, an unknown format, or no memory. */
-bool sl_texture_create(sl_texture_format fmt, int width, int height, const void *level0, bool mipmaps,
-                       sl_texture **out, sl_error *err);
-void sl_texture_destroy(sl_texture *t); /* NULL is fine */
-int sl_texture_levels(const sl_texture *t);
-sl_texture_format sl_texture_get_format(const sl_texture *t);
-size_t sl_texture_bytes(const sl_texture *t); /* storage incl. mips, for reports */
 /* The decoded copy the samplers read (texture_internal.h: small textures only), 0 if none. */
 size_t sl_texture_plane_bytes(const sl_texture *t);
-const char *sl_texture_format_name(sl_texture_format fmt); /* "SRGB8_ALPHA8", for messages */
-/* Level `level` as stored: width * height texels of the format, tightly packed, row 0 = bottom;
- * NULL outside the chain. softlight-gl uploads level 0 from here (and lets GL make the mips). */
-const void *sl_texture_level_texels(const sl_texture *t, int level, int *width, int *height);
-int sl_texture_format_bytes(sl_texture_format fmt);        /* bytes per texel */
-
-/* Files, with the full mip chain: PNG (8 and 16 bit, 1-4 channels), JPEG, Radiance .hdr (the
- * hand-written reader of src/core/hdr.c), told apart by their first bytes.
- * srgb: 8-bit colour data is SRGB8 (RGB) or SRGB8_ALPHA8 (alpha stays linear), grey
- * replicated to RGB (GL has no one-channel sRGB format in core); otherwise UNORM: R8, RG8,
- * RGB8, RGBA8; 16-bit PNGs are always UNORM16 (GL has no 16-bit sRGB format), .hdr RGB32F
- * (NaN, Inf and negative texels set to 0, as every image reader does). budget: the image
- * memory budget in bytes (0 = default), counting the decoder's buffers and the texture with
- * its mips. Errors name the file. */
-bool sl_texture_load(const char *path, bool srgb, size_t budget, sl_texture **out, sl_error *err);
-/* The same from memory (what sl_texture_load calls once the file is read, and fuzz_texture);
- * `name` is used in messages. */
-bool sl_texture_load_memory(const unsigned char *bytes, size_t size, const char *name, bool srgb, size_t budget,
-                            sl_texture **out, sl_error *err);
-
-typedef enum {
-    SL_NEAREST, SL_LINEAR, SL_NEAREST_MIPMAP_NEAREST, SL_LINEAR_MIPMAP_NEAREST,
-    SL_NEAREST_MIPMAP_LINEAR, SL_LINEAR_MIPMAP_LINEAR
-} sl_filter;
-typedef enum { SL_REPEAT, SL_CLAMP_TO_EDGE, SL_MIRRORED_REPEAT } sl_wrap;
-typedef struct {
-    sl_filter min_filter, mag_filter; /* mag_filter: SL_NEAREST or SL_LINEAR */
-    sl_wrap wrap_s, wrap_t;
-    float lod_bias, min_lod, max_lod;
-} sl_sampler_state;
-/* GL's defaults: NEAREST_MIPMAP_LINEAR, LINEAR, REPEAT, REPEAT, bias 0, lod in [-1000, 1000]. */
-sl_sampler_state sl_sampler_default(void);
-
-/* What a shader's uniforms hold for a GLSL `uniform sampler2D` (read-only while drawing). */
-typedef struct {
-    const sl_texture *texture;
-    sl_sampler_state state;
-} sl_sampler2D;
-
-/* GLSL built-ins (GLSL names; results as GL returns them). textureLod is overloaded as in
- * GLSL: on an sl_sampler2D it is sl_texture_lod, on the environment (an sl_env, ibl.h) the
- * environment's own textureLod, chosen by _Generic on the first argument as glsl.h's are. */
-vec4 sl_texture_lod(const sl_sampler2D *s, vec2 uv, float lod);
-#define textureLod(s, uv, lod)                                                                              \
-    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod, default: textureLod)( \
-        s, uv, lod)
-vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy);
-/* Texel p of level lod, no filtering, no wrap: (0, 0, 0, 0) outside the level or the chain
- * (undefined in GL; what llvmpipe returns). */
-vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod);
-/* Size of level lod: (0, 0) outside the chain (undefined in GL). */
-ivec2 textureSize(const sl_sampler2D *s, int lod);
-
-/* The level of detail GL computes from derivatives, as llvmpipe computes it (above). bias is
- * the shader's (texture(s, uv, bias)). sl_texture_lambda is textureGrad's (explicit
- * derivatives: a non-finite rho counts as 0, magnified); sl_texture_lambda_quad is texture()'s,
- * from a quad's coarse differences (a non-finite rho, from a helper lane's infinite or NaN
- * input, selects the last level, as llvmpipe). Equal for finite derivatives. */
-float sl_texture_lambda(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
-float sl_texture_lambda_quad(const sl_sampler2D *s, vec2 dPdx, vec2 dPdy, float bias);
-/* Sampling at a given (already biased and clamped) lambda: the min/mag choice and the level
- * selection of GL 4.6 section 8.14. */
-vec4 sl_texture_sample(const sl_sampler2D *s, vec2 uv, float lambda);
-/* The same for the four lanes of a quad at one lambda (a quad form's texture()): out[l] is
- * sl_texture_sample(s, uv[l], lambda), bit for bit, with one format dispatch for the four. */
-void sl_texture_sample4(const sl_sampler2D *s, const vec2 uv[4], float lambda, vec4 out[4]);
-
-/* The multi-quad forms (a shader's sl_program.fragment_quads): n quads (1 .. SL_QUADS_MAX), lane l
- * of quad q at 4 q + l of u and v. sl_texture_lambda_quads: lambda[q] is sl_texture_lambda_quad
- * of quad q's coarse differences (lane 1 - lane 0, lane 2 - lane 0), bit for bit.
- * sl_texture_sample_quads: rgba[c][4 q + l] is channel c of sl_texture_sample(s, (u, v),
- * lambda[q]), bit for bit; the plane's linear filtering runs in vector loops over the lanes. */
-void sl_texture_lambda_quads(const sl_sampler2D *s, int n, const float *u, const float *v, float bias, float *lambda);
-void sl_texture_sample_quads(const sl_sampler2D *s, int n, const float *u, const float *v, const float *lambda,
-                             float *const rgba[4]);
-
 /* sl_texture_sample_quads in its two steps, so that maps of one layout sampled at the same
  * coordinates (glTF's base colour, normal and occlusion-roughness-metallic images, all one size)
  * share the first: sl_texture_plan_quads picks each quad's levels and computes each lane's texel

@@ -55,9 +55,9 @@ struct sl_texture {
 
 /* Make the decoded plane of a texture whose levels are final (texture.c calls it after the
  * mips), when it fits TEX_PLANE_MAX_BYTES and memory allows: without it sampling is the same,
- * only slower. tex_plane_drop frees it (the tests compare the two paths with it). */
-void tex_plane_build(sl_texture *t);
-void tex_plane_drop(sl_texture *t);
+ * only slower. sl_tex_plane_drop frees it (the tests compare the two paths with it). */
+void sl_tex_plane_build(sl_texture *t);
+void sl_tex_plane_drop(sl_texture *t);
 
 /* Bytes of one texel of fmt, as a constant where fmt is one (the per-format fetch functions of
  * sampler.c are instantiated with a constant format, so this and tex_decode fold away). */
@@ -110,6 +110,6 @@ static inline vec4 tex_texel(const sl_texture *t, const tex_level *lv, int x, in
 
 /* Bilinear filtering of one level at texel-space position (x, y) = (u w - 0.5, v h - 0.5),
  * each axis wrapped as given (sampler.c; the mip builder uses it clamped to the edge). */
-vec4 tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t);
+vec4 sl_tex_bilinear(const sl_texture *t, const tex_level *lv, float x, float y, sl_wrap wrap_s, sl_wrap wrap_t);
 
 #endif

@@ -150,7 +150,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     }
     in.quad = c->quad;
     in.lane = (x & 1) + 2 * (y & 1);
-    rast_quad_begin(c->quad, false, false);
+    sl_rast_quad_begin(c->quad, false, false);
     memcpy(c->scratch, texel, tg->texel_size);
     c->call->program->fragment(c->call->fs_uniforms, &in, c->scratch);
     if (c->quad->discarded[in.lane]) {
@@ -614,10 +614,10 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
         out[l] = fresh && !late && (live >> l & 1) ? target[l] : c->scratch + (size_t)l * tsz;
     }
     int rounds = 0;
-    rast_quad_begin(c->quad, !quad_form, prog->stores);
+    sl_rast_quad_begin(c->quad, !quad_form, prog->stores);
     do {
         /* every round starts from the target's texels, so rounds do not see each other */
-        rast_quad_round(c->quad);
+        sl_rast_quad_round(c->quad);
         if (!fresh)
             for (int l = 0; l < 4; l++) {
                 if (target[l])
@@ -632,7 +632,7 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
                 prog->fragment(c->call->fs_uniforms, &in[l], out[l]);
         }
         rounds++;
-    } while (!quad_form && !rast_quad_done(c->quad, rounds));
+    } while (!quad_form && !sl_rast_quad_done(c->quad, rounds));
 
     c->quads++;
     c->rounds += rounds;
@@ -751,7 +751,7 @@ static void quads_flush(tri_ctx *c, const bool depth)
  * test (quad()'s: the plane updated unless the program may discard, lanes that fail storing
  * back what they loaded, as cover_and_test; its lanes past hi are uncovered); then each quad with
  * a live lane joins the batch with its lanes' offsets, depths and helper flags. The per-lane
- * branches and 64-bit edge products of draw_tri_quads's lane loop were 40% of rast_tile on
+ * branches and 64-bit edge products of draw_tri_quads's lane loop were 40% of sl_rast_tile on
  * pbr.json. */
 static inline __attribute__((always_inline)) void quad_row_gather(tri_ctx *c, int qy, int xa, int lo, int hi, int y0,
                                                                   int y1, const bool edges, const bool depth)
@@ -946,7 +946,7 @@ static void clear_streaming_done(void)
 #endif
 }
 
-void rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task)
+void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count, int tile, rast_task *task)
 {
     const char *clear = d->clear_row;
     bool any = false;

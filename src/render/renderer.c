@@ -30,11 +30,11 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
         break;
     }
     case SL_IRRADIANCE_BRUTE:
-        ok = sl_irradiance_brute(&r->irradiance, &r->env, r->desc.irradiance_map_width, err);
+        ok = sl_irradiance_brute(&r->irradiance, &r->env, r->desc.irradiance_map_width, r->desc.threads, err);
         break;
     case SL_IRRADIANCE_OCT:
     case SL_IRRADIANCE_DP:
-        ok = sl_irradiance_map(&r->irradiance, &r->env, &(sl_irradiance_map_desc){.method = method}, err);
+        ok = sl_irradiance_map(&r->irradiance, &r->env, &(sl_irradiance_map_desc){.method = method, .threads = r->desc.threads}, err);
         break;
     case SL_IRRADIANCE_SH9:
     default:
@@ -57,7 +57,7 @@ static bool update_env_lights(sl_renderer *r, sl_error *err)
     r->env_lights_built = 0;
     sl_env_free(&r->env_oct); /* resampled from the old residual */
     r->env_oct_built = -1;
-    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, err))
+    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, r->desc.threads, err))
         return false;
     r->env_lights_built = want;
     r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
@@ -75,7 +75,7 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
     double t0 = sl_now_seconds();
     sl_env_free(&r->env_oct);
     r->env_oct_built = -1;
-    if (!sl_env_build_oct(&r->env_oct, lights > 0 ? &r->env_lights.residual : &r->env, 0, err))
+    if (!sl_env_build_oct(&r->env_oct, lights > 0 ? &r->env_lights.residual : &r->env, 0, r->desc.threads, err))
         return false;
     r->env_oct_built = lights;
     r->timings.env_oct_ms = (sl_now_seconds() - t0) * 1e3;
@@ -114,12 +114,12 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
         r->splitsum_lut = malloc(sizeof *r->splitsum_lut);
         if (!r->splitsum_lut)
             return sl_fail(err, SL_ERR_MEMORY, "no memory for the split-sum table");
-        sl_splitsum_lut_build(r->splitsum_lut);
+        sl_splitsum_lut_build(r->splitsum_lut, r->desc.threads);
     }
     bool phong, ggx;
     sl_renderer_splitsum_sets(r->scene, &phong, &ggx);
-    if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false}, err)) ||
-        (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true}, err))) {
+    if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false, .threads = r->desc.threads}, err)) ||
+        (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true, .threads = r->desc.threads}, err))) {
         sl_env_free(&r->splitsum_phong);
         return false;
     }
@@ -130,7 +130,8 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
 
 /* A scene without an environment is lit by black: a 1x1 black map keeps the shader's
  * one code path (and the GL path's) instead of a special case per pixel. */
-static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repairs *repairs, sl_error *err)
+static bool load_env(sl_env *env, const char *path, size_t budget, int threads, sl_image_repairs *repairs,
+                     sl_error *err)
 {
     sl_image img;
     if (path[0]) {
@@ -143,7 +144,7 @@ static bool load_env(sl_env *env, const char *path, size_t budget, sl_image_repa
     } else if (!sl_image_alloc(&img, 1, 1, 3, err)) {
         return false;
     }
-    bool ok = sl_env_build(env, &img, err);
+    bool ok = sl_env_build(env, &img, threads, err);
     sl_image_free(&img);
     return ok;
 }
@@ -195,7 +196,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     sl_render_desc_resolve(d, scene);
 
     double t0 = sl_now_seconds();
-    if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, &r->env_repairs, err))
+    if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, d->threads, &r->env_repairs, err))
         return false;
     /* The materials' textures, each image once, with its mips (raster/gbuffer_textured.h). */
     if (!sl_scene_textures_load(scene, d->image_budget, &r->textures, err))
@@ -245,7 +246,7 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
 {
     sl_env env;
     sl_image_repairs repairs = {0};
-    if (!load_env(&env, hdr_path, r->desc.image_budget, &repairs, err))
+    if (!load_env(&env, hdr_path, r->desc.image_budget, r->desc.threads, &repairs, err))
         return false;
     sl_env old = r->env;
     r->env = env;
@@ -422,7 +423,7 @@ bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
 {
     double t0 = sl_now_seconds();
     const sl_tonemap_table *tab = sl_renderer_tonemap_table(r, err);
-    bool ok = tab && sl_tonemap_apply(tab, &r->radiance, &r->display, err);
+    bool ok = tab && sl_tonemap_apply(tab, &r->radiance, &r->display, r->desc.threads, err);
     r->timings.tonemap_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

@@ -22,6 +22,8 @@
 #include <stdbool.h>
 #include <stdint.h>
 
+#include <softlight/renderer.h>
+
 #include "core/error.h"
 #include "core/image.h"
 #include "ibl/ibl.h"
@@ -61,7 +63,9 @@ typedef struct {
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
 } sl_render_timings;
 
-typedef struct {
+/* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init
+ * fills caller storage). */
+struct sl_renderer {
     const sl_scene *scene;  /* not owned */
     sl_render_desc desc;    /* resolved */
     sl_env env;
@@ -88,7 +92,7 @@ typedef struct {
     sl_tonemap_options tonemap_built;
     sl_image_repairs env_repairs;
     sl_render_timings timings;
-} sl_renderer;
+};
 
 /* Fill the zero fields of `d` from the scene (size, N, exposure, contrast, the lighting's modes
  * of its "render" section, the environment's intensity and rotation) and the irradiance method
@@ -99,13 +103,11 @@ void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene);
 bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err);
 void sl_renderer_free(sl_renderer *r);
 
-/* Replace the environment (the viewer's drag and drop). On failure the old one stays. */
-bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error *err);
+/* sl_renderer_set_environment (softlight/renderer.h): the viewer's drag and drop. */
 /* Recompute the irradiance with `method` (the viewer's irradiance key) and set
  * desc.lighting.irradiance to it. On failure the old irradiance and method stay. */
 bool sl_renderer_set_irradiance(sl_renderer *r, sl_irradiance_method method, sl_error *err);
-/* Change the render size (reallocates only when it changes). */
-bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
+/* sl_renderer_resize: softlight/renderer.h. */
 
 /* Rasterize the scene into the G-buffer from `cam` (NULL = the scene's camera); with a band, the
  * texels outside it are cleared (every field 0, depth 1: nothing drawn). */
@@ -144,7 +146,6 @@ bool sl_renderer_tonemap(sl_renderer *r, sl_error *err);
  * r): what sl_renderer_tonemap applies, for callers that tone map into their own format (the
  * viewer's window, sl_tonemap_apply_xrgb8888). NULL and err on bad options or no memory. */
 const sl_tonemap_table *sl_renderer_tonemap_table(sl_renderer *r, sl_error *err);
-/* All three. */
-bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* All three: sl_renderer_frame (softlight/renderer.h). */
 
 #endif

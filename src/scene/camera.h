@@ -4,17 +4,19 @@
  *
  * Consumes: an sl_camera (scene.h) and the target's size in pixels.
  * Produces: proj * view with view = lookAt(eye, target, up) and proj = perspective(radians(fovy),
- * width / height, near, far), GL conventions (core/glsl.h: view down -Z, NDC z in [-1, 1]).
+ * width / height, near, far), GL conventions (softlight/glsl.h: view down -Z, NDC z in [-1, 1]).
  *
  * Does not: validate the camera (the scene reader and sl_raster_scene do), or model cameras other
  * than pinhole. */
 #ifndef SL_CAMERA_H
 #define SL_CAMERA_H
 
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
+#include <softlight/scene.h>
+
 #include "scene.h"
 
-/* view = lookAt(eye, target, up), proj = perspective(radians(fovy), w/h, near, far). */
-mat4 sl_camera_view_proj(const sl_camera *cam, int width, int height);
+/* sl_camera_view_proj (softlight/scene.h): view = lookAt(eye, target, up),
+ * proj = perspective(radians(fovy), w/h, near, far). */
 
 #endif

@@ -459,7 +459,7 @@ static bool check_json(checker *c, const char *json, size_t size, scene_gltf_fac
     return ok;
 }
 
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
+bool sl_scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
                       sl_error *err)
 {
     checker c = {.name = name, .err = err};

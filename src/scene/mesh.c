@@ -1,9 +1,9 @@
 /* mesh.c - sl_mesh storage, validation, angle-weighted normals and generated tangents.
  *
- * Everything that builds a mesh (obj.c, shapes.c) allocates through scene_mesh_alloc and
- * fills normals through scene_compute_normals, so a mesh leaving src/scene always has unit,
+ * Everything that builds a mesh (obj.c, shapes.c) allocates through sl_scene_mesh_alloc and
+ * fills normals through sl_scene_compute_normals, so a mesh leaving src/scene always has unit,
  * finite normals and in-range indices; sl_mesh_validate checks exactly that contract. A mesh
- * with texture coordinates also has tangents (analytic for the shapes, scene_compute_tangents
+ * with texture coordinates also has tangents (analytic for the shapes, sl_scene_compute_tangents
  * otherwise): a normal map needs them, and computing them once per mesh is cheaper than per
  * fragment. */
 #include "scene_internal.h"
@@ -27,7 +27,7 @@ void sl_mesh_free(sl_mesh *mesh)
     memset(mesh, 0, sizeof *mesh);
 }
 
-bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
+bool sl_scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
                       sl_error *err)
 {
     memset(mesh, 0, sizeof *mesh);
@@ -57,7 +57,7 @@ bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool 
     return true;
 }
 
-bool scene_safe_normalize(vec3 v, vec3 *out)
+bool sl_scene_safe_normalize(vec3 v, vec3 *out)
 {
     /* Scale by the largest component first so that squaring neither overflows (1e30) nor
      * underflows (1e-30) before the square root. */
@@ -72,7 +72,7 @@ bool scene_safe_normalize(vec3 v, vec3 *out)
     return true;
 }
 
-bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep)
+bool sl_scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep)
 {
     size_t slots = group ? (size_t)group_count : (size_t)mesh->vertex_count;
     vec3 *acc = calloc(slots ? slots : 1, sizeof *acc);
@@ -82,14 +82,14 @@ bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_
         const uint32_t *tri = &mesh->indices[3 * (size_t)t];
         vec3 p[3] = {mesh->positions[tri[0]], mesh->positions[tri[1]], mesh->positions[tri[2]]};
         vec3 face;
-        if (!scene_safe_normalize(cross(sub3(p[1], p[0]), sub3(p[2], p[0])), &face))
+        if (!sl_scene_safe_normalize(cross(sub3(p[1], p[0]), sub3(p[2], p[0])), &face))
             continue; /* degenerate triangle: no direction to contribute */
         for (int k = 0; k < 3; k++) {
             /* The corner's angle, from unit edges so huge coordinates cannot overflow;
              * atan2 of |cross| and dot is accurate for angles near 0 and pi, unlike acos. */
             vec3 e1, e2;
-            if (!scene_safe_normalize(sub3(p[(k + 1) % 3], p[k]), &e1) ||
-                !scene_safe_normalize(sub3(p[(k + 2) % 3], p[k]), &e2))
+            if (!sl_scene_safe_normalize(sub3(p[(k + 1) % 3], p[k]), &e1) ||
+                !sl_scene_safe_normalize(sub3(p[(k + 2) % 3], p[k]), &e2))
                 continue;
             float angle = atan2f(length3(cross(e1, e2)), dot3(e1, e2));
             uint32_t slot = group ? group[tri[k]] : tri[k];
@@ -100,7 +100,7 @@ bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_
         if (keep && keep[v])
             continue;
         vec3 n;
-        if (!scene_safe_normalize(acc[group ? group[v] : (uint32_t)v], &n))
+        if (!sl_scene_safe_normalize(acc[group ? group[v] : (uint32_t)v], &n))
             n = vec3(0.0f, 0.0f, 1.0f); /* unreferenced, degenerate or cancelling faces */
         mesh->normals[v] = n;
     }
@@ -113,7 +113,7 @@ static vec3 any_orthogonal(vec3 n)
 {
     vec3 axis = fabsf(n.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
     vec3 t;
-    if (!scene_safe_normalize(sub3(axis, scale3(n, dot3(n, axis))), &t))
+    if (!sl_scene_safe_normalize(sub3(axis, scale3(n, dot3(n, axis))), &t))
         t = vec3(1.0f, 0.0f, 0.0f);
     return t;
 }
@@ -128,7 +128,7 @@ static vec3 any_orthogonal(vec3 n)
  * unorthogonalised bitangent magnitude; here such a vertex gets one averaged frame. On meshes
  * split at UV seams and mirrors (what the OBJ reader makes: a vertex per (v, vt, vn)) the two
  * agree up to float rounding for planar and smooth, non-mirrored charts. */
-bool scene_compute_tangents(sl_mesh *mesh)
+bool sl_scene_compute_tangents(sl_mesh *mesh)
 {
     if (!mesh->texcoords || !mesh->tangents)
         return true;
@@ -151,13 +151,13 @@ bool scene_compute_tangents(sl_mesh *mesh)
         /* T = (dv2 e1 - dv1 e2) / det, B = (du1 e2 - du2 e1) / det; normalised, so 1/det is only
          * its sign. */
         float sgn = det > 0.0f ? 1.0f : -1.0f;
-        if (!scene_safe_normalize(scale3(sub3(scale3(e1, dv2), scale3(e2, dv1)), sgn), &tdir) ||
-            !scene_safe_normalize(scale3(sub3(scale3(e2, du1), scale3(e1, du2)), sgn), &bdir))
+        if (!sl_scene_safe_normalize(scale3(sub3(scale3(e1, dv2), scale3(e2, dv1)), sgn), &tdir) ||
+            !sl_scene_safe_normalize(scale3(sub3(scale3(e2, du1), scale3(e1, du2)), sgn), &bdir))
             continue;
         for (int k = 0; k < 3; k++) {
             vec3 a, b;
-            if (!scene_safe_normalize(sub3(p[(k + 1) % 3], p[k]), &a) ||
-                !scene_safe_normalize(sub3(p[(k + 2) % 3], p[k]), &b))
+            if (!sl_scene_safe_normalize(sub3(p[(k + 1) % 3], p[k]), &a) ||
+                !sl_scene_safe_normalize(sub3(p[(k + 2) % 3], p[k]), &b))
                 continue;
             float angle = atan2f(length3(cross(a, b)), dot3(a, b));
             tacc[tri[k]] = add3(tacc[tri[k]], scale3(tdir, angle));
@@ -166,7 +166,7 @@ bool scene_compute_tangents(sl_mesh *mesh)
     }
     for (size_t v = 0; v < nv; v++) {
         vec3 n = mesh->normals[v], t;
-        if (!scene_safe_normalize(sub3(tacc[v], scale3(n, dot3(n, tacc[v]))), &t))
+        if (!sl_scene_safe_normalize(sub3(tacc[v], scale3(n, dot3(n, tacc[v]))), &t))
             t = any_orthogonal(n);
         float w = dot3(cross(n, t), bacc[v]) < 0.0f ? -1.0f : 1.0f;
         mesh->tangents[v] = vec4(t.x, t.y, t.z, w);
@@ -179,7 +179,7 @@ void sl_mesh_compute_normals(sl_mesh *mesh)
 {
     if (!mesh || !mesh->normals)
         return;
-    if (!scene_compute_normals(mesh, NULL, 0, NULL)) {
+    if (!sl_scene_compute_normals(mesh, NULL, 0, NULL)) {
         /* Out of memory for the scratch: still honour "never NaN, always unit". */
         for (int v = 0; v < mesh->vertex_count; v++)
             mesh->normals[v] = vec3(0.0f, 0.0f, 1.0f);

@@ -216,7 +216,7 @@ static vec3 any_perpendicular(vec3 n)
 {
     vec3 a = fabsf(n.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
     vec3 t;
-    if (!scene_safe_normalize(cross(n, a), &t))
+    if (!sl_scene_safe_normalize(cross(n, a), &t))
         t = vec3(1.0f, 0.0f, 0.0f);
     return t;
 }
@@ -242,7 +242,7 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
         triangles += am->mFaces[f].mNumIndices == 3;
     bool uv = am->mTextureCoords[0] != NULL;
     sl_mesh *m = &out->mesh;
-    if (!scene_mesh_alloc(m, (int)am->mNumVertices, triangles, uv, where, err))
+    if (!sl_scene_mesh_alloc(m, (int)am->mNumVertices, triangles, uv, where, err))
         return false;
     out->material = (int)am->mMaterialIndex;
     int t = 0;
@@ -269,7 +269,7 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
             return sl_fail(err, SL_ERR_FORMAT, "%s: vertex %u: position is not finite", where, v);
         }
         /* A file's normal that cannot be normalised (zero, NaN) is regenerated from the faces. */
-        keep[v] = am->mNormals && scene_safe_normalize(ai3(am->mNormals[v]), &m->normals[v]);
+        keep[v] = am->mNormals && sl_scene_safe_normalize(ai3(am->mNormals[v]), &m->normals[v]);
         recompute = recompute || !keep[v];
         if (uv) {
             m->texcoords[v] = vec2(am->mTextureCoords[0][v].x, am->mTextureCoords[0][v].y);
@@ -279,7 +279,7 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
             }
         }
     }
-    bool ok = !recompute || scene_compute_normals(m, NULL, 0, keep);
+    bool ok = !recompute || sl_scene_compute_normals(m, NULL, 0, keep);
     free(keep);
     if (!ok)
         return sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for normals", where);
@@ -290,7 +290,7 @@ static bool convert_mesh(const char *name, unsigned index, const struct aiMesh *
         for (unsigned v = 0; v < am->mNumVertices; v++) {
             vec3 n = m->normals[v], t3;
             vec3 at = am->mTangents ? ai3(am->mTangents[v]) : vec3s(0.0f);
-            if (!scene_safe_normalize(sub3(at, scale3(n, dot3(n, at))), &t3))
+            if (!sl_scene_safe_normalize(sub3(at, scale3(n, dot3(n, at))), &t3))
                 t3 = any_perpendicular(n);
             float w = 1.0f;
             if (am->mBitangents) {
@@ -384,7 +384,7 @@ static void convert_camera(const struct aiScene *s, bool gltf, sl_model *model)
     vec3 dir = xyz(mat4_mul_vec4(w, vec4_from3(look, 0.0f)));
     vec3 up = xyz(mat4_mul_vec4(w, vec4_from3(up0, 0.0f)));
     vec3 f, u;
-    if (!finite3(eye) || !scene_safe_normalize(dir, &f) || !scene_safe_normalize(up, &u) ||
+    if (!finite3(eye) || !sl_scene_safe_normalize(dir, &f) || !sl_scene_safe_normalize(up, &u) ||
         length3(cross(f, u)) < 1e-3f || !(fovy > 0.1f && fovy < 179.0f) || !(c->mClipPlaneNear > 0.0f) ||
         !(c->mClipPlaneFar > c->mClipPlaneNear) || c->mOrthographicWidth > 0.0f)
         return; /* an orthographic or degenerate camera: the scene frames the bounds instead */
@@ -430,7 +430,7 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
                 embedded = (int)i;
     }
     char path[SL_PATH_MAX] = "";
-    if (embedded < 0 && !scene_texture_path_resolve(dir, ref, path)) {
+    if (embedded < 0 && !sl_scene_texture_path_resolve(dir, ref, path)) {
         char mat[72];
         return sl_fail(err, SL_ERR_IO,
                        "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and "
@@ -732,7 +732,7 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     return ok;
 }
 
-/* One import, as scene_import_isolated runs it in its child. */
+/* One import, as sl_scene_import_isolated runs it in its child. */
 typedef struct {
     const char *path;
     file_access *fa;
@@ -780,7 +780,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
         unsigned char *bytes = read_regular(&fa, path, &size);
         if (!bytes)
             return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
-        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &facts, err);
+        bool ok = sl_scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &facts, err);
         free(bytes);
         if (!ok)
             return false;
@@ -794,7 +794,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     size_t memory = SL_MODEL_IMPORT_MEMORY_BASE + SL_MODEL_IMPORT_MEMORY_PER_BYTE * input_bytes;
     int seconds = SL_MODEL_IMPORT_SECONDS_BASE + (int)(input_bytes >> 20) / SL_MODEL_IMPORT_MIB_PER_SECOND;
     import_job job = {.path = path, .fa = &fa};
-    return scene_import_isolated(import_job_run, &job, path, memory, seconds, model, err);
+    return sl_scene_import_isolated(import_job_run, &job, path, memory, seconds, model, err);
 }
 
 bool sl_model_load_memory(const void *data, size_t size, const char *hint, const char *name, sl_model *model,
@@ -809,7 +809,7 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
     scene_gltf_facts facts;
-    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, &facts, err))
+    if (is_gltf(hint) && !sl_scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, &facts, err))
         return false;
     if (is_gltf(hint))
         fa.triangles = facts.triangles;

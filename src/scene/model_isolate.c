@@ -254,7 +254,7 @@ static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes
 
 /* ---- the parent ---- */
 
-bool scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
+bool sl_scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
                            sl_model *model, sl_error *err)
 {
     int fds[2];

@@ -5,7 +5,7 @@
  * Owns: the expansion (one object per mesh instance, the scene object's transform on top of
  * the node's, a scene "material" overriding the file's), the mapping of the file's materials
  * onto softlight's, and the default scene (shipped environment, the file's first camera or one
- * framing the bounds). scene.c reads the "model" key and calls scene_expand_models.
+ * framing the bounds). scene.c reads the "model" key and calls sl_scene_expand_models.
  *
  * Materials (docs/scene-format.md "Models"): glTF metallic-roughness becomes a GGX material. With
  * a metallicRoughnessTexture it is drawn per texel (scene.h sl_material.metallic: kd = the base
@@ -209,7 +209,7 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
         ok = map_texture(scene, model, &m->emissive_tex, true, USED("emissiveTexture"), &out->maps[SL_MAP_EMISSIVE],
                          ignored, err);
 #undef USED
-    scene_material_finish(out);
+    sl_scene_material_finish(out);
     return ok;
 }
 
@@ -291,7 +291,7 @@ static bool untextured_copy(sl_scene *scene, int *index, sl_error *err)
     memset(plain.maps, 0, sizeof plain.maps);
     plain.masked = false;
     plain.occlusion_strength = 1.0f;
-    scene_material_finish(&plain); /* a metallic material's constants folded; emission kept */
+    sl_scene_material_finish(&plain); /* a metallic material's constants folded; emission kept */
     char name[SL_NAME_MAX];
     snprintf(name, sizeof name, "%.56s/plain", plain.name);
     memcpy(plain.name, name, sizeof name);
@@ -308,7 +308,7 @@ static bool untextured_copy(sl_scene *scene, int *index, sl_error *err)
     return true;
 }
 
-bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
+bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
                          scene_model_camera *camera, sl_error *err)
 {
     int sources = scene->mesh_count;
@@ -457,7 +457,7 @@ static sl_camera frame_bounds(vec3 lo, vec3 hi, float fovy_deg)
     float r = maxf(0.5f * length3(sub3(hi, lo)), 1e-3f);
     float d = 1.1f * r / sinf(0.5f * fovy_deg * (3.14159265f / 180.0f));
     vec3 dir;
-    scene_safe_normalize(vec3(0.0f, -1.0f, 0.35f), &dir);
+    sl_scene_safe_normalize(vec3(0.0f, -1.0f, 0.35f), &dir);
     return (sl_camera){.eye = add3(c, scale3(dir, d)),
                        .target = c,
                        .up = vec3(0.0f, 0.0f, 1.0f),
@@ -466,7 +466,7 @@ static sl_camera frame_bounds(vec3 lo, vec3 hi, float fovy_deg)
                        .zfar = d + 2.0f * r};
 }
 
-bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
+bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
 {
     char escaped[2 * SL_PATH_MAX], env[2 * SL_PATH_MAX];
     if (!json_escape(path, escaped, sizeof escaped) || !json_escape(DEFAULT_ENVIRONMENT, env, sizeof env))
@@ -477,7 +477,7 @@ bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
     if (n < 0 || (size_t)n >= sizeof json)
         return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
     scene_model_camera camera = {0};
-    if (!scene_parse_with_models(json, (size_t)n, path, "", scene, &camera, err)) {
+    if (!sl_scene_parse_with_models(json, (size_t)n, path, "", scene, &camera, err)) {
         /* "model.glb: objects[0].model: model.glb: ..." says the file twice; the user typed no
          * scene, so the message starts at the model. */
         const char *inner = err ? strstr(err->msg, "objects[0].model: ") : NULL;

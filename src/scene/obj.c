@@ -678,7 +678,7 @@ static bool parse_line(obj_reader *r, char *line)
             return fail_line(r, SL_ERR_RANGE, "too many normals", NULL);
         /* A zero normal is kept as zero and later replaced by a computed one. */
         vec3 n = vec3(x[0], x[1], x[2]);
-        if (!scene_safe_normalize(n, &n))
+        if (!sl_scene_safe_normalize(n, &n))
             n = vec3s(0.0f);
         return array_push(&r->normals, &n) || fail_line(r, SL_ERR_MEMORY, "out of memory", NULL);
     }
@@ -705,7 +705,7 @@ static void reader_free(obj_reader *r)
 static bool build_mesh(obj_reader *r, sl_mesh *mesh)
 {
     int nv = (int)r->corners.count, nt = (int)(r->indices.count / 3);
-    if (!scene_mesh_alloc(mesh, nv, nt, r->any_texcoord, r->name, r->err))
+    if (!sl_scene_mesh_alloc(mesh, nv, nt, r->any_texcoord, r->name, r->err))
         return false;
     const corner *cs = r->corners.data;
     const vec3 *pos = r->positions.data, *nrm = r->normals.data;
@@ -730,8 +730,8 @@ static bool build_mesh(obj_reader *r, sl_mesh *mesh)
         all_kept = all_kept && keep[v];
     }
     memcpy(mesh->indices, r->indices.data, r->indices.count * sizeof(uint32_t));
-    bool ok = all_kept || scene_compute_normals(mesh, group, (uint32_t)r->positions.count, keep);
-    ok = ok && scene_compute_tangents(mesh); /* OBJ has no tangents: generated from vt */
+    bool ok = all_kept || sl_scene_compute_normals(mesh, group, (uint32_t)r->positions.count, keep);
+    ok = ok && sl_scene_compute_tangents(mesh); /* OBJ has no tangents: generated from vt */
     free(keep);
     free(group);
     if (!ok) {

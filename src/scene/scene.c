@@ -426,11 +426,11 @@ static bool parse_camera(parser *p, const cJSON *item, sl_camera *cam)
                        "far/near = %g exceeds %g; the depth buffer would lose all precision",
                        (double)cam->zfar / (double)cam->znear, MAX_DEPTH_RATIO);
     vec3 f, u;
-    if (!scene_safe_normalize(sub3(cam->target, cam->eye), &f))
+    if (!sl_scene_safe_normalize(sub3(cam->target, cam->eye), &f))
         return fail_at(p, "camera.target", SL_ERR_RANGE,
                        "equals camera.eye (%g, %g, %g); the view direction is undefined", (double)cam->eye.x,
                        (double)cam->eye.y, (double)cam->eye.z);
-    if (!scene_safe_normalize(cam->up, &u))
+    if (!sl_scene_safe_normalize(cam->up, &u))
         return fail_at(p, "camera.up", SL_ERR_RANGE, "must not be the zero vector");
     if (length3(cross(f, u)) < MIN_UP_SINE)
         return fail_at(p, "camera.up", SL_ERR_RANGE,
@@ -629,13 +629,13 @@ static bool parse_pbr(parser *p, const cJSON *item, const char *path, sl_materia
     } else if (m->maps[SL_MAP_EMISSIVE].set) {
         m->emissive = vec3s(1.0f); /* the map alone: its texels are the radiance */
     }
-    scene_material_finish(m);
+    sl_scene_material_finish(m);
     return true;
 }
 
 /* A metallic material without per-texel inputs is folded into constant kd and ks (then drawn by
  * the untextured program, as before); `textured` says which program draws it. */
-void scene_material_finish(sl_material *m)
+void sl_scene_material_finish(sl_material *m)
 {
     if (m->metallic >= 0.0f && !m->maps[SL_MAP_KD].set && !m->maps[SL_MAP_METALLIC_ROUGHNESS].set) {
         vec3 base = m->kd;
@@ -803,7 +803,7 @@ static bool parse_rotate(parser *p, const cJSON *item, const char *path, mat4 *r
         if (!read_numbers(p, e, sub, 4, v))
             return false;
         vec3 axis;
-        if (!scene_safe_normalize(vec3(v[0], v[1], v[2]), &axis))
+        if (!sl_scene_safe_normalize(vec3(v[0], v[1], v[2]), &axis))
             return fail_at(p, sub, SL_ERR_RANGE, "the rotation axis must not be the zero vector");
         float angle = (float)(fmod(v[3], 360.0) * (3.14159265358979323846 / 180.0));
         *r = mat4_mul(mat4_rotate(axis, angle), *r);
@@ -1116,7 +1116,7 @@ static bool load_meshes_now(parser *p, sl_scene *scene, const int *first_user)
         case SL_MESH_SPHERE: ok = sl_mesh_sphere(m, src->slices, src->stacks, p->err); break;
         case SL_MESH_PLANE: ok = sl_mesh_plane(m, p->err); break;
         case SL_MESH_BOX: ok = sl_mesh_box(m, p->err); break;
-        case SL_MESH_MODEL: ok = true; break; /* scene_expand_models, below */
+        case SL_MESH_MODEL: ok = true; break; /* sl_scene_expand_models, below */
         default: ok = sl_fail(p->err, SL_ERR_FORMAT, "unknown mesh kind %d", (int)src->kind); break;
         }
         total_vertices += m->vertex_count;
@@ -1213,7 +1213,7 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
     }
     if (ok && load_meshes)
         ok = load_meshes_now(p, scene, first_user) &&
-             scene_expand_models(scene, material_given, first_user, p->name, p->model_camera, p->err) &&
+             sl_scene_expand_models(scene, material_given, first_user, p->name, p->model_camera, p->err) &&
              check_maps_have_uvs(p, scene);
     free(sorted);
     free(first_user);
@@ -1405,7 +1405,7 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
     return parse_scene(json, size, name, base_dir, load_meshes, scene, NULL, err);
 }
 
-bool scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
+bool sl_scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
                              scene_model_camera *camera, sl_error *err)
 {
     return parse_scene(json, size, name, base_dir, true, scene, camera, err);
@@ -1415,7 +1415,7 @@ bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
     if (!sl_path_is_scene(path))
-        return scene_load_model_alone(path, scene, err);
+        return sl_scene_load_model_alone(path, scene, err);
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))

@@ -15,28 +15,18 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include <softlight/glsl.h>
+#include <softlight/scene.h>
+
 #include "../core/error.h"
-#include "../core/glsl.h"
 #include "../core/options.h"
 
 #define SL_NAME_MAX 64
 #define SL_PATH_MAX 1024
 
-/* Triangle mesh in object space: shared vertices, 3 indices per triangle.
- * `normals` always present (computed angle-weighted when the OBJ has none);
- * `texcoords` may be NULL, and `tangents` is present exactly when texcoords is: xyz a unit
- * vector along dP/du orthogonal to the normal, w = +1 or -1 the handedness, as glTF's TANGENT
- * (bitangent = cross(normal, tangent.xyz) * w, along dP/dv). Built-in shapes have analytic
- * tangents; other meshes get them from positions and texture coordinates (mesh.c,
- * scene_compute_tangents). */
-typedef struct {
-    int vertex_count, triangle_count;
-    vec3 *positions;
-    vec3 *normals;
-    vec2 *texcoords;
-    vec4 *tangents;
-    uint32_t *indices;
-} sl_mesh;
+/* sl_mesh (softlight/scene.h): `normals` always present (computed angle-weighted when the OBJ
+ * has none); with texcoords, tangents from positions and texture coordinates for meshes without
+ * analytic ones (mesh.c, sl_scene_compute_tangents). */
 
 /* The texture maps a material may name (docs/scene-format.md "Texture maps"). Each multiplies the
  * material's constant: kd = Kd * kd_map.rgb, ks = Ks * ks_map.rgb, alpha = alpha * alpha_map.r;
@@ -139,12 +129,6 @@ typedef struct {
 } sl_point_light;
 
 typedef struct {
-    vec3 eye, target, up;
-    float fovy_deg;      /* vertical field of view, degrees */
-    float znear, zfar;
-} sl_camera;
-
-typedef struct {
     char hdr_path[SL_PATH_MAX];        /* resolved; "" = none (black environment) */
     char irradiance_path[SL_PATH_MAX]; /* resolved; "" = compute from hdr */
     float intensity;                   /* multiplies the environment's radiance */
@@ -181,7 +165,8 @@ typedef struct {
     int slices, stacks;     /* SL_MESH_SPHERE: tessellation; SL_MESH_MODEL: slices = mesh index; 0 otherwise */
 } sl_mesh_source;
 
-typedef struct {
+/* The scene (opaque in softlight/scene.h). */
+struct sl_scene {
     char path[SL_PATH_MAX]; /* the scene file, as given */
     sl_camera camera;
     sl_environment_desc environment;
@@ -199,7 +184,7 @@ typedef struct {
                                      in "\n", "" when none: the commands print it to stderr */
     sl_scene_image *images;       /* image_count distinct image files the materials' maps name */
     int image_count;
-} sl_scene;
+};
 
 /* Distinct image files one scene may name (each is a texture with its mips in memory). */
 #define SL_SCENE_MAX_IMAGES 64
@@ -220,23 +205,15 @@ bool sl_scene_parse(const char *json, size_t size, const char *name, const char 
 /* Frees everything and zeroes the scene; safe on a zeroed or partially built scene. */
 void sl_scene_free(sl_scene *scene);
 
-/* World-space bounds of all objects (every vertex transformed); false when the scene has no
+/* sl_scene_bounds (softlight/scene.h): every vertex transformed; false when the scene has no
  * geometry (no objects, or meshes not loaded). */
-bool sl_scene_bounds(const sl_scene *scene, vec3 *lo, vec3 *hi);
 
 /* Meshes (mesh.c, obj.c, shapes.c). */
-bool sl_mesh_load_obj(const char *path, sl_mesh *mesh, sl_error *err);
 bool sl_mesh_parse_obj(const char *text, size_t size, const char *name, sl_mesh *mesh, sl_error *err);
 /* Checks indices in range, finite positions and normals; false with a reason. */
 bool sl_mesh_validate(const sl_mesh *mesh, const char *name, sl_error *err);
 void sl_mesh_compute_normals(sl_mesh *mesh); /* angle-weighted vertex normals */
-void sl_mesh_free(sl_mesh *mesh);
-/* Built-in shapes, unit sized and centred at the origin, counter-clockwise front faces seen from
- * outside, texture coordinates in [0,1]^2. The sphere has poles on +-Z, `slices` (3..1024)
- * around Z and `stacks` (2..512) from pole to pole. `mesh` is an output: its old contents are
- * not freed, and it is all zeros on failure. */
-bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err); /* radius 1 */
-bool sl_mesh_plane(sl_mesh *mesh, sl_error *err);  /* [-1,1]^2 at z = 0, normal +Z */
-bool sl_mesh_box(sl_mesh *mesh, sl_error *err);    /* [-1,1]^3, flat normals per face */
+/* sl_mesh_load_obj, sl_mesh_free and the built-in shapes (sl_mesh_sphere, sl_mesh_plane,
+ * sl_mesh_box) are public: softlight/scene.h. */
 
 #endif

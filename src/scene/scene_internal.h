@@ -20,7 +20,7 @@
 
 /* Allocate positions, normals, indices (and texcoords and tangents when asked) for the given counts; the
  * arrays are zeroed. On failure the mesh is left empty and err names `name`. */
-bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
+bool sl_scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool with_texcoords, const char *name,
                       sl_error *err);
 
 /* Angle-weighted vertex normals. Vertices sharing a `group` value (e.g. the OBJ position a
@@ -29,18 +29,18 @@ bool scene_mesh_alloc(sl_mesh *mesh, int vertex_count, int triangle_count, bool 
  * with keep[v] true keep their normal; keep == NULL recomputes all. Never writes NaN:
  * a vertex whose accumulated normal is zero or not finite gets +Z. Returns false only when
  * the scratch allocation fails (normals are then untouched). */
-bool scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep);
+bool sl_scene_compute_normals(sl_mesh *mesh, const uint32_t *group, uint32_t group_count, const bool *keep);
 
 /* Tangents (xyz unit, orthogonal to the normal; w = +-1) from positions, texture coordinates and
  * the normals already computed; nothing to do without texture coordinates. Returns false only
  * when the scratch allocation fails. */
-bool scene_compute_tangents(sl_mesh *mesh);
+bool sl_scene_compute_tangents(sl_mesh *mesh);
 
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
-bool scene_safe_normalize(vec3 v, vec3 *out);
+bool sl_scene_safe_normalize(vec3 v, vec3 *out);
 /* After a material's keys or a model's material are read: a metallic material without per-texel
  * inputs folded into constant kd, ks; `textured` set from its maps and extra channels (scene.c). */
-void scene_material_finish(sl_material *m);
+void sl_scene_material_finish(sl_material *m);
 
 /* The first camera of the models a scene loads (model_scene.c), for the default scene. */
 typedef struct {
@@ -49,20 +49,20 @@ typedef struct {
 } scene_model_camera;
 
 /* sl_scene_parse with meshes loaded, noting the models' first camera in `camera` (scene.c). */
-bool scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
+bool sl_scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
                              scene_model_camera *camera, sl_error *err);
 /* Replace each object whose mesh is a model by one object per mesh instance of the file, adding
  * its meshes and materials; `material_given[o]`: object o named a material, which overrides
  * the file's; `first_user[mesh]` names the object in messages (model_scene.c). */
-bool scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
+bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
                          scene_model_camera *camera, sl_error *err);
 /* The default scene around a model file given alone (model_scene.c). */
-bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
+bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
 
 /* The file a model's texture reference `ref` names, relative to the model's folder `dir` ("" or
  * ending in '/'): Windows separators, Blender's "//", case differences and foreign absolute paths
  * resolved as texture_path.c describes. False when no regular file matches. */
-bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
+bool sl_scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
 
 /* What a glTF document's checks learn for the import: the bytes its buffers declare (for the
  * import's memory budget) and the triangles its triangle lists declare (-1 when it has other
@@ -75,15 +75,15 @@ typedef struct {
 /* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
  * `glb`, then the caps, the JSON types of nodes, materials and accessors with the JSON path, the
  * node graph and the triangle lists' counts. `facts` may be NULL. */
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
+bool sl_scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
                       sl_error *err);
 
-/* An import function run by scene_import_isolated: fills *model or *err. */
+/* An import function run by sl_scene_import_isolated: fills *model or *err. */
 typedef bool (*scene_import_fn)(void *ctx, sl_model *model, sl_error *err);
 /* Runs fn in a child process whose address space may grow by `memory_bytes` and which may run
  * `seconds`, and returns its model or error; running out of either, or crashing, is an error
  * naming `name` (model_isolate.c). */
-bool scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
+bool sl_scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
                            sl_model *model, sl_error *err);
 
 #endif

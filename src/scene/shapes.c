@@ -12,7 +12,7 @@
 bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
 {
     if (slices < 3 || slices > SCENE_SPHERE_MAX_SLICES || stacks < 2 || stacks > SCENE_SPHERE_MAX_STACKS) {
-        memset(mesh, 0, sizeof *mesh); /* an output, as scene_mesh_alloc treats it: nothing to free */
+        memset(mesh, 0, sizeof *mesh); /* an output, as sl_scene_mesh_alloc treats it: nothing to free */
         return sl_fail(err, SL_ERR_RANGE, "sphere: %d slices x %d stacks is outside 3..%d x 2..%d", slices, stacks,
                        SCENE_SPHERE_MAX_SLICES, SCENE_SPHERE_MAX_STACKS);
     }
@@ -22,7 +22,7 @@ bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
      * touching a pole are single triangles (the other half would be degenerate). */
     int vertex_count = (stacks + 1) * (slices + 1);
     int triangle_count = 2 * slices * (stacks - 1);
-    if (!scene_mesh_alloc(mesh, vertex_count, triangle_count, true, "sphere", err))
+    if (!sl_scene_mesh_alloc(mesh, vertex_count, triangle_count, true, "sphere", err))
         return false;
     for (int i = 0; i <= stacks; i++) {
         float theta = SL_PI * (float)i / (float)stacks;
@@ -62,7 +62,7 @@ bool sl_mesh_sphere(sl_mesh *mesh, int slices, int stacks, sl_error *err)
 
 bool sl_mesh_plane(sl_mesh *mesh, sl_error *err)
 {
-    if (!scene_mesh_alloc(mesh, 4, 2, true, "plane", err))
+    if (!sl_scene_mesh_alloc(mesh, 4, 2, true, "plane", err))
         return false;
     static const float corners[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
     for (int v = 0; v < 4; v++) {
@@ -79,7 +79,7 @@ bool sl_mesh_plane(sl_mesh *mesh, sl_error *err)
 
 bool sl_mesh_box(sl_mesh *mesh, sl_error *err)
 {
-    if (!scene_mesh_alloc(mesh, 24, 12, true, "box", err))
+    if (!sl_scene_mesh_alloc(mesh, 24, 12, true, "box", err))
         return false;
     /* Each face: outward normal n and in-face axes u, v with u x v = n, so the corners
      * n - u - v, n + u - v, n + u + v, n - u + v run counter-clockwise seen from outside. */

@@ -91,7 +91,7 @@ static bool resolve_by_case(const char *dir, const char *rel, char out[SL_PATH_M
     return true;
 }
 
-bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX])
+bool sl_scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX])
 {
     char r[SL_PATH_MAX];
     if (snprintf(r, sizeof r, "%s", ref) >= (int)sizeof r)

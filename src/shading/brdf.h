@@ -25,7 +25,7 @@
 
 #include <stdbool.h>
 
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../core/options.h" /* sl_gterm */
 
 #define SL_BRDF_TINY 1e-30f      /* floor of pow() and log2() arguments */

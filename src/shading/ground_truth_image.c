@@ -203,7 +203,7 @@ static void shade_texel(const sl_ground_truth *gt, const sl_gbuffer_texel *t, ve
                         double intensity, float *diffuse, float *spec0, float *spec1)
 {
     vec3 V = normalize(sub(eye, t->position));
-    vec3 N = shade_facing_normal(t->normal, V); /* the shader's own */
+    vec3 N = sl_shade_facing_normal(t->normal, V); /* the shader's own */
     double nw[3], vw[3];
     unit_d(N, nw);
     unit_d(V, vw);

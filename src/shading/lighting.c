@@ -5,8 +5,8 @@
  * options.plain is set (the debug switch, docs/lighting.md "Two paths") and is what a reader
  * compares with the GLSL. The C-only lines are the trace hooks and counters (lighting_internal.h:
  * a pixel's trace is filled at a few named points, a no-op when the trace is NULL) and main()'s
- * split in three (shade_plain, then shade_surface_color for a covered pixel's sum and
- * shade_finish for the NaN guard), so the batched path (lighting_batched.c) shares all but the
+ * split in three (sl_shade_plain, then sl_shade_surface_color for a covered pixel's sum and
+ * sl_shade_finish for the NaN guard), so the batched path (lighting_batched.c) shares all but the
  * specular loops. It also reuses the sample generators exported at the end.
  *
  * Does not: run over a G-buffer (lighting_pass.c), build uniforms (lighting_uniforms.c). */
@@ -351,8 +351,8 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
     return scale(textureLod(u->uEnv, sl_dir_to_uv(d), 0.0f), u->uEnvIntensity);
 }
 
-/* GLSL: main, from `if (uDiffuse != 0)` on (lighting_internal.h: shade_surface_color). */
-vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
+/* GLSL: main, from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */
+vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
                          const vec3 *specular, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     vec3 color = vec3s(0.0f);
@@ -399,7 +399,7 @@ vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, 
 }
 
 /* GLSL: main, its last two lines (the batched path ends its pixels here too). */
-vec3 shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace)
+vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     bool finite = isfinite(color.x) && isfinite(color.y) && isfinite(color.z);
     if (!finite && task)
@@ -412,7 +412,7 @@ vec3 shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace)
 }
 
 /* GLSL: main. pixel = (x, y) = ivec2(gl_FragCoord.xy); the texel fields are the texelFetches. */
-vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
+vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
                  sl_lighting_trace *trace)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
@@ -436,21 +436,21 @@ vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int
         sl_gbuffer_extra e = shade_extra(gb, x, y);
         shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
-        color = shade_surface_color(u, &s, NULL, NULL, task, trace);
+        color = sl_shade_surface_color(u, &s, NULL, NULL, task, trace);
     }
-    return shade_finish(color, task, trace);
+    return sl_shade_finish(color, task, trace);
 }
 
 /* ---- exported for the other files of the stage (lighting_internal.h) ---- */
 
-vec2 shade_hammersley_point(const sl_lighting_uniforms *u, int k) { return hammersley_point(u, k); }
-vec2 shade_pixel_rotation(const sl_lighting_uniforms *u, int x, int y) { return pixel_rotation(u, x, y); }
-vec3 shade_skewed_sample(vec2 xi, float alpha) { return skewed_sample(xi, alpha); }
-float shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
-vec3 shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
-float shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
-vec3 shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
-vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+vec2 sl_shade_hammersley_point(const sl_lighting_uniforms *u, int k) { return hammersley_point(u, k); }
+vec2 sl_shade_pixel_rotation(const sl_lighting_uniforms *u, int x, int y) { return pixel_rotation(u, x, y); }
+vec3 sl_shade_skewed_sample(vec2 xi, float alpha) { return skewed_sample(xi, alpha); }
+float sl_shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
+vec3 sl_shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
+float sl_shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
+vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
+vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace)
 {
     return specular_splitsum(u, N, V, Ks, alpha, trace);

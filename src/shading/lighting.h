@@ -36,7 +36,7 @@
 #include <stdint.h>
 
 #include "../core/error.h"
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../core/image.h"
 #include "../core/options.h"
 #include "../ibl/env_lights.h"

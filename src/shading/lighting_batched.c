@@ -5,8 +5,8 @@
  * from the port's by float rounding (test_lighting_fast bounds it); it is deterministic, and a
  * trace follows it (docs/lighting.md "Two paths").
  *
- * Per span of a tile row (shade_span): every pixel's V, N and sample frame (pixel_stage; not
- * for a span of background alone), the background of empty pixels (shade_background_span);
+ * Per span of a tile row (sl_shade_span): every pixel's V, N and sample frame (pixel_stage; not
+ * for a span of background alone), the background of empty pixels (sl_shade_background_span);
  * then per pixel the samples in stages (specular_samples): (0) the skewed samples, from the
  * task's per-alpha table (lighting_task.c) or rotated per pixel; (1) directions w, H, the dot
  * products, G, the Fresnel factor and the lat-long uv; (2) the mip levels; (3) the texture
@@ -14,7 +14,7 @@
  * (4) the sum. The diffuse term's irradiance for the whole span (ibl sl_irradiance_eval_span,
  * the port's lookup's bits). Then main()'s sum of the terms and its NaN guard, over the span in
  * vector loops in the port's order (sum_stage), or per pixel by the port's own code
- * (shade_surface_color, shade_finish) with a trace or point lights.
+ * (sl_shade_surface_color, sl_shade_finish) with a trace or point lights.
  *
  * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
  * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
@@ -325,16 +325,16 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
 /* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
  * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
  * stage computed: see the top of the file. Same samples, same sum order. */
-__attribute__((noinline)) /* a call per pixel; inlined, it keeps shade_span from vectorizing */
+__attribute__((noinline)) /* a call per pixel; inlined, it keeps sl_shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
                              vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
     const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
-    const lobe_table *lobe = task && !rotate ? shade_lobe_for(u, task, alpha, mf) : NULL;
+    const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
-    const azimuth_table *az = rotate ? shade_azimuth_for(u, task, &local_az) : NULL;
+    const azimuth_table *az = rotate ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
     const int rule = u->uLodRule;
     const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
@@ -377,7 +377,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         } else if (rotate) {
             rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
         } else {
-            shade_lobe_fill(u, alpha, mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
+            sl_shade_lobe_fill(u, alpha, mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
         }
         /* (1) directions, dot products, G (or GGX's G'), the Fresnel factor and the uv: one
          * loop per estimator and lobe set, chosen per pixel. A sample with N.H = 0 (a rotated
@@ -631,7 +631,7 @@ typedef struct {
     float Px[SPAN], Py[SPAN], Pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN]; /* the texels' position, normal */
     int bent[SPAN], pole[SPAN];
     float Er[SPAN], Eg[SPAN], Eb[SPAN];       /* irradiance(NE), with the diffuse term on */
-    vec3 B[SPAN];                             /* Bx, By, Bz as vectors (shade_span says why) */
+    vec3 B[SPAN];                             /* Bx, By, Bz as vectors (sl_shade_span says why) */
     float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
 } pixel_block;
 
@@ -722,7 +722,7 @@ __attribute__((always_inline)) static inline void background_loop(const sl_light
     }
 }
 
-void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
+void sl_shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
                            float *bg_b)
 {
     if (u->envGather.gather && u->envGather.pairs)
@@ -743,7 +743,7 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
         return vec3s(0.0f);
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
     vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM
-                        ? shade_specular_splitsum(u, N, V, Ks, alpha, trace)
+                        ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
                         : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
                                            vec3(p->Ax[i], p->Ay[i], p->Az[i]), p->B[i], p->pole[i], Ks, alpha,
                                            rotation, task, trace);
@@ -756,8 +756,8 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
 }
 
 /* main()'s sum and its NaN guard over the span, when the pixels need nothing but the terms
- * the span has in arrays (no trace, no point lights): shade_surface_color's operations in its
- * order, then shade_finish's, as vector loops (the same bits; a term that is off is selected
+ * the span has in arrays (no trace, no point lights): sl_shade_surface_color's operations in its
+ * order, then sl_shade_finish's, as vector loops (the same bits; a term that is off is selected
  * away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
  * background on entry. */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
@@ -806,7 +806,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         r = covered[i] ? r : cr[i];
         g = covered[i] ? g : cg[i];
         b = covered[i] ? b : cb[i];
-        bool finite = isfinite(r) && isfinite(g) && isfinite(b); /* shade_finish */
+        bool finite = isfinite(r) && isfinite(g) && isfinite(b); /* sl_shade_finish */
         nonfinite += !finite;
         o[3 * i] = finite ? r : 0.0f;
         o[3 * i + 1] = finite ? g : 0.0f;
@@ -819,8 +819,8 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 /* main(), batched (lighting_internal.h): the pixel stage for the whole span, the background
  * stage when a pixel is empty, the irradiance for the span, then per pixel the specular samples;
  * main()'s sum for the span in vector loops (sum_stage), or per pixel through the port's
- * (shade_surface_color) with a trace or point lights. */
-void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count, sl_lighting_task *task,
+ * (sl_shade_surface_color) with a trace or point lights. */
+void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count, sl_lighting_task *task,
                 sl_lighting_trace *trace, vec3 *out)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
@@ -843,7 +843,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
         for (int i = 0; i < count; i++)
             p->Er[i] = p->Eg[i] = p->Eb[i] = 0.0f;
     if (empty > 0)
-        shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
+        sl_shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
     if (empty < count) /* B, a stack argument of specular_samples, from memory stored long before */
         for (int i = 0; i < count; i++)
             p->B[i] = vec3(p->Bx[i], p->By[i], p->Bz[i]);
@@ -858,7 +858,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
             /* no trace: the terms straight from the span's arrays and the texel (a shade_surface
              * built field by field and read back as arguments stalled on store forwarding) */
             count_bent(task, p->bent[i]);
-            vec2 rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
+            vec2 rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
             color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, task, NULL);
         } else {
             shade_surface s = {
@@ -870,7 +870,7 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
                 .N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
                 .Nenv = vec3(p->NEx[i], p->NEy[i], p->NEz[i]),
                 .Venv = vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
-                .rotation = u->uRotate != 0 ? shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
+                .rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
                 .occlusion = shade_extra(gb, x, y).occlusion,
                 .emissive = shade_extra(gb, x, y).emissive,
             };
@@ -881,14 +881,14 @@ void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int
             trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples, mf);
             vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, task, trace);
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
-            color = shade_surface_color(u, &s, &E, &specular, task, trace);
+            color = sl_shade_surface_color(u, &s, &E, &specular, task, trace);
         }
         if (vector_sum) {
             cr[i] = color.x;
             cg[i] = color.y;
             cb[i] = color.z;
         } else {
-            out[i] = shade_finish(color, task, trace);
+            out[i] = sl_shade_finish(color, task, trace);
         }
     }
     if (vector_sum)

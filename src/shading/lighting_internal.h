@@ -33,15 +33,15 @@ static inline float shade_lobe_param(float a)
 
 /* ---- the port's functions that the other files call (lighting.c) ---- */
 
-vec2 shade_hammersley_point(const sl_lighting_uniforms *u, int k);     /* GLSL hammersley_point */
-vec2 shade_pixel_rotation(const sl_lighting_uniforms *u, int x, int y); /* GLSL pixel_rotation */
-vec3 shade_skewed_sample(vec2 xi, float alpha);                         /* GLSL skewed_sample */
-float shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL sample_pdf */
-vec3 shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
-float shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
-vec3 shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
+vec2 sl_shade_hammersley_point(const sl_lighting_uniforms *u, int k);     /* GLSL hammersley_point */
+vec2 sl_shade_pixel_rotation(const sl_lighting_uniforms *u, int x, int y); /* GLSL pixel_rotation */
+vec3 sl_shade_skewed_sample(vec2 xi, float alpha);                         /* GLSL skewed_sample */
+float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL sample_pdf */
+vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
+float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
+vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
-vec3 shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
 
 /* A covered pixel as main() has it once its frame is known. */
@@ -68,11 +68,11 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
  * the whole span (sl_irradiance_eval_span: the same bits).
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops. */
-vec3 shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E, const vec3 *specular,
+vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E, const vec3 *specular,
                          sl_lighting_task *task, sl_lighting_trace *trace);
 
 /* The end of main(): a NaN or Inf becomes 0 (counted, and traced). */
-vec3 shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace);
+vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace);
 
 /* The view ray of background(), for both paths: m = uInvViewProj, r = uEnvRotation, passed by
  * column so a vectorized caller keeps them in registers. mat4_mul_vec4's operations. */
@@ -89,7 +89,7 @@ __attribute__((always_inline)) static inline vec3 shade_background_dir(const vec
 /* background() over a span, both fast paths (lighting_batched.c): the view ray, the fast
  * lat-long map and level 0 alone, gathered from the block when there is one; times the
  * intensity, into bg_r/g/b[0 .. count). */
-void shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
+void sl_shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int count, float *bg_r, float *bg_g,
                            float *bg_b);
 
 /* The pixel's view frame for both fast paths' vectorized loops: V from P to the eye,
@@ -295,33 +295,33 @@ static inline void count_samples(sl_lighting_task *task, int n, int below, bool 
 
 /* Samples k0 .. k0 + m - 1 of the lobe for alpha, by the port's own generators (so their bits):
  * a table's contents, or a block's when there is no task (tests, traces). */
-void shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
+void sl_shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
                      float *Lx, float *Ly, float *Lz, float *pdf);
 /* The table for alpha in the task's cache, built on a miss (the tables of the last SLOTS
  * distinct alphas are kept: scenes have few materials). */
-const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);
+const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);
 /* The azimuth table: the task's (built once per uniforms), or `local` filled when task is NULL. */
-const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local);
+const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local);
 
 /* ---- the batched path (lighting_batched.c) ---- */
 
 /* main(), batched: pixels x0 .. x0 + count - 1 (count <= SPAN) of G-buffer row y into out[].
  * A trace (count 1) records what the pixel computed. */
-void shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                 sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out);
 
 /* ---- the split-sum fast path (lighting_splitsum.c) ---- */
 
 /* Whether it runs for these uniforms: estimator SPLITSUM, not plain, no env lights, both
  * prefiltered chains as blocks of the same size. */
-bool shade_splitsum_fast(const sl_lighting_uniforms *u);
+bool sl_shade_splitsum_fast(const sl_lighting_uniforms *u);
 /* main() with specular_splitsum, vectorized over pixels x0 .. x0 + count - 1 (count <= SPAN) of
  * G-buffer row y into out[]; a trace (count 1) records what the pixel computed. */
-void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                          sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out);
 
 /* main(), the port: G-buffer texel (x, y) (lighting.c). */
-vec3 shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
+vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
                  sl_lighting_trace *trace);
 
 #endif

@@ -14,28 +14,28 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
                        sl_lighting_task *task, sl_lighting_trace *trace)
 {
     if (u->options.plain)
-        return shade_plain(u, gb, x, y, task, trace);
+        return sl_shade_plain(u, gb, x, y, task, trace);
     vec3 c;
-    if (shade_splitsum_fast(u))
-        shade_span_splitsum(u, gb, x, y, 1, task, trace, &c);
+    if (sl_shade_splitsum_fast(u))
+        sl_shade_span_splitsum(u, gb, x, y, 1, task, trace, &c);
     else
-        shade_span(u, gb, x, y, 1, task, trace, &c);
+        sl_shade_span(u, gb, x, y, 1, task, trace, &c);
     return c;
 }
 
 void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                            sl_lighting_task *task, vec3 *out)
 {
-    const bool splitsum = shade_splitsum_fast(u);
+    const bool splitsum = sl_shade_splitsum_fast(u);
     for (int x = x0; x < x0 + count; x += SPAN) {
         int n = x0 + count - x < SPAN ? x0 + count - x : SPAN;
         if (u->options.plain)
             for (int i = 0; i < n; i++)
-                out[x - x0 + i] = shade_plain(u, gb, x + i, y, task, NULL);
+                out[x - x0 + i] = sl_shade_plain(u, gb, x + i, y, task, NULL);
         else if (splitsum)
-            shade_span_splitsum(u, gb, x, y, n, task, NULL, out + (x - x0));
+            sl_shade_span_splitsum(u, gb, x, y, n, task, NULL, out + (x - x0));
         else
-            shade_span(u, gb, x, y, n, task, NULL, out + (x - x0));
+            sl_shade_span(u, gb, x, y, n, task, NULL, out + (x - x0));
     }
 }
 

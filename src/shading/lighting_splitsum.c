@@ -21,7 +21,7 @@
  *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv;
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
- *   (7) the background of empty pixels (shade_background_span, the batched path's);
+ *   (7) the background of empty pixels (sl_shade_background_span, the batched path's);
  *   (8) each pixel's colour and the NaN guard: vector loops without a trace (finish_stage),
  *       else per pixel with the trace hooks.
  * Each stage is a function of its own, kept out of line: it shows in a profile, and GCC
@@ -62,7 +62,7 @@ typedef struct {
     float bgr[SPAN], bgg[SPAN], bgb[SPAN];
 } splitsum_block;
 
-bool shade_splitsum_fast(const sl_lighting_uniforms *u)
+bool sl_shade_splitsum_fast(const sl_lighting_uniforms *u)
 {
     return u->uEstimator == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 &&
            u->splitSumPhongGather.gather && u->splitSumGGXGather.gather &&
@@ -290,7 +290,7 @@ static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_
     }
 }
 
-/* (6) main()'s sum without the point lights, in shade_surface_color's order: diffuse
+/* (6) main()'s sum without the point lights, in sl_shade_surface_color's order: diffuse
  * (Kd / pi) E I, plus the specular term, times the occlusion. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void sum_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
@@ -398,9 +398,9 @@ static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
 static inline bool finite3(float r, float g, float b) { return (r - r == 0.0f) & (g - g == 0.0f) & (b - b == 0.0f); }
 
 /* (8) without a trace (the pass, the viewer): each pixel's colour, the background or the
- * surface's sum plus its emission, through shade_finish's NaN guard, in vector loops over the
+ * surface's sum plus its emission, through sl_shade_finish's NaN guard, in vector loops over the
  * span (per pixel calls were 10% of the stage). The same operations as the traced loop below,
- * so the same bits. The counters as shade_finish, trace_background and the bent normals. */
+ * so the same bits. The counters as sl_shade_finish, trace_background and the bent normals. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void finish_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t, int count, int empty,
                          sl_lighting_task *task, splitsum_block *b, vec3 *out)
@@ -453,7 +453,7 @@ static void finish_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *
     }
 }
 
-void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                          sl_lighting_task *task, sl_lighting_trace *trace, vec3 *out)
 {
     splitsum_block blk;
@@ -463,7 +463,7 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     if (empty > 0)
-        shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
+        sl_shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
         surface_stages(u, gb, x0, y, count, b, trace);
     if (!trace) {
@@ -478,7 +478,7 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
             color = vec3(b->bgr[i], b->bgg[i], b->bgb[i]);
             trace_background(task, trace, color);
         } else {
-            /* emission travels with the diffuse term (lighting.c shade_surface_color) */
+            /* emission travels with the diffuse term (lighting.c sl_shade_surface_color) */
             vec3 em = u->uDiffuse != 0 ? vec3(b->emr[i], b->emg[i], b->emb[i]) : vec3s(0.0f);
             color = add(vec3(b->cr[i], b->cg[i], b->cb[i]), em);
             if (task)
@@ -501,6 +501,6 @@ void shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb, in
                 trace_extra(trace, s.occlusion, s.emissive);
             }
         }
-        out[i] = shade_finish(color, task, trace);
+        out[i] = sl_shade_finish(color, task, trace);
     }
 }

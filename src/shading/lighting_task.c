@@ -51,22 +51,22 @@ static void own(sl_lighting_task *task, const sl_lighting_uniforms *u)
     }
 }
 
-void shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
+void sl_shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfacet, int k0, int m, float *xi1, float *xi2,
                      float *Lx, float *Ly, float *Lz, float *pdf)
 {
     for (int i = 0; i < m; i++) {
-        vec2 xi = shade_hammersley_point(u, k0 + i);
-        vec3 L = microfacet ? shade_microfacet_sample(xi, alpha) : shade_skewed_sample(xi, alpha);
+        vec2 xi = sl_shade_hammersley_point(u, k0 + i);
+        vec3 L = microfacet ? sl_shade_microfacet_sample(xi, alpha) : sl_shade_skewed_sample(xi, alpha);
         xi1[i] = xi.x;
         xi2[i] = xi.y;
         Lx[i] = L.x;
         Ly[i] = L.y;
         Lz[i] = L.z;
-        pdf[i] = microfacet ? shade_microfacet_D(xi, alpha) : shade_sample_pdf(xi, alpha);
+        pdf[i] = microfacet ? sl_shade_microfacet_D(xi, alpha) : sl_shade_sample_pdf(xi, alpha);
     }
 }
 
-const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
+const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
 {
     int n = (int)u->uHammersley.N;
     own(task, u);
@@ -77,7 +77,7 @@ const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task
     }
     lobe_table *t = &task->slots[task->next];
     task->next = (task->next + 1) % SLOTS;
-    shade_lobe_fill(u, alpha, microfacet, 0, n, t->xi1, t->xi2, t->Lx, t->Ly, t->Lz, t->pdf);
+    sl_shade_lobe_fill(u, alpha, microfacet, 0, n, t->xi1, t->xi2, t->Lx, t->Ly, t->Lz, t->pdf);
     t->microfacet = microfacet;
     t->alpha = alpha;
     t->n = n;
@@ -86,7 +86,7 @@ const lobe_table *shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task
 }
 
 /* phi as sl_uv_to_dir computes it from u = xi1 */
-const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local)
+const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local)
 {
     int n = (int)u->uHammersley.N;
     azimuth_table *t = local;
@@ -97,7 +97,7 @@ const azimuth_table *shade_azimuth_for(const sl_lighting_uniforms *u, sl_lightin
             return t;
     }
     for (int k = 0; k < n; k++) {
-        vec2 xi = shade_hammersley_point(u, k);
+        vec2 xi = sl_shade_hammersley_point(u, k);
         float phi = 2.0f * SL_PI * (0.5f - xi.x);
         t->xi1[k] = xi.x;
         t->xi2[k] = xi.y;

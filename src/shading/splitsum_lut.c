@@ -2,6 +2,7 @@
  * once per renderer with the lighting shader's own BRDF terms (brdf.h) and sample generator
  * (lighting.c's microfacet_sample), so the table and the per-pixel estimators integrate the
  * same function. */
+#include "../core/threads.h"
 #include <math.h>
 
 #include "../ibl/ibl.h"
@@ -32,7 +33,7 @@ static vec2 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersle
     vec3 V = vec3(sqrtf(maxf(1.0f - NdotV * NdotV, 0.0f)), 0.0f, NdotV);
     float a = 0.0f, b = 0.0f;
     for (int k = 0; k < hs->n; k++) {
-        vec3 H = shade_microfacet_sample(hs->points[k], alpha); /* about +Z = N */
+        vec3 H = sl_shade_microfacet_sample(hs->points[k], alpha); /* about +Z = N */
         float VdotH = dot(V, H);
         vec3 w = sub(scale(H, 2.0f * VdotH), V);
         float wN = w.z;
@@ -56,13 +57,13 @@ vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples)
     return albedo(set, NdotV, r, &hs);
 }
 
-void sl_splitsum_lut_build(sl_splitsum_lut *lut)
+void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
 {
     enum { S = SL_SPLITSUM_LUT_SIZE };
     sl_hammersley hs;
     sl_error err;
     sl_hammersley_build(&hs, SL_SPLITSUM_LUT_SAMPLES, &err); /* a constant within 1 .. SL_HAMMERSLEY_MAX */
-#pragma omp parallel for schedule(dynamic)
+#pragma omp parallel for schedule(dynamic) num_threads(sl_threads(threads))
     for (int row = 0; row < SL_SPLITSUM_SETS * S; row++) {
         sl_splitsum_set set = (sl_splitsum_set)(row / S);
         float r = (float)(row % S) / (float)(S - 1);

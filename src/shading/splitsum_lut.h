@@ -19,7 +19,7 @@
 #ifndef SL_SPLITSUM_LUT_H
 #define SL_SPLITSUM_LUT_H
 
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../core/options.h"
 
 #define SL_SPLITSUM_LUT_SIZE 32      /* per axis: A and B are smooth; 32 is Karis' and Filament's order */
@@ -38,7 +38,7 @@ typedef struct {
 } sl_splitsum_lut;
 
 /* Fill the table (about 0.8 M BRDF evaluations, in parallel; deterministic). */
-void sl_splitsum_lut_build(sl_splitsum_lut *lut);
+void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads);
 /* One entry computed directly (the table's (i, j) is this at N.V = max(i / (SIZE - 1), 0.01),
  * r = j / (SIZE - 1)): A in .x, B in .y. For tests. */
 vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples);

@@ -1,6 +1,7 @@
 /* synthetic.c - analytic sphere G-buffers (synthetic.h). The ray of a pixel runs from the
  * near to the far plane through its centre, exactly as the lighting shader's background()
  * reconstructs it, so empty pixels and covered ones agree on the camera. */
+#include "../core/threads.h"
 #include "synthetic.h"
 
 #include <math.h>
@@ -9,18 +10,19 @@
 
 bool sl_gbuffer_synthetic_spheres(sl_gbuffer *gb, int width, int height, const sl_camera *camera,
                                   const sl_synthetic_sphere *spheres, int count, mat4 *inv_view_proj,
+                                  int threads,
                                   sl_error *err)
 {
     if (count < 0 || (count > 0 && !spheres))
         return sl_fail(err, SL_ERR_RANGE, "synthetic G-buffer: %d spheres", count);
     if (!sl_gbuffer_resize(gb, width, height, err))
         return false;
-    sl_gbuffer_clear(gb);
+    sl_gbuffer_clear(gb, threads);
     mat4 vp = sl_camera_view_proj(camera, width, height);
     mat4 inv = inverse(vp);
     if (inv_view_proj)
         *inv_view_proj = inv;
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
     for (int y = 0; y < height; y++) {
         for (int x = 0; x < width; x++) {
             float nx = 2.0f * ((float)x + 0.5f) / (float)width - 1.0f;

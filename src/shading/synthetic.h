@@ -13,7 +13,7 @@
 #include <stdbool.h>
 
 #include "../core/error.h"
-#include "../core/glsl.h"
+#include <softlight/glsl.h>
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 
@@ -29,6 +29,7 @@ typedef struct {
  * *inv_view_proj (may be NULL) receives inverse(view_proj), what the lighting uniforms need. */
 bool sl_gbuffer_synthetic_spheres(sl_gbuffer *gb, int width, int height, const sl_camera *camera,
                                   const sl_synthetic_sphere *spheres, int count, mat4 *inv_view_proj,
+                                  int threads,
                                   sl_error *err);
 
 #endif

@@ -39,7 +39,7 @@ static inline void fx_env(sl_env *env, int w, int h, fx_radiance_fn *f)
             p[1] = c.y;
             p[2] = c.z;
         }
-    if (!sl_env_build(env, &img, &err))
+    if (!sl_env_build(env, &img, 0, &err))
         fail_msg("sl_env_build: %s", err.msg);
     sl_image_free(&img);
 }
@@ -189,7 +189,7 @@ static inline void fx_frame_spheres(fx_frame *f, const sl_env *env, const sl_cam
     sl_error err;
     if (!sl_irradiance_sh9(&f->irr, env, &err))
         fail_msg("irradiance: %s", err.msg);
-    if (!sl_gbuffer_synthetic_spheres(&f->gb, w, h, cam, s, count, &f->inv_view_proj, &err))
+    if (!sl_gbuffer_synthetic_spheres(&f->gb, w, h, cam, s, count, &f->inv_view_proj, 0, &err))
         fail_msg("synthetic: %s", err.msg);
 }
 

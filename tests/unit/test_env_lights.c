@@ -30,7 +30,7 @@ static void env_from_texels(sl_env *env, int w, int h, const vec3 *texels)
     sl_error err;
     assert_true(sl_image_alloc(&img, w, h, 3, &err));
     memcpy(img.data, texels, (size_t)w * (size_t)h * sizeof(vec3));
-    if (!sl_env_build(env, &img, &err))
+    if (!sl_env_build(env, &img, 0, &err))
         fail_msg("sl_env_build: %s", err.msg);
     sl_image_free(&img);
 }
@@ -211,7 +211,7 @@ static void test_decomposition(void **state)
     const int counts[] = {1, 5, 6, 7, 8, 33, 64};
     for (int c = 0; c < 7; c++) {
         sl_env_lights el;
-        if (!sl_env_lights_extract(&el, &env, counts[c], &err))
+        if (!sl_env_lights_extract(&el, &env, counts[c], 0, &err))
             fail_msg("extract %d: %s", counts[c], err.msg);
         check_extraction(&el, t, W, H, counts[c]);
         if (counts[c] == 5) {
@@ -222,7 +222,7 @@ static void test_decomposition(void **state)
             assert_int_equal(el.texel[5], 10 * W + 31);
         /* deterministic: the same call gives the same bits */
         sl_env_lights again;
-        assert_true(sl_env_lights_extract(&again, &env, counts[c], &err));
+        assert_true(sl_env_lights_extract(&again, &env, counts[c], 0, &err));
         assert_int_equal(again.count, el.count);
         assert_memory_equal(again.dir, el.dir, sizeof el.dir);
         assert_memory_equal(again.radiance, el.radiance, sizeof el.radiance);
@@ -238,7 +238,7 @@ static void test_decomposition(void **state)
     for (int b = 0; b < 3; b++) {
         sl_env_lights el;
         err = (sl_error){0};
-        assert_false(sl_env_lights_extract(&el, &env, bad[b], &err));
+        assert_false(sl_env_lights_extract(&el, &env, bad[b], 0, &err));
         assert_int_equal(err.code, SL_ERR_RANGE);
         assert_non_null(strstr(err.msg, "env lights"));
         assert_int_equal(el.count, 0);
@@ -246,7 +246,7 @@ static void test_decomposition(void **state)
     }
     sl_env none = {0};
     sl_env_lights el;
-    assert_false(sl_env_lights_extract(&el, &none, 4, &err));
+    assert_false(sl_env_lights_extract(&el, &none, 4, 0, &err));
     sl_env_free(&env);
     free(t);
 }
@@ -264,7 +264,7 @@ static void test_all_texels_taken(void **state)
     const int counts[] = {W * H, W * H + 1, SL_ENV_LIGHTS_MAX};
     for (int c = 0; c < 3; c++) {
         sl_env_lights el;
-        assert_true(sl_env_lights_extract(&el, &env, counts[c], &err));
+        assert_true(sl_env_lights_extract(&el, &env, counts[c], 0, &err));
         check_extraction(&el, t, W, H, counts[c]);
         assert_int_equal(el.count, W * H);
         assert_near(el.clamp, 0.0, 0.0);
@@ -294,7 +294,7 @@ static void test_tiny_maps(void **state)
     vec3 one = vec3(3.0f, 2.0f, 1.0f);
     env_from_texels(&env, 1, 1, &one);
     sl_env_lights el;
-    assert_true(sl_env_lights_extract(&el, &env, 1, &err));
+    assert_true(sl_env_lights_extract(&el, &env, 1, 0, &err));
     assert_int_equal(el.count, 0);
     assert_int_equal(el.residual.level_count, 1);
     assert_memory_equal(el.residual.levels[0].texels, &one, sizeof one);
@@ -303,7 +303,7 @@ static void test_tiny_maps(void **state)
 
     vec3 two[2] = {vec3(1.0f, 1.0f, 1.0f), vec3(5.0f, 0.5f, 0.25f)};
     env_from_texels(&env, 2, 1, two);
-    assert_true(sl_env_lights_extract(&el, &env, 1, &err));
+    assert_true(sl_env_lights_extract(&el, &env, 1, 0, &err));
     check_extraction(&el, two, 2, 1, 1);
     assert_int_equal(el.texel[0], 1);
     vec3 d = texel_dir(2, 1, 1);
@@ -430,7 +430,7 @@ static int lamps_setup(void **state)
     l->texels = sky_texels(LAMP_W, LAMP_H, LAMPS, LAMP_COUNT, false);
     env_from_texels(&l->env, LAMP_W, LAMP_H, l->texels);
     sl_error err;
-    if (!sl_ground_truth_init(&l->gt, &l->env, &err) || !sl_env_lights_extract(&l->el, &l->env, LAMP_COUNT, &err))
+    if (!sl_ground_truth_init(&l->gt, &l->env, &err) || !sl_env_lights_extract(&l->el, &l->env, LAMP_COUNT, 0, &err))
         return -1;
     *state = l;
     return 0;
@@ -529,7 +529,7 @@ static void test_black_texels_as_lights(void **state)
     lamps *l = *state;
     sl_error err;
     sl_env_lights el;
-    assert_true(sl_env_lights_extract(&el, &l->env, LAMP_COUNT + 4, &err));
+    assert_true(sl_env_lights_extract(&el, &l->env, LAMP_COUNT + 4, 0, &err));
     assert_true(el.count >= LAMP_COUNT && el.count <= LAMP_COUNT + 4);
     for (int j = 0; j < el.count; j++)
         if (!fx_finite3(el.radiance[j]) || !fx_finite3(el.dir[j]))
@@ -598,7 +598,7 @@ static void test_sun_error_drops(void **state)
     sl_env_lights el;
     sl_error err;
     assert_true(sl_ground_truth_init(&gt, &env, &err));
-    assert_true(sl_env_lights_extract(&el, &env, 16, &err));
+    assert_true(sl_env_lights_extract(&el, &env, 16, 0, &err));
     print_message("sun: %d lights, clamp %.4g, share of the power %.4f\n", el.count, (double)el.clamp, el.share);
     assert_true(el.clamp < 2.0f); /* the whole sun was taken */
     sl_camera cam = {.eye = vec3(0, -3.2f, 0.4f), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 40,
@@ -665,7 +665,7 @@ static void test_plain_vs_batched(void **state)
     fx_env(&env, 128, 64, sky_sun);
     sl_env_lights el;
     sl_error err;
-    assert_true(sl_env_lights_extract(&el, &env, 24, &err));
+    assert_true(sl_env_lights_extract(&el, &env, 24, 0, &err));
     fx_frame f;
     fx_frame_setup(&f, &env, 72, 48, 5000.0f);
     f.env_lights = &el;
@@ -714,8 +714,8 @@ static void test_uniform_errors(void **state)
     fx_env(&other, 64, 32, sky_sun);
     sl_env_lights el, el_other;
     sl_error err;
-    assert_true(sl_env_lights_extract(&el, &env, 4, &err));
-    assert_true(sl_env_lights_extract(&el_other, &other, 4, &err));
+    assert_true(sl_env_lights_extract(&el, &env, 4, 0, &err));
+    assert_true(sl_env_lights_extract(&el_other, &other, 4, 0, &err));
     sl_lighting_uniforms *u = malloc(sizeof *u);
     assert_non_null(u);
     sl_lighting_desc d = {.options = {.no_diffuse = true, .env_lights = 4}, .env = &env, .eye = vec3(0, 0, 10),

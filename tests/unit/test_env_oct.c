@@ -22,7 +22,7 @@ static void make_env(sl_env *env, int w, int h, float c, int bi, int bj, float b
     if (bi >= 0)
         for (int ch = 0; ch < 3; ch++)
             img.data[3 * (bj * w + bi) + ch] = bright;
-    assert_true(sl_env_build(env, &img, &err));
+    assert_true(sl_env_build(env, &img, 0, &err));
     sl_image_free(&img);
 }
 
@@ -46,7 +46,7 @@ static void test_constant_stays_constant(void **state)
     sl_env env, oct;
     sl_error err = {0};
     make_env(&env, 64, 32, 0.75f, -1, 0, 0.0f);
-    assert_true(sl_env_build_oct(&oct, &env, 0, &err));
+    assert_true(sl_env_build_oct(&oct, &env, 0, 0, &err));
     assert_int_equal(oct.levels[0].width, 64);
     assert_int_equal(oct.level_count, 7);
     for (int l = 0; l < oct.level_count; l++)
@@ -62,7 +62,7 @@ static void test_delta_power_per_level(void **state)
     sl_env env, oct;
     sl_error err = {0};
     make_env(&env, 64, 32, 0.0f, 20, 9, 1000.0f);
-    assert_true(sl_env_build_oct(&oct, &env, 0, &err));
+    assert_true(sl_env_build_oct(&oct, &env, 0, 0, &err));
     double p0 = 0.0;
     for (int l = 0; l < oct.level_count; l++) {
         int s = oct.levels[l].width;
@@ -90,7 +90,7 @@ static void test_poles(void **state)
     sl_env env, oct;
     sl_error err = {0};
     make_env(&env, 64, 32, 1.0f, 32, 0, 100.0f);
-    assert_true(sl_env_build_oct(&oct, &env, 0, &err));
+    assert_true(sl_env_build_oct(&oct, &env, 0, 0, &err));
     double truth = 1.0 + 99.0 / 64.0;
     vec3 o = sl_oct_texture_lod(&oct, vec3(0.0f, 0.0f, 1.0f), 0.0f);
     vec3 l = textureLod(&env, sl_dir_to_uv(vec3(0.0f, 0.0f, 1.0f)), 0.0f);
@@ -115,7 +115,7 @@ static void test_fold(void **state)
     sl_env env, oct;
     sl_error err = {0};
     make_env(&env, 64, 32, 1.0f, 10, 25, 50.0f);
-    assert_true(sl_env_build_oct(&oct, &env, 0, &err));
+    assert_true(sl_env_build_oct(&oct, &env, 0, 0, &err));
     vec3 a = sl_oct_texture_lod(&oct, normalize(vec3(1e-4f, 0.6f, -0.8f)), 1.0f);
     vec3 b = sl_oct_texture_lod(&oct, normalize(vec3(-1e-4f, 0.6f, -0.8f)), 1.0f);
     assert_true(fabsf(a.x - b.x) < 1e-3f * a.x);

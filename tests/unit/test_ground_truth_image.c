@@ -36,7 +36,7 @@ static sl_env make_env(void)
             p[2] = 0.4f + 0.3f * (d.x > 0.0f ? d.x : 0.0f);
         }
     sl_env env;
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     sl_image_free(&img);
     return env;
 }
@@ -47,7 +47,7 @@ static void make_gbuffer(sl_gbuffer *gb)
     sl_error err = {0};
     memset(gb, 0, sizeof *gb);
     assert_true(sl_gbuffer_resize(gb, GW, GH, &err));
-    sl_gbuffer_clear(gb);
+    sl_gbuffer_clear(gb, 0);
     struct {
         int x, y;
         vec3 p, n;

@@ -599,7 +599,7 @@ static void test_sun_and_exposure(void **state)
         for (int exact = 0; exact < 2; exact++) {
             sl_image out = {0};
             assert_true(sl_tonemap_image(&img, &out, &(sl_tonemap_options){.exposure = exposures[e],
-                .contrast = 1.3f, .exact_srgb = exact}, &err));
+                .contrast = 1.3f, .exact_srgb = exact}, 0, &err));
             float lo = 1, hi = 0;
             for (int i = 0; i < 512 * 256 * 3; i++) {
                 assert_true(out.data[i] >= 0.0f && out.data[i] <= 1.0f);

@@ -134,7 +134,7 @@ static void test_env_sizes(void **state)
         sl_image img = make_image(cases[c].w, cases[c].h);
         sl_env env;
         sl_error err = {0};
-        assert_true(sl_env_build(&env, &img, &err));
+        assert_true(sl_env_build(&env, &img, 0, &err));
         assert_int_equal(env.level_count, cases[c].levels);
         int w = cases[c].w, h = cases[c].h;
         for (int l = 0; l < env.level_count; l++) {
@@ -161,7 +161,7 @@ static void test_env_box_and_odd_weights(void **state)
             set_texel(&img, x, y, v[y][x], (float)x, (float)y);
     sl_env env;
     sl_error err = {0};
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     assert_near(env.levels[1].texels[0].x, (1 + 2 + 16 + 32) / 4.0, 0);
     assert_near(env.levels[1].texels[1].x, (4 + 8 + 64 + 128) / 4.0, 0);
     assert_near(env.levels[1].texels[1].y, 2.5, 0);
@@ -179,7 +179,7 @@ static void test_env_box_and_odd_weights(void **state)
             t[y][x] = 10.0f * lcg(&seed);
             set_texel(&img, x, y, t[y][x], 1.0f, 0.0f);
         }
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     double col[5];
     for (int x = 0; x < 5; x++)
         col[x] = ((double)t[0][x] + t[1][x] + t[2][x]) / 3.0;
@@ -209,7 +209,7 @@ static void test_env_preserves_mean(void **state)
                 set_texel(&img, x, y, 100.0f * lcg(&seed), lcg(&seed), 0.01f * lcg(&seed));
         sl_env env;
         sl_error err = {0};
-        assert_true(sl_env_build(&env, &img, &err));
+        assert_true(sl_env_build(&env, &img, 0, &err));
         for (int ch = 0; ch < 3; ch++) {
             double m0 = level_mean(&env.levels[0], ch);
             for (int l = 1; l < env.level_count; l++) {
@@ -232,7 +232,7 @@ static void test_env_rejects(void **state)
     sl_error err = {0};
     sl_image img;
     assert_true(sl_image_alloc(&img, 4, 2, 1, &err));
-    assert_false(sl_env_build(&env, &img, &err));
+    assert_false(sl_env_build(&env, &img, 0, &err));
     assert_int_equal(err.code, SL_ERR_UNSUPPORTED);
     assert_int_equal(env.level_count, 0);
     sl_image_free(&img);
@@ -242,7 +242,7 @@ static void test_env_rejects(void **state)
         img = make_image(4, 2);
         sl_image_pixel(&img, 3, 1)[2] = bad[b];
         err = (sl_error){0};
-        assert_false(sl_env_build(&env, &img, &err));
+        assert_false(sl_env_build(&env, &img, 0, &err));
         assert_int_equal(err.code, SL_ERR_RANGE);
         assert_non_null(strstr(err.msg, "(3, 1) channel 2"));
         assert_int_equal(env.level_count, 0);
@@ -266,7 +266,7 @@ static sl_env make_4x2(void)
             set_texel(&img, x, y, v[y][x], (float)x, (float)y);
     sl_env env;
     sl_error err = {0};
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     sl_image_free(&img);
     return env;
 }
@@ -368,7 +368,7 @@ static void test_texture_lod_odd_sizes_in_bounds(void **state)
                 set_texel(&img, x, y, 1.0f + lcg(&seed), 2.0f, 3.0f);
         sl_env env;
         sl_error err = {0};
-        assert_true(sl_env_build(&env, &img, &err));
+        assert_true(sl_env_build(&env, &img, 0, &err));
         const float extreme[] = {0.0f, 1.0f, -1e-30f, 1.0f - 1e-7f, 1e30f, -1e30f, 0.5f};
         for (int i = 0; i < 2000; i++) {
             float u = i < 49 ? extreme[i % 7] : 4.0f * lcg(&seed) - 2.0f;
@@ -386,7 +386,7 @@ static void test_texture_lod_odd_sizes_in_bounds(void **state)
     }
 }
 
-/* env.c's even-size fast path against its general filter (ibl_env_build_path with general_only),
+/* env.c's even-size fast path against its general filter (sl_ibl_env_build_path with general_only),
  * every level bit for bit: the fast path must perform the same double operations in the same
  * order. Random data spanning 40 binary orders of magnitude (so the double sums do round before
  * the float conversion), with exact zeros and -0.0 (the general accumulator starts at +0.0,
@@ -412,14 +412,14 @@ static void test_env_fast_path_bit_identical(void **state)
                 set_texel(&img, x, y, -0.0f, -0.0f, -0.0f);
         sl_env fast, general;
         sl_error err = {0};
-        assert_true(ibl_env_build_path(&general, &img, true, &err));
+        assert_true(sl_ibl_env_build_path(&general, &img, true, 0, &err));
         int threads[] = {1, 3};
         for (int t = 0; t < 2; t++) {
 #ifdef _OPENMP
             int saved = omp_get_max_threads();
             omp_set_num_threads(threads[t]);
 #endif
-            assert_true(ibl_env_build_path(&fast, &img, false, &err));
+            assert_true(sl_ibl_env_build_path(&fast, &img, false, 0, &err));
 #ifdef _OPENMP
             omp_set_num_threads(saved);
 #endif
@@ -435,7 +435,7 @@ static void test_env_fast_path_bit_identical(void **state)
             sl_env_free(&fast);
         }
         /* sl_env_build is the fast build */
-        assert_true(sl_env_build(&fast, &img, &err));
+        assert_true(sl_env_build(&fast, &img, 0, &err));
         const sl_env_level *top = &fast.levels[fast.level_count - 1];
         assert_same_texels(top->texels, general.levels[general.level_count - 1].texels, 1, sizeof(vec3), 0,
                            "%dx%d, 1x1 level of sl_env_build", img.width, img.height);

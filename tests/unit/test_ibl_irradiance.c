@@ -189,7 +189,7 @@ static void test_brute_force(void **state)
         sl_env env = test_make_env(512, 256, envs[t]);
         sl_irradiance irr;
         sl_error err = {0};
-        assert_true(sl_irradiance_brute(&irr, &env, 64, &err));
+        assert_true(sl_irradiance_brute(&irr, &env, 64, 0, &err));
         assert_int_equal(irr.method, SL_IRRADIANCE_BRUTE);
         assert_int_equal(irr.map.levels[0].width, 64);
         assert_int_equal(irr.map.levels[0].height, 32);
@@ -216,7 +216,7 @@ static void test_brute_force_level(void **state)
     sl_env env = test_make_env(256, 128, constant_env);
     sl_irradiance irr;
     sl_error err = {0};
-    assert_true(sl_irradiance_brute_level(&irr, &env, 8, 0, &err));
+    assert_true(sl_irradiance_brute_level(&irr, &env, 8, 0, 0, &err));
     double worst = worst_brute_nodes(&irr, constant_e, PI * 2.5);
     print_message("brute constant, level 0 of 256x128, 8x4 map: worst %.3g\n", worst);
     assert_true(worst < 3e-4);
@@ -224,10 +224,10 @@ static void test_brute_force_level(void **state)
 
     assert_int_equal(sl_irradiance_brute_default_level(&env), 0); /* 32768 texels: within budget */
     err = (sl_error){0};
-    assert_false(sl_irradiance_brute_level(&irr, &env, 8, env.level_count, &err));
+    assert_false(sl_irradiance_brute_level(&irr, &env, 8, env.level_count, 0, &err));
     assert_int_equal(err.code, SL_ERR_RANGE);
-    assert_false(sl_irradiance_brute(&irr, &env, 0, &err));
-    assert_false(sl_irradiance_brute(&irr, &env, 5000, &err));
+    assert_false(sl_irradiance_brute(&irr, &env, 0, 0, &err));
+    assert_false(sl_irradiance_brute(&irr, &env, 5000, 0, &err));
     sl_irradiance_free(&irr);
     sl_env_free(&env);
 }
@@ -240,9 +240,9 @@ static void test_brute_force_thread_count(void **state)
     sl_error err = {0};
     int saved = omp_get_max_threads();
     omp_set_num_threads(1);
-    assert_true(sl_irradiance_brute(&a, &env, 32, &err));
+    assert_true(sl_irradiance_brute(&a, &env, 32, 0, &err));
     omp_set_num_threads(3);
-    assert_true(sl_irradiance_brute(&b, &env, 32, &err));
+    assert_true(sl_irradiance_brute(&b, &env, 32, 0, &err));
     omp_set_num_threads(saved);
     assert_same_texels(a.map.levels[0].texels, b.map.levels[0].texels, 32 * 16, sizeof(vec3), 32,
                        "brute-force irradiance, 1 thread against 3");
@@ -349,10 +349,10 @@ static void test_real_map_sh9_is_projection_of_brute(void **state)
         fail();
     }
     sl_env env;
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     sl_irradiance sh, brute;
     assert_true(sl_irradiance_sh9(&sh, &env, &err));
-    assert_true(sl_irradiance_brute(&brute, &env, 64, &err));
+    assert_true(sl_irradiance_brute(&brute, &env, 64, 0, &err));
     const sl_env_level *m = &brute.map.levels[0];
     double proj[9][3] = {{0}};
     for (int j = 0; j < m->height; j++) {

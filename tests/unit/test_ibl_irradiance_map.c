@@ -94,7 +94,7 @@ static void hard_normals(double theta_deg, double tolerance, double terminator_t
     };
     int count = (int)(sizeof normals / sizeof *normals);
     sl_irradiance brute;
-    assert_true(sl_irradiance_brute(&brute, &env, 64, &err));
+    assert_true(sl_irradiance_brute(&brute, &env, 64, 0, &err));
     for (int l = 0; l < 2; l++) {
         sl_irradiance irr;
         assert_true(sl_irradiance_map(&irr, &env, &(sl_irradiance_map_desc){.method = layouts[l]}, &err));

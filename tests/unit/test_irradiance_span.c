@@ -106,7 +106,7 @@ static void test_every_method(void **state)
     check_method(&irr, "sh9");
     sl_irradiance_free(&irr);
 
-    assert_true(sl_irradiance_brute(&irr, &env, 32, &err));
+    assert_true(sl_irradiance_brute(&irr, &env, 32, 0, &err));
     check_method(&irr, "brute");
     sl_irradiance_free(&irr);
 
@@ -160,7 +160,7 @@ static void test_batched_diffuse(void **state)
         if (methods[m] == SL_IRRADIANCE_SH9)
             assert_true(sl_irradiance_sh9(&f.irr, &env, &err));
         else if (methods[m] == SL_IRRADIANCE_BRUTE)
-            assert_true(sl_irradiance_brute(&f.irr, &env, 32, &err));
+            assert_true(sl_irradiance_brute(&f.irr, &env, 32, 0, &err));
         else
             assert_true(sl_irradiance_map(&f.irr, &env, &(sl_irradiance_map_desc){.method = methods[m]}, &err));
         sl_lighting_options o = {.samples = 8, .no_specular = true, .irradiance = methods[m]};
@@ -175,7 +175,7 @@ static void test_batched_diffuse(void **state)
                 if (!trace->covered)
                     continue;
                 covered++;
-                /* shade_surface_color's operations with the diffuse term alone */
+                /* sl_shade_surface_color's operations with the diffuse term alone */
                 vec3 E = sl_irradiance_eval(&f.irr, trace->Nenv);
                 vec3 diffuse = scale(mul(scale(trace->texel.kd, 1.0f / SL_PI), E), u->uEnvIntensity);
                 vec3 color = add(scale(add(vec3s(0.0f), diffuse), trace->occlusion), trace->emissive);

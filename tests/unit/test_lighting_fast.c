@@ -177,7 +177,7 @@ static void test_batched_vs_plain_ggx(void **state)
     fx_env(&env, 256, 128, sky_with_sun);
     sl_env_lights el;
     sl_error err;
-    if (!sl_env_lights_extract(&el, &env, 8, &err))
+    if (!sl_env_lights_extract(&el, &env, 8, 0, &err))
         fail_msg("extract: %s", err.msg);
     sl_camera cam = {.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
                      .znear = 0.1f, .zfar = 100};

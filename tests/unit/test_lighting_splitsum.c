@@ -35,7 +35,7 @@ static void ss_setup(ss_fixture *s, int w, int h)
     assert_true(sl_env_prefilter(&s->ggx, &s->env, &(sl_prefilter_desc){.ggx = true}, &err));
     s->lut = malloc(sizeof *s->lut);
     assert_non_null(s->lut);
-    sl_splitsum_lut_build(s->lut);
+    sl_splitsum_lut_build(s->lut, 0);
     sl_camera cam = {.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
                      .znear = 0.1f, .zfar = 100};
     sl_synthetic_sphere sp[5] = {
@@ -116,13 +116,13 @@ static void fast_vs_port(bool compact)
     for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
         sl_lighting_desc d = ss_desc(&s, variants[v].o, variants[v].lights);
         sl_lighting_uniforms *u = fx_uniforms_for(&d);
-        assert_true(shade_splitsum_fast(u)); /* the fast path is what the pass runs */
+        assert_true(sl_shade_splitsum_fast(u)); /* the fast path is what the pass runs */
         free(u);
         sl_image a = {0}, b = {0};
         fx_render(&d, &s.f.gb, 1, &a, NULL);
         d.options.plain = true;
         u = fx_uniforms_for(&d);
-        assert_false(shade_splitsum_fast(u));
+        assert_false(sl_shade_splitsum_fast(u));
         free(u);
         fx_render(&d, &s.f.gb, 1, &b, NULL);
         double mx, mean;
@@ -208,7 +208,7 @@ static void test_fast_vs_port_extra(void **state)
     sl_error err;
     ss_setup(&s, 160, 64);
     sl_gbuffer *gb = &s.f.gb;
-    assert_true(sl_gbuffer_use_extra(gb, true, &err));
+    assert_true(sl_gbuffer_use_extra(gb, true, 0, &err));
     for (int y = 0; y < gb->height; y++)
         for (int x = 0; x < gb->width; x++) {
             sl_gbuffer_extra *e = &gb->extra[y * gb->width + x];
@@ -287,11 +287,11 @@ static void test_fast_determinism(void **state)
     free(u);
     /* env lights: the fast path steps aside */
     sl_env_lights el;
-    assert_true(sl_env_lights_extract(&el, &s.env, 8, &err));
+    assert_true(sl_env_lights_extract(&el, &s.env, 8, 0, &err));
     s.f.env_lights = &el;
     d = ss_desc(&s, (sl_lighting_options){.env_lights = 8}, 0);
     u = fx_uniforms_for(&d);
-    assert_false(shade_splitsum_fast(u));
+    assert_false(sl_shade_splitsum_fast(u));
     free(u);
     sl_env_lights_free(&el);
     ss_teardown(&s);

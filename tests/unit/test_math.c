@@ -8,7 +8,7 @@
 #include <math.h>
 #include <stdio.h>
 
-#include "core/glsl.h"
+#include <softlight/glsl.h>
 
 #define assert_vec3(v, ex, ey, ez, tol) \
     do {                                \

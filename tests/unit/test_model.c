@@ -778,13 +778,13 @@ static void test_texture_path_forms(void **state)
     };
     for (size_t i = 0; i < sizeof found / sizeof found[0]; i++) {
         snprintf(want, sizeof want, "%s%s", dir, found[i].file);
-        if (!scene_texture_path_resolve(dir, found[i].ref, got) || strcmp(got, want) != 0)
+        if (!sl_scene_texture_path_resolve(dir, found[i].ref, got) || strcmp(got, want) != 0)
             fail_msg("\"%s\": expected %s", found[i].ref, want);
     }
     /* bark.JPG is in Maps/, not beside the model: a bare name does not search folders. */
     static const char *const missing[] = {"bark.jpg", "gone.png", "Maps", "Q:", "//", "..", ""};
     for (size_t i = 0; i < sizeof missing / sizeof missing[0]; i++)
-        if (scene_texture_path_resolve(dir, missing[i], got))
+        if (sl_scene_texture_path_resolve(dir, missing[i], got))
             fail_msg("\"%s\": expected no file, got %s", missing[i], got);
     /* Through a model: an OBJ whose material names ".\WOOD.PNG". */
     size_t png_size;

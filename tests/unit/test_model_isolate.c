@@ -64,7 +64,7 @@ static void test_model_round_trip(void **state)
     (void)state;
     sl_model m;
     sl_error err = {0};
-    assert_true(scene_import_isolated(make_model, NULL, "made.glb", (size_t)256 << 20, 10, &m, &err));
+    assert_true(sl_scene_import_isolated(make_model, NULL, "made.glb", (size_t)256 << 20, 10, &m, &err));
     assert_string_equal(m.path, "made.glb");
     assert_int_equal(m.mesh_count, 2);
     assert_int_equal(m.meshes[1].mesh.vertex_count, 4);
@@ -135,7 +135,7 @@ static void expect(scene_import_fn fn, int seconds, const char *want)
 {
     sl_model m;
     sl_error err = {0};
-    assert_false(scene_import_isolated(fn, NULL, "f.off", (size_t)128 << 20, seconds, &m, &err));
+    assert_false(sl_scene_import_isolated(fn, NULL, "f.off", (size_t)128 << 20, seconds, &m, &err));
     if (!strstr(err.msg, want) || strchr(err.msg, '\n'))
         fail_msg("expected one line with \"%s\", got \"%s\"", want, err.msg);
     assert_int_equal(m.mesh_count, 0);

@@ -357,8 +357,8 @@ static void test_library_reads_the_table(void **state)
         in.data[i] = 0.25f * (float)i;
     sl_tonemap_options explicit_defaults = {.exposure = (float)sl_options[SL_OPT_EXPOSURE].def[0],
                                             .contrast = (float)sl_options[SL_OPT_CONTRAST].def[0]};
-    assert_true(sl_tonemap_image(&in, &by_zero, &(sl_tonemap_options){0}, &err));
-    assert_true(sl_tonemap_image(&in, &by_table, &explicit_defaults, &err));
+    assert_true(sl_tonemap_image(&in, &by_zero, &(sl_tonemap_options){0}, 0, &err));
+    assert_true(sl_tonemap_image(&in, &by_table, &explicit_defaults, 0, &err));
     assert_memory_equal(by_zero.data, by_table.data, 6 * sizeof(float));
     sl_image_free(&in);
     sl_image_free(&by_zero);

@@ -292,7 +292,7 @@ static void test_gbuffer_alloc(void **state)
     assert_true(sl_gbuffer_resize(&gb, 7, 5, &err));
     assert_ptr_equal(gb.texels, first); /* same size: no reallocation */
     memset(gb.texels, 0x7f, 35 * sizeof *gb.texels);
-    sl_gbuffer_clear(&gb);
+    sl_gbuffer_clear(&gb, 0);
     sl_gbuffer_texel empty = {.depth = 1.0f};
     for (int i = 0; i < 35; i++)
         assert_memory_equal(&gb.texels[i], &empty, sizeof empty);
@@ -324,9 +324,9 @@ static void test_extra_rects(void **state)
     enum { W = 7, H = 5 };
     sl_gbuffer a = {0}, b = {0};
     sl_error err = {0};
-    assert_true(sl_gbuffer_resize(&a, W, H, &err) && sl_gbuffer_use_extra(&a, true, &err));
-    assert_true(sl_gbuffer_resize(&b, W, H, &err) && sl_gbuffer_use_extra(&b, true, &err));
-    sl_gbuffer_clear(&a);
+    assert_true(sl_gbuffer_resize(&a, W, H, &err) && sl_gbuffer_use_extra(&a, true, 0, &err));
+    assert_true(sl_gbuffer_resize(&b, W, H, &err) && sl_gbuffer_use_extra(&b, true, 0, &err));
+    sl_gbuffer_clear(&a, 0);
     memset(b.extra, 0x5a, W * H * sizeof *b.extra);
     for (int y0 = 0; y0 < H; y0 += 3) /* tiles of 4 x 3, the last ones cut */
         for (int x0 = 0; x0 < W; x0 += 4)
@@ -365,7 +365,7 @@ static void test_extra_rects(void **state)
     sl_target t = sl_gbuffer_target(&b);
     assert_non_null(t.tile_clear);
     assert_non_null(t.tile_drawn);
-    assert_true(sl_gbuffer_use_extra(&b, false, &err));
+    assert_true(sl_gbuffer_use_extra(&b, false, 0, &err));
     t = sl_gbuffer_target(&b);
     assert_null(t.tile_clear);
     assert_null(t.tile_drawn);

@@ -1,5 +1,5 @@
 /* test_raster_quad.c - 2x2 quads, helper invocations, derivatives and discard (src/raster/quad.c,
- * tile.c's quad path, shader.h's built-ins).
+ * tile.c's quad path, glsl.h's built-ins).
  *
  * Geometry is placed in window coordinates on a 64x64 target (clip = pos / 32 - 1, w = 1), so
  * attribute planes and pixel centres are exact dyadic numbers: the derivative of a linear ramp
@@ -11,7 +11,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#include "raster/shader.h"
+#include "raster/raster.h"
 #include "testutil.h"
 
 enum { W = 64, H = 64 };

@@ -1,4 +1,4 @@
-/* test_raster_quad_texture.c - texture(in, s, uv) (src/raster/shader_texture.h): the implicit
+/* test_raster_quad_texture.c - texture(in, s, uv) (softlight/glsl.h): the implicit
  * level of detail, one lambda per 2x2 quad from the coarse derivatives of uv, as llvmpipe.
  * Apart from test_raster_quad.c because testutil.h brings ibl.h, whose textureLod (the
  * environment's) has the name of texture.h's. */
@@ -11,7 +11,7 @@
 
 #include <cmocka.h>
 
-#include "raster/shader_texture.h"
+#include "raster/texture.h"
 
 enum { W = 64, H = 64 };
 

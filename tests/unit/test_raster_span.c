@@ -14,7 +14,7 @@
 #include <string.h>
 
 #include "raster/raster.h"
-#include "raster/shader.h"
+#include "raster/raster.h"
 #include "scene/camera.h"
 #include "testutil.h"
 
@@ -489,7 +489,7 @@ static void fs_quad_probe(const void *uniforms, const sl_fragment_in *in, void *
     t->vary[4] = db.x + db.y;
 }
 
-/* The same shader on one quad's four lanes: their values, then their differences (shader.h);
+/* The same shader on one quad's four lanes: their values, then their differences (glsl.h);
  * discards[l] says which lanes discard (the caller marks them in its form's way). */
 static void probe_quad_lanes(const void *uniforms, const sl_fragment_in in[4], void *const texel[4], bool discards[4])
 {
@@ -910,7 +910,7 @@ static void test_scene_clear(void **state)
     memset(b.texels, 0x77, (size_t)W * H * sizeof *b.texels);
     sl_raster *r = make_raster(2, 32, false);
     assert_true(sl_raster_scene(r, &s.scene, &s.cam, &a, &err));
-    sl_gbuffer_clear(&b);
+    sl_gbuffer_clear(&b, 0);
     mat4 vp = sl_camera_view_proj(&s.cam, W, H);
     sl_target target = sl_gbuffer_target(&b);
     sl_program copied = sl_gbuffer_program;

@@ -205,7 +205,7 @@ static void test_white_furnace_diffuse(void **state)
     sl_irradiance irr[3];
     sl_error err;
     assert_true(sl_irradiance_sh9(&irr[0], &env, &err));
-    assert_true(sl_irradiance_brute(&irr[1], &env, 32, &err));
+    assert_true(sl_irradiance_brute(&irr[1], &env, 32, 0, &err));
     sl_image e = {0};
     assert_true(sl_image_alloc(&e, 16, 8, 3, &err));
     for (int i = 0; i < 16 * 8 * 3; i++)
@@ -674,7 +674,7 @@ static void test_tonemap_image(void **state)
     const float exposures[] = {0.1f, 1.0f, 10000.0f};
     for (int e = 0; e < 3; e++) {
         sl_tonemap_options o = {.exposure = exposures[e]};
-        assert_true(sl_tonemap_image(&in, &out, &o, &err));
+        assert_true(sl_tonemap_image(&in, &out, &o, 0, &err));
         for (int i = 0; i < 8; i++) {
             float v = out.data[3 * i];
             assert_true(v >= 0.0f && v <= 1.0f);
@@ -685,9 +685,9 @@ static void test_tonemap_image(void **state)
         for (int i = 1; i < 7; i++) /* monotone over the increasing inputs */
             assert_true(out.data[3 * i] >= out.data[3 * (i - 1)]);
     }
-    assert_false(sl_tonemap_image(&in, &out, &(sl_tonemap_options){.exposure = -1}, &err));
+    assert_false(sl_tonemap_image(&in, &out, &(sl_tonemap_options){.exposure = -1}, 0, &err));
     assert_int_equal(err.code, SL_ERR_RANGE);
-    assert_true(sl_tonemap_image(&in, &in, NULL, &err)); /* in place */
+    assert_true(sl_tonemap_image(&in, &in, NULL, 0, &err)); /* in place */
     sl_image_free(&in);
     sl_image_free(&out);
 }

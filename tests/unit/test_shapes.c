@@ -8,7 +8,7 @@
 #include <string.h>
 
 #include "scene/scene.h"
-#include "scene/scene_internal.h" /* scene_compute_tangents */
+#include "scene/scene_internal.h" /* sl_scene_compute_tangents */
 
 static const double PI_D = 3.14159265358979323846;
 
@@ -194,7 +194,7 @@ static void assert_generated_match(sl_mesh *m, float min_dot)
     vec4 *analytic = malloc(n * sizeof *analytic);
     assert_non_null(analytic);
     memcpy(analytic, m->tangents, n * sizeof *analytic);
-    assert_true(scene_compute_tangents(m));
+    assert_true(sl_scene_compute_tangents(m));
     bool *used = calloc(n, sizeof *used); /* the sphere's last pole vertex is in no triangle */
     assert_non_null(used);
     for (int k = 0; k < 3 * m->triangle_count; k++)

@@ -114,7 +114,7 @@ static void test_chain_layout(void **state)
                 p[2] = x == 3 && y == 1 ? 5000.0f : 0.5f; /* one bright texel */
             }
         sl_env env;
-        assert_true(sl_env_build(&env, &img, &err));
+        assert_true(sl_env_build(&env, &img, 0, &err));
         assert_non_null(env.e5);
         int next = 0;
         for (int l = 0; l < env.level_count; l++) {

@@ -324,8 +324,8 @@ static sl_texture *level_texture(void)
         for (int i = 0; i < t->level[l].width * t->level[l].height; i++)
             p[i] = (float)l;
     }
-    tex_plane_drop(t); /* the decoded plane was made from the levels as created: again from these */
-    tex_plane_build(t);
+    sl_tex_plane_drop(t); /* the decoded plane was made from the levels as created: again from these */
+    sl_tex_plane_build(t);
     return t;
 }
 
@@ -737,7 +737,7 @@ static void test_fast_path_bits(void **state)
             /* small textures sample the decoded plane (RGBA32F stores one already); then the
              * stored bytes through the per-format instances, the plane dropped */
             assert_true(t->plane_storage != NULL || f == SL_TEX_RGBA32F);
-            for (int pass = 0; pass < 2; pass++, tex_plane_drop(t)) {
+            for (int pass = 0; pass < 2; pass++, sl_tex_plane_drop(t)) {
                 for (int min = SL_NEAREST; min <= SL_LINEAR_MIPMAP_LINEAR; min++)
                     for (int w = 0; w < 9; w++) {
                         sl_sampler2D s = sampler(t, (sl_filter)min, min & 1 ? SL_LINEAR : SL_NEAREST,
@@ -935,8 +935,8 @@ static void test_textured_program_forms(void **state)
                     u[o].extra = NULL;
                 }
                 assert_true(sl_gbuffer_resize(&gb[k], W, H, &err));
-                assert_true(sl_gbuffer_use_extra(&gb[k], true, &err));
-                sl_gbuffer_clear(&gb[k]);
+                assert_true(sl_gbuffer_use_extra(&gb[k], true, 0, &err));
+                sl_gbuffer_clear(&gb[k], 0);
                 u[0].extra = gb[k].extra;
                 u[0].extra_width = W;
                 sl_draw draws[2] = {{.program = progs[k], .vs_uniforms = &u[0], .fs_uniforms = &u[0], .mesh = &sphere},
@@ -994,7 +994,7 @@ static void test_shared_plan(void **state)
     assert_true(sl_texture_create(SL_TEX_RGBA8, 32, 16, data + 5, true, &b, &err));
     assert_true(sl_texture_create(SL_TEX_RGBA8, 16, 16, data, true, &small, &err));
     assert_true(sl_texture_create(SL_TEX_RGBA8, 32, 16, data + 9, true, &bytes, &err));
-    tex_plane_drop(bytes);
+    sl_tex_plane_drop(bytes);
     long checked = 0;
     for (int min = SL_NEAREST; min <= SL_LINEAR_MIPMAP_LINEAR; min++)
         for (int w = 0; w < 9; w++) {

@@ -79,7 +79,7 @@ static void test_image_matches_exact_curve(void **state)
         for (int e = 0; e < 3; e++) {
             sl_tonemap_options o = {.exposure = exposures[e], .contrast = curves[c].contrast,
                                     .exact_srgb = curves[c].srgb};
-            assert_true(sl_tonemap_image(&in, &out, &o, &err));
+            assert_true(sl_tonemap_image(&in, &out, &o, 0, &err));
             long differ = 0;
             for (size_t i = 0; i < n; i++) {
                 int want = sl_unorm8(sl_tonemap_value(in.data[i], o.exposure, o.contrast, o.exact_srgb));
@@ -89,8 +89,8 @@ static void test_image_matches_exact_curve(void **state)
         }
     /* in place: the same result */
     sl_tonemap_options o = {.exposure = 1.0f, .contrast = 1.0f};
-    assert_true(sl_tonemap_image(&in, &out, &o, &err));
-    assert_true(sl_tonemap_image(&in, &in, &o, &err));
+    assert_true(sl_tonemap_image(&in, &out, &o, 0, &err));
+    assert_true(sl_tonemap_image(&in, &in, &o, 0, &err));
     assert_memory_equal(in.data, out.data, n * sizeof(float));
     sl_image_free(&in);
     sl_image_free(&out);
@@ -108,7 +108,7 @@ static long differ_from(sl_image *in, sl_image *out, uint32_t start, uint32_t st
         in->data[i] = c;
     }
     sl_error err = {0};
-    assert_true(sl_tonemap_image(in, out, o, &err));
+    assert_true(sl_tonemap_image(in, out, o, 0, &err));
     long differ = 0;
     for (size_t i = 0; i < n; i++) {
         int want = sl_unorm8(sl_tonemap_value(in->data[i], o->exposure, o->contrast, o->exact_srgb));
@@ -190,9 +190,9 @@ static void test_xrgb8888_matches_display_image(void **state)
             sl_tonemap_options o = {.exposure = exposures[e], .contrast = curves[c].contrast,
                                     .exact_srgb = curves[c].srgb};
             assert_true(sl_tonemap_prepare(&o, tab, &err));
-            assert_true(sl_tonemap_apply(tab, &in, &out, &err));
+            assert_true(sl_tonemap_apply(tab, &in, &out, 0, &err));
             memset(px, 0x5a, (size_t)pitch * h);
-            sl_tonemap_apply_xrgb8888(tab, &in, px, pitch);
+            sl_tonemap_apply_xrgb8888(tab, &in, px, pitch, 0);
             long differ = 0;
             for (int y = 0; y < h; y++) {
                 for (int x = 0; x < w; x++) {

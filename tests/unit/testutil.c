@@ -140,7 +140,7 @@ sl_env test_make_env(int w, int h, test_env_fn fn)
                 p[c] = (float)fn(d, c);
         }
     sl_env env;
-    assert_true(sl_env_build(&env, &img, &err));
+    assert_true(sl_env_build(&env, &img, 0, &err));
     sl_image_free(&img);
     return env;
 }

@@ -1,8 +1,15 @@
-/* glsl.h - GLSL's vocabulary in C11, so shaders can be ported line by line.
+/* softlight/glsl.h - GLSL's vocabulary in C11, so shaders can be ported line by line.
  *
- * Owns: the vector and matrix types (vec2, vec3, vec4, mat3, mat4) and the
- * GLSL built-ins the shaders use. Everything is float32 and static inline, as
- * in GLSL; double belongs to precomputation and references, not here.
+ * Opt-in: no other public header includes it. A C shader source includes it to write
+ * vec3, dot, normalize, dFdx, texture ... as GLSL does; the names are unprefixed, so it is
+ * meant for shader sources, not for headers that others include. It is C11 only (_Generic,
+ * compound literals): a C++ includer gets an error, and uses the sl_ API instead.
+ *
+ * Owns: GLSL's names for the vector and matrix types (vec2 is sl_vec2, ..., the same
+ * types, types.h) and the GLSL built-ins the shaders use, including the fragment
+ * built-ins (dFdx, dFdy, fwidth, discard, texture, textureLod, textureGrad,
+ * texelFetch, textureSize) on top of program.h and texture.h. Everything is float32
+ * and static inline, as in GLSL; double belongs to precomputation and references.
  *
  * C has no operator overloading, so arithmetic is spelled out:
  *     GLSL  a + b * c        C  add(a, mul(b, c))
@@ -20,17 +27,26 @@
  *
  * Does not: provide swizzles beyond .x/.y/.z/.w members and xyz(), or integer
  * vectors beyond ivec2. */
-#ifndef SL_GLSL_H
-#define SL_GLSL_H
+#ifndef SOFTLIGHT_GLSL_H
+#define SOFTLIGHT_GLSL_H
+
+#ifdef __cplusplus
+#error "softlight/glsl.h is a C11 vocabulary (_Generic, compound literals); from C++ use the sl_ API of softlight/softlight.h"
+#endif
 
 #include <math.h>
+#include <stdbool.h>
 
-typedef struct { float x, y; } vec2;
-typedef struct { float x, y, z; } vec3;
-typedef struct { float x, y, z, w; } vec4;
-typedef struct { vec3 c[3]; } mat3;   /* c[column] */
-typedef struct { vec4 c[4]; } mat4;   /* c[column] */
-typedef struct { int x, y; } ivec2;
+#include <softlight/program.h>
+#include <softlight/texture.h>
+#include <softlight/types.h>
+
+typedef sl_vec2 vec2;
+typedef sl_vec3 vec3;
+typedef sl_vec4 vec4;
+typedef sl_mat3 mat3; /* c[column] */
+typedef sl_mat4 mat4; /* c[column] */
+typedef sl_ivec2 ivec2;
 
 #define SL_PI 3.14159265358979323846f
 
@@ -197,7 +213,7 @@ static inline mat4 mat4_transpose(mat4 m)
 }
 /* The upper-left 3x3, e.g. for normal matrices: transpose(inverse(mat3(model))). */
 static inline mat3 mat3_from_mat4(mat4 m) { return (mat3){{xyz(m.c[0]), xyz(m.c[1]), xyz(m.c[2])}}; }
-mat4 mat4_inverse(mat4 m);   /* glsl.c; singular gives all zeros */
+static inline mat4 mat4_inverse(mat4 m) { return sl_mat4_inverse(m); } /* singular gives all zeros */
 static inline mat4 mat4_translate(vec3 t)
 {
     mat4 m = mat4_identity();
@@ -209,13 +225,112 @@ static inline mat4 mat4_scale(vec3 s)
     return (mat4){{{s.x, 0, 0, 0}, {0, s.y, 0, 0}, {0, 0, s.z, 0}, {0, 0, 0, 1}}};
 }
 /* Rotation by `angle` radians about the unit `axis`, right-handed. */
-mat4 mat4_rotate(vec3 axis, float angle);
+static inline mat4 mat4_rotate(vec3 axis, float angle) { return sl_mat4_rotate(axis, angle); }
 /* gluLookAt: the view matrix of an eye at `eye` looking at `center`. */
-mat4 lookAt(vec3 eye, vec3 center, vec3 up);
+static inline mat4 lookAt(vec3 eye, vec3 center, vec3 up) { return sl_mat4_look_at(eye, center, up); }
 /* gluPerspective: fovy in radians; maps z in [-near, -far] to NDC [-1, 1]. */
-mat4 perspective(float fovy, float aspect, float znear, float zfar);
+static inline mat4 perspective(float fovy, float aspect, float znear, float zfar)
+{
+    return sl_mat4_perspective(fovy, aspect, znear, zfar);
+}
 
 #define transpose(m) _Generic((m), mat3: mat3_transpose, mat4: mat4_transpose)(m)
 #define inverse(m) _Generic((m), mat3: mat3_inverse, mat4: mat4_inverse)(m)
+
+/* ---- fragment built-ins (program.h) ----
+ *
+ * A C shader has no hidden state, so the fragment's sl_fragment_in is passed explicitly:
+ * GLSL `dFdx(uv)` is `dFdx(in, uv)`, `discard;` is `{ discard(in); return; }` (discard marks
+ * the fragment; the shader then returns, as GLSL's discard ends the invocation). The
+ * derivatives need a program with `derivatives = true` (it runs in 2x2 quads), discard one
+ * with `discards = true`; elsewhere the derivatives return 0 and discard does nothing.
+ *
+ * dFdx is dFdxFine, as in llvmpipe, which computes every form with the same per-row
+ * difference: each pixel gets the difference of its own row of the quad (dFdy: of its own
+ * column). The coarse forms are what GLSL defines them as, one value for the quad (row y even
+ * for dFdxCoarse, column x even for dFdyCoarse). How a derivative of any value the shader
+ * computes is found, what it costs and its limits: docs/shader-api.md "Quads". */
+static inline void discard(const sl_fragment_in *in) { sl_discard(in); }
+
+/* The float, vec2, vec3 and vec4 forms of one derivative kind: fn1 .. fn4. */
+#define SL_DERIVATIVE_FORMS(fn, kind)                                                                             \
+    static inline float fn##1(const sl_fragment_in *in, float v)                                                  \
+    {                                                                                                             \
+        float d;                                                                                                  \
+        sl_quad_derivative(in, kind, &v, 1, &d);                                                                  \
+        return d;                                                                                                 \
+    }                                                                                                             \
+    static inline vec2 fn##2(const sl_fragment_in *in, vec2 v)                                                   \
+    {                                                                                                             \
+        float a[2] = {v.x, v.y}, d[2];                                                                            \
+        sl_quad_derivative(in, kind, a, 2, d);                                                                    \
+        return (vec2){d[0], d[1]};                                                                                \
+    }                                                                                                             \
+    static inline vec3 fn##3(const sl_fragment_in *in, vec3 v)                                                    \
+    {                                                                                                             \
+        float a[3] = {v.x, v.y, v.z}, d[3];                                                                       \
+        sl_quad_derivative(in, kind, a, 3, d);                                                                    \
+        return (vec3){d[0], d[1], d[2]};                                                                          \
+    }                                                                                                             \
+    static inline vec4 fn##4(const sl_fragment_in *in, vec4 v)                                                    \
+    {                                                                                                             \
+        float a[4] = {v.x, v.y, v.z, v.w}, d[4];                                                                  \
+        sl_quad_derivative(in, kind, a, 4, d);                                                                    \
+        return (vec4){d[0], d[1], d[2], d[3]};                                                                    \
+    }
+
+SL_DERIVATIVE_FORMS(sl_dfdx_fine, SL_DFDX_FINE)
+SL_DERIVATIVE_FORMS(sl_dfdy_fine, SL_DFDY_FINE)
+SL_DERIVATIVE_FORMS(sl_dfdx_coarse, SL_DFDX_COARSE)
+SL_DERIVATIVE_FORMS(sl_dfdy_coarse, SL_DFDY_COARSE)
+SL_DERIVATIVE_FORMS(sl_fwidth_fine, SL_FWIDTH_FINE)
+SL_DERIVATIVE_FORMS(sl_fwidth_coarse, SL_FWIDTH_COARSE)
+
+#define SL_DERIVATIVE_GENERIC(in, v, fn) _Generic((v), float: fn##1, vec2: fn##2, vec3: fn##3, vec4: fn##4)(in, v)
+#define dFdx(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdx_fine)
+#define dFdy(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdy_fine)
+#define dFdxFine(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdx_fine)
+#define dFdyFine(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdy_fine)
+#define dFdxCoarse(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdx_coarse)
+#define dFdyCoarse(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_dfdy_coarse)
+#define fwidth(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_fwidth_fine)
+#define fwidthFine(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_fwidth_fine)
+#define fwidthCoarse(in, v) SL_DERIVATIVE_GENERIC(in, v, sl_fwidth_coarse)
+
+/* For a quad form (sl_program.fragment_quad): v[l] is a value of lane l; the derivative lane
+ * `lane` gets, with the same expression as the generic path (so the two give the same bits).
+ * A multi-quad form takes the same differences on its quads' lanes 4 q .. 4 q + 3. */
+static inline float sl_quad_dfdx(const float v[4], int lane) { return v[lane | 1] - v[lane & 2]; }
+static inline float sl_quad_dfdy(const float v[4], int lane) { return v[lane | 2] - v[lane & 1]; }
+static inline float sl_quad_dfdx_coarse(const float v[4]) { return v[1] - v[0]; }
+static inline float sl_quad_dfdy_coarse(const float v[4]) { return v[2] - v[0]; }
+
+/* ---- texture built-ins (texture.h) ---- */
+
+/* GLSL texture(s, uv, bias): the implicit level, one per 2x2 quad, computed as llvmpipe computes
+ * it from the coarse derivatives of uv (lane 1 - lane 0 in x, lane 2 - lane 0 in y); the
+ * position stays per pixel. A call counts as one derivative call (one record of uv), so a
+ * program that calls it needs `derivatives = true`; without it the level is that of zero
+ * derivatives (the base level, magnified). */
+static inline vec4 textureBias(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv, float bias)
+{
+    float v[2] = {uv.x, uv.y}, dx[2], dy[2];
+    sl_quad_gradients(in, true, v, 2, dx, dy);
+    float lambda = sl_texture_lambda_quad(s, (vec2){dx[0], dx[1]}, (vec2){dy[0], dy[1]}, bias);
+    return sl_texture_sample(s, uv, lambda);
+}
+static inline vec4 texture(const sl_fragment_in *in, const sl_sampler2D *s, vec2 uv)
+{
+    return textureBias(in, s, uv, 0.0f);
+}
+/* textureLod on an sl_sampler2D (the library's environment lookup adds its own overload). */
+#define textureLod(s, uv, lod)                                                                              \
+    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod)(s, uv, lod)
+static inline vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 dPdy)
+{
+    return sl_texture_grad(s, uv, dPdx, dPdy);
+}
+static inline vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod) { return sl_texel_fetch(s, p, lod); }
+static inline ivec2 textureSize(const sl_sampler2D *s, int lod) { return sl_texture_size(s, lod); }
 
 #endif

@@ -1,0 +1,40 @@
+/* renderer_api.c - the public renderer (softlight/renderer.h) on top of sl_renderer_init: a heap
+ * renderer made from the few options a caller sets, and read access to its frame. */
+#include <stdlib.h>
+
+#include "renderer.h"
+
+sl_renderer *sl_renderer_create(const sl_scene *scene, const sl_renderer_options *opt, sl_error *err)
+{
+    sl_render_desc desc = {0};
+    if (opt) {
+        desc.width = opt->width;
+        desc.height = opt->height;
+        desc.lighting.samples = opt->samples;
+        desc.tonemap.exposure = opt->exposure;
+        desc.tonemap.contrast = opt->contrast;
+        desc.threads = opt->threads;
+    }
+    sl_renderer *r = malloc(sizeof *r);
+    if (!r) {
+        sl_fail(err, SL_ERR_MEMORY, "out of memory for the renderer");
+        return NULL;
+    }
+    if (!sl_renderer_init(r, scene, &desc, err)) {
+        free(r);
+        return NULL;
+    }
+    return r;
+}
+
+void sl_renderer_destroy(sl_renderer *r)
+{
+    if (!r)
+        return;
+    sl_renderer_free(r);
+    free(r);
+}
+
+const sl_image *sl_renderer_radiance(const sl_renderer *r) { return &r->radiance; }
+const sl_image *sl_renderer_display(const sl_renderer *r) { return &r->display; }
+const sl_gbuffer *sl_renderer_gbuffer(const sl_renderer *r) { return &r->gbuffer; }
