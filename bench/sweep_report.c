@@ -442,7 +442,7 @@ static void write_why_estimators(const report *rp, FILE *f)
             m256 = i;
     }
     if (b256 >= 0 && sum[b256].done)
-        fprintf(f, "* The recipe's estimator is biased (ERRATA): at N = 256 its nRMSE is still %.4f (%.4f at N = 40),\n"
+        fprintf(f, "* The recipe's estimator is biased (docs/conventions.md, erratum 7): at N = 256 its nRMSE is still %.4f (%.4f at N = 40),\n"
                    "  specular %.4f. Sampling more does not remove the bias, so no N of the recipe gets close.\n",
                 sum[b256].e[0].nrmse, b->e[0].nrmse, sum[b256].e[2].nrmse);
     if (c256 >= 0 && sum[c256].done)

@@ -4,7 +4,7 @@
  *
  * This file holds the one copy of stb_image and stb_image_write in softlight (their
  * IMPLEMENTATION macros are defined here and nowhere else). stb_image is built for PNG
- * and JPEG only: .hdr files must never reach it (ERRATA.md: it can loop forever on a
+ * and JPEG only: .hdr files must never reach it (docs/conventions.md, erratum 6: it can loop forever on a
  * truncated one); hdr.c reads those.
  *
  * stb's own limits: STBI_MAX_DIMENSIONS (set to SL_IMAGE_MAX_SIDE below) and sizes that overflow

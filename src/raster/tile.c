@@ -13,8 +13,8 @@
  * extremes over a block are at corners): outside (skipped), inside (filled without
  * per-pixel tests), or partial (per-pixel edge tests).
  *
- * Two paths, chosen per draw (STYLE.md "hot loops: specialised, with the plain path
- * beside"):
+ * Two paths, chosen per draw (the specialised path, and the plain one beside it to compare
+ * against):
  *   span   (the default) one row of the triangle's blocks at a time: a vectorized loop
  *          tests coverage and depth for the whole row, the passing columns are packed,
  *          a second loop interpolates z, 1/w and the varyings for them in structure-of-

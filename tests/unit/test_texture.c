@@ -105,7 +105,7 @@ static void test_srgb_all_codes(void **state)
         /* the float nearest the double: one rounding, no more */
         assert_true(v.x == (float)expect && v.y == (float)expect && v.z == (float)expect);
     }
-    assert_near(texelFetch(&s, ivec2(128, 0), 0).x, 0.21586, 5e-6); /* ERRATA: not 0.2195 */
+    assert_near(texelFetch(&s, ivec2(128, 0), 0).x, 0.21586, 5e-6); /* docs/conventions.md, erratum 8: not 0.2195 */
     sl_texture_destroy(t);
 }
 
