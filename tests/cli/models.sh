@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# models.sh BUILD_DIR - model files through assimp end to end (issue 13, "Import"):
+# models.sh BUILD_DIR - model files through assimp end to end:
 # `softlight render FILE` and `info FILE` with no scene file (the default scene: the file's
 # camera or one framing the bounds), an OBJ+MTL's material arriving, and bad files: status 2,
 # one line naming the file, no output written, no hang (a FIFO or /dev/zero named as a buffer).

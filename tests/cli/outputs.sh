@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# outputs.sh BUILD_DIR - the files one command writes (issue 16, items 2, 3 and 8):
+# outputs.sh BUILD_DIR - the files one command writes:
 #  - all or nothing: when any output of `render` fails (--hdr, --pfm, --aov, --normals, -o, or the
 #    disk filling up during the .pfm, simulated with `ulimit -f`), the command exits 2 with one
 #    line and no existing output is replaced, no new one appears, no temporary is left;

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# scene_limits.sh BUILD_DIR - limits of a scene file found where the scene is read (issue 16
-# items 6 and 8): `info` fails as `render` would, with one line naming the file and the JSON
+# scene_limits.sh BUILD_DIR - limits of a scene file found where the scene is read: `info` fails as `render` would, with one line naming the file and the JSON
 # path, and `render` writes nothing; a scene at the limit renders. docs/scene-format.md
 # "Limits" lists them.
 set -u

@@ -1,5 +1,5 @@
-/* test_image_limits.c - what the image readers do with hostile and unusual files (issue 16,
- * items 4 and 8): the image memory budget checked against a declared size before allocating,
+/* test_image_limits.c - what the image readers do with hostile and unusual files: the
+ * image memory budget checked against a declared size before allocating,
  * the magic read before the rest of a file, the .hdr header without its blank line, old-style
  * run-length scanlines, and CRLF header lines.
  *
@@ -157,7 +157,7 @@ static void test_png_zlib_bomb(void **state)
 static void test_magic_before_whole_file(void **state)
 {
     (void)state;
-    /* /dev/zero is endless: each reader must fail on its first bytes (before: 2 GiB read first) */
+    /* /dev/zero is endless: each reader must fail on its first bytes, not read 2 GiB first */
     sl_image img;
     sl_error err = {0};
     assert_false(sl_image_read_hdr("/dev/zero", 0, &img, NULL, &err));

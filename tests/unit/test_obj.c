@@ -322,7 +322,7 @@ static void test_empty_file(void **state)
     assert_non_null(strstr(err.msg, "t.obj:2: NUL byte"));
 }
 
-/* Item 1 and 9 of issue 16: a UTF-8 byte-order mark (Windows editors write one) is skipped,
+/* A UTF-8 byte-order mark (Windows editors write one) is skipped,
  * so the first vertex is kept: bounds max must be (1,1,0), not (1,1,1) from vertex 4. */
 static void test_utf8_bom(void **state)
 {

@@ -1,6 +1,6 @@
 /* test_output_set.c - src/core/output_set.c: the files of one command replaced all together or
  * not at all, symbolic links written through, non-regular targets refused, and the temporaries
- * of killed runs removed (issue 16, items 2, 3 and 8).
+ * of killed runs removed.
  *
  * Each test works in a fresh directory of its own and checks every entry in it, hidden ones
  * included, so a stray temporary fails the test. A "disk full" is a file size limit

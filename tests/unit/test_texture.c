@@ -621,7 +621,7 @@ static void test_bad_files(void **state)
 
 /* ---- the fast fetch path against the plain one ---- */
 
-/* The sampler as first written (before sampler.c's per-format instances and its REPEAT masks):
+/* A plain reference sampler (without sampler.c's per-format instances and its REPEAT masks):
  * a switch per texel (tex_texel), a remainder per wrap. The fast path must give its bits. */
 static float ref_safe_coord(float x)
 {
