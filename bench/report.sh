@@ -2,17 +2,18 @@
 # report.sh - run the benchmarks and write their tables into the docs.
 #
 #   bench/report.sh [BUILD_DIR] [RUNS]
-#     BUILD_DIR  a Release build with softlight, softlight-gl, bench_raster and bench_shading
-#                (default build)
+#     BUILD_DIR  a Release build with softlight, softlight-gl, bench_raster, bench_shading and
+#                bench_texture (default build)
 #     RUNS       runs of each benchmark; every figure written is the median over the runs of
 #                each run's own median over frames (default 3)
 #
 # Rewrites, in place, the text between marker lines
 #     <!-- bench:begin NAME -->
 #     <!-- bench:end -->
-# in docs/performance.md (raster, lighting, vs-gl, viewer, stamp) and README.md (readme), and
-# leaves every other line alone. Each block starts with a dated line: when, on which CPU, how
-# many cores, the load average before and after, which commit. The README block also carries
+# in docs/performance.md (stamp, raster, lighting, texture, vs-gl, viewer) and README.md
+# (readme), and leaves every other line alone. The stamp block, and the end of the README's
+# block, is a dated line: when, on which CPU, how many cores, the load average before and
+# after, which commit. The README block also carries
 # accuracy figures, read from docs/accuracy/speed-vs-error.csv (written by
 # bench/speed-vs-error.sh, which is not rerun here: it takes from minutes to an hour).
 #
@@ -21,6 +22,7 @@
 #   bench_raster --threads 1,2 --tiles 64 --frames 5           RUNS times
 #   bench_shading --n 20,40,80 --threads 1,2 --frames 3        RUNS times (batched path)
 #   bench_shading --n 40 --threads 1,2 --frames 1 --plain      RUNS times (the line-by-line port)
+#   bench_texture --rounds RUNS                                each texture format, one thread
 #   bench/vs-gl.sh BUILD_DIR RUNS 3                            every shipped scene
 #   softlight view SCENE --size 1280x720 --benchmark 40 --move-div 1 under xvfb-run, RUNS times a
 #                                                              scene (skipped without xvfb-run)
@@ -30,7 +32,7 @@ cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 RUNS=${2:-3}
 export OMP_WAIT_POLICY=passive
-for p in softlight softlight-gl bench_raster bench_shading; do
+for p in softlight softlight-gl bench_raster bench_shading bench_texture; do
     [ -x "$BUILD/$p" ] || { echo "report.sh: $BUILD/$p not built" >&2; exit 2; }
 done
 T=$(mktemp -d "${TMPDIR:-/tmp}/report.XXXXXX")
@@ -79,6 +81,15 @@ done >"$T/shading"
             'BEGIN { printf "| %s | %d | %.1f | %.1f | %.2fx | %.1f |\n", p, n, a, b, a / b, s }'
     done
 } >"$T/lighting.md"
+
+# --- texture sampling, one thread, each format
+echo "report.sh: bench_texture" >&2
+"$BUILD/bench_texture" --rounds "$RUNS" >"$T/texture.txt"
+{
+    echo '| format | bytes a texel | trilinear, ns | bilinear, ns | nearest, ns |'
+    echo '|---|---:|---:|---:|---:|'
+    awk 'NF == 6 && $2 ~ /^[0-9]+$/ { printf "| %s | %s | %s | %s | %s |\n", $1, $2, $4, $5, $6 }' "$T/texture.txt"
+} >"$T/texture.md"
 
 # --- against Mesa's llvmpipe, every shipped scene
 echo "report.sh: vs-gl.sh, $RUNS rounds" >&2
@@ -163,7 +174,7 @@ python3 - "$T" <<'EOF'
 import os, re, sys
 t = sys.argv[1]
 stamp = open(os.path.join(t, 'stamp.md')).read().strip()
-blocks = {'raster': 'raster.md', 'lighting': 'lighting.md', 'vs-gl': 'vsgl.md', 'viewer': 'viewer.md',
+blocks = {'raster': 'raster.md', 'lighting': 'lighting.md', 'texture': 'texture.md', 'vs-gl': 'vsgl.md', 'viewer': 'viewer.md',
           'readme': 'readme.md', 'stamp': None}
 for doc in ('docs/performance.md', 'README.md'):
     text = open(doc, encoding='utf-8').read()
