@@ -98,7 +98,7 @@ static double control_ms(int threads)
 }
 
 /* --boxes: n boxes of side 2 * 0.004 on a square grid over [-4, 4]^2 at z = 0, seen from
- * above (the scene the issue timed), one object and one draw each. */
+ * above (a scene of many tiny objects), one object and one draw each. */
 static int bench_boxes(int n, const int *threads, int nthreads, const int *tiles, int ntiles, int frames, int width,
                        int height, bool plain)
 {

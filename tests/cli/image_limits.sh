@@ -28,7 +28,7 @@ expect_error() {
     fi
 }
 
-# An RLE .hdr of W x H, every component one run per 127 pixels (the issue's generator).
+# An RLE .hdr of W x H, every component one run per 127 pixels.
 rle_hdr() { # rle_hdr FILE W H [no-blank]
     python3 - "$@" <<'PY'
 import sys

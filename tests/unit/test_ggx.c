@@ -151,7 +151,7 @@ static void test_directional_albedo(void **state)
 }
 
 /* Oblique view: the integrator against a plain 2D midpoint quadrature over the hemisphere of L,
- * written here from the formulas of the issue (not ground_truth.c's code), F = 1, L = 1. */
+ * written here from the GGX formulas of docs/lighting.md (not ground_truth.c's code), F = 1, L = 1. */
 static double albedo_2d(vec3 vf, double r)
 {
     const double a2 = a2_of(r);

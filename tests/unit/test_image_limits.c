@@ -55,7 +55,7 @@ static bytes_buf old_rle_file(int width, int height)
     return b;
 }
 
-/* ---- item 4: the memory budget ---- */
+/* ---- the memory budget ---- */
 
 static void test_hdr_budget_refuses_before_allocating(void **state)
 {
@@ -152,7 +152,7 @@ static void test_png_zlib_bomb(void **state)
     assert_msg_contains(err, "zbomb.png: decoding the 1x1 image needs more memory than the image memory budget of 1 MiB");
 }
 
-/* ---- item 4: the magic before the whole file ---- */
+/* ---- the magic before the whole file ---- */
 
 static void test_magic_before_whole_file(void **state)
 {
@@ -176,12 +176,12 @@ static void test_magic_before_whole_file(void **state)
     assert_msg_contains(err, "tiny.hdr: byte 5: unexpected end of file");
 }
 
-/* ---- item 8: .hdr messages and formats ---- */
+/* ---- .hdr messages and formats ---- */
 
 static void test_hdr_missing_blank_line(void **state)
 {
     (void)state;
-    /* the issue's bomb without its blank line: the resolution line is where the header went
+    /* the bomb without its blank line: the resolution line is where the header went
      * wrong (byte 34), not the pixel data far beyond */
     bytes_buf b = {0};
     put_str(&b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n-Y 2 +X 8\n");

@@ -444,7 +444,7 @@ static void test_object_errors(void **state)
                 "objects[0].name: 71 bytes is longer than the 63 allowed");
 }
 
-/* n objects, object i naming "m<i % distinct>.obj" (the issue's generator with distinct = n:
+/* n objects, object i naming "m<i % distinct>.obj" (with distinct = n, the same as
  * python3 -c "print('{\"objects\":[' + ','.join('{\"mesh\":\"m%d.obj\"}' % i for i in range(80000)) + ']}')"). */
 static char *many_objects_json(int n, int distinct)
 {
@@ -736,7 +736,7 @@ static void test_shipped_scenes(void **state)
         sl_scene_free(&s);
     }
 
-    /* default.json: the 5 x 4 chart, one shared sphere mesh, the values the brief asks for. */
+    /* default.json: the 5 x 4 chart, one shared sphere mesh, the values the scene file gives. */
     sl_scene s;
     load_shipped("scenes/default.json", &s);
     assert_int_equal(s.object_count, 20);
