@@ -125,10 +125,12 @@ fi
 
 load_after=$(load)
 cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
-commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
-stamp="Measured $start by \`bench/report.sh $BUILD $RUNS\` (commit $commit): $cpu, $(nproc) cores, \
-load average $load_before before and $load_after after (other work on the machine counts in it); \
-medians over $RUNS runs."
+# the commit the programs were built from: the source tree of the build's CMake cache
+src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$BUILD/CMakeCache.txt" 2>/dev/null)
+commit=$(git -C "${src:-.}" rev-parse --short HEAD 2>/dev/null || echo unknown)
+stamp="Measured $start by \`bench/report.sh\` ($RUNS runs, medians) with a Release build of commit \
+$commit: $cpu, $(nproc) cores, load average $load_before before and $load_after after (other \
+work on the machine counts in it)."
 echo "$stamp" >"$T/stamp.md"
 
 # --- the README's summary: a few figures from the tables above and from the accuracy sweep's CSV
@@ -155,7 +157,7 @@ print(f'| rasterizer, 1920x1080, 2 threads | {tri2:.1f} million triangles/s, {fr
 print(f'| lighting pass, 1280x720, N = 40, 2 threads | {light("batched", 40, 2):.0f} ms (the line-by-line port: {light("plain", 40, 2):.0f} ms) | `bench_shading --n 40` |')
 lo = min(x[0] for x in ratios); hi = max(x[0] for x in ratios)
 flo = min(x[1] for x in ratios); fhi = max(x[1] for x in ratios)
-print(f'| time against llvmpipe running the same GLSL ({renderer}), every shipped scene | lighting {lo:.2f}-{hi:.2f}, whole frame {flo:.2f}-{fhi:.2f} of llvmpipe\'s time | `bench/vs-gl.sh` |')
+print(f'| time against {renderer} running the same GLSL, every shipped scene | lighting {lo:.2f}-{hi:.2f}, whole frame {flo:.2f}-{fhi:.2f} of llvmpipe\'s time | `bench/vs-gl.sh` |')
 try:
     c = {(x['scene'], x['variant']): x for x in csv.DictReader(open('docs/accuracy/speed-vs-error.csv')) if x['renderer'] == 'softlight'}
     spec = c[('all', 'spec spec-d4 N40')]; best = c[('all', 'mf pdf+dist+env64 N16')]
