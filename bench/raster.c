@@ -18,8 +18,7 @@
  *
  * --boxes N runs a third workload instead: N tiny boxes (the built-in box, 24 vertices and 12
  * triangles, each about 3 pixels wide) on a square grid filling the frame, each its own draw
- * (as N objects of a scene file): the per-draw cost, not setup or fill (issue 16 item 5:
- * 300000 of them took 32 s with 2 threads where one thread took 1.3 s). Reported as frame
+ * (as N objects of a scene file): the per-draw cost, not setup or fill. Reported as frame
  * time and microseconds per draw.
  *
  * usage: bench_raster [--threads 1,2] [--tiles 16,32,64,128] [--frames 5] [--size 1920x1080]
@@ -99,7 +98,7 @@ static double control_ms(int threads)
 }
 
 /* --boxes: n boxes of side 2 * 0.004 on a square grid over [-4, 4]^2 at z = 0, seen from
- * above (the scene the issue timed), one object and one draw each. */
+ * above (a scene of many tiny objects), one object and one draw each. */
 static int bench_boxes(int n, const int *threads, int nthreads, const int *tiles, int ntiles, int frames, int width,
                        int height, bool plain)
 {

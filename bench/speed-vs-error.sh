@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# speed-vs-error.sh - the speed-against-error sweep in one go (issue 7): runs bench_speed_vs_error
+# speed-vs-error.sh - the speed-against-error sweep in one go: runs bench_speed_vs_error
 # (ground truth cached in out/ground-truth, CSV and plot data in out/speed-vs-error, the report in
 # docs/accuracy.md), then gnuplot for the report's plots in docs/accuracy/.
 #

@@ -1,5 +1,5 @@
-/* speed_vs_error.c - speed against error of the lighting stage's variants on the shipped scenes
- * (issue 7): the variants, the ground truth, the renders and the timings; sweep_report.c turns the
+/* speed_vs_error.c - speed against error of the lighting stage's variants on the shipped scenes:
+ * the variants, the ground truth, the renders and the timings; sweep_report.c turns the
  * results into the CSV, the plot data and docs/accuracy.md. bench/speed-vs-error.sh runs it and
  * then gnuplot (bench/gnuplot/) for the plots the report shows.
  *

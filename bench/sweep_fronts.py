@@ -5,7 +5,7 @@
 
 bench/speed-vs-error.sh runs it after bench_speed_vs_error, so these tables come from the same
 run as the rest of the report. bench_speed_vs_error's report draws the Pareto front of the Phong
-set only and its GGX section per N; issue 15 asks where split-sum (`--estimator splitsum`, no
+set only and its GGX section per N. To show where split-sum (`--estimator splitsum`, no
 samples) stands on both sets, and per scene (its assumption N = V fails at grazing angles), so
 this prints, from the rows the CSV already holds:
 

@@ -442,7 +442,7 @@ static void write_why_estimators(const report *rp, FILE *f)
             m256 = i;
     }
     if (b256 >= 0 && sum[b256].done)
-        fprintf(f, "* The recipe's estimator is biased (ERRATA): at N = 256 its nRMSE is still %.4f (%.4f at N = 40),\n"
+        fprintf(f, "* The recipe's estimator is biased (docs/conventions.md, erratum 7): at N = 256 its nRMSE is still %.4f (%.4f at N = 40),\n"
                    "  specular %.4f. Sampling more does not remove the bias, so no N of the recipe gets close.\n",
                 sum[b256].e[0].nrmse, b->e[0].nrmse, sum[b256].e[2].nrmse);
     if (c256 >= 0 && sum[c256].done)
@@ -502,7 +502,7 @@ static void write_why_diffuse_and_cost(const report *rp, FILE *f)
     const summary *b = &sum[rp->base];
     int irr_sh9 = find(vl, "spec spec-d4 sh9 N40");
     fprintf(f, "* The diffuse term is the same in all of these (the octahedral map, nRMSE %.4f alone): a floor\n"
-               "  under every total figure; SH9, the default before it, was %.4f (see the irradiance rows).\n",
+               "  under every total figure; SH9 is %.4f (see the irradiance rows).\n",
             b->e[1].nrmse, irr_sh9 >= 0 && sum[irr_sh9].done ? sum[irr_sh9].e[1].nrmse : NAN);
     int mp = find(vl, "mf gems+dist plain N40"), mb = find(vl, "mf gems+dist N40");
     int cp = find(vl, "consistent spec+dist plain N40"), cb = find(vl, "consistent spec+dist N40");

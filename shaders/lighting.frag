@@ -55,7 +55,8 @@
 //   sampler2D uIrradianceMap  irradiance E, LINEAR filtering, lod 0: BRUTE and MAP lat-long
 //                             (REPEAT s, CLAMP t); OCT an S x S octahedral map, DP a 2S x S
 //                             dual-paraboloid map (CLAMP both; S = textureSize(...).y)
-// Samples (specification "Building a low-discrepancy list", with a std140-safe layout, ERRATA):
+// Samples (specification "Building a low-discrepancy list", with a std140-safe layout:
+// docs/conventions.md, erratum 5):
 //   uniform block HammersleyBlock (std140): float N at offset 0; vec4 hammersley[512] at
 //   offset 16, element k/2 holding pair k in .xy (k even) or .zw (k odd). 8208 bytes.
 //   The C struct sl_hammersley_block (src/shading/lighting.h) is this layout byte for byte.
@@ -617,7 +618,8 @@ float microfacet_D(vec2 xi, float alpha)
 // 2 (V.H)(N.H) > V.N, so N.H > V.N / (2 V.H) and the weight G' (w.N)(V.H)/(N.H) is at most
 // 2 / (V.N) for both G choices: bounded (200 at the bent-normal floor N.V = 0.01), where the
 // consistent estimator's D/p is not. Samples with V.H <= 0 (the microfacet faces away from
-// the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (ERRATA). GGX: the same
+// the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (docs/conventions.md,
+// erratum 2). GGX: the same
 // estimator with GGX's D (it cancels) and G' = 4 Vis, whose weight 4 Vis (w.N)(V.H)/(N.H) is the
 // usual G2 (V.H) / ((N.V)(N.H)). N.H is the drawn
 // cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,

@@ -39,7 +39,7 @@ int cmd_view(int argc, char **argv)
 
 #define DEFAULT_FONT "/usr/share/fonts/truetype/dejavu/DejaVuSansMono.ttf"
 #define FONT_POINTS 12
-#define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Moving": measured) */
+#define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Refinement": measured) */
 #define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
 #define VIEW_OPTION_COUNT 10     /* options of `view` beside render's */
 

@@ -34,7 +34,7 @@ static const struct {
                             "to compare with the fast ones or to step through in a debugger"},
     [SL_OPT_ENV_LIGHTS] = {"K", "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)"},
     [SL_OPT_IMAGE_MEMORY] = {"MIB", "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); "
-                                    "an environment needs about 4.3 times that at its peak (softlight info)"},
+                                    "an environment needs 2.4 (maps over 2048x1024) to 4.4 times that at its peak (softlight info)"},
 };
 
 void sl_render_options_table(sl_render_options *o, sl_arg *t)

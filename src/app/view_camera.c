@@ -1,7 +1,7 @@
 /* view_camera.c - the viewer's orbit camera (see view_internal.h).
  *
- * World space is Z-up (DESIGN.md), so orbiting turns the eye about the +Z axis through the
- * target and tilts it in elevation; up stays +Z once the user has moved. The scene's camera is
+ * World space is Z-up (docs/conventions.md "Coordinate frames"), so orbiting turns the eye
+ * about the +Z axis through the target and tilts it in elevation; up stays +Z once the user has moved. The scene's camera is
  * kept untouched as "home" so that the first frame, and every frame after a reset, is the very
  * camera `softlight render` uses (the viewer's end-to-end test compares the two). */
 #include "view_internal.h"

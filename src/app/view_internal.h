@@ -12,15 +12,19 @@
  *   view_image.c      what the window shows: the tone-mapped frame, G-buffer channels, mip levels
  *   view_shade.c      the lighting pass in row slices (sl_lighting_shade_row)
  *   view_hud.c        text: the heads-up display and the help overlay (SDL2_ttf)
- * Calls go one way (no file calls back into one that calls it):
+ * Which file calls which:
  *   cmd_view.c        -> every file below
  *   view_script.c     -> view_screenshot.c, view_refine.c
  *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
- *   view_input.c      -> view_present.c (messages), view_camera.c
- *   view_bench.c      -> view_refine.c, view_camera.c
+ *   view_input.c      -> view_present.c (messages), view_camera.c, view_image.c
+ *   view_bench.c      -> view_refine.c, view_camera.c, view_present.c, view_image.c
  *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c,
  *                        view_texture.c
  *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
+ *   view_texture.c    -> view_present.c (view_message, when the texture cannot be made)
+ * Two cycles run through view_texture.c: view_present.c -> view_texture.c -> view_present.c,
+ * and view_refine.c -> view_texture.c -> view_present.c -> view_refine.c. Every other call
+ * goes one way.
  * Input does not restart the refinement or take screenshots itself: view_handle_event answers
  * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set

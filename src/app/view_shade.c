@@ -70,8 +70,8 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
         rows = height - y0;
     const int y1 = y0 + rows;
     /* The slice's rows in bands of BAND_ROWS in the G-buffer's address order (its row 0 is the
-     * image's bottom), as sl_lighting_pass takes them: image rows top first, one a chunk, took
-     * about 5% more CPU time on pbr.json's split sum (docs/performance.md "Viewer, session 9"). */
+     * image's bottom), as sl_lighting_pass takes them: image rows top first, one a chunk, cost
+     * about 5% more CPU time on pbr.json's split sum (docs/performance.md "Viewer"). */
     const int g0 = height - y1, g1 = height - y0; /* the slice's G-buffer rows [g0, g1) */
     const int bands = (g1 - g0 + BAND_ROWS - 1) / BAND_ROWS;
     double t0 = sl_now_seconds();

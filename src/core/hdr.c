@@ -1,7 +1,7 @@
 /* hdr.c - Radiance RGBE (.hdr) images, read and written by hand.
  *
  * Why not stb_image: Debian 12's stb_image can loop forever on a truncated .hdr
- * (ERRATA.md). This reader bounds-checks every byte it reads, and every error names
+ * (docs/conventions.md, erratum 6). This reader bounds-checks every byte it reads, and every error names
  * the file, the byte offset and what was expected there; a truncated file is
  * reported at the offset where it ends.
  *

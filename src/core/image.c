@@ -1,5 +1,6 @@
 /* image.c - the sl_image buffer: allocation with size checks, row flipping, and the
- * NaN / Inf / negative repair every loader runs (DESIGN.md: no NaN or Inf leaves a stage). */
+ * NaN / Inf / negative repair every loader runs (docs/conventions.md "NaN and Inf":
+ * no NaN or Inf leaves a stage). */
 #include "image.h"
 
 #include <float.h>

@@ -2,7 +2,7 @@
  *
  * An sl_image is `channels` interleaved float32 values per pixel (1 = a plane,
  * 3 = linear RGB), `width * height` pixels, ROW 0 IS THE TOP ROW, as in .hdr
- * and .png files and as the environment's v = 0 (DESIGN.md). Render targets
+ * and .png files and as the environment's v = 0 (docs/conventions.md "Coordinate frames"). Render targets
  * inside the pipeline follow OpenGL instead (row 0 at the bottom); they turn
  * into sl_images once, with sl_image_flip_rows, when written out.
  *

@@ -63,7 +63,7 @@ typedef enum {
 /* The specular estimator (uEstimator). */
 typedef enum {
     SL_ESTIMATOR_DEFAULT = 0,
-    SL_ESTIMATOR_SPEC = 1,       /* eq. (3): divides by D(H); biased (ERRATA), matches the GLSL */
+    SL_ESTIMATOR_SPEC = 1,       /* eq. (3), divides by D(H): the GLSL's; biased (conventions.md, erratum 7) */
     SL_ESTIMATOR_CONSISTENT = 2, /* divides by the density of the drawn w, p(w) */
     SL_ESTIMATOR_MICROFACET = 3, /* H drawn from D(H) (N.H), w = reflect(-V, H), divides by
                                     p(w) = D (N.H) / (4 V.H): bounded weights ("mf") */

@@ -16,12 +16,12 @@
  * Layout: one contiguous array of vec3 per level, row 0 = top, as in sl_env_level, and all
  * levels in one allocation (sl_env.block), level after level.
  *
- * Memory: on the machine the timings come from (a VM), the first touch of a fresh 4 KiB page
- * costs about 10 us, so filling a new 1024x512 chain's 8 MiB took about 22 ms of page faults
- * while the filter itself takes 2-3 ms; the old build also copied the image through a 6 MiB
- * temporary and a 6 MiB scratch, as many faults again. So the block is asked for in 2 MiB
- * transparent huge pages where the kernel offers them on request (Linux, madvise mode; a
- * no-op elsewhere), level 0 is converted straight into it, and the even path needs no scratch.
+ * Memory: on a virtual machine the first touch of a fresh 4 KiB page costs about 10 us, so
+ * filling a new 1024x512 chain's 8 MiB in such pages takes about 22 ms of page faults, while the
+ * filter itself takes 2-3 ms, and every temporary copy of the image adds as many faults again.
+ * So the block is asked for in 2 MiB transparent huge pages where the kernel offers them on
+ * request (Linux, madvise mode; a no-op elsewhere), level 0 is converted straight into it (no
+ * temporary), and the even path needs no scratch.
  *
  * Two implementations of that one filter, chosen per level, giving the same bits:
  * - downsample(): the general separable filter above, any sizes (used whenever an axis is odd
@@ -114,7 +114,7 @@ static void downsample(const sl_env_level *src, sl_env_level *dst, const axis_ta
 }
 
 /* Output texels below which a level is filtered by one thread. Measured on the shared 2-core
- * machine (docs/ibl.md, "Made ready"): a 1024x512 map's largest level (512x256, 0.8 ms on one
+ * machine (docs/ibl.md "Pole-free irradiance maps", the made-ready figures): a 1024x512 map's largest level (512x256, 0.8 ms on one
  * thread) gained at best 0.5 ms from a second thread and, whenever the other core was busy,
  * lost up to 25 ms waiting for it, so only levels four times larger (from a 2048x1024 map's
  * first level, about 3 ms of work) are split. The viewer renders on the other core during a
@@ -234,7 +234,7 @@ uint32_t *sl_ibl_env_build_e5(const sl_env *env, size_t texels, int *emin, int t
         const sl_env_level *lv = &env->levels[l];
         /* rows in parallel (each texel on its own: the same bits on any thread count) on levels
          * of E5_PARALLEL_MIN texels or more: the encode (texel_e5.c, in double, about 4 ns a
-         * texel) is most of the build; the split sum's two 1024x512 chains took 3 ms less of
+         * texel) is most of the build; the split sum's two 1024x512 chains take 3 ms less of
          * sl_env_prefilter on 2 threads (docs/performance.md "Compact texels for the split
          * sum's chains") */
 #pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if ((size_t)lv->width * (size_t)lv->height >= E5_PARALLEL_MIN)

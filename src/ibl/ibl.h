@@ -6,7 +6,7 @@
  * map), and a double-precision ground-truth integrator for tests and reports (ground_truth.h).
  * docs/ibl.md has the conventions in one table and the measured accuracy and speed.
  *
- * Conventions (DESIGN.md, specification "Longitude-latitude Sphere map"):
+ * Conventions (docs/conventions.md "Coordinate frames", the specification's eq. (4)):
  *   direction -> uv:  u = 1/2 - atan2(d.y, d.x) / (2 pi),  v = acos(d.z) / pi
  *   uv -> direction:  (cos(2 pi (1/2 - u)) sin(pi v), sin(2 pi (1/2 - u)) sin(pi v), cos(pi v))
  *   textureLod: GL_LINEAR_MIPMAP_LINEAR, texel centres at (i + 0.5) / size,

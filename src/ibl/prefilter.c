@@ -186,7 +186,7 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
     free(scratch);
     /* the compact rows (ibl.h sl_env.e5, texel_e5.h), as sl_env_build has them: the split-sum
      * fetch (lighting_splitsum.c fetch_chain) reads a bilinear row pair in one 64-bit read, 4
-     * gathers a sample where the float pair rows took 12, a third of their bytes (level 0 of a
+     * gathers a sample where the float pair rows take 12, a third of their bytes (level 0 of a
      * 1024x512 chain: 2.1 MB against 6.3), within 2^-9 of a texel's largest channel
      * (docs/performance.md "Compact texels for the split sum's chains"). No pair rows: nothing
      * else reads a prefiltered chain fast (the port and GL read the block). NULL costs only

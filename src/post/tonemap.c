@@ -2,7 +2,7 @@
  * and the display image: tone map, encode and 8-bit presentation in one pass.
  *
  * Why a table and not powf: powf is a libm call that GCC does not vectorize without
- * -ffast-math, and at 1280x720 it alone took 30 ms a frame on 2 cores, against a budget of
+ * -ffast-math, and at 1280x720 it alone takes 30 ms a frame on 2 cores, against a budget of
  * 2 ms for the whole presentation. The displayed value of a channel is an 8-bit code, and the
  * code is a step function of x = eC/(eC + 1): it is k exactly when T[k] <= x < T[k+1], where
  * the 255 thresholds T[k] (the smallest float x whose exact curve value rounds to k) are found

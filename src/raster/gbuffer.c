@@ -7,16 +7,16 @@
  *
  * Both planes start on a cache line: a tile's rows (64 texels of 56 or 20 bytes) are then whole
  * lines at any width that is a multiple of 8 (1280, 1920), so two threads drawing neighbouring tiles
- * never write one line. From malloc (16 bytes past a line) every row of a tile edge shared a line
- * with the neighbour's, and those lines went back and forth between the cores while both tiles were
- * cleared and shaded (docs/performance.md, "Session 9 (s9-gbuf)"). */
-#include "../core/threads.h"
+ * never write one line. At malloc's alignment (16 bytes past a line) every row at a tile edge would
+ * share a line with the neighbour's, and those lines would move back and forth between the cores
+ * while both tiles are cleared and shaded (docs/performance.md "Rasterizer"). */
 #include "gbuffer.h"
 
 #include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/threads.h"
 #include "raster.h"
 
 #define GBUFFER_ALIGN 64 /* a cache line */

@@ -1,7 +1,7 @@
 /* gbuffer.h - the G-buffer: what rasterization leaves for the lighting stage.
  *
  * One texel per pixel, array of structs, ROW 0 IS THE BOTTOM ROW (OpenGL window
- * coordinates, DESIGN.md). The built-in fragment shader fills every field; the
+ * coordinates, docs/conventions.md "Coordinate frames"). The built-in fragment shader fills every field; the
  * lighting shader reads them and nothing else. Cleared per frame to depth = 1
  * (the far plane), which with the LESS test means "no geometry": the coverage
  * mask is exactly `depth < 1`. The vector toward the eye is not stored: it is

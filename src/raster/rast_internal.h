@@ -7,7 +7,7 @@
  * bins, chunk by chunk in submission order, in parallel over tiles. Each set-up
  * triangle remembers its draw (rast_call), whose program shades it.
  *
- * Fixed-point bit budget (8 sub-pixel bits, DESIGN.md):
+ * Fixed-point bit budget (8 sub-pixel bits, docs/conventions.md "Fixed point in the rasterizer"):
  *   Window coordinates are kept inside the guard band |x|,|y| < RAST_GUARD_PX = 16000
  *   (< 2^14) by clipping; SL_RASTER_MAX_SIZE = 8192 lies inside it. Snapped to 1/256
  *   pixel: |X| < 2^22. Edge coefficients a = -dy, b = dx: |a|,|b| < 2^23 (int32).

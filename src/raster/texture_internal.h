@@ -14,10 +14,10 @@
  * The decoded plane: a texture whose chain decoded to RGBA32F takes at most
  * TEX_PLANE_MAX_BYTES also keeps that copy (`plane`, the same level sizes, 16 bytes a texel),
  * and the samplers read it instead of the stored bytes. Each texel in it is tex_decode's value
- * (for sRGB the exact curve, per texel, before filtering, as before), so a sample gives the
- * same bits from either; what it saves is the work per texel: a trilinear sRGB sample was 8
- * texels of 3 byte loads and 3 table lookups each, now 8 16-byte loads, and the filter's mixes
- * work on whole vec4s. Small textures only, because the copy is 4x the bytes of RGBA8 (5.3x
+ * (for sRGB the exact curve, per texel, before filtering, as on the byte path), so a sample
+ * gives the same bits from either; what it saves is the work per texel: a trilinear sRGB sample
+ * on the byte path is 8 texels of 3 byte loads and 3 table lookups each, from the plane 8
+ * 16-byte loads, and the filter's mixes work on whole vec4s. Small textures only, because the copy is 4x the bytes of RGBA8 (5.3x
  * RGB8): a texture that stays in cache either way gains the decode, a large one would lose
  * more to cache misses on 4x the bytes than it gains (not measured; the cap keeps such textures
  * on the byte path). The stored levels stay as they are: texelFetch, the mip builder and

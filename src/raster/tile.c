@@ -13,8 +13,8 @@
  * extremes over a block are at corners): outside (skipped), inside (filled without
  * per-pixel tests), or partial (per-pixel edge tests).
  *
- * Two paths, chosen per draw (STYLE.md "hot loops: specialised, with the plain path
- * beside"):
+ * Two paths, chosen per draw (the specialised path, and the plain one beside it to compare
+ * against):
  *   span   (the default) one row of the triangle's blocks at a time: a vectorized loop
  *          tests coverage and depth for the whole row, the passing columns are packed,
  *          a second loop interpolates z, 1/w and the varyings for them in structure-of-
@@ -52,8 +52,8 @@
  * after the tile, measured no faster, and would break shaders that read their texel
  * (blending, counting). Drawing the tile in a per-thread buffer and writing it out
  * with streaming stores (no read of the target's lines) measured no faster either:
- * what the clear costs is the G-buffer's write to memory (docs/performance.md,
- * "Textured G-buffer pass", fourth pass). The rows of a tile that no binned triangle
+ * what the clear costs is the G-buffer's write to memory (docs/performance.md
+ * "Rasterizer"). The rows of a tile that no binned triangle
  * reaches (every row of an empty tile) are the exception: no fragment will write them, so
  * they are cleared with streaming stores, which skip the read of each line.
  * The target's tile hooks (sl_target.tile_clear, tile_drawn) run here too: after the tile's clear,

@@ -11,7 +11,7 @@
  * - Triangulate, SortByPType with points and lines removed: the rasterizer draws triangles.
  * - JoinIdenticalVertices: OBJ and other face-corner formats come unindexed; shared vertices
  *   are what the vertex stage wants (3x fewer for a closed mesh).
- * - GenSmoothNormals: normals where the file has none (the issue: "generated smooth"); it
+ * - GenSmoothNormals: normals where the file has none ("generated smooth"); it
  *   leaves a file's own normals alone.
  * - CalcTangentSpace: tangents from the UVs where the file has none (normal maps need them);
  *   a glTF's TANGENT attribute is kept.

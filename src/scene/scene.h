@@ -5,7 +5,7 @@
  * positions, unit normals) and whose materials are linear RGB. Paths inside
  * the scene are resolved relative to the scene file when it is loaded.
  *
- * World space is Z-up, right-handed (DESIGN.md). Colours are linear RGB.
+ * World space is Z-up, right-handed (docs/conventions.md "Coordinate frames"). Colours are linear RGB.
  * Does not: model a scene graph, animation, textures per object (materials carry the maps), decode
  * images (it names them), or cameras other than pinhole. */
 #ifndef SL_SCENE_H

@@ -5,7 +5,7 @@
  *   G / ((L.N)(V.N)) = 1 / (L.H)^2   or   = 1        the two shadowing choices
  *   F(L, H) = Ks + (1 - Ks)(1 - L.H)^5               Schlick
  *
- * and the second set, GGX, which replaces D and G only (issue 13; ERRATA):
+ * and the second set, GGX, which replaces D and G only (docs/conventions.md, erratum 10):
  *   a = max(r^2, 1e-4), r the perceptual roughness in [0, 1] (glTF)
  *   D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2)
  *   G / ((L.N)(V.N)) = 4 Vis, Vis the height-correlated Smith visibility

@@ -172,7 +172,7 @@ typedef struct {
     int64_t nonfinite;         /* pixels whose NaN/Inf was replaced by 0 (should stay 0) */
 } sl_lighting_stats;
 
-/* Per-thread scratch: the batched path's per-alpha sample cache (docs/lighting.md "Hoisting")
+/* Per-thread scratch: the batched path's per-alpha sample cache (docs/lighting.md "Two paths")
  * and counters (lighting_task.c).
  * Entries are valid for one uniforms struct: call sl_lighting_task_reset after re-initialising
  * the uniforms it was used with. */

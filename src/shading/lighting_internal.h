@@ -1,11 +1,17 @@
 /* lighting_internal.h - what the files of the lighting stage share, and which way they call:
  *
  *     lighting_pass.c ──> lighting.c (the port)          lighting_uniforms.c (host side)
+ *            ├──────────> lighting_task.c (per-thread scratch)
  *            ├──────────> lighting_batched.c ──> lighting_task.c ──> lighting.c
- *            └──────────> lighting_splitsum.c (split sum) ──> lighting.c (lobe_param)
+ *            │                   └──────────> lighting.c (the pixel's sum, its rotation, split sum)
+ *            └──────────> lighting_splitsum.c (split sum) ──> lighting.c (shade_finish)
+ *                                └──────────> lighting_batched.c (shade_background_span)
+ *     lighting.c <──> splitsum_lut.c (the port's split sum reads the table's lobe width;
+ *                                     the table is integrated with the port's samples)
  *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
  *     ground_truth_image.c ─> lighting.c (facing_normal: the exact pass bends normals as the shader does)
  *
+ * lighting.c and splitsum_lut.c call each other: the one cycle in this stage.
  * The port exports the GLSL functions the others reuse (shade_*: the sample generators for the
  * per-alpha tables, pixel_rotation, the covered pixel's sum); the trace hooks below are the few
  * named points where either path records a pixel; the per-thread task holds the sample tables. */

@@ -4,8 +4,8 @@
  * stays the reference; test_lighting_splitsum bounds the difference.
  *
  * Why a file of its own: a split-sum pixel has no samples, so the batched path's structure
- * (lighting_batched.c: a per-pixel call into the sample loops) leaves nothing to vectorize: a
- * 1280x720 frame took 29-63 ms on 2 cores in scalar calls (the port's textureLod, sl_dir_to_uv's
+ * (lighting_batched.c: a per-pixel call into the sample loops) leaves nothing to vectorize: in
+ * scalar calls a 1280x720 frame takes 29-63 ms on 2 cores (the port's textureLod, sl_dir_to_uv's
  * acos and atan2, the table's filter, the irradiance, point lights with powf; docs/performance.md
  * "Split sum: the fast path"). Here every stage runs over the whole span at once, structure of
  * arrays (the background first; a span of background alone skips (1) to (6)):
@@ -77,8 +77,7 @@ static inline float select_f(bool c, float a, float b) { return c ? a : b; }
  * the eye with an upward normal and zero colour, so its lanes compute finite values nobody
  * reads. The extra plane (occlusion, emission; shade_extra) in a loop of its own, so neither
  * loop tests for the plane per pixel. The loop stays scalar (GCC has no vector type for the
- * texel's stride of 14 floats; gathered from a table of offsets it was no faster:
- * docs/performance.md "Split sum, session 10"). */
+ * texel's stride of 14 floats, and a gather from a table of offsets measures no faster). */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void load_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                        splitsum_block *b)

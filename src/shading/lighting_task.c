@@ -1,5 +1,5 @@
 /* lighting_task.c - per-thread scratch of the lighting pass: counters, and the batched path's
- * tables of what does not depend on the pixel (docs/lighting.md "Hoisting").
+ * tables of what does not depend on the pixel (docs/lighting.md "Two paths").
  *
  * skewed_sample and sample_pdf (microfacet_sample and microfacet_D) depend on the material's
  * alpha and the sample index only, yet cost an acos, a pow, two sincos and a second pow per

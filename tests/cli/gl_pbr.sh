@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# gl_pbr.sh BUILD_DIR - glTF metallic-roughness per texel, occlusion and emission (issue 13) against
+# gl_pbr.sh BUILD_DIR - glTF metallic-roughness per texel, occlusion and emission against
 # OpenGL (llvmpipe): a scene written here in the scene-file form (metallic_roughness_map,
 # occlusion_map with occlusion_strength, emissive with an emissive_map, on shipped textures; an
 # untextured sphere and a plain floor beside it), rendered by `softlight render --aov` and

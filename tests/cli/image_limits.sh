@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# image_limits.sh BUILD_DIR - hostile images end to end (issue 16 items 4 and 8): a small .hdr
+# image_limits.sh BUILD_DIR - hostile images end to end: a small .hdr
 # declaring 16384x8192 is refused under the image memory budget before anything that size is
 # allocated (run under `ulimit -v`, so an allocation would fail the test instead of the machine),
 # naming --image-memory; /dev/zero as an environment fails on its first bytes; a header without
@@ -28,7 +28,7 @@ expect_error() {
     fi
 }
 
-# An RLE .hdr of W x H, every component one run per 127 pixels (the issue's generator).
+# An RLE .hdr of W x H, every component one run per 127 pixels.
 rle_hdr() { # rle_hdr FILE W H [no-blank]
     python3 - "$@" <<'PY'
 import sys

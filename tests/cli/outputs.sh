@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# outputs.sh BUILD_DIR - the files one command writes (issue 16, items 2, 3 and 8):
+# outputs.sh BUILD_DIR - the files one command writes:
 #  - all or nothing: when any output of `render` fails (--hdr, --pfm, --aov, --normals, -o, or the
 #    disk filling up during the .pfm, simulated with `ulimit -f`), the command exits 2 with one
 #    line and no existing output is replaced, no new one appears, no temporary is left;
@@ -52,7 +52,7 @@ unchanged() {
 }
 ALL=(-o "$T/o/o.png" --hdr "$T/o/o.hdr" --pfm "$T/o/o.pfm" --aov "$T/o/aov" --normals "$T/o/n.png")
 
-# ---- item 2: all outputs or none ----
+# ---- all outputs or none ----
 for which in hdr pfm normals png; do
     fresh_outputs
     args=("${ALL[@]}")
@@ -104,7 +104,7 @@ else
     fail "a good render did not write every output: $(cat "$T/err")"
 fi
 
-# ---- item 3: symbolic links written through, non-regular targets refused ----
+# ---- symbolic links written through, non-regular targets refused ----
 mkdir "$T/l"
 echo old >"$T/l/real.png"
 ln -s real.png "$T/l/link.png"
@@ -132,7 +132,7 @@ expect_error "-o on a directory" "dir\.png.*(directory|not a regular file)" -- "
 if [ -z "$(find "$T/l" -name '*tmp*')" ]; then ok "no temporary left by the refusals"; else
     fail "temporaries left: $(find "$T/l" -name '*tmp*' | tr '\n' ' ')"; fi
 
-# ---- item 8: temporaries of killed runs ----
+# ---- temporaries of killed runs ----
 mkdir "$T/k"
 sh -c 'exit 0' & dead=$!
 wait $dead

@@ -1,6 +1,5 @@
 #!/usr/bin/env bash
-# scene_limits.sh BUILD_DIR - limits of a scene file found where the scene is read (issue 16
-# items 6 and 8): `info` fails as `render` would, with one line naming the file and the JSON
+# scene_limits.sh BUILD_DIR - limits of a scene file found where the scene is read: `info` fails as `render` would, with one line naming the file and the JSON
 # path, and `render` writes nothing; a scene at the limit renders. docs/scene-format.md
 # "Limits" lists them.
 set -u
@@ -45,8 +44,8 @@ JSON
 lights "$T/l16.json" 16
 lights "$T/l17.json" 17
 
-# Item 6: the 17th light passed `info` and failed only when a frame was lit, even with
-# --no-lights, as "lighting: 17 point lights, at most 16" (no file, no path).
+# A 17th light fails where the scene is read, with the file and the JSON path: in `info`, in
+# `render`, and with --no-lights too.
 pat='l17\.json: lights\[16\]: at most 16 point lights \(MAX_LIGHTS of shaders/lighting\.frag\)'
 expect_error lights-info "$pat" -- "$SL" info "$T/l17.json"
 expect_error lights-render "$pat" -- "$SL" render "$T/l17.json" -o "$T/a.png" -q
@@ -57,8 +56,8 @@ else
     echo "FAIL 16 point lights did not render"; fails=$((fails + 1))
 fi
 
-# Item 8: nesting past the JSON parser's limit was only "invalid JSON"; \u0000 in a key cut
-# it short without a word; bytes of the file were echoed raw into the message.
+# Nesting past the JSON parser's limit is named as such; \u0000 in a key is refused, not cut
+# short; bytes of the file are masked in the message, not echoed raw.
 { printf '{"camera": {"eye": '; printf '[%.0s' $(seq 999); printf ']%.0s' $(seq 999); printf '}}'; } >"$T/deep.json"
 printf '{"objects": [{"shape": "box", "na\\u0000me": "x"}]}' >"$T/nul.json"
 printf '{"objects": [{"shape": "box", "\033[2J\033[31m": 1}]}' >"$T/esc.json"

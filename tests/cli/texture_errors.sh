@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# texture_errors.sh BUILD_DIR - bad texture maps end to end (issue 12): a missing file, a
+# texture_errors.sh BUILD_DIR - bad texture maps end to end: a missing file, a
 # truncated PNG, a corrupt PNG, a JPEG cut short, an absurd size, maps on an OBJ without vt.
 # Each must exit with status 2, print one line on stderr naming the scene, the material's map (or
 # the object and material) and the file, and leave the existing output file untouched.

@@ -1,4 +1,4 @@
-/* test_exr_envmaps.c - the shipped environments as OpenEXR (issue 13, "Images users have"): each
+/* test_exr_envmaps.c - the shipped environments as OpenEXR: each
  * scenes/envmaps/NAME.hdr converted through softlight's own writer (sl_exr_encode) to float and half
  * files with several compressions, read back by the environment reader and rendered.
  *

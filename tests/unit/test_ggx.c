@@ -1,6 +1,6 @@
-/* test_ggx.c - GGX, the second microfacet set (src/shading/brdf.h, issue 13): its D is
+/* test_ggx.c - GGX, the second microfacet set (src/shading/brdf.h, docs/conventions.md, erratum 10): its D is
  * normalised, the ground-truth integrator's GGX agrees with quadratures written here (not with
- * the integrator's own code), its directional albedo has ERRATA's values, the lighting shader's
+ * the integrator's own code), its directional albedo has the values of erratum 11, the lighting shader's
  * estimators converge to the truth as N grows, and the lobe parameter's encoding.
  *
  * The independent quadratures work in u = 1 - (N.H)^2 on a logarithmic grid: GGX's D at
@@ -104,24 +104,24 @@ static sl_gt_result truth_ggx(const sl_ground_truth *gt, vec3 n, vec3 v, float r
     return res;
 }
 
-/* ERRATA's values (computed there independently), the quadrature above, and the ground-truth
- * integrator on a 1024x512 constant environment. */
+/* The values of docs/conventions.md, erratum 11 (computed independently), the quadrature
+ * above, and the ground-truth integrator on a 1024x512 constant environment. */
 static void test_directional_albedo(void **state)
 {
     (void)state;
-    /* the quadrature against ERRATA and 1 - ln 2 */
+    /* the quadrature against erratum 11 and 1 - ln 2 */
     const struct {
         double r, albedo;
     } errata[] = {{0.05, 0.99999}, {0.25, 0.99569}, {0.5, 0.91581}, {0.75, 0.62689}, {1.0, 0.30685}};
     for (size_t i = 0; i < sizeof errata / sizeof errata[0]; i++) {
         double e = albedo_normal(errata[i].r);
-        print_message("r %.2f: albedo by quadrature %.6f (ERRATA %.5f)\n", errata[i].r, e, errata[i].albedo);
-        assert_near(e, errata[i].albedo, 6e-6); /* ERRATA rounds to 5 decimals */
+        print_message("r %.2f: albedo by quadrature %.6f (erratum 11: %.5f)\n", errata[i].r, e, errata[i].albedo);
+        assert_near(e, errata[i].albedo, 6e-6); /* erratum 11 rounds to 5 decimals */
     }
     assert_near(albedo_normal(1.0), 1.0 - log(2.0), 1e-8);
 
     /* The integrator. Its error is the texel quadrature's: the lobe must span texels, which on
-     * 1024x512 (0.35 degree texels) holds from r = 0.1 on (ERRATA): measured worst 3.1e-6 with
+     * 1024x512 (0.35 degree texels) holds from r = 0.1 on (erratum 11): measured worst 3.1e-6 with
      * N = V = +X, where texels are square (at the pole, N = +Z, r = 0.1 gives 0.9918: the rows
      * there are too coarse in theta for the lobe). Tolerance 2e-5. At 0.05
      * (a lobe 0.3 degrees wide) the nodes miss part of it: only bounded (<= 1; measured 0.938). */
@@ -151,7 +151,7 @@ static void test_directional_albedo(void **state)
 }
 
 /* Oblique view: the integrator against a plain 2D midpoint quadrature over the hemisphere of L,
- * written here from the formulas of the issue (not ground_truth.c's code), F = 1, L = 1. */
+ * written here from the GGX formulas of docs/lighting.md (not ground_truth.c's code), F = 1, L = 1. */
 static double albedo_2d(vec3 vf, double r)
 {
     const double a2 = a2_of(r);

@@ -1,5 +1,5 @@
-/* test_hardcases.c - the numerical hard cases of the lighting shader (ERRATA, docs/lighting.md
- * "Hard cases"), each its own test: finite values always, the ground truth where one exists,
+/* test_hardcases.c - the numerical hard cases of the lighting shader (docs/conventions.md
+ * "Errata", docs/lighting.md "Hard cases"), each its own test: finite values always, the ground truth where one exists,
  * and for whole images no isolated black or white speckles (luminance below 0.2x or above 5x
  * the 3x3 median). The microfacet estimator has its own frame (about N) and skips, so it meets
  * each case again (test_microfacet_*). */

@@ -1,5 +1,5 @@
-/* test_image_limits.c - what the image readers do with hostile and unusual files (issue 16,
- * items 4 and 8): the image memory budget checked against a declared size before allocating,
+/* test_image_limits.c - what the image readers do with hostile and unusual files: the
+ * image memory budget checked against a declared size before allocating,
  * the magic read before the rest of a file, the .hdr header without its blank line, old-style
  * run-length scanlines, and CRLF header lines.
  *
@@ -55,7 +55,7 @@ static bytes_buf old_rle_file(int width, int height)
     return b;
 }
 
-/* ---- item 4: the memory budget ---- */
+/* ---- the memory budget ---- */
 
 static void test_hdr_budget_refuses_before_allocating(void **state)
 {
@@ -154,12 +154,12 @@ static void test_png_zlib_bomb(void **state)
     sl_image_free(&img);
 }
 
-/* ---- item 4: the magic before the whole file ---- */
+/* ---- the magic before the whole file ---- */
 
 static void test_magic_before_whole_file(void **state)
 {
     (void)state;
-    /* /dev/zero is endless: each reader must fail on its first bytes (before: 2 GiB read first) */
+    /* /dev/zero is endless: each reader must fail on its first bytes, not read 2 GiB first */
     sl_image img;
     sl_error err = {0};
     assert_false(sl_image_read_hdr("/dev/zero", 0, &img, NULL, &err));
@@ -178,12 +178,12 @@ static void test_magic_before_whole_file(void **state)
     assert_msg_contains(err, "tiny.hdr: byte 5: unexpected end of file");
 }
 
-/* ---- item 8: .hdr messages and formats ---- */
+/* ---- .hdr messages and formats ---- */
 
 static void test_hdr_missing_blank_line(void **state)
 {
     (void)state;
-    /* the issue's bomb without its blank line: the resolution line is where the header went
+    /* the bomb without its blank line: the resolution line is where the header went
      * wrong (byte 34), not the pixel data far beyond */
     bytes_buf b = {0};
     put_str(&b, "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n-Y 2 +X 8\n");

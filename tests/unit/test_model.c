@@ -2,7 +2,7 @@
  * and .glb with the image embedded) and OBJ+MTL files written here, and what arrives: a node
  * transform composed and turned Z-up, generated normals, UVs in glTF's convention, tangents,
  * the material's factors and texture references, an embedded image's bytes. Then the bad
- * files the issue lists, each one line naming the file. Expected values are worked out by
+ * files, each one line naming the file. Expected values are worked out by
  * hand in the comments. */
 #include "testutil.h"
 

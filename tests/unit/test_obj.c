@@ -322,7 +322,7 @@ static void test_empty_file(void **state)
     assert_non_null(strstr(err.msg, "t.obj:2: NUL byte"));
 }
 
-/* Item 1 and 9 of issue 16: a UTF-8 byte-order mark (Windows editors write one) is skipped,
+/* A UTF-8 byte-order mark (Windows editors write one) is skipped,
  * so the first vertex is kept: bounds max must be (1,1,0), not (1,1,1) from vertex 4. */
 static void test_utf8_bom(void **state)
 {
@@ -354,7 +354,7 @@ static void test_junk_keywords(void **state)
     sl_mesh_free(&m);
 }
 
-/* Item 8: raw input bytes in messages are masked ('?' for what is not printable ASCII). */
+/* Raw input bytes in messages are masked ('?' for what is not printable ASCII). */
 static void test_messages_mask_bytes(void **state)
 {
     (void)state;
@@ -363,7 +363,7 @@ static void test_messages_mask_bytes(void **state)
     parse_fails("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3/\x01\n", "texture coordinate index: expected an integer, got '?'");
 }
 
-/* Item 8: UTF-16 text is named as such, not as "NUL byte ... not a text file?". */
+/* UTF-16 text is named as such, not as "NUL byte ... not a text file?". */
 static void test_utf16(void **state)
 {
     (void)state;
@@ -390,7 +390,7 @@ static void test_utf16(void **state)
     }
 }
 
-/* Item 9: line endings LF, CRLF and CR-only (old Mac) all end a line, and line numbers count
+/* Line endings LF, CRLF and CR-only (old Mac) all end a line, and line numbers count
  * them the same way; a backslash as the last character joins the next line (OBJ spec B1). */
 static void test_line_endings_and_continuation(void **state)
 {
@@ -412,7 +412,7 @@ static void test_line_endings_and_continuation(void **state)
     parse_fails("v 0 0 0\nv 1 \\\n0 0\nv 0 1\nf 1 2 3\n", "t.obj:4: expected 3 numbers, got 2");
 }
 
-/* Item 9: an `f` with no corners among good faces is skipped (as assimp and tinyobjloader do);
+/* An `f` with no corners among good faces is skipped (as assimp and tinyobjloader do);
  * one or two corners are still an error. */
 static void test_empty_face(void **state)
 {
@@ -425,7 +425,7 @@ static void test_empty_face(void **state)
     parse_fails("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1\n", "t.obj:4: a face needs at least 3 vertices, got 1");
 }
 
-/* Item 9: '3.1+e2' is refused with a hint. The common loaders (tinyobjloader, assimp's
+/* '3.1+e2' is refused with a hint. The common loaders (tinyobjloader, assimp's
  * fast_atof, strtod) stop at '+' and read 3.1, silently dropping what was likely meant as 310. */
 static void test_misplaced_exponent(void **state)
 {
@@ -434,7 +434,7 @@ static void test_misplaced_exponent(void **state)
     parse_fails("v 1 2-E3 0\n", "(an exponent is written 2E-3)");
 }
 
-/* Item 9: a face may name positions, texture coordinates and normals defined later in the
+/* A face may name positions, texture coordinates and normals defined later in the
  * file (OBJ numbers each kind from the first in the file); negative indices stay relative to
  * what is defined so far. Out of range is still an error on the face's line. */
 static void test_forward_references(void **state)
@@ -465,7 +465,7 @@ static double tri_area_z(const sl_mesh *m, int t)
     return 0.5 * ((double)(b.x - a.x) * (c.y - a.y) - (double)(b.y - a.y) * (c.x - a.x));
 }
 
-/* Item 7: concave faces are ear-clipped: every triangle keeps the face's winding (no negative
+/* Concave faces are ear-clipped: every triangle keeps the face's winding (no negative
  * area, which is what a fan over a concave corner gives) and the areas add up to the face's. */
 static void test_concave_l(void **state)
 {
@@ -493,7 +493,7 @@ static void test_concave_l(void **state)
     sl_mesh_free(&m);
 }
 
-/* Item 7: the issue's ring. 33 outer corners (R = 2, counter-clockwise, the first repeated) and
+/* A ring with a hole: 33 outer corners (R = 2, counter-clockwise, the first repeated) and
  * 33 inner ones (r = 1, clockwise, the first repeated), joined by a seam: 66 corners that
  * enclose an annulus. A fan from corner 1 fills the hole: the sum of |area| would then exceed
  * the ring's, and triangles would lie in the hole. */
@@ -537,7 +537,7 @@ static void test_concave_ring(void **state)
     sl_mesh_free(&m);
 }
 
-/* Item 7: faces that cannot be triangulated are named, with the corners that cross. */
+/* Faces that cannot be triangulated are named, with the corners that cross. */
 static void test_bad_polygons(void **state)
 {
     (void)state;

@@ -1,6 +1,6 @@
 /* test_output_set.c - src/core/output_set.c: the files of one command replaced all together or
  * not at all, symbolic links written through, non-regular targets refused, and the temporaries
- * of killed runs removed (issue 16, items 2, 3 and 8).
+ * of killed runs removed.
  *
  * Each test works in a fresh directory of its own and checks every entry in it, hidden ones
  * included, so a stray temporary fails the test. A "disk full" is a file size limit
@@ -68,7 +68,7 @@ static bool add_text(sl_output_set *set, const char *path, const char *text, sl_
     return sl_output_set_bytes(set, path, text, strlen(text), err);
 }
 
-/* Item 2: one output failing replaces none, and leaves no temporary. */
+/* One output failing replaces none, and leaves no temporary. */
 static void test_all_or_none(void **state)
 {
     (void)state;
@@ -158,7 +158,7 @@ static void test_commit_order(void **state)
     assert_int_equal(entries(dir), 1);
 }
 
-/* Item 3: a symbolic link is written through and stays a link (relative, chained, dangling);
+/* A symbolic link is written through and stays a link (relative, chained, dangling);
  * the target keeps its mode; FIFOs, directories and devices are refused and left alone. */
 static void test_links_and_special_files(void **state)
 {
@@ -227,7 +227,7 @@ static pid_t dead_pid(void)
     return pid;
 }
 
-/* Item 8: temporaries of a killed run are named for the target and the PID, and the next set
+/* Temporaries of a killed run are named for the target and the PID, and the next set
  * writing that target removes those whose PID is gone (and overwrites one with its own PID,
  * left by a dead process that had it before). */
 static void test_stale_temporaries(void **state)

@@ -1,4 +1,4 @@
-/* test_pbr.c - glTF metallic-roughness per texel, occlusion and emission (issue 13 "Materials"):
+/* test_pbr.c - glTF metallic-roughness per texel, occlusion and emission:
  * a glTF written here whose metallicRoughnessTexture makes the surface a metal, with an
  * occlusionTexture at strength 0.5 and an emissive factor, drawn into the G-buffer (Kd, Ks,
  * roughness and the extra plane checked against hand-computed values); then the lighting shader

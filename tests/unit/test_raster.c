@@ -740,10 +740,10 @@ static void test_stats(void **state)
     sl_raster_destroy(r);
 }
 
-/* Issue 16 item 5: every draw opened two parallel regions (the index check and the vertex
- * stage), so a scene of many tiny objects spent its time in forks and barriers: 300,000 boxes
- * took 32 s with 2 threads against 1.3 s with one on a loaded machine. A list opens a few
- * regions whatever its number of draws, a small draw none but the tile pass; and the result is
+/* Many small draws: two parallel regions per draw (the index check and the vertex stage)
+ * would spend a scene of many tiny objects in forks and barriers (300,000 boxes: 32 s with 2
+ * threads against 1.3 s with one on a loaded machine). A list opens a few regions whatever its
+ * number of draws, a small draw none but the tile pass; and the result is
  * the same as drawing one by one, with any thread count, on either path. */
 static void test_many_small_draws(void **state)
 {

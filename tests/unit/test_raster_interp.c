@@ -131,8 +131,9 @@ static void test_perspective(void **state)
  * vertices have 1/w = 20 and lie at the guard band (16000 pixels off screen), while the pixels
  * at the horizon have 1/w = 0.012: the attribute planes must be built on the exact window
  * positions and anchored near the pixels (setup.c). Built on the snapped positions about vertex
- * 0 in float, the horizon's positions were off by up to 4.0e-3 of their distance (0.34 units at
- * 82); now 3.1e-6 (mean 3.2e-7); llvmpipe's float rounding is 5.8e-7 (docs/gl.md "Clipped triangles"). */
+ * 0 in float, the horizon's positions would be off by up to 4.0e-3 of their distance (0.34 units
+ * at 82); as built, 3.1e-6 (mean 3.2e-7); llvmpipe's float rounding is 5.8e-7 (docs/gl.md
+ * "Clipped triangles"). */
 typedef struct {
     vec3 pos;
     float depth;

@@ -444,7 +444,7 @@ static void test_object_errors(void **state)
                 "objects[0].name: 71 bytes is longer than the 63 allowed");
 }
 
-/* n objects, object i naming "m<i % distinct>.obj" (the issue's generator with distinct = n:
+/* n objects, object i naming "m<i % distinct>.obj" (with distinct = n, the same as
  * python3 -c "print('{\"objects\":[' + ','.join('{\"mesh\":\"m%d.obj\"}' % i for i in range(80000)) + ']}')"). */
 static char *many_objects_json(int n, int distinct)
 {
@@ -484,11 +484,11 @@ static double parse_seconds(int n, int reps)
     return best;
 }
 
-/* Issue 16 item 5: 80,000 objects naming distinct meshes took 18.6 s (the duplicate-mesh check
- * compared each object with every mesh before it; 25 s of CPU here). Now the cost is linear:
+/* Many objects naming distinct meshes: a duplicate-mesh check that compares each object with
+ * every mesh before it takes 18.6 s at 80,000 objects. The cost must be linear:
  * 4 times the objects (20,000 -> 80,000, each the faster of two runs; both sizes are past the
  * caches, so the ratio measures the algorithm: about 4 here) may take at most 10 times as long,
- * quadratic would be 16, plus 0.25 s of slack for noise; and the issue's 80,000 must parse in
+ * quadratic would be 16, plus 0.25 s of slack for noise; and 80,000 objects must parse in
  * under 5 s of CPU (a generous cap for sanitizer builds: a Release build takes about 0.35 s). */
 static void test_many_objects_linear(void **state)
 {
@@ -521,8 +521,8 @@ static void test_many_objects_linear(void **state)
     }
 }
 
-/* Issue 16 item 6: a 17th point light passed `info` and failed only when a frame was lit
- * ("lighting: 17 point lights, at most 16", no file, no path, even with --no-lights). */
+/* A 17th point light is refused where the scene is read, with the file and the JSON path (not
+ * only when a frame is lit, and also with --no-lights). */
 static void test_light_limit(void **state)
 {
     (void)state;
@@ -539,7 +539,7 @@ static void test_light_limit(void **state)
     parse_fails(json, "t.json: lights[16]: at most 16 point lights (MAX_LIGHTS of shaders/lighting.frag)");
 }
 
-/* Issue 16 item 8: nesting past cJSON's limit was only "invalid JSON". */
+/* Nesting past cJSON's limit is named as such, not reported as mere "invalid JSON". */
 static void test_json_nesting(void **state)
 {
     (void)state;
@@ -562,8 +562,8 @@ static void test_json_nesting(void **state)
     parse_fails("{\"a\": [[[1,]]]}", "t.json:1:12: invalid JSON near ']]]}'");
 }
 
-/* Issue 16 item 8: "\u0000" in a key cut it short without a word ("na\u0000me" was "na");
- * in a value it cut the string (a mesh path) short. Both are refused, with the path. */
+/* "\u0000" would cut a key short without a word ("na\u0000me" read as "na"), and a value (a
+ * mesh path) too. Both are refused, with the path. */
 static void test_json_nul(void **state)
 {
     (void)state;
@@ -591,9 +591,9 @@ static void test_json_nul(void **state)
     free(tail);
 }
 
-/* Issue 16 item 8: bytes from the file were echoed raw into messages (an escape sequence in a
- * key reached the terminal). Now masked as the .hdr and OBJ readers do; names and paths may not
- * hold control characters at all. */
+/* Bytes from the file are not echoed raw into messages (an escape sequence in a key would reach
+ * the terminal): they are masked as the .hdr and OBJ readers do; names and paths may not hold
+ * control characters at all. */
 static void test_messages_masked(void **state)
 {
     (void)state;
@@ -736,7 +736,7 @@ static void test_shipped_scenes(void **state)
         sl_scene_free(&s);
     }
 
-    /* default.json: the 5 x 4 chart, one shared sphere mesh, the values the brief asks for. */
+    /* default.json: the 5 x 4 chart, one shared sphere mesh, the values the scene file gives. */
     sl_scene s;
     load_shipped("scenes/default.json", &s);
     assert_int_equal(s.object_count, 20);

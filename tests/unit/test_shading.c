@@ -230,7 +230,7 @@ static void test_white_furnace_diffuse(void **state)
     sl_env_free(&env);
 }
 
-/* White furnace, full BRDF: the TRUE integral is not 1 (ERRATA): with Kd = 1, Ks = 0 and
+/* White furnace, full BRDF: the TRUE integral is not 1 (docs/conventions.md, erratum 1): with Kd = 1, Ks = 0 and
  * alpha = 10 it averages 1.02 over a sphere (pixels weighted by N.V, orthographic) and reaches
  * 1.36 at the silhouette. Checked on the ground truth, then the shader (consistent estimator)
  * against it where the estimator converges (N.V = 1: the lobe's and the surface's hemispheres
@@ -321,13 +321,13 @@ static void test_consistent_vs_truth(void **state)
 
 static vec3 sky_gradient(vec3 d) { return vec3(1.0f + d.z, 0.5f + 0.25f * d.x, 2.0f - d.z); }
 
-/* The specification's estimator (eq. (3), divide by D(H)) is biased (ERRATA); pinned down:
+/* The specification's estimator (eq. (3), divide by D(H)) is biased (docs/conventions.md, erratum 7); pinned down:
  * (a) alpha = 0: D(H)/p(w) = (2/2pi)/(1/2pi) = 2 for every sample, so spec = consistent / 2
  *     exactly, in any environment and view;
  * (b) mirror limit at normal incidence: every w = R, L.H = 1, G = 1, so spec = F Li (w.N)/4 =
  *     Ks L / 4 while the truth is Ks L: a factor 1/4;
  * (c) over a sphere of a dielectric (Ks = 0.04, pixels weighted by N.V) it is darker than the
- *     truth, more so at low alpha (ERRATA): ratio about 0.45 at alpha 0, rising with alpha;
+ *     truth, more so at low alpha (erratum 7): ratio about 0.45 at alpha 0, rising with alpha;
  *     measured 0.45, 0.53, 0.69, 0.89 for alpha 0, 1, 10, 100 (docs/lighting.md);
  * (d) per pixel it is not uniformly darker: at grazing view and high alpha it is brighter
  *     (the 1/(L.N) of eq. (3) is not cancelled), e.g. more than 2x at N.V = 0.1, alpha 100. */

@@ -10,7 +10,8 @@
 #include "shading/splitsum_lut.h"
 
 /* A + B is the albedo with Ks = 1 (F = 1). At N.V = 1:
- *  - GGX: ERRATA's directional albedo (0.99569, 0.91581, 0.62689, 1 - ln 2 at r 0.25 .. 1);
+ *  - GGX: the directional albedo of docs/conventions.md, erratum 11 (0.99569, 0.91581,
+ *    0.62689, 1 - ln 2 at r 0.25 .. 1);
  *  - the Phong set with G' = 1 (--g one): f = D / 4, and by hand
  *    integral of D(H)/4 (N.L) dL = (alpha + 2^(-alpha/2)) / (alpha + 4)
  *    (dL = 4 (V.H) dH, N.L = 2 (N.H)^2 - 1 > 0 for N.H > 2^-1/2).
@@ -50,7 +51,7 @@ static vec3 const_two(vec3 d)
  * to float rounding), and a shaded pixel's specular is 2 (Ks A + B), which the ground truth's
  * exact integral of the same BRDF matches to within the table's interpolation and sampling: 1%
  * (measured: at most 0.44% over these cases). The map is 256x128: on 64x32 the truth's own
- * quadrature is 2.5% off at r = 0.3 (texels wider than the lobe, ERRATA). */
+ * quadrature is 2.5% off at r = 0.3 (texels wider than the lobe, docs/conventions.md, erratum 11). */
 static void test_constant_environment(void **state)
 {
     (void)state;

@@ -105,7 +105,7 @@ static void test_srgb_all_codes(void **state)
         /* the float nearest the double: one rounding, no more */
         assert_true(v.x == (float)expect && v.y == (float)expect && v.z == (float)expect);
     }
-    assert_near(texelFetch(&s, ivec2(128, 0), 0).x, 0.21586, 5e-6); /* ERRATA: not 0.2195 */
+    assert_near(texelFetch(&s, ivec2(128, 0), 0).x, 0.21586, 5e-6); /* docs/conventions.md, erratum 8: not 0.2195 */
     sl_texture_destroy(t);
 }
 
@@ -618,7 +618,7 @@ static void test_bad_files(void **state)
 
 /* ---- the fast fetch path against the plain one ---- */
 
-/* The sampler as first written (before sampler.c's per-format instances and its REPEAT masks):
+/* A plain reference sampler (without sampler.c's per-format instances and its REPEAT masks):
  * a switch per texel (tex_texel), a remainder per wrap. The fast path must give its bits. */
 static float ref_safe_coord(float x)
 {
