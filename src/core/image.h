@@ -32,6 +32,7 @@
 
 #include "error.h"
 #include "options.h"
+#include "softlight/version.h"
 
 /* Limits for files read from disk: no side over 32768, no more than 2^28 pixels, and no
  * buffer over 4 GiB (2^28 RGB float pixels are 3 GiB). */
@@ -57,7 +58,7 @@ typedef struct {
  * width or height <= 0 or channels not 1, 3 or 4 -> SL_ERR_RANGE, a byte count that
  * overflows or exceeds SL_IMAGE_MAX_BYTES, or a failed allocation -> SL_ERR_MEMORY. */
 bool sl_image_alloc(sl_image *img, int width, int height, int channels, sl_error *err);
-void sl_image_free(sl_image *img);
+SL_API void sl_image_free(sl_image *img);
 static inline float *sl_image_pixel(const sl_image *img, int x, int y)
 {
     return img->data + ((size_t)y * (size_t)img->width + (size_t)x) * (size_t)img->channels;
@@ -76,7 +77,7 @@ long sl_image_repair(sl_image *img, sl_image_repairs *repairs);
  * `budget`: the image memory budget in bytes (0 = SL_IMAGE_BUDGET_DEFAULT). The file's first
  * bytes are checked for the format's magic before the rest is read (a device or a FIFO that is
  * not an image fails after a few bytes). `repairs` may be NULL. */
-bool sl_image_read_hdr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
+SL_API bool sl_image_read_hdr(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 bool sl_image_read_pfm(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
 /* A PFM of signed data (positions, normals: the G-buffer's AOVs): negative values are kept,
  * NaN or Inf is an error; nothing is repaired. */
@@ -142,7 +143,7 @@ static inline int sl_unorm8(float v)
  * png takes 1 or 3 channels of already display-encoded values in [0,1]. */
 bool sl_image_write_hdr(const char *path, const sl_image *img, sl_error *err);
 bool sl_image_write_pfm(const char *path, const sl_image *img, sl_error *err);
-bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
+SL_API bool sl_image_write_png(const char *path, const sl_image *img, sl_error *err);
 /* The same encodings into memory (what the writers and the fuzz round trips call);
  * the caller frees *bytes with free(). */
 bool sl_image_encode_hdr(const sl_image *img, unsigned char **bytes, size_t *size, sl_error *err);
