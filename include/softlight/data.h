@@ -8,8 +8,9 @@
  *   3. next to the running program: EXE_DIR/../share/softlight (an installed program);
  *   4. next to the shared library: LIB_DIR/../share/softlight (a program linking an installed
  *      libsoftlight.so from anywhere);
- *   5. in a build tree: the directory named by the file EXE_DIR/softlight-data-dir, which
- *      softlight's build writes beside its programs (it names the source tree).
+ *   5. in a build tree: the directory named by the file softlight-data-dir beside the program
+ *      or the shared library, which softlight's build writes beside its programs and libraries
+ *      (it names the source tree).
  * Candidates 3-5 count only when DIR/shaders and DIR/scenes exist. Nothing is compiled in:
  * the library and the programs hold no absolute path. */
 #ifndef SOFTLIGHT_DATA_H

@@ -108,6 +108,8 @@ static void find_once(void)
         return;
     if (exe_dir[0] && try_marker(exe_dir))
         return;
+    if (lib_dir[0] && try_marker(lib_dir))
+        return;
     found_dir[0] = '\0';
 }
 

@@ -1,0 +1,29 @@
+#!/usr/bin/env bash
+# exports.sh BUILD_DIR - the shared library exports only softlight's public functions: every
+# defined dynamic symbol starts with sl_ (the SL_API ones; the rest is built with hidden
+# visibility), its SONAME carries the major version of include/softlight/version.h, and the
+# static library holds no absolute path of the source tree.
+set -euo pipefail
+BUILD=${1:?usage: $0 BUILD_DIR}
+lib=$BUILD/libsoftlight.so
+# Symbols the toolchain may define in any shared object.
+allowed='^(_init|_fini|_edata|_end|__bss_start)$'
+fails=0
+syms=$(nm -D --defined-only "$lib" | awk '{print $3}')
+count=$(printf '%s\n' "$syms" | grep -c '^sl_' || true)
+others=$(printf '%s\n' "$syms" | grep -v '^sl_' | grep -Ev "$allowed" || true)
+if [ -n "$others" ]; then
+    echo "FAIL exported symbols without the sl_ prefix:"; printf '  %s\n' $others; fails=1
+fi
+if [ "$count" -lt 1 ]; then echo "FAIL no sl_ symbol exported"; fails=1; else echo "ok   $count sl_ symbols exported, nothing else"; fi
+# An internal function of the library stays hidden.
+if printf '%s\n' "$syms" | grep -qx scene_load_model_alone; then echo "FAIL internal symbols exported"; fails=1; fi
+major=$(sed -n 's/^#define SL_VERSION_MAJOR \([0-9]*\)/\1/p' include/softlight/version.h)
+soname=$(readelf -d "$lib" | sed -n 's/.*Library soname: \[\(.*\)\]/\1/p')
+if [ "$soname" = "libsoftlight.so.$major" ]; then echo "ok   SONAME $soname"; else echo "FAIL SONAME '$soname'"; fails=1; fi
+if strings "$BUILD/libsoftlight.a" "$lib" | grep -F "$PWD" >/dev/null; then
+    echo "FAIL the libraries hold the source tree's path $PWD"; fails=1
+else
+    echo "ok   no source tree path in the libraries"
+fi
+exit $fails
