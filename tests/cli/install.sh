@@ -13,6 +13,13 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-install.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 unset SOFTLIGHT_DATA_DIR SL_SHADER_DIR
 P=$T/prefix
+# The consumers are built as the library was: its compiler (GCC's and clang's OpenMP runtimes
+# differ) and, in a sanitized build, the sanitizers' runtime.
+CC=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")
+CFLAGS=""
+if grep -q '^SL_SANITIZE:BOOL=ON' "$BUILD/CMakeCache.txt"; then
+    CFLAGS="-fsanitize=address,undefined"
+fi
 fails=0
 ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fails=$((fails + 1)); }
@@ -33,7 +40,7 @@ if find "$P" -name softlight-data-dir | grep -q .; then bad "the build tree's so
 
 # ---- find_package: softlight::softlight (shared) and softlight::softlight_static ----
 if cmake -S tests/consumer -B "$T/cmake-consumer" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$P" \
-        -DSOFTLIGHT_SOURCE_INCLUDE="$SRC/src" >"$T/cmake.log" 2>&1 &&
+        -DCMAKE_C_COMPILER="$CC" -DCMAKE_C_FLAGS="$CFLAGS" -DSOFTLIGHT_SOURCE_INCLUDE="$SRC/src" >"$T/cmake.log" 2>&1 &&
    cmake --build "$T/cmake-consumer" -j2 >>"$T/cmake.log" 2>&1; then
     ok "find_package(softlight) consumer builds"
 else
@@ -49,7 +56,7 @@ if readelf -d "$T/cmake-consumer/consumer" | grep -q 'NEEDED.*libsoftlight.so.0'
 export PKG_CONFIG_PATH=$(dirname "$pc")
 cflags=$(pkg-config --cflags softlight)
 # shellcheck disable=SC2086
-if cc -std=c11 tests/consumer/consumer.c $cflags -I"$SRC/src" $(pkg-config --libs softlight) -o "$T/pc-shared" &&
+if "$CC" -std=c11 $CFLAGS tests/consumer/consumer.c $cflags -I"$SRC/src" $(pkg-config --libs softlight) -o "$T/pc-shared" &&
    (cd / && LD_LIBRARY_PATH="$libdir" "$T/pc-shared" "$T/pc-shared.png") && png_ok "$T/pc-shared.png"; then
     ok "pkg-config consumer (shared)"
 else
@@ -59,7 +66,7 @@ fi
 # PREFIX/bin/ so that it finds PREFIX/share/softlight beside itself.
 static_libs=$(pkg-config --libs --static softlight | sed 's/-lsoftlight\b/-l:libsoftlight.a/')
 # shellcheck disable=SC2086
-if cc -std=c11 tests/consumer/consumer.c $cflags -I"$SRC/src" $static_libs -o "$P/bin/sl-consumer" &&
+if "$CC" -std=c11 $CFLAGS tests/consumer/consumer.c $cflags -I"$SRC/src" $static_libs -o "$P/bin/sl-consumer" &&
    ! readelf -d "$P/bin/sl-consumer" | grep -q libsoftlight &&
    (cd / && "$P/bin/sl-consumer" "$T/pc-static.png") && png_ok "$T/pc-static.png"; then
     ok "pkg-config --static consumer (data found beside the program)"
