@@ -20,11 +20,12 @@ set(CPACK_DEB_COMPONENT_INSTALL ON)
 set(CPACK_DEBIAN_FILE_NAME DEB-DEFAULT)
 set(CPACK_DEBIAN_PACKAGE_SHLIBDEPS ON)
 set(CPACK_DEBIAN_ENABLE_COMPONENT_DEPENDS ON)
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS ON) # a shlibs file where there is a shared library
+set(CPACK_DEBIAN_PACKAGE_GENERATE_SHLIBS_POLICY ">=")
 set(CPACK_DEBIAN_PACKAGE_SECTION graphics)
 
 set(CPACK_DEBIAN_LIBRARY_PACKAGE_NAME libsoftlight${PROJECT_VERSION_MAJOR})
 set(CPACK_DEBIAN_LIBRARY_PACKAGE_SECTION libs)
-set(CPACK_DEBIAN_LIBRARY_PACKAGE_GENERATE_SHLIBS ON)
 set(CPACK_COMPONENT_LIBRARY_DESCRIPTION "softlight's shared library: a CPU rasterizer with C shaders for image-based lighting")
 set(CPACK_COMPONENT_LIBRARY_DEPENDS data)
 
@@ -37,6 +38,9 @@ set(CPACK_COMPONENT_DEVELOPMENT_DEPENDS library)
 set(CPACK_DEBIAN_TOOLS_PACKAGE_NAME softlight)
 set(CPACK_COMPONENT_TOOLS_DESCRIPTION "softlight and softlight-gl: render scenes and models from the command line")
 set(CPACK_COMPONENT_TOOLS_DEPENDS data)
+# softlight-gl opens EGL through libepoxy at run time (no link-time dependency to find); the
+# viewer's HUD font.
+set(CPACK_DEBIAN_TOOLS_PACKAGE_RECOMMENDS "libegl1, libegl-mesa0, libgl1-mesa-dri, fonts-dejavu-core")
 
 set(CPACK_DEBIAN_DATA_PACKAGE_NAME softlight-data)
 set(CPACK_DEBIAN_DATA_PACKAGE_ARCHITECTURE all)
