@@ -31,7 +31,7 @@ set(CPACK_COMPONENT_LIBRARY_DEPENDS data)
 
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_NAME libsoftlight-dev)
 set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_SECTION libdevel)
-set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS "libcjson-dev, libassimp-dev, libopenexr-dev, pkg-config")
+set(CPACK_DEBIAN_DEVELOPMENT_PACKAGE_DEPENDS "libcjson-dev, libassimp-dev, libopenexr-dev, libpng-dev, libjpeg-dev, pkg-config")
 set(CPACK_COMPONENT_DEVELOPMENT_DESCRIPTION "softlight's headers, static library, pkg-config and CMake files")
 set(CPACK_COMPONENT_DEVELOPMENT_DEPENDS library)
 

@@ -1,12 +1,17 @@
 /* fuzz_texture.c - libFuzzer target for texture files as sl_texture_load reads them
- * (src/raster/texture.c): PNG and JPEG through png.c's stb (8 and 16 bits, 1 to 4 channels),
- * Radiance .hdr through hdr.c, told apart by their first bytes, then the mip chain.
+ * (src/raster/texture.c): PNG through libpng and JPEG through libjpeg-turbo (src/core/png_decode.c,
+ * jpeg_decode.c: 8 and 16 bits, 1 to 4 channels), Radiance .hdr through hdr.c, told apart by
+ * their first bytes, then the mip chain.
  *
  * Any input must either load or fail with an error naming the file, leaving no texture,
  * without crashing, hanging or leaking. What loads must hold a whole chain whose samples are
- * finite (the .hdr reader repairs NaN and Inf), at every level and filter. The seeds in
- * fuzz/corpus/fuzz_texture were written byte by byte (PNG chunks with zlib data, a baseline
- * JPEG of one DC-only block per component, a flat .hdr); test_texture reads them too. */
+ * finite (the .hdr reader repairs NaN and Inf), at every level and filter. Debian's libpng and
+ * libjpeg-turbo are not instrumented, so coverage guides through softlight's side only (and
+ * ASan sees only what they do to softlight's memory): the seeds in fuzz/corpus/fuzz_texture
+ * therefore include valid files of every layout (valid_*, fuzz/make_image_seeds.c) for the
+ * mutations to start from, beside files written byte by byte (PNG chunks with zlib data, a
+ * baseline JPEG of one DC-only block per component, a flat .hdr) and reproducers of past
+ * findings; test_texture reads some of them too. */
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>

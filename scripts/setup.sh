@@ -7,7 +7,8 @@ set -euo pipefail
 packages=(
   build-essential cmake pkg-config      # compiler, build
   clang libclang-rt-14-dev libomp-dev   # fuzz targets (libFuzzer) and OpenMP for clang
-  libstb-dev libcjson-dev               # image I/O, scene files
+  libpng-dev libjpeg62-turbo-dev        # PNG and JPEG textures (libpng, libjpeg-turbo)
+  libstb-dev libcjson-dev               # PNG writing (stb_image_write), scene files
   libopenexr-dev                        # .exr environments and --exr (its C library, OpenEXRCore)
   libassimp-dev                         # model import (glTF 2.0, OBJ+MTL, ...)
   libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core  # viewer and its HUD font

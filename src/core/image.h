@@ -6,7 +6,8 @@
  * inside the pipeline follow OpenGL instead (row 0 at the bottom); they turn
  * into sl_images once, with sl_image_flip_rows, when written out.
  *
- * Formats (one file each: hdr.c, pfm.c, exr.c, png.c; image.c owns the buffer, file.c the I/O):
+ * Formats (hdr.c, pfm.c, exr.c; png.c writes PNG; raw_image.c reads PNG / JPEG through png_decode.c
+ * and jpeg_decode.c; image.c owns the buffer, file.c the I/O):
  *   .hdr  Radiance RGBE, read (flat and new-style RLE scanlines, "-Y h +X w" only) and
  *         write (RLE for widths 8..32767, flat otherwise). A texel (m_r, m_g, m_b, e) decodes
  *         as m * 2^(e - 136) (e = 0 is black), the convention of Greg Ward's rgbe.c that the
@@ -91,15 +92,17 @@ bool sl_image_read_exr(const char *path, size_t budget, sl_image *img, sl_image_
  * of them, or that is not a regular file, by its extension; .hdr's reader when that says nothing
  * either). What environments and irradiance maps are read with. */
 bool sl_image_read_radiance(const char *path, size_t budget, sl_image *img, sl_image_repairs *repairs, sl_error *err);
-/* PNG / JPEG (stb_image), 8- or 16-bit sRGB decoded to linear RGB (3 channels) with the exact
- * piecewise curve; alpha is dropped, grey is replicated. The budget counts stb's own buffers
- * (its 8-bit image and the inflated PNG data) with the float image. */
+/* PNG (libpng) / JPEG (libjpeg-turbo), 8- or 16-bit sRGB decoded to linear RGB (3 channels) with
+ * the exact piecewise curve; alpha is dropped, grey is replicated. The budget counts the
+ * decoder's share (three images of the file's channels and depth) with the float image. */
 bool sl_image_read_texture(const char *path, size_t budget, sl_image *img, sl_error *err);
 /* A PNG or JPEG decoded as stored, for textures (raster/texture.c): `channels` 1..4 (grey,
- * grey + alpha, RGB, RGBA) of `bits` 8 or 16 (PNG only; JPEG is 8) per channel, interleaved,
- * row 0 = top. `pixels` belongs to stb's budgeted allocator: free it with sl_raw_image_free. The
- * budget counts stb's buffers plus `extra` bytes the caller will allocate for the result (a
- * texture and its mips), so one check refuses what the whole load would need. */
+ * grey + alpha, RGB, RGBA; a palette is expanded to RGB or RGBA, a colour key to an alpha
+ * channel) of `bits` 8 or 16 (PNG only; JPEG is 8) per channel, interleaved, row 0 = top; free
+ * with sl_raw_image_free. Corrupt or truncated data is an error naming the file, never a
+ * partial image. The budget counts the decoder's share plus `extra` bytes the caller will
+ * allocate for the result (a texture and its mips), so one check refuses what the whole load
+ * would need. */
 typedef struct {
     int width, height, channels, bits;
     void *pixels;

@@ -4,8 +4,8 @@
  *
  * The layout and the per-texel decode are in texture_internal.h (shared with sampler.c); the
  * rules every function here follows (row 0 at the bottom, how levels are made) are in
- * texture.h. Decoding files is core's: PNG / JPEG through png.c's one copy of stb (budgeted
- * allocator), .hdr through hdr.c. */
+ * texture.h. Decoding files is core's: PNG / JPEG through sl_image_parse_raw (raw_image.c:
+ * libpng, libjpeg-turbo), .hdr through hdr.c. */
 #include <limits.h>
 #include <math.h>
 #include <stdio.h>

@@ -96,7 +96,7 @@ const void *sl_texture_level_texels(const sl_texture *t, int level, int *width, 
 int sl_texture_format_bytes(sl_texture_format fmt);        /* bytes per texel */
 
 /* Files, with the full mip chain: PNG (8 and 16 bit, 1-4 channels), JPEG, Radiance .hdr (the
- * hand-written reader of src/core/hdr.c, never stb), told apart by their first bytes.
+ * hand-written reader of src/core/hdr.c), told apart by their first bytes.
  * srgb: 8-bit colour data is SRGB8 (RGB) or SRGB8_ALPHA8 (alpha stays linear), grey
  * replicated to RGB (GL has no one-channel sRGB format in core); otherwise UNORM: R8, RG8,
  * RGB8, RGBA8; 16-bit PNGs are always UNORM16 (GL has no 16-bit sRGB format), .hdr RGB32F

@@ -4,13 +4,16 @@
  * fields that decide what arrives (node transforms and references, material factors,
  * accessors). assimp 5.2 reads a wrong type silently as the default ("scale": "big" becomes
  * 1) and a truncated .glb as "no suitable reader"; a user gets instead one line with the JSON
- * path, as the scene reader gives. Indices, buffer bounds and recursion are assimp's checks
- * and model.c's (the glTF importer refuses cycles; model.c caps the depth it walks). */
+ * path, as the scene reader gives. The document's sizes are capped before anything else, and
+ * the node graph (trees, depth, instances) is checked in linear time before the importer, whose
+ * recursion would overflow the stack on a deep chain. Buffer bounds are assimp's checks. */
+#include "model.h"
 #include "scene_internal.h"
 
 #include <cjson/cJSON.h>
 #include <stdint.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 #define GLB_MAGIC 0x46546C67u /* "glTF" */
@@ -53,12 +56,6 @@ static bool index_in(checker *c, const cJSON *v, const char *path, int count, co
         return sl_fail(c->err, SL_ERR_FORMAT, "%s: %s: %d out of range (%d %s)", c->name, path, v->valueint, count,
                        of);
     return true;
-}
-
-static int count_of(const cJSON *root, const char *key)
-{
-    const cJSON *a = cJSON_GetObjectItemCaseSensitive(root, key);
-    return cJSON_IsArray(a) ? cJSON_GetArraySize(a) : 0;
 }
 
 static bool check_node(checker *c, const cJSON *n, const char *path, int nodes, int meshes, int cameras)
@@ -239,58 +236,249 @@ static bool check_mesh(checker *c, const cJSON *m, const char *path, int accesso
     return true;
 }
 
-static bool check_json(checker *c, const char *json, size_t size)
+/* The document's top-level arrays, each counted once: cJSON_GetArraySize walks a list, so
+ * counting per element would make the checks quadratic in the file's size. */
+enum { A_SCENES, A_NODES, A_MESHES, A_MATERIALS, A_ACCESSORS, A_VIEWS, A_BUFFERS, A_IMAGES, A_TEXTURES,
+       A_SAMPLERS, A_CAMERAS, A_COUNT };
+static const char *const array_names[A_COUNT] = {"scenes",      "nodes",   "meshes", "materials",
+                                                 "accessors",   "bufferViews", "buffers", "images",
+                                                 "textures",    "samplers", "cameras"};
+
+/* The caps of model.h, applied to the document before any element is checked and before the
+ * importer builds anything: a 2 MB file can list 200,000 nodes, and the importer's own limits
+ * come only after its allocations. */
+static bool within_caps(checker *c, const int count[A_COUNT])
+{
+    static const struct {
+        int array, cap;
+    } caps[] = {{A_NODES, SL_MODEL_MAX_NODES},
+                {A_MESHES, SL_MODEL_MAX_MESHES},
+                {A_MATERIALS, SL_MODEL_MAX_MATERIALS},
+                {A_IMAGES, SL_MODEL_MAX_IMAGES},
+                {A_TEXTURES, SL_MODEL_MAX_IMAGES}};
+    for (size_t i = 0; i < sizeof caps / sizeof caps[0]; i++)
+        if (count[caps[i].array] > caps[i].cap)
+            return sl_fail(c->err, SL_ERR_RANGE, "%s: %d %s (softlight reads at most %d)", c->name,
+                           count[caps[i].array], array_names[caps[i].array], caps[i].cap);
+    return true;
+}
+
+/* The node graph, once every node passed check_node (children are in-range indices): glTF's nodes
+ * form disjoint trees, so each node has at most one parent; the depth is capped, and so is the
+ * number of mesh instances the trees make (a node holding mesh m makes one per primitive of m).
+ * All in time linear in the nodes, before the importer recurses down a 20,000-deep chain. */
+static bool check_hierarchy(checker *c, const cJSON *nodes, int node_count, const cJSON *meshes, int mesh_count)
+{
+    if (node_count == 0)
+        return true;
+    int *parent = malloc((size_t)node_count * sizeof *parent);
+    int *depth = malloc((size_t)node_count * sizeof *depth);
+    int *queue = malloc((size_t)node_count * sizeof *queue);
+    int *prims = malloc((size_t)(mesh_count ? mesh_count : 1) * sizeof *prims);
+    const cJSON **node = malloc((size_t)node_count * sizeof *node);
+    bool ok = parent && depth && queue && prims && node;
+    if (!ok)
+        sl_fail(c->err, SL_ERR_MEMORY, "%s: out of memory for the node graph", c->name);
+    int m = 0;
+    for (const cJSON *e = ok && meshes ? meshes->child : NULL; e; e = e->next, m++) {
+        const cJSON *p = cJSON_GetObjectItemCaseSensitive(e, "primitives");
+        int n = 0;
+        for (const cJSON *q = p ? p->child : NULL; q; q = q->next)
+            n++;
+        prims[m] = n;
+    }
+    int k = 0;
+    long instances = 0;
+    for (const cJSON *e = ok ? nodes->child : NULL; e; e = e->next, k++) {
+        node[k] = e;
+        parent[k] = -1;
+        depth[k] = -1;
+        const cJSON *mesh = cJSON_GetObjectItemCaseSensitive(e, "mesh");
+        if (mesh)
+            instances += prims[mesh->valueint];
+    }
+    if (ok && instances > SL_MODEL_MAX_INSTANCES)
+        ok = sl_fail(c->err, SL_ERR_RANGE, "%s: its nodes place %ld mesh instances (softlight draws at most %d)",
+                     c->name, instances, SL_MODEL_MAX_INSTANCES);
+    for (k = 0; ok && k < node_count; k++) {
+        const cJSON *children = cJSON_GetObjectItemCaseSensitive(node[k], "children");
+        for (const cJSON *e = children ? children->child : NULL; ok && e; e = e->next) {
+            int child = e->valueint;
+            if (child == k || parent[child] >= 0)
+                ok = sl_fail(c->err, SL_ERR_FORMAT,
+                             child == k ? "%s: nodes[%d] is its own child (recursive nodes)"
+                                        : "%s: nodes[%d] has two parents, nodes[%d] and nodes[%d] (glTF nodes form trees)",
+                             c->name, child, parent[child], k);
+            else
+                parent[child] = k;
+        }
+    }
+    /* Breadth first from the roots: a node no root reaches lies on a cycle or below one. */
+    int head = 0, tail = 0;
+    for (k = 0; ok && k < node_count; k++)
+        if (parent[k] < 0) {
+            depth[k] = 0;
+            queue[tail++] = k;
+        }
+    while (ok && head < tail) {
+        int n = queue[head++];
+        if (depth[n] >= SL_MODEL_MAX_NODE_DEPTH) {
+            ok = sl_fail(c->err, SL_ERR_RANGE, "%s: nodes nested deeper than %d levels (nodes[%d])", c->name,
+                         SL_MODEL_MAX_NODE_DEPTH, n);
+            break;
+        }
+        const cJSON *children = cJSON_GetObjectItemCaseSensitive(node[n], "children");
+        for (const cJSON *e = children ? children->child : NULL; e; e = e->next) {
+            depth[e->valueint] = depth[n] + 1;
+            queue[tail++] = e->valueint;
+        }
+    }
+    for (k = 0; ok && k < node_count; k++)
+        if (depth[k] < 0)
+            ok = sl_fail(c->err, SL_ERR_FORMAT, "%s: nodes[%d] is its own ancestor (recursive nodes)", c->name, k);
+    free(parent);
+    free(depth);
+    free(queue);
+    free(prims);
+    free(node);
+    return ok;
+}
+
+/* The version (glTF 1.0 files have another layout, which the checks below would misread) and
+ * the required extensions: the glTF specification has a loader refuse a file that requires
+ * an extension it does not implement, rather than draw it wrongly. softlight implements none. */
+static bool check_asset(checker *c, const cJSON *root)
+{
+    const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
+    const cJSON *version = cJSON_GetObjectItemCaseSensitive(asset, "version");
+    if (cJSON_IsString(version) && strncmp(version->valuestring, "2.", 2) != 0) {
+        char shown[24];
+        return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: glTF version \"%s\" (softlight reads glTF 2.0)", c->name,
+                       sl_error_excerpt(version->valuestring, 16, shown, sizeof shown));
+    }
+    const cJSON *required = cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired");
+    if (required && !cJSON_IsArray(required))
+        return bad(c, "extensionsRequired", "an array of extension names");
+    for (const cJSON *e = required ? required->child : NULL; e; e = e->next) {
+        char shown[72];
+        if (!cJSON_IsString(e))
+            return bad(c, "extensionsRequired", "an array of extension names");
+        return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: requires the glTF extension %s, which softlight does not implement",
+                       c->name, sl_error_excerpt(e->valuestring, 64, shown, sizeof shown));
+    }
+    return true;
+}
+
+/* The triangles the meshes declare, for the import to be checked against (assimp drops a
+ * triangle with an index out of range, with a log line nobody sees): -1 when a primitive is not
+ * a triangle list (strips and fans are converted by the importer and not counted). Refuses a
+ * triangle list whose index (or vertex) count is not a multiple of 3. */
+static bool count_triangles(checker *c, const cJSON *meshes, const cJSON *accessors, int accessor_count,
+                            long long *triangles)
+{
+    *triangles = 0;
+    if (!meshes)
+        return true;
+    long long *counts = malloc((size_t)(accessor_count ? accessor_count : 1) * sizeof *counts);
+    if (!counts)
+        return sl_fail(c->err, SL_ERR_MEMORY, "%s: out of memory for the accessors", c->name);
+    int a = 0;
+    for (const cJSON *e = accessors ? accessors->child : NULL; e; e = e->next, a++)
+        counts[a] = (long long)cJSON_GetObjectItemCaseSensitive(e, "count")->valuedouble;
+    bool ok = true;
+    int m = 0;
+    for (const cJSON *mesh = meshes->child; ok && mesh; mesh = mesh->next, m++) {
+        int p = 0;
+        const cJSON *prims = cJSON_GetObjectItemCaseSensitive(mesh, "primitives");
+        for (const cJSON *prim = prims->child; ok && prim; prim = prim->next, p++) {
+            const cJSON *mode = cJSON_GetObjectItemCaseSensitive(prim, "mode");
+            const cJSON *indices = cJSON_GetObjectItemCaseSensitive(prim, "indices");
+            const cJSON *position =
+                cJSON_GetObjectItemCaseSensitive(cJSON_GetObjectItemCaseSensitive(prim, "attributes"), "POSITION");
+            if (mode && !(cJSON_IsNumber(mode) && mode->valuedouble == 4.0)) {
+                *triangles = -1; /* points, lines, strips, fans */
+                continue;
+            }
+            if (!indices && !position)
+                continue; /* the importer refuses it with its own message */
+            long long n = counts[(indices ? indices : position)->valueint];
+            if (n % 3 != 0)
+                ok = sl_fail(c->err, SL_ERR_FORMAT, "%s: meshes[%d].primitives[%d]: %lld %s, not a multiple of 3 for "
+                             "a triangle list", c->name, m, p, n, indices ? "indices" : "vertices");
+            else if (*triangles >= 0)
+                *triangles += n / 3;
+        }
+    }
+    free(counts);
+    return ok;
+}
+
+static bool check_json(checker *c, const char *json, size_t size, scene_gltf_facts *facts)
 {
     cJSON *root = cJSON_ParseWithLength(json, size);
     if (!root)
         return sl_fail(c->err, SL_ERR_FORMAT, "%s: invalid JSON in the glTF document", c->name);
-    bool ok = cJSON_IsObject(root) || bad(c, "top level", "a JSON object");
-    static const char *const arrays[] = {"scenes", "nodes", "meshes", "materials", "accessors", "bufferViews",
-                                         "buffers", "images", "textures", "samplers", "cameras"};
-    for (size_t i = 0; ok && i < sizeof arrays / sizeof arrays[0]; i++) {
-        const cJSON *a = cJSON_GetObjectItemCaseSensitive(root, arrays[i]);
-        if (!a)
-            continue;
-        ok = cJSON_IsArray(a) || bad(c, arrays[i], "an array of objects");
+    bool ok = (cJSON_IsObject(root) || bad(c, "top level", "a JSON object")) && check_asset(c, root);
+    const cJSON *array[A_COUNT] = {0};
+    int count[A_COUNT] = {0};
+    for (int i = 0; ok && i < A_COUNT; i++) {
+        array[i] = cJSON_GetObjectItemCaseSensitive(root, array_names[i]);
+        ok = !array[i] || cJSON_IsArray(array[i]) || bad(c, array_names[i], "an array of objects");
+        if (ok && array[i])
+            count[i] = cJSON_GetArraySize(array[i]);
+    }
+    ok = ok && within_caps(c, count);
+    for (int i = 0; ok && i < A_COUNT; i++) {
         int k = 0;
-        for (const cJSON *e = ok ? a->child : NULL; ok && e; e = e->next, k++) {
+        for (const cJSON *e = array[i] ? array[i]->child : NULL; ok && e; e = e->next, k++) {
             char path[64];
-            snprintf(path, sizeof path, "%s[%d]", arrays[i], k);
+            snprintf(path, sizeof path, "%s[%d]", array_names[i], k);
             ok = cJSON_IsObject(e) || bad(c, path, "an object");
-            if (ok && strcmp(arrays[i], "nodes") == 0)
-                ok = check_node(c, e, path, count_of(root, "nodes"), count_of(root, "meshes"),
-                                count_of(root, "cameras"));
-            else if (ok && strcmp(arrays[i], "materials") == 0)
-                ok = check_material(c, e, path, count_of(root, "textures"));
-            else if (ok && strcmp(arrays[i], "textures") == 0)
-                ok = check_texture(c, e, path, count_of(root, "images"), count_of(root, "samplers"));
-            else if (ok && strcmp(arrays[i], "meshes") == 0)
-                ok = check_mesh(c, e, path, count_of(root, "accessors"), count_of(root, "materials"));
-            else if (ok && strcmp(arrays[i], "accessors") == 0)
-                ok = check_accessor(c, e, path, count_of(root, "bufferViews"));
-            else if (ok && strcmp(arrays[i], "images") == 0)
-                ok = check_image(c, e, path, count_of(root, "bufferViews"));
+            if (!ok)
+                break;
+            switch (i) {
+            case A_NODES: ok = check_node(c, e, path, count[A_NODES], count[A_MESHES], count[A_CAMERAS]); break;
+            case A_MATERIALS: ok = check_material(c, e, path, count[A_TEXTURES]); break;
+            case A_TEXTURES: ok = check_texture(c, e, path, count[A_IMAGES], count[A_SAMPLERS]); break;
+            case A_MESHES: ok = check_mesh(c, e, path, count[A_ACCESSORS], count[A_MATERIALS]); break;
+            case A_ACCESSORS: ok = check_accessor(c, e, path, count[A_VIEWS]); break;
+            case A_IMAGES: ok = check_image(c, e, path, count[A_VIEWS]); break;
+            default: break;
+            }
         }
+    }
+    ok = ok && check_hierarchy(c, array[A_NODES], count[A_NODES], array[A_MESHES], count[A_MESHES]);
+    ok = ok && count_triangles(c, array[A_MESHES], array[A_ACCESSORS], count[A_ACCESSORS], &facts->triangles);
+    for (const cJSON *b = ok && array[A_BUFFERS] ? array[A_BUFFERS]->child : NULL; b; b = b->next) {
+        const cJSON *length = cJSON_GetObjectItemCaseSensitive(b, "byteLength");
+        if (cJSON_IsNumber(length) && length->valuedouble > 0)
+            facts->buffer_bytes += length->valuedouble < (double)SL_MODEL_MAX_FILE_BYTES ? (size_t)length->valuedouble
+                                                                                       : SL_MODEL_MAX_FILE_BYTES;
     }
     cJSON_Delete(root);
     return ok;
 }
 
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err)
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
+                      sl_error *err)
 {
     checker c = {.name = name, .err = err};
+    scene_gltf_facts ignored;
+    if (!facts)
+        facts = &ignored;
+    *facts = (scene_gltf_facts){0};
     if (!glb)
-        return check_json(&c, (const char *)bytes, size);
+        return check_json(&c, (const char *)bytes, size, facts);
     if (size < 20 || le32(bytes) != GLB_MAGIC)
         return sl_fail(err, SL_ERR_FORMAT, "%s: not a .glb file (%s)", name,
                        size < 20 ? "shorter than its 20-byte header" : "no \"glTF\" magic at byte 0");
     uint32_t version = le32(bytes + 4), length = le32(bytes + 8), json_len = le32(bytes + 12);
     if (version != 2)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: .glb version %u (softlight reads glTF 2.0)", name, version);
-    if (length > size)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: truncated .glb: its header says %u bytes, the file has %zu", name,
-                       length, size);
+    if (length != size)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: %s .glb: its header says %u bytes, the file has %zu", name,
+                       length > size ? "truncated" : "damaged", length, size);
     if (le32(bytes + 16) != GLB_JSON || json_len > length - 20)
         return sl_fail(err, SL_ERR_FORMAT, "%s: .glb's first chunk is not a JSON chunk within the file", name);
-    return check_json(&c, (const char *)bytes + 20, json_len);
+    return check_json(&c, (const char *)bytes + 20, json_len, facts);
 }

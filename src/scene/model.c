@@ -57,6 +57,8 @@ typedef struct {
     const char *mem_path;
     const unsigned char *mem;
     size_t mem_size;
+    /* glTF: the triangles its triangle lists declare (gltf_check.c); -1 = not known. */
+    long long triangles;
     /* The first file that could not be opened, and why. */
     char failed[SL_PATH_MAX];
     char failed_why[96];
@@ -411,7 +413,7 @@ static void dir_of(const char *path, char out[SL_PATH_MAX])
  * texture carries, or a file relative to the model) as an index into model->images, adding it
  * the first time. */
 static bool find_image(const struct aiScene *s, sl_model *model, const char *dir, const char *ref,
-                       file_access *fa, int *index, sl_error *err)
+                       const char *material, file_access *fa, int *index, sl_error *err)
 {
     char shown[204];
     int embedded = -1;
@@ -428,15 +430,13 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
                 embedded = (int)i;
     }
     char path[SL_PATH_MAX] = "";
-    if (embedded < 0) {
-        int n = ref[0] == '/' ? snprintf(path, sizeof path, "%s", ref) : snprintf(path, sizeof path, "%s%s", dir, ref);
-        if (n < 0 || n >= (int)sizeof path)
-            return sl_fail(err, SL_ERR_RANGE, "%s: image path \"%s\" too long", fa->name,
-                           sl_error_excerpt(ref, 64, shown, sizeof shown));
-        struct stat st;
-        if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
-            return sl_fail(err, SL_ERR_IO, "%s: image \"%s\": %s", fa->name, sl_error_excerpt(path, 200, shown, sizeof shown),
-                           stat(path, &st) != 0 ? "no such file" : "not a regular file");
+    if (embedded < 0 && !scene_texture_path_resolve(dir, ref, path)) {
+        char mat[72];
+        return sl_fail(err, SL_ERR_IO,
+                       "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and "
+                       "for its file name alone)",
+                       fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
+                       sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
     }
     for (int i = 0; i < model->image_count; i++) {
         const sl_model_image *im = &model->images[i];
@@ -471,7 +471,7 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
 }
 
 static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiTextureType type, sl_model *model,
-                   const char *dir, file_access *fa, sl_model_texref *out, sl_error *err)
+                   const char *dir, const char *material, file_access *fa, sl_model_texref *out, sl_error *err)
 {
     *out = (sl_model_texref){.image = -1, .scale = 1.0f};
     struct aiString path;
@@ -502,7 +502,7 @@ static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiT
          aiGetMaterialFloatArray(m, "$tex.strength", type, 0, &scale, NULL) == aiReturn_SUCCESS) &&
         isfinite(scale))
         out->scale = scale;
-    return find_image(s, model, dir, path.data, fa, &out->image, err);
+    return find_image(s, model, dir, path.data, material, fa, &out->image, err);
 }
 
 static float get_float(const struct aiMaterial *m, const char *key, unsigned type, unsigned index, float def,
@@ -572,20 +572,20 @@ static bool convert_material(const struct aiScene *s, unsigned index, sl_model *
 
     bool mr = out->kind == SL_MODEL_MAT_METALLIC_ROUGHNESS;
     sl_model_texref none;
-    bool ok = texref(s, m, mr ? aiTextureType_BASE_COLOR : aiTextureType_DIFFUSE, model, dir, fa,
+    bool ok = texref(s, m, mr ? aiTextureType_BASE_COLOR : aiTextureType_DIFFUSE, model, dir, out->name, fa,
                      &out->base_color_tex, err) &&
-              texref(s, m, aiTextureType_EMISSIVE, model, dir, fa, &out->emissive_tex, err) &&
-              texref(s, m, aiTextureType_NORMALS, model, dir, fa, &out->normal_tex, err);
+              texref(s, m, aiTextureType_EMISSIVE, model, dir, out->name, fa, &out->emissive_tex, err) &&
+              texref(s, m, aiTextureType_NORMALS, model, dir, out->name, fa, &out->normal_tex, err);
     if (ok && mr) {
         /* Where assimp's glTF importer puts metallicRoughnessTexture and occlusionTexture. */
-        ok = texref(s, m, aiTextureType_UNKNOWN, model, dir, fa, &out->metallic_roughness_tex, err) &&
-             texref(s, m, aiTextureType_LIGHTMAP, model, dir, fa, &out->occlusion_tex, err);
+        ok = texref(s, m, aiTextureType_UNKNOWN, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
+             texref(s, m, aiTextureType_LIGHTMAP, model, dir, out->name, fa, &out->occlusion_tex, err);
         out->specular_tex = (sl_model_texref){.image = -1, .scale = 1.0f};
     } else if (ok) {
         /* MTL: map_Ns, map_Ks, and map_Bump (HEIGHT) where there is no norm (NORMALS). */
-        ok = texref(s, m, aiTextureType_SHININESS, model, dir, fa, &out->metallic_roughness_tex, err) &&
-             texref(s, m, aiTextureType_SPECULAR, model, dir, fa, &out->specular_tex, err) &&
-             texref(s, m, aiTextureType_HEIGHT, model, dir, fa, &none, err);
+        ok = texref(s, m, aiTextureType_SHININESS, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
+             texref(s, m, aiTextureType_SPECULAR, model, dir, out->name, fa, &out->specular_tex, err) &&
+             texref(s, m, aiTextureType_HEIGHT, model, dir, out->name, fa, &none, err);
         if (ok && out->normal_tex.image < 0)
             out->normal_tex = none;
         out->occlusion_tex = (sl_model_texref){.image = -1, .scale = 1.0f};
@@ -623,16 +623,41 @@ static const char *assimp_reason(char out[204])
     return sl_error_excerpt(n ? line : "unknown error", 200, out, 204);
 }
 
+/* Whether every mesh is the placeholder assimp builds for a file without meshes (its
+ * SkeletonMeshBuilder: a pyramid per bone, made for a file of cameras, lights or bones, with a
+ * material of that name). Drawn, it would pass for the file's content. */
+static bool only_placeholder(const struct aiScene *s)
+{
+    for (unsigned i = 0; i < s->mNumMeshes; i++) {
+        const struct aiMesh *m = s->mMeshes[i];
+        struct aiString name;
+        if (!m || m->mMaterialIndex >= s->mNumMaterials ||
+            aiGetMaterialString(s->mMaterials[m->mMaterialIndex], AI_MATKEY_NAME, &name) != aiReturn_SUCCESS ||
+            strcmp(name.data, "SkeletonMaterial") != 0)
+            return false;
+    }
+    return true;
+}
+
 static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *model, sl_error *err)
 {
     const char *name = fa->name;
     if (!s->mRootNode)
         return sl_fail(err, SL_ERR_FORMAT, "%s: no node tree", name);
-    if (s->mNumMeshes == 0)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes", name);
+    if (s->mNumMeshes == 0 || only_placeholder(s))
+        return sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "
+                       "cameras, lights, points, lines or bones)", name);
     if (s->mNumMeshes > SL_MODEL_MAX_MESHES || s->mNumMaterials > SL_MODEL_MAX_MATERIALS)
         return sl_fail(err, SL_ERR_RANGE, "%s: %u meshes / %u materials exceed the caps %d / %d", name,
                        s->mNumMeshes, s->mNumMaterials, SL_MODEL_MAX_MESHES, SL_MODEL_MAX_MATERIALS);
+    if (fa->triangles >= 0) {
+        long long got = 0;
+        for (unsigned i = 0; i < s->mNumMeshes; i++)
+            got += s->mMeshes[i]->mPrimitiveTypes == aiPrimitiveType_TRIANGLE ? s->mMeshes[i]->mNumFaces : 0;
+        if (got < fa->triangles)
+            return sl_fail(err, SL_ERR_FORMAT, "%s: %lld of its %lld triangles have an index out of range of their "
+                           "vertices", name, fa->triangles - got, fa->triangles);
+    }
     unsigned materials = s->mNumMaterials ? s->mNumMaterials : 1;
     model->meshes = calloc(s->mNumMeshes, sizeof *model->meshes);
     model->materials = calloc(materials, sizeof *model->materials);
@@ -690,6 +715,9 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
                          sl_error_excerpt(fa->failed, 200, shown, sizeof shown), fa->failed_why);
         else if (fa->failed[0])
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
+        else if (strstr(aiGetErrorString(), "No meshes remaining"))
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "
+                         "points or lines)", fa->name);
         else if (strncmp(aiGetErrorString(), "No suitable reader", 18) == 0)
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: no importer accepts its contents (truncated, or not the format its "
                          "extension says)", fa->name);
@@ -702,6 +730,20 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     if (!ok)
         sl_model_free(model);
     return ok;
+}
+
+/* One import, as scene_import_isolated runs it in its child. */
+typedef struct {
+    const char *path;
+    file_access *fa;
+} import_job;
+
+static bool import_job_run(void *ctx, sl_model *model, sl_error *err)
+{
+    import_job *job = ctx;
+    memset(model, 0, sizeof *model);
+    snprintf(model->path, sizeof model->path, "%s", job->path);
+    return import(job->path, job->fa, model, err);
 }
 
 static const char *extension(const char *path)
@@ -727,18 +769,32 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     if (!ext[0] || !aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
-    file_access fa = {.name = path, .gltf = is_gltf(ext)};
+    file_access fa = {.name = path, .gltf = is_gltf(ext), .triangles = -1};
+    struct stat st;
+    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
+        return sl_fail(err, SL_ERR_IO, "%s: %s", path, stat(path, &st) != 0 ? "no such file" : "not a regular file");
+    size_t input_bytes = (size_t)st.st_size;
     if (fa.gltf) {
         size_t size;
+        scene_gltf_facts facts;
         unsigned char *bytes = read_regular(&fa, path, &size);
         if (!bytes)
             return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
-        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, err);
+        bool ok = scene_gltf_check(bytes, size, strcasecmp(ext, "glb") == 0, path, &facts, err);
         free(bytes);
         if (!ok)
             return false;
+        input_bytes += facts.buffer_bytes;
+        fa.triangles = facts.triangles;
     }
-    return import(path, &fa, model, err);
+    /* The import runs in a child bounded in memory and time, both from the input's size
+     * (model_isolate.c says why). */
+    if (input_bytes > SL_MODEL_MAX_FILE_BYTES)
+        input_bytes = SL_MODEL_MAX_FILE_BYTES;
+    size_t memory = SL_MODEL_IMPORT_MEMORY_BASE + SL_MODEL_IMPORT_MEMORY_PER_BYTE * input_bytes;
+    int seconds = SL_MODEL_IMPORT_SECONDS_BASE + (int)(input_bytes >> 20) / SL_MODEL_IMPORT_MIB_PER_SECOND;
+    import_job job = {.path = path, .fa = &fa};
+    return scene_import_isolated(import_job_run, &job, path, memory, seconds, model, err);
 }
 
 bool sl_model_load_memory(const void *data, size_t size, const char *hint, const char *name, sl_model *model,
@@ -748,10 +804,14 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     snprintf(model->path, sizeof model->path, "%s", name);
     char path[64];
     snprintf(path, sizeof path, "memory.%.16s", hint);
-    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size};
+    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size,
+                      .triangles = -1};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
-    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, err))
+    scene_gltf_facts facts;
+    if (is_gltf(hint) && !scene_gltf_check(data, size, strcasecmp(hint, "glb") == 0, name, &facts, err))
         return false;
+    if (is_gltf(hint))
+        fa.triangles = facts.triangles;
     return import(path, &fa, model, err);
 }

@@ -5,6 +5,7 @@
 #ifndef SL_SCENE_INTERNAL_H
 #define SL_SCENE_INTERNAL_H
 
+#include "model.h"
 #include "scene.h"
 
 /* Size caps: far above any mesh softlight renders at interactive rates, far below
@@ -58,8 +59,31 @@ bool scene_expand_models(sl_scene *scene, const bool *material_given, const int 
 /* The default scene around a model file given alone (model_scene.c). */
 bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
 
+/* The file a model's texture reference `ref` names, relative to the model's folder `dir` ("" or
+ * ending in '/'): Windows separators, Blender's "//", case differences and foreign absolute paths
+ * resolved as texture_path.c describes. False when no regular file matches. */
+bool scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
+
+/* What a glTF document's checks learn for the import: the bytes its buffers declare (for the
+ * import's memory budget) and the triangles its triangle lists declare (-1 when it has other
+ * primitives), to find the ones the importer drops. */
+typedef struct {
+    size_t buffer_bytes;
+    long long triangles;
+} scene_gltf_facts;
+
 /* A glTF document's checks before the importer reads it (gltf_check.c): the .glb container when
- * `glb`, then the JSON types of nodes, materials and accessors, with the JSON path. */
-bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, sl_error *err);
+ * `glb`, then the caps, the JSON types of nodes, materials and accessors with the JSON path, the
+ * node graph and the triangle lists' counts. `facts` may be NULL. */
+bool scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, const char *name, scene_gltf_facts *facts,
+                      sl_error *err);
+
+/* An import function run by scene_import_isolated: fills *model or *err. */
+typedef bool (*scene_import_fn)(void *ctx, sl_model *model, sl_error *err);
+/* Runs fn in a child process whose address space may grow by `memory_bytes` and which may run
+ * `seconds`, and returns its model or error; running out of either, or crashing, is an error
+ * naming `name` (model_isolate.c). */
+bool scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
+                           sl_model *model, sl_error *err);
 
 #endif

@@ -13,6 +13,9 @@
 
 #include "raster/gbuffer_textured.h"
 #include "scene/model.h"
+#include "scene/scene_internal.h"
+
+#include <sys/stat.h>
 
 /* One triangle (0,0,0), (1,0,0), (0,1,0) in glTF's Y-up object space, UVs (0,0), (0.25,0.75),
  * (0,1), indices 0 1 2 as unsigned shorts: 36 + 24 + 6 bytes, padded to 68. */
@@ -700,6 +703,142 @@ static void test_obj_mtl_drawn(void **state)
     sl_scene_free(&scene);
 }
 
+/* A glTF document of `count` copies of `element` (a printf format that may take the next
+ * element's index, for a chain) as the array `key`, the last one `last`, after `head` (more
+ * top-level members). */
+static void write_repeated(const char *file, const char *head, const char *key, const char *element,
+                           const char *last, int count)
+{
+    size_t cap = strlen(head) + 64 + (size_t)count * (strlen(element) + 24);
+    char *text = malloc(cap);
+    assert_non_null(text);
+    size_t n = (size_t)snprintf(text, cap, "{\"asset\": {\"version\": \"2.0\"}, %s\"%s\": [", head, key);
+    for (int i = 0; i < count; i++) {
+        n += (size_t)snprintf(text + n, cap - n, i ? "," : "");
+        n += (size_t)snprintf(text + n, cap - n, i + 1 < count ? element : last, i + 1);
+    }
+    n += (size_t)snprintf(text + n, cap - n, "]}");
+    test_write_bytes(test_tmpfile(file), text, n);
+    free(text);
+}
+
+/* The document's sizes and its node graph are checked before the importer runs, in linear time:
+ * a deep chain would overflow the importer's recursion, and 200,000 nodes took minutes in a check
+ * that counted an array per element. */
+static void test_gltf_graph_limits(void **state)
+{
+    (void)state;
+    const char *mesh = "\"meshes\": [{\"primitives\": [{\"attributes\": {}}]}], ";
+    /* A chain: node i's child is node i + 1, the last holds the mesh. */
+    write_repeated("chain.gltf", mesh, "nodes", "{\"children\": [%d]}", "{\"mesh\": 0}", 20000);
+    load_fails(test_tmpfile("chain.gltf"), "nodes nested deeper than 256 levels");
+    write_repeated("chain5k.gltf", mesh, "nodes", "{\"children\": [%d]}", "{\"mesh\": 0}", 5000);
+    load_fails(test_tmpfile("chain5k.gltf"), "nodes nested deeper than 256 levels");
+    /* Wide: 200,000 empty nodes, 100,000 meshes: over the caps, refused before any element. */
+    write_repeated("wide.gltf", "", "nodes", "{}", "{}", 200000);
+    load_fails(test_tmpfile("wide.gltf"), "200000 nodes (softlight reads at most 65536)");
+    write_repeated("meshes.gltf", "", "meshes", "{\"primitives\": []}", "{\"primitives\": []}", 100000);
+    load_fails(test_tmpfile("meshes.gltf"), "100000 meshes (softlight reads at most 4096)");
+    /* 2,000 nodes each placing a mesh of 40 primitives: 80,000 instances. */
+    char prims[2048] = "\"meshes\": [{\"primitives\": [";
+    for (int i = 0; i < 40; i++)
+        strcat(prims, i ? ", {\"attributes\": {}}" : "{\"attributes\": {}}");
+    strcat(prims, "]}], ");
+    write_repeated("instances.gltf", prims, "nodes", "{\"mesh\": 0}", "{\"mesh\": 0}", 2000);
+    load_fails(test_tmpfile("instances.gltf"), "80000 mesh instances (softlight draws at most 65536)");
+    /* Two parents: not a tree. */
+    write_repeated("dag.gltf", mesh, "nodes", "{\"children\": [2]}", "{\"mesh\": 0}", 3);
+    load_fails(test_tmpfile("dag.gltf"), "nodes[2] has two parents, nodes[0] and nodes[1]");
+    /* A required extension softlight does not implement, and a glTF 1.0 file. */
+    const char *draco = "{\"asset\": {\"version\": \"2.0\"}, \"extensionsRequired\": [\"KHR_draco_mesh_compression\"]}";
+    test_write_bytes(test_tmpfile("draco.gltf"), draco, strlen(draco));
+    load_fails(test_tmpfile("draco.gltf"), "requires the glTF extension KHR_draco_mesh_compression");
+    const char *v1 = "{\"asset\": {\"version\": \"1.0\"}, \"scenes\": {\"s\": {\"nodes\": []}}}";
+    test_write_bytes(test_tmpfile("v1.gltf"), v1, strlen(v1));
+    load_fails(test_tmpfile("v1.gltf"), "glTF version \"1.0\" (softlight reads glTF 2.0)");
+}
+
+/* Texture references as other tools write them find the file beside the model: Windows
+ * separators, Blender's "//", another case, an absolute path of another machine. */
+static void test_texture_path_forms(void **state)
+{
+    (void)state;
+    char dir[SL_PATH_MAX], got[SL_PATH_MAX], want[2 * SL_PATH_MAX];
+    snprintf(dir, sizeof dir, "%s", test_tmpfile(""));
+    mkdir(test_tmpfile("Maps"), 0755);
+    test_write_bytes(test_tmpfile("Wood.png"), "x", 1);
+    test_write_bytes(test_tmpfile("Maps/bark.JPG"), "x", 1);
+    static const struct {
+        const char *ref, *file;
+    } found[] = {
+        {"Wood.png", "Wood.png"},          {".\\Wood.png", "Wood.png"},          {"//Wood.png", "Wood.png"},
+        {"WOOD.PNG", "Wood.png"},          {"Q:/art/textures/wood.png", "Wood.png"},
+        {"/home/someone/wood.png", "Wood.png"}, {"maps\\BARK.jpg", "Maps/bark.JPG"},
+        {"./Maps/bark.JPG", "Maps/bark.JPG"}, {"C:\\x\\y\\wood.PNG", "Wood.png"},
+    };
+    for (size_t i = 0; i < sizeof found / sizeof found[0]; i++) {
+        snprintf(want, sizeof want, "%s%s", dir, found[i].file);
+        if (!scene_texture_path_resolve(dir, found[i].ref, got) || strcmp(got, want) != 0)
+            fail_msg("\"%s\": expected %s", found[i].ref, want);
+    }
+    /* bark.JPG is in Maps/, not beside the model: a bare name does not search folders. */
+    static const char *const missing[] = {"bark.jpg", "gone.png", "Maps", "Q:", "//", "..", ""};
+    for (size_t i = 0; i < sizeof missing / sizeof missing[0]; i++)
+        if (scene_texture_path_resolve(dir, missing[i], got))
+            fail_msg("\"%s\": expected no file, got %s", missing[i], got);
+    /* Through a model: an OBJ whose material names ".\WOOD.PNG". */
+    size_t png_size;
+    unsigned char *png = png_bytes(&png_size);
+    test_write_bytes(test_tmpfile("Wood.png"), png, png_size);
+    free(png);
+    const char *obj = "mtllib win.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\nvt 1 0\nvt 1 1\nusemtl m\nf 1/1 2/2 3/3\n";
+    const char *mtl = "newmtl m\nKd 1 1 1\nmap_Kd .\\WOOD.PNG\n";
+    test_write_bytes(test_tmpfile("win.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("win.mtl"), mtl, strlen(mtl));
+    sl_model m;
+    load_ok(test_tmpfile("win.obj"), &m);
+    assert_int_equal(m.image_count, 1);
+    assert_string_equal(m.images[0].path, test_tmpfile("Wood.png"));
+    sl_model_free(&m);
+}
+
+/* Index data the importer would take in part: an index out of range drops its triangle (the
+ * rest would be drawn without a word), a triangle list of 4 indices, a .glb longer than its
+ * header says. */
+static void test_gltf_index_counts(void **state)
+{
+    (void)state;
+    /* Two triangles over 3 vertices: (0, 1, 2) and (0, 2, 7). */
+    const char *doc =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0},\"indices\":1}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":3,\"type\":\"VEC3\",\"min\":[0,0,0],"
+        "\"max\":[1,1,0]},{\"bufferView\":1,\"componentType\":5123,\"count\":%d,\"type\":\"SCALAR\"}],"
+        "\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36},{\"buffer\":0,\"byteOffset\":36,"
+        "\"byteLength\":%d}],\"buffers\":[{\"byteLength\":48,\"uri\":\"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAAAAABAAIAAAACAAcA\"}]}";
+    char text[2048];
+    int n = snprintf(text, sizeof text, doc, 6, 12);
+    test_write_bytes(test_tmpfile("range.gltf"), text, (size_t)n);
+    load_fails(test_tmpfile("range.gltf"), "1 of its 2 triangles have an index out of range");
+    n = snprintf(text, sizeof text, doc, 4, 8);
+    test_write_bytes(test_tmpfile("four.gltf"), text, (size_t)n);
+    load_fails(test_tmpfile("four.gltf"), "meshes[0].primitives[0]: 4 indices, not a multiple of 3");
+    /* The first triangle alone loads. */
+    n = snprintf(text, sizeof text, doc, 3, 6);
+    test_write_bytes(test_tmpfile("one.gltf"), text, (size_t)n);
+    sl_model m;
+    load_ok(test_tmpfile("one.gltf"), &m);
+    assert_int_equal(m.meshes[0].mesh.triangle_count, 1);
+    sl_model_free(&m);
+    /* A .glb with 8 bytes after the length its header gives. */
+    unsigned char glb[40] = "glTF\2\0\0\0";
+    glb[8] = 32; /* length 32, file 40 */
+    memcpy(glb + 12, "\x08\0\0\0JSON{}      ", 16);
+    test_write_bytes(test_tmpfile("long.glb"), glb, sizeof glb);
+    load_fails(test_tmpfile("long.glb"), "damaged .glb: its header says 32 bytes, the file has 40");
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -752,6 +891,9 @@ int main(void)
         cmocka_unit_test(test_gltf_metal_blend),
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
+        cmocka_unit_test(test_gltf_graph_limits),
+        cmocka_unit_test(test_gltf_index_counts),
+        cmocka_unit_test(test_texture_path_forms),
         cmocka_unit_test(test_error_excerpt_bounds),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
