@@ -5,7 +5,7 @@ JOBS ?= $(shell nproc)
 SCENE ?= scenes/default.json
 FUZZ_SECONDS ?= 20
 
-.PHONY: all setup build run test test-release test-clang test-sanitize fuzz bench debug clean
+.PHONY: all setup build run test test-release test-clang test-sanitize fuzz bench debug package clean
 
 all: build
 
@@ -52,5 +52,12 @@ bench: build
 	OMP_WAIT_POLICY=passive ./build/bench_shading --frames 3
 	OMP_WAIT_POLICY=passive bash bench/vs-gl.sh build 3 5
 
+# Debian packages in build-deb/ (docs/install.md): installed under /usr, not tuned for this CPU.
+package: setup
+	cmake -S . -B build-deb -DCMAKE_BUILD_TYPE=Release -DCMAKE_INSTALL_PREFIX=/usr -DSL_NATIVE=OFF \
+	  -DSL_BUILD_TESTS=OFF -DSL_BUILD_BENCH=OFF >/dev/null
+	cmake --build build-deb -j $(JOBS)
+	cd build-deb && cpack -G DEB
+
 clean:
-	rm -rf build build-debug build-asan build-clang build-fuzz
+	rm -rf build build-debug build-asan build-clang build-fuzz build-deb

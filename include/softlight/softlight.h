@@ -23,5 +23,6 @@
 #include <softlight/raster.h>
 #include <softlight/gbuffer.h>
 #include <softlight/renderer.h>
+#include <softlight/data.h>
 
 #endif

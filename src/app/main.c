@@ -3,6 +3,7 @@
 #include <string.h>
 
 #include "commands.h"
+#include "softlight/version.h"
 
 static const struct {
     const char *name;
@@ -23,7 +24,8 @@ static void usage(FILE *out)
     fprintf(out, "usage: softlight <command> [options]\n\ncommands:\n");
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
         fprintf(out, "  %-8s %s\n", commands[i].name, commands[i].summary);
-    fprintf(out, "\n`softlight <command> --help` describes each command's options.\n");
+    fprintf(out, "\n`softlight --version` prints the version.\n");
+    fprintf(out, "`softlight <command> --help` describes each command's options.\n");
 }
 
 int main(int argc, char **argv)
@@ -34,6 +36,10 @@ int main(int argc, char **argv)
     }
     if (!strcmp(argv[1], "--help") || !strcmp(argv[1], "-h") || !strcmp(argv[1], "help")) {
         usage(stdout);
+        return 0;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("softlight %s\n", SL_VERSION_STRING);
         return 0;
     }
     for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)

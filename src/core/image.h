@@ -35,6 +35,7 @@
 
 #include "error.h"
 #include "options.h"
+#include "softlight/version.h"
 
 /* Limits for files read from disk: no side over 32768, no more than 2^28 pixels, and no
  * buffer over 4 GiB (2^28 RGB float pixels are 3 GiB). */

@@ -24,6 +24,7 @@
 #include "post/tonemap.h"
 #include "scene/camera.h"
 #include "slgl.h"
+#include "softlight/version.h"
 
 #define TIME_MAX_RUNS 1000
 
@@ -307,8 +308,13 @@ int main(int argc, char **argv)
 {
     if (argc < 2 || !strcmp(argv[1], "--help") || !strcmp(argv[1], "-h")) {
         printf("usage: softlight-gl render SCENE.json [options]   (render --help for the options)\n"
-               "       softlight-gl info                         (the OpenGL renderer, or why there is none)\n");
+               "       softlight-gl info                         (the OpenGL renderer, or why there is none)\n"
+               "       softlight-gl --version\n");
         return argc < 2 ? 2 : 0;
+    }
+    if (!strcmp(argv[1], "--version")) {
+        printf("softlight %s\n", SL_VERSION_STRING);
+        return 0;
     }
     if (!strcmp(argv[1], "render"))
         return cmd_render(argc, argv);

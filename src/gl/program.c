@@ -1,8 +1,9 @@
 /* program.c - GLSL programs from the files in shaders/, compiled at run time.
  *
  * The shaders are read from disk rather than embedded so that the GLSL that runs is exactly the file
- * a reader diffs against the C port. The directory is the source tree's shaders/ (SL_SHADER_DIR,
- * fixed at build time) unless $SL_SHADER_DIR names another. A compile or link failure carries the
+ * a reader diffs against the C port. The directory is shaders/ in softlight's data directory
+ * (softlight/data.h: the source tree from a build tree, share/softlight installed) unless
+ * $SL_SHADER_DIR names another. A compile or link failure carries the
  * driver's log (first lines) in the error, prefixed with the file name. A fragment shader can be
  * compiled with #defines (lighting.frag's per-scene programs, src/gl/lighting_pass.c). */
 #include <stdio.h>
@@ -10,13 +11,19 @@
 #include <string.h>
 
 #include "slgl.h"
+#include "softlight/data.h"
 
 #define SHADER_MAX_BYTES (1u << 20)
 
 const char *slgl_shader_dir(void)
 {
+    static char dir_buf[SL_PATH_MAX];
     const char *dir = getenv("SL_SHADER_DIR");
-    return dir && dir[0] ? dir : SL_SHADER_DIR;
+    if (dir && dir[0])
+        return dir;
+    if (!sl_data_path("shaders", dir_buf, sizeof dir_buf))
+        return "shaders"; /* no data directory: relative to the current one */
+    return dir_buf;
 }
 
 static bool compile(GLenum type, const char *label, const char *src, GLuint *shader, sl_error *err)

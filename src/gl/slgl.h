@@ -51,14 +51,14 @@ void slgl_context_destroy(slgl_context *ctx);
 bool slgl_check(const char *what, sl_error *err);
 
 /* ---- program.c ---- */
-/* Compile shaders/<vert> and shaders/<frag> (from SL_SHADER_DIR, or $SL_SHADER_DIR when set) into a
+/* Compile shaders/<vert> and shaders/<frag> (slgl_shader_dir) into a
  * linked program; the compiler's log is in err on failure. */
 bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuint *program, sl_error *err);
 /* A program from a file fragment shader and a vertex shader given as source (the full-screen triangle);
  * frag_defines (NULL: none), "#define NAME VALUE" lines, are compiled after the file's #version. */
 bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name,
                                const char *frag_defines, GLuint *program, sl_error *err);
-/* The directory shaders are read from. */
+/* The directory shaders are read from: $SL_SHADER_DIR when set, else shaders/ in the data directory. */
 const char *slgl_shader_dir(void);
 
 /* ---- gbuffer_pass.c ---- */

@@ -24,6 +24,7 @@
  * copied into the scene ("MODEL#N"), so that the raster stage decodes each once either way. */
 #include "model.h"
 #include "scene_internal.h"
+#include "softlight/data.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -33,7 +34,8 @@
 #define MODEL_MAX_ALPHA 1e6f
 /* The name assimp gives the material it adds when a file has none (AI_DEFAULT_MATERIAL_NAME). */
 #define AI_DEFAULT_NAME "DefaultMaterial"
-#define DEFAULT_ENVIRONMENT SL_SHADER_DIR "/../scenes/envmaps/studio.hdr"
+/* The shipped environment lighting a model given alone, in the data directory (softlight/data.h). */
+#define DEFAULT_ENVIRONMENT "scenes/envmaps/studio.hdr"
 
 /* glTF sampler values (GL enums). */
 enum { GL_NEAREST_ = 9728, GL_LINEAR_ = 9729, GL_NEAREST_MIPMAP_NEAREST_ = 9984, GL_CLAMP_ = 33071,
@@ -468,8 +470,14 @@ static sl_camera frame_bounds(vec3 lo, vec3 hi, float fovy_deg)
 
 bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
 {
-    char escaped[2 * SL_PATH_MAX], env[2 * SL_PATH_MAX];
-    if (!json_escape(path, escaped, sizeof escaped) || !json_escape(DEFAULT_ENVIRONMENT, env, sizeof env))
+    char escaped[2 * SL_PATH_MAX], env[2 * SL_PATH_MAX], env_path[SL_PATH_MAX];
+    if (!sl_data_dir())
+        return sl_fail(err, SL_ERR_IO,
+                       "%s: no default environment: softlight's data directory (shaders/, scenes/) was not "
+                       "found; set SOFTLIGHT_DATA_DIR",
+                       path);
+    if (!sl_data_path(DEFAULT_ENVIRONMENT, env_path, sizeof env_path) || !json_escape(path, escaped, sizeof escaped) ||
+        !json_escape(env_path, env, sizeof env))
         return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
     char json[5 * SL_PATH_MAX];
     int n = snprintf(json, sizeof json, "{\"environment\": \"%s\", \"objects\": [{\"model\": \"%s\"}]}", env,
