@@ -488,7 +488,7 @@ static double cached_seconds(const char *path)
 /* The error size of a scene: c's size for its aspect, else the same pixel count at the scene's. */
 static void error_size(const config *c, const sl_scene *scene, int *w, int *h)
 {
-    double aspect = (double)scene->settings.width / scene->settings.height, px = (double)c->width * c->height;
+    double aspect = (double)scene->options.size[0] / scene->options.size[1], px = (double)c->width * c->height;
     *w = (int)lround(sqrt(px * aspect));
     *h = (int)lround(*w / aspect);
     if (fabs(aspect - (double)c->width / c->height) < 1e-3) {
@@ -576,11 +576,14 @@ static void run_scene(const config *c, const scene_entry *s, scene_info *si, con
         die(s->path, &err);
     si->name = s->name;
     si->ggx = s->ggx;
-    si->anchor_w = scene.settings.width;
-    si->anchor_h = scene.settings.height;
+    si->anchor_w = scene.options.size[0];
+    si->anchor_h = scene.options.size[1];
     error_size(c, &scene, &si->w, &si->h);
-    sl_render_desc desc = {.width = si->w, .height = si->h, .threads = c->threads, .irradiance_set = true};
-    desc.lighting = (sl_lighting_options){.irradiance = sl_irradiance_default(), .no_point_lights = true};
+    sl_render_desc desc = {0};
+    sl_option_set_size(&desc.options, si->w, si->h);
+    sl_option_set_threads(&desc.options, c->threads);
+    sl_option_set_irradiance(&desc.options, sl_irradiance_default());
+    sl_option_set_no_lights(&desc.options, true);
     sl_renderer r;
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         die(s->path, &err);

@@ -21,7 +21,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             if (scene.objects[i].mesh < 0 || scene.objects[i].mesh >= scene.mesh_count ||
                 scene.objects[i].material < 0 || scene.objects[i].material >= scene.material_count)
                 abort();
-        if (scene.settings.samples < 1 || scene.settings.samples > 1024 || !(scene.camera.znear > 0.0f) ||
+        if (scene.options.samples < 1 || scene.options.samples > 1024 || !(scene.camera.znear > 0.0f) ||
             scene.light_count > SL_LIGHTING_MAX_LIGHTS)
             abort();
         sl_scene_free(&scene);

@@ -96,7 +96,7 @@ static bool parse_value(const sl_arg *a, const char *s, sl_error *err)
         int i = choice_index(a->choices, s);
         if (i < 0)
             return sl_fail(err, SL_ERR_RANGE, "%s: expected one of %s, got '%s'", a->name, a->choices, s);
-        *(int *)a->value = i;
+        *(int *)a->value = (int)a->min + i;
         return true;
     }
     case SL_ARG_FLAG:
@@ -134,8 +134,8 @@ bool sl_args_parse(int argc, char **argv, int first, const sl_arg *table, int co
         }
         if (!a)
             return sl_fail(err, SL_ERR_RANGE, "unknown option '%.*s' (see --help)", (int)name_len, word);
-        if (a->seen)
-            *a->seen = true;
+        if (a->mark)
+            *a->mark->bits |= a->mark->bit;
         if (a->type == SL_ARG_FLAG) {
             if (eq)
                 return sl_fail(err, SL_ERR_RANGE, "%s takes no value", a->name);

@@ -19,19 +19,26 @@ typedef enum {
     SL_ARG_STRING, /* const char * (points into argv) */
     SL_ARG_SIZE,   /* "WxH" into int[2], each within [min, max] */
     SL_ARG_PAIR,   /* "X,Y" into int[2], each within [min, max] */
-    SL_ARG_CHOICE, /* one of `choices` ("a|b|c"), stored as its index (int) */
+    SL_ARG_CHOICE, /* one of `choices` ("a|b|c"), stored as `min` plus its index (int) */
 } sl_arg_type;
+
+/* Where an option's appearance is noted: `bit` or-ed into *bits (the set bits of an
+ * sl_option_values record, core/options.h). */
+typedef struct {
+    unsigned *bits;
+    unsigned bit;
+} sl_arg_mark;
 
 typedef struct {
     const char *name;  /* "--samples" */
     const char *alias; /* "-o" or NULL */
     sl_arg_type type;
-    void *value;       /* where the parsed value goes; *seen is set for every option given */
+    void *value;       /* where the parsed value goes */
     double min, max;   /* for INT, FLOAT, SIZE, PAIR */
     const char *choices; /* for CHOICE: "spec|spec-d4|paper" */
     const char *metavar; /* "N", "FILE" */
     const char *help;
-    bool *seen;        /* optional: set true when the option appears */
+    const sl_arg_mark *mark; /* optional: noted when the option appears */
 } sl_arg;
 
 /* Parse argv[first..argc). Non-option words go to positional[] (at most max_positional).

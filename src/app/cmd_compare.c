@@ -142,7 +142,8 @@ int cmd_compare(int argc, char **argv)
     const char *mask_path = NULL, *diff_path = NULL, *edges = NULL;
     float tolerance = -1.0f, exposure = 1.0f, contrast = 1.0f, rel_floor = 1e-3f, depth_tol = 1e-6f;
     int metric = SL_METRIC_RMSE, edge_band = 1;
-    bool tolerance_given = false;
+    unsigned given = 0;
+    const sl_arg_mark tolerance_mark = {&given, 1u};
     const sl_arg table[] = {
         {"--mask", NULL, SL_ARG_STRING, &mask_path, 0, 0, NULL, "M", "compare only where M (.pfm/.hdr) is > 0.5", NULL},
         {"--edges", NULL, SL_ARG_STRING, &edges, 0, 0, NULL, "DA,DB",
@@ -152,7 +153,7 @@ int cmd_compare(int argc, char **argv)
         {"--depth-tol", NULL, SL_ARG_FLOAT, &depth_tol, 0, 1, NULL, "T", "depths further apart disagree (default 1e-6)",
          NULL},
         {"--tolerance", NULL, SL_ARG_FLOAT, &tolerance, 0, 1e30, NULL, "T", "exit 1 unless the metric is <= T",
-         &tolerance_given},
+         &tolerance_mark},
         {"--metric", NULL, SL_ARG_CHOICE, &metric, 0, 0, "rmse|max|p99rel", NULL,
          "what --tolerance bounds (default rmse)", NULL},
         {"--diff", NULL, SL_ARG_STRING, &diff_path, 0, 0, NULL, "OUT.png", "write a false-colour difference image",
@@ -208,7 +209,7 @@ int cmd_compare(int argc, char **argv)
     bool file_nonfinite = ra.nan_count || ra.inf_count || rb.nan_count || rb.inf_count;
     bool ok = !file_nonfinite && sl_compare_within(&stats, SL_METRIC_RMSE, INFINITY);
     static const char *metric_names[] = {"rmse", "max", "p99rel"};
-    if (tolerance_given) {
+    if (given) { /* --tolerance */
         double value = sl_compare_metric_value(&stats, (sl_compare_metric)metric);
         ok = ok && sl_compare_within(&stats, (sl_compare_metric)metric, (double)tolerance);
         printf("%s %s = %.6g, tolerance %.6g\n", ok ? "PASS" : "FAIL", metric_names[metric], value,

@@ -189,19 +189,19 @@ int cmd_info(int argc, char **argv)
 {
     sl_render_options ro;
     sl_arg table[SL_RENDER_OPTION_COUNT];
-    sl_render_options_table(&ro, table);
+    const int n = sl_render_options_table(&ro, table);
     const char *positional[1];
     int npos;
     bool help;
     sl_error err = {0};
-    if (!sl_args_parse(argc, argv, 2, table, SL_RENDER_OPTION_COUNT, positional, 1, &npos, &help, &err)) {
+    if (!sl_args_parse(argc, argv, 2, table, n, positional, 1, &npos, &help, &err)) {
         fprintf(stderr, "softlight info: %s\n", err.msg);
         return 2;
     }
     if (help || npos != 1) {
         sl_args_print_help(help ? stdout : stderr,
                            "softlight info SCENE.json [render options: the peak memory is that render's]", table,
-                           SL_RENDER_OPTION_COUNT);
+                           n);
         return help ? 0 : 2;
     }
     sl_render_desc desc;
@@ -251,11 +251,15 @@ int cmd_info(int argc, char **argv)
     print_vec3("target", c->target);
     printf("  fovy       %g degrees, near %g, far %g\n", (double)c->fovy_deg, (double)c->znear, (double)c->zfar);
 
-    const sl_render_settings *s = &scene.settings;
-    sl_render_desc_resolve(&desc, &scene); /* what `render` with these options uses */
-    printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->width, s->height, s->samples,
+    const sl_option_values *s = &scene.options;
+    if (!sl_render_desc_resolve(&desc, &scene, &err)) { /* what `render` with these options uses */
+        fprintf(stderr, "softlight info: %s\n", err.msg);
+        sl_scene_free(&scene);
+        return 2;
+    }
+    printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->size[0], s->size[1], s->samples,
            (double)s->exposure, (double)s->contrast);
-    sl_lighting_options modes = sl_lighting_options_resolve(&desc.lighting);
+    const sl_lighting_options modes = desc.lighting;
     printf("  lighting   estimator %s, lod %s, g %s, env layout %s, irradiance %s%s%s (with these options)\n",
            sl_estimator_name(modes.estimator), sl_lod_rule_name(modes.lod_rule), sl_gterm_name(modes.gterm),
            sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance),
@@ -275,7 +279,7 @@ int cmd_info(int argc, char **argv)
         env_h = env.height;
         sl_image_free(&env);
         printf("  environment %s: %dx%d, intensity %g, rotation %g degrees%s%s\n", e->hdr_path, env_w, env_h,
-               (double)e->intensity, (double)e->rotation_deg, e->irradiance_path[0] ? ", irradiance " : "",
+               (double)s->env_intensity, (double)e->rotation_deg, e->irradiance_path[0] ? ", irradiance " : "",
                e->irradiance_path);
     } else {
         printf("  environment none (black)\n");

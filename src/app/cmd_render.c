@@ -55,8 +55,7 @@ int cmd_render(int argc, char **argv)
     sl_render_options ro;
     sl_shard shard = {0};
     sl_arg table[SL_RENDER_OPTION_COUNT + 11];
-    sl_render_options_table(&ro, table);
-    int n = SL_RENDER_OPTION_COUNT;
+    int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
     table[n++] = (sl_arg){"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "FILE.pfm", "linear radiance as float32 PFM", NULL};
@@ -118,10 +117,11 @@ int cmd_render(int argc, char **argv)
     int status = 2;
     sl_renderer r;
     sl_output_set out = {0};
+    if (!sl_render_desc_resolve(&desc, &scene, &err))
+        goto done_scene;
     if (shard.count) { /* the band of the scene's size, or of --size */
         desc.banded = true;
-        sl_shard_rows(shard.index, shard.count, desc.height ? desc.height : scene.settings.height, &desc.band[0],
-                      &desc.band[1]);
+        sl_shard_rows(shard.index, shard.count, desc.height, &desc.band[0], &desc.band[1]);
     }
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;

@@ -17,8 +17,7 @@ int cmd_trace(int argc, char **argv)
     int pixel[2] = {-1, -1};
     sl_render_options ro;
     sl_arg table[SL_RENDER_OPTION_COUNT + 1];
-    sl_render_options_table(&ro, table);
-    int n = SL_RENDER_OPTION_COUNT;
+    int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--pixel", "-p", SL_ARG_PAIR, pixel, 0, SL_RASTER_MAX_SIZE - 1, NULL, "X,Y",
                           "the pixel to trace, (0,0) = top left as in the written image", NULL};
     const char *positional[1];

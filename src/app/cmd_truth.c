@@ -87,7 +87,12 @@ static bool compare_with(const char *path, const sl_image *truth, const sl_gt_im
 
 int cmd_truth(int argc, char **argv)
 {
-    int size[2] = {0, 0}, g = -1, threads = 0, part = 0;
+    int part = 0;
+    sl_option_values given; /* the rendering options truth takes, as the command line gives them */
+    sl_option_values_default(&given);
+    const sl_arg_mark size_given = {&given.set, SL_OPT_BIT(SL_OPT_SIZE)},
+                      g_given = {&given.set, SL_OPT_BIT(SL_OPT_GTERM)},
+                      threads_given = {&given.set, SL_OPT_BIT(SL_OPT_THREADS)};
     const char *cache = NULL, *pfm = NULL, *parts = NULL, *png = NULL, *against = NULL, *shard_arg = NULL;
     sl_shard shard = {0};
     /* --size, --g and --threads: the rendering options' rows of the option table (core/options.h) */
@@ -96,9 +101,10 @@ int cmd_truth(int argc, char **argv)
     char g_choices[64];
     sl_option_choices(g_opt, g_choices, sizeof g_choices);
     sl_arg table[] = {
-        {size_opt->cli, NULL, SL_ARG_SIZE, size, size_opt->min, size_opt->max, NULL, "WxH",
-         "image size (default: the scene's; keep it small)", NULL},
-        {g_opt->cli, NULL, SL_ARG_CHOICE, &g, 0, 0, g_choices, NULL, "G/(L.N V.N) of the truth (default inv-lh2)", NULL},
+        {size_opt->cli, NULL, SL_ARG_SIZE, given.size, size_opt->min, size_opt->max, NULL, "WxH",
+         "image size (default: the scene's; keep it small)", &size_given},
+        {g_opt->cli, NULL, SL_ARG_CHOICE, &given.gterm, g_opt->min, 0, g_choices, NULL,
+         "G/(L.N V.N) of the truth (default inv-lh2)", &g_given},
         {"--cache", NULL, SL_ARG_STRING, &cache, 0, 0, NULL, "FILE", "read the truth from FILE when it matches, else write it", NULL},
         {"--pfm", NULL, SL_ARG_STRING, &pfm, 0, 0, NULL, "OUT.pfm", "radiance of --part (default: total = diffuse + specular), float32", NULL},
         {"--parts", NULL, SL_ARG_STRING, &parts, 0, 0, NULL, "DIR",
@@ -107,8 +113,8 @@ int cmd_truth(int argc, char **argv)
         {"--compare", NULL, SL_ARG_STRING, &against, 0, 0, NULL, "RENDER.pfm", "print the error of a rendering (same size)", NULL},
         {"--part", NULL, SL_ARG_CHOICE, &part, 0, 0, "total|diffuse|specular", NULL,
          "what --pfm, -o and --compare use (default total; render with --diffuse-only or --specular-only to match)", NULL},
-        {threads_opt->cli, threads_opt->alias, SL_ARG_INT, &threads, threads_opt->min, threads_opt->max, NULL, "N",
-         "worker threads (default: all cores)", NULL},
+        {threads_opt->cli, threads_opt->alias, SL_ARG_INT, &given.threads, threads_opt->min, threads_opt->max, NULL,
+         "N", "worker threads (default: all cores)", &threads_given},
         {"--shard", NULL, SL_ARG_STRING, &shard_arg, 0, 0, NULL, "I/N",
          "integrate image rows band I of N only and write a partial file (softlight merge)", NULL},
         {"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
@@ -138,7 +144,8 @@ int cmd_truth(int argc, char **argv)
         fprintf(stderr, "softlight truth: --compare needs the whole image: merge the shards, then compare\n");
         return 2;
     }
-    const sl_gterm gterm = g >= 0 ? (sl_gterm)((int)g_opt->min + g) : (sl_gterm)g_opt->def[0];
+    const sl_gterm gterm = given.gterm; /* the truth's own: not the scene's */
+    const int threads = given.threads;
     const int gi = gterm == SL_GTERM_ONE ? SL_GT_G_ONE : SL_GT_G_INV_LH2;
     sl_scene scene;
     if (!sl_scene_load(positional[0], &scene, &err)) {
@@ -148,16 +155,19 @@ int cmd_truth(int argc, char **argv)
     fputs(scene.warnings, stderr); /* what the scene loads but does not draw */
     int status = 2;
     sl_renderer r;
-    sl_render_desc desc = {.width = size[0], .height = size[1], .threads = threads};
-    desc.lighting.no_diffuse = true; /* no irradiance is needed: the truth integrates the environment itself */
-    if (shard.count) { /* the band of the scene's size, or of --size */
-        desc.banded = true;
-        sl_shard_rows(shard.index, shard.count, desc.height ? desc.height : scene.settings.height, &desc.band[0],
-                      &desc.band[1]);
-    }
+    sl_render_desc desc = {.options = given};
+    /* no irradiance is needed: the truth integrates the environment itself */
+    sl_option_set_specular_only(&desc.options, true);
+    sl_option_set_diffuse_only(&desc.options, false);
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};
     sl_output_set out = {0};
+    if (!sl_render_desc_resolve(&desc, &scene, &err))
+        goto done_scene;
+    if (shard.count) { /* the band of the scene's size, or of --size */
+        desc.banded = true;
+        sl_shard_rows(shard.index, shard.count, desc.height, &desc.band[0], &desc.band[1]);
+    }
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done_scene;
     if (!sl_renderer_raster(&r, NULL, &err))

@@ -149,13 +149,13 @@ static bool display_available(char *why, size_t size)
 /* The window starts at --size, else the scene's size, shrunk (aspect kept) to fit the screen. */
 static void initial_window_size(const sl_render_options *o, const sl_scene *scene, float scale, int *w, int *h)
 {
-    if (o->size[0] > 0) {
-        *w = o->size[0];
-        *h = o->size[1];
+    if (sl_option_is_set(&o->values, SL_OPT_SIZE)) {
+        *w = o->values.size[0];
+        *h = o->values.size[1];
         return;
     }
-    *w = (int)lroundf((float)scene->settings.width / scale);
-    *h = (int)lroundf((float)scene->settings.height / scale);
+    *w = (int)lroundf((float)scene->options.size[0] / scale);
+    *h = (int)lroundf((float)scene->options.size[1] / scale);
     SDL_Rect usable;
     if (SDL_GetDisplayUsableBounds(0, &usable) == 0 && usable.w > 0 && usable.h > 0) {
         float fit = fminf(0.9f * (float)usable.w / (float)*w, 0.9f * (float)usable.h / (float)*h);
@@ -196,7 +196,7 @@ int cmd_view(int argc, char **argv)
 {
     sl_render_options opts;
     sl_arg table[SL_RENDER_OPTION_COUNT + VIEW_OPTION_COUNT];
-    sl_render_options_table(&opts, table);
+    const int n = sl_render_options_table(&opts, table);
     float scale = 1.0f;
     const char *script_path = NULL, *font_path = DEFAULT_FONT;
     int frames = 0, move_samples = MOVE_SAMPLES, move_div = 0, bench_frames = 0;
@@ -225,8 +225,8 @@ int cmd_view(int argc, char **argv)
          "mip levels of accumulation frames: as for the total N (default) or for the frame's own N", NULL},
     };
     _Static_assert(sizeof extra / sizeof extra[0] == VIEW_OPTION_COUNT, "VIEW_OPTION_COUNT is the size of extra[]");
-    memcpy(table + SL_RENDER_OPTION_COUNT, extra, sizeof extra);
-    const int count = SL_RENDER_OPTION_COUNT + (int)(sizeof extra / sizeof extra[0]);
+    memcpy(table + n, extra, sizeof extra);
+    const int count = n + (int)(sizeof extra / sizeof extra[0]);
     const char *usage = "softlight view scene.json [options]   (--size: the window's size)";
     const char *scene_path[1];
     int npos = 0;
@@ -325,7 +325,9 @@ int cmd_view(int argc, char **argv)
     }
     sl_renderer r;
     sl_render_desc first = desc;
-    view_render_size(&v, 1, &first.width, &first.height);
+    int first_w, first_h;
+    view_render_size(&v, 1, &first_w, &first_h);
+    sl_option_set_size(&first.options, first_w, first_h);
     if (!sl_renderer_init(&r, scene, &first, &err)) {
         fprintf(stderr, "softlight view: %s\n", err.msg);
         sl_scene_free(scene);

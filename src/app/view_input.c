@@ -72,8 +72,7 @@ static bool load_scene(viewer *v, const char *path, int width, int height, sl_er
     }
     fputs(scene->warnings, stderr); /* what the scene loads but does not draw */
     sl_render_desc desc = v->cli_desc;
-    desc.width = width;
-    desc.height = height;
+    sl_option_set_size(&desc.options, width, height);
     sl_renderer r;
     if (!sl_renderer_init(&r, scene, &desc, err)) {
         sl_scene_free(scene);

@@ -1,7 +1,9 @@
-/* options.c - the option table (options.h): each option's spelling, default and limits, written
- * once. A new option is a row here, a field where it is used (sl_lighting_options, the
- * renderer's description), its words in src/app/render_options.c and, if a scene file may set
- * it, a key in src/scene/scene.c; tests/unit/test_options.c fails until the four agree. */
+/* options.c - the option table, expanded from the declaration (SL_OPTION_LIST, options.h), and
+ * the record's defaults, merge and checks. A new option is a row of SL_OPTION_LIST and, where a
+ * stage reads it, one line in sl_render_desc_resolve (src/render/renderer.c); the command line
+ * (src/app/render_options.c) and the scene file (src/scene/scene_render.c) read every row as it
+ * is, and tests/unit/test_options.c checks --help, README.md and docs/scene-format.md against
+ * the rows. */
 #include "options.h"
 
 #include <stdio.h>
@@ -26,63 +28,76 @@ static const char *const env_layout_names[] = {
     [SL_ENV_LAYOUT_DEFAULT] = "default", [SL_ENV_LAYOUT_LATLONG] = "latlong", [SL_ENV_LAYOUT_OCT] = "oct",
 };
 
-#define FLAG(id, spelling) [id] = {.name = spelling, .cli = "--" spelling, .type = SL_OPTION_FLAG}
+#define SL_OPT_UNPAREN_(...) __VA_ARGS__
+#define SL_OPT_ROW_(ID, field_, TYPE, ctype, name_, cli_, alias_, metavar_, help_, row)                                \
+    [SL_OPT_##ID] = {.name = name_, .cli = cli_, .alias = alias_, .metavar = metavar_, .help = help_,                \
+                     .type = SL_OPTION_##TYPE, .offset = offsetof(sl_option_values, field_), SL_OPT_UNPAREN_ row},
 
-const sl_option sl_options[SL_OPT_COUNT] = {
-    [SL_OPT_SIZE] = {.name = "size", .cli = "--size", .scene = {"render.width", "render.height"},
-                     .type = SL_OPTION_SIZE, .def = {1280, 720}, .min = 1, .max = SL_RASTER_MAX_SIZE},
-    /* N: the specification suggests 20 to 40 */
-    [SL_OPT_SAMPLES] = {.name = "samples", .cli = "--samples", .alias = "-n", .scene = {"render.samples"},
-                        .type = SL_OPTION_INT, .def = {40}, .min = 1, .max = SL_HAMMERSLEY_MAX},
-    /* e of the tone map: a scene file keeps to the specification's range for its environments,
-     * the command line and the viewer's keys go beyond it (src/post/tonemap.h) */
-    [SL_OPT_EXPOSURE] = {.name = "exposure", .cli = "--exposure", .alias = "-e", .scene = {"render.exposure"},
-                         .type = SL_OPTION_FLOAT, .def = {1}, .min = 0.001, .max = 1e6, .file_min = 0.1,
-                         .file_max = 10000.0},
-    /* c of the tone map's exponent c/2.2 */
-    [SL_OPT_CONTRAST] = {.name = "contrast", .cli = "--contrast", .alias = "-c", .scene = {"render.contrast"},
-                         .type = SL_OPTION_FLOAT, .def = {1}, .min = 0.01, .max = 100, .file_min = 0.0,
-                         .file_max = 10.0, .file_min_open = true},
-    FLAG(SL_OPT_SRGB, "srgb"),
-    [SL_OPT_LOD] = {.name = "lod", .cli = "--lod", .scene = {"render.lod"}, .type = SL_OPTION_CHOICE, .def = {SL_LOD_SPEC_D4},
-                    .min = SL_LOD_NONE, .max = SL_LOD_PDF, .names = lod_names},
-    [SL_OPT_DISTORTION] = {.name = "distortion", .cli = "--distortion", .scene = {"render.distortion"},
-                           .type = SL_OPTION_FLAG},
-    [SL_OPT_GTERM] = {.name = "gterm", .cli = "--g", .scene = {"render.gterm"}, .type = SL_OPTION_CHOICE, .def = {SL_GTERM_INV_LH2},
-                      .min = SL_GTERM_INV_LH2, .max = SL_GTERM_ONE, .names = gterm_names},
-    [SL_OPT_ESTIMATOR] = {.name = "estimator", .cli = "--estimator", .scene = {"render.estimator"}, .type = SL_OPTION_CHOICE,
-                          .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC, .max = SL_ESTIMATOR_SPLITSUM,
-                          .names = estimator_names},
-    /* default: the scene's map if it names one, else this, the pole-free octahedral map
-     * (src/render/renderer.c; docs/ibl.md says why) */
-    [SL_OPT_IRRADIANCE] = {.name = "irradiance", .cli = "--irradiance", .scene = {"render.irradiance"},
-                           .type = SL_OPTION_CHOICE,
-                           .def = {SL_IRRADIANCE_OCT}, .min = SL_IRRADIANCE_SH9, .max = SL_IRRADIANCE_DP,
-                           .names = irradiance_names},
-    /* the specular samples' mip chain; docs/ibl.md "Specular layouts" says why the default */
-    [SL_OPT_ENV_LAYOUT] = {.name = "env-layout", .cli = "--env-layout", .scene = {"render.env_layout"},
-                           .type = SL_OPTION_CHOICE, .def = {SL_ENV_LAYOUT_LATLONG}, .min = SL_ENV_LAYOUT_LATLONG,
-                           .max = SL_ENV_LAYOUT_OCT, .names = env_layout_names},
-    FLAG(SL_OPT_DIFFUSE_ONLY, "diffuse-only"),
-    FLAG(SL_OPT_SPECULAR_ONLY, "specular-only"),
-    FLAG(SL_OPT_NO_LIGHTS, "no-lights"),
-    /* default 0: all cores */
-    [SL_OPT_THREADS] = {.name = "threads", .cli = "--threads", .alias = "-j", .type = SL_OPTION_INT, .min = 1,
-                        .max = 256},
-    /* a power of two (the rasterizer checks) */
-    [SL_OPT_TILE] = {.name = "tile", .cli = "--tile", .type = SL_OPTION_INT, .def = {SL_TILE_DEFAULT},
-                     .min = SL_TILE_MIN, .max = SL_TILE_MAX},
-    [SL_OPT_ROTATE] = {.name = "rotate", .cli = "--rotate", .scene = {"render.rotate"}, .type = SL_OPTION_FLAG},
-    [SL_OPT_FRAME] = {.name = "frame", .cli = "--frame", .type = SL_OPTION_INT, .min = 0, .max = 1e9},
-    FLAG(SL_OPT_PLAIN, "plain"),
-    [SL_OPT_ENV_LIGHTS] = {.name = "env-lights", .cli = "--env-lights", .type = SL_OPTION_INT, .min = 0,
-                           .max = SL_ENV_LIGHTS_MAX},
-    /* not in a scene file: a file must not raise the budget that guards against it */
-    [SL_OPT_IMAGE_MEMORY] = {.name = "image-memory", .cli = "--image-memory", .type = SL_OPTION_INT,
-                             .def = {SL_IMAGE_MEMORY_DEFAULT_MIB}, .min = 1, .max = SL_IMAGE_MEMORY_MAX_MIB},
-    [SL_OPT_ENV_INTENSITY] = {.name = "env-intensity", .scene = {"environment.intensity"},
-                              .type = SL_OPTION_FLOAT, .def = {1}, .min = 0, .max = 1e6},
-};
+const sl_option sl_options[SL_OPT_COUNT] = {SL_OPTION_LIST(SL_OPT_ROW_)};
+
+/* The generic readers below write a choice as an int and a flag as a bool. */
+#define SL_OPT_SIZEOF_FLAG(ctype) (sizeof(ctype) == sizeof(bool))
+#define SL_OPT_SIZEOF_INT(ctype) (sizeof(ctype) == sizeof(int))
+#define SL_OPT_SIZEOF_FLOAT(ctype) (sizeof(ctype) == sizeof(float))
+#define SL_OPT_SIZEOF_CHOICE(ctype) (sizeof(ctype) == sizeof(int))
+#define SL_OPT_SIZEOF_SIZE(ctype) (sizeof(ctype) == sizeof(int))
+#define SL_OPT_ASSERT_(ID, field, TYPE, ctype, ...)                                                                 \
+    _Static_assert(SL_OPT_SIZEOF_##TYPE(ctype), #field ": its C type has the size its kind is written with");
+SL_OPTION_LIST(SL_OPT_ASSERT_)
+
+void *sl_option_field(sl_option_values *v, sl_option_id id) { return (char *)v + sl_options[id].offset; }
+
+void sl_option_values_default(sl_option_values *v)
+{
+    memset(v, 0, sizeof *v);
+    for (int id = 0; id < SL_OPT_COUNT; id++) {
+        const sl_option *o = &sl_options[id];
+        void *f = sl_option_field(v, (sl_option_id)id);
+        switch (o->type) {
+        case SL_OPTION_FLAG: *(bool *)f = o->def[0] != 0.0; break;
+        case SL_OPTION_INT:
+        case SL_OPTION_CHOICE: *(int *)f = (int)o->def[0]; break;
+        case SL_OPTION_FLOAT: *(float *)f = (float)o->def[0]; break;
+        case SL_OPTION_SIZE:
+            ((int *)f)[0] = (int)o->def[0];
+            ((int *)f)[1] = (int)o->def[1];
+            break;
+        }
+    }
+}
+
+static size_t field_size(const sl_option *o)
+{
+    switch (o->type) {
+    case SL_OPTION_FLAG: return sizeof(bool);
+    case SL_OPTION_FLOAT: return sizeof(float);
+    case SL_OPTION_SIZE: return 2 * sizeof(int);
+    case SL_OPTION_INT:
+    case SL_OPTION_CHOICE: break;
+    }
+    return sizeof(int);
+}
+
+void sl_option_values_merge(sl_option_values *v, const sl_option_values *over)
+{
+    for (int id = 0; id < SL_OPT_COUNT; id++)
+        if (sl_option_is_set(over, (sl_option_id)id)) {
+            memcpy(sl_option_field(v, (sl_option_id)id), (const char *)over + sl_options[id].offset,
+                   field_size(&sl_options[id]));
+            v->set |= SL_OPT_BIT(id);
+        }
+}
+
+bool sl_option_values_check(const sl_option_values *v, const char *scene, sl_error *err)
+{
+    const sl_option *d = &sl_options[SL_OPT_DIFFUSE_ONLY], *s = &sl_options[SL_OPT_SPECULAR_ONLY];
+    if (v->diffuse_only && v->specular_only)
+        return scene ? sl_fail(err, SL_ERR_RANGE, "%s: %s and %s exclude each other", scene, d->scene[0], s->scene[0])
+                     : sl_fail(err, SL_ERR_RANGE, "%s and %s exclude each other", d->cli, s->cli);
+    if (v->tile & (v->tile - 1))
+        return sl_fail(err, SL_ERR_RANGE, "%s: %d is not a power of two", sl_options[SL_OPT_TILE].cli, v->tile);
+    return true;
+}
 
 const char *sl_option_name(const sl_option *opt, int value)
 {

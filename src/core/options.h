@@ -22,6 +22,8 @@
 #include <stdbool.h>
 #include <stddef.h>
 
+#include "error.h"
+
 /* Largest width or height of any image softlight renders: the rasterizer's fixed-point budget
  * (src/raster/rast_internal.h: 8192 lies inside its 16000-pixel guard band). The command line,
  * the scene file, the viewer's window and script, the G-buffer and the rasterizer share it. */
@@ -97,34 +99,142 @@ typedef enum {
     SL_ENV_LAYOUT_OCT = 2,     /* an octahedral S x S chain (env_oct.c): no pole, no seam */
 } sl_env_layout;
 
-/* The rows, in the order `--help` lists them; rows past SL_OPT_CLI_COUNT have no command-line
- * spelling. */
-typedef enum {
-    SL_OPT_SIZE,
-    SL_OPT_SAMPLES,
-    SL_OPT_EXPOSURE,
-    SL_OPT_CONTRAST,
-    SL_OPT_SRGB,
-    SL_OPT_LOD,
-    SL_OPT_DISTORTION,
-    SL_OPT_GTERM,
-    SL_OPT_ESTIMATOR,
-    SL_OPT_IRRADIANCE,
-    SL_OPT_ENV_LAYOUT,
-    SL_OPT_DIFFUSE_ONLY,
-    SL_OPT_SPECULAR_ONLY,
-    SL_OPT_NO_LIGHTS,
-    SL_OPT_THREADS,
-    SL_OPT_TILE,
-    SL_OPT_ROTATE,
-    SL_OPT_FRAME,
-    SL_OPT_PLAIN,
-    SL_OPT_ENV_LIGHTS,
-    SL_OPT_IMAGE_MEMORY,
-    SL_OPT_CLI_COUNT,
-    SL_OPT_ENV_INTENSITY = SL_OPT_CLI_COUNT, /* scene file only */
-    SL_OPT_COUNT
-} sl_option_id;
+/* ---- the declaration: every option, once ----
+ *
+ * X(ID, field, TYPE, ctype, name, cli, alias, metavar, help, (row))
+ *   ID       SL_OPT_ID, the row's index in sl_options[] and its bit in sl_option_values.set
+ *   field    its field in sl_option_values: the same word as the flag and the scene key
+ *            (--diffuse-only, render.diffuse_only, diffuse_only)
+ *   TYPE     FLAG, INT, FLOAT, SIZE (two ints, width and height) or CHOICE; ctype its C type
+ *   name     what messages and tests call it
+ *   cli, alias, metavar: the command line's spelling (NULL: not on the command line)
+ *   help     --help's line; README.md's table and docs/scene-format.md's are checked against
+ *            these rows by tests/unit/test_options.c
+ *   row      the rest of its sl_option: scene keys, default, limits, choice names
+ *
+ * In --help's order; the rows without a command-line spelling come last. A scene file's keys are
+ * read in the "render" object (the environment's intensity in "environment"). Not in a scene
+ * file: threads, tile, plain and image-memory, which belong to the machine that renders, not to
+ * the scene (a file must not raise the memory budget that guards against it). */
+#define SL_OPTION_LIST(X)                                                                                            \
+    X(SIZE, size, SIZE, int, "size", "--size", NULL, "WxH", "render size (default: the scene's)",                    \
+      (.scene = {"render.width", "render.height"}, .def = {1280, 720}, .min = 1, .max = SL_RASTER_MAX_SIZE))          \
+    /* N: the specification suggests 20 to 40 */                                                                     \
+    X(SAMPLES, samples, INT, int, "samples", "--samples", "-n", "N", "specular samples N per pixel (1..1024)",      \
+      (.scene = {"render.samples"}, .def = {40}, .min = 1, .max = SL_HAMMERSLEY_MAX))                                \
+    /* e of the tone map: a scene file keeps to the specification's range for its environments, the command line    \
+     * and the viewer's keys go beyond it (src/post/tonemap.h) */                                                    \
+    X(EXPOSURE, exposure, FLOAT, float, "exposure", "--exposure", "-e", "E", "tone-map exposure e",                 \
+      (.scene = {"render.exposure"}, .def = {1}, .min = 0.001, .max = 1e6, .file_min = 0.1, .file_max = 10000.0))    \
+    /* c of the tone map's exponent c/2.2 */                                                                         \
+    X(CONTRAST, contrast, FLOAT, float, "contrast", "--contrast", "-c", "C", "tone-map contrast c (exponent c/2.2)", \
+      (.scene = {"render.contrast"}, .def = {1}, .min = 0.01, .max = 100, .file_min = 0.0, .file_max = 10.0,         \
+       .file_min_open = true))                                                                                       \
+    X(SRGB, srgb, FLAG, bool, "srgb", "--srgb", NULL, NULL,                                                          \
+      "encode with the exact sRGB curve instead of the 1/2.2 power", (.scene = {"render.srgb"}))                     \
+    X(LOD, lod, CHOICE, sl_lod_rule, "lod", "--lod", NULL, NULL,                                                     \
+      "mip-level rule for specular samples (default spec-d4; pdf: gems without its +1)",                             \
+      (.scene = {"render.lod"}, .def = {SL_LOD_SPEC_D4}, .min = SL_LOD_NONE, .max = SL_LOD_PDF, .names = lod_names)) \
+    X(DISTORTION, distortion, FLAG, bool, "distortion", "--distortion", NULL, NULL,                                  \
+      "include the lat-long distortion in the mip level", (.scene = {"render.distortion"}))                          \
+    X(GTERM, gterm, CHOICE, sl_gterm, "gterm", "--g", NULL, NULL, "G/(L.N V.N): 1/(L.H)^2 (default) or 1",           \
+      (.scene = {"render.gterm"}, .def = {SL_GTERM_INV_LH2}, .min = SL_GTERM_INV_LH2, .max = SL_GTERM_ONE,           \
+       .names = gterm_names))                                                                                        \
+    X(ESTIMATOR, estimator, CHOICE, sl_estimator, "estimator", "--estimator", NULL, NULL,                            \
+      "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, or the "          \
+      "split-sum lookup (prefiltered environment, no samples)",                                                      \
+      (.scene = {"render.estimator"}, .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC,                          \
+       .max = SL_ESTIMATOR_SPLITSUM, .names = estimator_names))                                                      \
+    /* default: the scene's map if it names one (the scene reader chooses "map" then), else this, the pole-free      \
+     * octahedral map (docs/ibl.md says why) */                                                                      \
+    X(IRRADIANCE, irradiance, CHOICE, sl_irradiance_method, "irradiance", "--irradiance", NULL, NULL,                \
+      "diffuse irradiance (default: the scene's map if any, else oct, the pole-free octahedral map)",                \
+      (.scene = {"render.irradiance"}, .def = {SL_IRRADIANCE_OCT}, .min = SL_IRRADIANCE_SH9,                         \
+       .max = SL_IRRADIANCE_DP, .names = irradiance_names))                                                          \
+    /* the specular samples' mip chain; docs/ibl.md "Specular layouts" says why the default */                       \
+    X(ENV_LAYOUT, env_layout, CHOICE, sl_env_layout, "env-layout", "--env-layout", NULL, NULL,                       \
+      "the specular samples' mip chain: latlong (default; the specification's, as GL builds it) or oct, an "         \
+      "octahedral chain without pole or seam",                                                                       \
+      (.scene = {"render.env_layout"}, .def = {SL_ENV_LAYOUT_LATLONG}, .min = SL_ENV_LAYOUT_LATLONG,                 \
+       .max = SL_ENV_LAYOUT_OCT, .names = env_layout_names))                                                         \
+    X(DIFFUSE_ONLY, diffuse_only, FLAG, bool, "diffuse-only", "--diffuse-only", NULL, NULL,                          \
+      "image-based diffuse term only", (.scene = {"render.diffuse_only"}))                                           \
+    X(SPECULAR_ONLY, specular_only, FLAG, bool, "specular-only", "--specular-only", NULL, NULL,                      \
+      "image-based specular term only", (.scene = {"render.specular_only"}))                                         \
+    X(NO_LIGHTS, no_lights, FLAG, bool, "no-lights", "--no-lights", NULL, NULL, "ignore the scene's point lights",   \
+      (.scene = {"render.no_lights"}))                                                                               \
+    /* default 0: all cores */                                                                                       \
+    X(THREADS, threads, INT, int, "threads", "--threads", "-j", "N", "worker threads (default: all cores)",         \
+      (.min = 1, .max = 256))                                                                                        \
+    /* a power of two (sl_options_check) */                                                                          \
+    X(TILE, tile, INT, int, "tile", "--tile", NULL, "S", "raster tile size in pixels (power of two)",                \
+      (.def = {SL_TILE_DEFAULT}, .min = SL_TILE_MIN, .max = SL_TILE_MAX))                                            \
+    X(ROTATE, rotate, FLAG, bool, "rotate", "--rotate", NULL, NULL,                                                  \
+      "rotate the specular sample set per pixel (Cranley-Patterson): noise instead of banding",                      \
+      (.scene = {"render.rotate"}))                                                                                  \
+    X(FRAME, frame, INT, int, "frame", "--frame", NULL, "N",                                                         \
+      "frame number of the rotation (--rotate): average frames 0..K-1 to converge",                                  \
+      (.scene = {"render.frame"}, .min = 0, .max = 1e9))                                                             \
+    X(PLAIN, plain, FLAG, bool, "plain", "--plain", NULL, NULL,                                                      \
+      "run the plain reference paths (per-pixel raster, the line-by-line port of lighting.frag) to compare with "    \
+      "the fast ones or to step through in a debugger",                                                              \
+      ())                                                                                                            \
+    X(ENV_LIGHTS, env_lights, INT, int, "env-lights", "--env-lights", NULL, "K",                                     \
+      "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)",                   \
+      (.scene = {"render.env_lights"}, .min = 0, .max = SL_ENV_LIGHTS_MAX))                                          \
+    X(IMAGE_MEMORY, image_memory, INT, int, "image-memory", "--image-memory", NULL, "MIB",                           \
+      "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); an "             \
+      "environment needs 2.4 (maps over 2048x1024) to 4.4 times that at its peak (softlight info)",                  \
+      (.def = {SL_IMAGE_MEMORY_DEFAULT_MIB}, .min = 1, .max = SL_IMAGE_MEMORY_MAX_MIB))                              \
+    X(ENV_INTENSITY, env_intensity, FLOAT, float, "env-intensity", NULL, NULL, NULL,                                 \
+      "multiplies the environment's radiance",                                                                       \
+      (.scene = {"environment.intensity"}, .def = {1}, .min = 0, .max = 1e6))
+
+#define SL_OPT_ID_(ID, ...) SL_OPT_##ID,
+typedef enum { SL_OPTION_LIST(SL_OPT_ID_) SL_OPT_COUNT } sl_option_id;
+#undef SL_OPT_ID_
+_Static_assert(SL_OPT_COUNT <= 32, "sl_option_values.set has a bit per option");
+
+/* One record of option values: what the command line gave, what a scene file gave, or what a
+ * render uses once both are resolved. `set` has bit (1u << SL_OPT_ID) for each option its source
+ * gave; a field whose bit is clear holds the option's default (sl_option_values_default). That
+ * is the one "unset" convention: no 0, -1 or separate bool stands for "not given". */
+#define SL_OPT_FIELD_FLAG(ctype, field) ctype field;
+#define SL_OPT_FIELD_INT(ctype, field) ctype field;
+#define SL_OPT_FIELD_FLOAT(ctype, field) ctype field;
+#define SL_OPT_FIELD_CHOICE(ctype, field) ctype field;
+#define SL_OPT_FIELD_SIZE(ctype, field) ctype field[2];
+#define SL_OPT_FIELD_(ID, field, TYPE, ctype, ...) SL_OPT_FIELD_##TYPE(ctype, field)
+typedef struct {
+    unsigned set;
+    SL_OPTION_LIST(SL_OPT_FIELD_)
+} sl_option_values;
+#undef SL_OPT_FIELD_
+
+#define SL_OPT_BIT(ID) (1u << (unsigned)(ID))
+static inline bool sl_option_is_set(const sl_option_values *v, sl_option_id id) { return (v->set & SL_OPT_BIT(id)) != 0; }
+
+/* sl_option_set_FIELD(v, value) (a size: width, height): the value, marked as given. */
+#define SL_OPT_SETTER_FLAG(ID, ctype, field) SL_OPT_SETTER_ONE_(ID, ctype, field)
+#define SL_OPT_SETTER_INT(ID, ctype, field) SL_OPT_SETTER_ONE_(ID, ctype, field)
+#define SL_OPT_SETTER_FLOAT(ID, ctype, field) SL_OPT_SETTER_ONE_(ID, ctype, field)
+#define SL_OPT_SETTER_CHOICE(ID, ctype, field) SL_OPT_SETTER_ONE_(ID, ctype, field)
+#define SL_OPT_SETTER_ONE_(ID, ctype, field)                                                                         \
+    static inline void sl_option_set_##field(sl_option_values *v, ctype x)                                          \
+    {                                                                                                                \
+        v->field = x;                                                                                                \
+        v->set |= SL_OPT_BIT(SL_OPT_##ID);                                                                           \
+    }
+#define SL_OPT_SETTER_SIZE(ID, ctype, field)                                                                         \
+    static inline void sl_option_set_##field(sl_option_values *v, ctype w, ctype h)                                 \
+    {                                                                                                                \
+        v->field[0] = w;                                                                                             \
+        v->field[1] = h;                                                                                             \
+        v->set |= SL_OPT_BIT(SL_OPT_##ID);                                                                           \
+    }
+#define SL_OPT_SETTER_(ID, field, TYPE, ctype, ...) SL_OPT_SETTER_##TYPE(ID, ctype, field)
+SL_OPTION_LIST(SL_OPT_SETTER_)
+#undef SL_OPT_SETTER_
 
 typedef enum {
     SL_OPTION_FLAG,   /* off unless given */
@@ -134,14 +244,18 @@ typedef enum {
     SL_OPTION_CHOICE, /* one of an enum's values min .. max, each named by names[value] */
 } sl_option_type;
 
+/* A row of the declaration, as code reads it. */
 typedef struct {
-    const char *name;         /* "samples": what tests and reports call it */
+    const char *name;         /* "samples": what messages, tests and reports call it */
     const char *cli, *alias;  /* "--samples", "-n"; NULL: not on the command line */
+    const char *metavar;      /* "N"; NULL for a flag or a choice (its names stand there) */
+    const char *help;         /* --help's line */
     const char *scene[2];     /* JSON paths in a scene file ("render.samples"); a size has two
                                  (width, height); NULL: not in a scene file */
     sl_option_type type;
-    double def[2];            /* the default (a choice: its value; a size: width, height).
-                                 Where a stage reads 0 as "default", 0 resolves to this */
+    size_t offset;            /* of its field in sl_option_values */
+    double def[2];            /* the default (a choice: its value; a size: width, height; 0 for
+                                 threads: the stage decides, all cores) */
     double min, max;          /* what any input may give (a choice: its first and last value) */
     double file_min, file_max; /* where a scene file is held to a narrower range (the
                                   specification's, for exposure and contrast); else both 0 */
@@ -164,6 +278,19 @@ bool sl_option_choices(const sl_option *opt, char *out, size_t size);
 /* The range a scene file is held to: file_min/file_max where the row has them, else min/max. */
 double sl_option_file_min(const sl_option *opt);
 double sl_option_file_max(const sl_option *opt);
+
+/* The record with every option at its default and nothing marked as given. */
+void sl_option_values_default(sl_option_values *v);
+/* Each option `over` gives (its bit set) copied into `v`, and marked as given there: resolving is
+ * defaults, then the scene file's record, then the command line's. */
+void sl_option_values_merge(sl_option_values *v, const sl_option_values *over);
+/* The options that must agree with each other: diffuse-only and specular-only exclude each
+ * other, a tile is a power of two. `scene` NULL: the command line's record, the message spells
+ * the flags; else the name of the scene file the record was read from, and the message spells its
+ * keys. */
+bool sl_option_values_check(const sl_option_values *v, const char *scene, sl_error *err);
+/* The field of row `id` in `v`. */
+void *sl_option_field(sl_option_values *v, sl_option_id id);
 
 /* The modes' names, from the rows above: "none", "spec", "spec-d4", "gems", "pdf"; "spec",
  * "consistent", "mf", "splitsum"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an

@@ -218,7 +218,7 @@ static int cmd_render(int argc, char **argv)
     gl_outputs o = {0};
     sl_render_options ro;
     sl_arg table[SL_RENDER_OPTION_COUNT + OUTPUT_OPTION_COUNT];
-    sl_render_options_table(&ro, table);
+    const int n = sl_render_options_table(&ro, table);
     const sl_arg outputs[OUTPUT_OPTION_COUNT] = {
         {"--output", "-o", SL_ARG_STRING, &o.png, 0, 0, NULL, "OUT.png", "tone-mapped 8-bit image", NULL},
         {"--hdr", NULL, SL_ARG_STRING, &o.hdr, 0, 0, NULL, "OUT.hdr", "linear radiance, Radiance RGBE", NULL},
@@ -232,8 +232,8 @@ static int cmd_render(int argc, char **argv)
         {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
          NULL},
     };
-    memcpy(table + SL_RENDER_OPTION_COUNT, outputs, sizeof outputs);
-    const int count = SL_RENDER_OPTION_COUNT + OUTPUT_OPTION_COUNT;
+    memcpy(table + n, outputs, sizeof outputs);
+    const int count = n + OUTPUT_OPTION_COUNT;
     const char *usage = "softlight-gl render SCENE.json [options]";
     const char *positional[1];
     int npos = 0;
@@ -271,10 +271,8 @@ static int cmd_render(int argc, char **argv)
             slgl_context_destroy(&ctx);
             return 2;
         }
-        if (!desc.width) {
-            desc.width = files.width;
-            desc.height = files.height;
-        }
+        if (!sl_option_is_set(&desc.options, SL_OPT_SIZE))
+            sl_option_set_size(&desc.options, files.width, files.height);
     }
     frame f;
     bool ok = frame_build(&f, o.scene_path, &desc, &err) && render(&o, &f, o.gbuffer_dir ? &files : NULL, &err);

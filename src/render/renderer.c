@@ -149,40 +149,46 @@ static bool load_env(sl_env *env, const char *path, size_t budget, int threads, 
     return ok;
 }
 
-void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene)
+bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *err)
 {
-    const sl_render_settings *s = &scene->settings;
-    if (!d->width || !d->height) {
-        d->width = s->width;
-        d->height = s->height;
-    }
-    if (!d->lighting.samples)
-        d->lighting.samples = s->samples;
-    if (!d->irradiance_set)
-        d->lighting.irradiance = s->irradiance >= 0                     ? (sl_irradiance_method)s->irradiance
-                                 : scene->environment.irradiance_path[0] ? SL_IRRADIANCE_MAP
-                                                                         : sl_irradiance_default();
-    if (d->lighting.env_intensity == 0.0f)
-        d->lighting.env_intensity = scene->environment.intensity;
-    if (d->lighting.env_rotation_deg == 0.0f)
-        d->lighting.env_rotation_deg = scene->environment.rotation_deg;
-    if (d->tonemap.exposure == 0.0f)
-        d->tonemap.exposure = s->exposure;
-    if (d->tonemap.contrast == 0.0f)
-        d->tonemap.contrast = s->contrast;
+    sl_option_values o = scene->options;
+    sl_option_values_merge(&o, &d->options);
+    /* the irradiance's default: the scene's precomputed map when it names one */
+    if (!sl_option_is_set(&o, SL_OPT_IRRADIANCE) && scene->environment.irradiance_path[0])
+        sl_option_set_irradiance(&o, SL_IRRADIANCE_MAP);
+    if (!sl_option_values_check(&o, scene->path, err))
+        return false;
+    d->options = o;
+    d->width = o.size[0];
+    d->height = o.size[1];
+    d->threads = o.threads; /* -j: every parallel region of the library takes it from here */
+    d->tile_size = o.tile;
+    d->plain_raster = o.plain;
+    d->image_budget = (size_t)o.image_memory << 20;
     if (!d->irradiance_map_width)
         d->irradiance_map_width = 64;
-    /* 0 is each mode's "default": the command line did not choose, the scene may have */
-    if (d->lighting.lod_rule == SL_LOD_DEFAULT)
-        d->lighting.lod_rule = s->lod;
-    if (d->lighting.gterm == SL_GTERM_DEFAULT)
-        d->lighting.gterm = s->gterm;
-    if (d->lighting.estimator == SL_ESTIMATOR_DEFAULT)
-        d->lighting.estimator = s->estimator;
-    if (d->lighting.env_layout == SL_ENV_LAYOUT_DEFAULT)
-        d->lighting.env_layout = s->env_layout;
-    d->lighting.distortion |= s->distortion;
-    d->lighting.rotate |= s->rotate;
+    d->tonemap = (sl_tonemap_options){.exposure = o.exposure, .contrast = o.contrast, .exact_srgb = o.srgb};
+    /* the lighting stage's switches: diffuse-only turns its specular term off, and either turns
+     * the point lights off */
+    d->lighting = (sl_lighting_options){
+        .samples = o.samples,
+        .lod_rule = o.lod,
+        .distortion = o.distortion,
+        .gterm = o.gterm,
+        .estimator = o.estimator,
+        .env_layout = o.env_layout,
+        .irradiance = o.irradiance,
+        .no_diffuse = o.specular_only,
+        .no_specular = o.diffuse_only,
+        .no_point_lights = o.no_lights || o.diffuse_only || o.specular_only,
+        .env_intensity = o.env_intensity,
+        .env_rotation_deg = scene->environment.rotation_deg,
+        .rotate = o.rotate,
+        .frame = (uint32_t)o.frame,
+        .plain = o.plain,
+        .env_lights = o.env_lights,
+    };
+    return true;
 }
 
 bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err)
@@ -193,7 +199,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->env_oct_built = -1;
     r->splitsum_built = -1;
     sl_render_desc *d = &r->desc;
-    sl_render_desc_resolve(d, scene);
+    if (!sl_render_desc_resolve(d, scene, err))
+        return false;
 
     double t0 = sl_now_seconds();
     if (!load_env(&r->env, scene->environment.hdr_path, d->image_budget, d->threads, &r->env_repairs, err))

@@ -1,7 +1,7 @@
 /* renderer.h - one frame through every stage, and the state that outlives frames.
  *
- * Consumes: a loaded scene (src/scene) and render settings (scene file values, overridden by
- * the command line or the viewer), and optionally a per-frame override of the sampling
+ * Consumes: a loaded scene (src/scene) and an option record (core/options.h: the command line's
+ * or the caller's, over the scene file's, over the defaults), and optionally a per-frame override of the sampling
  * (sl_lighting_frame: the viewer's refinement stages).
  * Produces, per frame: the G-buffer (raster), linear HDR radiance (shading; row 0 = top) and
  * the tone-mapped display image in [0,1] (post), with the time each stage took.
@@ -34,23 +34,29 @@
 #include "scene/scene.h"
 #include "shading/lighting.h"
 
-/* Settings; zero means "the scene's value" (size, N, exposure, contrast) or the stage's default. */
+/* What a render is asked for, and what each stage is given.
+ *
+ * The caller fills `options` (each option it gives marked set: the command line's record,
+ * sl_option_set_samples, ...), and the band. sl_render_desc_resolve (sl_renderer_init calls it)
+ * turns `options` into the resolved record (the caller's, over the scene file's, over the
+ * declaration's defaults) and fills the stages' parameters below from it: one resolution, in one
+ * place. The stages' fields given by the caller are overwritten. */
 typedef struct {
-    int width, height;
-    sl_lighting_options lighting; /* samples 0 = scene's N; env intensity/rotation 0 = scene's */
-    bool irradiance_set;          /* lighting.irradiance was chosen; else the scene's map if it
-                                     names one, otherwise OCT */
-    sl_tonemap_options tonemap;   /* exposure/contrast 0 = the scene's */
-    int threads;                  /* 0 = all cores */
-    int tile_size;                /* raster tiles; 0 = SL_TILE_DEFAULT */
-    bool plain_raster;            /* the rasterizer's per-pixel reference path (sl_raster_desc.plain) */
+    sl_option_values options;     /* given: the caller's; resolved: what the render uses */
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
-    size_t image_budget;          /* bytes one image read from a file may take decoded (the
-                                     environment, the irradiance map); 0 = SL_IMAGE_BUDGET_DEFAULT */
     /* a shard (app/shard.h): only image rows [band[0], band[1]) (row 0 = top) keep their
      * G-buffer texels after the raster, so lighting and ground truth cost only the band */
     bool banded;
     int band[2];
+    /* ---- the stages' parameters, from the resolved options ---- */
+    int width, height;
+    sl_lighting_options lighting; /* every field its value (the viewer's keys change them live) */
+    sl_tonemap_options tonemap;
+    int threads;                  /* 0 = all cores */
+    int tile_size;                /* raster tiles */
+    bool plain_raster;            /* the rasterizer's per-pixel reference path (sl_raster_desc.plain) */
+    size_t image_budget;          /* bytes one image read from a file may take decoded (the
+                                     environment, the irradiance map) */
 } sl_render_desc;
 
 typedef struct {
@@ -94,11 +100,12 @@ struct sl_renderer {
     sl_render_timings timings;
 };
 
-/* Fill the zero fields of `d` from the scene (size, N, exposure, contrast, the lighting's modes
- * of its "render" section, the environment's intensity and rotation) and the irradiance method
- * (the scene's map if it names one, else the default): what a render of `scene` with `d` uses.
- * sl_renderer_init calls it; `softlight info` too, to report what the render would take. */
-void sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene);
+/* Resolve d->options against the scene's (scene->options) and the declaration's defaults, and fill
+ * the stages' parameters from the result (the irradiance: the scene's map if it names one and no
+ * method was chosen; the environment's rotation: the scene's). False when the resolved options
+ * contradict each other. sl_renderer_init calls it; `softlight info` too, to report what the
+ * render would take. Resolving a resolved description changes nothing. */
+bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *err);
 /* Resolve settings against the scene, load the environment, build mips and irradiance. */
 bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_desc *desc, sl_error *err);
 void sl_renderer_free(sl_renderer *r);

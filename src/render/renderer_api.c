@@ -7,13 +7,17 @@
 sl_renderer *sl_renderer_create(const sl_scene *scene, const sl_renderer_options *opt, sl_error *err)
 {
     sl_render_desc desc = {0};
-    if (opt) {
-        desc.width = opt->width;
-        desc.height = opt->height;
-        desc.lighting.samples = opt->samples;
-        desc.tonemap.exposure = opt->exposure;
-        desc.tonemap.contrast = opt->contrast;
-        desc.threads = opt->threads;
+    sl_option_values *o = &desc.options;
+    if (opt) { /* zero: the scene's */
+        if (opt->width && opt->height)
+            sl_option_set_size(o, opt->width, opt->height);
+        if (opt->samples)
+            sl_option_set_samples(o, opt->samples);
+        if (opt->exposure != 0.0f)
+            sl_option_set_exposure(o, opt->exposure);
+        if (opt->contrast != 0.0f)
+            sl_option_set_contrast(o, opt->contrast);
+        sl_option_set_threads(o, opt->threads);
     }
     sl_renderer *r = malloc(sizeof *r);
     if (!r) {

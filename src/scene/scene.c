@@ -193,30 +193,6 @@ static bool read_int(parser *p, const cJSON *item, const char *path, int lo, int
     return true;
 }
 
-/* The value of an option at its key `which` (a size has two) in `section`, the object its
- * JSON path ("render.samples") starts with, held to the range the option table gives scene
- * files; absent leaves *out as it is. */
-static bool read_option_int(parser *p, const cJSON *section, const sl_option *opt, int which, int *out)
-{
-    const char *path = opt->scene[which];
-    const cJSON *v = member(section, strchr(path, '.') + 1);
-    return !v || read_int(p, v, path, (int)sl_option_file_min(opt), (int)sl_option_file_max(opt), out);
-}
-static bool read_option_float(parser *p, const cJSON *section, const sl_option *opt, float *out)
-{
-    const char *path = opt->scene[0];
-    const cJSON *v = member(section, strchr(path, '.') + 1);
-    double lo = sl_option_file_min(opt), hi = sl_option_file_max(opt);
-    if (!v)
-        return true;
-    if (!read_float(p, v, path, lo, hi, out))
-        return false;
-    if (opt->file_min_open && !(*out > (float)lo))
-        return fail_at(p, path, SL_ERR_RANGE, "%g must be greater than %g (%g < %s <= %g)", (double)*out, lo, lo,
-                       opt->name, hi);
-    return true;
-}
-
 /* An array of exactly n finite numbers. */
 static bool read_numbers(parser *p, const cJSON *item, const char *path, int n, double *out)
 {
@@ -334,36 +310,6 @@ static bool read_string(parser *p, const cJSON *item, const char *path, char *ou
     return true;
 }
 
-/* A choice option by name ("render.estimator": "splitsum"; "default" where 0 means the
- * default), absent leaves *out as it is. */
-static bool read_option_choice(parser *p, const cJSON *section, const sl_option *opt, int *out)
-{
-    const char *path = opt->scene[0];
-    const cJSON *v = member(section, strchr(path, '.') + 1);
-    char name[32], shown[MASKED_MAX + 4], words[96];
-    if (!v)
-        return true;
-    if (!read_string(p, v, path, name, sizeof name))
-        return false;
-    if (sl_option_parse(opt, name, out))
-        return true;
-    sl_option_choices(opt, words, sizeof words);
-    return fail_at(p, path, SL_ERR_RANGE, "unknown %s \"%s\" (expected %s)", opt->name, masked(name, 32, shown), words);
-}
-
-/* A flag option as true or false ("render.rotate": true); absent leaves *out as it is. */
-static bool read_option_flag(parser *p, const cJSON *section, const sl_option *opt, bool *out)
-{
-    const char *path = opt->scene[0];
-    const cJSON *v = member(section, strchr(path, '.') + 1);
-    if (!v)
-        return true;
-    if (!cJSON_IsBool(v))
-        return fail_at(p, path, SL_ERR_FORMAT, "expected true or false");
-    *out = cJSON_IsTrue(v);
-    return true;
-}
-
 /* A file path from the scene, resolved relative to the scene file's folder. */
 static bool read_path(parser *p, const cJSON *item, const char *path, char out[SL_PATH_MAX])
 {
@@ -378,6 +324,57 @@ static bool read_path(parser *p, const cJSON *item, const char *path, char out[S
         n = snprintf(out, SL_PATH_MAX, "%s%s%s", dir, dir[strlen(dir) - 1] == '/' ? "" : "/", rel);
     if (n < 0 || n >= SL_PATH_MAX)
         return fail_at(p, path, SL_ERR_RANGE, "resolved path is longer than %d bytes", SL_PATH_MAX - 1);
+    return true;
+}
+
+/* The option `id` at its key(s) in `section`, the object its JSON path ("render.samples") starts
+ * with, held to the range the declaration gives scene files, into its field of `options`, marked
+ * as given; absent leaves the field as it is. A choice is read by name ("default" where 0 means
+ * the default), a flag as true or false. */
+static bool read_option(parser *p, const cJSON *section, sl_option_id id, sl_option_values *options)
+{
+    const sl_option *opt = &sl_options[id];
+    void *field = sl_option_field(options, id);
+    double lo = sl_option_file_min(opt), hi = sl_option_file_max(opt);
+    for (int which = 0; which < 2 && opt->scene[which]; which++) {
+        const char *path = opt->scene[which];
+        const cJSON *v = member(section, strchr(path, '.') + 1);
+        if (!v)
+            continue;
+        switch (opt->type) {
+        case SL_OPTION_FLAG:
+            if (!cJSON_IsBool(v))
+                return fail_at(p, path, SL_ERR_FORMAT, "expected true or false");
+            *(bool *)field = cJSON_IsTrue(v);
+            break;
+        case SL_OPTION_INT:
+        case SL_OPTION_SIZE:
+            if (!read_int(p, v, path, (int)lo, (int)hi, (int *)field + which))
+                return false;
+            break;
+        case SL_OPTION_FLOAT: {
+            float *f = field;
+            if (!read_float(p, v, path, lo, hi, f))
+                return false;
+            if (opt->file_min_open && !(*f > (float)lo))
+                return fail_at(p, path, SL_ERR_RANGE, "%g must be greater than %g (%g < %s <= %g)", (double)*f, lo,
+                               lo, opt->name, hi);
+            break;
+        }
+        case SL_OPTION_CHOICE: {
+            char name[32], shown[MASKED_MAX + 4], words[96];
+            if (!read_string(p, v, path, name, sizeof name))
+                return false;
+            if (!sl_option_parse(opt, name, (int *)field)) {
+                sl_option_choices(opt, words, sizeof words);
+                return fail_at(p, path, SL_ERR_RANGE, "unknown %s \"%s\" (expected %s)", opt->name,
+                               masked(name, 32, shown), words);
+            }
+            break;
+        }
+        }
+        options->set |= SL_OPT_BIT(id);
+    }
     return true;
 }
 
@@ -442,10 +439,10 @@ static bool parse_camera(parser *p, const cJSON *item, sl_camera *cam)
 /* Degrees reduced into (-360, 360) in double, so huge-but-finite angles keep their meaning. */
 static float reduce_degrees(double deg) { return (float)fmod(deg, 360.0); }
 
-static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc *env)
+static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc *env, sl_option_values *options)
 {
     static const char *const keys[] = {"hdr", "irradiance", "intensity", "rotation", NULL};
-    *env = (sl_environment_desc){.intensity = (float)sl_options[SL_OPT_ENV_INTENSITY].def[0]};
+    *env = (sl_environment_desc){0};
     if (!item)
         return true;
     if (cJSON_IsString(item)) /* shorthand: "environment": "envmaps/studio.hdr" */
@@ -461,7 +458,7 @@ static bool parse_environment(parser *p, const cJSON *item, sl_environment_desc 
         return false;
     if ((v = member(item, "irradiance")) && !read_path(p, v, "environment.irradiance", env->irradiance_path))
         return false;
-    if (!read_option_float(p, item, &sl_options[SL_OPT_ENV_INTENSITY], &env->intensity))
+    if (!read_option(p, item, SL_OPT_ENV_INTENSITY, options))
         return false;
     double deg;
     if ((v = member(item, "rotation"))) {
@@ -1059,46 +1056,28 @@ static bool parse_lights(parser *p, const cJSON *item, sl_scene *scene)
     return true;
 }
 
-static bool parse_render(parser *p, const cJSON *item, sl_render_settings *r)
+/* The "render" object: a key per row of the option declaration whose scene key starts with
+ * "render." (core/options.h), each read by read_option. */
+static bool parse_render(parser *p, const cJSON *item, sl_option_values *options)
 {
-    static const char *const keys[] = {"width",      "height",     "samples",    "exposure", "contrast", "lod",
-                                       "gterm",      "estimator",  "env_layout", "irradiance", "distortion", "rotate",
-                                       NULL};
-    const sl_option *size = &sl_options[SL_OPT_SIZE], *samples = &sl_options[SL_OPT_SAMPLES];
-    const sl_option *exposure = &sl_options[SL_OPT_EXPOSURE], *contrast = &sl_options[SL_OPT_CONTRAST];
-    *r = (sl_render_settings){.width = (int)size->def[0],
-                              .height = (int)size->def[1],
-                              .samples = (int)samples->def[0],
-                              .exposure = (float)exposure->def[0],
-                              .contrast = (float)contrast->def[0],
-                              .lod = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0],
-                              .gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0],
-                              .estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0],
-                              .env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0],
-                              .irradiance = -1};
+    const char *keys[SL_OPT_COUNT + 2];
+    int n = 0;
+    for (int id = 0; id < SL_OPT_COUNT; id++)
+        for (int which = 0; which < 2; which++) {
+            const char *path = sl_options[id].scene[which];
+            if (path && !strncmp(path, "render.", 7))
+                keys[n++] = path + 7;
+        }
+    keys[n] = NULL;
     if (!item)
         return true;
     if (!check_keys(p, item, "render", keys))
         return false;
-    /* A size the rasterizer cannot draw fails here, with its path, not when the frame is made.
-     * Exposure and contrast: a scene file keeps to the specification's range for e. */
-    int lod = (int)r->lod, gterm = (int)r->gterm, estimator = (int)r->estimator, layout = (int)r->env_layout;
-    bool ok = read_option_int(p, item, size, 0, &r->width) && read_option_int(p, item, size, 1, &r->height) &&
-              read_option_int(p, item, samples, 0, &r->samples) &&
-              read_option_float(p, item, exposure, &r->exposure) &&
-              read_option_float(p, item, contrast, &r->contrast) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_LOD], &lod) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_GTERM], &gterm) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_ESTIMATOR], &estimator) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_ENV_LAYOUT], &layout) &&
-              read_option_choice(p, item, &sl_options[SL_OPT_IRRADIANCE], &r->irradiance) &&
-              read_option_flag(p, item, &sl_options[SL_OPT_DISTORTION], &r->distortion) &&
-              read_option_flag(p, item, &sl_options[SL_OPT_ROTATE], &r->rotate);
-    r->lod = (sl_lod_rule)lod;
-    r->gterm = (sl_gterm)gterm;
-    r->estimator = (sl_estimator)estimator;
-    r->env_layout = (sl_env_layout)layout;
-    return ok;
+    for (int id = 0; id < SL_OPT_COUNT; id++)
+        if (sl_options[id].scene[0] && !strncmp(sl_options[id].scene[0], "render.", 7) &&
+            !read_option(p, item, (sl_option_id)id, options))
+            return false;
+    return sl_option_values_check(options, p->name, p->err);
 }
 
 /* Build every distinct mesh. Each mesh is capped on its own (scene_internal.h); the scene as
@@ -1181,8 +1160,8 @@ static bool parse_document(parser *p, const cJSON *root, bool load_meshes, sl_sc
     bool *material_given = NULL;
     source_map sources = {0};
     bool ok = parse_camera(p, member(root, "camera"), &scene->camera) &&
-              parse_environment(p, member(root, "environment"), &scene->environment) &&
-              parse_render(p, member(root, "render"), &scene->settings) &&
+              parse_environment(p, member(root, "environment"), &scene->environment, &scene->options) &&
+              parse_render(p, member(root, "render"), &scene->options) &&
               parse_materials(p, member(root, "materials"), scene, &sorted);
     const cJSON *objects = member(root, "objects");
     if (ok && objects && !cJSON_IsArray(objects))
@@ -1363,6 +1342,7 @@ static bool parse_scene(const char *json, size_t size, const char *name, const c
                         sl_scene *scene, scene_model_camera *camera, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
+    sl_option_values_default(&scene->options);
     parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err,
                 .model_camera = camera};
     snprintf(scene->path, sizeof scene->path, "%s", p.name);

@@ -131,28 +131,10 @@ typedef struct {
 typedef struct {
     char hdr_path[SL_PATH_MAX];        /* resolved; "" = none (black environment) */
     char irradiance_path[SL_PATH_MAX]; /* resolved; "" = compute from hdr */
-    float intensity;                   /* multiplies the environment's radiance */
     float rotation_deg;                /* about +Z */
+    /* the intensity is an option: scene->options.env_intensity */
 } sl_environment_desc;
 
-/* The "render" keys; defaults and limits are the option table's (core/options.h). */
-typedef struct {
-    int width, height;  /* 1 .. SL_RASTER_MAX_SIZE */
-    int samples;        /* N, Hammersley pairs for the specular integral (1..SL_HAMMERSLEY_MAX) */
-    float exposure;     /* e in the tone map, 0.1 .. 10000 */
-    float contrast;     /* c in the tone map exponent c/2.2 */
-    /* The lighting's modes, by name ("estimator": "splitsum"), each its option's default when
-     * absent; the command line's choice wins (sl_render_desc_resolve). */
-    sl_lod_rule lod;
-    sl_gterm gterm;
-    sl_estimator estimator;
-    sl_env_layout env_layout;
-    int irradiance;  /* an sl_irradiance_method, or -1 when not named (then the environment's map
-                        if it names one, else the option's default) */
-    /* Flags, false when absent; the command line can turn them on, not off. */
-    bool distortion; /* --distortion */
-    bool rotate;     /* --rotate */
-} sl_render_settings;
 
 /* Where each of scene->meshes came from: an OBJ file, a built-in shape or a model file (through
  * assimp, scene/model.h). Objects naming the same source share one mesh. A model's source is
@@ -170,7 +152,8 @@ struct sl_scene {
     char path[SL_PATH_MAX]; /* the scene file, as given */
     sl_camera camera;
     sl_environment_desc environment;
-    sl_render_settings settings;
+    sl_option_values options; /* the options the file gives ("render", environment.intensity), each
+                                 marked set; the others at their defaults (core/options.h) */
     sl_mesh *meshes;
     int mesh_count;
     sl_material *materials;

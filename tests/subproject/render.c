@@ -18,8 +18,7 @@ int main(int argc, char **argv)
     sl_scene scene = {0};
     sl_renderer renderer = {0};
     sl_render_desc desc = {0};
-    desc.width = atoi(argv[3]);
-    desc.height = atoi(argv[4]);
+    sl_option_set_size(&desc.options, atoi(argv[3]), atoi(argv[4]));
     sl_error err = {0};
     bool ok = sl_scene_load(argv[1], &scene, &err) && sl_renderer_init(&renderer, &scene, &desc, &err) &&
               sl_renderer_frame(&renderer, NULL, &err) && sl_image_write_png(argv[2], &renderer.display, &err);

@@ -66,8 +66,10 @@ static void render_under(const char *env, sl_image *out)
     if (!sl_scene_load("scenes/default.json", &scene, &err))
         fail_msg("%s", err.msg);
     snprintf(scene.environment.hdr_path, sizeof scene.environment.hdr_path, "%s", env);
-    sl_render_desc desc = {.width = 96, .height = 54, .threads = 1};
-    desc.lighting.samples = 8;
+    sl_render_desc desc = {0};
+    sl_option_set_size(&desc.options, 96, 54);
+    sl_option_set_threads(&desc.options, 1);
+    sl_option_set_samples(&desc.options, 8);
     sl_renderer r;
     if (!sl_renderer_init(&r, &scene, &desc, &err) || !sl_renderer_frame(&r, NULL, &err))
         fail_msg("%s: %s", env, err.msg);

@@ -1,10 +1,12 @@
-/* test_options.c - the option table (core/options.h) against everything that reads it, so that
- * a default, a limit or a name cannot drift: the command line's arguments (src/app/render_options.c,
- * linked into this test) and their help lines, the scene reader's keys, defaults and ranges, the
- * library's mode names and defaults, and the stages' own limits (the G-buffer's largest side,
- * the Hammersley set's size). */
+/* test_options.c - the option declaration (core/options.h) against everything that reads it or
+ * describes it, so that a default, a limit or a name cannot drift: the command line's arguments
+ * (src/app/render_options.c, linked into this test), the programs' --help, the scene reader's keys,
+ * defaults and ranges, one resolution (command line over scene file over default), the library's
+ * mode names and defaults, the stages' own limits (the G-buffer's largest side, the Hammersley
+ * set's size), README.md's option table and docs/scene-format.md's key tables. */
 #include "testutil.h"
 
+#include <ctype.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -25,8 +27,11 @@ static void test_rows_are_well_formed(void **state)
         const sl_option *o = &sl_options[id];
         assert_non_null(o->name);
         assert_true(o->min <= o->max);
-        /* the first SL_OPT_CLI_COUNT rows are the command line's, the rest a scene file's only */
-        assert_true(id < SL_OPT_CLI_COUNT ? o->cli != NULL : o->cli == NULL && o->scene[0] != NULL);
+        /* the rows with a command-line spelling come first (--help's order), then the scene file's only */
+        assert_true(o->cli != NULL || o->scene[0] != NULL);
+        if (id > 0 && !sl_options[id - 1].cli)
+            assert_null(o->cli);
+        assert_true(o->cli ? o->help != NULL : true);
         for (int k = 0; k < id; k++) {
             assert_string_not_equal(o->name, sl_options[k].name);
             if (o->cli && sl_options[k].cli)
@@ -64,13 +69,27 @@ static void test_rows_are_well_formed(void **state)
 static bool parse_args(sl_render_options *ro, sl_render_desc *desc, const char *a, const char *b, sl_error *err)
 {
     sl_arg table[SL_RENDER_OPTION_COUNT];
-    sl_render_options_table(ro, table);
+    int n = sl_render_options_table(ro, table);
     char *argv[] = {"softlight", "render", (char *)a, (char *)b, NULL};
     const char *positional[1];
     int npos;
     bool help;
-    return sl_args_parse(b ? 4 : 3, argv, 2, table, SL_RENDER_OPTION_COUNT, positional, 1, &npos, &help, err) &&
+    return sl_args_parse(b ? 4 : 3, argv, 2, table, n, positional, 1, &npos, &help, err) &&
            sl_render_options_desc(ro, desc, err);
+}
+
+/* A record's value of row `id` (`which`: a size's width or height), as a double. */
+static double field_value(sl_option_values *v, int id, int which)
+{
+    void *f = sl_option_field(v, (sl_option_id)id);
+    switch (sl_options[id].type) {
+    case SL_OPTION_FLAG: return *(bool *)f ? 1.0 : 0.0;
+    case SL_OPTION_INT:
+    case SL_OPTION_CHOICE: return *(int *)f;
+    case SL_OPTION_FLOAT: return (double)*(float *)f;
+    case SL_OPTION_SIZE: return ((int *)f)[which];
+    }
+    return -1.0;
 }
 
 /* A range "(A..B" or a default "default NAME" written in a help line must be the row's. */
@@ -99,10 +118,14 @@ static void test_cli_reads_the_table(void **state)
     (void)state;
     sl_render_options ro;
     sl_arg table[SL_RENDER_OPTION_COUNT];
-    sl_render_options_table(&ro, table);
-    for (int id = 0; id < SL_OPT_CLI_COUNT; id++) {
+    int n = sl_render_options_table(&ro, table), k = 0;
+    for (int id = 0; id < SL_OPT_COUNT; id++) {
         const sl_option *o = &sl_options[id];
-        const sl_arg *a = &table[id];
+        if (!o->cli)
+            continue;
+        assert_true(k < n);
+        const sl_arg *a = &table[k++];
+        assert_string_equal(a->help, o->help);
         assert_string_equal(a->name, o->cli);
         if (o->alias)
             assert_string_equal(a->alias, o->alias);
@@ -122,25 +145,19 @@ static void test_cli_reads_the_table(void **state)
             sl_render_desc d;
             sl_error err = {0};
             assert_true(parse_args(&ro, &d, o->cli, o->names[v], &err));
-            int got = id == SL_OPT_LOD         ? (int)d.lighting.lod_rule
-                      : id == SL_OPT_GTERM     ? (int)d.lighting.gterm
-                      : id == SL_OPT_ESTIMATOR ? (int)d.lighting.estimator
-                      : id == SL_OPT_IRRADIANCE ? (int)d.lighting.irradiance
-                      : id == SL_OPT_ENV_LAYOUT ? (int)d.lighting.env_layout
-                                                : -1;
-            assert_int_equal(got, v);
-            if (id == SL_OPT_IRRADIANCE)
-                assert_true(d.irradiance_set);
+            assert_int_equal((int)field_value(&d.options, id, 0), v);
+            assert_int_equal(d.options.set, SL_OPT_BIT(id));
         }
     }
+    assert_int_equal(k, n);
 }
 
 static void test_cli_limits_are_the_table_s(void **state)
 {
     (void)state;
-    for (int id = 0; id < SL_OPT_CLI_COUNT; id++) {
+    for (int id = 0; id < SL_OPT_COUNT; id++) {
         const sl_option *o = &sl_options[id];
-        if (o->type != SL_OPTION_INT && o->type != SL_OPTION_SIZE)
+        if (!o->cli || (o->type != SL_OPTION_INT && o->type != SL_OPTION_SIZE))
             continue;
         char in[64], above[64], below[64];
         int lo = (int)o->min, hi = (int)o->max;
@@ -172,27 +189,10 @@ static bool parse_scene(const char *json, sl_scene *s, sl_error *err)
     return sl_scene_parse(json, strlen(json), "t.json", "", false, s, err);
 }
 
-/* The scene's value for the key `which` of row `id`. */
-static double scene_value(const sl_scene *s, int id, int which)
+/* The scene's value for the key `which` of row `id`; the row's bit must say whether the file gave it. */
+static double scene_value(sl_scene *s, int id, int which)
 {
-    switch (id) {
-    case SL_OPT_SIZE: return which ? s->settings.height : s->settings.width;
-    case SL_OPT_SAMPLES: return s->settings.samples;
-    case SL_OPT_EXPOSURE: return (double)s->settings.exposure;
-    case SL_OPT_CONTRAST: return (double)s->settings.contrast;
-    case SL_OPT_ENV_INTENSITY: return (double)s->environment.intensity;
-    case SL_OPT_LOD: return (double)s->settings.lod;
-    case SL_OPT_GTERM: return (double)s->settings.gterm;
-    case SL_OPT_ESTIMATOR: return (double)s->settings.estimator;
-    case SL_OPT_ENV_LAYOUT: return (double)s->settings.env_layout;
-    case SL_OPT_IRRADIANCE: return (double)s->settings.irradiance;
-    case SL_OPT_DISTORTION: return s->settings.distortion ? 1.0 : 0.0;
-    case SL_OPT_ROTATE: return s->settings.rotate ? 1.0 : 0.0;
-    default: break;
-    }
-    print_error("row %s has a scene key this test does not know: add it here\n", sl_options[id].name);
-    fail();
-    return 0.0;
+    return field_value(&s->options, id, which);
 }
 
 /* {"render": {"samples": VALUE}} for the path "render.samples" (an environment needs its hdr). */
@@ -267,10 +267,9 @@ static void test_scene_reads_the_table(void **state)
             const char *path = o->scene[which];
             double lo = sl_option_file_min(o), hi = sl_option_file_max(o);
             char want[160];
-            /* the default; an irradiance not named is -1: the environment's map if it names one,
-             * else the option's default (sl_render_desc_resolve) */
-            double absent = id == SL_OPT_IRRADIANCE ? -1.0 : (double)(float)o->def[which];
-            assert_true(scene_value(&s, id, which) == absent);
+            /* absent: the default, not marked as given */
+            assert_true(scene_value(&s, id, which) == (double)(float)o->def[which]);
+            assert_false(sl_option_is_set(&s.options, (sl_option_id)id));
             if (o->type == SL_OPTION_FLAG) {
                 expect_scene_reads(path, id, 0, "true", 1.0);
                 expect_scene_reads(path, id, 0, "false", 0.0);
@@ -303,9 +302,9 @@ static void test_scene_reads_the_table(void **state)
                 expect_scene_value(path, id, which, lo);
             }
             if (o->type == SL_OPTION_INT || o->type == SL_OPTION_SIZE) {
-                snprintf(want, sizeof want, "t.json: %s: %d is outside %d..%d", path, (int)hi + 1, (int)lo, (int)hi);
+                snprintf(want, sizeof want, "t.json: %s: %g is outside %d..%d", path, hi + 1, (int)lo, (int)hi);
                 expect_scene_error(path, hi + 1, want);
-                snprintf(want, sizeof want, "t.json: %s: %d is outside %d..%d", path, (int)lo - 1, (int)lo, (int)hi);
+                snprintf(want, sizeof want, "t.json: %s: %g is outside %d..%d", path, lo - 1, (int)lo, (int)hi);
                 expect_scene_error(path, lo - 1, want);
             } else {
                 snprintf(want, sizeof want, "t.json: %s: %g is outside %g..%g", path, hi * 2, lo, hi);
@@ -313,9 +312,69 @@ static void test_scene_reads_the_table(void **state)
             }
         }
     }
-    /* render.width, height, samples, exposure, contrast, lod, gterm, estimator, env_layout,
-     * irradiance, distortion, rotate; environment.intensity */
-    assert_int_equal(keys, 13);
+    /* render.width, height, samples, exposure, contrast, srgb, lod, distortion, gterm, estimator,
+     * irradiance, env_layout, diffuse_only, specular_only, no_lights, rotate, frame, env_lights;
+     * environment.intensity */
+    assert_int_equal(keys, 19);
+    sl_scene_free(&s);
+    expect_scene_text_error("render.diffuse_only", "true, \"specular_only\": true",
+                            "t.json: render.diffuse_only and render.specular_only exclude each other");
+}
+
+/* ---- one resolution: the command line over the scene file over the default ---- */
+
+static void test_resolution_order(void **state)
+{
+    (void)state;
+    sl_scene s;
+    sl_error err = {0};
+    assert_true(parse_scene("{\"render\": {\"samples\": 20, \"estimator\": \"mf\", \"rotate\": true, "
+                            "\"env_lights\": 4}}", &s, &err));
+    sl_render_desc d = {0};
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_int_equal(d.lighting.samples, 20);
+    assert_int_equal(d.lighting.estimator, SL_ESTIMATOR_MICROFACET);
+    assert_true(d.lighting.rotate);
+    assert_int_equal(d.lighting.env_lights, 4);
+    assert_int_equal(d.lighting.lod_rule, (int)sl_options[SL_OPT_LOD].def[0]);
+    assert_int_equal(d.lighting.irradiance, (int)sl_options[SL_OPT_IRRADIANCE].def[0]);
+    assert_int_equal(d.width, (int)sl_options[SL_OPT_SIZE].def[0]);
+    assert_true(d.tonemap.exposure == (float)sl_options[SL_OPT_EXPOSURE].def[0]);
+    assert_int_equal(d.options.set, s.options.set);
+    assert_true(sl_render_desc_resolve(&d, &s, &err)); /* resolving again changes nothing */
+    assert_int_equal(d.lighting.samples, 20);
+
+    sl_render_options ro;
+    assert_true(parse_args(&ro, &d, "-n", "7", &err));
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_int_equal(d.lighting.samples, 7);
+    assert_int_equal(d.lighting.estimator, SL_ESTIMATOR_MICROFACET);
+    assert_true(parse_args(&ro, &d, "--estimator=spec", NULL, &err));
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_int_equal(d.lighting.estimator, SL_ESTIMATOR_SPEC);
+    assert_int_equal(d.lighting.samples, 20);
+    /* --diffuse-only: the lighting's specular term and point lights off */
+    assert_true(parse_args(&ro, &d, "--diffuse-only", NULL, &err));
+    assert_true(d.options.diffuse_only);
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_true(d.lighting.no_specular && d.lighting.no_point_lights && !d.lighting.no_diffuse);
+    sl_scene_free(&s);
+
+    /* a scene's precomputed map is the irradiance unless one is chosen */
+    assert_true(parse_scene("{\"environment\": {\"hdr\": \"a.hdr\", \"irradiance\": \"i.hdr\"}}", &s, &err));
+    d = (sl_render_desc){0};
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_int_equal(d.lighting.irradiance, SL_IRRADIANCE_MAP);
+    assert_true(parse_args(&ro, &d, "--irradiance", "sh9", &err));
+    assert_true(sl_render_desc_resolve(&d, &s, &err));
+    assert_int_equal(d.lighting.irradiance, SL_IRRADIANCE_SH9);
+    sl_scene_free(&s);
+
+    /* the command line's flag and the scene's exclude each other too */
+    assert_true(parse_scene("{\"render\": {\"specular_only\": true}}", &s, &err));
+    assert_true(parse_args(&ro, &d, "--diffuse-only", NULL, &err));
+    assert_false(sl_render_desc_resolve(&d, &s, &err));
+    assert_non_null(strstr(err.msg, "exclude each other"));
     sl_scene_free(&s);
 }
 
@@ -379,6 +438,313 @@ static void test_library_reads_the_table(void **state)
     assert_int_equal((int)sl_options[SL_OPT_TILE].max, SL_TILE_MAX);
 }
 
+/* ---- the descriptions: --help, README.md, docs/scene-format.md ---- */
+
+/* A file of the source tree (the tests run in it; SL_SOURCE_DIR names it otherwise), whole. */
+static char *read_text(const char *name)
+{
+    const char *dir = getenv("SL_SOURCE_DIR");
+    char path[1024];
+    snprintf(path, sizeof path, "%s%s%s", dir ? dir : "", dir ? "/" : "", name);
+    FILE *f = fopen(path, "rb");
+    if (!f) {
+        print_error("cannot open %s\n", path);
+        fail();
+    }
+    char *text = calloc(1, 1 << 20);
+    assert_non_null(text);
+    size_t n = fread(text, 1, (1 << 20) - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    return text;
+}
+
+/* The rows of the first markdown table at or after the line `heading`: each line starting with '|',
+ * past the header and its rule, up to the first line that does not. Returns how many; each row's
+ * cells (trimmed, "\|" kept as '|') in cells[row][col]. */
+#define MAX_ROWS 64
+#define MAX_COLS 6
+#define CELL 640
+typedef char table_cells[MAX_ROWS][MAX_COLS][CELL];
+static int read_table(const char *text, const char *heading, table_cells cells)
+{
+    const char *h = strstr(text, heading);
+    if (!h) {
+        print_error("no heading '%s'\n", heading);
+        fail();
+    }
+    const char *line = heading[0] == '|' ? h : strstr(h, "\n|"); /* the heading may be the table's header */
+    assert_non_null(line);
+    line += *line == '\n';
+    int rows = -2; /* the header and its rule */
+    while (*line == '|') {
+        const char *end = strchr(line, '\n');
+        if (!end)
+            end = line + strlen(line);
+        if (rows >= 0) {
+            assert_true(rows < MAX_ROWS);
+            int col = 0;
+            size_t n = 0;
+            char *cell = cells[rows][0];
+            for (const char *c = line + 1; c < end && col < MAX_COLS; c++) {
+                if (*c == '\\' && c[1] == '|') {
+                    if (n < CELL - 1)
+                        cell[n++] = '|';
+                    c++;
+                } else if (*c == '|') {
+                    while (n && cell[n - 1] == ' ')
+                        n--;
+                    cell[n] = '\0';
+                    if (++col < MAX_COLS)
+                        cell = cells[rows][col], n = 0;
+                } else if (n || *c != ' ') {
+                    if (n < CELL - 1)
+                        cell[n++] = *c;
+                }
+            }
+        }
+        rows++;
+        line = *end ? end + 1 : end;
+    }
+    return rows;
+}
+
+/* The words of a choice row, min .. max, each once, in any order in `list` ("a|b|c"). */
+static bool same_names(const sl_option *o, const char *list, char sep)
+{
+    int count = 0;
+    for (const char *p = list; *p;) {
+        const char *e = strchr(p, sep);
+        size_t n = e ? (size_t)(e - p) : strlen(p);
+        int v;
+        char word[32];
+        if (n >= sizeof word)
+            return false;
+        memcpy(word, p, n);
+        word[n] = '\0';
+        if (!sl_option_parse(o, word, &v) || v < (int)o->min)
+            return false;
+        count++;
+        p = e ? e + 1 : p + n;
+    }
+    return count == (int)(o->max - o->min) + 1;
+}
+
+/* README.md's option table: each option with a command-line spelling is in a first cell once,
+ * as `[ALIAS, ]FLAG[ METAVAR or its choices]`, and nothing else is; a range "A..B" or a "default
+ * N" in the meaning of a row of one option is the row's. */
+static void test_readme_agrees(void **state)
+{
+    (void)state;
+    char *text = read_text("README.md");
+    static table_cells cells;
+    int rows = read_table(text, "| option | meaning |", cells);
+    assert_true(rows > 0);
+    int seen[SL_OPT_COUNT] = {0};
+    for (int r = 0; r < rows; r++) {
+        int in_row = 0, last = -1;
+        for (char *p = strchr(cells[r][0], '`'); p; p = strchr(p, '`')) {
+            char *e = strchr(p + 1, '`');
+            assert_non_null(e);
+            char item[256];
+            snprintf(item, sizeof item, "%.*s", (int)(e - p - 1), p + 1);
+            p = e + 1;
+            char *alias = NULL, *flag = item, *arg = NULL;
+            char *comma = strstr(item, ", ");
+            if (comma) {
+                *comma = '\0';
+                alias = item;
+                flag = comma + 2;
+            }
+            char *space = strchr(flag, ' ');
+            if (space) {
+                *space = '\0';
+                arg = space + 1;
+            }
+            int id = 0;
+            while (id < SL_OPT_COUNT && !(sl_options[id].cli && !strcmp(sl_options[id].cli, flag)))
+                id++;
+            if (id == SL_OPT_COUNT) {
+                print_error("README.md: `%s` is not an option of the declaration\n", flag);
+                fail();
+            }
+            const sl_option *o = &sl_options[id];
+            seen[id]++;
+            in_row++;
+            last = id;
+            bool ok = (alias == NULL) == (o->alias == NULL) && (!alias || !strcmp(alias, o->alias));
+            if (o->type == SL_OPTION_FLAG)
+                ok = ok && !arg;
+            else if (o->type == SL_OPTION_CHOICE)
+                ok = ok && arg && same_names(o, arg, '|');
+            else
+                ok = ok && arg && !strcmp(arg, o->metavar);
+            if (!ok) {
+                print_error("README.md: `%s%s%s%s%s` disagrees with the declaration's %s%s%s %s\n", alias ? alias : "",
+                            alias ? ", " : "", flag, arg ? " " : "", arg ? arg : "", o->alias ? o->alias : "",
+                            o->alias ? ", " : "", o->cli, o->metavar ? o->metavar : "(its choices or nothing)");
+                fail();
+            }
+        }
+        if (in_row != 1)
+            continue;
+        const sl_option *o = &sl_options[last];
+        const char *meaning = cells[r][1];
+        int lo, hi, def;
+        for (const char *p = meaning; (p = strpbrk(p, "0123456789")); p++) {
+            if ((p == meaning || !isdigit((unsigned char)p[-1])) && sscanf(p, "%d..%d", &lo, &hi) == 2 &&
+                (lo != (int)o->min || hi != (int)o->max)) {
+                print_error("README.md: %s: %d..%d, the declaration %g..%g\n", o->cli, lo, hi, o->min, o->max);
+                fail();
+            }
+        }
+        const char *d = strstr(meaning, "default ");
+        if (d && o->type == SL_OPTION_INT && sscanf(d, "default %d", &def) == 1 && def != (int)o->def[0]) {
+            print_error("README.md: %s: default %d, the declaration %g\n", o->cli, def, o->def[0]);
+            fail();
+        }
+    }
+    for (int id = 0; id < SL_OPT_COUNT; id++)
+        if (sl_options[id].cli && seen[id] != 1) {
+            print_error("README.md: %s appears %d times in the option table, expected once\n", sl_options[id].cli,
+                        seen[id]);
+            fail();
+        }
+    free(text);
+}
+
+/* Whether the backquoted words of `cell` are exactly the choice's names ("default" with them where
+ * 0 means the default). */
+static bool cell_names(const sl_option *o, const char *cell)
+{
+    char list[256] = "";
+    size_t n = 0;
+    bool with_default = false;
+    for (const char *p = strchr(cell, '`'); p; p = strchr(p, '`')) {
+        const char *e = strchr(p + 1, '`');
+        if (!e)
+            return false;
+        if ((size_t)(e - p - 1) == 7 && !strncmp(p + 1, "default", 7))
+            with_default = true;
+        else
+            n += (size_t)snprintf(list + n, sizeof list - n, "%s%.*s", n ? "|" : "", (int)(e - p - 1), p + 1);
+        p = e + 1;
+    }
+    return same_names(o, list, '|') && with_default == (o->min > 0 && o->names[0] != NULL);
+}
+
+/* docs/scene-format.md: each scene key of the declaration is a row of its section's table (the
+ * `render` keys: nothing else is), with the type, default and range the declaration gives. */
+static void test_scene_format_agrees(void **state)
+{
+    (void)state;
+    char *text = read_text("docs/scene-format.md");
+    static table_cells cells;
+    static const char *const type_word[] = {[SL_OPTION_FLAG] = "boolean", [SL_OPTION_INT] = "integer",
+                                            [SL_OPTION_FLOAT] = "number", [SL_OPTION_SIZE] = "integer",
+                                            [SL_OPTION_CHOICE] = "string"};
+    const char *const sections[] = {"render", "environment"};
+    for (int sec = 0; sec < 2; sec++) {
+        char heading[64];
+        snprintf(heading, sizeof heading, "\n## `%s`\n", sections[sec]);
+        int rows = read_table(text, heading, cells);
+        size_t plen = strlen(sections[sec]);
+        int keys = 0;
+        for (int id = 0; id < SL_OPT_COUNT; id++)
+            for (int which = 0; which < 2 && sl_options[id].scene[which]; which++) {
+                const sl_option *o = &sl_options[id];
+                const char *path = o->scene[which];
+                if (strncmp(path, sections[sec], plen) || path[plen] != '.')
+                    continue;
+                keys++;
+                char key[64];
+                snprintf(key, sizeof key, "`%s`", path + plen + 1);
+                int r = 0;
+                while (r < rows && strcmp(cells[r][0], key))
+                    r++;
+                if (r == rows) {
+                    print_error("docs/scene-format.md: no row for %s\n", path);
+                    fail();
+                }
+                const char *type = cells[r][1], *def = cells[r][2], *range = cells[r][3];
+                bool ok = !strcmp(type, type_word[o->type]);
+                double lo = sl_option_file_min(o), hi = sl_option_file_max(o), x, y;
+                char want[128];
+                switch (o->type) {
+                case SL_OPTION_FLAG: ok = ok && !strcmp(def, "`false`") && !strcmp(range, "`true`, `false`"); break;
+                case SL_OPTION_CHOICE:
+                    snprintf(want, sizeof want, "`\"%s\"`", o->names[(int)o->def[0]]);
+                    ok = ok && strstr(def, want) && cell_names(o, range);
+                    break;
+                case SL_OPTION_INT:
+                case SL_OPTION_SIZE:
+                case SL_OPTION_FLOAT:
+                    ok = ok && sscanf(def, "`%lf`", &x) == 1 && x == o->def[which];
+                    if (o->file_min_open)
+                        ok = ok && sscanf(range, "(%lf, %lf]", &x, &y) == 2 && x == lo && y == hi;
+                    else
+                        ok = ok && sscanf(range, "%lf .. %lf", &x, &y) == 2 && x == lo && y == hi;
+                    break;
+                }
+                if (!ok) {
+                    print_error("docs/scene-format.md: %s: '%s | %s | %s' disagrees with the declaration (%s, "
+                                "default %g, %g..%g)\n", path, type, def, range, type_word[o->type], o->def[which],
+                                lo, hi);
+                    fail();
+                }
+            }
+        if (sec == 0 && rows != keys) {
+            print_error("docs/scene-format.md: the render table has %d rows, the declaration %d render keys\n", rows,
+                        keys);
+            fail();
+        }
+    }
+    free(text);
+}
+
+/* Each program's --help lists every option with a spelling: its alias, flag, metavar or choices,
+ * and its help line, as the declaration has them (SL_BUILD_DIR names the built programs). */
+static void test_help_agrees(void **state)
+{
+    (void)state;
+    const char *dir = getenv("SL_BUILD_DIR");
+    if (!dir)
+        skip();
+    const char *const commands[] = {"softlight render", "softlight trace", "softlight info", "softlight-gl render"};
+    for (size_t c = 0; c < sizeof commands / sizeof commands[0]; c++) {
+        char cmd[1200], program[1100];
+        snprintf(program, sizeof program, "%s/%.*s", dir, (int)strcspn(commands[c], " "), commands[c]);
+        FILE *exists = fopen(program, "rb");
+        if (!exists)
+            continue; /* softlight-gl is built only with EGL */
+        fclose(exists);
+        snprintf(cmd, sizeof cmd, "%s/%s --help", dir, commands[c]);
+        FILE *p = popen(cmd, "r");
+        assert_non_null(p);
+        char *out = calloc(1, 1 << 16);
+        assert_non_null(out);
+        size_t n = fread(out, 1, (1 << 16) - 1, p);
+        out[n] = '\0';
+        assert_int_equal(pclose(p), 0);
+        for (int id = 0; id < SL_OPT_COUNT; id++) {
+            const sl_option *o = &sl_options[id];
+            if (!o->cli)
+                continue;
+            char words[128], left[256], line[1024];
+            assert_true(sl_option_choices(o, words, sizeof words));
+            const char *meta = o->type == SL_OPTION_CHOICE ? words : o->metavar ? o->metavar : "";
+            snprintf(left, sizeof left, "%s%s%s%s%s", o->alias ? o->alias : "", o->alias ? ", " : "", o->cli,
+                     meta[0] ? " " : "", meta);
+            snprintf(line, sizeof line, "\n  %-34s %s\n", left, o->help);
+            if (!strstr(out, line)) {
+                print_error("%s --help lacks the line%s", commands[c], line);
+                fail();
+            }
+        }
+        free(out);
+    }
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -387,6 +753,10 @@ int main(void)
         cmocka_unit_test(test_cli_limits_are_the_table_s),
         cmocka_unit_test(test_scene_reads_the_table),
         cmocka_unit_test(test_library_reads_the_table),
+        cmocka_unit_test(test_resolution_order),
+        cmocka_unit_test(test_readme_agrees),
+        cmocka_unit_test(test_scene_format_agrees),
+        cmocka_unit_test(test_help_agrees),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

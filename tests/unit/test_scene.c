@@ -86,7 +86,7 @@ static void test_full_scene(void **state)
     /* Relative paths join the base folder; absolute ones stay. */
     assert_string_equal(s.environment.hdr_path, "base/env/a.hdr");
     assert_string_equal(s.environment.irradiance_path, "/abs/irr.hdr");
-    assert_near(s.environment.intensity, 2.0f, 0.0f);
+    assert_near(s.options.env_intensity, 2.0f, 0.0f);
     assert_near(s.environment.rotation_deg, 90.0f, 0.0f); /* 450 mod 360 */
 
     assert_int_equal(s.material_count, 2);
@@ -134,11 +134,11 @@ static void test_full_scene(void **state)
     assert_vec3_near(s.lights[1].color, vec3s(1.0f), 0.0f); /* defaults */
     assert_near(s.lights[1].intensity, 1.0f, 0.0f);
 
-    assert_int_equal(s.settings.width, 640);
-    assert_int_equal(s.settings.height, 360);
-    assert_int_equal(s.settings.samples, 20);
-    assert_near(s.settings.exposure, 2.5f, 0.0f);
-    assert_near(s.settings.contrast, 1.2f, 0.0f);
+    assert_int_equal(s.options.size[0], 640);
+    assert_int_equal(s.options.size[1], 360);
+    assert_int_equal(s.options.samples, 20);
+    assert_near(s.options.exposure, 2.5f, 0.0f);
+    assert_near(s.options.contrast, 1.2f, 0.0f);
     sl_scene_free(&s);
     assert_null(s.objects);
 }
@@ -155,13 +155,13 @@ static void test_defaults(void **state)
     assert_near(s.camera.znear, 0.1f, 0.0f);
     assert_near(s.camera.zfar, 100.0f, 0.0f);
     assert_string_equal(s.environment.hdr_path, ""); /* black environment */
-    assert_near(s.environment.intensity, 1.0f, 0.0f);
+    assert_near(s.options.env_intensity, 1.0f, 0.0f);
     assert_near(s.environment.rotation_deg, 0.0f, 0.0f);
-    assert_int_equal(s.settings.width, 1280);
-    assert_int_equal(s.settings.height, 720);
-    assert_int_equal(s.settings.samples, 40);
-    assert_near(s.settings.exposure, 1.0f, 0.0f);
-    assert_near(s.settings.contrast, 1.0f, 0.0f);
+    assert_int_equal(s.options.size[0], 1280);
+    assert_int_equal(s.options.size[1], 720);
+    assert_int_equal(s.options.samples, 40);
+    assert_near(s.options.exposure, 1.0f, 0.0f);
+    assert_near(s.options.contrast, 1.0f, 0.0f);
     assert_int_equal(s.object_count, 0);
     assert_int_equal(s.material_count, 0);
     assert_int_equal(s.light_count, 0);
@@ -743,10 +743,10 @@ static void test_shipped_scenes(void **state)
     assert_int_equal(s.material_count, 20);
     assert_int_equal(s.mesh_count, 1);
     assert_string_equal(s.environment.hdr_path, "scenes/envmaps/studio.hdr");
-    assert_int_equal(s.settings.width, 1280);
-    assert_int_equal(s.settings.height, 720);
-    assert_int_equal(s.settings.samples, 40);
-    assert_near(s.settings.contrast, 1.0f, 0.0f);
+    assert_int_equal(s.options.size[0], 1280);
+    assert_int_equal(s.options.size[1], 720);
+    assert_int_equal(s.options.samples, 40);
+    assert_near(s.options.contrast, 1.0f, 0.0f);
     static const float alphas[5] = {1, 10, 100, 1000, 10000}, kss[4] = {0.04f, 0.2f, 0.5f, 0.9f};
     for (int o = 0; o < 20; o++) {
         const sl_material *m = &s.materials[s.objects[o].material];
@@ -755,7 +755,7 @@ static void test_shipped_scenes(void **state)
         assert_near(m->kd.x, 0.5f * (1.0f - kss[o / 5]), 1e-6f);
     }
     /* The grid fits the 16:9 frustum: every sphere's centre +- 1 is inside the view. */
-    float aspect = (float)s.settings.width / (float)s.settings.height;
+    float aspect = (float)s.options.size[0] / (float)s.options.size[1];
     mat4 vp = mat4_mul(perspective(radians(s.camera.fovy_deg), aspect, s.camera.znear, s.camera.zfar),
                        lookAt(s.camera.eye, s.camera.target, s.camera.up));
     for (int o = 0; o < 20; o++) {
