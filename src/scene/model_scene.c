@@ -1,11 +1,11 @@
 /* model_scene.c - model files in a scene: `{"model": "file.glb"}` objects expanded into
- * objects, meshes and materials, and the default scene around a model given alone
- * (`softlight render model.glb`).
+ * objects, meshes and materials.
  *
  * Owns: the expansion (one object per mesh instance, the scene object's transform on top of
- * the node's, a scene "material" overriding the file's), the mapping of the file's materials
- * onto softlight's, and the default scene (shipped environment, the file's first camera or one
- * framing the bounds). scene.c reads the "model" key and calls sl_scene_expand_models.
+ * the node's, a scene "material" overriding the file's) and the mapping of the file's materials
+ * onto softlight's. scene_objects.c reads the "model" key; scene.c and scene_default.c (the
+ * default scene around a model given alone) call sl_scene_expand_models, which calls nothing of
+ * theirs.
  *
  * Materials (docs/scene-format.md "Models"): glTF metallic-roughness becomes a GGX material. With
  * a metallicRoughnessTexture it is drawn per texel (scene.h sl_material.metallic: kd = the base
@@ -24,7 +24,6 @@
  * copied into the scene ("MODEL#N"), so that the raster stage decodes each once either way. */
 #include "model.h"
 #include "scene_internal.h"
-#include "softlight/data.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -34,8 +33,6 @@
 #define MODEL_MAX_ALPHA 1e6f
 /* The name assimp gives the material it adds when a file has none (AI_DEFAULT_MATERIAL_NAME). */
 #define AI_DEFAULT_NAME "DefaultMaterial"
-/* The shipped environment lighting a model given alone, in the data directory (softlight/data.h). */
-#define DEFAULT_ENVIRONMENT "scenes/envmaps/studio.hdr"
 
 /* glTF sampler values (GL enums). */
 enum { GL_NEAREST_ = 9728, GL_LINEAR_ = 9729, GL_NEAREST_MIPMAP_NEAREST_ = 9984, GL_CLAMP_ = 33071,
@@ -336,8 +333,14 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
         if (src->kind != SL_MESH_MODEL)
             continue;
         sl_model *m = &models[i];
+        /* what a message about this model starts with: its object's JSON path; nothing for a model
+         * given alone, whose own messages name it */
+        char where[SL_PATH_MAX + 64] = "";
+        if (first_user)
+            snprintf(where, sizeof where, "%.*s: objects[%d].model: ", SL_PATH_MAX, name, first_user[i]);
         if (!sl_model_load(src->path, m, err)) {
-            sl_error_prefix(err, "%s: objects[%d].model: ", name, first_user[i]);
+            if (where[0])
+                sl_error_prefix(err, "%s", where);
             ok = false;
             break;
         }
@@ -348,8 +351,8 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
         for (int k = 0; k < m->mesh_count; k++)
             total_vertices += m->meshes[k].mesh.vertex_count;
         if (total_vertices > SCENE_MAX_TOTAL_VERTICES) {
-            ok = sl_fail(err, SL_ERR_RANGE, "%s: objects[%d].model: the scene's meshes have more than %d vertices in all",
-                         name, first_user[i], SCENE_MAX_TOTAL_VERTICES);
+            ok = sl_fail(err, SL_ERR_RANGE, "%sthe scene's meshes have more than %d vertices in all", where,
+                         SCENE_MAX_TOTAL_VERTICES);
             break;
         }
         /* Meshes move into the scene, tangents included (the model keeps empty ones). */
@@ -381,7 +384,8 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
             scene->material_count += ok;
         }
         if (!ok) {
-            sl_error_prefix(err, "%s: objects[%d].model: ", name, first_user[i]);
+            if (where[0])
+                sl_error_prefix(err, "%s", where);
             break;
         }
         warn_ignored(scene, src->path, ignored);
@@ -431,74 +435,4 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
     free(mesh_base);
     free(material_base);
     return ok;
-}
-
-/* ---- the default scene around a model ---- */
-
-/* `s` as a JSON string's contents (quotes and backslashes escaped, control bytes as \u00XX). */
-static bool json_escape(const char *s, char *out, size_t cap)
-{
-    size_t n = 0;
-    for (; *s; s++) {
-        unsigned char c = (unsigned char)*s;
-        int w = c == '"' || c == '\\' ? snprintf(out + n, cap - n, "\\%c", c)
-                : c < 32              ? snprintf(out + n, cap - n, "\\u%04x", c)
-                                      : snprintf(out + n, cap - n, "%c", c);
-        if (w < 0 || (size_t)w >= cap - n)
-            return false;
-        n += (size_t)w;
-    }
-    return true;
-}
-
-/* A camera looking at the bounds from the front (-Y) and a little above, far enough for the
- * bounding sphere to fit the default 45 degree field of view. */
-static sl_camera frame_bounds(vec3 lo, vec3 hi, float fovy_deg)
-{
-    vec3 c = scale3(add3(lo, hi), 0.5f);
-    float r = maxf(0.5f * length3(sub3(hi, lo)), 1e-3f);
-    float d = 1.1f * r / sinf(0.5f * fovy_deg * (3.14159265f / 180.0f));
-    vec3 dir;
-    sl_scene_safe_normalize(vec3(0.0f, -1.0f, 0.35f), &dir);
-    return (sl_camera){.eye = add3(c, scale3(dir, d)),
-                       .target = c,
-                       .up = vec3(0.0f, 0.0f, 1.0f),
-                       .fovy_deg = fovy_deg,
-                       .znear = maxf(d - 2.0f * r, d * 1e-3f),
-                       .zfar = d + 2.0f * r};
-}
-
-bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
-{
-    char escaped[2 * SL_PATH_MAX], env[2 * SL_PATH_MAX], env_path[SL_PATH_MAX];
-    if (!sl_data_dir())
-        return sl_fail(err, SL_ERR_IO,
-                       "%s: no default environment: softlight's data directory (shaders/, scenes/) was not "
-                       "found; set SOFTLIGHT_DATA_DIR",
-                       path);
-    if (!sl_data_path(DEFAULT_ENVIRONMENT, env_path, sizeof env_path) || !json_escape(path, escaped, sizeof escaped) ||
-        !json_escape(env_path, env, sizeof env))
-        return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
-    char json[5 * SL_PATH_MAX];
-    int n = snprintf(json, sizeof json, "{\"environment\": \"%s\", \"objects\": [{\"model\": \"%s\"}]}", env,
-                     escaped);
-    if (n < 0 || (size_t)n >= sizeof json)
-        return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
-    scene_model_camera camera = {0};
-    if (!sl_scene_parse_with_models(json, (size_t)n, path, "", scene, &camera, err)) {
-        /* "model.glb: objects[0].model: model.glb: ..." says the file twice; the user typed no
-         * scene, so the message starts at the model. */
-        const char *inner = err ? strstr(err->msg, "objects[0].model: ") : NULL;
-        if (inner)
-            memmove(err->msg, inner + 18, strlen(inner + 18) + 1);
-        return false;
-    }
-    if (camera.has) {
-        scene->camera = camera.camera;
-    } else {
-        vec3 lo, hi;
-        if (sl_scene_bounds(scene, &lo, &hi))
-            scene->camera = frame_bounds(lo, hi, scene->camera.fovy_deg);
-    }
-    return true;
 }

@@ -39,7 +39,7 @@ bool sl_scene_compute_tangents(sl_mesh *mesh);
 /* Unit vector along v, robust to huge and tiny components; false when v is zero or not finite. */
 bool sl_scene_safe_normalize(vec3 v, vec3 *out);
 /* After a material's keys or a model's material are read: a metallic material without per-texel
- * inputs folded into constant kd, ks; `textured` set from its maps and extra channels (scene.c). */
+ * inputs folded into constant kd, ks; `textured` set from its maps and extra channels (scene_materials.c). */
 void sl_scene_material_finish(sl_material *m);
 
 /* The first camera of the models a scene loads (model_scene.c), for the default scene. */
@@ -48,16 +48,13 @@ typedef struct {
     sl_camera camera;
 } scene_model_camera;
 
-/* sl_scene_parse with meshes loaded, noting the models' first camera in `camera` (scene.c). */
-bool sl_scene_parse_with_models(const char *json, size_t size, const char *name, const char *base_dir, sl_scene *scene,
-                             scene_model_camera *camera, sl_error *err);
 /* Replace each object whose mesh is a model by one object per mesh instance of the file, adding
  * its meshes and materials; `material_given[o]`: object o named a material, which overrides
- * the file's; `first_user[mesh]` names the object in messages (model_scene.c). */
+ * the file's; `first_user[mesh]` names the object in messages, prefixed by `name` (NULL: a model
+ * given alone, whose own messages name it); the first model camera goes into `camera` (may be
+ * NULL) (model_scene.c). */
 bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const int *first_user, const char *name,
                          scene_model_camera *camera, sl_error *err);
-/* The default scene around a model file given alone (model_scene.c). */
-bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
 
 /* The file a model's texture reference `ref` names, relative to the model's folder `dir` ("" or
  * ending in '/'): Windows separators, Blender's "//", case differences and foreign absolute paths
