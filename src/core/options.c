@@ -1,7 +1,7 @@
 /* options.c - the option table, expanded from the declaration (SL_OPTION_LIST, options.h), and
  * the record's defaults, merge and checks. A new option is a row of SL_OPTION_LIST and, where a
  * stage reads it, one line in sl_render_desc_resolve (src/render/renderer.c); the command line
- * (src/app/render_options.c) and the scene file (src/scene/scene_render.c) read every row as it
+ * (src/app/render_options.c) and the scene file (src/scene/scene_options.c) read every row as it
  * is, and tests/unit/test_options.c checks --help, README.md and docs/scene-format.md against
  * the rows. */
 #include "options.h"

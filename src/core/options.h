@@ -1,12 +1,16 @@
-/* options.h - every option a user can set, one row each: its name, its spelling on the command
- * line and in a scene file, its default and its limits, and for the modes (lod rule, estimator,
- * G term, irradiance method) the name of each value. One limit per quantity: the largest image
+/* options.h - every option a user can set, declared once (SL_OPTION_LIST): its field, its name,
+ * its spelling on the command line and in a scene file, its help line, its default and its
+ * limits, and for the modes (lod rule, estimator, G term, irradiance method, layout) the name of
+ * each value; and the one record of values (sl_option_values) that carries them from the command
+ * line or the scene file to the renderer. One limit per quantity: the largest image
  * side, the most samples, the most env lights, the most point lights are written here once.
  *
  * Read by: the command line (src/app/render_options.c, also softlight-gl's), the viewer (mode
- * names, cycling a mode, its key and script limits), the scene reader (the render and
- * environment keys), the stages' own defaults (sl_lighting_options_resolve, the tone map, the
- * rasterizer's tile size) and tests/unit/test_options.c, which checks that they all agree.
+ * names, cycling a mode, its key and script limits), the scene reader (src/scene/scene_options.c:
+ * the render and environment keys), the renderer's one resolution (sl_render_desc_resolve), the
+ * stages' own defaults (sl_lighting_options_resolve, the tone map) and
+ * tests/unit/test_options.c, which checks that they, --help, README.md's option table and
+ * docs/scene-format.md's key tables all agree.
  * It lives in core because its lowest reader, the scene file (src/scene), sits directly above
  * core (core <- scene/ibl <- raster <- shading <- post <- render <- app): it holds words and
  * numbers only, and the stages name their structures' sizes from it (SL_HAMMERSLEY_MAX sizes the
@@ -14,7 +18,7 @@
  * Like sokol's _sg_def, a default is resolved from one place; like Lua's luaL_checkoption, a
  * mode is parsed against one list of names.
  *
- * Does not: parse argv or JSON (src/app/args.c, src/scene/scene.c do, with these limits), or
+ * Does not: parse argv or JSON (src/app/args.c, src/scene/scene_json.c do, with these limits), or
  * hold options of one command only (softlight view --scale, truth --part). */
 #ifndef SL_OPTIONS_H
 #define SL_OPTIONS_H

@@ -29,7 +29,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The scene reader's limit on the Phong exponent (scene.c MAX_ALPHA). */
+/* The scene reader's limit on the Phong exponent (scene_materials.c MAX_ALPHA). */
 #define MODEL_MAX_ALPHA 1e6f
 /* The name assimp gives the material it adds when a file has none (AI_DEFAULT_MATERIAL_NAME). */
 #define AI_DEFAULT_NAME "DefaultMaterial"

@@ -14,21 +14,23 @@
 /* Zero means the option table's default (core/options.h). */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
 {
+    sl_option_values def; /* the declaration's defaults (core/options.h) */
+    sl_option_values_default(&def);
     sl_lighting_options r = opt ? *opt : (sl_lighting_options){0};
     if (r.samples == 0)
-        r.samples = (int)sl_options[SL_OPT_SAMPLES].def[0];
+        r.samples = def.samples;
     if (r.lod_samples == 0)
         r.lod_samples = r.samples;
     if (r.lod_rule == SL_LOD_DEFAULT)
-        r.lod_rule = (sl_lod_rule)sl_options[SL_OPT_LOD].def[0];
+        r.lod_rule = def.lod;
     if (r.gterm == SL_GTERM_DEFAULT)
-        r.gterm = (sl_gterm)sl_options[SL_OPT_GTERM].def[0];
+        r.gterm = def.gterm;
     if (r.env_layout == SL_ENV_LAYOUT_DEFAULT)
-        r.env_layout = (sl_env_layout)sl_options[SL_OPT_ENV_LAYOUT].def[0];
+        r.env_layout = def.env_layout;
     if (r.estimator == SL_ESTIMATOR_DEFAULT)
-        r.estimator = (sl_estimator)sl_options[SL_OPT_ESTIMATOR].def[0];
+        r.estimator = def.estimator;
     if (r.env_intensity == 0.0f)
-        r.env_intensity = (float)sl_options[SL_OPT_ENV_INTENSITY].def[0];
+        r.env_intensity = def.env_intensity;
     return r;
 }
 
