@@ -774,6 +774,19 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, stat(path, &st) != 0 ? "no such file" : "not a regular file");
     size_t input_bytes = (size_t)st.st_size;
+    if (strcasecmp(ext, "obj") == 0 || strcasecmp(ext, "off") == 0) {
+        size_t size;
+        unsigned char *bytes = read_regular(&fa, path, &size);
+        if (!bytes)
+            return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
+        char dir[SL_PATH_MAX];
+        dir_of(path, dir);
+        bool ok = strcasecmp(ext, "obj") == 0 ? sl_scene_obj_check((const char *)bytes, size, dir, path, err)
+                                              : sl_scene_off_check((const char *)bytes, size, path, err);
+        free(bytes);
+        if (!ok)
+            return false;
+    }
     if (fa.gltf) {
         size_t size;
         scene_gltf_facts facts;
@@ -813,5 +826,9 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
         return false;
     if (is_gltf(hint))
         fa.triangles = facts.triangles;
+    if (strcasecmp(hint, "obj") == 0 && !sl_scene_obj_check(data, size, NULL, name, err))
+        return false;
+    if (strcasecmp(hint, "off") == 0 && !sl_scene_off_check(data, size, name, err))
+        return false;
     return import(path, &fa, model, err);
 }

@@ -64,6 +64,13 @@ bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
  * resolved as texture_path.c describes. False when no regular file matches. */
 bool sl_scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
 
+/* The plain-text formats' checks before the importer reads them (text_model_check.c): an OBJ's
+ * usemtl names each defined by a newmtl of the libraries it names (found relative to `dir`; NULL:
+ * none can be read, the file is in memory), an
+ * OFF file's counts within the caps and its faces' indices within its vertices. */
+bool sl_scene_obj_check(const char *text, size_t size, const char *dir, const char *name, sl_error *err);
+bool sl_scene_off_check(const char *text, size_t size, const char *name, sl_error *err);
+
 /* What a glTF document's checks learn for the import: the bytes its buffers declare (for the
  * import's memory budget) and the triangles its triangle lists declare (-1 when it has other
  * primitives), to find the ones the importer drops. */
