@@ -89,7 +89,7 @@ bool sl_scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, cons
 typedef bool (*scene_import_fn)(void *ctx, sl_model *model, sl_error *err);
 /* Runs fn in a child process whose address space may grow by `memory_bytes` and which may run
  * `seconds`, and returns its model or error; running out of either, or crashing, is an error
- * naming `name` (model_isolate.c). */
+ * naming `name`, with *model zeroed (model_isolate.c). */
 bool sl_scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
                            sl_model *model, sl_error *err);
 
