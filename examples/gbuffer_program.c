@@ -62,8 +62,10 @@ int main(int argc, char **argv)
     }
     if (argc > 3)
         snprintf(scene_path, sizeof scene_path, "%s", argv[3]);
-    else if (!sl_data_path("scenes/default.json", scene_path, sizeof scene_path))
+    else if (!sl_data_path("scenes/default.json", scene_path, sizeof scene_path)) {
         fprintf(stderr, "gbuffer_program: no softlight data directory (set SOFTLIGHT_DATA_DIR)\n");
+        return 1;
+    }
     sl_error err = {0};
     sl_mesh sphere = {0}, floor_mesh = {0};
     sl_gbuffer gb = {0};

@@ -62,8 +62,10 @@ int main(int argc, char **argv)
     }
     if (argc > 3)
         snprintf(path, sizeof path, "%s", argv[3]);
-    else if (!sl_data_path("scenes/default.json", path, sizeof path))
+    else if (!sl_data_path("scenes/default.json", path, sizeof path)) {
         fprintf(stderr, "toon_lighting: no softlight data directory (set SOFTLIGHT_DATA_DIR)\n");
+        return 1;
+    }
     sl_error err = {0};
     sl_gbuffer gb = {0};
     sl_image img = {0};
