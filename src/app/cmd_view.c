@@ -136,13 +136,42 @@ static void run(viewer *v)
 
 /* ------------------------------------------------------------------ setup */
 
+static bool env_set(const char *name)
+{
+    const char *s = getenv(name);
+    return s && s[0];
+}
+
+/* Whether a display can be asked for, and which drivers SDL may try. SDL_VIDEODRIVER names a
+ * driver explicitly (offscreen, dummy, kmsdrm): SDL decides. Otherwise only the drivers whose
+ * display variable is set are tried, so a DISPLAY with no server behind it fails here instead
+ * of falling through to SDL's offscreen driver (a window nobody sees, forever). */
 static bool display_available(char *why, size_t size)
 {
-    const char *display = getenv("DISPLAY"), *wayland = getenv("WAYLAND_DISPLAY"), *driver = getenv("SDL_VIDEODRIVER");
-    /* SDL_VIDEODRIVER names a driver explicitly (offscreen, dummy, kmsdrm): let SDL decide. */
-    if ((display && display[0]) || (wayland && wayland[0]) || (driver && driver[0]))
+    bool display = env_set("DISPLAY"), wayland = env_set("WAYLAND_DISPLAY");
+    if (env_set("SDL_VIDEODRIVER"))
         return true;
-    snprintf(why, size, "neither DISPLAY nor WAYLAND_DISPLAY is set");
+    if (!display && !wayland) {
+        snprintf(why, size, "neither DISPLAY nor WAYLAND_DISPLAY is set");
+        return false;
+    }
+    SDL_SetHint("SDL_VIDEODRIVER", display && wayland ? "x11,wayland" : display ? "x11" : "wayland");
+    return true;
+}
+
+/* After SDL_Init: false when SDL opened no real video driver (offscreen, dummy) that the user
+ * did not ask for. */
+static bool real_driver(char *why, size_t size)
+{
+    const char *name = SDL_GetCurrentVideoDriver();
+    if (env_set("SDL_VIDEODRIVER") && name)
+        return true;
+    if (name && strcmp(name, "offscreen") && strcmp(name, "dummy") && strcmp(name, "evdev"))
+        return true;
+    const char *display = getenv("DISPLAY"), *wayland = getenv("WAYLAND_DISPLAY");
+    snprintf(why, size, "no X server at DISPLAY=%s%s%s; SDL found only %s", display ? display : "",
+             wayland && wayland[0] ? " and no compositor at WAYLAND_DISPLAY=" : "", wayland && wayland[0] ? wayland : "",
+             name ? name : "no video driver");
     return false;
 }
 
@@ -279,9 +308,19 @@ int cmd_view(int argc, char **argv)
 
     char why[256];
     bool display = display_available(why, sizeof why);
-    if (!display || SDL_Init(SDL_INIT_VIDEO) != 0) {
-        if (display)
-            snprintf(why, sizeof why, "SDL: %s", SDL_GetError());
+    bool sdl_up = false;
+    if (display) {
+        sdl_up = SDL_Init(SDL_INIT_VIDEO) == 0;
+        if (!sdl_up) {
+            const char *d = getenv("DISPLAY");
+            snprintf(why, sizeof why, "%s%s%sSDL: %s", d && d[0] ? "DISPLAY=" : "", d && d[0] ? d : "",
+                     d && d[0] ? ": " : "", SDL_GetError());
+        }
+        display = sdl_up && real_driver(why, sizeof why);
+    }
+    if (!display) {
+        if (sdl_up)
+            SDL_Quit();
         fprintf(stderr, "softlight view: no display (%s); use softlight render %s -o out.png\n", why, scene_path[0]);
         view_script_free(&v.script);
         view_bench_free(&v.bench);

@@ -21,10 +21,8 @@
  *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c,
  *                        view_texture.c
  *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
- *   view_texture.c    -> view_present.c (view_message, when the texture cannot be made)
- * Two cycles run through view_texture.c: view_present.c -> view_texture.c -> view_present.c,
- * and view_refine.c -> view_texture.c -> view_present.c -> view_refine.c. Every other call
- * goes one way.
+ *   view_texture.c    -> nothing of the viewer's (a failure goes back as an sl_error)
+ * Every call goes one way.
  * Input does not restart the refinement or take screenshots itself: view_handle_event answers
  * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
@@ -350,8 +348,8 @@ void view_stage_describe(const view_stage_params *s, char *buf, size_t size);
 
 /* ---- view_texture.c ---- */
 /* Lock the window's texture at w x h (recreated when its size differs) for writing: its pixels
- * (XRGB8888 words) and pitch. False, with a message, when SDL cannot. */
-bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch);
+ * (XRGB8888 words) and pitch. False, with err, when SDL cannot; the caller reports it. */
+bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch, sl_error *err);
 void view_texture_unlock(viewer *v);
 
 /* ---- view_screenshot.c ---- */

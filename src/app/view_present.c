@@ -152,11 +152,13 @@ static bool upload(viewer *v, double *tone_ms)
     if (v->texture_stale) {
         uint8_t *pixels;
         int pitch;
-        if (!view_texture_lock(v, w, h, &pixels, &pitch))
+        sl_error err = {0};
+        if (!view_texture_lock(v, w, h, &pixels, &pitch, &err)) {
+            view_message(v, true, "%s", err.msg);
             return false;
+        }
         if (v->shown_pending) {
             double t0 = sl_now_seconds();
-            sl_error err = {0};
             const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, &err);
             if (!tab) {
                 view_texture_unlock(v);
