@@ -289,7 +289,7 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         break;
     default:
         if (!view_channel_image(&v->r.gbuffer, v->mode, v->bounds_lo, v->bounds_hi, cam->znear, cam->zfar, &v->shown,
-                                err))
+                                v->depth_range, err))
             return false;
         break;
     }
