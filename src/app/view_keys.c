@@ -48,7 +48,7 @@ static const key_row rows[] = {
     {"T", "key t", "trace the pixel under the pointer (softlight trace's text, in the window and on stdout)"},
     {"PageUp / PageDown", "key PageUp|key PageDown", "page through the trace"},
     {"H", "key h", "HUD: full -> compact -> off -> full"},
-    {"F12 or P", "key F12|key p", "screenshot: softlight-<n>.png and .hdr"},
+    {"F12 or P", "key F12|key p", "screenshot: softlight-N.png and .hdr (N counts up past existing files)"},
     {"F1 or ?", "key F1|key shift+/", "this help"},
     {"Esc", "key Escape", "close the trace or the help, else quit"},
     {"drop a file", "drop PATH", ".hdr: new environment; .json: new scene; any other file: a model in the default scene"},
