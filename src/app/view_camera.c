@@ -32,7 +32,7 @@ static void orbit_from(view_camera *c, const sl_camera *cam)
 
 /* The nearest distance along `dir` (unit, from the target to the eye) that keeps the eye
  * outside the bounds, plus a margin of 2% of their diagonal: where the ray from the target
- * leaves the box (0 when the target is outside it). */
+ * leaves the box (0 when the target is outside it), at most half the scene camera's own. */
 static float min_distance(const view_camera *c, vec3 dir)
 {
     if (!c->have_bounds)
@@ -51,7 +51,9 @@ static float min_distance(const view_camera *c, vec3 dir)
         else if (d[i] < -1e-9f)
             t_exit = minf(t_exit, (l[i] - o[i]) / d[i]);
     }
-    return (isfinite(t_exit) ? t_exit : 0.0f) + margin;
+    /* A scene seen from inside its bounds (a room) keeps its own camera's distance reachable:
+     * the limit never exceeds half of it. */
+    return minf((isfinite(t_exit) ? t_exit : 0.0f) + margin, 0.5f * c->home_distance);
 }
 
 static float max_distance(const view_camera *c)
