@@ -1,7 +1,8 @@
 /* fuzz_texture.c - libFuzzer target for texture files as sl_texture_load reads them
  * (src/raster/texture.c): PNG through libpng and JPEG through libjpeg-turbo (src/core/png_decode.c,
- * jpeg_decode.c: 8 and 16 bits, 1 to 4 channels), Radiance .hdr through hdr.c, told apart by
- * their first bytes, then the mip chain.
+ * jpeg_decode.c: 8 and 16 bits, 1 to 4 channels), BMP and TGA through softlight's own decoders
+ * (bmp_decode.c, tga_decode.c), Radiance .hdr through hdr.c, told apart by their first bytes (a
+ * TGA, which has none, by its name: every input is named fuzz.tga), then the mip chain.
  *
  * Any input must either load or fail with an error naming the file, leaving no texture,
  * without crashing, hanging or leaking. What loads must hold a whole chain whose samples are
@@ -33,8 +34,8 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     sl_texture *t = NULL;
     sl_error err = {0};
     bool srgb = size % 2 == 1; /* both kinds of 8-bit colour, from the same corpus */
-    if (!sl_texture_load_memory(data, size, "fuzz.png", srgb, FUZZ_BUDGET, &t, &err)) {
-        if (t || strncmp(err.msg, "fuzz.png: ", 10) != 0) {
+    if (!sl_texture_load_memory(data, size, "fuzz.tga", srgb, FUZZ_BUDGET, &t, &err)) {
+        if (t || strncmp(err.msg, "fuzz.tga: ", 10) != 0) {
             fprintf(stderr, "bad failure: texture %p, message '%s'\n", (void *)t, err.msg);
             abort();
         }

@@ -35,6 +35,11 @@ SL_API void sl_renderer_destroy(sl_renderer *r); /* NULL is fine */
 
 /* One frame from `cam` (NULL = the scene's camera): raster, lighting, tone map. */
 SL_API bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* The lighting and tone map of sl_renderer_frame on a G-buffer the caller drew (its own programs
+ * into sl_gbuffer_target, or sl_raster_scene) as seen from `cam` (NULL = the scene's camera): the
+ * scene's environment and lights shade it into sl_renderer_radiance and sl_renderer_display. gb
+ * must have the renderer's size (SL_ERR_RANGE otherwise); sl_renderer_gbuffer is left as it was. */
+SL_API bool sl_renderer_light(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err);
 /* Change the render size (reallocates only when it changes). */
 SL_API bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err);
 /* Replace the environment (an .hdr, .exr or .pfm lat-long map). On failure the old one stays. */

@@ -22,6 +22,7 @@
 #include "app/commands.h"
 #include "app/render_options.h"
 #include "core/timer.h"
+#include "softlight/data.h"
 #include "view_internal.h"
 
 #if !SL_HAVE_SDL2
@@ -41,7 +42,8 @@ int cmd_view(int argc, char **argv)
 #define FONT_POINTS 12
 #define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Refinement": measured) */
 #define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
-#define VIEW_OPTION_COUNT 10     /* options of `view` beside render's */
+#define VIEW_OPTION_COUNT 12     /* options of `view` beside render's */
+#define DEFAULT_SCENE "scenes/default.json" /* what `softlight view ENV.hdr` lights */
 
 /* ------------------------------------------------------------------ the loop */
 
@@ -72,6 +74,27 @@ static void render_failed(viewer *v, const sl_error *err)
     view_refine_stop(v);
 }
 
+/* A watched file changed: load the scene again, keeping the camera (unless it is the scene's
+ * own, which then follows the file) and the view. On failure the old scene stays. */
+static void reload(viewer *v)
+{
+    view_camera old = v->camera;
+    view_mode mode = v->mode;
+    char path[SL_PATH_MAX];
+    snprintf(path, sizeof path, "%s", v->scene->path);
+    sl_error err = {0};
+    if (!view_load_scene(v, path, &err)) {
+        view_message(v, true, "reload: %s (the scene stays)", err.msg);
+        return;
+    }
+    if (!old.at_home)
+        view_camera_carry(&v->camera, &old);
+    v->mode = mode;
+    view_trace_free(v);
+    view_message(v, false, "reloaded %s", path);
+    view_restart_camera(v);
+}
+
 static void run(viewer *v)
 {
     v->bench.last_present = sl_now_seconds();
@@ -81,6 +104,8 @@ static void run(viewer *v)
             view_script_step(v, now);
         if (v->bench.frames > 0)
             view_bench_input(v, now);
+        if (view_watch_changed(&v->watch, now))
+            reload(v);
         bool message_expired = v->message_shown && now >= v->message_until;
         bool busy = v->job_active || view_refine_wanted(v, now) || v->retonemap || v->present_needed || message_expired;
         SDL_Event e;
@@ -94,6 +119,8 @@ static void run(viewer *v)
                 wake = fmin(wake, fmax(0.005, v->last_input + VIEW_QUIET_SECONDS - now));
             if (v->message_shown)
                 wake = fmin(wake, fmax(0.005, v->message_until - now));
+            if (v->watch.count)
+                wake = fmin(wake, fmax(0.005, v->watch.next_poll - now));
             if (SDL_WaitEventTimeout(&e, (int)(wake * 1000.0) + 1))
                 act(v, view_handle_event(v, &e));
         }
@@ -136,13 +163,42 @@ static void run(viewer *v)
 
 /* ------------------------------------------------------------------ setup */
 
+static bool env_set(const char *name)
+{
+    const char *s = getenv(name);
+    return s && s[0];
+}
+
+/* Whether a display can be asked for, and which drivers SDL may try. SDL_VIDEODRIVER names a
+ * driver explicitly (offscreen, dummy, kmsdrm): SDL decides. Otherwise only the drivers whose
+ * display variable is set are tried, so a DISPLAY with no server behind it fails here instead
+ * of falling through to SDL's offscreen driver (a window nobody sees, forever). */
 static bool display_available(char *why, size_t size)
 {
-    const char *display = getenv("DISPLAY"), *wayland = getenv("WAYLAND_DISPLAY"), *driver = getenv("SDL_VIDEODRIVER");
-    /* SDL_VIDEODRIVER names a driver explicitly (offscreen, dummy, kmsdrm): let SDL decide. */
-    if ((display && display[0]) || (wayland && wayland[0]) || (driver && driver[0]))
+    bool display = env_set("DISPLAY"), wayland = env_set("WAYLAND_DISPLAY");
+    if (env_set("SDL_VIDEODRIVER"))
         return true;
-    snprintf(why, size, "neither DISPLAY nor WAYLAND_DISPLAY is set");
+    if (!display && !wayland) {
+        snprintf(why, size, "neither DISPLAY nor WAYLAND_DISPLAY is set");
+        return false;
+    }
+    SDL_SetHint("SDL_VIDEODRIVER", display && wayland ? "x11,wayland" : display ? "x11" : "wayland");
+    return true;
+}
+
+/* After SDL_Init: false when SDL opened no real video driver (offscreen, dummy) that the user
+ * did not ask for. */
+static bool real_driver(char *why, size_t size)
+{
+    const char *name = SDL_GetCurrentVideoDriver();
+    if (env_set("SDL_VIDEODRIVER") && name)
+        return true;
+    if (name && strcmp(name, "offscreen") && strcmp(name, "dummy") && strcmp(name, "evdev"))
+        return true;
+    const char *display = getenv("DISPLAY"), *wayland = getenv("WAYLAND_DISPLAY");
+    snprintf(why, size, "no X server at DISPLAY=%s%s%s; SDL found only %s", display ? display : "",
+             wayland && wayland[0] ? " and no compositor at WAYLAND_DISPLAY=" : "", wayland && wayland[0] ? wayland : "",
+             name ? name : "no video driver");
     return false;
 }
 
@@ -173,6 +229,8 @@ static void initial_window_size(const sl_render_options *o, const sl_scene *scen
 static void viewer_free(viewer *v)
 {
     view_script_free(&v->script);
+    view_watch_free(&v->watch);
+    view_trace_free(v);
     view_shade_free(&v->shade);
     view_hud_destroy(v->hud);
     if (v->scene) {
@@ -202,8 +260,13 @@ int cmd_view(int argc, char **argv)
     int frames = 0, move_samples = MOVE_SAMPLES, move_div = 0, bench_frames = 0;
     int acc_lod = 0;  /* index in "total|frame" */
     int move_est = 0; /* index in "splitsum|user" */
-    bool no_hud = false;
+    bool no_hud = false, keys = false;
+    const char *env = NULL;
     const sl_arg extra[] = {
+        {"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
+         "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL},
+        {"--keys", NULL, SL_ARG_FLAG, &keys, 0, 0, NULL, NULL, "print the key table (markdown, as docs/viewer.md) and exit",
+         NULL},
         {"--scale", NULL, SL_ARG_FLOAT, &scale, 0.05, 1.0, NULL, "S", "render at S times the window size (default 1)",
          NULL},
         {"--script", NULL, SL_ARG_STRING, &script_path, 0, 0, NULL, "FILE",
@@ -227,7 +290,7 @@ int cmd_view(int argc, char **argv)
     _Static_assert(sizeof extra / sizeof extra[0] == VIEW_OPTION_COUNT, "VIEW_OPTION_COUNT is the size of extra[]");
     memcpy(table + n, extra, sizeof extra);
     const int count = n + (int)(sizeof extra / sizeof extra[0]);
-    const char *usage = "softlight view scene.json [options]   (--size: the window's size)";
+    const char *usage = "softlight view SCENE.json|MODEL|ENV.hdr [options]   (--size: the window's size)";
     const char *scene_path[1];
     int npos = 0;
     bool help = false;
@@ -242,9 +305,30 @@ int cmd_view(int argc, char **argv)
         printf("\nkeys: press F1 or ? in the window; docs/viewer.md lists keys, script commands and refinement\n");
         return 0;
     }
+    if (keys) {
+        view_keys_markdown(stdout);
+        return 0;
+    }
     if (npos != 1) {
         fprintf(stderr, "softlight view: expected one scene file (see --help)\n");
         return 2;
+    }
+    /* An environment alone: the default scene under it. */
+    char default_scene[SL_PATH_MAX];
+    if (view_is_environment(scene_path[0])) {
+        if (env) {
+            fprintf(stderr, "softlight view: %s is an environment and --env names another\n", scene_path[0]);
+            return 2;
+        }
+        if (!sl_data_path(DEFAULT_SCENE, default_scene, sizeof default_scene)) {
+            fprintf(stderr,
+                    "softlight view: %s: no default scene: softlight's data directory (shaders/, scenes/) was not "
+                    "found; set SOFTLIGHT_DATA_DIR\n",
+                    scene_path[0]);
+            return 2;
+        }
+        env = scene_path[0];
+        scene_path[0] = default_scene;
     }
     if (!sl_render_options_desc(&opts, &desc, &err)) {
         fprintf(stderr, "softlight view: %s\n", err.msg);
@@ -252,6 +336,8 @@ int cmd_view(int argc, char **argv)
     }
     viewer v = {0};
     v.cli_desc = desc;
+    snprintf(v.env_override, sizeof v.env_override, "%s", env ? env : "");
+    v.pointer_x = v.pointer_y = -1;
     v.scale = scale;
     v.max_frames = frames;
     v.show_hud = !no_hud;
@@ -279,9 +365,19 @@ int cmd_view(int argc, char **argv)
 
     char why[256];
     bool display = display_available(why, sizeof why);
-    if (!display || SDL_Init(SDL_INIT_VIDEO) != 0) {
-        if (display)
-            snprintf(why, sizeof why, "SDL: %s", SDL_GetError());
+    bool sdl_up = false;
+    if (display) {
+        sdl_up = SDL_Init(SDL_INIT_VIDEO) == 0;
+        if (!sdl_up) {
+            const char *d = getenv("DISPLAY");
+            snprintf(why, sizeof why, "%s%s%sSDL: %s", d && d[0] ? "DISPLAY=" : "", d && d[0] ? d : "",
+                     d && d[0] ? ": " : "", SDL_GetError());
+        }
+        display = sdl_up && real_driver(why, sizeof why);
+    }
+    if (!display) {
+        if (sdl_up)
+            SDL_Quit();
         fprintf(stderr, "softlight view: no display (%s); use softlight render %s -o out.png\n", why, scene_path[0]);
         view_script_free(&v.script);
         view_bench_free(&v.bench);
@@ -300,13 +396,11 @@ int cmd_view(int argc, char **argv)
     SDL_StopTextInput();
 
     int status = 2;
-    sl_scene *scene = calloc(1, sizeof *scene);
-    if (!scene || !sl_scene_load(scene_path[0], scene, &err)) {
-        fprintf(stderr, "softlight view: %s\n", scene ? err.msg : "out of memory");
-        free(scene);
+    sl_scene *scene;
+    if (!view_read_scene(scene_path[0], env, &scene, &err)) {
+        fprintf(stderr, "softlight view: %s\n", err.msg);
         goto done;
     }
-    fputs(scene->warnings, stderr); /* what the scene loads but does not draw */
     int ww, wh;
     initial_window_size(&opts, scene, scale, &ww, &wh);
     v.window = SDL_CreateWindow("softlight view", SDL_WINDOWPOS_UNDEFINED, SDL_WINDOWPOS_UNDEFINED, ww, wh,
@@ -336,6 +430,8 @@ int cmd_view(int argc, char **argv)
     }
     view_adopt_scene(&v, scene, &r);
     view_restart_camera(&v);
+    if (!view_watch_scene(&v.watch, scene, env, &err))
+        fprintf(stderr, "softlight view: %s (no reloading)\n", err.msg);
     if (r.env_repairs.nan_count || r.env_repairs.inf_count || r.env_repairs.negative_count)
         view_message(&v, true, "%s: %ld NaN, %ld Inf, %ld negative texels read as 0", scene->environment.hdr_path,
                 r.env_repairs.nan_count, r.env_repairs.inf_count, r.env_repairs.negative_count);

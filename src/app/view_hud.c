@@ -14,7 +14,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SLOTS (2 * VIEW_HUD_MAX_LINES)
+#define SLOTS (3 * VIEW_HUD_MAX_LINES) /* the HUD, the help, the trace */
 #define LINE_MAX_CHARS 160
 #define PAD 6
 
@@ -89,6 +89,16 @@ static void update_slot(view_hud *hud, SDL_Renderer *sdl, line_slot *slot, const
     slot->h = surface->h;
     SDL_FreeSurface(surface);
 }
+
+int view_hud_text_width(view_hud *hud, const char *text)
+{
+    int w = 0, h = 0;
+    if (!text[0] || TTF_SizeUTF8(hud->font, text, &w, &h) != 0)
+        return 0;
+    return w;
+}
+
+int view_hud_line_height(const view_hud *hud) { return hud->line_height; }
 
 int view_hud_draw(view_hud *hud, SDL_Renderer *sdl, int slot_base, const char *const *lines, int count, int x, int y,
                   bool centre)

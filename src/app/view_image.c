@@ -77,7 +77,7 @@ static vec3 encode(vec3 c)
 }
 
 bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, float znear, float zfar,
-                        sl_image *out, sl_error *err)
+                        sl_image *out, float depth_range[2], sl_error *err)
 {
     if (mode < VIEW_POSITION || mode > VIEW_DEPTH)
         return sl_fail(err, SL_ERR_RANGE, "view: '%s' is not a G-buffer channel", view_mode_name(mode));
@@ -94,6 +94,10 @@ bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, 
             dmin = minf(dmin, z);
             dmax = maxf(dmax, z);
         }
+    }
+    if (depth_range) {
+        depth_range[0] = dmin;
+        depth_range[1] = dmax;
     }
     vec3 extent = vmax(sub(hi, lo), vec3s(1e-6f));
     /* log(1 + alpha) / log(1 + 10000): the specification's range of alpha in one grey ramp. */

@@ -52,6 +52,9 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
         v->bounds_hi = vec3s(1.0f);
     }
     view_camera_init(&v->camera, &scene->camera);
+    view_camera_set_bounds(&v->camera, v->bounds_lo, v->bounds_hi);
+    v->home_lighting = r->desc.lighting;
+    v->home_tonemap = r->desc.tonemap;
     v->irradiance_stale = false;
     v->env_replaced = false;
     char title[SL_PATH_MAX + 32];
@@ -60,8 +63,12 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
         SDL_SetWindowTitle(v->window, title);
 }
 
-/* Load a scene and build its renderer at the current size; on failure nothing changes. */
-static bool load_scene(viewer *v, const char *path, int width, int height, sl_error *err)
+bool view_is_environment(const char *path)
+{
+    return has_suffix(path, ".hdr") || has_suffix(path, ".exr") || has_suffix(path, ".pfm");
+}
+
+bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err)
 {
     sl_scene *scene = calloc(1, sizeof *scene);
     if (!scene)
@@ -71,6 +78,25 @@ static bool load_scene(viewer *v, const char *path, int width, int height, sl_er
         return false;
     }
     fputs(scene->warnings, stderr); /* what the scene loads but does not draw */
+    if (env) { /* as render's --env: relative to here, and no irradiance map */
+        if (strlen(env) >= sizeof scene->environment.hdr_path) {
+            sl_scene_free(scene);
+            free(scene);
+            return sl_fail(err, SL_ERR_RANGE, "--env: path too long");
+        }
+        snprintf(scene->environment.hdr_path, sizeof scene->environment.hdr_path, "%s", env);
+        scene->environment.irradiance_path[0] = '\0';
+    }
+    *out = scene;
+    return true;
+}
+
+/* Load a scene and build its renderer at the current size; on failure nothing changes. */
+static bool load_scene(viewer *v, const char *path, const char *env, int width, int height, sl_error *err)
+{
+    sl_scene *scene;
+    if (!view_read_scene(path, env, &scene, err))
+        return false;
     sl_render_desc desc = v->cli_desc;
     sl_option_set_size(&desc.options, width, height);
     sl_renderer r;
@@ -80,7 +106,17 @@ static bool load_scene(viewer *v, const char *path, int width, int height, sl_er
         return false;
     }
     view_adopt_scene(v, scene, &r);
+    sl_error werr = {0};
+    if (!view_watch_scene(&v->watch, scene, env, &werr))
+        view_message(v, true, "%s (no reloading)", werr.msg);
     return true;
+}
+
+bool view_load_scene(viewer *v, const char *path, sl_error *err)
+{
+    int w, h;
+    view_render_size(v, 1, &w, &h);
+    return load_scene(v, path, v->env_override[0] ? v->env_override : NULL, w, h, err);
 }
 
 static view_action handle_drop(viewer *v, const char *path)
@@ -94,15 +130,20 @@ static view_action handle_drop(viewer *v, const char *path)
         /* The renderer rebuilds the irradiance only while the diffuse term is on. */
         v->irradiance_stale = v->r.desc.lighting.no_diffuse;
         v->env_replaced = true;
+        sl_error werr = {0};
+        snprintf(v->env_override, sizeof v->env_override, "%s", path); /* a reload keeps it */
+        if (!view_watch_scene(&v->watch, v->scene, path, &werr))
+            view_message(v, true, "%s (no reloading)", werr.msg);
         view_message(v, false, "environment %s", path);
         return VIEW_ACT_RESTART_LIGHTING;
     }
     /* A .json scene, or any other file as a model in the default scene (`softlight view
      * model.glb`); what is neither fails there with its reason ("unknown model format"). */
-    if (!load_scene(v, path, v->r.desc.width, v->r.desc.height, &err)) {
+    if (!load_scene(v, path, NULL, v->r.desc.width, v->r.desc.height, &err)) {
         view_message(v, true, "%s (the scene stays)", err.msg);
         return VIEW_ACT_NONE;
     }
+    v->env_override[0] = '\0'; /* the dropped scene brings its own environment */
     view_message(v, false, "%s %s", has_suffix(path, ".json") ? "scene" : "model", path);
     return VIEW_ACT_RESTART_CAMERA;
 }
@@ -135,10 +176,12 @@ static view_action navigate(viewer *v, int nav, bool fine)
     case VIEW_NAV_RIGHT: view_camera_orbit(&v->camera, ORBIT_KEY_DEG * step, 0.0f); break;
     case VIEW_NAV_UP: view_camera_orbit(&v->camera, 0.0f, ORBIT_KEY_DEG * step); break;
     case VIEW_NAV_DOWN: view_camera_orbit(&v->camera, 0.0f, -ORBIT_KEY_DEG * step); break;
-    case VIEW_NAV_W: view_camera_pan(&v->camera, 0.0f, -PAN_KEY_FRACTION * step); break;
-    case VIEW_NAV_S: view_camera_pan(&v->camera, 0.0f, PAN_KEY_FRACTION * step); break;
-    case VIEW_NAV_A: view_camera_pan(&v->camera, -PAN_KEY_FRACTION * step, 0.0f); break;
-    case VIEW_NAV_D: view_camera_pan(&v->camera, PAN_KEY_FRACTION * step, 0.0f); break;
+    /* The keys move the camera, arrows and WASD alike: Left and A to the left, Up and W up (a
+     * pan moves the scene the other way: view_camera_pan's dx > 0 moves it right). */
+    case VIEW_NAV_W: view_camera_pan(&v->camera, 0.0f, PAN_KEY_FRACTION * step); break;
+    case VIEW_NAV_S: view_camera_pan(&v->camera, 0.0f, -PAN_KEY_FRACTION * step); break;
+    case VIEW_NAV_A: view_camera_pan(&v->camera, PAN_KEY_FRACTION * step, 0.0f); break;
+    case VIEW_NAV_D: view_camera_pan(&v->camera, -PAN_KEY_FRACTION * step, 0.0f); break;
     case VIEW_NAV_IN: view_camera_zoom(&v->camera, powf(ZOOM_STEP, step)); break;
     case VIEW_NAV_OUT: view_camera_zoom(&v->camera, 1.0f / powf(ZOOM_STEP, step)); break;
     default: return VIEW_ACT_NONE;
@@ -146,26 +189,37 @@ static view_action navigate(viewer *v, int nav, bool fine)
     return VIEW_ACT_RESTART_CAMERA;
 }
 
-static int power_of_two_step(int n, bool up)
+/* N's next step up or down among the powers of two 1 .. SL_HAMMERSLEY_MAX and the scene's N
+ * (so N = 40 is on the way from 32 to 64 and back). */
+static int samples_step(int n, int home, bool up)
 {
     int p = 1;
-    while (p < n)
+    if (up) {
+        while (p <= n && p < SL_HAMMERSLEY_MAX)
+            p *= 2;
+        if (p <= n)
+            return n;
+        return home > n && home < p ? home : p;
+    }
+    if (n <= 1)
+        return 1;
+    while (p * 2 < n)
         p *= 2;
-    if (up)
-        return p == n ? (n < SL_HAMMERSLEY_MAX ? n * 2 : n) : p;
-    return p == n ? (n > 1 ? n / 2 : 1) : p / 2;
+    return home < n && home > p ? home : p;
 }
 
 static view_action cycle_irradiance(viewer *v)
 {
     sl_lighting_options *l = &v->r.desc.lighting;
     bool has_map = v->scene->environment.irradiance_path[0] != '\0' && !v->env_replaced;
-    /* oct -> dp -> sh9 -> brute -> (the scene's map) -> oct */
-    sl_irradiance_method next = l->irradiance == SL_IRRADIANCE_OCT     ? SL_IRRADIANCE_DP
-                                : l->irradiance == SL_IRRADIANCE_DP    ? SL_IRRADIANCE_SH9
-                                : l->irradiance == SL_IRRADIANCE_SH9   ? SL_IRRADIANCE_BRUTE
-                                : l->irradiance == SL_IRRADIANCE_BRUTE ? (has_map ? SL_IRRADIANCE_MAP : SL_IRRADIANCE_OCT)
-                                                                       : SL_IRRADIANCE_OCT;
+    /* view_irradiance_cycle's order (the help spells it from the same array), the map only
+     * when the scene names one */
+    int at = 0;
+    while (at < VIEW_IRRADIANCE_CYCLE && view_irradiance_cycle[at] != l->irradiance)
+        at++;
+    sl_irradiance_method next = view_irradiance_cycle[(at + 1) % VIEW_IRRADIANCE_CYCLE];
+    if (next == SL_IRRADIANCE_MAP && !has_map)
+        next = view_irradiance_cycle[(at + 2) % VIEW_IRRADIANCE_CYCLE];
     if (l->no_diffuse) {
         /* Built when the diffuse term comes back on. */
         l->irradiance = next;
@@ -198,6 +252,31 @@ static view_action toggle_diffuse(viewer *v)
     }
     l->no_diffuse = !l->no_diffuse;
     return VIEW_ACT_RESTART_LIGHTING;
+}
+
+void view_reset_all(viewer *v)
+{
+    sl_lighting_options *l = &v->r.desc.lighting;
+    sl_lighting_options home = v->home_lighting;
+    if (home.irradiance == SL_IRRADIANCE_MAP && v->env_replaced)
+        home.irradiance = sl_irradiance_default(); /* the scene's map belongs to the scene's environment */
+    l->no_diffuse = home.no_diffuse; /* the renderer builds the irradiance while the diffuse term is on */
+    if (home.no_diffuse) {
+        if (l->irradiance != home.irradiance)
+            v->irradiance_stale = true; /* built when the diffuse term comes back on */
+    } else if (l->irradiance != home.irradiance || v->irradiance_stale || !v->r.have_irradiance) {
+        sl_error err = {0};
+        if (sl_renderer_set_irradiance(&v->r, home.irradiance, &err)) {
+            v->irradiance_stale = false;
+        } else {
+            view_message(v, true, "%s", err.msg);
+            home.irradiance = l->irradiance;
+        }
+    }
+    *l = home;
+    v->r.desc.tonemap = v->home_tonemap;
+    v->mode = VIEW_FINAL;
+    view_camera_reset(&v->camera);
 }
 
 static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
@@ -249,10 +328,33 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
     view_action act = VIEW_ACT_NONE;
     switch (key) { /* toggles and one-shot actions: a held key acts once */
     case SDLK_ESCAPE:
-        if (v->show_help)
+        if (v->show_trace)
+            v->show_trace = false;
+        else if (v->show_help)
             v->show_help = false;
         else
             v->quit = true;
+        break;
+    case SDLK_f: {
+        int ow, oh;
+        view_output_size(v, &ow, &oh);
+        view_camera_frame(&v->camera, (float)ow / (float)oh);
+        act = VIEW_ACT_RESTART_CAMERA;
+        break;
+    }
+    case SDLK_t: {
+        sl_error err = {0};
+        if (!view_trace_pointer(v, &err))
+            view_message(v, true, "trace: %s", err.msg);
+        break;
+    }
+    case SDLK_PAGEUP:
+    case SDLK_PAGEDOWN:
+        if (v->show_trace) {
+            v->trace_page += key == SDLK_PAGEDOWN ? 1 : -1;
+            if (v->trace_page < 0)
+                v->trace_page = 0;
+        }
         break;
     case SDLK_F1:
     case SDLK_QUESTION:
@@ -262,16 +364,24 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         if (shift)
             v->show_help = !v->show_help;
         break;
-    case SDLK_h:
-        v->show_hud = !v->show_hud;
+    case SDLK_h: /* full -> compact -> off -> full */
+        if (!v->show_hud) {
+            v->show_hud = true;
+            v->hud_compact = false;
+        } else if (!v->hud_compact) {
+            v->hud_compact = true;
+        } else {
+            v->show_hud = false;
+        }
+        v->hud_chosen = true;
         break;
     case SDLK_r:
-        view_camera_reset(&v->camera);
+        view_reset_all(v);
         act = VIEW_ACT_RESTART_CAMERA;
         break;
     case SDLK_n:
     case SDLK_b:
-        l->samples = power_of_two_step(l->samples, key == SDLK_n);
+        l->samples = samples_step(l->samples, v->home_lighting.samples, key == SDLK_n);
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_1:
@@ -341,6 +451,10 @@ view_action view_handle_event(viewer *v, SDL_Event *e)
         case SDL_WINDOWEVENT_EXPOSED:
             v->present_needed = true;
             break;
+        case SDL_WINDOWEVENT_LEAVE:
+            v->pointer_x = v->pointer_y = -1;
+            v->present_needed = true;
+            break;
         default:
             break;
         }
@@ -369,6 +483,10 @@ view_action view_handle_event(viewer *v, SDL_Event *e)
         }
         break;
     case SDL_MOUSEMOTION: {
+        v->pointer_x = e->motion.x;
+        v->pointer_y = e->motion.y;
+        if (!v->drag_button)
+            v->present_needed = v->hud && v->show_hud; /* the readout follows the pointer */
         if (!v->drag_button || (e->motion.xrel == 0 && e->motion.yrel == 0))
             break;
         int ow, oh;
@@ -386,7 +504,10 @@ view_action view_handle_event(viewer *v, SDL_Event *e)
     }
     case SDL_MOUSEWHEEL: {
         int clicks = e->wheel.direction == SDL_MOUSEWHEEL_FLIPPED ? -e->wheel.y : e->wheel.y;
-        if (clicks) {
+        if (clicks && v->show_trace) { /* over the trace the wheel pages it */
+            v->trace_page = clicks > 0 ? (v->trace_page > 0 ? v->trace_page - 1 : 0) : v->trace_page + 1;
+            v->present_needed = true;
+        } else if (clicks) {
             view_camera_zoom(&v->camera, powf(ZOOM_STEP, (float)clicks));
             v->last_input = now;
             act = VIEW_ACT_RESTART_CAMERA;

@@ -12,19 +12,24 @@
  *   view_image.c      what the window shows: the tone-mapped frame, G-buffer channels, mip levels
  *   view_shade.c      the lighting pass in row slices (sl_lighting_shade_row)
  *   view_hud.c        text: the heads-up display and the help overlay (SDL2_ttf)
+ *   view_keys.c       the key table: the help overlay, `--keys` (docs/viewer.md) and the script's names
+ *   view_probe.c      the pixel under the pointer: its readout, and its trace (softlight trace's text)
+ *   view_reload.c     the files a scene was loaded from, polled for changes
  * Which file calls which:
  *   cmd_view.c        -> every file below
  *   view_script.c     -> view_screenshot.c, view_refine.c
  *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
- *   view_input.c      -> view_present.c (messages), view_camera.c, view_image.c
+ *   view_input.c      -> view_present.c (messages), view_camera.c, view_image.c, view_keys.c,
+ *                        view_probe.c, view_reload.c
  *   view_bench.c      -> view_refine.c, view_camera.c, view_present.c, view_image.c
  *   view_present.c    -> view_refine.c (its questions, for the HUD), view_hud.c, view_image.c,
- *                        view_texture.c
+ *                        view_texture.c, view_keys.c, view_probe.c (the readout)
+ *   view_probe.c      -> view_image.c, view_refine.c (its sizes and restarts)
+ *   view_keys.c       -> view_image.c (the views' names)
+ *   view_reload.c     -> nothing of the viewer's
  *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
- *   view_texture.c    -> view_present.c (view_message, when the texture cannot be made)
- * Two cycles run through view_texture.c: view_present.c -> view_texture.c -> view_present.c,
- * and view_refine.c -> view_texture.c -> view_present.c -> view_refine.c. Every other call
- * goes one way.
+ *   view_texture.c    -> nothing of the viewer's (a failure goes back as an sl_error)
+ * Every call goes one way.
  * Input does not restart the refinement or take screenshots itself: view_handle_event answers
  * a view_action, which the loop takes before the next event.
  * The camera, image and shade parts need no SDL; the others only exist when SL_HAVE_SDL2 is set
@@ -34,6 +39,7 @@
 
 #include <stdbool.h>
 #include <stdint.h>
+#include <stdio.h>
 
 #include "core/error.h"
 #include "core/image.h"
@@ -53,6 +59,8 @@ typedef struct {
     vec3 target;
     float distance, azimuth_deg, elevation_deg;
     float home_distance;
+    vec3 lo, hi;      /* the scene's bounds: zoom stays outside them, F frames them */
+    bool have_bounds;
 } view_camera;
 
 void view_camera_init(view_camera *c, const sl_camera *home);
@@ -62,8 +70,19 @@ void view_camera_orbit(view_camera *c, float d_azimuth_deg, float d_elevation_de
 /* Move target and eye in the image plane by fractions of the image height at the target's depth
  * (dx > 0: the scene follows the mouse to the right; dy > 0: the scene moves down). */
 void view_camera_pan(view_camera *c, float dx, float dy);
-/* Multiply the distance to the target (< 1 moves closer). */
+/* Multiply the distance to the target (< 1 moves closer), held between the nearest distance
+ * that keeps the eye outside the bounds (plus a margin) and 10 x the framing distance. */
 void view_camera_zoom(view_camera *c, float factor);
+/* After a reload: the old camera's orbit (target, distance, direction) in the new scene's
+ * limits, unless it was at home. */
+void view_camera_carry(view_camera *c, const view_camera *old);
+/* The scene's bounds, for the zoom's limits and framing (call after init). */
+void view_camera_set_bounds(view_camera *c, vec3 lo, vec3 hi);
+/* Frame the bounds: target their centre, distance so the bounding sphere fits the view at this
+ * aspect (width / height), direction kept. */
+void view_camera_frame(view_camera *c, float aspect);
+/* The framing distance of the bounds at this aspect (for tests of the limits). */
+float view_camera_frame_distance(const view_camera *c, float aspect);
 
 /* ---- view_image.c ---- */
 typedef enum {
@@ -84,9 +103,10 @@ bool view_mode_needs_lighting(view_mode mode); /* FINAL and MIP: the lighting un
 
 /* Fill `out` (3 channels, the G-buffer's size, row 0 = top, values in [0,1]) with a G-buffer
  * channel view (POSITION .. DEPTH). `lo`/`hi`: the scene's bounds for POSITION; near/far of the
- * camera that rastered the G-buffer for DEPTH. */
+ * camera that rastered the G-buffer for DEPTH; `depth_range` (may be NULL) gets DEPTH's nearest
+ * and farthest distance on screen, white and black (for the legend). */
 bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, float znear, float zfar,
-                        sl_image *out, sl_error *err);
+                        sl_image *out, float depth_range[2], sl_error *err);
 /* The mip-level view: per pixel, the mean over the samples above the horizon of the level that
  * lighting.frag's mip_level() gives them, run through the lighting shader's own trace (so it is
  * the same formula and the same samples); 0 = blue .. uEnvMaxLod = red, empty pixels black.
@@ -155,6 +175,7 @@ typedef enum {
     VIEW_CMD_QUIT,       /* quit: as closing the window */
     VIEW_CMD_ACCUMULATED, /* accumulated K: wait until the still camera's mean holds K frames */
     VIEW_CMD_SNAPSHOT,   /* snapshot NAME: NAME.png + NAME.pfm of what is on screen now */
+    VIEW_CMD_READOUT,    /* readout: print the readout of the pixel under the pointer */
 } view_cmd_kind;
 
 typedef struct {
@@ -180,8 +201,19 @@ typedef struct {
 bool view_script_load(const char *path, view_script *s, sl_error *err);
 void view_script_free(view_script *s);
 
+/* ---- view_keys.c ----
+ * One table of inputs: the help overlay shows it, `softlight view --keys` prints it as the
+ * markdown table of docs/viewer.md, and its script column names the script's spelling. */
+#define VIEW_IRRADIANCE_CYCLE 5
+extern const sl_irradiance_method view_irradiance_cycle[VIEW_IRRADIANCE_CYCLE]; /* I's order */
+int view_keys_count(void);
+const char *view_keys_input(int i);
+const char *view_keys_script(int i);
+void view_keys_action(int i, char *out, size_t size); /* the action, cycles spelled out */
+void view_keys_markdown(FILE *out);
+
 /* ---- view_hud.c ---- */
-#define VIEW_HUD_MAX_LINES 40
+#define VIEW_HUD_MAX_LINES 64
 typedef struct view_hud view_hud;
 
 /* NULL (and err) when the font cannot be opened: the viewer then runs without text. */
@@ -193,6 +225,9 @@ void view_hud_destroy(view_hud *hud);
 struct SDL_Renderer;
 int view_hud_draw(view_hud *hud, struct SDL_Renderer *sdl, int slot_base, const char *const *lines, int count, int x,
                   int y, bool centre);
+/* Width in pixels of `text` in the HUD's font (0 when it cannot tell), and the line height. */
+int view_hud_text_width(view_hud *hud, const char *text);
+int view_hud_line_height(const view_hud *hud);
 
 /* ---- the viewer's state ----
  * One struct, passed first to every function below. Each group of fields names the file that
@@ -219,6 +254,15 @@ enum {
     VIEW_NAV_IN, VIEW_NAV_OUT, VIEW_NAV_COUNT
 };
 
+/* The files a scene was loaded from (the scene file, its meshes, models and images, its
+ * environment and irradiance map) and their modification times, polled a few times a second. */
+typedef struct {
+    char (*paths)[SL_PATH_MAX];
+    long long *mtimes; /* nanoseconds; -1: missing */
+    int count;
+    double next_poll;
+} view_watch;
+
 /* --benchmark: per-frame times of the moving stage, from one present to the next. */
 typedef struct {
     int frames;        /* to measure (0: no benchmark) */
@@ -238,6 +282,8 @@ struct viewer {
     bool texture_stale; /* `shown` changed since the last upload */
     view_hud *hud;      /* NULL: no font, no text */
     bool show_hud, show_help;
+    bool hud_compact;   /* H: full -> compact -> off */
+    bool hud_chosen;    /* H was pressed: the window's size no longer picks full or compact */
 
     /* what is rendered (cmd_view.c and view_input.c) */
     sl_scene *scene;
@@ -247,6 +293,9 @@ struct viewer {
     sl_render_desc cli_desc; /* the command line's settings, for scenes dropped later */
     vec3 bounds_lo, bounds_hi;
     view_camera camera;
+    sl_lighting_options home_lighting; /* the settings the scene started with (and the command */
+    sl_tonemap_options home_tonemap;   /* line's): R restores them */
+    char env_override[SL_PATH_MAX];    /* --env, `view FILE.hdr`'s or a dropped environment; "": the scene's */
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */
     bool move_user;   /* --move-estimator user: moving frames sample with the user's estimator
@@ -283,6 +332,7 @@ struct viewer {
                            needs it (view_shown_make): a moving frame's tone map and 8-bit
                            conversion were two passes over the frame */
     float mip_max_seen;
+    float depth_range[2]; /* the depth view's white and black, world units along the view axis */
     double raster_ms, shade_ms, tonemap_ms, present_ms;
     double last_present;
     bool present_needed;
@@ -291,6 +341,15 @@ struct viewer {
     double last_input;
     int drag_button;
     bool held[VIEW_NAV_COUNT];
+    int pointer_x, pointer_y; /* the pointer in window coordinates; -1: outside */
+
+    /* the trace of a pixel (view_probe.c), shown a page at a time over the image */
+    char *trace_text;
+    int trace_lines, trace_page;
+    bool show_trace;
+
+    /* reloading (view_reload.c, polled by cmd_view.c) */
+    view_watch watch;
 
     /* messages (view_present.c), script, counters */
     char message[256];
@@ -350,8 +409,8 @@ void view_stage_describe(const view_stage_params *s, char *buf, size_t size);
 
 /* ---- view_texture.c ---- */
 /* Lock the window's texture at w x h (recreated when its size differs) for writing: its pixels
- * (XRGB8888 words) and pitch. False, with a message, when SDL cannot. */
-bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch);
+ * (XRGB8888 words) and pitch. False, with err, when SDL cannot; the caller reports it. */
+bool view_texture_lock(viewer *v, int w, int h, uint8_t **pixels, int *pitch, sl_error *err);
 void view_texture_unlock(viewer *v);
 
 /* ---- view_screenshot.c ---- */
@@ -390,5 +449,37 @@ typedef enum {
 void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r);
 union SDL_Event;
 view_action view_handle_event(viewer *v, union SDL_Event *e);
+/* Read a scene file (a model, the default scene around it) and, with `env`, put that
+ * environment in place of the scene's as render's --env does (relative to here, no irradiance
+ * map); the scene's warnings go to stderr. */
+bool view_is_environment(const char *path); /* .hdr, .exr or .pfm */
+bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err);
+/* Load a scene file (a model, or with v->env_override its environment in place of the
+ * scene's) and build its renderer at the current size with the command line's options. */
+bool view_load_scene(viewer *v, const char *path, sl_error *err);
+/* R: every setting back to what the scene started with; the caller restarts the camera. */
+void view_reset_all(viewer *v);
+
+/* ---- view_probe.c ---- */
+/* The pixel under the pointer (window coordinates) in an image of w x h shown over the window;
+ * false when the pointer is outside. */
+bool view_pointer_pixel(const viewer *v, int w, int h, int *x, int *y);
+/* The readout of the pixel under the pointer: its radiance in the final view, its value and
+ * unit in a G-buffer view, its mean level in the mip view. `digits`: significant digits (4 for
+ * the HUD, 9 for the script's `readout`). False (and buf "") when the pointer is outside. */
+bool view_readout(viewer *v, int digits, char *buf, size_t size);
+/* Trace the full-size pixel under the pointer as `softlight trace --pixel X,Y` does (a raster
+ * with the fetch hook, the exact frame's uniforms, the lighting shader's trace) into
+ * v->trace_text, shown in the window and printed on stdout. */
+bool view_trace_pointer(viewer *v, sl_error *err);
+void view_trace_free(viewer *v);
+
+/* ---- view_reload.c ---- */
+/* Record the files of `scene` (and `env_override`, if set) and their times. */
+bool view_watch_scene(view_watch *w, const sl_scene *scene, const char *env_override, sl_error *err);
+/* True (at most every VIEW_POLL_SECONDS) when a watched file's time changed since it was recorded. */
+#define VIEW_POLL_SECONDS 0.25
+bool view_watch_changed(view_watch *w, double now);
+void view_watch_free(view_watch *w);
 
 #endif

@@ -9,6 +9,7 @@
 
 #include <stdarg.h>
 #include <stdio.h>
+#include <string.h>
 
 #include "core/timer.h"
 #include "view_internal.h"
@@ -16,6 +17,7 @@
 #define MESSAGE_SECONDS 6.0
 #define HUD_SLOTS 0
 #define HELP_SLOTS VIEW_HUD_MAX_LINES
+#define TRACE_SLOTS (2 * VIEW_HUD_MAX_LINES)
 
 /* ------------------------------------------------------------------ messages */
 
@@ -75,65 +77,204 @@ static void state_line(const viewer *v, double now, char *buf, size_t size)
         snprintf(buf, size, "refining: %s", what);
 }
 
-/* The HUD's lines into `buf` (VIEW_HUD_MAX_LINES of 160 characters), pointed to by `lines`. */
-static void hud_lines(viewer *v, double now, const char **lines, char (*buf)[160], int *count)
+#define LINE 160 /* characters a HUD line holds (view_hud.c's slots) */
+#define HUD_PAD 6
+
+typedef struct {
+    const char *lines[VIEW_HUD_MAX_LINES];
+    char buf[VIEW_HUD_MAX_LINES][LINE];
+    int count;
+} text_block;
+
+/* Append `text` to the block, wrapped at spaces to `width` pixels (0: no limit) so a long line
+ * (an error naming a path) is not clipped at the window's edge. */
+static void add_wrapped(const viewer *v, text_block *t, const char *text, int width)
 {
-    int n = 0;
+    const char *s = text;
+    do {
+        if (t->count >= VIEW_HUD_MAX_LINES)
+            return;
+        char *line = t->buf[t->count];
+        size_t len = strlen(s);
+        if (len >= LINE)
+            len = LINE - 1;
+        snprintf(line, LINE, "%.*s", (int)len, s);
+        /* shorten to the last space that fits (or to the characters that fit, for one long word) */
+        while (width > 0 && v->hud && len > 1 && view_hud_text_width(v->hud, line) > width) {
+            size_t cut = len - 1;
+            while (cut > 0 && line[cut] != ' ')
+                cut--;
+            if (cut == 0) {
+                cut = len - 1;
+                while (cut > 1 && view_hud_text_width(v->hud, line) > width)
+                    line[cut--] = '\0';
+                break;
+            }
+            line[cut] = '\0';
+            len = cut;
+        }
+        len = strlen(line);
+        t->lines[t->count] = line;
+        t->count++;
+        s += len;
+        while (*s == ' ')
+            s++;
+    } while (*s);
+}
+
+static void addf(const viewer *v, text_block *t, int width, const char *fmt, ...) __attribute__((format(printf, 4, 5)));
+static void addf(const viewer *v, text_block *t, int width, const char *fmt, ...)
+{
+    char text[1024];
+    va_list ap;
+    va_start(ap, fmt);
+    vsnprintf(text, sizeof text, fmt, ap);
+    va_end(ap);
+    add_wrapped(v, t, text, width);
+}
+
+/* What the view shows, in words and units (every view has one). */
+static void legend(const viewer *v, char *buf, size_t size)
+{
+    vec3 lo = v->bounds_lo, hi = v->bounds_hi;
+    switch (v->mode) {
+    case VIEW_FINAL:
+        snprintf(buf, size, "final: radiance x exposure, tone mapped (contrast c/2.2), sRGB");
+        break;
+    case VIEW_POSITION:
+        snprintf(buf, size,
+                 "position: R = x %.3g..%.3g, G = y %.3g..%.3g, B = z %.3g..%.3g (the scene's bounds, world units)",
+                 (double)lo.x, (double)hi.x, (double)lo.y, (double)hi.y, (double)lo.z, (double)hi.z);
+        break;
+    case VIEW_NORMAL:
+        snprintf(buf, size, "normal: RGB = n x 0.5 + 0.5 (world space: red +X, green +Y, blue +Z)");
+        break;
+    case VIEW_KD:
+    case VIEW_KS:
+        snprintf(buf, size, "%s: RGB = value^(1/2.2), black 0 .. white 1 (%s)", view_mode_name(v->mode),
+                 v->mode == VIEW_KD ? "diffuse albedo" : "Fresnel F0");
+        break;
+    case VIEW_ALPHA:
+        snprintf(buf, size, "alpha: grey = log(1 + alpha) / log(1 + 10000): black 0 (rough) .. white 10000 (mirror)");
+        break;
+    case VIEW_DEPTH:
+        snprintf(buf, size, "depth: white %.4g .. black %.4g (world units along the view axis, what is on screen)",
+                 (double)v->depth_range[0], (double)v->depth_range[1]);
+        break;
+    case VIEW_MIP:
+        snprintf(buf, size, "mean mip level: 0 blue, cyan, green, yellow, %.0f red (largest here %.2f); grey: no sample",
+                 (double)v->r.uniforms->uEnvMaxLod, (double)v->mip_max_seen);
+        break;
+    default:
+        buf[0] = '\0';
+        break;
+    }
+}
+
+/* Which estimator lit the frame on screen, and why a moving frame and the still one differ. */
+static void estimator_line(const viewer *v, char *buf, size_t size)
+{
+    buf[0] = '\0';
+    if (v->mode != VIEW_FINAL)
+        return;
+    sl_estimator user = sl_lighting_options_resolve(&v->r.desc.lighting).estimator;
+    if (v->move_user || user == SL_ESTIMATOR_SPLITSUM)
+        return;
+    bool split = v->shown_params.estimator == SL_ESTIMATOR_SPLITSUM;
+    snprintf(buf, size,
+             "on screen: %s. Moving frames use the split sum (prefiltered, no samples), the still frame %s with "
+             "N %d: two estimators, so the image changes when the camera stops",
+             split ? "split sum (moving)" : sl_estimator_name(user), sl_estimator_name(user),
+             v->r.desc.lighting.samples);
+}
+
+/* The HUD's lines: full (settings, times, state, estimator, legend, readout, message) or
+ * compact (the view and state in one line, the readout, the message). */
+static void hud_lines(viewer *v, double now, int width, text_block *t)
+{
     const sl_render_desc *d = &v->r.desc;
     const sl_lighting_options *l = &d->lighting;
     int ow, oh, sw, sh;
+    char line[1024], state[256];
     view_output_size(v, &ow, &oh);
     view_shown_size(v, &sw, &sh);
-    snprintf(buf[n++], 160, "%s  %dx%d (window %dx%d)  N %d  exposure %.3g  contrast %.2f", view_mode_name(v->mode),
-             sw, sh, ow, oh, l->samples, (double)d->tonemap.exposure,
-             (double)d->tonemap.contrast);
-    if (view_mode_needs_shading(v->mode))
-        snprintf(buf[n++], 160, "raster %.1f ms  shading %.1f ms  tone map %.1f ms  present %.1f ms", v->raster_ms,
+    state_line(v, now, state, sizeof state);
+    bool compact = v->hud_chosen ? v->hud_compact : oh < 400; /* a small window keeps its image */
+    if (compact) {
+        addf(v, t, width, "%s %dx%d N %d exp %.3g | %s", view_mode_name(v->mode), sw, sh, l->samples,
+             (double)d->tonemap.exposure, state);
+    } else {
+        addf(v, t, width, "%s  %dx%d (window %dx%d)  N %d  exposure %.3g  contrast %.2f", view_mode_name(v->mode), sw,
+             sh, ow, oh, l->samples, (double)d->tonemap.exposure, (double)d->tonemap.contrast);
+        if (view_mode_needs_shading(v->mode))
+            addf(v, t, width, "raster %.1f ms  shading %.1f ms  tone map %.1f ms  present %.1f ms", v->raster_ms,
                  v->shade_ms, v->tonemap_ms, v->present_ms);
-    else
-        snprintf(buf[n++], 160, "raster %.1f ms  %s %.1f ms  present %.1f ms", v->raster_ms,
+        else
+            addf(v, t, width, "raster %.1f ms  %s %.1f ms  present %.1f ms", v->raster_ms,
                  v->mode == VIEW_MIP ? "mip levels" : "channel", v->shade_ms, v->present_ms);
-    sl_lighting_options resolved = sl_lighting_options_resolve(l);
-    snprintf(buf[n++], 160, "lod %s  estimator %s  G %s  irradiance %s  env rotation %+.0f",
+        sl_lighting_options resolved = sl_lighting_options_resolve(l);
+        addf(v, t, width, "lod %s  estimator %s  G %s  irradiance %s  env rotation %+.0f",
              sl_lod_rule_name(resolved.lod_rule), sl_estimator_name(resolved.estimator), sl_gterm_name(resolved.gterm),
              view_irradiance_name(l->irradiance), (double)l->env_rotation_deg);
-    snprintf(buf[n++], 160, "diffuse %s  specular %s  point lights %s (%d)", l->no_diffuse ? "off" : "on",
+        addf(v, t, width, "diffuse %s  specular %s  point lights %s (%d)", l->no_diffuse ? "off" : "on",
              l->no_specular ? "off" : "on", l->no_point_lights ? "off" : "on", v->scene->light_count);
-    state_line(v, now, buf[n++], 160);
-    if (v->mode == VIEW_MIP)
-        snprintf(buf[n++], 160, "mean mip level: 0 blue .. %.0f red (largest here %.2f)",
-                 (double)v->r.uniforms->uEnvMaxLod, (double)v->mip_max_seen);
+        add_wrapped(v, t, state, width);
+        estimator_line(v, line, sizeof line);
+        if (line[0])
+            add_wrapped(v, t, line, width);
+        legend(v, line, sizeof line);
+        add_wrapped(v, t, line, width);
+    }
+    if (view_readout(v, 4, line, sizeof line))
+        add_wrapped(v, t, line, width);
     if (now < v->message_until)
-        snprintf(buf[n++], 160, "%.159s", v->message);
-    snprintf(buf[n++], 160, "F1 or ? for keys");
-    for (int i = 0; i < n; i++)
-        lines[i] = buf[i];
-    *count = n;
+        add_wrapped(v, t, v->message, width);
+    if (!compact)
+        add_wrapped(v, t, "F1 or ? for keys, H for a smaller HUD", width);
 }
 
-/* The help overlay (F1 or ?); docs/viewer.md lists the same keys. */
-static const char *const help_text[] = {
-    "mouse: left drag orbit, right/middle drag pan, wheel zoom",
-    "arrows        orbit about +Z / tilt",
-    "W A S D       pan",
-    "+ / -         zoom in / out",
-    "R             reset the camera to the scene's",
-    "E / Q         exposure up / down (quarter stop)",
-    "C / X         contrast up / down",
-    "N / B         samples N x2 / /2 (1..1024)",
-    "] / [         rotate the environment +15 / -15 degrees",
-    "1 2 3         toggle diffuse, specular, point lights",
-    "I             irradiance: oct, dp, sh9, brute, map (when the scene has one)",
-    "L             mip-level rule: none, spec, spec-d4, gems, pdf",
-    "K             estimator: spec, consistent, mf",
-    "G             G term: inv-lh2, one",
-    "V / shift+V   view: final, position, normal, kd, ks, alpha, depth, mip level",
-    "H             heads-up display on / off",
-    "F12 or P      screenshot: softlight-<n>.png and .hdr",
-    "F1 or ?       this help",
-    "Esc           close the help, else quit",
-    "drop a file   .hdr: new environment; .json: new scene",
-};
+/* The help overlay (F1 or ?): the key table (view_keys.c), as docs/viewer.md has it. */
+static void help_lines(const viewer *v, int width, text_block *t)
+{
+    for (int i = 0; i < view_keys_count(); i++) {
+        char action[1024];
+        view_keys_action(i, action, sizeof action);
+        addf(v, t, width, "%-19s %s", view_keys_input(i), action);
+    }
+}
+
+/* The trace (T), a page at a time: as many lines as the window holds under a header. */
+static void trace_lines(viewer *v, int height, text_block *t)
+{
+    int per_page = v->hud ? (height - 2 * HUD_PAD) / view_hud_line_height(v->hud) - 1 : 1;
+    if (per_page < 1)
+        per_page = 1;
+    if (per_page > VIEW_HUD_MAX_LINES - 1)
+        per_page = VIEW_HUD_MAX_LINES - 1;
+    int pages = (v->trace_lines + per_page - 1) / per_page;
+    if (pages < 1)
+        pages = 1;
+    if (v->trace_page >= pages)
+        v->trace_page = pages - 1;
+    snprintf(t->buf[0], LINE, "trace, page %d of %d (PageUp / PageDown or the wheel; Esc closes; also on stdout)",
+             v->trace_page + 1, pages);
+    t->lines[0] = t->buf[0];
+    t->count = 1;
+    const char *p = v->trace_text;
+    for (int skip = v->trace_page * per_page; skip > 0 && p && *p; skip--) {
+        p = strchr(p, '\n');
+        p = p ? p + 1 : NULL;
+    }
+    while (p && *p && t->count <= per_page) {
+        size_t len = strcspn(p, "\n");
+        snprintf(t->buf[t->count], LINE, "%.*s", (int)(len < LINE ? len : LINE - 1), p);
+        t->lines[t->count] = t->buf[t->count];
+        t->count++;
+        p += len;
+        if (*p == '\n')
+            p++;
+    }
+}
 
 /* ------------------------------------------------------------------ the window */
 
@@ -152,11 +293,13 @@ static bool upload(viewer *v, double *tone_ms)
     if (v->texture_stale) {
         uint8_t *pixels;
         int pitch;
-        if (!view_texture_lock(v, w, h, &pixels, &pitch))
+        sl_error err = {0};
+        if (!view_texture_lock(v, w, h, &pixels, &pitch, &err)) {
+            view_message(v, true, "%s", err.msg);
             return false;
+        }
         if (v->shown_pending) {
             double t0 = sl_now_seconds();
-            sl_error err = {0};
             const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, &err);
             if (!tab) {
                 view_texture_unlock(v);
@@ -185,15 +328,23 @@ void view_present(viewer *v)
         SDL_RenderClear(v->sdl);
     }
     double now = sl_now_seconds();
-    if (v->hud && v->show_hud && !v->show_help) {
-        const char *lines[VIEW_HUD_MAX_LINES];
-        char buf[VIEW_HUD_MAX_LINES][160];
-        int n;
-        hud_lines(v, now, lines, buf, &n);
-        view_hud_draw(v->hud, v->sdl, HUD_SLOTS, lines, n, 0, 0, false);
+    if (v->hud) {
+        int ow, oh;
+        view_output_size(v, &ow, &oh);
+        int width = ow - 2 * HUD_PAD;
+        static text_block t; /* 10 KB: off the stack; one loop thread */
+        t.count = 0;
+        if (v->show_trace && v->trace_text) {
+            trace_lines(v, oh, &t);
+            view_hud_draw(v->hud, v->sdl, TRACE_SLOTS, t.lines, t.count, 0, 0, false);
+        } else if (v->show_help) {
+            help_lines(v, width, &t);
+            view_hud_draw(v->hud, v->sdl, HELP_SLOTS, t.lines, t.count, 0, 0, true);
+        } else if (v->show_hud) {
+            hud_lines(v, now, width, &t);
+            view_hud_draw(v->hud, v->sdl, HUD_SLOTS, t.lines, t.count, 0, 0, false);
+        }
     }
-    if (v->hud && v->show_help)
-        view_hud_draw(v->hud, v->sdl, HELP_SLOTS, help_text, (int)(sizeof help_text / sizeof help_text[0]), 0, 0, true);
     SDL_RenderPresent(v->sdl);
     v->message_shown = now < v->message_until;
     v->last_present = sl_now_seconds();

@@ -289,7 +289,7 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         break;
     default:
         if (!view_channel_image(&v->r.gbuffer, v->mode, v->bounds_lo, v->bounds_hi, cam->znear, cam->zfar, &v->shown,
-                                err))
+                                v->depth_range, err))
             return false;
         break;
     }
@@ -315,7 +315,9 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         const sl_tonemap_table *tab = sl_renderer_tonemap_table(&v->r, err);
         if (!tab)
             return false;
-        direct = view_texture_lock(v, target->width, target->height, &v->shade.display, &v->shade.display_pitch);
+        sl_error lock_err = {0}; /* no texture: the present tone maps the frame, and reports why */
+        direct = view_texture_lock(v, target->width, target->height, &v->shade.display, &v->shade.display_pitch,
+                                   &lock_err);
         v->shade.display_tab = tab;
     }
     bool done = view_shade_slice(&v->shade, v->r.uniforms, &v->r.gbuffer, target, budget_s, &first);

@@ -19,6 +19,7 @@
  *     quit                        as closing the window
  *     accumulated 4               wait until the still camera's mean holds 4 frames
  *     snapshot out/acc4           out/acc4.png and out/acc4.pfm of what is on screen now
+ *     readout                     print the readout of the pixel under the pointer (9 digits)
  *
  * Everything is checked when the file is read, so a typo fails before a window opens. Running
  * it, input commands become SDL events and go through view_input.c like a user's; the others
@@ -46,7 +47,7 @@ static const struct {
     {"move", VIEW_CMD_MOVE},       {"wheel", VIEW_CMD_WHEEL},     {"key", VIEW_CMD_KEY},
     {"keydown", VIEW_CMD_KEYDOWN}, {"keyup", VIEW_CMD_KEYUP},     {"resize", VIEW_CMD_RESIZE},
     {"drop", VIEW_CMD_DROP},       {"screenshot", VIEW_CMD_SCREENSHOT}, {"quit", VIEW_CMD_QUIT},
-    {"accumulated", VIEW_CMD_ACCUMULATED}, {"snapshot", VIEW_CMD_SNAPSHOT},
+    {"accumulated", VIEW_CMD_ACCUMULATED}, {"snapshot", VIEW_CMD_SNAPSHOT}, {"readout", VIEW_CMD_READOUT},
 };
 
 /* ------------------------------------------------------------------ reading */
@@ -144,6 +145,7 @@ static bool parse_line(char *line, const char *path, int lineno, view_cmd *cmd, 
         return true;
     case VIEW_CMD_SETTLE:
     case VIEW_CMD_QUIT:
+    case VIEW_CMD_READOUT:
         if (argc != 0)
             return sl_fail(err, SL_ERR_FORMAT, "%s:%d: '%s' takes no arguments", path, lineno, words[0]);
         return true;
@@ -459,6 +461,17 @@ void view_script_step(viewer *v, double now)
                 v->exit_status = 2;
             }
             break;
+        case VIEW_CMD_READOUT: {
+            if (pushed)
+                return;
+            char text[1024];
+            if (view_readout(v, 9, text, sizeof text))
+                printf("softlight view: readout %s\n", text);
+            else
+                printf("softlight view: readout: the pointer is not over the image\n");
+            fflush(stdout);
+            break;
+        }
         case VIEW_CMD_QUIT: {
             SDL_Event e = {0};
             e.type = SDL_QUIT;

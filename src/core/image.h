@@ -149,7 +149,7 @@ typedef bool (*sl_magic_check)(const unsigned char *head, size_t size, const cha
 bool sl_image_read_with(const char *path, size_t budget, sl_magic_check magic, sl_image_parser parse,
                         sl_image *img, sl_image_repairs *repairs, sl_error *err);
 /* The magic checks of the formats (what sl_image_read_with is given), and how many bytes each needs. */
-#define SL_IMAGE_MAGIC_BYTES 16
+#define SL_IMAGE_MAGIC_BYTES 18 /* a TGA header; every other format needs fewer */
 bool sl_image_magic_hdr(const unsigned char *head, size_t size, const char *name, sl_error *err);
 bool sl_image_magic_pfm(const unsigned char *head, size_t size, const char *name, sl_error *err);
 bool sl_image_magic_exr(const unsigned char *head, size_t size, const char *name, sl_error *err);

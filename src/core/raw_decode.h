@@ -32,4 +32,13 @@ bool sl_png_decode(const unsigned char *bytes, size_t size, const char *name, si
 bool sl_jpeg_decode(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_raw_extra_fn extra,
                     sl_raw_image *out, sl_error *err);
 
+/* BMP (bmp_decode.c) and TGA (tga_decode.c), decoded by softlight itself: 8 bits, grey, RGB or
+ * RGBA. `bytes` starts with "BM" for a BMP; a TGA, which has no signature, is one whose name ends
+ * in .tga and whose header sl_tga_header_plausible accepts. */
+bool sl_bmp_decode(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_raw_extra_fn extra,
+                   sl_raw_image *out, sl_error *err);
+bool sl_tga_decode(const unsigned char *bytes, size_t size, const char *name, size_t budget, sl_raw_extra_fn extra,
+                   sl_raw_image *out, sl_error *err);
+bool sl_tga_header_plausible(const unsigned char *header, size_t size);
+
 #endif

@@ -1,11 +1,12 @@
-/* raw_image.c - PNG and JPEG texture input: the signature check, the size and memory limits every
- * decode passes (sl_raw_admit), the choice of decoder by signature (png_decode.c through libpng,
- * jpeg_decode.c through libjpeg-turbo), and sl_image_read_texture's linear floats (the exact
- * sRGB -> linear curve).
+/* raw_image.c - PNG, JPEG, BMP and TGA texture input: the signature check, the size and memory
+ * limits every decode passes (sl_raw_admit), the choice of decoder by signature (png_decode.c
+ * through libpng, jpeg_decode.c through libjpeg-turbo, bmp_decode.c and tga_decode.c of our own),
+ * and sl_image_read_texture's linear floats (the exact sRGB -> linear curve).
  *
- * Texture files come from scenes and models, which may come from anywhere: both formats are read
+ * Texture files come from scenes and models, which may come from anywhere: PNG and JPEG are read
  * by the reference libraries, which are built and fuzzed for untrusted input and turn corrupt
- * data into errors. */
+ * data into errors; BMP and TGA, whose uncompressed and run-length layouts are a few fields,
+ * by decoders that check each field against the file's size (and have a fuzz target). */
 #include "raw_decode.h"
 
 #include <limits.h>
@@ -13,6 +14,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <strings.h>
 
 /* IEC 61966-2-1: c <= 0.04045 ? c / 12.92 : ((c + 0.055) / 1.055)^2.4, in double, then rounded once. */
 float sl_srgb8_to_linear(unsigned char code)
@@ -21,14 +23,24 @@ float sl_srgb8_to_linear(unsigned char code)
     return (float)(c <= 0.04045 ? c / 12.92 : pow((c + 0.055) / 1.055, 2.4));
 }
 
-/* The PNG signature or a JPEG's SOI marker and the first marker after it. */
+static bool is_bmp(const unsigned char *head, size_t size) { return size >= 2 && head[0] == 'B' && head[1] == 'M'; }
+
+static bool is_tga(const unsigned char *head, size_t size, const char *name)
+{
+    size_t n = strlen(name);
+    return n >= 4 && strcasecmp(name + n - 4, ".tga") == 0 && sl_tga_header_plausible(head, size);
+}
+
+/* The PNG signature, a JPEG's SOI marker and the first marker after it, BMP's "BM", or a .tga
+ * whose header makes sense. */
 bool sl_image_magic_texture(const unsigned char *head, size_t size, const char *name, sl_error *err)
 {
     static const unsigned char png[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'}, jpeg[3] = {0xff, 0xd8, 0xff};
-    if ((size >= sizeof png && !memcmp(head, png, sizeof png)) || (size >= sizeof jpeg && !memcmp(head, jpeg, sizeof jpeg)))
+    if ((size >= sizeof png && !memcmp(head, png, sizeof png)) || (size >= sizeof jpeg && !memcmp(head, jpeg, sizeof jpeg)) ||
+        is_bmp(head, size) || is_tga(head, size, name))
         return true;
-    return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG or JPEG file (expected the PNG signature or a JPEG "
-                   "start-of-image marker)", name);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG, JPEG, BMP or TGA file (expected the PNG signature, a "
+                   "JPEG start-of-image marker, \"BM\", or a .tga name with a TGA header)", name);
 }
 
 bool sl_raw_admit(const char *name, size_t offset, int width, int height, int channels, int bits,
@@ -53,8 +65,13 @@ bool sl_image_parse_raw(const unsigned char *bytes, size_t size, const char *nam
         budget = SL_IMAGE_BUDGET_DEFAULT;
     if (!sl_image_magic_texture(bytes, size, name, err))
         return false;
-    return bytes[0] == 0x89 ? sl_png_decode(bytes, size, name, budget, extra, out, err)
-                            : sl_jpeg_decode(bytes, size, name, budget, extra, out, err);
+    if (bytes[0] == 0x89)
+        return sl_png_decode(bytes, size, name, budget, extra, out, err);
+    if (bytes[0] == 0xff)
+        return sl_jpeg_decode(bytes, size, name, budget, extra, out, err);
+    if (is_bmp(bytes, size))
+        return sl_bmp_decode(bytes, size, name, budget, extra, out, err);
+    return sl_tga_decode(bytes, size, name, budget, extra, out, err);
 }
 
 void sl_raw_image_free(sl_raw_image *img)

@@ -291,8 +291,11 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
     }
     const size_t n = (size_t)in->width * (size_t)in->height * 3;
     const long chunks = (long)((n + TONEMAP_CHUNK - 1) / TONEMAP_CHUNK);
-    /* Few threads for a small image: a parallel region costs more than 64 chunks of work. */
-#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if (chunks >= 64)
+    /* Few threads for a small image: a parallel region costs more than 64 chunks of work. The
+     * chunks are handed out as threads come free, not split in equal halves up front: on a
+     * machine another process keeps busy, a descheduled thread's half would hold the region
+     * open while the other thread waits (2 threads then took longer than 1). */
+#pragma omp parallel for schedule(dynamic, 4) num_threads(sl_threads(threads)) if (chunks >= 64)
     for (long ci = 0; ci < chunks; ci++) {
         const size_t i0 = (size_t)ci * TONEMAP_CHUNK;
         const int count = (int)(n - i0 < TONEMAP_CHUNK ? n - i0 : TONEMAP_CHUNK);
@@ -360,8 +363,8 @@ void sl_tonemap_row_xrgb8888(const sl_tonemap_table *tab, const float *row, int 
 void sl_tonemap_apply_xrgb8888(const sl_tonemap_table *tab, const sl_image *in, uint8_t *pixels, int pitch, int threads)
 {
     const int w = in->width, h = in->height;
-    /* the same threshold as sl_tonemap_apply: a parallel region costs more than a small image */
-#pragma omp parallel for schedule(static) num_threads(sl_threads(threads)) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
+    /* the same threshold and hand-out as sl_tonemap_apply */
+#pragma omp parallel for schedule(dynamic, 8) num_threads(sl_threads(threads)) if ((long)w * h * 3 >= 64L * TONEMAP_CHUNK)
     for (int y = 0; y < h; y++)
         sl_tonemap_row_xrgb8888(tab, sl_image_pixel(in, 0, y), w,
                                 (uint32_t *)(void *)(pixels + (size_t)y * (size_t)pitch));

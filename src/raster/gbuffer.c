@@ -73,7 +73,8 @@ void sl_gbuffer_extra_clear(sl_gbuffer *gb, int threads)
     if (!gb->extra)
         return;
     long n = (long)gb->width * gb->height;
-#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
+    /* handed out in blocks as threads come free (a descheduled thread holds up no fixed half) */
+#pragma omp parallel for schedule(dynamic, 16384) num_threads(sl_threads(threads))
     for (long i = 0; i < n; i++)
         gb->extra[i] = extra_none;
 }
@@ -143,7 +144,7 @@ void sl_gbuffer_clear(sl_gbuffer *gb, int threads)
     sl_gbuffer_extra_clear(gb, threads);
     const sl_gbuffer_texel empty = {.depth = 1.0f};
     int w = gb->width;
-#pragma omp parallel for schedule(static) num_threads(sl_threads(threads))
+#pragma omp parallel for schedule(dynamic, 16) num_threads(sl_threads(threads))
     for (int y = 0; y < gb->height; y++) {
         sl_gbuffer_texel *row = gb->texels + (size_t)y * (size_t)w;
         for (int x = 0; x < w; x++)

@@ -331,15 +331,16 @@ bool sl_texture_load_memory(const unsigned char *bytes, size_t size, const char 
     return load_png_jpeg(bytes, size, name, srgb, budget, out, err);
 }
 
-/* The first bytes of a PNG, a JPEG or a Radiance file; anything else fails before the rest is read. */
+/* The first bytes of a PNG, JPEG, BMP, TGA or Radiance file; anything else fails before the rest is read. */
 static bool magic_any(const unsigned char *head, size_t size, const char *name, sl_error *err)
 {
     if (size >= 2 && head[0] == '#' && head[1] == '?')
         return true;
     if (sl_image_magic_texture(head, size, name, NULL))
         return true;
-    return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG, JPEG or Radiance .hdr file (expected the PNG "
-                   "signature, a JPEG start-of-image marker or \"#?\")", name);
+    return sl_fail(err, SL_ERR_FORMAT, "%s: byte 0: not a PNG, JPEG, BMP, TGA or Radiance .hdr file (expected the "
+                   "PNG signature, a JPEG start-of-image marker, \"BM\", a .tga name with a TGA header, or \"#?\")",
+                   name);
 }
 
 bool sl_texture_load(const char *path, bool srgb, size_t budget, sl_texture **out, sl_error *err)

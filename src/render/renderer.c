@@ -395,11 +395,19 @@ const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx)
 
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
+    return sl_renderer_shade_gbuffer(r, &r->gbuffer, cam, err);
+}
+
+bool sl_renderer_shade_gbuffer(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
+{
+    if (!gb->texels || gb->width != r->gbuffer.width || gb->height != r->gbuffer.height)
+        return sl_fail(err, SL_ERR_RANGE, "renderer: a %dx%d G-buffer to light, the renderer is %dx%d", gb->width,
+                       gb->height, r->gbuffer.width, r->gbuffer.height);
     double t0 = sl_now_seconds();
     if (!sl_renderer_prepare_lighting(r, cam, err))
         return false;
     memset(&r->lighting_stats, 0, sizeof r->lighting_stats);
-    bool ok = sl_lighting_pass(r->uniforms, &r->lighting_stats, &r->gbuffer, &r->radiance, r->desc.threads, err);
+    bool ok = sl_lighting_pass(r->uniforms, &r->lighting_stats, gb, &r->radiance, r->desc.threads, err);
     r->timings.shading_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }

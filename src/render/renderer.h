@@ -147,6 +147,8 @@ void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx);
 const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx);
 /* Light the current G-buffer into r->radiance (same camera as the last raster). */
 bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err);
+/* The same for a G-buffer of the renderer's size drawn elsewhere (sl_renderer_light). */
+bool sl_renderer_shade_gbuffer(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err);
 /* Tone map r->radiance into r->display. */
 bool sl_renderer_tonemap(sl_renderer *r, sl_error *err);
 /* The tone map's table for r->desc.tonemap (built, or rebuilt when the options changed; owned by

@@ -1,5 +1,6 @@
 /* renderer_api.c - the public renderer (softlight/renderer.h) on top of sl_renderer_init: a heap
- * renderer made from the few options a caller sets, and read access to its frame. */
+ * renderer made from the few options a caller sets, the lighting of a caller's G-buffer, and read
+ * access to its frame. */
 #include <stdlib.h>
 
 #include "renderer.h"
@@ -37,6 +38,11 @@ void sl_renderer_destroy(sl_renderer *r)
         return;
     sl_renderer_free(r);
     free(r);
+}
+
+bool sl_renderer_light(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
+{
+    return sl_renderer_shade_gbuffer(r, gb, cam, err) && sl_renderer_tonemap(r, err);
 }
 
 const sl_image *sl_renderer_radiance(const sl_renderer *r) { return &r->radiance; }

@@ -11,6 +11,7 @@
 #include "scene_internal.h"
 
 #include <cjson/cJSON.h>
+#include <math.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -50,8 +51,11 @@ static bool numbers(checker *c, const cJSON *v, const char *path, int n)
 /* A non-negative integer below `count` (count < 0: no upper bound). */
 static bool index_in(checker *c, const cJSON *v, const char *path, int count, const char *of)
 {
-    if (!cJSON_IsNumber(v) || v->valuedouble != (double)(int)v->valuedouble || v->valueint < 0)
+    if (!cJSON_IsNumber(v) || !(v->valuedouble >= 0.0) || v->valuedouble != floor(v->valuedouble))
         return bad(c, path, "a non-negative integer");
+    if (v->valuedouble > (double)INT32_MAX)
+        return sl_fail(c->err, SL_ERR_RANGE, "%s: %s: %.0f is too large (at most %d)", c->name, path, v->valuedouble,
+                       INT32_MAX);
     if (count >= 0 && v->valueint >= count)
         return sl_fail(c->err, SL_ERR_FORMAT, "%s: %s: %d out of range (%d %s)", c->name, path, v->valueint, count,
                        of);
@@ -344,6 +348,26 @@ static bool check_hierarchy(checker *c, const cJSON *nodes, int node_count, cons
     return ok;
 }
 
+/* Every number of the document is finite: the JSON parser reads 1e999 as infinity, which the
+ * importer would take for a coordinate or a count. `path` names the value (built as the walk goes
+ * down, cut short past its buffer). */
+static bool all_finite(checker *c, const cJSON *v, char *path, size_t len, size_t cap)
+{
+    if (cJSON_IsNumber(v) && !isfinite(v->valuedouble))
+        return sl_fail(c->err, SL_ERR_RANGE, "%s: %s: a number out of range (not a finite double)", c->name,
+                       len ? path : "top level");
+    int i = 0;
+    for (const cJSON *e = v->child; e; e = e->next, i++) {
+        int n = e->string ? snprintf(path + len, cap - len, "%s%.32s", len ? "." : "", e->string)
+                          : snprintf(path + len, cap - len, "[%d]", i);
+        size_t sub = n < 0 || (size_t)n >= cap - len ? len : len + (size_t)n;
+        if (!all_finite(c, e, path, sub, cap))
+            return false;
+        path[len] = '\0';
+    }
+    return true;
+}
+
 /* The version (glTF 1.0 files have another layout, which the checks below would misread) and
  * the required extensions: the glTF specification has a loader refuse a file that requires
  * an extension it does not implement, rather than draw it wrongly. softlight implements none. */
@@ -418,7 +442,9 @@ static bool check_json(checker *c, const char *json, size_t size, scene_gltf_fac
     cJSON *root = cJSON_ParseWithLength(json, size);
     if (!root)
         return sl_fail(c->err, SL_ERR_FORMAT, "%s: invalid JSON in the glTF document", c->name);
-    bool ok = (cJSON_IsObject(root) || bad(c, "top level", "a JSON object")) && check_asset(c, root);
+    char where[256] = "";
+    bool ok = (cJSON_IsObject(root) || bad(c, "top level", "a JSON object")) && check_asset(c, root) &&
+              all_finite(c, root, where, 0, sizeof where);
     const cJSON *array[A_COUNT] = {0};
     int count[A_COUNT] = {0};
     for (int i = 0; ok && i < A_COUNT; i++) {

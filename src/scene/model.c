@@ -35,6 +35,7 @@
 #include <assimp/material.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -112,7 +113,7 @@ static unsigned char *read_regular(file_access *fa, const char *path, size_t *si
 {
     struct stat st;
     if (stat(path, &st) != 0) {
-        note_failure(fa, path, "no such file");
+        note_failure(fa, path, errno == ENOENT ? "no such file" : strerror(errno));
         return NULL;
     }
     if (!S_ISREG(st.st_mode)) {
@@ -310,8 +311,13 @@ typedef struct {
     sl_model *model;
     unsigned mesh_count;
     int capacity;
+    long flat; /* instances skipped: their node scales them to nothing */
     sl_error *err;
 } walker;
+
+/* The largest matrix element a node's transform may reach: past it, the positions of a model of
+ * ordinary size leave the range where float depth and the rasterizer's fixed point hold. */
+#define MODEL_TRANSFORM_MAX 1e15f
 
 /* Depth-first over the node tree, composing transforms. A node tree from a file may be deep
  * or (if an importer let it) cyclic: depth is capped, and so is the number of instances. */
@@ -324,7 +330,22 @@ static bool walk(walker *w, const struct aiNode *node, mat4 parent, int depth)
     if (!finite_mat4(world))
         return sl_fail(w->err, SL_ERR_FORMAT, "%s: node \"%.64s\": transform is not finite", w->name,
                        node->mName.data);
+    float largest = 0.0f;
+    for (int c = 0; c < 4; c++)
+        largest = fmaxf(largest, fmaxf(fmaxf(fabsf(world.c[c].x), fabsf(world.c[c].y)),
+                                       fmaxf(fabsf(world.c[c].z), fabsf(world.c[c].w))));
+    if (largest > MODEL_TRANSFORM_MAX)
+        return sl_fail(w->err, SL_ERR_RANGE, "%s: node \"%.64s\": transform out of range (an element of %g; at "
+                       "most %g, where float coordinates still hold a model)", w->name, node->mName.data,
+                       (double)largest, (double)MODEL_TRANSFORM_MAX);
+    /* A node that scales its meshes to nothing (a zero matrix, a zero scale) places nothing. */
+    vec3 x = xyz(world.c[0]), y = xyz(world.c[1]), z = xyz(world.c[2]);
+    bool flat = dot3(cross(x, y), z) == 0.0f;
     for (unsigned i = 0; i < node->mNumMeshes; i++) {
+        if (flat) {
+            w->flat++;
+            continue;
+        }
         if (node->mMeshes[i] >= w->mesh_count)
             return sl_fail(w->err, SL_ERR_FORMAT, "%s: node \"%.64s\": mesh %u out of range", w->name,
                            node->mName.data, node->mMeshes[i]);
@@ -689,7 +710,10 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
     if (!walk(&w, s->mRootNode, y_up_to_z_up(), 0))
         return false;
     if (model->instance_count == 0)
-        return sl_fail(err, SL_ERR_FORMAT, "%s: no node places a mesh", name);
+        return sl_fail(err, SL_ERR_FORMAT, w.flat ? "%s: every node that places a mesh scales it to nothing (a zero "
+                                                    "matrix or scale)"
+                                                  : "%s: no node places a mesh",
+                       name);
     if (s->mNumCameras > 0 && s->mCameras[0])
         convert_camera(s, fa->gltf, model);
     return true;
@@ -766,14 +790,32 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     const char *ext = extension(path);
     char dotted[40];
     snprintf(dotted, sizeof dotted, ".%.32s", ext);
-    if (!ext[0] || !aiIsExtensionSupported(dotted))
+    if (!ext[0])
+        return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: no file extension (softlight tells a scene (.json) and the model "
+                       "formats (.gltf, .glb, .obj, .fbx, ...) apart by it)", path);
+    if (!aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext), .triangles = -1};
     struct stat st;
-    if (stat(path, &st) != 0 || !S_ISREG(st.st_mode))
-        return sl_fail(err, SL_ERR_IO, "%s: %s", path, stat(path, &st) != 0 ? "no such file" : "not a regular file");
+    if (stat(path, &st) != 0)
+        return sl_fail(err, SL_ERR_IO, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return sl_fail(err, SL_ERR_IO, "%s: not a regular file", path);
     size_t input_bytes = (size_t)st.st_size;
+    if (strcasecmp(ext, "obj") == 0 || strcasecmp(ext, "off") == 0) {
+        size_t size;
+        unsigned char *bytes = read_regular(&fa, path, &size);
+        if (!bytes)
+            return sl_fail(err, SL_ERR_IO, "%s: %s", path, fa.failed_why);
+        char dir[SL_PATH_MAX];
+        dir_of(path, dir);
+        bool ok = strcasecmp(ext, "obj") == 0 ? sl_scene_obj_check((const char *)bytes, size, dir, path, err)
+                                              : sl_scene_off_check((const char *)bytes, size, path, err);
+        free(bytes);
+        if (!ok)
+            return false;
+    }
     if (fa.gltf) {
         size_t size;
         scene_gltf_facts facts;
@@ -813,5 +855,9 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
         return false;
     if (is_gltf(hint))
         fa.triangles = facts.triangles;
+    if (strcasecmp(hint, "obj") == 0 && !sl_scene_obj_check(data, size, NULL, name, err))
+        return false;
+    if (strcasecmp(hint, "off") == 0 && !sl_scene_off_check(data, size, name, err))
+        return false;
     return import(path, &fa, model, err);
 }

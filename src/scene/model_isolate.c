@@ -257,6 +257,7 @@ static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes
 bool sl_scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
                            sl_model *model, sl_error *err)
 {
+    memset(model, 0, sizeof *model); /* what a failure leaves */
     int fds[2];
     if (pipe(fds) != 0)
         return sl_fail(err, SL_ERR_IO, "%s: cannot start the import (pipe: %s)", name, strerror(errno));

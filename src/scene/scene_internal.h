@@ -61,6 +61,13 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
  * resolved as texture_path.c describes. False when no regular file matches. */
 bool sl_scene_texture_path_resolve(const char *dir, const char *ref, char out[SL_PATH_MAX]);
 
+/* The plain-text formats' checks before the importer reads them (text_model_check.c): an OBJ's
+ * usemtl names each defined by a newmtl of the libraries it names (found relative to `dir`; NULL:
+ * none can be read, the file is in memory), an
+ * OFF file's counts within the caps and its faces' indices within its vertices. */
+bool sl_scene_obj_check(const char *text, size_t size, const char *dir, const char *name, sl_error *err);
+bool sl_scene_off_check(const char *text, size_t size, const char *name, sl_error *err);
+
 /* What a glTF document's checks learn for the import: the bytes its buffers declare (for the
  * import's memory budget) and the triangles its triangle lists declare (-1 when it has other
  * primitives), to find the ones the importer drops. */
@@ -79,7 +86,7 @@ bool sl_scene_gltf_check(const unsigned char *bytes, size_t size, bool glb, cons
 typedef bool (*scene_import_fn)(void *ctx, sl_model *model, sl_error *err);
 /* Runs fn in a child process whose address space may grow by `memory_bytes` and which may run
  * `seconds`, and returns its model or error; running out of either, or crashing, is an error
- * naming `name` (model_isolate.c). */
+ * naming `name`, with *model zeroed (model_isolate.c). */
 bool sl_scene_import_isolated(scene_import_fn fn, void *ctx, const char *name, size_t memory_bytes, int seconds,
                            sl_model *model, sl_error *err);
 

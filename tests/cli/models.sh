@@ -113,12 +113,23 @@ DAE
 expect_error "cameras only" 'no triangle meshes \(softlight draws triangles' "$T/camera.dae"
 printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$T/line.obj"
 expect_error "lines only" 'no triangle meshes \(softlight draws triangles' "$T/line.obj"
-# A 50-byte OFF file that declares 10^8 faces: the importer's child runs out of its budget at
-# once (without the bound, assimp took 1.5 GB and 4 s before failing). AddressSanitizer's
-# builds bound the import's time only, so the memory case runs without them.
+# Counts the importer would trust: an OFF file declaring 10^8 faces is refused by softlight's
+# own check of the format; a 200-byte PLY declaring 4x10^8 vertices reaches the importer, whose
+# child runs out of its budget at once (unbounded, assimp takes gigabytes before failing). A face
+# index past the vertex list, and an OBJ material no .mtl defines, are refused too.
+printf 'OFF\n3 100000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.off"
+expect_error "an OFF file declaring 10^8 faces" 'declares 3 vertices and 100000000 faces' "$T/bomb.off"
+printf 'OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n1 1 0\n3 0 1 2\n3 1 3 9\n' >"$T/range.off"
+expect_error "an OFF face past the vertices" 'face 1: vertex index 9 out of range \(4 vertices\)' "$T/range.off"
+printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nothere\nf 1 2 3\n' >"$T/nomat.obj"
+printf 'newmtl other\nKd 1 0 0\n' >"$T/m.mtl"
+expect_error "an undefined OBJ material" 'material "nothere" \(usemtl\) is defined by no newmtl' "$T/nomat.obj"
+rm "$T/m.mtl"
+expect_error "a missing .mtl" 'its library "m.mtl" cannot be read \(no such file\)' "$T/nomat.obj"
+# AddressSanitizer's builds bound the import's time only, so the memory case runs without them.
 if [ -z "${SL_SANITIZED:-}" ]; then
-    printf 'OFF\n3 100000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.off"
-    expect_error "an OFF file declaring 10^8 faces" 'the import needs more than the 768 MiB' "$T/bomb.off"
+    printf 'ply\nformat ascii 1.0\nelement vertex 400000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.ply"
+    expect_error "a PLY file declaring 4x10^8 vertices" 'the import needs more than the 768 MiB' "$T/bomb.ply"
 fi
 
 echo "models: $passes passed, $fails failed"

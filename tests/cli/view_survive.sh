@@ -83,8 +83,9 @@ view_same "$T/bunny.hdr" "$T/bunny-ref.hdr" "a dropped model renders as softligh
         echo "wheel $((i % 5 - 2))"
     done
     # Every toggle was pressed an even number of times and every cycle went round whole (20 x
-    # lod over 4, estimator 3 x over 3, G over 2, irradiance oct/dp/sh9/brute over 4), N went x2 /2, the
-    # environment +15 -15; only the view (20 mod 8 = 4: ks) and the camera are off.
+    # lod over 5, 60 x estimator over 4, 20 x G over 2, 20 x irradiance over oct/dp/sh9/brute),
+    # N went up and down, the environment +15 -15; only the view (20 mod 8 = 4: ks) and the
+    # camera are off.
     echo "settle"
     echo "screenshot $T/flood-ks"
     for k in v v v v r; do echo "key $k"; done

@@ -839,6 +839,42 @@ static void test_gltf_index_counts(void **state)
     load_fails(test_tmpfile("long.glb"), "damaged .glb: its header says 32 bytes, the file has 40");
 }
 
+/* Values that would give an empty picture or a message naming nothing: a number past the
+ * double range, a count past int, a node matrix of zeros or of 1e38, a file with no extension. */
+static void test_gltf_values(void **state)
+{
+    (void)state;
+    const char *doc =
+        "{\"asset\":{\"version\":\"2.0\"},\"scene\":0,\"scenes\":[{\"nodes\":[0]}],\"nodes\":[{\"mesh\":0%s}],"
+        "\"meshes\":[{\"primitives\":[{\"attributes\":{\"POSITION\":0}}]}],"
+        "\"accessors\":[{\"bufferView\":0,\"componentType\":5126,\"count\":%s,\"type\":\"VEC3\",\"min\":[0,0,0],"
+        "\"max\":[1,1,0]}],\"bufferViews\":[{\"buffer\":0,\"byteOffset\":0,\"byteLength\":36}],"
+        "\"buffers\":[{\"byteLength\":36,\"uri\":\"data:application/octet-stream;base64,"
+        "AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA\"}]}";
+    static const struct {
+        const char *file, *node, *count, *want;
+    } cases[] = {
+        {"inf.gltf", ",\"translation\":[1e999,0,0]", "3", "nodes[0].translation[0]: a number out of range"},
+        {"count.gltf", "", "2147483648", "accessors[0].count: 2147483648 is too large (at most 2147483647)"},
+        {"zero.gltf", ",\"matrix\":[0,0,0,0,0,0,0,0,0,0,0,0,0,0,0,0]", "3",
+         "every node that places a mesh scales it to nothing"},
+        {"huge.gltf", ",\"scale\":[1e38,1e38,1e38]", "3", "transform out of range (an element of 1e+38"},
+    };
+    char text[2048];
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        int n = snprintf(text, sizeof text, doc, cases[i].node, cases[i].count);
+        test_write_bytes(test_tmpfile(cases[i].file), text, (size_t)n);
+        load_fails(test_tmpfile(cases[i].file), cases[i].want);
+    }
+    int n = snprintf(text, sizeof text, doc, "", "3");
+    test_write_bytes(test_tmpfile("tri.gltf"), text, (size_t)n);
+    sl_model m;
+    load_ok(test_tmpfile("tri.gltf"), &m);
+    sl_model_free(&m);
+    test_write_bytes(test_tmpfile("noext"), text, (size_t)n);
+    load_fails(test_tmpfile("noext"), "no file extension");
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -893,6 +929,7 @@ int main(void)
         cmocka_unit_test(test_missing_texture_long_path),
         cmocka_unit_test(test_gltf_graph_limits),
         cmocka_unit_test(test_gltf_index_counts),
+        cmocka_unit_test(test_gltf_values),
         cmocka_unit_test(test_texture_path_forms),
         cmocka_unit_test(test_error_excerpt_bounds),
     };

@@ -108,6 +108,8 @@ static bool hang(void *ctx, sl_model *m, sl_error *err)
 
 /* Touches far more memory than the budget, as an importer that trusts a declared count does;
  * fails like assimp (an error, not a crash) when an allocation is refused. */
+static char *volatile held[64]; /* escapes the optimiser: clang drops an allocation nobody keeps */
+
 static bool hog(void *ctx, sl_model *m, sl_error *err)
 {
     (void)ctx, (void)m;
@@ -116,6 +118,7 @@ static bool hog(void *ctx, sl_model *m, sl_error *err)
         if (!p)
             return sl_fail(err, SL_ERR_MEMORY, "hog: std::bad_alloc");
         memset(p, 1, (size_t)64 << 20);
+        held[i] = p;
     }
     return sl_fail(err, SL_ERR_FORMAT, "hog: every allocation succeeded");
 }

@@ -555,7 +555,7 @@ static void test_bad_files(void **state)
     const char *text = test_tmpfile("text.png");
     test_write_bytes(text, "not an image at all", 19);
     assert_false(sl_texture_load(text, true, 0, &t, &err));
-    assert_msg_contains(err, "text.png: byte 0: not a PNG, JPEG or Radiance .hdr file");
+    assert_msg_contains(err, "text.png: byte 0: not a PNG, JPEG, BMP, TGA or Radiance .hdr file");
 
     /* every truncation of a PNG, a JPEG and a .hdr: an error naming the file, never a texture
      * that is not whole, no crash (ASan and UBSan watch) */
