@@ -18,49 +18,49 @@ static bool parse_document(scene_parser *p, const cJSON *root, bool load_meshes,
 {
     static const char *const keys[] = {"camera", "environment", "materials", "objects", "lights", "render", NULL};
     if (!cJSON_IsObject(root))
-        return scene_fail(p, NULL, SL_ERR_FORMAT, "expected a JSON object {...} at the top level");
-    if (!scene_check_keys(p, root, "", keys))
+        return sl_scene_fail(p, NULL, SL_ERR_FORMAT, "expected a JSON object {...} at the top level");
+    if (!sl_scene_check_keys(p, root, "", keys))
         return false;
     scene_name_index *sorted = NULL;
     int *first_user = NULL;
     bool *material_given = NULL;
     scene_source_map sources = {0};
-    bool ok = scene_parse_camera(p, scene_member(root, "camera"), &scene->camera) &&
-              scene_parse_environment(p, scene_member(root, "environment"), &scene->environment, &scene->options) &&
-              scene_parse_render(p, scene_member(root, "render"), &scene->options) &&
-              scene_parse_materials(p, scene_member(root, "materials"), scene, &sorted);
-    const cJSON *objects = scene_member(root, "objects");
+    bool ok = sl_scene_parse_camera(p, sl_scene_member(root, "camera"), &scene->camera) &&
+              sl_scene_parse_environment(p, sl_scene_member(root, "environment"), &scene->environment, &scene->options) &&
+              sl_scene_parse_render(p, sl_scene_member(root, "render"), &scene->options) &&
+              sl_scene_parse_materials(p, sl_scene_member(root, "materials"), scene, &sorted);
+    const cJSON *objects = sl_scene_member(root, "objects");
     if (ok && objects && !cJSON_IsArray(objects))
-        ok = scene_fail(p, "objects", SL_ERR_FORMAT, "expected an array of objects [{\"shape\": ...}, ...]");
+        ok = sl_scene_fail(p, "objects", SL_ERR_FORMAT, "expected an array of objects [{\"shape\": ...}, ...]");
     if (ok) {
         size_t n = (size_t)(objects ? cJSON_GetArraySize(objects) : 0);
         scene->objects = calloc(n + 1, sizeof *scene->objects);
         scene->mesh_sources = calloc(n + 1, sizeof *scene->mesh_sources);
         first_user = calloc(n + 1, sizeof *first_user);
         material_given = calloc(n + 1, sizeof *material_given);
-        if (!scene->objects || !scene->mesh_sources || !first_user || !material_given || !scene_source_map_init(&sources, n))
-            ok = scene_fail(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
+        if (!scene->objects || !scene->mesh_sources || !first_user || !material_given || !sl_scene_source_map_init(&sources, n))
+            ok = sl_scene_fail(p, "objects", SL_ERR_MEMORY, "out of memory for %zu objects", n);
     }
     int named_materials = scene->material_count;
     for (const cJSON *e = objects && ok ? objects->child : NULL; e && ok; e = e->next) {
         char path[JSON_PATH_MAX];
-        scene_join_index(path, "objects", scene->object_count);
+        sl_scene_join_index(path, "objects", scene->object_count);
         sl_object *obj = &scene->objects[scene->object_count];
-        ok = scene_parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj,
+        ok = sl_scene_parse_object(p, e, path, scene, sorted, named_materials, &sources, first_user, obj,
                           &material_given[scene->object_count]);
         if (ok)
             scene->object_count++;
     }
-    ok = ok && scene_parse_lights(p, scene_member(root, "lights"), scene);
+    ok = ok && sl_scene_parse_lights(p, sl_scene_member(root, "lights"), scene);
     if (ok) {
         scene->meshes = calloc((size_t)scene->mesh_count + 1, sizeof *scene->meshes);
         if (!scene->meshes)
-            ok = scene_fail(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
+            ok = sl_scene_fail(p, "objects", SL_ERR_MEMORY, "out of memory for %d meshes", scene->mesh_count);
     }
     if (ok && load_meshes)
-        ok = scene_load_meshes(p, scene, first_user) &&
+        ok = sl_scene_load_meshes(p, scene, first_user) &&
              sl_scene_expand_models(scene, material_given, first_user, p->name, p->model_camera, p->err) &&
-             scene_check_maps_have_uvs(p, scene);
+             sl_scene_check_maps_have_uvs(p, scene);
     free(sorted);
     free(first_user);
     free(material_given);
@@ -81,10 +81,10 @@ static bool parse_scene(const char *json, size_t size, const char *name, const c
     if (!root) {
         size_t at = end && end >= json && end <= json + size ? (size_t)(end - json) : 0;
         /* Nested too deep: cJSON stops at the bracket past its limit. */
-        if (!scene_scan_json(&p, json, at < size ? at + 1 : size, true, false))
+        if (!sl_scene_scan_json(&p, json, at < size ? at + 1 : size, true, false))
             return false;
         size_t line, column;
-        scene_line_column(json, at, &line, &column);
+        sl_scene_line_column(json, at, &line, &column);
         char near[24];
         size_t n = 0;
         for (size_t i = at; i < size && n < 16 && json[i] != '\n'; i++)
@@ -98,12 +98,12 @@ static bool parse_scene(const char *json, size_t size, const char *name, const c
     for (size_t i = (size_t)(end - json); ok && i < size; i++) {
         if (json[i] != ' ' && json[i] != '\t' && json[i] != '\n' && json[i] != '\r') {
             size_t line, column;
-            scene_line_column(json, i, &line, &column);
+            sl_scene_line_column(json, i, &line, &column);
             ok = sl_fail(err, SL_ERR_FORMAT, "%s:%zu:%zu: unexpected text after the JSON object", p.name, line,
                          column);
         }
     }
-    ok = ok && scene_scan_json(&p, json, size, false, true) && parse_document(&p, root, load_meshes, scene);
+    ok = ok && sl_scene_scan_json(&p, json, size, false, true) && parse_document(&p, root, load_meshes, scene);
     cJSON_Delete(root);
     if (!ok)
         sl_scene_free(scene);
@@ -120,7 +120,7 @@ bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
     if (!sl_path_is_scene(path))
-        return scene_load_model_alone(path, scene, err);
+        return sl_scene_load_model_alone(path, scene, err);
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))

@@ -42,21 +42,21 @@ static bool build(scene_parser *p, const char *path, sl_scene *scene)
     scene->meshes = calloc(2, sizeof *scene->meshes);
     if (!scene->materials || !scene->objects || !scene->mesh_sources || !scene->meshes)
         return sl_fail(p->err, SL_ERR_MEMORY, "%s: out of memory for the default scene", path);
-    scene->materials[0] = scene_default_material(DEFAULT_MATERIAL_NAME);
+    scene->materials[0] = sl_scene_default_material(DEFAULT_MATERIAL_NAME);
     scene->material_count = 1;
     scene->mesh_sources[0] = (sl_mesh_source){.kind = SL_MESH_MODEL};
     snprintf(scene->mesh_sources[0].path, sizeof scene->mesh_sources[0].path, "%s", path);
     scene->mesh_count = 1;
     sl_object *obj = &scene->objects[0];
     *obj = (sl_object){.mesh = 0, .material = 0, .model = mat4_identity()};
-    scene_default_object_name(obj->name, path, NULL);
+    sl_scene_default_object_name(obj->name, path, NULL);
     scene->object_count = 1;
-    return scene_load_meshes(p, scene, first_user) &&
+    return sl_scene_load_meshes(p, scene, first_user) &&
            sl_scene_expand_models(scene, material_given, NULL, p->name, p->model_camera, p->err) &&
-           scene_check_maps_have_uvs(p, scene);
+           sl_scene_check_maps_have_uvs(p, scene);
 }
 
-bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
+bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
     char env_path[SL_PATH_MAX];
@@ -72,7 +72,7 @@ bool scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
     snprintf(scene->path, sizeof scene->path, "%s", path);
     sl_option_values_default(&scene->options);
     snprintf(scene->environment.hdr_path, sizeof scene->environment.hdr_path, "%s", env_path);
-    if (!scene_parse_camera(&p, NULL, &scene->camera) || !build(&p, path, scene)) {
+    if (!sl_scene_parse_camera(&p, NULL, &scene->camera) || !build(&p, path, scene)) {
         sl_scene_free(scene);
         return false;
     }

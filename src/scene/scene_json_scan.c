@@ -33,7 +33,7 @@ static const char *json_where(const scene_parser *p, const char *text, size_t of
                               char out[JSON_PATH_MAX + 128])
 {
     size_t line, column;
-    scene_line_column(text, offset, &line, &column);
+    sl_scene_line_column(text, offset, &line, &column);
     if (jp->len < JSON_PATH_MAX - 1)
         jp->buf[jp->len] = '\0';
     else
@@ -56,7 +56,7 @@ typedef struct {
  * value, holding the escape \u0000 (when `nul`), which cJSON decodes to a NUL byte that
  * silently ends the string ("na\u0000me" is read as the key "na"). False with the error
  * (line, column and path); true when neither is found. */
-bool scene_scan_json(scene_parser *p, const char *text, size_t end, bool depth, bool nul)
+bool sl_scene_scan_json(scene_parser *p, const char *text, size_t end, bool depth, bool nul)
 {
     json_frame *frames = calloc(JSON_MAX_DEPTH + 1, sizeof *frames);
     if (!frames)
@@ -111,10 +111,10 @@ bool scene_scan_json(scene_parser *p, const char *text, size_t end, bool depth, 
             if (j > end) /* a backslash as the last byte: the string ends with the text */
                 j = end;
             char raw[MASKED_MAX + 2];
-            size_t n = j - start <= MASKED_MAX ? j - start : MASKED_MAX + 1; /* scene_masked() adds "..." */
+            size_t n = j - start <= MASKED_MAX ? j - start : MASKED_MAX + 1; /* sl_scene_masked() adds "..." */
             memcpy(raw, text + start, n);
             raw[n] = '\0';
-            scene_masked(raw, MASKED_MAX, shown);
+            sl_scene_masked(raw, MASKED_MAX, shown);
             bool key = top && top->object && top->expect_key;
             if (key) { /* the path of the object; its value's path adds the key */
                 jp.len = top->base;

@@ -22,7 +22,7 @@ static int compare_names(const void *a, const void *b)
 
 /* ---- texture maps (docs/scene-format.md "Texture maps") ---- */
 
-const char *const SCENE_MAP_KEYS[SL_MAP_COUNT] = {"kd_map",   "ks_map",   "alpha_map",
+const char *const sl_scene_map_keys[SL_MAP_COUNT] = {"kd_map",   "ks_map",   "alpha_map",
                                                    "normal_map", "mask_map", "metallic_roughness_map",
                                                    "occlusion_map", "emissive_map"};
 /* Colour maps are sRGB by default (what image editors write, glTF's rule); data maps are linear. */
@@ -45,9 +45,9 @@ static bool scene_image(scene_parser *p, sl_scene *scene, const char *file, bool
         }
     }
     if (scene->image_count == SL_SCENE_MAX_IMAGES)
-        return scene_fail(p, path, SL_ERR_RANGE, "more than %d distinct image files in one scene", SL_SCENE_MAX_IMAGES);
+        return sl_scene_fail(p, path, SL_ERR_RANGE, "more than %d distinct image files in one scene", SL_SCENE_MAX_IMAGES);
     if (!scene->images && !(scene->images = calloc(SL_SCENE_MAX_IMAGES, sizeof *scene->images)))
-        return scene_fail(p, path, SL_ERR_MEMORY, "out of memory for the image table");
+        return sl_scene_fail(p, path, SL_ERR_MEMORY, "out of memory for the image table");
     sl_scene_image *img = &scene->images[scene->image_count];
     snprintf(img->path, sizeof img->path, "%s", file);
     img->srgb = srgb;
@@ -60,11 +60,11 @@ static bool scene_image(scene_parser *p, sl_scene *scene, const char *file, bool
 static bool read_uv_pair(scene_parser *p, const cJSON *item, const char *path, vec2 *out)
 {
     double v[2];
-    if (!scene_read_numbers(p, item, path, 2, v))
+    if (!sl_scene_read_numbers(p, item, path, 2, v))
         return false;
     for (int i = 0; i < 2; i++)
         if (fabs(v[i]) > MAX_UV_TRANSFORM)
-            return scene_fail(p, path, SL_ERR_RANGE, "%g is outside -%g..%g", v[i], MAX_UV_TRANSFORM, MAX_UV_TRANSFORM);
+            return sl_scene_fail(p, path, SL_ERR_RANGE, "%g is outside -%g..%g", v[i], MAX_UV_TRANSFORM, MAX_UV_TRANSFORM);
     *out = vec2(v[0], v[1]);
     return true;
 }
@@ -78,8 +78,8 @@ static bool read_choice(scene_parser *p, const cJSON *item, const char *path, co
         for (int i = 0; i < count; i++)
             if (strcmp(item->valuestring, names[i]) == 0)
                 return *out = i, true;
-    return scene_fail(p, path, SL_ERR_FORMAT, "expected \"%s\", \"%s\" or \"%s\"%s%s%s", names[0], names[1], names[2],
-                   cJSON_IsString(item) ? ", got \"" : "", cJSON_IsString(item) ? scene_masked(item->valuestring, 32, shown) : "",
+    return sl_scene_fail(p, path, SL_ERR_FORMAT, "expected \"%s\", \"%s\" or \"%s\"%s%s%s", names[0], names[1], names[2],
+                   cJSON_IsString(item) ? ", got \"" : "", cJSON_IsString(item) ? sl_scene_masked(item->valuestring, 32, shown) : "",
                    cJSON_IsString(item) ? "\"" : "");
 }
 
@@ -94,45 +94,45 @@ static bool parse_map(scene_parser *p, sl_scene *scene, const cJSON *item, const
     char file[SL_PATH_MAX], sub[JSON_PATH_MAX];
     bool srgb = MAP_SRGB_DEFAULT[slot];
     if (cJSON_IsString(item)) {
-        if (!scene_read_path(p, item, path, file))
+        if (!sl_scene_read_path(p, item, path, file))
             return false;
     } else {
         if (!cJSON_IsObject(item))
-            return scene_fail(p, path, SL_ERR_FORMAT, "expected an image path or an object {\"file\": ...}");
-        if (!scene_check_keys(p, item, path, keys))
+            return sl_scene_fail(p, path, SL_ERR_FORMAT, "expected an image path or an object {\"file\": ...}");
+        if (!sl_scene_check_keys(p, item, path, keys))
             return false;
-        const cJSON *v = scene_member(item, "file");
-        scene_join_key(sub, path, "file");
+        const cJSON *v = sl_scene_member(item, "file");
+        sl_scene_join_key(sub, path, "file");
         if (!v)
-            return scene_fail(p, path, SL_ERR_FORMAT, "needs \"file\" (an image path)");
-        if (!scene_read_path(p, v, sub, file))
+            return sl_scene_fail(p, path, SL_ERR_FORMAT, "needs \"file\" (an image path)");
+        if (!sl_scene_read_path(p, v, sub, file))
             return false;
-        if ((v = scene_member(item, "srgb"))) {
-            scene_join_key(sub, path, "srgb");
+        if ((v = sl_scene_member(item, "srgb"))) {
+            sl_scene_join_key(sub, path, "srgb");
             if (!cJSON_IsBool(v))
-                return scene_fail(p, sub, SL_ERR_FORMAT, "expected true or false");
+                return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected true or false");
             srgb = cJSON_IsTrue(v);
         }
         int choice;
-        if ((v = scene_member(item, "wrap"))) {
-            scene_join_key(sub, path, "wrap");
+        if ((v = sl_scene_member(item, "wrap"))) {
+            sl_scene_join_key(sub, path, "wrap");
             if (!read_choice(p, v, sub, wraps, 3, &choice))
                 return false;
             map->wrap = (sl_map_wrap)choice;
         }
-        if ((v = scene_member(item, "filter"))) {
-            scene_join_key(sub, path, "filter");
+        if ((v = sl_scene_member(item, "filter"))) {
+            sl_scene_join_key(sub, path, "filter");
             if (!read_choice(p, v, sub, filters, 3, &choice))
                 return false;
             map->filter = (sl_map_filter)choice;
         }
-        if ((v = scene_member(item, "uv_scale"))) {
-            scene_join_key(sub, path, "uv_scale");
+        if ((v = sl_scene_member(item, "uv_scale"))) {
+            sl_scene_join_key(sub, path, "uv_scale");
             if (!read_uv_pair(p, v, sub, &map->uv_scale))
                 return false;
         }
-        if ((v = scene_member(item, "uv_offset"))) {
-            scene_join_key(sub, path, "uv_offset");
+        if ((v = sl_scene_member(item, "uv_offset"))) {
+            sl_scene_join_key(sub, path, "uv_offset");
             if (!read_uv_pair(p, v, sub, &map->uv_offset))
                 return false;
         }
@@ -147,27 +147,27 @@ static bool parse_pbr(scene_parser *p, const cJSON *item, const char *path, sl_m
     char sub[JSON_PATH_MAX];
     const cJSON *v;
     bool mr_map = m->maps[SL_MAP_METALLIC_ROUGHNESS].set;
-    if ((v = scene_member(item, "metallic")) || mr_map) {
-        scene_join_key(sub, path, v ? "metallic" : "metallic_roughness_map");
+    if ((v = sl_scene_member(item, "metallic")) || mr_map) {
+        sl_scene_join_key(sub, path, v ? "metallic" : "metallic_roughness_map");
         if (m->brdf != SL_BRDF_GGX)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "a metallic-roughness material needs \"brdf\": \"ggx\"");
-        if (scene_member(item, "ks") || m->maps[SL_MAP_KS].set)
-            return scene_fail(p, sub, SL_ERR_FORMAT,
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "a metallic-roughness material needs \"brdf\": \"ggx\"");
+        if (sl_scene_member(item, "ks") || m->maps[SL_MAP_KS].set)
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT,
                            "a metallic-roughness material takes its ks from kd (the base colour): no ks or ks_map");
         m->metallic = 1.0f;
-        if (v && !scene_read_float(p, v, sub, 0.0, 1.0, &m->metallic))
+        if (v && !sl_scene_read_float(p, v, sub, 0.0, 1.0, &m->metallic))
             return false;
     }
-    if ((v = scene_member(item, "occlusion_strength"))) {
-        scene_join_key(sub, path, "occlusion_strength");
-        if (!scene_read_float(p, v, sub, 0.0, 1.0, &m->occlusion_strength))
+    if ((v = sl_scene_member(item, "occlusion_strength"))) {
+        sl_scene_join_key(sub, path, "occlusion_strength");
+        if (!sl_scene_read_float(p, v, sub, 0.0, 1.0, &m->occlusion_strength))
             return false;
         if (!m->maps[SL_MAP_OCCLUSION].set)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "needs an occlusion_map");
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "needs an occlusion_map");
     }
-    if ((v = scene_member(item, "emissive"))) {
-        scene_join_key(sub, path, "emissive");
-        if (!scene_read_color(p, v, sub, MAX_EMISSIVE, &m->emissive))
+    if ((v = sl_scene_member(item, "emissive"))) {
+        sl_scene_join_key(sub, path, "emissive");
+        if (!sl_scene_read_color(p, v, sub, MAX_EMISSIVE, &m->emissive))
             return false;
     } else if (m->maps[SL_MAP_EMISSIVE].set) {
         m->emissive = vec3s(1.0f); /* the map alone: its texels are the radiance */
@@ -198,56 +198,56 @@ static bool parse_material(scene_parser *p, sl_scene *scene, const cJSON *item, 
                                        "metallic_roughness_map", "occlusion_map", "occlusion_strength", "emissive",
                                        "emissive_map", NULL};
     static const char *const brdfs[] = {"phong", "ggx"}; /* sl_brdf's values */
-    if (!scene_check_keys(p, item, path, keys))
+    if (!sl_scene_check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX];
     const cJSON *v;
-    if ((v = scene_member(item, "brdf"))) {
+    if ((v = sl_scene_member(item, "brdf"))) {
         char name[MASKED_MAX + 4];
-        scene_join_key(sub, path, "brdf");
+        sl_scene_join_key(sub, path, "brdf");
         if (!cJSON_IsString(v) || !v->valuestring)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "expected \"phong\" or \"ggx\"");
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected \"phong\" or \"ggx\"");
         if (strcmp(v->valuestring, brdfs[SL_BRDF_PHONG]) == 0)
             m->brdf = SL_BRDF_PHONG;
         else if (strcmp(v->valuestring, brdfs[SL_BRDF_GGX]) == 0)
             m->brdf = SL_BRDF_GGX;
         else
-            return scene_fail(p, sub, SL_ERR_FORMAT, "unknown brdf \"%s\": expected \"phong\" or \"ggx\"",
-                           scene_masked(v->valuestring, 32, name));
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "unknown brdf \"%s\": expected \"phong\" or \"ggx\"",
+                           sl_scene_masked(v->valuestring, 32, name));
     }
     /* each set has its own parameter: the other's is an error, not ignored */
-    if (m->brdf == SL_BRDF_GGX && scene_member(item, "alpha")) {
-        scene_join_key(sub, path, "alpha");
-        return scene_fail(p, sub, SL_ERR_FORMAT, "alpha is the Phong exponent; a \"ggx\" material takes \"roughness\"");
+    if (m->brdf == SL_BRDF_GGX && sl_scene_member(item, "alpha")) {
+        sl_scene_join_key(sub, path, "alpha");
+        return sl_scene_fail(p, sub, SL_ERR_FORMAT, "alpha is the Phong exponent; a \"ggx\" material takes \"roughness\"");
     }
-    if (m->brdf == SL_BRDF_PHONG && scene_member(item, "roughness")) {
-        scene_join_key(sub, path, "roughness");
-        return scene_fail(p, sub, SL_ERR_FORMAT, "roughness needs \"brdf\": \"ggx\" (a Phong material takes \"alpha\")");
+    if (m->brdf == SL_BRDF_PHONG && sl_scene_member(item, "roughness")) {
+        sl_scene_join_key(sub, path, "roughness");
+        return sl_scene_fail(p, sub, SL_ERR_FORMAT, "roughness needs \"brdf\": \"ggx\" (a Phong material takes \"alpha\")");
     }
-    if ((v = scene_member(item, "roughness"))) {
-        scene_join_key(sub, path, "roughness");
-        if (!scene_read_float(p, v, sub, 0.0, MAX_ROUGHNESS, &m->roughness))
+    if ((v = sl_scene_member(item, "roughness"))) {
+        sl_scene_join_key(sub, path, "roughness");
+        if (!sl_scene_read_float(p, v, sub, 0.0, MAX_ROUGHNESS, &m->roughness))
             return false;
     }
-    if ((v = scene_member(item, "kd"))) {
-        scene_join_key(sub, path, "kd");
-        if (!scene_read_color(p, v, sub, 1.0, &m->kd))
+    if ((v = sl_scene_member(item, "kd"))) {
+        sl_scene_join_key(sub, path, "kd");
+        if (!sl_scene_read_color(p, v, sub, 1.0, &m->kd))
             return false;
     }
-    if ((v = scene_member(item, "ks"))) {
-        scene_join_key(sub, path, "ks");
-        if (!scene_read_color(p, v, sub, 1.0, &m->ks))
+    if ((v = sl_scene_member(item, "ks"))) {
+        sl_scene_join_key(sub, path, "ks");
+        if (!sl_scene_read_color(p, v, sub, 1.0, &m->ks))
             return false;
     }
-    if ((v = scene_member(item, "alpha"))) {
-        scene_join_key(sub, path, "alpha");
-        if (!scene_read_float(p, v, sub, 0.0, MAX_ALPHA, &m->alpha))
+    if ((v = sl_scene_member(item, "alpha"))) {
+        sl_scene_join_key(sub, path, "alpha");
+        if (!sl_scene_read_float(p, v, sub, 0.0, MAX_ALPHA, &m->alpha))
             return false;
     }
     for (int slot = 0; slot < SL_MAP_COUNT; slot++) {
-        if (!(v = scene_member(item, SCENE_MAP_KEYS[slot])))
+        if (!(v = sl_scene_member(item, sl_scene_map_keys[slot])))
             continue;
-        scene_join_key(sub, path, SCENE_MAP_KEYS[slot]);
+        sl_scene_join_key(sub, path, sl_scene_map_keys[slot]);
         if (!parse_map(p, scene, v, sub, (sl_map_slot)slot, &m->maps[slot]))
             return false;
         m->textured = true;
@@ -257,18 +257,18 @@ static bool parse_material(scene_parser *p, sl_scene *scene, const cJSON *item, 
     /* Coverage for the cutoff: mask_map.r, or kd_map's alpha; a mask alone cuts at glTF's 0.5. */
     m->masked = m->maps[SL_MAP_MASK].set;
     m->alpha_cutoff = 0.5f;
-    if ((v = scene_member(item, "alpha_cutoff"))) {
-        scene_join_key(sub, path, "alpha_cutoff");
-        if (!scene_read_float(p, v, sub, 0.0, 1.0, &m->alpha_cutoff))
+    if ((v = sl_scene_member(item, "alpha_cutoff"))) {
+        sl_scene_join_key(sub, path, "alpha_cutoff");
+        if (!sl_scene_read_float(p, v, sub, 0.0, 1.0, &m->alpha_cutoff))
             return false;
         if (!m->maps[SL_MAP_MASK].set && !m->maps[SL_MAP_KD].set)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "needs a mask_map or a kd_map (whose alpha it cuts)");
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "needs a mask_map or a kd_map (whose alpha it cuts)");
         m->masked = true;
     }
     return true;
 }
 
-sl_material scene_default_material(const char *name)
+sl_material sl_scene_default_material(const char *name)
 {
     sl_material m = {.kd = vec3s(0.5f), .ks = vec3s(0.04f), .alpha = 100.0f, .brdf = SL_BRDF_PHONG,
                      .roughness = DEFAULT_ROUGHNESS, .metallic = -1.0f, .occlusion_strength = 1.0f};
@@ -278,33 +278,33 @@ sl_material scene_default_material(const char *name)
 
 /* Materials are a map from name to definition; `sorted` gets them ordered by name. The
  * array has room for one more, the implicit default material. */
-bool scene_parse_materials(scene_parser *p, const cJSON *item, sl_scene *scene, scene_name_index **sorted)
+bool sl_scene_parse_materials(scene_parser *p, const cJSON *item, sl_scene *scene, scene_name_index **sorted)
 {
     int n = 0;
     if (item) {
         if (!cJSON_IsObject(item))
-            return scene_fail(p, "materials", SL_ERR_FORMAT, "expected an object {\"name\": {\"kd\": ...}, ...}");
+            return sl_scene_fail(p, "materials", SL_ERR_FORMAT, "expected an object {\"name\": {\"kd\": ...}, ...}");
         n = cJSON_GetArraySize(item);
     }
     scene->materials = calloc((size_t)n + 1, sizeof *scene->materials);
     *sorted = calloc((size_t)n + 1, sizeof **sorted);
     if (!scene->materials || !*sorted)
-        return scene_fail(p, "materials", SL_ERR_MEMORY, "out of memory for %d materials", n);
+        return sl_scene_fail(p, "materials", SL_ERR_MEMORY, "out of memory for %d materials", n);
     if (!item)
         return true;
     for (const cJSON *child = item->child; child; child = child->next) {
         char path[JSON_PATH_MAX];
-        scene_join_key(path, "materials", child->string);
+        sl_scene_join_key(path, "materials", child->string);
         /* A material is an object, so a "comment" string here cannot be mistaken for one. */
-        if (strcmp(child->string, "comment") == 0 && scene_comment_ok(child))
+        if (strcmp(child->string, "comment") == 0 && sl_scene_comment_ok(child))
             continue;
         size_t len = strlen(child->string);
         if (len == 0 || len >= SL_NAME_MAX)
-            return scene_fail(p, path, SL_ERR_RANGE, "a material name must have 1..%d bytes", SL_NAME_MAX - 1);
-        if (!scene_check_no_control(p, child->string, path))
+            return sl_scene_fail(p, path, SL_ERR_RANGE, "a material name must have 1..%d bytes", SL_NAME_MAX - 1);
+        if (!sl_scene_check_no_control(p, child->string, path))
             return false;
         sl_material *m = &scene->materials[scene->material_count];
-        *m = scene_default_material(child->string);
+        *m = sl_scene_default_material(child->string);
         if (!parse_material(p, scene, child, path, m))
             return false;
         (*sorted)[scene->material_count] = (scene_name_index){m->name, scene->material_count};
@@ -314,14 +314,14 @@ bool scene_parse_materials(scene_parser *p, const cJSON *item, sl_scene *scene, 
     for (int i = 1; i < scene->material_count; i++) {
         if (strcmp((*sorted)[i - 1].name, (*sorted)[i].name) == 0) {
             char path[JSON_PATH_MAX];
-            scene_join_key(path, "materials", (*sorted)[i].name);
-            return scene_fail(p, path, SL_ERR_FORMAT, "defined twice");
+            sl_scene_join_key(path, "materials", (*sorted)[i].name);
+            return sl_scene_fail(p, path, SL_ERR_FORMAT, "defined twice");
         }
     }
     return true;
 }
 
-int scene_find_material(const scene_name_index *sorted, int count, const char *name)
+int sl_scene_find_material(const scene_name_index *sorted, int count, const char *name)
 {
     scene_name_index key = {name, -1};
     const scene_name_index *hit = count ? bsearch(&key, sorted, (size_t)count, sizeof key, compare_names) : NULL;

@@ -22,17 +22,17 @@ static bool parse_rotate(scene_parser *p, const cJSON *item, const char *path, m
     for (const cJSON *e = list ? item->child : item; e; e = list ? e->next : NULL, i++) {
         char sub[JSON_PATH_MAX];
         if (list)
-            scene_join_index(sub, path, i);
+            sl_scene_join_index(sub, path, i);
         else
             snprintf(sub, sizeof sub, "%s", path);
         double v[4];
         if (!cJSON_IsArray(e) || cJSON_GetArraySize(e) != 4)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "expected [ax, ay, az, degrees] or a list of them");
-        if (!scene_read_numbers(p, e, sub, 4, v))
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected [ax, ay, az, degrees] or a list of them");
+        if (!sl_scene_read_numbers(p, e, sub, 4, v))
             return false;
         vec3 axis;
         if (!sl_scene_safe_normalize(vec3(v[0], v[1], v[2]), &axis))
-            return scene_fail(p, sub, SL_ERR_RANGE, "the rotation axis must not be the zero vector");
+            return sl_scene_fail(p, sub, SL_ERR_RANGE, "the rotation axis must not be the zero vector");
         float angle = (float)(fmod(v[3], 360.0) * (3.14159265358979323846 / 180.0));
         *r = mat4_mul(mat4_rotate(axis, angle), *r);
     }
@@ -46,39 +46,39 @@ static bool parse_transform(scene_parser *p, const cJSON *item, const char *path
     *model = mat4_identity();
     if (!item)
         return true;
-    if (!scene_check_keys(p, item, path, keys))
+    if (!sl_scene_check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX];
     vec3 t = vec3s(0.0f), s = vec3s(1.0f);
     mat4 r = mat4_identity();
     const cJSON *v;
-    if ((v = scene_member(item, "translate"))) {
-        scene_join_key(sub, path, "translate");
-        if (!scene_read_vec3(p, v, sub, &t))
+    if ((v = sl_scene_member(item, "translate"))) {
+        sl_scene_join_key(sub, path, "translate");
+        if (!sl_scene_read_vec3(p, v, sub, &t))
             return false;
     }
-    if ((v = scene_member(item, "rotate"))) {
-        scene_join_key(sub, path, "rotate");
+    if ((v = sl_scene_member(item, "rotate"))) {
+        sl_scene_join_key(sub, path, "rotate");
         if (!parse_rotate(p, v, sub, &r))
             return false;
     }
-    if ((v = scene_member(item, "scale"))) {
-        scene_join_key(sub, path, "scale");
+    if ((v = sl_scene_member(item, "scale"))) {
+        sl_scene_join_key(sub, path, "scale");
         if (cJSON_IsNumber(v)) {
             double x;
-            if (!scene_read_number(p, v, sub, &x))
+            if (!sl_scene_read_number(p, v, sub, &x))
                 return false;
             s = vec3s((float)x);
         } else if (!cJSON_IsArray(v)) {
-            return scene_fail(p, sub, SL_ERR_FORMAT, "expected a number or an array of 3 numbers");
-        } else if (!scene_read_vec3(p, v, sub, &s)) {
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected a number or an array of 3 numbers");
+        } else if (!sl_scene_read_vec3(p, v, sub, &s)) {
             return false;
         }
         /* Negative scales would mirror the mesh and turn its front faces into back faces. */
         const float c[3] = {s.x, s.y, s.z};
         for (int i = 0; i < 3; i++)
             if (!(c[i] >= 1e-6f && c[i] <= 1e6f))
-                return scene_fail(p, sub, SL_ERR_RANGE, "%g is outside 1e-06..1e+06 (positive; no mirroring)",
+                return sl_scene_fail(p, sub, SL_ERR_RANGE, "%g is outside 1e-06..1e+06 (positive; no mirroring)",
                                (double)c[i]);
     }
     *model = mat4_mul(mat4_translate(t), mat4_mul(r, mat4_scale(s)));
@@ -104,7 +104,7 @@ static uint32_t source_hash(const sl_mesh_source *s)
     return h;
 }
 
-bool scene_source_map_init(scene_source_map *map, size_t sources)
+bool sl_scene_source_map_init(scene_source_map *map, size_t sources)
 {
     size_t size = 16;
     while (size < 2 * sources)
@@ -130,7 +130,7 @@ static int source_mesh(scene_source_map *map, sl_scene *scene, int *first_user, 
 }
 
 /* The object's default name: the OBJ file's base name without extension, or the shape. */
-void scene_default_object_name(char out[SL_NAME_MAX], const char *mesh_text, const char *shape)
+void sl_scene_default_object_name(char out[SL_NAME_MAX], const char *mesh_text, const char *shape)
 {
     if (shape) {
         snprintf(out, SL_NAME_MAX, "%s", shape);
@@ -144,7 +144,7 @@ void scene_default_object_name(char out[SL_NAME_MAX], const char *mesh_text, con
     snprintf(out, SL_NAME_MAX, "%.*s", (int)(n < SL_NAME_MAX - 1 ? n : SL_NAME_MAX - 1), base);
 }
 
-bool scene_parse_object(scene_parser *p, const cJSON *item, const char *path, sl_scene *scene,
+bool sl_scene_parse_object(scene_parser *p, const cJSON *item, const char *path, sl_scene *scene,
                          const scene_name_index *sorted, int named_materials, scene_source_map *sources, int *first_user,
                          sl_object *obj, bool *material_given)
 {
@@ -152,38 +152,38 @@ bool scene_parse_object(scene_parser *p, const cJSON *item, const char *path, sl
                                        NULL};
     static const char *const shapes[] = {"sphere", "plane", "box"};
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
-    if (!scene_check_keys(p, item, path, keys))
+    if (!sl_scene_check_keys(p, item, path, keys))
         return false;
     char sub[JSON_PATH_MAX], shown[MASKED_MAX + 4];
-    const cJSON *mesh = scene_member(item, "mesh"), *shape = scene_member(item, "shape"), *model = scene_member(item, "model");
+    const cJSON *mesh = sl_scene_member(item, "mesh"), *shape = sl_scene_member(item, "shape"), *model = sl_scene_member(item, "model");
     if (!!mesh + !!shape + !!model > 1)
-        return scene_fail(p, path, SL_ERR_FORMAT, "has more than one of \"mesh\", \"shape\" and \"model\"; give one");
+        return sl_scene_fail(p, path, SL_ERR_FORMAT, "has more than one of \"mesh\", \"shape\" and \"model\"; give one");
     if (!mesh && !shape && !model)
-        return scene_fail(p, path, SL_ERR_FORMAT,
+        return sl_scene_fail(p, path, SL_ERR_FORMAT,
                        "needs \"mesh\" (an .obj path), \"shape\" (\"sphere\", \"plane\" or \"box\") or \"model\" "
                        "(a glTF, OBJ, ... file)");
     sl_mesh_source src = {.kind = SL_MESH_OBJ};
     const char *shape_name = NULL;
     if (model) {
-        scene_join_key(sub, path, "model");
+        sl_scene_join_key(sub, path, "model");
         src.kind = SL_MESH_MODEL;
-        if (!scene_read_path(p, model, sub, src.path))
+        if (!sl_scene_read_path(p, model, sub, src.path))
             return false;
         mesh = model; /* the object's default name comes from the file's */
     } else if (mesh) {
-        scene_join_key(sub, path, "mesh");
-        if (!scene_read_path(p, mesh, sub, src.path))
+        sl_scene_join_key(sub, path, "mesh");
+        if (!sl_scene_read_path(p, mesh, sub, src.path))
             return false;
     } else {
-        scene_join_key(sub, path, "shape");
+        sl_scene_join_key(sub, path, "shape");
         if (!cJSON_IsString(shape))
-            return scene_fail(p, sub, SL_ERR_FORMAT, "expected \"sphere\", \"plane\" or \"box\"");
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected \"sphere\", \"plane\" or \"box\"");
         for (int i = 0; i < 3 && !shape_name; i++)
             if (strcmp(shape->valuestring, shapes[i]) == 0)
                 shape_name = shapes[i], src.kind = kinds[i];
         if (!shape_name)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "unknown shape \"%s\" (expected sphere, plane or box)",
-                           scene_masked(shape->valuestring, 32, shown));
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "unknown shape \"%s\" (expected sphere, plane or box)",
+                           sl_scene_masked(shape->valuestring, 32, shown));
     }
     const cJSON *v;
     if (src.kind == SL_MESH_SPHERE) {
@@ -192,47 +192,47 @@ bool scene_parse_object(scene_parser *p, const cJSON *item, const char *path, sl
     }
     static const char *const tess[2] = {"slices", "stacks"};
     for (int i = 0; i < 2; i++) {
-        if (!(v = scene_member(item, tess[i])))
+        if (!(v = sl_scene_member(item, tess[i])))
             continue;
-        scene_join_key(sub, path, tess[i]);
+        sl_scene_join_key(sub, path, tess[i]);
         if (src.kind != SL_MESH_SPHERE)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "only a sphere has %s", tess[i]);
-        bool ok = i == 0 ? scene_read_int(p, v, sub, 3, SCENE_SPHERE_MAX_SLICES, &src.slices)
-                         : scene_read_int(p, v, sub, 2, SCENE_SPHERE_MAX_STACKS, &src.stacks);
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "only a sphere has %s", tess[i]);
+        bool ok = i == 0 ? sl_scene_read_int(p, v, sub, 3, SCENE_SPHERE_MAX_SLICES, &src.slices)
+                         : sl_scene_read_int(p, v, sub, 2, SCENE_SPHERE_MAX_STACKS, &src.stacks);
         if (!ok)
             return false;
     }
 
-    if ((v = scene_member(item, "name"))) {
-        scene_join_key(sub, path, "name");
-        if (!scene_read_string(p, v, sub, obj->name, sizeof obj->name))
+    if ((v = sl_scene_member(item, "name"))) {
+        sl_scene_join_key(sub, path, "name");
+        if (!sl_scene_read_string(p, v, sub, obj->name, sizeof obj->name))
             return false;
     } else {
-        scene_default_object_name(obj->name, mesh ? mesh->valuestring : "", shape_name);
+        sl_scene_default_object_name(obj->name, mesh ? mesh->valuestring : "", shape_name);
     }
 
-    *material_given = scene_member(item, "material") != NULL;
-    if ((v = scene_member(item, "material"))) {
-        scene_join_key(sub, path, "material");
+    *material_given = sl_scene_member(item, "material") != NULL;
+    if ((v = sl_scene_member(item, "material"))) {
+        sl_scene_join_key(sub, path, "material");
         if (!cJSON_IsString(v))
-            return scene_fail(p, sub, SL_ERR_FORMAT, "expected a material name (a string)");
-        obj->material = scene_find_material(sorted, named_materials, v->valuestring);
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected a material name (a string)");
+        obj->material = sl_scene_find_material(sorted, named_materials, v->valuestring);
         if (obj->material < 0)
-            return scene_fail(p, sub, SL_ERR_FORMAT, "no material named \"%s\"", scene_masked(v->valuestring, 64, shown));
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "no material named \"%s\"", sl_scene_masked(v->valuestring, 64, shown));
     } else {
         /* No material: the one named "default" if the scene defines it, else a built-in grey. */
-        obj->material = scene_find_material(sorted, named_materials, DEFAULT_MATERIAL_NAME);
+        obj->material = sl_scene_find_material(sorted, named_materials, DEFAULT_MATERIAL_NAME);
         if (obj->material < 0) {
             obj->material = named_materials;
             if (scene->material_count == named_materials) {
-                scene->materials[named_materials] = scene_default_material(DEFAULT_MATERIAL_NAME);
+                scene->materials[named_materials] = sl_scene_default_material(DEFAULT_MATERIAL_NAME);
                 scene->material_count++;
             }
         }
     }
 
-    scene_join_key(sub, path, "transform");
-    if (!parse_transform(p, scene_member(item, "transform"), sub, &obj->model))
+    sl_scene_join_key(sub, path, "transform");
+    if (!parse_transform(p, sl_scene_member(item, "transform"), sub, &obj->model))
         return false;
 
     /* One mesh per distinct source. */
@@ -242,7 +242,7 @@ bool scene_parse_object(scene_parser *p, const cJSON *item, const char *path, sl
 
 /* Build every distinct mesh. Each mesh is capped on its own (scene_internal.h); the scene as
  * a whole is capped too, so that many large meshes cannot add up to an absurd allocation. */
-bool scene_load_meshes(scene_parser *p, sl_scene *scene, const int *first_user)
+bool sl_scene_load_meshes(scene_parser *p, sl_scene *scene, const int *first_user)
 {
     long long total_vertices = 0;
     for (int i = 0; i < scene->mesh_count; i++) {
@@ -274,7 +274,7 @@ bool scene_load_meshes(scene_parser *p, sl_scene *scene, const int *first_user)
 
 /* A material with maps needs texture coordinates on every mesh it is drawn on (the shapes
  * always have them; an OBJ file has them when its faces name vt). */
-bool scene_check_maps_have_uvs(scene_parser *p, const sl_scene *scene)
+bool sl_scene_check_maps_have_uvs(scene_parser *p, const sl_scene *scene)
 {
     for (int i = 0; i < scene->object_count; i++) {
         const sl_object *o = &scene->objects[i];
@@ -285,11 +285,11 @@ bool scene_check_maps_have_uvs(scene_parser *p, const sl_scene *scene)
         while (!m->maps[slot].set)
             slot++;
         char path[JSON_PATH_MAX];
-        scene_join_index(path, "objects", i);
+        sl_scene_join_index(path, "objects", i);
         char shown[MASKED_MAX + 4];
-        return scene_fail(p, path, SL_ERR_FORMAT,
+        return sl_scene_fail(p, path, SL_ERR_FORMAT,
                        "material \"%s\" has a %s (%s) but the mesh %s has no texture coordinates (no vt on its faces)",
-                       scene_masked(m->name, 64, shown), SCENE_MAP_KEYS[slot], scene->images[m->maps[slot].image].path,
+                       sl_scene_masked(m->name, 64, shown), sl_scene_map_keys[slot], scene->images[m->maps[slot].image].path,
                        scene->mesh_sources[o->mesh].path);
     }
     return true;
