@@ -7,7 +7,7 @@
  * into sl_images once, with sl_image_flip_rows, when written out.
  *
  * Formats (hdr.c, pfm.c, exr.c; png.c writes PNG; raw_image.c reads PNG / JPEG through png_decode.c
- * and jpeg_decode.c; image.c owns the buffer, file.c the I/O):
+ * and jpeg_decode.c; image.c owns the buffer, file.c the I/O, radiance.c picks the format):
  *   .hdr  Radiance RGBE, read (flat and new-style RLE scanlines, "-Y h +X w" only) and
  *         write (RLE for widths 8..32767, flat otherwise). A texel (m_r, m_g, m_b, e) decodes
  *         as m * 2^(e - 136) (e = 0 is black), the convention of Greg Ward's rgbe.c that the

@@ -15,7 +15,9 @@
  * first use. Normals from the file are normalised; corners without one (or with a zero one)
  * get an angle-weighted normal accumulated per OBJ position, so a texture seam does not split
  * the shading. Errors carry `name:line:` (the first line of a continued statement) and show
- * input bytes with what is not printable ASCII as '?'; sizes are capped (scene_internal.h). */
+ * input bytes with what is not printable ASCII as '?'; sizes are capped (scene_internal.h).
+ *
+ * Sections, in order: storage, tokens, faces, statements, the mesh, entry points. */
 #include "scene_internal.h"
 
 #include "../core/image.h" /* sl_read_file */
@@ -30,6 +32,8 @@
 /* Ear clipping is O(n^2) in the corners of a concave face: 8000 corners take 0.4 s here
  * (Release), and a hostile file could hold many such faces. Convex faces have no cap. */
 #define OBJ_MAX_CONCAVE_CORNERS 4096
+
+/* ---- storage: growable arrays, the reader and its corner map ---- */
 
 /* A growable array of fixed-size elements. */
 typedef struct {
@@ -162,6 +166,8 @@ static bool vertex_for(obj_reader *r, corner c, uint32_t *index)
     *index = (uint32_t)r->corners.count - 1;
     return true;
 }
+
+/* ---- tokens, numbers and indices ---- */
 
 static bool is_space(char ch) { return ch == ' ' || ch == '\t' || ch == '\r' || ch == '\v' || ch == '\f'; }
 
@@ -304,6 +310,8 @@ static bool parse_corner(obj_reader *r, char *tok, corner *c, bool *forward)
     }
     return true;
 }
+
+/* ---- faces: fans, ear clipping, faces pending on later elements ---- */
 
 static bool push_triangle(obj_reader *r, uint32_t a, uint32_t b, uint32_t c)
 {
@@ -616,6 +624,8 @@ static bool build_pending(obj_reader *r)
     return true;
 }
 
+/* ---- statements: one line of the file ---- */
+
 /* A statement softlight does not use is skipped when its keyword looks like one: a letter,
  * then letters, digits and '_' (every keyword of the OBJ specification does), and not v, vt,
  * vn or f with a digit glued on. Anything else is data that would be lost without a word. */
@@ -687,6 +697,8 @@ static bool parse_line(obj_reader *r, char *line)
     return skip_statement(r, keyword); /* o, g, s, usemtl, mtllib, l, p, ... carry nothing we use */
 }
 
+/* ---- the mesh ---- */
+
 static void reader_free(obj_reader *r)
 {
     free(r->positions.data);
@@ -740,6 +752,8 @@ static bool build_mesh(obj_reader *r, sl_mesh *mesh)
     }
     return true;
 }
+
+/* ---- entry points: text and files ---- */
 
 /* UTF-16 or UTF-32 text, named so that the user can save it as UTF-8, rather than the "NUL
  * byte" a byte-wise reader would report; NULL for anything else. Without a byte-order mark,

@@ -4,26 +4,8 @@
 # untouched). Covers a truncated and a corrupt .hdr, a malformed OBJ, malformed scene files,
 # absurd parameters and unwritable outputs.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-errors.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
-
-# expect_error NAME PATTERN -- COMMAND...: status 2, one stderr line matching PATTERN.
-expect_error() {
-    local name=$1 pattern=$2; shift 3
-    "$@" >"$T/out" 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err"; then
-        echo "FAIL $name: status $status, $lines stderr lines (want 2, 1 matching /$pattern/):"
-        sed 's/^/    /' "$T/err" | head -5
-        fails=$((fails + 1))
-    else
-        echo "ok   $name: $(cat "$T/err")"
-        passes=$((passes + 1))
-    fi
-}
+. "$(dirname "$0")/lib.bash"
+cli_init errors "$@"
 
 # A scene around a given environment and mesh, written into $T.
 scene() { # scene FILE HDR [OBJ]

@@ -5,26 +5,8 @@
 # the same PNG, byte for byte, as the same floats in a PFM; truncated, corrupt and wrong-type
 # .exr files each give one line naming the file and exit 2, leaving outputs untouched.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-exr.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
-ok() { echo "ok   $*"; passes=$((passes + 1)); }
-bad() { echo "FAIL $*"; fails=$((fails + 1)); }
-
-# expect_error NAME PATTERN -- COMMAND...: status 2, one stderr line matching PATTERN.
-expect_error() {
-    local name=$1 pattern=$2; shift 3
-    "$@" >"$T/out" 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err"; then
-        bad "$name: status $status, $lines stderr lines (want 2, 1 matching /$pattern/):"
-        sed 's/^/    /' "$T/err" | head -5
-    else
-        ok "$name: $(cat "$T/err")"
-    fi
-}
+. "$(dirname "$0")/lib.bash"
+cli_init exr "$@"
 
 # 1. The layers against the PFMs: every AOV and the radiance, max error 0.
 "$SL" render scenes/default.json --size 96x54 -n 8 --exr "$T/frame.exr" --aov "$T/aov" --pfm "$T/frame.pfm" -q

@@ -6,22 +6,18 @@
 # its blank line is reported at byte 34; and `softlight info`'s peak memory agrees with the
 # measured maximum resident set size of the render it describes.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-limits.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
-ok() { echo "ok   $*"; passes=$((passes + 1)); }
-bad() { echo "FAIL $*"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.bash"
+cli_init limits "$@"
 
 # expect_error NAME PATTERN -- COMMAND...: status 2, one stderr line matching PATTERN, < 5 s.
 expect_error() {
     local name=$1 pattern=$2; shift 3
-    local t0=$SECONDS
-    "$@" >"$T/out" 2>"$T/err"
-    local status=$? lines secs=$((SECONDS - t0))
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err" || [ "$secs" -ge 5 ]; then
-        bad "$name: status $status, $lines stderr lines, ${secs} s (want 2, 1 matching /$pattern/, < 5 s):"
+    local t0=$SECONDS secs
+    one_error "$pattern" "$@"
+    local matched=$?
+    secs=$((SECONDS - t0))
+    if [ "$matched" -ne 0 ] || [ "$secs" -ge 5 ]; then
+        bad "$name: status $err_status, $err_lines stderr lines, ${secs} s (want 2, 1 matching /$pattern/, < 5 s):"
         sed 's/^/    /' "$T/err" | head -5
     else
         ok "$name: $(cat "$T/err")"

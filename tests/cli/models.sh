@@ -4,24 +4,17 @@
 # camera or one framing the bounds), an OBJ+MTL's material arriving, and bad files: status 2,
 # one line naming the file, no output written, no hang (a FIFO or /dev/zero named as a buffer).
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-models.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
-ok() { echo "ok   $1"; passes=$((passes + 1)); }
-bad() { echo "FAIL $1"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.bash"
+cli_init models "$@"
 
 # expect_error NAME PATTERN FILE: render FILE fails in 20 s with status 2 and one stderr line
 # naming FILE's base name and matching PATTERN; a.png is not written.
 expect_error() {
     local name=$1 pattern=$2 file=$3
     rm -f "$T/a.png"
-    timeout 20 "$SL" render "$file" -o "$T/a.png" --size 32x18 -q >"$T/out" 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err" ||
+    if ! one_error "$pattern" timeout 20 "$SL" render "$file" -o "$T/a.png" --size 32x18 -q ||
         ! grep -qF -- "$(basename "$file")" "$T/err" || [ -e "$T/a.png" ]; then
-        bad "$name: status $status, $lines lines (want 2, 1 naming $(basename "$file") and matching /$pattern/): $(head -3 "$T/err")"
+        bad "$name: status $err_status, $err_lines lines (want 2, 1 naming $(basename "$file") and matching /$pattern/): $(head -3 "$T/err")"
     else
         ok "$name: $(cat "$T/err")"
     fi

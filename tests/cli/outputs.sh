@@ -9,23 +9,17 @@
 #  - a temporary left by a killed run (".NAME.softlight-tmp.PID" of a dead PID) is removed by the
 #    next run writing NAME; one of a live process is not.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-outputs.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
-ok() { echo "ok   $1"; passes=$((passes + 1)); }
-fail() { echo "FAIL $1"; fails=$((fails + 1)); }
+. "$(dirname "$0")/lib.bash"
+cli_init outputs "$@"
+fail() { bad "$@"; }
 
 R=("$SL" render scenes/default.json --size 64x36 -n 4 -q)
 
-# run NAME PATTERN -- COMMAND...: status 2 and one stderr line matching PATTERN.
+# expect_error NAME PATTERN -- COMMAND...: status 2 and one stderr line matching PATTERN, in 120 s.
 expect_error() {
     local name=$1 pattern=$2; shift 3
-    timeout 120 "$@" >"$T/out" 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err"; then
-        fail "$name: status $status, $lines stderr lines (want 2, 1 matching /$pattern/): $(head -3 "$T/err" | tr '\n' ' ')"
+    if ! one_error "$pattern" timeout 120 "$@"; then
+        fail "$name: status $err_status, $err_lines stderr lines (want 2, 1 matching /$pattern/): $(head -3 "$T/err" | tr '\n' ' ')"
         return 1
     fi
     ok "$name: $(cat "$T/err")"

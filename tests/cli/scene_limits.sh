@@ -3,32 +3,23 @@
 # path, and `render` writes nothing; a scene at the limit renders. docs/scene-format.md
 # "Limits" lists them.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-limits.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
+. "$(dirname "$0")/lib.bash"
+cli_init limits "$@"
 
 # expect_error NAME PATTERN -- COMMAND...: status 2, one stderr line matching PATTERN, no
 # byte outside printable ASCII on it, no output file.
 expect_error() {
     local name=$1 pattern=$2; shift 3
     rm -f "$T/a.png"
-    "$@" >"$T/out" 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$pattern" "$T/err"; then
-        echo "FAIL $name: status $status, $lines stderr lines (want 2, 1 matching /$pattern/):"
+    if ! one_error "$pattern" "$@"; then
+        bad "$name: status $err_status, $err_lines stderr lines (want 2, 1 matching /$pattern/):"
         sed 's/^/    /' "$T/err" | head -5
-        fails=$((fails + 1))
     elif LC_ALL=C grep -q '[^[:print:]]' "$T/err"; then
-        echo "FAIL $name: a byte that is not printable ASCII reached the message: $(cat -v "$T/err")"
-        fails=$((fails + 1))
+        bad "$name: a byte that is not printable ASCII reached the message: $(cat -v "$T/err")"
     elif [ -e "$T/a.png" ]; then
-        echo "FAIL $name: a.png was written"
-        fails=$((fails + 1))
+        bad "$name: a.png was written"
     else
-        echo "ok   $name: $(cat "$T/err")"
-        passes=$((passes + 1))
+        ok "$name: $(cat "$T/err")"
     fi
 }
 

@@ -4,10 +4,8 @@
 # Each must exit with status 2, print one line on stderr naming the scene, the material's map (or
 # the object and material) and the file, and leave the existing output file untouched.
 set -u
-SL=${1:?usage: $0 BUILD_DIR}/softlight
-T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-texerr.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-fails=0; passes=0
+. "$(dirname "$0")/lib.bash"
+cli_init texerr "$@"
 cp scenes/envmaps/studio.hdr "$T/env.hdr"
 good=scenes/textures/tiles.png
 
@@ -25,16 +23,11 @@ JSON
 
 expect_error() { # expect_error NAME PATTERN
     echo "keep" >"$T/out.png"
-    "$SL" render "$T/$1.json" -o "$T/out.png" -q >/dev/null 2>"$T/err"
-    local status=$? lines
-    lines=$(wc -l <"$T/err")
-    if [ "$status" -ne 2 ] || [ "$lines" -ne 1 ] || ! grep -qE -- "$2" "$T/err" || [ "$(cat "$T/out.png")" != keep ]; then
-        echo "FAIL $1: status $status, $lines stderr lines (want 2, 1 matching /$2/), output kept: $(head -c 4 "$T/out.png")"
+    if ! one_error "$2" "$SL" render "$T/$1.json" -o "$T/out.png" -q || [ "$(cat "$T/out.png")" != keep ]; then
+        bad "$1: status $err_status, $err_lines stderr lines (want 2, 1 matching /$2/), output kept: $(head -c 4 "$T/out.png")"
         sed 's/^/    /' "$T/err" | head -5
-        fails=$((fails + 1))
     else
-        echo "ok   $1: $(cat "$T/err")"
-        passes=$((passes + 1))
+        ok "$1: $(cat "$T/err")"
     fi
 }
 

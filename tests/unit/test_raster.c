@@ -83,16 +83,6 @@ static void ct_init(count_target *c, int w, int h)
 static void ct_free(count_target *c) { free(c->count); }
 static uint32_t ct_at(const count_target *c, int x, int y) { return c->count[(size_t)y * (size_t)c->w + (size_t)x]; }
 
-static sl_raster *make_raster(int threads, int tile, bool stats)
-{
-    sl_error err = {0};
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = stats}, &err);
-    if (!r)
-        print_error("sl_raster_create: %s\n", err.msg);
-    assert_non_null(r);
-    return r;
-}
-
 static void draw(sl_raster *r, count_target *c, const sl_program *p, const void *u, const vec3 *pos,
                  const vec2 *tc, int nv, const uint32_t *idx, int nt, sl_cull_mode cull)
 {
@@ -170,7 +160,7 @@ static void test_fill_rule(void **state)
 {
     (void)state;
     window_uniforms u = {8, 8};
-    sl_raster *r = make_raster(1, 16, false);
+    sl_raster *r = test_make_raster(1, 16, false, false);
     count_target c;
 
     ct_init(&c, 8, 8);
@@ -217,7 +207,7 @@ static void test_subpixel(void **state)
 {
     (void)state;
     window_uniforms u = {16, 16};
-    sl_raster *r = make_raster(1, 16, false);
+    sl_raster *r = test_make_raster(1, 16, false, false);
     const float d[] = {-1.0f / 256.0f, 1.0f / 256.0f};
     const uint32_t expect[] = {1, 0};
     for (int i = 0; i < 2; i++) {
@@ -280,7 +270,7 @@ static void test_watertight_grid(void **state)
     }
     const int tiles[] = {16, 32};
     for (int k = 0; k < 2; k++) {
-        sl_raster *r = make_raster(2, tiles[k], false);
+        sl_raster *r = test_make_raster(2, tiles[k], false, false);
         count_target c;
         ct_init(&c, W, H);
         draw(r, &c, &prog_window, &u, pos, NULL, (N + 1) * (N + 1), idx, 2 * nt, SL_CULL_BACK);
@@ -315,7 +305,7 @@ static void test_watertight_fan(void **state)
         idx[3 * i + 1] = (uint32_t)(i + 1);
         idx[3 * i + 2] = (uint32_t)((i + 1) % N + 1);
     }
-    sl_raster *r = make_raster(2, 16, false);
+    sl_raster *r = test_make_raster(2, 16, false, false);
     count_target c;
     ct_init(&c, W, H);
     draw(r, &c, &prog_window, &u, pos, NULL, N + 1, idx, N, SL_CULL_BACK);
@@ -386,7 +376,7 @@ static void test_watertight_sphere(void **state)
     mvp_uniforms u;
     vec3 eye = vec3(0.3f, -3.1f, 0.7f);
     u.mvp = mat4_mul(perspective(radians(45.0f), 1.0f, 0.5f, 10.0f), lookAt(eye, vec3(0.01f, 0.02f, 0.0f), vec3(0, 0, 1)));
-    sl_raster *r = make_raster(2, 32, false);
+    sl_raster *r = test_make_raster(2, 32, false, false);
     for (int pass = 0; pass < 2; pass++) {
         count_target c;
         ct_init(&c, W, H);
@@ -434,7 +424,7 @@ static void test_clip_near(void **state)
      * between the eye and the near plane, one in front */
     const vec3 p[] = {{-1.5f, -1.0f, -6.0f}, {2.0f, -0.5f, 2.0f}, {-0.3f, 1.2f, -0.4f}};
     mvp_uniforms u = {perspective(radians((float)fovy), 1.0f, (float)znear, (float)zfar)};
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     count_target c;
     ct_init(&c, W, H);
     draw(r, &c, &prog_mvp, &u, p, NULL, 3, (const uint32_t[]){0, 1, 2}, 1, SL_CULL_NONE);
@@ -485,7 +475,7 @@ static void test_clip_behind(void **state)
     (void)state;
     mvp_uniforms u = {perspective(radians(60.0f), 1.0f, 0.1f, 100.0f)};
     const vec3 p[] = {{-1, -1, 3}, {1, -1, 3}, {0, 1, 2}};
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     count_target c;
     ct_init(&c, 32, 32);
     draw(r, &c, &prog_mvp, &u, p, NULL, 3, (const uint32_t[]){0, 1, 2, 0, 2, 1}, 2, SL_CULL_NONE);
@@ -520,7 +510,7 @@ static void test_clip_enormous(void **state)
     const int ntris[] = {1, 2};
     const vec3 eye_space[] = {{-1e4f, -1000, 95}, {1e4f, -1000, 95}, {0, 1000, -105}};
     mvp_uniforms u = {perspective(radians(60.0f), (float)W / H, 1.0f, 50.0f)};
-    sl_raster *r = make_raster(2, 32, true);
+    sl_raster *r = test_make_raster(2, 32, true, false);
     for (int k = 0; k < 3; k++) {
         count_target c;
         ct_init(&c, W, H);
@@ -570,7 +560,7 @@ static void test_clip_watertight(void **state)
         }
     const double znear = 5.0, tf = tan(30.0 * 3.14159265358979 / 180.0);
     mvp_uniforms u = {perspective(radians(60.0f), 1.0f, (float)znear, 100.0f)};
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     count_target c;
     ct_init(&c, W, H);
     draw(r, &c, &prog_mvp, &u, pos, NULL, (N + 1) * (N + 1), idx, 2 * N * N, SL_CULL_NONE);
@@ -618,7 +608,7 @@ static void test_clip_slivers(void **state)
         idx[3 * i + 1] = (uint32_t)(i + 1);
         idx[3 * i + 2] = (uint32_t)(i + 2);
     }
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     count_target c;
     ct_init(&c, W, H);
     draw(r, &c, &prog_window, &u, pos, NULL, N + 2, idx, N, SL_CULL_BACK);
@@ -650,7 +640,7 @@ static void test_bad_geometry(void **state)
     const vec3 p[] = {{2, 2, 0}, {30, 3, 0}, {5, 29, 0}, {NAN, 4, 0}, {4, INFINITY, 0}, {-INFINITY, 3, 0},
                       {10, 10, 0}, {20, 20, 0}, {30, 30, 0}};
     const uint32_t all[] = {0, 3, 1, 4, 0, 2, 0, 1, 2, 5, 1, 2, 6, 7, 8, 0, 0, 1, 3, 4, 5};
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     count_target alone, mixed;
     ct_init(&alone, 32, 32);
     ct_init(&mixed, 32, 32);
@@ -693,7 +683,7 @@ static void test_bad_varyings(void **state)
 {
     (void)state;
     window_uniforms u = {16, 16};
-    sl_raster *r = make_raster(1, 16, false);
+    sl_raster *r = test_make_raster(1, 16, false, false);
     count_target c;
     ct_init(&c, 16, 16);
     sl_program p = {.vertex = vs_nan_varying, .fragment = fs_count, .varying_count = 1};
@@ -719,7 +709,7 @@ static void test_stats(void **state)
     const uint32_t idx[] = {0, 1, 2, 0, 2, 3};
     count_target c;
     ct_init(&c, 64, 64);
-    sl_raster *r = make_raster(2, 16, true);
+    sl_raster *r = test_make_raster(2, 16, true, false);
     draw(r, &c, &prog_window, &u, p, NULL, 4, idx, 2, SL_CULL_BACK);
     sl_raster_stats st = sl_raster_get_stats(r);
     assert_int_equal(st.triangles_in, 2);
@@ -730,7 +720,7 @@ static void test_stats(void **state)
     assert_int_equal(st.bin_entries, 12 + 2 * 4);
     assert_int_equal(st.tiles_full, 12);
     sl_raster_destroy(r);
-    r = make_raster(2, 16, false);
+    r = test_make_raster(2, 16, false, false);
     draw(r, &c, &prog_window, &u, p, NULL, 4, idx, 2, SL_CULL_BACK);
     st = sl_raster_get_stats(r);
     assert_int_equal(st.triangles_in + st.fragments_shaded + st.bin_entries, 0);
@@ -772,7 +762,7 @@ static void test_many_small_draws(void **state)
     sl_target tref = {.width = S, .height = S, .texel_size = sizeof(uint32_t), .texels = ref.count, .depth_offset = SL_NO_DEPTH}, tc = tref;
     tc.texels = c.count;
     sl_error err = {0};
-    sl_raster *r = make_raster(1, 16, false);
+    sl_raster *r = test_make_raster(1, 16, false, false);
     for (int i = 0; i < N; i++)
         assert_true(sl_raster_draw(r, &tref, &draws[i], &err));
     sl_raster_destroy(r);
@@ -807,7 +797,7 @@ static void test_many_small_draws(void **state)
     uint32_t bad[3] = {7, 1, 9};
     meshes[1234].indices = bad;
     meshes[2000].indices = bad;
-    r = make_raster(2, 16, false);
+    r = test_make_raster(2, 16, false, false);
     assert_false(sl_raster_draw_list(r, &tc, draws, N, &err));
     assert_non_null(strstr(err.msg, "draw 1234: raster: index 2 is 9, mesh has 3 vertices"));
     sl_raster_destroy(r);

@@ -73,14 +73,6 @@ static void free_mesh(sl_mesh *m)
     free(m->indices);
 }
 
-static sl_raster *make_raster(int threads, int tile)
-{
-    sl_error err = {0};
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true}, &err);
-    assert_non_null(r);
-    return r;
-}
-
 static const sl_material mat_a = {.name = "a", .kd = {0.8f, 0.2f, 0.1f}, .ks = {0.04f, 0.05f, 0.06f}, .alpha = 20.0f};
 static const sl_material mat_b = {.name = "b", .kd = {0.1f, 0.7f, 0.3f}, .ks = {0.9f, 0.8f, 0.7f}, .alpha = 500.0f};
 
@@ -304,7 +296,7 @@ static void test_gbuffer_alloc(void **state)
     /* A scene into an unallocated G-buffer is an error, not a crash. */
     test_scene s;
     scene_init(&s);
-    sl_raster *r = make_raster(1, 16);
+    sl_raster *r = test_make_raster(1, 16, true, false);
     assert_false(sl_raster_scene(r, &s.scene, &s.cam, &gb, &err));
     s.objects[1].mesh = 9;
     assert_true(sl_gbuffer_resize(&gb, 8, 8, &err));

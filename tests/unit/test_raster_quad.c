@@ -34,15 +34,6 @@ static void vs_window(const void *uniforms, const sl_vertex_in *in, vec4 *clip, 
     v[2] = in->position.y;
 }
 
-static sl_raster *make_raster(int threads, int tile, bool plain)
-{
-    sl_error err = {0};
-    sl_raster *r = sl_raster_create(
-        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true, .plain = plain}, &err);
-    assert_non_null(r);
-    return r;
-}
-
 static void fill(qtexel *t)
 {
     for (int i = 0; i < W * H; i++)
@@ -98,7 +89,7 @@ static void test_derivatives_exact(void **state)
     static qtexel t[W * H];
     for (int plain = 0; plain < 2; plain++) {
         fill(t);
-        sl_raster *r = make_raster(2, 16, plain);
+        sl_raster *r = test_make_raster(2, 16, true, plain);
         sl_raster_stats st = draw_tri(r, &prog_ramps, t, false, vec3(0, 0, 0), vec3(64, 0, 0), vec3(0, 64, 0));
         sl_raster_destroy(r);
         int covered = 0, bad = 0;
@@ -157,7 +148,7 @@ static void test_sliver_helpers(void **state)
     for (int k = 0; k < 2; k++) {
         float cx = (float)cols[k] + 0.5f;
         fill(t);
-        sl_raster *r = make_raster(1, 64, false);
+        sl_raster *r = test_make_raster(1, 64, true, false);
         sl_raster_stats st =
             draw_tri(r, &prog_sliver, t, true, vec3(cx - 0.25f, 2, 0), vec3(cx + 0.25f, 2, 0), vec3(cx, 62, 0));
         sl_raster_destroy(r);
@@ -212,7 +203,7 @@ static void test_chained_derivatives(void **state)
     (void)state;
     static qtexel t[W * H];
     fill(t);
-    sl_raster *r = make_raster(2, 32, false);
+    sl_raster *r = test_make_raster(2, 32, true, false);
     sl_raster_stats st = draw_tri(r, &prog_chain, t, false, vec3(0, 0, 0), vec3(64, 0, 0), vec3(0, 64, 0));
     sl_raster_destroy(r);
     int checked = 0;
@@ -297,7 +288,7 @@ static void test_discard(void **state)
     for (int k = 0; k < 2; k++)
         for (int plain = 0; plain < 2; plain++) {
             fill(t);
-            sl_raster *r = make_raster(2, 16, plain);
+            sl_raster *r = test_make_raster(2, 16, true, plain);
             sl_raster_stats s1 =
                 draw_tri(r, cut[k], t, true, vec3(-64, -64, -0.5f), vec3(192, -64, -0.5f), vec3(-64, 192, -0.5f));
             sl_raster_stats s2 =
@@ -363,7 +354,7 @@ static void test_stores(void **state)
         for (int threads = 1; threads <= 2; threads++) {
             fill(t);
             memset(plane, 0, sizeof plane);
-            sl_raster *r = make_raster(threads, 16, plain);
+            sl_raster *r = test_make_raster(threads, 16, true, plain);
             vec3 p[3] = {vec3(0, 0, 0), vec3(64, 0, 0), vec3(0, 64, 0)};
             uint32_t idx[3] = {0, 1, 2};
             sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
@@ -399,7 +390,7 @@ static void test_quads_deterministic(void **state)
     const sl_program *progs[3] = {&prog_chain, &prog_cut_deriv, &prog_cut};
     for (int p = 0; p < 3; p++) {
         fill(ref);
-        sl_raster *r = make_raster(1, 16, true);
+        sl_raster *r = test_make_raster(1, 16, true, true);
         draw_tri(r, progs[p], ref, true, vec3(3.3f, 1.7f, 0.1f), vec3(61.2f, 20.4f, -0.3f), vec3(17.9f, 63.1f, 0.4f));
         draw_tri(r, progs[p], ref, true, vec3(60, 60, -0.2f), vec3(1, 40, 0.2f), vec3(40, 2, 0));
         sl_raster_destroy(r);
@@ -407,7 +398,7 @@ static void test_quads_deterministic(void **state)
         for (int k = 0; k < 4; k++)
             for (int plain = 0; plain < 2; plain++) {
                 fill(out);
-                r = make_raster(cfg[k][0], cfg[k][1], plain);
+                r = test_make_raster(cfg[k][0], cfg[k][1], true, plain);
                 draw_tri(r, progs[p], out, true, vec3(3.3f, 1.7f, 0.1f), vec3(61.2f, 20.4f, -0.3f),
                          vec3(17.9f, 63.1f, 0.4f));
                 draw_tri(r, progs[p], out, true, vec3(60, 60, -0.2f), vec3(1, 40, 0.2f), vec3(40, 2, 0));
@@ -439,7 +430,7 @@ static void test_flags(void **state)
     static qtexel t[W * H];
     sl_program bad = prog_far;
     bad.fragment_quad = quad_form;
-    sl_raster *r = make_raster(1, 64, false);
+    sl_raster *r = test_make_raster(1, 64, true, false);
     vec3 p[3] = {{0, 0, 0}, {64, 0, 0}, {0, 64, 0}};
     uint32_t idx[3] = {0, 1, 2};
     sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};

@@ -12,6 +12,7 @@
 #include <cmocka.h>
 
 #include "raster/texture.h"
+#include "testutil.h"
 
 enum { W = 64, H = 64 };
 
@@ -26,15 +27,6 @@ static void vs_window(const void *uniforms, const sl_vertex_in *in, vec4 *clip, 
     (void)uniforms;
     *clip = vec4(in->position.x / 32.0f - 1.0f, in->position.y / 32.0f - 1.0f, in->position.z, 1.0f);
     v[0] = v[1] = v[2] = 0.0f;
-}
-
-static sl_raster *make_raster(int threads, int tile, bool plain)
-{
-    sl_error err = {0};
-    sl_raster *r = sl_raster_create(
-        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true, .plain = plain}, &err);
-    assert_non_null(r);
-    return r;
 }
 
 static void fill(qtexel *t)
@@ -92,7 +84,7 @@ static void test_texture_implicit_lod(void **state)
         tex_uniforms u = {&s, scales[k]};
         sl_program prog = prog_tex;
         fill(t);
-        sl_raster *r = make_raster(2, 16, k == 1);
+        sl_raster *r = test_make_raster(2, 16, true, k == 1);
         vec3 p[3] = {{0, 0, 0}, {128, 0, 0}, {0, 128, 0}};
         uint32_t idx[3] = {0, 1, 2};
         sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};
@@ -161,7 +153,7 @@ static void test_helpers_extrapolate(void **state)
     static qtexel t[W * H];
     for (int k = 0; k < 2; k++) { /* spans, then plain: the same values */
         fill(t);
-        sl_raster *r = make_raster(1, 16, k == 1);
+        sl_raster *r = test_make_raster(1, 16, true, k == 1);
         vec3 p[3] = {{0, 0, 1}, {47.5f, 0, 4}, {0, 47.5f, 4}};
         uint32_t idx[3] = {0, 1, 2};
         sl_mesh m = {.vertex_count = 3, .triangle_count = 1, .positions = p, .indices = idx};

@@ -18,15 +18,6 @@
 #include "scene/camera.h"
 #include "testutil.h"
 
-static sl_raster *make_raster(int threads, int tile, bool plain)
-{
-    sl_error err = {0};
-    sl_raster *r = sl_raster_create(
-        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = true, .plain = plain}, &err);
-    assert_non_null(r);
-    return r;
-}
-
 /* ---- meshes ---- */
 
 /* A UV sphere (radius 1) with smooth normals: curved, many small triangles. */
@@ -338,7 +329,7 @@ static void test_generic_span_vs_plain(void **state)
         memset(ref, 0, n * sizeof *ref);
         for (size_t i = 0; i < n; i++)
             ref[i].depth = 1.0f;
-        sl_raster *plain = make_raster(1, 32, true);
+        sl_raster *plain = test_make_raster(1, 32, true, true);
         draw_probe(plain, ref, W, H, depth, NULL);
         sl_raster_stats ps = sl_raster_get_stats(plain);
         sl_raster_destroy(plain);
@@ -352,7 +343,7 @@ static void test_generic_span_vs_plain(void **state)
         for (int k = 0; k < 3; k++) {
             /* the span path, cleared by the first draw from garbage */
             memset(out, 0xC3, n * sizeof *out);
-            sl_raster *r = make_raster(configs[k][0], configs[k][1], false);
+            sl_raster *r = test_make_raster(configs[k][0], configs[k][1], true, false);
             draw_probe(r, out, W, H, depth, &clear);
             sl_raster_stats st = sl_raster_get_stats(r);
             sl_raster_destroy(r);
@@ -429,7 +420,7 @@ static void test_draw_list(void **state)
     for (int plain = 0; plain < 2; plain++) {
         memset(a, 0x3C, n * sizeof *a);
         memset(b, 0x3C, n * sizeof *b);
-        sl_raster *r = make_raster(2, 32, plain);
+        sl_raster *r = test_make_raster(2, 32, true, plain);
         for (int i = 0; i < 7; i++)
             assert_true(sl_raster_draw(r, &ta, &draws[i], &err));
         sl_raster_stats one = sl_raster_get_stats(r);
@@ -457,7 +448,7 @@ static void test_draw_list(void **state)
     bad.indices = idx;
     bad.triangle_count = 1;
     draws[2].mesh = &bad;
-    sl_raster *r = make_raster(1, 64, false);
+    sl_raster *r = test_make_raster(1, 64, true, false);
     assert_false(sl_raster_draw_list(r, &tb, draws, 7, &err));
     assert_non_null(strstr(err.msg, "draw 2"));
     assert_non_null(strstr(err.msg, "index 2"));
@@ -629,7 +620,7 @@ static void test_quads_span_vs_plain(void **state)
             memset(ref, 0, n * sizeof *ref);
             for (size_t i = 0; i < n; i++)
                 ref[i].depth = 1.0f;
-            sl_raster *r = make_raster(1, 32, true);
+            sl_raster *r = test_make_raster(1, 32, true, true);
             assert_true(sl_raster_draw_list(r, &target, draws, 3, &err));
             sl_raster_stats ps = sl_raster_get_stats(r);
             sl_raster_destroy(r);
@@ -643,7 +634,7 @@ static void test_quads_span_vs_plain(void **state)
                 for (size_t i = 0; i < n; i++)
                     out[i].depth = 1.0f;
                 target.texels = out;
-                r = make_raster(configs[k][0], configs[k][1], false);
+                r = test_make_raster(configs[k][0], configs[k][1], true, false);
                 assert_true(sl_raster_draw_list(r, &target, draws, 3, &err));
                 sl_raster_stats st = sl_raster_get_stats(r);
                 sl_raster_destroy(r);
@@ -707,7 +698,7 @@ static void test_span_fill_rule(void **state)
     static uint32_t ref[64 * 64], out[64 * 64];
     sl_error err = {0};
     memset(ref, 0, sizeof ref);
-    sl_raster *r = make_raster(1, 16, true);
+    sl_raster *r = test_make_raster(1, 16, true, true);
     assert_true(sl_raster_draw(r, &(sl_target){.width = 64, .height = 64, .texel_size = sizeof(uint32_t), .texels = ref, .depth_offset = SL_NO_DEPTH},
                                &(sl_draw){.program = &prog, .mesh = &m}, &err));
     sl_raster_destroy(r);
@@ -719,7 +710,7 @@ static void test_span_fill_rule(void **state)
     const int tiles[] = {16, 32, 64};
     for (int k = 0; k < 3; k++) {
         memset(out, 0, sizeof out);
-        r = make_raster(2, tiles[k], false);
+        r = test_make_raster(2, tiles[k], true, false);
         assert_true(sl_raster_draw(r, &(sl_target){.width = 64, .height = 64, .texel_size = sizeof(uint32_t), .texels = out, .depth_offset = SL_NO_DEPTH},
                                    &(sl_draw){.program = &prog, .mesh = &m}, &err));
         sl_raster_destroy(r);
@@ -820,7 +811,7 @@ static void test_clear_batches(void **state)
             /* reference: clear by hand, then draw */
             for (int i = 0; i < W * H; i++)
                 a[i] = clear;
-            sl_raster *r = make_raster(2, 16, plain);
+            sl_raster *r = test_make_raster(2, 16, true, plain);
             assert_true(sl_raster_draw(r, &ta, &(sl_draw){.program = &prog_count, .mesh = &grid}, &err));
             /* fused: from garbage, with the tile hooks counting */
             memset(b, 0xEE, (size_t)W * H * sizeof *b);
@@ -879,7 +870,7 @@ static void test_clear_empty(void **state)
     for (int k = 0; k < 4; k++) {
         memset(t, 0xEE, (size_t)W * H * sizeof *t);
         sl_target target = {.width = W, .height = H, .texel_size = sizeof *t, .texels = t, .depth_offset = (k & 2) ? (long)offsetof(count_texel, depth) : SL_NO_DEPTH};
-        sl_raster *r = make_raster(2, 32, false);
+        sl_raster *r = test_make_raster(2, 32, true, false);
         const sl_draw dc = {.program = &prog_count, .mesh = meshes[k & 1], .clear = &clear};
         assert_true(sl_raster_draw(r, &target, &dc, &err));
         sl_raster_destroy(r);
@@ -908,7 +899,7 @@ static void test_scene_clear(void **state)
     assert_true(sl_gbuffer_resize(&b, W, H, &err));
     memset(a.texels, 0x77, (size_t)W * H * sizeof *a.texels);
     memset(b.texels, 0x77, (size_t)W * H * sizeof *b.texels);
-    sl_raster *r = make_raster(2, 32, false);
+    sl_raster *r = test_make_raster(2, 32, true, false);
     assert_true(sl_raster_scene(r, &s.scene, &s.cam, &a, &err));
     sl_gbuffer_clear(&b, 0);
     mat4 vp = sl_camera_view_proj(&s.cam, W, H);

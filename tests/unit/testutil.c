@@ -144,3 +144,14 @@ sl_env test_make_env(int w, int h, test_env_fn fn)
     sl_image_free(&img);
     return env;
 }
+
+sl_raster *test_make_raster(int threads, int tile, bool stats, bool plain)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(
+        &(sl_raster_desc){.threads = threads, .tile_size = tile, .stats = stats, .plain = plain}, &err);
+    if (!r)
+        print_error("sl_raster_create: %s\n", err.msg);
+    assert_non_null(r);
+    return r;
+}

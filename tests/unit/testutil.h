@@ -52,6 +52,11 @@ void test_assert_same_texels(const char *file, int line, const void *a, const vo
 void test_assert_same_image(const char *file, int line, const sl_image *a, const sl_image *b, const char *what, ...)
     __attribute__((format(printf, 5, 6)));
 
+/* The raster tests' rasterizer: `threads` threads (0: all cores), tiles of `tile` pixels, counters
+ * when `stats`, the plain path when `plain`. Fails the test, printing sl_raster_create's message,
+ * when it cannot be made. */
+sl_raster *test_make_raster(int threads, int tile, bool stats, bool plain);
+
 /* Rasterize scene into gb (resized to w x h) with a rasterizer made for desc and freed after;
  * asserts success and returns its counters (desc->stats must be set for them to count). */
 sl_raster_stats test_raster_scene(const sl_raster_desc *desc, const sl_scene *scene, const sl_camera *cam, int w,
