@@ -28,6 +28,18 @@ static void warn_repairs(const char *path, const sl_image_repairs *rep)
                 rep->nan_count, rep->inf_count, rep->negative_count);
 }
 
+/* Whether any texel of the frame's G-buffer holds a surface (depth < 1: docs/gbuffer.md). A frame
+ * without one is almost always a camera looking away, or a model too small or too far to cover a
+ * pixel: worth a warning, since the image alone looks like a success. */
+static bool any_surface(const sl_gbuffer *gb)
+{
+    size_t n = (size_t)gb->width * (size_t)gb->height;
+    for (size_t i = 0; i < n; i++)
+        if (gb->texels[i].depth < 1.0f)
+            return true;
+    return false;
+}
+
 /* Render `repeat` frames; r->timings then hold each stage's median, which is what
  * bench/vs-gl compares with softlight-gl --time. */
 static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
@@ -136,6 +148,9 @@ int cmd_render(int argc, char **argv)
     if (r.lighting_stats.nonfinite)
         fprintf(stderr, "softlight render: warning: %lld pixels had NaN/Inf radiance (replaced by 0)\n",
                 (long long)r.lighting_stats.nonfinite);
+    if (!shard.count && !any_surface(sl_renderer_gbuffer(&r)))
+        fprintf(stderr, "softlight render: warning: %s: no surface is in view (the camera sees none of the scene's "
+                "triangles; the image is the environment alone)\n", positional[0]);
 
     /* Every output into one set: replaced together once all were written, or none of them. */
     if (png && !sl_output_set_image(&out, png, sl_image_encode_png, &r.display, &err))

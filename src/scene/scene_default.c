@@ -21,8 +21,15 @@ static sl_camera frame_bounds(vec3 lo, vec3 hi, float fovy_deg)
     vec3 c = scale3(add3(lo, hi), 0.5f);
     float r = maxf(0.5f * length3(sub3(hi, lo)), 1e-3f);
     float d = 1.1f * r / sinf(0.5f * fovy_deg * (3.14159265f / 180.0f));
-    vec3 dir;
-    sl_scene_safe_normalize(vec3(0.0f, -1.0f, 0.35f), &dir);
+    /* From the front and a little above; a flat model (a plaque, a floor plan) is seen from the
+     * side of its largest face instead, which the front view would show edge-on or nearly so:
+     * the view's projected area of the bounds is compared with that face's. */
+    vec3 e = sub3(hi, lo), dir;
+    float front = 0.94f * e.x * e.z + 0.33f * e.x * e.y, face_x = e.y * e.z, face_z = e.x * e.y;
+    vec3 view = vec3(0.0f, -1.0f, 0.35f);
+    if (front < 0.25f * maxf(face_x, face_z))
+        view = face_x >= face_z ? vec3(-1.0f, -0.3f, 0.35f) : vec3(0.0f, -0.6f, 1.0f);
+    sl_scene_safe_normalize(view, &dir);
     return (sl_camera){.eye = add3(c, scale3(dir, d)),
                        .target = c,
                        .up = vec3(0.0f, 0.0f, 1.0f),

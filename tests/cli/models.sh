@@ -43,6 +43,22 @@ else
     bad "quad.obj's material: $(grep material "$T/info")"
 fi
 
+# A flat model standing in the file's x = 0 plane: the default camera sees its face (from the
+# front it would see the plane edge-on and draw nothing); a camera turned away from everything
+# draws the environment alone, with a warning.
+printf 'v 0 0 0\nv 0 1 0\nv 0 1 1\nv 0 0 1\nf 1 2 3 4\n' >"$T/plaque.obj"
+if "$SL" render "$T/plaque.obj" -o "$T/plaque.png" --size 64x36 -q 2>"$T/err" && [ ! -s "$T/err" ]; then
+    ok "a flat model framed face-on, no warning"
+else
+    bad "a flat model: $(cat "$T/err")"
+fi
+printf '{"camera": {"eye": [0, 0, 5], "target": [0, 0, 10], "up": [0, 1, 0]},\n "objects": [{"shape": "sphere"}]}\n' >"$T/away.json"
+if "$SL" render "$T/away.json" -o "$T/away.png" --size 64x36 -q 2>"$T/err" && grep -q 'warning: .*away.json: no surface is in view' "$T/err"; then
+    ok "a camera seeing no triangle: warned"
+else
+    bad "a camera seeing no triangle: $(cat "$T/err")"
+fi
+
 # A glTF with its buffer in a data URI and a camera at (0, 0, 5) (Y-up): the default scene's eye
 # is (0, -5, 0) (Z-up).
 gltf() { # gltf FILE BUFFER_URI
