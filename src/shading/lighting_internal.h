@@ -6,12 +6,12 @@
  *            │                   └──────────> lighting.c (the pixel's sum, its rotation, split sum)
  *            └──────────> lighting_splitsum.c (split sum) ──> lighting.c (shade_finish)
  *                                └──────────> lighting_batched.c (shade_background_span)
- *     lighting.c <──> splitsum_lut.c (the port's split sum reads the table's lobe width;
- *                                     the table is integrated with the port's samples)
+ *     splitsum_lut.c ──> lighting.c (the table is integrated with the port's samples; the
+ *                                    port reads the table's lobe width from brdf.h)
  *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
  *     ground_truth_image.c ─> lighting.c (facing_normal: the exact pass bends normals as the shader does)
  *
- * lighting.c and splitsum_lut.c call each other: the one cycle in this stage.
+ * No two files call each other.
  * The port exports the GLSL functions the others reuse (shade_*: the sample generators for the
  * per-alpha tables, pixel_rotation, the covered pixel's sum); the trace hooks below are the few
  * named points where either path records a pixel; the per-thread task holds the sample tables. */
@@ -68,7 +68,7 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
     return gb->extra ? gb->extra[(size_t)y * (size_t)gb->width + (size_t)x] : none;
 }
 
-/* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
+/* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
  * point lights, emission.
  * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
  * the whole span (sl_irradiance_eval_span: the same bits).
