@@ -51,6 +51,7 @@ typedef struct {
      * G-buffer texels after the raster, so lighting and ground truth cost only the band */
     bool banded;
     int band[2];
+    const sl_lighting_program *lighting_program; /* the lighting stage's shading; NULL = the built-in */
 } sl_render_desc;
 
 typedef struct {

@@ -470,6 +470,18 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     return specular_splitsum(u, N, V, Ks, alpha, trace);
 }
 
+vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }
+vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
+vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    return specular_env_lights(u, N, V, Ks, alpha);
+}
+vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
+{
+    return point_light(u, i, P, N, V, Kd, Ks, alpha);
+}
+vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord) { return background(u, fragCoord); }
+
 /* ---- public helpers (lighting.h): for tests and the viewer's mip-level view ---- */
 
 float sl_lighting_mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w)

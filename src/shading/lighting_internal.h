@@ -50,6 +50,30 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GL
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
 
+/* The toolbox's pieces of the port (softlight/lighting.h, lighting_program.c): GLSL env_lod,
+ * irradiance, specular_env_lights, point_light, background. */
+vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod);
+vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
+vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
+vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
+vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
+
+/* What a lighting program's toolbox reads (softlight/lighting.h: opaque there): the frame's
+ * uniforms and G-buffer, the calling thread's task and the trace (both may be NULL). */
+struct sl_lighting_resources {
+    const sl_lighting_uniforms *u;
+    const sl_gbuffer *gb;
+    sl_lighting_task *task;
+    sl_lighting_trace *trace;
+};
+
+/* The built-in program's two forms (lighting_program.c): the pass's dispatch between the port,
+ * the batched path and the split sum, per texel and per span. */
+vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                               sl_lighting_task *task, sl_lighting_trace *trace);
+void sl_lighting_builtin_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                             sl_lighting_task *task, vec3 *out);
+
 /* A covered pixel as main() has it once its frame is known. */
 typedef struct {
     vec3 P, Kd, Ks;
