@@ -25,6 +25,13 @@
  *
  * Integer vectors: ivec2 only (texelFetch and textureSize take and return one).
  *
+ * Lighting programs (softlight/lighting.h): a source that defines SL_GLSL_LIGHTING before
+ * including this header also gets the lighting section at the end, lighting.frag's own names
+ * for the toolbox (irradiance, env_lod, hammersley_point, point_light, specular_env_lights,
+ * background, facing_normal, lobe_param, the sl_brdf_* / sl_ggx_* / sl_lobe_* BRDF terms,
+ * sl_dir_to_uv, textureLod on the environment). The resources pass explicitly, as `in` does for
+ * the derivatives: GLSL `irradiance(N)` is `irradiance(res, N)`.
+ *
  * Does not: provide swizzles beyond .x/.y/.z/.w members and xyz(), or integer
  * vectors beyond ivec2. */
 #ifndef SOFTLIGHT_GLSL_H
@@ -332,5 +339,65 @@ static inline vec4 textureGrad(const sl_sampler2D *s, vec2 uv, vec2 dPdx, vec2 d
 }
 static inline vec4 texelFetch(const sl_sampler2D *s, ivec2 p, int lod) { return sl_texel_fetch(s, p, lod); }
 static inline ivec2 textureSize(const sl_sampler2D *s, int lod) { return sl_texture_size(s, lod); }
+
+#endif
+
+/* ---- the lighting section (opt-in: #define SL_GLSL_LIGHTING before the include) ----
+ * Outside the include guard, so a source that included this header before defining
+ * SL_GLSL_LIGHTING gets the section by including it again. */
+#if defined(SL_GLSL_LIGHTING) && !defined(SOFTLIGHT_GLSL_LIGHTING_SECTION)
+#define SOFTLIGHT_GLSL_LIGHTING_SECTION
+
+#include <softlight/lighting.h>
+
+/* GLSL textureLod(uEnv, uv, lod): the environment's chain, with the resources in uEnv's place. */
+#undef textureLod
+#define textureLod(s, uv, lod)                                                                              \
+    _Generic((s), sl_sampler2D *: sl_texture_lod, const sl_sampler2D *: sl_texture_lod,                     \
+             sl_lighting_resources *: sl_lighting_texture_lod,                                              \
+             const sl_lighting_resources *: sl_lighting_texture_lod)(s, uv, lod)
+static inline vec2 sl_dir_to_uv(vec3 d) { return sl_lighting_dir_to_uv(d); }
+static inline vec3 sl_uv_to_dir(vec2 uv) { return sl_lighting_uv_to_dir(uv); }
+
+/* the BRDF, both sets (alpha: the lobe parameter, >= 0 Phong, <= -1 GGX) */
+static inline float sl_brdf_D(float NdotH, float alpha) { return sl_lighting_brdf_D(NdotH, alpha); }
+static inline float sl_brdf_G(float LdotH, int gterm) { return sl_lighting_brdf_G(LdotH, gterm); }
+static inline vec3 sl_brdf_F(vec3 Ks, float LdotH) { return sl_lighting_brdf_F(Ks, LdotH); }
+static inline float sl_ggx_a2(float alpha) { return sl_lighting_ggx_a2(alpha); }
+static inline float sl_ggx_D(float NdotH, float a2) { return sl_lighting_ggx_D(NdotH, a2); }
+static inline float sl_ggx_G(float NdotL, float NdotV, float a2) { return sl_lighting_ggx_G(NdotL, NdotV, a2); }
+static inline bool sl_lobe_is_ggx(float alpha) { return alpha < 0.0f; }
+static inline float sl_lobe_D(float NdotH, float alpha) { return sl_lighting_lobe_D(NdotH, alpha); }
+static inline float sl_lobe_G(float LdotH, float NdotL, float NdotV, float alpha, int gterm)
+{
+    return sl_lighting_lobe_G(LdotH, NdotL, NdotV, alpha, gterm);
+}
+
+/* lighting.frag's functions, the resources first */
+static inline float lobe_param(float a) { return sl_lighting_lobe_param(a); }
+static inline vec3 facing_normal(vec3 N, vec3 V) { return sl_lighting_facing_normal(N, V); }
+static inline vec2 hammersley_point(const sl_lighting_resources *res, int k)
+{
+    return sl_lighting_hammersley_point(res, k);
+}
+static inline vec3 irradiance(const sl_lighting_resources *res, vec3 N) { return sl_lighting_irradiance(res, N); }
+static inline vec3 env_lod(const sl_lighting_resources *res, vec3 w, float lod)
+{
+    return sl_lighting_env_lod(res, w, lod);
+}
+static inline vec3 specular_env_lights(const sl_lighting_resources *res, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    return sl_lighting_env_lights(res, N, V, Ks, alpha);
+}
+static inline vec3 point_light(const sl_lighting_resources *res, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
+                               float alpha)
+{
+    return sl_lighting_point_light(res, i, P, N, V, Kd, Ks, alpha);
+}
+/* GLSL background(gl_FragCoord.xy) for the texel `in` */
+static inline vec3 background(const sl_lighting_resources *res, const sl_lighting_texel_in *in)
+{
+    return sl_lighting_background(res, in->x, in->y);
+}
 
 #endif

@@ -8,6 +8,7 @@
  *   raster.h    draws into render targets
  *   gbuffer.h   the G-buffer
  *   renderer.h  whole frames
+ *   lighting.h  the lighting-program contract and its toolbox
  *
  * Valid C11 and C++. GLSL's vocabulary (vec3, dot, normalize, dFdx, texture ...) is not part of
  * it: a C shader source opts in with #include <softlight/glsl.h>. */
@@ -23,6 +24,7 @@
 #include <softlight/raster.h>
 #include <softlight/gbuffer.h>
 #include <softlight/renderer.h>
+#include <softlight/lighting.h>
 #include <softlight/data.h>
 
 #endif

@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "core/output_set.h"
 #include "core/timer.h"
+#include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
 #include "shard.h"
@@ -62,11 +63,12 @@ int cmd_render(int argc, char **argv)
 {
     const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
     const char *shard_arg = NULL;
-    bool quiet = false;
+    bool quiet = false, verbose = false, debug_shader = false;
+    const char *lighting = NULL;
     int repeat = 1;
     sl_render_options ro;
     sl_shard shard = {0};
-    sl_arg table[SL_RENDER_OPTION_COUNT + 11];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 14];
     int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
@@ -84,6 +86,13 @@ int cmd_render(int argc, char **argv)
     table[n++] = (sl_arg){"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
                           "where --shard writes its partial (default: the first output + .shard-I-of-N)", NULL};
     table[n++] = (sl_arg){"--quiet", "-q", SL_ARG_FLAG, &quiet, 0, 0, NULL, NULL, "print nothing but errors", NULL};
+    table[n++] = (sl_arg){"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
+                          "shade with this lighting program: a C source (compiled and cached) or a shared object "
+                          "(docs/lighting-programs.md)", NULL};
+    table[n++] = (sl_arg){"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
+                          "compile the --lighting source with -g -O0, for a debugger", NULL};
+    table[n++] = (sl_arg){"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
+                          "print the --lighting compiler command", NULL};
 
     const char *positional[1];
     int npos;
@@ -104,6 +113,14 @@ int cmd_render(int argc, char **argv)
         (shard_arg && !sl_shard_identity("render", argc, argv, positional[0], &identity, &err))) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
+    }
+    if (lighting) { /* only the command line names code to run; a scene never does */
+        char msg[1200];
+        sl_lighting_load_options lo = {.debug = debug_shader, .verbose = verbose};
+        if (!sl_lighting_load(lighting, &lo, &desc.lighting_program, msg, sizeof msg)) {
+            fprintf(stderr, "softlight render: %s\n", msg);
+            return 2;
+        }
     }
     char default_png[1024];
     if (!png && !hdr && !pfm && !aov && !normals && !exr) {
@@ -145,7 +162,10 @@ int cmd_render(int argc, char **argv)
     warn_repairs(scene.environment.hdr_path, &r.env_repairs);
     if (!render_frames(&r, repeat, &err))
         goto done;
-    if (r.lighting_stats.nonfinite)
+    if (r.lighting_stats.nonfinite && lighting)
+        fprintf(stderr, "softlight render: warning: %s: %lld pixels had NaN/Inf radiance (written as magenta)\n",
+                lighting, (long long)r.lighting_stats.nonfinite);
+    else if (r.lighting_stats.nonfinite)
         fprintf(stderr, "softlight render: warning: %lld pixels had NaN/Inf radiance (replaced by 0)\n",
                 (long long)r.lighting_stats.nonfinite);
     if (!shard.count && !any_surface(sl_renderer_gbuffer(&r)))

@@ -2,11 +2,14 @@
  * pixel's texture fetches (trace_fetches.c), then run the C lighting shader for one pixel with a
  * trace, printing every intermediate value and then the fetches. The traced code is the same
  * function the lighting pass runs, so a breakpoint in sl_lighting_shade (gdb: `break
- * sl_lighting_shade if x == X`) follows the same path. */
+ * sl_lighting_shade if x == X`) follows the same path. With --lighting, the pixel runs through
+ * that program instead (its texel and result are printed; gdb stops in the program's own
+ * function: docs/lighting-programs.md). */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "commands.h"
+#include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
 #include "shading/lighting_trace.h"
@@ -15,11 +18,19 @@
 int cmd_trace(int argc, char **argv)
 {
     int pixel[2] = {-1, -1};
+    const char *lighting = NULL;
+    bool verbose = false, debug_shader = false;
     sl_render_options ro;
-    sl_arg table[SL_RENDER_OPTION_COUNT + 1];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 4];
     int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--pixel", "-p", SL_ARG_PAIR, pixel, 0, SL_RASTER_MAX_SIZE - 1, NULL, "X,Y",
                           "the pixel to trace, (0,0) = top left as in the written image", NULL};
+    table[n++] = (sl_arg){"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
+                          "trace this lighting program (a C source or a shared object): the texel and its result", NULL};
+    table[n++] = (sl_arg){"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
+                          "compile the --lighting source with -g -O0, for a debugger", NULL};
+    table[n++] = (sl_arg){"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
+                          "print the --lighting compiler command", NULL};
     const char *positional[1];
     int npos;
     bool help;
@@ -38,6 +49,14 @@ int cmd_trace(int argc, char **argv)
     if (!sl_render_options_desc(&ro, &desc, &err)) {
         fprintf(stderr, "softlight trace: %s\n", err.msg);
         return 2;
+    }
+    if (lighting) { /* only the command line names code to run; a scene never does */
+        char msg[1200];
+        sl_lighting_load_options lo = {.debug = debug_shader, .verbose = verbose};
+        if (!sl_lighting_load(lighting, &lo, &desc.lighting_program, msg, sizeof msg)) {
+            fprintf(stderr, "softlight trace: %s\n", msg);
+            return 2;
+        }
     }
     sl_scene scene;
     if (!sl_scene_load(positional[0], &scene, &err)) {

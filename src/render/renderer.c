@@ -381,6 +381,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .splitsum_phong = sl_renderer_splitsum_chain(r, false),
         .splitsum_ggx = sl_renderer_splitsum_chain(r, true),
         .splitsum_lut = r->splitsum_lut,
+        .program = r->desc.lighting_program,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

@@ -57,6 +57,7 @@ typedef struct {
     bool plain_raster;            /* the rasterizer's per-pixel reference path (sl_raster_desc.plain) */
     size_t image_budget;          /* bytes one image read from a file may take decoded (the
                                      environment, the irradiance map) */
+    const sl_lighting_program *lighting_program; /* the lighting stage's shading; NULL = the built-in */
 } sl_render_desc;
 
 typedef struct {

@@ -106,4 +106,14 @@ static inline float sl_ggx_phong_equivalent(float r)
     return 2.0f / (a * a) - 2.0f;
 }
 
+/* The split sum's lobe width of a lobe parameter (the G-buffer alpha after lobe_param): GGX's
+ * r = -1 - alpha, a Phong exponent's (2 / (alpha + 2))^(1/4), the width of equal peak
+ * (splitsum_lut.h indexes its table with it). */
+static inline float sl_splitsum_width(float alpha)
+{
+    if (alpha < 0.0f)
+        return -1.0f - alpha;
+    return sqrtf(sqrtf(2.0f / (alpha + 2.0f)));
+}
+
 #endif

@@ -1,9 +1,14 @@
 /* lighting.c - the lighting shader: a line-by-line C port of shaders/lighting.frag.
  *
- * Every function tagged "GLSL: name" is the GLSL function of that name, in the same order, with
- * the same variable names; a uniform uX is u->uX. This is the reference path: it runs when
- * options.plain is set (the debug switch, docs/lighting.md "Two paths") and is what a reader
- * compares with the GLSL. The C-only lines are the trace hooks and counters (lighting_internal.h:
+ * Every function tagged with a comment line of its own, exactly `/ * GLSL: name * /` (without the
+ * spaces) right above it, is the GLSL function of that name, in the GLSL file's order, with the
+ * same variable names; a uniform uX is u->uX. One tag per GLSL function: main's two helpers say
+ * "Part of GLSL main", and the functions that live elsewhere (the BRDF in brdf.h, lobe_param in
+ * lighting_internal.h, the irradiance maps and the octahedral layout in src/ibl) are not tagged
+ * here.
+ *
+ * This is the reference path: it runs when options.plain is set (the debug switch,
+ * docs/lighting.md "Two paths") and is what a reader compares with the GLSL. The C-only lines are the trace hooks and counters (lighting_internal.h:
  * a pixel's trace is filled at a few named points, a no-op when the trace is NULL) and main()'s
  * split in three (sl_shade_plain, then sl_shade_surface_color for a covered pixel's sum and
  * sl_shade_finish for the NaN guard), so the batched path (lighting_batched.c) shares all but the
@@ -36,6 +41,19 @@ static const float TINY = SL_BRDF_TINY;
 static const float MIN_LIGHT_D2 = 1e-8f;
 #define PI SL_PI
 
+/* GLSL: ggx_cos_theta */
+static float ggx_cos_theta(float xi2, float a2)
+{
+    return sqrtf((1.0f - xi2) / ((1.0f - xi2) + a2 * xi2));
+}
+
+/* GLSL: ggx_D_of_xi */
+static float ggx_D_of_xi(float xi2, float a2)
+{
+    float t = (1.0f - xi2) + a2 * xi2;
+    return t * t / (PI * a2);
+}
+
 /* GLSL: hammersley_point */
 static vec2 hammersley_point(const sl_lighting_uniforms *u, int k)
 {
@@ -43,7 +61,8 @@ static vec2 hammersley_point(const sl_lighting_uniforms *u, int k)
     return ((k & 1) == 0) ? vec2(h.x, h.y) : vec2(h.z, h.w);
 }
 
-/* GLSL: hash_u32 (Wellons' lowbias32: two multiply-xorshift rounds, full avalanche) */
+/* hash_u32: Wellons' lowbias32: two multiply-xorshift rounds, full avalanche */
+/* GLSL: hash_u32 */
 static uint32_t hash_u32(uint32_t x)
 {
     x ^= x >> 16;
@@ -62,19 +81,6 @@ static vec2 pixel_rotation(const sl_lighting_uniforms *u, int x, int y)
     return vec2((float)(h >> 8) * (1.0f / 16777216.0f), (float)(h2 >> 8) * (1.0f / 16777216.0f));
 }
 
-/* GLSL: ggx_cos_theta */
-static float ggx_cos_theta(float xi2, float a2)
-{
-    return sqrtf((1.0f - xi2) / ((1.0f - xi2) + a2 * xi2));
-}
-
-/* GLSL: ggx_D_of_xi */
-static float ggx_D_of_xi(float xi2, float a2)
-{
-    float t = (1.0f - xi2) + a2 * xi2;
-    return t * t / (PI * a2);
-}
-
 /* GLSL: skewed_sample */
 static vec3 skewed_sample(vec2 xi, float alpha)
 {
@@ -91,22 +97,6 @@ static float sample_pdf(vec2 xi, float alpha)
         return ggx_D_of_xi(xi.y, a2) * ggx_cos_theta(xi.y, a2);
     }
     return (alpha + 1.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 1.0f));
-}
-
-/* GLSL: microfacet_sample */
-static vec3 microfacet_sample(vec2 xi, float alpha)
-{
-    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 2.0f));
-    vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
-    return sl_uv_to_dir(uv);
-}
-
-/* GLSL: microfacet_D */
-static float microfacet_D(vec2 xi, float alpha)
-{
-    if (sl_lobe_is_ggx(alpha))
-        return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
-    return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
 }
 
 /* GLSL: mip_level */
@@ -133,8 +123,9 @@ static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w
     return clamp(lod, 0.0f, u->uEnvMaxLod);
 }
 
-/* GLSL: env_lod (the octahedral branch is texture_lod.h's sl_oct_texture_lod: env_oct_uv, then
- * the trilinear filter of env_oct_bilinear) */
+/* env_lod: the octahedral branch is texture_lod.h's sl_oct_texture_lod: env_oct_uv, then
+ * the trilinear filter of env_oct_bilinear */
+/* GLSL: env_lod */
 static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
 {
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
@@ -155,8 +146,9 @@ static vec3 facing_normal(vec3 N, vec3 V)
     return N;
 }
 
-/* GLSL: irradiance. sl_irradiance_eval (src/ibl/irradiance.c) is both branches: the SH9 sum
+/* irradiance: sl_irradiance_eval (src/ibl/irradiance.c) is both branches: the SH9 sum
  * over uSH and the map lookup of uIrradianceMap. */
+/* GLSL: irradiance */
 static vec3 irradiance(const sl_lighting_uniforms *u, vec3 N)
 {
     return sl_irradiance_eval(u->uIrradiance, N);
@@ -211,8 +203,25 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
-/* GLSL: specular_microfacet (the derivation is in the GLSL). The trace records a sample's H,
+/* GLSL: microfacet_sample */
+static vec3 microfacet_sample(vec2 xi, float alpha)
+{
+    float c = sl_lobe_is_ggx(alpha) ? ggx_cos_theta(xi.y, sl_ggx_a2(alpha)) : powf(xi.y, 1.0f / (alpha + 2.0f));
+    vec2 uv = vec2(xi.x, acosf(clamp(c, -1.0f, 1.0f)) / PI);
+    return sl_uv_to_dir(uv);
+}
+
+/* GLSL: microfacet_D */
+static float microfacet_D(vec2 xi, float alpha)
+{
+    if (sl_lobe_is_ggx(alpha))
+        return ggx_D_of_xi(xi.y, sl_ggx_a2(alpha));
+    return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
+}
+
+/* specular_microfacet: the derivation is in the GLSL. The trace records a sample's H,
  * N.H, V.H (as L.H) and D before the test, its p(w) after it. */
+/* GLSL: specular_microfacet */
 static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                                 sl_lighting_task *task, sl_lighting_trace *trace)
 {
@@ -259,14 +268,16 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
-/* GLSL: splitsum_width (splitsum_lut.h: GGX's roughness, or the Phong exponent's equal-peak one) */
+/* splitsum_width: brdf.h's sl_splitsum_width, GGX's roughness or the Phong exponent's equal-peak one */
+/* GLSL: splitsum_width */
 static float splitsum_width(float alpha)
 {
     return sl_splitsum_width(alpha);
 }
 
-/* GLSL: splitsum_lut. texture() of the table at the texel centres of set `set`: N.V = i / (S - 1)
+/* splitsum_lut: texture() of the table at the texel centres of set `set`: N.V = i / (S - 1)
  * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). */
+/* GLSL: splitsum_lut */
 static vec2 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
 {
     float s = (float)SPLITSUM_LUT_SIZE;
@@ -277,9 +288,10 @@ static vec2 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, fl
     return vec2(t.x, t.y);
 }
 
-/* GLSL: specular_splitsum. The split-sum approximation (Karis 2013): the environment
+/* specular_splitsum: The split-sum approximation (Karis 2013): the environment
  * prefiltered with the lobe at N = V = R (src/ibl/prefilter.c), read along R at the lobe's
  * level, times the BRDF's albedo Ks A + B (splitsum_lut.h). No samples. */
+/* GLSL: specular_splitsum */
 static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                               sl_lighting_trace *trace)
 {
@@ -296,10 +308,11 @@ static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec
     return spec;
 }
 
-/* GLSL: specular_env_lights. Each env light is one texel's quadrature node (its centroid
+/* specular_env_lights: Each env light is one texel's quadrature node (its centroid
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
  * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
  * facing away (N.H <= 0). */
+/* GLSL: specular_env_lights */
 static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
 {
     vec3 sum = vec3s(0.0f);
@@ -351,7 +364,7 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
     return scale(textureLod(u->uEnv, sl_dir_to_uv(d), 0.0f), u->uEnvIntensity);
 }
 
-/* GLSL: main, from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */
+/* Part of GLSL main: from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */
 vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
                          const vec3 *specular, sl_lighting_task *task, sl_lighting_trace *trace)
 {
@@ -398,7 +411,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     return color;
 }
 
-/* GLSL: main, its last two lines (the batched path ends its pixels here too). */
+/* Part of GLSL main: its last two lines (the batched path ends its pixels here too). */
 vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     bool finite = isfinite(color.x) && isfinite(color.y) && isfinite(color.z);
@@ -411,7 +424,8 @@ vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trac
     return finite ? color : vec3s(0.0f);
 }
 
-/* GLSL: main. pixel = (x, y) = ivec2(gl_FragCoord.xy); the texel fields are the texelFetches. */
+/* main: pixel = (x, y) = ivec2(gl_FragCoord.xy); the texel fields are the texelFetches. */
+/* GLSL: main */
 vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y, sl_lighting_task *task,
                  sl_lighting_trace *trace)
 {
@@ -455,6 +469,18 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 {
     return specular_splitsum(u, N, V, Ks, alpha, trace);
 }
+
+vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }
+vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
+vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    return specular_env_lights(u, N, V, Ks, alpha);
+}
+vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
+{
+    return point_light(u, i, P, N, V, Kd, Ks, alpha);
+}
+vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord) { return background(u, fragCoord); }
 
 /* ---- public helpers (lighting.h): for tests and the viewer's mip-level view ---- */
 

@@ -37,6 +37,7 @@
 
 #include "../core/error.h"
 #include <softlight/glsl.h>
+#include <softlight/lighting.h>
 #include "../core/image.h"
 #include "../core/options.h"
 #include "../ibl/env_lights.h"
@@ -106,6 +107,8 @@ typedef struct {
     const sl_env *splitsum_phong, *splitsum_ggx; /* required when options.estimator is SPLITSUM:
                                         sl_env_prefilter of what the samples read, each lobe set */
     const sl_splitsum_lut *splitsum_lut;         /* ... and the BRDF's table (splitsum_lut.h) */
+    const sl_lighting_program *program;          /* the shading (softlight/lighting.h); NULL = the
+                                                    built-in, sl_lighting_builtin() */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -153,6 +156,9 @@ typedef struct {
     /* C only: the env lights as structure of arrays, for the batched path's vector loads */
     float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
     float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];
+    /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
+    const sl_lighting_program *program;
+    sl_lighting_frame_uniforms frame;
 } sl_lighting_uniforms;
 
 /* Resolve options, build the Hammersley set and derive every uniform. False with SL_ERR_RANGE
@@ -169,7 +175,8 @@ typedef struct {
     int64_t bent_normals;      /* normals bent toward the eye (N.V < 0.01) */
     int64_t pole_frames;       /* the sample frame's axis (R; N for the microfacet estimator)
                                   within 1e-3 of +-Z: the X x axis frame was used */
-    int64_t nonfinite;         /* pixels whose NaN/Inf was replaced by 0 (should stay 0) */
+    int64_t nonfinite;         /* pixels whose NaN/Inf was replaced: by 0 in the built-in program
+                                  (should stay 0), by magenta (SL_LIGHTING_NONFINITE) in another */
 } sl_lighting_stats;
 
 /* Per-thread scratch: the batched path's per-alpha sample cache (docs/lighting.md "Two paths")
@@ -185,8 +192,12 @@ void sl_lighting_task_reset(sl_lighting_task *task);
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats); /* adds */
 void sl_lighting_task_destroy(sl_lighting_task *task);
 
-/* The C port of main(): radiance of G-buffer texel (x, y), row 0 = bottom, i.e.
- * gl_FragCoord = (x + 0.5, y + 0.5). `task` may be NULL (no cache, no counters; same bits);
+/* What a lighting program's NaN or Inf becomes (the built-in repairs its own to 0): magenta,
+ * loud in any tone map. */
+#define SL_LIGHTING_NONFINITE vec3(1.0f, 0.0f, 1.0f)
+
+/* The frame's lighting program: radiance of G-buffer texel (x, y) (the built-in: the C port of
+ * main()), row 0 = bottom, i.e. gl_FragCoord = (x + 0.5, y + 0.5). `task` may be NULL (no cache, no counters; same bits);
  * `trace` may be NULL (the fast path tests it once per sample). Never returns NaN/Inf. */
 vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
                        sl_lighting_task *task, sl_lighting_trace *trace);

@@ -37,6 +37,8 @@
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
 
+/* ======================== constants and the sample block ======================== */
+
 /* GLSL constants, as lighting.c has them */
 static const int LOD_SPEC = SL_LOD_SPEC;
 static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
@@ -66,6 +68,8 @@ typedef struct {
 
 /* log2(TINY): the floor of every log2 in mip_level */
 static const float LOG2_TINY = -99.6578428f;
+
+/* ======================== stage (0): rotated samples ======================== */
 
 /* Stage (0), rotation on: the pixel's pairs fract(xi + rotation) skewed to the lobe, i.e.
  * skewed_sample and sample_pdf of the rotated pair (plus = 1), or microfacet_sample and
@@ -131,6 +135,8 @@ static void rotated_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, b
         b->pdf[i] = t * t / (PI * a2) * (pdf_cos * ct + (1.0f - pdf_cos));
     }
 }
+
+/* ======================== per-sample helpers and the trace ======================== */
 
 /* clamp(lod, 0, max_lod) with NaN -> 0 (the fetch indexes with it) */
 static inline float clamp_lod(float lod, float max_lod)
@@ -206,6 +212,8 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         ts->sum = *sum;
     }
 }
+
+/* ======================== stage (1): directions and weights ======================== */
 
 /* GGX's G' = 4 Vis(w.N, N.V) = 2 / (w.N kv + N.V sqrt((w.N)^2 (1 - a^2) + a^2)), kv the N.V half
  * (ggx_kv, once a pixel; brdf.h's sl_ggx_G over 2 (w.N)(N.V)); for w.N <= 0 a value stage (4)
@@ -322,37 +330,233 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
     }
 }
 
+/* ======================== specular_samples and its stages ======================== */
+
+/* What every stage of specular_samples reads for one pixel: the options as flags, the lobe,
+ * the lod's constants and the Fresnel terms. Built once a pixel (lobe_consts_for) and passed by
+ * pointer into the always-inlined stages, where its fields stay in registers. */
+typedef struct {
+    bool mf, ggx, inv_lh2, consistent, distortion, oct;
+    int rule;
+    float alpha, a2;
+    float base, max_lod, sin_min, intensity;
+    float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
+    float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
+    vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
+} lobe_consts;
+
+__attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const sl_lighting_uniforms *u, vec3 Ks,
+                                                                         float alpha)
+{
+    lobe_consts c;
+    c.mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    c.ggx = sl_lobe_is_ggx(alpha);
+    c.inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    c.consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
+    c.distortion = u->uDistortion != 0;
+    c.oct = u->uEnvLayout == ENV_LAYOUT_OCT;
+    c.rule = u->uLodRule;
+    c.alpha = alpha;
+    c.a2 = c.ggx ? sl_ggx_a2(alpha) : 0.0f;
+    c.base = u->uLodBase;
+    c.max_lod = u->uEnvMaxLod;
+    c.sin_min = u->uSinThetaMin;
+    c.intensity = u->uEnvIntensity;
+    c.log2_c_lod = c.ggx ? sl_fast_log2(c.a2 / PI) - (c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f)
+                         : sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
+    c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
+    c.Ks = Ks;
+    c.F1 = sub(vec3s(1.0f), Ks);
+    return c;
+}
+
+/* Stage (0): the block's skewed samples, from the task's table, recomputed (no task), or
+ * rotated per pixel. Returns where they are (the table's arrays or the block's). */
+__attribute__((always_inline)) static inline lobe_view stage_samples(const sl_lighting_uniforms *u,
+                                                                     const lobe_consts *c, const lobe_table *lobe,
+                                                                     const azimuth_table *az, bool rotate,
+                                                                     vec2 rotation, int k0, int m, sample_block *b)
+{
+    if (lobe)
+        return (lobe_view){lobe->xi1 + k0, lobe->xi2 + k0, lobe->Lx + k0, lobe->Ly + k0, lobe->Lz + k0,
+                           lobe->pdf + k0};
+    if (rotate && c->ggx)
+        rotated_lobe_ggx(az, k0, m, c->a2, c->mf, rotation, b);
+    else if (rotate)
+        rotated_lobe(az, k0, m, c->alpha, c->mf ? 2.0f : 1.0f, rotation, b);
+    else
+        sl_shade_lobe_fill(u, c->alpha, c->mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
+    return (lobe_view){b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf};
+}
+
+/* Stage (1): directions, dot products, G (or GGX's G'), the Fresnel factor, then the texture
+ * coordinates of w in the samples' layout: lat-long (the fast atan2s) or octahedral (the port's
+ * own divisions and selects: the same bits). One loop per estimator and lobe set, chosen per
+ * pixel. A sample with N.H = 0 (a rotated xi2 of 0) divides by 0 here; it has w.N < 0, so
+ * stage (4) drops it. */
+__attribute__((always_inline)) static inline void stage_directions(const lobe_consts *c, const lobe_view *s, int m,
+                                                                   vec3 N, vec3 V, vec3 R, vec3 A, vec3 B,
+                                                                   sample_block *b)
+{
+    if (c->mf && c->ggx)
+        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, true, c->a2);
+    else if (c->mf)
+        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, false, c->a2);
+    else if (c->ggx)
+        spec_directions(b, m, s->Lx, s->Ly, s->Lz, N, V, R, A, B, c->inv_lh2, true, c->a2);
+    else
+        spec_directions(b, m, s->Lx, s->Ly, s->Lz, N, V, R, A, B, c->inv_lh2, false, c->a2);
+    if (c->oct) {
+#pragma omp simd
+        for (int i = 0; i < m; i++)
+            sl_oct_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
+    } else {
+#pragma omp simd
+        for (int i = 0; i < m; i++)
+            sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
+    }
+}
+
+/* Stage (2): mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
+ * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule. Then the consistent
+ * estimator's weight D / pdf, with the port's D (a pow per sample). */
+__attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c, const float *pdf, int m,
+                                                            sample_block *b)
+{
+    const int rule = c->rule;
+    const float base = c->base, max_lod = c->max_lod, alpha = c->alpha, a2 = c->a2;
+    if (c->distortion && c->oct) { /* the octahedral texel's |w|_1^3 / pi */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float l1 = (fabsf(b->wx[i]) + fabsf(b->wy[i])) + fabsf(b->wz[i]);
+            b->lod[i] = sl_fast_log2(l1 * l1 * l1 / PI);
+        }
+    } else if (c->distortion) {
+        const float sin_min = c->sin_min;
+#pragma omp simd
+        for (int i = 0; i < m; i++)
+            b->lod[i] = sl_fast_log2(0.5f * PI * maxf(sqrtf(maxf(1.0f - b->wz[i] * b->wz[i], 0.0f)), sin_min));
+    } else {
+        memset(b->lod, 0, sizeof(float) * (size_t)m); /* log2 d = 0 */
+    }
+    if (c->mf && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) { /* D(H) is at hand: log2 of it */
+        const float log2_d4 = c->log2_d4;
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float lg = sl_fast_log2(maxf(pdf[i], TINY)) - log2_d4 + b->lod[i];
+            b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+        }
+    } else if (c->ggx && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) {
+        /* log2 D = log2(a^2 / pi) - 2 log2((N.H)^2 (a^2 - 1) + 1) */
+        const float log2_c_lod = c->log2_c_lod;
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float nh = b->NdotH[i];
+            float c2 = nh * nh;
+            float lg = log2_c_lod - 2.0f * sl_fast_log2(maxf(maxf(1.0f - c2, 0.0f) + c2 * a2, TINY)) + b->lod[i];
+            b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+        }
+    } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
+        const float log2_c_lod = c->log2_c_lod;
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
+            b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
+        }
+    } else if (rule == LOD_GEMS || rule == LOD_PDF) {
+        const float *pw = c->mf ? b->pw : pdf; /* the density of w */
+        const float bias = rule == LOD_GEMS ? 1.0f : 0.0f; /* Gems' +1; pdf has none */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float lg = sl_fast_log2(maxf(4.0f * PI * pw[i], TINY)) + b->lod[i];
+            b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + bias, max_lod);
+        }
+    } else {
+        memset(b->lod, 0, sizeof(float) * (size_t)m);
+    }
+    if (c->consistent)
+        for (int i = 0; i < m; i++)
+            b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
+}
+
+/* Stage (3): radiance and contribution: textureLod from the block (texture_lod.h's operations
+ * on the block's layout: gathers), c = F Li weight; without a block, the same filter through
+ * texture_lod.h, texel by texel. */
+__attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_uniforms *u, const lobe_consts *c,
+                                                              int m, sample_block *b)
+{
+    const sl_env_gather *env = &u->residualGather;
+    const vec3 Ks = c->Ks, F1 = c->F1;
+    const float intensity = c->intensity;
+    if (c->oct) {
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    } else if (env->e5) { /* the compact rows: 4 64-bit reads a sample */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            vec3 t = sl_e5_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    } else {
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    }
+    if (!env->gather) {
+        for (int i = 0; i < m; i++) {
+            vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    }
+}
+
+/* Stage (4), its first half: the horizon test. Samples below the horizon (microfacet: or with
+ * V.H <= 0) add nothing: their contributions become +0, and a block that is not a multiple of 4
+ * (only the last; BLOCK is one) is padded with +0, which leaves every partial sum's bits as they
+ * are (a sum starts at +0 and is never -0). Returns how many were below. */
+__attribute__((always_inline)) static inline int stage_horizon(const lobe_consts *c, int m, sample_block *b)
+{
+    int below_block = 0;
+    const float *drop = c->mf ? b->vh : b->wN;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
+        below_block += 1 - above;
+        b->cr[i] = above ? b->cr[i] : 0.0f; /* the trace reads only the samples above */
+        b->cg[i] = above ? b->cg[i] : 0.0f;
+        b->cb[i] = above ? b->cb[i] : 0.0f;
+    }
+    for (int i = m; i < ((m + 3) & ~3); i++)
+        b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
+    return below_block;
+}
+
 /* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
  * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
- * stage computed: see the top of the file. Same samples, same sum order. */
+ * stage computed: the stages above per block of samples, then stage (4)'s sum. Same samples,
+ * same sum order. */
 __attribute__((noinline)) /* a call per pixel; inlined, it keeps sl_shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
                              vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
-    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
-    const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, mf) : NULL;
+    const lobe_consts c = lobe_consts_for(u, Ks, alpha);
+    const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
     const azimuth_table *az = rotate ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
-    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
-    const int rule = u->uLodRule;
-    const bool consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
-    const bool distortion = u->uDistortion != 0;
-    const bool oct = u->uEnvLayout == ENV_LAYOUT_OCT;
-    const bool ggx = sl_lobe_is_ggx(alpha);
-    const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f;
     const float NdotV = dot(N, V);
-    const float base = u->uLodBase, max_lod = u->uEnvMaxLod, sin_min = u->uSinThetaMin;
-    const float intensity = u->uEnvIntensity;
-    /* log2 of D's constant (alpha + 2)/(2 pi); the lod of spec-d4 takes D/4 */
-    const float log2_c_lod = ggx ? sl_fast_log2(a2 / PI) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f)
-                                 : sl_fast_log2((alpha + 2.0f) / (2.0f * PI)) - (rule == LOD_SPEC_D4 ? 2.0f : 0.0f);
-    const float log2_d4 = rule == LOD_SPEC_D4 ? 2.0f : 0.0f; /* microfacet: log2 D - log2 4 */
-    const vec3 F1 = sub(vec3s(1.0f), Ks);
-    /* the texture as one block (texture_lod.h); without one, the fetch below redoes stage (3)
-     * texel by texel */
-    const sl_env_gather *env = &u->residualGather;
     sample_block blk;
     sample_block *b = &blk;
     /* stage (4)'s four partial sums per channel, as scalars: as arrays GCC kept them on the
@@ -363,150 +567,17 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     int below = 0;
     for (int k0 = 0; k0 < n; k0 += BLOCK) {
         const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
-        /* (0) the skewed samples: table, recomputed (no task), or rotated */
-        const float *xi1 = b->xi1, *xi2 = b->xi2, *Lx = b->Lx, *Ly = b->Ly, *Lz = b->Lz, *pdf = b->pdf;
-        if (lobe) {
-            xi1 = lobe->xi1 + k0;
-            xi2 = lobe->xi2 + k0;
-            Lx = lobe->Lx + k0;
-            Ly = lobe->Ly + k0;
-            Lz = lobe->Lz + k0;
-            pdf = lobe->pdf + k0;
-        } else if (rotate && ggx) {
-            rotated_lobe_ggx(az, k0, m, a2, mf, rotation, b);
-        } else if (rotate) {
-            rotated_lobe(az, k0, m, alpha, mf ? 2.0f : 1.0f, rotation, b);
-        } else {
-            sl_shade_lobe_fill(u, alpha, mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
-        }
-        /* (1) directions, dot products, G (or GGX's G'), the Fresnel factor and the uv: one
-         * loop per estimator and lobe set, chosen per pixel. A sample with N.H = 0 (a rotated
-         * xi2 of 0) divides by 0 here; it has w.N < 0, so stage (4) drops it. */
-        if (mf && ggx)
-            microfacet_directions(b, m, Lx, Ly, Lz, pdf, N, V, A, B, inv_lh2, true, a2);
-        else if (mf)
-            microfacet_directions(b, m, Lx, Ly, Lz, pdf, N, V, A, B, inv_lh2, false, a2);
-        else if (ggx)
-            spec_directions(b, m, Lx, Ly, Lz, N, V, R, A, B, inv_lh2, true, a2);
-        else
-            spec_directions(b, m, Lx, Ly, Lz, N, V, R, A, B, inv_lh2, false, a2);
-        /* the texture coordinates of w in the samples' layout: lat-long (the fast atan2s) or
-         * octahedral (the port's own divisions and selects: the same bits) */
-        if (oct) {
-#pragma omp simd
-            for (int i = 0; i < m; i++)
-                sl_oct_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
-        } else {
-#pragma omp simd
-            for (int i = 0; i < m; i++)
-                sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &b->u[i], &b->v[i]);
-        }
-        /* (2) mip levels, mip_level in the log domain: log2(max(D d, TINY)) = max(log2 c +
-         * alpha log2(max(N.H, TINY)) + log2 d, log2 TINY); one loop per rule */
-        if (distortion && oct) { /* the octahedral texel's |w|_1^3 / pi */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float l1 = (fabsf(b->wx[i]) + fabsf(b->wy[i])) + fabsf(b->wz[i]);
-                b->lod[i] = sl_fast_log2(l1 * l1 * l1 / PI);
-            }
-        } else if (distortion) {
-#pragma omp simd
-            for (int i = 0; i < m; i++)
-                b->lod[i] = sl_fast_log2(0.5f * PI * maxf(sqrtf(maxf(1.0f - b->wz[i] * b->wz[i], 0.0f)), sin_min));
-        } else {
-            memset(b->lod, 0, sizeof(float) * (size_t)m); /* log2 d = 0 */
-        }
-        if (mf && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) { /* D(H) is at hand: log2 of it */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float lg = sl_fast_log2(maxf(pdf[i], TINY)) - log2_d4 + b->lod[i];
-                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
-            }
-        } else if (ggx && (rule == LOD_SPEC || rule == LOD_SPEC_D4)) {
-            /* log2 D = log2(a^2 / pi) - 2 log2((N.H)^2 (a^2 - 1) + 1) */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float nh = b->NdotH[i];
-                float c2 = nh * nh;
-                float lg = log2_c_lod - 2.0f * sl_fast_log2(maxf(maxf(1.0f - c2, 0.0f) + c2 * a2, TINY)) + b->lod[i];
-                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
-            }
-        } else if (rule == LOD_SPEC || rule == LOD_SPEC_D4) {
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float lg = log2_c_lod + alpha * sl_fast_log2(maxf(b->NdotH[i], TINY)) + b->lod[i];
-                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY), max_lod);
-            }
-        } else if (rule == LOD_GEMS || rule == LOD_PDF) {
-            const float *pw = mf ? b->pw : pdf; /* the density of w */
-            const float bias = rule == LOD_GEMS ? 1.0f : 0.0f; /* Gems' +1; pdf has none */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                float lg = sl_fast_log2(maxf(4.0f * PI * pw[i], TINY)) + b->lod[i];
-                b->lod[i] = clamp_lod(base - 0.5f * maxf(lg, LOG2_TINY) + bias, max_lod);
-            }
-        } else {
-            memset(b->lod, 0, sizeof(float) * (size_t)m);
-        }
-        /* the consistent estimator: weight D / pdf, with the port's D (a pow per sample) */
-        if (consistent)
-            for (int i = 0; i < m; i++)
-                b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
-        /* (3) radiance and contribution: textureLod from the block (texture_lod.h's operations
-         * on the block's layout: gathers), c = F Li weight */
-        if (oct) {
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                store_contribution(b, i, t, Ks, F1, intensity);
-            }
-        } else if (env->e5) { /* the compact rows: 4 64-bit reads a sample */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                vec3 t = sl_e5_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                store_contribution(b, i, t, Ks, F1, intensity);
-            }
-        } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                store_contribution(b, i, t, Ks, F1, intensity);
-            }
-        } else {
-#pragma omp simd
-            for (int i = 0; i < m; i++) {
-                vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-                store_contribution(b, i, t, Ks, F1, intensity);
-            }
-        }
-        if (!env->gather) { /* no block: the same filter through texture_lod.h, texel by texel */
-            for (int i = 0; i < m; i++) {
-                vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
-                store_contribution(b, i, t, Ks, F1, intensity);
-            }
-        }
-        /* (4) the sum. Samples below the horizon add nothing. Sample k goes into partial sum
-         * k mod 4 and the four are added at the end, (0 + 1) + (2 + 3): four short dependency
-         * chains instead of one long one (the port adds in sample order; the difference is float
-         * rounding). The same order whatever the vectorization, so the pass, sl_lighting_shade
-         * and the trace agree bit for bit. Written as two loops GCC vectorizes: the horizon test
-         * over the block, then four samples at a time into the four sums (BLOCK is a multiple
-         * of 4, so sample k0 + i goes into sum i mod 4). */
-        int below_block = 0;
-        const float *drop = mf ? b->vh : b->wN; /* microfacet: V.H <= 0 drops the sample too */
-#pragma omp simd
-        for (int i = 0; i < m; i++) {
-            int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
-            below_block += 1 - above;
-            b->cr[i] = above ? b->cr[i] : 0.0f; /* the trace reads only the samples above */
-            b->cg[i] = above ? b->cg[i] : 0.0f;
-            b->cb[i] = above ? b->cb[i] : 0.0f;
-        }
-        below += below_block;
-        /* a block that is not a multiple of 4 (only the last; BLOCK is one) is padded with +0,
-         * which leaves every sum's bits as they are: a sum starts at +0 and is never -0 */
-        for (int i = m; i < ((m + 3) & ~3); i++)
-            b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
+        const lobe_view s = stage_samples(u, &c, lobe, az, rotate, rotation, k0, m, b);
+        stage_directions(&c, &s, m, N, V, R, A, B, b);
+        stage_lod(&c, s.pdf, m, b);
+        stage_fetch(u, &c, m, b);
+        below += stage_horizon(&c, m, b);
+        /* (4) the sum: sample k goes into partial sum k mod 4 and the four are added at the end,
+         * (0 + 1) + (2 + 3): four short dependency chains instead of one long one (the port adds
+         * in sample order; the difference is float rounding). The same order whatever the
+         * vectorization, so the pass, sl_lighting_shade and the trace agree bit for bit. Four
+         * samples at a time into the four sums (BLOCK is a multiple of 4, so sample k0 + i goes
+         * into sum i mod 4). */
         for (int i = 0; i < m; i += 4) {
             sx0 += b->cr[i];
             sx1 += b->cr[i + 1];
@@ -522,12 +593,14 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             sz3 += b->cb[i + 3];
         }
         if (trace)
-            trace_block(u, trace, b, &(lobe_view){xi1, xi2, Lx, Ly, Lz, pdf}, k0, m, Ks, alpha, V, NdotV, &trace_sum);
+            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, &trace_sum);
     }
     vec3 sum = vec3((sx0 + sx1) + (sx2 + sx3), (sy0 + sy1) + (sy2 + sy3), (sz0 + sz1) + (sz2 + sz3));
     count_samples(task, n, below, pole);
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
+
+/* ======================== env lights ======================== */
 
 /* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
  * brdf.h's formulas, the lights vectorized, the sum in light order. */
@@ -620,6 +693,8 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     return scale(sum, u->uEnvIntensity);
 }
 
+/* ======================== the pixel stage ======================== */
+
 /* One row span of pixels (at most a tile row), structure of arrays: what main() computes
  * per pixel before the samples, for every pixel of the span at once, so the normalisations
  * (a chain of divisions and square roots per pixel) run as vector throughput, not latency. */
@@ -692,6 +767,8 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
     }
 }
 
+/* ======================== the background ======================== */
+
 /* How the background reads level 0: the environment's pair rows (texture_lod.h sl_pair_bilinear:
  * 6 64-bit gathers where the block takes 12 32-bit ones), its single block (gathers), or the
  * port's filter. The same texels and operations in all three, so the same bits. */
@@ -732,6 +809,8 @@ void sl_shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int 
     else
         background_loop(u, x0, y, count, BACKGROUND_SCALAR, bg_r, bg_g, bg_b);
 }
+
+/* ======================== main(): the sum and the span ======================== */
 
 /* The specular term of covered pixel i of the span (0 with it off), env lights included: the
  * split sum's lookup (the port's own: nothing to batch) or the samples. */

@@ -6,12 +6,12 @@
  *            │                   └──────────> lighting.c (the pixel's sum, its rotation, split sum)
  *            └──────────> lighting_splitsum.c (split sum) ──> lighting.c (shade_finish)
  *                                └──────────> lighting_batched.c (shade_background_span)
- *     lighting.c <──> splitsum_lut.c (the port's split sum reads the table's lobe width;
- *                                     the table is integrated with the port's samples)
+ *     splitsum_lut.c ──> lighting.c (the table is integrated with the port's samples; the
+ *                                    port reads the table's lobe width from brdf.h)
  *     lighting_trace.c ─> the pass's dispatch (sl_lighting_shade)
  *     ground_truth_image.c ─> lighting.c (facing_normal: the exact pass bends normals as the shader does)
  *
- * lighting.c and splitsum_lut.c call each other: the one cycle in this stage.
+ * No two files call each other.
  * The port exports the GLSL functions the others reuse (shade_*: the sample generators for the
  * per-alpha tables, pixel_rotation, the covered pixel's sum); the trace hooks below are the few
  * named points where either path records a pixel; the per-thread task holds the sample tables. */
@@ -50,6 +50,30 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GL
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
 
+/* The toolbox's pieces of the port (softlight/lighting.h, lighting_program.c): GLSL env_lod,
+ * irradiance, specular_env_lights, point_light, background. */
+vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod);
+vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
+vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
+vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
+vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
+
+/* What a lighting program's toolbox reads (softlight/lighting.h: opaque there): the frame's
+ * uniforms and G-buffer, the calling thread's task and the trace (both may be NULL). */
+struct sl_lighting_resources {
+    const sl_lighting_uniforms *u;
+    const sl_gbuffer *gb;
+    sl_lighting_task *task;
+    sl_lighting_trace *trace;
+};
+
+/* The built-in program's two forms (lighting_program.c): the pass's dispatch between the port,
+ * the batched path and the split sum, per texel and per span. */
+vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                               sl_lighting_task *task, sl_lighting_trace *trace);
+void sl_lighting_builtin_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                             sl_lighting_task *task, vec3 *out);
+
 /* A covered pixel as main() has it once its frame is known. */
 typedef struct {
     vec3 P, Kd, Ks;
@@ -68,7 +92,7 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
     return gb->extra ? gb->extra[(size_t)y * (size_t)gb->width + (size_t)x] : none;
 }
 
-/* GLSL: main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
+/* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
  * point lights, emission.
  * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
  * the whole span (sl_irradiance_eval_span: the same bits).

@@ -1,17 +1,20 @@
-/* lighting_pass.c - runs the lighting shader over a G-buffer: the dispatch between the port
- * (lighting.c, options.plain), the batched path (lighting_batched.c) and the split-sum fast
- * path (lighting_splitsum.c, for --estimator splitsum), the pass (OpenMP over bands of whole
+/* lighting_pass.c - runs the frame's lighting program (softlight/lighting.h) over a G-buffer:
+ * the built-in's dispatch between the port (lighting.c, options.plain), the batched path
+ * (lighting_batched.c) and the split-sum fast path (lighting_splitsum.c, for --estimator
+ * splitsum), another program's forms with its NaN/Inf made loud and counted, the pass (OpenMP over bands of whole
  * rows, one task per thread), and the accumulation of rotated frames. */
 
+#include <math.h>
 #include <omp.h>
 #include <stdlib.h>
 #include <string.h>
 
 #include "lighting_internal.h"
 
-/* The port or the batched path, as options.plain says; both count into the task. */
-vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
-                       sl_lighting_task *task, sl_lighting_trace *trace)
+/* The built-in program's dispatch: the port or the batched path, as options.plain says (the
+ * split sum's own fast path where it runs); both count into the task. */
+vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                               sl_lighting_task *task, sl_lighting_trace *trace)
 {
     if (u->options.plain)
         return sl_shade_plain(u, gb, x, y, task, trace);
@@ -23,8 +26,8 @@ vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int 
     return c;
 }
 
-void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
-                           sl_lighting_task *task, vec3 *out)
+void sl_lighting_builtin_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                             sl_lighting_task *task, vec3 *out)
 {
     const bool splitsum = sl_shade_splitsum_fast(u);
     for (int x = x0; x < x0 + count; x += SPAN) {
@@ -37,6 +40,63 @@ void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
         else
             sl_shade_span(u, gb, x, y, n, task, NULL, out + (x - x0));
     }
+}
+
+/* Another program's NaN or Inf becomes SL_LIGHTING_NONFINITE, counted (the built-in repairs its
+ * own to 0 in sl_shade_finish). */
+static vec3 guard_nonfinite(vec3 c, sl_lighting_task *task)
+{
+    if (isfinite(c.x) && isfinite(c.y) && isfinite(c.z))
+        return c;
+    if (task)
+        task->stats.nonfinite++;
+    return SL_LIGHTING_NONFINITE;
+}
+
+/* The frame's program, per texel (a trace records the texel and the result; the built-in
+ * records everything it computes). */
+vec3 sl_lighting_shade(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
+                       sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    if (!u->program)
+        return sl_lighting_builtin_texel(u, gb, x, y, task, trace);
+    const sl_lighting_resources res = {u, gb, task, trace};
+    const sl_lighting_texel_in in = {sl_gbuffer_at(gb, x, y), shade_extra(gb, x, y), x, y};
+    vec3 raw = u->program->shade(&u->frame, &res, &in);
+    vec3 c = guard_nonfinite(raw, task);
+    if (trace) {
+        trace_texel(trace, in.texel, vec2((float)x + 0.5f, (float)y + 0.5f), false);
+        trace->program = u->program->name ? u->program->name : "(unnamed)";
+        trace->program_result = raw;
+        trace->extra_texel = in.extra;
+        trace->repaired = !(raw.x == c.x && raw.y == c.y && raw.z == c.z);
+        trace->total = c;
+    }
+    return c;
+}
+
+/* The frame's program over a row: its span form, or its per-texel form per texel. */
+void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                           sl_lighting_task *task, vec3 *out)
+{
+    const sl_lighting_program *p = u->program;
+    if (!p) {
+        sl_lighting_builtin_row(u, gb, x0, y, count, task, out);
+        return;
+    }
+    const sl_lighting_resources res = {u, gb, task, NULL};
+    const size_t row = (size_t)y * (size_t)gb->width + (size_t)x0;
+    if (p->shade_span) {
+        const sl_lighting_span span = {x0, y, count, gb->texels + row, gb->extra ? gb->extra + row : NULL};
+        p->shade_span(&u->frame, &res, &span, out);
+    } else {
+        for (int i = 0; i < count; i++) {
+            const sl_lighting_texel_in in = {gb->texels + row + i, shade_extra(gb, x0 + i, y), x0 + i, y};
+            out[i] = p->shade(&u->frame, &res, &in);
+        }
+    }
+    for (int i = 0; i < count; i++)
+        out[i] = guard_nonfinite(out[i], task);
 }
 
 /* A band is BAND_ROWS whole rows: the G-buffer and the image are read and written in address

@@ -24,8 +24,33 @@ static void print3(FILE *f, const char *name, vec3 v)
     fprintf(f, "  %-12s (%.6g, %.6g, %.6g)\n", name, (double)v.x, (double)v.y, (double)v.z);
 }
 
+/* Another program's trace: the texel it saw and what it returned. */
+static void print_program(FILE *f, const sl_lighting_trace *t)
+{
+    fprintf(f, "lighting program %s\n", t->program);
+    fprintf(f, "G-buffer texel%s\n", t->covered ? "" : " (no geometry: the program shades the background)");
+    print3(f, "position", t->texel.position);
+    print3(f, "normal", t->texel.normal);
+    print3(f, "kd", t->texel.kd);
+    print3(f, "ks", t->texel.ks);
+    fprintf(f, "  %-12s %.6g\n  %-12s %.9g\n", "alpha", (double)t->texel.alpha, "depth", (double)t->texel.depth);
+    if (t->extra)
+        fprintf(f, "  %-12s %.6g\n", "occlusion", (double)t->extra_texel.occlusion);
+    if (t->extra)
+        print3(f, "emissive", t->extra_texel.emissive);
+    fprintf(f, "result\n");
+    print3(f, "returned", t->program_result);
+    print3(f, "total", t->total);
+    if (t->repaired)
+        fprintf(f, "  a NaN/Inf was replaced by magenta (1, 0, 1)\n");
+}
+
 void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
 {
+    if (t->program) {
+        print_program(f, t);
+        return;
+    }
     fprintf(f, "pixel %d,%d (row 0 = top); gl_FragCoord (%.1f, %.1f)\n", t->x, t->y, (double)t->frag_coord.x,
             (double)t->frag_coord.y);
     if (!t->covered) {

@@ -63,6 +63,10 @@ struct sl_lighting_trace {
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */
+    const char *program;     /* another lighting program than the built-in: its name (NULL: the
+                                built-in, whose every step the fields above record) */
+    sl_gbuffer_extra extra_texel; /* ... the extra plane's texel it saw */
+    vec3 program_result;     /* ... and what it returned, before the guard */
 };
 
 /* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with

@@ -169,6 +169,30 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->options = o;
     sl_env_gather_init(&u->envGather, u->uEnv);
     sl_env_gather_init(&u->residualGather, u->uEnvResidual);
+    u->program = desc->program;
+    sl_lighting_frame_uniforms *f = &u->frame;
+    f->eye = u->uEye;
+    f->inv_view_proj = u->uInvViewProj;
+    f->viewport = u->uViewport;
+    f->env_rotation = u->uEnvRotation;
+    f->env_intensity = u->uEnvIntensity;
+    f->env_max_lod = u->uEnvMaxLod;
+    f->samples = (int)u->uHammersley.N;
+    f->rotate = u->uRotate;
+    f->frame = u->uFrame;
+    f->diffuse = u->uDiffuse;
+    f->specular = u->uSpecular;
+    f->point_lights = u->uPointLights;
+    f->gterm = u->uGTerm;
+    f->light_count = u->uLightCount;
+    for (int i = 0; i < u->uLightCount; i++) {
+        f->light_position[i] = u->uLightPosition[i];
+        f->light_color[i] = u->uLightColor[i];
+        f->light_intensity[i] = u->uLightIntensity[i];
+    }
+    f->env_light_count = u->uEnvLightCount;
     return true;
 }
+
+_Static_assert(SL_LIGHTING_MAX_POINT_LIGHTS == SL_LIGHTING_MAX_LIGHTS, "the public light arrays hold every light");
 

@@ -10,13 +10,6 @@
 #include "lighting_internal.h"
 #include "splitsum_lut.h"
 
-float sl_splitsum_width(float alpha)
-{
-    if (alpha < 0.0f)
-        return -1.0f - alpha;
-    return sqrtf(sqrtf(2.0f / (alpha + 2.0f)));
-}
-
 /* The lobe parameter of width r in a set: -1 - r (GGX), or the Phong exponent of equal peak. */
 static float set_alpha(sl_splitsum_set set, float r)
 {

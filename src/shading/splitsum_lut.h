@@ -21,6 +21,7 @@
 
 #include <softlight/glsl.h>
 #include "../core/options.h"
+#include "brdf.h"
 
 #define SL_SPLITSUM_LUT_SIZE 32      /* per axis: A and B are smooth; 32 is Karis' and Filament's order */
 #define SL_SPLITSUM_LUT_SAMPLES 256 /* per entry (Hammersley); test_splitsum's tolerances say what it gives */
@@ -42,8 +43,6 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads);
 /* One entry computed directly (the table's (i, j) is this at N.V = max(i / (SIZE - 1), 0.01),
  * r = j / (SIZE - 1)): A in .x, B in .y. For tests. */
 vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples);
-/* The lobe width of a lobe parameter (the G-buffer alpha after lobe_param): GGX's r = -1 - alpha,
- * a Phong exponent's (2 / (alpha + 2))^(1/4). */
-float sl_splitsum_width(float alpha);
+/* sl_splitsum_width, the lobe width of a lobe parameter, is the BRDF's (brdf.h). */
 
 #endif

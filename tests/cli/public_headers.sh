@@ -92,6 +92,43 @@ for cc in "${ccs[@]}"; do
     echo "FAIL: a C11 shader source with softlight/glsl.h, $cc:"; cat "$work/err"; fail=1
   fi
 done
+# A C11 lighting program with the GLSL vocabulary's lighting section (softlight/lighting.h).
+cat >"$work/lighting.c" <<'C'
+#define SL_GLSL_LIGHTING
+#include <softlight/glsl.h>
+#include <softlight/softlight.h>
+
+static vec3 shade(const sl_lighting_frame_uniforms *u, const sl_lighting_resources *res, const sl_lighting_texel_in *in)
+{
+    const sl_gbuffer_texel *t = in->texel;
+    if (t->depth >= 1.0f)
+        return add(background(res, in), textureLod(res, sl_dir_to_uv(vec3(0, 0, 1)), 0.0f));
+    vec3 V = normalize(sub(u->eye, t->position));
+    vec3 N = facing_normal(t->normal, V);
+    float alpha = lobe_param(t->alpha);
+    vec3 c = add(irradiance(res, N), env_lod(res, N, 1.0f));
+    c = add(c, specular_env_lights(res, N, V, t->ks, alpha));
+    for (int i = 0; i < u->light_count; i++)
+        c = add(c, point_light(res, i, t->position, N, V, t->kd, t->ks, alpha));
+    vec2 xi = hammersley_point(res, 0);
+    float d = sl_lobe_D(dot(N, V), alpha) * sl_lobe_G(0.5f, 0.5f, 0.5f, alpha, u->gterm) + xi.x;
+    d += sl_brdf_D(0.5f, 10.0f) * sl_brdf_G(0.5f, 1) + sl_ggx_D(0.5f, sl_ggx_a2(-1.5f)) + sl_ggx_G(0.5f, 0.5f, 0.1f);
+    return add(scale(c, d), sl_brdf_F(t->ks, 0.5f));
+}
+static void span(const sl_lighting_frame_uniforms *u, const sl_lighting_resources *res, const sl_lighting_span *s, vec3 *out)
+{
+    for (int i = 0; i < s->count; i++) {
+        sl_lighting_texel_in in = {&s->texels[i], {1.0f, {0, 0, 0}, 0.0f}, s->x0 + i, s->y};
+        out[i] = shade(u, res, &in);
+    }
+}
+SL_LIGHTING_PROGRAM("test", shade, span);
+C
+for cc in "${ccs[@]}"; do
+  if ! "$cc" -std=c11 "${flags[@]}" -fPIC -o "$work/out.o" "$work/lighting.c" 2>"$work/err"; then
+    echo "FAIL: a C11 lighting program with SL_GLSL_LIGHTING, $cc:"; cat "$work/err"; fail=1
+  fi
+done
 if [ -n "$cxx" ]; then
   echo '#include <softlight/glsl.h>' >"$work/glsl.cc"
   if "$cxx" -std=c++17 -Iinclude -c -o "$work/out.o" "$work/glsl.cc" 2>"$work/err" ||

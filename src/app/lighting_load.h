@@ -1,0 +1,26 @@
+/* lighting_load.h - a lighting program from the command line (`--lighting my.c`): a C source is
+ * compiled with the system C compiler ($CC, else cc) against softlight's own headers into a
+ * shared object, cached by content hash under $XDG_CACHE_HOME/softlight (or ~/.cache/softlight);
+ * a shared object (an ELF file) is taken as it is. Either is dlopened, its exported ABI version
+ * checked, and its program returned. Only the command line names such a file: a scene never
+ * does. docs/lighting-programs.md describes the whole of it. */
+#ifndef SL_APP_LIGHTING_LOAD_H
+#define SL_APP_LIGHTING_LOAD_H
+
+#include <stdbool.h>
+#include <stddef.h>
+
+#include <softlight/lighting.h>
+
+typedef struct {
+    bool debug;   /* --debug-shader: -g -O0 instead of -O2 */
+    bool verbose; /* -v: print the compiler command (or the cached object used) on stderr */
+} sl_lighting_load_options;
+
+/* Load `path` (a C source or a shared object). On failure, false with one line in msg naming
+ * the file (a compile error: the compiler's first error, file:line). The shared object stays
+ * loaded for the life of the process. */
+bool sl_lighting_load(const char *path, const sl_lighting_load_options *opt, const sl_lighting_program **program,
+                      char *msg, size_t msg_size);
+
+#endif
