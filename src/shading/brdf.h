@@ -32,12 +32,14 @@
 #define SL_BRDF_MIN_LDOTH 1e-3f  /* floor of L.H in 1/(L.H)^2 */
 
 /* D(H) = (alpha + 2) / (2 pi) (N.H)^alpha. */
+/* GLSL: sl_brdf_D */
 static inline float sl_brdf_D(float NdotH, float alpha)
 {
     return (alpha + 2.0f) / (2.0f * SL_PI) * powf(maxf(NdotH, SL_BRDF_TINY), alpha);
 }
 
 /* G(L, V, H) / ((L.N)(V.N)). */
+/* GLSL: sl_brdf_G */
 static inline float sl_brdf_G(float LdotH, sl_gterm gterm)
 {
     if (gterm == SL_GTERM_INV_LH2) {
@@ -48,6 +50,7 @@ static inline float sl_brdf_G(float LdotH, sl_gterm gterm)
 }
 
 /* Schlick's F(L, H) = Ks + (1 - Ks)(1 - L.H)^5, the fifth power by multiplication. */
+/* GLSL: sl_brdf_F */
 static inline vec3 sl_brdf_F(vec3 Ks, float LdotH)
 {
     float m = maxf(1.0f - LdotH, 0.0f);
@@ -59,10 +62,10 @@ static inline vec3 sl_brdf_F(vec3 Ks, float LdotH)
 
 #define SL_GGX_MIN_A 1e-4f /* a = max(r^2, 1e-4): r = 0 stays a finite (mirror-like) lobe */
 
-/* The lobe parameter (G-buffer alpha) of a GGX material with roughness r, and back. */
-static inline bool sl_lobe_is_ggx(float alpha) { return alpha < 0.0f; }
+/* The lobe parameter (G-buffer alpha) of a GGX material with roughness r. */
 static inline float sl_ggx_alpha_of_roughness(float r) { return -1.0f - r; }
 /* a^2 of a GGX lobe parameter alpha in [-2, -1] */
+/* GLSL: sl_ggx_a2 */
 static inline float sl_ggx_a2(float alpha)
 {
     float r = -1.0f - alpha;
@@ -73,6 +76,7 @@ static inline float sl_ggx_a2(float alpha)
 /* D(H) = a^2 / (pi ((N.H)^2 (a^2 - 1) + 1)^2), the bracket as (1 - (N.H)^2) + (N.H)^2 a^2: in
  * float a^2 - 1 is -1 for a^2 < 6e-8 (r < 0.016), and the literal form then divides by 0 at
  * N.H = 1. */
+/* GLSL: sl_ggx_D */
 static inline float sl_ggx_D(float NdotH, float a2)
 {
     float c2 = NdotH * NdotH;
@@ -81,6 +85,7 @@ static inline float sl_ggx_D(float NdotH, float a2)
 }
 
 /* G / ((L.N)(V.N)) = 4 Vis (height-correlated Smith); N.L, N.V > 0. */
+/* GLSL: sl_ggx_G */
 static inline float sl_ggx_G(float NdotL, float NdotV, float a2)
 {
     float gv = NdotL * sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
@@ -88,11 +93,17 @@ static inline float sl_ggx_G(float NdotL, float NdotV, float a2)
     return 2.0f / (gv + gl);
 }
 
+/* Which set a lobe parameter (G-buffer alpha) is: GGX's are negative. */
+/* GLSL: sl_lobe_is_ggx */
+static inline bool sl_lobe_is_ggx(float alpha) { return alpha < 0.0f; }
+
 /* D and G of either set, chosen by the lobe parameter's sign. */
+/* GLSL: sl_lobe_D */
 static inline float sl_lobe_D(float NdotH, float alpha)
 {
     return sl_lobe_is_ggx(alpha) ? sl_ggx_D(NdotH, sl_ggx_a2(alpha)) : sl_brdf_D(NdotH, alpha);
 }
+/* GLSL: sl_lobe_G */
 static inline float sl_lobe_G(float LdotH, float NdotL, float NdotV, float alpha, sl_gterm gterm)
 {
     return sl_lobe_is_ggx(alpha) ? sl_ggx_G(NdotL, NdotV, sl_ggx_a2(alpha)) : sl_brdf_G(LdotH, gterm);

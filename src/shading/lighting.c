@@ -3,9 +3,10 @@
  * Every function tagged with a comment line of its own, exactly `/ * GLSL: name * /` (without the
  * spaces) right above it, is the GLSL function of that name, in the GLSL file's order, with the
  * same variable names; a uniform uX is u->uX. One tag per GLSL function: main's two helpers say
- * "Part of GLSL main", and the functions that live elsewhere (the BRDF in brdf.h, lobe_param in
- * lighting_internal.h, the irradiance maps and the octahedral layout in src/ibl) are not tagged
- * here.
+ * "Part of GLSL main"; the BRDF (brdf.h) and lobe_param (lighting_internal.h) are tagged where
+ * they live, and the functions ported in src/ibl (the lat-long map, the octahedral layout, the
+ * irradiance maps) have a tag here, at their place in the order, that says where they are.
+ * tests/cli/maps.sh checks the tags against the GLSL's functions and order.
  *
  * This is the reference path: it runs when options.plain is set (the debug switch,
  * docs/lighting.md "Two paths") and is what a reader compares with the GLSL. The C-only lines are the trace hooks and counters (lighting_internal.h:
@@ -40,6 +41,10 @@ static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
 static const float MIN_LIGHT_D2 = 1e-8f;
 #define PI SL_PI
+
+/* GLSL: sl_dir_to_uv, ported in src/ibl (latlong.c, and inline in texture_lod.h) */
+/* GLSL: sl_uv_to_dir, ported in src/ibl (latlong.c) */
+/* The BRDF's functions, sl_brdf_D to sl_lobe_G, are in brdf.h, tagged there. */
 
 /* GLSL: ggx_cos_theta */
 static float ggx_cos_theta(float xi2, float a2)
@@ -125,6 +130,10 @@ static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w
 
 /* env_lod: the octahedral branch is texture_lod.h's sl_oct_texture_lod: env_oct_uv, then
  * the trilinear filter of env_oct_bilinear */
+/* GLSL: env_oct_uv, ported in src/ibl/texture_lod.h (the octahedral chain's fetch) */
+/* GLSL: env_oct_tap, ported in src/ibl/texture_lod.h */
+/* GLSL: env_oct_bilinear, ported in src/ibl/texture_lod.h */
+
 /* GLSL: env_lod */
 static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
 {
@@ -132,6 +141,8 @@ static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
         return sl_oct_texture_lod(u->uEnvResidual, w, lod);
     return textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod);
 }
+
+/* lobe_param is in lighting_internal.h (shade_lobe_param), tagged there. */
 
 /* GLSL: facing_normal */
 static vec3 facing_normal(vec3 N, vec3 V)
@@ -148,6 +159,10 @@ static vec3 facing_normal(vec3 N, vec3 V)
 
 /* irradiance: sl_irradiance_eval (src/ibl/irradiance.c) is both branches: the SH9 sum
  * over uSH and the map lookup of uIrradianceMap. */
+/* GLSL: irradiance_grid_coord, ported in src/ibl/irradiance_uv.h (sl_irradiance_grid_coord) */
+/* GLSL: irradiance_oct_uv, ported in src/ibl/irradiance_uv.h and irradiance_map.c */
+/* GLSL: irradiance_dp_uv, ported in src/ibl/irradiance_uv.h and irradiance_map.c */
+
 /* GLSL: irradiance */
 static vec3 irradiance(const sl_lighting_uniforms *u, vec3 N)
 {

@@ -32,6 +32,7 @@ enum { SPAN = 32 };
 /* GLSL lobe_param: the G-buffer alpha clamped, Phong's to [0, SHADE_MAX_ALPHA], GGX's (alpha
  * <= -1) to [-2, -1]. Inline, as every path reads it per pixel (a call into lighting.c was 2-3%
  * of the split sum's samples). */
+/* GLSL: lobe_param */
 static inline float shade_lobe_param(float a)
 {
     return a <= -1.0f ? maxf(a, -2.0f) : clamp(a, 0.0f, SHADE_MAX_ALPHA);
