@@ -106,6 +106,18 @@ static bool hang(void *ctx, sl_model *m, sl_error *err)
     return false;
 }
 
+#if defined(__SANITIZE_ADDRESS__)
+#define ASAN 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define ASAN 1
+#endif
+#endif
+#ifndef ASAN
+#define ASAN 0
+#endif
+
+#if !ASAN /* AddressSanitizer's builds bound time only (model_isolate.c) */
 /* Touches far more memory than the budget, as an importer that trusts a declared count does;
  * fails like assimp (an error, not a crash) when an allocation is refused. */
 static char *volatile held[64]; /* escapes the optimiser: clang drops an allocation nobody keeps */
@@ -122,16 +134,6 @@ static bool hog(void *ctx, sl_model *m, sl_error *err)
     }
     return sl_fail(err, SL_ERR_FORMAT, "hog: every allocation succeeded");
 }
-
-#if defined(__SANITIZE_ADDRESS__)
-#define ASAN 1
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-#define ASAN 1
-#endif
-#endif
-#ifndef ASAN
-#define ASAN 0
 #endif
 
 static void expect(scene_import_fn fn, int seconds, const char *want)
