@@ -193,20 +193,32 @@ bool sl_scene_off_check(const char *text, size_t size, const char *name, sl_erro
         if (!counts_len && !next_data_line(&p, end, &counts, &counts_len))
             return true;
     }
-    char buf[96];
+    /* The counts must be two integers: what the importer would make of anything else (a count
+     * run together with the keyword, a number past 64 bits) is its own guess. */
+    char buf[96], *at = buf, *num_end;
     snprintf(buf, sizeof buf, "%.*s", (int)(counts_len < 95 ? counts_len : 95), counts);
-    long long vertices, faces;
-    if (sscanf(buf, "%lld %lld", &vertices, &faces) != 2 || vertices < 0 || faces < 0)
-        return true; /* the importer's message for a malformed header */
+    errno = 0;
+    long long vertices = strtoll(at, &num_end, 10);
+    bool ok = num_end != at && errno == 0;
+    at = num_end;
+    long long faces = ok ? strtoll(at, &num_end, 10) : 0;
+    ok = ok && num_end != at && errno == 0 && (*num_end == '\0' || isspace((unsigned char)*num_end));
+    if (!ok || vertices < 0 || faces < 0)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: OFF header: expected the vertex and face counts (two non-negative "
+                       "integers) after the OFF keyword", name);
     if (vertices > SCENE_MAX_TOTAL_VERTICES || faces > SCENE_MAX_TRIANGLES)
         return sl_fail(err, SL_ERR_RANGE, "%s: declares %lld vertices and %lld faces (softlight reads at most %d and %d)",
                        name, vertices, faces, SCENE_MAX_TOTAL_VERTICES, SCENE_MAX_TRIANGLES);
+    /* A file holds a line per vertex and per face it declares: the importer sizes its arrays by
+     * the counts, so counts a short file does not back are refused before it allocates them. */
     for (long long v = 0; v < vertices; v++)
         if (!next_data_line(&p, end, &line, &len))
-            return true; /* a truncated file: the importer's message */
+            return sl_fail(err, SL_ERR_FORMAT, "%s: truncated OFF: it declares %lld vertices and holds %lld", name,
+                           vertices, v);
     for (long long f = 0; f < faces; f++) {
         if (!next_data_line(&p, end, &line, &len))
-            return true;
+            return sl_fail(err, SL_ERR_FORMAT, "%s: truncated OFF: it declares %lld faces and holds %lld", name,
+                           faces, f);
         /* A NUL-terminated copy: strtol must not read on into the next line or past the file. A
          * face line longer than the copy is checked as far as it goes. */
         char face[4096];
