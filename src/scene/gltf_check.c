@@ -370,7 +370,8 @@ static bool all_finite(checker *c, const cJSON *v, char *path, size_t len, size_
 
 /* The version (glTF 1.0 files have another layout, which the checks below would misread) and
  * the required extensions: the glTF specification has a loader refuse a file that requires
- * an extension it does not implement, rather than draw it wrongly. softlight implements none. */
+ * an extension it does not implement, rather than draw it wrongly. softlight implements
+ * KHR_texture_transform (without rotation). */
 static bool check_asset(checker *c, const cJSON *root)
 {
     const cJSON *asset = cJSON_GetObjectItemCaseSensitive(root, "asset");
@@ -387,6 +388,8 @@ static bool check_asset(checker *c, const cJSON *root)
         char shown[72];
         if (!cJSON_IsString(e))
             return bad(c, "extensionsRequired", "an array of extension names");
+        if (strcmp(e->valuestring, "KHR_texture_transform") == 0)
+            continue; /* model.c applies it (a rotation is refused there) */
         return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: requires the glTF extension %s, which softlight does not implement",
                        c->name, sl_error_excerpt(e->valuestring, 64, shown, sizeof shown));
     }

@@ -494,7 +494,7 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
 static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiTextureType type, sl_model *model,
                    const char *dir, const char *material, file_access *fa, sl_model_texref *out, sl_error *err)
 {
-    *out = (sl_model_texref){.image = -1, .scale = 1.0f};
+    *out = (sl_model_texref){.image = -1, .scale = 1.0f, .uv_scale = {1.0f, 1.0f}};
     struct aiString path;
     unsigned uv = 0;
     enum aiTextureMapMode mode[2] = {aiTextureMapMode_Wrap, aiTextureMapMode_Wrap};
@@ -523,6 +523,26 @@ static bool texref(const struct aiScene *s, const struct aiMaterial *m, enum aiT
          aiGetMaterialFloatArray(m, "$tex.strength", type, 0, &scale, NULL) == aiReturn_SUCCESS) &&
         isfinite(scale))
         out->scale = scale;
+    /* A texture-coordinate transform (glTF's KHR_texture_transform, or a format's own): assimp
+     * stores v' = v s + t for V-up coordinates, and FlipUVs, which gives softlight V-down ones
+     * (v_down = 1 - v_up), negates t. In V-down coordinates that is v' = v s + (1 - s + t), and
+     * glTF's offset comes back exactly (measured: offset 0.5, scale 3 arrive as t = 2.5). A
+     * rotation has no place in a map's scale and offset: refused rather than drawn wrong. */
+    struct aiUVTransform uvt;
+    unsigned uvt_size = sizeof uvt / sizeof(ai_real);
+    if (aiGetMaterialFloatArray(m, _AI_MATKEY_UVTRANSFORM_BASE, type, 0, (ai_real *)&uvt, &uvt_size) == aiReturn_SUCCESS &&
+        uvt_size == sizeof uvt / sizeof(ai_real)) {
+        if (!(isfinite(uvt.mScaling.x) && isfinite(uvt.mScaling.y) && isfinite(uvt.mTranslation.x) &&
+              isfinite(uvt.mTranslation.y) && isfinite(uvt.mRotation)))
+            return sl_fail(err, SL_ERR_FORMAT, "%s: material \"%.64s\": a texture transform that is not finite",
+                           fa->name, material);
+        if (fabsf(uvt.mRotation) > 1e-6f)
+            return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: material \"%.64s\": a texture transform with a rotation "
+                           "(%g rad), which softlight's maps (scale and offset) cannot express",
+                           fa->name, material, (double)uvt.mRotation);
+        out->uv_scale = vec2(uvt.mScaling.x, uvt.mScaling.y);
+        out->uv_offset = vec2(uvt.mTranslation.x, 1.0f - uvt.mScaling.y + uvt.mTranslation.y);
+    }
     return find_image(s, model, dir, path.data, material, fa, &out->image, err);
 }
 
@@ -601,7 +621,7 @@ static bool convert_material(const struct aiScene *s, unsigned index, sl_model *
         /* Where assimp's glTF importer puts metallicRoughnessTexture and occlusionTexture. */
         ok = texref(s, m, aiTextureType_UNKNOWN, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
              texref(s, m, aiTextureType_LIGHTMAP, model, dir, out->name, fa, &out->occlusion_tex, err);
-        out->specular_tex = (sl_model_texref){.image = -1, .scale = 1.0f};
+        out->specular_tex = (sl_model_texref){.image = -1, .scale = 1.0f, .uv_scale = {1.0f, 1.0f}};
     } else if (ok) {
         /* MTL: map_Ns, map_Ks, and map_Bump (HEIGHT) where there is no norm (NORMALS). */
         ok = texref(s, m, aiTextureType_SHININESS, model, dir, out->name, fa, &out->metallic_roughness_tex, err) &&
@@ -609,7 +629,7 @@ static bool convert_material(const struct aiScene *s, unsigned index, sl_model *
              texref(s, m, aiTextureType_HEIGHT, model, dir, out->name, fa, &none, err);
         if (ok && out->normal_tex.image < 0)
             out->normal_tex = none;
-        out->occlusion_tex = (sl_model_texref){.image = -1, .scale = 1.0f};
+        out->occlusion_tex = (sl_model_texref){.image = -1, .scale = 1.0f, .uv_scale = {1.0f, 1.0f}};
     }
     return ok;
 }
@@ -697,7 +717,7 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
         model->materials[0] = (sl_model_material){.name = "default", .kind = SL_MODEL_MAT_PHONG,
                                                   .base_color = vec4(0.5f, 0.5f, 0.5f, 1.0f), .kd = vec3s(0.5f),
                                                   .ks = vec3s(0.04f), .ns = 100.0f, .roughness = 1.0f};
-        sl_model_texref none = {.image = -1, .scale = 1.0f};
+        sl_model_texref none = {.image = -1, .scale = 1.0f, .uv_scale = {1.0f, 1.0f}};
         sl_model_material *d = &model->materials[0];
         d->base_color_tex = d->metallic_roughness_tex = d->normal_tex = d->occlusion_tex = d->emissive_tex =
             d->specular_tex = none;

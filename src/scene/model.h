@@ -47,13 +47,14 @@ typedef struct {
 } sl_model_sampler;
 
 /* One texture slot of a material: the image (index into sl_model.images, -1 = none), the
- * texture coordinate set it reads, its sampler and its scale (normalTexture.scale,
- * occlusionTexture.strength; 1 otherwise). */
+ * texture coordinate set it reads, its sampler, its scale (normalTexture.scale,
+ * occlusionTexture.strength; 1 otherwise) and its texture-coordinate transform. */
 typedef struct {
     int image;
     int uv_set;
     sl_model_sampler sampler;
     float scale;
+    vec2 uv_scale, uv_offset; /* the slot reads uv * uv_scale + uv_offset (glTF's KHR_texture_transform) */
 } sl_model_texref;
 
 /* Where a material came from: glTF's metallic-roughness, or an MTL-style Phong set (OBJ,

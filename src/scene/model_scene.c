@@ -128,7 +128,7 @@ static bool map_texture(sl_scene *scene, const sl_model *model, const sl_model_t
     }
     if (ref->uv_set != 0)
         *ignored |= IGNORED_UV_SET;
-    *map = (sl_material_map){.set = true, .uv_scale = vec2(1.0f, 1.0f)};
+    *map = (sl_material_map){.set = true, .uv_scale = ref->uv_scale, .uv_offset = ref->uv_offset};
     map_sampler(&ref->sampler, map, ignored);
     return scene_image_of(scene, model, ref->image, srgb, used_by, &map->image, err);
 }

@@ -875,6 +875,60 @@ static void test_gltf_values(void **state)
     load_fails(test_tmpfile("noext"), "no file extension");
 }
 
+/* KHR_texture_transform: the base colour map reads uv * scale + offset, as glTF writes them (in
+ * its V-down texture space, which softlight keeps), also when the file requires the extension; a
+ * rotation, which a map's scale and offset cannot express, is refused. */
+static void test_gltf_texture_transform(void **state)
+{
+    (void)state;
+    unsigned char bin[BIN_SIZE];
+    triangle_bin(bin, 0.0f, 2);
+    test_write_bytes(test_tmpfile("tex.png"), RGBA_PNG, sizeof RGBA_PNG);
+    static const struct {
+        const char *file, *transform;
+        bool ok;
+    } cases[] = {
+        {"uvt.gltf", "\"offset\": [0.25, 0.5], \"scale\": [2, 3]", true},
+        {"uvrot.gltf", "\"offset\": [0.25, 0.5], \"scale\": [2, 3], \"rotation\": 0.5", false},
+    };
+    for (size_t i = 0; i < sizeof cases / sizeof cases[0]; i++) {
+        char name[32], text[4096], buffer[128], edited[4400];
+        snprintf(name, sizeof name, "%.*s", (int)(strlen(cases[i].file) - 5), cases[i].file);
+        write_gltf_files(name, NODES, bin);
+        snprintf(buffer, sizeof buffer, "{\"uri\": \"%s.bin\", \"byteLength\": %d}", name, BIN_SIZE);
+        gltf_text(text, sizeof text, NODES, buffer, "[{\"uri\": \"tex.png\"}]");
+        const char *at = strstr(text, "\"baseColorTexture\": {\"index\": 0}");
+        assert_non_null(at);
+        int n = snprintf(edited, sizeof edited,
+                         "%.*s\"baseColorTexture\": {\"index\": 0, \"extensions\": {\"KHR_texture_transform\": {%s}}}%s",
+                         (int)(at - text), text, cases[i].transform, at + strlen("\"baseColorTexture\": {\"index\": 0}"));
+        /* the extension required, at the top level */
+        char *open = strchr(edited, '{');
+        char final[4600];
+        n = snprintf(final, sizeof final, "{\"extensionsUsed\": [\"KHR_texture_transform\"], "
+                     "\"extensionsRequired\": [\"KHR_texture_transform\"], %s", open + 1);
+        test_write_bytes(test_tmpfile(cases[i].file), final, (size_t)n);
+        if (!cases[i].ok) {
+            load_fails(test_tmpfile(cases[i].file), "a texture transform with a rotation (0.5 rad)");
+            continue;
+        }
+        sl_scene scene;
+        sl_error err = {0};
+        if (!sl_scene_load(test_tmpfile(cases[i].file), &scene, &err))
+            fail_msg("%s", err.msg);
+        const sl_material *mat = &scene.materials[scene.objects[0].material];
+        assert_true(mat->maps[SL_MAP_KD].set);
+        assert_near(mat->maps[SL_MAP_KD].uv_scale.x, 2.0f, 1e-6f);
+        assert_near(mat->maps[SL_MAP_KD].uv_scale.y, 3.0f, 1e-6f);
+        assert_near(mat->maps[SL_MAP_KD].uv_offset.x, 0.25f, 1e-6f);
+        assert_near(mat->maps[SL_MAP_KD].uv_offset.y, 0.5f, 1e-6f);
+        /* the metallic-roughness map has no transform */
+        assert_near(mat->maps[SL_MAP_METALLIC_ROUGHNESS].uv_scale.y, 1.0f, 0.0f);
+        assert_near(mat->maps[SL_MAP_METALLIC_ROUGHNESS].uv_offset.y, 0.0f, 0.0f);
+        sl_scene_free(&scene);
+    }
+}
+
 /* A missing texture whose path is longer than any message buffer: one bounded line naming the
  * model and the start of the path, never a write past the excerpt's buffer (ASan sees one). */
 static void test_missing_texture_long_path(void **state)
@@ -930,6 +984,7 @@ int main(void)
         cmocka_unit_test(test_gltf_graph_limits),
         cmocka_unit_test(test_gltf_index_counts),
         cmocka_unit_test(test_gltf_values),
+        cmocka_unit_test(test_gltf_texture_transform),
         cmocka_unit_test(test_texture_path_forms),
         cmocka_unit_test(test_error_excerpt_bounds),
     };
