@@ -54,6 +54,7 @@
 typedef struct {
     const char *name; /* the model as given (messages) */
     bool gltf;        /* a glTF file (.gltf, .glb): its camera is read as the specification's */
+    bool collada;     /* a COLLADA file (.dae, .zae): its camera's field of view is the whole angle */
     /* Import from memory: the one file there is. */
     const char *mem_path;
     const unsigned char *mem;
@@ -385,7 +386,7 @@ static bool find_node(const struct aiNode *node, const struct aiString *name, ma
     return false;
 }
 
-static void convert_camera(const struct aiScene *s, bool gltf, sl_model *model)
+static void convert_camera(const struct aiScene *s, bool gltf, bool collada, sl_model *model)
 {
     const struct aiCamera *c = s->mCameras[0];
     mat4 node = mat4_identity();
@@ -395,17 +396,23 @@ static void convert_camera(const struct aiScene *s, bool gltf, sl_model *model)
      * mHorizontalFOV as half the horizontal angle. Its glTF importer (5.2) copies the node's
      * translation into mPosition as well (placing the camera twice as far) and stores
      * yfov * aspectRatio: for glTF, the camera is the specification's (at the node's origin,
-     * looking down -Z, +Y up) and yfov = mHorizontalFOV / aspect (measured, test_model). */
+     * looking down -Z, +Y up) and yfov = mHorizontalFOV / aspect (measured, test_model). Its
+     * COLLADA importer stores the file's whole xfov, not half of it (measured: xfov 37.85 arrives
+     * as 0.6606 rad). Near and far are in the camera node's units: they scale with its world
+     * transform as the eye does (a file in centimetres places the eye 100 times nearer and must
+     * bring its clipping planes with it). */
     float aspect = c->mAspect > 0.0f ? c->mAspect : 1.0f;
+    float half_fovx = collada ? 0.5f * c->mHorizontalFOV : c->mHorizontalFOV;
     vec3 pos = gltf ? vec3s(0.0f) : ai3(c->mPosition);
     vec3 look = gltf ? vec3(0.0f, 0.0f, -1.0f) : ai3(c->mLookAt), up0 = gltf ? vec3(0.0f, 1.0f, 0.0f) : ai3(c->mUp);
-    float fovy_rad = gltf ? c->mHorizontalFOV / aspect : 2.0f * atanf(tanf(c->mHorizontalFOV) / aspect);
+    float fovy_rad = gltf ? c->mHorizontalFOV / aspect : 2.0f * atanf(tanf(half_fovx) / aspect);
     float fovy = fovy_rad * (180.0f / 3.14159265f);
     vec3 eye = xyz(mat4_mul_vec4(w, vec4_from3(pos, 1.0f)));
     vec3 dir = xyz(mat4_mul_vec4(w, vec4_from3(look, 0.0f)));
     vec3 up = xyz(mat4_mul_vec4(w, vec4_from3(up0, 0.0f)));
+    float units = !gltf && length3(look) > 0.0f ? length3(dir) / length3(look) : 1.0f; /* glTF's are metres */
     vec3 f, u;
-    if (!finite3(eye) || !sl_scene_safe_normalize(dir, &f) || !sl_scene_safe_normalize(up, &u) ||
+    if (!finite3(eye) || !(units > 0.0f) || !sl_scene_safe_normalize(dir, &f) || !sl_scene_safe_normalize(up, &u) ||
         length3(cross(f, u)) < 1e-3f || !(fovy > 0.1f && fovy < 179.0f) || !(c->mClipPlaneNear > 0.0f) ||
         !(c->mClipPlaneFar > c->mClipPlaneNear) || c->mOrthographicWidth > 0.0f)
         return; /* an orthographic or degenerate camera: the scene frames the bounds instead */
@@ -413,8 +420,8 @@ static void convert_camera(const struct aiScene *s, bool gltf, sl_model *model)
                                 .target = add3(eye, f),
                                 .up = u,
                                 .fovy_deg = fovy,
-                                .znear = c->mClipPlaneNear,
-                                .zfar = c->mClipPlaneFar};
+                                .znear = c->mClipPlaneNear * units,
+                                .zfar = c->mClipPlaneFar * units};
     model->has_camera = true;
 }
 
@@ -735,7 +742,7 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
                                                   : "%s: no node places a mesh",
                        name);
     if (s->mNumCameras > 0 && s->mCameras[0])
-        convert_camera(s, fa->gltf, model);
+        convert_camera(s, fa->gltf, fa->collada, model);
     return true;
 }
 
@@ -816,7 +823,8 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
     if (!aiIsExtensionSupported(dotted))
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
-    file_access fa = {.name = path, .gltf = is_gltf(ext), .triangles = -1};
+    file_access fa = {.name = path, .gltf = is_gltf(ext), .collada = !strcasecmp(ext, "dae") || !strcasecmp(ext, "zae"),
+                      .triangles = -1};
     struct stat st;
     if (stat(path, &st) != 0)
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));

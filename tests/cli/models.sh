@@ -105,6 +105,38 @@ expect_error "truncated .glb" 'truncated \.glb' "$T/cut.glb"
 echo hello >"$T/model.xyz"
 expect_error "unknown format" 'unknown model format' "$T/model.xyz"
 expect_error "no such file" 'no such file' "$T/absent.glb"
+# A COLLADA file in centimetres whose camera, 5 m from a 2 m triangle, has a 37.85-degree xfov
+# and clipping planes at 10 and 10000 cm: the camera sees the triangle (near and far scaled to
+# metres with the eye; the field of view read as the whole angle: 25.75 degrees vertically).
+cat >"$T/camtri.dae" <<'DAE'
+<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="centimeter" meter="0.01"/><up_axis>Y_UP</up_axis></asset>
+  <library_cameras><camera id="cam" name="cam"><optics><technique_common><perspective>
+    <xfov sid="xfov">37.85</xfov><aspect_ratio>1.5</aspect_ratio><znear sid="znear">10</znear>
+    <zfar sid="zfar">10000</zfar></perspective></technique_common></optics></camera></library_cameras>
+  <library_geometries><geometry id="tri" name="tri"><mesh>
+    <source id="tri-pos"><float_array id="tri-pos-array" count="9">-100 -100 0 100 -100 0 0 100 0</float_array>
+      <technique_common><accessor source="#tri-pos-array" count="3" stride="3"><param name="X" type="float"/>
+        <param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+    <vertices id="tri-vtx"><input semantic="POSITION" source="#tri-pos"/></vertices>
+    <triangles count="1"><input semantic="VERTEX" source="#tri-vtx" offset="0"/><p>0 1 2</p></triangles>
+  </mesh></geometry></library_geometries>
+  <library_visual_scenes><visual_scene id="s" name="s">
+    <node id="n" name="n"><translate sid="location">0 0 500</translate><instance_camera url="#cam"/></node>
+    <node id="m" name="m"><instance_geometry url="#tri"/></node>
+  </visual_scene></library_visual_scenes>
+  <scene><instance_visual_scene url="#s"/></scene>
+</COLLADA>
+DAE
+"$SL" info "$T/camtri.dae" >"$T/info" 2>&1
+if grep -q 'fovy       25.75.* degrees, near 0.1, far 100$' "$T/info" &&
+    "$SL" render "$T/camtri.dae" -o "$T/camtri.png" --size 64x36 -q 2>"$T/err" && [ ! -s "$T/err" ]; then
+    ok "a COLLADA camera in centimetres sees its model"
+else
+    bad "a COLLADA camera: $(grep fovy "$T/info") $(cat "$T/err")"
+fi
+
 # Files without triangles: a COLLADA file of one camera (assimp builds a placeholder skeleton for
 # it, which is not drawn) and an OBJ of one line.
 cat >"$T/camera.dae" <<'DAE'
