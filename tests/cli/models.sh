@@ -137,6 +137,12 @@ else
     bad "a COLLADA camera: $(grep fovy "$T/info") $(cat "$T/err")"
 fi
 
+# A model given alone whose texture is not an image: one line that names the model once.
+printf 'mtllib t.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 0 1\nusemtl m\nf 1/1 2/2 3/3\n' >"$T/tex.obj"
+printf 'newmtl m\nKd 1 1 1\nmap_Kd junk.png\n' >"$T/t.mtl"
+printf 'not an image' >"$T/junk.png"
+expect_error "a texture that is no image" '^softlight render: [^ ]*tex\.obj: material "m": map_Kd: [^ ]*junk\.png: byte 0' "$T/tex.obj"
+
 # Files without triangles: a COLLADA file of one camera (assimp builds a placeholder skeleton for
 # it, which is not drawn) and an OBJ of one line.
 cat >"$T/camera.dae" <<'DAE'
