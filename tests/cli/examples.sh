@@ -22,12 +22,8 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-examples.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 unset SOFTLIGHT_DATA_DIR
 P=$T/prefix
-# Built as the library was: its compiler and, in a sanitized build, the sanitizers (as install.sh).
-CC=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")
-CFLAGS=""
-if grep -q '^SL_SANITIZE:BOOL=ON' "$BUILD/CMakeCache.txt"; then
-    CFLAGS="-fsanitize=address,undefined"
-fi
+. "$SRC/tests/cli/lib.bash"
+consumer_toolchain "$BUILD" # the consumers are built as the library was
 fails=0
 ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fails=$((fails + 1)); }

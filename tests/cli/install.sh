@@ -13,13 +13,8 @@ T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-install.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 unset SOFTLIGHT_DATA_DIR SL_SHADER_DIR
 P=$T/prefix
-# The consumers are built as the library was: its compiler (GCC's and clang's OpenMP runtimes
-# differ) and, in a sanitized build, the sanitizers' runtime.
-CC=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$BUILD/CMakeCache.txt")
-CFLAGS=""
-if grep -q '^SL_SANITIZE:BOOL=ON' "$BUILD/CMakeCache.txt"; then
-    CFLAGS="-fsanitize=address,undefined"
-fi
+. "$SRC/tests/cli/lib.bash"
+consumer_toolchain "$BUILD" # the consumers are built as the library was
 fails=0
 ok() { echo "ok   $1"; }
 bad() { echo "FAIL $1"; fails=$((fails + 1)); }

@@ -38,6 +38,17 @@ expect_error() {
     fi
 }
 
+# consumer_toolchain BUILD_DIR: sets CC and CFLAGS for a program built against that build's
+# installed library as the library was built: its compiler (GCC's and clang's OpenMP runtimes
+# differ) and, in a sanitized build, the sanitizers' runtime.
+consumer_toolchain() {
+    CC=$(sed -n 's/^CMAKE_C_COMPILER:[A-Z]*=//p' "$1/CMakeCache.txt")
+    CFLAGS=""
+    if grep -q '^SL_SANITIZE:BOOL=ON' "$1/CMakeCache.txt"; then
+        CFLAGS="-fsanitize=address,undefined"
+    fi
+}
+
 # cli_done [LABEL]: the counts, and the test's status.
 cli_done() {
     echo "${1:+$1: }$passes passed, $fails failed"
