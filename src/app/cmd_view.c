@@ -42,7 +42,7 @@ int cmd_view(int argc, char **argv)
 #define FONT_POINTS 12
 #define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Refinement": measured) */
 #define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
-#define VIEW_OPTION_COUNT 12     /* options of `view` beside render's */
+#define VIEW_OPTION_COUNT 15     /* options of `view` beside render's */
 #define DEFAULT_SCENE "scenes/default.json" /* what `softlight view ENV.hdr` lights */
 
 /* ------------------------------------------------------------------ the loop */
@@ -106,6 +106,7 @@ static void run(viewer *v)
             view_bench_input(v, now);
         if (view_watch_changed(&v->watch, now))
             reload(v);
+        view_program_poll(v, now);
         bool message_expired = v->message_shown && now >= v->message_until;
         bool busy = v->job_active || view_refine_wanted(v, now) || v->retonemap || v->present_needed || message_expired;
         SDL_Event e;
@@ -121,6 +122,7 @@ static void run(viewer *v)
                 wake = fmin(wake, fmax(0.005, v->message_until - now));
             if (v->watch.count)
                 wake = fmin(wake, fmax(0.005, v->watch.next_poll - now));
+            wake = fmin(wake, fmax(0.005, view_program_wake(v, now)));
             if (SDL_WaitEventTimeout(&e, (int)(wake * 1000.0) + 1))
                 act(v, view_handle_event(v, &e));
         }
@@ -230,6 +232,7 @@ static void viewer_free(viewer *v)
 {
     view_script_free(&v->script);
     view_watch_free(&v->watch);
+    view_program_close(v);
     view_trace_free(v);
     view_shade_free(&v->shade);
     view_hud_destroy(v->hud);
@@ -260,8 +263,8 @@ int cmd_view(int argc, char **argv)
     int frames = 0, move_samples = MOVE_SAMPLES, move_div = 0, bench_frames = 0;
     int acc_lod = 0;  /* index in "total|frame" */
     int move_est = 0; /* index in "splitsum|user" */
-    bool no_hud = false, keys = false;
-    const char *env = NULL;
+    bool no_hud = false, keys = false, debug_shader = false, verbose = false;
+    const char *env = NULL, *lighting = NULL;
     const sl_arg extra[] = {
         {"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
          "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL},
@@ -286,6 +289,13 @@ int cmd_view(int argc, char **argv)
          "orbit for FRAMES moving frames, print the frame times and quit", NULL},
         {"--accumulate-lod", NULL, SL_ARG_CHOICE, &acc_lod, 0, 0, "total|frame", NULL,
          "mip levels of accumulation frames: as for the total N (default) or for the frame's own N", NULL},
+        {"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
+         "shade with this lighting program, as render does; a C source is recompiled when it is saved "
+         "(docs/lighting-programs.md)", NULL},
+        {"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
+         "compile the --lighting source with -g -O0, for a debugger", NULL},
+        {"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
+         "print the --lighting compiler command and each recompile's time", NULL},
     };
     _Static_assert(sizeof extra / sizeof extra[0] == VIEW_OPTION_COUNT, "VIEW_OPTION_COUNT is the size of extra[]");
     memcpy(table + n, extra, sizeof extra);
@@ -356,10 +366,19 @@ int cmd_view(int argc, char **argv)
         }
         v.have_script = true;
     }
+    if (lighting) { /* only the command line names code to run; a scene never does */
+        char msg[1200];
+        if (!view_program_open(&v, lighting, debug_shader, verbose, msg, sizeof msg)) {
+            fprintf(stderr, "softlight view: %s\n", msg);
+            view_script_free(&v.script);
+            return 2;
+        }
+    }
     if (bench_frames > 0 && !view_bench_init(&v.bench, bench_frames, &err)) {
         fprintf(stderr, "softlight view: %s\n", err.msg);
         view_script_free(&v.script);
         view_bench_free(&v.bench);
+        view_program_close(&v);
         return 2;
     }
 
@@ -381,6 +400,7 @@ int cmd_view(int argc, char **argv)
         fprintf(stderr, "softlight view: no display (%s); use softlight render %s -o out.png\n", why, scene_path[0]);
         view_script_free(&v.script);
         view_bench_free(&v.bench);
+        view_program_close(&v);
         return 2;
     }
     SDL_SetHint(SDL_HINT_RENDER_SCALE_QUALITY, "1");
@@ -418,7 +438,7 @@ int cmd_view(int argc, char **argv)
         goto done;
     }
     sl_renderer r;
-    sl_render_desc first = desc;
+    sl_render_desc first = v.cli_desc;
     int first_w, first_h;
     view_render_size(&v, 1, &first_w, &first_h);
     sl_option_set_size(&first.options, first_w, first_h);

@@ -15,6 +15,8 @@
  *   view_keys.c       the key table: the help overlay, `--keys` (docs/viewer.md) and the script's names
  *   view_probe.c      the pixel under the pointer: its readout, and its trace (softlight trace's text)
  *   view_reload.c     the files a scene was loaded from, polled for changes
+ *   view_program.c    --lighting: the user's lighting program, recompiled in the background
+ *                     when its source changes, and swapped in between frames
  * Which file calls which:
  *   cmd_view.c        -> every file below
  *   view_script.c     -> view_screenshot.c, view_refine.c
@@ -27,6 +29,8 @@
  *   view_probe.c      -> view_image.c, view_refine.c (its sizes and restarts)
  *   view_keys.c       -> view_image.c (the views' names)
  *   view_reload.c     -> nothing of the viewer's
+ *   view_program.c    -> view_reload.c (the watch), view_refine.c (the restart)
+ *   view_present.c    -> view_program.c (its HUD lines)
  *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
  *   view_texture.c    -> nothing of the viewer's (a failure goes back as an sl_error)
  * Every call goes one way.
@@ -140,6 +144,7 @@ typedef struct {
     double row_seconds;       /* measured cost of one row, to size the next slice */
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
+    int64_t nonfinite_base;   /* the tasks' NaN/Inf count when the job began */
     /* When display is set, each row is also tone mapped into it (row y at display + y
      * display_pitch, sl_tonemap_row_xrgb8888) right after it is lit, while it is in cache:
      * a moving frame goes straight into the window's texture (view_refine.c). */
@@ -158,6 +163,9 @@ bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error
 bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_image *out,
                       double budget_s, int *first_row);
 void view_shade_free(view_shade_job *job);
+/* Pixels of this job so far whose NaN/Inf the lighting stage replaced (a user's program's:
+ * drawn magenta). */
+int64_t view_shade_nonfinite(const view_shade_job *job);
 
 /* ---- view_script.c: the script's commands (running it: below the viewer's state) ---- */
 typedef enum {
@@ -263,6 +271,10 @@ typedef struct {
     double next_poll;
 } view_watch;
 
+/* --lighting: the user's program (view_program.c). The compile runs on a thread of its own;
+ * the loop polls it and swaps the result in between frames. */
+typedef struct view_program_state view_program_state;
+
 /* --benchmark: per-frame times of the moving stage, from one present to the next. */
 typedef struct {
     int frames;        /* to measure (0: no benchmark) */
@@ -350,6 +362,11 @@ struct viewer {
 
     /* reloading (view_reload.c, polled by cmd_view.c) */
     view_watch watch;
+
+    /* the lighting program (view_program.c; NULL: the built-in) */
+    view_program_state *program;
+    int64_t shown_nonfinite; /* NaN/Inf pixels of the last frame lit in full (view_refine.c) */
+    bool frame_lit;          /* a frame was lit in full since the last present (view_refine.c) */
 
     /* messages (view_present.c), script, counters */
     char message[256];
@@ -481,5 +498,20 @@ bool view_watch_scene(view_watch *w, const sl_scene *scene, const char *env_over
 #define VIEW_POLL_SECONDS 0.25
 bool view_watch_changed(view_watch *w, double now);
 void view_watch_free(view_watch *w);
+/* Watch one file alone (what was watched before is dropped). */
+bool view_watch_file(view_watch *w, const char *path, sl_error *err);
+
+/* ---- view_program.c ---- */
+/* Load `path` now (at startup: a failure is the command's error, with msg) and watch it. */
+bool view_program_open(viewer *v, const char *path, bool debug, bool verbose, char *msg, size_t msg_size);
+/* Once a turn: start a compile when the source changed, swap a finished one in (restarting the
+ * lighting), or report its error (the last good program keeps running); once the first frame
+ * lit in full with a new program was presented, print the time from the source's save to it. */
+void view_program_poll(viewer *v, double now);
+/* HUD lines: the program, its error, its NaN/Inf count (buf: lines separated by '\n'). */
+void view_program_hud(const viewer *v, bool compact, char *buf, size_t size);
+/* Seconds until the next poll is due (for the idle wait); a large value when nothing is watched. */
+double view_program_wake(const viewer *v, double now);
+void view_program_close(viewer *v);
 
 #endif

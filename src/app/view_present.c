@@ -227,6 +227,14 @@ static void hud_lines(viewer *v, double now, int width, text_block *t)
     }
     if (view_readout(v, 4, line, sizeof line))
         add_wrapped(v, t, line, width);
+    view_program_hud(v, compact, line, sizeof line);
+    for (char *s = line, *end; *s; s = end + 1) {
+        end = strchr(s, '\n');
+        if (!end)
+            break;
+        *end = '\0';
+        add_wrapped(v, t, s, width);
+    }
     if (now < v->message_until)
         add_wrapped(v, t, v->message, width);
     if (!compact)

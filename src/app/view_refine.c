@@ -343,6 +343,8 @@ static bool stage_continue(viewer *v, double budget_s, sl_error *err)
         return true;
     }
     v->job_active = false;
+    v->shown_nonfinite = view_shade_nonfinite(&v->shade);
+    v->frame_lit = true;
     if (v->job_stage == VIEW_STAGE_ACCUMULATE) {
         if (v->acc_count == 0 && v->mean.data &&
             (v->mean.width != target->width || v->mean.height != target->height))

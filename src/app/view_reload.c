@@ -81,6 +81,13 @@ bool view_watch_changed(view_watch *w, double now)
     return changed;
 }
 
+bool view_watch_file(view_watch *w, const char *path, sl_error *err)
+{
+    view_watch_free(w);
+    int capacity = 0;
+    return watch_add(w, &capacity, path, err);
+}
+
 void view_watch_free(view_watch *w)
 {
     free(w->paths);

@@ -41,6 +41,8 @@ bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error
         sl_lighting_task_reset(job->tasks[i]);
     job->next_row = 0;
     job->seconds = 0.0;
+    job->nonfinite_base = 0;
+    job->nonfinite_base = view_shade_nonfinite(job);
     if (!same_cost) {
         job->row_seconds = 0.0; /* N and the size may differ from the last job: measure again */
         job->last_rows = 0;
@@ -102,6 +104,14 @@ bool view_shade_slice(view_shade_job *job, const sl_lighting_uniforms *u, const 
     if (first_row)
         *first_row = y0;
     return y1 >= height;
+}
+
+int64_t view_shade_nonfinite(const view_shade_job *job)
+{
+    sl_lighting_stats stats = {0};
+    for (int i = 0; job->tasks && i < job->thread_count; i++)
+        sl_lighting_task_stats(job->tasks[i], &stats);
+    return stats.nonfinite - job->nonfinite_base;
 }
 
 void view_shade_free(view_shade_job *job)
