@@ -19,7 +19,7 @@ if [ -n "$others" ]; then
 fi
 if [ "$count" -lt 1 ]; then echo "FAIL no sl_ symbol exported"; fails=1; else echo "ok   $count sl_ symbols exported, nothing else"; fi
 # An internal function of the library stays hidden.
-if printf '%s\n' "$syms" | grep -qx sl_scene_load_model_alone; then echo "FAIL internal symbols exported"; fails=1; fi
+if printf '%s\n' "$syms" | grep -x sl_scene_load_model_alone >/dev/null; then echo "FAIL internal symbols exported"; fails=1; fi
 # The static library's globals, internals included: names the compiler or a sanitizer generates
 # (a leading double underscore) are the only others.
 static_bad=$(nm -g --defined-only "$BUILD/libsoftlight.a" | awk 'NF == 3 { print $3 }' | grep -v -e '^sl_' -e '^__' | sort -u || true)

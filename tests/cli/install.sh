@@ -31,7 +31,7 @@ for f in include/softlight/version.h include/softlight/data.h bin/softlight \
 done
 if grep -q "^prefix=$P\$" "$pc"; then ok "softlight.pc names the prefix installed into"; else bad "softlight.pc prefix: $(grep ^prefix= "$pc")"; fi
 # The source tree's build marker stays in the build tree.
-if find "$P" -name softlight-data-dir | grep -q .; then bad "the build tree's softlight-data-dir was installed"; fi
+if find "$P" -name softlight-data-dir | grep . >/dev/null; then bad "the build tree's softlight-data-dir was installed"; fi
 
 # ---- find_package: softlight::softlight (shared) and softlight::softlight_static ----
 if cmake -S tests/consumer -B "$T/cmake-consumer" -DCMAKE_BUILD_TYPE=Release -DCMAKE_PREFIX_PATH="$P" \
@@ -43,7 +43,7 @@ else
 fi
 (cd / && "$T/cmake-consumer/consumer" "$T/cmake-shared.png") && png_ok "$T/cmake-shared.png" &&
     ok "find_package consumer (libsoftlight.so, data found beside the library)" || bad "find_package consumer (shared)"
-if readelf -d "$T/cmake-consumer/consumer" | grep -q 'NEEDED.*libsoftlight.so.0'; then ok "consumer needs libsoftlight.so.0"; else bad "consumer does not link libsoftlight.so.0"; fi
+if readelf -d "$T/cmake-consumer/consumer" | grep 'NEEDED.*libsoftlight.so.0' >/dev/null; then ok "consumer needs libsoftlight.so.0"; else bad "consumer does not link libsoftlight.so.0"; fi
 (cd / && SOFTLIGHT_DATA_DIR="$P/share/softlight" "$T/cmake-consumer/consumer_static" "$T/cmake-static.png") &&
     png_ok "$T/cmake-static.png" && ok "find_package consumer (softlight::softlight_static)" || bad "find_package consumer (static)"
 
@@ -62,7 +62,7 @@ fi
 static_libs=$(pkg-config --libs --static softlight | sed 's/-lsoftlight\b/-l:libsoftlight.a/')
 # shellcheck disable=SC2086
 if "$CC" -std=c11 $CFLAGS tests/consumer/consumer.c $cflags -I"$SRC/src" $static_libs -o "$P/bin/sl-consumer" &&
-   ! readelf -d "$P/bin/sl-consumer" | grep -q libsoftlight &&
+   ! readelf -d "$P/bin/sl-consumer" | grep libsoftlight >/dev/null &&
    (cd / && "$P/bin/sl-consumer" "$T/pc-static.png") && png_ok "$T/pc-static.png"; then
     ok "pkg-config --static consumer (data found beside the program)"
 else

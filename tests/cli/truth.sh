@@ -21,7 +21,7 @@ grep -q "integrated" "$T/1.txt" || { echo "FAIL: first run did not integrate"; c
 "$SL" truth "$scene" --size $SIZE --cache "$T/t.gt" --pfm "$T/t2.pfm" >"$T/2.txt"
 grep -q "read from the cache" "$T/2.txt" || { echo "FAIL: second run did not use the cache"; cat "$T/2.txt"; exit 1; }
 cmp -s "$T/t.pfm" "$T/t2.pfm" || { echo "FAIL: the cached truth differs from the computed one"; exit 1; }
-head -c 200 "$T/t.gt" | grep -q "^size 32 18" || { echo "FAIL: cache header"; head -c 300 "$T/t.gt"; exit 1; }
+head -c 200 "$T/t.gt" | grep "^size 32 18" >/dev/null || { echo "FAIL: cache header"; head -c 300 "$T/t.gt"; exit 1; }
 
 # another size is another G-buffer: recomputed, not read
 "$SL" truth "$scene" --size 16x9 --cache "$T/t.gt" >"$T/3.txt"
