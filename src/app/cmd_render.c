@@ -114,14 +114,9 @@ int cmd_render(int argc, char **argv)
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
-    if (lighting) { /* only the command line names code to run; a scene never does */
-        char msg[1200];
-        sl_lighting_load_options lo = {.debug = debug_shader, .verbose = verbose};
-        if (!sl_lighting_load(lighting, &lo, &desc.lighting_program, msg, sizeof msg)) {
-            fprintf(stderr, "softlight render: %s\n", msg);
-            return 2;
-        }
-    }
+    /* only the command line names code to run; a scene never does */
+    if (!sl_lighting_load_arg("render", lighting, debug_shader, verbose, &desc.lighting_program))
+        return 2;
     char default_png[1024];
     if (!png && !hdr && !pfm && !aov && !normals && !exr) {
         default_png_name(positional[0], default_png, sizeof default_png);

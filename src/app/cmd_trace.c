@@ -50,14 +50,9 @@ int cmd_trace(int argc, char **argv)
         fprintf(stderr, "softlight trace: %s\n", err.msg);
         return 2;
     }
-    if (lighting) { /* only the command line names code to run; a scene never does */
-        char msg[1200];
-        sl_lighting_load_options lo = {.debug = debug_shader, .verbose = verbose};
-        if (!sl_lighting_load(lighting, &lo, &desc.lighting_program, msg, sizeof msg)) {
-            fprintf(stderr, "softlight trace: %s\n", msg);
-            return 2;
-        }
-    }
+    /* only the command line names code to run; a scene never does */
+    if (!sl_lighting_load_arg("trace", lighting, debug_shader, verbose, &desc.lighting_program))
+        return 2;
     sl_scene scene;
     if (!sl_scene_load(positional[0], &scene, &err)) {
         fprintf(stderr, "softlight trace: %s\n", err.msg);

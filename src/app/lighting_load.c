@@ -22,6 +22,7 @@
 #include <softlight/data.h>
 #include <softlight/version.h>
 
+#include "core/hash.h"
 #include "lighting_load.h"
 
 extern char **environ;
@@ -37,16 +38,6 @@ static bool fail(char *msg, size_t size, const char *fmt, ...)
     return false;
 }
 
-static uint64_t fnv(uint64_t h, const void *data, size_t n)
-{
-    const unsigned char *p = data;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 0x100000001b3ull;
-    }
-    return h;
-}
-static uint64_t fnv_str(uint64_t h, const char *s) { return fnv(h, s, strlen(s) + 1); }
 
 /* The whole file into a malloc'd buffer (NUL-terminated); NULL if it cannot be read. */
 static char *read_all(const char *path, size_t *size)
@@ -192,11 +183,11 @@ static uint64_t hash_headers(uint64_t h, const char *include_dir)
         size_t size;
         char *text = read_all(path, &size);
         if (text)
-            sum += fnv(fnv_str(0xcbf29ce484222325ull, e->d_name), text, size);
+            sum += sl_fnv1a(sl_fnv1a_str(SL_FNV1A_START, e->d_name), text, size);
         free(text);
     }
     closedir(d);
-    return fnv(h, &sum, sizeof sum);
+    return sl_fnv1a(h, &sum, sizeof sum);
 }
 
 /* Compile the C source `path` (text already read) into the cache; the object's path in `so`. */
@@ -233,9 +224,9 @@ static bool compile(const char *path, const char *text, size_t text_size, const 
     char tmpdir_log[PATH_SIZE];
     snprintf(tmpdir_log, sizeof tmpdir_log, "%s/softlight-cc-%ld.log", getenv("TMPDIR") ? getenv("TMPDIR") : "/tmp",
              (long)getpid());
-    uint64_t h = fnv(0xcbf29ce484222325ull, text, text_size);
+    uint64_t h = sl_fnv1a(SL_FNV1A_START, text, text_size);
     for (int i = 0; i < argc; i++)
-        h = fnv_str(h, argv[i]);
+        h = sl_fnv1a_str(h, argv[i]);
     {
         char *vargv[MAX_ARGS];
         memcpy(vargv, argv, sizeof(char *) * (size_t)cc_args);
@@ -246,13 +237,13 @@ static bool compile(const char *path, const char *text, size_t text_size, const 
             return fail(msg, msg_size, "%s: cannot run the C compiler '%s' (set CC)", path, argv[0]);
         }
         char *version = read_all(tmpdir_log, NULL);
-        h = fnv_str(h, version ? version : "");
+        h = sl_fnv1a_str(h, version ? version : "");
         free(version);
     }
     h = hash_headers(h, include_dir);
     int abi = SL_LIGHTING_ABI;
-    h = fnv(h, &abi, sizeof abi);
-    h = fnv_str(h, SL_VERSION_STRING);
+    h = sl_fnv1a(h, &abi, sizeof abi);
+    h = sl_fnv1a_str(h, SL_VERSION_STRING);
 
     if (!cache_dir(cache, sizeof cache))
         return fail(msg, msg_size, "%s: no cache directory ($XDG_CACHE_HOME or $HOME)", path);
@@ -337,4 +328,17 @@ bool sl_lighting_load(const char *path, const sl_lighting_load_options *opt, con
     }
     *program = p; /* the handle stays open: the program runs until the process ends */
     return true;
+}
+
+bool sl_lighting_load_arg(const char *command, const char *path, bool debug, bool verbose,
+                          const sl_lighting_program **program)
+{
+    if (!path)
+        return true;
+    char msg[1200];
+    sl_lighting_load_options lo = {.debug = debug, .verbose = verbose};
+    if (sl_lighting_load(path, &lo, program, msg, sizeof msg))
+        return true;
+    fprintf(stderr, "softlight %s: %s\n", command, msg);
+    return false;
 }

@@ -23,4 +23,9 @@ typedef struct {
 bool sl_lighting_load(const char *path, const sl_lighting_load_options *opt, const sl_lighting_program **program,
                       char *msg, size_t msg_size);
 
+/* The command's --lighting FILE (NULL: none, *program left alone) loaded into *program; a failure
+ * is printed as "softlight COMMAND: ..." on stderr and returns false (the command exits 2). */
+bool sl_lighting_load_arg(const char *command, const char *path, bool debug, bool verbose,
+                          const sl_lighting_program **program);
+
 #endif

@@ -6,6 +6,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/hash.h"
+
 bool sl_shard_parse(const char *text, sl_shard *s, sl_error *err)
 {
     int i, n, used = 0;
@@ -14,16 +16,6 @@ bool sl_shard_parse(const char *text, sl_shard *s, sl_error *err)
     s->index = i;
     s->count = n;
     return true;
-}
-
-static uint64_t fnv(uint64_t h, const void *bytes, size_t n)
-{
-    const unsigned char *p = bytes;
-    for (size_t k = 0; k < n; k++) {
-        h ^= p[k];
-        h *= 1099511628211ull;
-    }
-    return h;
 }
 
 /* Options whose values may differ between the shards of one run without changing a pixel. */
@@ -43,20 +35,20 @@ static bool per_shard(const char *word, bool *takes_value)
 bool sl_shard_identity(const char *command, int argc, char **argv, const char *scene_path, uint64_t *identity,
                        sl_error *err)
 {
-    uint64_t h = fnv(14695981039346656037ull, command, strlen(command) + 1);
+    uint64_t h = sl_fnv1a_str(SL_FNV1A_START, command);
     for (int k = 2; k < argc; k++) {
         bool takes_value;
         if (per_shard(argv[k], &takes_value)) {
             k += takes_value;
             continue;
         }
-        h = fnv(h, argv[k], strlen(argv[k]) + 1);
+        h = sl_fnv1a_str(h, argv[k]);
     }
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(scene_path, (size_t)1 << 28, &bytes, &size, err))
         return false;
-    *identity = fnv(h, bytes, size);
+    *identity = sl_fnv1a(h, bytes, size);
     free(bytes);
     return true;
 }

@@ -13,6 +13,8 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "../core/hash.h"
+
 #include "../core/timer.h"
 #include "lighting_internal.h"
 
@@ -24,46 +26,35 @@
 #define GT_HEADER_MAX 4096
 
 
-/* ---- hashing: FNV-1a 64 ---- */
-
-static uint64_t fnv(uint64_t h, const void *bytes, size_t n)
-{
-    const unsigned char *p = bytes;
-    for (size_t i = 0; i < n; i++) {
-        h ^= p[i];
-        h *= 1099511628211ull;
-    }
-    return h;
-}
-static const uint64_t FNV_START = 14695981039346656037ull;
+/* ---- hashing: FNV-1a 64 (core/hash.h) ---- */
 
 static uint64_t env_hash(const sl_env *env)
 {
     const sl_env_level *l = &env->levels[0];
-    uint64_t h = fnv(FNV_START, &l->width, sizeof l->width);
-    h = fnv(h, &l->height, sizeof l->height);
-    return fnv(h, l->texels, (size_t)l->width * (size_t)l->height * sizeof *l->texels);
+    uint64_t h = sl_fnv1a(SL_FNV1A_START, &l->width, sizeof l->width);
+    h = sl_fnv1a(h, &l->height, sizeof l->height);
+    return sl_fnv1a(h, l->texels, (size_t)l->width * (size_t)l->height * sizeof *l->texels);
 }
 
 static uint64_t gbuffer_hash(const sl_gbuffer *gb)
 {
     _Static_assert(sizeof(sl_gbuffer_texel) == 14 * sizeof(float), "G-buffer texel has no padding to hash");
-    uint64_t h = fnv(FNV_START, &gb->width, sizeof gb->width);
-    h = fnv(h, &gb->height, sizeof gb->height);
-    h = fnv(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
+    uint64_t h = sl_fnv1a(SL_FNV1A_START, &gb->width, sizeof gb->width);
+    h = sl_fnv1a(h, &gb->height, sizeof gb->height);
+    h = sl_fnv1a(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
     if (gb->extra) /* occlusion and emission change the result (the tag is their writer's depth) */
-        h = fnv(h, gb->extra, (size_t)gb->width * (size_t)gb->height * sizeof *gb->extra);
+        h = sl_fnv1a(h, gb->extra, (size_t)gb->width * (size_t)gb->height * sizeof *gb->extra);
     return h;
 }
 
 static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, const sl_gt_image_desc *d)
 {
-    uint64_t h = fnv(FNV_START, GT_IMAGE_VERSION, sizeof GT_IMAGE_VERSION);
-    h = fnv(h, &env_h, sizeof env_h);
-    h = fnv(h, &gb_h, sizeof gb_h);
-    h = fnv(h, &d->eye, sizeof d->eye);
-    h = fnv(h, &d->env_rotation_deg, sizeof d->env_rotation_deg);
-    return fnv(h, &d->env_intensity, sizeof d->env_intensity);
+    uint64_t h = sl_fnv1a(SL_FNV1A_START, GT_IMAGE_VERSION, sizeof GT_IMAGE_VERSION);
+    h = sl_fnv1a(h, &env_h, sizeof env_h);
+    h = sl_fnv1a(h, &gb_h, sizeof gb_h);
+    h = sl_fnv1a(h, &d->eye, sizeof d->eye);
+    h = sl_fnv1a(h, &d->env_rotation_deg, sizeof d->env_rotation_deg);
+    return sl_fnv1a(h, &d->env_intensity, sizeof d->env_intensity);
 }
 
 uint64_t sl_gt_image_key(const sl_gt_image_desc *desc)
