@@ -37,6 +37,13 @@ static float eye_depth(float d, float n, float f)
     return 2.0f * n * f / (f + n - z_ndc * (f - n));
 }
 
+/* "NAME x y z (UNITS)" with `digits` significant digits. */
+static void vec3_readout(char *o, size_t left, const char *name, vec3 v, const char *units, int digits)
+{
+    snprintf(o, left, "%s %.*g %.*g %.*g (%s)", name, digits, (double)v.x, digits, (double)v.y, digits, (double)v.z,
+             units);
+}
+
 /* The mean mip level of the pixel's specular samples above the horizon (the mip view's value). */
 static bool mean_level(const viewer *v, int x, int y_gb, float *level)
 {
@@ -87,22 +94,10 @@ bool view_readout(viewer *v, int digits, char *buf, size_t size)
         return true;
     }
     switch (v->mode) {
-    case VIEW_POSITION:
-        snprintf(o, left, "position %.*g %.*g %.*g (world units)", digits, (double)t->position.x, digits,
-                 (double)t->position.y, digits, (double)t->position.z);
-        break;
-    case VIEW_NORMAL:
-        snprintf(o, left, "normal %.*g %.*g %.*g (unit vector, world space)", digits, (double)t->normal.x, digits,
-                 (double)t->normal.y, digits, (double)t->normal.z);
-        break;
-    case VIEW_KD:
-        snprintf(o, left, "kd %.*g %.*g %.*g (diffuse albedo, linear, 0..1)", digits, (double)t->kd.x, digits,
-                 (double)t->kd.y, digits, (double)t->kd.z);
-        break;
-    case VIEW_KS:
-        snprintf(o, left, "ks %.*g %.*g %.*g (Fresnel F0, linear, 0..1)", digits, (double)t->ks.x, digits,
-                 (double)t->ks.y, digits, (double)t->ks.z);
-        break;
+    case VIEW_POSITION: vec3_readout(o, left, "position", t->position, "world units", digits); break;
+    case VIEW_NORMAL: vec3_readout(o, left, "normal", t->normal, "unit vector, world space", digits); break;
+    case VIEW_KD: vec3_readout(o, left, "kd", t->kd, "diffuse albedo, linear, 0..1", digits); break;
+    case VIEW_KS: vec3_readout(o, left, "ks", t->ks, "Fresnel F0, linear, 0..1", digits); break;
     case VIEW_ALPHA:
         if (t->alpha >= 0.0f)
             snprintf(o, left, "alpha %.*g (Phong exponent, 0 rough .. 10000 mirror)", digits, (double)t->alpha);
