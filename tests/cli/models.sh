@@ -162,7 +162,7 @@ printf 'v 0 0 0\nv 1 0 0\nl 1 2\n' >"$T/line.obj"
 expect_error "lines only" 'no triangle meshes \(softlight draws triangles' "$T/line.obj"
 # Counts the importer would trust: an OFF file declaring 10^8 faces is refused by softlight's
 # own check of the format; a 200-byte PLY declaring 4x10^8 vertices reaches the importer, whose
-# child runs out of its budget at once (unbounded, assimp takes gigabytes before failing). A face
+# child runs out of its budget at once (4x10^8 positions are 4.8 GB). A face
 # index past the vertex list, and an OBJ material no .mtl defines, are refused too.
 printf 'OFF\n3 100000000 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.off"
 expect_error "an OFF file declaring 10^8 faces" 'declares 3 vertices and 100000000 faces' "$T/bomb.off"
