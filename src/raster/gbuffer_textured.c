@@ -589,14 +589,8 @@ bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textu
                                                       &out->textures[i], err)
                              : sl_texture_load(img->path, img->srgb, budget, &out->textures[i], err);
         if (!ok) {
-            /* the loader names the file; say which scene and which material's map wanted it (a
-             * model given alone is its own scene, and its maps' used_by starts with its name) */
-            size_t n = strlen(scene->path);
-            bool named = strncmp(img->used_by, scene->path, n) == 0 && img->used_by[n] == ':';
-            if (named)
-                sl_error_prefix(err, "%s: ", img->used_by);
-            else
-                sl_error_prefix(err, "%s: %s: ", scene->path, img->used_by);
+            /* the loader names the file; say which scene and which material's map wanted it */
+            sl_error_prefix(err, "%s: %s: ", scene->path, img->used_by);
             sl_scene_textures_free(out);
             return false;
         }

@@ -142,7 +142,12 @@ static bool map_material(sl_scene *scene, const sl_model *model, const sl_model_
     out->occlusion_strength = 1.0f;
     snprintf(out->name, sizeof out->name, "%.31s/%.31s", prefix, m->name);
     char used[320]; /* fits the format below; sl_scene_image.used_by keeps its first 255 */
-#define USED(slot) (snprintf(used, sizeof used, "%.200s: material \"%.31s\": %s", model->path, m->name, slot), used)
+    /* Messages start with the scene's path: a model given alone is its own scene, named once. */
+    bool alone = strcmp(model->path, scene->path) == 0;
+#define USED(slot)                                                                                           \
+    (snprintf(used, sizeof used, "%.200s%smaterial \"%.31s\": %s", alone ? "" : model->path, alone ? "" : ": ", \
+              m->name, slot),                                                                                  \
+     used)
     bool ok;
     if (m->kind == SL_MODEL_MAT_PHONG) {
         out->brdf = SL_BRDF_PHONG;
