@@ -134,6 +134,13 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
+    /* ambient occlusion is softlight's C pass over its G-buffer (src/occlusion): GL lights that
+     * G-buffer, occlusion included, but draws none of its own */
+    if (f->renderer.desc.options.ao_radius > 0.0f && !o->gbuffer_dir) {
+        sl_fail(err, SL_ERR_UNSUPPORTED, "ambient occlusion (ao_radius %g) has no GL pass: light softlight's G-buffer "
+                "with --gbuffer DIR (softlight render --ao-radius R --aov DIR)", (double)f->renderer.desc.options.ao_radius);
+        goto done;
+    }
     /* the extra target only where softlight allocates its extra plane (src/raster/gbuffer.h) */
     bool extra = false;
     for (int i = 0; i < f->scene.object_count; i++)
