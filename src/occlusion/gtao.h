@@ -29,8 +29,8 @@
 #include "raster/gbuffer.h"
 #include "scene/scene.h"
 
-#define SL_GTAO_SLICES 4      /* screen-space directions per pixel, at fixed angles */
-#define SL_GTAO_STEPS 6       /* G-buffer reads per side of a slice */
+#define SL_GTAO_SLICES 2      /* slices per sample (each turned by the sample's pattern entry) */
+#define SL_GTAO_STEPS 4       /* G-buffer reads per side of a slice */
 #define SL_GTAO_MAX_SCREEN 0.25f /* the largest screen radius, as a share of the image height */
 
 /* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)

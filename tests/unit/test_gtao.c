@@ -101,8 +101,9 @@ static void floor_pixel(const sl_gbuffer *gb, float px, float py, int *bx, int *
         }
 }
 
-/* An open floor: AO 1 up to the method's own error (measured: lowest 0.9924 where N.V >= 0.25,
- * 0.9874 at grazing views, mean 0.9987): at least 0.99 and 0.98. */
+/* An open floor: AO 1 up to the method's own error (measured: lowest 0.9816 where N.V >= 0.25,
+ * 0.9767 at grazing views, where the blur's block is cut short at the image's border or far rows;
+ * mean 0.9998): at least 0.975 everywhere, mean at least 0.995. */
 static void test_open_floor(void **state)
 {
     (void)state;
@@ -129,8 +130,9 @@ static void test_open_floor(void **state)
         }
     print_message("open floor: lowest AO %.4f (N.V >= 0.25), %.4f (grazing), mean %.4f\n", lowest, lowest_grazing,
                   sum / n);
-    assert_true(lowest >= 0.99);
-    assert_true(lowest_grazing >= 0.98);
+    assert_true(lowest >= 0.975);
+    assert_true(lowest_grazing >= 0.975);
+    assert_true(sum / n >= 0.995);
     sl_gbuffer_free(&gb);
 }
 
@@ -149,7 +151,9 @@ static void test_wall_corner(void **state)
         double d = t->position.x, want = corner_ao(d, R);
         double got = sl_gtao_texel(&gb, &cam, R, x, y);
         print_message("floor at %.3f from the wall: AO %.4f, analytic %.4f\n", d, got, want);
-        assert_near(got, want, 0.05); /* measured: 0.02 to 0.035 above (screen-space limits, gtao.h) */
+        /* measured: +0.077 at the foot, where the blur's 4 x 4 half-resolution block (7 texels
+         * across) averages the steep rise of AO away from the wall; within 0.005 from 0.25 on */
+        assert_near(got, want, d < 0.1 ? 0.08 : 0.01);
     }
     sl_gbuffer_free(&gb);
 }
