@@ -198,10 +198,8 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
  * pattern indexed by (i, j); it reads the full-resolution planes. Each texel's AO is then the
  * mean over the 4 x 4 half-resolution block around it (i - 1 .. i + 2 with i = x / 2, so every
  * pattern entry is in it once) of the samples on the same surface as the texel: covered, within
- * GTAO_BLUR_DEPTH of its view depth from its tangent plane, normal within GTAO_BLUR_NORMAL. Across an edge the
+ * SL_GTAO_BLUR_DEPTH of its view depth from its tangent plane, normal within SL_GTAO_BLUR_NORMAL. Across an edge the
  * block holds fewer samples, never the other surface's; a texel with none keeps its AO at 1. */
-#define GTAO_BLUR_DEPTH 0.02f /* distance from the tangent plane, a share of the view depth */
-#define GTAO_BLUR_NORMAL 0.8f /* cosine between the normals */
 
 typedef struct {
     int width, height; /* (W + 1) / 2 x (H + 1) / 2 */
@@ -219,10 +217,10 @@ static float blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half 
             if (i < 0 || j < 0 || i >= h->width || j >= h->height)
                 continue;
             const sl_gbuffer_texel *q = sl_gbuffer_at(gb, 2 * i, 2 * j);
-            if (!sl_gbuffer_covered(q) || dot(q->normal, c->normal) < GTAO_BLUR_NORMAL)
+            if (!sl_gbuffer_covered(q) || dot(q->normal, c->normal) < SL_GTAO_BLUR_NORMAL)
                 continue;
             /* the same surface: within a share of the view depth of the texel's tangent plane */
-            if (fabsf(dot(sub(q->position, c->position), c->normal)) > GTAO_BLUR_DEPTH * zc)
+            if (fabsf(dot(sub(q->position, c->position), c->normal)) > SL_GTAO_BLUR_DEPTH * zc)
                 continue;
             sum += h->ao[(size_t)j * (size_t)h->width + (size_t)i];
             n += 1.0f;

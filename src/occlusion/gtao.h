@@ -32,6 +32,11 @@
 #define SL_GTAO_SLICES 2      /* slices per sample (each turned by the sample's pattern entry) */
 #define SL_GTAO_STEPS 4       /* G-buffer reads per side of a slice */
 #define SL_GTAO_MAX_SCREEN 0.25f /* the largest screen radius, as a share of the image height */
+/* The blur's test of "the same surface": within this share of the view depth of the texel's
+ * tangent plane, and normals within this cosine. */
+#define SL_GTAO_BLUR_DEPTH 0.02f
+#define SL_GTAO_BLUR_NORMAL 0.8f
+/* shaders/gtao.frag and gtao_blur.frag are the GLSL twin (softlight-gl), given these as #defines. */
 
 /* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)
  * around it; `threads` OpenMP threads (0: all). False (and err) without an extra plane or with a

@@ -2,8 +2,8 @@
 # occlusion.sh BUILD_DIR - ambient occlusion from the command line (--ao-radius, docs/lighting.md
 # "Ambient occlusion"): off by default and at 0 (the same bytes as without the option); on, it
 # darkens the contact under pbr.json's sphere and nowhere brightens; trace reads the same
-# occlusion the render wrote; bad radii are one line, exit 2; softlight-gl, which has no GL pass
-# for it, refuses it unless it lights softlight's G-buffer, and `softlight check` then agrees.
+# occlusion the render wrote; bad radii are one line, exit 2; `softlight check` agrees with GL
+# lighting softlight's occluded G-buffer (the GL twin of the pass itself: gl_occlusion.sh).
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init occlusion "$1"
@@ -49,8 +49,6 @@ python3 -c "import sys; sys.exit(abs(float('$line') - float('$want')) > 1e-5)" 2
 expect_error "negative radius" "--ao-radius" -- "$SL" render scenes/pbr.json --size $S --ao-radius -1 -o "$T/x.png"
 expect_error "not a number" "--ao-radius" -- "$SL" render scenes/pbr.json --size $S --ao-radius abc -o "$T/x.png"
 if [ -x "$GL" ] && "$GL" info >/dev/null 2>&1; then
-    expect_error "softlight-gl without --gbuffer" "ambient occlusion .* has no GL pass" -- \
-        "$GL" render scenes/pbr.json --size $S --ao-radius 0.5 --pfm "$T/gl.pfm"
     if "$SL" check scenes/pbr.json --size $S --ao-radius 0.5 >"$T/check.txt" 2>&1; then
         ok "softlight check with AO: $(grep '^PASS' "$T/check.txt")"
     else
