@@ -55,6 +55,7 @@ typedef struct {
     const char *name; /* the model as given (messages) */
     bool gltf;        /* a glTF file (.gltf, .glb): its camera is read as the specification's */
     bool collada;     /* a COLLADA file (.dae, .zae): its camera's field of view is the whole angle */
+    bool minus_z;     /* an ASE or LightWave scene (.ase, .ask, .lws): its camera looks down -Z */
     /* Import from memory: the one file there is. */
     const char *mem_path;
     const unsigned char *mem;
@@ -386,8 +387,9 @@ static bool find_node(const struct aiNode *node, const struct aiString *name, ma
     return false;
 }
 
-static void convert_camera(const struct aiScene *s, bool gltf, bool collada, sl_model *model)
+static void convert_camera(const struct aiScene *s, const file_access *fa, sl_model *model)
 {
+    bool gltf = fa->gltf, collada = fa->collada;
     const struct aiCamera *c = s->mCameras[0];
     mat4 node = mat4_identity();
     find_node(s->mRootNode, &c->mName, mat4_identity(), 0, &node);
@@ -400,11 +402,19 @@ static void convert_camera(const struct aiScene *s, bool gltf, bool collada, sl_
      * COLLADA importer stores the file's whole xfov, not half of it (measured: xfov 37.85 arrives
      * as 0.6606 rad). Near and far are in the camera node's units: they scale with its world
      * transform as the eye does (a file in centimetres places the eye 100 times nearer and must
-     * bring its clipping planes with it). */
+     * bring its clipping planes with it).
+     * ASE and LightWave scenes: their importers (5.2) leave mLookAt at aiCamera's default,
+     * +Z, for a camera that looks down its node's -Z: 3ds Max's cameras look down local -Z
+     * (an ASE camera's target node lies on its -Z axis), and LightWave's look down +Z in its
+     * left-handed space, which the LWS importer mirrors into right-handed nodes without
+     * mirroring the camera. A look-at still at that default is read as -Z; one an importer set
+     * otherwise is taken as it is. */
     float aspect = c->mAspect > 0.0f ? c->mAspect : 1.0f;
     float half_fovx = collada ? 0.5f * c->mHorizontalFOV : c->mHorizontalFOV;
     vec3 pos = gltf ? vec3s(0.0f) : ai3(c->mPosition);
     vec3 look = gltf ? vec3(0.0f, 0.0f, -1.0f) : ai3(c->mLookAt), up0 = gltf ? vec3(0.0f, 1.0f, 0.0f) : ai3(c->mUp);
+    if (fa->minus_z && look.x == 0.0f && look.y == 0.0f && look.z == 1.0f)
+        look.z = -1.0f;
     float fovy_rad = gltf ? c->mHorizontalFOV / aspect : 2.0f * atanf(tanf(half_fovx) / aspect);
     float fovy = fovy_rad * (180.0f / 3.14159265f);
     vec3 eye = xyz(mat4_mul_vec4(w, vec4_from3(pos, 1.0f)));
@@ -742,11 +752,16 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
                                                   : "%s: no node places a mesh",
                        name);
     if (s->mNumCameras > 0 && s->mCameras[0])
-        convert_camera(s, fa->gltf, fa->collada, model);
+        convert_camera(s, fa, model);
     return true;
 }
 
 static bool is_gltf(const char *ext) { return strcasecmp(ext, "gltf") == 0 || strcasecmp(ext, "glb") == 0; }
+
+static bool camera_minus_z(const char *ext)
+{
+    return !strcasecmp(ext, "ase") || !strcasecmp(ext, "ask") || !strcasecmp(ext, "lws");
+}
 
 static bool import(const char *open_path, file_access *fa, sl_model *model, sl_error *err)
 {
@@ -824,7 +839,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext), .collada = !strcasecmp(ext, "dae") || !strcasecmp(ext, "zae"),
-                      .triangles = -1};
+                      .minus_z = camera_minus_z(ext), .triangles = -1};
     struct stat st;
     if (stat(path, &st) != 0)
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));
@@ -874,8 +889,8 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     snprintf(model->path, sizeof model->path, "%s", name);
     char path[64];
     snprintf(path, sizeof path, "memory.%.16s", hint);
-    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size,
-                      .triangles = -1};
+    file_access fa = {.name = name, .gltf = is_gltf(hint),
+                      .minus_z = camera_minus_z(hint), .mem_path = path, .mem = data, .mem_size = size, .triangles = -1};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
     scene_gltf_facts facts;

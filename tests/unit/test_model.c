@@ -361,6 +361,64 @@ static void test_gltf_camera(void **state)
     sl_scene_free(&scene);
 }
 
+/* The camera of an ASE and of a LightWave scene, both at 10 units on -Y (Z-up) and turned
+ * towards the origin: they look along +Y with +Z up. Their importers leave aiCamera's look-at at
+ * its default +Z for cameras that look down their node's -Z. */
+static void assert_camera_towards_origin(const char *path)
+{
+    sl_model m;
+    load_ok(path, &m);
+    assert_true(m.has_camera);
+    assert_near(m.camera.eye.x, 0.0f, 1e-5f);
+    assert_near(m.camera.eye.y, -10.0f, 1e-5f);
+    assert_near(m.camera.eye.z, 0.0f, 1e-5f);
+    vec3 dir = sub3(m.camera.target, m.camera.eye);
+    assert_near(dir.y, 1.0f, 1e-5f);
+    assert_near(m.camera.up.z, 1.0f, 1e-5f);
+    sl_model_free(&m);
+}
+
+static void test_ase_lws_camera(void **state)
+{
+    (void)state;
+    /* ASE (3ds Max, Z-up): the camera's node maps local -Z to +Y and local +Y to +Z. */
+    static const char ase[] =
+        "*3DSMAX_ASCIIEXPORT 200\n"
+        "*GEOMOBJECT {\n *NODE_NAME \"Tri\"\n *NODE_TM {\n  *NODE_NAME \"Tri\"\n  *TM_ROW0 1 0 0\n"
+        "  *TM_ROW1 0 1 0\n  *TM_ROW2 0 0 1\n  *TM_ROW3 0 0 0\n }\n *MESH {\n  *TIMEVALUE 0\n"
+        "  *MESH_NUMVERTEX 3\n  *MESH_NUMFACES 1\n  *MESH_VERTEX_LIST {\n   *MESH_VERTEX 0 -1 0 -1\n"
+        "   *MESH_VERTEX 1 1 0 -1\n   *MESH_VERTEX 2 0 0 1\n  }\n  *MESH_FACE_LIST {\n"
+        "   *MESH_FACE 0: A: 0 B: 1 C: 2 AB: 1 BC: 1 CA: 1 *MESH_SMOOTHING 1 *MESH_MTLID 0\n  }\n }\n}\n"
+        "*CAMERAOBJECT {\n *NODE_NAME \"Camera01\"\n *CAMERA_TYPE Free\n *NODE_TM {\n"
+        "  *NODE_NAME \"Camera01\"\n  *TM_ROW0 1 0 0\n  *TM_ROW1 0 0 1\n  *TM_ROW2 0 -1 0\n"
+        "  *TM_ROW3 0 -10 0\n }\n *CAMERA_SETTINGS {\n  *TIMEVALUE 0\n  *CAMERA_NEAR 0.1\n"
+        "  *CAMERA_FAR 1000\n  *CAMERA_FOV 0.7854\n  *CAMERA_TDIST 10\n }\n}\n";
+    test_write_bytes(test_tmpfile("cam.ase"), ase, sizeof ase - 1);
+    assert_camera_towards_origin(test_tmpfile("cam.ase"));
+
+    /* LightWave (left-handed, Y-up): a triangle object (LWO2: a layer, three points, one face)
+     * and a camera at z = -10 with no rotation, which looks down LightWave's +Z. */
+    static const unsigned char lwo[] = {
+        'F', 'O', 'R', 'M', 0, 0, 0, 0x5e, 'L', 'W', 'O', '2',
+        'L', 'A', 'Y', 'R', 0, 0, 0, 0x12, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, /* 18 bytes */
+        'P', 'N', 'T', 'S', 0, 0, 0, 0x24,
+        0xbf, 0x80, 0, 0, 0xbf, 0x80, 0, 0, 0, 0, 0, 0, /* -1 -1 0 */
+        0x3f, 0x80, 0, 0, 0xbf, 0x80, 0, 0, 0, 0, 0, 0, /*  1 -1 0 */
+        0, 0, 0, 0, 0x3f, 0x80, 0, 0, 0, 0, 0, 0,       /*  0  1 0 */
+        'P', 'O', 'L', 'S', 0, 0, 0, 0x0c, 'F', 'A', 'C', 'E', 0, 3, 0, 0, 0, 1, 0, 2};
+    test_write_bytes(test_tmpfile("tri.lwo"), lwo, sizeof lwo);
+    char lws[2048];
+    int n = snprintf(lws, sizeof lws, "LWSC\n3\n\nLoadObjectLayer 1 tri.lwo\n\nAddCamera 30000000\n"
+                                      "CameraName Camera\nCameraMotion\nNumChannels 9\n");
+    const float channel[9] = {0, 0, -10, 0, 0, 0, 1, 1, 1};
+    for (int c = 0; c < 9; c++)
+        n += snprintf(lws + n, sizeof lws - (size_t)n,
+                      "Channel %d\n{ Envelope\n  1\n  Key %g 0 0 0 0 0 0 0 0\n  Behaviors 1 1\n}\n", c,
+                      (double)channel[c]);
+    test_write_bytes(test_tmpfile("cam.lws"), lws, (size_t)n);
+    assert_camera_towards_origin(test_tmpfile("cam.lws"));
+}
+
 /* A scene object {"model": ...}: its transform on top of the node's, its material overriding. */
 static void test_scene_model_object(void **state)
 {
@@ -974,6 +1032,7 @@ int main(void)
         cmocka_unit_test(test_glb_embedded_image),
         cmocka_unit_test(test_obj_mtl),
         cmocka_unit_test(test_gltf_camera),
+        cmocka_unit_test(test_ase_lws_camera),
         cmocka_unit_test(test_scene_model_object),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_gltf_material_drawn),
