@@ -18,8 +18,10 @@
 #include "model.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -224,7 +226,30 @@ static size_t address_space_bytes(void)
 #endif
 #ifndef ADDRESS_SPACE_LIMIT
 #define ADDRESS_SPACE_LIMIT 1
+#else
+#include <sanitizer/common_interface_defs.h>
 #endif
+
+/* An importer's own printing is not softlight's message: openddlparser (OpenGEX) writes
+ * "nullptr returned by creating DDLNode." to std::cerr before assimp fails the import, which
+ * made two lines of one error. The child's stdout and stderr go to /dev/null; its error travels
+ * down the pipe and the parent prints it. A sanitized build's reports still reach the terminal:
+ * the sanitizers write to a copy of the original stderr. */
+static void silence_child(void)
+{
+#if !ADDRESS_SPACE_LIMIT
+    int report = dup(STDERR_FILENO);
+    if (report >= 0)
+        __sanitizer_set_report_fd((void *)(intptr_t)report);
+#endif
+    int null = open("/dev/null", O_WRONLY);
+    if (null < 0)
+        return;
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    if (null > STDERR_FILENO)
+        close(null);
+}
 
 static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes, int seconds)
 {
@@ -240,6 +265,7 @@ static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes
     }
     struct rlimit cpu = {.rlim_cur = (rlim_t)seconds + 1, .rlim_max = (rlim_t)seconds + 2};
     setrlimit(RLIMIT_CPU, &cpu);
+    silence_child();
     sl_model model;
     sl_error err = {0};
     bool ok;
