@@ -56,6 +56,7 @@ typedef struct {
     bool gltf;        /* a glTF file (.gltf, .glb): its camera is read as the specification's */
     bool collada;     /* a COLLADA file (.dae, .zae): its camera's field of view is the whole angle */
     bool minus_z;     /* an ASE or LightWave scene (.ase, .ask, .lws): its camera looks down -Z */
+    sl_missing_textures missing; /* a texture that names no file: refuse the model, or warn and drop it */
     /* Import from memory: the one file there is. */
     const char *mem_path;
     const unsigned char *mem;
@@ -447,6 +448,22 @@ static void dir_of(const char *path, char out[SL_PATH_MAX])
     out[n] = '\0';
 }
 
+/* A missing texture skipped (SL_MISSING_TEXTURES_SKIP): its line in model->warnings, once
+ * (a material naming one file in two slots, or two materials sharing a name, warn once). */
+static void warn_missing(sl_model *model, const char *what)
+{
+    char line[720];
+    int n = snprintf(line, sizeof line, "softlight: warning: %s; the material draws without it\n", what);
+    if (n < 0 || (size_t)n >= sizeof line || strstr(model->warnings, line))
+        return;
+    size_t used = strlen(model->warnings);
+    if (used + (size_t)n >= sizeof model->warnings) {
+        model->warnings_left_out++;
+        return;
+    }
+    memcpy(model->warnings + used, line, (size_t)n + 1);
+}
+
 /* The image `ref` (a material's texture path: "*N" for embedded texture N, a name an embedded
  * texture carries, or a file relative to the model) as an index into model->images, adding it
  * the first time. */
@@ -469,12 +486,17 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
     }
     char path[SL_PATH_MAX] = "";
     if (embedded < 0 && !sl_scene_texture_path_resolve(dir, ref, path)) {
-        char mat[72];
-        return sl_fail(err, SL_ERR_IO,
-                       "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and "
-                       "for its file name alone)",
-                       fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
-                       sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
+        char mat[72], line[640];
+        snprintf(line, sizeof line,
+                 "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and for its "
+                 "file name alone)",
+                 fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
+                 sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
+        if (fa->missing != SL_MISSING_TEXTURES_SKIP)
+            return sl_fail(err, SL_ERR_IO, "%s", line);
+        warn_missing(model, line);
+        *index = -1;
+        return true;
     }
     for (int i = 0; i < model->image_count; i++) {
         const sl_model_image *im = &model->images[i];
@@ -826,6 +848,11 @@ bool sl_path_is_scene(const char *path)
 
 bool sl_model_load(const char *path, sl_model *model, sl_error *err)
 {
+    return sl_model_load_with(path, SL_MISSING_TEXTURES_FAIL, model, err);
+}
+
+bool sl_model_load_with(const char *path, sl_missing_textures missing, sl_model *model, sl_error *err)
+{
     memset(model, 0, sizeof *model);
     snprintf(model->path, sizeof model->path, "%s", path);
     char shown[80];
@@ -839,7 +866,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext), .collada = !strcasecmp(ext, "dae") || !strcasecmp(ext, "zae"),
-                      .minus_z = camera_minus_z(ext), .triangles = -1};
+                      .minus_z = camera_minus_z(ext), .missing = missing, .triangles = -1};
     struct stat st;
     if (stat(path, &st) != 0)
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));

@@ -144,6 +144,9 @@ static bool read_model(reader *r, sl_model *m)
     m->path[sizeof m->path - 1] = '\0';
     m->has_camera = head.has_camera;
     m->camera = head.camera;
+    memcpy(m->warnings, head.warnings, sizeof m->warnings);
+    m->warnings[sizeof m->warnings - 1] = '\0';
+    m->warnings_left_out = head.warnings_left_out > 0 ? head.warnings_left_out : 0;
     /* The arrays of structs; each one's child pointers say only which arrays follow. */
     if (!(m->meshes = read_array(r, (size_t)head.mesh_count, sizeof *m->meshes)))
         return false;

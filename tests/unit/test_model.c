@@ -1007,6 +1007,61 @@ static void test_missing_texture_long_path(void **state)
     assert_non_null(strstr(err.msg, "..."));
 }
 
+/* SL_MISSING_TEXTURES_SKIP: the model loads (through the import's child), the missing texture is
+ * one warning line naming model, material and file, the slot has no image and the factors stay;
+ * a texture named by two materials' slots warns once per material. Many missing textures: the
+ * lines that do not fit are counted. */
+static void test_missing_texture_skip(void **state)
+{
+    (void)state;
+    const char *obj = "mtllib skip.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                      "usemtl m\nf 1/1 2/2 3/3\nusemtl n\nf 1/1 3/3 4/1\n";
+    const char *mtl = "newmtl m\nKd 0.5 0.25 0.125\nmap_Kd gone.png\nnewmtl n\nKd 1 1 1\nmap_Kd gone.png\n";
+    test_write_bytes(test_tmpfile("skip.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("skip.mtl"), mtl, strlen(mtl));
+    load_fails(test_tmpfile("skip.obj"), "texture \"gone.png\" not found");
+    sl_model m;
+    sl_error err = {0};
+    if (!sl_model_load_with(test_tmpfile("skip.obj"), SL_MISSING_TEXTURES_SKIP, &m, &err)) {
+        print_error("unexpected error: %s\n", err.msg);
+        fail();
+    }
+    assert_int_equal(m.image_count, 0);
+    int lines = 0;
+    for (const char *c = m.warnings; *c; c++)
+        lines += *c == '\n';
+    assert_int_equal(lines, 2);
+    assert_non_null(strstr(m.warnings, "softlight: warning: "));
+    assert_non_null(strstr(m.warnings, "skip.obj: material \"m\": texture \"gone.png\" not found"));
+    assert_non_null(strstr(m.warnings, "skip.obj: material \"n\": texture \"gone.png\" not found"));
+    assert_int_equal(m.warnings_left_out, 0);
+    bool kd = false;
+    for (int i = 0; i < m.material_count; i++) {
+        assert_int_equal(m.materials[i].base_color_tex.image, -1);
+        kd = kd || (m.materials[i].kd.x == 0.5f && m.materials[i].kd.z == 0.125f);
+    }
+    assert_true(kd);
+    sl_model_free(&m);
+
+    /* 40 materials, each with its own missing texture: what fits is listed, the rest counted. */
+    char big_obj[4096], big_mtl[4096];
+    int no = snprintf(big_obj, sizeof big_obj, "mtllib many.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\n");
+    int nm = 0;
+    for (int i = 0; i < 40; i++) {
+        no += snprintf(big_obj + no, sizeof big_obj - (size_t)no, "usemtl m%d\nf 1/1 2/1 3/1\n", i);
+        nm += snprintf(big_mtl + nm, sizeof big_mtl - (size_t)nm, "newmtl m%d\nmap_Kd gone%d.png\n", i, i);
+    }
+    test_write_bytes(test_tmpfile("many.obj"), big_obj, (size_t)no);
+    test_write_bytes(test_tmpfile("many.mtl"), big_mtl, (size_t)nm);
+    assert_true(sl_model_load_with(test_tmpfile("many.obj"), SL_MISSING_TEXTURES_SKIP, &m, &err));
+    lines = 0;
+    for (const char *c = m.warnings; *c; c++)
+        lines += *c == '\n';
+    assert_true(lines > 0);
+    assert_int_equal(lines + m.warnings_left_out, 40);
+    sl_model_free(&m);
+}
+
 /* The excerpt never writes more than its buffer holds, whatever `max` says. */
 static void test_error_excerpt_bounds(void **state)
 {
@@ -1040,6 +1095,7 @@ int main(void)
         cmocka_unit_test(test_gltf_metal_blend),
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
+        cmocka_unit_test(test_missing_texture_skip),
         cmocka_unit_test(test_gltf_graph_limits),
         cmocka_unit_test(test_gltf_index_counts),
         cmocka_unit_test(test_gltf_values),
