@@ -814,6 +814,13 @@ static void test_gltf_graph_limits(void **state)
     const char *v1 = "{\"asset\": {\"version\": \"1.0\"}, \"scenes\": {\"s\": {\"nodes\": []}}}";
     test_write_bytes(test_tmpfile("v1.gltf"), v1, strlen(v1));
     load_fails(test_tmpfile("v1.gltf"), "glTF version \"1.0\" (softlight reads glTF 2.0)");
+    /* glTF 1.0 as collada2gltf wrote it: the version a number; or no version and 1.0's layout. */
+    const char *v1n = "{\"asset\": {\"version\": 1}, \"scenes\": {\"s\": {\"nodes\": []}}}";
+    test_write_bytes(test_tmpfile("v1n.gltf"), v1n, strlen(v1n));
+    load_fails(test_tmpfile("v1n.gltf"), "glTF version 1 (softlight reads glTF 2.0)");
+    const char *v1l = "{\"asset\": {}, \"nodes\": {\"n\": {}}}";
+    test_write_bytes(test_tmpfile("v1l.gltf"), v1l, strlen(v1l));
+    load_fails(test_tmpfile("v1l.gltf"), "\"nodes\" is an object keyed by id: glTF 1.0's layout");
 }
 
 /* Texture references as other tools write them find the file beside the model: Windows
