@@ -171,6 +171,8 @@ expect_error "an OFF face past the vertices" 'face 1: vertex index 9 out of rang
 printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nothere\nf 1 2 3\n' >"$T/nomat.obj"
 printf 'newmtl other\nKd 1 0 0\n' >"$T/m.mtl"
 expect_error "an undefined OBJ material" 'material "nothere" \(usemtl\) is defined by no newmtl' "$T/nomat.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Default\nf 1 2 3\n' >"$T/nolib.obj"
+expect_error "usemtl with no mtllib" 'material "Default" \(usemtl\) is not defined: the file names no \.mtl library \(no mtllib line\)' "$T/nolib.obj"
 rm "$T/m.mtl"
 expect_error "a missing .mtl" 'its library "m.mtl" cannot be read \(no such file\)' "$T/nomat.obj"
 # An importer that prints on its own: OpenGEX's parser writes a line to std::cerr for an empty
