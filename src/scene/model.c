@@ -785,6 +785,16 @@ static bool camera_minus_z(const char *ext)
     return !strcasecmp(ext, "ase") || !strcasecmp(ext, "ask") || !strcasecmp(ext, "lws");
 }
 
+static bool optional_companion(const char *path)
+{
+    static const char *const exts[] = {"md5anim", "md5camera", "skin", "shader"};
+    const char *dot = strrchr(path, '.');
+    for (size_t i = 0; dot && !strchr(dot, '/') && i < sizeof exts / sizeof exts[0]; i++)
+        if (strcasecmp(dot + 1, exts[i]) == 0)
+            return true;
+    return false;
+}
+
 static bool import(const char *open_path, file_access *fa, sl_model *model, sl_error *err)
 {
     struct aiFileIO io = {.OpenProc = file_open, .CloseProc = file_close, .UserData = (aiUserData)fa};
@@ -797,11 +807,14 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     bool ok;
     char reason[204], shown[204];
     if (!s) {
-        /* A file the import needed and could not open says more than assimp's message. */
-        if (fa->failed[0] && strcmp(fa->failed, open_path) != 0)
+        /* A file the import needed and could not open says more than assimp's message; one an
+         * importer only looks for (an MD5 mesh's .md5anim and .md5camera, a Quake 3 model's
+         * .skin and .shader) says nothing about why it failed. */
+        bool needed = fa->failed[0] && !optional_companion(fa->failed);
+        if (needed && strcmp(fa->failed, open_path) != 0)
             ok = sl_fail(err, SL_ERR_IO, "%s: names \"%s\", which cannot be read (%s)", fa->name,
                          sl_error_excerpt(fa->failed, 200, shown, sizeof shown), fa->failed_why);
-        else if (fa->failed[0])
+        else if (needed)
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
         else if (strstr(aiGetErrorString(), "No meshes remaining"))
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "

@@ -180,6 +180,10 @@ expect_error "a missing .mtl" 'its library "m.mtl" cannot be read \(no such file
 # one line.
 printf 'CameraObject {}\n' >"$T/empty_camera.ogex"
 expect_error "an OpenGEX file whose parser prints" 'Validation failed' "$T/empty_camera.ogex"
+# A companion file an importer only looks for is not why the import failed: an empty MD5 mesh
+# is refused for its contents, not for the .md5anim beside it that does not exist.
+: >"$T/empty.md5mesh"
+expect_error "an empty MD5 mesh" 'empty\.md5mesh: Failed to read valid contents' "$T/empty.md5mesh"
 # AddressSanitizer's builds bound the import's time only, so the memory case runs without them.
 if [ -z "${SL_SANITIZED:-}" ]; then
     printf 'ply\nformat ascii 1.0\nelement vertex 400000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.ply"
