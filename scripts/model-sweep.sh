@@ -8,7 +8,8 @@
 # /usr/share/assimp/models: valid and deliberately broken files in some 45 formats). Each model
 # file (images, text, shaders and glTF buffers are skipped) is rendered at 160x90 under `timeout`
 # and /usr/bin/time -v, two at a time (SWEEP_JOBS), with its G-buffer mask written to count the
-# pixels a surface covers. OUT_DIR (default: a new temporary directory) receives N.png, N.err and
+# pixels a surface covers; SWEEP_ARGS adds options to every render (SWEEP_ARGS="--missing-textures
+# skip"). OUT_DIR (default: a new temporary directory) receives N.png, N.err and
 # sweep.tsv, one row per file:
 #   n file status err_lines wall_s rss_mib covered png_left warned sanitizer first_err_line
 # status: the exit status, 124/137 for a timeout; covered: pixels of the mask a surface covers
@@ -22,6 +23,7 @@ models=${2:-/usr/share/assimp/models}
 out=${3:-$(mktemp -d "${TMPDIR:-/tmp}/model-sweep.XXXXXX")}
 jobs=${SWEEP_JOBS:-2}
 kill_after=${SWEEP_TIMEOUT:-60} # seconds before a run is killed (a run over 10 s is reported anyway)
+extra=${SWEEP_ARGS:-}
 sl=$(cd "$build" && pwd)/softlight
 [ -x "$sl" ] || { echo "model-sweep.sh: $sl: not built" >&2; exit 2; }
 [ -d "$models" ] || { echo "model-sweep.sh: $models: no such directory" >&2; exit 2; }
@@ -41,7 +43,7 @@ one() {
     local start end
     start=$(date +%s.%N)
     timeout -k 5 "$kill_after" /usr/bin/time -v -o "$d/$n.time" \
-        "$sl" render "$file" --size 160x90 -j 1 -o "$d/$n.png" --aov "$d/$n.aov" >"$d/$n.out" 2>"$d/$n.err"
+        "$sl" render "$file" --size 160x90 -j 1 -o "$d/$n.png" --aov "$d/$n.aov" $extra >"$d/$n.out" 2>"$d/$n.err"
     local status=$?
     end=$(date +%s.%N)
     local wall rss lines covered=-1 png_left=0 warned=0 sanitizer=0 first
@@ -61,10 +63,10 @@ one() {
         "$covered" "$png_left" "$warned" "$sanitizer" "$first"
 }
 export -f one
-export out sl kill_after
+export out sl kill_after extra
 
 total=$(wc -l <"$out/files.tsv")
-echo "model-sweep.sh: $total files from $models, $jobs at a time, into $out" >&2
+echo "model-sweep.sh: $total files from $models, $jobs at a time${extra:+, with $extra}, into $out" >&2
 tr '\t' '\n' <"$out/files.tsv" | tr '\n' '\0' | xargs -0 -n 2 -P "$jobs" bash -c 'one "$@"' one >"$out/rows.tsv"
 {
     printf 'n\tfile\tstatus\terr_lines\twall_s\trss_mib\tcovered\tpng_left\twarned\tsanitizer\tfirst_err_line\n'
@@ -73,7 +75,7 @@ tr '\t' '\n' <"$out/files.tsv" | tr '\n' '\0' | xargs -0 -n 2 -P "$jobs" bash -c
 rm -f "$out/rows.tsv"
 
 # The summary: each class with its count, and the files of every class that breaks the promise.
-awk -F'\t' -v out="$out/sweep.tsv" -v build="$build" '
+awk -F'\t' -v out="$out/sweep.tsv" -v build="$build" -v extra="$extra" '
 NR == 1 { next }
 {
     files++
@@ -84,6 +86,8 @@ NR == 1 { next }
     else if (st == 124 || st == 137) add("hang", $2)
     else add("crash", $2 " (status " st ")")
     if (wall > 10) add("slow", $2 " (" wall " s)")
+    if (wall > maxwall) { maxwall = wall; maxwall_f = $2 }
+    if (rss > maxrss) { maxrss = rss; maxrss_f = $2 }
     if (rss > 1024) add("big", $2 " (" rss " MiB)")
     if ($8) add("halfout", $2)
     if ($10) add("san", $2)
@@ -91,7 +95,7 @@ NR == 1 { next }
 function add(k, f) { n[k]++; list[k] = list[k] "    " f "\n" }
 function show(k, label) { printf "%-46s %5d\n", label, n[k]; if (n[k]) printf "%s", list[k] }
 END {
-    printf "model sweep of %d files with %s (rows: %s)\n", files, build, out
+    printf "model sweep of %d files with %s%s (rows: %s)\n", files, build, extra != "" ? " " extra : "", out
     printf "%-46s %5d\n", "rendered (exit 0)", rendered
     printf "%-46s %5d\n", "  of them empty, with the warning", emptyw
     printf "%-46s %5d\n", "refused in one line (exit 2, 1 line)", refused
@@ -103,6 +107,7 @@ END {
     show("slow", "over 10 s")
     show("big", "over 1 GiB peak RSS")
     show("san", "ASan/UBSan reports")
+    printf "longest run: %.2f s (%s); largest peak RSS: %d MiB (%s)\n", maxwall, maxwall_f, maxrss, maxrss_f
     bad = n["crash"] + n["hang"] + n["multi"] + n["empty"] + n["halfout"] + n["slow"] + n["big"] + n["san"]
     exit bad > 0
 }' "$out/sweep.tsv"
