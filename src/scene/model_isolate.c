@@ -1,7 +1,8 @@
 /* model_isolate.c - a model import run in a child process, with its memory and time bounded.
  *
- * Owns: the child process, its limits, and the stream that carries the imported sl_model (or
- * the error) back to the caller. assimp reads some thirty formats, and a few of its importers
+ * Owns: the child process, its limits, its stdout and stderr (an importer's own printing goes to
+ * /dev/null), and the stream that carries the imported sl_model (or the error) back to the
+ * caller. assimp reads some thirty formats, and a few of its importers
  * trust the counts a file declares: a 50-byte OFF file that declares 10^8 faces makes it
  * allocate gigabytes before failing, and some importers recurse once per nesting level of the
  * file. No check before the import can know every format, so the import itself runs where it
