@@ -13,7 +13,7 @@
 # sweep.tsv, one row per file:
 #   n file status err_lines wall_s rss_mib covered png_left warned sanitizer first_err_line
 # status: the exit status, 124/137 for a timeout; covered: pixels of the mask a surface covers
-# (-1: no mask); png_left: an image was left by a run that failed; warned: the run said
+# (-1: no mask); png_left: an image (or the AOV folder) was left by a run that failed; warned: the run said
 # "no surface is in view"; sanitizer: an AddressSanitizer or UBSan report in stderr.
 # The summary follows on stdout; the exit status is 1 when any class but "rendered" and
 # "refused in one line" is not empty.
@@ -55,7 +55,7 @@ one() {
         covered=$(tail -c $((160 * 90 * 4)) "$d/$n.aov/mask.pfm" | od -An -v -tx4 | tr -s ' ' '\n' |
                   grep -c '^[0-9a-f]*[1-9a-f][0-9a-f]*$')
     fi
-    [ "$status" -ne 0 ] && [ -e "$d/$n.png" ] && png_left=1
+    [ "$status" -ne 0 ] && { [ -e "$d/$n.png" ] || [ -e "$d/$n.aov" ]; } && png_left=1
     grep -q 'no surface is in view' "$d/$n.err" && warned=1
     grep -qE 'ERROR: AddressSanitizer|ERROR: LeakSanitizer|runtime error:' "$d/$n.err" && sanitizer=1
     rm -rf "$d/$n.aov" "$d/$n.time" "$d/$n.out"
