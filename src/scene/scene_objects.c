@@ -149,8 +149,8 @@ bool sl_scene_parse_object(scene_parser *p, const cJSON *item, const char *path,
                          const scene_name_index *sorted, int named_materials, scene_source_map *sources, int *first_user,
                          sl_object *obj, bool *material_given)
 {
-    static const char *const keys[] = {"name",     "mesh",      "shape",            "model", "slices",
-                                       "stacks",   "material",  "transform", "missing_textures", NULL};
+    static const char *const keys[] = {"name",     "mesh",      "shape",            "model", "slices", "stacks",
+                                       "material", "transform", "missing_textures", NULL};
     static const char *const shapes[] = {"sphere", "plane", "box"};
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
     if (!sl_scene_check_keys(p, item, path, keys))
@@ -198,7 +198,7 @@ bool sl_scene_parse_object(scene_parser *p, const cJSON *item, const char *path,
         if (src.kind != SL_MESH_MODEL)
             return sl_scene_fail(p, sub, SL_ERR_FORMAT, "only a model has missing_textures");
         if (!cJSON_IsString(v))
-            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected \"fail\" or \"skip\" (a string)");
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected a string (%s)", words);
         if (!sl_option_parse(opt, v->valuestring, &value))
             return sl_scene_fail(p, sub, SL_ERR_FORMAT, "unknown %s \"%s\" (expected %s)", opt->name,
                                  sl_scene_masked(v->valuestring, 32, shown), words);
