@@ -3,8 +3,8 @@
 # by default (status 2, one line naming model, material and file, no output), drawn with
 # `--missing-textures skip` or a model object's "missing_textures": "skip" (status 0, one
 # warning line per missing texture naming file and material, the image written), the command
-# line's choice over the scene file's, and the key's own errors. render, info and trace take the
-# option alike.
+# line's choice over the scene file's, and the key's own errors. render, info, trace and view
+# take the option alike.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init missing_textures "$@"
@@ -62,6 +62,14 @@ skip_ok "render --missing-textures skip" "$SL" render "$T/quad.obj" -o "$T/a.png
 [ -s "$T/a.png" ] && ok "skip: the image is written" || bad "skip: no image"
 skip_ok "info --missing-textures skip" "$SL" info "$T/quad.obj" --missing-textures skip
 skip_ok "trace --missing-textures skip" "$SL" trace "$T/quad.obj" --missing-textures skip --pixel 0,0
+# view, where Xvfb is there to run it (the view_*.sh tests require it; this one only adds the option).
+if command -v xvfb-run >/dev/null && "$SL" view --help 2>&1 | grep -q -- --missing-textures; then
+    export ASAN_OPTIONS=${ASAN_OPTIONS:-detect_leaks=0} # X and Mesa's allocations, as view_common.bash says
+    skip_ok "view --missing-textures skip" xvfb-run -a -s "-screen 0 640x480x24 -nolisten tcp" \
+        timeout 120 "$SL" view "$T/quad.obj" --frames 2 --missing-textures skip
+else
+    echo "skip view: no xvfb-run, or softlight built without SDL2"
+fi
 
 # The scene file's key, per model; the command line's choice holds over it.
 cat >"$T/skip.json" <<'JSON'
