@@ -210,7 +210,7 @@ int cmd_info(int argc, char **argv)
         return 2;
     }
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight info: %s\n", err.msg);
         return 2;
     }

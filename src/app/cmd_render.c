@@ -127,7 +127,7 @@ int cmd_render(int argc, char **argv)
     }
 
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }

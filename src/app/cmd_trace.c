@@ -54,7 +54,7 @@ int cmd_trace(int argc, char **argv)
     if (!sl_lighting_load_arg("trace", lighting, debug_shader, verbose, &desc.lighting_program))
         return 2;
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight trace: %s\n", err.msg);
         return 2;
     }

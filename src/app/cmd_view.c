@@ -417,7 +417,7 @@ int cmd_view(int argc, char **argv)
 
     int status = 2;
     sl_scene *scene;
-    if (!view_read_scene(scene_path[0], env, &scene, &err)) {
+    if (!view_read_scene(scene_path[0], env, &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight view: %s\n", err.msg);
         goto done;
     }

@@ -72,12 +72,12 @@ bool view_is_environment(const char *path)
     return has_suffix(path, ".hdr") || has_suffix(path, ".exr") || has_suffix(path, ".pfm");
 }
 
-bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err)
+bool view_read_scene(const char *path, const char *env, const sl_option_values *given, sl_scene **out, sl_error *err)
 {
     sl_scene *scene = calloc(1, sizeof *scene);
     if (!scene)
         return sl_fail(err, SL_ERR_MEMORY, "out of memory for a scene");
-    if (!sl_scene_load(path, scene, err)) {
+    if (!sl_scene_load_with(path, given, scene, err)) {
         free(scene);
         return false;
     }
@@ -99,7 +99,7 @@ bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error
 static bool load_scene(viewer *v, const char *path, const char *env, int width, int height, sl_error *err)
 {
     sl_scene *scene;
-    if (!view_read_scene(path, env, &scene, err))
+    if (!view_read_scene(path, env, &v->cli_desc.options, &scene, err))
         return false;
     sl_render_desc desc = v->cli_desc;
     sl_option_set_size(&desc.options, width, height);

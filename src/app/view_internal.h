@@ -472,7 +472,7 @@ view_action view_handle_event(viewer *v, union SDL_Event *e);
  * environment in place of the scene's as render's --env does (relative to here, no irradiance
  * map); the scene's warnings go to stderr. */
 bool view_is_environment(const char *path); /* .hdr, .exr or .pfm */
-bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err);
+bool view_read_scene(const char *path, const char *env, const sl_option_values *given, sl_scene **out, sl_error *err);
 /* Load a scene file (a model, or with v->env_override its environment in place of the
  * scene's) and build its renderer at the current size with the command line's options. */
 bool view_load_scene(viewer *v, const char *path, sl_error *err);
