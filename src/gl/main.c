@@ -63,7 +63,7 @@ static void frame_free(frame *f)
 static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *desc, sl_error *err)
 {
     memset(f, 0, sizeof *f);
-    if (!sl_scene_load(scene_path, &f->scene, err))
+    if (!sl_scene_load_with(scene_path, &desc->options, &f->scene, err))
         return false;
     fputs(f->scene.warnings, stderr); /* what the scene loads but does not draw */
     f->scene_loaded = true;

@@ -94,4 +94,19 @@ expect_error "the key on a shape" 'shape\.json: objects\[0\]\.missing_textures: 
 expect_error "an unknown option word" 'missing-textures' \
     -- "$SL" render "$T/quad.obj" -o "$T/c.png" -q --missing-textures maybe
 
+# softlight-gl and softlight check load the scene with the same choice.
+GL=$(dirname "$SL")/softlight-gl
+if [ -x "$GL" ] && "$GL" info >/dev/null 2>&1; then
+    if "$GL" render "$T/quad.obj" --size 32x18 --missing-textures skip --pfm "$T/gl.pfm" 2>"$T/err"; then
+        ok "softlight-gl --missing-textures skip draws the model"
+    else
+        bad "softlight-gl --missing-textures skip: $(head -2 "$T/err")"
+    fi
+    if "$SL" check "$T/quad.obj" --size 32x18 --missing-textures skip >"$T/out" 2>"$T/err"; then
+        ok "softlight check --missing-textures skip: $(grep '^PASS' "$T/out")"
+    else
+        bad "softlight check --missing-textures skip: $(tail -2 "$T/err")"
+    fi
+fi
+
 cli_done missing_textures
