@@ -335,8 +335,8 @@ static void keep_band(sl_gbuffer *gb, const int band[2])
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
-    bool ok = sl_raster_scene_textured(r->raster, r->scene, &r->textures, cam ? cam : &r->scene->camera,
-                                       &r->gbuffer, err);
+    bool ok = sl_raster_scene_program(r->raster, r->scene, &r->textures, r->desc.gbuffer_program,
+                                      cam ? cam : &r->scene->camera, &r->gbuffer, err);
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
