@@ -4,7 +4,8 @@
  * function the lighting pass runs, so a breakpoint in sl_lighting_shade (gdb: `break
  * sl_lighting_shade if x == X`) follows the same path. With --lighting, the pixel runs through
  * that program instead (its texel and result are printed; gdb stops in the program's own
- * function: docs/lighting-programs.md). */
+ * function: docs/lighting-programs.md). With --gbuffer-shader, the texel is the user's G-buffer
+ * program's (docs/gbuffer-programs.md). */
 #include <stdio.h>
 #include <stdlib.h>
 
@@ -87,7 +88,11 @@ int cmd_trace(int argc, char **argv)
         !sl_lighting_trace_pixel(r.uniforms, &r.gbuffer, pixel[0], pixel[1], trace, &err))
         goto done;
     sl_lighting_trace_print(stdout, trace);
-    sl_trace_fetches_print(stdout, fetches, sl_gbuffer_at(&r.gbuffer, pixel[0], gb_y)->depth);
+    if (desc.gbuffer_program) /* the fetch hook is the built-in textured program's */
+        printf("G-buffer program: %s (%s); its texture fetches are not traced\n",
+               desc.gbuffer_program->name ? desc.gbuffer_program->name : "(unnamed)", gbuffer_shader);
+    else
+        sl_trace_fetches_print(stdout, fetches, sl_gbuffer_at(&r.gbuffer, pixel[0], gb_y)->depth);
     status = 0;
 done:
     free(fetches);

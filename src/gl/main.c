@@ -6,6 +6,8 @@
  * `softlight render` where they apply, plus:
  *   --gbuffer DIR  skip the G-buffer pass and light softlight's G-buffer (its --aov files), which
  *                  tells a rasterization difference from a shading one;
+ *   --gbuffer-shader FILE.frag  draw every object with this fragment shader behind
+ *                  gbuffer_textured.vert (the GLSL twin of softlight's --gbuffer-shader FILE.c);
  *   --time N       run each pass N times and print the median milliseconds per stage, timed with
  *                  glFinish and a monotonic clock (no timer queries: llvmpipe's are not meaningful);
  *   --verbose      print GL_RENDERER and what was done.
@@ -31,6 +33,7 @@
 typedef struct {
     const char *scene_path;
     const char *png, *hdr, *pfm, *aov_dir, *gbuffer_dir;
+    const char *gbuffer_shader; /* --gbuffer-shader: the user's G-buffer fragment shader, or NULL */
     int time_runs;
     bool verbose;
 } gl_outputs;
@@ -139,7 +142,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         extra |= sl_material_extra(&f->scene.materials[f->scene.objects[i].material]);
     if (o->gbuffer_dir)
         extra = files->extra != NULL;
-    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
+    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) ||
+        (o->gbuffer_shader && !slgl_gbuffer_use_fragment(&g, o->gbuffer_shader, err)) ||
+        !slgl_lighting_create(&l, f->width, f->height, err) ||
         !slgl_lighting_set_environment(&l, &f->renderer.env,
                                        f->renderer.env_oct_built >= 0     ? &f->renderer.env_oct
                                        : f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual
@@ -211,7 +216,7 @@ done:
     return ok;
 }
 
-#define OUTPUT_OPTION_COUNT 7
+#define OUTPUT_OPTION_COUNT 8
 
 static int cmd_render(int argc, char **argv)
 {
@@ -227,6 +232,8 @@ static int cmd_render(int argc, char **argv)
          NULL},
         {"--gbuffer", NULL, SL_ARG_STRING, &o.gbuffer_dir, 0, 0, NULL, "DIR",
          "light softlight's G-buffer (its --aov files) instead of rasterizing", NULL},
+        {"--gbuffer-shader", NULL, SL_ARG_STRING, &o.gbuffer_shader, 0, 0, NULL, "FILE.frag",
+         "draw every object with this G-buffer fragment shader (docs/gbuffer-programs.md)", NULL},
         {"--time", NULL, SL_ARG_INT, &o.time_runs, 1, TIME_MAX_RUNS, NULL, "N", "run each pass N times, print medians",
          NULL},
         {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
@@ -255,6 +262,10 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
+    if (o.gbuffer_shader && o.gbuffer_dir) {
+        fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");
+        return 2;
+    }
 
     slgl_context ctx;
     if (!slgl_context_create(&ctx, &err)) {

@@ -5,7 +5,8 @@
  * (softlight/data.h: the source tree from a build tree, share/softlight installed) unless
  * $SL_SHADER_DIR names another. A compile or link failure carries the
  * driver's log (first lines) in the error, prefixed with the file name. A fragment shader can be
- * compiled with #defines (lighting.frag's per-scene programs, src/gl/lighting_pass.c). */
+ * compiled with #defines (lighting.frag's per-scene programs, src/gl/lighting_pass.c), or read
+ * from a path of the user's (--gbuffer-shader, src/gl/gbuffer_pass.c). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -47,10 +48,8 @@ static bool compile(GLenum type, const char *label, const char *src, GLuint *sha
 
 /* `defines` (NULL: none) go after the file's first line, which GLSL requires to be #version; a
  * #line directive puts the file's own line numbers back into the compiler's log. */
-static bool compile_file(GLenum type, const char *name, const char *defines, GLuint *shader, sl_error *err)
+static bool compile_path(GLenum type, const char *path, const char *defines, GLuint *shader, sl_error *err)
 {
-    char path[1200];
-    snprintf(path, sizeof path, "%s/%s", slgl_shader_dir(), name);
     unsigned char *bytes = NULL;
     size_t size = 0;
     if (!sl_read_file(path, SHADER_MAX_BYTES, &bytes, &size, err))
@@ -86,6 +85,13 @@ static bool compile_file(GLenum type, const char *name, const char *defines, GLu
     }
     free(src);
     return ok;
+}
+
+static bool compile_file(GLenum type, const char *name, const char *defines, GLuint *shader, sl_error *err)
+{
+    char path[1200];
+    snprintf(path, sizeof path, "%s/%s", slgl_shader_dir(), name);
+    return compile_path(type, path, defines, shader, err);
 }
 
 static bool link(GLuint vert, GLuint frag, const char *label, GLuint *program, sl_error *err)
@@ -135,4 +141,17 @@ bool slgl_program_from_sources(const char *vert_label, const char *vert_src, con
         return false;
     }
     return link(vert, frag, frag_name, program, err);
+}
+
+bool slgl_program_with_fragment_file(const char *vert_name, const char *frag_path, GLuint *program, sl_error *err)
+{
+    GLuint vert, frag;
+    *program = 0;
+    if (!compile_file(GL_VERTEX_SHADER, vert_name, NULL, &vert, err))
+        return false;
+    if (!compile_path(GL_FRAGMENT_SHADER, frag_path, NULL, &frag, err)) {
+        glDeleteShader(vert);
+        return false;
+    }
+    return link(vert, frag, frag_path, program, err);
 }

@@ -1,0 +1,131 @@
+#!/usr/bin/env bash
+# gbuffer_programs.sh BUILD_DIR - G-buffer fragment programs from the command line
+# (--gbuffer-shader, docs/gbuffer-programs.md), on softlight alone (no GL):
+# - examples/shaders/checker.c on a receding plane: where a checker cell is at least 4 pixels
+#   wide, a pixel away from a cell's edge has exactly one of the two tones, the one its cell's
+#   parity picks (the cell computed from the position AOV); where the pixel's footprint covers a
+#   whole period of the pattern (the far plane), kd is the two tones' mean, not either tone (the
+#   fwidth filter: an unfiltered checker would alias there); and the built-in program's kd is the
+#   material's (1, 1, 1) everywhere, so the program is what made the pattern. The plane's kd map
+#   (white, uv_scale 20) reaches the program: it scales the pattern's coordinate.
+# - the second run takes the cached object; a prebuilt shared object gives the same bytes; -v
+#   shows the compiler command, with -g -O0 under --debug-shader; trace names the program and
+#   prints its texel.
+set -u
+. "$(dirname "$0")/lib.bash"
+cli_init gbprog "$@"
+export XDG_CACHE_HOME=$T/cache
+
+# the scene: a 40 x 40 plane seen from 1.5 above, receding to the horizon; a white 4x4 kd map
+python3 - "$T" <<'PY'
+import json, struct, sys, zlib
+d = sys.argv[1]
+def chunk(kind, data):
+    return struct.pack('>I', len(data)) + kind + data + struct.pack('>I', zlib.crc32(kind + data) & 0xffffffff)
+rows = b''.join(b'\0' + b'\xff' * 12 for _ in range(4))
+png = (b'\x89PNG\r\n\x1a\n' + chunk(b'IHDR', struct.pack('>IIBBBBB', 4, 4, 8, 2, 0, 0, 0)) +
+       chunk(b'IDAT', zlib.compress(rows)) + chunk(b'IEND', b''))
+open(d + '/white.png', 'wb').write(png)
+scene = {
+    "camera": {"eye": [0, -8, 1.5], "target": [0, 6, 0], "up": [0, 0, 1], "fovy": 50, "near": 0.1, "far": 100},
+    "materials": {"plane": {"kd": 1, "ks": 0.04, "alpha": 20,
+                            "kd_map": {"file": "white.png", "uv_scale": [20, 20]}}},
+    "objects": [{"name": "plane", "shape": "plane", "material": "plane", "transform": {"scale": [20, 20, 1]}}],
+    "render": {"width": 320, "height": 180, "samples": 4, "exposure": 1, "contrast": 1},
+}
+json.dump(scene, open(d + '/plane.json', 'w'))
+PY
+
+if "$SL" render "$T/plane.json" -q --gbuffer-shader examples/shaders/checker.c --aov "$T/checker" \
+    --pfm "$T/checker.pfm" 2>"$T/err" && "$SL" render "$T/plane.json" -q --aov "$T/builtin" 2>>"$T/err"; then
+    if python3 - "$T" >"$T/check" 2>&1 <<'PY'; then
+import math, struct, sys
+d = sys.argv[1]
+def pfm(path):
+    data = open(path, 'rb').read()
+    parts = data.split(b'\n', 3)
+    ch = 3 if parts[0] == b'PF' else 1
+    w, h = map(int, parts[1].split())
+    v = struct.unpack(('<' if float(parts[2]) < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+    return w, h, ch, v
+w, h, _, pos = pfm(d + '/checker/position.pfm')
+_, _, _, kd = pfm(d + '/checker/kd.pfm')
+_, _, _, mask = pfm(d + '/checker/mask.pfm')
+_, _, _, kd0 = pfm(d + '/builtin/kd.pfm')
+A, B = (0.85, 0.80, 0.70), (0.10, 0.12, 0.16)
+mean = tuple(0.5 * (a + b) for a, b in zip(A, B))
+# the pattern's coordinate: object x = X / 20, u = (x + 1) / 2, times uv_scale 20, times 8 cells
+def p(i):
+    return ((pos[3 * i] / 20 + 1) / 2 * 160, (pos[3 * i + 1] / 20 + 1) / 2 * 160)
+sharp = sharp_ok = flat = flat_ok = 0
+worst_sharp = worst_flat = 0.0
+for y in range(h - 1):
+    for x in range(w - 1):
+        i, ix, iy = y * w + x, y * w + x + 1, (y + 1) * w + x
+        if not (mask[i] > 0.5 and mask[ix] > 0.5 and mask[iy] > 0.5):
+            continue
+        (px, py), (qx, qy), (rx, ry) = p(i), p(ix), p(iy)
+        fw = (abs(qx - px) + abs(rx - px), abs(qy - py) + abs(ry - py))  # fwidth of the coordinate
+        k = kd[3 * i:3 * i + 3]
+        if max(fw) < 0.25:
+            edge = min(abs(px - round(px)), abs(py - round(py)))
+            if edge > 2 * max(fw):
+                want = A if (math.floor(px) + math.floor(py)) % 2 == 0 else B
+                e = max(abs(a - b) for a, b in zip(k, want))
+                worst_sharp = max(worst_sharp, e)
+                sharp += 1
+                sharp_ok += e < 0.01
+        elif min(fw) > 2.5:
+            e = max(abs(a - b) for a, b in zip(k, mean))
+            worst_flat = max(worst_flat, e)
+            flat += 1
+            flat_ok += e < 0.02
+print("sharp pixels %d (%d of the parity's tone, worst %.4g); whole-period pixels %d (%d at the mean, worst %.4g)"
+      % (sharp, sharp_ok, worst_sharp, flat, flat_ok, worst_flat))
+assert sharp > 1000 and sharp_ok == sharp, "the checker's cells"
+assert flat > 200 and flat_ok == flat, "the filtered far plane"
+builtin = [i for i in range(w * h) if mask[i] > 0.5 and kd0[3 * i:3 * i + 3] != (1.0, 1.0, 1.0)]
+assert not builtin, "%d built-in texels with kd other than (1, 1, 1)" % len(builtin)
+PY
+        ok "checker.c: $(head -1 "$T/check")"
+    else
+        bad "checker.c: $(cat "$T/check")"
+    fi
+else
+    bad "render failed: $(cat "$T/err")"
+fi
+
+# the cache: the second run compiles nothing; -v names the object
+"$SL" render "$T/plane.json" -q -v --size 64x36 --gbuffer-shader examples/shaders/checker.c --pfm "$T/a.pfm" 2>"$T/v"
+if grep -q "cached" "$T/v" && ! grep -q " -shared " "$T/v"; then
+    ok "a second run takes the cached object"
+else
+    bad "a second run compiled again: $(cat "$T/v")"
+fi
+# --debug-shader -v: the command, with -g -O0
+"$SL" render "$T/plane.json" -q -v --debug-shader --size 64x36 --gbuffer-shader examples/shaders/checker.c \
+    --pfm "$T/d.pfm" 2>"$T/v"
+if grep -q " -shared .* -g -O0 .*checker\.c" "$T/v"; then
+    ok "--debug-shader -v prints the compiler command with -g -O0"
+else
+    bad "--debug-shader -v: $(cat "$T/v")"
+fi
+
+# a prebuilt object: the same bytes as its source
+if cc -std=c11 -shared -fPIC -O2 -fno-math-errno -ffp-contract=off -Iinclude -o "$T/checker.so" \
+    examples/shaders/checker.c -lm && "$SL" render "$T/plane.json" -q --size 64x36 --gbuffer-shader "$T/checker.so" \
+    --pfm "$T/b.pfm" && cmp -s "$T/a.pfm" "$T/b.pfm"; then
+    ok "a prebuilt shared object gives its source's image"
+else
+    bad "the prebuilt object's image differs from its source's (or it did not build or load)"
+fi
+
+# trace: the program is named, and the texel is its (the far plane: the two tones' mean)
+"$SL" trace "$T/plane.json" -p 160,80 --gbuffer-shader examples/shaders/checker.c >"$T/trace" 2>&1
+if grep -q "G-buffer program: checker (examples/shaders/checker.c)" "$T/trace" &&
+    grep -q "^  kd  *(0.475, 0.46, 0.43)" "$T/trace"; then
+    ok "trace names the program and prints its texel: $(grep -m1 '^  kd' "$T/trace" | tr -s ' ')"
+else
+    bad "trace: $(head -5 "$T/trace"; tail -1 "$T/trace")"
+fi
+cli_done gbuffer_programs
