@@ -8,9 +8,10 @@
 #   fwidth filter: an unfiltered checker would alias there); and the built-in program's kd is the
 #   material's (1, 1, 1) everywhere, so the program is what made the pattern. The plane's kd map
 #   (white, uv_scale 20) reaches the program: it scales the pattern's coordinate.
+# - a program that discards (after a derivative) and writes the extra channels, on pbr.json.
 # - the second run takes the cached object; a prebuilt shared object gives the same bytes; -v
 #   shows the compiler command, with -g -O0 under --debug-shader; trace names the program and
-#   prints its texel.
+#   prints its texel; gdb stops in the program's function (skipped without gdb).
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init gbprog "$@"
@@ -95,6 +96,65 @@ else
     bad "render failed: $(cat "$T/err")"
 fi
 
+# discard and the extra channels: cutout.c discards the stripes where fract(4 x) < 0.5 (after a
+# derivative, as the quad rounds must handle) and writes occlusion 0.5 and emission (1, 0.25, 0);
+# on scenes/pbr.json (the extra plane) every covered pixel must be a kept stripe with those extra
+# values, the built-in covers more, and alpha says the derivative was seen (7 where fwidth > 0)
+cat >"$T/cutout.c" <<'C'
+#include <softlight/glsl.h>
+#include <softlight/gbuffer_program.h>
+
+static void cutout(const sl_gbuffer_material *u, const sl_fragment_in *in, sl_gbuffer_texel *out,
+                   sl_gbuffer_extra *extra)
+{
+    sl_gbuffer_varyings v = sl_gbuffer_varyings_of(in);
+    float w = fwidth(in, v.vWorldPos.x);
+    float s = v.vWorldPos.x * 4.0f;
+    if (s - floorf(s) < 0.5f) {
+        discard(in);
+        return;
+    }
+    out->position = v.vWorldPos;
+    out->normal = dot(v.vNormal, v.vNormal) > 1e-30f ? normalize(v.vNormal) : vec3(0, 0, 1);
+    out->kd = u->uKd;
+    out->ks = u->uKs;
+    out->alpha = w > 0.0f ? 7.0f : 3.0f;
+    extra->occlusion = 0.5f;
+    extra->emissive = vec3(1.0f, 0.25f, 0.0f);
+}
+
+SL_GBUFFER_PROGRAM("cutout", cutout, SL_GBUFFER_DERIVATIVES | SL_GBUFFER_DISCARDS);
+C
+if "$SL" render scenes/pbr.json --size 160x90 -q --gbuffer-shader "$T/cutout.c" --aov "$T/cut" 2>"$T/err" &&
+    "$SL" render scenes/pbr.json --size 160x90 -q --aov "$T/cut0" 2>>"$T/err"; then
+    if python3 - "$T" >"$T/check" 2>&1 <<'PY'; then
+import math, struct, sys
+d = sys.argv[1]
+def pfm(path):
+    data = open(path, 'rb').read()
+    parts = data.split(b'\n', 3)
+    ch = 3 if parts[0] == b'PF' else 1
+    w, h = map(int, parts[1].split())
+    return struct.unpack(('<' if float(parts[2]) < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+pos, mask, occ, em, alpha = (pfm(d + '/cut/' + n + '.pfm') for n in ('position', 'mask', 'occlusion', 'emissive', 'alpha'))
+mask0 = pfm(d + '/cut0/mask.pfm')
+covered = [i for i in range(len(mask)) if mask[i] > 0.5]
+cut = [i for i in covered if (4 * pos[3 * i]) - math.floor(4 * pos[3 * i]) < 0.5]
+extra = [i for i in covered if occ[i] != 0.5 or em[3 * i:3 * i + 3] != (1.0, 0.25, 0.0)]
+seen = sum(alpha[i] == 7.0 for i in covered)
+print("%d covered (built-in %d), %d in a discarded stripe, %d with other extra values, %d saw fwidth > 0"
+      % (len(covered), sum(m > 0.5 for m in mask0), len(cut), len(extra), seen))
+assert covered and not cut and not extra and sum(m > 0.5 for m in mask0) > len(covered) + 1000
+assert seen > 0.95 * len(covered)
+PY
+        ok "cutout.c: $(cat "$T/check")"
+    else
+        bad "cutout.c: $(cat "$T/check")"
+    fi
+else
+    bad "cutout.c: render failed: $(cat "$T/err")"
+fi
+
 # the cache: the second run compiles nothing; -v names the object
 "$SL" render "$T/plane.json" -q -v --size 64x36 --gbuffer-shader examples/shaders/checker.c --pfm "$T/a.pfm" 2>"$T/v"
 if grep -q "cached" "$T/v" && ! grep -q " -shared " "$T/v"; then
@@ -127,5 +187,19 @@ if grep -q "G-buffer program: checker (examples/shaders/checker.c)" "$T/trace" &
     ok "trace names the program and prints its texel: $(grep -m1 '^  kd' "$T/trace" | tr -s ' ')"
 else
     bad "trace: $(head -5 "$T/trace"; tail -1 "$T/trace")"
+fi
+# gdb: the documented command stops in the user's own function, at the pixel asked for
+if command -v gdb >/dev/null; then
+    gdb -batch -nx -ex "set breakpoint pending on" -ex "break checker if in->x == 32 && in->y == 5" -ex run \
+        -ex "print in->x" --args "$SL" trace scenes/textured.json --size 64x36 \
+        --gbuffer-shader examples/shaders/checker.c --debug-shader -p 32,30 >"$T/gdb.log" 2>&1
+    if grep -Eq "Breakpoint 1, checker \(.*\) at examples/shaders/checker\.c:[0-9]+" "$T/gdb.log" &&
+        grep -q "^\$1 = 32" "$T/gdb.log"; then
+        ok "gdb stopped in checker (examples/shaders/checker.c) at x 32"
+    else
+        bad "gdb did not stop in checker: $(grep -m3 -E 'Breakpoint|^\$1|rror' "$T/gdb.log")"
+    fi
+else
+    echo "skip gdb: not installed"
 fi
 cli_done gbuffer_programs

@@ -3,9 +3,11 @@
 # `softlight render --gbuffer-shader examples/shaders/checker.c --aov` against
 # `softlight-gl render --gbuffer-shader examples/shaders/checker.frag --aov`, channel by channel
 # (tests/cli/gbuffer_diff.py), on scenes/textured.json (every material's uniforms and kd maps, a
-# masked leaf the program does not discard), on scenes/pbr.json (the extra plane) and on a plane receding to the horizon (the fwidth
-# filter from magnified cells to many cells a pixel). And softlight-gl's refusals: a GLSL compile
-# error, a missing file, --gbuffer-shader with --gbuffer, each one line and exit 2.
+# masked leaf the program does not discard), on scenes/pbr.json (the extra plane, which neither
+# writes) and on a plane receding to the horizon (the fwidth filter from magnified cells to many
+# cells a pixel); and a program that discards and writes the extra channels (oExtra) against its
+# GLSL twin. And softlight-gl's refusals: a GLSL compile error, a missing file, --gbuffer-shader
+# with --gbuffer, each one line and exit 2.
 #
 # Bounds, and why (measured at 320x180 on llvmpipe, the figures in docs/gbuffer-programs.md):
 # - coverage identical, depth within 1e-5 (gl_raster.sh's bounds; the same vertex shader).
@@ -60,6 +62,71 @@ for group in objects floor; do
     gl_bound "$T/pbr.txt" emissive "$group" 0 0
 done
 gl_bound "$T/pbr.txt" kd objects 0.02 0.03
+
+# discard and oExtra: a program that discards stripes of world x after a derivative and writes
+# the extra channels, in C and GLSL, on pbr.json: the same coverage (the stripes' edges are
+# compared on the same interpolated x: measured identical), the same extra values
+cat >"$T/cutout.c" <<'C'
+#include <softlight/glsl.h>
+#include <softlight/gbuffer_program.h>
+
+static void cutout(const sl_gbuffer_material *u, const sl_fragment_in *in, sl_gbuffer_texel *out,
+                   sl_gbuffer_extra *extra)
+{
+    sl_gbuffer_varyings v = sl_gbuffer_varyings_of(in);
+    float w = fwidth(in, v.vWorldPos.x);
+    float s = v.vWorldPos.x * 4.0f;
+    if (s - floorf(s) < 0.5f) {
+        discard(in);
+        return;
+    }
+    out->position = v.vWorldPos;
+    out->normal = dot(v.vNormal, v.vNormal) > 1e-30f ? normalize(v.vNormal) : vec3(0, 0, 1);
+    out->kd = u->uKd;
+    out->ks = u->uKs;
+    out->alpha = w > 0.0f ? 7.0f : 3.0f;
+    extra->occlusion = 0.5f;
+    extra->emissive = vec3(1.0f, 0.25f, 0.0f);
+}
+
+SL_GBUFFER_PROGRAM("cutout", cutout, SL_GBUFFER_DERIVATIVES | SL_GBUFFER_DISCARDS);
+C
+cat >"$T/cutout.frag" <<'GLSL'
+#version 330 core
+in vec3 vWorldPos;
+in vec3 vNormal;
+uniform vec3 uKd;
+uniform vec3 uKs;
+layout(location = 0) out vec4 oPosition;
+layout(location = 1) out vec4 oNormal;
+layout(location = 2) out vec4 oKd;
+layout(location = 3) out vec4 oKsAlpha;
+layout(location = 4) out vec4 oExtra;
+void main()
+{
+    float w = fwidth(vWorldPos.x);
+    float s = vWorldPos.x * 4.0;
+    if (s - floor(s) < 0.5)
+        discard;
+    oPosition = vec4(vWorldPos, 1.0);
+    oNormal = vec4(dot(vNormal, vNormal) > 1e-30 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0), 0.0);
+    oKd = vec4(uKd, 0.0);
+    oKsAlpha = vec4(uKs, w > 0.0 ? 7.0 : 3.0);
+    oExtra = vec4(0.5, 1.0, 0.25, 0.0);
+}
+GLSL
+"$SL" render scenes/pbr.json --size "$GL_TEST_SIZE" --samples 4 -q --gbuffer-shader "$T/cutout.c" --aov "$T/cut-c"
+"$GL" render scenes/pbr.json --size "$GL_TEST_SIZE" --samples 4 --gbuffer-shader "$T/cutout.frag" --aov "$T/cut-g" >/dev/null
+"$SL" compare "$T/cut-c/mask.pfm" "$T/cut-g/mask.pfm" --metric max --tolerance 0 >/dev/null ||
+    { echo "FAIL cutout: coverage differs"; fail=1; }
+python3 tests/cli/gbuffer_diff.py "$T/cut-c" "$T/cut-g" >"$T/cut.txt"
+echo "cutout (pbr.json): channel group pixels max share>1/255"
+sed 's/^/  /' "$T/cut.txt"
+for group in objects floor; do
+    for channel in occlusion emissive kd ks alpha; do
+        gl_bound "$T/cut.txt" "$channel" "$group" 0 0
+    done
+done
 
 # the plane: magnified cells near the eye, sub-pixel cells at the horizon (uv_scale 20 on a white map)
 python3 - "$T" <<'PY'
