@@ -69,16 +69,8 @@ typedef struct sl_gbuffer_varyings {
 } sl_gbuffer_varyings;
 #define SL_GBUFFER_VARYING_COUNT 12
 
-static inline sl_gbuffer_varyings sl_gbuffer_varyings_of(const sl_fragment_in *in)
-{
-    const float *v = in->varyings;
-    sl_gbuffer_varyings o;
-    o.vWorldPos.x = v[0]; o.vWorldPos.y = v[1]; o.vWorldPos.z = v[2];
-    o.vNormal.x = v[3]; o.vNormal.y = v[4]; o.vNormal.z = v[5];
-    o.vTexCoord.x = v[6]; o.vTexCoord.y = v[7];
-    o.vTangent.x = v[8]; o.vTangent.y = v[9]; o.vTangent.z = v[10]; o.vTangent.w = v[11];
-    return o;
-}
+/* The fragment's varyings by name (exported by the library and by the softlight executable). */
+SL_API sl_gbuffer_varyings sl_gbuffer_varyings_of(const sl_fragment_in *in);
 
 /* The fragment program: reads the material and the fragment (its varyings, gl_FragCoord, the
  * derivative and discard built-ins through `in`), writes the texel's position, normal (unit),

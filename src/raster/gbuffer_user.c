@@ -46,6 +46,15 @@ void sl_gbuffer_material_from(sl_gbuffer_material *out, const sl_gbuffer_tex_uni
     out->uAlphaCutoff = u->uAlphaCutoff;
 }
 
+sl_gbuffer_varyings sl_gbuffer_varyings_of(const sl_fragment_in *in)
+{
+    const float *v = in->varyings;
+    return (sl_gbuffer_varyings){.vWorldPos = vec3(v[0], v[1], v[2]),
+                                 .vNormal = vec3(v[3], v[4], v[5]),
+                                 .vTexCoord = vec2(v[6], v[7]),
+                                 .vTangent = vec4(v[8], v[9], v[10], v[11])};
+}
+
 static void user_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
 {
     const sl_gbuffer_user_uniforms *u = uniforms;
