@@ -1,5 +1,6 @@
 /* gbuffer_shader.c - the built-in shader pair that fills the G-buffer, and the
- * scene convenience that draws a whole scene with it.
+ * scene convenience that draws a whole scene with it (textured materials with the textured
+ * program, gbuffer_textured.c; or every object with a user's G-buffer program, gbuffer_user.c).
  *
  * The GLSL twin (shaders/gbuffer.vert, shaders/gbuffer.frag) is a translation of
  * these two functions and keeps their names: uModel, uViewProj, uNormalMatrix,

@@ -9,6 +9,7 @@
 #   material's (1, 1, 1) everywhere, so the program is what made the pattern. The plane's kd map
 #   (white, uv_scale 20) reaches the program: it scales the pattern's coordinate.
 # - a program that discards (after a derivative) and writes the extra channels, on pbr.json.
+# - the per-pixel reference path (--plain) draws the G-buffer the tiled path draws.
 # - the second run takes the cached object; a prebuilt shared object gives the same bytes; -v
 #   shows the compiler command, with -g -O0 under --debug-shader; trace names the program and
 #   prints its texel; gdb stops in the program's function (skipped without gdb).
@@ -154,6 +155,13 @@ PY
 else
     bad "cutout.c: render failed: $(cat "$T/err")"
 fi
+
+# the rasterizer's per-pixel reference path (--plain) and the tiled one draw the same G-buffer
+"$SL" render scenes/textured.json --size 160x90 -q --gbuffer-shader examples/shaders/checker.c --aov "$T/tiled"
+"$SL" render scenes/textured.json --size 160x90 -q --plain --gbuffer-shader examples/shaders/checker.c --aov "$T/plain"
+same=0
+for f in position normal kd ks alpha depth; do cmp -s "$T/tiled/$f.pfm" "$T/plain/$f.pfm" && same=$((same + 1)); done
+if [ "$same" -eq 6 ]; then ok "--plain and the tiled path: the same G-buffer, bit for bit"; else bad "--plain: $((6 - same)) channels differ"; fi
 
 # the cache: the second run compiles nothing; -v names the object
 "$SL" render "$T/plane.json" -q -v --size 64x36 --gbuffer-shader examples/shaders/checker.c --pfm "$T/a.pfm" 2>"$T/v"
