@@ -155,7 +155,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         goto done;
     bool phong, ggx;
     lobes_used(&f->scene, files, &phong, &ggx);
-    slgl_lighting_set_lobes(&l, phong, ggx);
+    slgl_lighting_set_lobes(&l, phong || o->gbuffer_shader, ggx || o->gbuffer_shader); /* a user's: either */
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;
@@ -262,6 +262,7 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
+    desc.any_lobe = o.gbuffer_shader != NULL;
     if (o.gbuffer_shader && o.gbuffer_dir) {
         fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");
         return 2;

@@ -118,6 +118,8 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     }
     bool phong, ggx;
     sl_renderer_splitsum_sets(r->scene, &phong, &ggx);
+    if (r->desc.gbuffer_program || r->desc.any_lobe) /* a user's G-buffer program writes either lobe */
+        phong = ggx = true;
     if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false, .threads = r->desc.threads}, err)) ||
         (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true, .threads = r->desc.threads}, err))) {
         sl_env_free(&r->splitsum_phong);

@@ -61,6 +61,9 @@ typedef struct {
     const sl_gbuffer_fragment_program *gbuffer_program; /* every object's G-buffer fragment program
                                                            (softlight/gbuffer_program.h); NULL = the
                                                            built-in programs */
+    bool any_lobe;                /* the G-buffer's lobes need not be the materials' (a G-buffer
+                                     program drawn elsewhere: softlight-gl --gbuffer-shader): the
+                                     split sum prefilters both sets, as for gbuffer_program */
 } sl_render_desc;
 
 typedef struct {

@@ -5,8 +5,8 @@
 # (tests/cli/gbuffer_diff.py), on scenes/textured.json (every material's uniforms and kd maps, a
 # masked leaf the program does not discard), on scenes/pbr.json (the extra plane, which neither
 # writes) and on a plane receding to the horizon (the fwidth filter from magnified cells to many
-# cells a pixel); and a program that discards and writes the extra channels (oExtra) against its
-# GLSL twin. And softlight-gl's refusals: a GLSL compile error, a missing file, --gbuffer-shader
+# cells a pixel); a program that discards and writes the extra channels (oExtra) against its
+# GLSL twin; and one that writes GGX lobes on a scene of Phong materials, through the lighting. And softlight-gl's refusals: a GLSL compile error, a missing file, --gbuffer-shader
 # with --gbuffer, each one line and exit 2.
 #
 # Bounds, and why (measured at 320x180 on llvmpipe, the figures in docs/gbuffer-programs.md):
@@ -126,6 +126,55 @@ for group in objects floor; do
     for channel in occlusion emissive kd ks alpha; do
         gl_bound "$T/cut.txt" "$channel" "$group" 0 0
     done
+done
+
+# lobes the materials do not have: glossy.c writes a GGX lobe on every surface of default.json,
+# whose materials are all Phong. The lighting must prepare both lobe sets (the split sum's
+# prefiltered chains, the GL lighting program's specialization), else GGX texels are lit with the
+# Phong set's chain: the images, spec and split sum, must agree (measured: no pixel over 8/255)
+cat >"$T/glossy.c" <<'C'
+#include <softlight/glsl.h>
+#include <softlight/gbuffer_program.h>
+
+static void glossy(const sl_gbuffer_material *u, const sl_fragment_in *in, sl_gbuffer_texel *out,
+                   sl_gbuffer_extra *extra)
+{
+    (void)extra;
+    sl_gbuffer_varyings v = sl_gbuffer_varyings_of(in);
+    out->position = v.vWorldPos;
+    out->normal = dot(v.vNormal, v.vNormal) > 1e-30f ? normalize(v.vNormal) : vec3(0, 0, 1);
+    out->kd = scale(u->uKd, 0.5f);
+    out->ks = vec3(0.9f, 0.9f, 0.9f);
+    out->alpha = -1.3f;
+}
+
+SL_GBUFFER_PROGRAM("glossy", glossy, 0);
+C
+cat >"$T/glossy.frag" <<'GLSL'
+#version 330 core
+in vec3 vWorldPos;
+in vec3 vNormal;
+uniform vec3 uKd;
+layout(location = 0) out vec4 oPosition;
+layout(location = 1) out vec4 oNormal;
+layout(location = 2) out vec4 oKd;
+layout(location = 3) out vec4 oKsAlpha;
+void main()
+{
+    oPosition = vec4(vWorldPos, 1.0);
+    oNormal = vec4(dot(vNormal, vNormal) > 1e-30 ? normalize(vNormal) : vec3(0.0, 0.0, 1.0), 0.0);
+    oKd = vec4(uKd * 0.5, 0.0);
+    oKsAlpha = vec4(vec3(0.9), -1.3);
+}
+GLSL
+for est in spec splitsum; do
+    "$SL" render scenes/default.json --size "$GL_TEST_SIZE" --samples 16 --estimator $est -q \
+        --gbuffer-shader "$T/glossy.c" --pfm "$T/glossy-$est-c.pfm"
+    "$GL" render scenes/default.json --size "$GL_TEST_SIZE" --samples 16 --estimator $est \
+        --gbuffer-shader "$T/glossy.frag" --pfm "$T/glossy-$est-g.pfm" >/dev/null
+    "$SL" compare "$T/glossy-$est-c.pfm" "$T/glossy-$est-g.pfm" >"$T/glossy-$est.txt" || true
+    echo "glossy ($est): $(grep -m1 '^8-bit diff > 8' "$T/glossy-$est.txt" || true)"
+    gl_check_share "glossy-$est" "$T/glossy-$est.txt" 0.5 || fail=1
 done
 
 # the plane: magnified cells near the eye, sub-pixel cells at the horizon (uv_scale 20 on a white map)
