@@ -105,6 +105,19 @@ static bool parse_value(const sl_arg *a, const char *s, sl_error *err)
     return sl_fail(err, SL_ERR_RANGE, "%s: internal: bad option type", a->name);
 }
 
+const sl_arg *sl_args_find(const sl_arg *table, int count, const char *word)
+{
+    const char *eq = strchr(word, '=');
+    size_t name_len = eq ? (size_t)(eq - word) : strlen(word);
+    for (int k = 0; k < count; k++) {
+        const char *names[2] = {table[k].name, table[k].alias};
+        for (int j = 0; j < 2; j++)
+            if (names[j] && strlen(names[j]) == name_len && !strncmp(names[j], word, name_len))
+                return &table[k];
+    }
+    return NULL;
+}
+
 bool sl_args_parse(int argc, char **argv, int first, const sl_arg *table, int count, const char **positional,
                    int max_positional, int *positional_count, bool *help, sl_error *err)
 {
@@ -125,13 +138,7 @@ bool sl_args_parse(int argc, char **argv, int first, const sl_arg *table, int co
         /* "--name=value" is accepted as well as "--name value". */
         const char *eq = strchr(word, '=');
         size_t name_len = eq ? (size_t)(eq - word) : strlen(word);
-        const sl_arg *a = NULL;
-        for (int k = 0; k < count && !a; k++) {
-            const char *names[2] = {table[k].name, table[k].alias};
-            for (int j = 0; j < 2; j++)
-                if (names[j] && strlen(names[j]) == name_len && !strncmp(names[j], word, name_len))
-                    a = &table[k];
-        }
+        const sl_arg *a = sl_args_find(table, count, word);
         if (!a)
             return sl_fail(err, SL_ERR_RANGE, "unknown option '%.*s' (see --help)", (int)name_len, word);
         if (a->mark)

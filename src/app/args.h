@@ -46,6 +46,8 @@ typedef struct {
  * out-of-range numbers, or too many positionals. "--help" sets *help and stops. */
 bool sl_args_parse(int argc, char **argv, int first, const sl_arg *table, int count, const char **positional,
                    int max_positional, int *positional_count, bool *help, sl_error *err);
+/* The entry `word` ("--name", "-n" or "--name=value") names, or NULL. */
+const sl_arg *sl_args_find(const sl_arg *table, int count, const char *word);
 void sl_args_print_help(FILE *out, const char *usage, const sl_arg *table, int count);
 
 #endif

@@ -107,36 +107,6 @@ static void print_repairs(const char *label, const char *path, const sl_image_re
                r->inf_count, r->negative_count);
 }
 
-static void print_stats(const sl_compare_stats *s, float exposure)
-{
-    printf("size            %dx%d, %d channel%s\n", s->width, s->height, s->channels, s->channels == 1 ? "" : "s");
-    printf("pixels compared %ld (%ld outside the mask)\n", s->pixels, s->masked_out);
-    printf("non-finite      A: %ld NaN, %ld Inf   B: %ld NaN, %ld Inf (pixels)\n", s->nan_a, s->inf_a, s->nan_b,
-           s->inf_b);
-    printf("max abs error   %.6g\n", s->max_abs);
-    printf("mean abs error  %.6g\n", s->mean_abs);
-    printf("rmse            %.6g\n", s->rmse);
-    printf("mean rel error  %.6g\n", s->mean_rel);
-    printf("p99 rel error   %.6g\n", s->p99_rel);
-    if (isinf(s->psnr))
-        printf("psnr            inf (identical after the tone map, exposure %g)\n", (double)exposure);
-    else
-        printf("psnr            %.2f dB (after the tone map, exposure %g)\n", s->psnr, (double)exposure);
-    printf("8-bit diff > 1  %.4f%% of pixels\n", 100.0 * s->share_over_1);
-    printf("8-bit diff > 8  %.4f%% of pixels\n", 100.0 * s->share_over_8);
-    for (int i = 0; i < s->worst_count; i++) {
-        const sl_compare_pixel *w = &s->worst[i];
-        int shown = s->channels < 3 ? s->channels : 3;
-        printf("worst %d         (%d, %d) error %.6g  A (", i + 1, w->x, w->y, w->error);
-        for (int c = 0; c < shown; c++)
-            printf("%s%.6g", c ? ", " : "", (double)w->a[c]);
-        printf(")  B (");
-        for (int c = 0; c < shown; c++)
-            printf("%s%.6g", c ? ", " : "", (double)w->b[c]);
-        printf(")\n");
-    }
-}
-
 int cmd_compare(int argc, char **argv)
 {
     const char *mask_path = NULL, *diff_path = NULL, *edges = NULL;
@@ -200,7 +170,7 @@ int cmd_compare(int argc, char **argv)
     printf("A %s\nB %s\n", paths[0], paths[1]);
     print_repairs("A", paths[0], &ra);
     print_repairs("B", paths[1], &rb);
-    print_stats(&stats, exposure);
+    sl_compare_print(stdout, &stats, exposure, "A", "B");
     if (diff_path) {
         if (!sl_compare_diff_image(&a, &b, &desc, &diff, &err) || !sl_image_write_png(diff_path, &diff, &err))
             goto done;

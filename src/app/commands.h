@@ -8,6 +8,7 @@ int cmd_view(int argc, char **argv);
 int cmd_info(int argc, char **argv);
 int cmd_trace(int argc, char **argv);
 int cmd_compare(int argc, char **argv);
+int cmd_check(int argc, char **argv);
 int cmd_truth(int argc, char **argv);
 int cmd_merge(int argc, char **argv);
 

@@ -15,6 +15,7 @@ static const struct {
     {"info", cmd_info, "print what a scene holds and the memory it will need"},
     {"trace", cmd_trace, "run the lighting shader for one pixel and print every intermediate value"},
     {"compare", cmd_compare, "compare two .pfm/.hdr images (error metrics, difference image)"},
+    {"check", cmd_check, "shade one G-buffer with a C lighting program and its GLSL (softlight-gl); compare"},
     {"truth", cmd_truth, "the ground-truth image of a scene (brute-force integral, cached)"},
     {"merge", cmd_merge, "join the partial files of a --shard I/N run into its outputs"},
 };

@@ -18,6 +18,7 @@
  * llvmpipe, which runs every branch some lane of a SIMD batch might take, must not pay for the
  * rest either, or the comparison flatters softlight. $SL_GL_GENERAL (any value) compiles the file
  * without defines instead: the general shader, every option a uniform (measurements, docs/gl.md). */
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -158,8 +159,10 @@ static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GL
              "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
              k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx);
-    if (!slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag",
-                                   l->general ? NULL : defines, program, err))
+    if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", fullscreen_vert, l->user_frag,
+                                                   l->general ? NULL : defines, program, err)
+                     : !slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag",
+                                                  l->general ? NULL : defines, program, err))
         return false;
     /* The specification's recipe: bind the buffer to a binding point, then the block to it. */
     GLuint block = glGetUniformBlockIndex(*program, "HammersleyBlock");
@@ -402,14 +405,22 @@ bool slgl_lighting_read(const slgl_lighting *l, sl_image *radiance, long *repair
     glPixelStorei(GL_PACK_ALIGNMENT, 1);
     glReadPixels(0, 0, l->width, l->height, GL_RGBA, GL_FLOAT, rgba);
     /* glReadPixels' row 0 is the bottom; sl_image's row 0 is the top. a = 0 marks a pixel the
-     * shader found non-finite and wrote as 0 (lighting.frag, "Output"). */
+     * built-in found non-finite and wrote as 0 (lighting.frag, "Output"); a user's shader owns its
+     * alpha, so its non-finite pixels are found here and written as magenta, as softlight's pass
+     * writes a C program's (docs/lighting-programs.md). */
     long bad = 0;
     for (int y = 0; y < l->height; y++) {
         const float *src = rgba + (size_t)(l->height - 1 - y) * (size_t)l->width * 4;
         for (int x = 0; x < l->width; x++) {
             float *dst = sl_image_pixel(radiance, x, y);
             memcpy(dst, src + 4 * x, 3 * sizeof *dst);
-            bad += src[4 * x + 3] == 0.0f;
+            if (!l->user_frag) {
+                bad += src[4 * x + 3] == 0.0f;
+            } else if (!isfinite(dst[0]) || !isfinite(dst[1]) || !isfinite(dst[2])) {
+                dst[0] = dst[2] = 1.0f;
+                dst[1] = 0.0f;
+                bad++;
+            }
         }
     }
     free(rgba);

@@ -33,6 +33,7 @@
 typedef struct {
     const char *scene_path;
     const char *png, *hdr, *pfm, *aov_dir, *gbuffer_dir;
+    const char *lighting; /* --lighting my.frag: the user's GLSL lighting shader */
     const char *gbuffer_shader; /* --gbuffer-shader: the user's G-buffer fragment shader, or NULL */
     int time_runs;
     bool verbose;
@@ -144,8 +145,10 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         extra = files->extra != NULL;
     if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) ||
         (o->gbuffer_shader && !slgl_gbuffer_use_fragment(&g, o->gbuffer_shader, err)) ||
-        !slgl_lighting_create(&l, f->width, f->height, err) ||
-        !slgl_lighting_set_environment(&l, &f->renderer.env,
+        !slgl_lighting_create(&l, f->width, f->height, err))
+        goto done;
+    l.user_frag = o->lighting;
+    if (!slgl_lighting_set_environment(&l, &f->renderer.env,
                                        f->renderer.env_oct_built >= 0     ? &f->renderer.env_oct
                                        : f->renderer.env_lights_built > 0 ? &f->renderer.env_lights.residual
                                                                           : NULL,
@@ -193,7 +196,10 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     }
     if (!sl_output_set_commit(&out, err))
         goto done;
-    if (repaired)
+    if (repaired && o->lighting)
+        fprintf(stderr, "softlight-gl: warning: %s: %ld pixels had NaN/Inf radiance (written as magenta)\n",
+                o->lighting, repaired);
+    else if (repaired)
         fprintf(stderr, "softlight-gl: warning: lighting.frag repaired %ld non-finite pixels (written as 0)\n",
                 repaired);
     if (o->time_runs > 0)
@@ -216,7 +222,7 @@ done:
     return ok;
 }
 
-#define OUTPUT_OPTION_COUNT 8
+#define OUTPUT_OPTION_COUNT 9
 
 static int cmd_render(int argc, char **argv)
 {
@@ -238,6 +244,8 @@ static int cmd_render(int argc, char **argv)
          NULL},
         {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
          NULL},
+        {"--lighting", NULL, SL_ARG_STRING, &o.lighting, 0, 0, NULL, "FILE.frag",
+         "light with this GLSL shader, compiled after lighting.frag (docs/lighting-programs.md)", NULL},
     };
     memcpy(table + n, outputs, sizeof outputs);
     const int count = n + OUTPUT_OPTION_COUNT;

@@ -58,6 +58,12 @@ bool slgl_program_from_files(const char *vert_name, const char *frag_name, GLuin
  * frag_defines (NULL: none), "#define NAME VALUE" lines, are compiled after the file's #version. */
 bool slgl_program_from_sources(const char *vert_label, const char *vert_src, const char *frag_name,
                                const char *frag_defines, GLuint *program, sl_error *err);
+/* A user's lighting shader (--lighting my.frag, whose first line is #version 330 core), compiled
+ * after shaders/lighting.frag with its main renamed and with frag_defines (lighting.frag's
+ * specialization), so the file may use the built-in's uniforms and functions; errors name the file
+ * and line they are in (one line, no "does not compile" prefix: the log names the file). */
+bool slgl_program_user_lighting(const char *vert_label, const char *vert_src, const char *user_path,
+                                const char *frag_defines, GLuint *program, sl_error *err);
 /* shaders/<vert_name> linked with the fragment shader at `frag_path`, a file the command line
  * names (not in the shader directory). */
 bool slgl_program_with_fragment_file(const char *vert_name, const char *frag_path, GLuint *program, sl_error *err);
@@ -140,6 +146,8 @@ typedef struct {
     int program_count, program_next;
     bool phong, ggx;       /* the lobe sets to compile for; both until slgl_lighting_set_lobes */
     bool general;          /* $SL_GL_GENERAL set: one unspecialized program (what the C port reads) */
+    const char *user_frag; /* --lighting my.frag: the user's shader instead of lighting.frag's main
+                              (NULL: the built-in); its NaN/Inf pixels read back as magenta */
     GLuint vao, fbo;
     GLuint color;          /* RGBA32F radiance, a = 0 where the shader repaired a NaN/Inf */
     GLuint env;            /* level 0 + glGenerateMipmap */
@@ -171,7 +179,8 @@ void slgl_lighting_set_lobes(slgl_lighting *l, bool phong, bool ggx);
  * for them (compiled on first use). */
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);
 /* Read the radiance back into `radiance` (allocated when empty; row 0 = top); *repaired counts
- * the pixels the shader zeroed for being non-finite. */
+ * the pixels the shader zeroed for being non-finite (the built-in), or, for a user's shader, the
+ * non-finite pixels written here as magenta, as softlight's pass writes a C program's. */
 bool slgl_lighting_read(const slgl_lighting *l, sl_image *radiance, long *repaired, sl_error *err);
 
 #endif

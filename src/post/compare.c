@@ -301,3 +301,33 @@ bool sl_compare_diff_image(const sl_image *a, const sl_image *b, const sl_compar
     }
     return true;
 }
+
+void sl_compare_print(FILE *out, const sl_compare_stats *s, float exposure, const char *name_a, const char *name_b)
+{
+    fprintf(out, "size            %dx%d, %d channel%s\n", s->width, s->height, s->channels, s->channels == 1 ? "" : "s");
+    fprintf(out, "pixels compared %ld (%ld outside the mask)\n", s->pixels, s->masked_out);
+    fprintf(out, "non-finite      %s: %ld NaN, %ld Inf   %s: %ld NaN, %ld Inf (pixels)\n", name_a, s->nan_a, s->inf_a,
+            name_b, s->nan_b, s->inf_b);
+    fprintf(out, "max abs error   %.6g\n", s->max_abs);
+    fprintf(out, "mean abs error  %.6g\n", s->mean_abs);
+    fprintf(out, "rmse            %.6g\n", s->rmse);
+    fprintf(out, "mean rel error  %.6g\n", s->mean_rel);
+    fprintf(out, "p99 rel error   %.6g\n", s->p99_rel);
+    if (isinf(s->psnr))
+        fprintf(out, "psnr            inf (identical after the tone map, exposure %g)\n", (double)exposure);
+    else
+        fprintf(out, "psnr            %.2f dB (after the tone map, exposure %g)\n", s->psnr, (double)exposure);
+    fprintf(out, "8-bit diff > 1  %.4f%% of pixels\n", 100.0 * s->share_over_1);
+    fprintf(out, "8-bit diff > 8  %.4f%% of pixels\n", 100.0 * s->share_over_8);
+    for (int i = 0; i < s->worst_count; i++) {
+        const sl_compare_pixel *w = &s->worst[i];
+        int shown = s->channels < 3 ? s->channels : 3;
+        fprintf(out, "worst %d         (%d, %d) error %.6g  %s (", i + 1, w->x, w->y, w->error, name_a);
+        for (int c = 0; c < shown; c++)
+            fprintf(out, "%s%.6g", c ? ", " : "", (double)w->a[c]);
+        fprintf(out, ")  %s (", name_b);
+        for (int c = 0; c < shown; c++)
+            fprintf(out, "%s%.6g", c ? ", " : "", (double)w->b[c]);
+        fprintf(out, ")\n");
+    }
+}

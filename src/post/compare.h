@@ -23,6 +23,7 @@
 #define SL_COMPARE_H
 
 #include <stdbool.h>
+#include <stdio.h>
 
 #include "../core/error.h"
 #include "../core/image.h"
@@ -80,6 +81,10 @@ bool sl_compare_within(const sl_compare_stats *stats, sl_compare_metric metric, 
  * allocated here (1 channel); *kept (may be NULL) counts its ones. */
 bool sl_compare_edge_mask(const sl_image *depth_a, const sl_image *depth_b, int band, float depth_tol, sl_image *mask,
                           long *kept, sl_error *err);
+
+/* The figures and the worst pixels, one per line ("max abs error   0.0049"), as `softlight
+ * compare` and `softlight check` print them; name_a, name_b label the two images. */
+void sl_compare_print(FILE *out, const sl_compare_stats *s, float exposure, const char *name_a, const char *name_b);
 
 /* False-colour difference (3 channels, display values in [0,1], row 0 = top): black where the
  * tone-mapped images agree, then blue, green, yellow, red, white on a log scale that reaches

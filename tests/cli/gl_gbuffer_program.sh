@@ -6,8 +6,9 @@
 # masked leaf the program does not discard), on scenes/pbr.json (the extra plane, which neither
 # writes) and on a plane receding to the horizon (the fwidth filter from magnified cells to many
 # cells a pixel); a program that discards and writes the extra channels (oExtra) against its
-# GLSL twin; and one that writes GGX lobes on a scene of Phong materials, through the lighting. And softlight-gl's refusals: a GLSL compile error, a missing file, --gbuffer-shader
-# with --gbuffer, each one line and exit 2.
+# GLSL twin; and one that writes GGX lobes on a scene of Phong materials, through the lighting.
+# And softlight-gl's refusals: a GLSL compile error (file:line), a missing file, a directory,
+# --gbuffer-shader with --gbuffer, each one line and exit 2.
 #
 # Bounds, and why (measured at 320x180 on llvmpipe, the figures in docs/gbuffer-programs.md):
 # - coverage identical, depth within 1e-5 (gl_raster.sh's bounds; the same vertex shader).
@@ -215,8 +216,10 @@ refuse() {
     echo "ok   $name: $(cat "$T/err")"
 }
 printf '#version 330 core\nout vec4 oPosition;\nvoid main()\n{\n    oPosition = vec4(1.0 +);\n}\n' >"$T/bad.frag"
-refuse "GLSL compile error" "bad\.frag: does not compile: .*5" --gbuffer-shader "$T/bad.frag"
+refuse "GLSL compile error" "bad\.frag:5\([0-9]+\): error" --gbuffer-shader "$T/bad.frag"
 refuse "missing file" "missing\.frag" --gbuffer-shader "$T/missing.frag"
+mkdir "$T/dir.frag"
+refuse "a directory" "dir\.frag: not a regular file" --gbuffer-shader "$T/dir.frag"
 refuse "with --gbuffer" "not both" --gbuffer-shader examples/shaders/checker.frag --gbuffer "$T/plane-c"
 
 if [ "$fail" != 0 ]; then
