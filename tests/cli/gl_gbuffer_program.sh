@@ -6,7 +6,8 @@
 # masked leaf the program does not discard), on scenes/pbr.json (the extra plane, which neither
 # writes) and on a plane receding to the horizon (the fwidth filter from magnified cells to many
 # cells a pixel); a program that discards and writes the extra channels (oExtra) against its
-# GLSL twin; and one that writes GGX lobes on a scene of Phong materials, through the lighting.
+# GLSL twin; one that writes GGX lobes on a scene of Phong materials, through the lighting; and
+# checker with the toon lighting program (--lighting), C against GLSL.
 # And softlight-gl's refusals: a GLSL compile error (file:line), a missing file, a directory,
 # --gbuffer-shader with --gbuffer, each one line and exit 2.
 #
@@ -177,6 +178,16 @@ for est in spec splitsum; do
     echo "glossy ($est): $(grep -m1 '^8-bit diff > 8' "$T/glossy-$est.txt" || true)"
     gl_check_share "glossy-$est" "$T/glossy-$est.txt" 0.5 || fail=1
 done
+
+# a G-buffer program and a lighting program together: checker and toon, C against GLSL
+# (measured: 0.007% of the pixels over 8/255)
+"$SL" render scenes/textured.json --size "$GL_TEST_SIZE" --samples 8 -q --lighting examples/shaders/toon.c \
+    --gbuffer-shader examples/shaders/checker.c --pfm "$T/both-c.pfm"
+"$GL" render scenes/textured.json --size "$GL_TEST_SIZE" --samples 8 --lighting examples/shaders/toon.frag \
+    --gbuffer-shader examples/shaders/checker.frag --pfm "$T/both-g.pfm" >/dev/null
+"$SL" compare "$T/both-c.pfm" "$T/both-g.pfm" >"$T/both.txt" || true
+echo "checker and toon: $(grep -m1 '^8-bit diff > 8' "$T/both.txt" || true)"
+gl_check_share checker-toon "$T/both.txt" 0.1 || fail=1
 
 # the plane: magnified cells near the eye, sub-pixel cells at the horizon (uv_scale 20 on a white map)
 python3 - "$T" <<'PY'
