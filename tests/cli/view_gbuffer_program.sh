@@ -8,7 +8,7 @@
 # the source is replaced (renamed over, as editors save) by a program that writes one grey for
 # every surface, and the next screenshot must equal render's of that program; then by a source
 # with a syntax error: stderr must name the file and line, the viewer keeps running with the grey
-# program, exit 0.
+# program, exit 0; the trace of a pixel (T) names the program and prints its texel.
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"
@@ -57,6 +57,9 @@ screenshot $T/grey
 wait 3000
 settle
 screenshot $T/still-grey
+move 160 150
+key t
+wait 200
 quit
 SCRIPT
 
@@ -87,4 +90,8 @@ grep -Eq "live\.c:6:[0-9]+: error" "$T/err.txt" || fail "the compile error does 
 echo "ok: the compile error names the file and line"
 grep -q "the last good program keeps running" "$T/err.txt" || fail "no word that the last good program runs"
 view_same "$T/still-grey.hdr" "$T/ref-grey.hdr" "after the error the last good program still runs"
+grep -q "G-buffer program: grey; its texture fetches are not traced" "$T/out.txt" ||
+    fail "the viewer's trace (T) does not name the G-buffer program"
+grep -Eq "^  kd +\(0.5, 0.5, 0.5\)" "$T/out.txt" || fail "the viewer's trace does not print the program's kd"
+echo "ok: the viewer's trace names the G-buffer program and prints its texel"
 echo "PASS view_gbuffer_program"
