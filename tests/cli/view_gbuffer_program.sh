@@ -63,12 +63,13 @@ wait 200
 quit
 SCRIPT
 
-# The editor: each save waits for the screenshot before it, and lands as a rename.
+# The editor: each save waits for the screenshot before it (up to 60 s: a sanitized build draws
+# textured.json's first frames slowly), and lands as a rename.
 (
     for step in grey bad; do
         shot=$T/checker.hdr
         [ "$step" = bad ] && shot=$T/grey.hdr
-        for _ in $(seq 1 300); do
+        for _ in $(seq 1 1200); do
             [ -s "$shot" ] && break
             sleep 0.05
         done
