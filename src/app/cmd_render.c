@@ -9,6 +9,7 @@
 #include "core/output_set.h"
 #include "core/timer.h"
 #include "gbuffer_load.h"
+#include "occlusion/gtao.h"
 #include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -46,17 +47,19 @@ static bool any_surface(const sl_gbuffer *gb)
  * bench/vs-gl compares with softlight-gl --time. */
 static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 {
-    double raster[1000], shading[1000], tonemap[1000];
+    double raster[1000], shading[1000], tonemap[1000], ao[1000];
     for (int i = 0; i < repeat; i++) {
         if (!sl_renderer_frame(r, NULL, err))
             return false;
         raster[i] = r->timings.raster_ms;
         shading[i] = r->timings.shading_ms;
         tonemap[i] = r->timings.tonemap_ms;
+        ao[i] = r->timings.ao_ms;
     }
     r->timings.raster_ms = sl_median(raster, repeat);
     r->timings.shading_ms = sl_median(shading, repeat);
     r->timings.tonemap_ms = sl_median(tonemap, repeat);
+    r->timings.ao_ms = sl_median(ao, repeat);
     return true;
 }
 
@@ -201,6 +204,9 @@ int cmd_render(int argc, char **argv)
                positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
                sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
                r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
+        if (r.desc.options.ao_radius > 0.0f)
+            printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
+                   (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);
         if (r.env_lights_built > 0)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",

@@ -186,6 +186,10 @@ typedef enum {
     X(ENV_LIGHTS, env_lights, INT, int, "env-lights", "--env-lights", NULL, "K",                                     \
       "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)",                   \
       (.scene = {"render.env_lights"}, .min = 0, .max = SL_ENV_LIGHTS_MAX))                                          \
+    /* 0: off, and the frame pays nothing for it (src/occlusion/gtao.h) */                                         \
+    X(AO_RADIUS, ao_radius, FLOAT, float, "ao-radius", "--ao-radius", NULL, "R",                                     \
+      "ambient occlusion of the environment (GTAO on the G-buffer) within R world units (default 0: off)",          \
+      (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
     X(IMAGE_MEMORY, image_memory, INT, int, "image-memory", "--image-memory", NULL, "MIB",                           \
       "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); an "             \
       "environment needs 2.4 (maps over 2048x1024) to 4.4 times that at its peak (softlight info)",                  \

@@ -125,6 +125,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
 {
     slgl_gbuffer g = {0};
     slgl_lighting l = {0};
+    slgl_occlusion occlusion = {0};
     slgl_textures textures = {0};
     slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
     sl_gbuffer gb = {0};
@@ -137,15 +138,20 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
+    /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
+     * (--gbuffer) carry it already in their occlusion */
+    float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;
     /* the extra target only where softlight allocates its extra plane (src/raster/gbuffer.h) */
     bool extra = false;
     for (int i = 0; i < f->scene.object_count; i++)
         extra |= sl_material_extra(&f->scene.materials[f->scene.objects[i].material]);
+    extra |= ao_radius > 0.0f;
     if (o->gbuffer_dir)
         extra = files->extra != NULL;
     if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) ||
         (o->gbuffer_shader && !slgl_gbuffer_use_fragment(&g, o->gbuffer_shader, err)) ||
-        !slgl_lighting_create(&l, f->width, f->height, err))
+        !slgl_lighting_create(&l, f->width, f->height, err) ||
+        (ao_radius > 0.0f && !slgl_occlusion_create(&occlusion, f->width, f->height, err)))
         goto done;
     l.user_frag = o->lighting;
     if (!slgl_lighting_set_environment(&l, &f->renderer.env,
@@ -171,6 +177,8 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         double t0 = sl_now_seconds();
         if (!o->gbuffer_dir && !slgl_gbuffer_draw(&g, &f->scene, meshes, &f->renderer.textures, &textures,
                                                     f->view_proj, err))
+            goto done;
+        if (ao_radius > 0.0f && !slgl_occlusion_draw(&occlusion, &g, &f->scene.camera, ao_radius, err))
             goto done;
         glFinish();
         double t1 = sl_now_seconds();
@@ -216,6 +224,8 @@ done:
     free(meshes);
     slgl_textures_destroy(&textures);
     slgl_lighting_destroy(&l);
+    if (occlusion.program)
+        slgl_occlusion_destroy(&occlusion);
     slgl_gbuffer_destroy(&g);
     free(t_gbuffer);
     free(t_lighting);

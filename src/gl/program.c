@@ -25,6 +25,16 @@
 
 #define SHADER_MAX_BYTES (1u << 20)
 
+/* The full-screen triangle: vertices (-1,-1), (3,-1), (-1,3) cover the viewport once, with no
+ * diagonal seam; no vertex buffer, gl_VertexID is enough. */
+const char *const slgl_fullscreen_vert = "#version 330 core\n"
+                                           "void main()\n"
+                                           "{\n"
+                                           "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), "
+                                           "float((gl_VertexID >> 1) * 4 - 1));\n"
+                                           "    gl_Position = vec4(p, 0.0, 1.0);\n"
+                                           "}\n";
+
 const char *slgl_shader_dir(void)
 {
     static char dir_buf[SL_PATH_MAX];

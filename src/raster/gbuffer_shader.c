@@ -137,6 +137,7 @@ bool sl_raster_scene_program(sl_raster *r, const sl_scene *scene, const sl_scene
     bool extra = false;
     for (int i = 0; i < scene->object_count; i++)
         extra |= sl_material_extra(&scene->materials[scene->objects[i].material]);
+    extra |= sl_raster_keeps_extra(r);
     if (!sl_gbuffer_use_extra(gb, extra, sl_raster_threads(r), err))
         return false;
     if (scene->object_count == 0) {

@@ -74,6 +74,7 @@ typedef struct {
     double splitsum_ms;   /* --estimator splitsum: the prefiltered chains (the lobe sets the scene
                              uses) and the BRDF's table */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
+    double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
 } sl_render_timings;
 
 /* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init
