@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "core/output_set.h"
 #include "core/timer.h"
+#include "gbuffer_load.h"
 #include "occlusion/gtao.h"
 #include "lighting_load.h"
 #include "render_options.h"
@@ -67,11 +68,11 @@ int cmd_render(int argc, char **argv)
     const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
     const char *shard_arg = NULL;
     bool quiet = false, verbose = false, debug_shader = false;
-    const char *lighting = NULL;
+    const char *lighting = NULL, *gbuffer_shader = NULL;
     int repeat = 1;
     sl_render_options ro;
     sl_shard shard = {0};
-    sl_arg table[SL_RENDER_OPTION_COUNT + 14];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 15];
     int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
@@ -92,10 +93,13 @@ int cmd_render(int argc, char **argv)
     table[n++] = (sl_arg){"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
                           "shade with this lighting program: a C source (compiled and cached) or a shared object "
                           "(docs/lighting-programs.md)", NULL};
+    table[n++] = (sl_arg){"--gbuffer-shader", NULL, SL_ARG_STRING, &gbuffer_shader, 0, 0, NULL, "FILE",
+                          "fill the G-buffer with this fragment program for every object: a C source (compiled and "
+                          "cached) or a shared object (docs/gbuffer-programs.md)", NULL};
     table[n++] = (sl_arg){"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
-                          "compile the --lighting source with -g -O0, for a debugger", NULL};
+                          "compile the --lighting and --gbuffer-shader sources with -g -O0, for a debugger", NULL};
     table[n++] = (sl_arg){"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
-                          "print the --lighting compiler command", NULL};
+                          "print the --lighting and --gbuffer-shader compiler commands", NULL};
 
     const char *positional[1];
     int npos;
@@ -118,7 +122,8 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     /* only the command line names code to run; a scene never does */
-    if (!sl_lighting_load_arg("render", lighting, debug_shader, verbose, &desc.lighting_program))
+    if (!sl_lighting_load_arg("render", lighting, debug_shader, verbose, &desc.lighting_program) ||
+        !sl_gbuffer_program_load_arg("render", gbuffer_shader, debug_shader, verbose, &desc.gbuffer_program))
         return 2;
     char default_png[1024];
     if (!png && !hdr && !pfm && !aov && !normals && !exr) {

@@ -6,6 +6,8 @@
  * `softlight render` where they apply, plus:
  *   --gbuffer DIR  skip the G-buffer pass and light softlight's G-buffer (its --aov files), which
  *                  tells a rasterization difference from a shading one;
+ *   --gbuffer-shader FILE.frag  draw every object with this fragment shader behind
+ *                  gbuffer_textured.vert (the GLSL twin of softlight's --gbuffer-shader FILE.c);
  *   --time N       run each pass N times and print the median milliseconds per stage, timed with
  *                  glFinish and a monotonic clock (no timer queries: llvmpipe's are not meaningful);
  *   --verbose      print GL_RENDERER and what was done.
@@ -32,6 +34,7 @@ typedef struct {
     const char *scene_path;
     const char *png, *hdr, *pfm, *aov_dir, *gbuffer_dir;
     const char *lighting; /* --lighting my.frag: the user's GLSL lighting shader */
+    const char *gbuffer_shader; /* --gbuffer-shader: the user's G-buffer fragment shader, or NULL */
     int time_runs;
     bool verbose;
 } gl_outputs;
@@ -145,7 +148,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     extra |= ao_radius > 0.0f;
     if (o->gbuffer_dir)
         extra = files->extra != NULL;
-    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) || !slgl_lighting_create(&l, f->width, f->height, err) ||
+    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) ||
+        (o->gbuffer_shader && !slgl_gbuffer_use_fragment(&g, o->gbuffer_shader, err)) ||
+        !slgl_lighting_create(&l, f->width, f->height, err) ||
         (ao_radius > 0.0f && !slgl_occlusion_create(&occlusion, f->width, f->height, err)))
         goto done;
     l.user_frag = o->lighting;
@@ -159,7 +164,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         goto done;
     bool phong, ggx;
     lobes_used(&f->scene, files, &phong, &ggx);
-    slgl_lighting_set_lobes(&l, phong, ggx);
+    slgl_lighting_set_lobes(&l, phong || o->gbuffer_shader, ggx || o->gbuffer_shader); /* a user's: either */
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;
@@ -227,7 +232,7 @@ done:
     return ok;
 }
 
-#define OUTPUT_OPTION_COUNT 8
+#define OUTPUT_OPTION_COUNT 9
 
 static int cmd_render(int argc, char **argv)
 {
@@ -243,6 +248,8 @@ static int cmd_render(int argc, char **argv)
          NULL},
         {"--gbuffer", NULL, SL_ARG_STRING, &o.gbuffer_dir, 0, 0, NULL, "DIR",
          "light softlight's G-buffer (its --aov files) instead of rasterizing", NULL},
+        {"--gbuffer-shader", NULL, SL_ARG_STRING, &o.gbuffer_shader, 0, 0, NULL, "FILE.frag",
+         "draw every object with this G-buffer fragment shader (docs/gbuffer-programs.md)", NULL},
         {"--time", NULL, SL_ARG_INT, &o.time_runs, 1, TIME_MAX_RUNS, NULL, "N", "run each pass N times, print medians",
          NULL},
         {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
@@ -273,6 +280,11 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
+    desc.any_lobe = o.gbuffer_shader != NULL;
+    if (o.gbuffer_shader && o.gbuffer_dir) {
+        fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");
+        return 2;
+    }
 
     slgl_context ctx;
     if (!slgl_context_create(&ctx, &err)) {

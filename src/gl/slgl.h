@@ -67,6 +67,9 @@ bool slgl_program_user_lighting(const char *vert_label, const char *vert_src, co
 /* The full-screen triangle's vertex shader: (-1,-1), (3,-1), (-1,3) from gl_VertexID, no buffer
  * (the lighting and occlusion passes). */
 extern const char *const slgl_fullscreen_vert;
+/* shaders/<vert_name> linked with the fragment shader at `frag_path`, a file the command line
+ * names (not in the shader directory). */
+bool slgl_program_with_fragment_file(const char *vert_name, const char *frag_path, GLuint *program, sl_error *err);
 /* The directory shaders are read from: $SL_SHADER_DIR when set, else shaders/ in the data directory. */
 const char *slgl_shader_dir(void);
 
@@ -81,6 +84,9 @@ typedef struct {
     GLuint program;                        /* gbuffer.vert/.frag: untextured materials */
     GLuint tex_program;                    /* gbuffer_textured.vert/.frag: materials with maps */
     GLuint samplers[SL_MAP_COUNT];         /* one per texture unit = map slot */
+    GLuint user_program;                   /* --gbuffer-shader: gbuffer_textured.vert and the user's
+                                              fragment shader, for every object; 0 = none */
+    bool user_extra;                       /* the user's shader writes oExtra (location 4) */
 } slgl_gbuffer;
 
 typedef struct {
@@ -106,6 +112,9 @@ void slgl_sampler_set(GLuint sampler, const sl_sampler_state *s);
  * scene with a material that writes them. */
 bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, bool extra, sl_error *err);
 void slgl_gbuffer_destroy(slgl_gbuffer *g);
+/* --gbuffer-shader: draw every object with gbuffer_textured.vert and the fragment shader at
+ * `frag_path` (docs/gbuffer-programs.md "softlight-gl"), its uniforms the textured program's. */
+bool slgl_gbuffer_use_fragment(slgl_gbuffer *g, const char *frag_path, sl_error *err);
 /* Upload every mesh of the scene; `meshes` has scene->mesh_count entries. */
 bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err);
 void slgl_meshes_destroy(slgl_mesh *meshes, int count);
