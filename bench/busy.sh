@@ -2,7 +2,9 @@
 # busy.sh - each stage of a frame at 1 and 2 threads, on an idle machine and beside one busy
 # process, as a user's machine often is (a build, a browser).
 #
-#   bench/busy.sh [BUILD_DIR] [ROUNDS] [SCENE] [SIZE]    defaults: build 7 scenes/default.json 1280x720
+#   bench/busy.sh [BUILD_DIR] [ROUNDS] [SCENE] [SIZE] [AO_RADIUS]
+#                 defaults: build 7 scenes/default.json 1280x720 0 (AO_RADIUS > 0: with ambient
+#                 occlusion, --ao-radius, and a row for its pass)
 #
 # Runs `softlight render SCENE --size SIZE -j T` ROUNDS times for each (condition, T), alternating
 # T = 1 and T = 2 within a round so that both see the same moments of the machine, and prints the
@@ -16,6 +18,7 @@ BUILD=${1:-build}
 ROUNDS=${2:-7}
 SCENE=${3:-scenes/default.json}
 SIZE=${4:-1280x720}
+AO=${5:-0}
 export OMP_WAIT_POLICY=passive
 T=$(mktemp -d "${TMPDIR:-/tmp}/busy.XXXXXX")
 busy_pid=
@@ -23,9 +26,12 @@ cleanup() { [ -n "$busy_pid" ] && kill "$busy_pid" 2>/dev/null; rm -rf "$T"; }
 trap cleanup EXIT
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR == 0) print "nan"; else print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
-run() { # run CONDITION THREADS: one render, its three stage times appended to T/CONDITION-THREADS
-    "$BUILD/softlight" render "$SCENE" --size "$SIZE" -j "$2" -o "$T/frame.png" 2>&1 |
-        sed -n 's/.*raster \([0-9.]*\) ms, shading \([0-9.]*\) ms, tone map \([0-9.]*\) ms.*/\1 \2 \3/p' >>"$T/$1-$2"
+run() { # run CONDITION THREADS: one render, its stage times appended to T/CONDITION-THREADS
+    "$BUILD/softlight" render "$SCENE" --size "$SIZE" -j "$2" --ao-radius "$AO" -o "$T/frame.png" 2>&1 |
+        awk '/raster/ { for (i = 1; i <= NF; i++) { if ($i == "raster") r = $(i + 1); if ($i == "shading") s = $(i + 1);
+                                                    if ($i == "tone") t = $(i + 2) } }
+             /ambient occlusion/ { for (i = 1; i <= NF; i++) if ($i == "ms") a = $(i - 1) }
+             END { print r, s, t, a + 0 }' >>"$T/$1-$2"
 }
 
 for condition in idle busy; do
@@ -43,8 +49,10 @@ done
 echo "$SCENE $SIZE, median of $ROUNDS renders each; $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg) after"
 echo '| stage | idle, 1 thread ms | idle, 2 threads ms | ratio | busy, 1 thread ms | busy, 2 threads ms | ratio |'
 echo '|---|---:|---:|---:|---:|---:|---:|'
-stage=(raster shading "tone map")
-for s in 1 2 3; do
+stage=(raster shading "tone map" "ambient occlusion")
+stages=3
+awk -v a="$AO" 'BEGIN { exit !(a > 0) }' && stages=4
+for s in $(seq 1 $stages); do
     row="| ${stage[$((s - 1))]}"
     for condition in idle busy; do
         a=$(awk -v c=$s '{ print $c }' "$T/$condition-1" | median)

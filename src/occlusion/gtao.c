@@ -276,9 +276,12 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
     }
     gtao_frame f = frame_of(gb, cam, radius);
+    /* Three loops, each needing the last one's rows around it; every one hands out small chunks
+     * (dynamic), so a thread the system deschedules holds up the barrier for one chunk at most
+     * (bench/busy.sh with AO_RADIUS). */
 #pragma omp parallel num_threads(sl_threads(threads))
     {
-#pragma omp for schedule(static)
+#pragma omp for schedule(dynamic, 8)
         for (int j = 0; j < h.height; j++)
             planes_of(gb, &f, planes, h.width, j, j + 1);
 #pragma omp for schedule(dynamic, 2)
