@@ -37,6 +37,7 @@
 #include "../ibl/ground_truth.h"
 #include "../ibl/ibl.h"
 #include "../raster/gbuffer.h"
+#include "../scene/scene.h"
 
 /* Pixels done of `total` (covered pixels); called from the calling thread, the last call
  * with done == total. */
@@ -53,7 +54,21 @@ typedef struct {
     const char *label;         /* recorded in the cache header (e.g. the scene file); may be NULL */
     sl_gt_progress_fn progress; /* may be NULL */
     void *progress_user;
+    /* Visibility (docs/ibl.md "Visibility"): each environment node's contribution times whether
+     * P sees its direction past the scene's triangles (visibility.h), traced once per cell of
+     * 2^visibility_level x 2^visibility_level level-0 texels at the centroid of the cell's nodes
+     * that lie above both horizons (N's and the geometric normal's); nodes below the geometric
+     * horizon are unseen. Off: the blind integral above, byte for byte. */
+    const sl_scene *scene;      /* the occluders and point lights; required with visibility or lights */
+    bool visibility;
+    int visibility_level;       /* 0 .. SL_GT_VIS_LEVEL_MAX */
+    /* The scene's point lights added as lighting.frag adds them (not scaled by the occlusion
+     * map), each times a shadow ray to the light with visibility. Off: image-based light only. */
+    bool lights;
 } sl_gt_image_desc;
+
+#define SL_GT_VIS_LEVEL_DEFAULT 3
+#define SL_GT_VIS_LEVEL_MAX 6
 
 typedef struct {
     int width, height;
@@ -64,6 +79,9 @@ typedef struct {
     uint64_t key;         /* hash of every input (what the cache is keyed on) */
     bool from_cache;
     double seconds;       /* integration time (0 when read from the cache) */
+    long rays;            /* visibility: rays traced (eye rays for Ng included; 0 from the cache) */
+    long ng_fallbacks;    /* visibility: covered pixels whose eye ray hit nothing, so the shading
+                             normal stood in for the geometric one */
 } sl_gt_image;
 
 /* Read the cache when it matches, else integrate (and write the cache when a path is given).
