@@ -513,7 +513,7 @@ static long shade_texel_vis(const sl_ground_truth *gt, const vis_frame *f, const
             memcpy(ngw, nw, sizeof ngw);
         }
         ng_world = ngw;
-        const double off = sl_visibility_offset(f->vis);
+        const double off = sl_visibility_offset(f->vis, t->position);
         org[0] = (double)t->position.x + off * ngw[0];
         org[1] = (double)t->position.y + off * ngw[1];
         org[2] = (double)t->position.z + off * ngw[2];

@@ -46,7 +46,7 @@ struct sl_visibility {
     RTCScene scene;
     vis_errors errors;
     long triangles;
-    double offset;
+    double extent; /* the largest absolute coordinate of any vertex */
 };
 
 static void on_embree_error(void *user, enum RTCError code, const char *str)
@@ -146,7 +146,7 @@ sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error
         sl_visibility_free(v);
         return NULL;
     }
-    v->offset = 1e-4 * (extent > 1.0 ? extent : 1.0);
+    v->extent = extent;
     return v;
 }
 
@@ -162,7 +162,11 @@ void sl_visibility_free(sl_visibility *v)
 }
 
 long sl_visibility_triangle_count(const sl_visibility *v) { return v->triangles; }
-double sl_visibility_offset(const sl_visibility *v) { return v->offset; }
+double sl_visibility_offset(const sl_visibility *v, vec3 p)
+{
+    double m = fmax(fabs((double)p.x), fmax(fabs((double)p.y), fabs((double)p.z)));
+    return 1e-4 * fmax(1.0, m) + 1e-6 * v->extent;
+}
 
 bool sl_visibility_surface(const sl_visibility *v, vec3 eye, vec3 p, double ng[3])
 {
@@ -176,8 +180,10 @@ bool sl_visibility_surface(const sl_visibility *v, vec3 eye, vec3 p, double ng[3
     rh.ray.dir_x = p.x - eye.x; /* t = 1 at P */
     rh.ray.dir_y = p.y - eye.y;
     rh.ray.dir_z = p.z - eye.z;
-    rh.ray.tnear = 0.0f;
-    rh.ray.tfar = 1.01f;
+    /* only what lies within 0.1% of P's distance: a triangle nearer the eye that the ray grazes
+     * at a silhouette is not P's */
+    rh.ray.tnear = 0.999f;
+    rh.ray.tfar = 1.001f;
     rh.ray.mask = 0xffffffffu;
     rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
     rtcIntersect1(v->scene, &ctx, &rh);
@@ -231,7 +237,12 @@ sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error
 
 void sl_visibility_free(sl_visibility *v) { free(v); }
 long sl_visibility_triangle_count(const sl_visibility *v) { (void)v; return 0; }
-double sl_visibility_offset(const sl_visibility *v) { (void)v; return 0.0; }
+double sl_visibility_offset(const sl_visibility *v, vec3 p)
+{
+    (void)v;
+    (void)p;
+    return 0.0;
+}
 
 bool sl_visibility_surface(const sl_visibility *v, vec3 eye, vec3 p, double ng[3])
 {
