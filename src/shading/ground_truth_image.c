@@ -4,7 +4,11 @@
  * The per-pixel integral is sl_ground_truth_shade's loop (src/ibl/ground_truth.c) with one change: it
  * accumulates the specular sums for both G terms at once. Both loops use the same node table
  * (sl_ground_truth) and the same operations in the same order, so each G term's result is
- * the one sl_ground_truth_shade returns; test_ground_truth_image checks that. */
+ * the one sl_ground_truth_shade returns; test_ground_truth_image checks that.
+ *
+ * Visibility and point lights (the second half of "the integral"): the nodes regrouped by
+ * cell, one ray per cell, the same per-node terms (vis_add_node); test_visibility checks them
+ * against closed forms and, with nothing in the way, against the blind pass. */
 #include "ground_truth_image.h"
 
 #include <math.h>

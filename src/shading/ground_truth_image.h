@@ -10,7 +10,9 @@
  * Produces: diffuse and specular radiance images, ROW 0 = TOP like the lighting stage's output,
  * 0 where nothing is drawn, the specular for BOTH G terms (1/(L.H)^2 and 1) from one pass over
  * the texels (the second G costs one more multiply-add per texel, not a second pass), and the
- * coverage mask. Image-based light only: no point lights, no background.
+ * coverage mask. Image-based light only unless `lights` adds the scene's point lights; no
+ * background. Blind by default, as the lighting shader is: every surface sees the whole
+ * environment; `visibility` traces the scene's triangles (visibility.h) so occluders shadow it.
  *
  * Per pixel it integrates what the shader shades: V = normalize(eye - P) and N =
  * facing_normal(normal, V) computed in float exactly as lighting.frag does (a normal facing away
@@ -19,7 +21,8 @@
  *
  * Cache: one file, a text header a person can read with `head` (what made it: label, sizes,
  * hashes of the environment's level 0 and of every G-buffer texel, eye, rotation, intensity,
- * the integrator version, and `key`, the FNV-1a 64 hash of all of those), then "data\n" and
+ * the integrator version; with visibility or lights also their settings, the hash of the
+ * world-space triangles and the lights; and `key`, the FNV-1a 64 hash of all of those), then "data\n" and
  * the planes as little-endian float32. A cache file is used only when its key and size equal
  * those of the request; anything else is recomputed and the file rewritten (atomically).
  *
