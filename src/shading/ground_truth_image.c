@@ -421,7 +421,7 @@ static long vis_environment(const vis_frame *f, const vis_lobe *l, const double 
         double dw[3];
         to_world(f, d, dw);
         rays++;
-        if (sl_visibility_occluded(f->vis, org, dw, INFINITY))
+        if (sl_visibility_occluded(f->vis, org, dw, (double)INFINITY))
             continue;
         for (size_t t = t0; t < t1; t++) {
             const double wx = cl->x[t], wy = cl->y[t], wz = cl->z[t];
