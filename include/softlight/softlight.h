@@ -25,6 +25,7 @@
 #include <softlight/gbuffer.h>
 #include <softlight/renderer.h>
 #include <softlight/lighting.h>
+#include <softlight/gbuffer_program.h>
 #include <softlight/data.h>
 
 #endif

@@ -98,7 +98,8 @@ static void first_line(const char *path, char *line, size_t size)
     fclose(f);
 }
 
-/* Copy softlight-gl's warnings (its stderr after a success) to ours. */
+/* Copy softlight-gl's warnings (its stderr after a success) to ours, but for the scene's own
+ * ("softlight: warning: ..."), which the C side's load has printed already. */
 static void relay(const char *path)
 {
     FILE *f = fopen(path, "r");
@@ -106,7 +107,8 @@ static void relay(const char *path)
         return;
     char line[1024];
     while (fgets(line, sizeof line, f))
-        fprintf(stderr, "softlight check: %s", strncmp(line, "softlight-gl: ", 14) ? line : line + 14);
+        if (strncmp(line, "softlight: ", 11) != 0)
+            fprintf(stderr, "softlight check: %s", strncmp(line, "softlight-gl: ", 14) ? line : line + 14);
     fclose(f);
 }
 
@@ -227,7 +229,7 @@ int cmd_check(int argc, char **argv)
         return 2;
 
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight check: %s\n", err.msg);
         return 2;
     }

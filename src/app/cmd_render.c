@@ -8,6 +8,8 @@
 #include "commands.h"
 #include "core/output_set.h"
 #include "core/timer.h"
+#include "gbuffer_load.h"
+#include "occlusion/gtao.h"
 #include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -45,17 +47,19 @@ static bool any_surface(const sl_gbuffer *gb)
  * bench/vs-gl compares with softlight-gl --time. */
 static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 {
-    double raster[1000], shading[1000], tonemap[1000];
+    double raster[1000], shading[1000], tonemap[1000], ao[1000];
     for (int i = 0; i < repeat; i++) {
         if (!sl_renderer_frame(r, NULL, err))
             return false;
         raster[i] = r->timings.raster_ms;
         shading[i] = r->timings.shading_ms;
         tonemap[i] = r->timings.tonemap_ms;
+        ao[i] = r->timings.ao_ms;
     }
     r->timings.raster_ms = sl_median(raster, repeat);
     r->timings.shading_ms = sl_median(shading, repeat);
     r->timings.tonemap_ms = sl_median(tonemap, repeat);
+    r->timings.ao_ms = sl_median(ao, repeat);
     return true;
 }
 
@@ -64,11 +68,11 @@ int cmd_render(int argc, char **argv)
     const char *png = NULL, *hdr = NULL, *pfm = NULL, *aov = NULL, *normals = NULL, *exr = NULL, *env = NULL;
     const char *shard_arg = NULL;
     bool quiet = false, verbose = false, debug_shader = false;
-    const char *lighting = NULL;
+    const char *lighting = NULL, *gbuffer_shader = NULL;
     int repeat = 1;
     sl_render_options ro;
     sl_shard shard = {0};
-    sl_arg table[SL_RENDER_OPTION_COUNT + 14];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 15];
     int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--output", "-o", SL_ARG_STRING, &png, 0, 0, NULL, "FILE.png", "tone-mapped image (default: SCENE.png)", NULL};
     table[n++] = (sl_arg){"--hdr", NULL, SL_ARG_STRING, &hdr, 0, 0, NULL, "FILE.hdr", "linear radiance as Radiance RGBE", NULL};
@@ -89,10 +93,13 @@ int cmd_render(int argc, char **argv)
     table[n++] = (sl_arg){"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
                           "shade with this lighting program: a C source (compiled and cached) or a shared object "
                           "(docs/lighting-programs.md)", NULL};
+    table[n++] = (sl_arg){"--gbuffer-shader", NULL, SL_ARG_STRING, &gbuffer_shader, 0, 0, NULL, "FILE",
+                          "fill the G-buffer with this fragment program for every object: a C source (compiled and "
+                          "cached) or a shared object (docs/gbuffer-programs.md)", NULL};
     table[n++] = (sl_arg){"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
-                          "compile the --lighting source with -g -O0, for a debugger", NULL};
+                          "compile the --lighting and --gbuffer-shader sources with -g -O0, for a debugger", NULL};
     table[n++] = (sl_arg){"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
-                          "print the --lighting compiler command", NULL};
+                          "print the --lighting and --gbuffer-shader compiler commands", NULL};
 
     const char *positional[1];
     int npos;
@@ -115,7 +122,8 @@ int cmd_render(int argc, char **argv)
         return 2;
     }
     /* only the command line names code to run; a scene never does */
-    if (!sl_lighting_load_arg("render", lighting, debug_shader, verbose, &desc.lighting_program))
+    if (!sl_lighting_load_arg("render", lighting, debug_shader, verbose, &desc.lighting_program) ||
+        !sl_gbuffer_program_load_arg("render", gbuffer_shader, debug_shader, verbose, &desc.gbuffer_program))
         return 2;
     char default_png[1024];
     if (!png && !hdr && !pfm && !aov && !normals && !exr) {
@@ -124,7 +132,7 @@ int cmd_render(int argc, char **argv)
     }
 
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight render: %s\n", err.msg);
         return 2;
     }
@@ -196,6 +204,9 @@ int cmd_render(int argc, char **argv)
                positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
                sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
                r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
+        if (r.desc.options.ao_radius > 0.0f)
+            printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
+                   (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);
         if (r.env_lights_built > 0)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",

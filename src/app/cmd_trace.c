@@ -4,11 +4,13 @@
  * function the lighting pass runs, so a breakpoint in sl_lighting_shade (gdb: `break
  * sl_lighting_shade if x == X`) follows the same path. With --lighting, the pixel runs through
  * that program instead (its texel and result are printed; gdb stops in the program's own
- * function: docs/lighting-programs.md). */
+ * function: docs/lighting-programs.md). With --gbuffer-shader, the texel is the user's G-buffer
+ * program's (docs/gbuffer-programs.md). */
 #include <stdio.h>
 #include <stdlib.h>
 
 #include "commands.h"
+#include "gbuffer_load.h"
 #include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -18,19 +20,22 @@
 int cmd_trace(int argc, char **argv)
 {
     int pixel[2] = {-1, -1};
-    const char *lighting = NULL;
+    const char *lighting = NULL, *gbuffer_shader = NULL;
     bool verbose = false, debug_shader = false;
     sl_render_options ro;
-    sl_arg table[SL_RENDER_OPTION_COUNT + 4];
+    sl_arg table[SL_RENDER_OPTION_COUNT + 5];
     int n = sl_render_options_table(&ro, table);
     table[n++] = (sl_arg){"--pixel", "-p", SL_ARG_PAIR, pixel, 0, SL_RASTER_MAX_SIZE - 1, NULL, "X,Y",
                           "the pixel to trace, (0,0) = top left as in the written image", NULL};
     table[n++] = (sl_arg){"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
                           "trace this lighting program (a C source or a shared object): the texel and its result", NULL};
+    table[n++] = (sl_arg){"--gbuffer-shader", NULL, SL_ARG_STRING, &gbuffer_shader, 0, 0, NULL, "FILE",
+                          "fill the G-buffer with this fragment program (a C source or a shared object): the pixel's "
+                          "texel is its", NULL};
     table[n++] = (sl_arg){"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
-                          "compile the --lighting source with -g -O0, for a debugger", NULL};
+                          "compile the --lighting and --gbuffer-shader sources with -g -O0, for a debugger", NULL};
     table[n++] = (sl_arg){"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
-                          "print the --lighting compiler command", NULL};
+                          "print the --lighting and --gbuffer-shader compiler commands", NULL};
     const char *positional[1];
     int npos;
     bool help;
@@ -51,10 +56,11 @@ int cmd_trace(int argc, char **argv)
         return 2;
     }
     /* only the command line names code to run; a scene never does */
-    if (!sl_lighting_load_arg("trace", lighting, debug_shader, verbose, &desc.lighting_program))
+    if (!sl_lighting_load_arg("trace", lighting, debug_shader, verbose, &desc.lighting_program) ||
+        !sl_gbuffer_program_load_arg("trace", gbuffer_shader, debug_shader, verbose, &desc.gbuffer_program))
         return 2;
     sl_scene scene;
-    if (!sl_scene_load(positional[0], &scene, &err)) {
+    if (!sl_scene_load_with(positional[0], &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight trace: %s\n", err.msg);
         return 2;
     }
@@ -82,7 +88,11 @@ int cmd_trace(int argc, char **argv)
         !sl_lighting_trace_pixel(r.uniforms, &r.gbuffer, pixel[0], pixel[1], trace, &err))
         goto done;
     sl_lighting_trace_print(stdout, trace);
-    sl_trace_fetches_print(stdout, fetches, sl_gbuffer_at(&r.gbuffer, pixel[0], gb_y)->depth);
+    if (desc.gbuffer_program) /* the fetch hook is the built-in textured program's */
+        printf("G-buffer program: %s (%s); its texture fetches are not traced\n",
+               desc.gbuffer_program->name ? desc.gbuffer_program->name : "(unnamed)", gbuffer_shader);
+    else
+        sl_trace_fetches_print(stdout, fetches, sl_gbuffer_at(&r.gbuffer, pixel[0], gb_y)->depth);
     status = 0;
 done:
     free(fetches);

@@ -42,7 +42,7 @@ int cmd_view(int argc, char **argv)
 #define FONT_POINTS 12
 #define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Refinement": measured) */
 #define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
-#define VIEW_OPTION_COUNT 15     /* options of `view` beside render's */
+#define VIEW_OPTION_COUNT 16     /* options of `view` beside render's */
 #define DEFAULT_SCENE "scenes/default.json" /* what `softlight view ENV.hdr` lights */
 
 /* ------------------------------------------------------------------ the loop */
@@ -264,7 +264,7 @@ int cmd_view(int argc, char **argv)
     int acc_lod = 0;  /* index in "total|frame" */
     int move_est = 0; /* index in "splitsum|user" */
     bool no_hud = false, keys = false, debug_shader = false, verbose = false;
-    const char *env = NULL, *lighting = NULL;
+    const char *env = NULL, *lighting = NULL, *gbuffer_shader = NULL;
     const sl_arg extra[] = {
         {"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
          "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL},
@@ -292,10 +292,13 @@ int cmd_view(int argc, char **argv)
         {"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
          "shade with this lighting program, as render does; a C source is recompiled when it is saved "
          "(docs/lighting-programs.md)", NULL},
+        {"--gbuffer-shader", NULL, SL_ARG_STRING, &gbuffer_shader, 0, 0, NULL, "FILE",
+         "fill the G-buffer with this fragment program, as render does; a C source is recompiled when it is "
+         "saved (docs/gbuffer-programs.md)", NULL},
         {"--debug-shader", NULL, SL_ARG_FLAG, &debug_shader, 0, 0, NULL, NULL,
-         "compile the --lighting source with -g -O0, for a debugger", NULL},
+         "compile the --lighting and --gbuffer-shader sources with -g -O0, for a debugger", NULL},
         {"--verbose", "-v", SL_ARG_FLAG, &verbose, 0, 0, NULL, NULL,
-         "print the --lighting compiler command and each recompile's time", NULL},
+         "print the --lighting and --gbuffer-shader compiler commands and each recompile's time", NULL},
     };
     _Static_assert(sizeof extra / sizeof extra[0] == VIEW_OPTION_COUNT, "VIEW_OPTION_COUNT is the size of extra[]");
     memcpy(table + n, extra, sizeof extra);
@@ -366,11 +369,16 @@ int cmd_view(int argc, char **argv)
         }
         v.have_script = true;
     }
-    if (lighting) { /* only the command line names code to run; a scene never does */
+    /* only the command line names code to run; a scene never does */
+    const char *programs[VIEW_PROGRAM_KINDS] = {[VIEW_PROGRAM_LIGHTING] = lighting,
+                                                [VIEW_PROGRAM_GBUFFER] = gbuffer_shader};
+    for (int k = 0; k < VIEW_PROGRAM_KINDS; k++) {
         char msg[1200];
-        if (!view_program_open(&v, lighting, debug_shader, verbose, msg, sizeof msg)) {
+        if (programs[k] &&
+            !view_program_open(&v, (view_program_kind)k, programs[k], debug_shader, verbose, msg, sizeof msg)) {
             fprintf(stderr, "softlight view: %s\n", msg);
             view_script_free(&v.script);
+            view_program_close(&v);
             return 2;
         }
     }
@@ -417,7 +425,7 @@ int cmd_view(int argc, char **argv)
 
     int status = 2;
     sl_scene *scene;
-    if (!view_read_scene(scene_path[0], env, &scene, &err)) {
+    if (!view_read_scene(scene_path[0], env, &desc.options, &scene, &err)) {
         fprintf(stderr, "softlight view: %s\n", err.msg);
         goto done;
     }

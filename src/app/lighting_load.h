@@ -1,9 +1,8 @@
-/* lighting_load.h - a lighting program from the command line (`--lighting my.c`): a C source is
- * compiled with the system C compiler ($CC, else cc) against softlight's own headers into a
- * shared object, cached by content hash under $XDG_CACHE_HOME/softlight (or ~/.cache/softlight);
- * a shared object (an ELF file) is taken as it is. Either is dlopened, its exported ABI version
- * checked, and its program returned. Only the command line names such a file: a scene never
- * does. docs/lighting-programs.md describes the whole of it. */
+/* lighting_load.h - a lighting program from the command line (`--lighting my.c`): a C source
+ * compiled and cached, or a shared object, loaded by the one loader of run-time programs
+ * (program_load.h) as the lighting kind: it exports sl_lighting_program_abi (= SL_LIGHTING_ABI)
+ * and sl_lighting_program_entry with a shade function. Only the command line names such a file:
+ * a scene never does. docs/lighting-programs.md describes the whole of it. */
 #ifndef SL_APP_LIGHTING_LOAD_H
 #define SL_APP_LIGHTING_LOAD_H
 
@@ -12,10 +11,9 @@
 
 #include <softlight/lighting.h>
 
-typedef struct {
-    bool debug;   /* --debug-shader: -g -O0 instead of -O2 */
-    bool verbose; /* -v: print the compiler command (or the cached object used) on stderr */
-} sl_lighting_load_options;
+#include "program_load.h"
+
+typedef sl_program_load_options sl_lighting_load_options;
 
 /* Load `path` (a C source or a shared object). On failure, false with one line in msg naming
  * the file (a compile error: the compiler's first error, file:line). The shared object stays

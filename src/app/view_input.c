@@ -55,6 +55,10 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     view_camera_set_bounds(&v->camera, v->bounds_lo, v->bounds_hi);
     v->home_lighting = r->desc.lighting;
     v->home_tonemap = r->desc.tonemap;
+    v->home_ao_radius = r->desc.options.ao_radius;
+    /* O's radius: the scene's or the command line's, else a tenth of the scene's bounding radius */
+    v->ao_radius_on = r->desc.options.ao_radius > 0.0f ? r->desc.options.ao_radius
+                                                       : 0.05f * length(sub(v->bounds_hi, v->bounds_lo));
     v->irradiance_stale = false;
     v->env_replaced = false;
     char title[SL_PATH_MAX + 32];
@@ -68,12 +72,12 @@ bool view_is_environment(const char *path)
     return has_suffix(path, ".hdr") || has_suffix(path, ".exr") || has_suffix(path, ".pfm");
 }
 
-bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err)
+bool view_read_scene(const char *path, const char *env, const sl_option_values *given, sl_scene **out, sl_error *err)
 {
     sl_scene *scene = calloc(1, sizeof *scene);
     if (!scene)
         return sl_fail(err, SL_ERR_MEMORY, "out of memory for a scene");
-    if (!sl_scene_load(path, scene, err)) {
+    if (!sl_scene_load_with(path, given, scene, err)) {
         free(scene);
         return false;
     }
@@ -95,7 +99,7 @@ bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error
 static bool load_scene(viewer *v, const char *path, const char *env, int width, int height, sl_error *err)
 {
     sl_scene *scene;
-    if (!view_read_scene(path, env, &scene, err))
+    if (!view_read_scene(path, env, &v->cli_desc.options, &scene, err))
         return false;
     sl_render_desc desc = v->cli_desc;
     sl_option_set_size(&desc.options, width, height);
@@ -275,6 +279,7 @@ void view_reset_all(viewer *v)
     }
     *l = home;
     v->r.desc.tonemap = v->home_tonemap;
+    v->r.desc.options.ao_radius = v->home_ao_radius;
     v->mode = VIEW_FINAL;
     view_camera_reset(&v->camera);
 }
@@ -397,6 +402,11 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         break;
     case SDLK_i:
         act = cycle_irradiance(v);
+        break;
+    case SDLK_o: /* occlusion is drawn into the G-buffer: the frame is rasterized again */
+        v->r.desc.options.ao_radius = v->r.desc.options.ao_radius > 0.0f ? 0.0f : v->ao_radius_on;
+        view_message(v, false, "ambient occlusion %s", v->r.desc.options.ao_radius > 0.0f ? "on" : "off");
+        act = VIEW_ACT_RESTART_CAMERA;
         break;
     case SDLK_l: {
         l->lod_rule =

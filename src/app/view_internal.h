@@ -15,7 +15,7 @@
  *   view_keys.c       the key table: the help overlay, `--keys` (docs/viewer.md) and the script's names
  *   view_probe.c      the pixel under the pointer: its readout, and its trace (softlight trace's text)
  *   view_reload.c     the files a scene was loaded from, polled for changes
- *   view_program.c    --lighting: the user's lighting program, recompiled in the background
+ *   view_program.c    --lighting, --gbuffer-shader: the user's programs, recompiled in the background
  *                     when its source changes, and swapped in between frames
  * Which file calls which:
  *   cmd_view.c        -> every file below
@@ -271,9 +271,10 @@ typedef struct {
     double next_poll;
 } view_watch;
 
-/* --lighting: the user's program (view_program.c). The compile runs on a thread of its own;
- * the loop polls it and swaps the result in between frames. */
+/* --lighting and --gbuffer-shader: the user's programs (view_program.c). Each compile runs on a
+ * thread of its own; the loop polls it and swaps the result in between frames. */
 typedef struct view_program_state view_program_state;
+typedef enum { VIEW_PROGRAM_LIGHTING, VIEW_PROGRAM_GBUFFER, VIEW_PROGRAM_KINDS } view_program_kind;
 
 /* --benchmark: per-frame times of the moving stage, from one present to the next. */
 typedef struct {
@@ -307,6 +308,8 @@ struct viewer {
     view_camera camera;
     sl_lighting_options home_lighting; /* the settings the scene started with (and the command */
     sl_tonemap_options home_tonemap;   /* line's): R restores them */
+    float home_ao_radius;              /* and the ambient occlusion's radius (0: off) */
+    float ao_radius_on;                /* the radius O turns occlusion on with */
     char env_override[SL_PATH_MAX];    /* --env, `view FILE.hdr`'s or a dropped environment; "": the scene's */
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */
@@ -363,8 +366,8 @@ struct viewer {
     /* reloading (view_reload.c, polled by cmd_view.c) */
     view_watch watch;
 
-    /* the lighting program (view_program.c; NULL: the built-in) */
-    view_program_state *program;
+    /* the lighting and G-buffer programs (view_program.c, by view_program_kind; NULL: the built-in) */
+    view_program_state *programs[VIEW_PROGRAM_KINDS];
     int64_t shown_nonfinite; /* NaN/Inf pixels of the last frame lit in full (view_refine.c) */
     bool frame_lit;          /* a frame was lit in full since the last present (view_refine.c) */
 
@@ -470,7 +473,7 @@ view_action view_handle_event(viewer *v, union SDL_Event *e);
  * environment in place of the scene's as render's --env does (relative to here, no irradiance
  * map); the scene's warnings go to stderr. */
 bool view_is_environment(const char *path); /* .hdr, .exr or .pfm */
-bool view_read_scene(const char *path, const char *env, sl_scene **out, sl_error *err);
+bool view_read_scene(const char *path, const char *env, const sl_option_values *given, sl_scene **out, sl_error *err);
 /* Load a scene file (a model, or with v->env_override its environment in place of the
  * scene's) and build its renderer at the current size with the command line's options. */
 bool view_load_scene(viewer *v, const char *path, sl_error *err);
@@ -502,13 +505,16 @@ void view_watch_free(view_watch *w);
 bool view_watch_file(view_watch *w, const char *path, sl_error *err);
 
 /* ---- view_program.c ---- */
-/* Load `path` now (at startup: a failure is the command's error, with msg) and watch it. */
-bool view_program_open(viewer *v, const char *path, bool debug, bool verbose, char *msg, size_t msg_size);
-/* Once a turn: start a compile when the source changed, swap a finished one in (restarting the
- * lighting), or report its error (the last good program keeps running); once the first frame
- * lit in full with a new program was presented, print the time from the source's save to it. */
+/* Load `path` as a program of `kind` now (at startup: a failure is the command's error, with msg)
+ * and watch it. */
+bool view_program_open(viewer *v, view_program_kind kind, const char *path, bool debug, bool verbose, char *msg,
+                       size_t msg_size);
+/* Once a turn, for each program: start a compile when the source changed, swap a finished one in
+ * (a lighting program restarts the lighting, a G-buffer program the raster), or report its error
+ * (the last good program keeps running); once the first frame lit in full with a new program was
+ * presented, print the time from the source's save to it. */
 void view_program_poll(viewer *v, double now);
-/* HUD lines: the program, its error, its NaN/Inf count (buf: lines separated by '\n'). */
+/* HUD lines: each program, its error, the NaN/Inf count (buf: lines separated by '\n'). */
 void view_program_hud(const viewer *v, bool compact, char *buf, size_t size);
 /* Seconds until the next poll is due (for the idle wait); a large value when nothing is watched. */
 double view_program_wake(const viewer *v, double now);

@@ -41,6 +41,8 @@ static const key_row rows[] = {
     {"] / [", "key ]|key [", "rotate the environment about +Z by +15 / -15 degrees"},
     {"1 2 3", "key 1|key 2|key 3", "toggle the diffuse term, the specular term, the point lights"},
     {"I", "key i", "irradiance: {irradiance}"},
+    {"O", "key o", "ambient occlusion on / off (the radius of --ao-radius or the scene's, else a tenth of the "
+                   "scene's bounding radius)"},
     {"L", "key l", "mip-level rule: {lod}"},
     {"K", "key k", "estimator: {estimator}"},
     {"G", "key g", "G term: {gterm}"},

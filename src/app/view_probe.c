@@ -170,7 +170,11 @@ bool view_trace_pointer(viewer *v, sl_error *err)
         goto done;
     }
     sl_lighting_trace_print(out, trace);
-    sl_trace_fetches_print(out, fetches, sl_gbuffer_at(&v->r.gbuffer, x, gb_y)->depth);
+    const sl_gbuffer_fragment_program *user = v->r.desc.gbuffer_program;
+    if (user) /* the fetch hook is the built-in textured program's */
+        fprintf(out, "G-buffer program: %s; its texture fetches are not traced\n", user->name ? user->name : "(unnamed)");
+    else
+        sl_trace_fetches_print(out, fetches, sl_gbuffer_at(&v->r.gbuffer, x, gb_y)->depth);
     if (fclose(out) != 0) {
         out = NULL;
         sl_fail(err, SL_ERR_MEMORY, "out of memory for the trace's text");

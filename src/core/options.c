@@ -24,6 +24,9 @@ static const char *const irradiance_names[] = {
     [SL_IRRADIANCE_SH9] = "sh9", [SL_IRRADIANCE_BRUTE] = "brute", [SL_IRRADIANCE_MAP] = "map",
     [SL_IRRADIANCE_OCT] = "oct", [SL_IRRADIANCE_DP] = "dp",
 };
+static const char *const missing_textures_names[] = {
+    [SL_MISSING_TEXTURES_FAIL] = "fail", [SL_MISSING_TEXTURES_SKIP] = "skip",
+};
 static const char *const env_layout_names[] = {
     [SL_ENV_LAYOUT_DEFAULT] = "default", [SL_ENV_LAYOUT_LATLONG] = "latlong", [SL_ENV_LAYOUT_OCT] = "oct",
 };

@@ -103,6 +103,13 @@ typedef enum {
     SL_ENV_LAYOUT_OCT = 2,     /* an octahedral S x S chain (env_oct.c): no pole, no seam */
 } sl_env_layout;
 
+/* What a model's texture that names no file does (--missing-textures, a model object's
+ * missing_textures): refuse the model, or draw its material without the texture. */
+typedef enum {
+    SL_MISSING_TEXTURES_FAIL = 0, /* one error line naming model, material and file (the default) */
+    SL_MISSING_TEXTURES_SKIP = 1, /* one warning line each; the material draws with its factors alone */
+} sl_missing_textures;
+
 /* ---- the declaration: every option, once ----
  *
  * X(ID, field, TYPE, ctype, name, cli, alias, metavar, help, (row))
@@ -119,7 +126,9 @@ typedef enum {
  * In --help's order; the rows without a command-line spelling come last. A scene file's keys are
  * read in the "render" object (the environment's intensity in "environment"). Not in a scene
  * file: threads, tile, plain and image-memory, which belong to the machine that renders, not to
- * the scene (a file must not raise the memory budget that guards against it). */
+ * the scene (a file must not raise the memory budget that guards against it). missing-textures is
+ * read by the scene loader, not the renderer: a scene file gives it per model (an object's
+ * "missing_textures"), and the command line's, when given, holds for every model. */
 #define SL_OPTION_LIST(X)                                                                                            \
     X(SIZE, size, SIZE, int, "size", "--size", NULL, "WxH", "render size (default: the scene's)",                    \
       (.scene = {"render.width", "render.height"}, .def = {1280, 720}, .min = 1, .max = SL_RASTER_MAX_SIZE))          \
@@ -186,10 +195,22 @@ typedef enum {
     X(ENV_LIGHTS, env_lights, INT, int, "env-lights", "--env-lights", NULL, "K",                                     \
       "sum the environment's K brightest texels exactly, sample the rest (0..64; default 0: off)",                   \
       (.scene = {"render.env_lights"}, .min = 0, .max = SL_ENV_LIGHTS_MAX))                                          \
+    /* 0: off, and the frame pays nothing for it (src/occlusion/gtao.h) */                                         \
+    X(AO_RADIUS, ao_radius, FLOAT, float, "ao-radius", "--ao-radius", NULL, "R",                                     \
+      "ambient occlusion of the environment (GTAO on the G-buffer) within R world units (default 0: off)",          \
+      (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
     X(IMAGE_MEMORY, image_memory, INT, int, "image-memory", "--image-memory", NULL, "MIB",                           \
       "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); an "             \
       "environment needs 2.4 (maps over 2048x1024) to 4.4 times that at its peak (softlight info)",                  \
       (.def = {SL_IMAGE_MEMORY_DEFAULT_MIB}, .min = 1, .max = SL_IMAGE_MEMORY_MAX_MIB))                              \
+    /* fail by default: outputs are all or nothing, and a picture drawn without its base colour would pass for the \
+     * model (docs/scene-format.md "Models") */                                                                      \
+    X(MISSING_TEXTURES, missing_textures, CHOICE, sl_missing_textures, "missing-textures", "--missing-textures",      \
+      NULL, NULL,                                                                                                    \
+      "a model's texture file that is missing: fail (default: refuse the model) or skip (draw its material "         \
+      "without it, one warning line each)",                                                                          \
+      (.def = {SL_MISSING_TEXTURES_FAIL}, .min = SL_MISSING_TEXTURES_FAIL, .max = SL_MISSING_TEXTURES_SKIP,          \
+       .names = missing_textures_names))                                                                             \
     X(ENV_INTENSITY, env_intensity, FLOAT, float, "env-intensity", NULL, NULL, NULL,                                 \
       "multiplies the environment's radiance",                                                                       \
       (.scene = {"environment.intensity"}, .def = {1}, .min = 0, .max = 1e6))

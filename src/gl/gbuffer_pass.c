@@ -15,7 +15,11 @@
  * bound to unit i with a sampler object set from sl_gbuffer_map_sampler, and the mesh's texture
  * coordinates and tangents are attributes 2 and 3. One GL program serves masked and unmasked
  * materials (uMaps says whether to discard); softlight picks its early- or late-depth variant
- * by the same bit, and the results agree since only a discard tells the two apart. */
+ * by the same bit, and the results agree since only a discard tells the two apart.
+ *
+ * --gbuffer-shader: the user's fragment shader, linked with gbuffer_textured.vert, draws every
+ * object with the textured program's uniforms (the C side: src/raster/gbuffer_user.c). A shader
+ * without oExtra leaves the extra target as cleared ("none"), as the C side's default. */
 #include <stdlib.h>
 #include <string.h>
 
@@ -87,7 +91,17 @@ void slgl_gbuffer_destroy(slgl_gbuffer *g)
         glDeleteProgram(g->tex_program);
     if (g->samplers[0])
         glDeleteSamplers(SL_MAP_COUNT, g->samplers);
+    if (g->user_program)
+        glDeleteProgram(g->user_program);
     memset(g, 0, sizeof *g);
+}
+
+bool slgl_gbuffer_use_fragment(slgl_gbuffer *g, const char *frag_path, sl_error *err)
+{
+    if (!slgl_program_with_fragment_file("gbuffer_textured.vert", frag_path, &g->user_program, err))
+        return false;
+    g->user_extra = glGetFragDataLocation(g->user_program, "oExtra") == 4;
+    return slgl_check("linking the --gbuffer-shader program", err);
 }
 
 bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err)
@@ -251,6 +265,14 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
         static const GLfloat none[4] = {1.0f, 0.0f, 0.0f, 0.0f};
         glClearBufferfv(GL_COLOR, 4, none);
     }
+    /* attributes a mesh lacks read as 0, as softlight's sl_vertex_in has them (GL's default w is 1) */
+    glVertexAttrib2f(2, 0.0f, 0.0f);
+    glVertexAttrib4f(3, 0.0f, 0.0f, 0.0f, 0.0f);
+    static const GLenum no_extra[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                       GL_COLOR_ATTACHMENT3, GL_NONE};
+    if (g->user_program && g->extra && !g->user_extra) /* after the clear: the target stays "none" */
+        glDrawBuffers(5, no_extra);
+    tex_locations ul = g->user_program ? tex_locations_get(g->user_program) : (tex_locations){0};
     tex_locations tl = tex_locations_get(g->tex_program);
     GLuint p = g->program;
     plain_locations pl = {
@@ -264,12 +286,12 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
     for (int i = 0; i < scene->object_count; i++) {
         const sl_object *o = &scene->objects[i];
         const sl_material *m = &scene->materials[o->material];
-        if (m->textured) {
-            if (!sl_textures || !textures || textures->count != scene->image_count)
+        if (m->textured || g->user_program) {
+            if (m->textured && (!sl_textures || !textures || textures->count != scene->image_count))
                 return sl_fail(err, SL_ERR_RANGE, "object %d (%s): material \"%s\" has texture maps but the scene's "
                                "textures are not uploaded", i, o->name, m->name);
-            glUseProgram(g->tex_program);
-            draw_textured(g, &tl, o, m, sl_textures, textures, view_proj);
+            glUseProgram(g->user_program ? g->user_program : g->tex_program);
+            draw_textured(g, g->user_program ? &ul : &tl, o, m, sl_textures, textures, view_proj);
         } else {
             /* softlight's own uniform set, so both draws see bitwise the same matrices */
             sl_gbuffer_uniforms u;
@@ -289,6 +311,11 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
     glBindVertexArray(0);
     for (int slot = 0; slot < SL_MAP_COUNT; slot++)
         glBindSampler((GLuint)slot, 0);
+    if (g->user_program && g->extra && !g->user_extra) {
+        static const GLenum all[5] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1, GL_COLOR_ATTACHMENT2,
+                                      GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
+        glDrawBuffers(5, all);
+    }
     return slgl_check("the G-buffer pass", err);
 }
 

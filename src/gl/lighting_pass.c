@@ -25,16 +25,6 @@
 
 #include "slgl.h"
 
-/* The full-screen triangle: vertices (-1,-1), (3,-1), (-1,3) cover the viewport once, with no
- * diagonal seam; no vertex buffer, gl_VertexID is enough. */
-static const char *const fullscreen_vert = "#version 330 core\n"
-                                           "void main()\n"
-                                           "{\n"
-                                           "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), "
-                                           "float((gl_VertexID >> 1) * 4 - 1));\n"
-                                           "    gl_Position = vec4(p, 0.0, 1.0);\n"
-                                           "}\n";
-
 /* Texture units of the samplers. */
 enum {
     UNIT_POSITION,
@@ -159,9 +149,9 @@ static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GL
              "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
              k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx);
-    if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", fullscreen_vert, l->user_frag,
+    if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", slgl_fullscreen_vert, l->user_frag,
                                                    l->general ? NULL : defines, program, err)
-                     : !slgl_program_from_sources("full-screen triangle", fullscreen_vert, "lighting.frag",
+                     : !slgl_program_from_sources("full-screen triangle", slgl_fullscreen_vert, "lighting.frag",
                                                   l->general ? NULL : defines, program, err))
         return false;
     /* The specification's recipe: bind the buffer to a binding point, then the block to it. */

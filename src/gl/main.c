@@ -6,6 +6,8 @@
  * `softlight render` where they apply, plus:
  *   --gbuffer DIR  skip the G-buffer pass and light softlight's G-buffer (its --aov files), which
  *                  tells a rasterization difference from a shading one;
+ *   --gbuffer-shader FILE.frag  draw every object with this fragment shader behind
+ *                  gbuffer_textured.vert (the GLSL twin of softlight's --gbuffer-shader FILE.c);
  *   --time N       run each pass N times and print the median milliseconds per stage, timed with
  *                  glFinish and a monotonic clock (no timer queries: llvmpipe's are not meaningful);
  *   --verbose      print GL_RENDERER and what was done.
@@ -32,6 +34,7 @@ typedef struct {
     const char *scene_path;
     const char *png, *hdr, *pfm, *aov_dir, *gbuffer_dir;
     const char *lighting; /* --lighting my.frag: the user's GLSL lighting shader */
+    const char *gbuffer_shader; /* --gbuffer-shader: the user's G-buffer fragment shader, or NULL */
     int time_runs;
     bool verbose;
 } gl_outputs;
@@ -63,7 +66,7 @@ static void frame_free(frame *f)
 static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *desc, sl_error *err)
 {
     memset(f, 0, sizeof *f);
-    if (!sl_scene_load(scene_path, &f->scene, err))
+    if (!sl_scene_load_with(scene_path, &desc->options, &f->scene, err))
         return false;
     fputs(f->scene.warnings, stderr); /* what the scene loads but does not draw */
     f->scene_loaded = true;
@@ -122,6 +125,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
 {
     slgl_gbuffer g = {0};
     slgl_lighting l = {0};
+    slgl_occlusion occlusion = {0};
     slgl_textures textures = {0};
     slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
     sl_gbuffer gb = {0};
@@ -134,13 +138,20 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
+    /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
+     * (--gbuffer) carry it already in their occlusion */
+    float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;
     /* the extra target only where softlight allocates its extra plane (src/raster/gbuffer.h) */
     bool extra = false;
     for (int i = 0; i < f->scene.object_count; i++)
         extra |= sl_material_extra(&f->scene.materials[f->scene.objects[i].material]);
+    extra |= ao_radius > 0.0f;
     if (o->gbuffer_dir)
         extra = files->extra != NULL;
-    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) || !slgl_lighting_create(&l, f->width, f->height, err))
+    if (!slgl_gbuffer_create(&g, f->width, f->height, extra, err) ||
+        (o->gbuffer_shader && !slgl_gbuffer_use_fragment(&g, o->gbuffer_shader, err)) ||
+        !slgl_lighting_create(&l, f->width, f->height, err) ||
+        (ao_radius > 0.0f && !slgl_occlusion_create(&occlusion, f->width, f->height, err)))
         goto done;
     l.user_frag = o->lighting;
     if (!slgl_lighting_set_environment(&l, &f->renderer.env,
@@ -153,7 +164,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         goto done;
     bool phong, ggx;
     lobes_used(&f->scene, files, &phong, &ggx);
-    slgl_lighting_set_lobes(&l, phong, ggx);
+    slgl_lighting_set_lobes(&l, phong || o->gbuffer_shader, ggx || o->gbuffer_shader); /* a user's: either */
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;
@@ -166,6 +177,8 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         double t0 = sl_now_seconds();
         if (!o->gbuffer_dir && !slgl_gbuffer_draw(&g, &f->scene, meshes, &f->renderer.textures, &textures,
                                                     f->view_proj, err))
+            goto done;
+        if (ao_radius > 0.0f && !slgl_occlusion_draw(&occlusion, &g, &f->scene.camera, ao_radius, err))
             goto done;
         glFinish();
         double t1 = sl_now_seconds();
@@ -211,13 +224,15 @@ done:
     free(meshes);
     slgl_textures_destroy(&textures);
     slgl_lighting_destroy(&l);
+    if (occlusion.program)
+        slgl_occlusion_destroy(&occlusion);
     slgl_gbuffer_destroy(&g);
     free(t_gbuffer);
     free(t_lighting);
     return ok;
 }
 
-#define OUTPUT_OPTION_COUNT 8
+#define OUTPUT_OPTION_COUNT 9
 
 static int cmd_render(int argc, char **argv)
 {
@@ -233,6 +248,8 @@ static int cmd_render(int argc, char **argv)
          NULL},
         {"--gbuffer", NULL, SL_ARG_STRING, &o.gbuffer_dir, 0, 0, NULL, "DIR",
          "light softlight's G-buffer (its --aov files) instead of rasterizing", NULL},
+        {"--gbuffer-shader", NULL, SL_ARG_STRING, &o.gbuffer_shader, 0, 0, NULL, "FILE.frag",
+         "draw every object with this G-buffer fragment shader (docs/gbuffer-programs.md)", NULL},
         {"--time", NULL, SL_ARG_INT, &o.time_runs, 1, TIME_MAX_RUNS, NULL, "N", "run each pass N times, print medians",
          NULL},
         {"--verbose", "-v", SL_ARG_FLAG, &o.verbose, 0, 0, NULL, NULL, "print the GL renderer and what was done",
@@ -263,6 +280,11 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
+    desc.any_lobe = o.gbuffer_shader != NULL;
+    if (o.gbuffer_shader && o.gbuffer_dir) {
+        fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");
+        return 2;
+    }
 
     slgl_context ctx;
     if (!slgl_context_create(&ctx, &err)) {

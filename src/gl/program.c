@@ -11,7 +11,9 @@
  * itself, its main renamed, so that the user's file sees the built-in's uniforms and functions the
  * way a C lighting program sees the toolbox (docs/lighting-programs.md, "GLSL twins"). The two
  * parts are separate GLSL source-string numbers (#line L S), so the compiler's log names the file
- * the error is in, with that file's own line. */
+ * the error is in, with that file's own line. A user's G-buffer shader (`--gbuffer-shader my.frag`,
+ * src/gl/gbuffer_pass.c) is compiled alone, behind shaders/gbuffer_textured.vert, its errors named
+ * the same way. */
 #include <errno.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -22,6 +24,16 @@
 #include "softlight/data.h"
 
 #define SHADER_MAX_BYTES (1u << 20)
+
+/* The full-screen triangle: vertices (-1,-1), (3,-1), (-1,3) cover the viewport once, with no
+ * diagonal seam; no vertex buffer, gl_VertexID is enough. */
+const char *const slgl_fullscreen_vert = "#version 330 core\n"
+                                           "void main()\n"
+                                           "{\n"
+                                           "    vec2 p = vec2(float((gl_VertexID & 1) * 4 - 1), "
+                                           "float((gl_VertexID >> 1) * 4 - 1));\n"
+                                           "    gl_Position = vec4(p, 0.0, 1.0);\n"
+                                           "}\n";
 
 const char *slgl_shader_dir(void)
 {
@@ -238,5 +250,32 @@ done:
     free(user);
     free(builtin);
     free(full);
+    return ok;
+}
+
+bool slgl_program_with_fragment_file(const char *vert_name, const char *frag_path, GLuint *program, sl_error *err)
+{
+    *program = 0;
+    struct stat st;
+    if (stat(frag_path, &st) != 0)
+        return sl_fail(err, SL_ERR_IO, "%s: %s", frag_path, strerror(errno));
+    if (!S_ISREG(st.st_mode))
+        return sl_fail(err, SL_ERR_IO, "%s: not a regular file", frag_path);
+    char *src = NULL;
+    size_t size = 0;
+    if (!read_source(frag_path, &src, &size, err))
+        return false;
+    const char *sources[1] = {frag_path};
+    GLuint vert, frag;
+    bool ok = false;
+    if (strlen(src) != size)
+        sl_fail(err, SL_ERR_FORMAT, "%s: holds a NUL byte: not GLSL source", frag_path);
+    else if (compile_file(GL_VERTEX_SHADER, vert_name, NULL, &vert, err)) {
+        if (compile_labelled(GL_FRAGMENT_SHADER, frag_path, src, sources, 1, &frag, err))
+            ok = link(vert, frag, frag_path, program, err);
+        else
+            glDeleteShader(vert);
+    }
+    free(src);
     return ok;
 }

@@ -64,6 +64,12 @@ bool slgl_program_from_sources(const char *vert_label, const char *vert_src, con
  * and line they are in (one line, no "does not compile" prefix: the log names the file). */
 bool slgl_program_user_lighting(const char *vert_label, const char *vert_src, const char *user_path,
                                 const char *frag_defines, GLuint *program, sl_error *err);
+/* The full-screen triangle's vertex shader: (-1,-1), (3,-1), (-1,3) from gl_VertexID, no buffer
+ * (the lighting and occlusion passes). */
+extern const char *const slgl_fullscreen_vert;
+/* shaders/<vert_name> linked with the fragment shader at `frag_path`, a file the command line
+ * names (not in the shader directory). */
+bool slgl_program_with_fragment_file(const char *vert_name, const char *frag_path, GLuint *program, sl_error *err);
 /* The directory shaders are read from: $SL_SHADER_DIR when set, else shaders/ in the data directory. */
 const char *slgl_shader_dir(void);
 
@@ -78,6 +84,9 @@ typedef struct {
     GLuint program;                        /* gbuffer.vert/.frag: untextured materials */
     GLuint tex_program;                    /* gbuffer_textured.vert/.frag: materials with maps */
     GLuint samplers[SL_MAP_COUNT];         /* one per texture unit = map slot */
+    GLuint user_program;                   /* --gbuffer-shader: gbuffer_textured.vert and the user's
+                                              fragment shader, for every object; 0 = none */
+    bool user_extra;                       /* the user's shader writes oExtra (location 4) */
 } slgl_gbuffer;
 
 typedef struct {
@@ -103,6 +112,9 @@ void slgl_sampler_set(GLuint sampler, const sl_sampler_state *s);
  * scene with a material that writes them. */
 bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, bool extra, sl_error *err);
 void slgl_gbuffer_destroy(slgl_gbuffer *g);
+/* --gbuffer-shader: draw every object with gbuffer_textured.vert and the fragment shader at
+ * `frag_path` (docs/gbuffer-programs.md "softlight-gl"), its uniforms the textured program's. */
+bool slgl_gbuffer_use_fragment(slgl_gbuffer *g, const char *frag_path, sl_error *err);
 /* Upload every mesh of the scene; `meshes` has scene->mesh_count entries. */
 bool slgl_meshes_upload(const sl_scene *scene, slgl_mesh *meshes, sl_error *err);
 void slgl_meshes_destroy(slgl_mesh *meshes, int count);
@@ -116,6 +128,21 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
 bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err);
 /* Fill the targets from softlight's G-buffer instead of drawing (--gbuffer DIR). */
 bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err);
+
+/* ---- occlusion_pass.c ---- */
+/* Ambient occlusion (src/occlusion/gtao.h) drawn by shaders/gtao.frag over the half-resolution
+ * grid and shaders/gtao_blur.frag over the image, into the G-buffer's extra target. */
+typedef struct {
+    int width, height, grid_width, grid_height;
+    GLuint program, blur_program, vao;
+    GLuint half, half_fbo; /* R32F, the grid */
+    GLuint out, out_fbo;   /* RGBA32F: occlusion x AO, emission; copied into the extra target */
+} slgl_occlusion;
+
+bool slgl_occlusion_create(slgl_occlusion *o, int width, int height, sl_error *err);
+void slgl_occlusion_destroy(slgl_occlusion *o);
+/* Multiply the extra target's occlusion by the AO within `radius` of the frame `cam` drew. */
+bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err);
 
 /* ---- lighting_pass.c ---- */
 /* What one lighting program is compiled for (lighting.frag "Specialization"): the resolved options

@@ -1,5 +1,6 @@
 /* gbuffer_shader.c - the built-in shader pair that fills the G-buffer, and the
- * scene convenience that draws a whole scene with it.
+ * scene convenience that draws a whole scene with it (textured materials with the textured
+ * program, gbuffer_textured.c; or every object with a user's G-buffer program, gbuffer_user.c).
  *
  * The GLSL twin (shaders/gbuffer.vert, shaders/gbuffer.frag) is a translation of
  * these two functions and keeps their names: uModel, uViewProj, uNormalMatrix,
@@ -106,6 +107,13 @@ bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera *cam, 
 bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
                               const sl_camera *cam, sl_gbuffer *gb, sl_error *err)
 {
+    return sl_raster_scene_program(r, scene, textures, NULL, cam, gb, err);
+}
+
+bool sl_raster_scene_program(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
+                             const sl_gbuffer_fragment_program *user, const sl_camera *cam, sl_gbuffer *gb,
+                             sl_error *err)
+{
     if (!gb->texels)
         return sl_fail(err, SL_ERR_RANGE, "raster: G-buffer not allocated (call sl_gbuffer_resize)");
     if (!(cam->znear > 0.0f) || !(cam->zfar > cam->znear) || !(cam->fovy_deg > 0.0f && cam->fovy_deg < 180.0f))
@@ -129,6 +137,7 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
     bool extra = false;
     for (int i = 0; i < scene->object_count; i++)
         extra |= sl_material_extra(&scene->materials[scene->objects[i].material]);
+    extra |= sl_raster_keeps_extra(r);
     if (!sl_gbuffer_use_extra(gb, extra, sl_raster_threads(r), err))
         return false;
     if (scene->object_count == 0) {
@@ -141,13 +150,16 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         textured += scene->materials[scene->objects[i].material].textured;
     sl_gbuffer_uniforms *u = malloc(n * sizeof *u);
     sl_gbuffer_tex_uniforms *tu = textured ? malloc(textured * sizeof *tu) : NULL;
+    sl_gbuffer_user_uniforms *uu = user ? malloc(n * sizeof *uu) : NULL; /* a user's program: every object */
     sl_draw *draws = malloc(n * sizeof *draws);
-    if (!u || !draws || (textured && !tu)) {
+    if (!u || !draws || (textured && !tu) || (user && !uu)) {
         free(u);
         free(tu);
+        free(uu);
         free(draws);
         return sl_fail(err, SL_ERR_MEMORY, "raster: out of memory for %zu objects", n);
     }
+    const sl_program user_program = user ? sl_gbuffer_user_program(user, gb->extra != NULL) : (sl_program){0};
     /* The clear (every field 0, depth 1, as sl_gbuffer_clear) rides on the list's tile
      * pass: each tile is cleared where it is drawn (tile.c), and so is the extra plane's clear
      * and resolve (the target's tile hooks, sl_gbuffer_target). */
@@ -158,7 +170,15 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
         const sl_material *m = &scene->materials[o->material];
         const sl_program *program = &sl_gbuffer_program;
         const void *uniforms = &u[i];
-        if (m->textured) { /* the textured program only where a material has maps */
+        if (user) { /* the user's fragment program behind the textured vertex shader */
+            sl_gbuffer_tex_uniforms_init(&uu[i].tex, o->model, view_proj, m, textures);
+            sl_gbuffer_material_from(&uu[i].material, &uu[i].tex);
+            uu[i].program = user;
+            uu[i].extra = gb->extra;
+            uu[i].extra_width = gb->width;
+            program = &user_program;
+            uniforms = &uu[i];
+        } else if (m->textured) { /* the textured program only where a material has maps */
             sl_gbuffer_tex_uniforms_init(&tu[t], o->model, view_proj, m, textures);
             tu[t].trace = textures ? textures->trace : NULL;
             tu[t].trace_ctx = textures ? textures->trace_ctx : NULL;
@@ -189,6 +209,7 @@ bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scen
     }
     free(u);
     free(tu);
+    free(uu);
     free(draws);
     return ok;
 }

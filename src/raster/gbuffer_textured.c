@@ -22,6 +22,16 @@
 #include "gbuffer_textured.h"
 #include "texture.h"
 
+/* uMaps' public bits (softlight/gbuffer_program.h) are the map slots' (scene.h). */
+_Static_assert(SL_GBUFFER_MAP_KD == 1 << SL_MAP_KD && SL_GBUFFER_MAP_KS == 1 << SL_MAP_KS &&
+                   SL_GBUFFER_MAP_ALPHA == 1 << SL_MAP_ALPHA && SL_GBUFFER_MAP_NORMAL == 1 << SL_MAP_NORMAL &&
+                   SL_GBUFFER_MAP_MASK == 1 << SL_MAP_MASK &&
+                   SL_GBUFFER_MAP_METALLIC_ROUGHNESS == 1 << SL_MAP_METALLIC_ROUGHNESS &&
+                   SL_GBUFFER_MAP_OCCLUSION == 1 << SL_MAP_OCCLUSION &&
+                   SL_GBUFFER_MAP_EMISSIVE == 1 << SL_MAP_EMISSIVE && SL_GBUFFER_MAP_CUTOFF == 1 << SL_MAP_COUNT,
+               "SL_GBUFFER_MAP_* are 1 << sl_map_slot");
+_Static_assert(SL_GBUFFER_VARYING_COUNT == SL_GBUFFER_TEX_VARYINGS, "the public varyings are the program's");
+
 /* gbuffer_textured.vert: main(). The tangent is a direction on the surface: it goes through
  * mat3(uModel), not the normal matrix; its handedness w passes through (scene transforms have no
  * mirroring: negative scales are refused by the scene reader). */

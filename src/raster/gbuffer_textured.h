@@ -12,6 +12,8 @@
 #ifndef SL_GBUFFER_TEXTURED_H
 #define SL_GBUFFER_TEXTURED_H
 
+#include <softlight/gbuffer_program.h>
+
 #include "raster.h"
 #include "texture.h"
 
@@ -37,16 +39,9 @@ typedef struct {
 bool sl_scene_textures_load(const sl_scene *scene, size_t budget, sl_scene_textures *out, sl_error *err);
 void sl_scene_textures_free(sl_scene_textures *t);
 
-/* uMaps bits: which samplers are bound (1 << sl_map_slot), and whether to discard. */
-#define SL_GBUFFER_MAP_KD (1 << SL_MAP_KD)
-#define SL_GBUFFER_MAP_KS (1 << SL_MAP_KS)
-#define SL_GBUFFER_MAP_ALPHA (1 << SL_MAP_ALPHA)
-#define SL_GBUFFER_MAP_NORMAL (1 << SL_MAP_NORMAL)
-#define SL_GBUFFER_MAP_MASK (1 << SL_MAP_MASK)
-#define SL_GBUFFER_MAP_METALLIC_ROUGHNESS (1 << SL_MAP_METALLIC_ROUGHNESS)
-#define SL_GBUFFER_MAP_OCCLUSION (1 << SL_MAP_OCCLUSION)
-#define SL_GBUFFER_MAP_EMISSIVE (1 << SL_MAP_EMISSIVE)
-#define SL_GBUFFER_MAP_CUTOFF (1 << SL_MAP_COUNT)
+/* uMaps bits: SL_GBUFFER_MAP_* of softlight/gbuffer_program.h, 1 << sl_map_slot for each bound
+ * sampler and SL_GBUFFER_MAP_CUTOFF for a discard below the cutoff (gbuffer_textured.c checks the
+ * two numberings agree). */
 
 typedef struct {
     mat4 uModel;
@@ -97,6 +92,29 @@ void sl_gbuffer_tex_uniforms_init(sl_gbuffer_tex_uniforms *u, mat4 model, mat4 v
  * refuses a scene with textured materials). */
 bool sl_raster_scene_textured(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
                               const sl_camera *cam, sl_gbuffer *gb, sl_error *err);
+
+/* A user's G-buffer fragment program (softlight/gbuffer_program.h, gbuffer_user.c): every object
+ * drawn with sl_gbuffer_tex_vert and the user's function, which sees the object's material as
+ * sl_gbuffer_tex_uniforms_init fills it. */
+typedef struct {
+    sl_gbuffer_tex_uniforms tex;      /* the vertex shader's; the source of `material` */
+    sl_gbuffer_material material;     /* what the user's function reads */
+    const sl_gbuffer_fragment_program *program;
+    sl_gbuffer_extra *extra;          /* the G-buffer's extra plane, or NULL */
+    int extra_width;
+} sl_gbuffer_user_uniforms;
+
+/* The public view of one object's material: the fields of sl_gbuffer_tex_uniforms it names. */
+void sl_gbuffer_material_from(sl_gbuffer_material *out, const sl_gbuffer_tex_uniforms *u);
+/* The sl_program that runs `p` behind sl_gbuffer_tex_vert, its flags from p->flags; `extra`: the
+ * G-buffer has the extra plane (the program then stores into it). */
+sl_program sl_gbuffer_user_program(const sl_gbuffer_fragment_program *p, bool extra);
+
+/* sl_raster_scene_textured with `user` (NULL: the built-in programs) as every object's fragment
+ * program. */
+bool sl_raster_scene_program(sl_raster *r, const sl_scene *scene, const sl_scene_textures *textures,
+                             const sl_gbuffer_fragment_program *user, const sl_camera *cam, sl_gbuffer *gb,
+                             sl_error *err);
 
 /* The G-buffer normal of an interpolated one, lane by lane for the two programs' vectorized
  * loops (gbuffer_shader.c's span form, gbuffer_textured.c's quad form): n / |n|, or (0, 0, 1)

@@ -241,6 +241,7 @@ struct sl_raster {
     int chunk_count;
     rast_task *tasks; /* one per thread */
     bool plain;
+    bool keep_extra;  /* the G-buffer keeps its extra plane with no material writing it (sl_raster_keep_extra) */
     char *clear_row;  /* tile_size texels of the clear value */
     size_t clear_row_cap;
 };

@@ -116,6 +116,8 @@ void sl_raster_destroy(sl_raster *r)
 }
 
 int sl_raster_threads(const sl_raster *r) { return r->threads; }
+void sl_raster_keep_extra(sl_raster *r, bool keep) { r->keep_extra = keep; }
+bool sl_raster_keeps_extra(const sl_raster *r) { return r->keep_extra; }
 int sl_raster_tile_size(const sl_raster *r) { return r->tile_size; }
 sl_raster_stats sl_raster_get_stats(const sl_raster *r) { return r->stats; }
 void sl_raster_reset_stats(sl_raster *r) { memset(&r->stats, 0, sizeof r->stats); }

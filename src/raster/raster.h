@@ -64,6 +64,11 @@ void sl_gbuffer_frag(const void *uniforms, const sl_fragment_in *in, void *texel
 void sl_gbuffer_frag_span(const void *uniforms, const sl_fragment_span *span);
 extern const sl_program sl_gbuffer_program;
 
+/* Keep the G-buffer's extra plane (cleared and resolved per frame with the texels) even when no
+ * drawn material writes it: a pass after the draws writes it (ambient occlusion, src/occlusion). */
+void sl_raster_keep_extra(sl_raster *r, bool keep);
+bool sl_raster_keeps_extra(const sl_raster *r);
+
 /* Fill the uniforms from a model matrix, view-projection and material. */
 void sl_gbuffer_uniforms_init(sl_gbuffer_uniforms *u, mat4 model, mat4 view_proj, const sl_material *m);
 /* sl_gbuffer_target and sl_raster_scene are public (softlight/gbuffer.h): the G-buffer as a

@@ -5,6 +5,7 @@
 #include <string.h>
 
 #include "core/timer.h"
+#include "occlusion/gtao.h"
 #include "scene/camera.h"
 
 static bool build_irradiance(sl_renderer *r, sl_error *err)
@@ -118,6 +119,8 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     }
     bool phong, ggx;
     sl_renderer_splitsum_sets(r->scene, &phong, &ggx);
+    if (r->desc.gbuffer_program || r->desc.any_lobe) /* a user's G-buffer program writes either lobe */
+        phong = ggx = true;
     if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false, .threads = r->desc.threads}, err)) ||
         (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true, .threads = r->desc.threads}, err))) {
         sl_env_free(&r->splitsum_phong);
@@ -335,11 +338,20 @@ static void keep_band(sl_gbuffer *gb, const int band[2])
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
-    bool ok = sl_raster_scene_textured(r->raster, r->scene, &r->textures, cam ? cam : &r->scene->camera,
-                                       &r->gbuffer, err);
+    if (!cam)
+        cam = &r->scene->camera;
+    float ao_radius = r->desc.options.ao_radius;
+    sl_raster_keep_extra(r->raster, ao_radius > 0.0f);
+    bool ok = sl_raster_scene_program(r->raster, r->scene, &r->textures, r->desc.gbuffer_program, cam, &r->gbuffer,
+                                      err);
+    r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
+    /* occlusion reads the neighbours of every texel: before a shard drops the rows outside its band */
+    double t1 = sl_now_seconds();
+    if (ok && ao_radius > 0.0f)
+        ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, err);
+    r->timings.ao_ms = (sl_now_seconds() - t1) * 1e3;
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
-    r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     return ok;
 }
 

@@ -58,6 +58,12 @@ typedef struct {
     size_t image_budget;          /* bytes one image read from a file may take decoded (the
                                      environment, the irradiance map) */
     const sl_lighting_program *lighting_program; /* the lighting stage's shading; NULL = the built-in */
+    const sl_gbuffer_fragment_program *gbuffer_program; /* every object's G-buffer fragment program
+                                                           (softlight/gbuffer_program.h); NULL = the
+                                                           built-in programs */
+    bool any_lobe;                /* the G-buffer's lobes need not be the materials' (a G-buffer
+                                     program drawn elsewhere: softlight-gl --gbuffer-shader): the
+                                     split sum prefilters both sets, as for gbuffer_program */
 } sl_render_desc;
 
 typedef struct {
@@ -68,6 +74,7 @@ typedef struct {
     double splitsum_ms;   /* --estimator splitsum: the prefiltered chains (the lobe sets the scene
                              uses) and the BRDF's table */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
+    double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
 } sl_render_timings;
 
 /* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init

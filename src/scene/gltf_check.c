@@ -381,6 +381,16 @@ static bool check_asset(checker *c, const cJSON *root)
         return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: glTF version \"%s\" (softlight reads glTF 2.0)", c->name,
                        sl_error_excerpt(version->valuestring, 16, shown, sizeof shown));
     }
+    /* glTF 1.0 as its early exporters wrote it: "version": 1, a number (collada2gltf), or no
+     * version and its layout, objects keyed by id where 2.0 has arrays ("scenes": {...}). */
+    if (cJSON_IsNumber(version) && version->valuedouble != 2.0)
+        return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: glTF version %g (softlight reads glTF 2.0)", c->name,
+                       version->valuedouble);
+    static const char *const arrays[] = {"scenes", "nodes", "meshes", "accessors", "bufferViews", "buffers"};
+    for (size_t i = 0; !cJSON_IsString(version) && i < sizeof arrays / sizeof arrays[0]; i++)
+        if (cJSON_IsObject(cJSON_GetObjectItemCaseSensitive(root, arrays[i])))
+            return sl_fail(c->err, SL_ERR_UNSUPPORTED, "%s: \"%s\" is an object keyed by id: glTF 1.0's layout "
+                           "(softlight reads glTF 2.0, whose \"%s\" is an array)", c->name, arrays[i], arrays[i]);
     const cJSON *required = cJSON_GetObjectItemCaseSensitive(root, "extensionsRequired");
     if (required && !cJSON_IsArray(required))
         return bad(c, "extensionsRequired", "an array of extension names");

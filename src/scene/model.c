@@ -55,6 +55,8 @@ typedef struct {
     const char *name; /* the model as given (messages) */
     bool gltf;        /* a glTF file (.gltf, .glb): its camera is read as the specification's */
     bool collada;     /* a COLLADA file (.dae, .zae): its camera's field of view is the whole angle */
+    bool minus_z;     /* an ASE or LightWave scene (.ase, .ask, .lws): its camera looks down -Z */
+    sl_missing_textures missing; /* a texture that names no file: refuse the model, or warn and drop it */
     /* Import from memory: the one file there is. */
     const char *mem_path;
     const unsigned char *mem;
@@ -386,8 +388,9 @@ static bool find_node(const struct aiNode *node, const struct aiString *name, ma
     return false;
 }
 
-static void convert_camera(const struct aiScene *s, bool gltf, bool collada, sl_model *model)
+static void convert_camera(const struct aiScene *s, const file_access *fa, sl_model *model)
 {
+    bool gltf = fa->gltf, collada = fa->collada;
     const struct aiCamera *c = s->mCameras[0];
     mat4 node = mat4_identity();
     find_node(s->mRootNode, &c->mName, mat4_identity(), 0, &node);
@@ -400,11 +403,19 @@ static void convert_camera(const struct aiScene *s, bool gltf, bool collada, sl_
      * COLLADA importer stores the file's whole xfov, not half of it (measured: xfov 37.85 arrives
      * as 0.6606 rad). Near and far are in the camera node's units: they scale with its world
      * transform as the eye does (a file in centimetres places the eye 100 times nearer and must
-     * bring its clipping planes with it). */
+     * bring its clipping planes with it).
+     * ASE and LightWave scenes: their importers (5.2) leave mLookAt at aiCamera's default,
+     * +Z, for a camera that looks down its node's -Z: 3ds Max's cameras look down local -Z
+     * (an ASE camera's target node lies on its -Z axis), and LightWave's look down +Z in its
+     * left-handed space, which the LWS importer mirrors into right-handed nodes without
+     * mirroring the camera. A look-at still at that default is read as -Z; one an importer set
+     * otherwise is taken as it is. */
     float aspect = c->mAspect > 0.0f ? c->mAspect : 1.0f;
     float half_fovx = collada ? 0.5f * c->mHorizontalFOV : c->mHorizontalFOV;
     vec3 pos = gltf ? vec3s(0.0f) : ai3(c->mPosition);
     vec3 look = gltf ? vec3(0.0f, 0.0f, -1.0f) : ai3(c->mLookAt), up0 = gltf ? vec3(0.0f, 1.0f, 0.0f) : ai3(c->mUp);
+    if (fa->minus_z && look.x == 0.0f && look.y == 0.0f && look.z == 1.0f)
+        look.z = -1.0f;
     float fovy_rad = gltf ? c->mHorizontalFOV / aspect : 2.0f * atanf(tanf(half_fovx) / aspect);
     float fovy = fovy_rad * (180.0f / 3.14159265f);
     vec3 eye = xyz(mat4_mul_vec4(w, vec4_from3(pos, 1.0f)));
@@ -437,6 +448,22 @@ static void dir_of(const char *path, char out[SL_PATH_MAX])
     out[n] = '\0';
 }
 
+/* A missing texture skipped (SL_MISSING_TEXTURES_SKIP): its line in model->warnings, once
+ * (a material naming one file in two slots, or two materials sharing a name, warn once). */
+static void warn_missing(sl_model *model, const char *what)
+{
+    char line[720];
+    int n = snprintf(line, sizeof line, "softlight: warning: %s; the material draws without it\n", what);
+    if (n < 0 || (size_t)n >= sizeof line || strstr(model->warnings, line))
+        return;
+    size_t used = strlen(model->warnings);
+    if (used + (size_t)n >= sizeof model->warnings) {
+        model->warnings_left_out++;
+        return;
+    }
+    memcpy(model->warnings + used, line, (size_t)n + 1);
+}
+
 /* The image `ref` (a material's texture path: "*N" for embedded texture N, a name an embedded
  * texture carries, or a file relative to the model) as an index into model->images, adding it
  * the first time. */
@@ -459,12 +486,17 @@ static bool find_image(const struct aiScene *s, sl_model *model, const char *dir
     }
     char path[SL_PATH_MAX] = "";
     if (embedded < 0 && !sl_scene_texture_path_resolve(dir, ref, path)) {
-        char mat[72];
-        return sl_fail(err, SL_ERR_IO,
-                       "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and "
-                       "for its file name alone)",
-                       fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
-                       sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
+        char mat[72], line[640];
+        snprintf(line, sizeof line,
+                 "%s: material \"%s\": texture \"%s\" not found in \"%s\" (also looked ignoring case, and for its "
+                 "file name alone)",
+                 fa->name, sl_error_excerpt(material, 64, mat, sizeof mat),
+                 sl_error_excerpt(ref, 120, shown, sizeof shown), dir[0] ? dir : "./");
+        if (fa->missing != SL_MISSING_TEXTURES_SKIP)
+            return sl_fail(err, SL_ERR_IO, "%s", line);
+        warn_missing(model, line);
+        *index = -1;
+        return true;
     }
     for (int i = 0; i < model->image_count; i++) {
         const sl_model_image *im = &model->images[i];
@@ -742,11 +774,26 @@ static bool convert_scene(const struct aiScene *s, file_access *fa, sl_model *mo
                                                   : "%s: no node places a mesh",
                        name);
     if (s->mNumCameras > 0 && s->mCameras[0])
-        convert_camera(s, fa->gltf, fa->collada, model);
+        convert_camera(s, fa, model);
     return true;
 }
 
 static bool is_gltf(const char *ext) { return strcasecmp(ext, "gltf") == 0 || strcasecmp(ext, "glb") == 0; }
+
+static bool camera_minus_z(const char *ext)
+{
+    return !strcasecmp(ext, "ase") || !strcasecmp(ext, "ask") || !strcasecmp(ext, "lws");
+}
+
+static bool optional_companion(const char *path)
+{
+    static const char *const exts[] = {"md5anim", "md5camera", "skin", "shader"};
+    const char *dot = strrchr(path, '.');
+    for (size_t i = 0; dot && !strchr(dot, '/') && i < sizeof exts / sizeof exts[0]; i++)
+        if (strcasecmp(dot + 1, exts[i]) == 0)
+            return true;
+    return false;
+}
 
 static bool import(const char *open_path, file_access *fa, sl_model *model, sl_error *err)
 {
@@ -760,11 +807,14 @@ static bool import(const char *open_path, file_access *fa, sl_model *model, sl_e
     bool ok;
     char reason[204], shown[204];
     if (!s) {
-        /* A file the import needed and could not open says more than assimp's message. */
-        if (fa->failed[0] && strcmp(fa->failed, open_path) != 0)
+        /* A file the import needed and could not open says more than assimp's message; one an
+         * importer only looks for (an MD5 mesh's .md5anim and .md5camera, a Quake 3 model's
+         * .skin and .shader) says nothing about why it failed. */
+        bool needed = fa->failed[0] && !optional_companion(fa->failed);
+        if (needed && strcmp(fa->failed, open_path) != 0)
             ok = sl_fail(err, SL_ERR_IO, "%s: names \"%s\", which cannot be read (%s)", fa->name,
                          sl_error_excerpt(fa->failed, 200, shown, sizeof shown), fa->failed_why);
-        else if (fa->failed[0])
+        else if (needed)
             ok = sl_fail(err, SL_ERR_IO, "%s: %s", fa->name, fa->failed_why);
         else if (strstr(aiGetErrorString(), "No meshes remaining"))
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: no triangle meshes (softlight draws triangles; the file holds only "
@@ -811,6 +861,11 @@ bool sl_path_is_scene(const char *path)
 
 bool sl_model_load(const char *path, sl_model *model, sl_error *err)
 {
+    return sl_model_load_with(path, SL_MISSING_TEXTURES_FAIL, model, err);
+}
+
+bool sl_model_load_with(const char *path, sl_missing_textures missing, sl_model *model, sl_error *err)
+{
     memset(model, 0, sizeof *model);
     snprintf(model->path, sizeof model->path, "%s", path);
     char shown[80];
@@ -824,7 +879,7 @@ bool sl_model_load(const char *path, sl_model *model, sl_error *err)
         return sl_fail(err, SL_ERR_UNSUPPORTED, "%s: unknown model format \"%s\" (not a .json scene, nor a format assimp reads)",
                        path, sl_error_excerpt(dotted, 32, shown, sizeof shown));
     file_access fa = {.name = path, .gltf = is_gltf(ext), .collada = !strcasecmp(ext, "dae") || !strcasecmp(ext, "zae"),
-                      .triangles = -1};
+                      .minus_z = camera_minus_z(ext), .missing = missing, .triangles = -1};
     struct stat st;
     if (stat(path, &st) != 0)
         return sl_fail(err, SL_ERR_IO, "%s: %s", path, errno == ENOENT ? "no such file" : strerror(errno));
@@ -874,8 +929,8 @@ bool sl_model_load_memory(const void *data, size_t size, const char *hint, const
     snprintf(model->path, sizeof model->path, "%s", name);
     char path[64];
     snprintf(path, sizeof path, "memory.%.16s", hint);
-    file_access fa = {.name = name, .gltf = is_gltf(hint), .mem_path = path, .mem = data, .mem_size = size,
-                      .triangles = -1};
+    file_access fa = {.name = name, .gltf = is_gltf(hint),
+                      .minus_z = camera_minus_z(hint), .mem_path = path, .mem = data, .mem_size = size, .triangles = -1};
     if (size > SL_MODEL_MAX_FILE_BYTES)
         return sl_fail(err, SL_ERR_RANGE, "%s: larger than the 256 MiB a model file may have", name);
     scene_gltf_facts facts;

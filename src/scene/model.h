@@ -119,10 +119,18 @@ typedef struct {
     int image_count;
     bool has_camera; /* the file's first camera, placed by its node, in Z-up world space */
     sl_camera camera;
+    /* What was imported but is not drawn, one line each ending in "\n" ("" when none): with
+     * SL_MISSING_TEXTURES_SKIP, each missing texture (model, material, file). Lines that do not
+     * fit are counted in warnings_left_out. The commands print them; the library writes nothing. */
+    char warnings[2048];
+    int warnings_left_out;
 } sl_model;
 
-/* Import a model file. Errors name the file: "bad.gltf: buffer 0: cannot read bad.bin". */
+/* Import a model file. Errors name the file: "bad.gltf: buffer 0: cannot read bad.bin". A
+ * texture that names no file refuses the model (SL_MISSING_TEXTURES_FAIL, what sl_model_load
+ * does) or is dropped from its material with a line in model->warnings (SL_MISSING_TEXTURES_SKIP). */
 bool sl_model_load(const char *path, sl_model *model, sl_error *err);
+bool sl_model_load_with(const char *path, sl_missing_textures missing, sl_model *model, sl_error *err);
 /* Import from memory; `hint` is the format's extension ("gltf", "glb", "obj"); `name` starts
  * messages. External files (.bin, images, .mtl) cannot be reached from memory: a file naming
  * one fails to import. */

@@ -1,7 +1,8 @@
 /* model_isolate.c - a model import run in a child process, with its memory and time bounded.
  *
- * Owns: the child process, its limits, and the stream that carries the imported sl_model (or
- * the error) back to the caller. assimp reads some thirty formats, and a few of its importers
+ * Owns: the child process, its limits, its stdout and stderr (an importer's own printing goes to
+ * /dev/null), and the stream that carries the imported sl_model (or the error) back to the
+ * caller. assimp reads some thirty formats, and a few of its importers
  * trust the counts a file declares: a 50-byte OFF file that declares 10^8 faces makes it
  * allocate gigabytes before failing, and some importers recurse once per nesting level of the
  * file. No check before the import can know every format, so the import itself runs where it
@@ -18,8 +19,10 @@
 #include "model.h"
 
 #include <errno.h>
+#include <fcntl.h>
 #include <poll.h>
 #include <signal.h>
+#include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -142,6 +145,9 @@ static bool read_model(reader *r, sl_model *m)
     m->path[sizeof m->path - 1] = '\0';
     m->has_camera = head.has_camera;
     m->camera = head.camera;
+    memcpy(m->warnings, head.warnings, sizeof m->warnings);
+    m->warnings[sizeof m->warnings - 1] = '\0';
+    m->warnings_left_out = head.warnings_left_out > 0 ? head.warnings_left_out : 0;
     /* The arrays of structs; each one's child pointers say only which arrays follow. */
     if (!(m->meshes = read_array(r, (size_t)head.mesh_count, sizeof *m->meshes)))
         return false;
@@ -224,7 +230,30 @@ static size_t address_space_bytes(void)
 #endif
 #ifndef ADDRESS_SPACE_LIMIT
 #define ADDRESS_SPACE_LIMIT 1
+#else
+#include <sanitizer/common_interface_defs.h>
 #endif
+
+/* An importer's own printing is not softlight's message: openddlparser (OpenGEX) writes
+ * "nullptr returned by creating DDLNode." to std::cerr before assimp fails the import, which
+ * made two lines of one error. The child's stdout and stderr go to /dev/null; its error travels
+ * down the pipe and the parent prints it. A sanitized build's reports still reach the terminal:
+ * the sanitizers write to a copy of the original stderr. */
+static void silence_child(void)
+{
+#if !ADDRESS_SPACE_LIMIT
+    int report = dup(STDERR_FILENO);
+    if (report >= 0)
+        __sanitizer_set_report_fd((void *)(intptr_t)report);
+#endif
+    int null = open("/dev/null", O_WRONLY);
+    if (null < 0)
+        return;
+    dup2(null, STDOUT_FILENO);
+    dup2(null, STDERR_FILENO);
+    if (null > STDERR_FILENO)
+        close(null);
+}
 
 static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes, int seconds)
 {
@@ -240,6 +269,7 @@ static void run_child(int fd, scene_import_fn fn, void *ctx, size_t memory_bytes
     }
     struct rlimit cpu = {.rlim_cur = (rlim_t)seconds + 1, .rlim_max = (rlim_t)seconds + 2};
     setrlimit(RLIMIT_CPU, &cpu);
+    silence_child();
     sl_model model;
     sl_error err = {0};
     bool ok;

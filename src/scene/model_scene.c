@@ -233,6 +233,30 @@ static void warn_ignored(sl_scene *scene, const char *path, unsigned ignored)
     snprintf(scene->warnings + used, sizeof scene->warnings - used, "%s\n", line);
 }
 
+/* The model's own warnings (the textures skipped), added to the scene's line by line while they
+ * fit; the rest are counted in one last line. */
+static void warn_model(sl_scene *scene, const sl_model *m)
+{
+    int left_out = m->warnings_left_out;
+    for (const char *l = m->warnings; *l;) {
+        const char *end = strchr(l, '\n');
+        size_t n = end ? (size_t)(end - l) + 1 : strlen(l), used = strlen(scene->warnings);
+        /* room kept for the count's line */
+        if (used + n + 400 < sizeof scene->warnings) {
+            memcpy(scene->warnings + used, l, n);
+            scene->warnings[used + n] = '\0';
+        } else {
+            left_out++;
+        }
+        l += n;
+    }
+    if (left_out > 0) {
+        size_t used = strlen(scene->warnings);
+        snprintf(scene->warnings + used, sizeof scene->warnings - used,
+                 "softlight: warning: %.300s: %d more missing textures not listed\n", m->path, left_out);
+    }
+}
+
 static bool grow(void **array, size_t count, size_t size)
 {
     void *p = realloc(*array, (count ? count : 1) * size);
@@ -343,12 +367,13 @@ bool sl_scene_expand_models(sl_scene *scene, const bool *material_given, const i
         char where[SL_PATH_MAX + 64] = "";
         if (first_user)
             snprintf(where, sizeof where, "%.*s: objects[%d].model: ", SL_PATH_MAX, name, first_user[i]);
-        if (!sl_model_load(src->path, m, err)) {
+        if (!sl_model_load_with(src->path, src->missing_textures, m, err)) {
             if (where[0])
                 sl_error_prefix(err, "%s", where);
             ok = false;
             break;
         }
+        warn_model(scene, m);
         if (camera && !camera->has && m->has_camera) {
             camera->has = true;
             camera->camera = m->camera;

@@ -70,11 +70,11 @@ static bool parse_document(scene_parser *p, const cJSON *root, bool load_meshes,
 
 
 static bool parse_scene(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
-                        sl_scene *scene, sl_error *err)
+                        const sl_option_values *given, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
     sl_option_values_default(&scene->options);
-    scene_parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err};
+    scene_parser p = {.name = name ? name : "scene", .base_dir = base_dir ? base_dir : "", .err = err, .given = given};
     snprintf(scene->path, sizeof scene->path, "%s", p.name);
     const char *end = NULL;
     cJSON *root = cJSON_ParseWithLengthOpts(json, size, &end, false);
@@ -113,14 +113,24 @@ static bool parse_scene(const char *json, size_t size, const char *name, const c
 bool sl_scene_parse(const char *json, size_t size, const char *name, const char *base_dir, bool load_meshes,
                     sl_scene *scene, sl_error *err)
 {
-    return parse_scene(json, size, name, base_dir, load_meshes, scene, err);
+    return parse_scene(json, size, name, base_dir, load_meshes, NULL, scene, err);
+}
+
+sl_missing_textures sl_scene_missing_textures(const scene_parser *p, sl_missing_textures own)
+{
+    return p->given && sl_option_is_set(p->given, SL_OPT_MISSING_TEXTURES) ? p->given->missing_textures : own;
 }
 
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
 {
+    return sl_scene_load_with(path, NULL, scene, err);
+}
+
+bool sl_scene_load_with(const char *path, const sl_option_values *given, sl_scene *scene, sl_error *err)
+{
     memset(scene, 0, sizeof *scene);
     if (!sl_path_is_scene(path))
-        return sl_scene_load_model_alone(path, scene, err);
+        return sl_scene_load_model_alone(path, given, scene, err);
     unsigned char *bytes;
     size_t size;
     if (!sl_read_file(path, SCENE_MAX_FILE_BYTES, &bytes, &size, err))
@@ -137,7 +147,7 @@ bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err)
         memcpy(dir, path, n);
         dir[n] = '\0';
     }
-    bool ok = sl_scene_parse((const char *)bytes, size, path, dir, true, scene, err);
+    bool ok = parse_scene((const char *)bytes, size, path, dir, true, given, scene, err);
     free(bytes);
     return ok;
 }

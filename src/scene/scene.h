@@ -145,6 +145,7 @@ typedef struct {
     sl_mesh_kind kind;
     char path[SL_PATH_MAX]; /* SL_MESH_OBJ, SL_MESH_MODEL: resolved file path; "" otherwise */
     int slices, stacks;     /* SL_MESH_SPHERE: tessellation; SL_MESH_MODEL: slices = mesh index; 0 otherwise */
+    sl_missing_textures missing_textures; /* SL_MESH_MODEL: a texture that names no file (options.h) */
 } sl_mesh_source;
 
 /* The scene (opaque in softlight/scene.h). */
@@ -178,6 +179,9 @@ struct sl_scene {
  * A path that does not end in .json is a model file (sl_path_is_scene, scene/model.h): the
  * default scene around it (docs/scene-format.md, "Models"). */
 bool sl_scene_load(const char *path, sl_scene *scene, sl_error *err);
+/* The same with the command line's record (`given`, NULL: none): the options the loading reads
+ * (missing-textures: when given, it holds for every model over the scene file's keys). */
+bool sl_scene_load_with(const char *path, const sl_option_values *given, sl_scene *scene, sl_error *err);
 /* Parse scene JSON from memory; `base_dir` resolves relative paths ("" or NULL = cwd); `name`
  * starts every error message. With `load_meshes` false no geometry is built: OBJ files are not
  * opened and shapes are not tessellated, every mesh is empty (0 vertices) and only

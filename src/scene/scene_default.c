@@ -51,7 +51,8 @@ static bool build(scene_parser *p, const char *path, sl_scene *scene)
         return sl_fail(p->err, SL_ERR_MEMORY, "%s: out of memory for the default scene", path);
     scene->materials[0] = sl_scene_default_material(DEFAULT_MATERIAL_NAME);
     scene->material_count = 1;
-    scene->mesh_sources[0] = (sl_mesh_source){.kind = SL_MESH_MODEL};
+    scene->mesh_sources[0] = (sl_mesh_source){.kind = SL_MESH_MODEL,
+                                              .missing_textures = sl_scene_missing_textures(p, SL_MISSING_TEXTURES_FAIL)};
     snprintf(scene->mesh_sources[0].path, sizeof scene->mesh_sources[0].path, "%s", path);
     scene->mesh_count = 1;
     sl_object *obj = &scene->objects[0];
@@ -63,7 +64,7 @@ static bool build(scene_parser *p, const char *path, sl_scene *scene)
            sl_scene_check_maps_have_uvs(p, scene);
 }
 
-bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
+bool sl_scene_load_model_alone(const char *path, const sl_option_values *given, sl_scene *scene, sl_error *err)
 {
     memset(scene, 0, sizeof *scene);
     char env_path[SL_PATH_MAX];
@@ -75,7 +76,7 @@ bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err)
     if (strlen(path) >= SL_PATH_MAX || !sl_data_path(DEFAULT_ENVIRONMENT, env_path, sizeof env_path))
         return sl_fail(err, SL_ERR_RANGE, "%s: path too long", path);
     scene_model_camera camera = {0};
-    scene_parser p = {.name = path, .base_dir = "", .err = err, .model_camera = &camera};
+    scene_parser p = {.name = path, .base_dir = "", .err = err, .model_camera = &camera, .given = given};
     snprintf(scene->path, sizeof scene->path, "%s", path);
     sl_option_values_default(&scene->options);
     snprintf(scene->environment.hdr_path, sizeof scene->environment.hdr_path, "%s", env_path);

@@ -87,7 +87,8 @@ static bool parse_transform(scene_parser *p, const cJSON *item, const char *path
 
 static bool same_source(const sl_mesh_source *a, const sl_mesh_source *b)
 {
-    return a->kind == b->kind && a->slices == b->slices && a->stacks == b->stacks && strcmp(a->path, b->path) == 0;
+    return a->kind == b->kind && a->slices == b->slices && a->stacks == b->stacks &&
+           a->missing_textures == b->missing_textures && strcmp(a->path, b->path) == 0;
 }
 
 
@@ -148,8 +149,8 @@ bool sl_scene_parse_object(scene_parser *p, const cJSON *item, const char *path,
                          const scene_name_index *sorted, int named_materials, scene_source_map *sources, int *first_user,
                          sl_object *obj, bool *material_given)
 {
-    static const char *const keys[] = {"name", "mesh", "shape", "model", "slices", "stacks", "material", "transform",
-                                       NULL};
+    static const char *const keys[] = {"name",     "mesh",      "shape",            "model", "slices", "stacks",
+                                       "material", "transform", "missing_textures", NULL};
     static const char *const shapes[] = {"sphere", "plane", "box"};
     static const sl_mesh_kind kinds[] = {SL_MESH_SPHERE, SL_MESH_PLANE, SL_MESH_BOX};
     if (!sl_scene_check_keys(p, item, path, keys))
@@ -186,6 +187,25 @@ bool sl_scene_parse_object(scene_parser *p, const cJSON *item, const char *path,
                            sl_scene_masked(shape->valuestring, 32, shown));
     }
     const cJSON *v;
+    /* A model's texture that names no file: the object's choice, unless the command line gave one. */
+    sl_missing_textures missing = SL_MISSING_TEXTURES_FAIL;
+    if ((v = sl_scene_member(item, "missing_textures"))) {
+        const sl_option *opt = &sl_options[SL_OPT_MISSING_TEXTURES];
+        sl_scene_join_key(sub, path, "missing_textures");
+        char words[64];
+        sl_option_choices(opt, words, sizeof words);
+        int value;
+        if (src.kind != SL_MESH_MODEL)
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "only a model has missing_textures");
+        if (!cJSON_IsString(v))
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected a string (%s)", words);
+        if (!sl_option_parse(opt, v->valuestring, &value))
+            return sl_scene_fail(p, sub, SL_ERR_FORMAT, "unknown %s \"%s\" (expected %s)", opt->name,
+                                 sl_scene_masked(v->valuestring, 32, shown), words);
+        missing = (sl_missing_textures)value;
+    }
+    if (src.kind == SL_MESH_MODEL)
+        src.missing_textures = sl_scene_missing_textures(p, missing);
     if (src.kind == SL_MESH_SPHERE) {
         src.slices = DEFAULT_SLICES;
         src.stacks = DEFAULT_STACKS;

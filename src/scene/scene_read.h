@@ -30,7 +30,12 @@ typedef struct {
     const char *base_dir; /* for relative paths; "" = as given */
     sl_error *err;
     scene_model_camera *model_camera; /* the models' first camera, for the default scene; may be NULL */
+    const sl_option_values *given;    /* the command line's record (sl_scene_load_with); NULL: none */
 } scene_parser;
+
+/* What a model loaded for this parser does with a texture that names no file: the command line's
+ * choice when it gave one, else `own` (the object's key, or the default). */
+sl_missing_textures sl_scene_missing_textures(const scene_parser *p, sl_missing_textures own);
 
 /* ---- scene_json.c: errors, JSON paths and typed readers ---- */
 
@@ -115,6 +120,6 @@ bool sl_scene_check_maps_have_uvs(scene_parser *p, const sl_scene *scene);
 /* ---- scene_default.c ---- */
 
 /* The default scene around a model file given alone (docs/scene-format.md "Models"). */
-bool sl_scene_load_model_alone(const char *path, sl_scene *scene, sl_error *err);
+bool sl_scene_load_model_alone(const char *path, const sl_option_values *given, sl_scene *scene, sl_error *err);
 
 #endif

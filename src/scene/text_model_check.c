@@ -129,12 +129,15 @@ bool sl_scene_obj_check(const char *text, size_t size, const char *dir, const ch
     const char *p = text, *end = text + size, *line;
     size_t len;
     char missing_lib[SL_PATH_MAX] = "", why[96] = "";
-    bool ok = true;
+    bool ok = true, any_lib = false;
     /* The libraries first: OBJ allows usemtl before mtllib. */
     while (ok && next_line(&p, end, &line, &len)) {
         const char *arg;
         size_t arg_len;
-        if (!keyword_arg(line, len, "mtllib", &arg, &arg_len) || arg_len >= SL_PATH_MAX)
+        if (!keyword_arg(line, len, "mtllib", &arg, &arg_len))
+            continue;
+        any_lib = true;
+        if (arg_len >= SL_PATH_MAX)
             continue;
         char ref[SL_PATH_MAX];
         memcpy(ref, arg, arg_len);
@@ -154,6 +157,9 @@ bool sl_scene_obj_check(const char *text, size_t size, const char *dir, const ch
         if (missing_lib[0])
             ok = sl_fail(err, SL_ERR_IO, "%s: material \"%s\" (usemtl) is not defined: its library \"%s\" cannot be "
                          "read (%s)", name, mat, sl_error_excerpt(missing_lib, 64, lib, sizeof lib), why);
+        else if (!any_lib)
+            ok = sl_fail(err, SL_ERR_FORMAT, "%s: material \"%s\" (usemtl) is not defined: the file names no .mtl "
+                         "library (no mtllib line)", name, mat);
         else
             ok = sl_fail(err, SL_ERR_FORMAT, "%s: material \"%s\" (usemtl) is defined by no newmtl of its .mtl "
                          "libraries", name, mat);

@@ -2,7 +2,8 @@
  * built-in shading as a program, and the toolbox any program calls, each a thin wrapper over the
  * port's own function (lighting.c) or the BRDF (brdf.h), so a program gets the built-in's bits.
  *
- * Does not: run programs over a G-buffer (lighting_pass.c), load them (src/app/lighting_load.c). */
+ * Does not: run programs over a G-buffer (lighting_pass.c), load them (src/app/lighting_load.c,
+ * through program_load.c). */
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
 

@@ -171,8 +171,19 @@ expect_error "an OFF face past the vertices" 'face 1: vertex index 9 out of rang
 printf 'mtllib m.mtl\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl nothere\nf 1 2 3\n' >"$T/nomat.obj"
 printf 'newmtl other\nKd 1 0 0\n' >"$T/m.mtl"
 expect_error "an undefined OBJ material" 'material "nothere" \(usemtl\) is defined by no newmtl' "$T/nomat.obj"
+printf 'v 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl Default\nf 1 2 3\n' >"$T/nolib.obj"
+expect_error "usemtl with no mtllib" 'material "Default" \(usemtl\) is not defined: the file names no \.mtl library \(no mtllib line\)' "$T/nolib.obj"
 rm "$T/m.mtl"
 expect_error "a missing .mtl" 'its library "m.mtl" cannot be read \(no such file\)' "$T/nomat.obj"
+# An importer that prints on its own: OpenGEX's parser writes a line to std::cerr for an empty
+# structure before assimp fails; the import's child keeps it off the terminal, so the error is
+# one line.
+printf 'CameraObject {}\n' >"$T/empty_camera.ogex"
+expect_error "an OpenGEX file whose parser prints" 'Validation failed' "$T/empty_camera.ogex"
+# A companion file an importer only looks for is not why the import failed: an empty MD5 mesh
+# is refused for its contents, not for the .md5anim beside it that does not exist.
+: >"$T/empty.md5mesh"
+expect_error "an empty MD5 mesh" 'empty\.md5mesh: Failed to read valid contents' "$T/empty.md5mesh"
 # AddressSanitizer's builds bound the import's time only, so the memory case runs without them.
 if [ -z "${SL_SANITIZED:-}" ]; then
     printf 'ply\nformat ascii 1.0\nelement vertex 400000000\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n' >"$T/bomb.ply"

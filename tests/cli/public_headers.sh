@@ -3,7 +3,8 @@
 # user's way: each compiles alone as C11 (gcc, and clang when present; -Wall -Wextra -Werror
 # -pedantic-errors) and as C++17 (g++), in a translation unit that defines its own add, clamp,
 # length and dot and its own vec3 type. softlight/glsl.h, the opt-in GLSL vocabulary, compiles
-# in a C11 shader source and refuses C++ with its own message.
+# in a C11 shader source, a lighting program and a G-buffer program (examples/shaders/checker.c),
+# and refuses C++ with its own message.
 set -euo pipefail
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
@@ -127,6 +128,12 @@ C
 for cc in "${ccs[@]}"; do
   if ! "$cc" -std=c11 "${flags[@]}" -fPIC -o "$work/out.o" "$work/lighting.c" 2>"$work/err"; then
     echo "FAIL: a C11 lighting program with SL_GLSL_LIGHTING, $cc:"; cat "$work/err"; fail=1
+  fi
+done
+# A C11 G-buffer program with the GLSL vocabulary (softlight/gbuffer_program.h): the shipped example.
+for cc in "${ccs[@]}"; do
+  if ! "$cc" -std=c11 "${flags[@]}" -fPIC -o "$work/out.o" examples/shaders/checker.c 2>"$work/err"; then
+    echo "FAIL: examples/shaders/checker.c, a C11 G-buffer program, $cc:"; cat "$work/err"; fail=1
   fi
 done
 if [ -n "$cxx" ]; then

@@ -2,8 +2,8 @@
 # view_lookdev.sh BUILD_DIR - what a look-dev viewer's user relies on, under Xvfb with scripted
 # input: F frames the model (its bounds in view, from far off), the zoom stays between the
 # bounds and 10 x the framing distance, R restores every setting (the frame and PNG equal
-# `softlight render`'s again), N/B pass the scene's N, the readout under the pointer equals the
-# PFM `softlight render` writes at that pixel, T prints softlight trace's text, an edited scene
+# `softlight render`'s again), O toggles ambient occlusion, N/B pass the scene's N, the readout
+# under the pointer equals the PFM `softlight render` writes at that pixel, T prints softlight trace's text, an edited scene
 # file is reloaded (the camera kept), and --env / an environment alone render as render --env.
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
@@ -37,7 +37,7 @@ SCENE=scenes/default.json
     echo "settle"
     echo "screenshot $T/near"
     # every setting off the scene's, then R
-    for k in n n e e c 1 2 3 l k g i ] ] v; do echo "key $k"; done
+    for k in n n e e c 1 2 3 l k g i o ] ] v; do echo "key $k"; done
     echo "drag 100 90 160 120"
     echo "wheel 3"
     echo "key r"
@@ -69,6 +69,16 @@ view_same "$T/reset.hdr" "$T/ref.hdr" "R after changing every setting" 0
 cmp -s "$T/reset.png" "$T/ref.png" || fail "after R the PNG differs (exposure, contrast or view not restored)"
 grep -q "reset.png .*(320x180, final, N 8;" "$T/out.txt" || fail "after R the view or N is not the scene's"
 echo "ok: R restores camera, N, exposure, contrast, toggles, rules, irradiance, rotation and view"
+
+# ---- O: ambient occlusion off and on again, each still frame render's with and without --ao-radius
+"$SL" render scenes/pbr.json --size "$VIEW_TEST_SIZE" -n 8 --ao-radius 0.5 --hdr "$T/ao-ref.hdr" -q
+"$SL" render scenes/pbr.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/noao-ref.hdr" -q
+printf 'settle\nkey o\nsettle\nscreenshot %s/ao-off\nkey o\nsettle\nscreenshot %s/ao-on\nquit\n' "$T" "$T" >"$T/ao.txt"
+view_run scenes/pbr.json --size "$VIEW_TEST_SIZE" -n 8 --ao-radius 0.5 --script "$T/ao.txt"
+view_expect_exit0 "O"
+view_same "$T/ao-off.hdr" "$T/noao-ref.hdr" "O turns ambient occlusion off" 0
+view_same "$T/ao-on.hdr" "$T/ao-ref.hdr" "O turns it on again with --ao-radius's radius" 0
+echo "ok: O toggles ambient occlusion; each still frame is render's"
 
 # ---- N/B and the scene's own N (40): up to 64 and back to 40
 printf 'key n\nscreenshot %s/n-up\nkey b\nscreenshot %s/n-back\nkey b\nscreenshot %s/n-down\nquit\n' "$T" "$T" "$T" >"$T/n.txt"

@@ -361,6 +361,64 @@ static void test_gltf_camera(void **state)
     sl_scene_free(&scene);
 }
 
+/* The camera of an ASE and of a LightWave scene, both at 10 units on -Y (Z-up) and turned
+ * towards the origin: they look along +Y with +Z up. Their importers leave aiCamera's look-at at
+ * its default +Z for cameras that look down their node's -Z. */
+static void assert_camera_towards_origin(const char *path)
+{
+    sl_model m;
+    load_ok(path, &m);
+    assert_true(m.has_camera);
+    assert_near(m.camera.eye.x, 0.0f, 1e-5f);
+    assert_near(m.camera.eye.y, -10.0f, 1e-5f);
+    assert_near(m.camera.eye.z, 0.0f, 1e-5f);
+    vec3 dir = sub3(m.camera.target, m.camera.eye);
+    assert_near(dir.y, 1.0f, 1e-5f);
+    assert_near(m.camera.up.z, 1.0f, 1e-5f);
+    sl_model_free(&m);
+}
+
+static void test_ase_lws_camera(void **state)
+{
+    (void)state;
+    /* ASE (3ds Max, Z-up): the camera's node maps local -Z to +Y and local +Y to +Z. */
+    static const char ase[] =
+        "*3DSMAX_ASCIIEXPORT 200\n"
+        "*GEOMOBJECT {\n *NODE_NAME \"Tri\"\n *NODE_TM {\n  *NODE_NAME \"Tri\"\n  *TM_ROW0 1 0 0\n"
+        "  *TM_ROW1 0 1 0\n  *TM_ROW2 0 0 1\n  *TM_ROW3 0 0 0\n }\n *MESH {\n  *TIMEVALUE 0\n"
+        "  *MESH_NUMVERTEX 3\n  *MESH_NUMFACES 1\n  *MESH_VERTEX_LIST {\n   *MESH_VERTEX 0 -1 0 -1\n"
+        "   *MESH_VERTEX 1 1 0 -1\n   *MESH_VERTEX 2 0 0 1\n  }\n  *MESH_FACE_LIST {\n"
+        "   *MESH_FACE 0: A: 0 B: 1 C: 2 AB: 1 BC: 1 CA: 1 *MESH_SMOOTHING 1 *MESH_MTLID 0\n  }\n }\n}\n"
+        "*CAMERAOBJECT {\n *NODE_NAME \"Camera01\"\n *CAMERA_TYPE Free\n *NODE_TM {\n"
+        "  *NODE_NAME \"Camera01\"\n  *TM_ROW0 1 0 0\n  *TM_ROW1 0 0 1\n  *TM_ROW2 0 -1 0\n"
+        "  *TM_ROW3 0 -10 0\n }\n *CAMERA_SETTINGS {\n  *TIMEVALUE 0\n  *CAMERA_NEAR 0.1\n"
+        "  *CAMERA_FAR 1000\n  *CAMERA_FOV 0.7854\n  *CAMERA_TDIST 10\n }\n}\n";
+    test_write_bytes(test_tmpfile("cam.ase"), ase, sizeof ase - 1);
+    assert_camera_towards_origin(test_tmpfile("cam.ase"));
+
+    /* LightWave (left-handed, Y-up): a triangle object (LWO2: a layer, three points, one face)
+     * and a camera at z = -10 with no rotation, which looks down LightWave's +Z. */
+    static const unsigned char lwo[] = {
+        'F', 'O', 'R', 'M', 0, 0, 0, 0x5e, 'L', 'W', 'O', '2',
+        'L', 'A', 'Y', 'R', 0, 0, 0, 0x12, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, /* 18 bytes */
+        'P', 'N', 'T', 'S', 0, 0, 0, 0x24,
+        0xbf, 0x80, 0, 0, 0xbf, 0x80, 0, 0, 0, 0, 0, 0, /* -1 -1 0 */
+        0x3f, 0x80, 0, 0, 0xbf, 0x80, 0, 0, 0, 0, 0, 0, /*  1 -1 0 */
+        0, 0, 0, 0, 0x3f, 0x80, 0, 0, 0, 0, 0, 0,       /*  0  1 0 */
+        'P', 'O', 'L', 'S', 0, 0, 0, 0x0c, 'F', 'A', 'C', 'E', 0, 3, 0, 0, 0, 1, 0, 2};
+    test_write_bytes(test_tmpfile("tri.lwo"), lwo, sizeof lwo);
+    char lws[2048];
+    int n = snprintf(lws, sizeof lws, "LWSC\n3\n\nLoadObjectLayer 1 tri.lwo\n\nAddCamera 30000000\n"
+                                      "CameraName Camera\nCameraMotion\nNumChannels 9\n");
+    const float channel[9] = {0, 0, -10, 0, 0, 0, 1, 1, 1};
+    for (int c = 0; c < 9; c++)
+        n += snprintf(lws + n, sizeof lws - (size_t)n,
+                      "Channel %d\n{ Envelope\n  1\n  Key %g 0 0 0 0 0 0 0 0\n  Behaviors 1 1\n}\n", c,
+                      (double)channel[c]);
+    test_write_bytes(test_tmpfile("cam.lws"), lws, (size_t)n);
+    assert_camera_towards_origin(test_tmpfile("cam.lws"));
+}
+
 /* A scene object {"model": ...}: its transform on top of the node's, its material overriding. */
 static void test_scene_model_object(void **state)
 {
@@ -756,6 +814,13 @@ static void test_gltf_graph_limits(void **state)
     const char *v1 = "{\"asset\": {\"version\": \"1.0\"}, \"scenes\": {\"s\": {\"nodes\": []}}}";
     test_write_bytes(test_tmpfile("v1.gltf"), v1, strlen(v1));
     load_fails(test_tmpfile("v1.gltf"), "glTF version \"1.0\" (softlight reads glTF 2.0)");
+    /* glTF 1.0 as collada2gltf wrote it: the version a number; or no version and 1.0's layout. */
+    const char *v1n = "{\"asset\": {\"version\": 1}, \"scenes\": {\"s\": {\"nodes\": []}}}";
+    test_write_bytes(test_tmpfile("v1n.gltf"), v1n, strlen(v1n));
+    load_fails(test_tmpfile("v1n.gltf"), "glTF version 1 (softlight reads glTF 2.0)");
+    const char *v1l = "{\"asset\": {}, \"nodes\": {\"n\": {}}}";
+    test_write_bytes(test_tmpfile("v1l.gltf"), v1l, strlen(v1l));
+    load_fails(test_tmpfile("v1l.gltf"), "\"nodes\" is an object keyed by id: glTF 1.0's layout");
 }
 
 /* Texture references as other tools write them find the file beside the model: Windows
@@ -949,6 +1014,61 @@ static void test_missing_texture_long_path(void **state)
     assert_non_null(strstr(err.msg, "..."));
 }
 
+/* SL_MISSING_TEXTURES_SKIP: the model loads (through the import's child), the missing texture is
+ * one warning line naming model, material and file, the slot has no image and the factors stay;
+ * a texture named by two materials' slots warns once per material. Many missing textures: the
+ * lines that do not fit are counted. */
+static void test_missing_texture_skip(void **state)
+{
+    (void)state;
+    const char *obj = "mtllib skip.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvt 0 0\nvt 1 0\nvt 1 1\n"
+                      "usemtl m\nf 1/1 2/2 3/3\nusemtl n\nf 1/1 3/3 4/1\n";
+    const char *mtl = "newmtl m\nKd 0.5 0.25 0.125\nmap_Kd gone.png\nnewmtl n\nKd 1 1 1\nmap_Kd gone.png\n";
+    test_write_bytes(test_tmpfile("skip.obj"), obj, strlen(obj));
+    test_write_bytes(test_tmpfile("skip.mtl"), mtl, strlen(mtl));
+    load_fails(test_tmpfile("skip.obj"), "texture \"gone.png\" not found");
+    sl_model m;
+    sl_error err = {0};
+    if (!sl_model_load_with(test_tmpfile("skip.obj"), SL_MISSING_TEXTURES_SKIP, &m, &err)) {
+        print_error("unexpected error: %s\n", err.msg);
+        fail();
+    }
+    assert_int_equal(m.image_count, 0);
+    int lines = 0;
+    for (const char *c = m.warnings; *c; c++)
+        lines += *c == '\n';
+    assert_int_equal(lines, 2);
+    assert_non_null(strstr(m.warnings, "softlight: warning: "));
+    assert_non_null(strstr(m.warnings, "skip.obj: material \"m\": texture \"gone.png\" not found"));
+    assert_non_null(strstr(m.warnings, "skip.obj: material \"n\": texture \"gone.png\" not found"));
+    assert_int_equal(m.warnings_left_out, 0);
+    bool kd = false;
+    for (int i = 0; i < m.material_count; i++) {
+        assert_int_equal(m.materials[i].base_color_tex.image, -1);
+        kd = kd || (m.materials[i].kd.x == 0.5f && m.materials[i].kd.z == 0.125f);
+    }
+    assert_true(kd);
+    sl_model_free(&m);
+
+    /* 40 materials, each with its own missing texture: what fits is listed, the rest counted. */
+    char big_obj[4096], big_mtl[4096];
+    int no = snprintf(big_obj, sizeof big_obj, "mtllib many.mtl\nv 0 0 0\nv 1 0 0\nv 1 1 0\nvt 0 0\n");
+    int nm = 0;
+    for (int i = 0; i < 40; i++) {
+        no += snprintf(big_obj + no, sizeof big_obj - (size_t)no, "usemtl m%d\nf 1/1 2/1 3/1\n", i);
+        nm += snprintf(big_mtl + nm, sizeof big_mtl - (size_t)nm, "newmtl m%d\nmap_Kd gone%d.png\n", i, i);
+    }
+    test_write_bytes(test_tmpfile("many.obj"), big_obj, (size_t)no);
+    test_write_bytes(test_tmpfile("many.mtl"), big_mtl, (size_t)nm);
+    assert_true(sl_model_load_with(test_tmpfile("many.obj"), SL_MISSING_TEXTURES_SKIP, &m, &err));
+    lines = 0;
+    for (const char *c = m.warnings; *c; c++)
+        lines += *c == '\n';
+    assert_true(lines > 0);
+    assert_int_equal(lines + m.warnings_left_out, 40);
+    sl_model_free(&m);
+}
+
 /* The excerpt never writes more than its buffer holds, whatever `max` says. */
 static void test_error_excerpt_bounds(void **state)
 {
@@ -974,6 +1094,7 @@ int main(void)
         cmocka_unit_test(test_glb_embedded_image),
         cmocka_unit_test(test_obj_mtl),
         cmocka_unit_test(test_gltf_camera),
+        cmocka_unit_test(test_ase_lws_camera),
         cmocka_unit_test(test_scene_model_object),
         cmocka_unit_test(test_bad_files),
         cmocka_unit_test(test_gltf_material_drawn),
@@ -981,6 +1102,7 @@ int main(void)
         cmocka_unit_test(test_gltf_metal_blend),
         cmocka_unit_test(test_obj_mtl_drawn),
         cmocka_unit_test(test_missing_texture_long_path),
+        cmocka_unit_test(test_missing_texture_skip),
         cmocka_unit_test(test_gltf_graph_limits),
         cmocka_unit_test(test_gltf_index_counts),
         cmocka_unit_test(test_gltf_values),

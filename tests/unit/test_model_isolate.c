@@ -158,11 +158,77 @@ static void test_failures(void **state)
 #endif
 }
 
+/* An importer that prints on its own (OpenGEX's parser writes to std::cerr) before it fails. */
+static bool chatter(void *ctx, sl_model *m, sl_error *err)
+{
+    (void)ctx, (void)m;
+    fputs("nullptr returned by creating DDLNode.\n", stderr);
+    fflush(stderr);
+    printf("and on stdout\n");
+    fflush(stdout);
+    return sl_fail(err, SL_ERR_FORMAT, "f.ogex: Validation failed");
+}
+
+#if ASAN
+/* A heap overflow in the import: the sanitizer's report must still reach stderr. */
+static char *volatile sink;
+static bool overflow(void *ctx, sl_model *m, sl_error *err)
+{
+    (void)ctx, (void)m, (void)err;
+    sink = malloc(8);
+    sink[8] = 1;
+    return false;
+}
+#endif
+
+/* What the child prints goes nowhere: the error comes back, and this process's stderr and stdout
+ * (a file here) stay empty. In a sanitized build a sanitizer's report from the child still
+ * reaches stderr. */
+static void test_child_output(void **state)
+{
+    (void)state;
+    fflush(stdout);
+    fflush(stderr);
+    int saved_out = dup(STDOUT_FILENO), saved_err = dup(STDERR_FILENO);
+    FILE *f = tmpfile();
+    assert_true(saved_out >= 0 && saved_err >= 0 && f);
+    dup2(fileno(f), STDOUT_FILENO);
+    dup2(fileno(f), STDERR_FILENO);
+    sl_model m;
+    sl_error err = {0};
+    bool ok = sl_scene_import_isolated(chatter, NULL, "f.ogex", (size_t)128 << 20, 10, &m, &err);
+#if ASAN
+    sl_error err2 = {0};
+    bool ok2 = sl_scene_import_isolated(overflow, NULL, "f.off", (size_t)128 << 20, 20, &m, &err2);
+#endif
+    fflush(stdout);
+    fflush(stderr);
+    dup2(saved_out, STDOUT_FILENO);
+    dup2(saved_err, STDERR_FILENO);
+    close(saved_out);
+    close(saved_err);
+    char text[8192] = "";
+    rewind(f);
+    size_t n = fread(text, 1, sizeof text - 1, f);
+    text[n] = '\0';
+    fclose(f);
+    assert_false(ok);
+    assert_string_equal(err.msg, "f.ogex: Validation failed");
+    if (strstr(text, "DDLNode") || strstr(text, "on stdout"))
+        fail_msg("the child's own printing reached this process: \"%s\"", text);
+#if ASAN
+    assert_false(ok2);
+    if (!strstr(text, "AddressSanitizer"))
+        fail_msg("no sanitizer report from the child; got \"%.200s\"", text);
+#endif
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_model_round_trip),
         cmocka_unit_test(test_failures),
+        cmocka_unit_test(test_child_output),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -1,0 +1,49 @@
+/* gtao.h - ambient occlusion of the environment, from the G-buffer alone: how much of each
+ * surface point's cosine-weighted hemisphere the geometry drawn around it hides.
+ *
+ * Method: ground-truth-based ambient occlusion (GTAO; Jimenez, Wu, Pesce, Jarabo, "Practical
+ * Realtime Strategies for Accurate Indirect Occlusion", 2016). For each covered pixel, a few
+ * screen-space slices through the pixel, each a plane containing the view vector V; along each
+ * slice the G-buffer's positions within `radius` world units give the highest horizon on either
+ * side, and the cosine-weighted visible arc between the two horizons (clamped to the hemisphere
+ * about the normal) is integrated in closed form. The slices' mean is
+ *   AO = 1/pi * integral over the hemisphere of visible(w) (N.w) dw,
+ * exactly the factor by which occlusion scales the irradiance under a constant environment, so
+ * the diffuse term E(N) Kd / pi becomes AO E(N) Kd / pi.
+ *
+ * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: AO in [0, 1] per
+ * texel, multiplied into the extra plane's occlusion (which the lighting stage applies to the
+ * image-based terms, diffuse and specular, and which a material's occlusion map has already
+ * written): a texel that sees everything keeps its occlusion. The plane must exist.
+ *
+ * Does not: see what the G-buffer does not hold (surfaces behind others or off screen count as
+ * open: screen-space occlusion's known blind spot), treat thickness (a thin pole hides the sky
+ * behind it as a wall would), or shadow point lights. docs/lighting.md "Ambient occlusion"
+ * measures it against a ground truth that traces the scene. */
+#ifndef SL_GTAO_H
+#define SL_GTAO_H
+
+#include <stdbool.h>
+
+#include "core/error.h"
+#include "raster/gbuffer.h"
+#include "scene/scene.h"
+
+#define SL_GTAO_SLICES 2      /* slices per sample (each turned by the sample's pattern entry) */
+#define SL_GTAO_STEPS 4       /* G-buffer reads per side of a slice */
+#define SL_GTAO_MAX_SCREEN 0.25f /* the largest screen radius, as a share of the image height */
+/* The blur's test of "the same surface": within this share of the view depth of the texel's
+ * tangent plane, and normals within this cosine. */
+#define SL_GTAO_BLUR_DEPTH 0.02f
+#define SL_GTAO_BLUR_NORMAL 0.8f
+/* shaders/gtao.frag and gtao_blur.frag are the GLSL twin (softlight-gl), given these as #defines. */
+
+/* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)
+ * around it; `threads` OpenMP threads (0: all). False (and err) without an extra plane or with a
+ * radius that is not positive and finite. */
+bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
+
+/* The AO of one texel (x, y), as sl_gtao_apply computes it (for trace and tests). */
+float sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
+
+#endif
