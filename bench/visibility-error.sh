@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # visibility-error.sh - the error that ignoring visibility adds to softlight's renders: each
-# scene's render (the default estimator, and the most accurate sampling mode) compared with the
+# scene's render (the default estimator, the most accurate sampling mode, and that mode with the
+# renderer's screen-space ambient occlusion, --ao-radius 1) compared with the
 # blind ground truth (`softlight truth`, every surface sees the whole environment, as the
 # renderer assumes) and with the visibility-aware one (`softlight truth --visibility`, occluders
 # traced with Embree); for scenes with point lights also the render with its lights against
@@ -16,8 +17,8 @@
 # Truths are cached in out/visibility-error/ (a rerun with unchanged inputs integrates nothing).
 # Figures per comparison from `softlight truth --compare`: nRMSE (RMSE over the covered pixels
 # divided by the truth's RMS, linear radiance) and the share of pixels more than 1/255 off after
-# the scene's tone map. About 35 minutes for the default set at 160x90 on 2 loaded cores, most of
-# it the truths (a visibility truth costs about 1.1x a blind one there).
+# the scene's tone map. About an hour for the default set at 160x90 on 2 loaded cores, nearly all
+# of it the truths (2-6 minutes each; a visibility truth costs about 1.1x a blind one in CPU time).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=build
@@ -41,6 +42,7 @@ SL=$BUILD/softlight
 OUT=out/visibility-error
 mkdir -p "$OUT"
 BEST="--estimator mf --lod pdf --distortion -n 256"
+AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
@@ -79,8 +81,14 @@ for s in "${scenes[@]}"; do
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights --pfm "$OUT/$s-default.pfm" -q
     # shellcheck disable=SC2086
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST --pfm "$OUT/$s-best.pfm" -q
-    for variant in default best; do
-        label=$([ $variant = default ] && echo "default" || echo "mf pdf+dist N256")
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO --pfm "$OUT/$s-best-ao.pfm" -q
+    for variant in default best best-ao; do
+        case $variant in
+        default) label="default" ;;
+        best) label="mf pdf+dist N256" ;;
+        *) label="mf pdf+dist N256, --ao-radius 1" ;;
+        esac
         IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
         echo "| $s | $label | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | ${tb:--} | ${tv:--} |" >>"$table"
@@ -138,7 +146,9 @@ covered pixels at the size above, image-based light only (`render --no-lights`) 
 "point lights on" rows (`render` with the scene's lights against `truth --lights`, shadow rays to
 the lights with `--visibility`). `default` is `softlight render` with the scene's settings (the
 specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--estimator mf --lod pdf --distortion
--n 256`, whose error against the blind truth is nearly all bias-free noise. nRMSE: RMSE over the
+-n 256`, whose error against the blind truth is nearly all bias-free noise; `--ao-radius 1` adds
+the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient
+occlusion"), the estimate of visibility it has. nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
 pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
 difference between the two columns of one row is the error that ignoring visibility adds (the

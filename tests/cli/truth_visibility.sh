@@ -2,7 +2,8 @@
 # truth_visibility.sh BUILD_DIR - `softlight truth --visibility` and `--lights` end to end: the
 # cache key tells visibility, its level and the point lights apart; visibility only takes light
 # away (every pixel at most its blind value) and darkens the floor under the bunny; shards merge
-# to the unsharded bytes; bad combinations are one line and status 2. In a build without Embree
+# to the unsharded bytes; a scene's ambient occlusion is left off with visibility; bad
+# combinations are one line and status 2. In a build without Embree
 # the whole test is the refusal: one line, status 2.
 set -u
 . "$(dirname "$0")/lib.bash"
@@ -55,6 +56,24 @@ for i in 1 2; do
 done
 "$SL" merge "$T"/s.pfm.shard-*-of-2 >/dev/null 2>&1 && cmp -s "$T/s.pfm" "$T/v.pfm" &&
     ok "2 shards merge to the unsharded truth" || bad "sharded visibility truth differs"
+
+# a scene's ambient occlusion (render.ao_radius, GTAO) is left off with --visibility (traced
+# visibility replaces it): the same bytes as without it; the blind truth keeps it, as the render does
+python3 - "$scene" "$T/ao.json" <<'EOF'
+import json, os, sys
+d = json.load(open(sys.argv[1])); base = os.path.dirname(os.path.abspath(sys.argv[1]))
+d["environment"]["hdr"] = os.path.join(base, d["environment"]["hdr"])
+for o in d["objects"]:
+    if "mesh" in o: o["mesh"] = os.path.join(base, o["mesh"])
+d["render"]["ao_radius"] = 0.5
+json.dump(d, open(sys.argv[2], "w"))
+EOF
+"$SL" truth "$T/ao.json" --size $SIZE --visibility --pfm "$T/ao-v.pfm" >/dev/null 2>&1
+"$SL" truth "$T/ao.json" --size $SIZE --parts "$T/ao-b" >/dev/null 2>&1
+cmp -s "$T/ao-v.pfm" "$T/v.pfm" && ok "--visibility leaves the scene's ambient occlusion off" ||
+    bad "--visibility on a scene with ao_radius differs from the scene without it"
+[ -f "$T/ao-b/diffuse.pfm" ] && ! cmp -s "$T/ao-b/diffuse.pfm" "$T/b/diffuse.pfm" &&
+    ok "the blind truth keeps the scene's ambient occlusion" || bad "the blind truth ignored ao_radius"
 
 expect_error "--vis-level alone" "needs --visibility" -- "$SL" truth "$scene" --size 2x2 --vis-level 2
 expect_error "--vis-level out of range" "vis-level" -- "$SL" truth "$scene" --size 2x2 --visibility --vis-level 9
