@@ -152,7 +152,7 @@ occlusion"), the estimate of visibility it has. nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
 pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
 difference between the two columns of one row is the error that ignoring visibility adds (the
-ratio: nRMSE against the visibility truth over nRMSE against the blind one); the `mf` rows show
+ratio: nRMSE against the visibility truth over nRMSE against the blind one); the plain `mf` rows show
 it nearly alone, since their error against the blind truth is small. Truth seconds: wall time
 of the integration on the loaded machine (cache header), not CPU time. In `textured` the
 alpha-masked leaf shadows as its whole quad (docs/ibl.md "Visibility": masks occlude as opaque).
