@@ -609,20 +609,22 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
     long rays = 0, fallbacks = 0;
     /* Rows are independent: each writes its own row of every plane. Thread 0 is the calling
      * thread and reports progress after each row it finishes. */
-#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads) reduction(+ : rays, fallbacks)
+    /* the ray counts are summed with atomics, not a reduction clause: clang implements that with
+     * a named critical section, a global symbol the library would export (tests/cli/exports.sh) */
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
     for (int y = 0; y < h; y++) {
         const int row = h - 1 - y; /* image row 0 = top = G-buffer row h - 1 */
-        long row_done = 0;
+        long row_done = 0, row_rays = 0, row_fallbacks = 0;
         for (int x = 0; x < w; x++) {
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
             if (!sl_gbuffer_covered(t))
                 continue;
             sl_image_pixel(&out->mask, x, row)[0] = 1.0f;
             if (extended) {
-                rays += shade_texel_vis(&gt, &vf, t, gb->extra ? &gb->extra[t - gb->texels] : NULL, eye, intensity,
-                                        &fallbacks, sl_image_pixel(&out->diffuse, x, row),
-                                        sl_image_pixel(&out->specular[0], x, row),
-                                        sl_image_pixel(&out->specular[1], x, row));
+                row_rays += shade_texel_vis(&gt, &vf, t, gb->extra ? &gb->extra[t - gb->texels] : NULL, eye,
+                                            intensity, &row_fallbacks, sl_image_pixel(&out->diffuse, x, row),
+                                            sl_image_pixel(&out->specular[0], x, row),
+                                            sl_image_pixel(&out->specular[1], x, row));
                 row_done++;
                 continue;
             }
@@ -632,6 +634,12 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
                 apply_extra(&gb->extra[t - gb->texels], sl_image_pixel(&out->diffuse, x, row),
                             sl_image_pixel(&out->specular[0], x, row), sl_image_pixel(&out->specular[1], x, row));
             row_done++;
+        }
+        if (extended) {
+#pragma omp atomic
+            rays += row_rays;
+#pragma omp atomic
+            fallbacks += row_fallbacks;
         }
         long now;
 #pragma omp atomic capture
