@@ -11,6 +11,7 @@ packages=(
   libstb-dev libcjson-dev               # PNG writing (stb_image_write), scene files
   libopenexr-dev                        # .exr environments and --exr (its C library, OpenEXRCore)
   libassimp-dev                         # model import (glTF 2.0, OBJ+MTL, ...)
+  libembree-dev                         # ray-traced visibility of the ground truth (truth --visibility)
   libsdl2-dev libsdl2-ttf-dev fonts-dejavu-core  # viewer and its HUD font
   libcmocka-dev                         # unit tests
   libegl-dev libepoxy-dev libgl1-mesa-dri libegl-mesa0  # softlight-gl on Mesa (llvmpipe)

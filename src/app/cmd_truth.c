@@ -4,12 +4,17 @@
  *
  *   softlight truth SCENE.json [--size WxH] [--g inv-lh2|one] [--cache FILE] [--pfm OUT.pfm]
  *                   [--parts DIR] [-o OUT.png] [--compare RENDER.pfm] [--threads N] [--shard I/N]
+ *                   [--visibility [--vis-level L]] [--lights]
  *
  * --shard I/N integrates only band I of N of the image rows and writes a partial file instead
  * of the outputs (app/shard.h); `softlight merge` joins the N partials into the same files.
  *
- * The truth is image-based light only (no point lights, no background: 0 outside the mask), so
- * compare it with `softlight render --no-lights --pfm`, of the same size and G term. It costs
+ * The truth is image-based light only by default (no point lights, no background: 0 outside the
+ * mask), so compare it with `softlight render --no-lights --pfm`, of the same size and G term;
+ * --lights adds the scene's point lights. By default every surface sees the whole environment
+ * (the lighting shader's assumption); --visibility traces the scene's triangles so that
+ * occluders shadow it (docs/ibl.md "Visibility"; needs a build with Embree), and leaves a
+ * scene's ambient occlusion (render.ao_radius) off, since it traces what that estimates. It costs
  * about 5.6 ms per covered pixel and core (a 1280x720 frame is hours): use a small --size, and
  * --cache so a second run is instant. Exit status: 0, or 2 on an error. */
 #include <stdio.h>
@@ -23,6 +28,7 @@
 #include "post/compare.h"
 #include "render/renderer.h"
 #include "shading/ground_truth_image.h"
+#include "shading/visibility.h"
 #include "shard.h"
 
 typedef struct {
@@ -94,6 +100,8 @@ int cmd_truth(int argc, char **argv)
                       g_given = {&given.set, SL_OPT_BIT(SL_OPT_GTERM)},
                       threads_given = {&given.set, SL_OPT_BIT(SL_OPT_THREADS)};
     const char *cache = NULL, *pfm = NULL, *parts = NULL, *png = NULL, *against = NULL, *shard_arg = NULL;
+    bool visibility = false, lights = false;
+    int vis_level = -1; /* not given */
     sl_shard shard = {0};
     /* --size, --g and --threads: the rendering options' rows of the option table (core/options.h) */
     const sl_option *size_opt = &sl_options[SL_OPT_SIZE], *g_opt = &sl_options[SL_OPT_GTERM];
@@ -119,6 +127,12 @@ int cmd_truth(int argc, char **argv)
          "integrate image rows band I of N only and write a partial file (softlight merge)", NULL},
         {"--partial", NULL, SL_ARG_STRING, &shard.partial, 0, 0, NULL, "FILE",
          "where --shard writes its partial (default: the first output + .shard-I-of-N)", NULL},
+        {"--visibility", NULL, SL_ARG_FLAG, &visibility, 0, 0, NULL, NULL,
+         "occluders shadow the environment (and --lights): rays traced against the scene (Embree)", NULL},
+        {"--vis-level", NULL, SL_ARG_INT, &vis_level, 0, SL_GT_VIS_LEVEL_MAX, NULL, "L",
+         "--visibility: one ray per 2^L x 2^L texels of the environment (default 3; 0 = one per texel)", NULL},
+        {"--lights", NULL, SL_ARG_FLAG, &lights, 0, 0, NULL, NULL,
+         "add the scene's point lights (render without --no-lights to compare)", NULL},
     };
     const int count = (int)(sizeof table / sizeof table[0]);
     const char *positional[1];
@@ -140,6 +154,17 @@ int cmd_truth(int argc, char **argv)
         fprintf(stderr, "softlight truth: %s\n", err.msg);
         return 2;
     }
+    if (visibility && !sl_visibility_available()) {
+        fprintf(stderr, "softlight truth: --visibility needs Embree 3, and this build has none "
+                        "(install libembree-dev and rebuild)\n");
+        return 2;
+    }
+    if (vis_level >= 0 && !visibility) {
+        fprintf(stderr, "softlight truth: --vis-level needs --visibility\n");
+        return 2;
+    }
+    if (vis_level < 0)
+        vis_level = SL_GT_VIS_LEVEL_DEFAULT;
     if (shard_arg && against) {
         fprintf(stderr, "softlight truth: --compare needs the whole image: merge the shards, then compare\n");
         return 2;
@@ -158,6 +183,10 @@ int cmd_truth(int argc, char **argv)
     sl_render_desc desc = {.options = given};
     /* no irradiance is needed: the truth integrates the environment itself */
     sl_option_set_specular_only(&desc.options, true);
+    /* traced visibility replaces the screen-space estimate of it: a scene's ambient occlusion
+     * (render.ao_radius, GTAO) would count the occluders twice */
+    if (visibility)
+        sl_option_set_ao_radius(&desc.options, 0.0f);
     sl_option_set_diffuse_only(&desc.options, false);
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};
@@ -181,18 +210,23 @@ int cmd_truth(int argc, char **argv)
     sl_gt_image_desc gd = {.env = &r.env, .gbuffer = &r.gbuffer, .eye = scene.camera.eye,
                            .env_rotation_deg = r.desc.lighting.env_rotation_deg,
                            .env_intensity = r.desc.lighting.env_intensity, .threads = threads, .cache_path = cache,
-                           .label = positional[0], .progress = on_progress, .progress_user = &p};
+                           .label = positional[0], .progress = on_progress, .progress_user = &p,
+                           .scene = &scene, .visibility = visibility, .visibility_level = vis_level,
+                           .lights = lights};
     if (!sl_gt_image_compute(&gt, &gd, &err) || !sl_gt_image_total(&gt, (sl_gt_geometry)gi, &total, &err))
         goto done;
     if (part > 0) /* one part instead of the sum */
         memcpy(total.data, part == 1 ? gt.diffuse.data : gt.specular[gi].data,
                (size_t)total.width * (size_t)total.height * 3 * sizeof(float));
-    printf("softlight truth: %s %dx%d, %ld covered pixels, G %s: %s\n", positional[0], gt.width, gt.height,
-           gt.covered, sl_gterm_name(gterm),
+    printf("softlight truth: %s %dx%d, %ld covered pixels, G %s%s%s: %s\n", positional[0], gt.width, gt.height,
+           gt.covered, sl_gterm_name(gterm), visibility ? ", visibility" : "", lights ? ", point lights" : "",
            gt.from_cache ? "read from the cache" : "integrated");
     if (!gt.from_cache)
         printf("  %.1f s (%.2f ms per covered pixel)\n", gt.seconds,
                gt.covered ? 1e3 * gt.seconds / (double)gt.covered : 0.0);
+    if (!gt.from_cache && visibility)
+        printf("  visibility level %d: %ld rays (%.0f per covered pixel), %ld pixels without a geometric normal\n",
+               vis_level, gt.rays, gt.covered ? (double)gt.rays / (double)gt.covered : 0.0, gt.ng_fallbacks);
     /* Every output into one set: replaced together once all were written, or none of them. */
     if (png && !(sl_tonemap_image(&total, &display, &r.desc.tonemap, threads, &err) &&
                  sl_output_set_image(&out, png, sl_image_encode_png, &display, &err)))

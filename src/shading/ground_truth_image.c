@@ -4,7 +4,11 @@
  * The per-pixel integral is sl_ground_truth_shade's loop (src/ibl/ground_truth.c) with one change: it
  * accumulates the specular sums for both G terms at once. Both loops use the same node table
  * (sl_ground_truth) and the same operations in the same order, so each G term's result is
- * the one sl_ground_truth_shade returns; test_ground_truth_image checks that. */
+ * the one sl_ground_truth_shade returns; test_ground_truth_image checks that.
+ *
+ * Visibility and point lights (the second half of "the integral"): the nodes regrouped by
+ * cell, one ray per cell, the same per-node terms (vis_add_node); test_visibility checks them
+ * against closed forms and, with nothing in the way, against the blind pass. */
 #include "ground_truth_image.h"
 
 #include <math.h>
@@ -17,6 +21,7 @@
 
 #include "../core/timer.h"
 #include "lighting_internal.h"
+#include "visibility.h"
 
 #define PI_D 3.14159265358979323846
 #define GT_IMAGE_MAGIC "softlight ground truth v1"
@@ -24,6 +29,8 @@
  * caches are recomputed rather than trusted. */
 #define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G; GGX alpha <= -1"
 #define GT_HEADER_MAX 4096
+/* Part of the key with visibility or lights only (the blind truth's key is left as it was). */
+#define GT_VIS_VERSION "visibility: one ray per cell at its nodes' centroid above both horizons, Ng from the eye ray; point lights as lighting.frag"
 
 
 /* ---- hashing: FNV-1a 64 (core/hash.h) ---- */
@@ -39,6 +46,7 @@ static uint64_t env_hash(const sl_env *env)
 static uint64_t gbuffer_hash(const sl_gbuffer *gb)
 {
     _Static_assert(sizeof(sl_gbuffer_texel) == 14 * sizeof(float), "G-buffer texel has no padding to hash");
+    _Static_assert(sizeof(sl_point_light) == 7 * sizeof(float), "a point light has no padding to hash");
     uint64_t h = sl_fnv1a(SL_FNV1A_START, &gb->width, sizeof gb->width);
     h = sl_fnv1a(h, &gb->height, sizeof gb->height);
     h = sl_fnv1a(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
@@ -47,19 +55,38 @@ static uint64_t gbuffer_hash(const sl_gbuffer *gb)
     return h;
 }
 
-static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, const sl_gt_image_desc *d)
+/* The geometry's hash when visibility is on (0 otherwise: then it is not part of the key). */
+static uint64_t vis_hash(const sl_gt_image_desc *d)
+{
+    return d->visibility && d->scene ? sl_visibility_scene_hash(d->scene) : 0;
+}
+
+static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, uint64_t vis_h, const sl_gt_image_desc *d)
 {
     uint64_t h = sl_fnv1a(SL_FNV1A_START, GT_IMAGE_VERSION, sizeof GT_IMAGE_VERSION);
     h = sl_fnv1a(h, &env_h, sizeof env_h);
     h = sl_fnv1a(h, &gb_h, sizeof gb_h);
     h = sl_fnv1a(h, &d->eye, sizeof d->eye);
     h = sl_fnv1a(h, &d->env_rotation_deg, sizeof d->env_rotation_deg);
-    return sl_fnv1a(h, &d->env_intensity, sizeof d->env_intensity);
+    h = sl_fnv1a(h, &d->env_intensity, sizeof d->env_intensity);
+    if (!d->visibility && !d->lights)
+        return h; /* the blind truth's key, as it always was */
+    h = sl_fnv1a_str(h, GT_VIS_VERSION);
+    const int settings[3] = {d->visibility, d->visibility ? d->visibility_level : -1, d->lights};
+    h = sl_fnv1a(h, settings, sizeof settings);
+    if (d->visibility)
+        h = sl_fnv1a(h, &vis_h, sizeof vis_h);
+    if (d->lights) {
+        h = sl_fnv1a(h, &d->scene->light_count, sizeof d->scene->light_count);
+        if (d->scene->light_count > 0)
+            h = sl_fnv1a(h, d->scene->lights, (size_t)d->scene->light_count * sizeof *d->scene->lights);
+    }
+    return h;
 }
 
 uint64_t sl_gt_image_key(const sl_gt_image_desc *desc)
 {
-    return combine_key(env_hash(desc->env), gbuffer_hash(desc->gbuffer), desc);
+    return combine_key(env_hash(desc->env), gbuffer_hash(desc->gbuffer), vis_hash(desc), desc);
 }
 
 /* ---- images ---- */
@@ -213,6 +240,305 @@ static void shade_texel(const sl_ground_truth *gt, const sl_gbuffer_texel *t, ve
     }
 }
 
+/* ---- visibility (docs/ibl.md "Visibility") ----
+ *
+ * The level-0 nodes regrouped by cell: cell (cx, cy) holds the texels of columns
+ * [cx S, cx S + S) and rows [cy S, cy S + S), S = 2^level (the last cells of a size that S does not
+ * divide are smaller), contiguous, each cell's in row-major order. A cell carries the normalised
+ * sum of its nodes' directions (dc) and the sine of its cone: every node w of the cell has
+ * w.dc >= cos(half), so a normal n with n.dc >= sin(half) has every node above its horizon and
+ * one with n.dc <= -sin(half) has none. */
+typedef struct {
+    size_t count;                      /* cells */
+    size_t *start;                     /* count + 1: cell c's nodes are [start[c], start[c + 1]) */
+    double *x, *y, *z, *r, *g, *b;     /* the nodes, regrouped */
+    double *cx, *cy, *cz, *sin_half;   /* per cell; sin_half 2 when the cone is not below 90 degrees */
+} vis_cells;
+
+static void vis_cells_free(vis_cells *c)
+{
+    free(c->start);
+    free(c->x);
+    free(c->cx);
+    memset(c, 0, sizeof *c);
+}
+
+static bool vis_cells_build(vis_cells *c, const sl_ground_truth *gt, int level, sl_error *err)
+{
+    memset(c, 0, sizeof *c);
+    const int S = 1 << level, W = gt->width, H = gt->height;
+    const int cw = (W + S - 1) / S, ch = (H + S - 1) / S;
+    c->count = (size_t)cw * (size_t)ch;
+    c->start = malloc((c->count + 1) * sizeof *c->start);
+    c->x = malloc(6 * gt->count * sizeof *c->x);
+    c->cx = malloc(4 * c->count * sizeof *c->cx);
+    if (!c->start || !c->x || !c->cx) {
+        vis_cells_free(c);
+        return sl_fail(err, SL_ERR_MEMORY, "ground truth: no memory for the visibility cells");
+    }
+    c->y = c->x + gt->count;
+    c->z = c->y + gt->count;
+    c->r = c->z + gt->count;
+    c->g = c->r + gt->count;
+    c->b = c->g + gt->count;
+    c->cy = c->cx + c->count;
+    c->cz = c->cy + c->count;
+    c->sin_half = c->cz + c->count;
+    size_t k = 0, cell = 0;
+    for (int gy = 0; gy < ch; gy++)
+        for (int gx = 0; gx < cw; gx++, cell++) {
+            c->start[cell] = k;
+            double sx = 0, sy = 0, sz = 0;
+            for (int y = gy * S; y < gy * S + S && y < H; y++)
+                for (int x = gx * S; x < gx * S + S && x < W; x++, k++) {
+                    size_t t = (size_t)y * (size_t)W + (size_t)x;
+                    c->x[k] = gt->x[t];
+                    c->y[k] = gt->y[t];
+                    c->z[k] = gt->z[t];
+                    c->r[k] = gt->r[t];
+                    c->g[k] = gt->g[t];
+                    c->b[k] = gt->b[t];
+                    sx += gt->x[t];
+                    sy += gt->y[t];
+                    sz += gt->z[t];
+                }
+            double len = sqrt(sx * sx + sy * sy + sz * sz);
+            double cos_min = 1.0;
+            if (len > 0.0) {
+                sx /= len;
+                sy /= len;
+                sz /= len;
+                for (size_t j = c->start[cell]; j < k; j++) {
+                    double wl = c->x[j] * c->x[j] + c->y[j] * c->y[j] + c->z[j] * c->z[j];
+                    if (!(wl > 0.5)) /* a node without a direction (weight 0) carries nothing */
+                        continue;
+                    double d = sx * c->x[j] + sy * c->y[j] + sz * c->z[j];
+                    cos_min = d < cos_min ? d : cos_min;
+                }
+            } else {
+                cos_min = -1.0;
+            }
+            c->cx[cell] = sx;
+            c->cy[cell] = sy;
+            c->cz[cell] = sz;
+            /* a margin over the rounding of the dots (the tests it serves are conservative) */
+            c->sin_half[cell] = cos_min > 0.0 ? sqrt(1.0 - cos_min * cos_min) + 1e-9 : 2.0;
+        }
+    c->start[cell] = k;
+    return true;
+}
+
+/* What one pixel's visibility pass shares. */
+typedef struct {
+    const vis_cells *cells;
+    const sl_visibility *vis;
+    const sl_scene *scene; /* point lights: NULL for none */
+    double cr, sr;         /* world -> environment: d_env = Rz(-rotation) d_world */
+} vis_frame;
+
+/* One lobe: shade_both's per-node terms, for unit environment-space n and v. */
+typedef struct {
+    double n[3], v[3], nv, alpha, d_norm, a2;
+    bool ggx;
+} vis_lobe;
+
+/* Node w (unit, environment space) with radiance-times-weight rgb into the sums: the operations of
+ * shade_both's loop body, in its order. */
+static inline void vis_add_node(const vis_lobe *l, double c, double wx, double wy, double wz, const double rgb[3],
+                                double dsum[3], double s0[2][3], double s1[2][3])
+{
+    for (int ch = 0; ch < 3; ch++)
+        dsum[ch] += c * rgb[ch];
+    double len2 = 2.0 + 2.0 * (l->v[0] * wx + l->v[1] * wy + l->v[2] * wz);
+    if (!(len2 > 1e-24))
+        return;
+    double len = sqrt(len2);
+    double nh = (c + l->nv) / len;
+    if (!(nh > 0.0))
+        return;
+    if (l->alpha * (1.0 - nh) > 746.0)
+        return;
+    double lh = 0.5 * len;
+    double k_one, k_inv;
+    if (l->ggx) {
+        k_one = k_inv = sl_ground_truth_ggx_dvis(nh, c, l->nv, l->a2) * c;
+    } else {
+        double base = 0.25 * l->d_norm * pow(nh, l->alpha);
+        k_one = base * 1.0 * c;
+        k_inv = base * (1.0 / (lh * lh)) * c;
+    }
+    double p = 1.0 - lh;
+    p = p > 0.0 ? p : 0.0;
+    double p5 = (p * p) * (p * p) * p;
+    for (int ch = 0; ch < 3; ch++) {
+        s0[0][ch] += k_inv * rgb[ch];
+        s1[0][ch] += k_inv * p5 * rgb[ch];
+        s0[1][ch] += k_one * rgb[ch];
+        s1[1][ch] += k_one * p5 * rgb[ch];
+    }
+}
+
+/* env -> world for a ray: d_world = Rz(rotation) d_env */
+static void to_world(const vis_frame *f, const double e[3], double w[3])
+{
+    w[0] = f->cr * e[0] - f->sr * e[1];
+    w[1] = f->sr * e[0] + f->cr * e[1];
+    w[2] = e[2];
+}
+
+/* The environment's part with visibility: sums over the nodes of the cells P sees. ng is the
+ * geometric normal in environment space, org the rays' origin (world). Returns the rays traced. */
+static long vis_environment(const vis_frame *f, const vis_lobe *l, const double ng[3], const double org[3],
+                            double dsum[3], double s0[2][3], double s1[2][3])
+{
+    const vis_cells *cl = f->cells;
+    long rays = 0;
+    for (size_t c = 0; c < cl->count; c++) {
+        const double sh = cl->sin_half[c];
+        const double dn = l->n[0] * cl->cx[c] + l->n[1] * cl->cy[c] + l->n[2] * cl->cz[c];
+        const double dg = ng[0] * cl->cx[c] + ng[1] * cl->cy[c] + ng[2] * cl->cz[c];
+        if (dn <= -sh || dg <= -sh)
+            continue; /* no node above one of the horizons */
+        const size_t t0 = cl->start[c], t1 = cl->start[c + 1];
+        double d[3] = {cl->cx[c], cl->cy[c], cl->cz[c]};
+        if (!(dn >= sh && dg >= sh)) { /* the cell straddles a horizon: the centroid of its part above both */
+            double sx = 0, sy = 0, sz = 0;
+            for (size_t t = t0; t < t1; t++) {
+                const double wx = cl->x[t], wy = cl->y[t], wz = cl->z[t];
+                if (l->n[0] * wx + l->n[1] * wy + l->n[2] * wz > 0.0 && ng[0] * wx + ng[1] * wy + ng[2] * wz > 0.0) {
+                    sx += wx;
+                    sy += wy;
+                    sz += wz;
+                }
+            }
+            double len = sqrt(sx * sx + sy * sy + sz * sz);
+            if (!(len > 0.0))
+                continue;
+            d[0] = sx / len;
+            d[1] = sy / len;
+            d[2] = sz / len;
+        }
+        double dw[3];
+        to_world(f, d, dw);
+        rays++;
+        if (sl_visibility_occluded(f->vis, org, dw, (double)INFINITY))
+            continue;
+        for (size_t t = t0; t < t1; t++) {
+            const double wx = cl->x[t], wy = cl->y[t], wz = cl->z[t];
+            double cn = l->n[0] * wx + l->n[1] * wy + l->n[2] * wz;
+            if (!(cn > 0.0))
+                continue;
+            if (!(ng[0] * wx + ng[1] * wy + ng[2] * wz > 0.0))
+                continue; /* behind the surface itself */
+            const double rgb[3] = {cl->r[t], cl->g[t], cl->b[t]};
+            vis_add_node(l, cn, wx, wy, wz, rgb, dsum, s0, s1);
+        }
+    }
+    return rays;
+}
+
+/* The scene's point lights as lighting.frag's point_light adds them: f color intensity / d^2
+ * (N.L)+, in double; with visibility (vis non-NULL) each times a shadow ray from org to the light,
+ * and 0 below the geometric horizon. Adds to diffuse and both specular planes. */
+static long add_point_lights(const vis_frame *f, const vis_lobe *l, vec3 p, const double *ng_world,
+                             const double org[3], const double kd[3], const double ks[3], float *diffuse,
+                             float *spec0, float *spec1)
+{
+    long rays = 0;
+    const sl_scene *sc = f->scene;
+    double d[3] = {0}, s0[2][3] = {{0}}, s1[2][3] = {{0}};
+    for (int i = 0; i < sc->light_count; i++) {
+        const sl_point_light *li = &sc->lights[i];
+        double tw[3] = {(double)li->position.x - (double)p.x, (double)li->position.y - (double)p.y,
+                        (double)li->position.z - (double)p.z};
+        double d2 = tw[0] * tw[0] + tw[1] * tw[1] + tw[2] * tw[2];
+        if (d2 < 1e-8) /* the shader's MIN_LIGHT_D2 */
+            continue;
+        double dist = sqrt(d2);
+        double lw[3] = {tw[0] / dist, tw[1] / dist, tw[2] / dist};
+        /* into the environment's frame, where n and v are */
+        double le[3] = {f->cr * lw[0] + f->sr * lw[1], -f->sr * lw[0] + f->cr * lw[1], lw[2]};
+        double c = l->n[0] * le[0] + l->n[1] * le[1] + l->n[2] * le[2];
+        if (!(c > 0.0))
+            continue;
+        if (ng_world) {
+            if (!(ng_world[0] * lw[0] + ng_world[1] * lw[1] + ng_world[2] * lw[2] > 0.0))
+                continue;
+            double to[3] = {(double)li->position.x - org[0], (double)li->position.y - org[1],
+                            (double)li->position.z - org[2]};
+            double td = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+            double dir[3] = {to[0] / td, to[1] / td, to[2] / td};
+            rays++;
+            if (sl_visibility_occluded(f->vis, org, dir, td * (1.0 - 1e-6)))
+                continue;
+        }
+        const double e = (double)li->intensity / d2;
+        const double rgb[3] = {(double)li->color.x * e, (double)li->color.y * e, (double)li->color.z * e};
+        vis_add_node(l, c, le[0], le[1], le[2], rgb, d, s0, s1);
+    }
+    for (int ch = 0; ch < 3; ch++) {
+        diffuse[ch] += (float)(kd[ch] / PI_D * d[ch]);
+        spec0[ch] += (float)(ks[ch] * s0[0][ch] + (1.0 - ks[ch]) * s1[0][ch]);
+        spec1[ch] += (float)(ks[ch] * s0[1][ch] + (1.0 - ks[ch]) * s1[1][ch]);
+    }
+    return rays;
+}
+
+/* shade_texel with visibility and/or point lights: the image-based part is the blind one (shade_texel)
+ * without visibility. Occlusion and emission (apply_extra) are applied here, before the point
+ * lights, as the shader orders them. */
+static long shade_texel_vis(const sl_ground_truth *gt, const vis_frame *f, const sl_gbuffer_texel *t,
+                            const sl_gbuffer_extra *extra, vec3 eye, double intensity, long *fallbacks,
+                            float *diffuse, float *spec0, float *spec1)
+{
+    vec3 V = normalize(sub(eye, t->position));
+    vec3 N = sl_shade_facing_normal(t->normal, V);
+    double nw[3], vw[3];
+    unit_d(N, nw);
+    unit_d(V, vw);
+    const double cr = f->cr, sr = f->sr;
+    vis_lobe l = {.n = {cr * nw[0] + sr * nw[1], -sr * nw[0] + cr * nw[1], nw[2]},
+                  .v = {cr * vw[0] + sr * vw[1], -sr * vw[0] + cr * vw[1], vw[2]}};
+    l.nv = l.n[0] * l.v[0] + l.n[1] * l.v[1] + l.n[2] * l.v[2];
+    float a = shade_lobe_param(t->alpha);
+    l.alpha = (double)a;
+    l.d_norm = (l.alpha + 2.0) / (2.0 * PI_D);
+    l.ggx = l.alpha < 0.0;
+    l.a2 = l.ggx ? sl_ground_truth_ggx_a2(-1.0 - l.alpha) : 0.0;
+    const double kd[3] = {(double)t->kd.x, (double)t->kd.y, (double)t->kd.z};
+    const double ks[3] = {(double)t->ks.x, (double)t->ks.y, (double)t->ks.z};
+    long rays = 0;
+    double ngw[3], org[3] = {0};
+    const double *ng_world = NULL;
+    if (f->vis) {
+        rays++;
+        if (!sl_visibility_surface(f->vis, eye, t->position, ngw)) {
+            (*fallbacks)++;
+            memcpy(ngw, nw, sizeof ngw);
+        }
+        ng_world = ngw;
+        const double off = sl_visibility_offset(f->vis, t->position);
+        org[0] = (double)t->position.x + off * ngw[0];
+        org[1] = (double)t->position.y + off * ngw[1];
+        org[2] = (double)t->position.z + off * ngw[2];
+        const double nge[3] = {cr * ngw[0] + sr * ngw[1], -sr * ngw[0] + cr * ngw[1], ngw[2]};
+        double dsum[3] = {0}, s0[2][3] = {{0}}, s1[2][3] = {{0}};
+        rays += vis_environment(f, &l, nge, org, dsum, s0, s1);
+        for (int ch = 0; ch < 3; ch++) {
+            diffuse[ch] = (float)(intensity * kd[ch] / PI_D * dsum[ch]);
+            spec0[ch] = (float)(intensity * (ks[ch] * s0[0][ch] + (1.0 - ks[ch]) * s1[0][ch]));
+            spec1[ch] = (float)(intensity * (ks[ch] * s0[1][ch] + (1.0 - ks[ch]) * s1[1][ch]));
+        }
+    } else {
+        shade_texel(gt, t, eye, cr, sr, intensity, diffuse, spec0, spec1);
+    }
+    if (extra)
+        apply_extra(extra, diffuse, spec0, spec1);
+    if (f->scene)
+        rays += add_point_lights(f, &l, t->position, ng_world, org, kd, ks, diffuse, spec0, spec1);
+    return rays;
+}
+
 static bool check_inputs(const sl_gt_image_desc *d, sl_error *err)
 {
     if (!d->env || d->env->level_count < 1)
@@ -222,6 +548,14 @@ static bool check_inputs(const sl_gt_image_desc *d, sl_error *err)
         return sl_fail(err, SL_ERR_RANGE, "ground truth image: empty G-buffer");
     if (!finite3(d->eye))
         return sl_fail(err, SL_ERR_RANGE, "ground truth image: eye not finite");
+    if ((d->visibility || d->lights) && !d->scene)
+        return sl_fail(err, SL_ERR_RANGE, "ground truth image: visibility and point lights need the scene");
+    if (d->visibility && (d->visibility_level < 0 || d->visibility_level > SL_GT_VIS_LEVEL_MAX))
+        return sl_fail(err, SL_ERR_RANGE, "ground truth image: visibility level %d, must be in 0..%d",
+                       d->visibility_level, SL_GT_VIS_LEVEL_MAX);
+    if (d->visibility && !sl_visibility_available())
+        return sl_fail(err, SL_ERR_RANGE, "--visibility needs Embree 3, and this build has none "
+                       "(install libembree-dev and rebuild)");
     if (!isfinite(d->env_intensity) || d->env_intensity < 0.0f || !isfinite(d->env_rotation_deg))
         return sl_fail(err, SL_ERR_RANGE, "ground truth image: intensity %g / rotation %g not usable",
                        (double)d->env_intensity, (double)d->env_rotation_deg);
@@ -258,23 +592,54 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
     long done = 0;
     double t0 = sl_now_seconds();
     int nthreads = d->threads > 0 ? d->threads : omp_get_max_threads();
+    /* visibility and point lights: the scene's triangles and the regrouped nodes */
+    const bool extended = d->visibility || d->lights;
+    vis_cells cells = {0};
+    vis_frame vf = {.cells = &cells, .scene = d->lights ? d->scene : NULL, .cr = cr, .sr = sr};
+    sl_visibility *vis = NULL;
+    if (d->visibility) {
+        vis = sl_visibility_create(d->scene, nthreads, err);
+        if (!vis || !vis_cells_build(&cells, &gt, d->visibility_level, err)) {
+            sl_visibility_free(vis);
+            sl_ground_truth_free(&gt);
+            return false;
+        }
+        vf.vis = vis;
+    }
+    long rays = 0, fallbacks = 0;
     /* Rows are independent: each writes its own row of every plane. Thread 0 is the calling
      * thread and reports progress after each row it finishes. */
+    /* the ray counts are summed with atomics, not a reduction clause: clang implements that with
+     * a named critical section, a global symbol the library would export (tests/cli/exports.sh) */
 #pragma omp parallel for schedule(dynamic, 1) num_threads(nthreads)
     for (int y = 0; y < h; y++) {
         const int row = h - 1 - y; /* image row 0 = top = G-buffer row h - 1 */
-        long row_done = 0;
+        long row_done = 0, row_rays = 0, row_fallbacks = 0;
         for (int x = 0; x < w; x++) {
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
             if (!sl_gbuffer_covered(t))
                 continue;
             sl_image_pixel(&out->mask, x, row)[0] = 1.0f;
+            if (extended) {
+                row_rays += shade_texel_vis(&gt, &vf, t, gb->extra ? &gb->extra[t - gb->texels] : NULL, eye,
+                                            intensity, &row_fallbacks, sl_image_pixel(&out->diffuse, x, row),
+                                            sl_image_pixel(&out->specular[0], x, row),
+                                            sl_image_pixel(&out->specular[1], x, row));
+                row_done++;
+                continue;
+            }
             shade_texel(&gt, t, eye, cr, sr, intensity, sl_image_pixel(&out->diffuse, x, row),
                         sl_image_pixel(&out->specular[0], x, row), sl_image_pixel(&out->specular[1], x, row));
             if (gb->extra)
                 apply_extra(&gb->extra[t - gb->texels], sl_image_pixel(&out->diffuse, x, row),
                             sl_image_pixel(&out->specular[0], x, row), sl_image_pixel(&out->specular[1], x, row));
             row_done++;
+        }
+        if (extended) {
+#pragma omp atomic
+            rays += row_rays;
+#pragma omp atomic
+            fallbacks += row_fallbacks;
         }
         long now;
 #pragma omp atomic capture
@@ -283,8 +648,12 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
             d->progress(d->progress_user, now, total);
     }
     out->seconds = sl_now_seconds() - t0;
+    out->rays = rays;
+    out->ng_fallbacks = fallbacks;
     if (d->progress)
         d->progress(d->progress_user, total, total);
+    vis_cells_free(&cells);
+    sl_visibility_free(vis);
     sl_ground_truth_free(&gt);
     return true;
 }
@@ -313,7 +682,7 @@ static float get_f32(const unsigned char *p)
 static size_t payload_floats(int w, int h) { return (size_t)w * (size_t)h * 10; }
 
 static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint64_t env_h, uint64_t gb_h,
-                        sl_error *err)
+                        uint64_t vis_h, sl_error *err)
 {
     char header[GT_HEADER_MAX], label[1024];
     /* one line: a newline in the label would end the header field early */
@@ -322,6 +691,11 @@ static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint6
         if (*p == '\n' || *p == '\r')
             *p = ' ';
     const sl_env_level *l0 = &d->env->levels[0];
+    char extended[512] = ""; /* only with visibility or point lights: the blind header is as it was */
+    if (d->visibility || d->lights)
+        snprintf(extended, sizeof extended, "visibility %s level %d geometry fnv1a64 %016llx rays %ld\n"
+                 "point_lights %d\n%s\n", d->visibility ? "on" : "off", d->visibility ? d->visibility_level : -1,
+                 (unsigned long long)vis_h, img->rays, d->lights ? d->scene->light_count : 0, GT_VIS_VERSION);
     int n = snprintf(header, sizeof header,
                      GT_IMAGE_MAGIC "\n"
                      "label %s\n"
@@ -333,6 +707,7 @@ static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint6
                      "rotation_deg %.9g\n"
                      "intensity %.9g\n"
                      "integrator %s\n"
+                     "%s"
                      "seconds %.1f\n"
                      "planes diffuse specular-inv-lh2 specular-one (RGB) mask (1), float32 little endian, "
                      "row 0 = top\n"
@@ -341,7 +716,7 @@ static bool write_cache(const sl_gt_image *img, const sl_gt_image_desc *d, uint6
                      label, img->width, img->height, img->covered, l0->width, l0->height,
                      (unsigned long long)env_h, (unsigned long long)gb_h, (double)d->eye.x, (double)d->eye.y,
                      (double)d->eye.z, (double)d->env_rotation_deg, (double)d->env_intensity, GT_IMAGE_VERSION,
-                     img->seconds, (unsigned long long)img->key);
+                     extended, img->seconds, (unsigned long long)img->key);
     if (n < 0 || (size_t)n >= sizeof header)
         return sl_fail(err, SL_ERR_RANGE, "%s: ground-truth header too long (label?)", d->cache_path);
     size_t px = (size_t)img->width * (size_t)img->height;
@@ -424,8 +799,8 @@ bool sl_gt_image_compute(sl_gt_image *out, const sl_gt_image_desc *desc, sl_erro
     memset(out, 0, sizeof *out);
     if (!check_inputs(desc, err))
         return false;
-    uint64_t env_h = env_hash(desc->env), gb_h = gbuffer_hash(desc->gbuffer);
-    uint64_t key = combine_key(env_h, gb_h, desc);
+    uint64_t env_h = env_hash(desc->env), gb_h = gbuffer_hash(desc->gbuffer), vis_h = vis_hash(desc);
+    uint64_t key = combine_key(env_h, gb_h, vis_h, desc);
     if (desc->cache_path && read_cache(out, desc, key)) {
         if (desc->progress)
             desc->progress(desc->progress_user, out->covered, out->covered);
@@ -436,7 +811,7 @@ bool sl_gt_image_compute(sl_gt_image *out, const sl_gt_image_desc *desc, sl_erro
         return false;
     }
     out->key = key;
-    if (desc->cache_path && !write_cache(out, desc, env_h, gb_h, err)) {
+    if (desc->cache_path && !write_cache(out, desc, env_h, gb_h, vis_h, err)) {
         sl_gt_image_free(out);
         return false;
     }

@@ -10,7 +10,9 @@
  * Produces: diffuse and specular radiance images, ROW 0 = TOP like the lighting stage's output,
  * 0 where nothing is drawn, the specular for BOTH G terms (1/(L.H)^2 and 1) from one pass over
  * the texels (the second G costs one more multiply-add per texel, not a second pass), and the
- * coverage mask. Image-based light only: no point lights, no background.
+ * coverage mask. Image-based light only unless `lights` adds the scene's point lights; no
+ * background. Blind by default, as the lighting shader is: every surface sees the whole
+ * environment; `visibility` traces the scene's triangles (visibility.h) so occluders shadow it.
  *
  * Per pixel it integrates what the shader shades: V = normalize(eye - P) and N =
  * facing_normal(normal, V) computed in float exactly as lighting.frag does (a normal facing away
@@ -19,7 +21,8 @@
  *
  * Cache: one file, a text header a person can read with `head` (what made it: label, sizes,
  * hashes of the environment's level 0 and of every G-buffer texel, eye, rotation, intensity,
- * the integrator version, and `key`, the FNV-1a 64 hash of all of those), then "data\n" and
+ * the integrator version; with visibility or lights also their settings, the hash of the
+ * world-space triangles and the lights; and `key`, the FNV-1a 64 hash of all of those), then "data\n" and
  * the planes as little-endian float32. A cache file is used only when its key and size equal
  * those of the request; anything else is recomputed and the file rewritten (atomically).
  *
@@ -37,6 +40,7 @@
 #include "../ibl/ground_truth.h"
 #include "../ibl/ibl.h"
 #include "../raster/gbuffer.h"
+#include "../scene/scene.h"
 
 /* Pixels done of `total` (covered pixels); called from the calling thread, the last call
  * with done == total. */
@@ -53,7 +57,21 @@ typedef struct {
     const char *label;         /* recorded in the cache header (e.g. the scene file); may be NULL */
     sl_gt_progress_fn progress; /* may be NULL */
     void *progress_user;
+    /* Visibility (docs/ibl.md "Visibility"): each environment node's contribution times whether
+     * P sees its direction past the scene's triangles (visibility.h), traced once per cell of
+     * 2^visibility_level x 2^visibility_level level-0 texels at the centroid of the cell's nodes
+     * that lie above both horizons (N's and the geometric normal's); nodes below the geometric
+     * horizon are unseen. Off: the blind integral above, byte for byte. */
+    const sl_scene *scene;      /* the occluders and point lights; required with visibility or lights */
+    bool visibility;
+    int visibility_level;       /* 0 .. SL_GT_VIS_LEVEL_MAX */
+    /* The scene's point lights added as lighting.frag adds them (not scaled by the occlusion
+     * map), each times a shadow ray to the light with visibility. Off: image-based light only. */
+    bool lights;
 } sl_gt_image_desc;
+
+#define SL_GT_VIS_LEVEL_DEFAULT 3
+#define SL_GT_VIS_LEVEL_MAX 6
 
 typedef struct {
     int width, height;
@@ -64,6 +82,9 @@ typedef struct {
     uint64_t key;         /* hash of every input (what the cache is keyed on) */
     bool from_cache;
     double seconds;       /* integration time (0 when read from the cache) */
+    long rays;            /* visibility: rays traced (eye rays for Ng included; 0 from the cache) */
+    long ng_fallbacks;    /* visibility: covered pixels whose eye ray hit nothing, so the shading
+                             normal stood in for the geometric one */
 } sl_gt_image;
 
 /* Read the cache when it matches, else integrate (and write the cache when a path is given).

@@ -1,0 +1,181 @@
+#!/usr/bin/env bash
+# visibility-error.sh - the error that ignoring visibility adds to softlight's renders: each
+# scene's render (the default estimator, the most accurate sampling mode, and that mode with the
+# renderer's screen-space ambient occlusion, --ao-radius 1) compared with the
+# blind ground truth (`softlight truth`, every surface sees the whole environment, as the
+# renderer assumes) and with the visibility-aware one (`softlight truth --visibility`, occluders
+# traced with Embree); for scenes with point lights also the render with its lights against
+# `truth --lights` and `truth --lights --visibility` (shadow rays). Then the visibility
+# quadrature's own error: the first scene's truth at --vis-level 3 (the default) and 2 against
+# --vis-level 1. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
+# kept in docs/accuracy/visibility.md, which bench/speed-vs-error.sh appends to the report it
+# rewrites) and prints the tables; --no-doc leaves docs/ alone (tables in out/visibility-error/).
+#
+#   bash bench/visibility-error.sh [BUILD_DIR] [--size WxH] [--scenes bunny,pbr,...] [--threads N]
+#                                  [--no-levels] [--no-doc]
+#
+# Truths are cached in out/visibility-error/ (a rerun with unchanged inputs integrates nothing).
+# Figures per comparison from `softlight truth --compare`: nRMSE (RMSE over the covered pixels
+# divided by the truth's RMS, linear radiance) and the share of pixels more than 1/255 off after
+# the scene's tone map. About an hour for the default set at 160x90 on 2 loaded cores, nearly all
+# of it the truths (2-6 minutes each; a visibility truth costs about 1.1x a blind one in CPU time).
+set -euo pipefail
+cd "$(dirname "$0")/.."
+BUILD=build
+if [ $# -gt 0 ] && [ "${1#--}" = "$1" ]; then BUILD=$1; shift; fi
+SIZE=160x90
+SCENES=bunny,pbr,model,textured,top-down,grazing,city-sun
+THREADS=2
+LEVELS=1
+DOC=1
+while [ $# -gt 0 ]; do
+    case $1 in
+    --size) SIZE=$2; shift 2 ;;
+    --scenes) SCENES=$2; shift 2 ;;
+    --threads) THREADS=$2; shift 2 ;;
+    --no-levels) LEVELS=0; shift ;;
+    --no-doc) DOC=0; shift ;;
+    *) echo "visibility-error.sh: unknown option $1" >&2; exit 2 ;;
+    esac
+done
+SL=$BUILD/softlight
+OUT=out/visibility-error
+mkdir -p "$OUT"
+BEST="--estimator mf --lod pdf --distortion -n 256"
+AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
+
+# truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
+truth() {
+    local name=$1 scene=$2; shift 2
+    "$SL" truth "$scene" --size "$SIZE" --threads "$THREADS" --cache "$OUT/$name.gt" --pfm "$OUT/$name.pfm" "$@" \
+        >"$OUT/$name.txt" 2>/dev/null
+}
+# seconds NAME: how long the cached truth NAME took to integrate (its cache header's line)
+seconds() { head -c 3000 "$OUT/$1.gt" | sed -n 's/^seconds //p' | head -1; }
+# rays NAME: rays per covered pixel of the cached truth NAME (its header: rays and covered pixels)
+rays() {
+    head -c 3000 "$OUT/$1.gt" | awk '/^covered /{c=$2} /^visibility /{for(i=1;i<NF;i++) if($i=="rays") r=$(i+1)}
+        END{if(c>0 && r>0) printf "%.0f", r/c}'
+}
+# ratio A B: A / B to one decimal ("-" when B is 0 or missing)
+ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b + 0 > 0) printf "%.1fx", a / b; else printf "-" }'; }
+# figures SCENE RENDER.pfm TRUTH_NAME TRUTH_OPTIONS...: "nrmse|share over 1/255" of RENDER against it
+figures() {
+    local scene=$1 render=$2 name=$3; shift 3
+    "$SL" truth "$scene" --size "$SIZE" --threads "$THREADS" --cache "$OUT/$name.gt" --compare "$render" "$@" 2>/dev/null |
+        sed -n 's/.*nrmse \([0-9.]*\),.*>1\/255 \([0-9.]*%\),.*/\1|\2/p'
+}
+
+table=$OUT/table.md
+{
+    echo "| scene | render | nRMSE vs blind truth | >1/255 vs blind | nRMSE vs visibility truth | >1/255 vs visibility | nRMSE ratio | blind truth s | visibility truth s |"
+    echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
+} >"$table"
+IFS=, read -r -a scenes <<<"$SCENES"
+for s in "${scenes[@]}"; do
+    scene=scenes/$s.json
+    echo "visibility-error: $s" >&2
+    truth "$s-blind" "$scene"
+    truth "$s-vis" "$scene" --visibility
+    tb=$(seconds "$s-blind"); tv=$(seconds "$s-vis")
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights --pfm "$OUT/$s-default.pfm" -q
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST --pfm "$OUT/$s-best.pfm" -q
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO --pfm "$OUT/$s-best-ao.pfm" -q
+    for variant in default best best-ao; do
+        case $variant in
+        default) label="default" ;;
+        best) label="mf pdf+dist N256" ;;
+        *) label="mf pdf+dist N256, --ao-radius 1" ;;
+        esac
+        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
+        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
+        echo "| $s | $label | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | ${tb:--} | ${tv:--} |" >>"$table"
+    done
+    if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
+        # with the scene's point lights: shadow rays to them
+        truth "$s-blind-lights" "$scene" --lights
+        truth "$s-vis-lights" "$scene" --lights --visibility
+        "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --pfm "$OUT/$s-lights.pfm" -q
+        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-blind-lights" --lights)"
+        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-vis-lights" --lights --visibility)"
+        echo "| $s | default, point lights on | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | $(seconds "$s-blind-lights") | $(seconds "$s-vis-lights") |" >>"$table"
+    fi
+done
+
+if [ "$LEVELS" = 1 ]; then # the quadrature's own error, on the first scene
+    s=${scenes[0]}
+    scene=scenes/$s.json
+    {
+        echo
+        echo "| scene | --vis-level | rays per covered pixel | seconds | nRMSE vs --vis-level 1 | >1/255 vs --vis-level 1 |"
+        echo "|---|---:|---:|---:|---:|---:|"
+    } >>"$table"
+    for level in 1 2; do truth "$s-vis-L$level" "$scene" --visibility --vis-level $level; done
+    for level in 3 2; do
+        name=$s-vis-L$level
+        [ $level = 3 ] && name=$s-vis
+        rays=$(rays "$name")
+        secs=$(seconds "$name")
+        IFS='|' read -r n o <<<"$(figures "$scene" "$OUT/$name.pfm" "$s-vis-L1" --visibility --vis-level 1)"
+        echo "| $s | $level | ${rays:--} | ${secs:--} | $n | $o |" >>"$table"
+    done
+    rays=$(rays "$s-vis-L1")
+    secs=$(seconds "$s-vis-L1")
+    echo "| $s | 1 | ${rays:--} | ${secs:--} | 0 | 0% |" >>"$table"
+fi
+cat "$table"
+[ "$DOC" = 1 ] || exit 0
+
+# the section of docs/accuracy.md: text, the command, the tables
+section=docs/accuracy/visibility.md
+mkdir -p docs/accuracy
+{
+    echo "<!-- visibility:begin (bench/visibility-error.sh writes this section; do not edit by hand) -->"
+    echo "## Visibility: the error of ignoring it"
+    echo
+    echo "Generated by \`bash bench/visibility-error.sh $BUILD --size $SIZE --scenes $SCENES\` on $(date -u +%Y-%m-%d)"
+    echo "($(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end)."
+    echo
+    cat <<'TEXT'
+The renderer lets every surface see the whole environment; the blind truth (every figure above)
+does the same, so the sweep measures the estimator alone. `softlight truth --visibility` traces the
+scene's triangles (docs/ibl.md "Visibility"): each render below is compared with both, over the
+covered pixels at the size above, image-based light only (`render --no-lights`) except the
+"point lights on" rows (`render` with the scene's lights against `truth --lights`, shadow rays to
+the lights with `--visibility`). `default` is `softlight render` with the scene's settings (the
+specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--estimator mf --lod pdf --distortion
+-n 256`, whose error against the blind truth is nearly all bias-free noise; `--ao-radius 1` adds
+the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient
+occlusion"), the estimate of visibility it has. nRMSE: RMSE over the
+covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
+pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
+difference between the two columns of one row is the error that ignoring visibility adds (the
+ratio: nRMSE against the visibility truth over nRMSE against the blind one); the plain `mf` rows show
+it nearly alone, since their error against the blind truth is small. Truth seconds: wall time
+of the integration on the loaded machine (cache header), not CPU time. In `textured` the
+alpha-masked leaf shadows as its whole quad (docs/ibl.md "Visibility": masks occlude as opaque).
+
+TEXT
+    sed -n '1,/^$/p' "$table" | sed '/^$/d'
+    if [ "$LEVELS" = 1 ]; then
+        echo
+        echo "The visibility quadrature's own error: the visibility truth of ${scenes[0]} at the default"
+        echo "\`--vis-level 3\` (8x8 texels per ray) and at 2 against \`--vis-level 1\` (2x2 texels per ray),"
+        echo "the same figures (the renders' error against the truth is far above it):"
+        echo
+        sed -n '/--vis-level/,$p' "$table"
+    fi
+    echo "<!-- visibility:end -->"
+} >"$section"
+# replace the section in docs/accuracy.md (or append it)
+python3 - docs/accuracy.md "$section" <<'PY'
+import re, sys
+doc, sec = sys.argv[1], open(sys.argv[2]).read()
+text = open(doc).read()
+pat = re.compile(r'<!-- visibility:begin.*?<!-- visibility:end -->\n', re.S)
+text = pat.sub(lambda m: sec, text) if pat.search(text) else text.rstrip('\n') + '\n\n' + sec
+open(doc, 'w').write(text)
+PY
+echo "wrote $section and its section in docs/accuracy.md" >&2
