@@ -1,7 +1,9 @@
 /* gtao.c - ground-truth-based ambient occlusion over the G-buffer (the method and its limits:
- * gtao.h). Rows are independent, so threads take rows; each pixel reads at most
- * 2 * SL_GTAO_SLICES * SL_GTAO_STEPS texels around it, all within SL_GTAO_MAX_SCREEN of the image
- * height, which keeps the reads in cache as the rows advance. */
+ * gtao.h). Three passes, rows to threads in each: the tangent planes of the half-resolution grid
+ * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
+ * reads each, all within SL_GTAO_MAX_SCREEN of the image height), and each texel's blurred value
+ * multiplied into its occlusion (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
+ * in the same order. */
 #include "gtao.h"
 
 #include <math.h>
@@ -11,8 +13,8 @@
 
 #include "core/threads.h"
 
-/* The 4x4 ordered-dither matrix: each pixel of a 4x4 block turns its slices and shifts its steps
- * by a different 16th, and the blur over the block (blur_row) averages the 16 back into one
+/* The 4x4 ordered-dither matrix: each sample of a 4x4 block turns its slices and shifts its steps
+ * by a different 16th, and the blur over the block (blurred) averages the 16 back into one
  * estimate with 16 x SL_GTAO_SLICES directions: banding traded for noise the blur removes. */
 static const unsigned char bayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9, 15, 7, 13, 5};
 #define GTAO_PATTERN 16
@@ -24,7 +26,7 @@ typedef struct {
     float pixels_per_unit; /* screen radius (pixels) of one world unit at view depth 1 */
     float radius, radius2;
     float max_pixels;
-    /* the slices' screen directions for each of the 16 turns */
+    /* cos and sin of each slice's angle about V, for each of the 16 turns */
     float dir_x[GTAO_PATTERN][SL_GTAO_SLICES], dir_y[GTAO_PATTERN][SL_GTAO_SLICES];
 } gtao_frame;
 
