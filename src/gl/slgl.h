@@ -143,6 +143,9 @@ typedef struct {
     GLuint ubo;            /* HammersleyBlock */
     GLuint splitsum_phong, splitsum_ggx, splitsum_lut; /* --estimator splitsum (0 otherwise) */
     int splitsum_levels;   /* the chains' level count */
+    GLuint env_dist, env_dist_marginal; /* --estimator mis: uEnvDist, uEnvDistMarginal (0 otherwise) */
+    const sl_env_dist *env_dist_source; /* the distribution they hold, uploaded by the first draw
+                              that asks for it (slgl_lighting_draw); NULL after a new environment */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);

@@ -82,6 +82,27 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
     return true;
 }
 
+/* The MIS estimator's distribution of what the samples read (the residual when there are env
+ * lights), when the estimator asks for it (`estimator` as update_splitsum's); rebuilt when the
+ * environment or the env lights change, never per frame. */
+static bool update_env_dist(sl_renderer *r, sl_estimator estimator, sl_error *err)
+{
+    sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
+    if (estimator != SL_ESTIMATOR_DEFAULT)
+        o.estimator = estimator;
+    int lights = o.env_lights > 0 ? r->env_lights_built : 0;
+    if (o.estimator != SL_ESTIMATOR_MIS || r->env_dist_built == lights)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_dist_free(&r->env_dist);
+    r->env_dist_built = -1;
+    if (!sl_env_dist_build(&r->env_dist, lights > 0 ? &r->env_lights.residual : &r->env, err))
+        return false;
+    r->env_dist_built = lights;
+    r->timings.env_dist_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
 {
     *phong = *ggx = false;
@@ -198,6 +219,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->desc = *desc;
     r->env_oct_built = -1;
     r->splitsum_built = -1;
+    r->env_dist_built = -1;
     sl_render_desc *d = &r->desc;
     if (!sl_render_desc_resolve(d, scene, err))
         return false;
@@ -212,7 +234,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
     /* per environment: not in a frame's time */
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, SL_ESTIMATOR_DEFAULT, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, SL_ESTIMATOR_DEFAULT, err) ||
+        !update_env_dist(r, SL_ESTIMATOR_DEFAULT, err))
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {
@@ -237,6 +260,7 @@ void sl_renderer_free(sl_renderer *r)
     sl_env_free(&r->splitsum_phong);
     sl_env_free(&r->splitsum_ggx);
     free(r->splitsum_lut);
+    sl_env_dist_free(&r->env_dist);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
@@ -281,6 +305,8 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_free(&r->splitsum_phong); /* prefiltered from the old one: likewise */
     sl_env_free(&r->splitsum_ggx);
     r->splitsum_built = -1;
+    sl_env_dist_free(&r->env_dist); /* the old one's: likewise */
+    r->env_dist_built = -1;
     r->env_repairs = repairs;
     return true;
 }
@@ -354,7 +380,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     if (!cam)
         cam = &r->scene->camera;
     sl_estimator estimator = frame ? frame->estimator : SL_ESTIMATOR_DEFAULT;
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
+        !update_env_dist(r, estimator, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -381,6 +408,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .splitsum_phong = sl_renderer_splitsum_chain(r, false),
         .splitsum_ggx = sl_renderer_splitsum_chain(r, true),
         .splitsum_lut = r->splitsum_lut,
+        .env_dist = r->env_dist_built >= 0 ? &r->env_dist : NULL,
         .program = r->desc.lighting_program,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);

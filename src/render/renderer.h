@@ -10,7 +10,8 @@
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
  * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h), and for
  * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c), and for
- * --estimator splitsum its prefiltered chains (src/ibl/prefilter.c) and the BRDF's table.
+ * --estimator splitsum its prefiltered chains (src/ibl/prefilter.c) and the BRDF's table, for
+ * --estimator mis the environment's distribution (src/ibl/env_dist.h).
  * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
@@ -67,6 +68,7 @@ typedef struct {
     double env_oct_ms;    /* the octahedral chain of what the samples read (--env-layout oct) */
     double splitsum_ms;   /* --estimator splitsum: the prefiltered chains (the lobe sets the scene
                              uses) and the BRDF's table */
+    double env_dist_ms;   /* --estimator mis: the environment distribution (src/ibl/env_dist.h) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
 } sl_render_timings;
 
@@ -87,6 +89,9 @@ struct sl_renderer {
                                  per lobe width (src/ibl/prefilter.c); built on first use */
     int splitsum_built;       /* -1 = none, else the env lights count of what they were built from */
     sl_splitsum_lut *splitsum_lut; /* the BRDF's table (heap, 37 KB), built with the chains, once */
+    sl_env_dist env_dist;     /* --estimator mis: the distribution of what the samples read; built
+                                 on first use */
+    int env_dist_built;       /* -1 = none, else the env lights count of what it was built from */
     sl_raster *raster;
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;

@@ -47,6 +47,7 @@ static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
+static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -600,6 +601,16 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
+/* ======================== MIS ======================== */
+
+/* specular_mis for one pixel: the port's own (its samples are two strategies with a binary
+ * search and a texel lookup each, which the stages above do not have). */
+static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                        sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+}
+
 /* ======================== env lights ======================== */
 
 /* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
@@ -821,9 +832,9 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     if (u->uSpecular == 0)
         return vec3s(0.0f);
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
-    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM
-                        ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
-                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
+    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
+                    : u->uEstimator == ESTIMATOR_MIS    ? mis_samples(u, N, V, Ks, alpha, rotation, task, trace)
+                                                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
                                            vec3(p->Ax[i], p->Ay[i], p->Az[i]), p->B[i], p->pole[i], Ks, alpha,
                                            rotation, task, trace);
     if (u->uEnvLightCount > 0) {

@@ -47,6 +47,15 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
+/* GLSL specular_mis (the batched path runs it per pixel: lighting_batched.c says why), and its
+ * pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of level 0 */
+vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                           sl_lighting_task *task, sl_lighting_trace *trace);
+vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel);
+ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
+float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
+float sl_shade_mis_power(float p, float q);
+vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
@@ -272,6 +281,19 @@ static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_t
 {
     if (t)
         t->samples[k] = *s;
+}
+
+/* The MIS estimator ran: samples[k] is pair k's BRDF sample, env_samples[k] its environment one. */
+static inline void trace_mis(sl_lighting_trace *t)
+{
+    if (t)
+        t->mis = true;
+}
+
+static inline void trace_env_sample(sl_lighting_trace *t, int k, const sl_lighting_trace_sample *s)
+{
+    if (t)
+        t->env_samples[k] = *s;
 }
 
 /* The terms of main()'s sum: diffuse (with its irradiance), env lights (their exact part, inside
