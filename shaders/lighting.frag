@@ -751,7 +751,11 @@ float mis_power(float p, float q)
 // above the horizon, so the estimator converges to eq. (1) over the piecewise-constant map it reads
 // (level 0, no filter: the ground truth's integrand), with no mip level at all. A sun of a few
 // texels is drawn by the environment's samples at its own density (weight near 1 there), a sharp
-// lobe by the BRDF's. Contributes 0 where the BRDF does: w.N <= 0, V.H <= 0.
+// lobe by the BRDF's. Contributes 0 where the BRDF does: w.N <= 0, V.H <= 0. The environment's
+// draws shift xi.x (the radical inverse, which is 0 for pair 0) by half a stratum, 1/(2N) mod 1,
+// as xi.y = (k + 1/2)/N already is: unshifted, pair 0 always reads the first column of its row
+// (a dim texel beside a sun, drawn at its tiny density and then weighed away by the BRDF's
+// density): one wasted sample of N, -3% at N = 32 on a sun.
 vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
     float NdotV = dot(N, V);
@@ -759,6 +763,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
     int n = int(uHammersley.N);
+    float half_ = 0.5 / float(max(n, 1));
     vec3 sum = vec3(0.0);
     for (int k = 0; k < n; k++) {
         vec2 xi = hammersley_point(k);
@@ -782,7 +787,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
             sum = sum + F * Li * weight;
         }
         ivec2 te;
-        vec4 e = env_dist_sample(xi, te);
+        vec4 e = env_dist_sample(vec2(fract(xi.x + half_), xi.y), te);
         vec3 we = e.xyz;
         float weN = dot(we, N);
         vec3 He = normalize(we + V);

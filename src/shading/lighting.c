@@ -379,6 +379,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
     int n = (int)u->uHammersley.N;
+    float half_ = 0.5f / (float)(n > 1 ? n : 1);
     vec3 sum = vec3s(0.0f);
     int below = 0;
     trace_sample_frame(trace, N, V, A, B, axis.x == 1.0f, n, true);
@@ -416,7 +417,8 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                                                      .LdotH = VdotH, .D = D, .sum = sum});
         }
         ivec2 te;
-        vec4 e = env_dist_sample(u, xi, &te);
+        vec2 xe = vec2(fract(xi.x + half_), xi.y); /* C: named for the trace */
+        vec4 e = env_dist_sample(u, xe, &te);
         vec3 we = xyz(e);
         float weN = dot(we, N);
         vec3 He = normalize(add(we, V));
@@ -433,13 +435,13 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             vec3 c = scale(mul(F, Li), weight);
             sum = add(sum, c);
             trace_env_sample(trace, k,
-                             &(sl_lighting_trace_sample){.xi = xi, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
+                             &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
                                                          .F = F, .G = G, .Li = Li, .c = c, .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,
-                             &(sl_lighting_trace_sample){.xi = xi, .pdf = e.w, .w = we, .wN = weN, .H = He,
+                             &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .w = we, .wN = weN, .H = He,
                                                          .NdotH = NdotHe, .LdotH = LdotHe, .sum = sum});
         }
     }
