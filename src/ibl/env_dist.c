@@ -89,6 +89,24 @@ bool sl_env_dist_build(sl_env_dist *dist, const sl_env *env, sl_error *err)
     }
     free(row);
     free(cum);
+    const sl_env_level *l0 = &env->levels[0];
+    const size_t n0 = (size_t)l0->width * (size_t)l0->height;
+    if (n0 <= SL_ENV_PAIRS_MAX_TEXELS) {
+        dist->texel_pdf = malloc(4 * n0 * sizeof *dist->texel_pdf);
+        if (!dist->texel_pdf) {
+            sl_env_dist_free(dist);
+            return sl_fail(err, SL_ERR_MEMORY, "environment distribution: no memory for %dx%d", l0->width, l0->height);
+        }
+        for (int j = 0; j < l0->height; j++)
+            for (int i = 0; i < l0->width; i++) {
+                size_t k = (size_t)j * (size_t)l0->width + (size_t)i;
+                float *t = dist->texel_pdf + 4 * k;
+                t[0] = l0->texels[k].x;
+                t[1] = l0->texels[k].y;
+                t[2] = l0->texels[k].z;
+                t[3] = dist->density[(size_t)(j >> level) * (size_t)W + (size_t)(i >> level)];
+            }
+    }
     return true;
 }
 
@@ -99,5 +117,6 @@ void sl_env_dist_free(sl_env_dist *dist)
     free(dist->cdf);
     free(dist->density);
     free(dist->marginal);
+    free(dist->texel_pdf);
     memset(dist, 0, sizeof *dist);
 }

@@ -41,6 +41,9 @@ typedef struct {
     float *density;      /* W x H: the density in solid angle of directions in texel (i, j), per sr */
     float *marginal;     /* H: the CDF of the rows, marginal[H - 1] = 1 */
     double total;        /* sum of Y Omega over the grid (the normaliser; 0: the uniform sphere) */
+    float *texel_pdf;    /* the batched path's one read per direction: level-0 texel k's radiance
+                            and the density of its grid texel, (r, g, b, density) at 4 k; for
+                            chains of at most SL_ENV_PAIRS_MAX_TEXELS texels at level 0, else NULL */
 } sl_env_dist;
 
 /* Build the distribution of `env` (a lat-long chain). On failure *dist is empty. */

@@ -193,11 +193,23 @@ typedef struct {
     float cphi[SL_HAMMERSLEY_MAX], sphi[SL_HAMMERSLEY_MAX];
 } azimuth_table;
 
+/* The MIS estimator's environment samples with rotation off: the same N directions in every
+ * pixel (env_dist_sample of each shifted pair, the port's bits), their level-0 radiance times
+ * the intensity and their density. Structure of arrays for the batched path's vector loads. */
+typedef struct {
+    int n; /* 0 = not built */
+    float wx[SL_HAMMERSLEY_MAX], wy[SL_HAMMERSLEY_MAX], wz[SL_HAMMERSLEY_MAX];
+    float lr[SL_HAMMERSLEY_MAX], lg[SL_HAMMERSLEY_MAX], lb[SL_HAMMERSLEY_MAX];
+    float pe[SL_HAMMERSLEY_MAX];
+    float xe1[SL_HAMMERSLEY_MAX], xe2[SL_HAMMERSLEY_MAX]; /* the shifted pairs, for a trace */
+} env_sample_table;
+
 struct sl_lighting_task {
     const sl_lighting_uniforms *owner; /* the uniforms the tables were built from */
     int next;                          /* round-robin victim */
     lobe_table slots[SLOTS];
     azimuth_table azimuth;
+    env_sample_table env_samples;
     sl_lighting_stats stats;
 };
 
@@ -353,6 +365,10 @@ void sl_shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfa
 /* The table for alpha in the task's cache, built on a miss (the tables of the last SLOTS
  * distinct alphas are kept: scenes have few materials). */
 const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);
+/* The MIS environment samples, rotation off: the task's (built once per uniforms), or `local`
+ * filled when task is NULL. */
+const env_sample_table *sl_shade_env_samples_for(const sl_lighting_uniforms *u, sl_lighting_task *task,
+                                                 env_sample_table *local);
 /* The azimuth table: the task's (built once per uniforms), or `local` filled when task is NULL. */
 const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local);
 
