@@ -78,8 +78,9 @@
 //   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w)),
 //                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w)),
 //                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below)
-// MIS (uEstimator 5; src/ibl/env_dist.h): N samples drawn as the microfacet estimator's and N from
-// the environment's luminance, weighed by the power heuristic, radiance read at level 0 of
+// MIS (uEstimator 5; src/ibl/env_dist.h): per Hammersley pair one sample drawn as the microfacet
+// estimator's and one from the environment's luminance, weighed by the power heuristic (the host
+// builds HammersleyBlock with (N + 1) / 2 pairs for N samples), radiance read at level 0 of
 // uEnvResidual (lat-long only) with texelFetch, the texel that holds the direction:
 //   sampler2D uEnvDist        W x H RG32F, NEAREST: .r the conditional CDF of row j at column i,
 //                             .g the density (per sr) of directions in texel (i, j)
@@ -741,10 +742,11 @@ float mis_power(float p, float q)
     return 1.0 / (1.0 + r * r);
 }
 
-// Specular IBL by multiple importance sampling (uEstimator == 5): per Hammersley pair, one
+// Specular IBL by multiple importance sampling (uEstimator == 5): per Hammersley pair (the block
+// holds (N + 1) / 2 of them for the user's N samples: N samples in all, as the others), one
 // direction drawn as specular_microfacet draws it (density p_b(w) = D (N.H) / (4 V.H)) and one
 // from the environment (env_dist_sample, density p_e(w)); each adds f L (w.N) / p times its
-// power-heuristic weight p^2 / (p_b^2 + p_e^2), and the sum is divided by N:
+// power-heuristic weight p^2 / (p_b^2 + p_e^2), and the sum is divided by the pair count n:
 //   BRDF sample: F L G' (w.N)(V.H)/(N.H) mis_power(p_b, p_e)   (specular_microfacet's term)
 //   env sample:  F L D G' (w.N) / (4 p_e) mis_power(p_e, p_b)  (the BRDF (2) at w over p_e)
 // The weights of a direction sum to 1 over the two strategies, and the BRDF's draws reach every w

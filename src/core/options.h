@@ -76,7 +76,7 @@ typedef enum {
     SL_ESTIMATOR_SPLITSUM = 4,   /* no samples: the environment prefiltered per lobe width
                                     (src/ibl/prefilter.c) at R times a table of the BRDF's
                                     scale and bias (src/shading/splitsum_lut.h); N = V assumed */
-    SL_ESTIMATOR_MIS = 5,        /* N directions drawn from the BRDF (as mf) and N from the
+    SL_ESTIMATOR_MIS = 5,        /* N/2 directions drawn from the BRDF (as mf) and N/2 from the
                                     environment's own radiance (src/ibl/env_dist.h), each weighed
                                     by the power heuristic, lod 0: consistent, and the sun drawn
                                     where it is ("mis") */

@@ -648,9 +648,8 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
 /* specular_mis, batched, for one pixel (rotation off; with rotation on every pixel draws its own
  * pairs, and the port's loop runs). Per block of pairs: the BRDF's samples from the per-alpha
  * microfacet table through microfacet_directions (the microfacet estimator's stage (1)); their
- * level-0 texel and the environment's density there, one sample at a time through the port's
- * env_texel (libm's atan2 and acos: a direction reads the texel the port reads); their weights
- * and contributions vectorized. The environment's samples come from the task's table (the same
+ * level-0 texel through the fast lat-long map (vectorized), then the environment's radiance and
+ * density there, one packed read a sample; their weights and contributions vectorized. The environment's samples come from the task's table (the same
  * directions in every pixel): their BRDF, the BRDF's density and the weights vectorized, as
  * env_lights_samples evaluates a light (D through the fast log2/exp2 for Phong). The sum: per
  * block, the BRDF's samples then the environment's, in sample order (the port alternates; the
@@ -685,7 +684,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     const float I = u->uEnvIntensity;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     const float *packed = u->uEnvDist->texel_pdf;
-    const int w0 = u->uEnvResidual->levels[0].width;
+    const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
     sample_block blk;
     sample_block *b = &blk;
     float pe[BLOCK], mis_b[BLOCK], Lr[BLOCK], Lg[BLOCK], Lb[BLOCK];
@@ -718,18 +717,25 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         microfacet_directions(b, m, Lx, Ly, Lz, D, N, V, A, B, inv_lh2, ggx, a2);
         /* the BRDF's samples: texel, density and radiance, one at a time (one read of the
          * distribution's packed texels where it has them) */
-        ivec2 tex[BLOCK];
+        /* env_texel through the fast lat-long map (vectorized); a direction within rounding of a
+         * texel's edge may read its neighbour, where the port reads it */
+        int tx[BLOCK], ty[BLOCK];
+#pragma omp simd
         for (int i = 0; i < m; i++) {
-            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
-            below += !valid;
-            tex[i] = valid ? sl_shade_env_texel(u, vec3(b->wx[i], b->wy[i], b->wz[i])) : ivec2(-1, -1);
+            float tu, tv;
+            sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &tu, &tv);
+            int x = (int)(tu * (float)w0), y = (int)(tv * (float)h0);
+            tx[i] = x < w0 - 1 ? x : w0 - 1;
+            ty[i] = y < h0 - 1 ? y : h0 - 1;
         }
         /* the reads apart from the index arithmetic, so that their cache misses overlap */
         for (int i = 0; i < m; i++) {
-            ivec2 t = tex[i];
+            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
+            below += !valid;
+            ivec2 t = ivec2(tx[i], ty[i]);
             pe[i] = 0.0f;
             Lr[i] = Lg[i] = Lb[i] = 0.0f;
-            if (t.x < 0)
+            if (!valid)
                 continue;
             vec3 L;
             if (packed) {

@@ -66,7 +66,7 @@ static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting
 static void print_mis(FILE *f, const sl_lighting_trace *t)
 {
     fprintf(f,
-            "specular samples (MIS, N = %d pairs: a BRDF sample drawn as the microfacet estimator's and an env "
+            "specular samples (MIS, %d pairs: a BRDF sample drawn as the microfacet estimator's and an env "
             "sample from the environment distribution, power heuristic, level-0 texels, sum over both / N; %s)\n",
             t->sample_count, t->plain ? "plain port" : "batched path (the port's own loop)");
     fprintf(f, "  %4s %-4s %-17s %-26s %-8s %-10s %-10s %-8s %-10s %-8s %-26s %-26s %-26s\n", "k", "from", "xi", "w",

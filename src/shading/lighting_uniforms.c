@@ -114,8 +114,10 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
             return sl_fail(err, SL_ERR_RANGE, "lighting: the mis estimator asked for, but no environment distribution given");
     }
 
+    /* MIS splits its N samples into pairs: one from the BRDF and one from the environment per
+     * point of a set of (N + 1) / 2 (lighting.frag specular_mis) */
     sl_hammersley set;
-    if (!sl_hammersley_build(&set, o.samples, err))
+    if (!sl_hammersley_build(&set, mis ? (o.samples + 1) / 2 : o.samples, err))
         return false;
     sl_hammersley_pack_std140(&set, &u->uHammersley);
 

@@ -145,9 +145,12 @@ static void test_env_dist(void **state)
     assert_near(total, 1.0, 1e-5);
     assert_true(sun_p > 0.99); /* 1e4 on a few texels against 0.01 everywhere else */
 
-    sl_lighting_uniforms *u = mis_uniforms(&env, &dist, 1024, vec3(0, 0, 10), SL_ESTIMATOR_MIS);
+    sl_lighting_uniforms *u = mis_uniforms(&env, &dist, 2048 > SL_HAMMERSLEY_MAX ? SL_HAMMERSLEY_MAX : 2048,
+                                           vec3(0, 0, 10), SL_ESTIMATOR_MIS);
+    const int pairs = (int)u->uHammersley.N;
+    assert_int_equal(pairs, SL_HAMMERSLEY_MAX / 2); /* N samples: N / 2 pairs */
     int same = 0, on_sun = 0;
-    for (int k = 0; k < 1024; k++) {
+    for (int k = 0; k < pairs; k++) {
         ivec2 t;
         vec4 e = sl_shade_env_dist_sample(u, sl_shade_hammersley_point(u, k), &t);
         vec3 w = vec3(e.x, e.y, e.z);
@@ -157,8 +160,8 @@ static void test_env_dist(void **state)
         on_sun += sl_shade_env_texel_fetch(u, t).x > 1.0f;
         assert_true(e.w > 0.0f);
     }
-    assert_true(same >= 1014); /* all but draws on a texel edge, which rounding may put next door */
-    assert_near(on_sun / 1024.0, sun_p, 0.01);
+    assert_true(same >= pairs - pairs / 100); /* all but draws on a texel edge, which rounding may put next door */
+    assert_near(on_sun / (double)pairs, sun_p, 0.01);
     free(u);
     sl_env_dist_free(&dist);
     sl_env_free(&env);
@@ -212,8 +215,9 @@ static void test_env_dist_reduced(void **state)
 /* The error against the reference falls with N at the Monte Carlo rate or better: over the cases
  * (3 environments: constant (white furnace), a smooth sky, a sun of 1e4 on a few texels; Phong
  * 10, 100 and GGX 0.25, 0.5; N.V 1, 0.5, 0.15; Ks 0.04, 1) the RMS relative error at N = 16,
- * 64, 256, 1024 drops by at least 0.6 per step (N^-1/2 gives 0.5; measured 0.0244, 0.0074, 0.0019,
- * 0.00034: about N^-1, the Hammersley set's rate), below 1e-3 at N = 1024. The reference is
+ * 64, 256, 1024 (N / 2 pairs) drops by at least 0.6 per step (N^-1/2 gives 0.5; measured 0.045,
+ * 0.017, 0.0038, 0.00077: about N^-1, the Hammersley set's rate), below 1.5e-3 at N = 1024. The
+ * reference is
  * fine_specular (4 x 4 cells a texel, 8 x 8 with the sun): the ground truth's one node a texel errs
  * by about 1% on these lobes at 256 x 128 (printed), more than MIS at N = 1024. The microfacet
  * estimator at lod 0 is printed beside it on the sun: it finds the sun only by luck. */
@@ -278,7 +282,7 @@ static void test_mis_converges(void **state)
                   sqrt(sq_mis_sun / sun_cases), sqrt(sq_mf_sun / sun_cases));
     for (int j = 1; j < 4; j++)
         assert_true(rms[j] < 0.6 * rms[j - 1]);
-    assert_true(rms[3] < 1e-3);
+    assert_true(rms[3] < 1.5e-3);
     assert_true(sqrt(sq_mis_sun / sun_cases) < 0.2 * sqrt(sq_mf_sun / sun_cases));
     for (int e = 0; e < 3; e++) {
         sl_env_dist_free(&dists[e]);
@@ -290,8 +294,7 @@ static void test_mis_converges(void **state)
 
 /* A sun of 1e5 on a few texels in a sky of 0.01: glossy and rough lobes reflecting it, and a
  * rough lobe lit from the side. At N = 32 each is within 1.5% of the fine quadrature (8 x 8 cells a
- * texel for the sharp lobes), finite and positive (measured: -1.0% for GGX 0.1, 0.2% or less for
- * the others). */
+ * texel for the sharp lobes), finite and positive (measured: 0.4% or less). */
 static void test_hard_sun(void **state)
 {
     (void)state;
