@@ -694,34 +694,37 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     int below = 0;
     for (int k0 = 0; k0 < n; k0 += BLOCK) {
         const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
-        const float *Lx, *Ly, *Lz, *D;
+        /* the loops run over whole vectors of 16: the pairs past m are H = N with D = 1, made
+         * invalid below (V.H = 0), and the table's environment samples past n add 0 (their
+         * radiance is 0); so a small N is not left to the scalar remainder loops */
+        const int mp = (m + 15) & ~15;
         if (lobe) {
-            Lx = lobe->Lx + k0;
-            Ly = lobe->Ly + k0;
-            Lz = lobe->Lz + k0;
-            D = lobe->pdf + k0;
             for (int i = 0; i < m; i++) {
                 b->xi1[i] = lobe->xi1[k0 + i];
                 b->xi2[i] = lobe->xi2[k0 + i];
-                b->Lx[i] = Lx[i];
-                b->Ly[i] = Ly[i];
-                b->Lz[i] = Lz[i];
+                b->Lx[i] = lobe->Lx[k0 + i];
+                b->Ly[i] = lobe->Ly[k0 + i];
+                b->Lz[i] = lobe->Lz[k0 + i];
+                b->pdf[i] = lobe->pdf[k0 + i];
             }
         } else {
             sl_shade_lobe_fill(u, alpha, true, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
-            Lx = b->Lx;
-            Ly = b->Ly;
-            Lz = b->Lz;
-            D = b->pdf;
         }
-        microfacet_directions(b, m, Lx, Ly, Lz, D, N, V, A, B, inv_lh2, ggx, a2);
+        for (int i = m; i < mp; i++) {
+            b->Lx[i] = b->Ly[i] = 0.0f;
+            b->Lz[i] = b->pdf[i] = 1.0f;
+        }
+        const float *D = b->pdf;
+        microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, ggx, a2);
+        for (int i = m; i < mp; i++)
+            b->vh[i] = 0.0f;
         /* the BRDF's samples: texel, density and radiance, one at a time (one read of the
          * distribution's packed texels where it has them) */
         /* env_texel through the fast lat-long map (vectorized); a direction within rounding of a
          * texel's edge may read its neighbour, where the port reads it */
         int tx[BLOCK], ty[BLOCK];
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
+        for (int i = 0; i < mp; i++) {
             float tu, tv;
             sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &tu, &tv);
             int x = (int)(tu * (float)w0), y = (int)(tv * (float)h0);
@@ -729,9 +732,9 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             ty[i] = y < h0 - 1 ? y : h0 - 1;
         }
         /* the reads apart from the index arithmetic, so that their cache misses overlap */
-        for (int i = 0; i < m; i++) {
+        for (int i = 0; i < mp; i++) {
             bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
-            below += !valid;
+            below += !valid && i < m;
             ivec2 t = ivec2(tx[i], ty[i]);
             pe[i] = 0.0f;
             Lr[i] = Lg[i] = Lb[i] = 0.0f;
@@ -751,7 +754,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             Lb[i] = L.z * I;
         }
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
+        for (int i = 0; i < mp; i++) {
             float r = pe[i] / maxf(b->pw[i], TINY);
             float mis = 1.0f / (1.0f + r * r);
             bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
@@ -766,7 +769,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         const float *ER = e->lr + k0, *EG = e->lg + k0, *EB = e->lb + k0;
         float lit_e[BLOCK];
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
+        for (int i = 0; i < mp; i++) {
             float wN = (X[i] * N.x + Y[i] * N.y) + Z[i] * N.z;
             float hx = X[i] + V.x, hy = Y[i] + V.y, hz = Z[i] + V.z;
             float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
