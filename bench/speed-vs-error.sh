@@ -5,7 +5,8 @@
 #
 #   bench/speed-vs-error.sh [BUILD_DIR] [--shards N] [-- extra bench_speed_vs_error options]
 #
-# After the report, bench/sweep_fronts.py appends its split-sum and GGX Pareto tables (from the CSV).
+# After the report, bench/sweep_fronts.py appends its split-sum and GGX Pareto tables (from the CSV),
+# then docs/accuracy/mis.md, the MIS section (its figures: bench/mis-front.sh).
 #
 # --shards N: the ground truth first, as N `softlight truth --shard I/N` runs per scene under GNU
 # parallel (add -S hosts to the parallel line to spread them over machines; docs/sharding.md),
@@ -55,6 +56,9 @@ doc=docs/accuracy.md prev=
 for a in "$@"; do [ "$prev" = --doc ] && doc=$a; prev=$a; done
 python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/fronts.md"
 [ "$doc" = none ] || cat "$data/fronts.md" >>"$doc"
+# the MIS estimator's own front on environments generated outside the repository
+# (bench/mis-front.sh writes its table; docs/accuracy/mis.md is the section that reads it)
+[ "$doc" = none ] || cat docs/accuracy/mis.md >>"$doc"
 mkdir -p docs/accuracy
 plot() { # col, ylabel, output
     gnuplot -e "dir='$data'; out='docs/accuracy/$3'; col=$1; ylab='$2'" bench/gnuplot/speed-vs-error.gp
