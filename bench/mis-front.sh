@@ -11,8 +11,8 @@
 # then bench_mis_front's lighting CPU time (1 thread, median of 7 interleaved frames) and
 # `softlight truth --compare` of each variant: nRMSE and the shares of pixels more than 1/255
 # and 8/255 off after the scene's tone map (total radiance, point lights off). Writes the table
-# to docs/accuracy/mis-front.md (bench/speed-vs-error.sh appends docs/accuracy/mis.md, which
-# quotes it, to docs/accuracy.md). The default list takes about an hour on the 2-core machine,
+# to docs/accuracy/mis-front.md (bench/speed-vs-error.sh appends docs/accuracy/mis.md, the section
+# that reads it, and the table to docs/accuracy.md). The default list takes about an hour on the 2-core machine,
 # most of it the ground truth; later runs reuse the cache.
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -57,8 +57,8 @@ for a in "$@"; do [ "$prev" = --doc ] && doc=$a; prev=$a; done
 python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/fronts.md"
 [ "$doc" = none ] || cat "$data/fronts.md" >>"$doc"
 # the MIS estimator's own front on environments generated outside the repository
-# (bench/mis-front.sh writes its table; docs/accuracy/mis.md is the section that reads it)
-[ "$doc" = none ] || cat docs/accuracy/mis.md >>"$doc"
+# (docs/accuracy/mis.md, the section, and docs/accuracy/mis-front.md, bench/mis-front.sh's table)
+[ "$doc" = none ] || cat docs/accuracy/mis.md docs/accuracy/mis-front.md >>"$doc"
 mkdir -p docs/accuracy
 plot() { # col, ylabel, output
     gnuplot -e "dir='$data'; out='docs/accuracy/$3'; col=$1; ylab='$2'" bench/gnuplot/speed-vs-error.gp
