@@ -781,15 +781,18 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0 * VdotH);
             ivec2 t = env_texel(w);
-            float mis = mis_power(pdf, env_dist_pdf(t));
+            float pe = env_dist_pdf(t);
+            float mis = mis_power(pdf, pe);
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
             vec3 Li = texelFetch(uEnvResidual, t, 0).rgb * uEnvIntensity;
             float weight = G * wN * VdotH / NdotH * mis;
-            sum = sum + F * Li * weight;
+            vec3 c = F * Li * weight;
+            sum = sum + c;
         }
         ivec2 te;
-        vec4 e = env_dist_sample(vec2(fract(xi.x + half_), xi.y), te);
+        vec2 xe = vec2(fract(xi.x + half_), xi.y);
+        vec4 e = env_dist_sample(xe, te);
         vec3 we = e.xyz;
         float weN = dot(we, N);
         vec3 He = normalize(we + V);
@@ -803,7 +806,8 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
             float G = sl_lobe_G(LdotHe, weN, NdotV, alpha, uGTerm);
             vec3 Li = texelFetch(uEnvResidual, te, 0).rgb * uEnvIntensity;
             float weight = De * G * weN / (4.0 * e.w) * mis;
-            sum = sum + F * Li * weight;
+            vec3 c = F * Li * weight;
+            sum = sum + c;
         }
     }
     return sum * (1.0 / float(max(n, 1)));

@@ -398,13 +398,13 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0f * VdotH);
             ivec2 t = env_texel(u, w);
-            float pe = env_dist_pdf(u, t); /* C: named for the trace */
+            float pe = env_dist_pdf(u, t);
             float mis = mis_power(pdf, pe);
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
             vec3 Li = scale(env_texel_fetch(u, t), u->uEnvIntensity);
             float weight = G * wN * VdotH / NdotH * mis;
-            vec3 c = scale(mul(F, Li), weight); /* C: named for the trace */
+            vec3 c = scale(mul(F, Li), weight);
             sum = add(sum, c);
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
@@ -417,7 +417,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                                                      .LdotH = VdotH, .D = D, .sum = sum});
         }
         ivec2 te;
-        vec2 xe = vec2(fract(xi.x + half_), xi.y); /* C: named for the trace */
+        vec2 xe = vec2(fract(xi.x + half_), xi.y);
         vec4 e = env_dist_sample(u, xe, &te);
         vec3 we = xyz(e);
         float weN = dot(we, N);
