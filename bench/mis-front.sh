@@ -77,7 +77,7 @@ PY
 
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(ggx:320x180 default:320x180 ggx-sun:320x180 ggx-night:320x180 ggx-horizon:320x180
-    default-sun:192x108 default-night:192x108 default-horizon:192x108 grazing-horizon:192x108 city-sun:192x108
+    default-sun:192x108 default-night:192x108 grazing-horizon:192x108 city-sun:192x108 default-horizon:192x108
     grazing:192x108)
 V=("spec-N40|spec|spec-d4|0|40" "mf-pdf+dist-N32|mf|pdf|1|32" "mis-N8|mis|none|0|8" "mis-N16|mis|none|0|16"
    "mis-N24|mis|none|0|24" "mis-N40|mis|none|0|40" "mis-N64|mis|none|0|64" "mis-N256|mis|none|0|256"
