@@ -163,6 +163,7 @@ static bool upload_env_dist(slgl_lighting *l, const sl_env_dist *d, sl_error *er
     free(rg);
     l->env_dist_marginal = upload_float(GL_R32F, GL_RED, d->height, 1, d->marginal);
     l->env_dist_source = d;
+    l->env_dist_cdf = d->cdf;
     return slgl_check("uploading the environment distribution", err);
 }
 
@@ -404,7 +405,8 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     if (u->uEstimator == SL_ESTIMATOR_SPLITSUM && (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: split sum asked for, but its chains of %d levels are not uploaded",
                        (int)u->uSplitSumMaxLod + 1);
-    if (u->uEstimator == SL_ESTIMATOR_MIS && u->uEnvDist != l->env_dist_source && !upload_env_dist(l, u->uEnvDist, err))
+    if (u->uEstimator == SL_ESTIMATOR_MIS && (u->uEnvDist != l->env_dist_source || u->uEnvDist->cdf != l->env_dist_cdf) &&
+        !upload_env_dist(l, u->uEnvDist, err))
         return false;
     GLuint units[UNIT_COUNT] = {g->position,       g->normal,        g->kd,          g->ks_alpha,
                                 g->depth,          l->env,           l->irradiance_map, residual,

@@ -146,6 +146,8 @@ typedef struct {
     GLuint env_dist, env_dist_marginal; /* --estimator mis: uEnvDist, uEnvDistMarginal (0 otherwise) */
     const sl_env_dist *env_dist_source; /* the distribution they hold, uploaded by the first draw
                               that asks for it (slgl_lighting_draw); NULL after a new environment */
+    const float *env_dist_cdf; /* ... and its CDF array: a rebuilt distribution in the same
+                              struct (other env lights) has a new one */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);
