@@ -3,7 +3,7 @@
  * variants interleaved, after a warm-up round; point lights off) and its radiance as PFM, which
  * bench/mis-front.sh compares with the ground truth (`softlight truth --compare`).
  *
- *   bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N ...
+ *   bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS] ...
  *
  * Why a program of its own: the sweep of bench/speed_vs_error.c runs every variant on fixed
  * scenes; this one takes any scene file (the environments bench/mis-front.sh writes into a
@@ -41,7 +41,7 @@ int main(int argc, char **argv)
 {
     int w, h;
     if (argc < 6 || sscanf(argv[2], "%dx%d", &w, &h) != 2 || argc - 5 > MAX_VARIANTS) {
-        fprintf(stderr, "usage: bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N ...\n");
+        fprintf(stderr, "usage: bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS] ...\n");
         return 2;
     }
     sl_error err;
@@ -61,9 +61,9 @@ int main(int argc, char **argv)
     char names[MAX_VARIANTS][64];
     for (int i = 0; i < nv; i++) {
         char est[32], lod[32];
-        int dist, n;
-        if (sscanf(argv[5 + i], "%63[^|]|%31[^|]|%31[^|]|%d|%d", names[i], est, lod, &dist, &n) != 5) {
-            fprintf(stderr, "bench_mis_front: %s: expected NAME|ESTIMATOR|LOD|DISTORTION|N\n", argv[5 + i]);
+        int dist, n, env_lights = 0;
+        if (sscanf(argv[5 + i], "%63[^|]|%31[^|]|%31[^|]|%d|%d|%d", names[i], est, lod, &dist, &n, &env_lights) < 5) {
+            fprintf(stderr, "bench_mis_front: %s: expected NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS]\n", argv[5 + i]);
             return 2;
         }
         opts[i] = r.desc.lighting;
@@ -73,6 +73,7 @@ int main(int argc, char **argv)
         }
         opts[i].distortion = dist != 0;
         opts[i].samples = n;
+        opts[i].env_lights = env_lights; /* extracted once per count, outside the timed frames */
         opts[i].no_point_lights = true;
     }
     for (int f = -1; f < FRAMES; f++)

@@ -185,12 +185,20 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
     /* the irradiance's default: the scene's precomputed map when it names one */
     if (!sl_option_is_set(&o, SL_OPT_IRRADIANCE) && scene->environment.irradiance_path[0])
         sl_option_set_irradiance(&o, SL_IRRADIANCE_MAP);
-    /* the estimator's default: the specification's recipe for its Phong set, MIS for a scene
-     * whose materials are all GGX (imported models): as fast, far closer to the truth
-     * (docs/accuracy.md "Defaults"); not with the octahedral layout, which MIS does not read */
-    if ((!sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT) &&
-        o.env_layout != SL_ENV_LAYOUT_OCT && sl_renderer_all_ggx(scene))
-        sl_option_set_estimator(&o, SL_ESTIMATOR_MIS);
+    /* the estimator's default: the specification's recipe for its Phong set; for a scene whose
+     * objects are all GGX (imported models) the most accurate setting at the recipe's cost as
+     * measured (docs/accuracy.md "Defaults"): the microfacet estimator, the pdf mip rule with the
+     * distortion, and the most env lights, each where neither the scene nor the command line
+     * sets it */
+    if ((!sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT) && sl_renderer_all_ggx(scene)) {
+        sl_option_set_estimator(&o, SL_ESTIMATOR_MICROFACET);
+        if (!sl_option_is_set(&o, SL_OPT_LOD) || o.lod == SL_LOD_DEFAULT)
+            sl_option_set_lod(&o, SL_LOD_PDF);
+        if (!sl_option_is_set(&o, SL_OPT_DISTORTION))
+            sl_option_set_distortion(&o, true);
+        if (!sl_option_is_set(&o, SL_OPT_ENV_LIGHTS))
+            sl_option_set_env_lights(&o, SL_ENV_LIGHTS_MAX);
+    }
     if (!sl_option_values_check(&o, scene->path, err))
         return false;
     d->options = o;

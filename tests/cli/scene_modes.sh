@@ -48,13 +48,15 @@ same "softlight: the scene's modes = the same options on the command line" "$T/c
 same "softlight: \"estimator\": \"splitsum\" = --estimator splitsum" "$T/cli_ss.pfm" "$T/file_ss.pfm"
 "$SL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/plain.pfm" >/dev/null &&
     "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator spec --pfm "$T/plain_spec.pfm" >/dev/null &&
-    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mis --pfm "$T/plain_mis.pfm" >/dev/null &&
+    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mf --lod pdf --distortion --env-lights 64 \
+        --pfm "$T/plain_ggx.pfm" >/dev/null &&
     "$SL" render "$T/splitsum.json" "${SIZE[@]}" --estimator spec --pfm "$T/override.pfm" >/dev/null &&
     "$SL" render "$T/default.json" "${SIZE[@]}" --pfm "$T/default.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
 same "softlight: --estimator spec wins over the scene's splitsum" "$T/plain_spec.pfm" "$T/override.pfm"
 same "softlight: \"default\" is the default" "$T/plain.pfm" "$T/default.pfm"
-# a scene of GGX materials only (this one) is shaded by MIS unless it asks for another estimator
-same "softlight: an all-GGX scene's default estimator is mis" "$T/plain.pfm" "$T/plain_mis.pfm"
+# a scene of GGX materials only (this one) is shaded by the microfacet estimator with the pdf
+# rule, the distortion and 64 env lights unless it asks for another estimator
+same "softlight: an all-GGX scene's default is mf pdf+dist with 64 env lights" "$T/plain.pfm" "$T/plain_ggx.pfm"
 if cmp -s "$T/plain.pfm" "$T/file.pfm"; then
     echo "FAIL: the modes changed nothing (the test would pass without reading them)"; fails=$((fails + 1))
 fi
