@@ -1,7 +1,7 @@
 /* shading.c - benchmark of the lighting pass (src/shading/lighting_pass.c).
  *
  * bench_shading [--frames F] [--env FILE.hdr] [--n 20,40,80] [--threads 1,2] [--plain] [--rotate]
- *               [--no-specular] [--no-background] [--ggx] [--estimator spec|consistent|mf]
+ *               [--no-specular] [--no-background] [--ggx] [--estimator spec|consistent|mf|mis]
  *   --frames F        frames timed per configuration (default 5; the median is reported)
  *   --env FILE.hdr    environment (default scenes/envmaps/studio.hdr, run from the source root)
  *   --n LIST          sample counts N (default 20,40,80)
@@ -135,7 +135,7 @@ int main(int argc, char **argv)
     if (frames < 1 || frames > 64 || nn == 0 || nt == 0) {
         fprintf(stderr, "usage: bench_shading [--frames 1..64] [--env FILE.hdr] [--n 20,40,80] [--threads 1,2] "
                         "[--plain] [--rotate] [--no-specular] [--no-background] [--ggx]\n"
-                        "       [--estimator spec|consistent|mf]\n");
+                        "       [--estimator spec|consistent|mf|mis]\n");
         return 2;
     }
     sl_error err;
@@ -174,6 +174,11 @@ int main(int argc, char **argv)
             return 1;
         }
     }
+    sl_env_dist dist = {0}; /* --estimator mis: the environment's distribution, built once */
+    if (base.estimator == SL_ESTIMATOR_MIS && !sl_env_dist_build(&dist, &env, &err)) {
+        fprintf(stderr, "bench_shading: %s\n", err.msg);
+        return 1;
+    }
     sl_lighting_uniforms *u = malloc(sizeof *u);
     sl_image out = {0};
     printf("lighting pass, %dx%d, env %s (%dx%d), %s path, estimator %s%s%s, median of %d frames%s\n", W, H, path,
@@ -188,7 +193,7 @@ int main(int argc, char **argv)
         sl_lighting_options o = base;
         o.samples = ns[i];
         sl_lighting_desc d = {.options = o, .env = &env, .irradiance = &irr, .eye = cam.eye, .inv_view_proj = inv,
-                              .width = W, .height = H};
+                              .width = W, .height = H, .env_dist = &dist};
         if (!sl_lighting_uniforms_init(u, &d, &err)) {
             fprintf(stderr, "bench_shading: %s\n", err.msg);
             return 1;
@@ -214,6 +219,7 @@ int main(int argc, char **argv)
     sl_gbuffer_free(&gb);
     sl_gbuffer_free(&gbs[1]);
     sl_irradiance_free(&irr);
+    sl_env_dist_free(&dist);
     sl_env_free(&env);
     return 0;
 }

@@ -6,7 +6,8 @@
 #   bench/speed-vs-error.sh [BUILD_DIR] [--shards N] [-- extra bench_speed_vs_error options]
 #
 # After the report, bench/sweep_fronts.py appends its split-sum and GGX Pareto tables (from the CSV),
-# and the visibility section of bench/visibility-error.sh's last run (docs/accuracy/visibility.md).
+# then docs/accuracy/mis.md, the MIS section (its figures: bench/mis-front.sh), and the visibility
+# section of bench/visibility-error.sh's last run (docs/accuracy/visibility.md).
 #
 # --shards N: the ground truth first, as N `softlight truth --shard I/N` runs per scene under GNU
 # parallel (add -S hosts to the parallel line to spread them over machines; docs/sharding.md),
@@ -56,6 +57,9 @@ doc=docs/accuracy.md prev=
 for a in "$@"; do [ "$prev" = --doc ] && doc=$a; prev=$a; done
 python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/fronts.md"
 [ "$doc" = none ] || cat "$data/fronts.md" >>"$doc"
+# the MIS estimator's own front on environments generated outside the repository
+# (docs/accuracy/mis.md, the section, and docs/accuracy/mis-front.md, bench/mis-front.sh's table)
+[ "$doc" = none ] || cat docs/accuracy/mis.md docs/accuracy/mis-front.md >>"$doc"
 # the visibility section (bench/visibility-error.sh, its own run), kept across this report's rewrites
 [ "$doc" = none ] || [ ! -f docs/accuracy/visibility.md ] || { echo; cat docs/accuracy/visibility.md; } >>"$doc"
 mkdir -p docs/accuracy

@@ -152,6 +152,8 @@ static void build_variants(variant_list *l, bool with_gl)
         {KIND_SHADER, SL_ESTIMATOR_MICROFACET, SL_LOD_PDF, true, "mf, pdf+dist+env32 (env lights)", 32},
         {KIND_SHADER, SL_ESTIMATOR_CONSISTENT, SL_LOD_GEMS, true, "consistent, gems+dist+env32", 32},
         {KIND_SHADER, SL_ESTIMATOR_SPEC, SL_LOD_SPEC_D4, false, "spec, spec-d4+env32", 32},
+        /* MIS reads level 0 unfiltered: the lod rule does not apply (docs/lighting.md "MIS") */
+        {KIND_SHADER, SL_ESTIMATOR_MIS, SL_LOD_NONE, false, "mis (BRDF and environment sampling)", 0},
     };
     for (size_t s = 0; s < sizeof sweeps / sizeof sweeps[0]; s++)
         for (int i = 0; i < SWEEP_COUNT; i++)

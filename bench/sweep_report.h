@@ -10,7 +10,7 @@
 #include "ibl/ibl.h"
 #include "shading/lighting.h"
 
-#define MAX_VARIANTS 200
+#define MAX_VARIANTS 224
 #define MAX_SCENES 8
 #define PATH_LEN 1024
 

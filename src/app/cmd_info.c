@@ -11,6 +11,7 @@
 #include "raster/gbuffer.h"
 #include "render_options.h"
 #include "scene/scene.h"
+#include "ibl/env_dist.h"
 #include "shading/splitsum_lut.h"
 
 /* The memory `softlight render` holds, in bytes, phase by phase: what each stage allocates and
@@ -32,6 +33,8 @@ typedef struct {
     size_t env_oct_build;    /* while built: the chain and its texels' solid angles (4 B each) */
     size_t splitsum;         /* --estimator splitsum: one prefiltered chain (with its compact rows) per
                                 lobe set the materials use, and the BRDF table, held */
+    size_t env_dist;         /* --estimator mis: the distribution (8 B a grid texel, 4 a row) and
+                                its packed texels (16 B a level-0 texel), held (ibl/env_dist.h) */
     size_t frame;            /* G-buffer, radiance, display image, PNG encoding, mesh copies */
     size_t peak;
     const char *peak_at;
@@ -164,6 +167,16 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         m.splitsum = (size_t)lobe_sets * chain_held_bytes(env_w, env_h, false) + sizeof(sl_splitsum_lut);
         phase(&m, base + m.splitsum, "prefiltering for the split sum");
         base += m.splitsum;
+    }
+    if (modes.estimator == SL_ESTIMATOR_MIS) {
+        int gw = env_w, gh = env_h; /* the grid: halved while wider than SL_ENV_DIST_MAX_WIDTH */
+        while (gw > SL_ENV_DIST_MAX_WIDTH && gw % 2 == 0 && gh % 2 == 0) {
+            gw /= 2;
+            gh /= 2;
+        }
+        m.env_dist = (size_t)gw * (size_t)gh * 8 + (size_t)gh * 4 + (P <= SL_ENV_PAIRS_MAX_TEXELS ? P * 16 : 0);
+        phase(&m, base + m.env_dist, "building the environment distribution");
+        base += m.env_dist;
     }
     /* G-buffer 56 B (76 with the extra plane: gbuffer.h), radiance and display images 12 B each, the PNG's 8-bit pixels, its filtered
      * rows and its growing zlib buffer (about 15 B together), per pixel; the rasterizer's copy of
@@ -314,11 +327,12 @@ int cmd_info(int argc, char **argv)
            desc.lighting.irradiance == SL_IRRADIANCE_MAP && irr_w ? ", irradiance map" : "");
     printf("             environment %.1f MiB held (mip chain), %.1f MiB while read, %.1f MiB while its mips are "
            "built; irradiance %.1f MiB held, %.1f MiB while built; env lights %.1f MiB held, %.1f MiB while "
-           "extracted; octahedral chain %.1f MiB held; split-sum chains %.1f MiB held; frame %.1f MiB (G-buffer "
+           "extracted; octahedral chain %.1f MiB held; split-sum chains %.1f MiB held; environment distribution "
+           "%.1f MiB held; frame %.1f MiB (G-buffer "
            "%zu B/pixel%s); meshes %.1f MiB; program %.1f MiB\n",
            (double)m.env / mib, (double)m.env_load / mib, (double)m.env_build / mib, (double)m.irradiance / mib,
            (double)m.irradiance_build / mib, (double)m.env_lights / mib, (double)m.env_lights_build / mib,
-           (double)m.env_oct / mib, (double)m.splitsum / mib,
+           (double)m.env_oct / mib, (double)m.splitsum / mib, (double)m.env_dist / mib,
            (double)m.frame / mib, gbuffer_pixel, extra ? " with occlusion and emission" : "", (double)mesh_bytes / mib,
            (double)m.program / mib);
     sl_scene_free(&scene);

@@ -76,6 +76,10 @@ typedef enum {
     SL_ESTIMATOR_SPLITSUM = 4,   /* no samples: the environment prefiltered per lobe width
                                     (src/ibl/prefilter.c) at R times a table of the BRDF's
                                     scale and bias (src/shading/splitsum_lut.h); N = V assumed */
+    SL_ESTIMATOR_MIS = 5,        /* N/2 directions drawn from the BRDF (as mf) and N/2 from the
+                                    environment's own radiance (src/ibl/env_dist.h), each weighed
+                                    by the power heuristic, lod 0: consistent, and the sun drawn
+                                    where it is ("mis") */
 } sl_estimator;
 
 /* The G term (uGTerm). */
@@ -154,10 +158,10 @@ typedef enum {
       (.scene = {"render.gterm"}, .def = {SL_GTERM_INV_LH2}, .min = SL_GTERM_INV_LH2, .max = SL_GTERM_ONE,           \
        .names = gterm_names))                                                                                        \
     X(ESTIMATOR, estimator, CHOICE, sl_estimator, "estimator", "--estimator", NULL, NULL,                            \
-      "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, or the "          \
-      "split-sum lookup (prefiltered environment, no samples)",                                                      \
+      "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, the "             \
+      "split-sum lookup (prefiltered environment, no samples), or mis (BRDF and environment sampling)",              \
       (.scene = {"render.estimator"}, .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC,                          \
-       .max = SL_ESTIMATOR_SPLITSUM, .names = estimator_names))                                                      \
+       .max = SL_ESTIMATOR_MIS, .names = estimator_names))                                                      \
     /* default: the scene's map if it names one (the scene reader chooses "map" then), else this, the pole-free      \
      * octahedral map (docs/ibl.md says why) */                                                                      \
     X(IRRADIANCE, irradiance, CHOICE, sl_irradiance_method, "irradiance", "--irradiance", NULL, NULL,                \
@@ -318,7 +322,7 @@ bool sl_option_values_check(const sl_option_values *v, const char *scene, sl_err
 void *sl_option_field(sl_option_values *v, sl_option_id id);
 
 /* The modes' names, from the rows above: "none", "spec", "spec-d4", "gems", "pdf"; "spec",
- * "consistent", "mf", "splitsum"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an
+ * "consistent", "mf", "splitsum", "mis"; "inv-lh2", "one"; "sh9", "brute", "map", "oct", "dp"; "latlong", "oct". Parsers return false on an
  * unknown name. */
 const char *sl_lod_rule_name(sl_lod_rule rule);
 const char *sl_estimator_name(sl_estimator estimator);

@@ -39,6 +39,8 @@ enum {
     UNIT_SPLITSUM_PHONG,
     UNIT_SPLITSUM_GGX,
     UNIT_SPLITSUM_LUT,
+    UNIT_ENV_DIST,
+    UNIT_ENV_DIST_MARGINAL,
     UNIT_COUNT
 };
 #define HAMMERSLEY_BINDING 1
@@ -114,6 +116,46 @@ bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
     return slgl_check("uploading the split-sum chains and table", err);
+}
+
+/* One float image for texelFetch: NEAREST, CLAMP, no mips. */
+static GLuint upload_float(GLenum internal, GLenum format, int width, int height, const float *data)
+{
+    GLuint tex;
+    glGenTextures(1, &tex);
+    glBindTexture(GL_TEXTURE_2D, tex);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, (GLint)internal, width, height, 0, format, GL_FLOAT, data);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    return tex;
+}
+
+/* The MIS estimator's distribution (src/ibl/env_dist.h) as lighting.frag reads it: uEnvDist, RG32F
+ * W x H of (conditional CDF, density), and uEnvDistMarginal, R32F H x 1. Uploaded once per
+ * distribution. */
+static bool upload_env_dist(slgl_lighting *l, const sl_env_dist *d, sl_error *err)
+{
+    GLuint old[2] = {l->env_dist, l->env_dist_marginal};
+    glDeleteTextures(2, old);
+    l->env_dist = l->env_dist_marginal = 0;
+    l->env_dist_source = NULL;
+    size_t n = (size_t)d->width * (size_t)d->height;
+    float *rg = malloc(2 * n * sizeof *rg);
+    if (!rg)
+        return sl_fail(err, SL_ERR_MEMORY, "no memory to upload the environment distribution");
+    for (size_t k = 0; k < n; k++) {
+        rg[2 * k] = d->cdf[k];
+        rg[2 * k + 1] = d->density[k];
+    }
+    l->env_dist = upload_float(GL_RG32F, GL_RG, d->width, d->height, rg);
+    free(rg);
+    l->env_dist_marginal = upload_float(GL_R32F, GL_RED, d->height, 1, d->marginal);
+    l->env_dist_source = d;
+    l->env_dist_cdf = d->cdf;
+    return slgl_check("uploading the environment distribution", err);
 }
 
 /* The key of the program for these uniforms on this G-buffer. */
@@ -227,9 +269,10 @@ bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err
 
 void slgl_lighting_destroy(slgl_lighting *l)
 {
-    GLuint textures[7] = {l->color,          l->env,          l->irradiance_map, l->env_residual,
-                          l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
-    glDeleteTextures(7, textures);
+    GLuint textures[9] = {l->color,          l->env,          l->irradiance_map, l->env_residual,
+                          l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut,   l->env_dist,
+                          l->env_dist_marginal};
+    glDeleteTextures(9, textures);
     if (l->ubo)
         glDeleteBuffers(1, &l->ubo);
     if (l->fbo)
@@ -249,6 +292,7 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
         glDeleteTextures(1, &l->env);
     if (l->env_residual)
         glDeleteTextures(1, &l->env_residual);
+    l->env_dist_source = NULL; /* the next MIS draw uploads the new environment's */
     l->residual_oct = residual && residual->layout == SL_ENV_LAYOUT_OCT;
     l->env_residual = !residual ? 0 : l->residual_oct ? upload_levels(residual) : upload_latlong(&residual->levels[0], true);
     l->residual_levels = residual ? residual->level_count : 0;
@@ -292,6 +336,9 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uSplitSumGGX"), UNIT_SPLITSUM_GGX);
     glUniform1i(loc(p, "uSplitSumLut"), UNIT_SPLITSUM_LUT);
     glUniform1f(loc(p, "uSplitSumMaxLod"), u->uSplitSumMaxLod);
+    glUniform1i(loc(p, "uEnvDist"), UNIT_ENV_DIST);
+    glUniform1i(loc(p, "uEnvDistMarginal"), UNIT_ENV_DIST_MARGINAL);
+    glUniform1i(loc(p, "uEnvDistShift"), u->uEnvDistShift);
     glUniform1i(loc(p, "uEnvLightCount"), u->uEnvLightCount);
     if (u->uEnvLightCount > 0) {
         glUniform4fv(loc(p, "uEnvLightDir"), u->uEnvLightCount, &u->uEnvLightDir[0].x);
@@ -351,8 +398,13 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     if (u->uEstimator == SL_ESTIMATOR_SPLITSUM && (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: split sum asked for, but its chains of %d levels are not uploaded",
                        (int)u->uSplitSumMaxLod + 1);
-    GLuint units[UNIT_COUNT] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, l->env, l->irradiance_map,
-                                residual, g->extra, l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut};
+    if (u->uEstimator == SL_ESTIMATOR_MIS && (u->uEnvDist != l->env_dist_source || u->uEnvDist->cdf != l->env_dist_cdf) &&
+        !upload_env_dist(l, u->uEnvDist, err))
+        return false;
+    GLuint units[UNIT_COUNT] = {g->position,       g->normal,        g->kd,          g->ks_alpha,
+                                g->depth,          l->env,           l->irradiance_map, residual,
+                                g->extra,          l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut,
+                                l->env_dist,       l->env_dist_marginal};
     slgl_lighting_key key = program_key(l, g, u);
     GLuint program;
     if (!program_for(l, &key, &program, err))

@@ -178,6 +178,11 @@ typedef struct {
     GLuint ubo;            /* HammersleyBlock */
     GLuint splitsum_phong, splitsum_ggx, splitsum_lut; /* --estimator splitsum (0 otherwise) */
     int splitsum_levels;   /* the chains' level count */
+    GLuint env_dist, env_dist_marginal; /* --estimator mis: uEnvDist, uEnvDistMarginal (0 otherwise) */
+    const sl_env_dist *env_dist_source; /* the distribution they hold, uploaded by the first draw
+                              that asks for it (slgl_lighting_draw); NULL after a new environment */
+    const float *env_dist_cdf; /* ... and its CDF array: a rebuilt distribution in the same
+                              struct (other env lights) has a new one */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);

@@ -83,6 +83,35 @@ static bool update_env_oct(sl_renderer *r, sl_error *err)
     return true;
 }
 
+/* The MIS estimator's distribution of what the samples read (the residual when there are env
+ * lights), when the estimator asks for it (`estimator` as update_splitsum's); rebuilt when the
+ * environment or the env lights change, never per frame. */
+static bool update_env_dist(sl_renderer *r, sl_estimator estimator, sl_error *err)
+{
+    sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
+    if (estimator != SL_ESTIMATOR_DEFAULT)
+        o.estimator = estimator;
+    int lights = o.env_lights > 0 ? r->env_lights_built : 0;
+    if (o.estimator != SL_ESTIMATOR_MIS || r->env_dist_built == lights)
+        return true;
+    double t0 = sl_now_seconds();
+    sl_env_dist_free(&r->env_dist);
+    r->env_dist_built = -1;
+    if (!sl_env_dist_build(&r->env_dist, lights > 0 ? &r->env_lights.residual : &r->env, err))
+        return false;
+    r->env_dist_built = lights;
+    r->timings.env_dist_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
+bool sl_renderer_all_ggx(const sl_scene *scene)
+{
+    for (int i = 0; i < scene->object_count; i++)
+        if (scene->materials[scene->objects[i].material].brdf != SL_BRDF_GGX)
+            return false;
+    return scene->object_count > 0;
+}
+
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
 {
     *phong = *ggx = false;
@@ -159,6 +188,20 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
     /* the irradiance's default: the scene's precomputed map when it names one */
     if (!sl_option_is_set(&o, SL_OPT_IRRADIANCE) && scene->environment.irradiance_path[0])
         sl_option_set_irradiance(&o, SL_IRRADIANCE_MAP);
+    /* the estimator's default: the specification's recipe for its Phong set; for a scene whose
+     * objects are all GGX (imported models) the most accurate setting at the recipe's cost as
+     * measured (docs/accuracy.md "Defaults"): the microfacet estimator, the pdf mip rule with the
+     * distortion, and the most env lights, each where neither the scene nor the command line
+     * sets it */
+    if ((!sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT) && sl_renderer_all_ggx(scene)) {
+        sl_option_set_estimator(&o, SL_ESTIMATOR_MICROFACET);
+        if (!sl_option_is_set(&o, SL_OPT_LOD) || o.lod == SL_LOD_DEFAULT)
+            sl_option_set_lod(&o, SL_LOD_PDF);
+        if (!sl_option_is_set(&o, SL_OPT_DISTORTION))
+            sl_option_set_distortion(&o, true);
+        if (!sl_option_is_set(&o, SL_OPT_ENV_LIGHTS))
+            sl_option_set_env_lights(&o, SL_ENV_LIGHTS_MAX);
+    }
     if (!sl_option_values_check(&o, scene->path, err))
         return false;
     d->options = o;
@@ -201,6 +244,7 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     r->desc = *desc;
     r->env_oct_built = -1;
     r->splitsum_built = -1;
+    r->env_dist_built = -1;
     sl_render_desc *d = &r->desc;
     if (!sl_render_desc_resolve(d, scene, err))
         return false;
@@ -215,7 +259,8 @@ bool sl_renderer_init(sl_renderer *r, const sl_scene *scene, const sl_render_des
     if (!d->lighting.no_diffuse && !build_irradiance(r, err))
         goto fail;
     /* per environment: not in a frame's time */
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, SL_ESTIMATOR_DEFAULT, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, SL_ESTIMATOR_DEFAULT, err) ||
+        !update_env_dist(r, SL_ESTIMATOR_DEFAULT, err))
         goto fail;
     r->uniforms = calloc(1, sizeof *r->uniforms);
     if (!r->uniforms) {
@@ -240,6 +285,7 @@ void sl_renderer_free(sl_renderer *r)
     sl_env_free(&r->splitsum_phong);
     sl_env_free(&r->splitsum_ggx);
     free(r->splitsum_lut);
+    sl_env_dist_free(&r->env_dist);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_raster_destroy(r->raster);
@@ -284,6 +330,8 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_free(&r->splitsum_phong); /* prefiltered from the old one: likewise */
     sl_env_free(&r->splitsum_ggx);
     r->splitsum_built = -1;
+    sl_env_dist_free(&r->env_dist); /* the old one's: likewise */
+    r->env_dist_built = -1;
     r->env_repairs = repairs;
     return true;
 }
@@ -366,7 +414,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     if (!cam)
         cam = &r->scene->camera;
     sl_estimator estimator = frame ? frame->estimator : SL_ESTIMATOR_DEFAULT;
-    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err))
+    if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
+        !update_env_dist(r, estimator, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -393,6 +442,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .splitsum_phong = sl_renderer_splitsum_chain(r, false),
         .splitsum_ggx = sl_renderer_splitsum_chain(r, true),
         .splitsum_lut = r->splitsum_lut,
+        .env_dist = r->env_dist_built >= 0 ? &r->env_dist : NULL,
         .program = r->desc.lighting_program,
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);

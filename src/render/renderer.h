@@ -10,7 +10,8 @@
  * repaired, its mip chain built, its irradiance computed with the chosen method, and, when
  * lighting.env_lights asks for them, its env lights extracted (src/ibl/env_lights.h), and for
  * the octahedral layout the samples' chain resampled into it (src/ibl/env_oct.c), and for
- * --estimator splitsum its prefiltered chains (src/ibl/prefilter.c) and the BRDF's table.
+ * --estimator splitsum its prefiltered chains (src/ibl/prefilter.c) and the BRDF's table, for
+ * --estimator mis the environment's distribution (src/ibl/env_dist.h).
  * Per scene: the materials' texture maps, each image file decoded once with its mips.
  * Per size: the G-buffer and images are allocated once and reused.
  * Per frame: raster -> lighting -> tone map; nothing else.
@@ -73,6 +74,7 @@ typedef struct {
     double env_oct_ms;    /* the octahedral chain of what the samples read (--env-layout oct) */
     double splitsum_ms;   /* --estimator splitsum: the prefiltered chains (the lobe sets the scene
                              uses) and the BRDF's table */
+    double env_dist_ms;   /* --estimator mis: the environment distribution (src/ibl/env_dist.h) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
     double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
 } sl_render_timings;
@@ -94,6 +96,9 @@ struct sl_renderer {
                                  per lobe width (src/ibl/prefilter.c); built on first use */
     int splitsum_built;       /* -1 = none, else the env lights count of what they were built from */
     sl_splitsum_lut *splitsum_lut; /* the BRDF's table (heap, 37 KB), built with the chains, once */
+    sl_env_dist env_dist;     /* --estimator mis: the distribution of what the samples read; built
+                                 on first use */
+    int env_dist_built;       /* -1 = none, else the env lights count of what it was built from */
     sl_raster *raster;
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
@@ -150,6 +155,9 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
 /* The lobe sets the split sum prefilters a chain for: those the scene's materials use (Phong
  * when there are none). */
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx);
+/* Whether every object of the scene is drawn with a GGX material (imported models): the scene
+ * whose default lighting is the microfacet estimator with 64 env lights (sl_render_desc_resolve). */
+bool sl_renderer_all_ggx(const sl_scene *scene);
 /* The split-sum chain of a lobe set (NULL when none is built). A set no material uses is not
  * prefiltered: the other set's chain stands in for it (no pixel reads it). */
 const sl_env *sl_renderer_splitsum_chain(const sl_renderer *r, bool ggx);

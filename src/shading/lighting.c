@@ -30,6 +30,7 @@ static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
+static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int GTERM_INV_LH2 = SL_GTERM_INV_LH2;
 static const int SPLITSUM_LUT_SIZE = SL_SPLITSUM_LUT_SIZE;
 static const int SPLITSUM_SETS = SL_SPLITSUM_SETS;
@@ -283,6 +284,171 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
+/* GLSL's min and clamp of ints */
+static inline int mini(int a, int b) { return a < b ? a : b; }
+static inline int clampi(int x, int lo, int hi) { return x < lo ? lo : x > hi ? hi : x; }
+
+/* env_texel: the level-0 texel of uEnvResidual holding w (its size is textureSize's). */
+/* GLSL: env_texel */
+static ivec2 env_texel(const sl_lighting_uniforms *u, vec3 w)
+{
+    vec2 uv = sl_dir_to_uv(w);
+    const sl_env_level *l0 = &u->uEnvResidual->levels[0];
+    return ivec2(mini((int)(uv.x * (float)l0->width), l0->width - 1), mini((int)(uv.y * (float)l0->height), l0->height - 1));
+}
+
+/* GLSL: env_dist_pdf */
+static float env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t)
+{
+    const sl_env_dist *d = u->uEnvDist;
+    return d->density[(size_t)(t.y >> u->uEnvDistShift) * (size_t)d->width + (size_t)(t.x >> u->uEnvDistShift)];
+}
+
+/* env_dist_sample: texelFetch(uEnvDistMarginal, (j, 0)) is marginal[j], texelFetch(uEnvDist,
+ * (i, j)) is (cdf, density)[j W + i]. */
+/* GLSL: env_dist_sample */
+static vec4 env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
+{
+    const sl_env_dist *d = u->uEnvDist;
+    ivec2 size = ivec2(d->width, d->height);
+    int lo = 0;
+    int hi = size.y - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (d->marginal[mid] > xi.y)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    int j = lo;
+    float m0 = j > 0 ? d->marginal[j - 1] : 0.0f;
+    float m1 = d->marginal[j];
+    float t = (xi.y - m0) / (m1 - m0);
+    const float *cdf = d->cdf + (size_t)j * (size_t)size.x;
+    lo = 0;
+    hi = size.x - 1;
+    while (lo < hi) {
+        int mid = (lo + hi) / 2;
+        if (cdf[mid] > xi.x)
+            hi = mid;
+        else
+            lo = mid + 1;
+    }
+    int i = lo;
+    float c0 = i > 0 ? cdf[i - 1] : 0.0f;
+    float c1 = cdf[i];
+    float s = (xi.x - c0) / (c1 - c0);
+    float z0 = cosf(PI * (float)j / (float)size.y);
+    float z1 = cosf(PI * (float)(j + 1) / (float)size.y);
+    float z = z0 + (z1 - z0) * t;
+    float uu = ((float)i + s) / (float)size.x;
+    float phi = 2.0f * PI * (0.5f - uu);
+    float st = sqrtf(maxf(1.0f - z * z, 0.0f));
+    vec3 w = vec3(cosf(phi) * st, sinf(phi) * st, z);
+    int f = 1 << u->uEnvDistShift;
+    const sl_env_level *l0 = &u->uEnvResidual->levels[0];
+    int i0 = (int)(uu * (float)l0->width);
+    int j0 = (int)(acosf(clamp(z, -1.0f, 1.0f)) / PI * (float)l0->height);
+    *texel = ivec2(clampi(i0, i * f, i * f + f - 1), clampi(j0, j * f, j * f + f - 1));
+    return vec4_from3(w, d->density[(size_t)j * (size_t)size.x + (size_t)i]);
+}
+
+/* GLSL: mis_power */
+static float mis_power(float p, float q)
+{
+    float r = q / maxf(p, TINY);
+    return 1.0f / (1.0f + r * r);
+}
+
+/* texelFetch(uEnvResidual, t, 0): level 0's texel t */
+static vec3 env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t)
+{
+    const sl_env_level *l0 = &u->uEnvResidual->levels[0];
+    return l0->texels[(size_t)t.y * (size_t)l0->width + (size_t)t.x];
+}
+
+/* specular_mis: the derivation is in the GLSL. The trace records the BRDF's sample of pair k in
+ * samples[k] (as specular_microfacet does) and the environment's in env_samples[k], each with
+ * its own density (pdf), the other strategy's (pdf_other) and its weight (mis). */
+/* GLSL: specular_mis */
+static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                         sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    float NdotV = dot(N, V);
+    vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 A = normalize(cross(axis, N));
+    vec3 B = normalize(cross(N, A));
+    int n = (int)u->uHammersley.N;
+    float half_ = 0.5f / (float)(n > 1 ? n : 1);
+    vec3 sum = vec3s(0.0f);
+    int below = 0;
+    trace_sample_frame(trace, N, V, A, B, axis.x == 1.0f, n, true);
+    trace_mis(trace);
+    for (int k = 0; k < n; k++) {
+        vec2 xi = hammersley_point(u, k);
+        if (u->uRotate != 0)
+            xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
+        vec3 Hl = microfacet_sample(xi, alpha);
+        float D = microfacet_D(xi, alpha);
+        vec3 H = normalize(add(add(scale(A, Hl.x), scale(B, Hl.y)), scale(N, Hl.z)));
+        float VdotH = dot(V, H);
+        vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
+        float wN = dot(w, N);
+        if (VdotH > 0.0f && wN > 0.0f) {
+            float NdotH = Hl.z;
+            float pdf = D * NdotH / (4.0f * VdotH);
+            ivec2 t = env_texel(u, w);
+            float pe = env_dist_pdf(u, t);
+            float mis = mis_power(pdf, pe);
+            vec3 F = sl_brdf_F(Ks, VdotH);
+            float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
+            vec3 Li = scale(env_texel_fetch(u, t), u->uEnvIntensity);
+            float weight = G * wN * VdotH / NdotH * mis;
+            vec3 c = scale(mul(F, Li), weight);
+            sum = add(sum, c);
+            trace_sample(trace, k,
+                         &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
+                                                     .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
+                                                     .G = G, .Li = Li, .c = c, .sum = sum});
+        } else {
+            below++;
+            trace_sample(trace, k,
+                         &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .w = w, .wN = wN, .H = H, .NdotH = Hl.z,
+                                                     .LdotH = VdotH, .D = D, .sum = sum});
+        }
+        ivec2 te;
+        vec2 xe = vec2(fract(xi.x + half_), xi.y);
+        vec4 e = env_dist_sample(u, xe, &te);
+        vec3 we = xyz(e);
+        float weN = dot(we, N);
+        vec3 He = normalize(add(we, V));
+        float NdotHe = dot(N, He);
+        float LdotHe = dot(we, He);
+        if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
+            float De = sl_lobe_D(NdotHe, alpha);
+            float pb = De * NdotHe / (4.0f * LdotHe);
+            float mis = mis_power(e.w, pb);
+            vec3 F = sl_brdf_F(Ks, LdotHe);
+            float G = sl_lobe_G(LdotHe, weN, NdotV, alpha, (sl_gterm)u->uGTerm);
+            vec3 Li = scale(env_texel_fetch(u, te), u->uEnvIntensity);
+            float weight = De * G * weN / (4.0f * e.w) * mis;
+            vec3 c = scale(mul(F, Li), weight);
+            sum = add(sum, c);
+            trace_env_sample(trace, k,
+                             &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
+                                                         .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
+                                                         .F = F, .G = G, .Li = Li, .c = c, .sum = sum});
+        } else {
+            below++;
+            trace_env_sample(trace, k,
+                             &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .w = we, .wN = weN, .H = He,
+                                                         .NdotH = NdotHe, .LdotH = LdotHe, .sum = sum});
+        }
+    }
+    count_samples(task, 2 * n, below, axis.x == 1.0f);
+    return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
+}
+
 /* splitsum_width: brdf.h's sl_splitsum_width, GGX's roughness or the Phong exponent's equal-peak one */
 /* GLSL: splitsum_width */
 static float splitsum_width(float alpha)
@@ -399,6 +565,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
             else if (u->uEstimator == ESTIMATOR_MICROFACET)
                 spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+            else if (u->uEstimator == ESTIMATOR_MIS)
+                spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             if (u->uEnvLightCount > 0) {
@@ -479,6 +647,19 @@ float sl_shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); 
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
 float sl_shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
 vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
+vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                           sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    return specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+}
+vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
+{
+    return env_dist_sample(u, xi, texel);
+}
+ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w) { return env_texel(u, w); }
+float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t) { return env_dist_pdf(u, t); }
+float sl_shade_mis_power(float p, float q) { return mis_power(p, q); }
+vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t) { return env_texel_fetch(u, t); }
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace)
 {

@@ -6,7 +6,7 @@
  *
  * The shading is a line-by-line C port of shaders/lighting.frag (lighting.c): IBL diffuse
  * Kd/pi E(N), IBL specular by the specification's importance-sampled estimator (eq. (3)) or one
- * of two consistent ones (options.estimator), optionally plus the exact sum over the environment's
+ * of three consistent ones (options.estimator; mis draws from the environment too), optionally plus the exact sum over the environment's
  * brightest texels while the samples read the rest (options.env_lights, docs/lighting.md "Env
  * lights"), point lights with the BRDF of eq. (2), and the environment behind empty pixels.
  * The uniforms struct below is the GLSL uniform list with the same names, so the GL host
@@ -40,6 +40,7 @@
 #include <softlight/lighting.h>
 #include "../core/image.h"
 #include "../core/options.h"
+#include "../ibl/env_dist.h"
 #include "../ibl/env_lights.h"
 #include "../ibl/ibl.h"
 #include "../ibl/texture_lod.h"
@@ -107,6 +108,8 @@ typedef struct {
     const sl_env *splitsum_phong, *splitsum_ggx; /* required when options.estimator is SPLITSUM:
                                         sl_env_prefilter of what the samples read, each lobe set */
     const sl_splitsum_lut *splitsum_lut;         /* ... and the BRDF's table (splitsum_lut.h) */
+    const sl_env_dist *env_dist;                 /* required when options.estimator is MIS:
+                                                    sl_env_dist_build of what the samples read */
     const sl_lighting_program *program;          /* the shading (softlight/lighting.h); NULL = the
                                                     built-in, sl_lighting_builtin() */
 } sl_lighting_desc;
@@ -143,6 +146,10 @@ typedef struct {
     const sl_env *uSplitSumPhong, *uSplitSumGGX;
     const sl_splitsum_lut *uSplitSumLut;
     float uSplitSumMaxLod;
+    /* the MIS estimator (NULL otherwise): the environment distribution (uEnvDist, uEnvDistMarginal)
+     * and log2 of uEnvResidual's level-0 width over its width */
+    const sl_env_dist *uEnvDist;
+    int uEnvDistShift;
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */

@@ -25,6 +25,7 @@
  * GCC vectorizes a loop only if no floating-point operation sits under a branch (its default
  * -ftrapping-math); hence selects between constants multiplied in, and a loop per option
  * where the port has an `if`. */
+#include <stdlib.h>
 #include <string.h>
 
 /* clang honours `omp simd` too but cannot vectorize every one of these loops (gathers through a
@@ -47,6 +48,7 @@ static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
+static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -600,6 +602,231 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
+/* ======================== MIS ======================== */
+
+/* The trace of one MIS pair's samples, as specular_mis records them (the values the loops
+ * computed; G recomputed by brdf.h for the record only). */
+static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, int i, const float *D, const float *pe,
+                           const float *mis_b, const float *Lr, const float *Lg, const float *Lb, vec3 cb,
+                           const env_sample_table *e, int ke, vec3 ce, float De, float pbe, float mis_e, vec3 Ks,
+                           float alpha, sl_gterm gterm, vec3 N, vec3 V, vec3 *sum)
+{
+    const float NdotV = dot(N, V);
+    vec3 w = vec3(b->wx[i], b->wy[i], b->wz[i]), H = vec3(b->hx[i], b->hy[i], b->hz[i]);
+    vec2 xi = vec2(b->xi1[i], b->xi2[i]);
+    if (b->vh[i] > 0.0f && b->wN[i] > 0.0f) {
+        *sum = add(*sum, cb);
+        trace_sample(t, k, &(sl_lighting_trace_sample){
+            .xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .pdf = b->pw[i], .pdf_other = pe[i], .mis = mis_b[i],
+            .w = w, .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i], .LdotH = b->vh[i], .D = D[i],
+            .F = sl_brdf_F(Ks, b->vh[i]), .G = sl_lobe_G(b->vh[i], b->wN[i], NdotV, alpha, gterm),
+            .Li = vec3(Lr[i], Lg[i], Lb[i]), .c = cb, .sum = *sum});
+    } else {
+        trace_sample(t, k, &(sl_lighting_trace_sample){.xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .w = w,
+                                                          .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i],
+                                                          .LdotH = b->vh[i], .D = D[i], .sum = *sum});
+    }
+    vec3 we = vec3(e->wx[ke], e->wy[ke], e->wz[ke]);
+    vec3 He = normalize(add(we, V));
+    float weN = dot(we, N), NdotHe = dot(N, He), LdotHe = dot(we, He);
+    sl_lighting_trace_sample s = {.xi = vec2(e->xe1[ke], e->xe2[ke]), .pdf = e->pe[ke], .w = we, .wN = weN, .H = He,
+                                  .NdotH = NdotHe, .LdotH = LdotHe};
+    if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
+        *sum = add(*sum, ce);
+        s.pdf_other = pbe;
+        s.mis = mis_e;
+        s.D = De;
+        s.F = sl_brdf_F(Ks, LdotHe);
+        s.G = sl_lobe_G(LdotHe, weN, NdotV, alpha, gterm);
+        s.Li = vec3(e->lr[ke], e->lg[ke], e->lb[ke]);
+        s.c = ce;
+    }
+    s.sum = *sum;
+    trace_env_sample(t, k, &s);
+}
+
+/* specular_mis, batched, for one pixel (rotation off; with rotation on every pixel draws its own
+ * pairs, and the port's loop runs). Per block of pairs: the BRDF's samples from the per-alpha
+ * microfacet table through microfacet_directions (the microfacet estimator's stage (1)); their
+ * level-0 texel through the fast lat-long map (vectorized), then the environment's radiance and
+ * density there, one packed read a sample; their weights and contributions vectorized. The environment's samples come from the task's table (the same
+ * directions in every pixel): their BRDF, the BRDF's density and the weights vectorized, as
+ * env_lights_samples evaluates a light (D through the fast log2/exp2 for Phong). The sum: per
+ * block, the BRDF's samples then the environment's, in sample order (the port alternates; the
+ * difference is float rounding). */
+static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                        sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    if (u->uRotate != 0)
+        return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+    const int n = (int)u->uHammersley.N;
+    const float NdotV = dot(N, V);
+    vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
+    vec3 A = normalize(cross(axis, N));
+    vec3 B = normalize(cross(N, A));
+    trace_sample_frame(trace, N, V, A, B, axis.x == 1.0f, n, true);
+    trace_mis(trace);
+    const lobe_table *lobe = task ? sl_shade_lobe_for(u, task, alpha, true) : NULL;
+    env_sample_table *local = NULL;
+    if (!task) { /* tests and traces: the table on the heap, 36 KB */
+        local = malloc(sizeof *local);
+        if (!local)
+            return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+    }
+    const env_sample_table *e = sl_shade_env_samples_for(u, task, local);
+    const bool ggx = sl_lobe_is_ggx(alpha);
+    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
+    const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f;
+    const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
+    const float log2_c = ggx ? 0.0f : sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
+    const float nh_floor = !ggx && alpha > 0.0f ? maxf(sl_fast_exp2(maxf((-120.0f - log2_c) / alpha, -126.0f)), TINY)
+                                                : TINY; /* env_lights_samples' floor */
+    const float I = u->uEnvIntensity;
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    const float *packed = u->uEnvDist->texel_pdf;
+    const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
+    sample_block blk;
+    sample_block *b = &blk;
+    float pe[BLOCK], mis_b[BLOCK], Lr[BLOCK], Lg[BLOCK], Lb[BLOCK];
+    float cr[2 * BLOCK], cg[2 * BLOCK], cb[2 * BLOCK], De[BLOCK], pbe[BLOCK], mis_e[BLOCK];
+    float sr = 0.0f, sg = 0.0f, sb = 0.0f;
+    vec3 trace_sum = vec3s(0.0f);
+    int below = 0;
+    for (int k0 = 0; k0 < n; k0 += BLOCK) {
+        const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
+        /* the loops run over whole vectors of 16: the pairs past m are H = N with D = 1, made
+         * invalid below (V.H = 0), and the table's environment samples past n add 0 (their
+         * radiance is 0); so a small N is not left to the scalar remainder loops */
+        const int mp = (m + 15) & ~15;
+        if (lobe) {
+            for (int i = 0; i < m; i++) {
+                b->xi1[i] = lobe->xi1[k0 + i];
+                b->xi2[i] = lobe->xi2[k0 + i];
+                b->Lx[i] = lobe->Lx[k0 + i];
+                b->Ly[i] = lobe->Ly[k0 + i];
+                b->Lz[i] = lobe->Lz[k0 + i];
+                b->pdf[i] = lobe->pdf[k0 + i];
+            }
+        } else {
+            sl_shade_lobe_fill(u, alpha, true, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
+        }
+        for (int i = m; i < mp; i++) {
+            b->Lx[i] = b->Ly[i] = 0.0f;
+            b->Lz[i] = b->pdf[i] = 1.0f;
+        }
+        const float *D = b->pdf;
+        microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, ggx, a2);
+        for (int i = m; i < mp; i++)
+            b->vh[i] = 0.0f;
+        /* the BRDF's samples: texel, density and radiance, one at a time (one read of the
+         * distribution's packed texels where it has them) */
+        /* env_texel through the fast lat-long map (vectorized); a direction within rounding of a
+         * texel's edge may read its neighbour, where the port reads it */
+        int tx[BLOCK], ty[BLOCK];
+#pragma omp simd
+        for (int i = 0; i < mp; i++) {
+            float tu, tv;
+            sl_fast_dir_to_uv(b->wx[i], b->wy[i], b->wz[i], &tu, &tv);
+            int x = (int)(tu * (float)w0), y = (int)(tv * (float)h0);
+            tx[i] = x < w0 - 1 ? x : w0 - 1;
+            ty[i] = y < h0 - 1 ? y : h0 - 1;
+        }
+        /* the reads apart from the index arithmetic, so that their cache misses overlap */
+        for (int i = 0; i < mp; i++) {
+            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
+            below += !valid && i < m;
+            ivec2 t = ivec2(tx[i], ty[i]);
+            pe[i] = 0.0f;
+            Lr[i] = Lg[i] = Lb[i] = 0.0f;
+            if (!valid)
+                continue;
+            vec3 L;
+            if (packed) {
+                const float *p = packed + 4 * ((size_t)t.y * (size_t)w0 + (size_t)t.x);
+                L = vec3(p[0], p[1], p[2]);
+                pe[i] = p[3];
+            } else {
+                L = sl_shade_env_texel_fetch(u, t);
+                pe[i] = sl_shade_env_dist_pdf(u, t);
+            }
+            Lr[i] = L.x * I;
+            Lg[i] = L.y * I;
+            Lb[i] = L.z * I;
+        }
+#pragma omp simd
+        for (int i = 0; i < mp; i++) {
+            float r = pe[i] / maxf(b->pw[i], TINY);
+            float mis = 1.0f / (1.0f + r * r);
+            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
+            float k = valid ? b->weight[i] * mis : 0.0f;
+            mis_b[i] = mis;
+            cr[i] = (Ks.x + F1.x * b->m5[i]) * Lr[i] * k;
+            cg[i] = (Ks.y + F1.y * b->m5[i]) * Lg[i] * k;
+            cb[i] = (Ks.z + F1.z * b->m5[i]) * Lb[i] * k;
+        }
+        /* the environment's samples of the same pairs */
+        const float *X = e->wx + k0, *Y = e->wy + k0, *Z = e->wz + k0, *P = e->pe + k0;
+        const float *ER = e->lr + k0, *EG = e->lg + k0, *EB = e->lb + k0;
+        float lit_e[BLOCK];
+#pragma omp simd
+        for (int i = 0; i < mp; i++) {
+            float wN = (X[i] * N.x + Y[i] * N.y) + Z[i] * N.z;
+            float hx = X[i] + V.x, hy = Y[i] + V.y, hz = Z[i] + V.z;
+            float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
+            hx *= ih;
+            hy *= ih;
+            hz *= ih;
+            float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
+            float LdotH = (X[i] * hx + Y[i] * hy) + Z[i] * hz;
+            float c2 = NdotH * NdotH;
+            float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
+            float Dg = a2 / (PI * t * t);
+            float Dp = sl_fast_exp2(log2_c + alpha * sl_fast_log2(maxf(NdotH, nh_floor)));
+            float Dv = ggx ? Dg : Dp;
+            float wl = maxf(wN, 0.0f);
+            float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
+            float gp = 1.0f / (LH * LH);
+            float G = ggx ? ggx_g(wl, NdotV, kv, a2) : (inv_lh2 ? gp : 1.0f);
+            float mm = maxf(1.0f - LdotH, 0.0f);
+            float m2 = mm * mm;
+            float m5 = m2 * m2 * mm;
+            /* products of selects, not &&, and every factor finite when it is 0: vectorizes */
+            float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f) * (LdotH > 0.0f ? 1.0f : 0.0f);
+            float pb = Dv * NdotH / (4.0f * maxf(LdotH, TINY));
+            float r = pb / maxf(P[i], TINY);
+            float mis = 1.0f / (1.0f + r * r);
+            float k = Dv * G * wN / (4.0f * P[i]) * mis * lit;
+            lit_e[i] = lit;
+            De[i] = Dv;
+            pbe[i] = pb;
+            mis_e[i] = mis;
+            cr[BLOCK + i] = (Ks.x + F1.x * m5) * ER[i] * k;
+            cg[BLOCK + i] = (Ks.y + F1.y * m5) * EG[i] * k;
+            cb[BLOCK + i] = (Ks.z + F1.z * m5) * EB[i] * k;
+        }
+        for (int i = 0; i < m; i++)
+            below += lit_e[i] == 0.0f;
+        for (int i = 0; i < m; i++) {
+            sr += cr[i];
+            sg += cg[i];
+            sb += cb[i];
+        }
+        for (int i = 0; i < m; i++) {
+            sr += cr[BLOCK + i];
+            sg += cg[BLOCK + i];
+            sb += cb[BLOCK + i];
+        }
+        if (trace)
+            for (int i = 0; i < m; i++)
+                trace_mis_pair(trace, k0 + i, b, i, D, pe, mis_b, Lr, Lg, Lb, vec3(cr[i], cg[i], cb[i]), e, k0 + i,
+                               vec3(cr[BLOCK + i], cg[BLOCK + i], cb[BLOCK + i]), De[i], pbe[i], mis_e[i], Ks, alpha,
+                               (sl_gterm)u->uGTerm, N, V, &trace_sum);
+    }
+    free(local);
+    count_samples(task, 2 * n, below, axis.x == 1.0f);
+    return scale(vec3(sr, sg, sb), 1.0f / (float)(n > 1 ? n : 1));
+}
+
 /* ======================== env lights ======================== */
 
 /* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
@@ -821,9 +1048,9 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     if (u->uSpecular == 0)
         return vec3s(0.0f);
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
-    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM
-                        ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
-                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
+    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
+                    : u->uEstimator == ESTIMATOR_MIS    ? mis_samples(u, N, V, Ks, alpha, rotation, task, trace)
+                                                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
                                            vec3(p->Ax[i], p->Ay[i], p->Az[i]), p->B[i], p->pole[i], Ks, alpha,
                                            rotation, task, trace);
     if (u->uEnvLightCount > 0) {

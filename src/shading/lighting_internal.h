@@ -47,6 +47,15 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
+/* GLSL specular_mis (the batched path runs it per pixel: lighting_batched.c says why), and its
+ * pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of level 0 */
+vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                           sl_lighting_task *task, sl_lighting_trace *trace);
+vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel);
+ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
+float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
+float sl_shade_mis_power(float p, float q);
+vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
@@ -184,11 +193,23 @@ typedef struct {
     float cphi[SL_HAMMERSLEY_MAX], sphi[SL_HAMMERSLEY_MAX];
 } azimuth_table;
 
+/* The MIS estimator's environment samples with rotation off: the same N directions in every
+ * pixel (env_dist_sample of each shifted pair, the port's bits), their level-0 radiance times
+ * the intensity and their density. Structure of arrays for the batched path's vector loads. */
+typedef struct {
+    int n; /* 0 = not built */
+    float wx[SL_HAMMERSLEY_MAX], wy[SL_HAMMERSLEY_MAX], wz[SL_HAMMERSLEY_MAX];
+    float lr[SL_HAMMERSLEY_MAX], lg[SL_HAMMERSLEY_MAX], lb[SL_HAMMERSLEY_MAX];
+    float pe[SL_HAMMERSLEY_MAX];
+    float xe1[SL_HAMMERSLEY_MAX], xe2[SL_HAMMERSLEY_MAX]; /* the shifted pairs, for a trace */
+} env_sample_table;
+
 struct sl_lighting_task {
     const sl_lighting_uniforms *owner; /* the uniforms the tables were built from */
     int next;                          /* round-robin victim */
     lobe_table slots[SLOTS];
     azimuth_table azimuth;
+    env_sample_table env_samples;
     sl_lighting_stats stats;
 };
 
@@ -274,6 +295,19 @@ static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_t
         t->samples[k] = *s;
 }
 
+/* The MIS estimator ran: samples[k] is pair k's BRDF sample, env_samples[k] its environment one. */
+static inline void trace_mis(sl_lighting_trace *t)
+{
+    if (t)
+        t->mis = true;
+}
+
+static inline void trace_env_sample(sl_lighting_trace *t, int k, const sl_lighting_trace_sample *s)
+{
+    if (t)
+        t->env_samples[k] = *s;
+}
+
 /* The terms of main()'s sum: diffuse (with its irradiance), env lights (their exact part, inside
  * the specular), specular, point light i. */
 static inline void trace_diffuse(sl_lighting_trace *t, vec3 E, vec3 diffuse)
@@ -331,6 +365,10 @@ void sl_shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfa
 /* The table for alpha in the task's cache, built on a miss (the tables of the last SLOTS
  * distinct alphas are kept: scenes have few materials). */
 const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet);
+/* The MIS environment samples, rotation off: the task's (built once per uniforms), or `local`
+ * filled when task is NULL. */
+const env_sample_table *sl_shade_env_samples_for(const sl_lighting_uniforms *u, sl_lighting_task *task,
+                                                 env_sample_table *local);
 /* The azimuth table: the task's (built once per uniforms), or `local` filled when task is NULL. */
 const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_lighting_task *task, azimuth_table *local);
 

@@ -6,7 +6,8 @@
  * sample. A task keeps the tables of the last SLOTS distinct alphas it met, built by the port's
  * own functions (so the values are the port's bits), and a pixel pays a lookup. With rotation
  * on, every pixel has its own pairs; what stays fixed is each pair's azimuth, kept as cos/sin
- * (azimuth_table) for the batched path to rotate. Tables are valid for the uniforms they were
+ * (azimuth_table) for the batched path to rotate. The MIS estimator's environment samples
+ * (env_sample_table) depend on neither pixel nor material with rotation off: one table. Tables are valid for the uniforms they were
  * built from (task->owner); a task met with other uniforms starts over. */
 #include <stdlib.h>
 
@@ -27,6 +28,7 @@ void sl_lighting_task_reset(sl_lighting_task *task)
     for (int s = 0; s < SLOTS; s++)
         task->slots[s].valid = false;
     task->azimuth.n = 0;
+    task->env_samples.n = 0;
 }
 
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats)
@@ -103,6 +105,54 @@ const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_ligh
         t->xi2[k] = xi.y;
         t->cphi[k] = cosf(phi);
         t->sphi[k] = sinf(phi);
+    }
+    t->n = n;
+    return t;
+}
+
+const env_sample_table *sl_shade_env_samples_for(const sl_lighting_uniforms *u, sl_lighting_task *task,
+                                                 env_sample_table *local)
+{
+    env_sample_table *t = local;
+    if (task) {
+        own(task, u);
+        t = &task->env_samples;
+        if (t->n > 0)
+            return t;
+    }
+    const int n = (int)u->uHammersley.N;
+    const float half_ = 0.5f / (float)(n > 1 ? n : 1); /* specular_mis's shift of xi.x */
+    for (int k = 0; k < n; k++) {
+        vec2 xi = sl_shade_hammersley_point(u, k);
+        vec2 xe = vec2(fract(xi.x + half_), xi.y);
+        ivec2 te;
+        vec4 e = sl_shade_env_dist_sample(u, xe, &te);
+        vec3 L = scale(sl_shade_env_texel_fetch(u, te), u->uEnvIntensity);
+        t->wx[k] = e.x;
+        t->wy[k] = e.y;
+        t->wz[k] = e.z;
+        t->pe[k] = e.w;
+        t->lr[k] = L.x;
+        t->lg[k] = L.y;
+        t->lb[k] = L.z;
+        t->xe1[k] = xe.x;
+        t->xe2[k] = xe.y;
+    }
+    /* to the next multiple of 16: entries the batched loops read past n, adding 0 */
+    for (int k = n; k < ((n + 15) & ~15) && k < SL_HAMMERSLEY_MAX; k++) {
+        t->wx[k] = t->wy[k] = 0.0f;
+        t->wz[k] = 1.0f;
+        t->pe[k] = 1.0f;
+        t->lr[k] = t->lg[k] = t->lb[k] = 0.0f;
+        t->xe1[k] = t->xe2[k] = 0.0f;
+    }
+    /* to the next multiple of 16: entries the batched loops read past n, adding 0 */
+    for (int k = n; k < ((n + 15) & ~15) && k < SL_HAMMERSLEY_MAX; k++) {
+        t->wx[k] = t->wy[k] = 0.0f;
+        t->wz[k] = 1.0f;
+        t->pe[k] = 1.0f;
+        t->lr[k] = t->lg[k] = t->lb[k] = 0.0f;
+        t->xe1[k] = t->xe2[k] = 0.0f;
     }
     t->n = n;
     return t;

@@ -45,6 +45,38 @@ static void print_program(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  a NaN/Inf was replaced by magenta (1, 0, 1)\n");
 }
 
+/* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
+ * it added (0 below the horizon or for a facet facing away). */
+static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting_trace_sample *s)
+{
+    fprintf(f, "  %4d %-4s (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %+-8.4f", k, kind, (double)s->xi.x, (double)s->xi.y,
+            (double)s->w.x, (double)s->w.y, (double)s->w.z, (double)s->wN);
+    if (s->wN <= 0.0f || s->LdotH <= 0.0f || s->NdotH <= 0.0f) {
+        fprintf(f, " %s: 0\n", s->wN <= 0.0f ? "below the horizon" : "facet faces away");
+        return;
+    }
+    fprintf(f, " %-10.4g %-10.4g %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
+               " sum (%.5g,%.5g,%.5g)\n",
+            (double)s->pdf, (double)s->pdf_other, (double)s->mis, (double)s->D, (double)s->G, (double)s->F.x,
+            (double)s->F.y, (double)s->F.z, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
+            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z);
+}
+
+/* The MIS estimator's samples: per pair k its BRDF sample, then its environment sample. */
+static void print_mis(FILE *f, const sl_lighting_trace *t)
+{
+    fprintf(f,
+            "specular samples (MIS, %d pairs: a BRDF sample drawn as the microfacet estimator's and an env "
+            "sample from the environment distribution, power heuristic, level-0 texels, sum over both / N; %s)\n",
+            t->sample_count, t->plain ? "plain port" : "batched path (the port's own loop)");
+    fprintf(f, "  %4s %-4s %-17s %-26s %-8s %-10s %-10s %-8s %-10s %-8s %-26s %-26s %-26s\n", "k", "from", "xi", "w",
+            "w.N", "p (own)", "p (other)", "weight", "D", "G", "F", "Li", "contribution");
+    for (int k = 0; k < t->sample_count; k++) {
+        print_mis_sample(f, k, "brdf", &t->samples[k]);
+        print_mis_sample(f, k, "env", &t->env_samples[k]);
+    }
+}
+
 void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
 {
     if (t->program) {
@@ -92,15 +124,18 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 (double)t->splitsum_lod, "prefiltered", (double)t->splitsum_prefiltered.x,
                 (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z, "table",
                 (double)t->splitsum_ab.x, (double)t->splitsum_ab.y);
+    else if (t->mis)
+        print_mis(f, t);
     else
         fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
             t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
                           : "directions drawn about R",
             t->plain ? "plain port" : "batched path: lod and uv by core/fast_math.h, 4 partial sums");
-    fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
+    if (!t->mis)
+        fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
             t->microfacet ? "H (about +Z)" : "L (skewed)", "p(w)", "w", "w.N", "H", t->microfacet ? "V.H" : "L.H", "D",
             "G", "F", "lod", "Li", "contribution");
-    for (int k = 0; k < t->sample_count; k++) {
+    for (int k = 0; !t->mis && k < t->sample_count; k++) {
         const sl_lighting_trace_sample *s = &t->samples[k];
         fprintf(f, "  %4d (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %-9.4g (%+.5f,%+.5f,%+.5f) %+-8.4f", k, (double)s->xi.x,
                 (double)s->xi.y, (double)s->L.x, (double)s->L.y, (double)s->L.z, (double)s->pdf, (double)s->w.x,

@@ -18,7 +18,9 @@
 typedef struct {
     vec2 xi;           /* Hammersley pair (rotated when rotation is on) */
     vec3 L;            /* skewed direction about +Z (eq. (4)); microfacet: H about +Z */
-    float pdf;         /* p(w), the density of w */
+    float pdf;         /* p(w), the density of w (MIS: of the strategy that drew it) */
+    float pdf_other;   /* MIS: the other strategy's density at w */
+    float mis;         /* MIS: the power heuristic's weight pdf^2 / (pdf^2 + pdf_other^2) */
     vec3 w;            /* rotated to R (environment space); microfacet: reflect(-V, H) */
     float wN;          /* w.N; <= 0: below the horizon, nothing below was computed */
     vec3 H;
@@ -54,6 +56,10 @@ struct sl_lighting_trace {
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
+    bool mis;                /* the MIS estimator ran (specular_mis): samples[k] is pair k's BRDF
+                                sample (drawn as the microfacet estimator's), env_samples[k] its
+                                environment sample (src/ibl/env_dist.h) */
+    sl_lighting_trace_sample env_samples[SL_HAMMERSLEY_MAX];
     int env_light_count;     /* uEnvLightCount */
     vec3 env_lights;         /* their exact part of the specular (included in specular) */
     vec3 irradiance, diffuse, specular, lights, background;
@@ -70,7 +76,7 @@ struct sl_lighting_trace {
 };
 
 /* Trace image pixel (x, y) (row 0 = top, as in the written image): runs sl_lighting_shade with
- * a trace. `trace` is large (about 200 KB): allocate it. */
+ * a trace. `trace` is large (about 400 KB): allocate it. */
 bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y,
                              sl_lighting_trace *trace, sl_error *err);
 void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *trace);

@@ -63,7 +63,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_SPLITSUM ||
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MIS ||
         (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
@@ -103,8 +103,21 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
                      desc->splitsum_phong->level_count != desc->splitsum_ggx->level_count))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the split-sum estimator asked for, but no prefiltered chains or table given");
 
+    const bool mis = o.estimator == SL_ESTIMATOR_MIS;
+    if (mis && oct)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the mis estimator reads the lat-long level 0, not the octahedral layout");
+    if (mis) {
+        const sl_env *src = el ? &el->residual : desc->env;
+        const sl_env_dist *d = desc->env_dist;
+        if (!d || d->width < 1 || d->height < 1 || d->src_width != src->levels[0].width ||
+            d->src_height != src->levels[0].height || (d->width << d->level) != d->src_width)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: the mis estimator asked for, but no environment distribution given");
+    }
+
+    /* MIS splits its N samples into pairs: one from the BRDF and one from the environment per
+     * point of a set of (N + 1) / 2 (lighting.frag specular_mis) */
     sl_hammersley set;
-    if (!sl_hammersley_build(&set, o.samples, err))
+    if (!sl_hammersley_build(&set, mis ? (o.samples + 1) / 2 : o.samples, err))
         return false;
     sl_hammersley_pack_std140(&set, &u->uHammersley);
 
@@ -156,6 +169,10 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->uSplitSumMaxLod = (float)(desc->splitsum_phong->level_count - 1);
         sl_env_gather_init(&u->splitSumPhongGather, u->uSplitSumPhong);
         sl_env_gather_init(&u->splitSumGGXGather, u->uSplitSumGGX);
+    }
+    if (mis) {
+        u->uEnvDist = desc->env_dist;
+        u->uEnvDistShift = desc->env_dist->level;
     }
     u->uLodRule = (int)o.lod_rule;
     u->uDistortion = o.distortion ? 1 : 0;

@@ -47,10 +47,16 @@ same "softlight: the scene's modes = the same options on the command line" "$T/c
     "$SL" render "$T/splitsum.json" "${SIZE[@]}" --pfm "$T/file_ss.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
 same "softlight: \"estimator\": \"splitsum\" = --estimator splitsum" "$T/cli_ss.pfm" "$T/file_ss.pfm"
 "$SL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/plain.pfm" >/dev/null &&
+    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator spec --pfm "$T/plain_spec.pfm" >/dev/null &&
+    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mf --lod pdf --distortion --env-lights 64 \
+        --pfm "$T/plain_ggx.pfm" >/dev/null &&
     "$SL" render "$T/splitsum.json" "${SIZE[@]}" --estimator spec --pfm "$T/override.pfm" >/dev/null &&
     "$SL" render "$T/default.json" "${SIZE[@]}" --pfm "$T/default.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
-same "softlight: --estimator spec wins over the scene's splitsum" "$T/plain.pfm" "$T/override.pfm"
+same "softlight: --estimator spec wins over the scene's splitsum" "$T/plain_spec.pfm" "$T/override.pfm"
 same "softlight: \"default\" is the default" "$T/plain.pfm" "$T/default.pfm"
+# a scene of GGX materials only (this one) is shaded by the microfacet estimator with the pdf
+# rule, the distortion and 64 env lights unless it asks for another estimator
+same "softlight: an all-GGX scene's default is mf pdf+dist with 64 env lights" "$T/plain.pfm" "$T/plain_ggx.pfm"
 if cmp -s "$T/plain.pfm" "$T/file.pfm"; then
     echo "FAIL: the modes changed nothing (the test would pass without reading them)"; fails=$((fails + 1))
 fi
@@ -62,7 +68,7 @@ else echo "FAIL info: no line '$want'"; "$SL" info "$T/modes.json" | grep lighti
 "$SL" render "$T/bad.json" "${SIZE[@]}" -o "$T/bad.png" >"$T/out" 2>"$T/err"
 status=$?
 if [ $status -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && [ ! -e "$T/bad.png" ] &&
-    grep -qF 'bad.json: render.estimator: unknown estimator "fastest" (expected spec|consistent|mf|splitsum)' "$T/err"; then
+    grep -qF 'bad.json: render.estimator: unknown estimator "fastest" (expected spec|consistent|mf|splitsum|mis)' "$T/err"; then
     echo "ok   an unknown mode: one line, exit 2, nothing written"
 else
     echo "FAIL an unknown mode: status $status, stderr:"; sed 's/^/    /' "$T/err"; fails=$((fails + 1))

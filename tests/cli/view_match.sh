@@ -50,6 +50,8 @@ screenshot $T/mf
 key k
 screenshot $T/splitsum
 key k
+screenshot $T/mis
+key k
 key l
 screenshot $T/gems
 key l
@@ -107,6 +109,7 @@ no-specular --diffuse-only
 consistent --estimator consistent
 mf --estimator mf
 splitsum --estimator splitsum
+mis --estimator mis
 gems --lod gems
 pdf --lod pdf
 dp --irradiance dp
