@@ -146,14 +146,6 @@ const env_sample_table *sl_shade_env_samples_for(const sl_lighting_uniforms *u, 
         t->lr[k] = t->lg[k] = t->lb[k] = 0.0f;
         t->xe1[k] = t->xe2[k] = 0.0f;
     }
-    /* to the next multiple of 16: entries the batched loops read past n, adding 0 */
-    for (int k = n; k < ((n + 15) & ~15) && k < SL_HAMMERSLEY_MAX; k++) {
-        t->wx[k] = t->wy[k] = 0.0f;
-        t->wz[k] = 1.0f;
-        t->pe[k] = 1.0f;
-        t->lr[k] = t->lg[k] = t->lb[k] = 0.0f;
-        t->xe1[k] = t->xe2[k] = 0.0f;
-    }
     t->n = n;
     return t;
 }
