@@ -18,22 +18,19 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <limits.h>
-#include <spawn.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/lighting_load.h"
 #include "app/render_options.h"
+#include "app/subprocess.h"
 #include "core/output_set.h"
 #include "post/compare.h"
 #include "render/renderer.h"
-
-extern char **environ;
 
 #define CHECK_TOLERANCE_DEFAULT 0.05 /* tests/cli/gl_shading.sh's bound for lighting.frag and its port */
 #define CHECK_ARGS_MAX 64            /* forwarded words; a longer command line is refused */
@@ -128,27 +125,6 @@ static void gl_renderer(const char *path, char *name, size_t size)
             break;
         }
     fclose(f);
-}
-
-/* Run argv (argv[0] looked up on PATH when it has no slash) with stdout and stderr into files;
- * its exit status, or -1 when it could not be started or did not exit normally. */
-static int run_captured(char *const *argv, const char *out_path, const char *err_path)
-{
-    posix_spawn_file_actions_t fa;
-    if (posix_spawn_file_actions_init(&fa) != 0)
-        return -1;
-    posix_spawn_file_actions_addopen(&fa, STDOUT_FILENO, out_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    posix_spawn_file_actions_addopen(&fa, STDERR_FILENO, err_path, O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    pid_t pid;
-    int rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        return -1;
-    int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
-            return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 /* A word as a shell reads it back: bare when it is plain, else in single quotes. */
@@ -291,7 +267,7 @@ int cmd_check(int argc, char **argv)
             print_shell_word(stderr, gl_argv[i]);
         fputc('\n', stderr);
     }
-    int gl_status = run_captured((char *const *)gl_argv, log_out, log_err);
+    int gl_status = sl_spawn_wait((char *const *)gl_argv, log_out, log_err);
     if (gl_status != 0) {
         char line[800];
         first_line(log_err, line, sizeof line);

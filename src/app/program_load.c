@@ -12,14 +12,12 @@
 #include <dlfcn.h>
 #include <errno.h>
 #include <fcntl.h>
-#include <spawn.h>
 #include <stdarg.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <stdatomic.h>
@@ -31,8 +29,7 @@
 
 #include "core/hash.h"
 #include "program_load.h"
-
-extern char **environ;
+#include "subprocess.h"
 
 enum { MAX_ARGS = 48, PATH_SIZE = 4096 };
 
@@ -125,25 +122,6 @@ static bool cache_dir(char *out, size_t size)
     if (snprintf(out, size, "%s/softlight", base) >= (int)size)
         return false;
     return mkdir(out, 0755) == 0 || errno == EEXIST;
-}
-
-/* Run argv with stdout and stderr into `log`; the exit status, or -1 when it could not start. */
-static int run(char *const argv[], const char *log)
-{
-    posix_spawn_file_actions_t fa;
-    posix_spawn_file_actions_init(&fa);
-    posix_spawn_file_actions_addopen(&fa, 1, log, O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    posix_spawn_file_actions_adddup2(&fa, 1, 2);
-    pid_t pid;
-    int rc = posix_spawnp(&pid, argv[0], &fa, NULL, argv, environ);
-    posix_spawn_file_actions_destroy(&fa);
-    if (rc != 0)
-        return -1;
-    int status;
-    while (waitpid(pid, &status, 0) < 0)
-        if (errno != EINTR)
-            return -1;
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 /* The compiler's first error line (file:line:col: error: ...), else its first line. */
@@ -242,7 +220,7 @@ static bool compile(const char *path, const char *text, size_t text_size, const 
         memcpy(vargv, argv, sizeof(char *) * (size_t)cc_args);
         vargv[cc_args] = "--version";
         vargv[cc_args + 1] = NULL;
-        if (run(vargv, tmpdir_log) != 0) {
+        if (sl_spawn_wait(vargv, tmpdir_log, NULL) != 0) {
             unlink(tmpdir_log);
             return fail(msg, msg_size, "%s: cannot run the C compiler '%s' (set CC)", path, argv[0]);
         }
@@ -277,7 +255,7 @@ static bool compile(const char *path, const char *text, size_t text_size, const 
             fprintf(stderr, " %s", argv[i]);
         fprintf(stderr, "\n");
     }
-    int rc = run(argv, tmpdir_log);
+    int rc = sl_spawn_wait(argv, tmpdir_log, NULL);
     if (rc != 0) {
         char line[1024];
         first_error(tmpdir_log, line, sizeof line);
