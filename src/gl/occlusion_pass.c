@@ -3,7 +3,7 @@
  * target), then shaders/gtao_blur.frag draws each texel's blurred AO times the material's
  * occlusion, with the emission, into an RGBA32F target that is copied over the G-buffer's extra
  * target. The two shaders get softlight's constants (slices, steps, the blur's tests) as
- * #defines and every uniform from the same camera arithmetic as gtao.c's frame, so the two
+ * #defines and the camera's frame from sl_gtao_view_of, as gtao.c does, so the two
  * differ only in how they evaluate the same code. */
 #include <math.h>
 #include <stdio.h>
@@ -78,11 +78,9 @@ bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_came
     if (g->width != o->width || g->height != o->height)
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: the G-buffer is %dx%d, the targets %dx%d", g->width,
                        g->height, o->width, o->height);
-    /* gtao.c frame_of's camera arithmetic */
-    vec3 forward = normalize(sub(cam->target, cam->eye));
-    vec3 right = normalize(cross(forward, cam->up));
-    vec3 up = cross(right, forward);
-    float pixels_per_unit = 0.5f * (float)g->height / tanf(0.5f * cam->fovy_deg * (SL_PI / 180.0f));
+    const sl_gtao_view v = sl_gtao_view_of(cam, g->height);
+    const vec3 forward = v.forward, right = v.right, up = v.up;
+    const float pixels_per_unit = v.pixels_per_unit;
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);

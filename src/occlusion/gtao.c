@@ -21,25 +21,31 @@ static const unsigned char bayer4[16] = {0, 8, 2, 10, 12, 4, 14, 6, 3, 11, 1, 9,
 
 /* What every pixel shares: the camera's frame and the radius in pixels at unit depth. */
 typedef struct {
-    vec3 eye, forward, right, up;
+    sl_gtao_view view;
     float half_width, half_height; /* the image's centre, pixels */
-    float pixels_per_unit; /* screen radius (pixels) of one world unit at view depth 1 */
     float radius, radius2;
     float max_pixels;
     /* cos and sin of each slice's angle about V, for each of the 16 turns */
     float dir_x[GTAO_PATTERN][SL_GTAO_SLICES], dir_y[GTAO_PATTERN][SL_GTAO_SLICES];
 } gtao_frame;
 
+sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height)
+{
+    sl_gtao_view v;
+    v.eye = cam->eye;
+    v.forward = normalize(sub(cam->target, cam->eye));
+    v.right = normalize(cross(v.forward, cam->up));
+    v.up = cross(v.right, v.forward);
+    v.pixels_per_unit = 0.5f * (float)height / tanf(0.5f * cam->fovy_deg * (SL_PI / 180.0f));
+    return v;
+}
+
 static gtao_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, float radius)
 {
     gtao_frame f;
-    f.eye = cam->eye;
-    f.forward = normalize(sub(cam->target, cam->eye));
-    f.right = normalize(cross(f.forward, cam->up));
-    f.up = cross(f.right, f.forward);
+    f.view = sl_gtao_view_of(cam, gb->height);
     f.half_width = 0.5f * (float)gb->width;
     f.half_height = 0.5f * (float)gb->height;
-    f.pixels_per_unit = 0.5f * (float)gb->height / tanf(0.5f * cam->fovy_deg * (SL_PI / 180.0f));
     f.radius = radius;
     f.radius2 = radius * radius;
     f.max_pixels = SL_GTAO_MAX_SCREEN * (float)gb->height;
@@ -98,7 +104,7 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
             gtao_plane *p = &planes[(size_t)j * (size_t)half_width + (size_t)i];
             if (sl_gbuffer_covered(t)) {
                 vec3 n = t->normal;
-                *p = (gtao_plane){n.x, n.y, n.z, dot(sub(t->position, f->eye), n)};
+                *p = (gtao_plane){n.x, n.y, n.z, dot(sub(t->position, f->view.eye), n)};
             } else {
                 *p = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
             }
@@ -124,15 +130,15 @@ static float horizon_cos(const gtao_plane *planes, int half_width, int half_heig
         if ((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height)
             continue;
         gtao_plane q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
-        vec3 ray = add(f->forward, add(scale(f->right, (px - f->half_width) / f->pixels_per_unit),
-                                       scale(f->up, (py - f->half_height) / f->pixels_per_unit)));
+        vec3 ray = add(f->view.forward, add(scale(f->view.right, (px - f->half_width) / f->view.pixels_per_unit),
+                                       scale(f->view.up, (py - f->half_height) / f->view.pixels_per_unit)));
         float along = ray.x * q.nx + ray.y * q.ny + ray.z * q.nz;
         if (!(fabsf(along) > 1e-6f)) /* nothing drawn (a zero plane), or seen edge-on */
             continue;
         float depth = q.w / along;
         if (!(depth > 0.0f))
             continue;
-        vec3 d = sub(add(f->eye, scale(ray, depth)), P);
+        vec3 d = sub(add(f->view.eye, scale(ray, depth)), P);
         float l2 = dot(d, d);
         if (l2 > f->radius2 || l2 < 1e-20f)
             continue;
@@ -149,12 +155,12 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
     if (!sl_gbuffer_covered(t))
         return 1.0f;
     vec3 P = t->position;
-    vec3 V = normalize(sub(f->eye, P));
+    vec3 V = normalize(sub(f->view.eye, P));
     vec3 N = sl_lighting_facing_normal(t->normal, V);
-    float depth = dot(sub(P, f->eye), f->forward);
+    float depth = dot(sub(P, f->view.eye), f->view.forward);
     if (!(depth > 0.0f))
         return 1.0f;
-    float pixels = f->radius * f->pixels_per_unit / depth;
+    float pixels = f->radius * f->view.pixels_per_unit / depth;
     if (pixels > f->max_pixels)
         pixels = f->max_pixels;
     if (pixels < 1.0f) /* the radius is under a pixel here: nothing to read */
@@ -165,17 +171,17 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
     /* The slices turn evenly about V (the integral over the hemisphere is over slice angles about
      * V, not about the screen's axis, which an off-centre pixel sees tilted); each is marched along
      * its own direction's image on the screen. */
-    vec3 b1 = normalize(sub(f->right, scale(V, dot(V, f->right))));
+    vec3 b1 = normalize(sub(f->view.right, scale(V, dot(V, f->view.right))));
     vec3 b2 = cross(V, b1);
-    vec3 E = sub(P, f->eye); /* P in the camera's frame: (xc, yc, depth) */
-    float xc = dot(E, f->right), yc = dot(E, f->up);
+    vec3 E = sub(P, f->view.eye); /* P in the camera's frame: (xc, yc, depth) */
+    float xc = dot(E, f->view.right), yc = dot(E, f->view.up);
     float sum = 0.0f;
     for (int slice = 0; slice < SL_GTAO_SLICES; slice++) {
         vec3 dir = add(scale(b1, cos_phi[slice]), scale(b2, sin_phi[slice]));
         vec3 axis = cross(dir, V);
         /* the screen image of dir at P: the derivative of the projection (x / z, y / z) */
-        float df = dot(dir, f->forward);
-        float sx = dot(dir, f->right) * depth - xc * df, sy = dot(dir, f->up) * depth - yc * df;
+        float df = dot(dir, f->view.forward);
+        float sx = dot(dir, f->view.right) * depth - xc * df, sy = dot(dir, f->view.up) * depth - yc * df;
         float sl = sqrtf(sx * sx + sy * sy);
         if (!(sl > 0.0f))
             continue;
@@ -211,7 +217,7 @@ typedef struct {
 static float blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x, int y)
 {
     const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x, y);
-    float zc = dot(sub(c->position, f->eye), f->forward);
+    float zc = dot(sub(c->position, f->view.eye), f->view.forward);
     float sum = 0.0f, n = 0.0f;
     int i0 = x / 2, j0 = y / 2;
     for (int j = j0 - 1; j <= j0 + 2; j++)

@@ -38,6 +38,15 @@
 #define SL_GTAO_BLUR_NORMAL 0.8f
 /* shaders/gtao.frag and gtao_blur.frag are the GLSL twin (softlight-gl), given these as #defines. */
 
+/* The camera as the pass sees it: its orthonormal frame and the screen radius in pixels of one
+ * world unit at view depth 1, for an image `height` pixels tall. softlight-gl's twin
+ * (src/gl/occlusion_pass.c) takes its uniforms from here, so both march the same screen. */
+typedef struct {
+    vec3 eye, forward, right, up;
+    float pixels_per_unit;
+} sl_gtao_view;
+sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
+
 /* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)
  * around it; `threads` OpenMP threads (0: all). False (and err) without an extra plane or with a
  * radius that is not positive and finite. */
