@@ -144,6 +144,18 @@ bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, 
     return true;
 }
 
+float view_trace_mean_level(const sl_lighting_trace *trace)
+{
+    float sum = 0.0f;
+    int used = 0;
+    for (int k = 0; k < trace->sample_count; k++)
+        if (trace->samples[k].wN > 0.0f) {
+            sum += trace->samples[k].lod;
+            used++;
+        }
+    return used ? sum / (float)used : NAN;
+}
+
 /* Blue (0) -> cyan -> green -> yellow -> red (1): levels stay tellable apart at a glance. */
 static vec3 ramp(float t)
 {
@@ -185,18 +197,11 @@ bool view_mip_image(const sl_lighting_uniforms *u, const sl_gbuffer *gb, sl_imag
                 }
                 trace->sample_count = 0;
                 sl_lighting_shade(u, gb, x, y_gb, NULL, trace);
-                float sum = 0.0f;
-                int used = 0;
-                for (int k = 0; k < trace->sample_count; k++)
-                    if (trace->samples[k].wN > 0.0f) {
-                        sum += trace->samples[k].lod;
-                        used++;
-                    }
+                float mean = view_trace_mean_level(trace);
                 /* Covered, but no sample reached the environment (specular off, or all below
                  * the horizon): dark grey, not a level. */
                 vec3 c = vec3s(0.15f);
-                if (used) {
-                    float mean = sum / (float)used;
+                if (!isnan(mean)) {
                     seen = maxf(seen, mean);
                     c = ramp(mean / max_level);
                 }

@@ -111,6 +111,9 @@ bool view_mode_needs_lighting(view_mode mode); /* FINAL and MIP: the lighting un
  * and farthest distance on screen, white and black (for the legend). */
 bool view_channel_image(const sl_gbuffer *gb, view_mode mode, vec3 lo, vec3 hi, float znear, float zfar,
                         sl_image *out, float depth_range[2], sl_error *err);
+/* The mean, over a traced pixel's specular samples above the horizon, of their mip levels (the
+ * mip view's value and the readout's); NAN when no sample reached the environment. */
+float view_trace_mean_level(const sl_lighting_trace *trace);
 /* The mip-level view: per pixel, the mean over the samples above the horizon of the level that
  * lighting.frag's mip_level() gives them, run through the lighting shader's own trace (so it is
  * the same formula and the same samples); 0 = blue .. uEnvMaxLod = red, empty pixels black.

@@ -52,16 +52,9 @@ static bool mean_level(const viewer *v, int x, int y_gb, float *level)
         return false;
     trace->sample_count = 0;
     sl_lighting_shade(v->r.uniforms, &v->r.gbuffer, x, y_gb, NULL, trace);
-    float sum = 0.0f;
-    int used = 0;
-    for (int k = 0; k < trace->sample_count; k++)
-        if (trace->samples[k].wN > 0.0f) {
-            sum += trace->samples[k].lod;
-            used++;
-        }
+    *level = view_trace_mean_level(trace);
     free(trace);
-    *level = used ? sum / (float)used : NAN;
-    return used > 0;
+    return !isnan(*level);
 }
 
 bool view_readout(viewer *v, int digits, char *buf, size_t size)
