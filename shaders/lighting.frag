@@ -92,7 +92,8 @@
 //                         N = V = R; uploaded level by level, LINEAR_MIPMAP_LINEAR, REPEAT s, CLAMP t
 //   float uSplitSumMaxLod their level count - 1
 //   sampler2D uSplitSumLut  SPLITSUM_LUT_SIZE x (3 SPLITSUM_LUT_SIZE) RGB32F, LINEAR, CLAMP: .x = A,
-//                         .y = B of the BRDF's albedo Ks A + B over (N.V, r), one set per block of rows
+//                         .y = B of the BRDF's albedo Ks A + B over (N.V, r), .z = t, the lookup
+//                         direction's factor (splitsum_dir), one set per block of rows
 //   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
 //   int uRotate       1 = Cranley-Patterson rotation: every Hammersley pair is offset by the
 //                     pixel's pseudo-random vector pixel_rotation() mod 1 (0 = off: the same set
@@ -821,27 +822,34 @@ float splitsum_width(float alpha)
 }
 
 // The table at the texel centres of its set: N.V = i / (S - 1) is column i, r = j / (S - 1) row
-// set S + j
-vec2 splitsum_lut(int set, float NdotV, float r)
+// set S + j. A, B and the direction factor t.
+vec3 splitsum_lut(int set, float NdotV, float r)
 {
     float s = float(SPLITSUM_LUT_SIZE);
     vec2 uv = vec2((clamp(NdotV, 0.0, 1.0) * (s - 1.0) + 0.5) / s,
                    (float(set) * s + clamp(r, 0.0, 1.0) * (s - 1.0) + 0.5) / (s * float(SPLITSUM_SETS)));
-    return texture(uSplitSumLut, uv).xy;
+    return texture(uSplitSumLut, uv).xyz;
 }
 
-// Split sum (Karis 2013): the prefiltered environment along R at the lobe's level, times the
-// BRDF's albedo Ks A + B. No samples; N = V = R is the prefilter's assumption.
+// The lookup direction: the lobe's centroid, which leans from R towards N away from normal view
+// (t from the table, src/shading/splitsum_lut.h)
+vec3 splitsum_dir(vec3 N, vec3 R, float t)
+{
+    return normalize(N * (1.0 - t) + R * t);
+}
+
+// Split sum (Karis 2013): the prefiltered environment along the lobe's centroid at the lobe's
+// level, times the BRDF's albedo Ks A + B. No samples; N = V = R is the prefilter's assumption.
 vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
 {
     float NdotV = dot(N, V);
     vec3 R = normalize(N * (2.0 * NdotV) - V);
     float r = splitsum_width(alpha);
     float lod = r * uSplitSumMaxLod;
-    vec2 uv = sl_dir_to_uv(R);
-    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
     int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    vec2 ab = splitsum_lut(set, NdotV, r);
+    vec3 ab = splitsum_lut(set, NdotV, r);
+    vec2 uv = sl_dir_to_uv(splitsum_dir(N, R, ab.z));
+    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
     return P * (Ks * ab.x + ab.y) * uEnvIntensity;
 }
 

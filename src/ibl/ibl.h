@@ -86,9 +86,10 @@ double sl_env_oct_texel_solid_angle(int size, int i, int j);
  * level 0). Width r is GGX's perceptual roughness; a Phong exponent alpha has width
  * (2 / (alpha + 2))^(1/4) (equal peak of D, brdf.h). Zero fields are defaults. */
 #define SL_PREFILTER_LEVELS 6   /* widths 0, 0.2, .. 1: the r = 1 lobe needs no more than 32x16 of a 1024x512 map */
-#define SL_PREFILTER_SAMPLES 64 /* per texel; docs/lighting.md "Split sum" has the measured choice */
+#define SL_PREFILTER_SAMPLES 64 /* per texel of level 1, doubling per level; docs/lighting.md "Split sum" */
 typedef struct {
     bool ggx;    /* the GGX lobe, else the Phong set's */
+    bool g_one;  /* the Phong set's G / ((L.N)(V.N)) is 1 (--g one), else 1 / (L.H)^2 */
     int levels;  /* 1 .. SL_ENV_MAX_LEVELS; 0 = SL_PREFILTER_LEVELS */
     int samples; /* 1 .. SL_HAMMERSLEY_MAX; 0 = SL_PREFILTER_SAMPLES */
     int threads; /* 0 = all cores */
@@ -96,6 +97,9 @@ typedef struct {
 bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *desc, sl_error *err);
 /* The lobe width of level k of a chain of `levels`. */
 float sl_prefilter_width(int level, int levels);
+/* The samples per texel of level k >= 1 for `samples` at level 1: doubled per level, at most
+ * SL_HAMMERSLEY_MAX (`samples` is 1 .. SL_HAMMERSLEY_MAX). */
+int sl_prefilter_samples(int level, int samples);
 
 /* The specification's lat-long map, both ways (latlong.c). u is in [0, 1) (the seam direction
  * (-1, 0, 0) gives u = 0 for either sign of zero), z is clamped before acos: never NaN. */

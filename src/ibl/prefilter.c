@@ -6,19 +6,28 @@
  * Level k of the chain (lat-long, the sizes of the environment's own mip chain, so GL's
  * textureLod reads it as a mip chain) holds, at the direction R of each texel centre,
  *
- *     P_k(R) = sum_s L(w_s) (N.w_s) / sum_s (N.w_s),   N = V = R   (Karis' assumption)
+ *     P_k(R) = sum_s L(w_s) W_s / sum_s W_s,   W_s = G'(w_s) (N.w_s),   N = V = R   (Karis' assumption)
  *
  * with H_s drawn from the density D(H) (N.H) of lobe width r_k = k / (levels - 1) and
  * w_s = reflect(-R, H_s): the microfacet estimator's directions (src/shading/lighting.c,
- * microfacet_sample) at normal view. The lobes are brdf.h's, written here again because ibl sits
+ * microfacet_sample) at normal view, and W_s that estimator's weight there (G' = G / ((N.w)(N.V))
+ * of brdf.h; at V = N the weight G' (N.w) (V.H) / (N.H) is G' (N.w)). So P at normal view is
+ * exactly the BRDF-weighted mean the true integral takes (F aside). Karis weights by N.w alone,
+ * which drops G': for narrow lobes G' (N.w) is nearly constant, but the wide ones' G' doubles
+ * towards their edge (Phong's 1/(L.H)^2, Smith's 1/(N.w) part), and without it their chain is
+ * too narrow: on the default scene's alpha 1 spheres the centre was 15% too bright. The lobes are brdf.h's, written here again because ibl sits
  * left of shading: GGX with a = max(r^2, 1e-4) (the width is the perceptual roughness), and the
  * Phong set with the exponent of equal peak, alpha = 2 / a^2 - 2 (brdf.h,
  * sl_ggx_phong_equivalent). Level 0 (r = 0, a mirror) is the environment itself.
  *
  * Each sample reads the source chain at the level of its own footprint (filtered importance
  * sampling: Colbert and Krivanek, GPU Gems 3 ch. 20.4, the --lod gems rule with the lat-long
- * texel's sin(theta) in its solid angle), so a few dozen samples per texel give a smooth result;
- * docs/lighting.md has the measured error of the sample count against a 1024-sample build. */
+ * texel's sin(theta) in its solid angle). The sample count doubles per level (desc.samples at
+ * level 1, up to SL_HAMMERSLEY_MAX): a level has a quarter of the texels of the one before, so
+ * no level costs more than level 1, and the wide lobes, whose samples read the source's coarsest
+ * levels (16x8 of a 1024x512 map at 64 samples for r = 1), get the samples they need: with 64
+ * for every level the r = 1 level shows the fixed set's aliasing as blotches and horizontal
+ * streaks across a rough sphere (docs/lighting.md "Split sum"). */
 #include "../core/threads.h"
 #include <math.h>
 #include <omp.h>
@@ -38,17 +47,29 @@ float sl_prefilter_width(int level, int levels)
     return levels > 1 ? (float)level / (float)(levels - 1) : 0.0f;
 }
 
+int sl_prefilter_samples(int level, int samples)
+{
+    long n = samples;
+    for (int k = 1; k < level && n < SL_HAMMERSLEY_MAX; k++)
+        n *= 2;
+    return n < SL_HAMMERSLEY_MAX ? (int)n : SL_HAMMERSLEY_MAX;
+}
+
 /* One sample of a level's lobe in the frame where R = +Z: w about +Z, its cosine, and the
  * part of its source lod that does not depend on where w points. */
 typedef struct {
     float wx, wy, wz;
+    float weight; /* G' (N.w) at V = N: the microfacet estimator's weight */
     float lod0;
 } lobe_sample;
 
 /* The samples of width r: H from D(H) (N.H) by the Hammersley pairs (phi = 2 pi xi1,
  * cos(theta_H) from xi2), w = reflect(-Z, H), kept when w.Z > 0; their density
- * p(w) = D (N.H) / (4 V.H) = D / 4 since V = N. Returns how many were kept. */
-static int lobe_samples(const sl_hammersley *set, float r, bool ggx, int src_w, int src_h, lobe_sample *out)
+ * p(w) = D (N.H) / (4 V.H) = D / 4 since V = N. G' at V = N (N.V = 1, V.H = N.H = c):
+ * GGX's 2 / ((N.w) + sqrt((N.w)^2 (1 - a^2) + a^2)) (brdf.h sl_ggx_G), the Phong set's
+ * 1 / max(c, 1e-3)^2 (sl_brdf_G, --g inv-lh2) or 1 (g_one). Returns how many were kept. */
+static int lobe_samples(const sl_hammersley *set, float r, bool ggx, bool g_one, int src_w, int src_h,
+                        lobe_sample *out)
 {
     float a = fmaxf(r * r, MIN_A), a2 = a * a;
     float alpha = fminf(2.0f / a2 - 2.0f, MAX_ALPHA);
@@ -69,9 +90,15 @@ static int lobe_samples(const sl_hammersley *set, float r, bool ggx, int src_w, 
         float s = sqrtf(fmaxf(1.0f - c * c, 0.0f));
         float phi = 2.0f * PI_F * xi1;
         float hx = s * cosf(phi), hy = s * sinf(phi);
-        lobe_sample ls = {2.0f * c * hx, 2.0f * c * hy, 2.0f * c * c - 1.0f, 0.0f};
+        lobe_sample ls = {2.0f * c * hx, 2.0f * c * hy, 2.0f * c * c - 1.0f, 0.0f, 0.0f};
         if (ls.wz <= 0.0f)
             continue;
+        float G = 1.0f;
+        if (ggx)
+            G = 2.0f / (ls.wz + sqrtf(ls.wz * ls.wz * (1.0f - a2) + a2));
+        else if (!g_one)
+            G = 1.0f / (fmaxf(c, 1e-3f) * fmaxf(c, 1e-3f));
+        ls.weight = G * ls.wz;
         float pdf = D / 4.0f;
         /* pdf rule: 1/2 log2(Omega_s / Omega_p), Omega_s = 1 / (n p(w)); sin(theta) added per texel */
         ls.lod0 = 0.5f * log2f(1.0f / ((float)set->n * fmaxf(pdf, 1e-30f) * omega_p));
@@ -109,8 +136,8 @@ static void filter_level(const sl_env *src, sl_env_level *dst, const lobe_sample
             su[s] = t.x;
             sv[s] = t.y;
             slod[s] = fminf(fmaxf(lod, 0.0f), max_lod);
-            sw[s] = ls[s].wz;
-            wsum += ls[s].wz;
+            sw[s] = ls[s].weight;
+            wsum += ls[s].weight;
         }
         float norm = wsum > 0.0f ? 1.0f / wsum : 0.0f;
         for (int i = 0; i < dst->width; i++) {
@@ -136,15 +163,15 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
         return sl_fail(err, SL_ERR_RANGE, "prefilter: needs a lat-long environment chain");
     if (levels < 1 || levels > SL_ENV_MAX_LEVELS)
         return sl_fail(err, SL_ERR_RANGE, "prefilter: %d levels, expected 1..%d", levels, SL_ENV_MAX_LEVELS);
-    sl_hammersley set;
-    if (!sl_hammersley_build(&set, samples, err))
-        return false;
-    lobe_sample *ls = malloc((size_t)samples * sizeof *ls);
-    float *scratch = malloc((size_t)threads * 4 * (size_t)samples * sizeof *scratch);
+    if (samples < 1 || samples > SL_HAMMERSLEY_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "prefilter: %d samples, expected 1..%d", samples, SL_HAMMERSLEY_MAX);
+    int most = sl_prefilter_samples(levels - 1, samples);
+    lobe_sample *ls = malloc((size_t)most * sizeof *ls);
+    float *scratch = malloc((size_t)threads * 4 * (size_t)most * sizeof *scratch);
     if (!ls || !scratch) {
         free(ls);
         free(scratch);
-        return sl_fail(err, SL_ERR_MEMORY, "prefilter: no memory for %d samples", samples);
+        return sl_fail(err, SL_ERR_MEMORY, "prefilter: no memory for %d samples", most);
     }
     const sl_env_level *l0 = &src->levels[0];
     out->layout = SL_ENV_LAYOUT_LATLONG;
@@ -179,7 +206,14 @@ bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *d
             memcpy(dst->texels, l0->texels, (size_t)w * (size_t)h * sizeof(vec3));
             continue;
         }
-        int n = lobe_samples(&set, sl_prefilter_width(k, levels), desc->ggx, l0->width, l0->height, ls);
+        sl_hammersley set;
+        if (!sl_hammersley_build(&set, sl_prefilter_samples(k, samples), err)) {
+            free(ls);
+            free(scratch);
+            sl_env_free(out);
+            return false;
+        }
+        int n = lobe_samples(&set, sl_prefilter_width(k, levels), desc->ggx, desc->g_one, l0->width, l0->height, ls);
         filter_level(src, dst, ls, n, scratch, threads);
     }
     free(ls);

@@ -133,7 +133,7 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     if (estimator != SL_ESTIMATOR_DEFAULT)
         o.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if (o.estimator != SL_ESTIMATOR_SPLITSUM || r->splitsum_built == lights)
+    if (o.estimator != SL_ESTIMATOR_SPLITSUM || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
         return true;
     double t0 = sl_now_seconds();
     sl_env_free(&r->splitsum_phong);
@@ -150,12 +150,15 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     sl_renderer_splitsum_sets(r->scene, &phong, &ggx);
     if (r->desc.gbuffer_program || r->desc.any_lobe) /* a user's G-buffer program writes either lobe */
         phong = ggx = true;
-    if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &(sl_prefilter_desc){.ggx = false, .threads = r->desc.threads}, err)) ||
+    /* the Phong chain weights its samples with the G term (prefilter.c), so --g picks the chain */
+    sl_prefilter_desc pd = {.ggx = false, .g_one = o.gterm == SL_GTERM_ONE, .threads = r->desc.threads};
+    if ((phong && !sl_env_prefilter(&r->splitsum_phong, src, &pd, err)) ||
         (ggx && !sl_env_prefilter(&r->splitsum_ggx, src, &(sl_prefilter_desc){.ggx = true, .threads = r->desc.threads}, err))) {
         sl_env_free(&r->splitsum_phong);
         return false;
     }
     r->splitsum_built = lights;
+    r->splitsum_gterm = o.gterm;
     r->timings.splitsum_ms = (sl_now_seconds() - t0) * 1e3;
     return true;
 }

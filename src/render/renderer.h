@@ -95,6 +95,7 @@ struct sl_renderer {
     sl_env splitsum_phong, splitsum_ggx; /* --estimator splitsum: what the samples read, prefiltered
                                  per lobe width (src/ibl/prefilter.c); built on first use */
     int splitsum_built;       /* -1 = none, else the env lights count of what they were built from */
+    sl_gterm splitsum_gterm;  /* the --g the Phong chain was built for (its samples' weight) */
     sl_splitsum_lut *splitsum_lut; /* the BRDF's table (heap, 37 KB), built with the chains, once */
     sl_env_dist env_dist;     /* --estimator mis: the distribution of what the samples read; built
                                  on first use */

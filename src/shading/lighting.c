@@ -457,21 +457,28 @@ static float splitsum_width(float alpha)
 }
 
 /* splitsum_lut: texture() of the table at the texel centres of set `set`: N.V = i / (S - 1)
- * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). */
+ * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). A, B and t. */
 /* GLSL: splitsum_lut */
-static vec2 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
+static vec3 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
 {
     float s = (float)SPLITSUM_LUT_SIZE;
     vec2 uv = vec2((clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / s,
                    ((float)set * s + clamp(r, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / (s * (float)SPLITSUM_SETS));
-    vec3 t = sl_texels_bilinear(u->uSplitSumLut->texels, SPLITSUM_LUT_SIZE, SPLITSUM_SETS * SPLITSUM_LUT_SIZE, 0, uv.x,
-                                uv.y);
-    return vec2(t.x, t.y);
+    return sl_texels_bilinear(u->uSplitSumLut->texels, SPLITSUM_LUT_SIZE, SPLITSUM_SETS * SPLITSUM_LUT_SIZE, 0, uv.x,
+                              uv.y);
+}
+
+/* splitsum_dir: the lookup direction normalize(mix(N, R, t)), t the table's (splitsum_lut.h):
+ * the lobe's centroid, which leans from R towards N away from normal view */
+/* GLSL: splitsum_dir */
+static vec3 splitsum_dir(vec3 N, vec3 R, float t)
+{
+    return normalize(add(scale(N, 1.0f - t), scale(R, t)));
 }
 
 /* specular_splitsum: The split-sum approximation (Karis 2013): the environment
- * prefiltered with the lobe at N = V = R (src/ibl/prefilter.c), read along R at the lobe's
- * level, times the BRDF's albedo Ks A + B (splitsum_lut.h). No samples. */
+ * prefiltered with the lobe at N = V = R (src/ibl/prefilter.c), read along the lobe's centroid
+ * at the lobe's level, times the BRDF's albedo Ks A + B (splitsum_lut.h). No samples. */
 /* GLSL: specular_splitsum */
 static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                               sl_lighting_trace *trace)
@@ -480,12 +487,13 @@ static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec
     vec3 R = normalize(sub(scale(N, 2.0f * NdotV), V));
     float r = splitsum_width(alpha);
     float lod = r * u->uSplitSumMaxLod;
-    vec2 uv = sl_dir_to_uv(R);
-    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
     int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    vec2 ab = splitsum_lut(u, set, NdotV, r);
+    vec3 ab = splitsum_lut(u, set, NdotV, r);
+    vec3 dir = splitsum_dir(N, R, ab.z);
+    vec2 uv = sl_dir_to_uv(dir);
+    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
     vec3 spec = scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
-    trace_splitsum(trace, N, V, R, r, lod, P, ab);
+    trace_splitsum(trace, N, V, R, r, lod, dir, P, ab);
     return spec;
 }
 

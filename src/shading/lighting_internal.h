@@ -273,9 +273,10 @@ static inline void trace_sample_frame(sl_lighting_trace *t, vec3 N, vec3 V, vec3
     t->microfacet = microfacet;
 }
 
-/* The split-sum lookup (specular_splitsum): its frame, lobe width, level, prefiltered radiance
- * and the table's scale and bias. */
-static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, float r, float lod, vec3 P, vec2 ab)
+/* The split-sum lookup (specular_splitsum): its frame, lobe width, level, lookup direction,
+ * prefiltered radiance and the table's scale, bias and direction factor. */
+static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, float r, float lod, vec3 dir, vec3 P,
+                                  vec3 ab)
 {
     if (!t)
         return;
@@ -285,6 +286,7 @@ static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, 
     t->splitsum = true;
     t->splitsum_width = r;
     t->splitsum_lod = lod;
+    t->splitsum_dir = dir;
     t->splitsum_prefiltered = P;
     t->splitsum_ab = ab;
 }

@@ -11,8 +11,9 @@
  * arrays (the background first; a span of background alone skips (1) to (6)):
  *   (1) the texels to arrays (empty pixels get a harmless stand-in, so every lane stays finite);
  *   (2) V, facing_normal, the environment frame and R (the batched pixel stage's operations);
- *   (3) the lobe width r (splitsum_width), the level r (levels - 1), R's lat-long uv through
- *       core/fast_math.h's atan2, and the table (splitsum_lut) gathered from its texels;
+ *   (3) the lobe width r (splitsum_width), the level r (levels - 1), the table (splitsum_lut)
+ *       gathered from its texels, the lookup direction (splitsum_dir) and its lat-long uv
+ *       through core/fast_math.h's atan2;
  *   (4) the prefiltered chain's trilinear fetch gathered from its compact rows (ibl/texel_e5.h,
  *       texture_lod.h sl_e5_gather_lod; within 2^-9 of a texel's largest channel of the port's
  *       float texels), the Phong or the GGX chain: one loop per chain a span uses, a select
@@ -53,7 +54,8 @@ typedef struct {
     float NEx[SPAN], NEy[SPAN], NEz[SPAN], Rx[SPAN], Ry[SPAN], Rz[SPAN], NdotV[SPAN];
     int bent[SPAN];
     /* (3) the lookup: width, level, R's uv, the table's A and B */
-    float r[SPAN], lod[SPAN], u[SPAN], v[SPAN], A[SPAN], B[SPAN];
+    float r[SPAN], lod[SPAN], u[SPAN], v[SPAN], A[SPAN], B[SPAN], T[SPAN];
+    float Dx[SPAN], Dy[SPAN], Dz[SPAN]; /* the lookup direction (splitsum_dir) */
     /* (4) the prefiltered radiance along R (a second chain's, for a mixed span) */
     float pr[SPAN], pg[SPAN], pb[SPAN], qr[SPAN], qg[SPAN], qb[SPAN];
     /* (5) the irradiance; (6) the specular term and the colour */
@@ -155,8 +157,9 @@ static inline float clamp_index(float x, float hi)
     return x < hi ? x : hi;
 }
 
-/* (3) splitsum_width, the level, R's lat-long uv and the table's A, B (splitsum_lut: texel
- * centres of the pixel's set; the set is GGX for alpha < 0, else the Phong set of uGTerm). */
+/* (3) splitsum_width, the level, the table's A, B, t (splitsum_lut: texel centres of the
+ * pixel's set; the set is GGX for alpha < 0, else the Phong set of uGTerm), the lookup
+ * direction and its lat-long uv. */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_block *b)
 {
@@ -172,13 +175,9 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
          * finite y; a select lets GCC sink the division into a branch and give up) */
         float g = alpha < 0.0f ? 1.0f : 0.0f;
         float r = (-1.0f - alpha) * g + sqrtf(sqrtf(2.0f / (maxf(alpha, 0.0f) + 2.0f))) * (1.0f - g);
-        float uu, vv;
-        sl_fast_dir_to_uv(b->Rx[i], b->Ry[i], b->Rz[i], &uu, &vv);
         float set = g * (float)SL_SPLITSUM_GGX + (1.0f - g) * phong_set;
         b->r[i] = r;
         b->lod[i] = clamp_index(r * max_lod, max_lod);
-        b->u[i] = uu;
-        b->v[i] = vv;
         /* the table's texel coordinates: the port's uv times the size, minus half a texel,
          * without the round trip (so within float rounding of the port's) */
         tx[i] = clamp_index(b->NdotV[i], 1.0f) * (float)(S - 1);
@@ -201,6 +200,23 @@ static void lookup_stage(const sl_lighting_uniforms *u, int count, splitsum_bloc
         sl_load_float2(L + 3 * (y1 * S + x1), &a11, &b11);
         b->A[i] = mixf(mixf(a00, a10, fx), mixf(a01, a11, fx), fy);
         b->B[i] = mixf(mixf(b00, b10, fx), mixf(b01, b11, fx), fy);
+        float t00 = L[3 * (y0 * S + x0) + 2], t10 = L[3 * (y0 * S + x1) + 2];
+        float t01 = L[3 * (y1 * S + x0) + 2], t11 = L[3 * (y1 * S + x1) + 2];
+        b->T[i] = mixf(mixf(t00, t10, fx), mixf(t01, t11, fx), fy);
+    }
+    /* the lookup direction splitsum_dir = normalize(mix(N, R, t)) and its lat-long uv */
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        float t = b->T[i];
+        vec3 d = normalize(add(scale(vec3(b->NEx[i], b->NEy[i], b->NEz[i]), 1.0f - t),
+                               scale(vec3(b->Rx[i], b->Ry[i], b->Rz[i]), t)));
+        float uu, vv;
+        sl_fast_dir_to_uv(d.x, d.y, d.z, &uu, &vv);
+        b->Dx[i] = d.x;
+        b->Dy[i] = d.y;
+        b->Dz[i] = d.z;
+        b->u[i] = uu;
+        b->v[i] = vv;
     }
 }
 
@@ -494,7 +510,8 @@ void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb,
                 if (u->uDiffuse != 0)
                     trace_diffuse(trace, E, scale(mul(scale(s.Kd, 1.0f / PI), E), u->uEnvIntensity));
                 trace_splitsum(trace, s.Nenv, s.Venv, vec3(b->Rx[i], b->Ry[i], b->Rz[i]), b->r[i], b->lod[i],
-                               vec3(b->pr[i], b->pg[i], b->pb[i]), vec2(b->A[i], b->B[i]));
+                               vec3(b->Dx[i], b->Dy[i], b->Dz[i]), vec3(b->pr[i], b->pg[i], b->pb[i]),
+                               vec3(b->A[i], b->B[i], b->T[i]));
                 if (u->uSpecular != 0)
                     trace_specular(trace, vec3(b->sr[i], b->sg[i], b->sb[i]));
                 trace_extra(trace, s.occlusion, s.emissive);

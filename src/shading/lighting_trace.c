@@ -118,12 +118,13 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     fprintf(f, "  %-12s %s (frame about %s)\n", "A axis", t->pole_frame ? "X (axis near a pole)" : "Z", axis);
     if (t->splitsum)
         fprintf(f,
-                "split sum (no samples; %s)\n  %-12s %.6g\n  %-12s %.6g\n  %-12s (%.6g, %.6g, %.6g)\n"
-                "  %-12s A %.6g (times Ks), B %.6g\n",
+                "split sum (no samples; %s)\n  %-12s %.6g\n  %-12s %.6g\n  %-12s A %.6g (times Ks), B %.6g, t %.6g\n"
+                "  %-12s (%.6g, %.6g, %.6g) (normalize(mix(N, R, t)))\n  %-12s (%.6g, %.6g, %.6g)\n",
                 t->plain ? "plain port" : "batched path", "width r", (double)t->splitsum_width, "lod",
-                (double)t->splitsum_lod, "prefiltered", (double)t->splitsum_prefiltered.x,
-                (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z, "table",
-                (double)t->splitsum_ab.x, (double)t->splitsum_ab.y);
+                (double)t->splitsum_lod, "table", (double)t->splitsum_ab.x, (double)t->splitsum_ab.y,
+                (double)t->splitsum_ab.z, "lookup dir", (double)t->splitsum_dir.x, (double)t->splitsum_dir.y,
+                (double)t->splitsum_dir.z, "prefiltered", (double)t->splitsum_prefiltered.x,
+                (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z);
     else if (t->mis)
         print_mis(f, t);
     else

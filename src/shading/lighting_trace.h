@@ -51,8 +51,9 @@ struct sl_lighting_trace {
     bool splitsum;           /* the split-sum estimator ran (specular_splitsum): no samples, */
     float splitsum_width;    /* ... the lobe width r, */
     float splitsum_lod;      /* ... the prefiltered chain's level r (levels - 1), */
-    vec3 splitsum_prefiltered; /* ... what it read along R (before the intensity), */
-    vec2 splitsum_ab;        /* ... and the table's A (times Ks) and B */
+    vec3 splitsum_dir;       /* ... the lookup direction normalize(mix(N, R, t)), */
+    vec3 splitsum_prefiltered; /* ... what it read along it (before the intensity), */
+    vec3 splitsum_ab;        /* ... and the table's A (times Ks), B and direction factor t */
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];

@@ -18,13 +18,17 @@ static float set_alpha(sl_splitsum_set set, float r)
     return minf(sl_ggx_phong_equivalent(r), SHADE_MAX_ALPHA);
 }
 
-static vec2 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersley *hs)
+/* The table's entry: A, B (splitsum_lut.h) and the lookup direction's factor t. t comes from the
+ * W-weighted mean of the sampled directions (the lobe's centroid, in the plane of N and R): the
+ * direction normalize(mix(N, R, t)) points at it. Its angle from N, theta_d, against R's,
+ * theta_R: tan theta_d = t sin theta_R / (1 - t + t cos theta_R), solved for t. */
+static vec3 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersley *hs)
 {
     float alpha = set_alpha(set, r);
     sl_gterm gterm = set == SL_SPLITSUM_PHONG_ONE ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
     NdotV = maxf(NdotV, SHADE_MIN_NDOTV);
     vec3 V = vec3(sqrtf(maxf(1.0f - NdotV * NdotV, 0.0f)), 0.0f, NdotV);
-    float a = 0.0f, b = 0.0f;
+    float a = 0.0f, b = 0.0f, cx = 0.0f, cz = 0.0f;
     for (int k = 0; k < hs->n; k++) {
         vec3 H = sl_shade_microfacet_sample(hs->points[k], alpha); /* about +Z = N */
         float VdotH = dot(V, H);
@@ -37,17 +41,31 @@ static vec2 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersle
         float Fc = m * m * m * m * m;
         a += (1.0f - Fc) * W;
         b += Fc * W;
+        cx -= W * w.x; /* R is at -x: V = (sin, 0, N.V) */
+        cz += W * w.z;
     }
-    return vec2(a / (float)hs->n, b / (float)hs->n);
+    float t = 1.0f;
+    float sinR = V.x, cosR = NdotV;
+    if (sinR > 1e-4f && cz > 0.0f) {
+        float tan_d = maxf(cx, 0.0f) / cz;
+        t = clamp(tan_d / (sinR + tan_d * (1.0f - cosR)), 0.0f, 1.0f);
+    }
+    return vec3(a / (float)hs->n, b / (float)hs->n, t);
 }
 
-vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples)
+vec3 sl_splitsum_entry(sl_splitsum_set set, float NdotV, float r, int samples)
 {
     sl_hammersley hs;
     sl_error err;
     if (!sl_hammersley_build(&hs, samples, &err))
-        return vec2(0.0f, 0.0f);
+        return vec3s(0.0f);
     return albedo(set, NdotV, r, &hs);
+}
+
+vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples)
+{
+    vec3 e = sl_splitsum_entry(set, NdotV, r, samples);
+    return vec2(e.x, e.y);
 }
 
 void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
@@ -61,8 +79,7 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
         sl_splitsum_set set = (sl_splitsum_set)(row / S);
         float r = (float)(row % S) / (float)(S - 1);
         for (int i = 0; i < S; i++) {
-            vec2 ab = albedo(set, (float)i / (float)(S - 1), r, &hs);
-            lut->texels[row * S + i] = vec3(ab.x, ab.y, 0.0f);
+            lut->texels[row * S + i] = albedo(set, (float)i / (float)(S - 1), r, &hs);
         }
     }
 }

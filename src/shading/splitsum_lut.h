@@ -13,7 +13,7 @@
  *
  * Layout: one texture of SL_SPLITSUM_LUT_SIZE columns (N.V = i / (SIZE - 1)) and
  * SL_SPLITSUM_SETS * SIZE rows (set s, width r = j / (SIZE - 1) in row s SIZE + j); a texel's
- * .x = A, .y = B, .z = 0 (RGB: the same bilinear filter as the environment, texture_lod.h, and
+ * .x = A, .y = B, .z = t (RGB: the same bilinear filter as the environment, texture_lod.h, and
  * GL_RGB32F in softlight-gl). Read at texel centres, so the lookup never leaves its set's rows.
  * N.V = 0 is evaluated at 0.01, the shader's smallest N.V (facing_normal). */
 #ifndef SL_SPLITSUM_LUT_H
@@ -43,6 +43,8 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads);
 /* One entry computed directly (the table's (i, j) is this at N.V = max(i / (SIZE - 1), 0.01),
  * r = j / (SIZE - 1)): A in .x, B in .y. For tests. */
 vec2 sl_splitsum_albedo(sl_splitsum_set set, float NdotV, float r, int samples);
+/* The entry with its direction factor t in .z (the table's texel before filtering). */
+vec3 sl_splitsum_entry(sl_splitsum_set set, float NdotV, float r, int samples);
 /* sl_splitsum_width, the lobe width of a lobe parameter, is the BRDF's (brdf.h). */
 
 #endif
