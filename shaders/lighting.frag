@@ -77,7 +77,8 @@
 //   int uGTerm        1 = G/(L.N V.N) = 1/(L.H)^2 (default), 2 = 1
 //   int uEstimator    1 = spec eq. (3) (divide by D(H); default), 2 = consistent (divide by p(w)),
 //                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w)),
-//                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below)
+//                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below),
+//                     6 = cv, the split sum as a control variate (specular_cv)
 // MIS (uEstimator 5; src/ibl/env_dist.h): per Hammersley pair one sample drawn as the microfacet
 // estimator's and one from the environment's luminance, weighed by the power heuristic (the host
 // builds HammersleyBlock with (N + 1) / 2 pairs for N samples), radiance read at level 0 of
@@ -212,6 +213,7 @@ const int ESTIMATOR_CONSISTENT = 2;
 const int ESTIMATOR_MICROFACET = 3;
 const int ESTIMATOR_SPLITSUM = 4;
 const int ESTIMATOR_MIS = 5;
+const int ESTIMATOR_CV = 6;
 const int SPLITSUM_LUT_SIZE = 32;
 const int SPLITSUM_SETS = 3;
 const int SPLITSUM_PHONG_INV_LH2 = 0;
@@ -638,7 +640,8 @@ float microfacet_D(vec2 xi, float alpha)
 // usual G2 (V.H) / ((N.V)(N.H)). N.H is the drawn
 // cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,
 // and p(w) for gems (docs/lighting.md "Estimators").
-vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+// Lbar: subtracted from every sample's radiance (0 here; specular_cv's control variate).
+vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, vec3 Lbar)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
@@ -665,7 +668,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN * VdotH / NdotH;
-        vec3 c = F * Li * weight;
+        vec3 c = F * (Li - Lbar) * weight;
         sum = sum + c;
     }
     return sum * (1.0 / float(max(n, 1)));
@@ -838,19 +841,39 @@ vec3 splitsum_dir(vec3 N, vec3 R, float t)
     return normalize(N * (1.0 - t) + R * t);
 }
 
-// Split sum (Karis 2013): the prefiltered environment along the lobe's centroid at the lobe's
-// level, times the BRDF's albedo Ks A + B. No samples; N = V = R is the prefilter's assumption.
-vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
+// The split sum's prefiltered radiance (before the intensity): the chain of the lobe's set along
+// the lobe's centroid at the lobe's level; the table's A, B, t in ab.
+vec3 splitsum_lookup(vec3 N, vec3 V, float alpha, out vec3 ab)
 {
     float NdotV = dot(N, V);
     vec3 R = normalize(N * (2.0 * NdotV) - V);
     float r = splitsum_width(alpha);
     float lod = r * uSplitSumMaxLod;
     int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    vec3 ab = splitsum_lut(set, NdotV, r);
+    ab = splitsum_lut(set, NdotV, r);
     vec2 uv = sl_dir_to_uv(splitsum_dir(N, R, ab.z));
-    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
+    return sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
+}
+
+// Split sum (Karis 2013): the prefiltered environment along the lobe's centroid at the lobe's
+// level, times the BRDF's albedo Ks A + B. No samples; N = V = R is the prefilter's assumption.
+vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    vec3 ab;
+    vec3 P = splitsum_lookup(N, V, alpha, ab);
     return P * (Ks * ab.x + ab.y) * uEnvIntensity;
+}
+
+// The split sum as a control variate (uEstimator 6): its closed value Lbar E_ss (Lbar the
+// prefiltered radiance, E_ss = Ks A + B the table's E[F W]) plus the microfacet samples' estimate
+// of the rest, 1/N sum F W (L(w_k) - Lbar): converges to eq. (1) as N grows (the table's own
+// error times Lbar aside), the samples paying only for what the split sum gets wrong.
+vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+{
+    vec3 ab;
+    vec3 Lbar = splitsum_lookup(N, V, alpha, ab) * uEnvIntensity;
+    vec3 E = Ks * ab.x + ab.y;
+    return Lbar * E + specular_microfacet(N, V, Ks, alpha, rotation, Lbar);
 }
 
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
@@ -934,7 +957,9 @@ void main()
             if (uEstimator == ESTIMATOR_SPLITSUM)
                 color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
             else if (uEstimator == ESTIMATOR_MICROFACET)
-                color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
+                color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+            else if (uEstimator == ESTIMATOR_CV)
+                color = color + specular_cv(Nenv, Venv, Ks, alpha, rotation);
             else if (uEstimator == ESTIMATOR_MIS)
                 color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
             else

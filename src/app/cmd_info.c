@@ -163,7 +163,7 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         phase(&m, base + m.env_oct_build, "building the octahedral chain");
         base += m.env_oct;
     }
-    if (modes.estimator == SL_ESTIMATOR_SPLITSUM) {
+    if (modes.estimator == SL_ESTIMATOR_SPLITSUM || modes.estimator == SL_ESTIMATOR_CV) {
         m.splitsum = (size_t)lobe_sets * chain_held_bytes(env_w, env_h, false) + sizeof(sl_splitsum_lut);
         phase(&m, base + m.splitsum, "prefiltering for the split sum");
         base += m.splitsum;

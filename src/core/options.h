@@ -80,6 +80,9 @@ typedef enum {
                                     environment's own radiance (src/ibl/env_dist.h), each weighed
                                     by the power heuristic, lod 0: consistent, and the sun drawn
                                     where it is ("mis") */
+    SL_ESTIMATOR_CV = 6,         /* the split sum as a control variate: its closed value plus the
+                                    mf samples' estimate of what it gets wrong, F W (L - Lbar)
+                                    with Lbar the split sum's prefiltered radiance ("cv") */
 } sl_estimator;
 
 /* The G term (uGTerm). */
@@ -159,9 +162,10 @@ typedef enum {
        .names = gterm_names))                                                                                        \
     X(ESTIMATOR, estimator, CHOICE, sl_estimator, "estimator", "--estimator", NULL, NULL,                            \
       "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, the "             \
-      "split-sum lookup (prefiltered environment, no samples), or mis (BRDF and environment sampling)",              \
+      "split-sum lookup (prefiltered environment, no samples), mis (BRDF and environment sampling), or cv "          \
+      "(the split sum plus microfacet samples of its error)",                                                        \
       (.scene = {"render.estimator"}, .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC,                          \
-       .max = SL_ESTIMATOR_MIS, .names = estimator_names))                                                      \
+       .max = SL_ESTIMATOR_CV, .names = estimator_names))                                                      \
     /* default: the scene's map if it names one (the scene reader chooses "map" then), else this, the pole-free      \
      * octahedral map (docs/ibl.md says why) */                                                                      \
     X(IRRADIANCE, irradiance, CHOICE, sl_irradiance_method, "irradiance", "--irradiance", NULL, NULL,                \

@@ -123,7 +123,7 @@ void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
 }
 
 /* The split-sum method's prefiltered chains of what the samples read, for both lobe sets, and
- * the BRDF's table (once), when the estimator asks for them (`estimator`: the frame's, which the
+ * the BRDF's table (once), when the estimator asks for them (splitsum, and cv, its control variate) (`estimator`: the frame's, which the
  * viewer's moving frames set; SL_ESTIMATOR_DEFAULT: desc's); rebuilt when the environment or
  * the env lights change, never per frame. A scene and a viewer that never use the estimator pay
  * nothing. */
@@ -133,7 +133,7 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     if (estimator != SL_ESTIMATOR_DEFAULT)
         o.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if (o.estimator != SL_ESTIMATOR_SPLITSUM || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
+    if ((o.estimator != SL_ESTIMATOR_SPLITSUM && o.estimator != SL_ESTIMATOR_CV) || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
         return true;
     double t0 = sl_now_seconds();
     sl_env_free(&r->splitsum_phong);

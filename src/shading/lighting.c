@@ -31,6 +31,7 @@ static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
+static const int ESTIMATOR_CV = SL_ESTIMATOR_CV;
 static const int GTERM_INV_LH2 = SL_GTERM_INV_LH2;
 static const int SPLITSUM_LUT_SIZE = SL_SPLITSUM_LUT_SIZE;
 static const int SPLITSUM_SETS = SL_SPLITSUM_SETS;
@@ -236,10 +237,11 @@ static float microfacet_D(vec2 xi, float alpha)
 }
 
 /* specular_microfacet: the derivation is in the GLSL. The trace records a sample's H,
- * N.H, V.H (as L.H) and D before the test, its p(w) after it. */
+ * N.H, V.H (as L.H) and D before the test, its p(w) after it. Lbar: the control variate's
+ * radiance, subtracted from every sample's (0 for the mf estimator; specular_cv). */
 /* GLSL: specular_microfacet */
 static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                                sl_lighting_task *task, sl_lighting_trace *trace)
+                                vec3 Lbar, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -273,7 +275,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN * VdotH / NdotH;
-        vec3 c = scale(mul(F, Li), weight);
+        vec3 c = scale(mul(F, sub(Li, Lbar)), weight);
         sum = add(sum, c);
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
@@ -476,6 +478,26 @@ static vec3 splitsum_dir(vec3 N, vec3 R, float t)
     return normalize(add(scale(N, 1.0f - t), scale(R, t)));
 }
 
+/* splitsum_lookup: the split sum's prefiltered radiance for the pixel (before the intensity):
+ * the chain of the lobe's set read along the lobe's centroid at the lobe's level; the table's
+ * A, B and t in ab. */
+/* GLSL: splitsum_lookup */
+static vec3 splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
+                            sl_lighting_trace *trace)
+{
+    float NdotV = dot(N, V);
+    vec3 R = normalize(sub(scale(N, 2.0f * NdotV), V));
+    float r = splitsum_width(alpha);
+    float lod = r * u->uSplitSumMaxLod;
+    int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    *ab = splitsum_lut(u, set, NdotV, r);
+    vec3 dir = splitsum_dir(N, R, ab->z);
+    vec2 uv = sl_dir_to_uv(dir);
+    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
+    trace_splitsum(trace, N, V, R, r, lod, dir, P, *ab);
+    return P;
+}
+
 /* specular_splitsum: The split-sum approximation (Karis 2013): the environment
  * prefiltered with the lobe at N = V = R (src/ibl/prefilter.c), read along the lobe's centroid
  * at the lobe's level, times the BRDF's albedo Ks A + B (splitsum_lut.h). No samples. */
@@ -483,18 +505,27 @@ static vec3 splitsum_dir(vec3 N, vec3 R, float t)
 static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                               sl_lighting_trace *trace)
 {
-    float NdotV = dot(N, V);
-    vec3 R = normalize(sub(scale(N, 2.0f * NdotV), V));
-    float r = splitsum_width(alpha);
-    float lod = r * u->uSplitSumMaxLod;
-    int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    vec3 ab = splitsum_lut(u, set, NdotV, r);
-    vec3 dir = splitsum_dir(N, R, ab.z);
-    vec2 uv = sl_dir_to_uv(dir);
-    vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
-    vec3 spec = scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
-    trace_splitsum(trace, N, V, R, r, lod, dir, P, ab);
-    return spec;
+    vec3 ab;
+    vec3 P = splitsum_lookup(u, N, V, alpha, &ab, trace);
+    return scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
+}
+
+/* specular_cv: the split sum as a control variate. With Lbar the split sum's radiance and
+ * E_ss = Ks A + B its albedo, the integral is Lbar E_ss plus the integral of f (N.w) (L - Lbar),
+ * which the microfacet samples estimate: Lbar E_ss + 1/N sum F W (L(w_k) - Lbar). The table
+ * holds E[F W] of the same sampler, so the estimate converges to the integral (up to the table's
+ * own error times Lbar, and the samples' mip filter) and its variance is that of L - Lbar: the
+ * samples pay only for what the split sum gets wrong. */
+/* GLSL: specular_cv */
+static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                        sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    vec3 ab;
+    vec3 Lbar = scale(splitsum_lookup(u, N, V, alpha, &ab, trace), u->uEnvIntensity);
+    vec3 E = add(scale(Ks, ab.x), vec3s(ab.y));
+    vec3 correction = specular_microfacet(u, N, V, Ks, alpha, rotation, Lbar, task, trace);
+    trace_cv(trace, Lbar, E, correction);
+    return add(mul(Lbar, E), correction);
 }
 
 /* specular_env_lights: Each env light is one texel's quadrature node (its centroid
@@ -572,7 +603,10 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             if (u->uEstimator == ESTIMATOR_SPLITSUM)
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
             else if (u->uEstimator == ESTIMATOR_MICROFACET)
-                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, vec3s(0.0f), task,
+                                           trace);
+            else if (u->uEstimator == ESTIMATOR_CV)
+                spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else if (u->uEstimator == ESTIMATOR_MIS)
                 spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else
@@ -672,6 +706,11 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
                              sl_lighting_trace *trace)
 {
     return specular_splitsum(u, N, V, Ks, alpha, trace);
+}
+vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
+                              sl_lighting_trace *trace)
+{
+    return splitsum_lookup(u, N, V, alpha, ab, trace);
 }
 
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }

@@ -49,6 +49,13 @@ static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
 static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
+static const int ESTIMATOR_CV = SL_ESTIMATOR_CV;
+
+/* The microfacet estimator's samples: mf, and cv's correction (the same samples, the same frame) */
+static inline bool microfacet_samples(const sl_lighting_uniforms *u)
+{
+    return u->uEstimator == ESTIMATOR_MICROFACET || u->uEstimator == ESTIMATOR_CV;
+}
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -147,15 +154,15 @@ static inline float clamp_lod(float lod, float max_lod)
     return lod < max_lod ? lod : max_lod;
 }
 
-/* Stage (3)'s contribution of sample i, c = F Li weight, from its fetched radiance t (Li = t
- * times the intensity): one expression for every fetch (inlined in each loop, which still
- * vectorizes). */
-static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity)
+/* Stage (3)'s contribution of sample i, c = F (Li - Lbar) weight, from its fetched radiance t
+ * (Li = t times the intensity; Lbar the control variate's radiance, 0 but for cv, and x - 0 = x):
+ * one expression for every fetch (inlined in each loop, which still vectorizes). */
+static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity, vec3 Lbar)
 {
     float m5 = b->m5[i], weight = b->weight[i];
-    b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
-    b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
-    b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+    b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity - Lbar.x) * weight;
+    b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity - Lbar.y) * weight;
+    b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity - Lbar.z) * weight;
 }
 
 /* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
@@ -177,7 +184,7 @@ typedef struct {
 static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, const sample_block *b, const lobe_view *s,
                         int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, vec3 *sum)
 {
-    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const bool mf = microfacet_samples(u);
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     for (int i = 0; i < m; i++) {
         sl_lighting_trace_sample *ts = &t->samples[k0 + i];
@@ -345,13 +352,14 @@ typedef struct {
     float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
     float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
     vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
+    vec3 Lbar;        /* cv: the split sum's radiance, subtracted from every sample's (else 0) */
 } lobe_consts;
 
 __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const sl_lighting_uniforms *u, vec3 Ks,
                                                                          float alpha)
 {
     lobe_consts c;
-    c.mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    c.mf = microfacet_samples(u);
     c.ggx = sl_lobe_is_ggx(alpha);
     c.inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
     c.consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
@@ -369,6 +377,7 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
+    c.Lbar = vec3s(0.0f);
     return c;
 }
 
@@ -488,37 +497,37 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
                                                               int m, sample_block *b)
 {
     const sl_env_gather *env = &u->residualGather;
-    const vec3 Ks = c->Ks, F1 = c->F1;
+    const vec3 Ks = c->Ks, F1 = c->F1, Lbar = c->Lbar;
     const float intensity = c->intensity;
     if (c->oct) {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
         }
     } else if (env->e5) { /* the compact rows: 4 64-bit reads a sample */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_e5_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
         }
     } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
         }
     } else {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
         }
     }
     if (!env->gather) {
         for (int i = 0; i < m; i++) {
             vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
         }
     }
 }
@@ -544,17 +553,20 @@ __attribute__((always_inline)) static inline int stage_horizon(const lobe_consts
     return below_block;
 }
 
-/* specular_ibl (or specular_microfacet, uEstimator = 3), batched, for one pixel whose frame (N,
+/* specular_ibl (or specular_microfacet, uEstimator = 3, with Lbar subtracted from every sample's
+ * radiance: 0, or cv's split-sum radiance), batched, for one pixel whose frame (N,
  * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
  * stage computed: the stages above per block of samples, then stage (4)'s sum. Same samples,
  * same sum order. */
 __attribute__((noinline)) /* a call per pixel; inlined, it keeps sl_shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
-                             vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
+                             vec3 Ks, float alpha, vec2 rotation, vec3 Lbar, sl_lighting_task *task,
+                             sl_lighting_trace *trace)
 {
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
-    const lobe_consts c = lobe_consts_for(u, Ks, alpha);
+    lobe_consts c = lobe_consts_for(u, Ks, alpha);
+    c.Lbar = Lbar;
     const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
     const azimuth_table *az = rotate ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
@@ -946,7 +958,7 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
 {
     const vec3 eye = u->uEye;
     const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
-    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET; /* the frame is about N, not R */
+    const bool mf = microfacet_samples(u); /* the frame is about N, not R */
     for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
         p->Px[i] = t[i].position.x;
         p->Py[i] = t[i].position.y;
@@ -1048,11 +1060,25 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     if (u->uSpecular == 0)
         return vec3s(0.0f);
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
-    vec3 specular = u->uEstimator == ESTIMATOR_SPLITSUM ? sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace)
-                    : u->uEstimator == ESTIMATOR_MIS    ? mis_samples(u, N, V, Ks, alpha, rotation, task, trace)
-                                                        : specular_samples(u, N, V, vec3(p->Rx[i], p->Ry[i], p->Rz[i]),
-                                           vec3(p->Ax[i], p->Ay[i], p->Az[i]), p->B[i], p->pole[i], Ks, alpha,
-                                           rotation, task, trace);
+    const vec3 R = vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
+    vec3 specular;
+    if (u->uEstimator == ESTIMATOR_SPLITSUM) {
+        specular = sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace);
+    } else if (u->uEstimator == ESTIMATOR_MIS) {
+        specular = mis_samples(u, N, V, Ks, alpha, rotation, task, trace);
+    } else if (u->uEstimator == ESTIMATOR_CV) { /* lighting.c specular_cv's operations */
+        vec3 ab;
+        int traced = trace ? trace->sample_count : 0; /* the lookup's trace records no samples: cv has them */
+        vec3 Lbar = scale(sl_shade_splitsum_lookup(u, N, V, alpha, &ab, trace), u->uEnvIntensity);
+        if (trace)
+            trace->sample_count = traced;
+        vec3 E = add(scale(Ks, ab.x), vec3s(ab.y));
+        vec3 correction = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, Lbar, task, trace);
+        trace_cv(trace, Lbar, E, correction);
+        specular = add(mul(Lbar, E), correction);
+    } else {
+        specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, vec3s(0.0f), task, trace);
+    }
     if (u->uEnvLightCount > 0) {
         vec3 exact = env_lights_samples(u, N, V, Ks, alpha);
         specular = add(specular, exact);
@@ -1130,7 +1156,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 sl_lighting_trace *trace, vec3 *out)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
-    const bool mf = u->uEstimator == ESTIMATOR_MICROFACET;
+    const bool mf = microfacet_samples(u);
     const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
     pixel_block pb;
     pixel_block *p = &pb;

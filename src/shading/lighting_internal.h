@@ -56,6 +56,10 @@ ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
 float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
 float sl_shade_mis_power(float p, float q);
 vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
+/* GLSL splitsum_lookup: the split sum's prefiltered radiance (before the intensity) and the
+ * table's A, B, t in ab (specular_cv's control variate; the batched path's cv runs it) */
+vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
+                              sl_lighting_trace *trace);
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
@@ -289,6 +293,17 @@ static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, 
     t->splitsum_dir = dir;
     t->splitsum_prefiltered = P;
     t->splitsum_ab = ab;
+}
+
+/* The control variate's terms (specular_cv): Lbar, E_ss and the samples' mean correction. */
+static inline void trace_cv(sl_lighting_trace *t, vec3 Lbar, vec3 E, vec3 correction)
+{
+    if (!t)
+        return;
+    t->cv = true;
+    t->cv_Lbar = Lbar;
+    t->cv_E = E;
+    t->cv_correction = correction;
 }
 
 static inline void trace_sample(sl_lighting_trace *t, int k, const sl_lighting_trace_sample *s)

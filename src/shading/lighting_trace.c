@@ -118,16 +118,26 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     fprintf(f, "  %-12s %s (frame about %s)\n", "A axis", t->pole_frame ? "X (axis near a pole)" : "Z", axis);
     if (t->splitsum)
         fprintf(f,
-                "split sum (no samples; %s)\n  %-12s %.6g\n  %-12s %.6g\n  %-12s A %.6g (times Ks), B %.6g, t %.6g\n"
+                "%s (%s)\n  %-12s %.6g\n  %-12s %.6g\n  %-12s A %.6g (times Ks), B %.6g, t %.6g\n"
                 "  %-12s (%.6g, %.6g, %.6g) (normalize(mix(N, R, t)))\n  %-12s (%.6g, %.6g, %.6g)\n",
+                t->cv ? "control variate: the split sum's lookup" : "split sum: no samples",
                 t->plain ? "plain port" : "batched path", "width r", (double)t->splitsum_width, "lod",
                 (double)t->splitsum_lod, "table", (double)t->splitsum_ab.x, (double)t->splitsum_ab.y,
                 (double)t->splitsum_ab.z, "lookup dir", (double)t->splitsum_dir.x, (double)t->splitsum_dir.y,
                 (double)t->splitsum_dir.z, "prefiltered", (double)t->splitsum_prefiltered.x,
                 (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z);
-    else if (t->mis)
+    if (t->cv)
+        fprintf(f,
+                "  %-12s (%.6g, %.6g, %.6g) (prefiltered times the intensity)\n  %-12s (%.6g, %.6g, %.6g) (Ks A + B)\n"
+                "  %-12s (%.6g, %.6g, %.6g) (Lbar E_ss)\n  %-12s (%.6g, %.6g, %.6g) (1/N sum F W (Li - Lbar): each"
+                " sample's contribution below is its term)\n",
+                "Lbar", (double)t->cv_Lbar.x, (double)t->cv_Lbar.y, (double)t->cv_Lbar.z, "E_ss", (double)t->cv_E.x,
+                (double)t->cv_E.y, (double)t->cv_E.z, "closed part", (double)(t->cv_Lbar.x * t->cv_E.x),
+                (double)(t->cv_Lbar.y * t->cv_E.y), (double)(t->cv_Lbar.z * t->cv_E.z), "correction",
+                (double)t->cv_correction.x, (double)t->cv_correction.y, (double)t->cv_correction.z);
+    if (t->mis)
         print_mis(f, t);
-    else
+    else if (!t->splitsum || t->cv)
         fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
             t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
                           : "directions drawn about R",

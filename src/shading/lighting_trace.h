@@ -54,6 +54,10 @@ struct sl_lighting_trace {
     vec3 splitsum_dir;       /* ... the lookup direction normalize(mix(N, R, t)), */
     vec3 splitsum_prefiltered; /* ... what it read along it (before the intensity), */
     vec3 splitsum_ab;        /* ... and the table's A (times Ks), B and direction factor t */
+    bool cv;                 /* the control variate ran (specular_cv): the split sum's lookup above, */
+    vec3 cv_Lbar;            /* ... its radiance Lbar (times the intensity), */
+    vec3 cv_E;               /* ... its albedo E_ss = Ks A + B, */
+    vec3 cv_correction;      /* ... and the samples' mean of F W (L - Lbar), each sample's c its term */
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];

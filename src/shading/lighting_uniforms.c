@@ -63,7 +63,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_MIS ||
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_CV ||
         (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
@@ -97,11 +97,12 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
     if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
-    const bool splitsum = o.estimator == SL_ESTIMATOR_SPLITSUM;
+    const bool splitsum = o.estimator == SL_ESTIMATOR_SPLITSUM || o.estimator == SL_ESTIMATOR_CV;
     if (splitsum && (!desc->splitsum_phong || !desc->splitsum_ggx || !desc->splitsum_lut ||
                      desc->splitsum_phong->level_count < 1 ||
                      desc->splitsum_phong->level_count != desc->splitsum_ggx->level_count))
-        return sl_fail(err, SL_ERR_RANGE, "lighting: the split-sum estimator asked for, but no prefiltered chains or table given");
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no prefiltered chains or table given",
+                       sl_estimator_name(o.estimator));
 
     const bool mis = o.estimator == SL_ESTIMATOR_MIS;
     if (mis && oct)

@@ -48,6 +48,31 @@ gl_check_share() {
     return 1
 }
 
+# gl_compare_estimator NAME SCENE ESTIMATOR P99_TOL OVER8_PERCENT [options...]: render SCENE with
+# --estimator ESTIMATOR and the options through softlight (at GL_TEST_SIZE, with its G-buffer) and
+# through softlight-gl on that G-buffer, print the comparison's line, and return 1 unless the p99
+# relative error is <= P99_TOL and the share more than 8/255 apart <= OVER8_PERCENT. The
+# estimators' GL tests (gl_splitsum.sh, gl_mis.sh, gl_cv.sh) each run it per case.
+gl_compare_estimator() {
+    local name=$1 scene=$2 estimator=$3 p99=$4 over8=$5
+    shift 5
+    mkdir -p "$T/$name"
+    "$SL" render "$scene" --estimator "$estimator" "$@" --size "$GL_TEST_SIZE" --aov "$T/$name" --pfm "$T/$name/c.pfm" >/dev/null
+    "$GL" render "$scene" --estimator "$estimator" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm" >/dev/null
+    local status=0
+    "$SL" compare "$T/$name/c.pfm" "$T/$name/g.pfm" --metric p99rel --tolerance "$p99" >"$T/$name.txt" || status=$?
+    printf '%-14s p99 rel %-10s mean rel %-10s max abs %-10s >8/255 %s%%\n' "$name" \
+        "$(gl_field "p99 rel error" "$T/$name.txt")" "$(gl_field "mean rel error" "$T/$name.txt")" \
+        "$(gl_field "max abs error" "$T/$name.txt")" "$(gl_field "8-bit diff > 8" "$T/$name.txt")"
+    if [ "$status" != 0 ]; then
+        echo "FAIL $name: $(grep -E '^(PASS|FAIL)' "$T/$name.txt")"
+        grep '^worst' "$T/$name.txt" || true
+        gl_check_share "$name" "$T/$name.txt" "$over8" || true
+        return 1
+    fi
+    gl_check_share "$name" "$T/$name.txt" "$over8"
+}
+
 # gl_bound DIFF CHANNEL GROUP MAX SHARE: a line of tests/cli/gbuffer_diff.py's output (channel,
 # group, pixels, max, share > 1/255) must exist and stay within MAX and SHARE; sets fail=1 if not.
 gl_bound() {

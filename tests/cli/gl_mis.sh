@@ -21,20 +21,7 @@ fail=0
 run() { # run NAME SCENE [options...]
     local name=$1 scene=$2
     shift 2
-    mkdir -p "$T/$name"
-    "$SL" render "$scene" --estimator mis "$@" --size "$GL_TEST_SIZE" --aov "$T/$name" --pfm "$T/$name/c.pfm" >/dev/null
-    "$GL" render "$scene" --estimator mis "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm" >/dev/null
-    local status=0
-    "$SL" compare "$T/$name/c.pfm" "$T/$name/g.pfm" --metric p99rel --tolerance "$P99_TOL" >"$T/$name.txt" || status=$?
-    printf '%-14s p99 rel %-10s mean rel %-10s max abs %-10s >8/255 %s%%\n' "$name" \
-        "$(gl_field "p99 rel error" "$T/$name.txt")" "$(gl_field "mean rel error" "$T/$name.txt")" \
-        "$(gl_field "max abs error" "$T/$name.txt")" "$(gl_field "8-bit diff > 8" "$T/$name.txt")"
-    if [ "$status" != 0 ]; then
-        echo "FAIL $name: $(grep -E '^(PASS|FAIL)' "$T/$name.txt")"
-        grep '^worst' "$T/$name.txt" || true
-        fail=1
-    fi
-    gl_check_share "$name" "$T/$name.txt" "$OVER8_PERCENT" || fail=1
+    gl_compare_estimator "$name" "$scene" mis "$P99_TOL" "$OVER8_PERCENT" "$@" || fail=1
 }
 run ggx scenes/ggx.json -n 16
 run city-sun scenes/city-sun.json -n 16 --rotate --frame 2
