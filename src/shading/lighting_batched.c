@@ -154,15 +154,15 @@ static inline float clamp_lod(float lod, float max_lod)
     return lod < max_lod ? lod : max_lod;
 }
 
-/* Stage (3)'s contribution of sample i, c = F (Li - Lbar) weight, from its fetched radiance t
- * (Li = t times the intensity; Lbar the control variate's radiance, 0 but for cv, and x - 0 = x):
- * one expression for every fetch (inlined in each loop, which still vectorizes). */
-static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity, vec3 Lbar)
+/* Stage (3)'s contribution of sample i, c = F Li weight, from its fetched radiance t (Li = t
+ * times the intensity): one expression for every fetch (inlined in each loop, which still
+ * vectorizes). */
+static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity)
 {
     float m5 = b->m5[i], weight = b->weight[i];
-    b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity - Lbar.x) * weight;
-    b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity - Lbar.y) * weight;
-    b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity - Lbar.z) * weight;
+    b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
+    b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
+    b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
 }
 
 /* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
@@ -346,6 +346,7 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
  * pointer into the always-inlined stages, where its fields stay in registers. */
 typedef struct {
     bool mf, ggx, inv_lh2, consistent, distortion, oct;
+    bool cv;          /* the control variate: subtract F Lbar weight from every contribution */
     int rule;
     float alpha, a2;
     float base, max_lod, sin_min, intensity;
@@ -377,6 +378,7 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
+    c.cv = false;
     c.Lbar = vec3s(0.0f);
     return c;
 }
@@ -497,37 +499,48 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
                                                               int m, sample_block *b)
 {
     const sl_env_gather *env = &u->residualGather;
-    const vec3 Ks = c->Ks, F1 = c->F1, Lbar = c->Lbar;
+    const vec3 Ks = c->Ks, F1 = c->F1;
     const float intensity = c->intensity;
     if (c->oct) {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
+            store_contribution(b, i, t, Ks, F1, intensity);
         }
     } else if (env->e5) { /* the compact rows: 4 64-bit reads a sample */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_e5_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
+            store_contribution(b, i, t, Ks, F1, intensity);
         }
     } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
+            store_contribution(b, i, t, Ks, F1, intensity);
         }
     } else {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
+            store_contribution(b, i, t, Ks, F1, intensity);
         }
     }
     if (!env->gather) {
         for (int i = 0; i < m; i++) {
             vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity, Lbar);
+            store_contribution(b, i, t, Ks, F1, intensity);
+        }
+    }
+    if (c->cv) { /* F (Li - Lbar) weight as F Li weight - F Lbar weight: a loop of its own, so mf's
+                    loops above stay as they are (the port's form to float rounding) */
+        const vec3 Lbar = c->Lbar;
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float m5 = b->m5[i], weight = b->weight[i];
+            b->cr[i] -= (Ks.x + F1.x * m5) * Lbar.x * weight;
+            b->cg[i] -= (Ks.y + F1.y * m5) * Lbar.y * weight;
+            b->cb[i] -= (Ks.z + F1.z * m5) * Lbar.z * weight;
         }
     }
 }
@@ -566,6 +579,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
     lobe_consts c = lobe_consts_for(u, Ks, alpha);
+    c.cv = u->uEstimator == ESTIMATOR_CV;
     c.Lbar = Lbar;
     const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
