@@ -1,5 +1,5 @@
-/* test_lighting_splitsum.c - the split-sum estimator's fast path (src/shading/lighting_splitsum.c)
- * against the plain port (lighting.c's specular_splitsum, options.plain) over the options it
+/* test_lighting_splitsum.c - the split-sum estimator's fast path (src/shading/lighting_splitsum.c),
+ * and cv's batched path (the split sum as a control variate, lighting_batched.c), against the plain port (lighting.c's specular_splitsum, options.plain) over the options it
  * reads, on spheres that mix the Phong and GGX sets (so spans use both prefiltered chains), with
  * and without point lights, with the chains' compact texels and without; and its guarantees:
  * 1 and 2 threads, sl_lighting_shade per pixel, a row and the trace's total agree bit for bit. */
