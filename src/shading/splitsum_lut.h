@@ -7,8 +7,13 @@
  * W is the microfacet estimator's weight (lighting.c, specular_microfacet: H drawn from
  * D(H) (N.H), w = reflect(-V, H), G' = G / ((N.w)(N.V)) of brdf.h), so the table holds the
  * specification's D, G and F exactly as the shader evaluates them. The shading is then
- *     specular = P(R, r) (Ks A + B)
- * with P the prefiltered chain (src/ibl/prefilter.c). The lobe width r is GGX's roughness, or
+ *     specular = P(normalize(mix(N, R, t)), r) (Ks A + B)
+ * with P the prefiltered chain (src/ibl/prefilter.c) and t the table's third value: it points
+ * the lookup towards the lobe's centroid (the W-weighted mean direction). The chain holds the
+ * lobe at N = V, round about R; away from normal view the true lobe leans towards N (more for
+ * wide lobes, the off-specular shift), so reading along R alone leaves a ring too dark or too
+ * bright across a rough sphere. The shift from R is the centroid's times r (splitsum_lut.c:
+ * narrower lobes keep their peak near R). The lobe width r is GGX's roughness, or
  * (2 / (alpha + 2))^(1/4) for a Phong exponent (the same peak of D; brdf.h).
  *
  * Layout: one texture of SL_SPLITSUM_LUT_SIZE columns (N.V = i / (SIZE - 1)) and

@@ -156,10 +156,11 @@ static void test_widest_level_sampling(void **state)
 /* Rough lobes (Phong alpha 1 and 4, GGX r 0.8 and 1) under soft_box against the ground truth, at
  * N.V 1, 0.7, 0.4 and three view azimuths (the soft box in front, beside, behind), on a
  * 1024x512 map (the shipped maps' size: the chain's levels are the map's mip sizes): the lobe as
- * the prefilter weights it (G' (N.w), prefilter.c) read along its centroid (the table's t,
+ * the prefilter weights it (G' (N.w), prefilter.c) read towards its centroid (the table's t,
  * splitsum_lut.h). Measured: within 1.9% at normal view (the table and F's variation), mean
- * |error| 6.5% over all cases, worst 25% (N.V 0.4: the chain's lobe is round, the true one is
- * not). Karis' form (N.w weights, the lookup along R, 64 samples at every level) gave 6.0% at
+ * |error| 10.8% over all cases, worst 39% (N.V 0.4: the chain's lobe is round, the true one is
+ * not; 6.5% and 25% with the whole shift to the centroid, which does worse on ggx.json's
+ * mid-rough spheres, splitsum_lut.c). Karis' form (N.w weights, the lookup along R, 64 samples at every level) gave 6.0% at
  * normal view, a mean of 45% and a worst of 238% (a grazing lookup along R into the dark side). */
 static void test_wide_lobes_against_truth(void **state)
 {
@@ -214,7 +215,7 @@ static void test_wide_lobes_against_truth(void **state)
     printf("wide lobes: mean |error| %.2f%%, worst %.2f%%, worst at normal view %.2f%%\n", 100.0 * sum / cases,
            100.0 * worst, 100.0 * worst_normal);
     assert_true(worst_normal < 0.03);
-    assert_true(sum / cases < 0.08);
+    assert_true(sum / cases < 0.15);
     sl_ground_truth_free(&gt);
     free(lut);
     sl_env_free(&phong);
@@ -269,7 +270,7 @@ static void test_cv_white_furnace(void **state)
 
 /* --estimator cv converges to the ground truth as N grows: soft_box (256x128), lod none (the
  * samples read level 0, as the truth does, up to its bilinear filter), the mean |error| over rough
- * and medium lobes and three views. Measured: 28.7%, 6.5%, 1.4%, 0.49% at N = 4, 16, 64, 256. */
+ * and medium lobes and three views. Measured: 29.0%, 6.6%, 1.4%, 0.53% at N = 4, 16, 64, 256. */
 static void test_cv_converges(void **state)
 {
     (void)state;
