@@ -107,6 +107,12 @@ enum { BAND_ROWS = 4 };
 bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
                       sl_image *out, int threads, sl_error *err)
 {
+    return sl_lighting_pass_hooked(u, stats, gb, out, threads, NULL, err);
+}
+
+bool sl_lighting_pass_hooked(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
+                             sl_image *out, int threads, const sl_lighting_band_hook *hook, sl_error *err)
+{
     if (!gb || !gb->texels || gb->width < 1 || gb->height < 1)
         return sl_fail(err, SL_ERR_RANGE, "lighting pass: empty G-buffer");
     if ((int)u->uViewport.x != gb->width || (int)u->uViewport.y != gb->height)
@@ -148,6 +154,8 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
                 sl_lighting_shade_row(u, gb, 0, y, gb->width, task, row);
             }
             task->stats.pixels += (int64_t)gb->width * (y1 - y0);
+            if (hook) /* the band's image rows: row 0 = top */
+                hook->run(hook->ctx, omp_get_thread_num(), gb->height - y1, gb->height - y0);
         }
     }
     if (stats)
