@@ -52,7 +52,8 @@ sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
  * radius that is not positive and finite. */
 bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
 
-/* The AO of one texel (x, y), as sl_gtao_apply computes it (for trace and tests). */
-float sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
+/* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w (for
+ * trace and tests). */
+sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
 
 #endif

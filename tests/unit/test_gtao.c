@@ -149,7 +149,7 @@ static void test_wall_corner(void **state)
         floor_pixel(&gb, distances[i], 0.0f, &x, &y);
         const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
         double d = t->position.x, want = corner_ao(d, R);
-        double got = sl_gtao_texel(&gb, &cam, R, x, y);
+        double got = sl_gtao_texel(&gb, &cam, R, x, y).w;
         print_message("floor at %.3f from the wall: AO %.4f, analytic %.4f\n", d, got, want);
         /* measured: +0.077 at the foot, where the blur's 4 x 4 half-resolution block (7 texels
          * across) averages the steep rise of AO away from the wall; within 0.005 from 0.25 on */
@@ -168,7 +168,7 @@ static void test_multiplies_the_map(void **state)
         gb.extra[i].occlusion = 0.5f;
     int x = 0, y = 0;
     floor_pixel(&gb, 0.1f, 0.0f, &x, &y);
-    float ao = sl_gtao_texel(&gb, &cam, 1.0f, x, y);
+    float ao = sl_gtao_texel(&gb, &cam, 1.0f, x, y).w;
     sl_error err = {0};
     assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
     assert_near(gb.extra[y * W + x].occlusion, 0.5f * ao, 1e-6);
