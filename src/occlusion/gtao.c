@@ -1,8 +1,9 @@
 /* gtao.c - ground-truth-based ambient occlusion over the G-buffer (the method and its limits:
  * gtao.h). Three passes, rows to threads in each: the tangent planes of the half-resolution grid
  * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
- * reads each, all within SL_GTAO_MAX_SCREEN of the image height), and each texel's blurred value
- * multiplied into its occlusion (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
+ * reads each, all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and
+ * each texel's blurred value multiplied into its occlusion and written with its bent normal into
+ * the cone plane (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
  * in the same order. */
 #include "gtao.h"
 
