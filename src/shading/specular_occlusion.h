@@ -26,6 +26,7 @@
 
 /* The Phong exponent of the lobe parameter (lighting.frag lobe_param): Phong's own, or GGX's
  * roughness r as the exponent of the same width, 2 / a^2 - 2 with a = max(r^2, 1e-4). */
+/* GLSL: so_phong_exponent */
 static inline float sl_so_phong_exponent(float alpha)
 {
     if (alpha >= 0.0f)
@@ -37,6 +38,7 @@ static inline float sl_so_phong_exponent(float alpha)
 
 /* The share of the lobe's cap (cosine cos_s) inside a cap of cosine cos_v whose axis is at cosine
  * cos_d from the lobe's: caps' intersection over the lobe's cap, in [0, 1]. */
+/* GLSL: so_cap_share */
 static inline float sl_so_cap_share(float cos_v, float cos_s, float cos_d)
 {
     float tv = acosf(clampf(cos_v, -1.0f, 1.0f)), ts = acosf(clampf(cos_s, -1.0f, 1.0f));
@@ -50,6 +52,7 @@ static inline float sl_so_cap_share(float cos_v, float cos_s, float cos_d)
 /* The specular occlusion, in [0, 1]: `ao` the AO, `b_dot_r` the cosine between the bent normal and
  * R, `n_dot_v` N.V (= N.R), `alpha` the lobe parameter. 1 where ao is 1 and B = N; 0 where ao is 0;
  * not increasing as the lobe widens (alpha falls, roughness grows) or the cone narrows. */
+/* GLSL: specular_occlusion */
 static inline float sl_specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
 {
     if (!(ao > 0.0f))
