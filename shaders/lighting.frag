@@ -961,36 +961,47 @@ void main()
         vec3 Venv = uEnvRotation * V;
         vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
         vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);
-        // with the occlusion pass's cone: each image-based term times its own occlusion
-        bool cone = uHasCone != 0;
-        float spec_occlusion = extra.r;
-        if (cone) {
+        if (uHasCone == 0) {
+            if (uDiffuse != 0)
+                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
+            if (uSpecular != 0) {
+                if (uEstimator == ESTIMATOR_SPLITSUM)
+                    color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
+                else if (uEstimator == ESTIMATOR_MICROFACET)
+                    color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_MIS)
+                    color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                else
+                    color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
+                    color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
+            }
+            color = color * extra.r; // occlusion: the image-based terms only
+        } else {
+            // the occlusion pass's cone: each image-based term times its own occlusion, the
+            // specular times the material's share of the occlusion and specular_occlusion
             vec4 c = texelFetch(uCone, pixel, 0);
             vec3 B = uEnvRotation * c.xyz;
             vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
-            spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
+            float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
+            if (uDiffuse != 0)
+                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity * extra.r;
+            if (uSpecular != 0) {
+                vec3 spec;
+                if (uEstimator == ESTIMATOR_SPLITSUM)
+                    spec = specular_splitsum(Nenv, Venv, Ks, alpha);
+                else if (uEstimator == ESTIMATOR_MICROFACET)
+                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_MIS)
+                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                else
+                    spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
+                    spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha);
+                color = color + spec * spec_occlusion;
+            }
         }
-        if (uDiffuse != 0) {
-            vec3 diffuse = Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
-            color = color + (cone ? diffuse * extra.r : diffuse);
-        }
-        if (uSpecular != 0) {
-            vec3 spec;
-            if (uEstimator == ESTIMATOR_SPLITSUM)
-                spec = specular_splitsum(Nenv, Venv, Ks, alpha);
-            else if (uEstimator == ESTIMATOR_MICROFACET)
-                spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation);
-            else if (uEstimator == ESTIMATOR_MIS)
-                spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
-            else
-                spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-            if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
-                spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha);
-            color = color + (cone ? spec * spec_occlusion : spec);
-        }
-        if (!cone)
-            color = color * extra.r; // occlusion: the image-based terms only
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);
