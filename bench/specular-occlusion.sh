@@ -16,8 +16,10 @@
 #   none      1 (no specular occlusion: the AO on the diffuse only)
 #   lagarde   Lagarde and de Rousiers 2014: clamp((N.V + AO)^(2^(-16 a - 1)) - 1 + AO, 0, 1), a the
 #             GGX width of the lobe (for Phong, sqrt(2 / (n + 2)))
-#   cone      the visibility cone against the lobe's cone (src/shading/specular_occlusion.h), the
+#   cone-sharp  the visibility cone against the lobe's cone, without the fade to 1 near AO 1
+#   cone      the same with the fade (src/shading/specular_occlusion.h, SL_SO_FADE), the
 #             renderer's; its column is also the renderer's own image to within float rounding
+# FADE=F in the environment moves the fade's start (default 0.8, SL_SO_FADE) for the cone column.
 # and each is compared with the truth by `softlight truth --compare` (nRMSE over the covered
 # pixels). Truths are cached in out/specular-occlusion/ (the visibility truths at 80x45: about a
 # minute each on the loaded 2-core machine; a rerun takes seconds).
@@ -42,12 +44,12 @@ SL=$BUILD/softlight
 OUT=out/specular-occlusion
 mkdir -p "$OUT"
 BEST="--estimator mf --lod pdf --distortion -n 256 --no-lights"
-FORMS="ao none lagarde cone"
+FORMS="ao none lagarde cone-sharp cone"
 
 table=$OUT/table.md
 {
-    echo "| scene | no occlusion | ao | none | lagarde | cone |"
-    echo "|---|---:|---:|---:|---:|---:|"
+    echo "| scene | no occlusion | ao | none | lagarde | cone-sharp | cone |"
+    echo "|---|---:|---:|---:|---:|---:|---:|"
 } >"$table"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
@@ -62,7 +64,7 @@ for s in "${scenes[@]}"; do
     # shellcheck disable=SC2086
     "$SL" render "$scene" --size "$SIZE" $BEST --specular-only --pfm "$d/specular.pfm" -q
     python3 - "$d" $FORMS <<'PY'
-import math, struct, sys
+import math, os, struct, sys
 def read(path):
     data = open(path, 'rb').read()
     parts = data.split(b'\n', 3)
@@ -90,7 +92,17 @@ def cone(ao, bdr, nv, alpha):
         return 0.0
     cos_s = 0.244 ** (1 / (phong_exponent(alpha) + 1))
     open_ = cap_share(0, cos_s, nv)
-    return min(max(cap_share(math.sqrt(max(0, 1 - ao)), cos_s, bdr) / open_, 0), 1) if open_ > 0 else ao
+    so = min(max(cap_share(math.sqrt(max(0, 1 - ao)), cos_s, bdr) / open_, 0), 1) if open_ > 0 else ao
+    t = min(max((ao - FADE) / (1 - FADE), 0), 1)
+    return so + (1 - so) * t * t * (3 - 2 * t)
+def cone_sharp(ao, bdr, nv, alpha):
+    global FADE
+    keep, FADE = FADE, 1.0 - 1e-9
+    try:
+        return cone(ao, bdr, nv, alpha)
+    finally:
+        FADE = keep
+FADE = float(os.environ.get('FADE', '0.8'))  # SL_SO_FADE
 def lagarde(ao, nv, alpha):
     a = math.sqrt(2 / (phong_exponent(alpha) + 2))
     return min(max((nv + ao) ** (2 ** (-16 * a - 1)) - 1 + ao, 0), 1)
@@ -118,8 +130,9 @@ for form in forms:
         R = [2 * nv * N[c] - V[c] for c in range(3)]
         a = alpha[i] if alpha[i] <= -1 else min(max(alpha[i], 0), 1e7)
         a = max(a, -2.0)
+        bdr = sum(B[c] * R[c] for c in range(3))
         f = {'ao': ao[i], 'none': 1.0, 'lagarde': lagarde(ao[i], nv, a),
-             'cone': cone(ao[i], sum(B[c] * R[c] for c in range(3)), nv, a)}[form]
+             'cone-sharp': cone_sharp(ao[i], bdr, nv, a), 'cone': cone(ao[i], bdr, nv, a)}[form]
         for c in range(3):
             out[3 * i + c] += spec[3 * i + c] * f
     write(d + '/' + form + '.pfm', w, h, out)

@@ -490,8 +490,10 @@ float lobe_param(float a)
 
 // Specular occlusion (src/shading/specular_occlusion.h, line for line): the share of the lobe's
 // cone (about R, holding all but SO_LOBE_OUTSIDE of a Phong lobe's energy) inside the visibility
-// cone (about the bent normal, cos = sqrt(1 - AO)), over the same share for the open hemisphere.
+// cone (about the bent normal, cos = sqrt(1 - AO)), over the same share for the open hemisphere,
+// fading to 1 as the AO nears 1.
 const float SO_LOBE_OUTSIDE = 0.244;
+const float SO_FADE = 0.8; // the factor fades to 1 over SO_FADE < AO < 1
 
 float so_phong_exponent(float alpha)
 {
@@ -519,7 +521,8 @@ float specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
     float cos_s = pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0));
     float open = so_cap_share(0.0, cos_s, n_dot_v);
     float seen = so_cap_share(sqrt(max(0.0, 1.0 - ao)), cos_s, b_dot_r);
-    return open > 0.0 ? clamp(seen / open, 0.0, 1.0) : ao;
+    float so = open > 0.0 ? clamp(seen / open, 0.0, 1.0) : ao;
+    return so + (1.0 - so) * smoothstep(SO_FADE, 1.0, ao);
 }
 
 // Unit normal, bent toward the eye where the interpolated normal faces away:

@@ -9,7 +9,7 @@
 # then; on pbr.json the specular occlusion, which turns on the bent normal's direction and the
 # lobe's, carries those differences into the radiance. Bounds (measured at 320x180: occlusion
 # bunny 6e-6 max, pbr mean 7e-4, p99 rel 0.013, max 0.06; radiance p99 rel bunny 0.019, default
-# 0.002, pbr 0.070 with 0.21% of pixels over 8/255):
+# 0.002, pbr 0.058 with 0.22% of pixels over 8/255):
 #   the occlusion AOV: mean abs <= 0.002, p99 relative <= 0.03
 #   the radiance: p99 relative <= 0.05, share > 8/255 after the tone map <= 0.1% (pbr: 0.1, 0.4%)
 # The specular occlusion: bunny's specular alone (--specular-only --no-lights) in the crease where
