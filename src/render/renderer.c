@@ -396,8 +396,12 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     /* occlusion reads the neighbours of every texel: before a shard drops the rows outside its band */
     double t1 = sl_now_seconds();
-    if (ok && ao_radius > 0.0f)
+    if (ok && ao_radius > 0.0f) {
         ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, err);
+    } else if (r->gbuffer.cone) { /* occlusion turned off (the viewer's O): the lighting reads no cone */
+        free(r->gbuffer.cone);
+        r->gbuffer.cone = NULL;
+    }
     r->timings.ao_ms = (sl_now_seconds() - t1) * 1e3;
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
