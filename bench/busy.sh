@@ -9,9 +9,11 @@
 # Runs `softlight render SCENE --size SIZE -j T` ROUNDS times for each (condition, T), alternating
 # T = 1 and T = 2 within a round so that both see the same moments of the machine, and prints the
 # median of each stage's time (raster, shading, tone map, as render reports them) and the ratio
-# 2 threads / 1 thread. The busy process is a shell loop that spins one core for the whole
-# condition. A stage whose ratio passes 1 beside the busy process is one whose parallel region
-# waits for a descheduled thread: its work is split in fixed shares instead of being handed out.
+# 2 threads / 1 thread, and of the whole frame (the stages' sum). The busy process is a shell loop
+# that spins one core for the whole condition. A stage whose ratio passes 1 beside the busy process
+# is one whose parallel region waits for a descheduled thread. The tone map runs inside the
+# lighting pass's region (each band tone mapped as soon as it is lit): its row is its share of
+# that region, and its barrier is the shading's.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -31,7 +33,7 @@ run() { # run CONDITION THREADS: one render, its stage times appended to T/CONDI
         awk '/raster/ { for (i = 1; i <= NF; i++) { if ($i == "raster") r = $(i + 1); if ($i == "shading") s = $(i + 1);
                                                     if ($i == "tone") t = $(i + 2) } }
              /ambient occlusion/ { for (i = 1; i <= NF; i++) if ($i == "ms") a = $(i - 1) }
-             END { print r, s, t, a + 0 }' >>"$T/$1-$2"
+             END { print r, s, t, a + 0, r + s + t + a }' >>"$T/$1-$2"
 }
 
 for condition in idle busy; do
@@ -49,10 +51,10 @@ done
 echo "$SCENE $SIZE, median of $ROUNDS renders each; $(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg) after"
 echo '| stage | idle, 1 thread ms | idle, 2 threads ms | ratio | busy, 1 thread ms | busy, 2 threads ms | ratio |'
 echo '|---|---:|---:|---:|---:|---:|---:|'
-stage=(raster shading "tone map" "ambient occlusion")
-stages=3
-awk -v a="$AO" 'BEGIN { exit !(a > 0) }' && stages=4
-for s in $(seq 1 $stages); do
+stage=(raster shading "tone map" "ambient occlusion" "frame (all stages)")
+columns="1 2 3 5"
+awk -v a="$AO" 'BEGIN { exit !(a > 0) }' && columns="1 2 3 4 5"
+for s in $columns; do
     row="| ${stage[$((s - 1))]}"
     for condition in idle busy; do
         a=$(awk -v c=$s '{ print $c }' "$T/$condition-1" | median)

@@ -7,7 +7,7 @@
 # traced with Embree); for scenes with point lights also the render with its lights against
 # `truth --lights` and `truth --lights --visibility` (shadow rays). Then the visibility
 # quadrature's own error: the first scene's truth at --vis-level 3 (the default) and 2 against
-# --vis-level 1. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
+# --vis-level 1; and per scene the factor by which the occlusion cuts the visibility error. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
 # kept in docs/accuracy/visibility.md, which bench/speed-vs-error.sh appends to the report it
 # rewrites) and prints the tables; --no-doc leaves docs/ alone (tables in out/visibility-error/).
 #
@@ -71,6 +71,10 @@ table=$OUT/table.md
     echo "| scene | render | nRMSE vs blind truth | >1/255 vs blind | nRMSE vs visibility truth | >1/255 vs visibility | nRMSE ratio | blind truth s | visibility truth s |"
     echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
 } >"$table"
+{
+    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut |"
+    echo "|---|---:|---:|---:|"
+} >"$OUT/cut.md"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
     scene=scenes/$s.json
@@ -93,6 +97,10 @@ for s in "${scenes[@]}"; do
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
         echo "| $s | $label | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | ${tb:--} | ${tv:--} |" >>"$table"
     done
+    # the cut: the visibility error of the mf render without and with the occlusion
+    best_vis=$(grep "^| $s | mf pdf+dist N256 |" "$table" | cut -d'|' -f6 | tr -d ' ')
+    ao_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 |" "$table" | cut -d'|' -f6 | tr -d ' ')
+    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") |" >>"$OUT/cut.md"
     if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights
@@ -126,6 +134,8 @@ if [ "$LEVELS" = 1 ]; then # the quadrature's own error, on the first scene
     echo "| $s | 1 | ${rays:--} | ${secs:--} | 0 | 0% |" >>"$table"
 fi
 cat "$table"
+echo
+cat "$OUT/cut.md"
 [ "$DOC" = 1 ] || exit 0
 
 # the section of docs/accuracy.md: text, the command, the tables
@@ -159,6 +169,13 @@ alpha-masked leaf shadows as its whole quad (docs/ibl.md "Visibility": masks occ
 
 TEXT
     sed -n '1,/^$/p' "$table" | sed '/^$/d'
+    echo
+    echo "What the occlusion (GTAO on the diffuse, its visibility cone's specular occlusion on the"
+    echo "specular: docs/lighting.md \"Ambient occlusion\", \"Specular occlusion\") removes of the error of"
+    echo "ignoring visibility: nRMSE against the visibility truth of the \`mf pdf+dist N256\` render without"
+    echo "and with \`--ao-radius 1\`, and the factor between them (the target of the occlusion work is 3x):"
+    echo
+    cat "$OUT/cut.md"
     if [ "$LEVELS" = 1 ]; then
         echo
         echo "The visibility quadrature's own error: the visibility truth of ${scenes[0]} at the default"

@@ -27,25 +27,24 @@ status=0
 # assimp's own leaks (fuzz_model) are not softlight's to fix: scripts/lsan-assimp.supp says why.
 export LSAN_OPTIONS="${LSAN_OPTIONS:+$LSAN_OPTIONS:}suppressions=$PWD/scripts/lsan-assimp.supp"
 [ "$seconds" -gt 0 ] || exit 0
-for bin in "$build"/fuzz_*; do
-  [ -x "$bin" ] || continue
-  name=$(basename "$bin")
-  if [ -n "${FUZZ_TARGETS:-}" ] && ! [[ " $FUZZ_TARGETS " == *" $name "* ]]; then continue; fi
-  if ! [ -d "fuzz/corpus/$name" ] || [ -z "$(ls -A "fuzz/corpus/$name")" ]; then
-    echo "fuzz: $name has no seed corpus (fuzz/corpus/$name)"; status=1; continue
-  fi
+# Targets run side by side, FUZZ_JOBS at a time (default: one per core): each is one process on
+# one core, and a target's report is printed whole when it ends.
+jobs_max=${FUZZ_JOBS:-$(nproc)}
+
+# fuzz_one NAME BIN: one target's run; its report on stdout, exit status 1 when it failed.
+fuzz_one() {
+  local name=$1 bin=$2 corpus keep=""
   corpus=$(mktemp -d)
   cp -r "fuzz/corpus/$name/." "$corpus/"
-  keep=""
   if [ -n "${FUZZ_KEEP:-}" ]; then
     keep="$FUZZ_KEEP/$name"; mkdir -p "$keep"
     cp -r "$keep/." "$corpus/"
   fi
-  mkdir -p fuzz/artifacts
+  local failed=0
   echo "fuzz: $name for ${seconds}s"
   if ! "$bin" -seed="$seed" -max_total_time="$seconds" -timeout=5 -rss_limit_mb=2048 -max_len=65536 \
        -artifact_prefix=fuzz/artifacts/"$name"- -print_final_stats=0 "$corpus" >"$corpus.log" 2>&1; then
-    echo "fuzz: $name FAILED"; tail -40 "$corpus.log"; status=1
+    echo "fuzz: $name FAILED"; tail -40 "$corpus.log"; failed=1
   else
     grep -E '^#[0-9]+.*DONE|Done [0-9]+ runs' "$corpus.log" | tail -1 || true
   fi
@@ -53,5 +52,29 @@ for bin in "$build"/fuzz_*; do
     "$bin" -merge=1 "$keep" "$corpus" >/dev/null 2>&1 || echo "fuzz: $name: merging into $keep failed"
   fi
   rm -rf "$corpus" "$corpus.log"
+  return $failed
+}
+
+mkdir -p fuzz/artifacts
+reports=$(mktemp -d)
+trap 'rm -rf "$reports"' EXIT
+running=0
+for bin in "$build"/fuzz_*; do
+  [ -x "$bin" ] || continue
+  name=$(basename "$bin")
+  if [ -n "${FUZZ_TARGETS:-}" ] && ! [[ " $FUZZ_TARGETS " == *" $name "* ]]; then continue; fi
+  if ! [ -d "fuzz/corpus/$name" ] || [ -z "$(ls -A "fuzz/corpus/$name")" ]; then
+    echo "fuzz: $name has no seed corpus (fuzz/corpus/$name)"; status=1; continue
+  fi
+  if [ "$running" -ge "$jobs_max" ]; then
+    wait -n || status=1
+    running=$((running - 1))
+  fi
+  ( rc=0; fuzz_one "$name" "$bin" >"$reports/$name" 2>&1 || rc=$?; cat "$reports/$name"; exit $rc ) &
+  running=$((running + 1))
+done
+while [ "$running" -gt 0 ]; do
+  wait -n || status=1
+  running=$((running - 1))
 done
 exit $status

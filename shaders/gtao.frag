@@ -2,7 +2,7 @@
 // gtao.frag - ambient occlusion, the raw half-resolution samples: the GLSL twin of
 // src/occlusion/gtao.c (texel_ao, horizon_cos, arc, acos_fast), line for line in its order.
 // softlight-gl draws it over a (W + 1) / 2 x (H + 1) / 2 target after the G-buffer pass; fragment
-// (i, j) is the sample of texel (2i, 2j). SLICES and STEPS come as #defines from
+// (i, j) is the sample of texel (2i, 2j): .r its AO, .gba its unnormalised bent normal. SLICES and STEPS come as #defines from
 // src/occlusion/gtao.h (SL_GTAO_SLICES, SL_GTAO_STEPS), so both sides take them from one place.
 
 uniform sampler2D uPosition; // .w = 1 where covered
@@ -37,6 +37,22 @@ float arc(float c, float side, float n, float cos_n, float sin_n)
     float s = side * sqrt(max(0.0, 1.0 - c * c));
     float cos_2h = 2.0 * c * c - 1.0, sin_2h = 2.0 * s * c;
     return 0.25 * (-(cos_2h * cos_n + sin_2h * sin_n) + cos_n + 2.0 * h * sin_n);
+}
+
+void bent_arc(float c, float side, float n, float cos_n, float sin_n, out float along_v, out float along_dir)
+{
+    float h = side * acos_fast(c);
+    float ch, sh;
+    if (side * (h - n) >= 0.5 * PI) {
+        ch = -side * sin_n;
+        sh = side * cos_n;
+    } else {
+        ch = c;
+        sh = side * sqrt(max(0.0, 1.0 - c * c));
+    }
+    float ch3 = ch * ch * ch, sh3 = sh * sh * sh;
+    along_v = (cos_n * (1.0 - ch3) + sin_n * sh3) * (1.0 / 3.0);
+    along_dir = cos_n * sh3 * (1.0 / 3.0) + sin_n * (2.0 / 3.0 - ch + ch3 * (1.0 / 3.0));
 }
 
 // The tangent plane (N, N.(P - eye)) of grid point (i, j): texel (2i, 2j); 0 where nothing was drawn.
@@ -88,20 +104,21 @@ vec3 facing_normal(vec3 N, vec3 V)
     return N;
 }
 
-float texel_ao(ivec2 xy, ivec2 ij)
+vec4 texel_ao(ivec2 xy, ivec2 ij)
 {
     vec4 pos = texelFetch(uPosition, xy, 0);
     if (pos.w < 0.5)
-        return 1.0;
+        return vec4(1.0, texelFetch(uNormal, xy, 0).xyz);
     vec3 P = pos.xyz;
     vec3 V = normalize(uEye - P);
     vec3 N = facing_normal(texelFetch(uNormal, xy, 0).xyz, V);
+    vec4 open = vec4(1.0, N);
     float depth = dot(P - uEye, uForward);
     if (!(depth > 0.0))
-        return 1.0;
+        return open;
     float pixels = min(uRadius * uPixelsPerUnit / depth, uMaxPixels);
     if (pixels < 1.0)
-        return 1.0;
+        return open;
     int k = bayer4[(ij.x & 3) + 4 * (ij.y & 3)];
     float shift = (float(bayer4[((ij.x + 2) & 3) + 4 * ((ij.y + 1) & 3)]) + 0.5) / float(PATTERN);
     vec3 b1 = normalize(uRight - V * dot(V, uRight));
@@ -109,6 +126,7 @@ float texel_ao(ivec2 xy, ivec2 ij)
     vec3 E = P - uEye;
     float xc = dot(E, uRight), yc = dot(E, uUp);
     float sum = 0.0;
+    vec3 bent = vec3(0.0);
     for (int slice = 0; slice < SLICES; slice++) {
         float phi = PI * (float(slice) + (float(k) + 0.5) / float(PATTERN)) / float(SLICES);
         vec3 dir = b1 * cos(phi) + b2 * sin(phi);
@@ -128,12 +146,16 @@ float texel_ao(ivec2 xy, ivec2 ij)
         float c_pos = horizon_cos(xy, P, V, d, pixels, shift);
         float c_neg = horizon_cos(xy, P, V, -d, pixels, shift);
         sum += lp * (arc(c_pos, 1.0, n, cos_n, sin_n) + arc(c_neg, -1.0, n, cos_n, sin_n));
+        float v_pos, d_pos, v_neg, d_neg;
+        bent_arc(c_pos, 1.0, n, cos_n, sin_n, v_pos, d_pos);
+        bent_arc(c_neg, -1.0, n, cos_n, sin_n, v_neg, d_neg);
+        bent = bent + (V * (v_pos + v_neg) + dir * (d_pos + d_neg)) * lp;
     }
-    return sum / float(SLICES);
+    return vec4(sum / float(SLICES), bent);
 }
 
 void main()
 {
     ivec2 ij = ivec2(gl_FragCoord.xy);
-    fragColor = vec4(texel_ao(2 * ij, ij), 0.0, 0.0, 1.0);
+    fragColor = texel_ao(2 * ij, ij);
 }

@@ -27,6 +27,10 @@
 //   sampler2D uExtra      .r = occlusion (scales diffuse, specular and env lights, not point
 //                         lights), .gba = emission (added last); read only when uHasExtra != 0,
 //                         the G-buffer's fifth target for a scene that uses them
+//   sampler2D uCone       .xyz = the bent normal (unit, world space), .w = the AO: the ambient
+//                         occlusion pass's visibility cone (src/occlusion/gtao.h), read only when
+//                         uHasCone != 0 (--ao-radius); then the diffuse is times the occlusion and
+//                         the specular times the material's share of it and specular_occlusion
 // Environment:
 //   sampler2D uEnv        lat-long HDR radiance (RGB32F/RGB16F), full mip chain by
 //                         glGenerateMipmap, MIN_FILTER = LINEAR_MIPMAP_LINEAR, MAG_FILTER =
@@ -110,6 +114,8 @@ uniform sampler2D uKd;
 uniform sampler2D uKsAlpha;
 uniform sampler2D uDepth;
 uniform sampler2D uExtra; // .r occlusion, .gba emission: only when uHasExtra (src/raster/gbuffer.h)
+uniform sampler2D uCone;  // .xyz bent normal, .w AO: only when uHasCone (src/occlusion/gtao.h)
+uniform int uHasCone;
 #ifdef SL_SPECIALIZED
 const int uHasExtra = SL_HAS_EXTRA;
 #else
@@ -483,6 +489,43 @@ vec3 env_lod(vec3 w, float lod)
 float lobe_param(float a)
 {
     return a <= -1.0 ? max(a, -2.0) : clamp(a, 0.0, MAX_ALPHA);
+}
+
+// Specular occlusion (src/shading/specular_occlusion.h, line for line): the share of the lobe's
+// cone (about R, holding all but SO_LOBE_OUTSIDE of a Phong lobe's energy) inside the visibility
+// cone (about the bent normal, cos = sqrt(1 - AO)), over the same share for the open hemisphere,
+// fading to 1 as the AO nears 1.
+const float SO_LOBE_OUTSIDE = 0.244;
+const float SO_FADE = 0.8; // the factor fades to 1 over SO_FADE < AO < 1
+
+float so_phong_exponent(float alpha)
+{
+    if (alpha >= 0.0)
+        return alpha;
+    float r = -1.0 - alpha;
+    float a = max(r * r, 1e-4);
+    return max(2.0 / (a * a) - 2.0, 0.0);
+}
+
+float so_cap_share(float cos_v, float cos_s, float cos_d)
+{
+    float tv = acos(clamp(cos_v, -1.0, 1.0)), ts = acos(clamp(cos_s, -1.0, 1.0));
+    float d = acos(clamp(cos_d, -1.0, 1.0));
+    float lo = abs(tv - ts), hi = tv + ts;
+    float inside = 1.0 - clamp((d - lo) / max(hi - lo, 1e-6), 0.0, 1.0);
+    float cap = 1.0 - cos(min(tv, ts));
+    return clamp(cap * smoothstep(0.0, 1.0, inside) / max(1.0 - cos_s, 1e-12), 0.0, 1.0);
+}
+
+float specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
+{
+    if (!(ao > 0.0))
+        return 0.0;
+    float cos_s = pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0));
+    float open = so_cap_share(0.0, cos_s, n_dot_v);
+    float seen = so_cap_share(sqrt(max(0.0, 1.0 - ao)), cos_s, b_dot_r);
+    float so = open > 0.0 ? clamp(seen / open, 0.0, 1.0) : ao;
+    return so + (1.0 - so) * smoothstep(SO_FADE, 1.0, ao);
 }
 
 // Unit normal, bent toward the eye where the interpolated normal faces away:
@@ -951,24 +994,52 @@ void main()
         vec3 Nenv = uEnvRotation * N;
         vec3 Venv = uEnvRotation * V;
         vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
-        if (uDiffuse != 0)
-            color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
-        if (uSpecular != 0) {
-            if (uEstimator == ESTIMATOR_SPLITSUM)
-                color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
-            else if (uEstimator == ESTIMATOR_MICROFACET)
-                color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
-            else if (uEstimator == ESTIMATOR_CV)
-                color = color + specular_cv(Nenv, Venv, Ks, alpha, rotation);
-            else if (uEstimator == ESTIMATOR_MIS)
-                color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
-            else
-                color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-            if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
-                color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
-        }
         vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);
-        color = color * extra.r; // occlusion: the image-based terms only
+        if (uHasCone == 0) {
+            if (uDiffuse != 0)
+                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
+            if (uSpecular != 0) {
+                if (uEstimator == ESTIMATOR_SPLITSUM)
+                    color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
+                else if (uEstimator == ESTIMATOR_MICROFACET)
+                    color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+                else if (uEstimator == ESTIMATOR_CV)
+                    color = color + specular_cv(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_MIS)
+                    color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                else
+                    color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
+                    color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
+            }
+            color = color * extra.r; // occlusion: the image-based terms only
+        } else {
+            // the occlusion pass's cone: each image-based term times its own occlusion, the
+            // specular times the material's share of the occlusion and specular_occlusion
+            vec4 c = texelFetch(uCone, pixel, 0);
+            vec3 B = uEnvRotation * c.xyz;
+            vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
+            float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
+            float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
+            if (uDiffuse != 0)
+                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity * extra.r;
+            if (uSpecular != 0) {
+                vec3 spec;
+                if (uEstimator == ESTIMATOR_SPLITSUM)
+                    spec = specular_splitsum(Nenv, Venv, Ks, alpha);
+                else if (uEstimator == ESTIMATOR_MICROFACET)
+                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+                else if (uEstimator == ESTIMATOR_CV)
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_MIS)
+                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                else
+                    spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
+                    spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha);
+                color = color + spec * spec_occlusion;
+            }
+        }
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
                 color = color + point_light(i, P, N, V, Kd, Ks, alpha);

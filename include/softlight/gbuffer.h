@@ -41,6 +41,10 @@ typedef struct sl_gbuffer {
     int width, height;
     sl_gbuffer_texel *texels; /* width * height, row 0 = bottom */
     sl_gbuffer_extra *extra;  /* NULL, or width * height extra texels */
+    sl_vec4 *cone;            /* NULL, or width * height: the ambient occlusion pass's visibility
+                                 cone per texel, its axis (the bent normal, unit, world space) in
+                                 xyz and its AO in w (src/occlusion/gtao.h; the lighting reads it
+                                 for the image-based terms) */
 } sl_gbuffer;
 
 /* Allocate for width x height (no-op when the size is unchanged; contents undefined until

@@ -40,6 +40,22 @@ static bool parse_two_ints(const char *s, char sep, int out[2], double min, doub
     return true;
 }
 
+/* "X,Y,Z": three finite numbers within [lo, hi], nothing else. */
+static bool parse_vec3(const char *s, float out[3], double lo, double hi)
+{
+    const char *p = s;
+    for (int i = 0; i < 3; i++) {
+        char *end;
+        errno = 0;
+        double v = strtod(p, &end);
+        if (errno || end == p || !isfinite(v) || v < lo || v > hi || *end != (i < 2 ? ',' : '\0'))
+            return false;
+        out[i] = (float)v;
+        p = end + 1;
+    }
+    return true;
+}
+
 static int choice_index(const char *choices, const char *word)
 {
     size_t len = strlen(word);
@@ -91,6 +107,11 @@ static bool parse_value(const sl_arg *a, const char *s, sl_error *err)
         if (!parse_two_ints(s, ',', (int *)a->value, a->min, a->max))
             return sl_fail(err, SL_ERR_RANGE, "%s: expected X,Y with each in %.0f..%.0f, got '%s'", a->name, a->min,
                            a->max, s);
+        return true;
+    case SL_ARG_VEC3:
+        if (!parse_vec3(s, (float *)a->value, a->min, a->max))
+            return sl_fail(err, SL_ERR_RANGE, "%s: expected X,Y,Z with each a number in %g..%g, got '%s'", a->name,
+                           a->min, a->max, s);
         return true;
     case SL_ARG_CHOICE: {
         int i = choice_index(a->choices, s);

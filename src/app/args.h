@@ -20,6 +20,7 @@ typedef enum {
     SL_ARG_SIZE,   /* "WxH" into int[2], each within [min, max] */
     SL_ARG_PAIR,   /* "X,Y" into int[2], each within [min, max] */
     SL_ARG_CHOICE, /* one of `choices` ("a|b|c"), stored as `min` plus its index (int) */
+    SL_ARG_VEC3,   /* "X,Y,Z" into float[3], each finite within [min, max] */
 } sl_arg_type;
 
 /* Where an option's appearance is noted: `bit` or-ed into *bits (the set bits of an
@@ -34,7 +35,7 @@ typedef struct {
     const char *alias; /* "-o" or NULL */
     sl_arg_type type;
     void *value;       /* where the parsed value goes */
-    double min, max;   /* for INT, FLOAT, SIZE, PAIR */
+    double min, max;   /* for INT, FLOAT, SIZE, PAIR, VEC3 */
     const char *choices; /* for CHOICE: "spec|spec-d4|paper" */
     const char *metavar; /* "N", "FILE" */
     const char *help;

@@ -310,12 +310,13 @@ int cmd_info(int argc, char **argv)
     }
 
     /* the G-buffer's extra plane only when a drawn material writes it (sl_raster_scene_textured's rule)
-     * or ambient occlusion does; the occlusion pass's own buffers, a float and a 16-byte plane on
-     * the half-resolution grid, count with each pixel (5 bytes) */
+     * or ambient occlusion does; the occlusion pass's own buffers, two 16-byte planes on the
+     * half-resolution grid (samples, tangent planes), and the 16-byte cone plane at full
+     * resolution, count with each pixel (24 bytes) */
     bool extra = desc.options.ao_radius > 0.0f;
     for (int i = 0; i < scene.object_count; i++)
         extra |= sl_material_extra(&scene.materials[scene.objects[i].material]);
-    size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra) + (desc.options.ao_radius > 0.0f ? 5 : 0);
+    size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra) + (desc.options.ao_radius > 0.0f ? 24 : 0);
     bool phong, ggx; /* the split sum's lobe sets */
     sl_renderer_splitsum_sets(&scene, &phong, &ggx);
     memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,

@@ -17,6 +17,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 
 #include "app/args.h"
 #include "app/commands.h"
@@ -42,7 +43,7 @@ int cmd_view(int argc, char **argv)
 #define FONT_POINTS 12
 #define MOVE_SAMPLES 8           /* default N while moving (docs/viewer.md "Refinement": measured) */
 #define PRESENT_IDLE_SECONDS 0.1 /* between slices that changed no pixel, present this often */
-#define VIEW_OPTION_COUNT 16     /* options of `view` beside render's */
+#define VIEW_OPTION_COUNT 17     /* options of `view` beside render's */
 #define DEFAULT_SCENE "scenes/default.json" /* what `softlight view ENV.hdr` lights */
 
 /* ------------------------------------------------------------------ the loop */
@@ -108,7 +109,8 @@ static void run(viewer *v)
             reload(v);
         view_program_poll(v, now);
         bool message_expired = v->message_shown && now >= v->message_until;
-        bool busy = v->job_active || view_refine_wanted(v, now) || v->retonemap || v->present_needed || message_expired;
+        bool busy = v->job_active || view_refine_wanted(v, now) || v->retonemap || v->present_needed ||
+                    message_expired || view_gl_wanted(v);
         SDL_Event e;
         if (!busy) {
             /* Idle: sleep until input, but wake for the script, the end of a quiet period and the
@@ -153,6 +155,14 @@ static void run(viewer *v)
                 if (v->bench.frames > 0)
                     view_bench_record(v, t1);
             }
+        } else if (view_gl_wanted(v)) {
+            if (view_gl_will_run(v)) { /* it blocks for about a second: say so first */
+                view_message(v, false, "compare: softlight-gl is lighting this frame");
+                view_present(v);
+            }
+            if (!view_gl_step(v, &err))
+                view_message(v, true, "compare: %s", err.msg);
+            view_present(v);
         } else if (v->retonemap && !v->job_active) {
             if (!view_refine_retonemap(v, &err))
                 view_message(v, true, "tone map: %s", err.msg);
@@ -233,6 +243,7 @@ static void viewer_free(viewer *v)
     view_script_free(&v->script);
     view_watch_free(&v->watch);
     view_program_close(v);
+    view_gl_free(v);
     view_trace_free(v);
     view_shade_free(&v->shade);
     view_hud_destroy(v->hud);
@@ -264,7 +275,7 @@ int cmd_view(int argc, char **argv)
     int acc_lod = 0;  /* index in "total|frame" */
     int move_est = 0; /* index in "splitsum|user" */
     bool no_hud = false, keys = false, debug_shader = false, verbose = false;
-    const char *env = NULL, *lighting = NULL, *gbuffer_shader = NULL;
+    const char *env = NULL, *lighting = NULL, *gbuffer_shader = NULL, *glsl = NULL;
     const sl_arg extra[] = {
         {"--env", NULL, SL_ARG_STRING, &env, 0, 0, NULL, "FILE",
          "environment image (.exr, .hdr or .pfm) in place of the scene's, and no irradiance map", NULL},
@@ -292,6 +303,8 @@ int cmd_view(int argc, char **argv)
         {"--lighting", NULL, SL_ARG_STRING, &lighting, 0, 0, NULL, "FILE",
          "shade with this lighting program, as render does; a C source is recompiled when it is saved "
          "(docs/lighting-programs.md)", NULL},
+        {"--glsl", NULL, SL_ARG_STRING, &glsl, 0, 0, NULL, "FILE.frag",
+         "the GLSL twin of --lighting, which the comparison with the GL version (M) runs in softlight-gl", NULL},
         {"--gbuffer-shader", NULL, SL_ARG_STRING, &gbuffer_shader, 0, 0, NULL, "FILE",
          "fill the G-buffer with this fragment program, as render does; a C source is recompiled when it is "
          "saved (docs/gbuffer-programs.md)", NULL},
@@ -369,6 +382,14 @@ int cmd_view(int argc, char **argv)
         }
         v.have_script = true;
     }
+    struct stat glsl_stat;
+    if (glsl && (!lighting || stat(glsl, &glsl_stat) != 0 || !S_ISREG(glsl_stat.st_mode))) {
+        fprintf(stderr, "softlight view: --glsl %s: %s\n", glsl,
+                !lighting ? "the GLSL twin of a --lighting program, which is not given" : "not a readable file");
+        view_script_free(&v.script);
+        return 2;
+    }
+    v.gl.glsl = glsl;
     /* only the command line names code to run; a scene never does */
     const char *programs[VIEW_PROGRAM_KINDS] = {[VIEW_PROGRAM_LIGHTING] = lighting,
                                                 [VIEW_PROGRAM_GBUFFER] = gbuffer_shader};

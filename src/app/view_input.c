@@ -347,6 +347,12 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         act = VIEW_ACT_RESTART_CAMERA;
         break;
     }
+    case SDLK_m: {
+        char what[160];
+        view_gl_cycle(v, what, sizeof what);
+        view_message(v, false, "%s", what);
+        break;
+    }
     case SDLK_t: {
         sl_error err = {0};
         if (!view_trace_pointer(v, &err))

@@ -17,9 +17,11 @@
  *   view_reload.c     the files a scene was loaded from, polled for changes
  *   view_program.c    --lighting, --gbuffer-shader: the user's programs, recompiled in the background
  *                     when its source changes, and swapped in between frames
+ *   view_gl.c         M: the exact frame beside softlight-gl's lighting of its G-buffer, or their
+ *                     difference
  * Which file calls which:
  *   cmd_view.c        -> every file below
- *   view_script.c     -> view_screenshot.c, view_refine.c
+ *   view_script.c     -> view_screenshot.c, view_refine.c, view_gl.c
  *   view_screenshot.c -> view_present.c, view_refine.c, view_image.c
  *   view_input.c      -> view_present.c (messages), view_camera.c, view_image.c, view_keys.c,
  *                        view_probe.c, view_reload.c
@@ -30,7 +32,9 @@
  *   view_keys.c       -> view_image.c (the views' names)
  *   view_reload.c     -> nothing of the viewer's
  *   view_program.c    -> view_reload.c (the watch), view_refine.c (the restart)
- *   view_present.c    -> view_program.c (its HUD lines)
+ *   view_present.c    -> view_program.c (its HUD lines), view_gl.c (its HUD line)
+ *   view_input.c      -> view_gl.c (M)
+ *   view_gl.c         -> view_refine.c (its questions)
  *   view_refine.c     -> view_shade.c, view_image.c, view_texture.c
  *   view_texture.c    -> nothing of the viewer's (a failure goes back as an sl_error)
  * Every call goes one way.
@@ -256,7 +260,30 @@ typedef struct {
 } view_stage_params;
 
 /* What the linear image behind `shown` is (for exposure changes and snapshots). */
-typedef enum { VIEW_SHOWN_NONE, VIEW_SHOWN_RADIANCE, VIEW_SHOWN_MEAN } view_shown_source;
+typedef enum {
+    VIEW_SHOWN_NONE,
+    VIEW_SHOWN_RADIANCE, /* r.radiance */
+    VIEW_SHOWN_MEAN,     /* the accumulation's mean */
+    VIEW_SHOWN_GL,       /* softlight-gl's lighting of the exact frame's G-buffer (view_gl.c) */
+    VIEW_SHOWN_DIFF,     /* the difference of the exact frame and that (view_gl.c) */
+} view_shown_source;
+
+/* The comparison with the GL version (view_gl.c): what M shows once the frame is exact. */
+typedef enum { VIEW_GL_OFF, VIEW_GL_IMAGE, VIEW_GL_DIFF, VIEW_GL_MODES } view_gl_mode;
+typedef struct {
+    view_gl_mode mode;
+    const char *glsl;       /* --glsl: the GLSL twin of --lighting (NULL: shaders/lighting.frag) */
+    bool frame_changed;     /* set by view_refine.c's restarts: the GL image no longer fits */
+    bool valid;             /* `radiance` is softlight-gl's lighting of the current exact frame */
+    bool failed;            /* it failed for the current frame: not retried until the frame changes */
+    sl_image c_radiance;    /* the exact frame it was compared with */
+    sl_image radiance;      /* softlight-gl's */
+    sl_image difference;    /* |C - GL| per channel, linear: what a snapshot of the difference writes */
+    sl_tonemap_options shown_tonemap; /* the tone map `shown` was made with */
+    double p99_rel, max_abs, over1, over8; /* sl_compare_images' figures, C as A */
+    char renderer[96];      /* GL_RENDERER */
+    double ms;              /* the last run's time */
+} view_gl;
 
 /* Navigation keys, tracked from events so a held key keeps the preview going (SDL's own keyboard
  * state does not see scripted events). */
@@ -368,6 +395,9 @@ struct viewer {
 
     /* reloading (view_reload.c, polled by cmd_view.c) */
     view_watch watch;
+
+    /* the comparison with softlight-gl (view_gl.c) */
+    view_gl gl;
 
     /* the lighting and G-buffer programs (view_program.c, by view_program_kind; NULL: the built-in) */
     view_program_state *programs[VIEW_PROGRAM_KINDS];
@@ -506,6 +536,25 @@ bool view_watch_changed(view_watch *w, double now);
 void view_watch_free(view_watch *w);
 /* Watch one file alone (what was watched before is dropped). */
 bool view_watch_file(view_watch *w, const char *path, sl_error *err);
+
+/* ---- view_gl.c ----
+ * M cycles C -> GL -> C - GL difference -> C. Once the frame is exact (view_converged, the final
+ * view), softlight-gl lights the exact frame's G-buffer from the viewer's camera with the same
+ * settings (gl_twin.h), and the window shows its image or the difference; any change of camera
+ * or lighting starts the refinement again, and the comparison follows it. */
+/* M: the next mode; `what` gets the message that says what it shows. */
+void view_gl_cycle(viewer *v, char *what, size_t size);
+/* The loop's questions: is there GL work to do or an image to switch to now, and does that work
+ * run softlight-gl (the loop says so on screen first)? */
+bool view_gl_wanted(const viewer *v);
+bool view_gl_will_run(const viewer *v);
+/* Do it: run softlight-gl when the exact frame has no GL image yet (blocking: about a second on
+ * llvmpipe at window size), then show the mode's image. False and err when it failed (not retried
+ * for this frame; the C frame stays on screen). */
+bool view_gl_step(viewer *v, sl_error *err);
+/* The HUD's line ("" when the mode is off). */
+void view_gl_hud(const viewer *v, char *buf, size_t size);
+void view_gl_free(viewer *v);
 
 /* ---- view_program.c ---- */
 /* Load `path` as a program of `kind` now (at startup: a failure is the command's error, with msg)

@@ -48,6 +48,9 @@ static const key_row rows[] = {
     {"G", "key g", "G term: {gterm}"},
     {"V / shift+V", "key v|key shift+v", "view, forward / back: {views}"},
     {"T", "key t", "trace the pixel under the pointer (softlight trace's text, in the window and on stdout)"},
+    {"M", "key m", "compare with the GL version: C -> GL -> C - GL difference -> C; once the frame is exact, "
+                   "softlight-gl lights its G-buffer with the same camera and settings (--glsl: the GLSL twin of "
+                   "--lighting) and the HUD shows the agreement"},
     {"PageUp / PageDown", "key PageUp|key PageDown", "page through the trace"},
     {"H", "key h", "HUD: full -> compact -> off -> full"},
     {"F12 or P", "key F12|key p", "screenshot: softlight-N.png and .hdr (N counts up past existing files)"},

@@ -227,6 +227,9 @@ static void hud_lines(viewer *v, double now, int width, text_block *t)
     }
     if (view_readout(v, 4, line, sizeof line))
         add_wrapped(v, t, line, width);
+    view_gl_hud(v, line, sizeof line);
+    if (line[0])
+        add_wrapped(v, t, line, width);
     view_program_hud(v, compact, line, sizeof line);
     for (char *s = line, *end; *s; s = end + 1) {
         end = strchr(s, '\n');

@@ -62,6 +62,16 @@ bool view_readout(viewer *v, int digits, char *buf, size_t size)
     buf[0] = '\0';
     int x, y;
     if (v->mode == VIEW_FINAL) {
+        if (v->shown_from == VIEW_SHOWN_GL || v->shown_from == VIEW_SHOWN_DIFF) {
+            const sl_image *c = &v->gl.c_radiance, *g = &v->gl.radiance;
+            if (!view_pointer_pixel(v, c->width, c->height, &x, &y))
+                return false;
+            const float *pc = sl_image_pixel(c, x, y), *pg = sl_image_pixel(g, x, y);
+            snprintf(buf, size, "pixel %d,%d of %dx%d: C %.*g %.*g %.*g, GL %.*g %.*g %.*g (linear RGB)", x, y,
+                     c->width, c->height, digits, (double)pc[0], digits, (double)pc[1], digits, (double)pc[2], digits,
+                     (double)pg[0], digits, (double)pg[1], digits, (double)pg[2]);
+            return true;
+        }
         const sl_image *linear = v->shown_from == VIEW_SHOWN_MEAN       ? &v->mean
                                  : v->shown_from == VIEW_SHOWN_RADIANCE ? &v->r.radiance
                                                                         : NULL;

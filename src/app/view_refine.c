@@ -115,6 +115,7 @@ static int stage_after(const viewer *v, int stage)
 
 void view_restart_camera(viewer *v)
 {
+    v->gl.frame_changed = true;
     v->stage = VIEW_STAGE_MOVING;
     v->urgent = true;
     v->raster_valid = false;
@@ -125,6 +126,7 @@ void view_restart_camera(viewer *v)
 
 void view_restart_lighting(viewer *v)
 {
+    v->gl.frame_changed = true;
     if (v->stage > VIEW_STAGE_ACCUMULATE)
         v->stage = VIEW_STAGE_ACCUMULATE;
     if (v->stage == VIEW_STAGE_ACCUMULATE && !stage_needed(v, VIEW_STAGE_ACCUMULATE))

@@ -57,7 +57,11 @@ bool view_screenshot(viewer *v, const char *name, sl_error *err)
     }
     snprintf(png, sizeof png, "%s.png", base);
     snprintf(hdr, sizeof hdr, "%s.hdr", base);
-    if (!write_pair(png, &v->shown, hdr, sl_image_encode_hdr, &v->r.radiance, err))
+    /* the linear image behind what is shown: the comparison's (view_gl.c), else the frame's */
+    const sl_image *linear = v->shown_from == VIEW_SHOWN_GL     ? &v->gl.radiance
+                             : v->shown_from == VIEW_SHOWN_DIFF ? &v->gl.difference
+                                                                : &v->r.radiance;
+    if (!write_pair(png, &v->shown, hdr, sl_image_encode_hdr, linear, err))
         return false;
     const sl_camera *c = &v->camera.cam;
     printf("softlight view: wrote %s and %s (%dx%d, %s, N %d; camera eye %g,%g,%g target %g,%g,%g up %g,%g,%g "
@@ -76,6 +80,8 @@ bool view_snapshot(viewer *v, const char *base, sl_error *err)
         return false;
     const sl_image *linear = v->shown_from == VIEW_SHOWN_MEAN       ? &v->mean
                              : v->shown_from == VIEW_SHOWN_RADIANCE ? &v->r.radiance
+                             : v->shown_from == VIEW_SHOWN_GL       ? &v->gl.radiance
+                             : v->shown_from == VIEW_SHOWN_DIFF     ? &v->gl.difference
                                                                     : NULL;
     if (!linear || !v->shown.data)
         return sl_fail(err, SL_ERR_RANGE, "snapshot: no lit image on screen (view %s)", view_mode_name(v->mode));

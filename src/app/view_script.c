@@ -7,7 +7,7 @@
  *
  *     # comment
  *     wait 500                    let 500 ms pass (frames keep running)
- *     settle                      wait until refinement has finished
+ *     settle                      wait until refinement has finished (and the GL comparison, M)
  *     drag 100 100 200 100        left-button drag (add right|middle, and a step count)
  *     move 10 20                  pointer motion, no button
  *     wheel 3                     three wheel clicks away from the user (zoom in)
@@ -409,7 +409,7 @@ void view_script_step(viewer *v, double now)
             s->waiting = false;
             break;
         case VIEW_CMD_SETTLE:
-            if (pushed || !view_converged(v) || view_interacting(v, now) || v->retonemap)
+            if (pushed || !view_converged(v) || view_interacting(v, now) || v->retonemap || view_gl_wanted(v))
                 return;
             break;
         case VIEW_CMD_RESIZE:

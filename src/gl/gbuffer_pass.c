@@ -81,8 +81,8 @@ bool slgl_gbuffer_create(slgl_gbuffer *g, int width, int height, bool extra, sl_
 
 void slgl_gbuffer_destroy(slgl_gbuffer *g)
 {
-    GLuint textures[6] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, g->extra};
-    glDeleteTextures(6, textures);
+    GLuint textures[7] = {g->position, g->normal, g->kd, g->ks_alpha, g->depth, g->extra, g->cone_files};
+    glDeleteTextures(7, textures);
     if (g->fbo)
         glDeleteFramebuffers(1, &g->fbo);
     if (g->program)
@@ -404,6 +404,15 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
         glBindTexture(GL_TEXTURE_2D, tex[target]);
         glTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, g->width, g->height, target == 4 ? GL_DEPTH_COMPONENT : GL_RGBA,
                         GL_FLOAT, buf);
+    }
+    if (in->cone) { /* the occlusion pass's cone from the files: a texture of the G-buffer's own */
+        if (!g->cone_files)
+            glGenTextures(1, &g->cone_files);
+        glBindTexture(GL_TEXTURE_2D, g->cone_files);
+        glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, g->width, g->height, 0, GL_RGBA, GL_FLOAT, in->cone);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+        glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+        g->cone = g->cone_files;
     }
     free(buf);
     return slgl_check("uploading the G-buffer", err);

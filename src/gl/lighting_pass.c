@@ -41,6 +41,7 @@ enum {
     UNIT_SPLITSUM_LUT,
     UNIT_ENV_DIST,
     UNIT_ENV_DIST_MARGINAL,
+    UNIT_CONE, /* the occlusion pass's visibility cone, when it ran */
     UNIT_COUNT
 };
 #define HAMMERSLEY_BINDING 1
@@ -329,6 +330,7 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uKsAlpha"), UNIT_KS_ALPHA);
     glUniform1i(loc(p, "uDepth"), UNIT_DEPTH);
     glUniform1i(loc(p, "uExtra"), UNIT_EXTRA);
+    glUniform1i(loc(p, "uCone"), UNIT_CONE);
     glUniform1i(loc(p, "uEnv"), UNIT_ENV);
     glUniform1i(loc(p, "uIrradianceMap"), UNIT_IRRADIANCE);
     glUniform1i(loc(p, "uEnvResidual"), UNIT_ENV_RESIDUAL);
@@ -404,13 +406,14 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     GLuint units[UNIT_COUNT] = {g->position,       g->normal,        g->kd,          g->ks_alpha,
                                 g->depth,          l->env,           l->irradiance_map, residual,
                                 g->extra,          l->splitsum_phong, l->splitsum_ggx, l->splitsum_lut,
-                                l->env_dist,       l->env_dist_marginal};
+                                l->env_dist,       l->env_dist_marginal, g->cone};
     slgl_lighting_key key = program_key(l, g, u);
     GLuint program;
     if (!program_for(l, &key, &program, err))
         return false;
     glUseProgram(program);
     glUniform1i(loc(program, "uHasExtra"), g->extra != 0);
+    glUniform1i(loc(program, "uHasCone"), g->cone != 0);
     for (int i = 0; i < UNIT_COUNT; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);

@@ -37,7 +37,14 @@ typedef struct {
     const char *gbuffer_shader; /* --gbuffer-shader: the user's G-buffer fragment shader, or NULL */
     int time_runs;
     bool verbose;
+    /* --eye, --target, --up, --fovy, --env-rotation: the scene's camera and environment rotation
+     * replaced, for a G-buffer drawn from elsewhere (softlight view's GL comparison) */
+    sl_camera camera;
+    float env_rotation_deg;
+    unsigned given; /* GIVEN_* bits */
 } gl_outputs;
+
+enum { GIVEN_EYE = 1u, GIVEN_TARGET = 2u, GIVEN_UP = 4u, GIVEN_FOVY = 8u, GIVEN_ENV_ROTATION = 16u };
 
 /* Everything a frame needs that is built on the CPU. sl_renderer is softlight's own frame state:
  * it resolves the options against the scene, loads the environment, builds its mip chain and
@@ -63,13 +70,41 @@ static void frame_free(frame *f)
     memset(f, 0, sizeof *f);
 }
 
-static bool frame_build(frame *f, const char *scene_path, const sl_render_desc *desc, sl_error *err)
+/* The scene's camera and environment rotation, with what the command line gave in their place. */
+static bool frame_override(frame *f, const gl_outputs *o, sl_error *err)
+{
+    sl_camera *c = &f->scene.camera;
+    if (o->given & GIVEN_EYE)
+        c->eye = o->camera.eye;
+    if (o->given & GIVEN_TARGET)
+        c->target = o->camera.target;
+    if (o->given & GIVEN_UP)
+        c->up = o->camera.up;
+    if (o->given & GIVEN_FOVY)
+        c->fovy_deg = o->camera.fovy_deg;
+    if (o->given & GIVEN_ENV_ROTATION)
+        f->scene.environment.rotation_deg = o->env_rotation_deg;
+    if (!(o->given & (GIVEN_EYE | GIVEN_TARGET | GIVEN_UP)))
+        return true;
+    /* the scene reader's checks of its camera, for the one the command line made */
+    vec3 forward = sub3(c->target, c->eye);
+    float forward_len = length3(forward), up_len = length3(c->up);
+    if (!(forward_len > 0.0f))
+        return sl_fail(err, SL_ERR_RANGE, "--eye, --target: the camera's eye and target coincide");
+    if (!(length3(cross(forward, c->up)) > 1e-4f * forward_len * up_len))
+        return sl_fail(err, SL_ERR_RANGE, "--up: zero or parallel to the view direction (target - eye)");
+    return true;
+}
+
+static bool frame_build(frame *f, const gl_outputs *o, const sl_render_desc *desc, sl_error *err)
 {
     memset(f, 0, sizeof *f);
-    if (!sl_scene_load_with(scene_path, &desc->options, &f->scene, err))
+    if (!sl_scene_load_with(o->scene_path, &desc->options, &f->scene, err))
         return false;
     fputs(f->scene.warnings, stderr); /* what the scene loads but does not draw */
     f->scene_loaded = true;
+    if (!frame_override(f, o, err))
+        return false;
     if (!sl_renderer_init(&f->renderer, &f->scene, desc, err))
         return false;
     f->renderer_ready = true;
@@ -232,7 +267,7 @@ done:
     return ok;
 }
 
-#define OUTPUT_OPTION_COUNT 9
+#define OUTPUT_OPTION_COUNT 14
 
 static int cmd_render(int argc, char **argv)
 {
@@ -256,6 +291,17 @@ static int cmd_render(int argc, char **argv)
          NULL},
         {"--lighting", NULL, SL_ARG_STRING, &o.lighting, 0, 0, NULL, "FILE.frag",
          "light with this GLSL shader, compiled after lighting.frag (docs/lighting-programs.md)", NULL},
+        {"--eye", NULL, SL_ARG_VEC3, &o.camera.eye, -1e30, 1e30, NULL, "X,Y,Z", "the camera's position (default: the scene's)",
+         &(const sl_arg_mark){&o.given, GIVEN_EYE}},
+        {"--target", NULL, SL_ARG_VEC3, &o.camera.target, -1e30, 1e30, NULL, "X,Y,Z",
+         "the point the camera looks at (default: the scene's)", &(const sl_arg_mark){&o.given, GIVEN_TARGET}},
+        {"--up", NULL, SL_ARG_VEC3, &o.camera.up, -1e30, 1e30, NULL, "X,Y,Z", "the camera's up (default: the scene's)",
+         &(const sl_arg_mark){&o.given, GIVEN_UP}},
+        {"--fovy", NULL, SL_ARG_FLOAT, &o.camera.fovy_deg, 0.01, 179.0, NULL, "DEG",
+         "vertical field of view (default: the scene's)", &(const sl_arg_mark){&o.given, GIVEN_FOVY}},
+        {"--env-rotation", NULL, SL_ARG_FLOAT, &o.env_rotation_deg, -1e6, 1e6, NULL, "DEG",
+         "the environment's rotation about +Z (default: the scene's)",
+         &(const sl_arg_mark){&o.given, GIVEN_ENV_ROTATION}},
     };
     memcpy(table + n, outputs, sizeof outputs);
     const int count = n + OUTPUT_OPTION_COUNT;
@@ -305,7 +351,7 @@ static int cmd_render(int argc, char **argv)
             sl_option_set_size(&desc.options, files.width, files.height);
     }
     frame f;
-    bool ok = frame_build(&f, o.scene_path, &desc, &err) && render(&o, &f, o.gbuffer_dir ? &files : NULL, &err);
+    bool ok = frame_build(&f, &o, &desc, &err) && render(&o, &f, o.gbuffer_dir ? &files : NULL, &err);
     if (ok && o.verbose)
         printf("rendered %s: %dx%d, %d samples%s\n", o.scene_path, f.width, f.height,
                f.renderer.desc.lighting.samples, o.gbuffer_dir ? " (G-buffer from files)" : "");

@@ -2,7 +2,8 @@
  * G-buffer pass, shaders/gtao.frag draws the raw samples over the half-resolution grid (an R32F
  * target), then shaders/gtao_blur.frag draws each texel's blurred AO times the material's
  * occlusion, with the emission, into an RGBA32F target that is copied over the G-buffer's extra
- * target. The two shaders get softlight's constants (slices, steps, the blur's tests) as
+ * target, and each texel's visibility cone (bent normal, AO) into a second one the lighting reads
+ * (uCone). The two shaders get softlight's constants (slices, steps, the blur's tests) as
  * #defines and the camera's frame from sl_gtao_view_of, as gtao.c does, so the two
  * differ only in how they evaluate the same code. */
 #include <math.h>
@@ -46,15 +47,21 @@ bool slgl_occlusion_create(slgl_occlusion *o, int width, int height, sl_error *e
         return false;
     }
     glGenVertexArrays(1, &o->vao);
-    o->half = make_target(GL_R32F, GL_RED, o->grid_width, o->grid_height, &o->half_fbo);
+    o->half = make_target(GL_RGBA32F, GL_RGBA, o->grid_width, o->grid_height, &o->half_fbo);
     o->out = make_target(GL_RGBA32F, GL_RGBA, width, height, &o->out_fbo);
+    glGenTextures(1, &o->cone); /* the blur's second output, beside out */
+    glBindTexture(GL_TEXTURE_2D, o->cone);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, width, height, 0, GL_RGBA, GL_FLOAT, NULL);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glFramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT1, GL_TEXTURE_2D, o->cone, 0);
     return slgl_check("creating the occlusion targets", err);
 }
 
 void slgl_occlusion_destroy(slgl_occlusion *o)
 {
-    GLuint textures[2] = {o->half, o->out}, fbos[2] = {o->half_fbo, o->out_fbo};
-    glDeleteTextures(2, textures);
+    GLuint textures[3] = {o->half, o->out, o->cone}, fbos[2] = {o->half_fbo, o->out_fbo};
+    glDeleteTextures(3, textures);
     glDeleteFramebuffers(2, fbos);
     if (o->vao)
         glDeleteVertexArrays(1, &o->vao);
@@ -71,7 +78,7 @@ static void bind_texture(int unit, GLuint tex)
     glBindTexture(GL_TEXTURE_2D, tex);
 }
 
-bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err)
+bool slgl_occlusion_draw(slgl_occlusion *o, slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err)
 {
     if (!g->extra)
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: the GL G-buffer has no extra target");
@@ -117,6 +124,8 @@ bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_came
     glUniform3f(glGetUniformLocation(p, "uForward"), forward.x, forward.y, forward.z);
     glUniform2i(glGetUniformLocation(p, "uGrid"), o->grid_width, o->grid_height);
     glBindFramebuffer(GL_FRAMEBUFFER, o->out_fbo);
+    static const GLenum both[2] = {GL_COLOR_ATTACHMENT0, GL_COLOR_ATTACHMENT1};
+    glDrawBuffers(2, both);
     glViewport(0, 0, o->width, o->height);
     glDrawArrays(GL_TRIANGLES, 0, 3);
 
@@ -125,6 +134,7 @@ bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_came
     glBindFramebuffer(GL_READ_FRAMEBUFFER, o->out_fbo);
     glReadBuffer(GL_COLOR_ATTACHMENT0);
     glCopyTexSubImage2D(GL_TEXTURE_2D, 0, 0, 0, 0, 0, o->width, o->height);
+    g->cone = o->cone;
     glBindVertexArray(0);
     glActiveTexture(GL_TEXTURE0);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

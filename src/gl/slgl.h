@@ -81,6 +81,10 @@ typedef struct {
     GLuint position, normal, kd, ks_alpha; /* RGBA32F; position.w = 1 where covered */
     GLuint depth;                          /* DEPTH_COMPONENT32F */
     GLuint extra;                          /* RGBA32F occlusion + emission; 0 unless asked for */
+    GLuint cone;                           /* RGBA32F bent normal + AO: the occlusion pass's
+                                              (slgl_occlusion.cone, not owned) or cone_files;
+                                              0 without either */
+    GLuint cone_files;                     /* the cone uploaded from G-buffer files (owned) */
     GLuint program;                        /* gbuffer.vert/.frag: untextured materials */
     GLuint tex_program;                    /* gbuffer_textured.vert/.frag: materials with maps */
     GLuint samplers[SL_MAP_COUNT];         /* one per texture unit = map slot */
@@ -135,14 +139,17 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err);
 typedef struct {
     int width, height, grid_width, grid_height;
     GLuint program, blur_program, vao;
-    GLuint half, half_fbo; /* R32F, the grid */
+    GLuint half, half_fbo; /* RGBA32F, the grid: AO, unnormalised bent normal */
     GLuint out, out_fbo;   /* RGBA32F: occlusion x AO, emission; copied into the extra target */
+    GLuint cone;           /* RGBA32F, the out_fbo's second target: bent normal, AO per texel (the
+                              lighting's uCone) */
 } slgl_occlusion;
 
 bool slgl_occlusion_create(slgl_occlusion *o, int width, int height, sl_error *err);
 void slgl_occlusion_destroy(slgl_occlusion *o);
-/* Multiply the extra target's occlusion by the AO within `radius` of the frame `cam` drew. */
-bool slgl_occlusion_draw(slgl_occlusion *o, const slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err);
+/* Multiply the extra target's occlusion by the AO within `radius` of the frame `cam` drew, and
+ * hand the lighting the cone target (g->cone). */
+bool slgl_occlusion_draw(slgl_occlusion *o, slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err);
 
 /* ---- lighting_pass.c ---- */
 /* What one lighting program is compiled for (lighting.frag "Specialization"): the resolved options

@@ -1,8 +1,9 @@
 /* gtao.c - ground-truth-based ambient occlusion over the G-buffer (the method and its limits:
  * gtao.h). Three passes, rows to threads in each: the tangent planes of the half-resolution grid
  * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
- * reads each, all within SL_GTAO_MAX_SCREEN of the image height), and each texel's blurred value
- * multiplied into its occlusion (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
+ * reads each, all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and
+ * each texel's blurred value multiplied into its occlusion and written with its bent normal into
+ * the cone plane (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
  * in the same order. */
 #include "gtao.h"
 
@@ -86,6 +87,28 @@ static float arc(float c, float side, float n, float cos_n, float sin_n)
     return 0.25f * (-(cos_2h * cos_n + sin_2h * sin_n) + cos_n + 2.0f * h * sin_n);
 }
 
+/* The cosine-weighted mean direction of the same arc (the bent normal's share of it), as its
+ * components along V and along the slice's direction:
+ *   integral_0^h (cos t, sin t) cos(t - n) |sin t| dt
+ *     = ((cos n (1 - cos^3 h) + sin n sin^3 h) / 3, cos n sin^3 h / 3 + sin n (2/3 - cos h + cos^3 h / 3)),
+ * one expression for either side (for h < 0 it is the integral from h to 0). The horizon is
+ * clamped at the tangent plane as arc() clamps it. */
+static void bent_arc(float c, float side, float n, float cos_n, float sin_n, float *along_v, float *along_dir)
+{
+    float h = side * acos_fast(c);
+    float ch, sh;
+    if (side * (h - n) >= 0.5f * SL_PI) { /* h = n + side pi/2 */
+        ch = -side * sin_n;
+        sh = side * cos_n;
+    } else {
+        ch = c;
+        sh = side * sqrtf(fmaxf(0.0f, 1.0f - c * c));
+    }
+    float ch3 = ch * ch * ch, sh3 = sh * sh * sh;
+    *along_v = (cos_n * (1.0f - ch3) + sin_n * sh3) * (1.0f / 3.0f);
+    *along_dir = cos_n * sh3 * (1.0f / 3.0f) + sin_n * (2.0f / 3.0f - ch + ch3 * (1.0f / 3.0f));
+}
+
 /* What a sample reads of a texel: its tangent plane, (N, N.(P - eye)), 16 bytes where the texel
  * has 56, and of every other texel of every other row (the half-resolution grid, as the AO
  * itself): the reads reach up to SL_GTAO_MAX_SCREEN of the image height away, and the pass is
@@ -148,23 +171,32 @@ static float horizon_cos(const gtao_plane *planes, int half_width, int half_heig
     return best;
 }
 
-/* The raw AO of texel (x, y), turned and shifted by entry (i, j) of the pattern. */
-static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, int x, int y, int i, int j)
+/* A raw sample: the AO and the unnormalised bent normal (the cosine-weighted mean visible
+ * direction), world space. */
+typedef struct {
+    float ao, bx, by, bz;
+} gtao_sample;
+
+/* The raw sample of texel (x, y), turned and shifted by entry (i, j) of the pattern. Where there is
+ * nothing to read, AO 1 and the bent normal N (the texel's normal facing the eye). */
+static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, int x, int y, int i,
+                            int j)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
     if (!sl_gbuffer_covered(t))
-        return 1.0f;
+        return (gtao_sample){1.0f, t->normal.x, t->normal.y, t->normal.z};
     vec3 P = t->position;
     vec3 V = normalize(sub(f->view.eye, P));
     vec3 N = sl_lighting_facing_normal(t->normal, V);
+    const gtao_sample open = {1.0f, N.x, N.y, N.z};
     float depth = dot(sub(P, f->view.eye), f->view.forward);
     if (!(depth > 0.0f))
-        return 1.0f;
+        return open;
     float pixels = f->radius * f->view.pixels_per_unit / depth;
     if (pixels > f->max_pixels)
         pixels = f->max_pixels;
     if (pixels < 1.0f) /* the radius is under a pixel here: nothing to read */
-        return 1.0f;
+        return open;
     int k = bayer4[(i & 3) + 4 * (j & 3)];
     float shift = ((float)bayer4[((i + 2) & 3) + 4 * ((j + 1) & 3)] + 0.5f) / GTAO_PATTERN;
     const float *cos_phi = f->dir_x[k], *sin_phi = f->dir_y[k];
@@ -176,6 +208,7 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
     vec3 E = sub(P, f->view.eye); /* P in the camera's frame: (xc, yc, depth) */
     float xc = dot(E, f->view.right), yc = dot(E, f->view.up);
     float sum = 0.0f;
+    vec3 bent = vec3s(0.0f);
     for (int slice = 0; slice < SL_GTAO_SLICES; slice++) {
         vec3 dir = add(scale(b1, cos_phi[slice]), scale(b2, sin_phi[slice]));
         vec3 axis = cross(dir, V);
@@ -196,10 +229,14 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
         float c_pos = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift);
         float c_neg = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, -sx, -sy, pixels, shift);
         sum += lp * (arc(c_pos, 1.0f, n, cos_n, sin_n) + arc(c_neg, -1.0f, n, cos_n, sin_n));
+        float v_pos, d_pos, v_neg, d_neg;
+        bent_arc(c_pos, 1.0f, n, cos_n, sin_n, &v_pos, &d_pos);
+        bent_arc(c_neg, -1.0f, n, cos_n, sin_n, &v_neg, &d_neg);
+        bent = add(bent, scale(add(scale(V, v_pos + v_neg), scale(dir, d_pos + d_neg)), lp));
     }
     /* unclamped: one sample's few slices over- or undershoot 1 on an open surface, and the blur's
      * mean over the pattern cancels that only if nothing was cut off */
-    return sum / (float)SL_GTAO_SLICES;
+    return (gtao_sample){sum / (float)SL_GTAO_SLICES, bent.x, bent.y, bent.z};
 }
 
 /* Half resolution: the raw AO is computed at every other texel of every other row, (2i, 2j), the
@@ -211,14 +248,17 @@ static float texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
 
 typedef struct {
     int width, height; /* (W + 1) / 2 x (H + 1) / 2 */
-    float *ao;
+    gtao_sample *ao;
 } gtao_half;
 
-static float blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x, int y)
+/* The texel's cone: the blurred AO (clamped to [0, 1]) in w, the mean of the same samples' bent
+ * normals, normalised, in xyz (the texel's normal facing the eye where they cancel or there are none). */
+static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x, int y)
 {
     const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x, y);
     float zc = dot(sub(c->position, f->view.eye), f->view.forward);
     float sum = 0.0f, n = 0.0f;
+    vec3 bent = vec3s(0.0f);
     int i0 = x / 2, j0 = y / 2;
     for (int j = j0 - 1; j <= j0 + 2; j++)
         for (int i = i0 - 1; i <= i0 + 2; i++) {
@@ -230,11 +270,19 @@ static float blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half 
             /* the same surface: within a share of the view depth of the texel's tangent plane */
             if (fabsf(dot(sub(q->position, c->position), c->normal)) > SL_GTAO_BLUR_DEPTH * zc)
                 continue;
-            sum += h->ao[(size_t)j * (size_t)h->width + (size_t)i];
+            const gtao_sample *q_ao = &h->ao[(size_t)j * (size_t)h->width + (size_t)i];
+            sum += q_ao->ao;
+            bent = add(bent, vec3(q_ao->bx, q_ao->by, q_ao->bz));
             n += 1.0f;
         }
     float ao = n > 0.0f ? sum / n : 1.0f;
-    return ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+    ao = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+    float lb = length(bent);
+    if (!(lb > 1e-20f))
+        bent = sl_lighting_facing_normal(c->normal, normalize(sub(f->view.eye, c->position)));
+    else
+        bent = scale(bent, 1.0f / lb);
+    return (sl_vec4){bent.x, bent.y, bent.z, ao};
 }
 
 static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, gtao_half *h, int j0,
@@ -245,16 +293,17 @@ static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
             h->ao[(size_t)j * (size_t)h->width + (size_t)i] = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
 }
 
-float sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y)
+sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y)
 {
     gtao_frame f = frame_of(gb, cam, radius);
-    if (!sl_gbuffer_covered(sl_gbuffer_at(gb, x, y)))
-        return 1.0f;
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+    sl_vec4 v = {t->normal.x, t->normal.y, t->normal.z, 1.0f};
+    if (!sl_gbuffer_covered(t))
+        return v;
     gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL};
     size_t n = (size_t)h.width * (size_t)h.height;
     h.ao = calloc(n, sizeof *h.ao);
     gtao_plane *planes = malloc(n * sizeof *planes);
-    float v = 1.0f;
     if (h.ao && planes) {
         planes_of(gb, &f, planes, h.width, 0, h.height);
         /* the samples of the block blurred() reads */
@@ -278,7 +327,9 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL};
     h.ao = malloc((size_t)h.width * (size_t)h.height * sizeof *h.ao);
     gtao_plane *planes = malloc((size_t)h.width * (size_t)h.height * sizeof *planes);
-    if (!h.ao || !planes) {
+    if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
+        gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
+    if (!h.ao || !planes || !gb->cone) {
         free(h.ao);
         free(planes);
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
@@ -298,9 +349,16 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < height; y++) {
             sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)width;
-            for (int x = 0; x < width; x++)
-                if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y)))
-                    row[x].occlusion *= blurred(gb, &f, &h, x, y);
+            sl_vec4 *cone = gb->cone + (size_t)y * (size_t)width;
+            for (int x = 0; x < width; x++) {
+                const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+                if (sl_gbuffer_covered(t)) {
+                    cone[x] = blurred(gb, &f, &h, x, y);
+                    row[x].occlusion *= cone[x].w;
+                } else {
+                    cone[x] = (sl_vec4){t->normal.x, t->normal.y, t->normal.z, 1.0f};
+                }
+            }
         }
     }
     free(h.ao);

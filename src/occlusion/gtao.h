@@ -11,10 +11,17 @@
  * exactly the factor by which occlusion scales the irradiance under a constant environment, so
  * the diffuse term E(N) Kd / pi becomes AO E(N) Kd / pi.
  *
+ * The same arcs give the bent normal, the cosine-weighted mean visible direction: per side of a
+ * slice, integral (cos t V + sin t d) cos(t - n) |sin t| dt in closed form (bent_arc in gtao.c),
+ * summed over the slices with the AO's weights and blurred with it. With the AO it describes the
+ * visible directions as a cone (axis the bent normal, cosine-weighted share the AO), from which
+ * the lighting takes its specular occlusion (src/shading/specular_occlusion.h).
+ *
  * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: AO in [0, 1] per
  * texel, multiplied into the extra plane's occlusion (which the lighting stage applies to the
- * image-based terms, diffuse and specular, and which a material's occlusion map has already
- * written): a texel that sees everything keeps its occlusion. The plane must exist.
+ * diffuse term, and which a material's occlusion map has already written): a texel that sees
+ * everything keeps its occlusion; and the cone plane (sl_gbuffer.cone: bent normal, AO), which it
+ * allocates the first time. The extra plane must exist.
  *
  * Does not: see what the G-buffer does not hold (surfaces behind others or off screen count as
  * open: screen-space occlusion's known blind spot), treat thickness (a thin pole hides the sky
@@ -48,11 +55,13 @@ typedef struct {
 sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
 
 /* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)
- * around it; `threads` OpenMP threads (0: all). False (and err) without an extra plane or with a
- * radius that is not positive and finite. */
+ * around it and write its cone (gb->cone, allocated when NULL; an empty texel gets its normal and
+ * AO 1); `threads` OpenMP threads (0: all). False (and err) without an extra plane, with a radius
+ * that is not positive and finite, or out of memory. */
 bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
 
-/* The AO of one texel (x, y), as sl_gtao_apply computes it (for trace and tests). */
-float sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
+/* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w (for
+ * trace and tests). */
+sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
 
 #endif

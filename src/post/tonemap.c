@@ -278,7 +278,7 @@ static int present_chunk(const float *restrict src, float *restrict dst, int cou
     return missed;
 }
 
-bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int threads, sl_error *err)
+bool sl_tonemap_target(const sl_image *in, sl_image *out, sl_error *err)
 {
     if (!in->data || in->channels != 3)
         return sl_fail(err, SL_ERR_RANGE, "tone map: input must be a 3-channel image");
@@ -286,33 +286,51 @@ bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image 
         if (out->width != in->width || out->height != in->height || out->channels != 3)
             return sl_fail(err, SL_ERR_RANGE, "tone map: output is %dx%dx%d, expected %dx%dx3", out->width,
                            out->height, out->channels, in->width, in->height);
-    } else if (!sl_image_alloc(out, in->width, in->height, 3, err)) {
-        return false;
+        return true;
     }
+    return sl_image_alloc(out, in->width, in->height, 3, err);
+}
+
+/* Values [i0, i0 + count) of in into out (count <= TONEMAP_CHUNK). In place, the misses need
+ * the source: the chunk then goes through a buffer. */
+static void tonemap_chunk(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, size_t i0, int count)
+{
+    float vals[TONEMAP_CHUNK];
+    const float *src = in->data + i0;
+    float *dst = in->data == out->data ? vals : out->data + i0;
+    int missed = present_chunk(src, dst, count, tab);
+    for (int i = 0; missed && i < count; i++)
+        if (dst[i] < 0.0f) {
+            dst[i] = (float)code_exact(tab, src[i]) / 255.0f;
+            missed--;
+        }
+    if (dst == vals)
+        memcpy(out->data + i0, vals, (size_t)count * sizeof(float));
+}
+
+bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int threads, sl_error *err)
+{
+    if (!sl_tonemap_target(in, out, err))
+        return false;
     const size_t n = (size_t)in->width * (size_t)in->height * 3;
     const long chunks = (long)((n + TONEMAP_CHUNK - 1) / TONEMAP_CHUNK);
     /* Few threads for a small image: a parallel region costs more than 64 chunks of work. The
      * chunks are handed out as threads come free, not split in equal halves up front: on a
      * machine another process keeps busy, a descheduled thread's half would hold the region
-     * open while the other thread waits (2 threads then took longer than 1). */
+     * open while the other thread waits. */
 #pragma omp parallel for schedule(dynamic, 4) num_threads(sl_threads(threads)) if (chunks >= 64)
     for (long ci = 0; ci < chunks; ci++) {
         const size_t i0 = (size_t)ci * TONEMAP_CHUNK;
-        const int count = (int)(n - i0 < TONEMAP_CHUNK ? n - i0 : TONEMAP_CHUNK);
-        /* in place, misses need the source: the chunk goes through vals */
-        float vals[TONEMAP_CHUNK];
-        const float *src = in->data + i0;
-        float *dst = in->data == out->data ? vals : out->data + i0;
-        int missed = present_chunk(src, dst, count, tab);
-        for (int i = 0; missed && i < count; i++)
-            if (dst[i] < 0.0f) {
-                dst[i] = (float)code_exact(tab, src[i]) / 255.0f;
-                missed--;
-            }
-        if (dst == vals)
-            memcpy(out->data + i0, vals, (size_t)count * sizeof(float));
+        tonemap_chunk(tab, in, out, i0, (int)(n - i0 < TONEMAP_CHUNK ? n - i0 : TONEMAP_CHUNK));
     }
     return true;
+}
+
+void sl_tonemap_rows(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int row0, int row1)
+{
+    const size_t end = (size_t)row1 * (size_t)in->width * 3;
+    for (size_t i0 = (size_t)row0 * (size_t)in->width * 3; i0 < end; i0 += TONEMAP_CHUNK)
+        tonemap_chunk(tab, in, out, i0, (int)(end - i0 < TONEMAP_CHUNK ? end - i0 : TONEMAP_CHUNK));
 }
 
 /* Pixels per chunk of the 32-bit path: 1020 values, whole pixels, in L1. */

@@ -69,6 +69,13 @@ typedef struct {
 bool sl_tonemap_prepare(const sl_tonemap_options *opt, sl_tonemap_table *tab, sl_error *err);
 /* sl_tonemap_image with a prepared table. */
 bool sl_tonemap_apply(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int threads, sl_error *err);
+/* What sl_tonemap_apply checks and allocates before it writes: in a 3-channel image with data,
+ * out allocated at in's size when out->data is NULL, else of that size with 3 channels. */
+bool sl_tonemap_target(const sl_image *in, sl_image *out, sl_error *err);
+/* Rows [row0, row1) of sl_tonemap_apply, on the calling thread, into an `out` that
+ * sl_tonemap_target accepted: the same values, for a caller that tone maps each band of rows as
+ * soon as it is lit (the renderer, inside the lighting pass). */
+void sl_tonemap_rows(const sl_tonemap_table *tab, const sl_image *in, sl_image *out, int row0, int row1);
 
 /* The display image of a 3-channel linear image (tab prepared, in->data set) straight into
  * 32-bit pixels 0xffRRGGBB (SDL_PIXELFORMAT_XRGB8888: what the viewer's window takes), row y at

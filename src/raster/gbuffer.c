@@ -43,6 +43,8 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     gb->width = width;
     gb->height = height;
     bool extra = gb->extra != NULL;
+    free(gb->cone); /* the old size's: the occlusion pass allocates it again */
+    gb->cone = NULL;
     free(gb->extra); /* the old size's */
     gb->extra = NULL;
     return sl_gbuffer_use_extra(gb, extra, 0, err);
@@ -156,7 +158,9 @@ void sl_gbuffer_free(sl_gbuffer *gb)
 {
     free(gb->texels);
     free(gb->extra);
+    free(gb->cone);
     gb->texels = NULL;
     gb->extra = NULL;
+    gb->cone = NULL;
     gb->width = gb->height = 0;
 }

@@ -17,7 +17,8 @@
  *
  * A G-buffer with the extra plane (gbuffer.h: occlusion, emission) adds occlusion.pfm and
  * emissive.pfm (layers `occlusion`, `emissive.R/G/B`); one without it writes neither, and reading
- * takes the plane when both files are there. */
+ * takes the plane when both files are there. One with the ambient occlusion's cone plane
+ * (sl_gbuffer.cone) adds bent.pfm and ao.pfm the same way (layers `bent.X/Y/Z`, `ao`). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -26,7 +27,8 @@
 #include "gbuffer.h"
 #include "raster.h"
 
-/* The last two are the extra plane's (gbuffer.h), written only by a G-buffer that has it. */
+/* OCCLUSION and EMISSIVE are the extra plane's (gbuffer.h), BENT and AO the cone plane's, each
+ * pair written only by a G-buffer that has the plane. */
 enum {
     AOV_POSITION,
     AOV_NORMAL,
@@ -38,15 +40,20 @@ enum {
     AOV_MASK,
     AOV_OCCLUSION,
     AOV_EMISSIVE,
+    AOV_BENT,
+    AOV_AO,
     AOV_COUNT
 };
 static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask",
-                                                 "occlusion", "emissive"};
-static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1, 1, 3};
-static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", "", "", "RGB"};
+                                                 "occlusion", "emissive", "bent", "ao"};
+static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1, 1, 3, 3, 1};
+static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", "", "", "RGB", "XYZ", ""};
 
-/* How many AOVs a G-buffer has: the extra plane's two only with it. */
-static int aov_count(const sl_gbuffer *gb) { return gb->extra ? AOV_COUNT : AOV_OCCLUSION; }
+/* Whether a G-buffer has the AOV: the extra plane's two only with it, the cone's only with it. */
+static bool aov_present(const sl_gbuffer *gb, int aov)
+{
+    return aov < AOV_OCCLUSION || (aov < AOV_BENT ? gb->extra != NULL : gb->cone != NULL);
+}
 
 static bool aov_path(char *path, size_t size, const char *dir, int aov, sl_error *err)
 {
@@ -78,6 +85,8 @@ static void aov_get(const sl_gbuffer *gb, int x, int y, vec3 eye, int aov, float
     case AOV_DEPTH: out[0] = t->depth; return;
     case AOV_MASK: out[0] = covered ? 1.0f : 0.0f; return;
     case AOV_OCCLUSION: out[0] = e ? e->occlusion : 1.0f; return;
+    case AOV_BENT: v = gb->cone ? xyz(gb->cone[t - gb->texels]) : t->normal; break;
+    case AOV_AO: out[0] = gb->cone ? gb->cone[t - gb->texels].w : 1.0f; return;
     default: v = e ? e->emissive : vec3s(0.0f); break;
     }
     out[0] = v.x;
@@ -95,6 +104,8 @@ static void aov_set(sl_gbuffer *gb, int x, int y, int aov, const float *in)
     switch (aov) {
     case AOV_OCCLUSION: if (e) e->occlusion = in[0]; break;
     case AOV_EMISSIVE: if (e) e->emissive = v; break;
+    case AOV_BENT: if (gb->cone) gb->cone[t - gb->texels] = vec4(v.x, v.y, v.z, gb->cone[t - gb->texels].w); break;
+    case AOV_AO: if (gb->cone) gb->cone[t - gb->texels].w = in[0]; break;
     case AOV_POSITION: t->position = v; break;
     case AOV_NORMAL: t->normal = v; break;
     case AOV_KD: t->kd = v; break;
@@ -129,7 +140,9 @@ bool sl_gbuffer_add_aovs(const sl_gbuffer *gb, vec3 eye, const char *dir, sl_out
         return false;
     }
     bool ok = true;
-    for (int aov = 0; ok && aov < aov_count(gb); aov++) {
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        if (!aov_present(gb, aov))
+            continue;
         sl_image *im = &img[aov_channels[aov] == 3];
         for (int y = 0; y < gb->height; y++)
             for (int x = 0; x < gb->width; x++)
@@ -164,10 +177,12 @@ bool sl_gbuffer_add_exr(const sl_gbuffer *gb, vec3 eye, const sl_image *radiance
     sl_image img[AOV_COUNT] = {{0}};
     sl_exr_layer layers[AOV_COUNT + 1] = {{"", "RGB", radiance}};
     bool ok = true;
-    int count = aov_count(gb);
-    for (int aov = 0; ok && aov < count; aov++) {
+    int count = 0;
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        if (!aov_present(gb, aov))
+            continue;
         ok = aov_image(gb, eye, aov, &img[aov], err);
-        layers[aov + 1] = (sl_exr_layer){aov_names[aov], aov_suffixes[aov], &img[aov]};
+        layers[++count] = (sl_exr_layer){aov_names[aov], aov_suffixes[aov], &img[aov]};
     }
     unsigned char *bytes = NULL;
     size_t size = 0;
@@ -199,8 +214,22 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
     if (half)
         return sl_fail(err, SL_ERR_FORMAT, "%s: occlusion.pfm and emissive.pfm come together (the G-buffer's extra "
                        "channels); only %s is there", dir, f[0] ? "occlusion.pfm" : "emissive.pfm");
-    for (int aov = 0; ok && aov < (extra ? AOV_COUNT : AOV_OCCLUSION); aov++) {
-        if (aov == AOV_VIEW)
+    /* and so do the cone plane's */
+    char cone_path[2][4096];
+    if (!aov_path(cone_path[0], sizeof cone_path[0], dir, AOV_BENT, err) ||
+        !aov_path(cone_path[1], sizeof cone_path[1], dir, AOV_AO, err))
+        return false;
+    FILE *g[2] = {fopen(cone_path[0], "rb"), fopen(cone_path[1], "rb")};
+    bool cone = g[0] && g[1], cone_half = !cone && (g[0] || g[1]);
+    for (int i = 0; i < 2; i++)
+        if (g[i])
+            fclose(g[i]);
+    if (cone_half)
+        return sl_fail(err, SL_ERR_FORMAT, "%s: bent.pfm and ao.pfm come together (the ambient occlusion's cone); "
+                       "only %s is there", dir, g[0] ? "bent.pfm" : "ao.pfm");
+    for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
+        if (aov == AOV_VIEW || (!extra && (aov == AOV_OCCLUSION || aov == AOV_EMISSIVE)) ||
+            (!cone && (aov == AOV_BENT || aov == AOV_AO)))
             continue;
         char path[4096];
         if (!aov_path(path, sizeof path, dir, aov, err) || !sl_gbuffer_read_aov_image(path, &img, err))
@@ -209,6 +238,10 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
             width = img.width;
             height = img.height;
             ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, 0, err);
+            free(gb->cone);
+            gb->cone = NULL;
+            if (ok && cone && !(gb->cone = calloc((size_t)width * (size_t)height, sizeof *gb->cone)))
+                ok = sl_fail(err, SL_ERR_MEMORY, "%s: out of memory for the cone plane", dir);
             if (ok)
                 sl_gbuffer_clear(gb, 0);
         } else if (img.width != width || img.height != height) {

@@ -4,6 +4,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "core/threads.h"
 #include "core/timer.h"
 #include "occlusion/gtao.h"
 #include "scene/camera.h"
@@ -398,8 +399,12 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     /* occlusion reads the neighbours of every texel: before a shard drops the rows outside its band */
     double t1 = sl_now_seconds();
-    if (ok && ao_radius > 0.0f)
+    if (ok && ao_radius > 0.0f) {
         ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, err);
+    } else if (r->gbuffer.cone) { /* occlusion turned off (the viewer's O): the lighting reads no cone */
+        free(r->gbuffer.cone);
+        r->gbuffer.cone = NULL;
+    }
     r->timings.ao_ms = (sl_now_seconds() - t1) * 1e3;
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
@@ -509,7 +514,54 @@ bool sl_renderer_tonemap(sl_renderer *r, sl_error *err)
     return ok;
 }
 
+/* The tone map of the rows the lighting pass has just lit, on the thread that lit them. */
+typedef struct band_tonemap {
+    const sl_tonemap_table *table;
+    const sl_image *radiance;
+    sl_image *display;
+    double *thread_ms; /* each thread's time in the tone map */
+} band_tonemap;
+
+static void tonemap_band(void *ctx, int thread, int row0, int row1)
+{
+    band_tonemap *b = ctx;
+    double t0 = sl_now_seconds();
+    sl_tonemap_rows(b->table, b->radiance, b->display, row0, row1);
+    b->thread_ms[thread] += (sl_now_seconds() - t0) * 1e3;
+}
+
+bool sl_renderer_shade_tonemap(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
+{
+    if (!gb->texels || gb->width != r->gbuffer.width || gb->height != r->gbuffer.height)
+        return sl_fail(err, SL_ERR_RANGE, "renderer: a %dx%d G-buffer to light, the renderer is %dx%d", gb->width,
+                       gb->height, r->gbuffer.width, r->gbuffer.height);
+    double t0 = sl_now_seconds();
+    const sl_tonemap_table *table = sl_renderer_tonemap_table(r, err);
+    if (!table || !sl_renderer_prepare_lighting(r, cam, err))
+        return false;
+    if (!r->radiance.data && !sl_image_alloc(&r->radiance, gb->width, gb->height, 3, err))
+        return false;
+    if (!sl_tonemap_target(&r->radiance, &r->display, err))
+        return false;
+    const int threads = sl_threads(r->desc.threads);
+    band_tonemap band = {table, &r->radiance, &r->display, calloc((size_t)threads, sizeof(double))};
+    if (!band.thread_ms)
+        return sl_fail(err, SL_ERR_MEMORY, "renderer: no memory");
+    memset(&r->lighting_stats, 0, sizeof r->lighting_stats);
+    const sl_lighting_band_hook hook = {tonemap_band, &band};
+    bool ok = sl_lighting_pass_hooked(r->uniforms, &r->lighting_stats, gb, &r->radiance, threads, &hook, err);
+    /* The tone map's share of the pass: its threads' time over their count (exact on one
+     * thread); the shading is the rest, so the two still add up to the pass. */
+    double tonemap_ms = 0.0;
+    for (int i = 0; i < threads; i++)
+        tonemap_ms += band.thread_ms[i];
+    free(band.thread_ms);
+    r->timings.tonemap_ms = tonemap_ms / threads;
+    r->timings.shading_ms = (sl_now_seconds() - t0) * 1e3 - r->timings.tonemap_ms;
+    return ok;
+}
+
 bool sl_renderer_frame(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
-    return sl_renderer_raster(r, cam, err) && sl_renderer_shade(r, cam, err) && sl_renderer_tonemap(r, err);
+    return sl_renderer_raster(r, cam, err) && sl_renderer_shade_tonemap(r, &r->gbuffer, cam, err);
 }

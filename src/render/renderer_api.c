@@ -42,7 +42,7 @@ void sl_renderer_destroy(sl_renderer *r)
 
 bool sl_renderer_light(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
 {
-    return sl_renderer_shade_gbuffer(r, gb, cam, err) && sl_renderer_tonemap(r, err);
+    return sl_renderer_shade_tonemap(r, gb, cam, err);
 }
 
 const sl_image *sl_renderer_radiance(const sl_renderer *r) { return &r->radiance; }

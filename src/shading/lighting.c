@@ -20,6 +20,7 @@
 
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
+#include "specular_occlusion.h"
 
 /* GLSL constants, same names and values. */
 static const int LOD_NONE = SL_LOD_NONE;
@@ -589,11 +590,26 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                          const vec3 *specular, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     vec3 color = vec3s(0.0f);
+    /* With the ambient occlusion's cone (GLSL uHasCone): the diffuse times the occlusion, the
+     * specular times the material's share of it and the specular occlusion, each term scaled
+     * before the sum. Without: the sum times the occlusion. */
+    const sl_vec4 *cone = s->cone;
+    float spec_occlusion = s->occlusion;
+    if (cone) {
+        vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
+        vec3 R = sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv);
+        float so = sl_specular_occlusion(cone->w, dot(B, R), dot(s->Nenv, s->Venv), s->alpha);
+        /* the occlusion is the material's times the AO: the material's share stays */
+        spec_occlusion = cone->w > 0.0f ? s->occlusion * (so / cone->w) : 0.0f;
+        trace_cone(trace, cone, s->occlusion, spec_occlusion);
+    }
     if (u->uDiffuse != 0) {
         vec3 E = E_given ? *E_given : irradiance(u, s->Nenv); /* the batched path's, the same bits */
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
-        color = add(color, diffuse);
         trace_diffuse(trace, E, diffuse);
+        if (cone)
+            diffuse = scale(diffuse, s->occlusion);
+        color = add(color, diffuse);
     }
     if (u->uSpecular != 0) {
         vec3 spec;
@@ -617,10 +633,13 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                 trace_env_lights(trace, u->uEnvLightCount, exact);
             }
         }
-        color = add(color, spec);
         trace_specular(trace, spec);
+        if (cone)
+            spec = scale(spec, spec_occlusion);
+        color = add(color, spec);
     }
-    color = scale(color, s->occlusion);
+    if (!cone)
+        color = scale(color, s->occlusion);
     if (u->uPointLights != 0) {
         for (int i = 0; i < u->uLightCount; i++) {
             vec3 light = point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
@@ -673,7 +692,7 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
         vec3 Venv = mat3_mul_vec3(u->uEnvRotation, V);
         vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
         sl_gbuffer_extra e = shade_extra(gb, x, y);
-        shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive};
+        shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive, shade_cone(gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = sl_shade_surface_color(u, &s, NULL, NULL, task, trace);
     }

@@ -223,6 +223,18 @@ _Static_assert(sizeof(vec3) == 3 * sizeof(float), "an image row of 3 floats a pi
  * bitwise identical for any thread count. threads <= 0: OpenMP's default. stats may be NULL. */
 bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
                       sl_image *out, int threads, sl_error *err);
+/* Work run inside the pass on each band as soon as it is lit, by the thread that lit it: image
+ * rows [row0, row1) of `out` are final (row 0 = top); `thread` is the OpenMP thread number, below
+ * the pass's thread count. A stage fused this way (the renderer's tone map) reads the rows while
+ * they are in cache and needs no parallel region of its own: a region ends when its last thread
+ * does, and on a machine another process keeps busy that is often a descheduled one. */
+typedef struct sl_lighting_band_hook {
+    void (*run)(void *ctx, int thread, int row0, int row1);
+    void *ctx;
+} sl_lighting_band_hook;
+/* sl_lighting_pass with `hook` run after each band (NULL: none). */
+bool sl_lighting_pass_hooked(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
+                             sl_image *out, int threads, const sl_lighting_band_hook *hook, sl_error *err);
 
 /* The per-sample mip level of lighting.frag's mip_level() (exposed for tests and reports):
  * D = D(H), pdf = p(w), w the environment-space sample direction. Always in [0, uEnvMaxLod]. */

@@ -1171,7 +1171,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
+    /* with the ambient occlusion's cone, each pixel's sum (its terms occluded apart) is the port's */
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0) && !gb->cone;
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
@@ -1219,6 +1220,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 .rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
                 .occlusion = shade_extra(gb, x, y).occlusion,
                 .emissive = shade_extra(gb, x, y).emissive,
+                .cone = shade_cone(gb, x, y),
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
             trace_surface(task, trace, &s, p->bent[i]);

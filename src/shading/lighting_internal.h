@@ -97,7 +97,15 @@ typedef struct {
     vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */
     float occlusion; /* the G-buffer's extra plane (gbuffer.h): 1 and 0 when it has none */
     vec3 emissive;
+    const sl_vec4 *cone; /* the G-buffer's visibility cone (bent normal, AO) of the pixel, or NULL
+                            without ambient occlusion */
 } shade_surface;
+
+/* The visibility cone of pixel (x, y): NULL without the plane (sl_gbuffer.cone). */
+static inline const sl_vec4 *shade_cone(const sl_gbuffer *gb, int x, int y)
+{
+    return gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x : NULL;
+}
 
 /* The extra channels of pixel (x, y): "none" (occlusion 1, emission 0) without the plane. */
 static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
@@ -362,6 +370,20 @@ static inline void trace_extra(sl_lighting_trace *t, float occlusion, vec3 emiss
     if (t) {
         t->occlusion = occlusion;
         t->emissive = emissive;
+    }
+}
+
+/* The pixel's visibility cone and what the lighting made of it: the bent normal (world space),
+ * the AO, the diffuse and specular factors applied. */
+static inline void trace_cone(sl_lighting_trace *t, const sl_vec4 *cone, float diffuse_occlusion,
+                              float specular_occlusion)
+{
+    if (t && cone) {
+        t->cone = true;
+        t->cone_axis = vec3(cone->x, cone->y, cone->z);
+        t->ao = cone->w;
+        t->diffuse_occlusion = diffuse_occlusion;
+        t->specular_occlusion = specular_occlusion;
     }
 }
 

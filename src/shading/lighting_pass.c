@@ -19,7 +19,7 @@ vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *
     if (u->options.plain)
         return sl_shade_plain(u, gb, x, y, task, trace);
     vec3 c;
-    if (sl_shade_splitsum_fast(u))
+    if (sl_shade_splitsum_fast(u) && !gb->cone)
         sl_shade_span_splitsum(u, gb, x, y, 1, task, trace, &c);
     else
         sl_shade_span(u, gb, x, y, 1, task, trace, &c);
@@ -29,7 +29,8 @@ vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *
 void sl_lighting_builtin_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                              sl_lighting_task *task, vec3 *out)
 {
-    const bool splitsum = sl_shade_splitsum_fast(u);
+    /* the split sum's own path has no visibility cone: with one, the batched path runs the split sum */
+    const bool splitsum = sl_shade_splitsum_fast(u) && !gb->cone;
     for (int x = x0; x < x0 + count; x += SPAN) {
         int n = x0 + count - x < SPAN ? x0 + count - x : SPAN;
         if (u->options.plain)
@@ -107,6 +108,12 @@ enum { BAND_ROWS = 4 };
 bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
                       sl_image *out, int threads, sl_error *err)
 {
+    return sl_lighting_pass_hooked(u, stats, gb, out, threads, NULL, err);
+}
+
+bool sl_lighting_pass_hooked(const sl_lighting_uniforms *u, sl_lighting_stats *stats, const sl_gbuffer *gb,
+                             sl_image *out, int threads, const sl_lighting_band_hook *hook, sl_error *err)
+{
     if (!gb || !gb->texels || gb->width < 1 || gb->height < 1)
         return sl_fail(err, SL_ERR_RANGE, "lighting pass: empty G-buffer");
     if ((int)u->uViewport.x != gb->width || (int)u->uViewport.y != gb->height)
@@ -148,6 +155,8 @@ bool sl_lighting_pass(const sl_lighting_uniforms *u, sl_lighting_stats *stats, c
                 sl_lighting_shade_row(u, gb, 0, y, gb->width, task, row);
             }
             task->stats.pixels += (int64_t)gb->width * (y1 - y0);
+            if (hook) /* the band's image rows: row 0 = top */
+                hook->run(hook->ctx, omp_get_thread_num(), gb->height - y1, gb->height - y0);
         }
     }
     if (stats)

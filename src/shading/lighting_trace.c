@@ -1,6 +1,7 @@
 /* lighting_trace.c - the trace of one pixel: run it through the pass's dispatch with a trace
  * (lighting_trace.h), and print what it recorded, sample by sample, for `softlight trace`. */
 
+#include <math.h>
 #include <string.h>
 
 #include "lighting_trace.h"
@@ -175,8 +176,18 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  %-12s (%.6g, %.6g, %.6g): the exact part from %d env lights (in specular; the samples read the residual)\n",
                 "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
                 t->env_light_count);
-    if (t->extra)
+    if (t->extra && !t->cone)
         fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);
+    if (t->cone) { /* the ambient occlusion's cone (--ao-radius): each term its own factor */
+        fprintf(f, "  %-12s %.6g (the material's times the AO; scales the diffuse, not lights)\n", "occlusion",
+                (double)t->occlusion);
+        fprintf(f, "  %-12s %.6g (the ambient occlusion alone: the cone's cosine-weighted share)\n", "ao", (double)t->ao);
+        fprintf(f, "  %-12s (%.5f, %.5f, %.5f) (the visibility cone's axis, world space; cone half-angle %.2f deg)\n",
+                "bent normal", (double)t->cone_axis.x, (double)t->cone_axis.y, (double)t->cone_axis.z,
+                (double)(acosf(sqrtf(fmaxf(0.0f, 1.0f - t->ao))) * (180.0f / SL_PI)));
+        fprintf(f, "  %-12s %.6g (scales the specular: the material's occlusion times the lobe's share in the cone)\n",
+                "spec occl", (double)t->specular_occlusion);
+    }
     print3(f, "lights", t->lights);
     if (t->extra)
         print3(f, "emissive", t->emissive);

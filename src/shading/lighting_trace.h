@@ -71,6 +71,10 @@ struct sl_lighting_trace {
     vec3 light[SL_LIGHTING_MAX_LIGHTS];
     float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
     vec3 emissive;           /* added last */
+    bool cone;               /* the G-buffer has the ambient occlusion's cone (--ao-radius): */
+    vec3 cone_axis;          /* ... its bent normal (world space; the irradiance is looked up along it) */
+    float ao;                /* ... its AO (the cone's cosine-weighted share of the hemisphere) */
+    float diffuse_occlusion, specular_occlusion; /* ... the factors on the diffuse and the specular */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */

@@ -10,6 +10,7 @@
 #     blinn_phong  p99 rel <= 0.05, share > 8/255 = 0 (pow, and the background's bilinear taps)
 #     toon         share > 8/255 <= 0.5% (a texel within rounding of a band threshold flips band)
 # - Twins that are not twins fail (exit 1): the check can tell.
+# - Nothing is left in TMPDIR (the G-buffer's files and softlight-gl's image are removed).
 # - Errors are one line, exit 2, nothing written: a GLSL compile error names the .frag and its
 #   line, a C compile error the .c, and a missing softlight-gl says so.
 set -u
@@ -20,8 +21,14 @@ cli_init check "$1"
 export XDG_CACHE_HOME=$T/cache
 EX=examples/shaders
 
-"$SL" check scenes/default.json --size "$GL_TEST_SIZE" --diff "$T/d.png" >"$T/builtin.txt" 2>"$T/err"
+mkdir -p "$T/tmp"
+TMPDIR=$T/tmp "$SL" check scenes/default.json --size "$GL_TEST_SIZE" --diff "$T/d.png" >"$T/builtin.txt" 2>"$T/err"
 status=$?
+if [ -z "$(ls -A "$T/tmp")" ]; then
+    ok "check leaves its temporary directory removed"
+else
+    bad "check left files in TMPDIR: $(ls -A "$T/tmp" | head -3 | tr '\n' ' ')"
+fi
 p99=$(gl_field "p99 rel error" "$T/builtin.txt")
 if [ "$status" = 0 ] && gl_check_share builtin "$T/builtin.txt" 0 && [ -s "$T/d.png" ]; then
     ok "built-in vs lighting.frag: p99 rel $p99, diff image written"

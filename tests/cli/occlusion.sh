@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # occlusion.sh BUILD_DIR - ambient occlusion from the command line (--ao-radius, docs/lighting.md
-# "Ambient occlusion"): off by default and at 0 (the same bytes as without the option); on, it
-# darkens the contact under pbr.json's sphere and nowhere brightens; trace reads the same
-# occlusion the render wrote; bad radii are one line, exit 2; `softlight check` agrees with GL
-# lighting softlight's occluded G-buffer (the GL twin of the pass itself: gl_occlusion.sh).
+# "Ambient occlusion"): off by default and at 0 (the same bytes as without the option, no cone
+# files); on, it darkens the contact under pbr.json's sphere and nowhere brightens; the specular
+# there is darkened by its own factor, the specular occlusion, far below the diffuse's AO; trace
+# reads the same occlusion, AO, bent normal and specular occlusion the render used; bad radii are
+# one line, exit 2; `softlight check` agrees with GL lighting softlight's occluded G-buffer (the
+# GL twin of the pass itself: gl_occlusion.sh).
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init occlusion "$1"
@@ -46,6 +48,46 @@ v = struct.unpack(('<' if float(d[2]) < 0 else '>') + 'f' * (w * h), d[3][:4 * w
 print('%g' % v[(h - 1 - 75) * w + 50])")
 python3 -c "import sys; sys.exit(abs(float('$line') - float('$want')) > 1e-5)" 2>/dev/null &&
     ok "trace's occlusion at 50,75 is the render's: $line" || bad "trace's occlusion '$line', the render's '$want'"
+[ ! -e "$T/off/bent.pfm" ] && [ ! -e "$T/off/ao.pfm" ] && [ -e "$T/on/bent.pfm" ] && [ -e "$T/on/ao.pfm" ] &&
+    ok "the cone's AOVs (bent.pfm, ao.pfm) only with AO on" || bad "the cone's AOVs with AO off, or none with it on"
+
+# The specular alone, without and with AO: darkened at the contact far more than the AO there (the
+# lobe's share in the visibility cone, not the cosine-weighted share), never brightened; trace's
+# factors at a partly occluded floor pixel are the render's.
+"$SL" render scenes/pbr.json --size $S -q --specular-only --no-lights --pfm "$T/soff.pfm"
+"$SL" render scenes/pbr.json --size $S -q --specular-only --no-lights --ao-radius 0.5 --pfm "$T/son.pfm"
+"$SL" trace scenes/pbr.json --size $S --ao-radius 0.5 --pixel 36,81 >"$T/trace.txt"
+python3 - "$T" <<'PY' && ok "the contact's specular darkened by its own factor; trace's cone is the render's" || bad "specular occlusion"
+import re, struct, sys
+def pfm(path):
+    data = open(path, 'rb').read()
+    parts = data.split(b'\n', 3)
+    kind, (w, h), scale = parts[0], map(int, parts[1].split()), float(parts[2])
+    ch = 3 if kind == b'PF' else 1
+    return w, h, ch, struct.unpack(('<' if scale < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+T = sys.argv[1]
+w, h, _, off = pfm(T + '/soff.pfm')
+_, _, _, on = pfm(T + '/son.pfm')
+_, _, _, occ = pfm(T + '/on/occlusion.pfm')
+_, _, _, ao = pfm(T + '/on/ao.pfm')
+_, _, _, bent = pfm(T + '/on/bent.pfm')
+_, _, _, mask = pfm(T + '/on/mask.pfm')
+assert all(on[k] <= off[k] + 1e-6 for k in range(3 * w * h) if mask[k // 3] > 0.5), "specular occlusion brightened"
+contact = [(y, x) for y in range(10, 20) for x in range(40, 60)]
+ratio = sum(on[3 * (y * w + x)] for y, x in contact) / sum(off[3 * (y * w + x)] for y, x in contact)
+mean_occ = sum(occ[y * w + x] for y, x in contact) / len(contact)
+print("contact: specular kept %.3f, AO %.3f" % (ratio, mean_occ))
+assert ratio < 0.5 * mean_occ, "the contact's specular not darker than its AO"
+t = open(T + '/trace.txt').read()
+num = lambda name: float(re.search(r'^  %s +([-0-9.e]+)' % name, t, re.M).group(1))
+i = (h - 1 - 81) * w + 36
+so = num('spec occl')
+got = on[3 * i] / off[3 * i]
+print("pixel 36,81: trace AO %.5f spec occl %.5f; render AO %.5f specular kept %.5f" % (num('ao'), so, ao[i], got))
+assert abs(num('ao') - ao[i]) < 1e-5 and 0.1 < so < 0.9 and abs(so - got) < 1e-4 * max(1.0, got)
+b = [float(v) for v in re.search(r'^  bent normal +\(([^)]*)\)', t, re.M).group(1).split(',')]
+assert all(abs(b[c] - bent[3 * i + c]) < 1e-4 for c in range(3)), "trace's bent normal"
+PY
 expect_error "negative radius" "--ao-radius" -- "$SL" render scenes/pbr.json --size $S --ao-radius -1 -o "$T/x.png"
 expect_error "not a number" "--ao-radius" -- "$SL" render scenes/pbr.json --size $S --ao-radius abc -o "$T/x.png"
 if [ -x "$GL" ] && "$GL" info >/dev/null 2>&1; then

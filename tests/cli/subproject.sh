@@ -6,8 +6,13 @@
 # no benchmark target exists, the parent's own compile commands carry none of softlight's flags
 # (-Werror, -march=native, -Wall), and its programs render a shipped scene and model given alone
 # (the default environment found through the shared library's build-tree marker) to PNG files.
-# It compiles the library once more: about a minute on 2 cores.
+# It compiles the library once more: about a minute on 2 cores. A sanitized suite skips it: the
+# subproject is a plain Release build with the same compiler as `make test`'s Release suite.
 set -euo pipefail
+if grep -q '^SL_SANITIZE:BOOL=ON' "${1:?usage: $0 BUILD_DIR}/CMakeCache.txt"; then
+    echo "skip: a sanitized suite (the subproject builds Release with this compiler: the Release suite's run)"
+    exit 0
+fi
 SRC=$PWD
 T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-subproject.XXXXXX")
 trap 'rm -rf "$T"' EXIT

@@ -20,7 +20,7 @@ c=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_light
 # GL host: every "uName" string it looks up, and the block by its block name
 host=$( { grep -o '"u[A-Z][A-Za-z0-9]*' "$gl" | tr -d '"'
           grep -q '"HammersleyBlock"' "$gl" && echo uHammersley; } | sort -u)
-gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra"
+gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac

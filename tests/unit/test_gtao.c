@@ -5,6 +5,11 @@
  *     whose hit lies within R, the cosine-weighted share (acos(a) - a sqrt(1 - a^2)) / pi with
  *     a = d / R at distance d from the wall (0.5 at the foot, 0 from d = R on);
  *   - AO multiplies what a material's occlusion map left in the plane;
+ *   - the bent normal (the cone plane's axis): N on the open floor, leaning away from the wall
+ *     beside it;
+ *   - the specular occlusion of the visibility cone (src/shading/specular_occlusion.h): 1 when
+ *     open, 0 when closed, never rising as the lobe widens about the cone's axis or as its axis
+ *     leaves the cone, never falling as the cone opens, 1 at AO 1 whatever the lobe;
  *   - refusals: no extra plane, a radius that is not positive. */
 #include <math.h>
 #include <stdlib.h>
@@ -12,6 +17,7 @@
 #include "testutil.h"
 
 #include "occlusion/gtao.h"
+#include "shading/specular_occlusion.h"
 #include "scene/camera.h"
 
 #define W 160
@@ -149,7 +155,7 @@ static void test_wall_corner(void **state)
         floor_pixel(&gb, distances[i], 0.0f, &x, &y);
         const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
         double d = t->position.x, want = corner_ao(d, R);
-        double got = sl_gtao_texel(&gb, &cam, R, x, y);
+        double got = sl_gtao_texel(&gb, &cam, R, x, y).w;
         print_message("floor at %.3f from the wall: AO %.4f, analytic %.4f\n", d, got, want);
         /* measured: +0.077 at the foot, where the blur's 4 x 4 half-resolution block (7 texels
          * across) averages the steep rise of AO away from the wall; within 0.005 from 0.25 on */
@@ -168,12 +174,97 @@ static void test_multiplies_the_map(void **state)
         gb.extra[i].occlusion = 0.5f;
     int x = 0, y = 0;
     floor_pixel(&gb, 0.1f, 0.0f, &x, &y);
-    float ao = sl_gtao_texel(&gb, &cam, 1.0f, x, y);
+    float ao = sl_gtao_texel(&gb, &cam, 1.0f, x, y).w;
     sl_error err = {0};
     assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
     assert_near(gb.extra[y * W + x].occlusion, 0.5f * ao, 1e-6);
     assert_true(ao < 0.7f);
     sl_gbuffer_free(&gb);
+}
+
+/* The cone plane: unit bent normals; N (+z) on the open floor; in the corner, a floor point a
+ * quarter radius from the wall leans away from it (+x), by more than it does a radius away. */
+static void test_bent_normal(void **state)
+{
+    (void)state;
+    sl_gbuffer gb = {0};
+    sl_camera cam = corner_camera();
+    sl_error err = {0};
+    trace(&gb, &cam, false);
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    assert_non_null(gb.cone);
+    double lowest = 1.0;
+    for (int i = 0; i < W * H; i++)
+        if (sl_gbuffer_covered(&gb.texels[i]))
+            lowest = fmin(lowest, gb.cone[i].z);
+    print_message("open floor: lowest bent.z %.4f\n", lowest);
+    assert_true(lowest > 0.99);
+    trace(&gb, &cam, true);
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    int x, y, fx, fy;
+    floor_pixel(&gb, 0.25f, 0.0f, &x, &y);
+    floor_pixel(&gb, 1.0f, 0.0f, &fx, &fy);
+    sl_vec4 near = gb.cone[y * W + x], far = gb.cone[fy * W + fx];
+    print_message("corner: bent (%.3f, %.3f, %.3f) AO %.3f at d = R/4; bent.x %.3f at d = R\n", (double)near.x,
+                  (double)near.y, (double)near.z, (double)near.w, (double)far.x);
+    assert_float_equal(near.x * near.x + near.y * near.y + near.z * near.z, 1.0, 1e-4);
+    assert_true(near.x > 0.15f && near.z > 0.5f);
+    assert_true(near.x > far.x + 0.1f);
+    assert_float_equal(near.w, gb.extra[y * W + x].occlusion, 0.0); /* the AO, as the occlusion got it */
+    sl_gbuffer_free(&gb);
+}
+
+static void test_specular_occlusion(void **state)
+{
+    (void)state;
+    /* Phong exponents and GGX lobe parameters (-1 - r), each from narrow to wide */
+    const float phong[] = {10000.0f, 1000.0f, 100.0f, 20.0f, 5.0f, 1.0f, 0.0f};
+    const float ggx[] = {-1.02f, -1.1f, -1.2f, -1.4f, -1.6f, -1.8f, -2.0f};
+    const float *sets[2] = {phong, ggx};
+    for (int set = 0; set < 2; set++)
+        for (int i = 0; i < 7; i++) {
+            float alpha = sets[set][i];
+            for (float nv = 0.05f; nv <= 1.0f; nv += 0.05f) {
+                /* open: the whole hemisphere, B = N, so B.R = N.V */
+                assert_float_equal(sl_specular_occlusion(1.0f, nv, nv, alpha), 1.0, 0.0);
+                assert_float_equal(sl_specular_occlusion(0.0f, nv, nv, alpha), 0.0, 0.0); /* closed */
+                float prev = 0.0f; /* the cone opening: never less */
+                for (float ao = 0.0f; ao <= 1.0f; ao += 0.01f) {
+                    float v = sl_specular_occlusion(ao, nv, nv, alpha);
+                    assert_true(v >= 0.0f && v <= 1.0f && v >= prev - 1e-6f);
+                    prev = v;
+                }
+                for (float ao = 0.1f; ao < 1.0f; ao += 0.2f) { /* the lobe's axis leaving the cone: never more */
+                    float last = 1.0f;
+                    for (float bd = 1.0f; bd >= -1.0f; bd -= 0.02f) {
+                        float v = sl_specular_occlusion(ao, bd, nv, alpha);
+                        assert_true(v <= last + 1e-6f);
+                        last = v;
+                    }
+                    if (ao <= SL_SO_FADE) /* R opposite the cone's axis: all of the lobe hidden */
+                        assert_true(last == 0.0f);
+                }
+            }
+        }
+    /* the lobe widening about the cone's axis (R = B = N): never more */
+    for (float ao = 0.05f; ao < 1.0f; ao += 0.05f)
+        for (int set = 0; set < 2; set++) {
+            float last = 1.0f;
+            for (int i = 0; i < 7; i++) {
+                float v = sl_specular_occlusion(ao, 1.0f, 1.0f, sets[set][i]);
+                assert_true(v <= last + 1e-6f);
+                last = v;
+            }
+            if (ao < 0.9f) /* the widest lobe (76 degrees) reaches past a cone of 72 degrees or less */
+                assert_true(last < 1.0f);
+        }
+    /* a mirror along the cone's axis sees nothing of the occluders; half the hemisphere hidden
+     * (AO 0.5: the cone's half-angle 45 degrees) hides most of a diffuse-wide Phong lobe */
+    assert_float_equal(sl_specular_occlusion(0.5f, 1.0f, 1.0f, 10000.0f), 1.0, 0.0);
+    /* open whatever the bent normal and the lobe: a grazing mirror too (the fade) */
+    assert_float_equal(sl_specular_occlusion(1.0f, 0.05f, 0.05f, 10000.0f), 1.0, 0.0);
+    assert_float_equal(sl_specular_occlusion(1.0f, -0.5f, 0.3f, -1.1f), 1.0, 0.0);
+    assert_true(sl_specular_occlusion(0.5f, 1.0f, 1.0f, 1.0f) < 0.8f);
 }
 
 static void test_refusals(void **state)
@@ -198,6 +289,8 @@ int main(void)
         cmocka_unit_test(test_open_floor),
         cmocka_unit_test(test_wall_corner),
         cmocka_unit_test(test_multiplies_the_map),
+        cmocka_unit_test(test_bent_normal),
+        cmocka_unit_test(test_specular_occlusion),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);

@@ -1,13 +1,17 @@
 /* test_renderer_light.c - sl_renderer_light (softlight/renderer.h): lighting a G-buffer the caller
  * holds gives, bit for bit, the radiance and display image of sl_renderer_frame when that
  * G-buffer is the frame's own (copied out), also from another camera than the scene's; a
- * G-buffer of another size is refused and leaves the images alone. Only the public API is used. */
+ * G-buffer of another size is refused and leaves the images alone; the display image, tone mapped
+ * band by band inside the lighting pass, is the tone map of the radiance on 1 and 2 threads. Only
+ * the public API is used, but for the tone map the display is checked against. */
 #include "testutil.h"
 
 #include <stdlib.h>
 #include <string.h>
 
 #include <softlight/softlight.h>
+
+#include "post/tonemap.h"
 
 static void copy_gbuffer(const sl_gbuffer *from, sl_gbuffer *to)
 {
@@ -54,10 +58,41 @@ static void test_light_matches_frame(void **state)
     sl_scene_close(scene);
 }
 
+static void test_display_is_tonemapped_radiance(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene *scene = sl_scene_open("scenes/default.json", &err);
+    assert_non_null(scene);
+    sl_image first = {0};
+    for (int threads = 1; threads <= 2; threads++) {
+        /* 37 rows: the last band is short */
+        sl_renderer_options opt = {.width = 61, .height = 37, .samples = 8, .exposure = 1.7f, .threads = threads};
+        sl_renderer *r = sl_renderer_create(scene, &opt, &err);
+        assert_non_null(r);
+        assert_true(sl_renderer_frame(r, NULL, &err));
+        sl_image want = {0};
+        sl_tonemap_options tm = {.exposure = 1.7f};
+        assert_true(sl_tonemap_image(sl_renderer_radiance(r), &want, &tm, 1, &err));
+        assert_same_image(sl_renderer_display(r), &want, "display on %d threads", threads);
+        if (threads == 1) {
+            assert_true(sl_image_alloc(&first, 61, 37, 3, &err));
+            memcpy(first.data, want.data, 61 * 37 * 3 * sizeof(float));
+        } else {
+            assert_same_image(&want, &first, "display on 2 threads against 1");
+        }
+        sl_image_free(&want);
+        sl_renderer_destroy(r);
+    }
+    sl_image_free(&first);
+    sl_scene_close(scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_light_matches_frame),
+        cmocka_unit_test(test_display_is_tonemapped_radiance),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -3,7 +3,8 @@
  * values and special values, for the gamma and sRGB curves at extreme contrasts; the thresholds
  * are each the first float of their code (the curve's monotonicity at every code boundary, which
  * exactness rests on); the stored levels k/255 give k back; the viewer's one-pass path into 32-bit
- * pixels gives the bytes of the display image's 8-bit conversion. */
+ * pixels gives the bytes of the display image's 8-bit conversion; the rows the renderer tone maps
+ * inside the lighting pass give the whole image's values. */
 #include <math.h>
 #include <stdint.h>
 #include <stdlib.h>
@@ -216,6 +217,54 @@ static void test_xrgb8888_matches_display_image(void **state)
     sl_image_free(&out);
 }
 
+/* sl_tonemap_rows, band by band in any order, gives sl_tonemap_apply's image bit for bit, into
+ * another image and in place, for curves whose segments go to the exact path; rows outside the
+ * band are left alone; sl_tonemap_target refuses an output of another size. */
+static void test_rows_match_whole_image(void **state)
+{
+    (void)state;
+    const int w = 1283, h = 37; /* rows that are no multiple of the chunk */
+    sl_image in = {0}, whole = {0}, banded = {0}, inplace = {0};
+    sl_error err = {0};
+    assert_true(sl_image_alloc(&in, w, h, 3, &err) && sl_image_alloc(&inplace, w, h, 3, &err));
+    const size_t n = (size_t)w * h * 3;
+    for (size_t i = 0; i < n; i++)
+        in.data[i] = powf(10.0f, -9.0f + 14.0f * (float)((i * 7919) % n) / (float)n);
+    in.data[5] = NAN;
+    in.data[w * 3 + 1] = -INFINITY;
+    sl_tonemap_table *tab = malloc(sizeof *tab);
+    assert_non_null(tab);
+    for (int c = 0; c < CURVES; c++) {
+        sl_tonemap_options o = {.exposure = 2.0f, .contrast = curves[c].contrast, .exact_srgb = curves[c].srgb};
+        assert_true(sl_tonemap_prepare(&o, tab, &err));
+        assert_true(sl_tonemap_apply(tab, &in, &whole, 1, &err));
+        assert_true(sl_tonemap_target(&in, &banded, &err));
+        for (size_t i = 0; i < n; i++)
+            banded.data[i] = -7.0f;
+        memcpy(inplace.data, in.data, n * sizeof(float));
+        /* bands of 4 rows from the bottom up, as the lighting pass hands out the G-buffer's rows */
+        for (int y1 = h; y1 > 0; y1 -= 4) {
+            int y0 = y1 - 4 > 0 ? y1 - 4 : 0;
+            sl_tonemap_rows(tab, &in, &banded, y0, y1);
+            sl_tonemap_rows(tab, &inplace, &inplace, y0, y1);
+            if (y0 > 0)
+                assert_true(banded.data[(size_t)(y0 - 1) * w * 3] == -7.0f);
+        }
+        assert_same_image(&banded, &whole, "rows into another image, curve %d", c);
+        assert_same_image(&inplace, &whole, "rows in place, curve %d", c);
+    }
+    sl_image other = {0};
+    assert_true(sl_image_alloc(&other, w, h + 1, 3, &err));
+    assert_false(sl_tonemap_target(&in, &other, &err));
+    assert_int_equal(err.code, SL_ERR_RANGE);
+    free(tab);
+    sl_image_free(&other);
+    sl_image_free(&in);
+    sl_image_free(&whole);
+    sl_image_free(&banded);
+    sl_image_free(&inplace);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -224,6 +273,7 @@ int main(void)
         cmocka_unit_test(test_image_matches_exact_curve),
         cmocka_unit_test(test_table_matches_formula_at_every_code),
         cmocka_unit_test(test_xrgb8888_matches_display_image),
+        cmocka_unit_test(test_rows_match_whole_image),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
