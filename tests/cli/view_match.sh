@@ -52,6 +52,8 @@ screenshot $T/splitsum
 key k
 screenshot $T/mis
 key k
+screenshot $T/cv
+key k
 key l
 screenshot $T/gems
 key l
@@ -110,6 +112,7 @@ consistent --estimator consistent
 mf --estimator mf
 splitsum --estimator splitsum
 mis --estimator mis
+cv --estimator cv
 gems --lod gems
 pdf --lod pdf
 dp --irradiance dp
