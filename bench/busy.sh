@@ -6,9 +6,11 @@
 #                 defaults: build 7 scenes/default.json 1280x720 0 (AO_RADIUS > 0: with ambient
 #                 occlusion, --ao-radius, and a row for its pass)
 #
-# Runs `softlight render SCENE --size SIZE -j T` ROUNDS times for each (condition, T), alternating
-# T = 1 and T = 2 within a round so that both see the same moments of the machine, and prints the
-# median of each stage's time (raster, shading, tone map, as render reports them) and the ratio
+# Runs `softlight render SCENE --size SIZE -j T --repeat REPEAT` ROUNDS times for each (condition,
+# T), alternating T = 1 and T = 2 within a round so that both see the same moments of the machine,
+# and prints the median of each stage's time (raster, shading, tone map, as render reports them:
+# each render's median over its REPEAT frames, default 3, so a steady frame as the viewer draws
+# them and not a first frame's page faults) and the ratio
 # 2 threads / 1 thread, and of the whole frame (the stages' sum). The busy process is a shell loop
 # that spins one core for the whole condition. A stage whose ratio passes 1 beside the busy process
 # is one whose parallel region waits for a descheduled thread. The tone map runs inside the
@@ -21,6 +23,7 @@ ROUNDS=${2:-7}
 SCENE=${3:-scenes/default.json}
 SIZE=${4:-1280x720}
 AO=${5:-0}
+REPEAT=${REPEAT:-3}
 export OMP_WAIT_POLICY=passive
 T=$(mktemp -d "${TMPDIR:-/tmp}/busy.XXXXXX")
 busy_pid=
@@ -29,7 +32,7 @@ trap cleanup EXIT
 median() { sort -g | awk '{ v[NR] = $1 } END { if (NR == 0) print "nan"; else print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
 
 run() { # run CONDITION THREADS: one render, its stage times appended to T/CONDITION-THREADS
-    "$BUILD/softlight" render "$SCENE" --size "$SIZE" -j "$2" --ao-radius "$AO" -o "$T/frame.png" 2>&1 |
+    "$BUILD/softlight" render "$SCENE" --size "$SIZE" -j "$2" --ao-radius "$AO" --repeat "$REPEAT" -o "$T/frame.png" 2>&1 |
         awk '/raster/ { for (i = 1; i <= NF; i++) { if ($i == "raster") r = $(i + 1); if ($i == "shading") s = $(i + 1);
                                                     if ($i == "tone") t = $(i + 2) } }
              /ambient occlusion/ { for (i = 1; i <= NF; i++) if ($i == "ms") a = $(i - 1) }

@@ -1,4 +1,4 @@
-/* timer.c - sl_now_seconds on CLOCK_MONOTONIC, and sl_median (see timer.h). */
+/* timer.c - sl_now_seconds on CLOCK_MONOTONIC, the CPU clocks, and sl_median (see timer.h). */
 #include "timer.h"
 
 #include <stdlib.h>
@@ -12,6 +12,17 @@ double sl_now_seconds(void)
         return 0.0;
     return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
 }
+
+static double clock_seconds(clockid_t id)
+{
+    struct timespec ts;
+    if (clock_gettime(id, &ts) != 0)
+        return 0.0;
+    return (double)ts.tv_sec + (double)ts.tv_nsec * 1e-9;
+}
+
+double sl_thread_cpu_seconds(void) { return clock_seconds(CLOCK_THREAD_CPUTIME_ID); }
+double sl_process_cpu_seconds(void) { return clock_seconds(CLOCK_PROCESS_CPUTIME_ID); }
 
 static int compare_doubles(const void *a, const void *b)
 {

@@ -10,6 +10,12 @@
  * system offers it. Thread-safe. */
 double sl_now_seconds(void);
 
+/* CPU time, in seconds from an arbitrary point, of the calling thread and of the whole process:
+ * work done, without the time a thread waited or was descheduled (0 where the system has no
+ * such clock). What splits a parallel region's wall time between the stages fused in it. */
+double sl_thread_cpu_seconds(void);
+double sl_process_cpu_seconds(void);
+
 /* The median of n > 0 values (the mean of the middle two for even n); sorts `values` in place.
  * Timings on a shared machine have long tails: reports quote medians, not means. */
 double sl_median(double *values, int n);

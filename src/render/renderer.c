@@ -519,15 +519,15 @@ typedef struct band_tonemap {
     const sl_tonemap_table *table;
     const sl_image *radiance;
     sl_image *display;
-    double *thread_ms; /* each thread's time in the tone map */
+    double *thread_ms; /* each thread's CPU time in the tone map */
 } band_tonemap;
 
 static void tonemap_band(void *ctx, int thread, int row0, int row1)
 {
     band_tonemap *b = ctx;
-    double t0 = sl_now_seconds();
+    double t0 = sl_thread_cpu_seconds();
     sl_tonemap_rows(b->table, b->radiance, b->display, row0, row1);
-    b->thread_ms[thread] += (sl_now_seconds() - t0) * 1e3;
+    b->thread_ms[thread] += (sl_thread_cpu_seconds() - t0) * 1e3;
 }
 
 bool sl_renderer_shade_tonemap(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
@@ -549,14 +549,18 @@ bool sl_renderer_shade_tonemap(sl_renderer *r, const sl_gbuffer *gb, const sl_ca
         return sl_fail(err, SL_ERR_MEMORY, "renderer: no memory");
     memset(&r->lighting_stats, 0, sizeof r->lighting_stats);
     const sl_lighting_band_hook hook = {tonemap_band, &band};
+    double cpu0 = sl_process_cpu_seconds(), pass0 = sl_now_seconds();
     bool ok = sl_lighting_pass_hooked(r->uniforms, &r->lighting_stats, gb, &r->radiance, threads, &hook, err);
-    /* The tone map's share of the pass: its threads' time over their count (exact on one
-     * thread); the shading is the rest, so the two still add up to the pass. */
-    double tonemap_ms = 0.0;
+    double pass_ms = (sl_now_seconds() - pass0) * 1e3, cpu_ms = (sl_process_cpu_seconds() - cpu0) * 1e3;
+    /* The pass's wall time split between the two stages by the CPU time each used: a thread
+     * descheduled in the middle of a band (another process on the machine) counts against
+     * both in proportion, and the two still add up to the pass. */
+    double tonemap_cpu_ms = 0.0;
     for (int i = 0; i < threads; i++)
-        tonemap_ms += band.thread_ms[i];
+        tonemap_cpu_ms += band.thread_ms[i];
     free(band.thread_ms);
-    r->timings.tonemap_ms = tonemap_ms / threads;
+    double share = cpu_ms > 0.0 ? tonemap_cpu_ms / cpu_ms : 0.0;
+    r->timings.tonemap_ms = pass_ms * (share < 1.0 ? share : 1.0);
     r->timings.shading_ms = (sl_now_seconds() - t0) * 1e3 - r->timings.tonemap_ms;
     return ok;
 }

@@ -174,8 +174,8 @@ bool sl_renderer_tonemap(sl_renderer *r, sl_error *err);
 const sl_tonemap_table *sl_renderer_tonemap_table(sl_renderer *r, sl_error *err);
 /* sl_renderer_shade_gbuffer and sl_renderer_tonemap in one parallel region: each band of rows
  * is tone mapped by the thread that lit it, as soon as it is lit (sl_lighting_pass_hooked), with
- * the same images as the two calls. timings.tonemap_ms is the tone map's share of the pass (its
- * threads' summed time over their count), timings.shading_ms the rest. */
+ * the same images as the two calls. timings.tonemap_ms is the tone map's share of the pass (the
+ * pass's wall time times the tone map's part of the CPU time it used), timings.shading_ms the rest. */
 bool sl_renderer_shade_tonemap(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err);
 /* All three: sl_renderer_frame (softlight/renderer.h). */
 
