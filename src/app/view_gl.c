@@ -4,7 +4,7 @@
  * frame's G-buffer (gl_twin.h) from the viewer's camera and environment rotation, with the exact
  * frame's settings as its options and the user's GLSL twin (--glsl) where the C side runs a
  * lighting program, so that what differs is only how the two shaders evaluate. It runs once the
- * refinement has converged, never while the camera moves: a run costs about a second on llvmpipe
+ * refinement has converged, never while the camera moves: a run costs seconds on llvmpipe
  * (a new process, a GL context, the environment's upload), which the viewer says on screen before
  * it blocks. The HUD keeps the comparison's figures; the pointer's readout reads the image shown. */
 #if SL_HAVE_SDL2
@@ -164,6 +164,11 @@ static bool run(viewer *v, sl_error *err)
         g->max_abs = s->max_abs;
         g->over1 = s->share_over_1;
         g->over8 = s->share_over_8;
+        printf("softlight view: compare: softlight-gl (%s) lit the %dx%d frame in %.2f s: p99 rel %.4g, max abs %.4g, "
+               "> 1/255 %.3f%%, > 8/255 %.3f%%\n",
+               g->renderer, c->width, c->height, g->ms / 1e3, g->p99_rel, g->max_abs, 100.0 * g->over1,
+               100.0 * g->over8);
+        fflush(stdout);
     }
     free(s);
     return ok;

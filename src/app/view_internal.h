@@ -548,8 +548,8 @@ void view_gl_cycle(viewer *v, char *what, size_t size);
  * run softlight-gl (the loop says so on screen first)? */
 bool view_gl_wanted(const viewer *v);
 bool view_gl_will_run(const viewer *v);
-/* Do it: run softlight-gl when the exact frame has no GL image yet (blocking: about a second on
- * llvmpipe at window size), then show the mode's image. False and err when it failed (not retried
+/* Do it: run softlight-gl when the exact frame has no GL image yet (blocking: seconds on llvmpipe
+ * at 1280x720, docs/viewer.md), then show the mode's image. False and err when it failed (not retried
  * for this frame; the C frame stays on screen). */
 bool view_gl_step(viewer *v, sl_error *err);
 /* The HUD's line ("" when the mode is off). */
