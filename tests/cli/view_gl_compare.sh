@@ -64,6 +64,9 @@ agree "$T/c.pfm" "$T/gl.pfm" "GL's image of the scene's view"
 grep -E '^softlight view: readout pixel [0-9]+,[0-9]+ of 320x180: C [-0-9.e]+ [-0-9.e]+ [-0-9.e]+, GL ' "$T/out.txt" >/dev/null ||
     fail "the readout does not show C and GL"
 echo "ok: the readout shows both"
+grep -E '^softlight view: compare: softlight-gl \(.*\) lit the 320x180 frame in [0-9.]+ s: p99 rel ' "$T/out.txt" >/dev/null ||
+    fail "no line for the comparison's run on stdout"
+echo "ok: each run's figures on stdout"
 python3 - "$T/c.pfm" "$T/gl.pfm" "$T/diff.pfm" <<'PY' || fail "the difference's image is not |C - GL|"
 import sys, struct
 def pfm(path):
