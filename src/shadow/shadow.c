@@ -8,12 +8,12 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The bias, in texel footprints at the receiver's depth: a constant for the depth's own
- * quantisation and the faces' rasterization, plus the filter's reach (2 texels from the
- * centre) times the receiver's slope against the light, capped where the light grazes. */
-#define SHADOW_BIAS_CONST 0.5f
-#define SHADOW_BIAS_SLOPE 2.0f
-#define SHADOW_MAX_SLOPE 8.0f
+/* The bias, in texel footprints at the receiver's depth, beyond the receiver plane's own depth
+ * per tap: what separates the shaded normal's plane from the drawn triangles (a sphere's facets
+ * under its interpolated normals, a normal map); and a share of the depth for the rasterizer's
+ * interpolation of 1/w. */
+#define SHADOW_BIAS_CONST 1.0f
+#define SHADOW_DEPTH_REL 2e-4f
 #define SHADOW_NORMAL_OFFSET 1.0f /* the receiver moved along its normal by this many texels */
 
 /* The target's texel: the window depth the rasterizer tests, and the view depth kept. */
@@ -199,36 +199,43 @@ float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
     /* one texel's footprint at the receiver: a face spans tan 2 / SIZE per texel, at view depth
      * up to dist */
     float texel = 2.0f * dist / (float)SL_SHADOW_CUBE_SIZE;
-    float cos_t = fminf(fmaxf(-dot(N, d) / dist, 0.0f), 1.0f);
-    float sin_t = sqrtf(1.0f - cos_t * cos_t);
-    float tan_t = cos_t * SHADOW_MAX_SLOPE > sin_t ? sin_t / cos_t : SHADOW_MAX_SLOPE;
     vec3 q = add(d, scale(N, texel * SHADOW_NORMAL_OFFSET));
     int f = major_face(q);
-    float z = dot(q, m->axis[f]);
+    vec3 ax = m->axis[f], rt = m->right[f], up = m->up[f];
+    float z = dot(q, ax);
     if (!(z > 0.0f))
         return 1.0f;
-    float bias = texel * (SHADOW_BIAS_CONST + SHADOW_BIAS_SLOPE * tan_t);
-    float ref = z - bias;
     float side = (float)m->side;
     /* texel coordinates, texel centres at integers */
-    float ux = (m->proj * dot(q, m->right[f]) / z + 1.0f) * 0.5f * side - 0.5f;
-    float uy = (m->proj * dot(q, m->up[f]) / z + 1.0f) * 0.5f * side - 0.5f;
+    float ux = (m->proj * dot(q, rt) / z + 1.0f) * 0.5f * side - 0.5f;
+    float uy = (m->proj * dot(q, up) / z + 1.0f) * 0.5f * side - 0.5f;
     float fx = floorf(ux), fy = floorf(uy);
     float tx = ux - fx, ty = uy - fy;
+    int x0 = (int)fx - 1, y0 = (int)fy - 1;
+    /* the receiver's plane (through q, normal N) along each tap's ray t (axis + cx right + cy up)
+     * meets it at view depth N.q / N.(ray): each tap is compared with the receiver's own depth
+     * along its ray, not with the centre's, so a tilted plane needs no slope-sized bias */
+    float nq = dot(N, q), na = dot(N, ax), nr = dot(N, rt), nu = dot(N, up);
+    float step = 2.0f / (side * m->proj); /* tangent units per texel */
+    float cx0 = ((float)x0 + 0.5f) * step - 1.0f / m->proj, cy0 = ((float)y0 + 0.5f) * step - 1.0f / m->proj;
+    float bias = texel * SHADOW_BIAS_CONST;
     /* a 3-texel box of bilinear comparisons: texels fx-1 .. fx+2 weighted (1-t, 1, 1, t) / 3 */
     const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
     const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};
-    int x0 = (int)fx - 1, y0 = (int)fy - 1;
     int last = m->side - 1;
     const float *depth = c->depth[f];
     float vis = 0.0f;
     for (int b = 0; b < 4; b++) {
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
         const float *row = depth + (size_t)y * (size_t)m->side;
+        float ny = na + nu * (cy0 + (float)b * step);
         float rv = 0.0f;
         for (int a = 0; a < 4; a++) {
             int x = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
-            rv += ref <= row[x] ? wx[a] : 0.0f;
+            float nd = ny + nr * (cx0 + (float)a * step);
+            /* a ray that never meets the receiver's plane (its horizon) counts as open */
+            bool open = nd > -1e-6f || row[x] >= nq / nd - bias - SHADOW_DEPTH_REL * row[x];
+            rv += open ? wx[a] : 0.0f;
         }
         vis += rv * wy[b];
     }
