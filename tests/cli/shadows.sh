@@ -4,7 +4,8 @@
 # off, nothing changes; a light inside a closed box lights nothing outside it; a plane facing the
 # light, and one it grazes, stay fully lit (no acne); the shadows of a slab and of a wall 0.02
 # thick fall where the visibility-aware truth (`softlight truth --visibility --lights`, Embree)
-# puts them, in the default path, the port (--plain) and the split sum; bad keys are one line,
+# puts them, in the default path, the port (--plain) and the split sum; `softlight trace` prints
+# each light's visibility; bad keys are one line,
 # exit 2, and softlight-gl refuses shadows it cannot draw. Without Embree the truth comparisons
 # are left out.
 set -u
@@ -61,13 +62,21 @@ if [ -x "$GL" ] && "$GL" render "$T/box.json" --size 16x9 --pfm "$T/g.pfm" >/dev
     expect_error "softlight-gl with --shadows" "shadow maps .* have no GL pass" -- "$GL" render "$T/box.json" --size 16x9 --shadows --pfm "$T/g.pfm"
 fi
 
-# against the visibility-aware truth: a slab on a post's height and a thin wall
+# trace: each light's visibility, 0 in the slab's shadow and 1 in the open (no line without maps)
+scene occ 2 '{"shape": "box", "material": "m", "transform": {"translate": [0.2, 0.1, 0.8], "scale": [0.3, 0.3, 0.05]}}' \
+    '{"shape": "box", "material": "m", "transform": {"translate": [-0.8, 0.6, 0.4], "scale": [0.5, 0.01, 0.4]}}'
+for pair in "78,39 0" "80,60 1"; do
+    read -r px want <<<"$pair"
+    line=$("$SL" trace "$T/occ.json" --size $S --shadows --pixel "$px" | grep "light 0 ")
+    [ "${line##*visibility }" = "$want" ] && ok "trace at $px: $line" || bad "trace at $px: '$line', want visibility $want"
+done
+"$SL" trace "$T/occ.json" --size $S --pixel 80,60 | grep -q "visibility" && bad "trace without --shadows prints a visibility"
+
+# against the visibility-aware truth: a slab over the floor and a wall 0.02 thick
 if ! "$SL" truth "$T/box.json" --size 2x2 --visibility --lights --pfm "$T/probe.pfm" >/dev/null 2>&1; then
     cli_done "shadows (a build without Embree: no truth comparisons)"
     exit
 fi
-scene occ 2 '{"shape": "box", "material": "m", "transform": {"translate": [0.2, 0.1, 0.8], "scale": [0.3, 0.3, 0.05]}}' \
-    '{"shape": "box", "material": "m", "transform": {"translate": [-0.8, 0.6, 0.4], "scale": [0.5, 0.01, 0.4]}}'
 "$SL" truth "$T/occ.json" --size $S --visibility --lights --pfm "$T/t.pfm" >/dev/null 2>&1
 "$SL" render "$T/occ.json" --size $S -q --pfm "$T/b.pfm"
 for mode in "" "--plain" "--estimator splitsum"; do
