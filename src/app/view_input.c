@@ -410,10 +410,10 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         view_message(v, false, "ambient occlusion %s", v->r.desc.options.ao_radius > 0.0f ? "on" : "off");
         act = VIEW_ACT_RESTART_CAMERA;
         break;
-    case SDLK_m: /* the maps are drawn with the frame's raster (src/render/renderer.c update_shadows) */
+    case SDLK_m: /* the maps are drawn before the lighting, once (src/render/renderer.c update_shadows) */
         v->r.desc.options.shadows = !v->r.desc.options.shadows;
         view_message(v, false, "shadows of every point light %s", v->r.desc.options.shadows ? "on" : "off");
-        act = VIEW_ACT_RESTART_CAMERA;
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_l: {
         l->lod_rule =

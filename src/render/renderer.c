@@ -426,8 +426,6 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     if (ok && ao_radius > 0.0f)
         ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, err);
     r->timings.ao_ms = (sl_now_seconds() - t1) * 1e3;
-    if (ok)
-        ok = update_shadows(r, err);
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
     return ok;
@@ -444,8 +442,10 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     if (!cam)
         cam = &r->scene->camera;
     sl_estimator estimator = frame ? frame->estimator : SL_ESTIMATOR_DEFAULT;
+    /* the shadow maps here, after the raster and before the lighting, so that a G-buffer drawn
+     * elsewhere (sl_renderer_light, --gbuffer) is lit with them too */
     if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
-        !update_env_dist(r, estimator, err))
+        !update_env_dist(r, estimator, err) || !update_shadows(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
