@@ -8,19 +8,19 @@
  * to the nearest surface (the view depth, 1/w of the rasterizer's fragment), so the comparison
  * and its bias are in world units.
  *
- * Lookup (sl_shadow_point_visibility): the face of the major axis of P - light; the receiver
- * moved along its normal by one texel's footprint (normal offset) and compared with a
- * slope-scaled bias (a constant plus the kernel's reach times tan of the angle between the
- * normal and the light), through percentage-closer filtering: the comparisons of a 4x4 texel
- * block weighted by a 3-texel box convolved with the bilinear tent (a 3x3 grid of bilinear
- * comparisons), so the shadow's edge is about one texel wide and moves smoothly as P moves.
+ * Lookup (sl_shadow_point_visibility): the face of the major axis of P - light, the receiver
+ * moved along its normal by one texel's footprint (normal offset); percentage-closer filtering
+ * over the 4x4 texels around it, weighted by a 3-texel box convolved with the bilinear tent (a
+ * 3x3 grid of bilinear comparisons), so the shadow's edge is about three texels wide and moves
+ * smoothly as P moves. Each tap is compared with the depth at which its own ray meets the
+ * receiver's plane (the slope-scaled bias, exact per tap), less a constant bias of one texel.
  * docs/lighting.md "Shadow maps" says why these and measures them.
  *
  * Consumes: the scene's objects (every mesh, opaque: alpha masks are not read) and light
  * positions. Produces: per light, its visibility in [0, 1] at a world point. A light that does
  * not cast is fully visible. Does not: soften with the light's size (point lights have none),
- * shadow the environment (the env lights' directional maps are separate), or draw masked texels
- * as holes. */
+ * shadow the environment (its directions, the env lights included, cast nothing), or draw
+ * masked texels as holes. */
 #ifndef SL_SHADOW_H
 #define SL_SHADOW_H
 
@@ -50,8 +50,8 @@ typedef struct {
 } sl_shadow_maps;
 
 /* Draw the cube maps of the scene's point lights that cast: light i casts when `all` is set or
- * its "shadow" key is. `maps` is zeroed on entry or holds maps of an earlier call (reused);
- * `threads` as for the rasterizer r. False (and err) on no memory. */
+ * its "shadow" key is. `maps` is zeroed on entry or holds maps of an earlier call (reused); the
+ * faces are drawn by r, on its threads. False (and err) on no memory. */
 bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, bool all, sl_error *err);
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
