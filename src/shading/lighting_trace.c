@@ -175,7 +175,7 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);
     print3(f, "lights", t->lights);
     for (int i = 0; i < t->shadow_lights; i++) {
-        char name[16];
+        char name[32];
         snprintf(name, sizeof name, "light %d", i);
         fprintf(f, "  %-12s (%.6g, %.6g, %.6g): shadow-map visibility %.4g\n", name, (double)t->light[i].x,
                 (double)t->light[i].y, (double)t->light[i].z, (double)t->light_visibility[i]);
