@@ -4,8 +4,9 @@
 # renderer's screen-space ambient occlusion, --ao-radius 1) compared with the
 # blind ground truth (`softlight truth`, every surface sees the whole environment, as the
 # renderer assumes) and with the visibility-aware one (`softlight truth --visibility`, occluders
-# traced with Embree); for scenes with point lights also the render with its lights against
-# `truth --lights` and `truth --lights --visibility` (shadow rays). Then the visibility
+# traced with Embree); for scenes with point lights also the render with its lights, without and
+# with their shadow maps (--shadows), against `truth --lights` and `truth --lights --visibility`
+# (shadow rays). Then the visibility
 # quadrature's own error: the first scene's truth at --vis-level 3 (the default) and 2 against
 # --vis-level 1; and per scene the factor by which the occlusion cuts the visibility error. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
 # kept in docs/accuracy/visibility.md, which bench/speed-vs-error.sh appends to the report it
@@ -24,7 +25,7 @@ cd "$(dirname "$0")/.."
 BUILD=build
 if [ $# -gt 0 ] && [ "${1#--}" = "$1" ]; then BUILD=$1; shift; fi
 SIZE=160x90
-SCENES=bunny,pbr,model,textured,top-down,grazing,city-sun
+SCENES=bunny,pbr,model,textured,top-down,grazing,city-sun,lamp
 THREADS=2
 LEVELS=1
 DOC=1
@@ -109,6 +110,11 @@ for s in "${scenes[@]}"; do
         IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-blind-lights" --lights)"
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-vis-lights" --lights --visibility)"
         echo "| $s | default, point lights on | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | $(seconds "$s-blind-lights") | $(seconds "$s-vis-lights") |" >>"$table"
+        # the same with the lights' shadow maps (--shadows, docs/lighting.md "Shadow maps")
+        "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --shadows --pfm "$OUT/$s-shadows.pfm" -q
+        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-blind-lights" --lights)"
+        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-vis-lights" --lights --visibility)"
+        echo "| $s | default, point lights on, --shadows | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | $(seconds "$s-blind-lights") | $(seconds "$s-vis-lights") |" >>"$table"
     fi
 done
 
@@ -154,7 +160,8 @@ does the same, so the sweep measures the estimator alone. `softlight truth --vis
 scene's triangles (docs/ibl.md "Visibility"): each render below is compared with both, over the
 covered pixels at the size above, image-based light only (`render --no-lights`) except the
 "point lights on" rows (`render` with the scene's lights against `truth --lights`, shadow rays to
-the lights with `--visibility`). `default` is `softlight render` with the scene's settings (the
+the lights with `--visibility`; `--shadows`: the render with the lights' cube shadow maps,
+docs/lighting.md "Shadow maps"). `default` is `softlight render` with the scene's settings (the
 specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--estimator mf --lod pdf --distortion
 -n 256`, whose error against the blind truth is nearly all bias-free noise; `--ao-radius 1` adds
 the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient

@@ -207,6 +207,13 @@ int cmd_render(int argc, char **argv)
         if (r.desc.options.ao_radius > 0.0f)
             printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
                    (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);
+        if (r.shadows_built > 0) {
+            int cubes = 0;
+            for (int i = 0; i < r.shadows.count; i++)
+                cubes += r.shadows.cubes[i].casts;
+            printf("shadow maps: %d cube map%s of %d texels a face side, drawn in %.1f ms once per scene\n", cubes,
+                   cubes == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, r.timings.shadow_ms);
+        }
         if (r.env_lights_built > 0)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",

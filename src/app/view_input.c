@@ -56,6 +56,7 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     v->home_lighting = r->desc.lighting;
     v->home_tonemap = r->desc.tonemap;
     v->home_ao_radius = r->desc.options.ao_radius;
+    v->home_shadows = r->desc.options.shadows;
     /* O's radius: the scene's or the command line's, else a tenth of the scene's bounding radius */
     v->ao_radius_on = r->desc.options.ao_radius > 0.0f ? r->desc.options.ao_radius
                                                        : 0.05f * length(sub(v->bounds_hi, v->bounds_lo));
@@ -280,6 +281,7 @@ void view_reset_all(viewer *v)
     *l = home;
     v->r.desc.tonemap = v->home_tonemap;
     v->r.desc.options.ao_radius = v->home_ao_radius;
+    v->r.desc.options.shadows = v->home_shadows;
     v->mode = VIEW_FINAL;
     view_camera_reset(&v->camera);
 }
@@ -413,6 +415,11 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         v->r.desc.options.ao_radius = v->r.desc.options.ao_radius > 0.0f ? 0.0f : v->ao_radius_on;
         view_message(v, false, "ambient occlusion %s", v->r.desc.options.ao_radius > 0.0f ? "on" : "off");
         act = VIEW_ACT_RESTART_CAMERA;
+        break;
+    case SDLK_u: /* the maps are drawn before the lighting, once (src/render/renderer.c update_shadows) */
+        v->r.desc.options.shadows = !v->r.desc.options.shadows;
+        view_message(v, false, "shadows of every point light %s", v->r.desc.options.shadows ? "on" : "off");
+        act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_l: {
         l->lod_rule =

@@ -340,6 +340,7 @@ struct viewer {
     sl_tonemap_options home_tonemap;   /* line's): R restores them */
     float home_ao_radius;              /* and the ambient occlusion's radius (0: off) */
     float ao_radius_on;                /* the radius O turns occlusion on with */
+    bool home_shadows;                 /* every point light casting (--shadows): M toggles it */
     char env_override[SL_PATH_MAX];    /* --env, `view FILE.hdr`'s or a dropped environment; "": the scene's */
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */

@@ -207,6 +207,10 @@ typedef enum {
     X(AO_RADIUS, ao_radius, FLOAT, float, "ao-radius", "--ao-radius", NULL, "R",                                     \
       "ambient occlusion of the environment (GTAO on the G-buffer) within R world units (default 0: off)",          \
       (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
+    /* off: no maps drawn, the frame pays nothing for them (src/shadow/shadow.h) */                                 \
+    X(SHADOWS, shadows, FLAG, bool, "shadows", "--shadows", NULL, NULL,                                             \
+      "every point light casts shadows (cube shadow maps; a light's \"shadow\": true casts alone)",                  \
+      (.scene = {"render.shadows"}))                                                                                 \
     X(IMAGE_MEMORY, image_memory, INT, int, "image-memory", "--image-memory", NULL, "MIB",                           \
       "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); an "             \
       "environment needs 2.4 (maps over 2048x1024) to 4.4 times that at its peak (softlight info)",                  \

@@ -173,6 +173,12 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
+    /* shadow maps are softlight's C pass (src/shadow), read in its lighting: GL draws none */
+    if (sl_shadow_any(&f->scene, f->renderer.desc.options.shadows)) {
+        sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps (--shadows or a light's \"shadow\") have no GL pass: render "
+                "them with softlight");
+        goto done;
+    }
     /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
      * (--gbuffer) carry it already in their occlusion */
     float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;

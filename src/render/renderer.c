@@ -7,6 +7,7 @@
 #include "core/threads.h"
 #include "core/timer.h"
 #include "occlusion/gtao.h"
+#include "shadow/shadow.h"
 #include "scene/camera.h"
 
 static bool build_irradiance(sl_renderer *r, sl_error *err)
@@ -292,6 +293,7 @@ void sl_renderer_free(sl_renderer *r)
     sl_env_dist_free(&r->env_dist);
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
+    sl_shadow_free(&r->shadows);
     sl_raster_destroy(r->raster);
     sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
@@ -387,6 +389,32 @@ static void keep_band(sl_gbuffer *gb, const int band[2])
     }
 }
 
+/* The point lights' shadow maps, drawn once for the lights that cast (every light with
+ * --shadows, else those whose "shadow" key is set): they depend on the scene's geometry and
+ * lights alone, which a renderer's scene never changes. A scene where none casts draws none. */
+static bool update_shadows(sl_renderer *r, sl_error *err)
+{
+    bool all = r->desc.options.shadows;
+    int want = !sl_shadow_any(r->scene, all) ? 0 : all ? 2 : 1;
+    if (want == 0 || want == r->shadows_built)
+        return true;
+    double t0 = sl_now_seconds();
+    r->shadows_built = 0;
+    if (!sl_shadow_build(&r->shadows, r->raster, r->scene, all, err))
+        return false;
+    r->shadows_built = want;
+    r->timings.shadow_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
+/* The maps the lighting reads: those of the options as they stand (NULL when no light casts). */
+static const sl_shadow_maps *current_shadows(const sl_renderer *r)
+{
+    bool all = r->desc.options.shadows;
+    int want = !sl_shadow_any(r->scene, all) ? 0 : all ? 2 : 1;
+    return want != 0 && want == r->shadows_built ? &r->shadows : NULL;
+}
+
 bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
 {
     double t0 = sl_now_seconds();
@@ -422,8 +450,10 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     if (!cam)
         cam = &r->scene->camera;
     sl_estimator estimator = frame ? frame->estimator : SL_ESTIMATOR_DEFAULT;
+    /* the shadow maps here, after the raster and before the lighting, so that a G-buffer drawn
+     * elsewhere (sl_renderer_light, --gbuffer) is lit with them too */
     if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
-        !update_env_dist(r, estimator, err))
+        !update_env_dist(r, estimator, err) || !update_shadows(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -452,6 +482,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .splitsum_lut = r->splitsum_lut,
         .env_dist = r->env_dist_built >= 0 ? &r->env_dist : NULL,
         .program = r->desc.lighting_program,
+        .shadows = current_shadows(r),
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

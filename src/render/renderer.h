@@ -32,6 +32,7 @@
 #include "raster/gbuffer.h"
 #include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
+#include "shadow/shadow.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
 
@@ -77,6 +78,8 @@ typedef struct {
     double env_dist_ms;   /* --estimator mis: the environment distribution (src/ibl/env_dist.h) */
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
     double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
+    double shadow_ms;   /* the point lights' shadow maps (--shadows or a light's "shadow"): drawn
+                           on the first frame that needs them, kept for the renderer's scene */
 } sl_render_timings;
 
 /* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init
@@ -101,6 +104,8 @@ struct sl_renderer {
                                  on first use */
     int env_dist_built;       /* -1 = none, else the env lights count of what it was built from */
     sl_raster *raster;
+    sl_shadow_maps shadows;   /* the point lights' cube maps (src/shadow), drawn on first use */
+    int shadows_built;        /* 0 = none; 1 = the lights with "shadow"; 2 = every light (--shadows) */
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */

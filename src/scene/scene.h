@@ -126,6 +126,7 @@ typedef struct {
     vec3 position;
     vec3 color;      /* linear RGB */
     float intensity; /* radiant intensity scale: radiance contribution is color*intensity/d^2 */
+    bool shadow;     /* casts shadows (its "shadow" key; --shadows casts them all): src/shadow */
 } sl_point_light;
 
 typedef struct {

@@ -1,12 +1,13 @@
 /* scene_lights.c - the scene file's "lights" (docs/scene-format.md "lights"): point lights, at
- * most SL_LIGHTING_MAX_LIGHTS (the lighting shader's uniform arrays). */
+ * most SL_LIGHTING_MAX_LIGHTS (the lighting shader's uniform arrays), each casting shadows when
+ * its "shadow" key says so (src/shadow). */
 #include "scene_read.h"
 
 #include <stdlib.h>
 
 bool sl_scene_parse_lights(scene_parser *p, const cJSON *item, sl_scene *scene)
 {
-    static const char *const keys[] = {"position", "color", "intensity", NULL};
+    static const char *const keys[] = {"position", "color", "intensity", "shadow", NULL};
     if (!item)
         return true;
     if (!cJSON_IsArray(item))
@@ -38,6 +39,12 @@ bool sl_scene_parse_lights(scene_parser *p, const cJSON *item, sl_scene *scene)
         sl_scene_join_key(sub, path, "intensity");
         if ((v = sl_scene_member(e, "intensity")) && !sl_scene_read_float(p, v, sub, 0.0, 1e9, &l->intensity))
             return false;
+        sl_scene_join_key(sub, path, "shadow");
+        if ((v = sl_scene_member(e, "shadow"))) {
+            if (!cJSON_IsBool(v))
+                return sl_scene_fail(p, sub, SL_ERR_FORMAT, "expected true or false");
+            l->shadow = cJSON_IsTrue(v);
+        }
         scene->light_count++;
     }
     return true;

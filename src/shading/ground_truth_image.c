@@ -12,6 +12,7 @@
 #include "ground_truth_image.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <omp.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,7 +47,6 @@ static uint64_t env_hash(const sl_env *env)
 static uint64_t gbuffer_hash(const sl_gbuffer *gb)
 {
     _Static_assert(sizeof(sl_gbuffer_texel) == 14 * sizeof(float), "G-buffer texel has no padding to hash");
-    _Static_assert(sizeof(sl_point_light) == 7 * sizeof(float), "a point light has no padding to hash");
     uint64_t h = sl_fnv1a(SL_FNV1A_START, &gb->width, sizeof gb->width);
     h = sl_fnv1a(h, &gb->height, sizeof gb->height);
     h = sl_fnv1a(h, gb->texels, (size_t)gb->width * (size_t)gb->height * sizeof *gb->texels);
@@ -78,8 +78,10 @@ static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, uint64_t vis_h, const
         h = sl_fnv1a(h, &vis_h, sizeof vis_h);
     if (d->lights) {
         h = sl_fnv1a(h, &d->scene->light_count, sizeof d->scene->light_count);
-        if (d->scene->light_count > 0)
-            h = sl_fnv1a(h, d->scene->lights, (size_t)d->scene->light_count * sizeof *d->scene->lights);
+        /* what the truth reads of a light: its 7 floats in order (not "shadow", a renderer's setting) */
+        _Static_assert(offsetof(sl_point_light, intensity) == 6 * sizeof(float), "a point light's floats are packed");
+        for (int i = 0; i < d->scene->light_count; i++)
+            h = sl_fnv1a(h, &d->scene->lights[i], 7 * sizeof(float));
     }
     return h;
 }

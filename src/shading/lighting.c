@@ -578,6 +578,17 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
     return scale(mul(f, u->uLightColor[i]), u->uLightIntensity[i] / d2 * NdotL);
 }
 
+/* C only (softlight-gl draws no shadow maps): point_light times the light's visibility from P
+ * in its shadow maps (src/shadow), looked up only where the light adds something. */
+static vec3 shadowed_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
+                                 float alpha)
+{
+    vec3 light = point_light(u, i, P, N, V, Kd, Ks, alpha);
+    if (u->shadowMaps && (light.x > 0.0f || light.y > 0.0f || light.z > 0.0f))
+        light = scale(light, sl_shadow_point_visibility(u->shadowMaps, i, P, N));
+    return light;
+}
+
 /* GLSL: background */
 static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
 {
@@ -642,7 +653,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         color = scale(color, s->occlusion);
     if (u->uPointLights != 0) {
         for (int i = 0; i < u->uLightCount; i++) {
-            vec3 light = point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
+            vec3 light = shadowed_point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
             color = add(color, light);
             trace_light(trace, i, light);
         }
@@ -740,7 +751,7 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 }
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {
-    return point_light(u, i, P, N, V, Kd, Ks, alpha);
+    return shadowed_point_light(u, i, P, N, V, Kd, Ks, alpha);
 }
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord) { return background(u, fragCoord); }
 

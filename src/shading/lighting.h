@@ -46,6 +46,7 @@
 #include "../ibl/texture_lod.h"
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
+#include "../shadow/shadow.h"
 #include "brdf.h"
 #include "splitsum_lut.h"
 
@@ -112,6 +113,8 @@ typedef struct {
                                                     sl_env_dist_build of what the samples read */
     const sl_lighting_program *program;          /* the shading (softlight/lighting.h); NULL = the
                                                     built-in, sl_lighting_builtin() */
+    const sl_shadow_maps *shadows;               /* the point lights' shadow maps (src/shadow), each
+                                                    light's term times its visibility; NULL = none */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -163,6 +166,9 @@ typedef struct {
     /* C only: the env lights as structure of arrays, for the batched path's vector loads */
     float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
     float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];
+    /* C only: the point lights' shadow maps (NULL: no light casts), read by point_light's callers
+     * through sl_shade_light_visibility; softlight-gl draws none and refuses them */
+    const sl_shadow_maps *shadowMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;
     sl_lighting_frame_uniforms frame;

@@ -69,6 +69,7 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod);
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
+/* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
 

@@ -380,6 +380,20 @@ static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, s
         lr[i] = select_f(lit, fr * LC.x * w, 0.0f);
         lg[i] = select_f(lit, fg * LC.y * w, 0.0f);
         lb[i] = select_f(lit, fb * LC.z * w, 0.0f);
+    }
+    /* the light's shadow-map visibility where it adds something (lighting.c's
+     * shadowed_point_light), a scalar loop: each lookup is a filtered read of its cube */
+    if (u->shadowMaps)
+        for (int i = 0; i < count; i++)
+            if (lr[i] > 0.0f || lg[i] > 0.0f || lb[i] > 0.0f) {
+                float v = sl_shadow_point_visibility(u->shadowMaps, j, vec3(b->Px[i], b->Py[i], b->Pz[i]),
+                                                     vec3(b->Nx[i], b->Ny[i], b->Nz[i]));
+                lr[i] *= v;
+                lg[i] *= v;
+                lb[i] *= v;
+            }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
         b->cr[i] += lr[i];
         b->cg[i] += lg[i];
         b->cb[i] += lb[i];

@@ -17,6 +17,13 @@ bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb
     trace->y = y;
     trace->extra = gb->extra != NULL;
     sl_lighting_shade(u, gb, x, gb->height - 1 - y, NULL, trace);
+    /* each light's visibility as the shading looked it up: at the texel's position, with the
+     * normal it shaded with */
+    if (u->shadowMaps && trace->covered && !trace->program && u->uPointLights != 0) {
+        trace->shadow_lights = u->uLightCount;
+        for (int i = 0; i < u->uLightCount; i++)
+            trace->light_visibility[i] = sl_shadow_point_visibility(u->shadowMaps, i, trace->texel.position, trace->N);
+    }
     return true;
 }
 
@@ -189,6 +196,12 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 "spec occl", (double)t->specular_occlusion);
     }
     print3(f, "lights", t->lights);
+    for (int i = 0; i < t->shadow_lights; i++) {
+        char name[32];
+        snprintf(name, sizeof name, "light %d", i);
+        fprintf(f, "  %-12s (%.6g, %.6g, %.6g): shadow-map visibility %.4g\n", name, (double)t->light[i].x,
+                (double)t->light[i].y, (double)t->light[i].z, (double)t->light_visibility[i]);
+    }
     if (t->extra)
         print3(f, "emissive", t->emissive);
     print3(f, "total", t->total);

@@ -69,6 +69,9 @@ struct sl_lighting_trace {
     vec3 env_lights;         /* their exact part of the specular (included in specular) */
     vec3 irradiance, diffuse, specular, lights, background;
     vec3 light[SL_LIGHTING_MAX_LIGHTS];
+    int shadow_lights;       /* with shadow maps (uniforms' shadowMaps): uLightCount, else 0 */
+    float light_visibility[SL_LIGHTING_MAX_LIGHTS]; /* ... each light's visibility from the point
+                                (src/shadow), which light[i] includes */
     float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
     vec3 emissive;           /* added last */
     bool cone;               /* the G-buffer has the ambient occlusion's cone (--ao-radius): */

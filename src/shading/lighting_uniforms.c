@@ -188,6 +188,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     sl_env_gather_init(&u->envGather, u->uEnv);
     sl_env_gather_init(&u->residualGather, u->uEnvResidual);
     u->program = desc->program;
+    u->shadowMaps = desc->shadows;
     sl_lighting_frame_uniforms *f = &u->frame;
     f->eye = u->uEye;
     f->inv_view_proj = u->uInvViewProj;

@@ -122,7 +122,7 @@ cp src/scene/obj.c "$inc/src/scene/obj.c"
 echo '#include "no_such_header.h"' >>"$inc/src/post/tonemap.c" 2>/dev/null || true
 expect fail "an include that names no file" check_includes "$inc"
 rm -rf "$inc/src/post" && cp -r src/post "$inc/src/"
-sed -i '/^| 5 | `post` |$/d' "$inc/docs/architecture.md"
+sed -i '/^| 6 | `post` |$/d' "$inc/docs/architecture.md"
 expect fail "a folder missing from the Layers table" check_includes "$inc"
 
 # docs: a small repository with the doc and a file citing a section it has, then one it lacks

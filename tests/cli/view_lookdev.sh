@@ -80,6 +80,16 @@ view_same "$T/ao-off.hdr" "$T/noao-ref.hdr" "O turns ambient occlusion off" 0
 view_same "$T/ao-on.hdr" "$T/ao-ref.hdr" "O turns it on again with --ao-radius's radius" 0
 echo "ok: O toggles ambient occlusion; each still frame is render's"
 
+# ---- U: the point lights' shadow maps on and off again, each still frame render's with and without --shadows
+"$SL" render scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --shadows --hdr "$T/sh-ref.hdr" -q
+"$SL" render scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/nosh-ref.hdr" -q
+printf 'settle\nkey u\nsettle\nscreenshot %s/sh-on\nkey u\nsettle\nscreenshot %s/sh-off\nquit\n' "$T" "$T" >"$T/sh.txt"
+view_run scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/sh.txt"
+view_expect_exit0 "U"
+view_same "$T/sh-on.hdr" "$T/sh-ref.hdr" "U turns the shadow maps on" 0
+view_same "$T/sh-off.hdr" "$T/nosh-ref.hdr" "U turns them off again" 0
+echo "ok: U toggles the shadow maps; each still frame is render's"
+
 # ---- N/B and the scene's own N (40): up to 64 and back to 40
 printf 'key n\nscreenshot %s/n-up\nkey b\nscreenshot %s/n-back\nkey b\nscreenshot %s/n-down\nquit\n' "$T" "$T" "$T" >"$T/n.txt"
 view_run "$SCENE" --size 64x36 --script "$T/n.txt"

@@ -67,7 +67,7 @@ static const char *FULL =
     "    {\"shape\": \"sphere\", \"slices\": 12, \"stacks\": 6, \"material\": \"hex\"},\n"
     "    {\"shape\": \"sphere\", \"material\": \"hex\"}\n"
     "  ],\n"
-    "  \"lights\": [{\"position\": [0, 0, 5], \"color\": [1, 0.5, 0.25], \"intensity\": 30},\n"
+    "  \"lights\": [{\"position\": [0, 0, 5], \"color\": [1, 0.5, 0.25], \"intensity\": 30, \"shadow\": true},\n"
     "             {\"position\": [1, 1, 1]}],\n"
     "  \"render\": {\"width\": 640, \"height\": 360, \"samples\": 20, \"exposure\": 2.5, \"contrast\": 1.2}\n"
     "}\n";
@@ -133,6 +133,8 @@ static void test_full_scene(void **state)
     assert_near(s.lights[0].intensity, 30.0f, 0.0f);
     assert_vec3_near(s.lights[1].color, vec3s(1.0f), 0.0f); /* defaults */
     assert_near(s.lights[1].intensity, 1.0f, 0.0f);
+    assert_true(s.lights[0].shadow);
+    assert_false(s.lights[1].shadow); /* default: casts only with render.shadows */
 
     assert_int_equal(s.options.size[0], 640);
     assert_int_equal(s.options.size[1], 360);
@@ -400,6 +402,8 @@ static void test_absurd_values(void **state)
     parse_fails("{\"lights\": [{\"position\": [0, 0, 1], \"intensity\": -2}]}",
                 "lights[0].intensity: -2 is outside 0..1e+09");
     parse_fails("{\"lights\": {}}", "t.json: lights: expected an array");
+    parse_fails("{\"lights\": [{\"position\": [0, 0, 1], \"shadow\": 1}]}",
+                "t.json: lights[0].shadow: expected true or false");
     parse_fails("{\"environment\": {\"intensity\": 2}}", "environment: missing \"hdr\"");
     parse_fails("{\"environment\": {\"hdr\": \"\"}}", "environment.hdr: expected a non-empty string");
     parse_fails("{\"environment\": {\"hdr\": \"a.hdr\", \"intensity\": -1}}",
