@@ -13,7 +13,8 @@
 #   rotation and the toggles reach softlight-gl;
 # - a lighting program and its GLSL twin (examples/shaders/toon.c, --glsl toon.frag) agree within
 #   the bound gl_check.sh states for them (share > 8/255 <= 0.5%);
-# - a softlight-gl that cannot run is a message, and the viewer goes on (exit 0); --glsl without
+# - a softlight-gl that cannot run, or shadow maps (which GL does not draw), is a message, and the
+#   viewer goes on (exit 0); --glsl without
 #   --lighting, or naming no file, is one line and exit 2.
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
@@ -108,6 +109,14 @@ SOFTLIGHT_GL=$T/no-such-program view_run "$SCENE" --size "$VIEW_TEST_SIZE" -n 8 
 grep "compare: cannot run $T/no-such-program" "$T/err.txt" >/dev/null || fail "no message for a missing softlight-gl"
 [ -s "$T/still-c.pfm" ] || fail "no snapshot after the failed comparison"
 echo "ok: a missing softlight-gl is a message"
+
+# shadow maps (U) have no GL pass: said, not compared without them
+printf 'key u\nkey m\nsettle\nquit\n' >"$T/shadows.txt"
+view_run scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/shadows.txt"
+[ "$rc" = 0 ] || fail "the viewer with shadows exited $rc"
+grep "compare: shadow maps have no GL pass" "$T/err.txt" >/dev/null || fail "no message for shadow maps"
+grep "softlight view: compare: softlight-gl" "$T/out.txt" >/dev/null && fail "compared a shadowed frame with GL"
+echo "ok: shadow maps are said to have no GL pass"
 
 for args in "--glsl examples/shaders/toon.frag" "--lighting examples/shaders/toon.c --glsl $T/none.frag"; do
     # shellcheck disable=SC2086
