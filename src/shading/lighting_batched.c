@@ -1110,9 +1110,10 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
                       sl_lighting_task *task, vec3 *out)
 {
-    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+    const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     for (int i = 0; i < count; i++) { /* to structure of arrays (shade_extra's "none" without the plane) */
         covered[i] = !(t[i].depth >= 1.0f);
         kr[i] = t[i].kd.x;
@@ -1123,6 +1124,36 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         emg[i] = ex ? ex[i].emissive.y : 0.0f;
         emb[i] = ex ? ex[i].emissive.z : 0.0f;
     }
+    /* with the cone, the specular's own occlusion (sl_shade_surface_color's, the same
+     * functions): the cosines and the lobe's cone per pixel (the lobe's once per run of one
+     * lobe parameter), then the factor for the span in one vector loop; an empty pixel's lane
+     * is computed and never read */
+    if (cone) {
+        float bdr[SPAN], ndv[SPAN], ao[SPAN];
+        sl_so_lobe lobe[SPAN];
+        float last_alpha = NAN;
+        sl_so_lobe last = {1.0f, 0.0f};
+        for (int i = 0; i < count; i++) {
+            ao[i] = cone[i].w;
+            bdr[i] = ndv[i] = 1.0f;
+            lobe[i] = last;
+            if (!covered[i])
+                continue;
+            shade_cone_cosines(u, &cone[i], vec3(p->NEx[i], p->NEy[i], p->NEz[i]), vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
+                               &bdr[i], &ndv[i]);
+            float alpha = shade_lobe_param(t[i].alpha);
+            if (!(alpha == last_alpha)) {
+                last = sl_so_lobe_cone(alpha);
+                last_alpha = alpha;
+            }
+            lobe[i] = last;
+        }
+#pragma omp simd
+        for (int i = 0; i < count; i++)
+            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], lobe[i]);
+    }
+    const bool with_cone = cone != NULL;
+    const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
     const float I = u->uEnvIntensity;
     float *o = &out[0].x;
@@ -1130,21 +1161,28 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd reduction(+ : nonfinite)
     for (int i = 0; i < count; i++) {
         /* color = 0; + Kd/pi E I; + specular; times the occlusion; + emission: each sum formed,
-         * then kept or not (an addition under a branch stops GCC's vectorizer) */
+         * then kept or not (an addition under a branch stops GCC's vectorizer). With the cone,
+         * each term times its own occlusion before the sum, and the sum as it is. */
         float r = 0.0f, g = 0.0f, b = 0.0f;
-        float dr = r + ((kr[i] * (1.0f / PI)) * p->Er[i]) * I;
-        float dg = g + ((kg[i] * (1.0f / PI)) * p->Eg[i]) * I;
-        float db = b + ((kb[i] * (1.0f / PI)) * p->Eb[i]) * I;
+        float d_occ = with_cone ? occ[i] : 1.0f, s_occ = with_cone ? so_in[i] : 1.0f;
+        float dr0 = ((kr[i] * (1.0f / PI)) * p->Er[i]) * I;
+        float dg0 = ((kg[i] * (1.0f / PI)) * p->Eg[i]) * I;
+        float db0 = ((kb[i] * (1.0f / PI)) * p->Eb[i]) * I;
+        float dr = r + (with_cone ? dr0 * d_occ : dr0);
+        float dg = g + (with_cone ? dg0 * d_occ : dg0);
+        float db = b + (with_cone ? db0 * d_occ : db0);
         r = diffuse ? dr : r;
         g = diffuse ? dg : g;
         b = diffuse ? db : b;
-        float sr = r + cr[i], sg = g + cg[i], sb = b + cb[i];
+        float sr = r + (with_cone ? cr[i] * s_occ : cr[i]);
+        float sg = g + (with_cone ? cg[i] * s_occ : cg[i]);
+        float sb = b + (with_cone ? cb[i] * s_occ : cb[i]);
         r = specular ? sr : r;
         g = specular ? sg : g;
         b = specular ? sb : b;
-        r = r * occ[i];
-        g = g * occ[i];
-        b = b * occ[i];
+        r = with_cone ? r : r * occ[i];
+        g = with_cone ? g : g * occ[i];
+        b = with_cone ? b : b * occ[i];
         float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
         r = diffuse ? er : r;
         g = diffuse ? eg : g;
@@ -1171,8 +1209,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    /* with the ambient occlusion's cone, each pixel's sum (its terms occluded apart) is the port's */
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0) && !gb->cone;
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
