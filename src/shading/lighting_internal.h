@@ -120,8 +120,7 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
  * reflect(-Venv, Nenv) with B the cone's axis in environment space; shade_spec_occlusion, the
  * material's `occlusion` times its share of the AO `ao` (the cone's w) and the specular
  * occlusion (sl_specular_occlusion_lobe). The second has no branch: the batched path runs it
- * over a span in one vector loop. */
-/* GLSL: part of main (uHasCone) */
+ * over a span in one vector loop. GLSL main's uHasCone branch has both inline. */
 static inline void shade_cone_cosines(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv, vec3 Venv,
                                       float *b_dot_r, float *n_dot_v)
 {
@@ -131,7 +130,6 @@ static inline void shade_cone_cosines(const sl_lighting_uniforms *u, const sl_ve
     *n_dot_v = dot(Nenv, Venv);
 }
 
-/* GLSL: part of main (uHasCone) */
 static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_r, float n_dot_v, sl_so_lobe lobe)
 {
     float so = sl_specular_occlusion_lobe(ao, b_dot_r, n_dot_v, lobe);

@@ -60,12 +60,12 @@ static inline float sl_so_acos(float x)
 }
 
 /* The lobe's cone, which depends on the lobe parameter alone (a caller shading many pixels of
- * one material computes it once): its cosine cos_s and its angle ts. */
+ * one material computes it once): its cosine cos_s and its angle ts (GLSL specular_occlusion's
+ * first lines). */
 typedef struct {
     float cos_s, ts;
 } sl_so_lobe;
 
-/* GLSL: part of specular_occlusion */
 static inline sl_so_lobe sl_so_lobe_cone(float alpha)
 {
     float cos_s = powf(SL_SO_LOBE_OUTSIDE, 1.0f / (sl_so_phong_exponent(alpha) + 1.0f));
@@ -87,7 +87,6 @@ static inline float sl_so_cap_share(float cos_v, float tv, sl_so_lobe lobe, floa
 
 /* sl_specular_occlusion with the lobe's cone given: no branch and no library call but sqrtf, so
  * the batched path runs it for a whole span in one vector loop (the same bits as one call). */
-/* GLSL: specular_occlusion */
 static inline float sl_specular_occlusion_lobe(float ao, float b_dot_r, float n_dot_v, sl_so_lobe lobe)
 {
     float cos_v = sqrtf(fmaxf(0.0f, 1.0f - ao));
@@ -107,6 +106,7 @@ static inline float sl_specular_occlusion_lobe(float ao, float b_dot_r, float n_
  * R, `n_dot_v` N.V (= N.R), `alpha` the lobe parameter. 1 where ao is 1; 0 where ao is 0; never
  * rising as the lobe widens about the cone's axis or as R leaves the cone, never falling as the
  * cone opens (ao grows). */
+/* GLSL: specular_occlusion */
 static inline float sl_specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
 {
     if (!(ao > 0.0f))
