@@ -1129,14 +1129,14 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
      * lobe parameter), then the factor for the span in one vector loop; an empty pixel's lane
      * is computed and never read */
     if (cone) {
-        float bdr[SPAN], ndv[SPAN], ao[SPAN];
-        sl_so_lobe lobe[SPAN];
+        float bdr[SPAN], ndv[SPAN], ao[SPAN], lobe_cos[SPAN], lobe_angle[SPAN]; /* a float array each: vectorizes */
         float last_alpha = NAN;
         sl_so_lobe last = {1.0f, 0.0f};
         for (int i = 0; i < count; i++) {
             ao[i] = cone[i].w;
             bdr[i] = ndv[i] = 1.0f;
-            lobe[i] = last;
+            lobe_cos[i] = last.cos_s;
+            lobe_angle[i] = last.ts;
             if (!covered[i])
                 continue;
             shade_cone_cosines(u, &cone[i], vec3(p->NEx[i], p->NEy[i], p->NEz[i]), vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
@@ -1146,11 +1146,12 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
                 last = sl_so_lobe_cone(alpha);
                 last_alpha = alpha;
             }
-            lobe[i] = last;
+            lobe_cos[i] = last.cos_s;
+            lobe_angle[i] = last.ts;
         }
 #pragma omp simd
         for (int i = 0; i < count; i++)
-            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], lobe[i]);
+            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
     }
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
@@ -1161,28 +1162,26 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd reduction(+ : nonfinite)
     for (int i = 0; i < count; i++) {
         /* color = 0; + Kd/pi E I; + specular; times the occlusion; + emission: each sum formed,
-         * then kept or not (an addition under a branch stops GCC's vectorizer). With the cone,
-         * each term times its own occlusion before the sum, and the sum as it is. */
+         * then kept or not (an addition under a branch stops GCC's vectorizer) */
         float r = 0.0f, g = 0.0f, b = 0.0f;
-        float d_occ = with_cone ? occ[i] : 1.0f, s_occ = with_cone ? so_in[i] : 1.0f;
-        float dr0 = ((kr[i] * (1.0f / PI)) * p->Er[i]) * I;
-        float dg0 = ((kg[i] * (1.0f / PI)) * p->Eg[i]) * I;
-        float db0 = ((kb[i] * (1.0f / PI)) * p->Eb[i]) * I;
-        float dr = r + (with_cone ? dr0 * d_occ : dr0);
-        float dg = g + (with_cone ? dg0 * d_occ : dg0);
-        float db = b + (with_cone ? db0 * d_occ : db0);
+        /* with the cone each term times its own occlusion, without it the sum times the one
+         * occlusion; the factors not applied are 1 (x * 1 is x, bit for bit) */
+        float so_i = so_in[i]; /* loaded in every lane, then selected */
+        float d_occ = with_cone ? occ[i] : 1.0f, s_occ = with_cone ? so_i : 1.0f;
+        float sum_occ = with_cone ? 1.0f : occ[i];
+        float dr = r + (((kr[i] * (1.0f / PI)) * p->Er[i]) * I) * d_occ;
+        float dg = g + (((kg[i] * (1.0f / PI)) * p->Eg[i]) * I) * d_occ;
+        float db = b + (((kb[i] * (1.0f / PI)) * p->Eb[i]) * I) * d_occ;
         r = diffuse ? dr : r;
         g = diffuse ? dg : g;
         b = diffuse ? db : b;
-        float sr = r + (with_cone ? cr[i] * s_occ : cr[i]);
-        float sg = g + (with_cone ? cg[i] * s_occ : cg[i]);
-        float sb = b + (with_cone ? cb[i] * s_occ : cb[i]);
+        float sr = r + cr[i] * s_occ, sg = g + cg[i] * s_occ, sb = b + cb[i] * s_occ;
         r = specular ? sr : r;
         g = specular ? sg : g;
         b = specular ? sb : b;
-        r = with_cone ? r : r * occ[i];
-        g = with_cone ? g : g * occ[i];
-        b = with_cone ? b : b * occ[i];
+        r = r * sum_occ;
+        g = g * sum_occ;
+        b = b * sum_occ;
         float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
         r = diffuse ? er : r;
         g = diffuse ? eg : g;

@@ -46,7 +46,7 @@ static inline float sl_so_phong_exponent(float alpha)
 /* GLSL: so_acos */
 static inline float sl_so_acos(float x)
 {
-    float a = fminf(fabsf(x), 1.0f);
+    float a = minf(fabsf(x), 1.0f);
     float p = -0.0012624911f;
     p = p * a + 0.0066700901f;
     p = p * a - 0.0170881256f;
@@ -55,8 +55,8 @@ static inline float sl_so_acos(float x)
     p = p * a + 0.0889789874f;
     p = p * a - 0.2145988016f;
     p = p * a + 1.5707963050f;
-    float r = p * sqrtf(1.0f - a);
-    return x < 0.0f ? SL_PI - r : r;
+    float r = p * sqrtf(1.0f - a), mirrored = SL_PI - r; /* both formed, one kept: a vector select */
+    return x < 0.0f ? mirrored : r;
 }
 
 /* The lobe's cone, which depends on the lobe parameter alone (a caller shading many pixels of
@@ -80,19 +80,23 @@ static inline float sl_so_cap_share(float cos_v, float tv, sl_so_lobe lobe, floa
 {
     float d = sl_so_acos(cos_d);
     float lo = fabsf(tv - lobe.ts), hi = tv + lobe.ts;
-    float inside = 1.0f - clampf((d - lo) / fmaxf(hi - lo, 1e-6f), 0.0f, 1.0f);
-    float cap = 1.0f - fmaxf(cos_v, lobe.cos_s);
-    return clampf(cap * smoothstep(0.0f, 1.0f, inside) / fmaxf(1.0f - lobe.cos_s, 1e-12f), 0.0f, 1.0f);
+    float inside = 1.0f - clampf((d - lo) / maxf(hi - lo, 1e-6f), 0.0f, 1.0f);
+    float cap = 1.0f - maxf(cos_v, lobe.cos_s);
+    return clampf(cap * smoothstep(0.0f, 1.0f, inside) / maxf(1.0f - lobe.cos_s, 1e-12f), 0.0f, 1.0f);
 }
 
-/* sl_specular_occlusion with the lobe's cone given: no branch and no library call but sqrtf, so
- * the batched path runs it for a whole span in one vector loop (the same bits as one call). */
+/* sl_specular_occlusion with the lobe's cone given: no branch and no library call but sqrtf
+ * (minf and maxf, not fminf and fmaxf, which GCC does not vectorize), so the batched path runs
+ * it for a whole span in one vector loop (the same bits as one call). */
 static inline float sl_specular_occlusion_lobe(float ao, float b_dot_r, float n_dot_v, sl_so_lobe lobe)
 {
-    float cos_v = sqrtf(fmaxf(0.0f, 1.0f - ao));
+    float cos_v = sqrtf(maxf(1.0f - ao, 0.0f));
     float open = sl_so_cap_share(0.0f, 0.5f * SL_PI, lobe, n_dot_v);
     float seen = sl_so_cap_share(cos_v, sl_so_acos(cos_v), lobe, b_dot_r);
-    float so = open > 0.0f ? clampf(seen / open, 0.0f, 1.0f) : ao;
+    /* each value formed, then one kept: GCC will not move a division out from under a branch
+     * (it might trap), and a branch keeps the loop from vectorizing */
+    float ratio = clampf(seen / open, 0.0f, 1.0f);
+    float so = open > 0.0f ? ratio : ao;
     /* Near ao = 1 the cone misleads: a few hidden directions become a ring all along the horizon,
      * which swallows a grazing lobe whole, and there the AO is mostly the pass's own error on open
      * ground (up to 0.025 at grazing views, tests/unit/test_gtao.c). The factor fades to 1 over
