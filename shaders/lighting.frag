@@ -507,13 +507,29 @@ float so_phong_exponent(float alpha)
     return max(2.0 / (a * a) - 2.0, 0.0);
 }
 
-float so_cap_share(float cos_v, float cos_s, float cos_d)
+// acos as Abramowitz and Stegun 4.4.46's polynomial (|error| <= 2e-8 rad), the C side's
+float so_acos(float x)
 {
-    float tv = acos(clamp(cos_v, -1.0, 1.0)), ts = acos(clamp(cos_s, -1.0, 1.0));
-    float d = acos(clamp(cos_d, -1.0, 1.0));
+    float a = min(abs(x), 1.0);
+    float p = -0.0012624911;
+    p = p * a + 0.0066700901;
+    p = p * a - 0.0170881256;
+    p = p * a + 0.0308918810;
+    p = p * a - 0.0501743046;
+    p = p * a + 0.0889789874;
+    p = p * a - 0.2145988016;
+    p = p * a + 1.5707963050;
+    float r = p * sqrt(1.0 - a);
+    return x < 0.0 ? PI - r : r;
+}
+
+// the lobe's cap: cosine cos_s, angle ts; the smaller cap over 2 pi is 1 - max(cos_v, cos_s)
+float so_cap_share(float cos_v, float tv, float cos_s, float ts, float cos_d)
+{
+    float d = so_acos(cos_d);
     float lo = abs(tv - ts), hi = tv + ts;
     float inside = 1.0 - clamp((d - lo) / max(hi - lo, 1e-6), 0.0, 1.0);
-    float cap = 1.0 - cos(min(tv, ts));
+    float cap = 1.0 - max(cos_v, cos_s);
     return clamp(cap * smoothstep(0.0, 1.0, inside) / max(1.0 - cos_s, 1e-12), 0.0, 1.0);
 }
 
@@ -521,9 +537,13 @@ float specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
 {
     if (!(ao > 0.0))
         return 0.0;
+    if (ao >= 1.0) // the fade's weight is 1: nothing hidden, exactly
+        return 1.0;
     float cos_s = pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0));
-    float open = so_cap_share(0.0, cos_s, n_dot_v);
-    float seen = so_cap_share(sqrt(max(0.0, 1.0 - ao)), cos_s, b_dot_r);
+    float ts = so_acos(cos_s);
+    float cos_v = sqrt(max(0.0, 1.0 - ao));
+    float open = so_cap_share(0.0, 0.5 * PI, cos_s, ts, n_dot_v);
+    float seen = so_cap_share(cos_v, so_acos(cos_v), cos_s, ts, b_dot_r);
     float so = open > 0.0 ? clamp(seen / open, 0.0, 1.0) : ao;
     return so + (1.0 - so) * smoothstep(SO_FADE, 1.0, ao);
 }

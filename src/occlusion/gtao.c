@@ -74,11 +74,11 @@ static float acos_fast(float x)
  * integral_0^h cos(t - n) |sin t| dt = (-cos(2h - n) + cos n + 2h sin n) / 4, for the horizon's
  * cosine c (side +1: h = acos c, side -1: h = -acos c) and the projected normal at angle n
  * (cos_n, sin_n), with no horizon below the surface's tangent plane: |h - n| <= pi/2. cos(2h - n)
- * comes from c by the double-angle identities, not from a cos call. */
-static float arc(float c, float side, float n, float cos_n, float sin_n)
+ * comes from c by the double-angle identities, not from a cos call. h (side acos c) and whether
+ * it is clamped come from the caller, which shares them with bent_arc. */
+static float arc(float c, float side, float n, float cos_n, float sin_n, float h, bool clamped)
 {
-    float h = side * acos_fast(c);
-    if (side * (h - n) >= 0.5f * SL_PI) { /* clamped at the tangent plane, where cos(2h - n) = -cos n */
+    if (clamped) { /* clamped at the tangent plane, where cos(2h - n) = -cos n */
         h = n + side * 0.5f * SL_PI;
         return 0.5f * (cos_n + h * sin_n);
     }
@@ -93,11 +93,10 @@ static float arc(float c, float side, float n, float cos_n, float sin_n)
  *     = ((cos n (1 - cos^3 h) + sin n sin^3 h) / 3, cos n sin^3 h / 3 + sin n (2/3 - cos h + cos^3 h / 3)),
  * one expression for either side (for h < 0 it is the integral from h to 0). The horizon is
  * clamped at the tangent plane as arc() clamps it. */
-static void bent_arc(float c, float side, float n, float cos_n, float sin_n, float *along_v, float *along_dir)
+static void bent_arc(float c, float side, float cos_n, float sin_n, bool clamped, float *along_v, float *along_dir)
 {
-    float h = side * acos_fast(c);
     float ch, sh;
-    if (side * (h - n) >= 0.5f * SL_PI) { /* h = n + side pi/2 */
+    if (clamped) { /* h = n + side pi/2 */
         ch = -side * sin_n;
         sh = side * cos_n;
     } else {
@@ -228,10 +227,14 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
         float n = (sin_n < 0.0f ? -1.0f : 1.0f) * acos_fast(cos_n);
         float c_pos = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift);
         float c_neg = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, -sx, -sy, pixels, shift);
-        sum += lp * (arc(c_pos, 1.0f, n, cos_n, sin_n) + arc(c_neg, -1.0f, n, cos_n, sin_n));
+        /* each horizon's angle once, for the AO's arc and the bent normal's */
+        float h_pos = acos_fast(c_pos), h_neg = -acos_fast(c_neg);
+        bool clamp_pos = h_pos - n >= 0.5f * SL_PI, clamp_neg = -(h_neg - n) >= 0.5f * SL_PI;
+        sum += lp * (arc(c_pos, 1.0f, n, cos_n, sin_n, h_pos, clamp_pos) +
+                     arc(c_neg, -1.0f, n, cos_n, sin_n, h_neg, clamp_neg));
         float v_pos, d_pos, v_neg, d_neg;
-        bent_arc(c_pos, 1.0f, n, cos_n, sin_n, &v_pos, &d_pos);
-        bent_arc(c_neg, -1.0f, n, cos_n, sin_n, &v_neg, &d_neg);
+        bent_arc(c_pos, 1.0f, cos_n, sin_n, clamp_pos, &v_pos, &d_pos);
+        bent_arc(c_neg, -1.0f, cos_n, sin_n, clamp_neg, &v_neg, &d_neg);
         bent = add(bent, scale(add(scale(V, v_pos + v_neg), scale(dir, d_pos + d_neg)), lp));
     }
     /* unclamped: one sample's few slices over- or undershoot 1 on an open surface, and the blur's

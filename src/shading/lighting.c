@@ -607,11 +607,9 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     const sl_vec4 *cone = s->cone;
     float spec_occlusion = s->occlusion;
     if (cone) {
-        vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
-        vec3 R = sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv);
-        float so = sl_specular_occlusion(cone->w, dot(B, R), dot(s->Nenv, s->Venv), s->alpha);
-        /* the occlusion is the material's times the AO: the material's share stays */
-        spec_occlusion = cone->w > 0.0f ? s->occlusion * (so / cone->w) : 0.0f;
+        float b_dot_r, n_dot_v;
+        shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
+        spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
     if (u->uDiffuse != 0) {

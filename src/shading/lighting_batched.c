@@ -1110,9 +1110,10 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
                       sl_lighting_task *task, vec3 *out)
 {
-    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+    const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     for (int i = 0; i < count; i++) { /* to structure of arrays (shade_extra's "none" without the plane) */
         covered[i] = !(t[i].depth >= 1.0f);
         kr[i] = t[i].kd.x;
@@ -1123,6 +1124,37 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         emg[i] = ex ? ex[i].emissive.y : 0.0f;
         emb[i] = ex ? ex[i].emissive.z : 0.0f;
     }
+    /* with the cone, the specular's own occlusion (sl_shade_surface_color's, the same
+     * functions): the cosines and the lobe's cone per pixel (the lobe's once per run of one
+     * lobe parameter), then the factor for the span in one vector loop; an empty pixel's lane
+     * is computed and never read */
+    if (cone) {
+        float bdr[SPAN], ndv[SPAN], ao[SPAN], lobe_cos[SPAN], lobe_angle[SPAN]; /* a float array each: vectorizes */
+        float last_alpha = NAN;
+        sl_so_lobe last = {1.0f, 0.0f};
+        for (int i = 0; i < count; i++) {
+            ao[i] = cone[i].w;
+            bdr[i] = ndv[i] = 1.0f;
+            lobe_cos[i] = last.cos_s;
+            lobe_angle[i] = last.ts;
+            if (!covered[i])
+                continue;
+            shade_cone_cosines(u, &cone[i], vec3(p->NEx[i], p->NEy[i], p->NEz[i]), vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
+                               &bdr[i], &ndv[i]);
+            float alpha = shade_lobe_param(t[i].alpha);
+            if (!(alpha == last_alpha)) {
+                last = sl_so_lobe_cone(alpha);
+                last_alpha = alpha;
+            }
+            lobe_cos[i] = last.cos_s;
+            lobe_angle[i] = last.ts;
+        }
+#pragma omp simd
+        for (int i = 0; i < count; i++)
+            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
+    }
+    const bool with_cone = cone != NULL;
+    const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
     const float I = u->uEnvIntensity;
     float *o = &out[0].x;
@@ -1132,19 +1164,24 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         /* color = 0; + Kd/pi E I; + specular; times the occlusion; + emission: each sum formed,
          * then kept or not (an addition under a branch stops GCC's vectorizer) */
         float r = 0.0f, g = 0.0f, b = 0.0f;
-        float dr = r + ((kr[i] * (1.0f / PI)) * p->Er[i]) * I;
-        float dg = g + ((kg[i] * (1.0f / PI)) * p->Eg[i]) * I;
-        float db = b + ((kb[i] * (1.0f / PI)) * p->Eb[i]) * I;
+        /* with the cone each term times its own occlusion, without it the sum times the one
+         * occlusion; the factors not applied are 1 (x * 1 is x, bit for bit) */
+        float so_i = so_in[i]; /* loaded in every lane, then selected */
+        float d_occ = with_cone ? occ[i] : 1.0f, s_occ = with_cone ? so_i : 1.0f;
+        float sum_occ = with_cone ? 1.0f : occ[i];
+        float dr = r + (((kr[i] * (1.0f / PI)) * p->Er[i]) * I) * d_occ;
+        float dg = g + (((kg[i] * (1.0f / PI)) * p->Eg[i]) * I) * d_occ;
+        float db = b + (((kb[i] * (1.0f / PI)) * p->Eb[i]) * I) * d_occ;
         r = diffuse ? dr : r;
         g = diffuse ? dg : g;
         b = diffuse ? db : b;
-        float sr = r + cr[i], sg = g + cg[i], sb = b + cb[i];
+        float sr = r + cr[i] * s_occ, sg = g + cg[i] * s_occ, sb = b + cb[i] * s_occ;
         r = specular ? sr : r;
         g = specular ? sg : g;
         b = specular ? sb : b;
-        r = r * occ[i];
-        g = g * occ[i];
-        b = b * occ[i];
+        r = r * sum_occ;
+        g = g * sum_occ;
+        b = b * sum_occ;
         float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
         r = diffuse ? er : r;
         g = diffuse ? eg : g;
@@ -1171,8 +1208,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    /* with the ambient occlusion's cone, each pixel's sum (its terms occluded apart) is the port's */
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0) && !gb->cone;
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */

@@ -20,6 +20,7 @@
 
 #include "lighting.h"
 #include "lighting_trace.h"
+#include "specular_occlusion.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
 enum { SPAN = 32 };
@@ -113,6 +114,29 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
 {
     const sl_gbuffer_extra none = {.occlusion = 1.0f};
     return gb->extra ? gb->extra[(size_t)y * (size_t)gb->width + (size_t)x] : none;
+}
+
+/* The specular term's occlusion with the visibility cone, in two steps both paths share (so
+ * both have the same bits): shade_cone_cosines, B.R and N.V of the lobe about R =
+ * reflect(-Venv, Nenv) with B the cone's axis in environment space; shade_spec_occlusion, the
+ * material's `occlusion` times its share of the AO `ao` (the cone's w) and the specular
+ * occlusion (sl_specular_occlusion_lobe). The second has no branch: the batched path runs it
+ * over a span in one vector loop. GLSL main's uHasCone branch has both inline. */
+static inline void shade_cone_cosines(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv, vec3 Venv,
+                                      float *b_dot_r, float *n_dot_v)
+{
+    vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
+    vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
+    *b_dot_r = dot(B, R);
+    *n_dot_v = dot(Nenv, Venv);
+}
+
+static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_r, float n_dot_v, sl_so_lobe lobe)
+{
+    float so = sl_specular_occlusion_lobe(ao, b_dot_r, n_dot_v, lobe);
+    /* the occlusion is the material's times the AO: the material's share stays */
+    float share = occlusion * (so / ao);
+    return ao > 0.0f ? share : 0.0f;
 }
 
 /* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,

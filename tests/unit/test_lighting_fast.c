@@ -163,6 +163,61 @@ static void test_batched_vs_plain(void **state)
     sl_env_free(&envs[1]);
 }
 
+/* With the ambient occlusion's visibility cone the batched path keeps its vector sum, each
+ * term times its own occlusion (the specular by the same shade_spec_occlusion as the port): it
+ * must agree with the port as closely as without the cone (test_batched_vs_plain's bounds), with
+ * AO from 0 to 1 (both ends included) and bent normals leaning every way. A cone applied to the
+ * wrong term, or the sum scaled twice, moves pixels by tens of percent. The AO-0 pixels are
+ * black in both, so they do not weigh on the relative error; the darkened ones do. */
+static void test_batched_vs_plain_cone(void **state)
+{
+    (void)state;
+    sl_env env;
+    fx_env(&env, 256, 128, sky_with_sun);
+    fx_frame f;
+    fx_frame_setup(&f, &env, 96, 64, 5000.0f);
+    f.gb.cone = malloc((size_t)f.gb.width * (size_t)f.gb.height * sizeof *f.gb.cone);
+    assert_non_null(f.gb.cone);
+    for (int y = 0; y < f.gb.height; y++)
+        for (int x = 0; x < f.gb.width; x++) {
+            vec3 b = normalize(vec3(sinf(0.37f * (float)x), cosf(0.23f * (float)y), 0.6f));
+            float ao = (float)((x * 7 + y * 13) % 11) / 10.0f;
+            f.gb.cone[(size_t)y * (size_t)f.gb.width + (size_t)x] = (sl_vec4){b.x, b.y, b.z, ao};
+        }
+    const sl_lighting_options variants[] = {
+        {.samples = 40},
+        {.samples = 40, .estimator = SL_ESTIMATOR_MICROFACET, .rotate = true, .frame = 3},
+        {.samples = 40, .no_diffuse = true, .env_rotation_deg = 70.0f, .env_intensity = 2.0f},
+        {.samples = 40, .no_specular = true},
+    };
+    sl_image none = {0};
+    for (size_t v = 0; v < sizeof variants / sizeof variants[0]; v++) {
+        sl_image a = {0}, b = {0};
+        sl_lighting_options o = variants[v];
+        fx_frame_render(&f, o, &a);
+        o.plain = true;
+        fx_frame_render(&f, o, &b);
+        double mx, mean;
+        fx_image_rel_diff(&a, &b, &mx, &mean);
+        print_message("cone variant %zu: batched vs plain: max rel %.3g, mean rel %.3g\n", v, mx, mean);
+        assert_true(mean < 3e-4);
+        assert_true(mx < 5e-3);
+        if (v == 0) { /* the cone does darken: the same frame without it differs */
+            sl_vec4 *cone = f.gb.cone;
+            f.gb.cone = NULL;
+            fx_frame_render(&f, variants[0], &none);
+            f.gb.cone = cone;
+            fx_image_rel_diff(&a, &none, &mx, &mean);
+            assert_true(mean > 0.05);
+        }
+        sl_image_free(&a);
+        sl_image_free(&b);
+    }
+    sl_image_free(&none);
+    fx_frame_teardown(&f);
+    sl_env_free(&env);
+}
+
 /* GGX lobes (lobe parameter <= -1, brdf.h) through both paths: the batched path's own GGX
  * pieces (per-roughness tables, the rotated GGX lobe, the weights with 4 Vis, the spec-rule lod
  * from GGX's D, the env lights' GGX loop) against the port, on spheres r = 0.1, 0.3, 0.6, 1
@@ -551,6 +606,7 @@ int main(void)
         cmocka_unit_test(test_hash_hand_values),
         cmocka_unit_test(test_batched_vs_plain),
         cmocka_unit_test(test_batched_vs_plain_ggx),
+        cmocka_unit_test(test_batched_vs_plain_cone),
         cmocka_unit_test(test_block_fetch_bitwise),
         cmocka_unit_test(test_e5_fetch_bound),
         cmocka_unit_test(test_rotation_off_and_determinism),
