@@ -3,10 +3,10 @@
  *
  * Both shade the same G-buffer: softlight rasterizes the frame and lights it with the C program
  * (the built-in port without --lighting), and softlight-gl lights the same G-buffer with the GLSL
- * (our own shaders/lighting.frag without --glsl) and the same render options (gl_twin.h). The figures are sl_compare_images' (C is
- * A, GL is B), after the scene's own tone map for the 8-bit ones, with the worst pixels and the
- * `softlight trace` line that steps into the worst.
- * A failure on the GL side (no GL, a GLSL compile error) becomes this command's one error line.
+ * (our own shaders/lighting.frag without --glsl) and the same render options (gl_twin.h). The
+ * figures are sl_compare_images' (C is A, GL is B), after the scene's own tone map for the 8-bit
+ * ones, with the worst pixels and the `softlight trace` line that steps into the worst. A failure
+ * on the GL side (no GL, a GLSL compile error) becomes this command's one error line.
  * Exit status: 0 agreement within --tolerance (p99 relative error), 1 outside it or NaN/Inf
  * in either image, 2 any error. */
 #include <stdio.h>
