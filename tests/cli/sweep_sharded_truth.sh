@@ -4,9 +4,15 @@
 # one it gets computing the truth itself (the CSV without its timing columns), the jobs list names
 # what to run, and a truth that is not this run's (another scene's, or another environment
 # intensity's: the spot check integrates pixels again) is refused with one line, exit 2.
+# A sanitized suite skips it: its 203 variants take two minutes there, and the truth's shards and
+# merge run under the sanitizers in shard.sh.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 B="$(cd "$1" && pwd)"
+if grep -q '^SL_SANITIZE:BOOL=ON' "$B/CMakeCache.txt"; then
+    echo "skip: a sanitized suite (shard.sh runs the sharded truth and its merge there)"
+    exit 0
+fi
 command -v parallel >/dev/null || { echo "FAIL: GNU parallel missing (scripts/setup.sh installs it)"; exit 1; }
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
