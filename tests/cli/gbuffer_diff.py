@@ -6,19 +6,9 @@ of scenes/textured.json (world z = 0) is reported apart from the other objects (
 gl_textured.sh for why). Prints one line per channel and group:
     CHANNEL GROUP PIXELS MAX SHARE_OVER_1_255"""
 import os
-import struct
 import sys
 
-
-def read_pfm(path):
-    with open(path, "rb") as f:
-        kind = f.readline().strip()
-        width, height = map(int, f.readline().split())
-        scale = float(f.readline())
-        channels = 3 if kind == b"PF" else 1
-        n = width * height * channels
-        data = struct.unpack(("<" if scale < 0 else ">") + "%df" % n, f.read(n * 4))
-    return width, height, channels, data
+from pfm import read_pfm
 
 
 def main():

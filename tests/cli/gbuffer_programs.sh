@@ -41,16 +41,10 @@ PY
 
 if "$SL" render "$T/plane.json" -q --gbuffer-shader examples/shaders/checker.c --aov "$T/checker" \
     --pfm "$T/checker.pfm" 2>"$T/err" && "$SL" render "$T/plane.json" -q --aov "$T/builtin" 2>>"$T/err"; then
-    if python3 - "$T" >"$T/check" 2>&1 <<'PY'; then
+    if PYTHONPATH="$(dirname "$0")" python3 - "$T" >"$T/check" 2>&1 <<'PY'; then
 import math, struct, sys
 d = sys.argv[1]
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    ch = 3 if parts[0] == b'PF' else 1
-    w, h = map(int, parts[1].split())
-    v = struct.unpack(('<' if float(parts[2]) < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
-    return w, h, ch, v
+from pfm import read_pfm as pfm
 w, h, _, pos = pfm(d + '/checker/position.pfm')
 _, _, _, kd = pfm(d + '/checker/kd.pfm')
 _, _, _, mask = pfm(d + '/checker/mask.pfm')

@@ -45,14 +45,9 @@ done
 "$SL" compare "$T/sc.pfm" "$T/sg.pfm" --edges "$T/sc/depth.pfm,$T/sg/depth.pfm" >"$T/spec.txt" || true
 sp99=$(gl_field "p99 rel error" "$T/spec.txt")
 awk -v r="$sp99" 'BEGIN { exit !(r <= 0.05) }' || { echo "FAIL the specular alone: p99 rel $sp99 > 0.05"; fail=1; }
-python3 - "$T" <<'PY' || fail=1
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY' || fail=1
 import struct, sys
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    kind, (w, h), scale = parts[0], map(int, parts[1].split()), float(parts[2])
-    ch = 3 if kind == b'PF' else 1
-    return w, h, ch, struct.unpack(('<' if scale < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+from pfm import read_pfm as pfm
 T = sys.argv[1]
 w, h, _, g = pfm(T + '/sg.pfm')
 _, _, _, g0 = pfm(T + '/sg0.pfm')

@@ -14,15 +14,9 @@ fails=0
 fail() { echo "FAIL $*"; fails=$((fails + 1)); }
 # sane IMAGE.pfm MASK.pfm: finite everywhere, and at least half the covered pixels not black
 sane() {
-    python3 - "$1" "$2" <<'PY'
+    PYTHONPATH="$(dirname "$0")" python3 - "$1" "$2" <<'PY'
 import math, struct, sys
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    kind, (w, h), scale = parts[0], map(int, parts[1].split()), float(parts[2])
-    ch = 3 if kind == b'PF' else 1
-    fmt = ('<' if scale < 0 else '>') + 'f' * (w * h * ch)
-    return w, h, ch, struct.unpack(fmt, parts[3][:4 * w * h * ch])
+from pfm import read_pfm as pfm
 w, h, ch, img = pfm(sys.argv[1])
 _, _, _, mask = pfm(sys.argv[2])
 if not all(math.isfinite(v) for v in img):

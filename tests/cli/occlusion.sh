@@ -16,14 +16,9 @@ S=160x90
 "$SL" render scenes/pbr.json --size $S -q --ao-radius 0 --pfm "$T/zero.pfm"
 cmp -s "$T/off.pfm" "$T/zero.pfm" && ok "--ao-radius 0: the same bytes as without it" || bad "--ao-radius 0 changed the image"
 "$SL" render scenes/pbr.json --size $S -q --ao-radius 0.5 --pfm "$T/on.pfm" --aov "$T/on"
-python3 - "$T" <<'PY' && ok "AO darkens the contact under the sphere and brightens nothing" || bad "AO's occlusion or radiance is wrong"
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY' && ok "AO darkens the contact under the sphere and brightens nothing" || bad "AO's occlusion or radiance is wrong"
 import struct, sys
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    kind, (w, h), scale = parts[0], map(int, parts[1].split()), float(parts[2])
-    ch = 3 if kind == b'PF' else 1
-    return w, h, ch, struct.unpack(('<' if scale < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+from pfm import read_pfm as pfm
 T = sys.argv[1]
 w, h, _, off = pfm(T + '/off/occlusion.pfm')
 _, _, _, on = pfm(T + '/on/occlusion.pfm')
@@ -57,14 +52,9 @@ python3 -c "import sys; sys.exit(abs(float('$line') - float('$want')) > 1e-5)" 2
 "$SL" render scenes/pbr.json --size $S -q --specular-only --no-lights --pfm "$T/soff.pfm"
 "$SL" render scenes/pbr.json --size $S -q --specular-only --no-lights --ao-radius 0.5 --pfm "$T/son.pfm"
 "$SL" trace scenes/pbr.json --size $S --ao-radius 0.5 --pixel 36,81 >"$T/trace.txt"
-python3 - "$T" <<'PY' && ok "the contact's specular darkened by its own factor; trace's cone is the render's" || bad "specular occlusion"
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY' && ok "the contact's specular darkened by its own factor; trace's cone is the render's" || bad "specular occlusion"
 import re, struct, sys
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    kind, (w, h), scale = parts[0], map(int, parts[1].split()), float(parts[2])
-    ch = 3 if kind == b'PF' else 1
-    return w, h, ch, struct.unpack(('<' if scale < 0 else '>') + 'f' * (w * h * ch), parts[3][:4 * w * h * ch])
+from pfm import read_pfm as pfm
 T = sys.argv[1]
 w, h, _, off = pfm(T + '/soff.pfm')
 _, _, _, on = pfm(T + '/son.pfm')

@@ -68,14 +68,10 @@ echo "ok: the readout shows both"
 grep -E '^softlight view: compare: softlight-gl \(.*\) lit the 320x180 frame in [0-9.]+ s: p99 rel ' "$T/out.txt" >/dev/null ||
     fail "no line for the comparison's run on stdout"
 echo "ok: each run's figures on stdout"
-python3 - "$T/c.pfm" "$T/gl.pfm" "$T/diff.pfm" <<'PY' || fail "the difference's image is not |C - GL|"
-import sys, struct
-def pfm(path):
-    data = open(path, 'rb').read()
-    parts = data.split(b'\n', 3)
-    w, h = map(int, parts[1].split())
-    return struct.unpack(('<' if float(parts[2]) < 0 else '>') + 'f' * (w * h * 3), parts[3][:w * h * 12])
-c, g, d = (pfm(p) for p in sys.argv[1:4])
+PYTHONPATH="$(dirname "$0")" python3 - "$T/c.pfm" "$T/gl.pfm" "$T/diff.pfm" <<'PY' || fail "the difference's image is not |C - GL|"
+import sys
+from pfm import read_pfm
+c, g, d = (read_pfm(p)[3] for p in sys.argv[1:4])
 worst = max(abs(abs(a - b) - e) for a, b, e in zip(c, g, d))
 sys.exit(0 if worst <= 1e-6 else 1)
 PY
