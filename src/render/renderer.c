@@ -500,11 +500,19 @@ bool sl_renderer_shade(sl_renderer *r, const sl_camera *cam, sl_error *err)
     return sl_renderer_shade_gbuffer(r, &r->gbuffer, cam, err);
 }
 
-bool sl_renderer_shade_gbuffer(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
+/* Whether gb is one the renderer can light: filled, and of its size. */
+static bool fits(const sl_renderer *r, const sl_gbuffer *gb, sl_error *err)
 {
     if (!gb->texels || gb->width != r->gbuffer.width || gb->height != r->gbuffer.height)
         return sl_fail(err, SL_ERR_RANGE, "renderer: a %dx%d G-buffer to light, the renderer is %dx%d", gb->width,
                        gb->height, r->gbuffer.width, r->gbuffer.height);
+    return true;
+}
+
+bool sl_renderer_shade_gbuffer(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
+{
+    if (!fits(r, gb, err))
+        return false;
     double t0 = sl_now_seconds();
     if (!sl_renderer_prepare_lighting(r, cam, err))
         return false;
@@ -563,9 +571,8 @@ static void tonemap_band(void *ctx, int thread, int row0, int row1)
 
 bool sl_renderer_shade_tonemap(sl_renderer *r, const sl_gbuffer *gb, const sl_camera *cam, sl_error *err)
 {
-    if (!gb->texels || gb->width != r->gbuffer.width || gb->height != r->gbuffer.height)
-        return sl_fail(err, SL_ERR_RANGE, "renderer: a %dx%d G-buffer to light, the renderer is %dx%d", gb->width,
-                       gb->height, r->gbuffer.width, r->gbuffer.height);
+    if (!fits(r, gb, err))
+        return false;
     double t0 = sl_now_seconds();
     const sl_tonemap_table *table = sl_renderer_tonemap_table(r, err);
     if (!table || !sl_renderer_prepare_lighting(r, cam, err))
