@@ -73,6 +73,13 @@
 //   vec3  uLightPosition[16]       world space
 //   vec3  uLightColor[16]          linear RGB
 //   float uLightIntensity[16]      radiance added = f * color * intensity / d^2 * max(N.L, 0)
+// Shadow maps (src/shadow/shadow.h; drawn by src/gl/shadow_pass.c with shaders/shadow_depth.*),
+// each kind its own sampler and layer table:
+//   sampler2DArray uShadowCubes    the point lights' cube maps: R32F, six layers per casting
+//                                  light (+X, -X, +Y, -Y, +Z, -Z), SHADOW_CUBE_SIZE + 2
+//                                  SHADOW_GUARD texels a side, row 0 at the bottom, the view
+//                                  depth along the face's axis (+inf: nothing drawn); texelFetch
+//   int   uShadowCubeLayer[16]     light i's first layer, -1: light i casts no shadow
 // Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
 // compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
@@ -162,6 +169,8 @@ uniform int uLightCount;
 uniform vec3 uLightPosition[MAX_LIGHTS];
 uniform vec3 uLightColor[MAX_LIGHTS];
 uniform float uLightIntensity[MAX_LIGHTS];
+uniform sampler2DArray uShadowCubes;
+uniform int uShadowCubeLayer[MAX_LIGHTS];
 
 uniform sampler2D uEnvDist;
 uniform sampler2D uEnvDistMarginal;
@@ -200,10 +209,12 @@ uniform int uDiffuse;
 uniform int uSpecular;
 uniform int uPointLights;
 uniform int uRotate;
-// The scene's features: which microfacet sets its G-buffer holds, whether it has env lights.
+// The scene's features: which microfacet sets its G-buffer holds, whether it has env lights,
+// whether a point light has a cube shadow map.
 #define SL_PHONG 1
 #define SL_GGX 1
 #define SL_ENV_LIGHTS 1
+#define SL_SHADOW_CUBES 1
 #endif
 
 layout(location = 0) out vec4 fragColor;
@@ -238,6 +249,14 @@ const float TINY = 1e-30;          // floor of pow() and log2() arguments
 const float MAX_ALPHA = 1e7;       // alpha beyond this is a mirror to float precision
 const float MIN_LIGHT_D2 = 1e-8;   // a light closer than 1e-4 has no defined direction
 const float GGX_MIN_A = 1e-4;      // GGX a = max(r^2, 1e-4): r = 0 stays a finite lobe
+
+// The point lights' cube shadow maps (src/shadow/shadow.h, whose constants these are; docs/
+// lighting.md "Shadow maps" says why these values):
+const int SHADOW_CUBE_SIZE = 512;       // texels along a face's side, inside the guard band
+const int SHADOW_GUARD = 3;             // texels of guard band on each side
+const float SHADOW_BIAS_CONST = 1.0;    // bias beyond the receiver plane, in texel footprints
+const float SHADOW_DEPTH_REL = 2e-4;    // and a share of the stored depth
+const float SHADOW_NORMAL_OFFSET = 1.0; // the receiver moved along its normal, in texels
 
 // The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
 // GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
@@ -985,6 +1004,92 @@ vec3 point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
     return f * uLightColor[i] * (uLightIntensity[i] / d2 * NdotL);
 }
 
+// The frame of cube face f (shadow.c face_frames): the axis it looks along, its x and its y.
+void shadow_face_frame(int f, out vec3 ax, out vec3 rt, out vec3 up)
+{
+    ax = vec3(0.0);
+    ax[f / 2] = (f % 2) == 0 ? 1.0 : -1.0;
+    vec3 up0 = f >= 4 ? vec3(0.0, 1.0, 0.0) : vec3(0.0, 0.0, 1.0);
+    rt = normalize(cross(ax, up0));
+    up = cross(rt, ax);
+}
+
+// The face whose axis is d's major axis, ties to the earlier face (shadow.c major_face).
+int shadow_major_face(vec3 d)
+{
+    float ax = abs(d.x), ay = abs(d.y), az = abs(d.z);
+    if (ax >= ay && ax >= az)
+        return d.x >= 0.0 ? 0 : 1;
+    if (ay >= az)
+        return d.y >= 0.0 ? 2 : 3;
+    return d.z >= 0.0 ? 4 : 5;
+}
+
+// Visibility of point light i from P with unit normal N in its cube map (the twin of
+// sl_shadow_point_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit,
+// 0 shadowed; the receiver moved along N by one texel's footprint, then a 3-texel box of
+// bilinear comparisons over the 4x4 texels around it, each tap against the depth at which its
+// own ray meets the receiver's plane, less a constant bias.
+float shadow_point_visibility(int i, vec3 P, vec3 N)
+{
+    int layer = uShadowCubeLayer[i];
+    if (layer < 0)
+        return 1.0;
+    vec3 d = P - uLightPosition[i];
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0))
+        return 1.0;
+    float dist = sqrt(dist2);
+    float texel = 2.0 * dist / float(SHADOW_CUBE_SIZE);
+    vec3 q = d + N * (texel * SHADOW_NORMAL_OFFSET);
+    int f = shadow_major_face(q);
+    vec3 ax, rt, up;
+    shadow_face_frame(f, ax, rt, up);
+    float z = dot(q, ax);
+    if (!(z > 0.0))
+        return 1.0;
+    int sideI = SHADOW_CUBE_SIZE + 2 * SHADOW_GUARD;
+    float side = float(sideI);
+    float proj = float(SHADOW_CUBE_SIZE) / side;
+    float ux = (proj * dot(q, rt) / z + 1.0) * 0.5 * side - 0.5;
+    float uy = (proj * dot(q, up) / z + 1.0) * 0.5 * side - 0.5;
+    float fx = floor(ux), fy = floor(uy);
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = int(fx) - 1, y0 = int(fy) - 1;
+    float nq = dot(N, q), na = dot(N, ax), nr = dot(N, rt), nu = dot(N, up);
+    float step = 2.0 / (side * proj);
+    float cx0 = (float(x0) + 0.5) * step - 1.0 / proj, cy0 = (float(y0) + 0.5) * step - 1.0 / proj;
+    float bias = texel * SHADOW_BIAS_CONST;
+    float wx[4] = float[4]((1.0 - tx) / 3.0, 1.0 / 3.0, 1.0 / 3.0, tx / 3.0);
+    float wy[4] = float[4]((1.0 - ty) / 3.0, 1.0 / 3.0, 1.0 / 3.0, ty / 3.0);
+    int last = sideI - 1;
+    float vis = 0.0;
+    for (int b = 0; b < 4; b++) {
+        int y = clamp(y0 + b, 0, last);
+        float ny = na + nu * (cy0 + float(b) * step);
+        float rv = 0.0;
+        for (int a = 0; a < 4; a++) {
+            int x = clamp(x0 + a, 0, last);
+            float nd = ny + nr * (cx0 + float(a) * step);
+            float stored = texelFetch(uShadowCubes, ivec3(x, y, layer + f), 0).r;
+            bool open = nd > -1e-6 || (stored * (1.0 + SHADOW_DEPTH_REL) + bias) * nd <= nq;
+            rv += open ? wx[a] : 0.0;
+        }
+        vis += rv * wy[b];
+    }
+    return min(vis, 1.0);
+}
+
+// point_light times the light's visibility from P in its shadow map, looked up only where the
+// light adds something.
+vec3 shadowed_point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
+{
+    vec3 light = point_light(i, P, N, V, Kd, Ks, alpha);
+    if (SL_SHADOW_CUBES != 0 && (light.x > 0.0 || light.y > 0.0 || light.z > 0.0))
+        light = light * shadow_point_visibility(i, P, N);
+    return light;
+}
+
 // A pixel with no geometry shows the environment at lod 0 in the view direction: the ray
 // through the pixel centre from the near to the far plane.
 vec3 background(vec2 fragCoord)
@@ -1062,7 +1167,7 @@ void main()
         }
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)
-                color = color + point_light(i, P, N, V, Kd, Ks, alpha);
+                color = color + shadowed_point_light(i, P, N, V, Kd, Ks, alpha);
         }
         if (uDiffuse != 0)
             color = color + extra.gba; // emission, view-independent: it travels with the diffuse term

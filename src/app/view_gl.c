@@ -18,7 +18,6 @@
 #include "core/timer.h"
 #include "post/compare.h"
 #include "post/tonemap.h"
-#include "shadow/shadow.h"
 #include "view_internal.h"
 
 #define WORDS_MAX 24 /* option words of one run */
@@ -88,6 +87,8 @@ static bool option_words(const viewer *v, char words[WORDS_MAX][32], const char 
     WORD("%d", l->env_lights);
     if (l->distortion)
         WORD("--distortion");
+    if (v->r.desc.options.shadows) /* U; a light's own "shadow" key is in the scene file */
+        WORD("--shadows");
     if (l->rotate) {
         WORD("--rotate");
         WORD("--frame");
@@ -119,8 +120,6 @@ static bool run(viewer *v, sl_error *err)
     if (v->env_override[0])
         return sl_fail(err, SL_ERR_RANGE, "softlight-gl lights with the scene's environment, not %s",
                        v->env_override);
-    if (sl_shadow_any(v->scene, v->r.desc.options.shadows))
-        return sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps have no GL pass (U turns --shadows off)");
     if (v->programs[VIEW_PROGRAM_LIGHTING] && !g->glsl)
         return sl_fail(err, SL_ERR_RANGE, "a --lighting program needs its GLSL twin: view ... --glsl FILE.frag");
     if (!v->radiance_exact && !view_refine_finish(v, err))

@@ -42,7 +42,8 @@ enum {
     UNIT_ENV_DIST,
     UNIT_ENV_DIST_MARGINAL,
     UNIT_CONE, /* the occlusion pass's visibility cone, when it ran */
-    UNIT_COUNT
+    UNIT_COUNT,
+    UNIT_SHADOW_CUBES = UNIT_COUNT /* a 2D array (the point lights' shadow maps), bound on its own */
 };
 #define HAMMERSLEY_BINDING 1
 
@@ -178,20 +179,22 @@ static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer 
     k.env_lights = u->uEnvLightCount > 0;
     k.phong = l->phong;
     k.ggx = l->ggx;
+    k.shadow_cubes = k.point_lights && l->shadows && l->shadows->cube_count > 0;
     return k;
 }
 
 /* Compile lighting.frag for `k` (or the general shader) and bind its uniform block. */
 static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GLuint *program, sl_error *err)
 {
-    char defines[600];
+    char defines[640];
     snprintf(defines, sizeof defines,
              "#define SL_SPECIALIZED 1\n#define SL_LOD_RULE %d\n#define SL_DISTORTION %d\n#define SL_GTERM %d\n"
              "#define SL_ESTIMATOR %d\n#define SL_DIFFUSE %d\n#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
              "#define SL_ENV_LAYOUT %d\n#define SL_IRRADIANCE_METHOD %d\n#define SL_POINT_LIGHTS %d\n"
-             "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d",
+             "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d\n"
+             "#define SL_SHADOW_CUBES %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
-             k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx);
+             k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx, k->shadow_cubes);
     if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", slgl_fullscreen_vert, l->user_frag,
                                                    l->general ? NULL : defines, program, err)
                      : !slgl_program_from_sources("full-screen triangle", slgl_fullscreen_vert, "lighting.frag",
@@ -235,6 +238,8 @@ static bool program_for(slgl_lighting *l, const slgl_lighting_key *k, GLuint *pr
     *program = l->programs[slot];
     return true;
 }
+
+void slgl_lighting_set_shadows(slgl_lighting *l, const slgl_shadows *s) { l->shadows = s; }
 
 void slgl_lighting_set_lobes(slgl_lighting *l, bool phong, bool ggx)
 {
@@ -319,8 +324,9 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
 
 static GLint loc(GLuint program, const char *name) { return glGetUniformLocation(program, name); }
 
-/* Copy sl_lighting_uniforms into the program, field by field, name by name. */
-static void set_uniforms(GLuint p, const sl_lighting_uniforms *u)
+/* Copy sl_lighting_uniforms into the program, field by field, name by name; the shadow maps'
+ * samplers and layer tables from GL's own maps (uniforms' shadowMaps are softlight's). */
+static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_shadows *shadows)
 {
     /* a name the program's specialization made a constant, or left unused, has location -1,
      * which glUniform ignores */
@@ -372,6 +378,26 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u)
     glUniform1i(loc(p, "uPointLights"), u->uPointLights);
     glUniform1i(loc(p, "uRotate"), u->uRotate);
     glUniform1ui(loc(p, "uFrame"), u->uFrame);
+    int none[SL_LIGHTING_MAX_LIGHTS];
+    for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
+        none[i] = -1;
+    glUniform1i(loc(p, "uShadowCubes"), UNIT_SHADOW_CUBES);
+    glUniform1iv(loc(p, "uShadowCubeLayer"), SL_LIGHTING_MAX_LIGHTS, shadows ? shadows->cube_layer : none);
+}
+
+/* The uniforms' lights read maps (softlight's, sl_lighting_uniforms.shadowMaps) where and only
+ * where GL drew some: a draw never leaves out a shadow the C side has. */
+static bool shadows_agree(const slgl_lighting *l, const sl_lighting_uniforms *u, sl_error *err)
+{
+    for (int i = 0; i < u->uLightCount; i++) {
+        const sl_shadow_maps *c = u->shadowMaps;
+        bool c_casts = c && i < c->count && c->cubes[i].casts;
+        bool gl_casts = l->shadows && l->shadows->cube_count > 0 && l->shadows->cube_layer[i] >= 0;
+        if (c_casts != gl_casts)
+            return sl_fail(err, SL_ERR_RANGE, "lighting: light %d casts shadows in softlight's uniforms%s, in GL's "
+                           "maps%s", i, c_casts ? "" : " not", gl_casts ? "" : " not");
+    }
+    return true;
 }
 
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err)
@@ -400,6 +426,8 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     if ((u->uEstimator == SL_ESTIMATOR_SPLITSUM || u->uEstimator == SL_ESTIMATOR_CV) && (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: split sum asked for, but its chains of %d levels are not uploaded",
                        (int)u->uSplitSumMaxLod + 1);
+    if (!shadows_agree(l, u, err))
+        return false;
     if (u->uEstimator == SL_ESTIMATOR_MIS && (u->uEnvDist != l->env_dist_source || u->uEnvDist->cdf != l->env_dist_cdf) &&
         !upload_env_dist(l, u->uEnvDist, err))
         return false;
@@ -418,6 +446,8 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);
     }
+    glActiveTexture(GL_TEXTURE0 + UNIT_SHADOW_CUBES);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->cubes : 0);
     /* The depth texture is sampled as a value, not compared. */
     glActiveTexture(GL_TEXTURE0 + UNIT_DEPTH);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);
@@ -428,7 +458,7 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
     glDisable(GL_CULL_FACE);
-    set_uniforms(program, u);
+    set_uniforms(program, u, l->shadows);
     glBindVertexArray(l->vao);
     glDrawArrays(GL_TRIANGLES, 0, 3);
     glBindVertexArray(0);

@@ -162,6 +162,8 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     slgl_lighting l = {0};
     slgl_occlusion occlusion = {0};
     slgl_textures textures = {0};
+    slgl_shadows shadow_maps = {0};
+    slgl_shadows_destroy(&shadow_maps); /* empty: no light casts */
     slgl_mesh *meshes = calloc((size_t)(f->scene.mesh_count > 0 ? f->scene.mesh_count : 1), sizeof *meshes);
     sl_gbuffer gb = {0};
     sl_image radiance = {0};
@@ -173,12 +175,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
-    /* shadow maps are softlight's C pass (src/shadow), read in its lighting: GL draws none */
-    if (sl_shadow_any(&f->scene, f->renderer.desc.options.shadows)) {
-        sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps (--shadows or a light's \"shadow\") have no GL pass: render "
-                "them with softlight");
-        goto done;
-    }
+    /* the lights' shadow maps, drawn by GL from the meshes (with --gbuffer too) */
+    bool shadows_all = f->renderer.desc.options.shadows;
+    bool shadows = sl_shadow_any(&f->scene, shadows_all);
     /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
      * (--gbuffer) carry it already in their occlusion */
     float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;
@@ -209,10 +208,15 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     if (o->gbuffer_dir) {
         if (!slgl_gbuffer_upload(&g, files, err))
             goto done;
-    } else if (!slgl_meshes_upload(&f->scene, meshes, err) ||
-               !slgl_textures_upload(&f->renderer.textures, &textures, err)) {
+    } else if (!slgl_textures_upload(&f->renderer.textures, &textures, err)) {
         goto done;
     }
+    if ((!o->gbuffer_dir || shadows) && !slgl_meshes_upload(&f->scene, meshes, err))
+        goto done;
+    /* the maps depend on the scene alone: drawn once, before the timed passes */
+    if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, err))
+        goto done;
+    slgl_lighting_set_shadows(&l, &shadow_maps);
     glFinish();
     for (int run = 0; run < runs; run++) {
         double t0 = sl_now_seconds();
@@ -265,6 +269,7 @@ done:
     free(meshes);
     slgl_textures_destroy(&textures);
     slgl_lighting_destroy(&l);
+    slgl_shadows_destroy(&shadow_maps);
     if (occlusion.program)
         slgl_occlusion_destroy(&occlusion);
     slgl_gbuffer_destroy(&g);

@@ -14,7 +14,10 @@
  *                    or an sl_gbuffer (from softlight's AOV files) uploaded into the same textures;
  *                    textured materials drawn with gbuffer_textured.vert/.frag
  *   textures.c       the scene's decoded images -> GL textures (same formats, GL's mips), sampler state
- *   lighting_pass.c  G-buffer textures + environment + uniforms -> RGBA32F radiance, read back
+ *   shadow_pass.c    meshes -> the shadow maps of the lights that cast (R32F view depths,
+ *                    shaders/shadow_depth.vert/.frag), src/shadow's maps drawn by GL
+ *   lighting_pass.c  G-buffer textures + environment + uniforms + shadow maps -> RGBA32F
+ *                    radiance, read back
  *   main.c           the command line
  * Functions shared across these files are prefixed slgl_. */
 #ifndef SLGL_H
@@ -151,6 +154,24 @@ void slgl_occlusion_destroy(slgl_occlusion *o);
  * hand the lighting the cone target (g->cone). */
 bool slgl_occlusion_draw(slgl_occlusion *o, slgl_gbuffer *g, const sl_camera *cam, float radius, sl_error *err);
 
+/* ---- shadow_pass.c ---- */
+/* The shadow maps lighting.frag reads (src/shadow/shadow.h), one texture per kind of map. */
+typedef struct {
+    GLuint program;        /* shadow_depth.vert/.frag */
+    GLuint fbo, depth;     /* the target: a layer of a map texture + a DEPTH_COMPONENT32F renderbuffer */
+    int side;              /* SL_SHADOW_CUBE_SIZE + 2 SL_SHADOW_GUARD */
+    GLuint cubes;          /* the point lights' cube maps: R32F 2D array, side x side, six layers per
+                              casting light (+X, -X, +Y, -Y, +Z, -Z); 0 when none casts */
+    int cube_count;        /* casting point lights */
+    int cube_layer[SL_LIGHTING_MAX_LIGHTS]; /* light i's first layer; -1: it casts none */
+} slgl_shadows;
+
+/* Draw the maps of the scene's lights that cast (point light i when `all` is set or its "shadow"
+ * key is, as sl_shadow_build chooses) from the uploaded meshes; none when no light casts. */
+bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all, sl_error *err);
+/* Free the maps; s is left empty (no light casts), which a zeroed struct is not. */
+void slgl_shadows_destroy(slgl_shadows *s);
+
 /* ---- lighting_pass.c ---- */
 /* What one lighting program is compiled for (lighting.frag "Specialization"): the resolved options
  * and the scene's features, each an SL_* #define of that program. */
@@ -160,6 +181,7 @@ typedef struct {
     int has_extra;    /* the G-buffer has the extra target */
     int env_lights;   /* at least one env light */
     int phong, ggx;   /* the microfacet sets the G-buffer holds (slgl_lighting_set_lobes) */
+    int shadow_cubes; /* point lights on and at least one with a cube shadow map */
 } slgl_lighting_key;
 
 #define SLGL_LIGHTING_PROGRAMS 8 /* programs kept; the oldest goes when a ninth is asked for */
@@ -190,6 +212,7 @@ typedef struct {
                               that asks for it (slgl_lighting_draw); NULL after a new environment */
     const float *env_dist_cdf; /* ... and its CDF array: a rebuilt distribution in the same
                               struct (other env lights) has a new one */
+    const slgl_shadows *shadows; /* the maps the lights read (not owned); NULL: none casts */
 } slgl_lighting;
 
 bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err);
@@ -205,6 +228,9 @@ bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_
 /* The microfacet sets the lit pixels use (at least one): the programs compiled from now on leave
  * the other set's code out. */
 void slgl_lighting_set_lobes(slgl_lighting *l, bool phong, bool ggx);
+/* The shadow maps the next draws read (NULL: none); they must be those of the uniforms' lights
+ * (sl_lighting_uniforms.shadowMaps casts for the same lights, else the draw fails). */
+void slgl_lighting_set_shadows(slgl_lighting *l, const slgl_shadows *s);
 /* Run lighting.frag over the G-buffer with softlight's uniforms, through the program specialized
  * for them (compiled on first use). */
 bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighting_uniforms *u, sl_error *err);

@@ -88,22 +88,31 @@ static mat4 face_view_proj(const sl_shadow_maps *m, int f, vec3 L, float znear, 
     return mat4_mul(sl_mat4_perspective(fovy, 1.0f, znear, zfar), view);
 }
 
-static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene, sl_draw *draws,
-                      mat4 *mvp, shadow_texel *texels, sl_error *err)
+/* The depth range of a cube at L from the scene's box: far past its farthest corner, near a small
+ * share of that (the window depth keeps ~1e-6 of far apart at the far end). False without
+ * geometry. */
+static bool cube_range(const sl_scene *scene, vec3 L, float *znear, float *zfar)
 {
-    /* the depth range from the scene's box: far past its farthest corner, near a small share of
-     * that (the window depth keeps ~1e-6 of far apart at the far end) */
     vec3 lo, hi;
     if (!sl_scene_bounds(scene, &lo, &hi))
-        return true; /* no geometry: nothing casts, every depth stays +inf */
+        return false;
     float far2 = 0.0f;
     for (int k = 0; k < 8; k++) {
         vec3 corner = vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
-        vec3 d = sub(corner, c->position);
+        vec3 d = sub(corner, L);
         far2 = fmaxf(far2, dot(d, d));
     }
-    float zfar = sqrtf(far2) * 1.01f + 1e-3f;
-    float znear = zfar * 1e-3f;
+    *zfar = sqrtf(far2) * 1.01f + 1e-3f;
+    *znear = *zfar * 1e-3f;
+    return true;
+}
+
+static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene, sl_draw *draws,
+                      mat4 *mvp, shadow_texel *texels, sl_error *err)
+{
+    float znear, zfar;
+    if (!cube_range(scene, c->position, &znear, &zfar))
+        return true; /* no geometry: nothing casts, every depth stays +inf */
     const shadow_texel clear = {1.0f, INFINITY};
     size_t n = (size_t)m->side * (size_t)m->side;
     sl_target target = {.width = m->side, .height = m->side, .texel_size = sizeof(shadow_texel), .texels = texels,
@@ -164,6 +173,17 @@ bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, boo
     free(mvp);
     free(texels);
     return ok;
+}
+
+bool sl_shadow_face_view_proj(const sl_scene *scene, vec3 L, int f, mat4 *vp)
+{
+    sl_shadow_maps frames;
+    face_frames(&frames);
+    float znear, zfar;
+    if (f < 0 || f >= 6 || !cube_range(scene, L, &znear, &zfar))
+        return false;
+    *vp = face_view_proj(&frames, f, L, znear, zfar);
+    return true;
 }
 
 void sl_shadow_free(sl_shadow_maps *m)

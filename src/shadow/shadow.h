@@ -56,6 +56,10 @@ bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, 
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
 void sl_shadow_free(sl_shadow_maps *maps);
+/* The view-projection sl_shadow_build draws face f (0 .. 5) of a cube at light position L with,
+ * over this scene (its depth range comes from the scene's box): softlight-gl draws its own maps
+ * with it. False when the scene has no geometry (every depth +inf) or f is out of range. */
+bool sl_shadow_face_view_proj(const sl_scene *scene, vec3 L, int f, mat4 *vp);
 
 /* Visibility of point light i from world point P with unit normal N facing the light's side:
  * 1 lit, 0 shadowed, between on a filtered edge; 1 for a light without a map. */
