@@ -578,8 +578,9 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
     return scale(mul(f, u->uLightColor[i]), u->uLightIntensity[i] / d2 * NdotL);
 }
 
-/* C only (softlight-gl draws no shadow maps): point_light times the light's visibility from P
- * in its shadow maps (src/shadow), looked up only where the light adds something. */
+/* GLSL: shadowed_point_light. point_light times the light's visibility from P in its shadow
+ * maps (src/shadow: sl_shadow_point_visibility, lighting.frag's shadow_point_visibility),
+ * looked up only where the light adds something. */
 static vec3 shadowed_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
                                  float alpha)
 {

@@ -5,13 +5,11 @@
 # light, and one it grazes, stay fully lit (no acne); the shadows of a slab and of a wall 0.02
 # thick fall where the visibility-aware truth (`softlight truth --visibility --lights`, Embree)
 # puts them, in the default path, the port (--plain) and the split sum; `softlight trace` prints
-# each light's visibility; bad keys are one line,
-# exit 2, and softlight-gl refuses shadows it cannot draw. Without Embree the truth comparisons
-# are left out.
+# each light's visibility; bad keys are one line and exit 2. Without Embree the truth
+# comparisons are left out. softlight-gl's maps against these: tests/cli/gl_shadows.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init shadows "$1"
-GL=${1}/softlight-gl
 S=160x90
 
 # scene NAME LIGHT_Z OBJECTS...: a 4x4 floor seen from above at an angle, one light at (0, -0.3, Z)
@@ -58,9 +56,6 @@ done
 # bad input: one line, exit 2
 sed 's/"intensity": 4}/"intensity": 4, "shadow": 1}/' "$T/box.json" >"$T/bad.json"
 expect_error "shadow not a boolean" "lights\[0\]\.shadow: expected true or false" -- "$SL" render "$T/bad.json" --size $S -o "$T/x.png"
-if [ -x "$GL" ] && "$GL" render "$T/box.json" --size 16x9 --pfm "$T/g.pfm" >/dev/null 2>&1; then
-    expect_error "softlight-gl with --shadows" "shadow maps .* have no GL pass" -- "$GL" render "$T/box.json" --size 16x9 --shadows --pfm "$T/g.pfm"
-fi
 
 # trace: each light's visibility, 0 in the slab's shadow and 1 in the open (no line without maps)
 scene occ 2 '{"shape": "box", "material": "m", "transform": {"translate": [0.2, 0.1, 0.8], "scale": [0.3, 0.3, 0.05]}}' \

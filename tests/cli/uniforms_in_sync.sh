@@ -3,7 +3,8 @@
 # that must agree (docs/architecture.md "Adding a uniform"): shaders/lighting.frag declares it,
 # sl_lighting_uniforms in src/shading/lighting.h holds it for the C port, and src/gl/lighting_pass.c
 # uploads it for softlight-gl. This fails, naming the uniform, when one of them misses a name
-# another has, and when the GLSL's array sizes and option values differ from the C constants.
+# another has, and when the GLSL's array sizes, option values and shadow-map constants differ
+# from the C constants.
 set -u
 cd "$(dirname "$0")/../.." || exit 2
 frag=shaders/lighting.frag hdr=src/shading/lighting.h gl=src/gl/lighting_pass.c
@@ -21,6 +22,9 @@ c=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_light
 host=$( { grep -o '"u[A-Z][A-Za-z0-9]*' "$gl" | tr -d '"'
           grep -q '"HammersleyBlock"' "$gl" && echo uHammersley; } | sort -u)
 gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone"
+# The shadow maps' samplers and layer tables: the C struct holds the maps themselves (shadowMaps,
+# src/shadow), softlight-gl draws its own (src/gl/shadow_pass.c) and binds them.
+gbuffer="$gbuffer uShadowCubes uShadowCubeLayer"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac
@@ -31,7 +35,7 @@ for u in $host; do grep -qx "$u" <<<"$glsl" || fail "$u: set by $gl, not a unifo
 
 # Sizes and option values: GLSL `const int NAME = V;` against the C definitions.
 glsl_const() { sed -n "s/^const int $1 = \([0-9]*\);.*/\1/p" "$frag"; }
-c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/shading/splitsum_lut.h src/ibl/env_lights.h src/ibl/ibl.h | head -1 | grep -oE '[0-9]+$'; }
+c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/shading/splitsum_lut.h src/ibl/env_lights.h src/ibl/ibl.h src/shadow/shadow.h | head -1 | grep -oE '[0-9]+$'; }
 check() { # check GLSL_NAME C_NAME
     local g v; g=$(glsl_const "$1"); v=$(c_value "$2")
     [ -n "$g" ] && [ "$g" = "$v" ] || fail "$1 = '${g}' in $frag, $2 = '${v}' in C"
@@ -49,6 +53,16 @@ check SPLITSUM_SETS SL_SPLITSUM_SETS
 for x in PHONG_INV_LH2 PHONG_ONE GGX; do check "SPLITSUM_$x" "SL_SPLITSUM_$x"; done
 for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
 check ENV_LAYOUT_OCT SL_ENV_LAYOUT_OCT
+check SHADOW_CUBE_SIZE SL_SHADOW_CUBE_SIZE
+check SHADOW_GUARD SL_SHADOW_GUARD
+# The shadow lookup's float constants: GLSL `const float NAME = V;` against shadow.c's
+# `#define NAME Vf`, compared as numbers.
+for x in SHADOW_BIAS_CONST SHADOW_DEPTH_REL SHADOW_NORMAL_OFFSET; do
+    g=$(sed -n "s/^const float $x = \([-+0-9.eE]*\);.*/\1/p" "$frag")
+    v=$(sed -n "s/^#define $x \([-+0-9.eE]*\)f.*/\1/p" src/shadow/shadow.c)
+    [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
+        fail "$x = '${g}' in $frag, '${v}' in src/shadow/shadow.c"
+done
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
 [ -n "$pairs" ] && [ $((pairs * 2)) = "$max" ] || fail "hammersley[$pairs] in $frag holds $((pairs * 2)) pairs, SL_HAMMERSLEY_MAX = $max"

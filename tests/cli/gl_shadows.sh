@@ -1,0 +1,118 @@
+#!/usr/bin/env bash
+# gl_shadows.sh BUILD_DIR - the point lights' cube shadow maps in OpenGL (src/gl/shadow_pass.c
+# draws them with shaders/shadow_depth.vert/.frag, lighting.frag's shadow_point_visibility reads
+# them) against softlight's (src/shadow). softlight-gl lights softlight's G-buffer (--gbuffer)
+# with the maps GL drew, so what differs is GL's rasterization of the maps and how the two
+# evaluate the lookup:
+# - scenes/lamp.json with --shadows, and with its light's own "shadow" key instead: the bounds of
+#   gl_shading.sh (p99 relative error <= 0.05, share more than 8/255 apart <= 0.1%); a pixel in
+#   the ball's shadow and one in the wall's keep under 5% of their value without shadows in both,
+#   and a floor pixel in the open keeps it to 1e-4 in both;
+# - GL's image without maps is far outside those bounds against C's with them (p99 rel 0.79,
+#   3% of pixels over 8/255): a GL that ignores its maps fails here;
+# - a light inside a closed box over a floor, no environment: GL's image with --shadows is its
+#   image with --no-lights (the light reaches nothing), as C's is;
+# - a light 0.02 over a floor, grazing it: GL's image with --shadows is its image without (no
+#   acne: every tap of every pixel passes), as C's is.
+set -euo pipefail
+cd "$(dirname "$0")/../.."
+source tests/cli/gl_common.bash
+gl_setup "$1"
+fail=0
+
+# pair NAME SCENE OPTIONS...: C (with its G-buffer) and GL on that G-buffer, compared with the
+# gl_shading.sh bounds into $T/NAME.txt; 1 when outside them
+pair() {
+    local name=$1 scene=$2
+    shift 2
+    mkdir -p "$T/$name"
+    "$SL" render "$scene" --size "$GL_TEST_SIZE" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" -q
+    "$GL" render "$scene" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm"
+    within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm"
+}
+# within NAME A B: the gl_shading.sh bounds between A and B, the figures printed
+within() {
+    local status=0
+    "$SL" compare "$2" "$3" --metric p99rel --tolerance 0.05 >"$T/$1.txt" || status=$?
+    printf '%-16s p99 rel %-10s mean rel %-10s max abs %-10s >1/255 %s%%  >8/255 %s%%\n' "$1" \
+        "$(gl_field "p99 rel error" "$T/$1.txt")" "$(gl_field "mean rel error" "$T/$1.txt")" \
+        "$(gl_field "max abs error" "$T/$1.txt")" "$(gl_field "8-bit diff > 1" "$T/$1.txt")" \
+        "$(gl_field "8-bit diff > 8" "$T/$1.txt")"
+    [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
+}
+
+# ---- scenes/lamp.json: the flag, then the light's own key
+pair lamp scenes/lamp.json --shadows || { echo "FAIL lamp --shadows: outside the bounds"; fail=1; }
+sed -e 's/"intensity": 12}/"intensity": 12, "shadow": true}/' -e "s|\"envmaps/|\"$PWD/scenes/envmaps/|" \
+    scenes/lamp.json >"$T/lamp-key.json"
+grep -q '"shadow": true' "$T/lamp-key.json" || { echo "FAIL lamp-key.json has no \"shadow\" key"; exit 1; }
+pair lamp-key "$T/lamp-key.json" || { echo "FAIL lamp, \"shadow\": true: outside the bounds"; fail=1; }
+# without maps on the G-buffer the shadowed frame was drawn with (the lights unshadowed), and
+# without the light at all
+"$GL" render scenes/lamp.json --gbuffer "$T/lamp" --pfm "$T/lamp/g0.pfm"
+"$GL" render scenes/lamp.json --gbuffer "$T/lamp" --no-lights --pfm "$T/lamp/g-env.pfm"
+if within "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" >/dev/null; then
+    echo "FAIL GL's image without shadow maps is within the bounds of C's with them: the test sees no shadow"
+    fail=1
+fi
+# dark and lit pixels (x, y from the top, at 320x180): the ball's shadow, the wall's, open floor;
+# the light's term is the image less the one without the light
+PYTHONPATH=tests/cli python3 - "$T/lamp" "$GL_TEST_SIZE" <<'PY' || fail=1
+import sys
+from pfm import read_pfm
+d = sys.argv[1]
+if sys.argv[2] != "320x180":
+    print("skip the pixel checks: they are placed at 320x180")
+    sys.exit(0)
+w, h, _, c = read_pfm(d + "/c.pfm")
+_, _, _, g = read_pfm(d + "/g.pfm")
+_, _, _, g0 = read_pfm(d + "/g0.pfm")
+_, _, _, env = read_pfm(d + "/g-env.pfm")
+at = lambda img, x, y: sum(img[3 * ((h - 1 - y) * w + x) + k] - env[3 * ((h - 1 - y) * w + x) + k] for k in range(3))
+bad = 0
+for x, y, what, dark in ((130, 132, "the ball's shadow", True), (80, 95, "the wall's shadow", True),
+                         (250, 150, "open floor", False)):
+    blind, cv, gv = at(g0, x, y), at(c, x, y), at(g, x, y)
+    if dark:
+        ok = blind > 0.1 and cv < 0.05 * blind and gv < 0.05 * blind
+    else:
+        ok = blind > 0.1 and abs(cv - blind) < 1e-4 * blind and abs(gv - blind) < 1e-4 * blind
+    print("%s %-18s (%d, %d): the light's term without shadows %.5g, C %.5g, GL %.5g"
+          % ("ok  " if ok else "FAIL", what, x, y, blind, cv, gv))
+    bad += not ok
+sys.exit(1 if bad else 0)
+PY
+
+# ---- hard cases, lit by one point light alone: scene NAME LIGHT_Z OBJECTS...
+scene() {
+    local name=$1 z=$2
+    shift 2
+    local objects=""
+    for o in "$@"; do objects="$objects, $o"; done
+    cat >"$T/$name.json" <<JSON
+{"camera": {"eye": [0, -3.5, 3.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
+ "materials": {"m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
+ "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [2, 2, 1]}}$objects],
+ "lights": [{"position": [0, -0.3, $z], "intensity": 4}]}
+JSON
+}
+# same NAME A B WHAT: byte for byte
+same() {
+    if cmp -s "$2" "$3"; then echo "ok   $1: $4"; else echo "FAIL $1: not $4"; fail=1; fi
+}
+
+scene box 1.0 '{"shape": "box", "material": "m", "transform": {"translate": [0, -0.3, 1], "scale": 0.4}}'
+pair box "$T/box.json" --shadows || { echo "FAIL light in a box: outside the bounds"; fail=1; }
+"$GL" render "$T/box.json" --no-lights --gbuffer "$T/box" --pfm "$T/box/g-none.pfm"
+"$GL" render "$T/box.json" --gbuffer "$T/box" --pfm "$T/box/g-blind.pfm"
+same "light in a box" "$T/box/g.pfm" "$T/box/g-none.pfm" "GL's image is the one without lights"
+cmp -s "$T/box/g-blind.pfm" "$T/box/g-none.pfm" &&
+    { echo "FAIL light in a box: without shadows the light reaches nothing either (the case is void)"; fail=1; }
+
+scene grazing 0.02
+pair grazing "$T/grazing.json" --shadows || { echo "FAIL grazing light: outside the bounds"; fail=1; }
+"$GL" render "$T/grazing.json" --gbuffer "$T/grazing" --pfm "$T/grazing/g-blind.pfm"
+same "grazing light" "$T/grazing/g.pfm" "$T/grazing/g-blind.pfm" "GL's floor is fully lit: the image without shadows"
+
+[ "$fail" = 0 ] && echo "PASS gl_shadows"
+exit "$fail"
