@@ -62,7 +62,8 @@ bool sl_shadow_any(const sl_scene *scene, bool all)
     return false;
 }
 
-/* The six faces' frames: axis, then an up that is not parallel to it; right = axis x up. */
+/* GLSL: shadow_face_frame (one face's there). The six faces' frames: axis, then an up that is
+ * not parallel to it; right = axis x up. */
 static void face_frames(sl_shadow_maps *m)
 {
     static const float axes[6][3] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
@@ -194,7 +195,7 @@ void sl_shadow_free(sl_shadow_maps *m)
     memset(m, 0, sizeof *m);
 }
 
-/* The face whose axis is d's major axis (ties to the earlier face, as long as the lookup and
+/* GLSL: shadow_major_face. The face whose axis is d's major axis (ties to the earlier face, as long as the lookup and
  * the guard band agree: either face holds the texels around the edge). */
 static int major_face(vec3 d)
 {
@@ -206,6 +207,7 @@ static int major_face(vec3 d)
     return d.z >= 0.0f ? 4 : 5;
 }
 
+/* GLSL: shadow_point_visibility (softlight-gl's maps, read with texelFetch) */
 float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
 {
     if (i < 0 || i >= m->count || !m->cubes[i].casts)

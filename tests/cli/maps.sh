@@ -4,10 +4,11 @@
 #             (its own folder, the public softlight/ headers, or a folder on a lower layer);
 #   docs      every `docs/NAME.md "Section"` reference in the tree resolves (scripts/check-docs.py);
 #   tags      the C port follows shaders/lighting.frag: each `/* GLSL: name` tag in src/shading
-#             names a function of lighting.frag, each file's tags come in lighting.frag's order (a
-#             name may repeat right after itself: one GLSL function in several C pieces), and
-#             every function of lighting.frag is tagged in some src/shading file. With no tag at
-#             all it says so and passes; one tag makes it strict.
+#             (and src/shadow's .c files: the shadow lookup) names a function of lighting.frag,
+#             each file's tags come in lighting.frag's order (a name may repeat right after
+#             itself: one GLSL function in several C pieces), and every function of
+#             lighting.frag is tagged in some such file. With no tag at all it says so and
+#             passes; one tag makes it strict.
 # Then it shows each check failing: it runs them on temporary copies with an include that runs
 # up, a broken section reference, two swapped tags (and a few more), and expects each to fail.
 # Runs from the source root; BUILD_DIR only says whether this is the sanitized suite, where the
@@ -67,7 +68,8 @@ check_includes() {
 # check_docs ROOT: the section references resolve.
 check_docs() { python3 "$src_root/scripts/check-docs.py" "$1"; }
 
-# check_tags ROOT: the GLSL tags of ROOT/src/shading against ROOT/shaders/lighting.frag.
+# check_tags ROOT: the GLSL tags of ROOT/src/shading (and src/shadow, whose lookup lighting.frag
+# ports too) against ROOT/shaders/lighting.frag.
 check_tags() {
     local root=$1 bad=0 glsl tags f
     # lighting.frag's function definitions in file order (`TYPE name(` at the start of a line,
@@ -81,6 +83,9 @@ check_tags() {
     for f in "$root"/src/shading/*.[ch]; do
         f=src/shading/$(basename "$f"); [ "$f" = src/shading/lighting.c ] || files+=("$f")
     done
+    for f in "$root"/src/shadow/*.c; do
+        [ -f "$f" ] && files+=("src/shadow/$(basename "$f")")
+    done
     tags=$(cd "$root" && grep -noE '/\* GLSL: [A-Za-z_][A-Za-z0-9_]*' "${files[@]}" /dev/null | sed 's|/\* GLSL: ||')
     if [ -z "$tags" ]; then echo "no GLSL tags in src/shading yet: order not checked"; return 0; fi
     awk -F: -v glsl="$glsl" '
@@ -90,7 +95,7 @@ check_tags() {
             if (file == last_file && at[name] < last_at)
                 { print file ":" line ": GLSL: " name " after GLSL: " last_name " (line " last_line "); lighting.frag has them the other way round"; bad = 1 }
             last_file = file; last_at = at[name]; last_name = name; last_line = line }
-        END { for (i = 1; i <= n; i++) if (!(g[i] in tagged)) { print "GLSL function " g[i] " (shaders/lighting.frag) has no GLSL: tag in src/shading"; bad = 1 }
+        END { for (i = 1; i <= n; i++) if (!(g[i] in tagged)) { print "GLSL function " g[i] " (shaders/lighting.frag) has no GLSL: tag in src/shading or src/shadow"; bad = 1 }
               exit bad }' <<<"$tags"
 }
 
