@@ -17,7 +17,11 @@
  * compiled the first time a draw asks for it: the C pass runs only the code a scene needs, and
  * llvmpipe, which runs every branch some lane of a SIMD batch might take, must not pay for the
  * rest either, or the comparison flatters softlight. $SL_GL_GENERAL (any value) compiles the file
- * without defines instead: the general shader, every option a uniform (measurements, docs/gl.md). */
+ * without defines instead: the general shader, every option a uniform (measurements, docs/gl.md).
+ *
+ * The shadow maps are GL's own (shadow_pass.c), bound beside the G-buffer; the uniforms'
+ * shadowMaps (softlight's) only say which lights must have one, and a draw where the two disagree
+ * fails rather than compare a shadowed C frame with an unshadowed GL one. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>

@@ -214,8 +214,14 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     if ((!o->gbuffer_dir || shadows) && !slgl_meshes_upload(&f->scene, meshes, err))
         goto done;
     /* the maps depend on the scene alone: drawn once, before the timed passes */
+    double t_shadows = sl_now_seconds();
     if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, err))
         goto done;
+    glFinish();
+    t_shadows = sl_now_seconds() - t_shadows;
+    if (shadows && o->verbose)
+        printf("shadow maps: %d cube map%s of %d texels a face side, drawn in %.1f ms (glFinish)\n",
+               shadow_maps.cube_count, shadow_maps.cube_count == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, t_shadows * 1e3);
     slgl_lighting_set_shadows(&l, &shadow_maps);
     glFinish();
     for (int run = 0; run < runs; run++) {
