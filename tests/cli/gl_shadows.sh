@@ -11,6 +11,9 @@
 #   with the maps over its term without (each side's own), differs by more than 0.01 at no more
 #   than 0.5% of the pixels it lights (measured: at none; 6.4e-7 at most over 36081 pixels, 1715
 #   of them shadowed and 293 on an edge);
+# - lamp.json with four lights, the "shadow" key on the second and the fourth: within the same
+#   bounds (light i's layers are found by its index, not its rank among those that cast), and
+#   far from GL's image with all four casting;
 # - GL's image without maps is far outside those bounds against C's with them (p99 rel 0.79,
 #   3% of pixels over 8/255): a GL that ignores its maps fails here;
 # - a light inside a closed box over a floor, no environment: GL's image with --shadows is its
@@ -108,6 +111,22 @@ for x, y, what, dark in ((130, 132, "the ball's shadow", True), (80, 95, "the wa
     bad += not ok
 sys.exit(1 if bad else 0)
 PY
+
+# ---- four lights, two casting by their key
+python3 - "$T/four.json" "$PWD" <<'PY'
+import json, sys
+s = json.load(open(sys.argv[2] + "/scenes/lamp.json"))
+s["environment"]["hdr"] = sys.argv[2] + "/scenes/envmaps/" + s["environment"]["hdr"].split("/")[-1]
+s["lights"] = [{"position": [0.1, -0.2, 2.2], "intensity": 6}, {"position": [-1.5, 1.0, 1.2], "intensity": 3, "shadow": True},
+               {"position": [1.5, -1.0, 1.0], "intensity": 3}, {"position": [1.2, 1.5, 0.8], "intensity": 2, "shadow": True}]
+json.dump(s, open(sys.argv[1], "w"))
+PY
+pair four "$T/four.json" || { echo "FAIL four lights, two casting: outside the bounds"; fail=1; }
+"$GL" render "$T/four.json" --shadows --gbuffer "$T/four" --pfm "$T/four/g-all.pfm"
+if within "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" >/dev/null; then
+    echo "FAIL four lights: GL's image with all four casting is within the bounds of C's with two (the case is void)"
+    fail=1
+fi
 
 # ---- hard cases, lit by one point light alone: scene NAME LIGHT_Z OBJECTS...
 scene() {
