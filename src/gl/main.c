@@ -179,6 +179,11 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
                 "them with softlight");
         goto done;
     }
+    if (f->renderer.desc.options.shadows && f->renderer.desc.lighting.env_lights > 0) {
+        sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps of the env lights (--shadows with --env-lights) have no GL pass: "
+                "render them with softlight");
+        goto done;
+    }
     /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
      * (--gbuffer) carry it already in their occlusion */
     float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;

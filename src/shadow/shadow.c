@@ -290,6 +290,9 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
     m->env_light_count = lights->count;
     for (int j = 0; j < lights->count; j++) {
         int c = -1;
+        m->env_light_sun[j] = -1;
+        if (!(luminance(lights->radiance[j]) > 0.0f))
+            continue; /* a black light (more asked than lit texels) adds nothing: no map */
         for (int k = 0; k < m->count && c < 0; k++)
             if (dot(world[seed[k]], world[j]) >= cos_max)
                 c = k;
@@ -302,8 +305,7 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
         m->env_light_sun[j] = (signed char)c;
         if (c < 0)
             continue;
-        /* a black light (more lights asked than lit texels) still weighs a little: no 0 sum */
-        sum[c] = add(sum[c], scale(world[j], luminance(lights->radiance[j]) + 1e-30f));
+        sum[c] = add(sum[c], scale(world[j], luminance(lights->radiance[j])));
         m->maps[c].lights++;
     }
     for (int c = 0; c < m->count; c++) {
