@@ -44,6 +44,7 @@ OUT=out/visibility-error
 mkdir -p "$OUT"
 BEST="--estimator mf --lod pdf --distortion -n 256"
 AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
+SUN="--env-lights 32 --shadows" # the env lights' shadow maps (docs/lighting.md "Shadow maps")
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
@@ -73,8 +74,8 @@ table=$OUT/table.md
     echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
 } >"$table"
 {
-    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut |"
-    echo "|---|---:|---:|---:|"
+    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut | with --ao-radius 1 $SUN | cut |"
+    echo "|---|---:|---:|---:|---:|---:|"
 } >"$OUT/cut.md"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
@@ -88,11 +89,14 @@ for s in "${scenes[@]}"; do
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST --pfm "$OUT/$s-best.pfm" -q
     # shellcheck disable=SC2086
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO --pfm "$OUT/$s-best-ao.pfm" -q
-    for variant in default best best-ao; do
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO $SUN --pfm "$OUT/$s-best-ao-sun.pfm" -q
+    for variant in default best best-ao best-ao-sun; do
         case $variant in
         default) label="default" ;;
         best) label="mf pdf+dist N256" ;;
-        *) label="mf pdf+dist N256, --ao-radius 1" ;;
+        best-ao) label="mf pdf+dist N256, --ao-radius 1" ;;
+        *) label="mf pdf+dist N256, --ao-radius 1 $SUN" ;;
         esac
         IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
@@ -101,7 +105,8 @@ for s in "${scenes[@]}"; do
     # the cut: the visibility error of the mf render without and with the occlusion
     best_vis=$(grep "^| $s | mf pdf+dist N256 |" "$table" | cut -d'|' -f6 | tr -d ' ')
     ao_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 |" "$table" | cut -d'|' -f6 | tr -d ' ')
-    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") |" >>"$OUT/cut.md"
+    sun_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
+    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") | $sun_vis | $(ratio "$best_vis" "$sun_vis") |" >>"$OUT/cut.md"
     if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights

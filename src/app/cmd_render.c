@@ -218,6 +218,15 @@ int cmd_render(int argc, char **argv)
             printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
                    r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
+        if (r.suns_built > 0) {
+            int mapped = 0;
+            for (int k = 0; k < r.suns.count; k++)
+                mapped += r.suns.maps[k].lights;
+            printf("env-light shadow maps: %d orthographic map%s of %d texels a side for %d of %d env lights "
+                   "(clusters of %g degrees, at most %d), drawn in %.1f ms once per scene and environment\n",
+                   r.suns.count, r.suns.count == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, mapped, r.suns.env_light_count,
+                   (double)SL_SHADOW_SUN_CLUSTER_DEG, SL_SHADOW_SUN_MAX, r.timings.sun_shadow_ms);
+        }
         if (r.env_oct_built >= 0)
             printf("octahedral chain: %dx%d, %d levels, built in %.1f ms once per environment\n",
                    r.env_oct.levels[0].width, r.env_oct.levels[0].height, r.env_oct.level_count,

@@ -209,7 +209,7 @@ typedef enum {
       (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
     /* off: no maps drawn, the frame pays nothing for them (src/shadow/shadow.h) */                                 \
     X(SHADOWS, shadows, FLAG, bool, "shadows", "--shadows", NULL, NULL,                                             \
-      "every point light casts shadows (cube shadow maps; a light's \"shadow\": true casts alone)",                  \
+      "every point light and env light casts shadows (shadow maps; a light's \"shadow\": true casts alone)",       \
       (.scene = {"render.shadows"}))                                                                                 \
     X(IMAGE_MEMORY, image_memory, INT, int, "image-memory", "--image-memory", NULL, "MIB",                           \
       "the most memory one image read from a file may take decoded, in MiB (1..4096; default 1024); an "             \

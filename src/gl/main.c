@@ -175,6 +175,11 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
+    if (f->renderer.desc.options.shadows && f->renderer.desc.lighting.env_lights > 0) {
+        sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps of the env lights (--shadows with --env-lights) have no GL pass: "
+                "render them with softlight");
+        goto done;
+    }
     /* the lights' shadow maps, drawn by GL from the meshes (with --gbuffer too) */
     bool shadows_all = f->renderer.desc.options.shadows;
     bool shadows = sl_shadow_any(&f->scene, shadows_all);

@@ -294,6 +294,7 @@ void sl_renderer_free(sl_renderer *r)
     if (r->have_irradiance)
         sl_irradiance_free(&r->irradiance);
     sl_shadow_free(&r->shadows);
+    sl_shadow_suns_free(&r->suns);
     sl_raster_destroy(r->raster);
     sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
@@ -331,6 +332,7 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_free(&old);
     sl_env_lights_free(&r->env_lights); /* extracted from the old one: rebuilt on the next frame */
     r->env_lights_built = 0;
+    r->suns_built = 0; /* the old lights' directions: redrawn with them */
     sl_env_free(&r->env_oct); /* resampled from the old one: rebuilt on the next frame */
     r->env_oct_built = -1;
     sl_env_free(&r->splitsum_phong); /* prefiltered from the old one: likewise */
@@ -407,6 +409,36 @@ static bool update_shadows(sl_renderer *r, sl_error *err)
     return true;
 }
 
+/* The env lights' maps, with --shadows and env lights: drawn once per set of env lights and
+ * environment rotation (the scene's geometry never changes). Without either, none is drawn and
+ * the frame pays nothing. */
+static bool sun_shadows_wanted(const sl_renderer *r)
+{
+    return r->desc.options.shadows && r->desc.lighting.env_lights > 0 && r->env_lights_built > 0;
+}
+
+static bool update_sun_shadows(sl_renderer *r, sl_error *err)
+{
+    float rotation = r->desc.lighting.env_rotation_deg;
+    if (!sun_shadows_wanted(r) || (r->suns_built == r->env_lights_built && r->suns_rotation == rotation))
+        return true;
+    double t0 = sl_now_seconds();
+    r->suns_built = 0;
+    if (!sl_shadow_suns_build(&r->suns, r->raster, r->scene, &r->env_lights, rotation, err))
+        return false;
+    r->suns_built = r->env_lights_built;
+    r->suns_rotation = rotation;
+    r->timings.sun_shadow_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
+static const sl_shadow_suns *current_suns(const sl_renderer *r)
+{
+    bool current = sun_shadows_wanted(r) && r->suns_built == r->env_lights_built &&
+                   r->suns_rotation == r->desc.lighting.env_rotation_deg;
+    return current && r->suns.count > 0 ? &r->suns : NULL;
+}
+
 /* The maps the lighting reads: those of the options as they stand (NULL when no light casts). */
 static const sl_shadow_maps *current_shadows(const sl_renderer *r)
 {
@@ -453,7 +485,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     /* the shadow maps here, after the raster and before the lighting, so that a G-buffer drawn
      * elsewhere (sl_renderer_light, --gbuffer) is lit with them too */
     if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
-        !update_env_dist(r, estimator, err) || !update_shadows(r, err))
+        !update_env_dist(r, estimator, err) || !update_shadows(r, err) || !update_sun_shadows(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -483,6 +515,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .env_dist = r->env_dist_built >= 0 ? &r->env_dist : NULL,
         .program = r->desc.lighting_program,
         .shadows = current_shadows(r),
+        .env_shadows = current_suns(r),
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

@@ -80,6 +80,8 @@ typedef struct {
     double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
     double shadow_ms;   /* the point lights' shadow maps (--shadows or a light's "shadow"): drawn
                            on the first frame that needs them, kept for the renderer's scene */
+    double sun_shadow_ms; /* the env lights' maps (--shadows with --env-lights): drawn on the first
+                           frame that needs them, again when the env lights or their rotation change */
 } sl_render_timings;
 
 /* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init
@@ -106,6 +108,9 @@ struct sl_renderer {
     sl_raster *raster;
     sl_shadow_maps shadows;   /* the point lights' cube maps (src/shadow), drawn on first use */
     int shadows_built;        /* 0 = none; 1 = the lights with "shadow"; 2 = every light (--shadows) */
+    sl_shadow_suns suns;      /* the env lights' orthographic maps (src/shadow), drawn on first use */
+    int suns_built;           /* 0 = none, else the env lights count they were clustered from */
+    float suns_rotation;      /* ... and the environment rotation they were drawn for */
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */

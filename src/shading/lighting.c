@@ -533,8 +533,8 @@ static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
  * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
  * facing away (N.H <= 0). */
-/* GLSL: specular_env_lights */
-static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+/* GLSL: specular_env_lights (vis: each light's shadow-map visibility, C only; NULL: all 1) */
+static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis)
 {
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < u->uEnvLightCount; j++) {
@@ -549,9 +549,42 @@ static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float LdotH = dot(w, H);
         float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, (sl_gterm)u->uGTerm);
         vec3 f = scale(sl_brdf_F(Ks, LdotH), sl_lobe_D(NdotH, alpha) * G / 4.0f);
-        sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), wN));
+        float v = vis ? vis[j] : 1.0f; /* x 1 is exact: without maps, the same bits */
+        sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), wN * v));
     }
     return scale(sum, u->uEnvIntensity);
+}
+
+/* C only (softlight-gl draws no shadow maps; a GLSL port reads each cluster's map as a depth
+ * texture here): each env light's visibility from world point P with normal N, that of its
+ * cluster's map (src/shadow), 1 for a light no map covers, 0 past the count (the batched path
+ * reads whole vectors). One lookup per map. */
+static void env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
+{
+    const sl_shadow_suns *m = u->envShadowMaps;
+    float map_vis[SL_SHADOW_SUN_MAX];
+    for (int k = 0; k < m->count; k++)
+        map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
+    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++) {
+        int k = j < u->uEnvLightCount ? m->env_light_sun[j] : -2;
+        vis[j] = k >= 0 ? map_vis[k] : k == -1 ? 1.0f : 0.0f;
+    }
+}
+
+/* C only, beside env_light_visibility: the env lights' part of the irradiance E(N) (N in
+ * environment space), sum L_k max(N.l_k, 0) over every light (`all`: what the irradiance holds)
+ * and times each one's visibility (`seen`). */
+static void env_lights_irradiance(const sl_lighting_uniforms *u, vec3 N, const float *vis, vec3 *all, vec3 *seen)
+{
+    vec3 a = vec3s(0.0f), s = vec3s(0.0f);
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        float c = maxf(dot(xyz(u->uEnvLightDir[j]), N), 0.0f);
+        vec3 L = scale(xyz(u->uEnvLightRadiance[j]), c);
+        a = add(a, L);
+        s = add(s, scale(L, vis[j]));
+    }
+    *all = a;
+    *seen = s;
 }
 
 /* GLSL: point_light */
@@ -599,7 +632,8 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
 
 /* Part of GLSL main: from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */
 vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
-                         const vec3 *specular, sl_lighting_task *task, sl_lighting_trace *trace)
+                         const vec3 *specular, const shade_env_shadow *env_shadow, sl_lighting_task *task,
+                         sl_lighting_trace *trace)
 {
     vec3 color = vec3s(0.0f);
     /* With the ambient occlusion's cone (GLSL uHasCone): the diffuse times the occlusion, the
@@ -613,8 +647,26 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
+    /* With the env lights' shadow maps: each env light's visibility from the point (given by the
+     * batched path, else looked up here). The lights' part of the irradiance is taken out of E
+     * and added back times the visibility, and the specular's exact part is times it too; both
+     * are added after the occlusion, as the point lights are: the maps are their occlusion. */
+    shade_env_shadow own;
+    if (u->envLightShadows != 0 && !env_shadow) {
+        env_light_visibility(u, s->P, s->N, own.vis);
+        env_shadow = &own;
+    }
+    vec3 shadowed_lights = vec3s(0.0f); /* the env lights' diffuse and specular, times their visibility */
     if (u->uDiffuse != 0) {
         vec3 E = E_given ? *E_given : irradiance(u, s->Nenv); /* the batched path's, the same bits */
+        if (env_shadow) {
+            /* E - sum L_k (N.l_k)+ >= 0 in theory; a smoothing irradiance (SH9, the maps' filter)
+             * can put a sun's lobe where E is below it: clamped, the error of that smoothing */
+            vec3 all, seen;
+            env_lights_irradiance(u, s->Nenv, env_shadow->vis, &all, &seen);
+            E = vmax3(sub(E, all), vec3s(0.0f));
+            shadowed_lights = scale(mul(scale(s->Kd, 1.0f / PI), seen), u->uEnvIntensity);
+        }
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         trace_diffuse(trace, E, diffuse);
         if (cone)
@@ -637,19 +689,28 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                 spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
-            if (u->uEnvLightCount > 0) {
-                vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha);
+            if (u->uEnvLightCount > 0 && !env_shadow) {
+                vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL);
                 spec = add(spec, exact);
                 trace_env_lights(trace, u->uEnvLightCount, exact);
             }
         }
-        trace_specular(trace, spec);
+        vec3 exact = vec3s(0.0f); /* shadowed: kept apart from the occluded rest */
+        if (env_shadow) {
+            exact = specular ? env_shadow->specular
+                             : specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, env_shadow->vis);
+            trace_env_lights(trace, u->uEnvLightCount, exact);
+            shadowed_lights = add(shadowed_lights, exact);
+        }
+        trace_specular(trace, add(spec, exact));
         if (cone)
             spec = scale(spec, spec_occlusion);
         color = add(color, spec);
     }
     if (!cone)
         color = scale(color, s->occlusion);
+    if (env_shadow)
+        color = add(color, shadowed_lights);
     if (u->uPointLights != 0) {
         for (int i = 0; i < u->uLightCount; i++) {
             vec3 light = shadowed_point_light(u, i, s->P, s->N, s->V, s->Kd, s->Ks, s->alpha);
@@ -704,7 +765,7 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
         sl_gbuffer_extra e = shade_extra(gb, x, y);
         shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive, shade_cone(gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
-        color = sl_shade_surface_color(u, &s, NULL, NULL, task, trace);
+        color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, task, trace);
     }
     return sl_shade_finish(color, task, trace);
 }
@@ -746,7 +807,11 @@ vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
 {
-    return specular_env_lights(u, N, V, Ks, alpha);
+    return specular_env_lights(u, N, V, Ks, alpha, NULL);
+}
+void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
+{
+    env_light_visibility(u, P, N, vis);
 }
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {

@@ -115,6 +115,10 @@ typedef struct {
                                                     built-in, sl_lighting_builtin() */
     const sl_shadow_maps *shadows;               /* the point lights' shadow maps (src/shadow), each
                                                     light's term times its visibility; NULL = none */
+    const sl_shadow_suns *env_shadows;           /* the env lights' maps (src/shadow), each env light
+                                                    times its map's visibility in the specular and
+                                                    the diffuse; NULL = none (ignored without env
+                                                    lights) */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -169,6 +173,11 @@ typedef struct {
     /* C only: the point lights' shadow maps (NULL: no light casts), read by point_light's callers
      * through sl_shade_light_visibility; softlight-gl draws none and refuses them */
     const sl_shadow_maps *shadowMaps;
+    /* the env lights' shadows (envLightShadows = 1: envShadowMaps is set and there are env
+     * lights): each env light's specular term, and its part of the irradiance, times its map's
+     * visibility (docs/lighting.md "Shadow maps"). C only: softlight-gl refuses them */
+    int envLightShadows;
+    const sl_shadow_suns *envShadowMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;
     sl_lighting_frame_uniforms frame;

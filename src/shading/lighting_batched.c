@@ -857,7 +857,8 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
 
 /* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
  * brdf.h's formulas, the lights vectorized, the sum in light order. */
-static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+                                   const float *vis)
 {
     const int n = (u->uEnvLightCount + 15) & ~15; /* zero lights add exactly 0 (below) */
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
@@ -885,7 +886,7 @@ static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V
         float m2 = mm * mm;
         float m5 = m2 * m2 * mm;
         float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f);
-        float k = D * G / 4.0f * wN * lit;
+        float k = D * G / 4.0f * wN * lit * vis[j]; /* x 1 without maps: the same bits */
         cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
         cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
         cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
@@ -899,10 +900,10 @@ static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V
 /* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms),
  * D through the fast log2/exp2 as the lod does, and the sum in light order. */
 __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
-                                                         float alpha)
+                                                         float alpha, const float *vis)
 {
     if (sl_lobe_is_ggx(alpha))
-        return env_lights_samples_ggx(u, N, V, Ks, alpha);
+        return env_lights_samples_ggx(u, N, V, Ks, alpha, vis);
     /* Whole vectors: the arrays are zero past uEnvLightCount (a zero direction and radiance add
      * exactly 0), so rounding the count up to 16 keeps a small K off the scalar remainder loop,
      * which made K = 8 cost as much as K = 24. */
@@ -935,7 +936,7 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
         float m5 = m2 * m2 * mm;
         float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f); /* products, not &&: vectorizes */
         float g = 1.0f / (LH * LH); /* computed, then selected: a division under a branch stops GCC */
-        float k = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit;
+        float k = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit * vis[j]; /* x 1 without maps: the same bits */
         cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
         cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
         cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
@@ -1087,15 +1088,26 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
     return add(mul(Lbar, E), correction);
 }
 
-/* The specular term of covered pixel i of the span (0 with it off), env lights included: the
- * split sum's lookup (the port's own: nothing to batch) or the samples. */
+/* Every env light's visibility without shadow maps: env_lights_samples multiplies by it. */
+static const float ones[SL_ENV_LIGHTS_MAX] = {
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1,
+    1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
+_Static_assert(SL_ENV_LIGHTS_MAX == 64, "ones[] has a 1 per env light");
+
+/* The specular term of covered pixel i of the span (0 with it off): the split sum's lookup (the
+ * port's own: nothing to batch) or the samples, and the env lights; with their shadow maps
+ * (env_shadow, its vis set) the env lights' sum times each one's visibility goes to
+ * env_shadow->specular instead. */
 __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighting_uniforms *u, const pixel_block *p,
                                                                  int i, vec3 Ks, float alpha, vec2 rotation,
-                                                                 sl_lighting_task *task, sl_lighting_trace *trace)
+                                                                 shade_env_shadow *env_shadow, sl_lighting_task *task,
+                                                                 sl_lighting_trace *trace)
 {
     if (u->uSpecular == 0)
         return vec3s(0.0f);
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
+    if (env_shadow)
+        env_shadow->specular = vec3s(0.0f);
     const vec3 R = vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
     vec3 specular;
     if (u->uEstimator == ESTIMATOR_SPLITSUM) {
@@ -1107,8 +1119,10 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     } else {
         specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, vec3s(0.0f), task, trace);
     }
-    if (u->uEnvLightCount > 0) {
-        vec3 exact = env_lights_samples(u, N, V, Ks, alpha);
+    if (env_shadow) /* kept apart: sl_shade_surface_color adds it after the occlusion */
+        env_shadow->specular = env_lights_samples(u, N, V, Ks, alpha, env_shadow->vis);
+    else if (u->uEnvLightCount > 0) {
+        vec3 exact = env_lights_samples(u, N, V, Ks, alpha, ones);
         specular = add(specular, exact);
         trace_env_lights(trace, u->uEnvLightCount, exact);
     }
@@ -1222,7 +1236,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
+    /* the env lights' shadows add per-pixel terms after the occlusion: through the port's sum */
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0) && u->envLightShadows == 0;
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
@@ -1256,7 +1271,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
              * built field by field and read back as arguments stalled on store forwarding) */
             count_bent(task, p->bent[i]);
             vec2 rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
-            color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, task, NULL);
+            color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, task, NULL);
         } else {
             shade_surface s = {
                 .P = t[i].position,
@@ -1277,9 +1292,14 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             /* the samples' count only when they run, as the port records it */
             int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
             trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples, mf);
-            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, task, trace);
+            shade_env_shadow es, *env_shadow = NULL;
+            if (u->envLightShadows != 0) {
+                sl_shade_env_light_visibility(u, s.P, s.N, es.vis);
+                env_shadow = &es;
+            }
+            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, task, trace);
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
-            color = sl_shade_surface_color(u, &s, &E, &specular, task, trace);
+            color = sl_shade_surface_color(u, &s, &E, &specular, env_shadow, task, trace);
         }
         if (vector_sum) {
             cr[i] = color.x;

@@ -70,6 +70,8 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod);
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
+/* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
+void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
@@ -102,6 +104,14 @@ typedef struct {
     const sl_vec4 *cone; /* the G-buffer's visibility cone (bent normal, AO) of the pixel, or NULL
                             without ambient occlusion */
 } shade_surface;
+
+/* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's
+ * visibility (sl_shade_env_light_visibility; 0 past the count), and the batched path's specular
+ * sum over the lights, each times its visibility. */
+typedef struct {
+    float vis[SL_ENV_LIGHTS_MAX];
+    vec3 specular;
+} shade_env_shadow;
 
 /* The visibility cone of pixel (x, y): NULL without the plane (sl_gbuffer.cone). */
 static inline const sl_vec4 *shade_cone(const sl_gbuffer *gb, int x, int y)
@@ -144,9 +154,11 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
  * the whole span (sl_irradiance_eval_span: the same bits).
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
- * the batched path passes the value of that whole term, computed by its own loops. */
+ * the batched path passes the value of that whole term, computed by its own loops, the env
+ * lights left out of it when their shadow maps are on (env_shadow then holds them).
+ * `env_shadow` (uniforms' envLightShadows only; NULL: the port looks the visibilities up). */
 vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E, const vec3 *specular,
-                         sl_lighting_task *task, sl_lighting_trace *trace);
+                         const shade_env_shadow *env_shadow, sl_lighting_task *task, sl_lighting_trace *trace);
 
 /* The end of main(): a NaN or Inf becomes 0 (counted, and traced). */
 vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace);

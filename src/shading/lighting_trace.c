@@ -24,6 +24,15 @@ bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb
         for (int i = 0; i < u->uLightCount; i++)
             trace->light_visibility[i] = sl_shadow_point_visibility(u->shadowMaps, i, trace->texel.position, trace->N);
     }
+    if (u->envLightShadows != 0 && trace->covered && !trace->program) {
+        const sl_shadow_suns *m = u->envShadowMaps;
+        trace->env_shadow_lights = u->uEnvLightCount;
+        for (int j = 0; j < u->uEnvLightCount; j++) {
+            int k = m->env_light_sun[j];
+            trace->env_light_map[j] = (signed char)k;
+            trace->env_light_visibility[j] = sl_shadow_sun_visibility(m, k, trace->texel.position, trace->N);
+        }
+    }
     return true;
 }
 
@@ -183,6 +192,15 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  %-12s (%.6g, %.6g, %.6g): the exact part from %d env lights (in specular; the samples read the residual)\n",
                 "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
                 t->env_light_count);
+    for (int j = 0; j < t->env_shadow_lights; j++) {
+        char name[32];
+        snprintf(name, sizeof name, "env light %d", j);
+        if (t->env_light_map[j] < 0)
+            fprintf(f, "  %-12s no shadow map (outside the mapped clusters): visibility 1\n", name);
+        else
+            fprintf(f, "  %-12s shadow map %d: visibility %.4g\n", name, t->env_light_map[j],
+                    (double)t->env_light_visibility[j]);
+    }
     if (t->extra && !t->cone)
         fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);
     if (t->cone) { /* the ambient occlusion's cone (--ao-radius): each term its own factor */

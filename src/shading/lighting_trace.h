@@ -72,6 +72,10 @@ struct sl_lighting_trace {
     int shadow_lights;       /* with shadow maps (uniforms' shadowMaps): uLightCount, else 0 */
     float light_visibility[SL_LIGHTING_MAX_LIGHTS]; /* ... each light's visibility from the point
                                 (src/shadow), which light[i] includes */
+    int env_shadow_lights;   /* with the env lights' maps (uniforms' envLightShadows): uEnvLightCount */
+    signed char env_light_map[SL_ENV_LIGHTS_MAX];  /* ... each env light's map (-1: none, open) */
+    float env_light_visibility[SL_ENV_LIGHTS_MAX]; /* ... and its visibility from the point, which
+                                the env lights' specular and their part of the diffuse include */
     float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
     vec3 emissive;           /* added last */
     bool cone;               /* the G-buffer has the ambient occlusion's cone (--ao-radius): */

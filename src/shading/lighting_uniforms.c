@@ -189,6 +189,11 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     sl_env_gather_init(&u->residualGather, u->uEnvResidual);
     u->program = desc->program;
     u->shadowMaps = desc->shadows;
+    u->envShadowMaps = u->uEnvLightCount > 0 && desc->env_shadows && desc->env_shadows->count > 0 &&
+                               desc->env_shadows->env_light_count == u->uEnvLightCount
+                           ? desc->env_shadows
+                           : NULL;
+    u->envLightShadows = u->envShadowMaps ? 1 : 0;
     sl_lighting_frame_uniforms *f = &u->frame;
     f->eye = u->uEye;
     f->inv_view_proj = u->uInvViewProj;

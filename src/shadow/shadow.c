@@ -1,6 +1,6 @@
-/* shadow.c - the point lights' cube shadow maps: drawn with the tiled rasterizer and a
- * depth-only program, read with a slope-scaled, normal-offset, percentage-closer lookup
- * (shadow.h says what and why). */
+/* shadow.c - the point lights' cube shadow maps and the env lights' orthographic ones: drawn
+ * with the tiled rasterizer and a depth-only program, read with a slope-scaled, normal-offset,
+ * percentage-closer lookup (shadow.h says what and why). */
 #include "shadow.h"
 
 #include <float.h>
@@ -51,6 +51,32 @@ static const sl_program shadow_program = {
     .fragment = shadow_frag,
     .varying_count = 0,
     .fragment_span = shadow_frag_span,
+    .writes_depth = true,
+};
+
+/* The orthographic maps' program: the window depth, linear in the depth along the map's axis
+ * (an orthographic projection), kept in both fields. */
+static void sun_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    (void)uniforms;
+    shadow_texel *t = texel;
+    t->depth = t->view = in->frag_coord.z;
+}
+
+static void sun_frag_span(const void *uniforms, const sl_fragment_span *span)
+{
+    (void)uniforms;
+    for (int j = 0; j < span->n; j++) {
+        shadow_texel *t = (shadow_texel *)(void *)(span->row + (size_t)span->x[j] * span->texel_size);
+        t->depth = t->view = span->frag_z[j];
+    }
+}
+
+static const sl_program sun_program = {
+    .vertex = shadow_vert,
+    .fragment = sun_frag,
+    .varying_count = 0,
+    .fragment_span = sun_frag_span,
     .writes_depth = true,
 };
 
@@ -192,6 +218,7 @@ void sl_shadow_free(sl_shadow_maps *m)
     for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
         for (int f = 0; f < 6; f++)
             free(m->cubes[i].depth[f]);
+
     memset(m, 0, sizeof *m);
 }
 
@@ -262,6 +289,219 @@ float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
              * texel's +inf gives -inf); a ray that never meets the plane (its horizon) is open */
             bool open = nd > -1e-6f || (row[x] * (1.0f + SHADOW_DEPTH_REL) + bias) * nd <= nq;
             rv += open ? wx[a] : 0.0f;
+        }
+        vis += rv * wy[b];
+    }
+    return fminf(vis, 1.0f);
+}
+
+/* ---- the env lights' orthographic maps ---- */
+
+/* Rec. 709 luminance: a light's power for the cluster's weighted direction */
+static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/* Greedy clusters, brightest light first (env_lights.h keeps them sorted): a light joins the
+ * first cluster whose seed is within SL_SHADOW_SUN_CLUSTER_DEG, else seeds one while there is
+ * room, else stays unmapped. Directions in world space. */
+static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_lights *lights)
+{
+    const float cos_max = cosf(radians(SL_SHADOW_SUN_CLUSTER_DEG));
+    int seed[SL_SHADOW_SUN_MAX];
+    vec3 sum[SL_SHADOW_SUN_MAX];
+    m->count = 0;
+    m->env_light_count = lights->count;
+    for (int j = 0; j < lights->count; j++) {
+        int c = -1;
+        m->env_light_sun[j] = -1;
+        if (!(luminance(lights->radiance[j]) > 0.0f))
+            continue; /* a black light (more asked than lit texels) adds nothing: no map */
+        for (int k = 0; k < m->count && c < 0; k++)
+            if (dot(world[seed[k]], world[j]) >= cos_max)
+                c = k;
+        if (c < 0 && m->count < SL_SHADOW_SUN_MAX) {
+            c = m->count++;
+            seed[c] = j;
+            sum[c] = vec3s(0.0f);
+            m->maps[c].lights = 0;
+        }
+        m->env_light_sun[j] = (signed char)c;
+        if (c < 0)
+            continue;
+        sum[c] = add(sum[c], scale(world[j], luminance(lights->radiance[j])));
+        m->maps[c].lights++;
+    }
+    for (int c = 0; c < m->count; c++) {
+        sl_shadow_sun *sun = &m->maps[c];
+        float len = length(sum[c]);
+        sun->dir = len > 0.0f ? scale(sum[c], 1.0f / len) : world[seed[c]];
+        float cos_min = 1.0f;
+        for (int j = 0; j < lights->count; j++)
+            if (m->env_light_sun[j] == c)
+                cos_min = fminf(cos_min, dot(world[j], sun->dir));
+        cos_min = clamp(cos_min, -1.0f, 1.0f);
+        sun->spread = sqrtf(fmaxf(1.0f - cos_min * cos_min, 0.0f)) / fmaxf(cos_min, 1e-6f);
+    }
+}
+
+/* The map's frame and box: the scene's bounds in light space, a texel wider on each side so the
+ * filter's taps at the edge read drawn texels, and a share deeper so nothing meets near or far. */
+static void sun_frame(sl_shadow_sun *sun, vec3 lo, vec3 hi)
+{
+    vec3 a = scale(sun->dir, -1.0f);
+    vec3 up0 = fabsf(a.z) > 0.99f ? vec3(0, 1, 0) : vec3(0, 0, 1);
+    sun->axis = a;
+    sun->right = normalize(cross(a, up0));
+    sun->up = cross(sun->right, a);
+    float mn[3] = {INFINITY, INFINITY, INFINITY}, mx[3] = {-INFINITY, -INFINITY, -INFINITY};
+    for (int k = 0; k < 8; k++) {
+        vec3 corner = vec3(k & 1 ? hi.x : lo.x, k & 2 ? hi.y : lo.y, k & 4 ? hi.z : lo.z);
+        float v[3] = {dot(corner, sun->right), dot(corner, sun->up), dot(corner, a)};
+        for (int i = 0; i < 3; i++) {
+            mn[i] = fminf(mn[i], v[i]);
+            mx[i] = fmaxf(mx[i], v[i]);
+        }
+    }
+    float size = (float)SL_SHADOW_SUN_SIZE;
+    float ex = fmaxf(mx[0] - mn[0], 1e-4f), ey = fmaxf(mx[1] - mn[1], 1e-4f), ez = fmaxf(mx[2] - mn[2], 1e-4f);
+    float px = 2.0f * ex / size, py = 2.0f * ey / size, pz = 0.01f * ez + 1e-4f;
+    sun->x0 = mn[0] - px;
+    sun->y0 = mn[1] - py;
+    sun->z0 = mn[2] - pz;
+    sun->sx = ex + 2.0f * px;
+    sun->sy = ey + 2.0f * py;
+    sun->sz = ez + 2.0f * pz;
+    sun->texel = fmaxf(sun->sx, sun->sy) / size;
+}
+
+/* world -> clip: x, y and the depth along the axis mapped linearly onto [-1, 1] (column-major) */
+static mat4 sun_view_proj(const sl_shadow_sun *sun)
+{
+    float kx = 2.0f / sun->sx, ky = 2.0f / sun->sy, kz = 2.0f / sun->sz;
+    vec3 r = scale(sun->right, kx), u = scale(sun->up, ky), a = scale(sun->axis, kz);
+    return (mat4){{{r.x, u.x, a.x, 0}, {r.y, u.y, a.y, 0}, {r.z, u.z, a.z, 0},
+                   {-sun->x0 * kx - 1.0f, -sun->y0 * ky - 1.0f, -sun->z0 * kz - 1.0f, 1}}};
+}
+
+bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
+                          float env_rotation_deg, sl_error *err)
+{
+    m->count = 0;
+    m->env_light_count = 0;
+    if (!lights || lights->count < 1)
+        return true;
+    /* environment -> world: the transpose of the lighting's world -> environment rotation
+     * (lighting_uniforms.c uEnvRotation), a turn by +rotation about +Z */
+    float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
+    vec3 world[SL_ENV_LIGHTS_MAX];
+    for (int j = 0; j < lights->count; j++) {
+        vec3 e = lights->dir[j];
+        world[j] = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
+    }
+    cluster_lights(m, world, lights);
+    vec3 lo, hi;
+    bool geometry = sl_scene_bounds(scene, &lo, &hi);
+    const size_t n = (size_t)SL_SHADOW_SUN_SIZE * (size_t)SL_SHADOW_SUN_SIZE;
+    int objects = scene->object_count > 0 ? scene->object_count : 1;
+    sl_draw *draws = malloc((size_t)objects * sizeof *draws);
+    mat4 *mvp = malloc((size_t)objects * sizeof *mvp);
+    shadow_texel *texels = geometry ? malloc(n * sizeof *texels) : NULL;
+    bool ok = draws && mvp && (texels || !geometry);
+    if (!ok)
+        sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for a %dx%d env-light map", SL_SHADOW_SUN_SIZE,
+                SL_SHADOW_SUN_SIZE);
+    for (int k = 0; ok && k < m->count; k++) {
+        sl_shadow_sun *sun = &m->maps[k];
+        if (!sun->depth && !(sun->depth = malloc(n * sizeof(float)))) {
+            ok = sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for env-light map %d", k);
+            break;
+        }
+        if (!geometry) { /* nothing casts */
+            sun_frame(sun, vec3s(0.0f), vec3s(0.0f));
+            for (size_t t = 0; t < n; t++)
+                sun->depth[t] = INFINITY;
+            continue;
+        }
+        sun_frame(sun, lo, hi);
+        mat4 vp = sun_view_proj(sun);
+        const shadow_texel clear = {1.0f, INFINITY};
+        sl_target target = {.width = SL_SHADOW_SUN_SIZE, .height = SL_SHADOW_SUN_SIZE,
+                            .texel_size = sizeof(shadow_texel), .texels = texels,
+                            .depth_offset = (long)offsetof(shadow_texel, depth)};
+        int count = 0;
+        for (int o = 0; o < scene->object_count; o++) {
+            const sl_object *obj = &scene->objects[o];
+            const sl_mesh *mesh = &scene->meshes[obj->mesh];
+            if (mesh->triangle_count == 0)
+                continue;
+            mvp[count] = mat4_mul(vp, obj->model);
+            draws[count] = (sl_draw){.program = &sun_program, .vs_uniforms = &mvp[count], .mesh = mesh,
+                                     .cull = SL_CULL_NONE, .clear = count == 0 ? &clear : NULL};
+            count++;
+        }
+        if (count > 0 && !sl_raster_draw_list(r, &target, draws, count, err)) {
+            ok = false;
+            break;
+        }
+        /* window depth -> depth along the axis; the clear's +inf stays */
+        for (size_t t = 0; t < n; t++)
+            sun->depth[t] = count > 0 ? sun->z0 + texels[t].view * sun->sz : INFINITY;
+    }
+    free(draws);
+    free(mvp);
+    free(texels);
+    if (!ok)
+        m->count = 0;
+    return ok;
+}
+
+void sl_shadow_suns_free(sl_shadow_suns *m)
+{
+    for (int k = 0; k < SL_SHADOW_SUN_MAX; k++)
+        free(m->maps[k].depth);
+    memset(m, 0, sizeof *m);
+}
+
+float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
+{
+    if (s < 0 || s >= m->count)
+        return 1.0f;
+    const sl_shadow_sun *sun = &m->maps[s];
+    /* every tap's ray runs along the axis: N.axis >= 0 faces away from the lights (they add
+     * nothing there) or grazes them (the plane is never met) */
+    float na = dot(N, sun->axis);
+    if (!(na < -1e-6f))
+        return 1.0f;
+    const float size = (float)SL_SHADOW_SUN_SIZE;
+    vec3 q = add(P, scale(N, sun->texel * SHADOW_NORMAL_OFFSET));
+    float xq = dot(q, sun->right), yq = dot(q, sun->up), zq = dot(q, sun->axis);
+    float stepx = sun->sx / size, stepy = sun->sy / size; /* world units per texel */
+    /* texel coordinates, texel centres at integers */
+    float ux = (xq - sun->x0) / stepx - 0.5f, uy = (yq - sun->y0) / stepy - 0.5f;
+    float fx = floorf(ux), fy = floorf(uy);
+    if (!(fabsf(fx) < 1e6f && fabsf(fy) < 1e6f))
+        return 1.0f; /* non-finite or far off the map: nothing there casts */
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = (int)fx - 1, y0 = (int)fy - 1;
+    /* the receiver's plane (through q, normal N) at the tap's lateral offset (dx, dy) from q lies
+     * at depth zq - (N.right dx + N.up dy) / N.axis: each tap is compared with the receiver's own
+     * depth under it, so a tilted plane needs no slope-sized bias (the cube maps' rule) */
+    float gx = -dot(N, sun->right) / na, gy = -dot(N, sun->up) / na;
+    float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
+    const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
+    const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};
+    const int last = SL_SHADOW_SUN_SIZE - 1;
+    float vis = 0.0f;
+    for (int b = 0; b < 4; b++) {
+        int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
+        const float *row = sun->depth + (size_t)y * (size_t)SL_SHADOW_SUN_SIZE;
+        float dy = ((float)(y0 + b) + 0.5f) * stepy + sun->y0 - yq;
+        float rv = 0.0f;
+        for (int a = 0; a < 4; a++) {
+            int x = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
+            float dx = ((float)(x0 + a) + 0.5f) * stepx + sun->x0 - xq;
+            float receiver = zq + gx * dx + gy * dy;
+            /* open when the stored depth, less the bias, is beyond the receiver's (+inf: empty) */
+            rv += row[x] + bias >= receiver ? wx[a] : 0.0f;
         }
         vis += rv * wy[b];
     }

@@ -16,11 +16,27 @@
  * receiver's plane (the slope-scaled bias, exact per tap), less a constant bias of one texel.
  * docs/lighting.md "Shadow maps" says why these and measures them.
  *
- * Consumes: the scene's objects (every mesh, opaque: alpha masks are not read) and light
- * positions. Produces: per light, its visibility in [0, 1] at a world point. A light that does
- * not cast is fully visible. Does not: soften with the light's size (point lights have none),
- * shadow the environment (its directions, the env lights included, cast nothing), or draw
- * masked texels as holes. */
+ * The env lights (src/ibl/env_lights.h: the environment's brightest texels, summed exactly) cast
+ * through orthographic maps. A sun spans a few adjacent texels, so the lights are clustered by
+ * direction, brightest first: a light within SL_SHADOW_SUN_CLUSTER_DEG of a cluster's first
+ * (brightest) light joins it, another starts a cluster while there are fewer than
+ * SL_SHADOW_SUN_MAX. Each cluster gets one map of SL_SHADOW_SUN_SIZE texels a side, drawn along
+ * its power-weighted mean direction (the environment's rotation applied: world space) over the
+ * scene's bounds in light space, so the whole scene is in it. A texel holds the depth along the
+ * map's axis. Lights outside the mapped clusters stay unshadowed (visibility 1).
+ *
+ * Lookup (sl_shadow_sun_visibility): the same normal offset, per-tap receiver plane and constant
+ * bias as the cube maps, in the map's texels, and the same 3-texel box of bilinear comparisons.
+ * The filter is not widened by the cluster's angular spread: a sun of a few lat-long texels
+ * (city.hdr's: under a degree) makes a penumbra under a texel wide for occluders a few units
+ * above the receiver.
+ *
+ * Consumes: the scene's objects (every mesh, opaque: alpha masks are not read), light positions
+ * and the env lights' directions. Produces: per light, its visibility in [0, 1] at a world
+ * point. A light that does not cast is fully visible. Does not: soften a point light with its
+ * size (point lights have none), shadow the environment's residual (the irradiance and the
+ * samples see every direction open: the ambient occlusion's job, src/occlusion), or draw masked
+ * texels as holes. */
 #ifndef SL_SHADOW_H
 #define SL_SHADOW_H
 
@@ -28,6 +44,7 @@
 
 #include "core/error.h"
 #include "core/options.h"
+#include "ibl/env_lights.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 
@@ -41,6 +58,22 @@ typedef struct {
                               bottom; +inf where nothing was drawn */
 } sl_shadow_cube;
 
+#define SL_SHADOW_SUN_MAX 4            /* the most env-light clusters that get a map */
+#define SL_SHADOW_SUN_SIZE 2048        /* texels along an env-light map's side */
+#define SL_SHADOW_SUN_CLUSTER_DEG 5.0f /* a light this close to a cluster's brightest joins it */
+
+/* One cluster's orthographic map: x = right . P, y = up . P, depth = axis . P (axis = -dir). */
+typedef struct {
+    vec3 dir;              /* world, towards the lights: their power-weighted mean */
+    vec3 axis, right, up;  /* the map's frame: the direction it looks, its x and y */
+    float x0, y0, z0;      /* the box's lowest corner in the frame */
+    float sx, sy, sz;      /* its extent along right, up and axis */
+    float texel;           /* the larger of a texel's two sides, world units */
+    float spread;          /* tangent of the largest angle between a light and dir (report) */
+    int lights;            /* env lights in the cluster */
+    float *depth;          /* SL_SHADOW_SUN_SIZE^2 depths along axis, row 0 = low y; +inf empty */
+} sl_shadow_sun;
+
 typedef struct {
     int side;              /* SL_SHADOW_CUBE_SIZE + 2 SL_SHADOW_GUARD */
     float proj;            /* a face's projection scale: NDC x = proj * (right . d) / (axis . d) */
@@ -49,10 +82,25 @@ typedef struct {
     sl_shadow_cube cubes[SL_LIGHTING_MAX_LIGHTS];
 } sl_shadow_maps;
 
+/* The env lights' maps: one per cluster. */
+typedef struct {
+    int count;             /* maps, 0 .. SL_SHADOW_SUN_MAX */
+    sl_shadow_sun maps[SL_SHADOW_SUN_MAX];
+    int env_light_count;   /* the env lights the clusters were made from */
+    signed char env_light_sun[SL_ENV_LIGHTS_MAX]; /* each env light's map, -1: none (unshadowed) */
+} sl_shadow_suns;
+
 /* Draw the cube maps of the scene's point lights that cast: light i casts when `all` is set or
  * its "shadow" key is. `maps` is zeroed on entry or holds maps of an earlier call (reused); the
  * faces are drawn by r, on its threads. False (and err) on no memory. */
 bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, bool all, sl_error *err);
+/* Cluster the env lights (environment space, rotated by env_rotation_deg about +Z into the
+ * world as the lighting does) and draw a map per cluster, up to SL_SHADOW_SUN_MAX, on r's
+ * threads; lights == NULL or without any leaves no map. `suns` is zeroed on entry or holds maps
+ * of an earlier call (reused). False (and err) on no memory. */
+bool sl_shadow_suns_build(sl_shadow_suns *suns, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
+                          float env_rotation_deg, sl_error *err);
+void sl_shadow_suns_free(sl_shadow_suns *suns);
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
 void sl_shadow_free(sl_shadow_maps *maps);
@@ -64,5 +112,8 @@ bool sl_shadow_face_view_proj(const sl_scene *scene, vec3 L, int f, mat4 *vp);
 /* Visibility of point light i from world point P with unit normal N facing the light's side:
  * 1 lit, 0 shadowed, between on a filtered edge; 1 for a light without a map. */
 float sl_shadow_point_visibility(const sl_shadow_maps *maps, int i, vec3 P, vec3 N);
+/* Visibility of env-light map s (0 .. count - 1) from world point P with unit normal N: 1
+ * lit, 0 shadowed; 1 for a normal facing away from the lights (they add nothing there). */
+float sl_shadow_sun_visibility(const sl_shadow_suns *suns, int s, vec3 P, vec3 N);
 
 #endif

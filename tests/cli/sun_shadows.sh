@@ -1,0 +1,139 @@
+#!/usr/bin/env bash
+# sun_shadows.sh BUILD_DIR - the env lights' orthographic shadow maps (--shadows with
+# --env-lights; docs/lighting.md "Shadow maps") under a made environment: a black sky and a sun
+# of two texels, so that the env lights hold all of its light. Without env lights --shadows
+# changes nothing; a floor alone under a high sun and a grazing one (3 degrees) stays fully lit
+# (no acne); the shadows of a floating slab and of a box standing on the floor (no gap at its
+# foot: no peter-panning) fall where the visibility-aware truth (`softlight truth --visibility`,
+# Embree) puts them, with the environment turned, in the default path, the port (--plain) and
+# the microfacet estimator; `softlight trace` prints each env light's visibility; softlight-gl
+# refuses the maps it cannot draw. Without Embree the truth comparisons are left out.
+set -u
+. "$(dirname "$0")/lib.bash"
+cli_init sun_shadows "$1"
+GL=${1}/softlight-gl
+S=160x90
+export PYTHONPATH="$(dirname "$0")"
+
+# sky NAME ELEVATION AZIMUTH: a 64x32 lat-long PFM, black but for a sun of two adjacent texels
+# at that direction (degrees), radiance 3000
+sky() {
+    python3 - "$T/$1.pfm" "$2" "$3" <<'PY'
+import math, struct, sys
+path, el, az = sys.argv[1], math.radians(float(sys.argv[2])), math.radians(float(sys.argv[3]))
+W, H = 64, 32
+d = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
+u = (0.5 - math.atan2(d[1], d[0]) / (2 * math.pi)) % 1.0   # docs/conventions.md
+v = math.acos(d[2]) / math.pi
+i, j = int(u * W), int(v * H)                               # row j from the top
+img = [[(0.0, 0.0, 0.0)] * W for _ in range(H)]
+for di in (0, 1):
+    img[j][(i + di) % W] = (3000.0, 3000.0, 3000.0)
+with open(path, "wb") as f:
+    f.write(b"PF\n%d %d\n-1.0\n" % (W, H))
+    for row in reversed(img):                               # PFM: bottom row first
+        for p in row:
+            f.write(struct.pack("<3f", *p))
+PY
+}
+
+# scene NAME SKY ROTATION OBJECTS...: a 4x4 floor seen from above at an angle under sky SKY
+scene() {
+    local name=$1 sky=$2 rot=$3; shift 3
+    local objects=""
+    for o in "$@"; do objects="$objects, $o"; done
+    cat >"$T/$name.json" <<JSON
+{"camera": {"eye": [0, -3.5, 3.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
+ "environment": {"hdr": "$T/$sky.pfm", "rotation": $rot},
+ "materials": {"m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
+ "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [2, 2, 1]}}$objects]}
+JSON
+}
+
+# off: --shadows without env lights changes nothing
+sky high 60 40
+scene plane-high high 0
+"$SL" render "$T/plane-high.json" --size $S -q --pfm "$T/o0.pfm"
+"$SL" render "$T/plane-high.json" --size $S -q --shadows --pfm "$T/o1.pfm"
+cmp -s "$T/o0.pfm" "$T/o1.pfm" && ok "no env lights: --shadows gives the same bytes" || bad "no env lights: --shadows changed the image"
+
+# ratio A.pfm B.pfm: the smallest and largest ratio A/B (green) over pixels B lights
+ratio() {
+    python3 - "$1" "$2" <<'PY'
+import sys
+from pfm import read_pfm
+_, _, _, a = read_pfm(sys.argv[1]); _, _, _, b = read_pfm(sys.argv[2])
+r = [a[i] / b[i] for i in range(1, len(b), 3) if b[i] > 1e-3]
+print(f"{min(r):.4f} {max(r):.4f} {len(r)}")
+PY
+}
+
+# no acne: the floor, under a high sun and a grazing one, stays lit as without maps; a box hidden
+# under it deepens the scene's bounds, so the map's texels are coarse against the floor's slope
+sky graze 3 40
+scene plane-graze graze 0 '{"shape": "box", "material": "m", "transform": {"translate": [0, 0, -2], "scale": 0.5}}'
+for s in high graze; do
+    "$SL" render "$T/plane-$s.json" --size $S -q --env-lights 4 --pfm "$T/p-b.pfm"
+    "$SL" render "$T/plane-$s.json" --size $S -q --env-lights 4 --shadows --pfm "$T/p-s.pfm"
+    read -r lo hi n <<<"$(ratio "$T/p-s.pfm" "$T/p-b.pfm")"
+    python3 -c "import sys; sys.exit(0 if $n > 5000 and $lo > 0.99 and $hi < 1.01 else 1)" &&
+        ok "floor, sun $s: fully lit ($n pixels, shadowed / unshadowed in [$lo, $hi])" ||
+        bad "floor, sun $s: shadowed / unshadowed in [$lo, $hi] over $n pixels, want [0.99, 1.01]"
+done
+
+# softlight-gl refuses the env lights' maps
+if [ -x "$GL" ] && "$GL" render "$T/plane-high.json" --size 16x9 --pfm "$T/g.pfm" >/dev/null 2>&1; then
+    expect_error "softlight-gl with --shadows --env-lights" "shadow maps of the env lights .* have no GL pass" -- \
+        "$GL" render "$T/plane-high.json" --size 16x9 --env-lights 4 --shadows --pfm "$T/g.pfm"
+fi
+
+# a slab floating over the floor and a box standing on it, the sky turned by 30 degrees
+sky mid 40 30
+scene occ mid 30 '{"shape": "box", "material": "m", "transform": {"translate": [0.3, 0.1, 0.7], "scale": [0.3, 0.3, 0.05]}}' \
+    '{"shape": "box", "material": "m", "transform": {"translate": [-0.7, -0.5, 0.25], "scale": 0.25}}'
+if ! "$SL" truth "$T/occ.json" --size 2x2 --visibility --pfm "$T/probe.pfm" >/dev/null 2>&1; then
+    cli_done "sun_shadows (a build without Embree: no truth comparisons)"
+    exit
+fi
+"$SL" truth "$T/occ.json" --size $S --visibility --vis-level 0 --pfm "$T/t.pfm" >/dev/null 2>&1
+"$SL" render "$T/occ.json" --size $S -q --env-lights 4 --pfm "$T/b.pfm"
+for mode in "" "--plain" "--estimator mf"; do
+    # shellcheck disable=SC2086
+    "$SL" render "$T/occ.json" --size $S -q --env-lights 4 --shadows $mode --pfm "$T/s.pfm"
+    python3 - "$T/t.pfm" "$T/s.pfm" "$T/b.pfm" >"$T/cmp.txt" <<'PY' && ok "${mode:-default path}: $(head -1 "$T/cmp.txt")" || bad "${mode:-default path}: $(head -1 "$T/cmp.txt")"
+import sys
+from pfm import read_pfm
+w, h, _, t = read_pfm(sys.argv[1]); _, _, _, s = read_pfm(sys.argv[2]); _, _, _, b = read_pfm(sys.argv[3])
+t, s, b = t[1::3], s[1::3], b[1::3]  # green
+lit = [i for i in range(w * h) if b[i] > 1e-3]
+shadowed = lambda img, i: img[i] < 0.5 * b[i]
+in_truth = [i for i in lit if shadowed(t, i)]
+# the sun's two texels, 4 degrees apart, share one map (one shadow along their mean direction)
+# where the truth casts two: along each edge it has half the light where the map has all or
+# none, so a disagreement is a difference of more than half the light
+disagree = sum(abs(t[i] - s[i]) > 0.55 * b[i] for i in lit)
+l1 = sum(abs(t[i] - s[i]) for i in lit) / sum(t[i] for i in lit)
+l1_blind = sum(abs(t[i] - b[i]) for i in lit) / sum(t[i] for i in lit)
+print(f"{len(in_truth)} of {len(lit)} pixels in the truth's shadows, {disagree} off by more than half; "
+      f"relative L1 {l1:.4f} (without shadows {l1_blind:.4f})")
+# a pixel deep in the shadows and one in the open, image rows from the top, for the trace
+deep = min(in_truth, key=lambda i: t[i] / b[i])
+open_ = max((i for i in lit if not shadowed(t, i)), key=lambda i: t[i] / b[i])
+for i in (deep, open_):
+    print(f"{i % w},{h - 1 - i // w}")
+sys.exit(0 if len(in_truth) > 300 and disagree <= 0.03 * len(in_truth) and l1 < 0.15 * l1_blind else 1)
+PY
+done
+
+# trace: each env light's visibility, 0 in the shadow and 1 in the open (no line without maps)
+for pair in "$(sed -n 2p "$T/cmp.txt") 0" "$(sed -n 3p "$T/cmp.txt") 1"; do
+    read -r px want <<<"$pair"
+    lines=$("$SL" trace "$T/occ.json" --size $S --env-lights 4 --shadows --pixel "$px" | grep "^  env light [0-9]")
+    vis=$(echo "$lines" | grep -c "visibility $want\$")
+    [ "$vis" -ge 2 ] && ok "trace at $px: $vis env lights with visibility $want" ||
+        bad "trace at $px: want visibility $want:"$'\n'"$lines"
+done
+"$SL" trace "$T/occ.json" --size $S --env-lights 4 --pixel 80,60 | grep -q "^  env light [0-9]" &&
+    bad "trace without --shadows prints env lights' visibility"
+
+cli_done sun_shadows
