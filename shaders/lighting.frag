@@ -80,6 +80,15 @@
 //                                  SHADOW_GUARD texels a side, row 0 at the bottom, the view
 //                                  depth along the face's axis (+inf: nothing drawn); texelFetch
 //   int   uShadowCubeLayer[16]     light i's first layer, -1: light i casts no shadow
+//   sampler2DArray uShadowSuns     the env lights' orthographic maps: R32F, layer k map k,
+//                                  SHADOW_SUN_SIZE texels a side, row 0 at low y, the depth
+//                                  along the map's axis (+inf: nothing drawn); texelFetch
+//   int   uShadowSunCount          maps, 0 .. 4 (0: no env light casts)
+//   vec3  uShadowSunAxis[4], uShadowSunRight[4], uShadowSunUp[4]   map k's frame (world)
+//   vec4  uShadowSunBox[4]         x0, y0 (its box's lowest corner along right, up), sx, sy
+//                                  (its extent along them), world units
+//   vec2  uShadowSunDepth[4]       sz (the box's extent along the axis), the texel's larger side
+//   int   uEnvLightSun[64]         env light j's map, -1: none (never shadowed)
 // Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
 // compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
@@ -171,6 +180,15 @@ uniform vec3 uLightColor[MAX_LIGHTS];
 uniform float uLightIntensity[MAX_LIGHTS];
 uniform sampler2DArray uShadowCubes;
 uniform int uShadowCubeLayer[MAX_LIGHTS];
+const int SHADOW_SUN_MAX = 4;
+uniform sampler2DArray uShadowSuns;
+uniform int uShadowSunCount;
+uniform vec3 uShadowSunAxis[SHADOW_SUN_MAX];
+uniform vec3 uShadowSunRight[SHADOW_SUN_MAX];
+uniform vec3 uShadowSunUp[SHADOW_SUN_MAX];
+uniform vec4 uShadowSunBox[SHADOW_SUN_MAX];
+uniform vec2 uShadowSunDepth[SHADOW_SUN_MAX];
+uniform int uEnvLightSun[MAX_ENV_LIGHTS];
 
 uniform sampler2D uEnvDist;
 uniform sampler2D uEnvDistMarginal;
@@ -210,11 +228,12 @@ uniform int uSpecular;
 uniform int uPointLights;
 uniform int uRotate;
 // The scene's features: which microfacet sets its G-buffer holds, whether it has env lights,
-// whether a point light has a cube shadow map.
+// whether a point light has a cube shadow map, whether an env light has an orthographic one.
 #define SL_PHONG 1
 #define SL_GGX 1
 #define SL_ENV_LIGHTS 1
 #define SL_SHADOW_CUBES 1
+#define SL_SHADOW_SUNS 1
 #endif
 
 layout(location = 0) out vec4 fragColor;
@@ -257,6 +276,8 @@ const int SHADOW_GUARD = 3;             // texels of guard band on each side
 const float SHADOW_BIAS_CONST = 1.0;    // bias beyond the receiver plane, in texel footprints
 const float SHADOW_DEPTH_REL = 2e-4;    // and a share of the stored depth
 const float SHADOW_NORMAL_OFFSET = 1.0; // the receiver moved along its normal, in texels
+// The env lights' orthographic maps read the same three, in their own texels:
+const int SHADOW_SUN_SIZE = 2048;       // texels along a map's side
 
 // The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
 // GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
@@ -961,7 +982,9 @@ vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
 // the node weight), so this is the ground truth's sum over those texels: the BRDF (2) at w,
 // times w.N; 0 below the horizon and for facets facing away (N.H <= 0). Environment space.
-vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha)
+// shadowed: each light times vis[j], its visibility in its shadow map (env_light_visibility);
+// otherwise vis is not read.
+vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, float vis[MAX_ENV_LIGHTS])
 {
     vec3 sum = vec3(0.0);
     for (int j = 0; j < uEnvLightCount; j++) {
@@ -976,9 +999,85 @@ vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha)
         float LdotH = dot(w, H);
         float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, uGTerm);
         vec3 f = sl_brdf_F(Ks, LdotH) * (sl_lobe_D(NdotH, alpha) * G / 4.0);
-        sum = sum + f * uEnvLightRadiance[j].rgb * wN;
+        float v = shadowed ? vis[j] : 1.0; // x 1 is exact: without maps, the same bits
+        sum = sum + f * uEnvLightRadiance[j].rgb * (wN * v);
     }
     return sum * uEnvIntensity;
+}
+
+// Visibility of env-light map s from world point P with unit normal N (the twin of
+// sl_shadow_sun_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit, 0
+// shadowed, 1 for a normal facing away from the lights; the receiver moved along N by one
+// texel, then the cube maps' 3-texel box of bilinear comparisons, each tap against the
+// receiver plane's depth under it less a constant bias.
+float shadow_sun_visibility(int s, vec3 P, vec3 N)
+{
+    if (s < 0 || s >= uShadowSunCount)
+        return 1.0;
+    vec3 axis = uShadowSunAxis[s], right = uShadowSunRight[s], up = uShadowSunUp[s];
+    vec4 box = uShadowSunBox[s]; // x0, y0, sx, sy
+    float sz = uShadowSunDepth[s].x, texel = uShadowSunDepth[s].y;
+    float na = dot(N, axis);
+    if (!(na < -1e-6))
+        return 1.0;
+    float size = float(SHADOW_SUN_SIZE);
+    vec3 q = P + N * (texel * SHADOW_NORMAL_OFFSET);
+    float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
+    float stepx = box.z / size, stepy = box.w / size;
+    float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;
+    float fx = floor(ux), fy = floor(uy);
+    if (!(abs(fx) < 1e6 && abs(fy) < 1e6))
+        return 1.0;
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = int(fx) - 1, y0 = int(fy) - 1;
+    float gx = -dot(N, right) / na, gy = -dot(N, up) / na;
+    float bias = texel * SHADOW_BIAS_CONST + sz * 1e-6;
+    float wx[4] = float[4]((1.0 - tx) / 3.0, 1.0 / 3.0, 1.0 / 3.0, tx / 3.0);
+    float wy[4] = float[4]((1.0 - ty) / 3.0, 1.0 / 3.0, 1.0 / 3.0, ty / 3.0);
+    int last = SHADOW_SUN_SIZE - 1;
+    float vis = 0.0;
+    for (int b = 0; b < 4; b++) {
+        int y = clamp(y0 + b, 0, last);
+        float dy = (float(y0 + b) + 0.5) * stepy + box.y - yq;
+        float rv = 0.0;
+        for (int a = 0; a < 4; a++) {
+            int x = clamp(x0 + a, 0, last);
+            float dx = (float(x0 + a) + 0.5) * stepx + box.x - xq;
+            float receiver = zq + gx * dx + gy * dy;
+            float stored = texelFetch(uShadowSuns, ivec3(x, y, s), 0).r;
+            rv += stored + bias >= receiver ? wx[a] : 0.0;
+        }
+        vis += rv * wy[b];
+    }
+    return min(vis, 1.0);
+}
+
+// Each env light's visibility from world point P with normal N: that of its map, 1 for a light
+// no map covers, 0 past the count. One lookup per map.
+void env_light_visibility(vec3 P, vec3 N, out float vis[MAX_ENV_LIGHTS])
+{
+    float map_vis[SHADOW_SUN_MAX];
+    for (int k = 0; k < uShadowSunCount; k++)
+        map_vis[k] = shadow_sun_visibility(k, P, N);
+    for (int j = 0; j < MAX_ENV_LIGHTS; j++) {
+        int k = j < uEnvLightCount ? uEnvLightSun[j] : -2;
+        vis[j] = k >= 0 ? map_vis[k] : k == -1 ? 1.0 : 0.0;
+    }
+}
+
+// The env lights' part of the irradiance E(N) (N in environment space): sum L_k max(N.l_k, 0)
+// over every light (all: what the irradiance holds) and times each one's visibility (seen).
+void env_lights_irradiance(vec3 N, float vis[MAX_ENV_LIGHTS], out vec3 all, out vec3 seen)
+{
+    vec3 a = vec3(0.0), s = vec3(0.0);
+    for (int j = 0; j < uEnvLightCount; j++) {
+        float c = max(dot(uEnvLightDir[j].xyz, N), 0.0);
+        vec3 L = uEnvLightRadiance[j].rgb * c;
+        a = a + L;
+        s = s + L * vis[j];
+    }
+    all = a;
+    seen = s;
 }
 
 // One point light with the full BRDF (2): f * color * intensity / d^2 * max(N.L, 0); world space.
@@ -1120,9 +1219,25 @@ void main()
         vec3 Venv = uEnvRotation * V;
         vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
         vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);
+        // With the env lights' shadow maps: each env light's visibility from P; the lights' part
+        // of the irradiance is taken out of E (clamped: a smoothing irradiance can put a sun's
+        // lobe where E is below it) and added back times the visibility, the specular's exact
+        // part is times it too; both are added after the occlusion, as the point lights are.
+        bool envShadow = SL_SHADOW_SUNS != 0 && uShadowSunCount > 0;
+        float envVis[MAX_ENV_LIGHTS];
+        vec3 envAll = vec3(0.0), shadowedLights = vec3(0.0);
+        if (envShadow) {
+            env_light_visibility(P, N, envVis);
+            if (uDiffuse != 0) {
+                vec3 seen;
+                env_lights_irradiance(Nenv, envVis, envAll, seen);
+                shadowedLights = Kd * (1.0 / PI) * seen * uEnvIntensity;
+            }
+        }
         if (uHasCone == 0) {
             if (uDiffuse != 0)
-                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity;
+                color = color + Kd * (1.0 / PI) *
+                        (envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv)) * uEnvIntensity;
             if (uSpecular != 0) {
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
@@ -1134,8 +1249,8 @@ void main()
                     color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
-                    color = color + specular_env_lights(Nenv, Venv, Ks, alpha);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
+                    color = color + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
             }
             color = color * extra.r; // occlusion: the image-based terms only
         } else {
@@ -1147,7 +1262,8 @@ void main()
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
             if (uDiffuse != 0)
-                color = color + Kd * (1.0 / PI) * irradiance(Nenv) * uEnvIntensity * extra.r;
+                color = color + Kd * (1.0 / PI) *
+                        (envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv)) * uEnvIntensity * extra.r;
             if (uSpecular != 0) {
                 vec3 spec;
                 if (uEstimator == ESTIMATOR_SPLITSUM)
@@ -1160,10 +1276,15 @@ void main()
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0)
-                    spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha);
+                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
+                    spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
                 color = color + spec * spec_occlusion;
             }
+        }
+        if (envShadow) {
+            if (uSpecular != 0)
+                shadowedLights = shadowedLights + specular_env_lights(Nenv, Venv, Ks, alpha, true, envVis);
+            color = color + shadowedLights;
         }
         if (uPointLights != 0) {
             for (int i = 0; i < uLightCount; i++)

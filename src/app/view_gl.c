@@ -120,8 +120,6 @@ static bool run(viewer *v, sl_error *err)
     if (v->env_override[0])
         return sl_fail(err, SL_ERR_RANGE, "softlight-gl lights with the scene's environment, not %s",
                        v->env_override);
-    if (v->r.desc.options.shadows && v->r.desc.lighting.env_lights > 0)
-        return sl_fail(err, SL_ERR_UNSUPPORTED, "the env lights' shadow maps have no GL pass (U turns --shadows off)");
     if (v->programs[VIEW_PROGRAM_LIGHTING] && !g->glsl)
         return sl_fail(err, SL_ERR_RANGE, "a --lighting program needs its GLSL twin: view ... --glsl FILE.frag");
     if (!v->radiance_exact && !view_refine_finish(v, err))

@@ -20,8 +20,9 @@
  * without defines instead: the general shader, every option a uniform (measurements, docs/gl.md).
  *
  * The shadow maps are GL's own (shadow_pass.c), bound beside the G-buffer; the uniforms'
- * shadowMaps (softlight's) only say which lights must have one, and a draw where the two disagree
- * fails rather than compare a shadowed C frame with an unshadowed GL one. */
+ * shadowMaps and envShadowMaps (softlight's) only say which lights must have one, and a draw
+ * where the two disagree fails rather than compare a shadowed C frame with an unshadowed GL
+ * one. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -47,7 +48,8 @@ enum {
     UNIT_ENV_DIST_MARGINAL,
     UNIT_CONE, /* the occlusion pass's visibility cone, when it ran */
     UNIT_COUNT,
-    UNIT_SHADOW_CUBES = UNIT_COUNT /* a 2D array (the point lights' shadow maps), bound on its own */
+    UNIT_SHADOW_CUBES = UNIT_COUNT, /* 2D arrays (the shadow maps), each bound on its own */
+    UNIT_SHADOW_SUNS
 };
 #define HAMMERSLEY_BINDING 1
 
@@ -184,6 +186,7 @@ static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer 
     k.phong = l->phong;
     k.ggx = l->ggx;
     k.shadow_cubes = k.point_lights && l->shadows && l->shadows->cube_count > 0;
+    k.shadow_suns = k.env_lights && l->shadows && l->shadows->sun_frames.count > 0;
     return k;
 }
 
@@ -196,9 +199,10 @@ static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GL
              "#define SL_ESTIMATOR %d\n#define SL_DIFFUSE %d\n#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
              "#define SL_ENV_LAYOUT %d\n#define SL_IRRADIANCE_METHOD %d\n#define SL_POINT_LIGHTS %d\n"
              "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d\n"
-             "#define SL_SHADOW_CUBES %d",
+             "#define SL_SHADOW_CUBES %d\n#define SL_SHADOW_SUNS %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
-             k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx, k->shadow_cubes);
+             k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx, k->shadow_cubes,
+             k->shadow_suns);
     if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", slgl_fullscreen_vert, l->user_frag,
                                                    l->general ? NULL : defines, program, err)
                      : !slgl_program_from_sources("full-screen triangle", slgl_fullscreen_vert, "lighting.frag",
@@ -387,6 +391,34 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
         none[i] = -1;
     glUniform1i(loc(p, "uShadowCubes"), UNIT_SHADOW_CUBES);
     glUniform1iv(loc(p, "uShadowCubeLayer"), SL_LIGHTING_MAX_LIGHTS, shadows ? shadows->cube_layer : none);
+    /* the env lights' maps: src/shadow's frames as they are, so the lookup's arithmetic starts
+     * from the C lookup's numbers */
+    const sl_shadow_suns *suns = shadows && u->uEnvLightCount > 0 ? &shadows->sun_frames : NULL;
+    int count = suns ? suns->count : 0;
+    glUniform1i(loc(p, "uShadowSuns"), UNIT_SHADOW_SUNS);
+    glUniform1i(loc(p, "uShadowSunCount"), count);
+    vec3 axis[SL_SHADOW_SUN_MAX], right[SL_SHADOW_SUN_MAX], up[SL_SHADOW_SUN_MAX];
+    vec4 box[SL_SHADOW_SUN_MAX];
+    vec2 depth[SL_SHADOW_SUN_MAX];
+    for (int k = 0; k < count; k++) {
+        const sl_shadow_sun *sun = &suns->maps[k];
+        axis[k] = sun->axis;
+        right[k] = sun->right;
+        up[k] = sun->up;
+        box[k] = vec4(sun->x0, sun->y0, sun->sx, sun->sy);
+        depth[k] = vec2(sun->sz, sun->texel);
+    }
+    if (count > 0) {
+        glUniform3fv(loc(p, "uShadowSunAxis"), count, &axis[0].x);
+        glUniform3fv(loc(p, "uShadowSunRight"), count, &right[0].x);
+        glUniform3fv(loc(p, "uShadowSunUp"), count, &up[0].x);
+        glUniform4fv(loc(p, "uShadowSunBox"), count, &box[0].x);
+        glUniform2fv(loc(p, "uShadowSunDepth"), count, &depth[0].x);
+    }
+    int sun_of[SL_ENV_LIGHTS_MAX];
+    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
+        sun_of[j] = suns && j < suns->env_light_count ? suns->env_light_sun[j] : -1;
+    glUniform1iv(loc(p, "uEnvLightSun"), SL_ENV_LIGHTS_MAX, sun_of);
 }
 
 /* The uniforms' lights read maps (softlight's, sl_lighting_uniforms.shadowMaps) where and only
@@ -401,6 +433,18 @@ static bool shadows_agree(const slgl_lighting *l, const sl_lighting_uniforms *u,
             return sl_fail(err, SL_ERR_RANGE, "lighting: light %d casts shadows in softlight's uniforms%s, in GL's "
                            "maps%s", i, c_casts ? "" : " not", gl_casts ? "" : " not");
     }
+    /* the env lights: the same clusters (both from sl_shadow_suns_frames' clustering) */
+    const sl_shadow_suns *c = u->envLightShadows != 0 ? u->envShadowMaps : NULL;
+    const sl_shadow_suns *gl = l->shadows && u->uEnvLightCount > 0 && l->shadows->sun_frames.count > 0
+                                   ? &l->shadows->sun_frames
+                                   : NULL;
+    if (!c != !gl)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the env lights cast shadows in softlight's uniforms%s, in GL's "
+                       "maps%s", c ? "" : " not", gl ? "" : " not");
+    if (c && (c->count != gl->count || c->env_light_count != gl->env_light_count ||
+              memcmp(c->env_light_sun, gl->env_light_sun, (size_t)c->env_light_count) != 0))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: softlight's env lights make %d shadow maps, GL's %d, or in "
+                       "other clusters", c->count, gl->count);
     return true;
 }
 
@@ -452,6 +496,8 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     }
     glActiveTexture(GL_TEXTURE0 + UNIT_SHADOW_CUBES);
     glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->cubes : 0);
+    glActiveTexture(GL_TEXTURE0 + UNIT_SHADOW_SUNS);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->suns : 0);
     /* The depth texture is sampled as a value, not compared. */
     glActiveTexture(GL_TEXTURE0 + UNIT_DEPTH);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);

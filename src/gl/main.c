@@ -175,14 +175,14 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         sl_fail(err, SL_ERR_MEMORY, "no memory");
         goto done;
     }
-    if (f->renderer.desc.options.shadows && f->renderer.desc.lighting.env_lights > 0) {
-        sl_fail(err, SL_ERR_UNSUPPORTED, "shadow maps of the env lights (--shadows with --env-lights) have no GL pass: "
-                "render them with softlight");
-        goto done;
-    }
-    /* the lights' shadow maps, drawn by GL from the meshes (with --gbuffer too) */
+    /* the lights' shadow maps, drawn by GL from the meshes (with --gbuffer too): the point
+     * lights', and with --shadows the env lights' (those softlight's renderer extracted) */
     bool shadows_all = f->renderer.desc.options.shadows;
-    bool shadows = sl_shadow_any(&f->scene, shadows_all);
+    const sl_env_lights *env_lights =
+        shadows_all && f->renderer.desc.lighting.env_lights > 0 && f->renderer.env_lights_built > 0
+            ? &f->renderer.env_lights
+            : NULL;
+    bool shadows = sl_shadow_any(&f->scene, shadows_all) || env_lights;
     /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
      * (--gbuffer) carry it already in their occlusion */
     float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;
@@ -220,13 +220,20 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         goto done;
     /* the maps depend on the scene alone: drawn once, before the timed passes */
     double t_shadows = sl_now_seconds();
-    if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, err))
+    if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, env_lights,
+                                      f->renderer.desc.lighting.env_rotation_deg, err))
         goto done;
     glFinish();
     t_shadows = sl_now_seconds() - t_shadows;
-    if (shadows && o->verbose)
+    int suns = shadow_maps.sun_frames.count;
+    if (shadows && o->verbose && suns == 0)
         printf("shadow maps: %d cube map%s of %d texels a face side, drawn in %.1f ms (glFinish)\n",
                shadow_maps.cube_count, shadow_maps.cube_count == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, t_shadows * 1e3);
+    else if (shadows && o->verbose)
+        printf("shadow maps: %d cube map%s of %d texels a face side, %d env-light map%s of %d texels a side, drawn "
+               "in %.1f ms (glFinish)\n",
+               shadow_maps.cube_count, shadow_maps.cube_count == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, suns,
+               suns == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, t_shadows * 1e3);
     slgl_lighting_set_shadows(&l, &shadow_maps);
     glFinish();
     for (int run = 0; run < runs; run++) {

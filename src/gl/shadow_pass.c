@@ -10,9 +10,15 @@
  * depth test LESS against a 32-bit float depth cleared to 1, no culling (the maps see both faces
  * of every triangle), no blending.
  *
- * Each kind of map is its own texture and layer table in slgl_shadows, bound to its own sampler
- * of lighting.frag (uShadowCubes, uShadowCubeLayer), so another kind adds a texture beside the
- * cubes without touching them. */
+ * Env lights (with --shadows): the clusters, each map's frame, box and view-projection are
+ * src/shadow's (sl_shadow_suns_frames, sl_shadow_sun_view_proj), so GL draws exactly the maps
+ * softlight draws, one layer of an R32F 2D-array texture SL_SHADOW_SUN_SIZE texels a side per
+ * cluster, with shadow_sun.frag keeping the depth along the map's axis as shadow.c does; the
+ * same state, its own depth buffer.
+ *
+ * Each kind of map is its own texture and table in slgl_shadows, bound to its own sampler of
+ * lighting.frag (uShadowCubes with uShadowCubeLayer; uShadowSuns with uEnvLightSun and the
+ * frames), so one kind is drawn and read without touching the other. */
 #include <math.h>
 #include <string.h>
 
@@ -29,6 +35,14 @@ void slgl_shadows_destroy(slgl_shadows *s)
         glDeleteFramebuffers(1, &s->fbo);
     if (s->program)
         glDeleteProgram(s->program);
+    if (s->suns)
+        glDeleteTextures(1, &s->suns);
+    if (s->sun_depth)
+        glDeleteRenderbuffers(1, &s->sun_depth);
+    if (s->sun_fbo)
+        glDeleteFramebuffers(1, &s->sun_fbo);
+    if (s->sun_program)
+        glDeleteProgram(s->sun_program);
     memset(s, 0, sizeof *s);
     for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
         s->cube_layer[i] = -1;
@@ -36,11 +50,11 @@ void slgl_shadows_destroy(slgl_shadows *s)
 
 static const float far_away[4] = {INFINITY, INFINITY, INFINITY, INFINITY}; /* nothing drawn */
 
-/* Layer `layer` of the cube texture with view_proj: every object with a triangle. */
-static void draw_face(const slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, GLint mvp_loc,
-                      int layer, mat4 view_proj)
+/* Layer `layer` of `texture` with view_proj: every object with a triangle. */
+static void draw_face(GLuint texture, const sl_scene *scene, const slgl_mesh *meshes, GLint mvp_loc, int layer,
+                      mat4 view_proj)
 {
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->cubes, 0, layer);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, layer);
     glClearBufferfv(GL_COLOR, 0, far_away);
     glClearDepth(1.0);
     glClear(GL_DEPTH_BUFFER_BIT);
@@ -56,9 +70,41 @@ static void draw_face(const slgl_shadows *s, const sl_scene *scene, const slgl_m
     }
 }
 
-bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all, sl_error *err)
+/* An R32F 2D array of `layers` layers, side x side, and a framebuffer with a depth buffer of that
+ * size drawing into its layer 0, in the raster stage's state; false when incomplete. */
+static bool make_target(GLuint *texture, GLuint *fbo, GLuint *depth, int side, int layers, sl_error *err)
 {
-    slgl_shadows_destroy(s);
+    glGenTextures(1, texture);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, *texture);
+    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, side, side, layers, 0, GL_RED, GL_FLOAT, NULL);
+    /* read with texelFetch only, but complete without mipmaps */
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    glGenRenderbuffers(1, depth);
+    glBindRenderbuffer(GL_RENDERBUFFER, *depth);
+    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, side, side);
+    glGenFramebuffers(1, fbo);
+    glBindFramebuffer(GL_FRAMEBUFFER, *fbo);
+    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, *depth);
+    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, *texture, 0, 0);
+    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
+    if (status != GL_FRAMEBUFFER_COMPLETE)
+        return sl_fail(err, SL_ERR_GL, "shadow maps: framebuffer incomplete (0x%04x)", (unsigned)status);
+    glDrawBuffer(GL_COLOR_ATTACHMENT0);
+    glViewport(0, 0, side, side);
+    glEnable(GL_DEPTH_TEST);
+    glDepthFunc(GL_LESS);
+    glDepthMask(GL_TRUE);
+    glDisable(GL_CULL_FACE);
+    glDisable(GL_BLEND);
+    return true;
+}
+
+/* The point lights' cube maps. */
+static bool draw_cubes(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all, sl_error *err)
+{
     int casting = 0;
     for (int i = 0; i < scene->light_count && i < SL_LIGHTING_MAX_LIGHTS; i++)
         if (all || scene->lights[i].shadow)
@@ -67,33 +113,9 @@ bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
         return true;
     s->cube_count = casting;
     s->side = SL_SHADOW_CUBE_SIZE + 2 * SL_SHADOW_GUARD;
-    if (!slgl_program_from_files("shadow_depth.vert", "shadow_depth.frag", &s->program, err))
+    if (!slgl_program_from_files("shadow_depth.vert", "shadow_depth.frag", &s->program, err) ||
+        !make_target(&s->cubes, &s->fbo, &s->depth, s->side, 6 * casting, err))
         return false;
-    glGenTextures(1, &s->cubes);
-    glBindTexture(GL_TEXTURE_2D_ARRAY, s->cubes);
-    glTexImage3D(GL_TEXTURE_2D_ARRAY, 0, GL_R32F, s->side, s->side, 6 * casting, 0, GL_RED, GL_FLOAT, NULL);
-    /* read with texelFetch only, but complete without mipmaps */
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
-    glTexParameteri(GL_TEXTURE_2D_ARRAY, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
-    glGenRenderbuffers(1, &s->depth);
-    glBindRenderbuffer(GL_RENDERBUFFER, s->depth);
-    glRenderbufferStorage(GL_RENDERBUFFER, GL_DEPTH_COMPONENT32F, s->side, s->side);
-    glGenFramebuffers(1, &s->fbo);
-    glBindFramebuffer(GL_FRAMEBUFFER, s->fbo);
-    glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, s->depth);
-    glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->cubes, 0, 0);
-    GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
-    if (status != GL_FRAMEBUFFER_COMPLETE)
-        return sl_fail(err, SL_ERR_GL, "shadow maps: framebuffer incomplete (0x%04x)", (unsigned)status);
-    glDrawBuffer(GL_COLOR_ATTACHMENT0);
-    glViewport(0, 0, s->side, s->side);
-    glEnable(GL_DEPTH_TEST);
-    glDepthFunc(GL_LESS);
-    glDepthMask(GL_TRUE);
-    glDisable(GL_CULL_FACE);
-    glDisable(GL_BLEND);
     glUseProgram(s->program);
     GLint mvp_loc = glGetUniformLocation(s->program, "uModelViewProj");
     for (int i = 0; i < scene->light_count && i < SL_LIGHTING_MAX_LIGHTS; i++) {
@@ -102,15 +124,51 @@ bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
         for (int f = 0; f < 6; f++) {
             mat4 view_proj;
             if (sl_shadow_face_view_proj(scene, scene->lights[i].position, f, &view_proj)) {
-                draw_face(s, scene, meshes, mvp_loc, s->cube_layer[i] + f, view_proj);
+                draw_face(s->cubes, scene, meshes, mvp_loc, s->cube_layer[i] + f, view_proj);
             } else { /* no geometry: every depth stays +inf */
                 glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->cubes, 0, s->cube_layer[i] + f);
                 glClearBufferfv(GL_COLOR, 0, far_away);
             }
         }
     }
+    return true;
+}
+
+/* The env lights' orthographic maps, one layer per cluster. */
+static bool draw_suns(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes,
+                      const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err)
+{
+    sl_shadow_suns *m = &s->sun_frames;
+    bool geometry = sl_shadow_suns_frames(m, scene, env_lights, env_rotation_deg);
+    if (m->count == 0)
+        return true;
+    if (!slgl_program_from_files("shadow_depth.vert", "shadow_sun.frag", &s->sun_program, err) ||
+        !make_target(&s->suns, &s->sun_fbo, &s->sun_depth, SL_SHADOW_SUN_SIZE, m->count, err))
+        return false;
+    glUseProgram(s->sun_program);
+    GLint mvp_loc = glGetUniformLocation(s->sun_program, "uModelViewProj");
+    for (int k = 0; k < m->count; k++) {
+        const sl_shadow_sun *sun = &m->maps[k];
+        if (geometry) {
+            glUniform1f(glGetUniformLocation(s->sun_program, "uDepthOrigin"), sun->z0);
+            glUniform1f(glGetUniformLocation(s->sun_program, "uDepthExtent"), sun->sz);
+            draw_face(s->suns, scene, meshes, mvp_loc, k, sl_shadow_sun_view_proj(sun));
+        } else { /* no geometry: every depth stays +inf */
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->suns, 0, k);
+            glClearBufferfv(GL_COLOR, 0, far_away);
+        }
+    }
+    return true;
+}
+
+bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
+                       const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err)
+{
+    slgl_shadows_destroy(s);
+    bool ok = draw_cubes(s, scene, meshes, all, err) &&
+              (!all || !env_lights || draw_suns(s, scene, meshes, env_lights, env_rotation_deg, err));
     glBindVertexArray(0);
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return slgl_check("drawing the shadow maps", err);
+    return ok && slgl_check("drawing the shadow maps", err);
 }

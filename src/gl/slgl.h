@@ -15,7 +15,7 @@
  *                    textured materials drawn with gbuffer_textured.vert/.frag
  *   textures.c       the scene's decoded images -> GL textures (same formats, GL's mips), sampler state
  *   shadow_pass.c    meshes -> the shadow maps of the lights that cast (R32F view depths,
- *                    shaders/shadow_depth.vert/.frag), src/shadow's maps drawn by GL
+ *                    shaders/shadow_depth.vert/.frag, shadow_sun.frag), src/shadow's maps drawn by GL
  *   lighting_pass.c  G-buffer textures + environment + uniforms + shadow maps -> RGBA32F
  *                    radiance, read back
  *   main.c           the command line
@@ -164,11 +164,20 @@ typedef struct {
                               casting light (+X, -X, +Y, -Y, +Z, -Z); 0 when none casts */
     int cube_count;        /* casting point lights */
     int cube_layer[SL_LIGHTING_MAX_LIGHTS]; /* light i's first layer; -1: it casts none */
+    GLuint sun_program;    /* shadow_depth.vert + shadow_sun.frag */
+    GLuint sun_fbo, sun_depth; /* the env lights' target: a layer of suns + its own depth buffer */
+    GLuint suns;           /* the env lights' maps: R32F 2D array, SL_SHADOW_SUN_SIZE a side, layer
+                              k = map k; 0 when no env light casts */
+    sl_shadow_suns sun_frames; /* their clusters and frames (sl_shadow_suns_frames; no depths):
+                              count = the layers, env_light_sun = each env light's */
 } slgl_shadows;
 
 /* Draw the maps of the scene's lights that cast (point light i when `all` is set or its "shadow"
- * key is, as sl_shadow_build chooses) from the uploaded meshes; none when no light casts. */
-bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all, sl_error *err);
+ * key is, as sl_shadow_build chooses) from the uploaded meshes; none when no light casts. With
+ * `all` and env lights (NULL: none), the env lights' maps too, clustered and framed by
+ * sl_shadow_suns_frames as sl_shadow_suns_build does (env_rotation_deg: the lighting's). */
+bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
+                       const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err);
 /* Free the maps; s is left empty (no light casts), which a zeroed struct is not. */
 void slgl_shadows_destroy(slgl_shadows *s);
 
@@ -182,6 +191,7 @@ typedef struct {
     int env_lights;   /* at least one env light */
     int phong, ggx;   /* the microfacet sets the G-buffer holds (slgl_lighting_set_lobes) */
     int shadow_cubes; /* point lights on and at least one with a cube shadow map */
+    int shadow_suns;  /* env lights and at least one env-light map */
 } slgl_lighting_key;
 
 #define SLGL_LIGHTING_PROGRAMS 8 /* programs kept; the oldest goes when a ninth is asked for */

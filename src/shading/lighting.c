@@ -533,7 +533,8 @@ static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
  * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
  * facing away (N.H <= 0). */
-/* GLSL: specular_env_lights (vis: each light's shadow-map visibility, C only; NULL: all 1) */
+/* GLSL: specular_env_lights (vis: each light's shadow-map visibility; NULL: all 1, the GLSL's
+ * shadowed = false) */
 static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis)
 {
     vec3 sum = vec3s(0.0f);
@@ -555,10 +556,10 @@ static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     return scale(sum, u->uEnvIntensity);
 }
 
-/* C only (softlight-gl draws no shadow maps; a GLSL port reads each cluster's map as a depth
- * texture here): each env light's visibility from world point P with normal N, that of its
- * cluster's map (src/shadow), 1 for a light no map covers, 0 past the count (the batched path
- * reads whole vectors). One lookup per map. */
+/* GLSL: env_light_visibility. Each env light's visibility from world point P with normal N,
+ * that of its cluster's map (src/shadow: sl_shadow_sun_visibility, lighting.frag's
+ * shadow_sun_visibility), 1 for a light no map covers, 0 past the count (the batched path reads
+ * whole vectors). One lookup per map. */
 static void env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
 {
     const sl_shadow_suns *m = u->envShadowMaps;
@@ -571,7 +572,7 @@ static void env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, 
     }
 }
 
-/* C only, beside env_light_visibility: the env lights' part of the irradiance E(N) (N in
+/* GLSL: env_lights_irradiance. The env lights' part of the irradiance E(N) (N in
  * environment space), sum L_k max(N.l_k, 0) over every light (`all`: what the irradiance holds)
  * and times each one's visibility (`seen`). */
 static void env_lights_irradiance(const sl_lighting_uniforms *u, vec3 N, const float *vis, vec3 *all, vec3 *seen)

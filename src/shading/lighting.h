@@ -170,12 +170,14 @@ typedef struct {
     /* C only: the env lights as structure of arrays, for the batched path's vector loads */
     float envLightX[SL_ENV_LIGHTS_MAX], envLightY[SL_ENV_LIGHTS_MAX], envLightZ[SL_ENV_LIGHTS_MAX];
     float envLightR[SL_ENV_LIGHTS_MAX], envLightG[SL_ENV_LIGHTS_MAX], envLightB[SL_ENV_LIGHTS_MAX];
-    /* C only: the point lights' shadow maps (NULL: no light casts), read by point_light's callers
-     * through sl_shade_light_visibility; softlight-gl draws none and refuses them */
+    /* the point lights' shadow maps (NULL: no light casts), read by point_light's callers
+     * through sl_shade_light_visibility; softlight-gl draws its own (src/gl/shadow_pass.c, bound
+     * as uShadowCubes) for the lights these cast for */
     const sl_shadow_maps *shadowMaps;
     /* the env lights' shadows (envLightShadows = 1: envShadowMaps is set and there are env
      * lights): each env light's specular term, and its part of the irradiance, times its map's
-     * visibility (docs/lighting.md "Shadow maps"). C only: softlight-gl refuses them */
+     * visibility (docs/lighting.md "Shadow maps"). softlight-gl draws its own from the same
+     * clusters and frames (sl_shadow_suns_frames), bound as uShadowSuns */
     int envLightShadows;
     const sl_shadow_suns *envShadowMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */

@@ -382,13 +382,13 @@ static mat4 sun_view_proj(const sl_shadow_sun *sun)
                    {-sun->x0 * kx - 1.0f, -sun->y0 * ky - 1.0f, -sun->z0 * kz - 1.0f, 1}}};
 }
 
-bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
-                          float env_rotation_deg, sl_error *err)
+bool sl_shadow_suns_frames(sl_shadow_suns *m, const sl_scene *scene, const sl_env_lights *lights,
+                           float env_rotation_deg)
 {
     m->count = 0;
     m->env_light_count = 0;
     if (!lights || lights->count < 1)
-        return true;
+        return false;
     /* environment -> world: the transpose of the lighting's world -> environment rotation
      * (lighting_uniforms.c uEnvRotation), a turn by +rotation about +Z */
     float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
@@ -400,6 +400,19 @@ bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene
     cluster_lights(m, world, lights);
     vec3 lo, hi;
     bool geometry = sl_scene_bounds(scene, &lo, &hi);
+    for (int k = 0; k < m->count; k++)
+        sun_frame(&m->maps[k], geometry ? lo : vec3s(0.0f), geometry ? hi : vec3s(0.0f));
+    return geometry;
+}
+
+mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun) { return sun_view_proj(sun); }
+
+bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
+                          float env_rotation_deg, sl_error *err)
+{
+    bool geometry = sl_shadow_suns_frames(m, scene, lights, env_rotation_deg);
+    if (m->count == 0)
+        return true;
     const size_t n = (size_t)SL_SHADOW_SUN_SIZE * (size_t)SL_SHADOW_SUN_SIZE;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
@@ -416,12 +429,10 @@ bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene
             break;
         }
         if (!geometry) { /* nothing casts */
-            sun_frame(sun, vec3s(0.0f), vec3s(0.0f));
             for (size_t t = 0; t < n; t++)
                 sun->depth[t] = INFINITY;
             continue;
         }
-        sun_frame(sun, lo, hi);
         mat4 vp = sun_view_proj(sun);
         const shadow_texel clear = {1.0f, INFINITY};
         sl_target target = {.width = SL_SHADOW_SUN_SIZE, .height = SL_SHADOW_SUN_SIZE,
@@ -461,6 +472,7 @@ void sl_shadow_suns_free(sl_shadow_suns *m)
     memset(m, 0, sizeof *m);
 }
 
+/* GLSL: shadow_sun_visibility (softlight-gl's maps, read with texelFetch) */
 float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
 {
     if (s < 0 || s >= m->count)

@@ -101,6 +101,15 @@ bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, 
 bool sl_shadow_suns_build(sl_shadow_suns *suns, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
                           float env_rotation_deg, sl_error *err);
 void sl_shadow_suns_free(sl_shadow_suns *suns);
+/* The clusters and each map's frame and box as sl_shadow_suns_build makes them, without drawing
+ * (each map's depth is left as it was): softlight-gl draws its own maps from these. False when
+ * there is no map or the scene has no geometry (every depth +inf). */
+bool sl_shadow_suns_frames(sl_shadow_suns *suns, const sl_scene *scene, const sl_env_lights *lights,
+                           float env_rotation_deg);
+/* The world -> clip transform sl_shadow_suns_build draws a map with: x, y and the depth along the
+ * axis over the map's box mapped linearly onto [-1, 1] (the window depth is then (depth along
+ * the axis - z0) / sz). */
+mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
 void sl_shadow_free(sl_shadow_maps *maps);

@@ -22,9 +22,11 @@ c=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_light
 host=$( { grep -o '"u[A-Z][A-Za-z0-9]*' "$gl" | tr -d '"'
           grep -q '"HammersleyBlock"' "$gl" && echo uHammersley; } | sort -u)
 gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone"
-# The shadow maps' samplers and layer tables: the C struct holds the maps themselves (shadowMaps,
-# src/shadow), softlight-gl draws its own (src/gl/shadow_pass.c) and binds them.
-gbuffer="$gbuffer uShadowCubes uShadowCubeLayer"
+# The shadow maps' samplers, layer tables and frames: the C struct holds the maps themselves
+# (shadowMaps, envShadowMaps: src/shadow), softlight-gl draws its own (src/gl/shadow_pass.c) and
+# binds them.
+gbuffer="$gbuffer uShadowCubes uShadowCubeLayer uShadowSuns uShadowSunCount uShadowSunAxis uShadowSunRight"
+gbuffer="$gbuffer uShadowSunUp uShadowSunBox uShadowSunDepth uEnvLightSun"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac
@@ -55,6 +57,8 @@ for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
 check ENV_LAYOUT_OCT SL_ENV_LAYOUT_OCT
 check SHADOW_CUBE_SIZE SL_SHADOW_CUBE_SIZE
 check SHADOW_GUARD SL_SHADOW_GUARD
+check SHADOW_SUN_SIZE SL_SHADOW_SUN_SIZE
+check SHADOW_SUN_MAX SL_SHADOW_SUN_MAX
 # The shadow lookup's float constants: GLSL `const float NAME = V;` against shadow.c's
 # `#define NAME Vf`, compared as numbers.
 for x in SHADOW_BIAS_CONST SHADOW_DEPTH_REL SHADOW_NORMAL_OFFSET; do
