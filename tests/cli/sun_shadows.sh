@@ -6,36 +6,17 @@
 # (no acne); the shadows of a floating slab and of a box standing on the floor (no gap at its
 # foot: no peter-panning) fall where the visibility-aware truth (`softlight truth --visibility`,
 # Embree) puts them, with the environment turned, in the default path, the port (--plain) and
-# the microfacet estimator; `softlight trace` prints each env light's visibility; softlight-gl
-# refuses the maps it cannot draw. Without Embree the truth comparisons are left out.
+# the microfacet estimator; `softlight trace` prints each env light's visibility (softlight-gl's
+# maps: gl_sun_shadows.sh). Without Embree the truth comparisons are left out.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init sun_shadows "$1"
-GL=${1}/softlight-gl
 S=160x90
 export PYTHONPATH="$(dirname "$0")"
 
-# sky NAME ELEVATION AZIMUTH: a 64x32 lat-long PFM, black but for a sun of two adjacent texels
-# at that direction (degrees), radiance 3000
-sky() {
-    python3 - "$T/$1.pfm" "$2" "$3" <<'PY'
-import math, struct, sys
-path, el, az = sys.argv[1], math.radians(float(sys.argv[2])), math.radians(float(sys.argv[3]))
-W, H = 64, 32
-d = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
-u = (0.5 - math.atan2(d[1], d[0]) / (2 * math.pi)) % 1.0   # docs/conventions.md
-v = math.acos(d[2]) / math.pi
-i, j = int(u * W), int(v * H)                               # row j from the top
-img = [[(0.0, 0.0, 0.0)] * W for _ in range(H)]
-for di in (0, 1):
-    img[j][(i + di) % W] = (3000.0, 3000.0, 3000.0)
-with open(path, "wb") as f:
-    f.write(b"PF\n%d %d\n-1.0\n" % (W, H))
-    for row in reversed(img):                               # PFM: bottom row first
-        for p in row:
-            f.write(struct.pack("<3f", *p))
-PY
-}
+# sky NAME ELEVATION AZIMUTH: the black sky with a sun of two texels at that direction
+# (degrees), $T/NAME.pfm (sun_sky.py)
+sky() { python3 "$(dirname "$0")/sun_sky.py" "$T/$1.pfm" "$2" "$3"; }
 
 # scene NAME SKY ROTATION OBJECTS...: a 4x4 floor seen from above at an angle under sky SKY
 scene() {
@@ -80,12 +61,6 @@ for s in high graze; do
         ok "floor, sun $s: fully lit ($n pixels, shadowed / unshadowed in [$lo, $hi])" ||
         bad "floor, sun $s: shadowed / unshadowed in [$lo, $hi] over $n pixels, want [0.99, 1.01]"
 done
-
-# softlight-gl refuses the env lights' maps
-if [ -x "$GL" ] && "$GL" render "$T/plane-high.json" --size 16x9 --pfm "$T/g.pfm" >/dev/null 2>&1; then
-    expect_error "softlight-gl with --shadows --env-lights" "shadow maps of the env lights .* have no GL pass" -- \
-        "$GL" render "$T/plane-high.json" --size 16x9 --env-lights 4 --shadows --pfm "$T/g.pfm"
-fi
 
 # a slab floating over the floor and a box standing on it, the sky turned by 30 degrees
 sky mid 40 30
