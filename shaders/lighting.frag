@@ -1005,52 +1005,8 @@ vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, fl
     return sum * uEnvIntensity;
 }
 
-// Visibility of env-light map s from world point P with unit normal N (the twin of
-// sl_shadow_sun_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit, 0
-// shadowed, 1 for a normal facing away from the lights; the receiver moved along N by one
-// texel, then the cube maps' 3-texel box of bilinear comparisons, each tap against the
-// receiver plane's depth under it less a constant bias.
-float shadow_sun_visibility(int s, vec3 P, vec3 N)
-{
-    if (s < 0 || s >= uShadowSunCount)
-        return 1.0;
-    vec3 axis = uShadowSunAxis[s], right = uShadowSunRight[s], up = uShadowSunUp[s];
-    vec4 box = uShadowSunBox[s]; // x0, y0, sx, sy
-    float sz = uShadowSunDepth[s].x, texel = uShadowSunDepth[s].y;
-    float na = dot(N, axis);
-    if (!(na < -1e-6))
-        return 1.0;
-    float size = float(SHADOW_SUN_SIZE);
-    vec3 q = P + N * (texel * SHADOW_NORMAL_OFFSET);
-    float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
-    float stepx = box.z / size, stepy = box.w / size;
-    float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;
-    float fx = floor(ux), fy = floor(uy);
-    if (!(abs(fx) < 1e6 && abs(fy) < 1e6))
-        return 1.0;
-    float tx = ux - fx, ty = uy - fy;
-    int x0 = int(fx) - 1, y0 = int(fy) - 1;
-    float gx = -dot(N, right) / na, gy = -dot(N, up) / na;
-    float bias = texel * SHADOW_BIAS_CONST + sz * 1e-6;
-    float wx[4] = float[4]((1.0 - tx) / 3.0, 1.0 / 3.0, 1.0 / 3.0, tx / 3.0);
-    float wy[4] = float[4]((1.0 - ty) / 3.0, 1.0 / 3.0, 1.0 / 3.0, ty / 3.0);
-    int last = SHADOW_SUN_SIZE - 1;
-    float vis = 0.0;
-    for (int b = 0; b < 4; b++) {
-        int y = clamp(y0 + b, 0, last);
-        float dy = (float(y0 + b) + 0.5) * stepy + box.y - yq;
-        float rv = 0.0;
-        for (int a = 0; a < 4; a++) {
-            int x = clamp(x0 + a, 0, last);
-            float dx = (float(x0 + a) + 0.5) * stepx + box.x - xq;
-            float receiver = zq + gx * dx + gy * dy;
-            float stored = texelFetch(uShadowSuns, ivec3(x, y, s), 0).r;
-            rv += stored + bias >= receiver ? wx[a] : 0.0;
-        }
-        vis += rv * wy[b];
-    }
-    return min(vis, 1.0);
-}
+// Visibility of env-light map s (below, beside the cube maps' lookup, as in src/shadow/shadow.c).
+float shadow_sun_visibility(int s, vec3 P, vec3 N);
 
 // Each env light's visibility from world point P with normal N: that of its map, 1 for a light
 // no map covers, 0 past the count. One lookup per map.
@@ -1173,6 +1129,53 @@ float shadow_point_visibility(int i, vec3 P, vec3 N)
             float stored = texelFetch(uShadowCubes, ivec3(x, y, layer + f), 0).r;
             bool open = nd > -1e-6 || (stored * (1.0 + SHADOW_DEPTH_REL) + bias) * nd <= nq;
             rv += open ? wx[a] : 0.0;
+        }
+        vis += rv * wy[b];
+    }
+    return min(vis, 1.0);
+}
+
+// Visibility of env-light map s from world point P with unit normal N (the twin of
+// sl_shadow_sun_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit, 0
+// shadowed, 1 for a normal facing away from the lights; the receiver moved along N by one
+// texel, then the cube maps' 3-texel box of bilinear comparisons, each tap against the
+// receiver plane's depth under it less a constant bias.
+float shadow_sun_visibility(int s, vec3 P, vec3 N)
+{
+    if (s < 0 || s >= uShadowSunCount)
+        return 1.0;
+    vec3 axis = uShadowSunAxis[s], right = uShadowSunRight[s], up = uShadowSunUp[s];
+    vec4 box = uShadowSunBox[s]; // x0, y0, sx, sy
+    float sz = uShadowSunDepth[s].x, texel = uShadowSunDepth[s].y;
+    float na = dot(N, axis);
+    if (!(na < -1e-6))
+        return 1.0;
+    float size = float(SHADOW_SUN_SIZE);
+    vec3 q = P + N * (texel * SHADOW_NORMAL_OFFSET);
+    float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
+    float stepx = box.z / size, stepy = box.w / size;
+    float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;
+    float fx = floor(ux), fy = floor(uy);
+    if (!(abs(fx) < 1e6 && abs(fy) < 1e6))
+        return 1.0;
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = int(fx) - 1, y0 = int(fy) - 1;
+    float gx = -dot(N, right) / na, gy = -dot(N, up) / na;
+    float bias = texel * SHADOW_BIAS_CONST + sz * 1e-6;
+    float wx[4] = float[4]((1.0 - tx) / 3.0, 1.0 / 3.0, 1.0 / 3.0, tx / 3.0);
+    float wy[4] = float[4]((1.0 - ty) / 3.0, 1.0 / 3.0, 1.0 / 3.0, ty / 3.0);
+    int last = SHADOW_SUN_SIZE - 1;
+    float vis = 0.0;
+    for (int b = 0; b < 4; b++) {
+        int y = clamp(y0 + b, 0, last);
+        float dy = (float(y0 + b) + 0.5) * stepy + box.y - yq;
+        float rv = 0.0;
+        for (int a = 0; a < 4; a++) {
+            int x = clamp(x0 + a, 0, last);
+            float dx = (float(x0 + a) + 0.5) * stepx + box.x - xq;
+            float receiver = zq + gx * dx + gy * dy;
+            float stored = texelFetch(uShadowSuns, ivec3(x, y, s), 0).r;
+            rv += stored + bias >= receiver ? wx[a] : 0.0;
         }
         vis += rv * wy[b];
     }
