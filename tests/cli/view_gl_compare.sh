@@ -14,7 +14,8 @@
 # - a lighting program and its GLSL twin (examples/shaders/toon.c, --glsl toon.frag) agree within
 #   the bound gl_check.sh states for them (share > 8/255 <= 0.5%);
 # - with the shadow maps on (U, scenes/lamp.json), softlight-gl draws its own and its image agrees
-#   as the scene's view does (the frame compared without them is far outside: p99 rel 0.8);
+#   as the scene's view does (the frame compared without them is far outside: p99 rel 0.8); so
+#   does the env lights' (U on scenes/city-sun.json with --env-lights 32);
 # - a softlight-gl that cannot run is a message, and the viewer goes on (exit 0); --glsl without
 #   --lighting, or naming no file, is one line and exit 2.
 set -euo pipefail
@@ -120,6 +121,11 @@ SCRIPT
 view_run scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/shadows.txt"
 [ "$rc" = 0 ] || fail "the viewer with shadows exited $rc"
 agree "$T/sh-c.pfm" "$T/sh-gl.pfm" "GL's image with the shadow maps (U)"
+# ... and the env lights' maps (U with --env-lights): scenes/city-sun.json's sun
+view_run scenes/city-sun.json --size "$VIEW_TEST_SIZE" -n 8 --env-lights 32 --script "$T/shadows.txt"
+[ "$rc" = 0 ] || fail "the viewer with the env lights' shadows exited $rc"
+view_differ "$T/sh-c.pfm" "$T/c.pfm" "city-sun's frame is not the default scene's"
+agree "$T/sh-c.pfm" "$T/sh-gl.pfm" "GL's image with the env lights' shadow maps (U, --env-lights 32)"
 
 for args in "--glsl examples/shaders/toon.frag" "--lighting examples/shaders/toon.c --glsl $T/none.frag"; do
     # shellcheck disable=SC2086
