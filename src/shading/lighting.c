@@ -658,12 +658,16 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     }
     vec3 shadowed_lights = vec3s(0.0f); /* the env lights' diffuse and specular, times their visibility */
     if (u->uDiffuse != 0) {
-        vec3 E = E_given ? *E_given : irradiance(u, s->Nenv); /* the batched path's, the same bits */
+        /* with the cone the irradiance along the bent direction D (bent_irradiance.h), else N */
+        vec3 D = cone ? shade_diffuse_dir(u, cone, s->Nenv) : s->Nenv;
+        vec3 E = E_given ? *E_given : irradiance(u, D); /* the batched path's, the same bits */
         if (env_shadow) {
-            /* E - sum L_k (N.l_k)+ >= 0 in theory; a smoothing irradiance (SH9, the maps' filter)
-             * can put a sun's lobe where E is below it: clamped, the error of that smoothing */
-            vec3 all, seen;
-            env_lights_irradiance(u, s->Nenv, env_shadow->vis, &all, &seen);
+            /* E - sum L_k (D.l_k)+ >= 0 in theory; a smoothing irradiance (SH9, the maps' filter)
+             * can put a sun's lobe where E is below it: clamped, the error of that smoothing.
+             * What E holds of the lights is along D; what the maps add back is about N. */
+            vec3 all, seen, unused;
+            env_lights_irradiance(u, D, env_shadow->vis, &all, &unused);
+            env_lights_irradiance(u, s->Nenv, env_shadow->vis, &unused, &seen);
             E = vmax3(sub(E, all), vec3s(0.0f));
             shadowed_lights = scale(mul(scale(s->Kd, 1.0f / PI), seen), u->uEnvIntensity);
         }

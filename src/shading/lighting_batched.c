@@ -1249,7 +1249,18 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
         pixel_stage(u, t, count, p);
     /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
      * lane looks up a harmless garbage direction), the port's lookup's bits */
-    if (irradiance)
+    if (irradiance && gb->cone) { /* along each pixel's bent direction (shade_diffuse_dir) */
+        float dx[SPAN], dy[SPAN], dz[SPAN];
+        const sl_vec4 *cone = gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0;
+        for (int i = 0; i < count; i++) {
+            vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
+            vec3 D = t[i].depth >= 1.0f ? NE : shade_diffuse_dir(u, &cone[i], NE);
+            dx[i] = D.x;
+            dy[i] = D.y;
+            dz[i] = D.z;
+        }
+        sl_irradiance_eval_span(u->uIrradiance, count, dx, dy, dz, p->Er, p->Eg, p->Eb);
+    } else if (irradiance)
         sl_irradiance_eval_span(u->uIrradiance, count, p->NEx, p->NEy, p->NEz, p->Er, p->Eg, p->Eb);
     else if (vector_sum) /* read (and selected away) by sum_stage */
         for (int i = 0; i < count; i++)

@@ -20,6 +20,7 @@
 
 #include "lighting.h"
 #include "lighting_trace.h"
+#include "bent_irradiance.h"
 #include "specular_occlusion.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
@@ -149,9 +150,18 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
     return ao > 0.0f ? share : 0.0f;
 }
 
+/* The diffuse term's lookup direction with the visibility cone (bent_irradiance.h), in
+ * environment space: both paths call this one, so the port's irradiance(D) and the batched
+ * path's span lookup read the same direction. */
+static inline vec3 shade_diffuse_dir(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv)
+{
+    vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
+    return sl_bent_irradiance_dir(Nenv, B, cone->w);
+}
+
 /* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
  * point lights, emission.
- * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
+ * `E` NULL runs the port's irradiance(Nenv), with the cone irradiance(shade_diffuse_dir); the batched path passes the value it looked up for
  * the whole span (sl_irradiance_eval_span: the same bits).
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops, the env
