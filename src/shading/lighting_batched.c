@@ -1302,8 +1302,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 if (u->uDiffuse != 0) {
                     const sl_vec4 *cone = shade_cone(gb, x, y);
                     vec3 D = cone ? shade_diffuse_dir(u, cone, NE) : NE;
-                    vec3 E = sl_shade_env_shadow_diffuse(u, vec3(p->Er[i], p->Eg[i], p->Eb[i]), D, NE, t[i].kd, es.vis,
-                                                         &lights);
+                    vec3 E = sl_shade_env_shadow_diffuse(u, vec3(p->Er[i], p->Eg[i], p->Eb[i]), cone != NULL, D, NE,
+                                                         t[i].kd, es.vis, &lights);
                     p->Er[i] = E.x;
                     p->Eg[i] = E.y;
                     p->Eb[i] = E.z;
