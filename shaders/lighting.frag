@@ -29,8 +29,9 @@
 //                         the G-buffer's fifth target for a scene that uses them
 //   sampler2D uCone       .xyz = the bent normal (unit, world space), .w = the AO: the ambient
 //                         occlusion pass's visibility cone (src/occlusion/gtao.h), read only when
-//                         uHasCone != 0 (--ao-radius); then the diffuse is times the occlusion and
-//                         the specular times the material's share of it and specular_occlusion
+//                         uHasCone != 0 (--ao-radius); then the diffuse, read along
+//                         bent_irradiance_dir, is times the occlusion and the specular times the
+//                         material's share of it and specular_occlusion
 // Environment:
 //   sampler2D uEnv        lat-long HDR radiance (RGB32F/RGB16F), full mip chain by
 //                         glGenerateMipmap, MIN_FILTER = LINEAR_MIPMAP_LINEAR, MAG_FILTER =
@@ -586,6 +587,13 @@ float specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
     float seen = so_cap_share(cos_v, so_acos(cos_v), cos_s, ts, b_dot_r);
     float so = open > 0.0 ? clamp(seen / open, 0.0, 1.0) : ao;
     return so + (1.0 - so) * smoothstep(SO_FADE, 1.0, ao);
+}
+
+// The diffuse term's lookup direction with the cone (src/shading/bent_irradiance.h): N bent
+// towards the bent normal B by the share the occluders hide, 1 - AO; D = N on open ground.
+vec3 bent_irradiance_dir(vec3 N, vec3 B, float ao)
+{
+    return normalize(N + (B - N) * (1.0 - ao));
 }
 
 // Unit normal, bent toward the eye where the interpolated normal faces away:
@@ -1258,15 +1266,25 @@ void main()
             color = color * extra.r; // occlusion: the image-based terms only
         } else {
             // the occlusion pass's cone: each image-based term times its own occlusion, the
-            // specular times the material's share of the occlusion and specular_occlusion
+            // diffuse read along the bent direction, the specular times the material's share of
+            // the occlusion and specular_occlusion
             vec4 c = texelFetch(uCone, pixel, 0);
             vec3 B = uEnvRotation * c.xyz;
             vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
-            if (uDiffuse != 0)
-                color = color + Kd * (1.0 / PI) *
-                        (envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv)) * uEnvIntensity * extra.r;
+            if (uDiffuse != 0) {
+                // the irradiance along the bent direction; with the env lights' maps, their
+                // part of it taken out along the same direction (the maps add it back about N)
+                vec3 D = bent_irradiance_dir(Nenv, B, c.w);
+                vec3 E = irradiance(D);
+                if (envShadow) {
+                    vec3 unused;
+                    env_lights_irradiance(D, envVis, envAll, unused);
+                    E = max(E - envAll, vec3(0.0));
+                }
+                color = color + Kd * (1.0 / PI) * E * uEnvIntensity * extra.r;
+            }
             if (uSpecular != 0) {
                 vec3 spec;
                 if (uEstimator == ESTIMATOR_SPLITSUM)

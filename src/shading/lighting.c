@@ -588,6 +588,23 @@ static void env_lights_irradiance(const sl_lighting_uniforms *u, vec3 N, const f
     *seen = s;
 }
 
+/* C only, beside env_lights_irradiance: with the env lights' shadow maps, the irradiance E read
+ * along D (`bent`: the cone's direction, else N) less what it holds of the lights (returned),
+ * and the lights' diffuse about N times their visibility (`lights`), added after the occlusion. */
+static vec3 env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
+                               const float *vis, vec3 *lights)
+{
+    /* E - sum L_k (D.l_k)+ >= 0 in theory; a smoothing irradiance (SH9, the maps' filter) can put
+     * a sun's lobe where E is below it: clamped, the error of that smoothing. What E holds of
+     * the lights is along D; what the maps add back is about N. */
+    vec3 all, seen, unused;
+    env_lights_irradiance(u, Nenv, vis, &all, &seen);
+    if (bent) /* D is not N: one more pass over the lights */
+        env_lights_irradiance(u, D, vis, &all, &unused);
+    *lights = scale(mul(scale(Kd, 1.0f / PI), seen), u->uEnvIntensity);
+    return vmax3(sub(E, all), vec3s(0.0f));
+}
+
 /* GLSL: point_light */
 static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
                         float alpha)
@@ -659,15 +676,11 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     }
     vec3 shadowed_lights = vec3s(0.0f); /* the env lights' diffuse and specular, times their visibility */
     if (u->uDiffuse != 0) {
-        vec3 E = E_given ? *E_given : irradiance(u, s->Nenv); /* the batched path's, the same bits */
-        if (env_shadow) {
-            /* E - sum L_k (N.l_k)+ >= 0 in theory; a smoothing irradiance (SH9, the maps' filter)
-             * can put a sun's lobe where E is below it: clamped, the error of that smoothing */
-            vec3 all, seen;
-            env_lights_irradiance(u, s->Nenv, env_shadow->vis, &all, &seen);
-            E = vmax3(sub(E, all), vec3s(0.0f));
-            shadowed_lights = scale(mul(scale(s->Kd, 1.0f / PI), seen), u->uEnvIntensity);
-        }
+        /* with the cone the irradiance along the bent direction D (bent_irradiance.h), else N */
+        vec3 D = cone ? shade_diffuse_dir(u, cone, s->Nenv) : s->Nenv;
+        vec3 E = E_given ? *E_given : irradiance(u, D); /* the batched path's, the same bits */
+        if (env_shadow)
+            E = env_shadow_diffuse(u, E, cone != NULL, D, s->Nenv, s->Kd, env_shadow->vis, &shadowed_lights);
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         trace_diffuse(trace, E, diffuse);
         if (cone)
@@ -813,6 +826,11 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
 {
     env_light_visibility(u, P, N, vis);
+}
+vec3 sl_shade_env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
+                                 const float *vis, vec3 *lights)
+{
+    return env_shadow_diffuse(u, E, bent, D, Nenv, Kd, vis, lights);
 }
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {

@@ -1133,10 +1133,11 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
  * the span has in arrays (no trace, no point lights): sl_shade_surface_color's operations in its
  * order, then sl_shade_finish's, as vector loops (the same bits; a term that is off is selected
  * away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
- * background on entry. */
+ * background on entry; l{r,g,b}, with the env lights' shadow maps, their diffuse and specular
+ * times their visibility, added after the occlusion (read only then). */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
-                      sl_lighting_task *task, vec3 *out)
+                      const float *lr, const float *lg, const float *lb, sl_lighting_task *task, vec3 *out)
 {
     float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
     int covered[SPAN];
@@ -1184,6 +1185,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
+    const bool shadowed = u->envLightShadows != 0;
     const float I = u->uEnvIntensity;
     float *o = &out[0].x;
     int nonfinite = 0;
@@ -1210,6 +1212,10 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         r = r * sum_occ;
         g = g * sum_occ;
         b = b * sum_occ;
+        float lit_r = r + lr[i], lit_g = g + lg[i], lit_b = b + lb[i];
+        r = shadowed ? lit_r : r;
+        g = shadowed ? lit_g : g;
+        b = shadowed ? lit_b : b;
         float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
         r = diffuse ? er : r;
         g = diffuse ? eg : g;
@@ -1236,8 +1242,10 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    /* the env lights' shadows add per-pixel terms after the occlusion: through the port's sum */
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0) && u->envLightShadows == 0;
+    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
+    /* with the env lights' shadow maps, their shadowed terms per pixel for sum_stage */
+    const bool shadowed = u->envLightShadows != 0;
+    float lr[SPAN], lg[SPAN], lb[SPAN];
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
@@ -1249,7 +1257,18 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
         pixel_stage(u, t, count, p);
     /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
      * lane looks up a harmless garbage direction), the port's lookup's bits */
-    if (irradiance)
+    if (irradiance && gb->cone) { /* along each pixel's bent direction (shade_diffuse_dir) */
+        float dx[SPAN], dy[SPAN], dz[SPAN];
+        const sl_vec4 *cone = gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0;
+        for (int i = 0; i < count; i++) {
+            vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
+            vec3 D = t[i].depth >= 1.0f ? NE : shade_diffuse_dir(u, &cone[i], NE);
+            dx[i] = D.x;
+            dy[i] = D.y;
+            dz[i] = D.z;
+        }
+        sl_irradiance_eval_span(u->uIrradiance, count, dx, dy, dz, p->Er, p->Eg, p->Eb);
+    } else if (irradiance)
         sl_irradiance_eval_span(u->uIrradiance, count, p->NEx, p->NEy, p->NEz, p->Er, p->Eg, p->Eb);
     else if (vector_sum) /* read (and selected away) by sum_stage */
         for (int i = 0; i < count; i++)
@@ -1271,7 +1290,32 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
              * built field by field and read back as arguments stalled on store forwarding) */
             count_bent(task, p->bent[i]);
             vec2 rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
-            color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, task, NULL);
+            if (shadowed) {
+                /* sl_shade_surface_color's env-shadow terms, the same functions: the specular
+                 * keeps the lights apart, the irradiance loses their part, both come back
+                 * times the visibility after the occlusion */
+                shade_env_shadow es;
+                vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
+                sl_shade_env_light_visibility(u, t[i].position, N, es.vis);
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, task, NULL);
+                vec3 lights = vec3s(0.0f);
+                if (u->uDiffuse != 0) {
+                    const sl_vec4 *cone = shade_cone(gb, x, y);
+                    vec3 D = cone ? shade_diffuse_dir(u, cone, NE) : NE;
+                    vec3 E = sl_shade_env_shadow_diffuse(u, vec3(p->Er[i], p->Eg[i], p->Eb[i]), cone != NULL, D, NE,
+                                                         t[i].kd, es.vis, &lights);
+                    p->Er[i] = E.x;
+                    p->Eg[i] = E.y;
+                    p->Eb[i] = E.z;
+                }
+                if (u->uSpecular != 0)
+                    lights = add(lights, es.specular);
+                lr[i] = lights.x;
+                lg[i] = lights.y;
+                lb[i] = lights.z;
+            } else {
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, task, NULL);
+            }
         } else {
             shade_surface s = {
                 .P = t[i].position,
@@ -1301,6 +1345,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
             color = sl_shade_surface_color(u, &s, &E, &specular, env_shadow, task, trace);
         }
+        if (vector_sum && shadowed && t[i].depth >= 1.0f)
+            lr[i] = lg[i] = lb[i] = 0.0f; /* read (and selected away) by sum_stage */
         if (vector_sum) {
             cr[i] = color.x;
             cg[i] = color.y;
@@ -1310,5 +1356,6 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
         }
     }
     if (vector_sum)
-        sum_stage(u, gb, t, x0, y, count, p, cr, cg, cb, task, out);
+        sum_stage(u, gb, t, x0, y, count, p, cr, cg, cb, shadowed ? lr : cr, shadowed ? lg : cg, shadowed ? lb : cb,
+                  task, out); /* without maps l{r,g,b} are read and selected away: never an unset array */
 }

@@ -20,6 +20,7 @@
 
 #include "lighting.h"
 #include "lighting_trace.h"
+#include "bent_irradiance.h"
 #include "specular_occlusion.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
@@ -72,6 +73,10 @@ vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
 /* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
+/* C only: E read along D (`bent`; else D is N) less the env lights' part of it, and (`lights`)
+ * their diffuse about N times `vis`, as sl_shade_surface_color adds it after the occlusion */
+vec3 sl_shade_env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
+                                 const float *vis, vec3 *lights);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
@@ -149,9 +154,18 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
     return ao > 0.0f ? share : 0.0f;
 }
 
+/* The diffuse term's lookup direction with the visibility cone (bent_irradiance.h), in
+ * environment space: both paths call this one, so the port's irradiance(D) and the batched
+ * path's span lookup read the same direction. */
+static inline vec3 shade_diffuse_dir(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv)
+{
+    vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
+    return sl_bent_irradiance_dir(Nenv, B, cone->w);
+}
+
 /* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,
  * point lights, emission.
- * `E` NULL runs the port's irradiance(Nenv); the batched path passes the value it looked up for
+ * `E` NULL runs the port's irradiance(Nenv), with the cone irradiance(shade_diffuse_dir); the batched path passes the value it looked up for
  * the whole span (sl_irradiance_eval_span: the same bits).
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops, the env

@@ -14,7 +14,8 @@
 # - the same through the general shader ($SL_GL_GENERAL: every option a uniform);
 # - GL's image without maps is far outside those bounds against C's with them: a GL that
 #   ignores its maps fails here;
-# - scenes/city-sun.json with --env-lights 32 --shadows within the same bounds, and
+# - scenes/city-sun.json with --env-lights 32 --shadows within the same bounds, also with
+#   --ao-radius 1 (the lights' part of the irradiance taken out along the bent direction), and
 #   `softlight check` on it passes.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -100,6 +101,11 @@ mkdir -p "$T/city"
 "$SL" render scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows --aov "$T/city" --pfm "$T/city/c.pfm" -q
 "$GL" render scenes/city-sun.json "${O[@]}" --shadows --gbuffer "$T/city" --pfm "$T/city/g.pfm"
 within "city-sun" "$T/city/c.pfm" "$T/city/g.pfm" || { echo "FAIL city-sun: outside the bounds"; fail=1; }
+mkdir -p "$T/city-ao"
+"$SL" render scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows --ao-radius 1 --aov "$T/city-ao" \
+    --pfm "$T/city-ao/c.pfm" -q
+"$GL" render scenes/city-sun.json "${O[@]}" --shadows --ao-radius 1 --gbuffer "$T/city-ao" --pfm "$T/city-ao/g.pfm"
+within "city-sun-ao" "$T/city-ao/c.pfm" "$T/city-ao/g.pfm" || { echo "FAIL city-sun --ao-radius 1: outside the bounds"; fail=1; }
 if "$SL" check scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows >"$T/check.txt" 2>&1; then
     echo "softlight check city-sun --env-lights 32 --shadows: $(tail -1 "$T/check.txt")"
 else

@@ -6,8 +6,9 @@
 # (no acne); the shadows of a floating slab and of a box standing on the floor (no gap at its
 # foot: no peter-panning) fall where the visibility-aware truth (`softlight truth --visibility`,
 # Embree) puts them, with the environment turned, in the default path, the port (--plain) and
-# the microfacet estimator; `softlight trace` prints each env light's visibility (softlight-gl's
-# maps: gl_sun_shadows.sh). Without Embree the truth comparisons are left out.
+# the microfacet estimator; the default path's vector sum agrees with the port's, with
+# --ao-radius too; `softlight trace` prints each env light's visibility (softlight-gl's maps:
+# gl_sun_shadows.sh). Without Embree the truth comparisons are left out.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init sun_shadows "$1"
@@ -66,6 +67,26 @@ done
 sky mid 40 30
 scene occ mid 30 '{"shape": "box", "material": "m", "transform": {"translate": [0.3, 0.1, 0.7], "scale": [0.3, 0.3, 0.05]}}' \
     '{"shape": "box", "material": "m", "transform": {"translate": [-0.7, -0.5, 0.25], "scale": 0.25}}'
+# the batched path's vector sum against the port's per-pixel sum, with the maps and with the
+# ambient occlusion's cone under pbr.json's sky as well: the tolerance of test_lighting_fast
+# (mean relative 3e-4)
+for run in "$T/occ.json --env-lights 4" "scenes/pbr.json --env-lights 32 --ao-radius 1"; do
+    # shellcheck disable=SC2086
+    "$SL" render $run --size $S -q --shadows --pfm "$T/fast.pfm"
+    # shellcheck disable=SC2086
+    "$SL" render $run --size $S -q --shadows --plain --pfm "$T/port.pfm"
+    name="$(basename "${run%% *}") ${run#* }"
+    python3 - "$T/fast.pfm" "$T/port.pfm" >"$T/fp.txt" <<'PY' && ok "batched vs port, $name: $(cat "$T/fp.txt")" || bad "batched vs port, $name: $(cat "$T/fp.txt")"
+import sys
+from pfm import read_pfm
+_, _, _, f = read_pfm(sys.argv[1]); _, _, _, p = read_pfm(sys.argv[2])
+rel = [abs(a - b) / b for a, b in zip(f, p) if b > 1e-3]
+mean = sum(rel) / len(rel)
+print(f"mean relative {mean:.2e}, max {max(rel):.2e} over {len(rel)} channels")
+sys.exit(0 if mean < 3e-4 else 1)
+PY
+done
+
 if ! "$SL" truth "$T/occ.json" --size 2x2 --visibility --pfm "$T/probe.pfm" >/dev/null 2>&1; then
     cli_done "sun_shadows (a build without Embree: no truth comparisons)"
     exit
