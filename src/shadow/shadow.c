@@ -134,38 +134,45 @@ static bool cube_range(const sl_scene *scene, vec3 L, float *znear, float *zfar)
     return true;
 }
 
+/* Draw every mesh of the scene through vp into a side x side target of shadow texels with a
+ * depth-only program, the first draw clearing it to "nothing" (+inf). The draw's count: 0 when no
+ * mesh has triangles (texels untouched), -1 on error (err set). draws and mvp hold one per object. */
+static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_program *program, mat4 vp, int side,
+                      shadow_texel *texels, sl_draw *draws, mat4 *mvp, sl_error *err)
+{
+    static const shadow_texel clear = {1.0f, INFINITY};
+    sl_target target = {.width = side, .height = side, .texel_size = sizeof(shadow_texel), .texels = texels,
+                        .depth_offset = (long)offsetof(shadow_texel, depth)};
+    int count = 0;
+    for (int o = 0; o < scene->object_count; o++) {
+        const sl_object *obj = &scene->objects[o];
+        const sl_mesh *mesh = &scene->meshes[obj->mesh];
+        if (mesh->triangle_count == 0)
+            continue;
+        mvp[count] = mat4_mul(vp, obj->model);
+        draws[count] = (sl_draw){.program = program, .vs_uniforms = &mvp[count], .mesh = mesh, .cull = SL_CULL_NONE,
+                                 .clear = count == 0 ? &clear : NULL};
+        count++;
+    }
+    if (count > 0 && !sl_raster_draw_list(r, &target, draws, count, err))
+        return -1;
+    return count;
+}
+
 static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene, sl_draw *draws,
                       mat4 *mvp, shadow_texel *texels, sl_error *err)
 {
     float znear, zfar;
     if (!cube_range(scene, c->position, &znear, &zfar))
         return true; /* no geometry: nothing casts, every depth stays +inf */
-    const shadow_texel clear = {1.0f, INFINITY};
     size_t n = (size_t)m->side * (size_t)m->side;
-    sl_target target = {.width = m->side, .height = m->side, .texel_size = sizeof(shadow_texel), .texels = texels,
-                        .depth_offset = (long)offsetof(shadow_texel, depth)};
     for (int f = 0; f < 6; f++) {
         mat4 vp = face_view_proj(m, f, c->position, znear, zfar);
-        int count = 0;
-        for (int o = 0; o < scene->object_count; o++) {
-            const sl_object *obj = &scene->objects[o];
-            const sl_mesh *mesh = &scene->meshes[obj->mesh];
-            if (mesh->triangle_count == 0)
-                continue;
-            mvp[count] = mat4_mul(vp, obj->model);
-            draws[count] = (sl_draw){.program = &shadow_program, .vs_uniforms = &mvp[count], .mesh = mesh,
-                                     .cull = SL_CULL_NONE, .clear = count == 0 ? &clear : NULL};
-            count++;
-        }
-        if (count == 0) {
-            for (size_t k = 0; k < n; k++)
-                c->depth[f][k] = INFINITY;
-            continue;
-        }
-        if (!sl_raster_draw_list(r, &target, draws, count, err))
+        int count = draw_depth(r, scene, &shadow_program, vp, m->side, texels, draws, mvp, err);
+        if (count < 0)
             return false;
         for (size_t k = 0; k < n; k++)
-            c->depth[f][k] = texels[k].view;
+            c->depth[f][k] = count > 0 ? texels[k].view : INFINITY;
     }
     return true;
 }
@@ -433,23 +440,8 @@ bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene
                 sun->depth[t] = INFINITY;
             continue;
         }
-        mat4 vp = sun_view_proj(sun);
-        const shadow_texel clear = {1.0f, INFINITY};
-        sl_target target = {.width = SL_SHADOW_SUN_SIZE, .height = SL_SHADOW_SUN_SIZE,
-                            .texel_size = sizeof(shadow_texel), .texels = texels,
-                            .depth_offset = (long)offsetof(shadow_texel, depth)};
-        int count = 0;
-        for (int o = 0; o < scene->object_count; o++) {
-            const sl_object *obj = &scene->objects[o];
-            const sl_mesh *mesh = &scene->meshes[obj->mesh];
-            if (mesh->triangle_count == 0)
-                continue;
-            mvp[count] = mat4_mul(vp, obj->model);
-            draws[count] = (sl_draw){.program = &sun_program, .vs_uniforms = &mvp[count], .mesh = mesh,
-                                     .cull = SL_CULL_NONE, .clear = count == 0 ? &clear : NULL};
-            count++;
-        }
-        if (count > 0 && !sl_raster_draw_list(r, &target, draws, count, err)) {
+        int count = draw_depth(r, scene, &sun_program, sun_view_proj(sun), SL_SHADOW_SUN_SIZE, texels, draws, mvp, err);
+        if (count < 0) {
             ok = false;
             break;
         }
