@@ -288,6 +288,108 @@ static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_hal
     return (sl_vec4){bent.x, bent.y, bent.z, ao};
 }
 
+/* blurred() for the texels x0 .. x1 - 1 of row y, in vector loops, with the same bits: the
+ * frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
+ * holds the two to the same bits). Each of the block's half-resolution rows is expanded to full
+ * resolution in structure-of-arrays form, entry e holding sample x0 / 2 - 1 + e / 2, so that
+ * candidate i0 - 1 + di of texel x0 + k is entry k + 2 di: one vector loop over the span per
+ * candidate, in blurred()'s order (rows outer, columns inner), each sum a select between itself
+ * and itself plus the candidate, so every texel adds the same values in the same order. Samples
+ * off the grid or on empty texels are entries that fail every test (ok 0), as blurred() skips
+ * them. x0 is even. */
+enum { BLUR_SPAN = 256 };
+static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x0, int x1, int y,
+                         sl_vec4 *cone, sl_gbuffer_extra *extra)
+{
+    const int n = x1 - x0;
+    /* the span's own texels: normal, position, the depth test's limit; the sums */
+    float cnx[BLUR_SPAN], cny[BLUR_SPAN], cnz[BLUR_SPAN], cpx[BLUR_SPAN], cpy[BLUR_SPAN], cpz[BLUR_SPAN];
+    float lim[BLUR_SPAN], sum[BLUR_SPAN], cnt[BLUR_SPAN], sbx[BLUR_SPAN], sby[BLUR_SPAN], sbz[BLUR_SPAN];
+    /* one half-resolution row, expanded */
+    float ok[BLUR_SPAN + 6], qnx[BLUR_SPAN + 6], qny[BLUR_SPAN + 6], qnz[BLUR_SPAN + 6];
+    float qpx[BLUR_SPAN + 6], qpy[BLUR_SPAN + 6], qpz[BLUR_SPAN + 6];
+    float qao[BLUR_SPAN + 6], qbx[BLUR_SPAN + 6], qby[BLUR_SPAN + 6], qbz[BLUR_SPAN + 6];
+    for (int k = 0; k < n; k++) {
+        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
+        cnx[k] = c->normal.x;
+        cny[k] = c->normal.y;
+        cnz[k] = c->normal.z;
+        cpx[k] = c->position.x;
+        cpy[k] = c->position.y;
+        cpz[k] = c->position.z;
+        lim[k] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
+        sum[k] = cnt[k] = sbx[k] = sby[k] = sbz[k] = 0.0f;
+    }
+    for (int j = y / 2 - 1; j <= y / 2 + 2; j++) {
+        if (j < 0 || j >= h->height)
+            continue;
+        for (int e = 0; e < n + 6; e++) {
+            int i = x0 / 2 - 1 + e / 2;
+            const sl_gbuffer_texel *q = i < 0 || i >= h->width ? NULL : sl_gbuffer_at(gb, 2 * i, 2 * j);
+            if (q && sl_gbuffer_covered(q)) {
+                const gtao_sample *s = &h->ao[(size_t)j * (size_t)h->width + (size_t)i];
+                ok[e] = 1.0f;
+                qnx[e] = q->normal.x;
+                qny[e] = q->normal.y;
+                qnz[e] = q->normal.z;
+                qpx[e] = q->position.x;
+                qpy[e] = q->position.y;
+                qpz[e] = q->position.z;
+                qao[e] = s->ao;
+                qbx[e] = s->bx;
+                qby[e] = s->by;
+                qbz[e] = s->bz;
+            } else {
+                ok[e] = qnx[e] = qny[e] = qnz[e] = qpx[e] = qpy[e] = qpz[e] = 0.0f;
+                qao[e] = qbx[e] = qby[e] = qbz[e] = 0.0f;
+            }
+        }
+        for (int di = 0; di < 4; di++) {
+            const int o = 2 * di;
+#pragma omp simd
+            for (int k = 0; k < n; k++) {
+                /* blurred()'s dot products, term by term in the same order */
+                float dn = qnx[k + o] * cnx[k] + qny[k + o] * cny[k] + qnz[k + o] * cnz[k];
+                float dd = (qpx[k + o] - cpx[k]) * cnx[k] + (qpy[k + o] - cpy[k]) * cny[k] +
+                           (qpz[k + o] - cpz[k]) * cnz[k];
+                bool same = ok[k + o] > 0.0f && !(dn < SL_GTAO_BLUR_NORMAL) && !(fabsf(dd) > lim[k]);
+                float s = sum[k] + qao[k + o], c = cnt[k] + 1.0f;
+                float bx = sbx[k] + qbx[k + o], by = sby[k] + qby[k + o], bz = sbz[k] + qbz[k + o];
+                sum[k] = same ? s : sum[k];
+                cnt[k] = same ? c : cnt[k];
+                sbx[k] = same ? bx : sbx[k];
+                sby[k] = same ? by : sby[k];
+                sbz[k] = same ? bz : sbz[k];
+            }
+        }
+    }
+    /* the mean, clamped, and the bent normal normalised (its length kept in cnt for the fallback) */
+#pragma omp simd
+    for (int k = 0; k < n; k++) {
+        float mean = sum[k] / cnt[k];
+        float ao = cnt[k] > 0.0f ? mean : 1.0f;
+        sum[k] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+        float lb = sqrtf(sbx[k] * sbx[k] + sby[k] * sby[k] + sbz[k] * sbz[k]);
+        float inv = 1.0f / lb;
+        sbx[k] *= inv;
+        sby[k] *= inv;
+        sbz[k] *= inv;
+        cnt[k] = lb;
+    }
+    for (int k = 0; k < n; k++) {
+        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
+        if (!sl_gbuffer_covered(c)) {
+            cone[x0 + k] = (sl_vec4){c->normal.x, c->normal.y, c->normal.z, 1.0f};
+            continue;
+        }
+        vec3 bent = vec3(sbx[k], sby[k], sbz[k]);
+        if (!(cnt[k] > 1e-20f)) /* no samples, or bent normals that cancel */
+            bent = sl_lighting_facing_normal(c->normal, normalize(sub(f->view.eye, c->position)));
+        cone[x0 + k] = (sl_vec4){bent.x, bent.y, bent.z, sum[k]};
+        extra[x0 + k].occlusion *= sum[k];
+    }
+}
+
 static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, gtao_half *h, int j0,
                       int j1, int i0, int i1)
 {
@@ -353,15 +455,8 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
         for (int y = 0; y < height; y++) {
             sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)width;
             sl_vec4 *cone = gb->cone + (size_t)y * (size_t)width;
-            for (int x = 0; x < width; x++) {
-                const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
-                if (sl_gbuffer_covered(t)) {
-                    cone[x] = blurred(gb, &f, &h, x, y);
-                    row[x].occlusion *= cone[x].w;
-                } else {
-                    cone[x] = (sl_vec4){t->normal.x, t->normal.y, t->normal.z, 1.0f};
-                }
-            }
+            for (int x = 0; x < width; x += BLUR_SPAN)
+                blurred_span(gb, &f, &h, x, x + BLUR_SPAN < width ? x + BLUR_SPAN : width, y, cone, row);
         }
     }
     free(h.ao);
