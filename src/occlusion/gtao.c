@@ -117,10 +117,29 @@ typedef struct {
     float nx, ny, nz, w;
 } gtao_plane;
 
-/* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1. */
-static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *planes, int half_width, int j0, int j1)
+/* What the frame's blur (blurred_span) reads of the half-resolution grid, a channel at a time:
+ * whether the sample's texel is covered (1 or 0), its normal and position, and the sample's AO
+ * and bent normal. Each row has one empty entry (all 0) before its samples and two after, so the
+ * 4 columns around any texel lie in the row in every channel: the vector loops need no test of
+ * the image's border, and the 56-byte texels are read once, not 16 times. */
+enum { GRID_OK, GRID_NX, GRID_NY, GRID_NZ, GRID_PX, GRID_PY, GRID_PZ, GRID_AO, GRID_BX, GRID_BY, GRID_BZ, GRID_CHANNELS };
+typedef struct {
+    int stride, height; /* half width + 3, half height */
+    float *v;
+} gtao_grid;
+
+/* Row j of one channel; column i of the half-resolution grid is entry i + 1. */
+static float *grid_row(const gtao_grid *g, int channel, int j)
 {
-    for (int j = j0; j < j1; j++)
+    return g->v + ((size_t)channel * (size_t)g->height + (size_t)j) * (size_t)g->stride;
+}
+
+/* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1;
+ * with a grid, the same rows' texels (and its empty entries) in it. */
+static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *planes, gtao_grid *grid, int half_width,
+                      int j0, int j1)
+{
+    for (int j = j0; j < j1; j++) {
         for (int i = 0; i < half_width; i++) {
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
             gtao_plane *p = &planes[(size_t)j * (size_t)half_width + (size_t)i];
@@ -131,6 +150,28 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
                 *p = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
             }
         }
+        if (!grid)
+            continue;
+        for (int c = 0; c < GRID_CHANNELS; c++) {
+            float *row = grid_row(grid, c, j);
+            row[0] = row[half_width + 1] = row[half_width + 2] = 0.0f;
+        }
+        float *ok = grid_row(grid, GRID_OK, j) + 1, *nx = grid_row(grid, GRID_NX, j) + 1;
+        float *ny = grid_row(grid, GRID_NY, j) + 1, *nz = grid_row(grid, GRID_NZ, j) + 1;
+        float *px = grid_row(grid, GRID_PX, j) + 1, *py = grid_row(grid, GRID_PY, j) + 1;
+        float *pz = grid_row(grid, GRID_PZ, j) + 1;
+        for (int i = 0; i < half_width; i++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
+            bool covered = sl_gbuffer_covered(t);
+            ok[i] = covered ? 1.0f : 0.0f;
+            nx[i] = covered ? t->normal.x : 0.0f;
+            ny[i] = covered ? t->normal.y : 0.0f;
+            nz[i] = covered ? t->normal.z : 0.0f;
+            px[i] = covered ? t->position.x : 0.0f;
+            py[i] = covered ? t->position.y : 0.0f;
+            pz[i] = covered ? t->position.z : 0.0f;
+        }
+    }
 }
 
 /* The highest horizon (largest cos to V) along screen direction (dx, dy) from pixel (x, y) out to
@@ -252,6 +293,7 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
 typedef struct {
     int width, height; /* (W + 1) / 2 x (H + 1) / 2 */
     gtao_sample *ao;
+    gtao_grid *grid; /* the frame's, for blurred_span (NULL for one texel: blurred() reads the G-buffer) */
 } gtao_half;
 
 /* The texel's cone: the blurred AO (clamped to [0, 1]) in w, the mean of the same samples' bent
@@ -288,105 +330,97 @@ static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_hal
     return (sl_vec4){bent.x, bent.y, bent.z, ao};
 }
 
-/* blurred() for the texels x0 .. x1 - 1 of row y, in vector loops, with the same bits: the
- * frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
- * holds the two to the same bits). Each of the block's half-resolution rows is expanded to full
- * resolution in structure-of-arrays form, entry e holding sample x0 / 2 - 1 + e / 2, so that
- * candidate i0 - 1 + di of texel x0 + k is entry k + 2 di: one vector loop over the span per
- * candidate, in blurred()'s order (rows outer, columns inner), each sum a select between itself
- * and itself plus the candidate, so every texel adds the same values in the same order. Samples
- * off the grid or on empty texels are entries that fail every test (ok 0), as blurred() skips
- * them. x0 is even. */
-enum { BLUR_SPAN = 256 };
+/* blurred() for the texels x0 .. x1 - 1 of row y (x0 even), in vector loops, with the same bits:
+ * the frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
+ * holds the two to the same bits). Texels 2m and 2m + 1 have the same block, half-resolution
+ * columns m - 1 .. m + 2 (entries m .. m + 3 of the grid's rows), so the span's texels are split
+ * into its even and its odd ones, each in structure-of-arrays form, and candidate (j, m - 1 + di)
+ * is entry m + di of row j for both: one vector loop over each half of the span per candidate, in
+ * blurred()'s order (rows outer, columns inner), each sum a select between itself and itself plus
+ * the candidate, so every texel adds the same values in the same order. The grid's empty entries
+ * fail the coverage test, as blurred() skips samples off the grid or on empty texels. */
+enum { BLUR_SPAN = 256 }; /* texels, even */
 static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x0, int x1, int y,
                          sl_vec4 *cone, sl_gbuffer_extra *extra)
 {
-    const int n = x1 - x0;
-    /* the span's own texels: normal, position, the depth test's limit; the sums */
-    float cnx[BLUR_SPAN], cny[BLUR_SPAN], cnz[BLUR_SPAN], cpx[BLUR_SPAN], cpy[BLUR_SPAN], cpz[BLUR_SPAN];
-    float lim[BLUR_SPAN], sum[BLUR_SPAN], cnt[BLUR_SPAN], sbx[BLUR_SPAN], sby[BLUR_SPAN], sbz[BLUR_SPAN];
-    /* one half-resolution row, expanded */
-    float ok[BLUR_SPAN + 6], qnx[BLUR_SPAN + 6], qny[BLUR_SPAN + 6], qnz[BLUR_SPAN + 6];
-    float qpx[BLUR_SPAN + 6], qpy[BLUR_SPAN + 6], qpz[BLUR_SPAN + 6];
-    float qao[BLUR_SPAN + 6], qbx[BLUR_SPAN + 6], qby[BLUR_SPAN + 6], qbz[BLUR_SPAN + 6];
+    enum { HALF = BLUR_SPAN / 2 };
+    const int n = x1 - x0, count[2] = {(n + 1) / 2, n / 2};
+    /* texel x0 + 2m + p at [p][m]: its normal, position, the depth test's limit; the sums */
+    float cnx[2][HALF], cny[2][HALF], cnz[2][HALF], cpx[2][HALF], cpy[2][HALF], cpz[2][HALF], lim[2][HALF];
+    float sum[2][HALF], cnt[2][HALF], sbx[2][HALF], sby[2][HALF], sbz[2][HALF];
     for (int k = 0; k < n; k++) {
+        const int p = k & 1, m = k >> 1;
         const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
-        cnx[k] = c->normal.x;
-        cny[k] = c->normal.y;
-        cnz[k] = c->normal.z;
-        cpx[k] = c->position.x;
-        cpy[k] = c->position.y;
-        cpz[k] = c->position.z;
-        lim[k] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
-        sum[k] = cnt[k] = sbx[k] = sby[k] = sbz[k] = 0.0f;
+        cnx[p][m] = c->normal.x;
+        cny[p][m] = c->normal.y;
+        cnz[p][m] = c->normal.z;
+        cpx[p][m] = c->position.x;
+        cpy[p][m] = c->position.y;
+        cpz[p][m] = c->position.z;
+        lim[p][m] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
+        sum[p][m] = cnt[p][m] = sbx[p][m] = sby[p][m] = sbz[p][m] = 0.0f;
     }
+    const gtao_grid *g = h->grid;
     for (int j = y / 2 - 1; j <= y / 2 + 2; j++) {
         if (j < 0 || j >= h->height)
             continue;
-        for (int e = 0; e < n + 6; e++) {
-            int i = x0 / 2 - 1 + e / 2;
-            const sl_gbuffer_texel *q = i < 0 || i >= h->width ? NULL : sl_gbuffer_at(gb, 2 * i, 2 * j);
-            if (q && sl_gbuffer_covered(q)) {
-                const gtao_sample *s = &h->ao[(size_t)j * (size_t)h->width + (size_t)i];
-                ok[e] = 1.0f;
-                qnx[e] = q->normal.x;
-                qny[e] = q->normal.y;
-                qnz[e] = q->normal.z;
-                qpx[e] = q->position.x;
-                qpy[e] = q->position.y;
-                qpz[e] = q->position.z;
-                qao[e] = s->ao;
-                qbx[e] = s->bx;
-                qby[e] = s->by;
-                qbz[e] = s->bz;
-            } else {
-                ok[e] = qnx[e] = qny[e] = qnz[e] = qpx[e] = qpy[e] = qpz[e] = 0.0f;
-                qao[e] = qbx[e] = qby[e] = qbz[e] = 0.0f;
-            }
-        }
-        for (int di = 0; di < 4; di++) {
-            const int o = 2 * di;
+        const float *ok = grid_row(g, GRID_OK, j) + x0 / 2, *qnx = grid_row(g, GRID_NX, j) + x0 / 2;
+        const float *qny = grid_row(g, GRID_NY, j) + x0 / 2, *qnz = grid_row(g, GRID_NZ, j) + x0 / 2;
+        const float *qpx = grid_row(g, GRID_PX, j) + x0 / 2, *qpy = grid_row(g, GRID_PY, j) + x0 / 2;
+        const float *qpz = grid_row(g, GRID_PZ, j) + x0 / 2, *qao = grid_row(g, GRID_AO, j) + x0 / 2;
+        const float *qbx = grid_row(g, GRID_BX, j) + x0 / 2, *qby = grid_row(g, GRID_BY, j) + x0 / 2;
+        const float *qbz = grid_row(g, GRID_BZ, j) + x0 / 2;
+        for (int di = 0; di < 4; di++)
+            for (int p = 0; p < 2; p++) {
+                const float *nx = cnx[p], *ny = cny[p], *nz = cnz[p], *px = cpx[p], *py = cpy[p], *pz = cpz[p];
+                const float *l = lim[p];
+                float *s = sum[p], *c = cnt[p], *bx = sbx[p], *by = sby[p], *bz = sbz[p];
 #pragma omp simd
-            for (int k = 0; k < n; k++) {
-                /* blurred()'s dot products, term by term in the same order */
-                float dn = qnx[k + o] * cnx[k] + qny[k + o] * cny[k] + qnz[k + o] * cnz[k];
-                float dd = (qpx[k + o] - cpx[k]) * cnx[k] + (qpy[k + o] - cpy[k]) * cny[k] +
-                           (qpz[k + o] - cpz[k]) * cnz[k];
-                bool same = ok[k + o] > 0.0f && !(dn < SL_GTAO_BLUR_NORMAL) && !(fabsf(dd) > lim[k]);
-                float s = sum[k] + qao[k + o], c = cnt[k] + 1.0f;
-                float bx = sbx[k] + qbx[k + o], by = sby[k] + qby[k + o], bz = sbz[k] + qbz[k + o];
-                sum[k] = same ? s : sum[k];
-                cnt[k] = same ? c : cnt[k];
-                sbx[k] = same ? bx : sbx[k];
-                sby[k] = same ? by : sby[k];
-                sbz[k] = same ? bz : sbz[k];
+                for (int m = 0; m < count[p]; m++) {
+                    const int e = m + di;
+                    /* blurred()'s dot products, term by term in the same order */
+                    float dn = qnx[e] * nx[m] + qny[e] * ny[m] + qnz[e] * nz[m];
+                    float dd = (qpx[e] - px[m]) * nx[m] + (qpy[e] - py[m]) * ny[m] + (qpz[e] - pz[m]) * nz[m];
+                    /* & rather than &&: no branch, so every load is unconditional and the loop vectorizes */
+                    bool same = (ok[e] > 0.0f) & !(dn < SL_GTAO_BLUR_NORMAL) & !(fabsf(dd) > l[m]);
+                    float s1 = s[m] + qao[e], c1 = c[m] + 1.0f;
+                    float bx1 = bx[m] + qbx[e], by1 = by[m] + qby[e], bz1 = bz[m] + qbz[e];
+                    s[m] = same ? s1 : s[m];
+                    c[m] = same ? c1 : c[m];
+                    bx[m] = same ? bx1 : bx[m];
+                    by[m] = same ? by1 : by[m];
+                    bz[m] = same ? bz1 : bz[m];
+                }
             }
+    }
+    /* the mean, clamped, into sum; the bent normal normalised, its length into cnt for the fallback */
+    for (int p = 0; p < 2; p++) {
+        float *s = sum[p], *c = cnt[p], *bx = sbx[p], *by = sby[p], *bz = sbz[p];
+#pragma omp simd
+        for (int m = 0; m < count[p]; m++) {
+            float mean = s[m] / c[m];
+            float ao = c[m] > 0.0f ? mean : 1.0f;
+            s[m] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+            float lb = sqrtf(bx[m] * bx[m] + by[m] * by[m] + bz[m] * bz[m]);
+            float inv = 1.0f / lb;
+            bx[m] *= inv;
+            by[m] *= inv;
+            bz[m] *= inv;
+            c[m] = lb;
         }
     }
-    /* the mean, clamped, and the bent normal normalised (its length kept in cnt for the fallback) */
-#pragma omp simd
     for (int k = 0; k < n; k++) {
-        float mean = sum[k] / cnt[k];
-        float ao = cnt[k] > 0.0f ? mean : 1.0f;
-        sum[k] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
-        float lb = sqrtf(sbx[k] * sbx[k] + sby[k] * sby[k] + sbz[k] * sbz[k]);
-        float inv = 1.0f / lb;
-        sbx[k] *= inv;
-        sby[k] *= inv;
-        sbz[k] *= inv;
-        cnt[k] = lb;
-    }
-    for (int k = 0; k < n; k++) {
+        const int p = k & 1, m = k >> 1;
         const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
         if (!sl_gbuffer_covered(c)) {
             cone[x0 + k] = (sl_vec4){c->normal.x, c->normal.y, c->normal.z, 1.0f};
             continue;
         }
-        vec3 bent = vec3(sbx[k], sby[k], sbz[k]);
-        if (!(cnt[k] > 1e-20f)) /* no samples, or bent normals that cancel */
+        vec3 bent = vec3(sbx[p][m], sby[p][m], sbz[p][m]);
+        if (!(cnt[p][m] > 1e-20f)) /* no samples, or bent normals that cancel */
             bent = sl_lighting_facing_normal(c->normal, normalize(sub(f->view.eye, c->position)));
-        cone[x0 + k] = (sl_vec4){bent.x, bent.y, bent.z, sum[k]};
-        extra[x0 + k].occlusion *= sum[k];
+        cone[x0 + k] = (sl_vec4){bent.x, bent.y, bent.z, sum[p][m]};
+        extra[x0 + k].occlusion *= sum[p][m];
     }
 }
 
@@ -394,8 +428,16 @@ static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao
                       int j1, int i0, int i1)
 {
     for (int j = j0; j < j1; j++)
-        for (int i = i0; i < i1; i++)
-            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
+        for (int i = i0; i < i1; i++) {
+            gtao_sample s = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
+            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = s;
+            if (h->grid) {
+                grid_row(h->grid, GRID_AO, j)[i + 1] = s.ao;
+                grid_row(h->grid, GRID_BX, j)[i + 1] = s.bx;
+                grid_row(h->grid, GRID_BY, j)[i + 1] = s.by;
+                grid_row(h->grid, GRID_BZ, j)[i + 1] = s.bz;
+            }
+        }
 }
 
 sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y)
@@ -405,12 +447,12 @@ sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, 
     sl_vec4 v = {t->normal.x, t->normal.y, t->normal.z, 1.0f};
     if (!sl_gbuffer_covered(t))
         return v;
-    gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL};
+    gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL, NULL};
     size_t n = (size_t)h.width * (size_t)h.height;
     h.ao = calloc(n, sizeof *h.ao);
     gtao_plane *planes = malloc(n * sizeof *planes);
     if (h.ao && planes) {
-        planes_of(gb, &f, planes, h.width, 0, h.height);
+        planes_of(gb, &f, planes, NULL, h.width, 0, h.height);
         /* the samples of the block blurred() reads */
         int i0 = x / 2 - 1, j0 = y / 2 - 1;
         half_rows(gb, planes, &f, &h, j0 < 0 ? 0 : j0, j0 + 4 < h.height ? j0 + 4 : h.height, i0 < 0 ? 0 : i0,
@@ -429,14 +471,18 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     if (!(radius > 0.0f) || !isfinite(radius))
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: radius %g, expected a positive number", (double)radius);
     const int height = gb->height, width = gb->width;
-    gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL};
+    gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL, NULL};
     h.ao = malloc((size_t)h.width * (size_t)h.height * sizeof *h.ao);
     gtao_plane *planes = malloc((size_t)h.width * (size_t)h.height * sizeof *planes);
+    gtao_grid grid = {h.width + 3, h.height, NULL};
+    grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)grid.height * sizeof *grid.v);
+    h.grid = &grid;
     if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
-    if (!h.ao || !planes || !gb->cone) {
+    if (!h.ao || !planes || !grid.v || !gb->cone) {
         free(h.ao);
         free(planes);
+        free(grid.v);
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
     }
     gtao_frame f = frame_of(gb, cam, radius);
@@ -447,7 +493,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     {
 #pragma omp for schedule(dynamic, 8)
         for (int j = 0; j < h.height; j++)
-            planes_of(gb, &f, planes, h.width, j, j + 1);
+            planes_of(gb, &f, planes, &grid, h.width, j, j + 1);
 #pragma omp for schedule(dynamic, 2)
         for (int j = 0; j < h.height; j++)
             half_rows(gb, planes, &f, &h, j, j + 1, 0, h.width);
@@ -461,5 +507,6 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     }
     free(h.ao);
     free(planes);
+    free(grid.v);
     return true;
 }
