@@ -9,6 +9,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <softlight/lighting.h>
 
@@ -120,18 +121,20 @@ typedef struct {
 /* What the frame's blur (blurred_span) reads of the half-resolution grid, a channel at a time:
  * whether the sample's texel is covered (1 or 0), its normal and position, and the sample's AO
  * and bent normal. Each row has one empty entry (all 0) before its samples and two after, so the
- * 4 columns around any texel lie in the row in every channel: the vector loops need no test of
- * the image's border, and the 56-byte texels are read once, not 16 times. */
+ * 4 columns around any texel lie in the row in every channel, and one empty row follows the last
+ * (row `height`), read in place of rows off the grid: the vector loops need no test of the image's
+ * border, and the 56-byte texels are read once, not 16 times. */
 enum { GRID_OK, GRID_NX, GRID_NY, GRID_NZ, GRID_PX, GRID_PY, GRID_PZ, GRID_AO, GRID_BX, GRID_BY, GRID_BZ, GRID_CHANNELS };
 typedef struct {
-    int stride, height; /* half width + 3, half height */
+    int stride, height; /* half width + 3, half height (rows: height + 1) */
     float *v;
 } gtao_grid;
 
-/* Row j of one channel; column i of the half-resolution grid is entry i + 1. */
+/* Row j of one channel (j = height: the empty row); column i of the half-resolution grid is
+ * entry i + 1. */
 static float *grid_row(const gtao_grid *g, int channel, int j)
 {
-    return g->v + ((size_t)channel * (size_t)g->height + (size_t)j) * (size_t)g->stride;
+    return g->v + ((size_t)channel * (size_t)(g->height + 1) + (size_t)j) * (size_t)g->stride;
 }
 
 /* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1;
@@ -358,55 +361,50 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
         cpy[p][m] = c->position.y;
         cpz[p][m] = c->position.z;
         lim[p][m] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
-        sum[p][m] = cnt[p][m] = sbx[p][m] = sby[p][m] = sbz[p][m] = 0.0f;
     }
-    const gtao_grid *g = h->grid;
-    for (int j = y / 2 - 1; j <= y / 2 + 2; j++) {
-        if (j < 0 || j >= h->height)
-            continue;
-        const float *ok = grid_row(g, GRID_OK, j) + x0 / 2, *qnx = grid_row(g, GRID_NX, j) + x0 / 2;
-        const float *qny = grid_row(g, GRID_NY, j) + x0 / 2, *qnz = grid_row(g, GRID_NZ, j) + x0 / 2;
-        const float *qpx = grid_row(g, GRID_PX, j) + x0 / 2, *qpy = grid_row(g, GRID_PY, j) + x0 / 2;
-        const float *qpz = grid_row(g, GRID_PZ, j) + x0 / 2, *qao = grid_row(g, GRID_AO, j) + x0 / 2;
-        const float *qbx = grid_row(g, GRID_BX, j) + x0 / 2, *qby = grid_row(g, GRID_BY, j) + x0 / 2;
-        const float *qbz = grid_row(g, GRID_BZ, j) + x0 / 2;
-        for (int di = 0; di < 4; di++)
-            for (int p = 0; p < 2; p++) {
-                const float *nx = cnx[p], *ny = cny[p], *nz = cnz[p], *px = cpx[p], *py = cpy[p], *pz = cpz[p];
-                const float *l = lim[p];
-                float *s = sum[p], *c = cnt[p], *bx = sbx[p], *by = sby[p], *bz = sbz[p];
-#pragma omp simd
-                for (int m = 0; m < count[p]; m++) {
-                    const int e = m + di;
-                    /* blurred()'s dot products, term by term in the same order */
-                    float dn = qnx[e] * nx[m] + qny[e] * ny[m] + qnz[e] * nz[m];
-                    float dd = (qpx[e] - px[m]) * nx[m] + (qpy[e] - py[m]) * ny[m] + (qpz[e] - pz[m]) * nz[m];
-                    /* & rather than &&: no branch, so every load is unconditional and the loop vectorizes */
-                    bool same = (ok[e] > 0.0f) & !(dn < SL_GTAO_BLUR_NORMAL) & !(fabsf(dd) > l[m]);
-                    float s1 = s[m] + qao[e], c1 = c[m] + 1.0f;
-                    float bx1 = bx[m] + qbx[e], by1 = by[m] + qby[e], bz1 = bz[m] + qbz[e];
-                    s[m] = same ? s1 : s[m];
-                    c[m] = same ? c1 : c[m];
-                    bx[m] = same ? bx1 : bx[m];
-                    by[m] = same ? by1 : by[m];
-                    bz[m] = same ? bz1 : bz[m];
-                }
-            }
+    /* the block's rows, a row off the grid read as the grid's empty row */
+    const float *q[4][GRID_CHANNELS];
+    for (int r = 0; r < 4; r++) {
+        int j = y / 2 - 1 + r;
+        for (int ch = 0; ch < GRID_CHANNELS; ch++)
+            q[r][ch] = grid_row(h->grid, ch, j < 0 || j >= h->height ? h->height : j) + x0 / 2;
     }
-    /* the mean, clamped, into sum; the bent normal normalised, its length into cnt for the fallback */
     for (int p = 0; p < 2; p++) {
-        float *s = sum[p], *c = cnt[p], *bx = sbx[p], *by = sby[p], *bz = sbz[p];
 #pragma omp simd
         for (int m = 0; m < count[p]; m++) {
-            float mean = s[m] / c[m];
-            float ao = c[m] > 0.0f ? mean : 1.0f;
-            s[m] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
-            float lb = sqrtf(bx[m] * bx[m] + by[m] * by[m] + bz[m] * bz[m]);
+            const float nx = cnx[p][m], ny = cny[p][m], nz = cnz[p][m], px = cpx[p][m], py = cpy[p][m];
+            const float pz = cpz[p][m], l = lim[p][m];
+            float s = 0.0f, c = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f;
+#pragma GCC unroll 4
+            for (int r = 0; r < 4; r++)
+#pragma GCC unroll 4
+                for (int di = 0; di < 4; di++) {
+                    const int e = m + di;
+                    /* blurred()'s dot products, term by term in the same order */
+                    float dn = q[r][GRID_NX][e] * nx + q[r][GRID_NY][e] * ny + q[r][GRID_NZ][e] * nz;
+                    float dd = (q[r][GRID_PX][e] - px) * nx + (q[r][GRID_PY][e] - py) * ny +
+                               (q[r][GRID_PZ][e] - pz) * nz;
+                    /* & rather than &&: no branch, so every load is unconditional and the loop vectorizes */
+                    bool same = (q[r][GRID_OK][e] > 0.0f) & !(dn < SL_GTAO_BLUR_NORMAL) & !(fabsf(dd) > l);
+                    float s1 = s + q[r][GRID_AO][e], c1 = c + 1.0f;
+                    float bx1 = bx + q[r][GRID_BX][e], by1 = by + q[r][GRID_BY][e], bz1 = bz + q[r][GRID_BZ][e];
+                    s = same ? s1 : s;
+                    c = same ? c1 : c;
+                    bx = same ? bx1 : bx;
+                    by = same ? by1 : by;
+                    bz = same ? bz1 : bz;
+                }
+            /* the mean, clamped, into sum; the bent normal normalised, its length into cnt for the
+             * fallback */
+            float mean = s / c;
+            float ao = c > 0.0f ? mean : 1.0f;
+            sum[p][m] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+            float lb = sqrtf(bx * bx + by * by + bz * bz);
             float inv = 1.0f / lb;
-            bx[m] *= inv;
-            by[m] *= inv;
-            bz[m] *= inv;
-            c[m] = lb;
+            sbx[p][m] = bx * inv;
+            sby[p][m] = by * inv;
+            sbz[p][m] = bz * inv;
+            cnt[p][m] = lb;
         }
     }
     for (int k = 0; k < n; k++) {
@@ -475,7 +473,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     h.ao = malloc((size_t)h.width * (size_t)h.height * sizeof *h.ao);
     gtao_plane *planes = malloc((size_t)h.width * (size_t)h.height * sizeof *planes);
     gtao_grid grid = {h.width + 3, h.height, NULL};
-    grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)grid.height * sizeof *grid.v);
+    grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1) * sizeof *grid.v);
     h.grid = &grid;
     if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
@@ -485,6 +483,8 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
         free(grid.v);
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
     }
+    for (int ch = 0; ch < GRID_CHANNELS; ch++)
+        memset(grid_row(&grid, ch, grid.height), 0, (size_t)grid.stride * sizeof *grid.v);
     gtao_frame f = frame_of(gb, cam, radius);
     /* Three loops, each needing the last one's rows around it; every one hands out small chunks
      * (dynamic), so a thread the system deschedules holds up the barrier for one chunk at most
