@@ -3,8 +3,8 @@
  * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
  * reads each, all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and
  * each texel's blurred value multiplied into its occlusion and written with its bent normal into
- * the cone plane (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
- * in the same order. */
+ * the cone plane (blurred for one texel; blurred_span, the same in vector loops, for the frame).
+ * shaders/gtao.frag and gtao_blur.frag are the GLSL twin, in the same order. */
 #include "gtao.h"
 
 #include <math.h>
@@ -333,15 +333,17 @@ static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_hal
     return (sl_vec4){bent.x, bent.y, bent.z, ao};
 }
 
-/* blurred() for the texels x0 .. x1 - 1 of row y (x0 even), in vector loops, with the same bits:
- * the frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
+/* blurred() for the texels x0 .. x1 - 1 of row y (x0 even), vectorized, with the same bits: the
+ * frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
  * holds the two to the same bits). Texels 2m and 2m + 1 have the same block, half-resolution
  * columns m - 1 .. m + 2 (entries m .. m + 3 of the grid's rows), so the span's texels are split
- * into its even and its odd ones, each in structure-of-arrays form, and candidate (j, m - 1 + di)
- * is entry m + di of row j for both: one vector loop over each half of the span per candidate, in
- * blurred()'s order (rows outer, columns inner), each sum a select between itself and itself plus
- * the candidate, so every texel adds the same values in the same order. The grid's empty entries
- * fail the coverage test, as blurred() skips samples off the grid or on empty texels. */
+ * into its even and its odd ones, each in structure-of-arrays form, and one vector loop over each
+ * half runs a texel per lane, its 16 candidates unrolled inside in blurred()'s order (rows outer,
+ * columns inner), each sum a select between itself and itself plus the candidate: every texel adds
+ * the same values in the same order, and the sums stay in registers. The grid's empty entries and
+ * empty row fail the coverage test, as blurred() skips samples off the grid or on empty texels.
+ * About half of its time is memory (perf annotate): the row's texels read, its cone and occlusion
+ * written. */
 enum { BLUR_SPAN = 256 }; /* texels, even */
 static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x0, int x1, int y,
                          sl_vec4 *cone, sl_gbuffer_extra *extra)
