@@ -177,41 +177,68 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
     }
 }
 
-/* The highest horizon (largest cos to V) along screen direction (dx, dy) from pixel (x, y) out to
- * `pixels`: -1 when nothing within the radius rises above the view-perpendicular plane.
+/* The highest horizons (largest cos to V) along screen direction (sx, sy) from pixel (x, y) and
+ * along (-sx, -sy), out to `pixels`, into c[0] and c[1]: -1 where nothing within the radius rises
+ * above the view-perpendicular plane.
  * A sample is the texel under the marched screen point, half a pixel off the slice at most; the
  * point used is where the slice's own view ray through the marched point meets that texel's
  * tangent plane, which is back on the slice, exactly for a planar surface. Without it, on a floor
  * seen at an angle, the rounding lifts half the samples above the floor's horizon and the maximum
  * keeps them: false occlusion of up to 8% (tests/unit/test_gtao.c, open floor). A texel seen
- * edge-on (the ray along its plane) is skipped. */
-static float horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y, vec3 P,
-                         vec3 V, float dx, float dy, float pixels, float shift)
+ * edge-on (the ray along its plane) is skipped.
+ * Both sides' 2 x SL_GTAO_STEPS reads are taken together: their points and grid entries, their
+ * planes, then the ray, the plane's point and its cosine for all of them in one vector loop (a
+ * lane a read: the divisions and square roots of 8 reads in one instruction each; & rather than
+ * || and &&, so that it has no branch), a skipped read's cosine -infinity; each side's maximum is
+ * then taken step by step in order, so the result has the bits of a loop that skips. */
+static void horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y,
+                        vec3 P, vec3 V, float sx, float sy, float pixels, float shift, float c[2])
 {
-    float best = -1.0f;
-    for (int s = 0; s < SL_GTAO_STEPS; s++) {
+    enum { READS = 2 * SL_GTAO_STEPS };
+    float px[READS], py[READS], qnx[READS], qny[READS], qnz[READS], qw[READS], cos_v[READS];
+    int at[READS];
+#pragma omp simd
+    for (int r = 0; r < READS; r++) {
+        int s = r % SL_GTAO_STEPS;
+        float dx = r < SL_GTAO_STEPS ? sx : -sx, dy = r < SL_GTAO_STEPS ? sy : -sy;
         float t = pixels * ((float)s + shift) / (float)SL_GTAO_STEPS;
-        float px = (float)x + 0.5f + dx * t, py = (float)y + 0.5f + dy * t;
-        int si = (int)floorf(0.5f * px), sj = (int)floorf(0.5f * py); /* the grid point's texel: (2si, 2sj) */
-        if ((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height)
-            continue;
-        gtao_plane q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
-        vec3 ray = add(f->view.forward, add(scale(f->view.right, (px - f->half_width) / f->view.pixels_per_unit),
-                                       scale(f->view.up, (py - f->half_height) / f->view.pixels_per_unit)));
-        float along = ray.x * q.nx + ray.y * q.ny + ray.z * q.nz;
-        if (!(fabsf(along) > 1e-6f)) /* nothing drawn (a zero plane), or seen edge-on */
-            continue;
-        float depth = q.w / along;
-        if (!(depth > 0.0f))
-            continue;
+        px[r] = (float)x + 0.5f + dx * t;
+        py[r] = (float)y + 0.5f + dy * t;
+        int si = (int)floorf(0.5f * px[r]), sj = (int)floorf(0.5f * py[r]); /* the grid point's texel: (2si, 2sj) */
+        bool skip = (2 * si == x && 2 * sj == y) | (si < 0) | (sj < 0) | (si >= half_width) | (sj >= half_height);
+        at[r] = skip ? -1 : sj * half_width + si;
+    }
+    for (int r = 0; r < READS; r++) {
+        /* a skipped read takes the zero plane, which fails the edge-on test below */
+        gtao_plane q = at[r] < 0 ? (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f} : planes[at[r]];
+        qnx[r] = q.nx;
+        qny[r] = q.ny;
+        qnz[r] = q.nz;
+        qw[r] = q.w;
+    }
+#pragma omp simd
+    for (int r = 0; r < READS; r++) {
+        vec3 ray = add(f->view.forward, add(scale(f->view.right, (px[r] - f->half_width) / f->view.pixels_per_unit),
+                                       scale(f->view.up, (py[r] - f->half_height) / f->view.pixels_per_unit)));
+        float along = ray.x * qnx[r] + ray.y * qny[r] + ray.z * qnz[r];
+        /* nothing drawn (a zero plane), or seen edge-on */
+        bool keep = fabsf(along) > 1e-6f;
+        float depth = qw[r] / along;
+        keep &= depth > 0.0f;
         vec3 d = sub(add(f->view.eye, scale(ray, depth)), P);
         float l2 = dot(d, d);
-        if (l2 > f->radius2 || l2 < 1e-20f)
-            continue;
-        float c = dot(d, V) / sqrtf(l2);
-        best = c > best ? c : best;
+        keep &= !(l2 > f->radius2) & !(l2 < 1e-20f);
+        float cv = dot(d, V) / sqrtf(l2);
+        cos_v[r] = keep ? cv : -INFINITY;
     }
-    return best;
+    for (int side = 0; side < 2; side++) {
+        float best = -1.0f;
+        for (int s = 0; s < SL_GTAO_STEPS; s++) {
+            float cv = cos_v[side * SL_GTAO_STEPS + s];
+            best = cv > best ? cv : best;
+        }
+        c[side] = best;
+    }
 }
 
 /* A raw sample: the AO and the unnormalised bent normal (the cosine-weighted mean visible
@@ -269,8 +296,9 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
             continue; /* the normal lies along the slice's axis: the slice sees none of its cosine */
         float cos_n = dot(Np, V) / lp, sin_n = dot(Np, dir) / lp;
         float n = (sin_n < 0.0f ? -1.0f : 1.0f) * acos_fast(cos_n);
-        float c_pos = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift);
-        float c_neg = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, -sx, -sy, pixels, shift);
+        float horizons[2];
+        horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift, horizons);
+        float c_pos = horizons[0], c_neg = horizons[1];
         /* each horizon's angle once, for the AO's arc and the bent normal's */
         float h_pos = acos_fast(c_pos), h_neg = -acos_fast(c_neg);
         bool clamp_pos = h_pos - n >= 0.5f * SL_PI, clamp_neg = -(h_neg - n) >= 0.5f * SL_PI;
