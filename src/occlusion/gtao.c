@@ -186,18 +186,16 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
  * seen at an angle, the rounding lifts half the samples above the floor's horizon and the maximum
  * keeps them: false occlusion of up to 8% (tests/unit/test_gtao.c, open floor). A texel seen
  * edge-on (the ray along its plane) is skipped.
- * Both sides' 2 x SL_GTAO_STEPS reads are taken together: their points and grid entries, their
- * planes, then the ray, the plane's point and its cosine for all of them in one vector loop (a
- * lane a read: the divisions and square roots of 8 reads in one instruction each; & rather than
- * || and &&, so that it has no branch), a skipped read's cosine -infinity; each side's maximum is
- * then taken step by step in order, so the result has the bits of a loop that skips. */
+ * Both sides' 2 x SL_GTAO_STEPS reads are taken together: their points and planes, then the ray,
+ * the plane's point and its cosine for all of them in one vector loop (a lane a read: the
+ * divisions and square roots of 8 reads in one instruction each; & rather than || and &&, so that
+ * it has no branch), a skipped read's cosine -infinity; each side's maximum is then taken step by
+ * step in order, so the result has the bits of a loop that skips. */
 static void horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y,
                         vec3 P, vec3 V, float sx, float sy, float pixels, float shift, float c[2])
 {
     enum { READS = 2 * SL_GTAO_STEPS };
     float px[READS], py[READS], qnx[READS], qny[READS], qnz[READS], qw[READS], cos_v[READS];
-    int at[READS];
-#pragma omp simd
     for (int r = 0; r < READS; r++) {
         int s = r % SL_GTAO_STEPS;
         float dx = r < SL_GTAO_STEPS ? sx : -sx, dy = r < SL_GTAO_STEPS ? sy : -sy;
@@ -205,12 +203,10 @@ static void horizon_cos(const gtao_plane *planes, int half_width, int half_heigh
         px[r] = (float)x + 0.5f + dx * t;
         py[r] = (float)y + 0.5f + dy * t;
         int si = (int)floorf(0.5f * px[r]), sj = (int)floorf(0.5f * py[r]); /* the grid point's texel: (2si, 2sj) */
-        bool skip = (2 * si == x && 2 * sj == y) | (si < 0) | (sj < 0) | (si >= half_width) | (sj >= half_height);
-        at[r] = skip ? -1 : sj * half_width + si;
-    }
-    for (int r = 0; r < READS; r++) {
         /* a skipped read takes the zero plane, which fails the edge-on test below */
-        gtao_plane q = at[r] < 0 ? (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f} : planes[at[r]];
+        gtao_plane q = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (!((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height))
+            q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
         qnx[r] = q.nx;
         qny[r] = q.ny;
         qnz[r] = q.nz;
