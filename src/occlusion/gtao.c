@@ -3,12 +3,13 @@
  * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
  * reads each, all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and
  * each texel's blurred value multiplied into its occlusion and written with its bent normal into
- * the cone plane (blurred). shaders/gtao.frag and gtao_blur.frag are the GLSL twin,
- * in the same order. */
+ * the cone plane (blurred for one texel; blurred_span, the same in vector loops, for the frame).
+ * shaders/gtao.frag and gtao_blur.frag are the GLSL twin, in the same order. */
 #include "gtao.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include <softlight/lighting.h>
 
@@ -117,10 +118,31 @@ typedef struct {
     float nx, ny, nz, w;
 } gtao_plane;
 
-/* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1. */
-static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *planes, int half_width, int j0, int j1)
+/* What the frame's blur (blurred_span) reads of the half-resolution grid, a channel at a time:
+ * whether the sample's texel is covered (1 or 0), its normal and position, and the sample's AO
+ * and bent normal. Each row has one empty entry (all 0) before its samples and two after, so the
+ * 4 columns around any texel lie in the row in every channel, and one empty row follows the last
+ * (row `height`), read in place of rows off the grid: the vector loops need no test of the image's
+ * border, and the 56-byte texels are read once, not 16 times. */
+enum { GRID_OK, GRID_NX, GRID_NY, GRID_NZ, GRID_PX, GRID_PY, GRID_PZ, GRID_AO, GRID_BX, GRID_BY, GRID_BZ, GRID_CHANNELS };
+typedef struct {
+    int stride, height; /* half width + 3, half height (rows: height + 1) */
+    float *v;
+} gtao_grid;
+
+/* Row j of one channel (j = height: the empty row); column i of the half-resolution grid is
+ * entry i + 1. */
+static float *grid_row(const gtao_grid *g, int channel, int j)
 {
-    for (int j = j0; j < j1; j++)
+    return g->v + ((size_t)channel * (size_t)(g->height + 1) + (size_t)j) * (size_t)g->stride;
+}
+
+/* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1;
+ * with a grid, the same rows' texels (and its empty entries) in it. */
+static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *planes, gtao_grid *grid, int half_width,
+                      int j0, int j1)
+{
+    for (int j = j0; j < j1; j++) {
         for (int i = 0; i < half_width; i++) {
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
             gtao_plane *p = &planes[(size_t)j * (size_t)half_width + (size_t)i];
@@ -131,43 +153,88 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
                 *p = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
             }
         }
+        if (!grid)
+            continue;
+        for (int c = 0; c < GRID_CHANNELS; c++) {
+            float *row = grid_row(grid, c, j);
+            row[0] = row[half_width + 1] = row[half_width + 2] = 0.0f;
+        }
+        float *ok = grid_row(grid, GRID_OK, j) + 1, *nx = grid_row(grid, GRID_NX, j) + 1;
+        float *ny = grid_row(grid, GRID_NY, j) + 1, *nz = grid_row(grid, GRID_NZ, j) + 1;
+        float *px = grid_row(grid, GRID_PX, j) + 1, *py = grid_row(grid, GRID_PY, j) + 1;
+        float *pz = grid_row(grid, GRID_PZ, j) + 1;
+        for (int i = 0; i < half_width; i++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
+            bool covered = sl_gbuffer_covered(t);
+            ok[i] = covered ? 1.0f : 0.0f;
+            nx[i] = covered ? t->normal.x : 0.0f;
+            ny[i] = covered ? t->normal.y : 0.0f;
+            nz[i] = covered ? t->normal.z : 0.0f;
+            px[i] = covered ? t->position.x : 0.0f;
+            py[i] = covered ? t->position.y : 0.0f;
+            pz[i] = covered ? t->position.z : 0.0f;
+        }
+    }
 }
 
-/* The highest horizon (largest cos to V) along screen direction (dx, dy) from pixel (x, y) out to
- * `pixels`: -1 when nothing within the radius rises above the view-perpendicular plane.
+/* The highest horizons (largest cos to V) along screen direction (sx, sy) from pixel (x, y) and
+ * along (-sx, -sy), out to `pixels`, into c[0] and c[1]: -1 where nothing within the radius rises
+ * above the view-perpendicular plane.
  * A sample is the texel under the marched screen point, half a pixel off the slice at most; the
  * point used is where the slice's own view ray through the marched point meets that texel's
  * tangent plane, which is back on the slice, exactly for a planar surface. Without it, on a floor
  * seen at an angle, the rounding lifts half the samples above the floor's horizon and the maximum
  * keeps them: false occlusion of up to 8% (tests/unit/test_gtao.c, open floor). A texel seen
- * edge-on (the ray along its plane) is skipped. */
-static float horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y, vec3 P,
-                         vec3 V, float dx, float dy, float pixels, float shift)
+ * edge-on (the ray along its plane) is skipped.
+ * Both sides' 2 x SL_GTAO_STEPS reads are taken together: their points and planes, then the ray,
+ * the plane's point and its cosine for all of them in one vector loop (a lane a read: the
+ * divisions and square roots of 8 reads in one instruction each; & rather than || and &&, so that
+ * it has no branch), a skipped read's cosine -infinity; each side's maximum is then taken step by
+ * step in order, so the result has the bits of a loop that skips. */
+static void horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y,
+                        vec3 P, vec3 V, float sx, float sy, float pixels, float shift, float c[2])
 {
-    float best = -1.0f;
-    for (int s = 0; s < SL_GTAO_STEPS; s++) {
+    enum { READS = 2 * SL_GTAO_STEPS };
+    float px[READS], py[READS], qnx[READS], qny[READS], qnz[READS], qw[READS], cos_v[READS];
+    for (int r = 0; r < READS; r++) {
+        int s = r % SL_GTAO_STEPS;
+        float dx = r < SL_GTAO_STEPS ? sx : -sx, dy = r < SL_GTAO_STEPS ? sy : -sy;
         float t = pixels * ((float)s + shift) / (float)SL_GTAO_STEPS;
-        float px = (float)x + 0.5f + dx * t, py = (float)y + 0.5f + dy * t;
-        int si = (int)floorf(0.5f * px), sj = (int)floorf(0.5f * py); /* the grid point's texel: (2si, 2sj) */
-        if ((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height)
-            continue;
-        gtao_plane q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
-        vec3 ray = add(f->view.forward, add(scale(f->view.right, (px - f->half_width) / f->view.pixels_per_unit),
-                                       scale(f->view.up, (py - f->half_height) / f->view.pixels_per_unit)));
-        float along = ray.x * q.nx + ray.y * q.ny + ray.z * q.nz;
-        if (!(fabsf(along) > 1e-6f)) /* nothing drawn (a zero plane), or seen edge-on */
-            continue;
-        float depth = q.w / along;
-        if (!(depth > 0.0f))
-            continue;
+        px[r] = (float)x + 0.5f + dx * t;
+        py[r] = (float)y + 0.5f + dy * t;
+        int si = (int)floorf(0.5f * px[r]), sj = (int)floorf(0.5f * py[r]); /* the grid point's texel: (2si, 2sj) */
+        /* a skipped read takes the zero plane, which fails the edge-on test below */
+        gtao_plane q = {0.0f, 0.0f, 0.0f, 0.0f};
+        if (!((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height))
+            q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
+        qnx[r] = q.nx;
+        qny[r] = q.ny;
+        qnz[r] = q.nz;
+        qw[r] = q.w;
+    }
+#pragma omp simd
+    for (int r = 0; r < READS; r++) {
+        vec3 ray = add(f->view.forward, add(scale(f->view.right, (px[r] - f->half_width) / f->view.pixels_per_unit),
+                                       scale(f->view.up, (py[r] - f->half_height) / f->view.pixels_per_unit)));
+        float along = ray.x * qnx[r] + ray.y * qny[r] + ray.z * qnz[r];
+        /* nothing drawn (a zero plane), or seen edge-on */
+        bool keep = fabsf(along) > 1e-6f;
+        float depth = qw[r] / along;
+        keep &= depth > 0.0f;
         vec3 d = sub(add(f->view.eye, scale(ray, depth)), P);
         float l2 = dot(d, d);
-        if (l2 > f->radius2 || l2 < 1e-20f)
-            continue;
-        float c = dot(d, V) / sqrtf(l2);
-        best = c > best ? c : best;
+        keep &= !(l2 > f->radius2) & !(l2 < 1e-20f);
+        float cv = dot(d, V) / sqrtf(l2);
+        cos_v[r] = keep ? cv : -INFINITY;
     }
-    return best;
+    for (int side = 0; side < 2; side++) {
+        float best = -1.0f;
+        for (int s = 0; s < SL_GTAO_STEPS; s++) {
+            float cv = cos_v[side * SL_GTAO_STEPS + s];
+            best = cv > best ? cv : best;
+        }
+        c[side] = best;
+    }
 }
 
 /* A raw sample: the AO and the unnormalised bent normal (the cosine-weighted mean visible
@@ -225,8 +292,9 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
             continue; /* the normal lies along the slice's axis: the slice sees none of its cosine */
         float cos_n = dot(Np, V) / lp, sin_n = dot(Np, dir) / lp;
         float n = (sin_n < 0.0f ? -1.0f : 1.0f) * acos_fast(cos_n);
-        float c_pos = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift);
-        float c_neg = horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, -sx, -sy, pixels, shift);
+        float horizons[2];
+        horizon_cos(planes, (gb->width + 1) / 2, (gb->height + 1) / 2, f, x, y, P, V, sx, sy, pixels, shift, horizons);
+        float c_pos = horizons[0], c_neg = horizons[1];
         /* each horizon's angle once, for the AO's arc and the bent normal's */
         float h_pos = acos_fast(c_pos), h_neg = -acos_fast(c_neg);
         bool clamp_pos = h_pos - n >= 0.5f * SL_PI, clamp_neg = -(h_neg - n) >= 0.5f * SL_PI;
@@ -252,6 +320,7 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
 typedef struct {
     int width, height; /* (W + 1) / 2 x (H + 1) / 2 */
     gtao_sample *ao;
+    gtao_grid *grid; /* the frame's, for blurred_span (NULL for one texel: blurred() reads the G-buffer) */
 } gtao_half;
 
 /* The texel's cone: the blurred AO (clamped to [0, 1]) in w, the mean of the same samples' bent
@@ -288,12 +357,111 @@ static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_hal
     return (sl_vec4){bent.x, bent.y, bent.z, ao};
 }
 
+/* blurred() for the texels x0 .. x1 - 1 of row y (x0 even), vectorized, with the same bits: the
+ * frame's blur; blurred() stays the reference, which sl_gtao_texel runs (tests/unit/test_gtao.c
+ * holds the two to the same bits). Texels 2m and 2m + 1 have the same block, half-resolution
+ * columns m - 1 .. m + 2 (entries m .. m + 3 of the grid's rows), so the span's texels are split
+ * into its even and its odd ones, each in structure-of-arrays form, and one vector loop over each
+ * half runs a texel per lane, its 16 candidates unrolled inside in blurred()'s order (rows outer,
+ * columns inner), each sum a select between itself and itself plus the candidate: every texel adds
+ * the same values in the same order, and the sums stay in registers. The grid's empty entries and
+ * empty row fail the coverage test, as blurred() skips samples off the grid or on empty texels.
+ * About half of its time is memory (perf annotate): the row's texels read, its cone and occlusion
+ * written. */
+enum { BLUR_SPAN = 256 }; /* texels, even */
+static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x0, int x1, int y,
+                         sl_vec4 *cone, sl_gbuffer_extra *extra)
+{
+    enum { HALF = BLUR_SPAN / 2 };
+    const int n = x1 - x0, count[2] = {(n + 1) / 2, n / 2};
+    /* texel x0 + 2m + p at [p][m]: its normal, position, the depth test's limit; the sums */
+    float cnx[2][HALF], cny[2][HALF], cnz[2][HALF], cpx[2][HALF], cpy[2][HALF], cpz[2][HALF], lim[2][HALF];
+    float sum[2][HALF], cnt[2][HALF], sbx[2][HALF], sby[2][HALF], sbz[2][HALF];
+    for (int k = 0; k < n; k++) {
+        const int p = k & 1, m = k >> 1;
+        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
+        cnx[p][m] = c->normal.x;
+        cny[p][m] = c->normal.y;
+        cnz[p][m] = c->normal.z;
+        cpx[p][m] = c->position.x;
+        cpy[p][m] = c->position.y;
+        cpz[p][m] = c->position.z;
+        lim[p][m] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
+    }
+    /* the block's rows, a row off the grid read as the grid's empty row */
+    const float *q[4][GRID_CHANNELS];
+    for (int r = 0; r < 4; r++) {
+        int j = y / 2 - 1 + r;
+        for (int ch = 0; ch < GRID_CHANNELS; ch++)
+            q[r][ch] = grid_row(h->grid, ch, j < 0 || j >= h->height ? h->height : j) + x0 / 2;
+    }
+    for (int p = 0; p < 2; p++) {
+#pragma omp simd
+        for (int m = 0; m < count[p]; m++) {
+            const float nx = cnx[p][m], ny = cny[p][m], nz = cnz[p][m], px = cpx[p][m], py = cpy[p][m];
+            const float pz = cpz[p][m], l = lim[p][m];
+            float s = 0.0f, c = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f;
+#pragma GCC unroll 4
+            for (int r = 0; r < 4; r++)
+#pragma GCC unroll 4
+                for (int di = 0; di < 4; di++) {
+                    const int e = m + di;
+                    /* blurred()'s dot products, term by term in the same order */
+                    float dn = q[r][GRID_NX][e] * nx + q[r][GRID_NY][e] * ny + q[r][GRID_NZ][e] * nz;
+                    float dd = (q[r][GRID_PX][e] - px) * nx + (q[r][GRID_PY][e] - py) * ny +
+                               (q[r][GRID_PZ][e] - pz) * nz;
+                    /* & rather than &&: no branch, so every load is unconditional and the loop vectorizes */
+                    bool same = (q[r][GRID_OK][e] > 0.0f) & !(dn < SL_GTAO_BLUR_NORMAL) & !(fabsf(dd) > l);
+                    float s1 = s + q[r][GRID_AO][e], c1 = c + 1.0f;
+                    float bx1 = bx + q[r][GRID_BX][e], by1 = by + q[r][GRID_BY][e], bz1 = bz + q[r][GRID_BZ][e];
+                    s = same ? s1 : s;
+                    c = same ? c1 : c;
+                    bx = same ? bx1 : bx;
+                    by = same ? by1 : by;
+                    bz = same ? bz1 : bz;
+                }
+            /* the mean, clamped, into sum; the bent normal normalised, its length into cnt for the
+             * fallback */
+            float mean = s / c;
+            float ao = c > 0.0f ? mean : 1.0f;
+            sum[p][m] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
+            float lb = sqrtf(bx * bx + by * by + bz * bz);
+            float inv = 1.0f / lb;
+            sbx[p][m] = bx * inv;
+            sby[p][m] = by * inv;
+            sbz[p][m] = bz * inv;
+            cnt[p][m] = lb;
+        }
+    }
+    for (int k = 0; k < n; k++) {
+        const int p = k & 1, m = k >> 1;
+        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
+        if (!sl_gbuffer_covered(c)) {
+            cone[x0 + k] = (sl_vec4){c->normal.x, c->normal.y, c->normal.z, 1.0f};
+            continue;
+        }
+        vec3 bent = vec3(sbx[p][m], sby[p][m], sbz[p][m]);
+        if (!(cnt[p][m] > 1e-20f)) /* no samples, or bent normals that cancel */
+            bent = sl_lighting_facing_normal(c->normal, normalize(sub(f->view.eye, c->position)));
+        cone[x0 + k] = (sl_vec4){bent.x, bent.y, bent.z, sum[p][m]};
+        extra[x0 + k].occlusion *= sum[p][m];
+    }
+}
+
 static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, gtao_half *h, int j0,
                       int j1, int i0, int i1)
 {
     for (int j = j0; j < j1; j++)
-        for (int i = i0; i < i1; i++)
-            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
+        for (int i = i0; i < i1; i++) {
+            gtao_sample s = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
+            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = s;
+            if (h->grid) {
+                grid_row(h->grid, GRID_AO, j)[i + 1] = s.ao;
+                grid_row(h->grid, GRID_BX, j)[i + 1] = s.bx;
+                grid_row(h->grid, GRID_BY, j)[i + 1] = s.by;
+                grid_row(h->grid, GRID_BZ, j)[i + 1] = s.bz;
+            }
+        }
 }
 
 sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y)
@@ -303,12 +471,12 @@ sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, 
     sl_vec4 v = {t->normal.x, t->normal.y, t->normal.z, 1.0f};
     if (!sl_gbuffer_covered(t))
         return v;
-    gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL};
+    gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL, NULL};
     size_t n = (size_t)h.width * (size_t)h.height;
     h.ao = calloc(n, sizeof *h.ao);
     gtao_plane *planes = malloc(n * sizeof *planes);
     if (h.ao && planes) {
-        planes_of(gb, &f, planes, h.width, 0, h.height);
+        planes_of(gb, &f, planes, NULL, h.width, 0, h.height);
         /* the samples of the block blurred() reads */
         int i0 = x / 2 - 1, j0 = y / 2 - 1;
         half_rows(gb, planes, &f, &h, j0 < 0 ? 0 : j0, j0 + 4 < h.height ? j0 + 4 : h.height, i0 < 0 ? 0 : i0,
@@ -327,16 +495,22 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     if (!(radius > 0.0f) || !isfinite(radius))
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: radius %g, expected a positive number", (double)radius);
     const int height = gb->height, width = gb->width;
-    gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL};
+    gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL, NULL};
     h.ao = malloc((size_t)h.width * (size_t)h.height * sizeof *h.ao);
     gtao_plane *planes = malloc((size_t)h.width * (size_t)h.height * sizeof *planes);
+    gtao_grid grid = {h.width + 3, h.height, NULL};
+    grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1) * sizeof *grid.v);
+    h.grid = &grid;
     if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
-    if (!h.ao || !planes || !gb->cone) {
+    if (!h.ao || !planes || !grid.v || !gb->cone) {
         free(h.ao);
         free(planes);
+        free(grid.v);
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
     }
+    for (int ch = 0; ch < GRID_CHANNELS; ch++)
+        memset(grid_row(&grid, ch, grid.height), 0, (size_t)grid.stride * sizeof *grid.v);
     gtao_frame f = frame_of(gb, cam, radius);
     /* Three loops, each needing the last one's rows around it; every one hands out small chunks
      * (dynamic), so a thread the system deschedules holds up the barrier for one chunk at most
@@ -345,7 +519,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     {
 #pragma omp for schedule(dynamic, 8)
         for (int j = 0; j < h.height; j++)
-            planes_of(gb, &f, planes, h.width, j, j + 1);
+            planes_of(gb, &f, planes, &grid, h.width, j, j + 1);
 #pragma omp for schedule(dynamic, 2)
         for (int j = 0; j < h.height; j++)
             half_rows(gb, planes, &f, &h, j, j + 1, 0, h.width);
@@ -353,18 +527,12 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
         for (int y = 0; y < height; y++) {
             sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)width;
             sl_vec4 *cone = gb->cone + (size_t)y * (size_t)width;
-            for (int x = 0; x < width; x++) {
-                const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
-                if (sl_gbuffer_covered(t)) {
-                    cone[x] = blurred(gb, &f, &h, x, y);
-                    row[x].occlusion *= cone[x].w;
-                } else {
-                    cone[x] = (sl_vec4){t->normal.x, t->normal.y, t->normal.z, 1.0f};
-                }
-            }
+            for (int x = 0; x < width; x += BLUR_SPAN)
+                blurred_span(gb, &f, &h, x, x + BLUR_SPAN < width ? x + BLUR_SPAN : width, y, cone, row);
         }
     }
     free(h.ao);
     free(planes);
+    free(grid.v);
     return true;
 }

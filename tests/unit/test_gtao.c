@@ -5,6 +5,8 @@
  *     whose hit lies within R, the cosine-weighted share (acos(a) - a sqrt(1 - a^2)) / pi with
  *     a = d / R at distance d from the wall (0.5 at the foot, 0 from d = R on);
  *   - AO multiplies what a material's occlusion map left in the plane;
+ *   - the frame (sl_gtao_apply, its blur in vector loops over spans of a row) gives every texel
+ *     the same bits as the per-texel reference (sl_gtao_texel), across spans and at the borders;
  *   - the bent normal (the cone plane's axis): N on the open floor, leaning away from the wall
  *     beside it;
  *   - the diffuse's bent direction (src/shading/bent_irradiance.h): beside the wall under a sky
@@ -16,6 +18,7 @@
  *   - refusals: no extra plane, a radius that is not positive. */
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #include "testutil.h"
 
@@ -41,18 +44,18 @@ static sl_camera corner_camera(void)
     return c;
 }
 
-/* Trace every pixel centre through the camera: the nearest of the floor z = 0 and (with `wall`)
- * the wall x = 0 at z >= 0, facing +x. Row 0 = bottom, as the G-buffer. */
-static void trace(sl_gbuffer *gb, const sl_camera *cam, bool wall)
+/* Trace every pixel centre of a w x h image through the camera: the nearest of the floor z = 0
+ * and (with `wall`) the wall x = 0 at z >= 0, facing +x. Row 0 = bottom, as the G-buffer. */
+static void trace_sized(sl_gbuffer *gb, const sl_camera *cam, bool wall, int w, int h)
 {
     sl_error err = {0};
-    assert_true(sl_gbuffer_resize(gb, W, H, &err));
+    assert_true(sl_gbuffer_resize(gb, w, h, &err));
     assert_true(sl_gbuffer_use_extra(gb, true, 1, &err));
     sl_gbuffer_clear(gb, 1);
-    mat4 inv = inverse(sl_camera_view_proj(cam, W, H));
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            vec2 ndc = vec2(2.0f * ((float)x + 0.5f) / W - 1.0f, 2.0f * ((float)y + 0.5f) / H - 1.0f);
+    mat4 inv = inverse(sl_camera_view_proj(cam, w, h));
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            vec2 ndc = vec2(2.0f * ((float)x + 0.5f) / (float)w - 1.0f, 2.0f * ((float)y + 0.5f) / (float)h - 1.0f);
             vec4 nearp = mat4_mul_vec4(inv, vec4(ndc.x, ndc.y, -1.0f, 1.0f));
             vec4 farp = mat4_mul_vec4(inv, vec4(ndc.x, ndc.y, 1.0f, 1.0f));
             vec3 o = scale(vec3(nearp.x, nearp.y, nearp.z), 1.0f / nearp.w);
@@ -83,6 +86,8 @@ static void trace(sl_gbuffer *gb, const sl_camera *cam, bool wall)
             t->depth = 0.5f;
         }
 }
+
+static void trace(sl_gbuffer *gb, const sl_camera *cam, bool wall) { trace_sized(gb, cam, wall, W, H); }
 
 /* The cosine-weighted share of the hemisphere a floor point at distance d from the wall keeps
  * when hits within radius R count. */
@@ -184,6 +189,47 @@ static void test_multiplies_the_map(void **state)
     assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
     assert_near(gb.extra[y * W + x].occlusion, 0.5f * ao, 1e-6);
     assert_true(ao < 0.7f);
+    sl_gbuffer_free(&gb);
+}
+
+/* The frame against the reference, bit for bit, in the cone plane and the occlusion: an odd width
+ * a little over two of the blur's spans (256 texels), so that a span ends mid-row and the last
+ * half-resolution column is a lone texel; the wall's edge in view (samples refused by the normal
+ * test) and a hole in the floor across the first two spans' boundary (samples refused as
+ * uncovered); every texel of the rows at the bottom, the middle and the top (the block cut short
+ * there). */
+static void test_frame_matches_texel(void **state)
+{
+    (void)state;
+    const int w = 523, h = 61;
+    sl_gbuffer gb = {0};
+    sl_camera cam = corner_camera();
+    trace_sized(&gb, &cam, true, w, h);
+    for (int i = 0; i < w * h; i++)
+        gb.extra[i].occlusion = 0.5f;
+    for (int y = 0; y < h; y++) /* a hole in the floor across the first spans' boundary */
+        for (int x = 250; x < 263; x++)
+            sl_gbuffer_at(&gb, x, y)->depth = 1.0f;
+    sl_error err = {0};
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
+    const int rows[] = {0, 1, 2, h / 2 - 1, h / 2, h - 2, h - 1};
+    int empty = 0, occluded = 0;
+    for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++)
+        for (int x = 0; x < w; x++) {
+            int y = rows[r];
+            sl_vec4 want = sl_gtao_texel(&gb, &cam, 1.0f, x, y), got = gb.cone[y * w + x];
+            if (memcmp(&want, &got, sizeof want) != 0)
+                fail_msg("texel (%d, %d): frame (%.9g, %.9g, %.9g, %.9g), texel (%.9g, %.9g, %.9g, %.9g)", x, y,
+                         (double)got.x, (double)got.y, (double)got.z, (double)got.w, (double)want.x,
+                         (double)want.y, (double)want.z, (double)want.w);
+            float occlusion = sl_gbuffer_covered(sl_gbuffer_at(&gb, x, y)) ? 0.5f * want.w : 0.5f;
+            assert_memory_equal(&gb.extra[y * w + x].occlusion, &occlusion, sizeof occlusion);
+            empty += !sl_gbuffer_covered(sl_gbuffer_at(&gb, x, y));
+            occluded += want.w < 0.9f;
+        }
+    print_message("frame = texel on %zu rows of %d: %d empty, %d with AO < 0.9\n", sizeof rows / sizeof rows[0], w,
+                  empty, occluded);
+    assert_true(empty > 0 && occluded > 0);
     sl_gbuffer_free(&gb);
 }
 
@@ -356,6 +402,7 @@ int main(void)
         cmocka_unit_test(test_multiplies_the_map),
         cmocka_unit_test(test_bent_normal),
         cmocka_unit_test(test_bent_irradiance),
+        cmocka_unit_test(test_frame_matches_texel),
         cmocka_unit_test(test_specular_occlusion),
         cmocka_unit_test(test_refusals),
     };
