@@ -75,14 +75,16 @@ expect_error no-blank-line 'noblank\.hdr: byte 34: found the resolution line .-Y
 [ -e "$T/a.png" ] && bad "a failed render left a.png behind"
 
 # info's peak against the measured peak (max RSS) of the same render, within 12%: the default
-# render, and the two modes that hold a second chain (split sum's prefiltered chain with its pair
-# rows, the octahedral chain), which info counted as nothing before.
+# render, the two modes that hold a second chain (split sum's prefiltered chain with its pair
+# rows, the octahedral chain), and a point light's cube shadow map (scenes/lamp.json --shadows).
 if [ -z "${SL_SANITIZED:-}" ]; then
-    for modes in "" "--estimator splitsum" "--env-layout oct"; do
+    for case in "$T/mid.json|" "$T/mid.json|--estimator splitsum" "$T/mid.json|--env-layout oct" \
+                "scenes/lamp.json|--shadows"; do
+        scene=${case%%|*} modes=${case#*|}
         # shellcheck disable=SC2086 # $modes is zero or two words
-        peak=$("$SL" info "$T/mid.json" $modes | sed -n 's/.*memory     peak \([0-9.]*\) MiB.*/\1/p')
+        peak=$("$SL" info "$scene" $modes | sed -n 's/.*memory     peak \([0-9.]*\) MiB.*/\1/p')
         # shellcheck disable=SC2086
-        rss=$(/usr/bin/time -f '%M' "$SL" render "$T/mid.json" $modes -o "$T/mid.png" 2>&1 >/dev/null | tail -n 1 |
+        rss=$(/usr/bin/time -f '%M' "$SL" render "$scene" $modes -o "$T/mid.png" 2>&1 >/dev/null | tail -n 1 |
               awk '{ printf "%.1f", $1 / 1024 }')
         if [ -n "$peak" ] && [ -n "$rss" ] && awk -v p="$peak" -v r="$rss" 'BEGIN { d = p - r; if (d < 0) d = -d; exit !(d <= 0.12 * r) }'; then
             ok "info's peak $peak MiB against a measured $rss MiB (${modes:-default modes})"
