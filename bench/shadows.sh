@@ -6,9 +6,10 @@
 #
 #   bench/shadows.sh [BUILD_DIR] [ROUNDS] [SIZE]    defaults: build 3 1280x720
 #
-# Scenes: the shipped ones with point lights (bunny, ggx, lamp: their lights' cube maps) and two
-# with a sun or bright lamps in the environment (pbr, city-sun: every frame with --env-lights 32,
-# the setting the maps need, so the frame without maps has the same env lights).
+# Scenes: the shipped ones with point lights (bunny, ggx, lamp: their lights' cube maps; ggx is
+# GGX, whose default env lights cast too) and two with a sun or bright lamps in the environment
+# (pbr, city-sun: every frame with --env-lights 32, the setting the maps need, so the frame
+# without maps has the same env lights). The "maps of" column is what render reports drawing.
 # A frame's cost is CPU time on one thread (-j 1: no OpenMP spinning counted), which a loaded
 # machine inflates far less than wall time: per scene and setting (none, --shadows,
 # --ao-radius 0.5, both), user + system seconds of `render --repeat 4` less those of
@@ -48,6 +49,11 @@ for _ in $(seq 1 "$ROUNDS"); do
             # both kinds of maps print a line "... shadow maps ... N ms ..."
             maps=$(awk '/shadow maps/ { for (i = 1; i <= NF; i++) if ($i == "ms") m += $(i - 1) } END { print m + 0 }' "$T/out.txt")
             awk -v a="$one" -v b="$four" -v m="$maps" 'BEGIN { print 1000 * (b - a) / 3, m }' >>"$T/$s-$setting"
+            # which maps the frame has: render's lines name them
+            [ "$setting" = shadows ] &&
+                awk '/^shadow maps/ { k = k (k ? " and " : "") "point lights (" $3 " cube" ($3 == 1 ? "" : "s") ")" }
+                     /^env-light shadow maps/ { k = k (k ? " and " : "") "env lights (" $4 " map" ($4 == 1 ? "" : "s") ")" }
+                     END { print k }' "$T/out.txt" >"$T/$s-kind"
         done
     done
 done
@@ -59,8 +65,7 @@ for s in $SCENES; do
     ao=$(awk '{ print $1 }' "$T/$s-ao" | median)
     both=$(awk '{ print $1 }' "$T/$s-both" | median)
     maps=$(awk '{ print $2 }' "$T/$s-shadows" | median)
-    kind="point lights"
-    [ -n "$(base "$s")" ] && kind="env lights ($(base "$s"))"
+    kind=$(cat "$T/$s-kind")
     awk -v s="$s" -v k="$kind" -v n="$none" -v h="$sh" -v a="$ao" -v b="$both" -v m="$maps" 'BEGIN {
         printf "| %s.json | %s | %.0f ms | %.0f ms | %.1f%% | %.0f ms | %.0f ms | %.1f%% | %.0f ms |\n",
                s, k, n, h, 100 * (h - n) / h, a, b, 100 * (b - n) / b, m }'
