@@ -182,10 +182,12 @@ alpha-masked leaf shadows as its whole quad (docs/ibl.md "Visibility": masks occ
 TEXT
     sed -n '1,/^$/p' "$table" | sed '/^$/d'
     echo
-    echo "What the occlusion (GTAO on the diffuse, its visibility cone's specular occlusion on the"
-    echo "specular: docs/lighting.md \"Ambient occlusion\", \"Specular occlusion\") removes of the error of"
-    echo "ignoring visibility: nRMSE against the visibility truth of the \`mf pdf+dist N256\` render without"
-    echo "and with \`--ao-radius 1\`, and the factor between them (the target of the occlusion work is 3x):"
+    echo "What the occlusion (GTAO on the diffuse, read along the bent normal, its visibility cone's"
+    echo "specular occlusion on the specular: docs/lighting.md \"Ambient occlusion\", \"Specular"
+    echo "occlusion\") and the env lights' shadow maps (docs/lighting.md \"Shadow maps\") remove of the"
+    echo "error of ignoring visibility: nRMSE against the visibility truth of the \`mf pdf+dist N256\`"
+    echo "render without them, with \`--ao-radius 1\`, and with \`--ao-radius 1 $SUN\`, and the factor"
+    echo "by which each cuts the first:"
     echo
     cat "$OUT/cut.md"
     if [ "$LEVELS" = 1 ]; then
