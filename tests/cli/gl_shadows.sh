@@ -128,25 +128,14 @@ if within "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" >/dev/null; th
     fail=1
 fi
 
-# ---- hard cases, lit by one point light alone: scene NAME LIGHT_Z OBJECTS...
-scene() {
-    local name=$1 z=$2
-    shift 2
-    local objects=""
-    for o in "$@"; do objects="$objects, $o"; done
-    cat >"$T/$name.json" <<JSON
-{"camera": {"eye": [0, -3.5, 3.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
- "materials": {"m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
- "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [2, 2, 1]}}$objects],
- "lights": [{"position": [0, -0.3, $z], "intensity": 4}]}
-JSON
-}
+# ---- hard cases, lit by one point light alone (shadow_scene.bash)
+source tests/cli/shadow_scene.bash
 # same NAME A B WHAT: byte for byte
 same() {
     if cmp -s "$2" "$3"; then echo "ok   $1: $4"; else echo "FAIL $1: not $4"; fail=1; fi
 }
 
-scene box 1.0 '{"shape": "box", "material": "m", "transform": {"translate": [0, -0.3, 1], "scale": 0.4}}'
+shadow_scene box 1.0 '{"shape": "box", "material": "m", "transform": {"translate": [0, -0.3, 1], "scale": 0.4}}'
 pair box "$T/box.json" --shadows || { echo "FAIL light in a box: outside the bounds"; fail=1; }
 "$GL" render "$T/box.json" --no-lights --gbuffer "$T/box" --pfm "$T/box/g-none.pfm"
 "$GL" render "$T/box.json" --gbuffer "$T/box" --pfm "$T/box/g-blind.pfm"
@@ -154,7 +143,7 @@ same "light in a box" "$T/box/g.pfm" "$T/box/g-none.pfm" "GL's image is the one 
 cmp -s "$T/box/g-blind.pfm" "$T/box/g-none.pfm" &&
     { echo "FAIL light in a box: without shadows the light reaches nothing either (the case is void)"; fail=1; }
 
-scene grazing 0.02
+shadow_scene grazing 0.02
 pair grazing "$T/grazing.json" --shadows || { echo "FAIL grazing light: outside the bounds"; fail=1; }
 "$GL" render "$T/grazing.json" --gbuffer "$T/grazing" --pfm "$T/grazing/g-blind.pfm"
 same "grazing light" "$T/grazing/g.pfm" "$T/grazing/g-blind.pfm" "GL's floor is fully lit: the image without shadows"

@@ -12,18 +12,7 @@ set -u
 cli_init shadows "$1"
 S=160x90
 
-# scene NAME LIGHT_Z OBJECTS...: a 4x4 floor seen from above at an angle, one light at (0, -0.3, Z)
-scene() {
-    local name=$1 z=$2; shift 2
-    local objects=""
-    for o in "$@"; do objects="$objects, $o"; done
-    cat >"$T/$name.json" <<JSON
-{"camera": {"eye": [0, -3.5, 3.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
- "materials": {"m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
- "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [2, 2, 1]}}$objects],
- "lights": [{"position": [0, -0.3, $z], "intensity": 4}]}
-JSON
-}
+. "$(dirname "$0")/shadow_scene.bash" # shadow_scene NAME LIGHT_Z OBJECTS...
 same() { # same NAME A.pfm B.pfm WHAT
     cmp -s "$2" "$3" && ok "$1: $4" || bad "$1: not $4"
 }
@@ -34,7 +23,7 @@ same() { # same NAME A.pfm B.pfm WHAT
 same "no point light" "$T/d0.pfm" "$T/d1.pfm" "--shadows gives the same bytes"
 
 # a light inside a closed box floating over the floor: nothing outside it is lit
-scene box 1.0 '{"shape": "box", "material": "m", "transform": {"translate": [0, -0.3, 1], "scale": 0.4}}'
+shadow_scene box 1.0 '{"shape": "box", "material": "m", "transform": {"translate": [0, -0.3, 1], "scale": 0.4}}'
 "$SL" render "$T/box.json" --size $S -q --shadows --pfm "$T/box-s.pfm"
 "$SL" render "$T/box.json" --size $S -q --no-lights --pfm "$T/box-n.pfm"
 "$SL" render "$T/box.json" --size $S -q --pfm "$T/box-b.pfm"
@@ -47,7 +36,7 @@ same "light in a box, \"shadow\": true" "$T/box-k.pfm" "$T/box-n.pfm" "the image
 
 # no acne: a plane under the light, lit head-on and at grazing angles, stays fully lit
 for z in 2 0.02; do
-    scene "plane$z" "$z"
+    shadow_scene "plane$z" "$z"
     "$SL" render "$T/plane$z.json" --size $S -q --shadows --pfm "$T/p-s.pfm"
     "$SL" render "$T/plane$z.json" --size $S -q --pfm "$T/p-b.pfm"
     same "plane, light at height $z" "$T/p-s.pfm" "$T/p-b.pfm" "fully lit: the same bytes as without shadows"
@@ -58,7 +47,7 @@ sed 's/"intensity": 4}/"intensity": 4, "shadow": 1}/' "$T/box.json" >"$T/bad.jso
 expect_error "shadow not a boolean" "lights\[0\]\.shadow: expected true or false" -- "$SL" render "$T/bad.json" --size $S -o "$T/x.png"
 
 # trace: each light's visibility, 0 in the slab's shadow and 1 in the open (no line without maps)
-scene occ 2 '{"shape": "box", "material": "m", "transform": {"translate": [0.2, 0.1, 0.8], "scale": [0.3, 0.3, 0.05]}}' \
+shadow_scene occ 2 '{"shape": "box", "material": "m", "transform": {"translate": [0.2, 0.1, 0.8], "scale": [0.3, 0.3, 0.05]}}' \
     '{"shape": "box", "material": "m", "transform": {"translate": [-0.8, 0.6, 0.4], "scale": [0.5, 0.01, 0.4]}}'
 for pair in "78,39 0" "80,60 1"; do
     read -r px want <<<"$pair"
