@@ -43,8 +43,8 @@ static const key_row rows[] = {
     {"I", "key i", "irradiance: {irradiance}"},
     {"O", "key o", "ambient occlusion on / off (the radius of --ao-radius or the scene's, else a tenth of the "
                    "scene's bounding radius)"},
-    {"U", "key u", "shadow maps of every point light on / off (--shadows; a light's own \"shadow\" key keeps it "
-                   "casting)"},
+    {"U", "key u", "shadow maps of every point light, and of the env lights when they are on, on / off "
+                   "(--shadows; a light's own \"shadow\" key keeps it casting)"},
     {"L", "key l", "mip-level rule: {lod}"},
     {"K", "key k", "estimator: {estimator}"},
     {"G", "key g", "G term: {gterm}"},
