@@ -60,8 +60,9 @@ sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
  * that is not positive and finite, or out of memory. */
 bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
 
-/* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w (for
- * trace and tests). */
+/* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w,
+ * through the plain per-texel blur (blurred() in gtao.c), the reference tests/unit/test_gtao.c
+ * holds the frame's vector blur to bit for bit. */
 sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
 
 #endif
