@@ -4,6 +4,10 @@
 # byte for byte: tone-mapped PNG, radiance (.hdr, .pfm), G-buffer AOVs, normals, a pixel trace,
 # softlight-gl's image where both builds have it, and a small ground truth per scene. Prints one line per difference; exit 1 if any.
 set -euo pipefail
+if [ $# -ne 2 ] || [ "${1#-}" != "$1" ]; then
+  echo "usage: scripts/same-output.sh BASE_BUILD NEW_BUILD (SIZE=WxH, default 160x90)" >&2
+  exit 2
+fi
 base=$1 new=$2
 size=${SIZE:-160x90}
 work=$(mktemp -d)
@@ -21,6 +25,8 @@ modes=(
   "--estimator splitsum --irradiance sh9 --no-lights"
   "--estimator splitsum --irradiance dp --env-layout oct"
   "--estimator splitsum --irradiance brute --rotate"
+  "--shadows --ao-radius 0.5"
+  "--shadows --env-lights 8 --ao-radius 0.5 --estimator mf"
 )
 differ=0
 run_both() {  # run_both NAME ARGS...: run ARGS with each build into $work/{base,new}/NAME
