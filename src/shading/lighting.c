@@ -670,6 +670,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
      * and added back times the visibility, and the specular's exact part is times it too; both
      * are added after the occlusion, as the point lights are: the maps are their occlusion. */
     shade_env_shadow own;
+    own.diffuse_given = false;
     if (u->envLightShadows != 0 && !env_shadow) {
         env_light_visibility(u, s->P, s->N, own.vis);
         env_shadow = &own;
@@ -679,7 +680,9 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         /* with the cone the irradiance along the bent direction D (bent_irradiance.h), else N */
         vec3 D = cone ? shade_diffuse_dir(u, cone, s->Nenv) : s->Nenv;
         vec3 E = E_given ? *E_given : irradiance(u, D); /* the batched path's, the same bits */
-        if (env_shadow)
+        if (env_shadow && env_shadow->diffuse_given)
+            shadowed_lights = env_shadow->diffuse;
+        else if (env_shadow)
             E = env_shadow_diffuse(u, E, cone != NULL, D, s->Nenv, s->Kd, env_shadow->vis, &shadowed_lights);
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         trace_diffuse(trace, E, diffuse);
@@ -825,12 +828,17 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 }
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
 {
-    env_light_visibility(u, P, N, vis);
-}
-vec3 sl_shade_env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
-                                 const float *vis, vec3 *lights)
-{
-    return env_shadow_diffuse(u, E, bent, D, Nenv, Kd, vis, lights);
+    /* env_light_visibility's values, each light's read through its slot (envLightVisSlot) in one
+     * vector loop instead of a branch a light */
+    const sl_shadow_suns *m = u->envShadowMaps;
+    float slot[SL_SHADOW_SUN_MAX + 2];
+    for (int k = 0; k < m->count; k++)
+        slot[k] = sl_shadow_sun_visibility(m, k, P, N);
+    slot[SL_SHADOW_SUN_MAX] = 1.0f;
+    slot[SL_SHADOW_SUN_MAX + 1] = 0.0f;
+#pragma omp simd
+    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
+        vis[j] = slot[u->envLightVisSlot[j]];
 }
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {

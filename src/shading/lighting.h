@@ -47,6 +47,7 @@
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 #include "../shadow/shadow.h"
+#include "env_light_groups.h"
 #include "brdf.h"
 #include "splitsum_lut.h"
 
@@ -180,6 +181,13 @@ typedef struct {
      * clusters and frames (sl_shadow_suns_frames), bound as uShadowSuns */
     int envLightShadows;
     const sl_shadow_suns *envShadowMaps;
+    /* C only, with envLightShadows: the env lights grouped by the map that shadows them, for the
+     * batched path's irradiance sums (lighting_batched.c: env_shadow_diffuse), and each one's
+     * visibility slot */
+    sl_env_light_groups envLightGroups;
+    /* each light's visibility slot: its map (0 .. count - 1), SL_SHADOW_SUN_MAX for none (1),
+     * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility */
+    unsigned char envLightVisSlot[SL_ENV_LIGHTS_MAX];
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;
     sl_lighting_frame_uniforms frame;

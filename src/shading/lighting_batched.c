@@ -13,8 +13,9 @@
  * fetches (gathers from the environment's single block, ibl/texture_lod.h) and contributions;
  * (4) the sum. The diffuse term's irradiance for the whole span (ibl sl_irradiance_eval_span,
  * the port's lookup's bits). Then main()'s sum of the terms and its NaN guard, over the span in
- * vector loops in the port's order (sum_stage), or per pixel by the port's own code
- * (sl_shade_surface_color, sl_shade_finish) with a trace or point lights.
+ * vector loops in the port's order (sum_stage; the point lights per pixel by the port's own
+ * function), or per pixel by the port's own code (sl_shade_surface_color, sl_shade_finish) with
+ * a trace.
  *
  * core/fast_math.h's log2, exp2 and atan2 replace libm's powf/log2f/atan2f/acosf: the lod needs
  * only log2(N.H), since log2 D = log2((alpha+2)/2pi) + alpha log2(N.H), and the spec estimator
@@ -1094,6 +1095,25 @@ static const float ones[SL_ENV_LIGHTS_MAX] = {
     1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1};
 _Static_assert(SL_ENV_LIGHTS_MAX == 64, "ones[] has a 1 per env light");
 
+/* The port's env_shadow_diffuse (lighting.c) with the lights' sums taken a group at a time
+ * (env_light_groups.h), each group's lights sharing their map's visibility: E read along D less the lights' part of it
+ * (returned, clamped at 0) and their diffuse about N times the visibility (`lights`). The same
+ * sums as the port's loop over every light, in another order: a few dot products a map where
+ * the port takes one a light (64 on a GGX scene). */
+static vec3 env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
+                               const float *vis, vec3 *lights)
+{
+    const sl_env_light_groups *g = &u->envLightGroups;
+    vec3 all = vec3s(0.0f), seen = vec3s(0.0f);
+    for (int k = 0; k < g->count; k++) {
+        vec3 about_n = sl_env_light_group_irradiance(g, k, u->uEnvLightDir, u->uEnvLightRadiance, Nenv);
+        seen = add(seen, scale(about_n, vis[g->member[g->group[k].first]]));
+        all = add(all, bent ? sl_env_light_group_irradiance(g, k, u->uEnvLightDir, u->uEnvLightRadiance, D) : about_n);
+    }
+    *lights = scale(mul(scale(Kd, 1.0f / SL_PI), seen), u->uEnvIntensity);
+    return vmax3(sub(E, all), vec3s(0.0f));
+}
+
 /* The specular term of covered pixel i of the span (0 with it off): the split sum's lookup (the
  * port's own: nothing to batch) or the samples, and the env lights; with their shadow maps
  * (env_shadow, its vis set) the env lights' sum times each one's visibility goes to
@@ -1129,10 +1149,10 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     return specular;
 }
 
-/* main()'s sum and its NaN guard over the span, when the pixels need nothing but the terms
- * the span has in arrays (no trace, no point lights): sl_shade_surface_color's operations in its
- * order, then sl_shade_finish's, as vector loops (the same bits; a term that is off is selected
- * away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
+/* main()'s sum and its NaN guard over the span, without a trace: sl_shade_surface_color's
+ * operations in its order, then sl_shade_finish's, as vector loops around the point lights,
+ * which each covered pixel adds one after another through the port's function (the same bits;
+ * a term that is off is selected away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
  * background on entry; l{r,g,b}, with the env lights' shadow maps, their diffuse and specular
  * times their visibility, added after the occlusion (read only then). */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
@@ -1186,10 +1206,12 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
     const bool shadowed = u->envLightShadows != 0;
+    const bool lights = u->uPointLights != 0 && u->uLightCount > 0;
     const float I = u->uEnvIntensity;
     float *o = &out[0].x;
+    float tr[SPAN], tg[SPAN], tb[SPAN]; /* each pixel's sum before the point lights */
     int nonfinite = 0;
-#pragma omp simd reduction(+ : nonfinite)
+#pragma omp simd
     for (int i = 0; i < count; i++) {
         /* color = 0; + Kd/pi E I; + specular; times the occlusion; + emission: each sum formed,
          * then kept or not (an addition under a branch stops GCC's vectorizer) */
@@ -1213,9 +1235,28 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         g = g * sum_occ;
         b = b * sum_occ;
         float lit_r = r + lr[i], lit_g = g + lg[i], lit_b = b + lb[i];
-        r = shadowed ? lit_r : r;
-        g = shadowed ? lit_g : g;
-        b = shadowed ? lit_b : b;
+        tr[i] = shadowed ? lit_r : r;
+        tg[i] = shadowed ? lit_g : g;
+        tb[i] = shadowed ? lit_b : b;
+    }
+    /* the point lights, one after another per covered pixel as the port adds them (each a
+     * direction, a lookup in its shadow map and a BRDF: the port's own function) */
+    if (lights)
+        for (int i = 0; i < count; i++) {
+            if (!covered[i])
+                continue;
+            const vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]);
+            const float alpha = shade_lobe_param(t[i].alpha);
+            for (int l = 0; l < u->uLightCount; l++) {
+                vec3 light = sl_shade_point_light(u, l, t[i].position, N, V, t[i].kd, t[i].ks, alpha);
+                tr[i] += light.x;
+                tg[i] += light.y;
+                tb[i] += light.z;
+            }
+        }
+#pragma omp simd reduction(+ : nonfinite)
+    for (int i = 0; i < count; i++) {
+        float r = tr[i], g = tg[i], b = tb[i];
         float er = r + emr[i], eg = g + emg[i], eb = b + emb[i];
         r = diffuse ? er : r;
         g = diffuse ? eg : g;
@@ -1236,13 +1277,13 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 /* main(), batched (lighting_internal.h): the pixel stage for the whole span, the background
  * stage when a pixel is empty, the irradiance for the span, then per pixel the specular samples;
  * main()'s sum for the span in vector loops (sum_stage), or per pixel through the port's
- * (sl_shade_surface_color) with a trace or point lights. */
+ * (sl_shade_surface_color) with a trace. */
 void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count, sl_lighting_task *task,
                 sl_lighting_trace *trace, vec3 *out)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     const bool mf = microfacet_samples(u);
-    const bool vector_sum = !trace && (u->uPointLights == 0 || u->uLightCount == 0);
+    const bool vector_sum = !trace;
     /* with the env lights' shadow maps, their shadowed terms per pixel for sum_stage */
     const bool shadowed = u->envLightShadows != 0;
     float lr[SPAN], lg[SPAN], lb[SPAN];
@@ -1302,7 +1343,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 if (u->uDiffuse != 0) {
                     const sl_vec4 *cone = shade_cone(gb, x, y);
                     vec3 D = cone ? shade_diffuse_dir(u, cone, NE) : NE;
-                    vec3 E = sl_shade_env_shadow_diffuse(u, vec3(p->Er[i], p->Eg[i], p->Eb[i]), cone != NULL, D, NE,
+                    vec3 E = env_shadow_diffuse(u, vec3(p->Er[i], p->Eg[i], p->Eb[i]), cone != NULL, D, NE,
                                                          t[i].kd, es.vis, &lights);
                     p->Er[i] = E.x;
                     p->Eg[i] = E.y;
@@ -1337,12 +1378,18 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
             trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples, mf);
             shade_env_shadow es, *env_shadow = NULL;
+            es.diffuse_given = false;
+            vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
             if (u->envLightShadows != 0) {
                 sl_shade_env_light_visibility(u, s.P, s.N, es.vis);
                 env_shadow = &es;
+                if (u->uDiffuse != 0) { /* the lights' diffuse by group, as in the vector sum's branch */
+                    vec3 D = s.cone ? shade_diffuse_dir(u, s.cone, s.Nenv) : s.Nenv;
+                    E = env_shadow_diffuse(u, E, s.cone != NULL, D, s.Nenv, s.Kd, es.vis, &es.diffuse);
+                    es.diffuse_given = true;
+                }
             }
             vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, task, trace);
-            vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
             color = sl_shade_surface_color(u, &s, &E, &specular, env_shadow, task, trace);
         }
         if (vector_sum && shadowed && t[i].depth >= 1.0f)

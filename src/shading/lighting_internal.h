@@ -73,10 +73,6 @@ vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
 /* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
-/* C only: E read along D (`bent`; else D is N) less the env lights' part of it, and (`lights`)
- * their diffuse about N times `vis`, as sl_shade_surface_color adds it after the occlusion */
-vec3 sl_shade_env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
-                                 const float *vis, vec3 *lights);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
@@ -112,10 +108,14 @@ typedef struct {
 
 /* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's
  * visibility (sl_shade_env_light_visibility; 0 past the count), and the batched path's specular
- * sum over the lights, each times its visibility. */
+ * sum over the lights, each times its visibility; with `diffuse_given` the batched path has also
+ * taken the lights' part out of the E it passes and summed their diffuse times the visibility
+ * (`diffuse`), which sl_shade_surface_color then adds instead of summing it again. */
 typedef struct {
     float vis[SL_ENV_LIGHTS_MAX];
     vec3 specular;
+    bool diffuse_given;
+    vec3 diffuse;
 } shade_env_shadow;
 
 /* The visibility cone of pixel (x, y): NULL without the plane (sl_gbuffer.cone). */

@@ -52,6 +52,19 @@ void sl_hammersley_pack_std140(const sl_hammersley *set, sl_hammersley_block *bl
     }
 }
 
+/* Each env light's visibility slot (envLightVisSlot) and the lights grouped by map
+ * (envLightGroups). */
+static void group_env_lights(sl_lighting_uniforms *u)
+{
+    const sl_shadow_suns *m = u->envShadowMaps;
+    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++) {
+        int k = j < u->uEnvLightCount ? m->env_light_sun[j] : -2;
+        u->envLightVisSlot[j] = (unsigned char)(k >= 0 ? k : k == -1 ? SL_SHADOW_SUN_MAX : SL_SHADOW_SUN_MAX + 1);
+    }
+    sl_env_light_groups_build(&u->envLightGroups, u->uEnvLightDir, u->uEnvLightRadiance, u->uEnvLightCount,
+                              m->env_light_sun, m->count);
+}
+
 bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *desc, sl_error *err)
 {
     memset(u, 0, sizeof *u);
@@ -194,6 +207,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
                            ? desc->env_shadows
                            : NULL;
     u->envLightShadows = u->envShadowMaps ? 1 : 0;
+    if (u->envShadowMaps)
+        group_env_lights(u);
     sl_lighting_frame_uniforms *f = &u->frame;
     f->eye = u->uEye;
     f->inv_view_proj = u->uInvViewProj;

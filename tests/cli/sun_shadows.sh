@@ -70,7 +70,7 @@ scene occ mid 30 '{"shape": "box", "material": "m", "transform": {"translate": [
 # the batched path's vector sum against the port's per-pixel sum, with the maps and with the
 # ambient occlusion's cone under pbr.json's sky as well: the tolerance of test_lighting_fast
 # (mean relative 3e-4)
-for run in "$T/occ.json --env-lights 4" "scenes/pbr.json --env-lights 32 --ao-radius 1"; do
+for run in "$T/occ.json --env-lights 4" "scenes/pbr.json --env-lights 32 --ao-radius 1" "scenes/ggx.json --ao-radius 1"; do
     # shellcheck disable=SC2086
     "$SL" render $run --size $S -q --shadows --pfm "$T/fast.pfm"
     # shellcheck disable=SC2086

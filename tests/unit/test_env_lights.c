@@ -16,6 +16,7 @@
 #include "shading_fixtures.h"
 #include "shading/lighting_trace.h"
 #include "ibl/env_lights.h"
+#include "shading/env_light_groups.h"
 
 #include <stdio.h>
 
@@ -704,6 +705,72 @@ static void test_plain_vs_batched(void **state)
     sl_env_free(&env);
 }
 
+/* The lights grouped by map (shading/env_light_groups.h) against the loop over every light, sum
+ * L_k max(N.l_k, 0), for normals all over the sphere and densely in the band where a group's
+ * lights straddle the horizon (where the linear sum would be wrong): three clusters of lights a
+ * few degrees wide, one of them 120 degrees wide (no cone: always the loop), and lights no map
+ * covers. Relative to the group's total radiance, within float rounding. */
+static void test_groups_match_loop(void **state)
+{
+    (void)state;
+    vec4 dir[SL_ENV_LIGHTS_MAX], radiance[SL_ENV_LIGHTS_MAX];
+    signed char map[SL_ENV_LIGHTS_MAX];
+    const vec3 axes[4] = {normalize(vec3(0.3f, 0.2f, 0.9f)), normalize(vec3(-0.8f, 0.1f, 0.2f)),
+                          normalize(vec3(0.1f, -1.0f, 0.05f)), normalize(vec3(0.5f, 0.5f, -0.7f))};
+    const float spread[4] = {0.05f, 0.08f, 1.0f, 0.6f}; /* radians off the axis at most */
+    const int count = 40;
+    uint32_t seed = 7;
+    float total = 0.0f;
+    for (int j = 0; j < count; j++) {
+        int c = j % 4;
+        /* a direction within spread[c] of the axis: the axis turned about two random axes */
+        float a = spread[c] * ((float)(seed = seed * 1664525u + 1013904223u) / 4294967296.0f);
+        float phi = 6.2831853f * ((float)(seed = seed * 1664525u + 1013904223u) / 4294967296.0f);
+        vec3 t = normalize(cross(axes[c], fabsf(axes[c].z) < 0.9f ? vec3(0.0f, 0.0f, 1.0f) : vec3(1.0f, 0.0f, 0.0f)));
+        vec3 b = cross(axes[c], t);
+        vec3 d = normalize(add(scale(axes[c], cosf(a)), scale(add(scale(t, cosf(phi)), scale(b, sinf(phi))), sinf(a))));
+        dir[j] = vec4(d.x, d.y, d.z, 0.0f);
+        radiance[j] = vec4(100.0f + (float)j, 50.0f, 10.0f * (float)(j % 7), 0.0f);
+        total += radiance[j].x;
+        map[j] = (signed char)(c < 3 ? c : -1); /* cluster 3: lights no map covers */
+    }
+    sl_env_light_groups g;
+    sl_env_light_groups_build(&g, dir, radiance, count, map, 3);
+    assert_int_equal(g.count, 4);
+    int linear = 0, band = 0, below = 0;
+    for (int n = 0; n < 20000; n++) {
+        vec3 N;
+        if (n % 2) { /* near a cluster's horizon: the axis turned 80 .. 100 degrees */
+            int c = (n / 2) % 4;
+            float a = (80.0f + 20.0f * (float)((n * 37) % 1000) / 1000.0f) * 0.017453293f, phi = 0.0173f * (float)n;
+            vec3 t = normalize(cross(axes[c], vec3(0.3f, 0.7f, 0.2f))), b = cross(axes[c], t);
+            N = normalize(add(scale(axes[c], cosf(a)), scale(add(scale(t, cosf(phi)), scale(b, sinf(phi))), sinf(a))));
+        } else {
+            float z = 1.0f - 2.0f * ((float)n + 0.5f) / 20000.0f, r = sqrtf(fmaxf(0.0f, 1.0f - z * z));
+            N = vec3(r * cosf(2.39996323f * (float)n), r * sinf(2.39996323f * (float)n), z);
+        }
+        for (int k = 0; k < g.count; k++) {
+            vec3 want = vec3s(0.0f);
+            const sl_env_light_group *e = &g.group[k];
+            for (int i = e->first; i < e->first + e->count; i++) {
+                int j = g.member[i];
+                want = add(want, scale(xyz(radiance[j]), fmaxf(dot(xyz(dir[j]), N), 0.0f)));
+            }
+            vec3 got = sl_env_light_group_irradiance(&g, k, dir, radiance, N);
+            float na = dot(N, e->axis);
+            linear += na >= e->sin_spread;
+            below += na <= -e->sin_spread;
+            band += na < e->sin_spread && na > -e->sin_spread;
+            float err = fmaxf(fabsf(got.x - want.x), fmaxf(fabsf(got.y - want.y), fabsf(got.z - want.z)));
+            if (!(err <= 2e-5f * total))
+                fail_msg("normal %d, group %d: grouped (%g %g %g) against the loop's (%g %g %g)", n, k, (double)got.x,
+                         (double)got.y, (double)got.z, (double)want.x, (double)want.y, (double)want.z);
+        }
+    }
+    print_message("groups against the loop: %d linear, %d below, %d in the band\n", linear, below, band);
+    assert_true(linear > 10000 && below > 10000 && band > 5000); /* every branch ran */
+}
+
 /* ---- errors ---- */
 
 static void test_uniform_errors(void **state)
@@ -769,6 +836,7 @@ int main(void)
         cmocka_unit_test_setup_teardown(test_black_texels_as_lights, lamps_setup, lamps_teardown),
         cmocka_unit_test(test_sun_error_drops),
         cmocka_unit_test(test_plain_vs_batched),
+        cmocka_unit_test(test_groups_match_loop),
         cmocka_unit_test(test_uniform_errors),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
