@@ -227,6 +227,11 @@ int cmd_render(int argc, char **argv)
                    r.suns.count, r.suns.count == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, mapped, r.suns.env_light_count,
                    (double)SL_SHADOW_SUN_CLUSTER_DEG, SL_SHADOW_SUN_MAX, r.timings.sun_shadow_ms);
         }
+        if (r.sky_built > 0)
+            printf("sky visibility maps: %d orthographic maps of %d texels a side (%s weighted), drawn in %.1f ms "
+                   "once per scene and environment\n",
+                   r.sky_built, SL_SKY_MAP_SIZE, r.sky_env_lights > 0 ? "the env lights' residual" : "the environment",
+                   r.timings.sky_ms);
         if (r.env_oct_built >= 0)
             printf("octahedral chain: %dx%d, %d levels, built in %.1f ms once per environment\n",
                    r.env_oct.levels[0].width, r.env_oct.levels[0].height, r.env_oct.level_count,

@@ -14,7 +14,8 @@
  * --lights adds the scene's point lights. By default every surface sees the whole environment
  * (the lighting shader's assumption); --visibility traces the scene's triangles so that
  * occluders shadow it (docs/ibl.md "Visibility"; needs a build with Embree), and leaves a
- * scene's ambient occlusion (render.ao_radius) off, since it traces what that estimates. It costs
+ * scene's ambient occlusion (render.ao_radius) off, since it traces what that estimates. The sky
+ * visibility maps (render.sky_maps) are never drawn: the truth does not read them. It costs
  * about 5.6 ms per covered pixel and core (a 1280x720 frame is hours): use a small --size, and
  * --cache so a second run is instant. Exit status: 0, or 2 on an error. */
 #include <stdio.h>
@@ -187,6 +188,7 @@ int cmd_truth(int argc, char **argv)
      * (render.ao_radius, GTAO) would count the occluders twice */
     if (visibility)
         sl_option_set_ao_radius(&desc.options, 0.0f);
+    sl_option_set_sky_maps(&desc.options, 0);
     sl_option_set_diffuse_only(&desc.options, false);
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};

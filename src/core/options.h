@@ -36,6 +36,7 @@
 #define SL_HAMMERSLEY_MAX 1024
 /* Most env lights K: MAX_ENV_LIGHTS in the GLSL (whole groups of 16 for the batched path). */
 #define SL_ENV_LIGHTS_MAX 64
+#define SL_SKY_MAPS_MAX 64 /* the most sky visibility maps (--sky-maps; src/shadow/sky.h) */
 /* Most point lights of a scene: MAX_LIGHTS in the GLSL, the size of its uLight* arrays (and of
  * sl_lighting_uniforms'). Here, not in shading/lighting.h, because the scene reader checks it
  * where the lights are read (`lights[16]: at most 16 point lights`). */
@@ -207,6 +208,11 @@ typedef enum {
     X(AO_RADIUS, ao_radius, FLOAT, float, "ao-radius", "--ao-radius", NULL, "R",                                     \
       "ambient occlusion of the environment (GTAO on the G-buffer) within R world units (default 0: off)",          \
       (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
+    /* 0: off, no maps drawn, the frame pays nothing for them (src/shadow/sky.h) */                                 \
+    X(SKY_MAPS, sky_maps, INT, int, "sky-maps", "--sky-maps", NULL, "K",                                             \
+      "occlude the environment's diffuse with K orthographic depth maps of the scene from directions over the "     \
+      "sphere (sky visibility maps; 0..64; default 0: off)",                                                        \
+      (.scene = {"render.sky_maps"}, .min = 0, .max = SL_SKY_MAPS_MAX))                                              \
     /* off: no maps drawn, the frame pays nothing for them (src/shadow/shadow.h) */                                 \
     X(SHADOWS, shadows, FLAG, bool, "shadows", "--shadows", NULL, NULL,                                             \
       "every point light and env light casts shadows (shadow maps; a light's \"shadow\": true casts alone)",       \

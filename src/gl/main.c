@@ -108,6 +108,8 @@ static bool frame_build(frame *f, const gl_outputs *o, const sl_render_desc *des
     if (!sl_renderer_init(&f->renderer, &f->scene, desc, err))
         return false;
     f->renderer_ready = true;
+    if (f->renderer.desc.options.sky_maps > 0) /* the scene's render.sky_maps too */
+        return sl_fail(err, SL_ERR_RANGE, "--sky-maps: softlight-gl does not draw the sky visibility maps");
     f->width = f->renderer.gbuffer.width;
     f->height = f->renderer.gbuffer.height;
     f->view_proj = sl_camera_view_proj(&f->scene.camera, f->width, f->height);
@@ -355,6 +357,10 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
+    if (desc.options.sky_maps > 0) { /* before a GL context: the refusal needs no GL */
+        fprintf(stderr, "softlight-gl render: --sky-maps: softlight-gl does not draw the sky visibility maps\n");
+        return 2;
+    }
     desc.any_lobe = o.gbuffer_shader != NULL;
     if (o.gbuffer_shader && o.gbuffer_dir) {
         fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");

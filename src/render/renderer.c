@@ -295,6 +295,7 @@ void sl_renderer_free(sl_renderer *r)
         sl_irradiance_free(&r->irradiance);
     sl_shadow_free(&r->shadows);
     sl_shadow_suns_free(&r->suns);
+    sl_shadow_sky_free(&r->sky);
     sl_raster_destroy(r->raster);
     sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
@@ -333,6 +334,7 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_lights_free(&r->env_lights); /* extracted from the old one: rebuilt on the next frame */
     r->env_lights_built = 0;
     r->suns_built = 0; /* the old lights' directions: redrawn with them */
+    r->sky_built = 0;  /* weighted by the old environment: likewise */
     sl_env_free(&r->env_oct); /* resampled from the old one: rebuilt on the next frame */
     r->env_oct_built = -1;
     sl_env_free(&r->splitsum_phong); /* prefiltered from the old one: likewise */
@@ -439,6 +441,41 @@ static const sl_shadow_suns *current_suns(const sl_renderer *r)
     return current && r->suns.count > 0 ? &r->suns : NULL;
 }
 
+/* The sky visibility maps, with --sky-maps K: weighted by what the diffuse irradiance holds of
+ * the environment (the residual when the env lights' maps take the lights out of it, else the
+ * whole environment), drawn once per count, environment and rotation. */
+static int sky_env_lights(const sl_renderer *r)
+{
+    return current_suns(r) ? r->env_lights_built : 0;
+}
+
+static bool update_sky(sl_renderer *r, sl_error *err)
+{
+    int want = r->desc.options.sky_maps;
+    float rotation = r->desc.lighting.env_rotation_deg;
+    if (want <= 0 || (r->sky_built == want && r->sky_env_lights == sky_env_lights(r) && r->sky_rotation == rotation))
+        return true;
+    double t0 = sl_now_seconds();
+    r->sky_built = 0;
+    int lights = sky_env_lights(r);
+    const sl_env *env = lights > 0 ? &r->env_lights.residual : &r->env;
+    if (!sl_shadow_sky_build(&r->sky, want, env, rotation, r->raster, r->scene, err))
+        return false;
+    r->sky_built = want;
+    r->sky_env_lights = lights;
+    r->sky_rotation = rotation;
+    r->timings.sky_ms = (sl_now_seconds() - t0) * 1e3;
+    return true;
+}
+
+static const sl_shadow_sky *current_sky(const sl_renderer *r)
+{
+    int want = r->desc.options.sky_maps;
+    bool current = want > 0 && r->sky_built == want && r->sky_env_lights == sky_env_lights(r) &&
+                   r->sky_rotation == r->desc.lighting.env_rotation_deg;
+    return current ? &r->sky : NULL;
+}
+
 /* The maps the lighting reads: those of the options as they stand (NULL when no light casts). */
 static const sl_shadow_maps *current_shadows(const sl_renderer *r)
 {
@@ -485,7 +522,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     /* the shadow maps here, after the raster and before the lighting, so that a G-buffer drawn
      * elsewhere (sl_renderer_light, --gbuffer) is lit with them too */
     if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
-        !update_env_dist(r, estimator, err) || !update_shadows(r, err) || !update_sun_shadows(r, err))
+        !update_env_dist(r, estimator, err) || !update_shadows(r, err) || !update_sun_shadows(r, err) || !update_sky(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {
@@ -516,6 +553,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .program = r->desc.lighting_program,
         .shadows = current_shadows(r),
         .env_shadows = current_suns(r),
+        .sky = current_sky(r),
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

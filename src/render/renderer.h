@@ -33,6 +33,7 @@
 #include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
 #include "shadow/shadow.h"
+#include "shadow/sky.h"
 #include "scene/scene.h"
 #include "shading/lighting.h"
 
@@ -82,6 +83,8 @@ typedef struct {
                            on the first frame that needs them, kept for the renderer's scene */
     double sun_shadow_ms; /* the env lights' maps (--shadows with --env-lights): drawn on the first
                            frame that needs them, again when the env lights or their rotation change */
+    double sky_ms;      /* the sky visibility maps (--sky-maps): their cells' weights and their draw, on
+                           the first frame that needs them, again when what they depend on changes */
 } sl_render_timings;
 
 /* The renderer (opaque in softlight/renderer.h; sl_renderer_create allocates one, sl_renderer_init
@@ -111,6 +114,11 @@ struct sl_renderer {
     sl_shadow_suns suns;      /* the env lights' orthographic maps (src/shadow), drawn on first use */
     int suns_built;           /* 0 = none, else the env lights count they were clustered from */
     float suns_rotation;      /* ... and the environment rotation they were drawn for */
+    sl_shadow_sky sky;        /* the sky visibility maps (src/shadow/sky.h), drawn on first use */
+    int sky_built;            /* 0 = none, else the count drawn */
+    int sky_env_lights;       /* ... the env lights count whose residual weighted them (0: the
+                                 whole environment) */
+    float sky_rotation;       /* ... and the environment rotation they were drawn for */
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */

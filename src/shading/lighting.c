@@ -684,10 +684,14 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             shadowed_lights = env_shadow->diffuse;
         else if (env_shadow)
             E = env_shadow_diffuse(u, E, cone != NULL, D, s->Nenv, s->Kd, env_shadow->vis, &shadowed_lights);
+        /* the sky visibility maps' V on the residual's irradiance (the env lights' part, added
+         * back after the occlusion, has its own maps); the batched path's E_given has it */
+        if (u->skyMaps && !E_given)
+            E = scale(E, sl_shadow_sky_visibility(u->skyMaps, s->P, s->N, NULL));
         vec3 diffuse = scale(mul(scale(s->Kd, 1.0f / PI), E), u->uEnvIntensity);
         trace_diffuse(trace, E, diffuse);
         if (cone)
-            diffuse = scale(diffuse, s->occlusion);
+            diffuse = scale(diffuse, shade_diffuse_occlusion(u, cone, s->occlusion));
         color = add(color, diffuse);
     }
     if (u->uSpecular != 0) {

@@ -47,6 +47,7 @@
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 #include "../shadow/shadow.h"
+#include "../shadow/sky.h"
 #include "env_light_groups.h"
 #include "brdf.h"
 #include "splitsum_lut.h"
@@ -120,6 +121,9 @@ typedef struct {
                                                     times its map's visibility in the specular and
                                                     the diffuse; NULL = none (ignored without env
                                                     lights) */
+    const sl_shadow_sky *sky;                    /* the sky visibility maps (src/shadow/sky.h): the
+                                                    diffuse irradiance (the residual's part) times
+                                                    their visibility V; NULL = none */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -188,6 +192,9 @@ typedef struct {
     /* each light's visibility slot: its map (0 .. count - 1), SL_SHADOW_SUN_MAX for none (1),
      * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility */
     unsigned char envLightVisSlot[SL_ENV_LIGHTS_MAX];
+    /* C only: the sky visibility maps (NULL: none), the diffuse irradiance times their V
+     * (sl_shade_sky_visibility); softlight-gl does not draw them (it refuses --sky-maps) */
+    const sl_shadow_sky *skyMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;
     sl_lighting_frame_uniforms frame;

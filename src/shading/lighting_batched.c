@@ -1149,6 +1149,18 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     return specular;
 }
 
+/* The sky visibility maps' V (src/shadow/sky.h) on covered pixel i's irradiance: the port's
+ * scale(E, V), the same bits. */
+static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3 P)
+{
+    if (u->uDiffuse == 0)
+        return;
+    float V = sl_shadow_sky_visibility(u->skyMaps, P, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
+    p->Er[i] *= V;
+    p->Eg[i] *= V;
+    p->Eb[i] *= V;
+}
+
 /* main()'s sum and its NaN guard over the span, without a trace: sl_shade_surface_color's
  * operations in its order, then sl_shade_finish's, as vector loops around the point lights,
  * which each covered pixel adds one after another through the port's function (the same bits;
@@ -1159,7 +1171,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
                       const float *lr, const float *lg, const float *lb, sl_lighting_task *task, vec3 *out)
 {
-    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], docc[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
@@ -1183,6 +1195,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         sl_so_lobe last = {1.0f, 0.0f};
         for (int i = 0; i < count; i++) {
             ao[i] = cone[i].w;
+            docc[i] = shade_diffuse_occlusion(u, &cone[i], occ[i]);
             bdr[i] = ndv[i] = 1.0f;
             lobe_cos[i] = last.cos_s;
             lobe_angle[i] = last.ts;
@@ -1204,6 +1217,9 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     }
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
+    if (!with_cone) /* read (and selected away) in every lane */
+        for (int i = 0; i < count; i++)
+            docc[i] = 1.0f;
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
     const bool shadowed = u->envLightShadows != 0;
     const bool lights = u->uPointLights != 0 && u->uLightCount > 0;
@@ -1219,7 +1235,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         /* with the cone each term times its own occlusion, without it the sum times the one
          * occlusion; the factors not applied are 1 (x * 1 is x, bit for bit) */
         float so_i = so_in[i]; /* loaded in every lane, then selected */
-        float d_occ = with_cone ? occ[i] : 1.0f, s_occ = with_cone ? so_i : 1.0f;
+        float d_occ = with_cone ? docc[i] : 1.0f, s_occ = with_cone ? so_i : 1.0f;
         float sum_occ = with_cone ? 1.0f : occ[i];
         float dr = r + (((kr[i] * (1.0f / PI)) * p->Er[i]) * I) * d_occ;
         float dg = g + (((kg[i] * (1.0f / PI)) * p->Eg[i]) * I) * d_occ;
@@ -1357,6 +1373,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             } else {
                 color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, task, NULL);
             }
+            if (u->skyMaps) /* sl_shade_surface_color's V on the residual's irradiance */
+                sky_scale(u, p, i, t[i].position);
         } else {
             shade_surface s = {
                 .P = t[i].position,
@@ -1388,6 +1406,13 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                     E = env_shadow_diffuse(u, E, s.cone != NULL, D, s.Nenv, s.Kd, es.vis, &es.diffuse);
                     es.diffuse_given = true;
                 }
+            }
+            if (u->skyMaps && irradiance) { /* as the vector sum's branch: E_given carries V */
+                p->Er[i] = E.x;
+                p->Eg[i] = E.y;
+                p->Eb[i] = E.z;
+                sky_scale(u, p, i, s.P);
+                E = vec3(p->Er[i], p->Eg[i], p->Eb[i]);
             }
             vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, task, trace);
             color = sl_shade_surface_color(u, &s, &E, &specular, env_shadow, task, trace);

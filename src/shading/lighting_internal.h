@@ -159,8 +159,21 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * path's span lookup read the same direction. */
 static inline vec3 shade_diffuse_dir(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv)
 {
+    if (u->skyMaps)
+        return Nenv; /* the sky maps take the diffuse's occlusion: the irradiance about N */
     vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
     return sl_bent_irradiance_dir(Nenv, B, cone->w);
+}
+
+/* The diffuse term's occlusion with the visibility cone: the extra plane's (the material's times
+ * GTAO's AO), or with the sky visibility maps the material's alone (that over the AO, cone.w):
+ * the maps replace the AO on the diffuse, which counted together would see near occluders twice
+ * (docs/lighting.md "Sky visibility maps"); the AO keeps the specular occlusion. */
+static inline float shade_diffuse_occlusion(const sl_lighting_uniforms *u, const sl_vec4 *cone, float occlusion)
+{
+    if (!u->skyMaps)
+        return occlusion;
+    return cone->w > 1e-3f ? fminf(occlusion / cone->w, 1.0f) : 1.0f;
 }
 
 /* Part of GLSL main, from `if (uDiffuse != 0)` on: diffuse, specular (+ env lights), times the occlusion,

@@ -33,6 +33,11 @@ bool sl_lighting_trace_pixel(const sl_lighting_uniforms *u, const sl_gbuffer *gb
             trace->env_light_visibility[j] = sl_shadow_sun_visibility(m, k, trace->texel.position, trace->N);
         }
     }
+    if (u->skyMaps && trace->covered && !trace->program) {
+        trace->sky_maps = u->skyMaps->count;
+        trace->sky_visibility =
+            sl_shadow_sky_visibility(u->skyMaps, trace->texel.position, trace->N, trace->sky_map_visibility);
+    }
     return true;
 }
 
@@ -200,6 +205,16 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         else
             fprintf(f, "  %-12s shadow map %d: visibility %.4g\n", name, t->env_light_map[j],
                     (double)t->env_light_visibility[j]);
+    }
+    if (t->sky_maps > 0) {
+        fprintf(f, "  %-12s %.6g (the sky visibility maps' V, in irradiance; each map's v:", "sky vis",
+                (double)t->sky_visibility);
+        for (int k = 0; k < t->sky_maps; k++)
+            if (t->sky_map_visibility[k] < 0.0f)
+                fprintf(f, " -");
+            else
+                fprintf(f, " %.2f", (double)t->sky_map_visibility[k]);
+        fprintf(f, ")\n");
     }
     if (t->extra && !t->cone)
         fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);

@@ -76,6 +76,9 @@ struct sl_lighting_trace {
     signed char env_light_map[SL_ENV_LIGHTS_MAX];  /* ... each env light's map (-1: none, open) */
     float env_light_visibility[SL_ENV_LIGHTS_MAX]; /* ... and its visibility from the point, which
                                 the env lights' specular and their part of the diffuse include */
+    int sky_maps;            /* with the sky visibility maps (uniforms' skyMaps): their count, else 0 */
+    float sky_visibility;    /* ... V, which the irradiance includes */
+    float sky_map_visibility[SL_SKY_MAPS_MAX]; /* ... each map's v_k (-1: not read, weight 0) */
     float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
     vec3 emissive;           /* added last */
     bool cone;               /* the G-buffer has the ambient occlusion's cone (--ao-radius): */

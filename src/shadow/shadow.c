@@ -352,8 +352,9 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
 
 /* The map's frame and box: the scene's bounds in light space, a texel wider on each side so the
  * filter's taps at the edge read drawn texels, and a share deeper so nothing meets near or far. */
-static void sun_frame(sl_shadow_sun *sun, vec3 lo, vec3 hi)
+static void sun_frame(sl_shadow_sun *sun, vec3 lo, vec3 hi, int side)
 {
+    sun->size = side;
     vec3 a = scale(sun->dir, -1.0f);
     vec3 up0 = fabsf(a.z) > 0.99f ? vec3(0, 1, 0) : vec3(0, 0, 1);
     sun->axis = a;
@@ -368,7 +369,7 @@ static void sun_frame(sl_shadow_sun *sun, vec3 lo, vec3 hi)
             mx[i] = fmaxf(mx[i], v[i]);
         }
     }
-    float size = (float)SL_SHADOW_SUN_SIZE;
+    float size = (float)side;
     float ex = fmaxf(mx[0] - mn[0], 1e-4f), ey = fmaxf(mx[1] - mn[1], 1e-4f), ez = fmaxf(mx[2] - mn[2], 1e-4f);
     float px = 2.0f * ex / size, py = 2.0f * ey / size, pz = 0.01f * ez + 1e-4f;
     sun->x0 = mn[0] - px;
@@ -408,31 +409,31 @@ bool sl_shadow_suns_frames(sl_shadow_suns *m, const sl_scene *scene, const sl_en
     vec3 lo, hi;
     bool geometry = sl_scene_bounds(scene, &lo, &hi);
     for (int k = 0; k < m->count; k++)
-        sun_frame(&m->maps[k], geometry ? lo : vec3s(0.0f), geometry ? hi : vec3s(0.0f));
+        sun_frame(&m->maps[k], geometry ? lo : vec3s(0.0f), geometry ? hi : vec3s(0.0f), SL_SHADOW_SUN_SIZE);
     return geometry;
 }
 
 mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun) { return sun_view_proj(sun); }
 
-bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
-                          float env_rotation_deg, sl_error *err)
+bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
+                           sl_error *err)
 {
-    bool geometry = sl_shadow_suns_frames(m, scene, lights, env_rotation_deg);
-    if (m->count == 0)
-        return true;
-    const size_t n = (size_t)SL_SHADOW_SUN_SIZE * (size_t)SL_SHADOW_SUN_SIZE;
+    vec3 lo, hi;
+    bool geometry = sl_scene_bounds(scene, &lo, &hi);
+    for (int k = 0; k < count; k++)
+        sun_frame(&maps[k], geometry ? lo : vec3s(0.0f), geometry ? hi : vec3s(0.0f), size);
+    const size_t n = (size_t)size * (size_t)size;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
     mat4 *mvp = malloc((size_t)objects * sizeof *mvp);
     shadow_texel *texels = geometry ? malloc(n * sizeof *texels) : NULL;
     bool ok = draws && mvp && (texels || !geometry);
     if (!ok)
-        sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for a %dx%d env-light map", SL_SHADOW_SUN_SIZE,
-                SL_SHADOW_SUN_SIZE);
-    for (int k = 0; ok && k < m->count; k++) {
-        sl_shadow_sun *sun = &m->maps[k];
+        sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for a %dx%d orthographic map", size, size);
+    for (int k = 0; ok && k < count; k++) {
+        sl_shadow_sun *sun = &maps[k];
         if (!sun->depth && !(sun->depth = malloc(n * sizeof(float)))) {
-            ok = sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for env-light map %d", k);
+            ok = sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for orthographic map %d", k);
             break;
         }
         if (!geometry) { /* nothing casts */
@@ -440,18 +441,28 @@ bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene
                 sun->depth[t] = INFINITY;
             continue;
         }
-        int count = draw_depth(r, scene, &sun_program, sun_view_proj(sun), SL_SHADOW_SUN_SIZE, texels, draws, mvp, err);
-        if (count < 0) {
+        int drawn = draw_depth(r, scene, &sun_program, sun_view_proj(sun), size, texels, draws, mvp, err);
+        if (drawn < 0) {
             ok = false;
             break;
         }
         /* window depth -> depth along the axis; the clear's +inf stays */
         for (size_t t = 0; t < n; t++)
-            sun->depth[t] = count > 0 ? sun->z0 + texels[t].view * sun->sz : INFINITY;
+            sun->depth[t] = drawn > 0 ? sun->z0 + texels[t].view * sun->sz : INFINITY;
     }
     free(draws);
     free(mvp);
     free(texels);
+    return ok;
+}
+
+bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
+                          float env_rotation_deg, sl_error *err)
+{
+    sl_shadow_suns_frames(m, scene, lights, env_rotation_deg);
+    if (m->count == 0)
+        return true;
+    bool ok = sl_shadow_ortho_build(m->maps, m->count, SL_SHADOW_SUN_SIZE, r, scene, err);
     if (!ok)
         m->count = 0;
     return ok;
@@ -475,7 +486,7 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     float na = dot(N, sun->axis);
     if (!(na < -1e-6f))
         return 1.0f;
-    const float size = (float)SL_SHADOW_SUN_SIZE;
+    const float size = (float)sun->size;
     vec3 q = add(P, scale(N, sun->texel * SHADOW_NORMAL_OFFSET));
     float xq = dot(q, sun->right), yq = dot(q, sun->up), zq = dot(q, sun->axis);
     float stepx = sun->sx / size, stepy = sun->sy / size; /* world units per texel */
@@ -493,11 +504,11 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
     const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
     const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};
-    const int last = SL_SHADOW_SUN_SIZE - 1;
+    const int last = sun->size - 1;
     float vis = 0.0f;
     for (int b = 0; b < 4; b++) {
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
-        const float *row = sun->depth + (size_t)y * (size_t)SL_SHADOW_SUN_SIZE;
+        const float *row = sun->depth + (size_t)y * (size_t)sun->size;
         float dy = ((float)(y0 + b) + 0.5f) * stepy + sun->y0 - yq;
         float rv = 0.0f;
         for (int a = 0; a < 4; a++) {

@@ -62,16 +62,18 @@ typedef struct {
 #define SL_SHADOW_SUN_SIZE 2048        /* texels along an env-light map's side */
 #define SL_SHADOW_SUN_CLUSTER_DEG 5.0f /* a light this close to a cluster's brightest joins it */
 
-/* One cluster's orthographic map: x = right . P, y = up . P, depth = axis . P (axis = -dir). */
+/* One orthographic map (an env-light cluster's, or a sky direction's: src/shadow/sky.h):
+ * x = right . P, y = up . P, depth = axis . P (axis = -dir). */
 typedef struct {
-    vec3 dir;              /* world, towards the lights: their power-weighted mean */
+    vec3 dir;              /* world, towards the lights (their power-weighted mean) or the sky */
     vec3 axis, right, up;  /* the map's frame: the direction it looks, its x and y */
     float x0, y0, z0;      /* the box's lowest corner in the frame */
     float sx, sy, sz;      /* its extent along right, up and axis */
     float texel;           /* the larger of a texel's two sides, world units */
     float spread;          /* tangent of the largest angle between a light and dir (report) */
     int lights;            /* env lights in the cluster */
-    float *depth;          /* SL_SHADOW_SUN_SIZE^2 depths along axis, row 0 = low y; +inf empty */
+    int size;              /* texels along the map's side (SL_SHADOW_SUN_SIZE for an env light's) */
+    float *depth;          /* size^2 depths along axis, row 0 = low y; +inf empty */
 } sl_shadow_sun;
 
 typedef struct {
@@ -110,6 +112,12 @@ bool sl_shadow_suns_frames(sl_shadow_suns *suns, const sl_scene *scene, const sl
  * axis over the map's box mapped linearly onto [-1, 1] (the window depth is then (depth along
  * the axis - z0) / sz). */
 mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
+/* Frame each of maps[0 .. count - 1] from its dir (set) over the scene's bounds, `size` texels a
+ * side, and draw it on r's threads: the env lights' maps and the sky visibility maps
+ * (src/shadow/sky.h) both. Each map's depth is allocated when NULL (kept at this size otherwise).
+ * False (and err) on no memory or a failed draw. */
+bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
+                           sl_error *err);
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
 void sl_shadow_free(sl_shadow_maps *maps);

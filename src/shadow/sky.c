@@ -1,0 +1,145 @@
+/* sky.c - the sky visibility maps (sky.h): the directions, their cells' weights from the
+ * environment, the maps (drawn by shadow.c's orthographic machinery) and the per-point lookup. */
+#include "sky.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* The lookup's offsets, in map texels: the receiver moved along its normal, and the bias past
+ * the receiver plane's depth per tap (shadow.c's values for the env lights' maps). */
+#define SKY_NORMAL_OFFSET 1.0f
+#define SKY_BIAS_CONST 1.0f
+
+vec3 sl_shadow_sky_direction(int k, int count)
+{
+    /* spherical Fibonacci: equal-area bands in z, a golden-angle turn per point */
+    const float golden = SL_PI * (3.0f - sqrtf(5.0f));
+    float z = 1.0f - (2.0f * (float)k + 1.0f) / (float)count;
+    float r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
+    float phi = golden * (float)k;
+    return vec3(r * cosf(phi), r * sinf(phi), z);
+}
+
+static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+/* m_k = sum over cell k's level-0 texels of lum(L) w dOmega (environment space). A texel joins
+ * the direction nearest its centre's. */
+static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m)
+{
+    for (int k = 0; k < count; k++)
+        m[k] = vec3s(0.0f);
+    if (!env || env->level_count < 1)
+        return;
+    const sl_env_level *l = &env->levels[0];
+    /* a lat-long texel's solid angle: (2 pi / W) (pi / H) sin(theta) */
+    const float texel_sr = 2.0f * SL_PI * SL_PI / ((float)l->width * (float)l->height);
+    for (int y = 0; y < l->height; y++) {
+        float v = ((float)y + 0.5f) / (float)l->height;
+        for (int x = 0; x < l->width; x++) {
+            float lum = luminance(l->texels[(size_t)y * (size_t)l->width + (size_t)x]);
+            if (!(lum > 0.0f))
+                continue;
+            vec3 w = sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)l->width, v));
+            int best = 0;
+            float best_dot = -2.0f;
+            for (int k = 0; k < count; k++) {
+                float d = dot(w, dirs[k]);
+                if (d > best_dot) {
+                    best_dot = d;
+                    best = k;
+                }
+            }
+            float sin_theta = sqrtf(fmaxf(1.0f - w.z * w.z, 0.0f));
+            m[best] = add(m[best], scale(w, lum * texel_sr * sin_theta));
+        }
+    }
+}
+
+bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
+                         const sl_scene *scene, sl_error *err)
+{
+    if (count < 1 || count > SL_SKY_MAPS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
+    /* environment -> world: a turn by +rotation about +Z (shadow.c sl_shadow_suns_frames) */
+    float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
+    vec3 dirs[SL_SKY_MAPS_MAX], m[SL_SKY_MAPS_MAX];
+    for (int k = 0; k < count; k++)
+        dirs[k] = sl_shadow_sky_direction(k, count);
+    cell_weights(env, dirs, count, m);
+    for (int k = 0; k < count; k++) {
+        vec3 e = dirs[k];
+        sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
+        sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
+    }
+    /* maps of another size (an earlier build's) are not reused */
+    for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
+        if (sky->maps[k].depth && sky->maps[k].size != SL_SKY_MAP_SIZE) {
+            free(sky->maps[k].depth);
+            sky->maps[k].depth = NULL;
+        }
+    sky->count = 0;
+    if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, err))
+        return false;
+    sky->count = count;
+    return true;
+}
+
+void sl_shadow_sky_free(sl_shadow_sky *sky)
+{
+    for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
+        free(sky->maps[k].depth);
+    memset(sky, 0, sizeof *sky);
+}
+
+float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N)
+{
+    const sl_shadow_sun *map = &sky->maps[k];
+    float na = dot(N, map->axis);
+    if (!(na < -1e-6f))
+        return 1.0f; /* the direction is below P's plane: its ray never meets the receiver */
+    const float size = (float)map->size;
+    vec3 q = add(P, scale(N, map->texel * SKY_NORMAL_OFFSET));
+    float xq = dot(q, map->right), yq = dot(q, map->up), zq = dot(q, map->axis);
+    float stepx = map->sx / size, stepy = map->sy / size; /* world units per texel */
+    float ux = (xq - map->x0) / stepx - 0.5f, uy = (yq - map->y0) / stepy - 0.5f;
+    float fx = floorf(ux), fy = floorf(uy);
+    if (!(fabsf(fx) < 1e6f && fabsf(fy) < 1e6f))
+        return 1.0f; /* non-finite or far off the map: nothing there casts */
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = (int)fx, y0 = (int)fy;
+    /* each tap compared with the receiver plane's depth under it (shadow.c's rule) */
+    float gx = -dot(N, map->right) / na, gy = -dot(N, map->up) / na;
+    float bias = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
+    const float wx[2] = {1.0f - tx, tx}, wy[2] = {1.0f - ty, ty};
+    const int last = map->size - 1;
+    float vis = 0.0f;
+    for (int b = 0; b < 2; b++) {
+        int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
+        const float *row = map->depth + (size_t)y * (size_t)map->size;
+        float dy = ((float)(y0 + b) + 0.5f) * stepy + map->y0 - yq;
+        for (int a = 0; a < 2; a++) {
+            int x = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
+            float dx = ((float)(x0 + a) + 0.5f) * stepx + map->x0 - xq;
+            float receiver = zq + gx * dx + gy * dy;
+            vis += row[x] + bias >= receiver ? wx[a] * wy[b] : 0.0f;
+        }
+    }
+    return fminf(vis, 1.0f);
+}
+
+float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each)
+{
+    float seen = 0.0f, all = 0.0f;
+    for (int k = 0; k < sky->count; k++) {
+        float w = fmaxf(dot(N, sky->weight[k]), 0.0f);
+        float v = w > 0.0f ? sl_shadow_sky_map_visibility(sky, k, P, N) : -1.0f;
+        if (each)
+            each[k] = v;
+        if (w > 0.0f) {
+            seen += v * w;
+            all += w;
+        }
+    }
+    return all > 0.0f ? seen / all : 1.0f;
+}

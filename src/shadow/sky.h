@@ -1,0 +1,63 @@
+/* sky.h - sky visibility maps: a world-space occlusion of the environment for the diffuse term.
+ *
+ * Screen-space ambient occlusion (src/occlusion) sees only what the G-buffer holds within its
+ * radius: the sky a large object hides from the ground beside it, or an occluder behind the
+ * camera, it cannot see. These maps see the whole scene: K directions d_k spread evenly over the
+ * sphere (a spherical Fibonacci set, environment space), each drawn as an orthographic depth map
+ * of S x S texels over the scene's bounds, looking along -d_k (the environment's rotation
+ * applied: world space), by the machinery of the env lights' maps (shadow.h:
+ * sl_shadow_ortho_build). Drawn once per scene, environment and rotation.
+ *
+ * Each direction stands for its Voronoi cell of the sphere. Per cell, from the environment the
+ * diffuse term's irradiance holds (the residual left after the env lights when their shadow maps
+ * take them out of it, else the whole environment), a luminance-weighted vector
+ *     m_k = sum over the cell's level-0 texels of lum(L(w)) w dOmega,
+ * so that max(N . m_k, 0) approximates the cell's share of the irradiance about N. Per point P
+ * with normal N (world), each map's visibility v_k (a 2x2 bilinear percentage-closer lookup
+ * with the env lights' maps' normal offset and per-tap receiver plane) gives
+ *     V = sum_k v_k max(N . m_k, 0) / sum_k max(N . m_k, 0)   (1 where the sum is 0),
+ * and the diffuse term's irradiance (the residual's part) is multiplied by V. A map whose weight
+ * is 0 at N is not read.
+ *
+ * Limits: the angular resolution is a cell, 4 pi / K steradians (K = 32: about 0.39 sr, a cone
+ * of about 20 degrees half-angle): an occluder's edge in the sky moves V in steps of a cell's
+ * weight (banding on smooth surfaces as N turns); a map's texel is the scene's bounds over S, so
+ * occluders thinner than a texel or two drop out and contact shadows are a texel or two wide.
+ * Interreflection is not counted (the occluded sky is dark, not the occluder's radiance).
+ * docs/lighting.md "Sky visibility maps" measures it. */
+#ifndef SL_SHADOW_SKY_H
+#define SL_SHADOW_SKY_H
+
+#include <stdbool.h>
+
+#include "core/error.h"
+#include "ibl/ibl.h"
+#include "shadow/shadow.h"
+
+#ifndef SL_SKY_MAP_SIZE
+#define SL_SKY_MAP_SIZE 512 /* texels along a sky map's side */
+#endif
+
+typedef struct {
+    int count;                        /* maps, 0 .. SL_SKY_MAPS_MAX */
+    sl_shadow_sun maps[SL_SKY_MAPS_MAX]; /* maps[k].dir = d_k in the world */
+    vec3 weight[SL_SKY_MAPS_MAX];     /* m_k in the world (the environment's rotation applied) */
+} sl_shadow_sky;
+
+/* The k-th of `count` spherical Fibonacci directions (environment space, unit). */
+vec3 sl_shadow_sky_direction(int k, int count);
+/* Set `count` (1 .. SL_SKY_MAPS_MAX) directions, their cells' weights from env's level 0 (a
+ * lat-long map: the lighting's environment or its residual) and draw the maps on r's threads.
+ * `sky` is zeroed on entry or holds maps of an earlier call (reused). False (and err) on no
+ * memory or a count out of range. */
+bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
+                         const sl_scene *scene, sl_error *err);
+void sl_shadow_sky_free(sl_shadow_sky *sky);
+/* Map k's visibility from world point P with unit normal N: 1 open, 0 hidden; 1 where the
+ * direction is below P's plane (its ray never meets the receiver). */
+float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N);
+/* V at world point P with unit normal N (world); each (may be NULL) receives every map's v_k,
+ * -1 for a map not read (its weight is 0 at N). */
+float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each);
+
+#endif
