@@ -3,16 +3,18 @@
  * Screen-space ambient occlusion (src/occlusion) sees only what the G-buffer holds within its
  * radius: the sky a large object hides from the ground beside it, or an occluder behind the
  * camera, it cannot see. These maps see the whole scene: K directions d_k spread evenly over the
- * sphere (a spherical Fibonacci set, environment space), each drawn as an orthographic depth map
- * of S x S texels over the scene's bounds, looking along -d_k (the environment's rotation
- * applied: world space), by the machinery of the env lights' maps (shadow.h:
- * sl_shadow_ortho_build). Drawn once per scene, environment and rotation.
- *
- * Each direction stands for its Voronoi cell of the sphere. Per cell, from the environment the
+ * sphere (a spherical Fibonacci set, environment space) cut the sphere into their Voronoi
+ * cells. Per cell, from the environment the
  * diffuse term's irradiance holds (the residual left after the env lights when their shadow maps
  * take them out of it, else the whole environment), a luminance-weighted vector
  *     m_k = sum over the cell's level-0 texels of lum(L(w)) w dOmega,
- * so that max(N . m_k, 0) approximates the cell's share of the irradiance about N. Per point P
+ * so that max(N . m_k, 0) approximates the cell's share of the irradiance about N. Each cell
+ * gets an orthographic depth map of S x S texels over the scene's bounds, drawn towards its
+ * luminous centroid normalize(m_k) (d_k for a black cell; the environment's rotation applied:
+ * world space) by the machinery of the env lights' maps (shadow.h: sl_shadow_ortho_build), once
+ * per scene, environment and rotation. The centroid, not d_k: a cell across the horizon with a
+ * bright sky above and a dark ground below is lit from the sky, whose occluders differ from the
+ * ground's (measured: docs/lighting.md "Sky visibility maps"). Per point P
  * with normal N (world), each map's visibility v_k (a 2x2 bilinear percentage-closer lookup
  * with the env lights' maps' normal offset and per-tap receiver plane) gives
  *     V = sum_k v_k max(N . m_k, 0) / sum_k max(N . m_k, 0)   (1 where the sum is 0),
@@ -40,7 +42,7 @@
 
 typedef struct {
     int count;                        /* maps, 0 .. SL_SKY_MAPS_MAX */
-    sl_shadow_sun maps[SL_SKY_MAPS_MAX]; /* maps[k].dir = d_k in the world */
+    sl_shadow_sun maps[SL_SKY_MAPS_MAX]; /* maps[k].dir: normalize(weight[k]), or d_k (world) */
     vec3 weight[SL_SKY_MAPS_MAX];     /* m_k in the world (the environment's rotation applied) */
 } sl_shadow_sky;
 

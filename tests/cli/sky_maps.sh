@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# sky_maps.sh BUILD_DIR - the sky visibility maps (--sky-maps K, docs/lighting.md "Sky
+# visibility maps") from the command line: off by default and at 0 (the same bytes as without
+# the option); a floor beside a tall wall under a constant white environment, where the diffuse
+# is E times the visible cosine fraction: the floor at the wall's foot sees about half the sky
+# (V within 0.1 of 0.5), far from it nearly all, and the render's diffuse against `truth
+# --visibility` (Embree; skipped without it) is far closer with the maps than without; trace
+# prints V; softlight-gl and `softlight check` refuse the option (one line, status 2); bad
+# counts are one line, status 2.
+set -u
+. "$(dirname "$0")/lib.bash"
+cli_init sky_maps "$1"
+GL=${1}/softlight-gl
+S=64x36
+
+# a constant white environment (a 256x128 PFM of ones) and the scene: a 6x6 floor, a wall 4 tall
+# and 0.2 thick along x = 0 across the whole floor, seen from above on the +x side
+python3 - "$T/white.pfm" <<'PY'
+import struct, sys
+w, h = 256, 128
+with open(sys.argv[1], 'wb') as f:
+    f.write(b'PF\n%d %d\n-1.0\n' % (w, h))
+    f.write(struct.pack('<' + 'f' * (3 * w * h), *([1.0] * (3 * w * h))))
+PY
+cat >"$T/wall.json" <<JSON
+{"camera": {"eye": [3.2, 0, 6], "target": [1.6, 0, 0], "up": [1, 0, 0], "fovy": 50},
+ "environment": {"hdr": "$T/white.pfm"},
+ "materials": {"m": {"kd": 1, "ks": 0, "alpha": 10}},
+ "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [3, 3, 1]}},
+             {"shape": "box", "material": "m", "transform": {"translate": [0, 0, 2], "scale": [0.1, 3, 2]}}],
+ "render": {"samples": 1}}
+JSON
+R="--size $S --no-lights --diffuse-only -q"
+"$SL" render "$T/wall.json" $R --pfm "$T/off.pfm" || bad "render without maps"
+"$SL" render "$T/wall.json" $R --sky-maps 0 --pfm "$T/zero.pfm"
+cmp -s "$T/off.pfm" "$T/zero.pfm" && ok "--sky-maps 0: the same bytes as without it" || bad "--sky-maps 0 changed the image"
+"$SL" render "$T/wall.json" $R --sky-maps 32 --pfm "$T/on.pfm" >/dev/null
+"$SL" render "$T/wall.json" --size $S --no-lights --diffuse-only --sky-maps 32 --pfm "$T/x.pfm" | grep -q "^sky visibility maps: 32 orthographic maps" &&
+    ok "render prints the maps' line" || bad "render's line about the maps"
+
+# V = on / off per floor pixel; the floor's world x from the pixel: the camera looks down -z
+# with up = +x, so image rows run along x. The wall's foot is at x = 0.1; the far edge at x = 3.
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY' && ok "$(cat "$T/v.txt")" || bad "V beside the wall: $(cat "$T/v.txt")"
+import sys
+from pfm import read_pfm as pfm
+T = sys.argv[1]
+w, h, _, off = pfm(T + '/off.pfm')
+_, _, _, on = pfm(T + '/on.pfm')
+# per PFM row (bottom first), the median V over the middle columns where the floor shows
+rows = []
+for y in range(h):
+    vs = sorted(on[3 * (y * w + x) + 1] / off[3 * (y * w + x) + 1] for x in range(w // 3, 2 * w // 3)
+                if off[3 * (y * w + x) + 1] > 0.5)
+    if vs:
+        rows.append((y, vs[len(vs) // 2]))
+# the floor beside the wall: the row whose V is least among those above 0.2 (the wall's top is
+# fully open: its V is 1); the farthest floor row sees most of the sky
+foot = min(v for _, v in rows if v > 0.2)
+far = max(v for _, v in rows)
+open(T + '/v.txt', 'w').write("V at the wall's foot %.3f (want 0.5 +- 0.1), at most %.3f" % (foot, far))
+sys.exit(not (abs(foot - 0.5) < 0.1 and far > 0.85))
+PY
+
+line=$("$SL" trace "$T/wall.json" --size $S --no-lights --sky-maps 32 --pixel 32,30 | grep "^  sky vis")
+[ -n "$line" ] && ok "trace prints V: ${line:0:60}..." || bad "trace has no sky vis line"
+
+if "$SL" truth "$T/wall.json" --size 2x2 --visibility --pfm "$T/probe.pfm" >/dev/null 2>&1; then
+    "$SL" truth "$T/wall.json" --size $S --visibility --cache "$T/vis.gt" --pfm "$T/truth.pfm" >/dev/null 2>&1
+    nrmse() { "$SL" truth "$T/wall.json" --size $S --visibility --cache "$T/vis.gt" --part diffuse --compare "$1" 2>/dev/null |
+        sed -n 's/.*nrmse \([0-9.]*\),.*/\1/p'; }
+    a=$(nrmse "$T/off.pfm") b=$(nrmse "$T/on.pfm")
+    python3 -c "import sys; sys.exit(not (float('$b') < 0.08 and float('$b') < 0.3 * float('$a')))" &&
+        ok "diffuse nRMSE against truth --visibility: $a without the maps, $b with 32" ||
+        bad "diffuse nRMSE against truth --visibility: $a without the maps, $b with 32 (want < 0.08 and < 0.3x)"
+else
+    echo "skip the truth comparison: a build without Embree"
+fi
+
+expect_error "negative count" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps -1 -o "$T/x.png"
+expect_error "too many" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps 65 -o "$T/x.png"
+expect_error "check refuses the maps" "softlight-gl does not draw the sky visibility maps" -- \
+    "$SL" check "$T/wall.json" --size $S --sky-maps 8
+if [ -x "$GL" ]; then
+    expect_error "softlight-gl refuses the maps" "softlight-gl does not draw the sky visibility maps" -- \
+        "$GL" render "$T/wall.json" --size $S --sky-maps 8 -o "$T/x.png"
+fi
+cli_done sky_maps
