@@ -45,6 +45,7 @@ mkdir -p "$OUT"
 BEST="--estimator mf --lod pdf --distortion -n 256"
 AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
 SUN="--env-lights 32 --shadows" # the env lights' shadow maps (docs/lighting.md "Shadow maps")
+SKY="--sky-maps 32" # the sky visibility maps (docs/lighting.md "Sky visibility maps")
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
@@ -74,8 +75,8 @@ table=$OUT/table.md
     echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
 } >"$table"
 {
-    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut | with --ao-radius 1 $SUN | cut |"
-    echo "|---|---:|---:|---:|---:|---:|"
+    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut | with --ao-radius 1 $SUN | cut | with $SKY --ao-radius 1 $SUN | cut |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 } >"$OUT/cut.md"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
@@ -91,12 +92,15 @@ for s in "${scenes[@]}"; do
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO --pfm "$OUT/$s-best-ao.pfm" -q
     # shellcheck disable=SC2086
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO $SUN --pfm "$OUT/$s-best-ao-sun.pfm" -q
-    for variant in default best best-ao best-ao-sun; do
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $SKY $AO $SUN --pfm "$OUT/$s-best-sky-ao-sun.pfm" -q
+    for variant in default best best-ao best-ao-sun best-sky-ao-sun; do
         case $variant in
         default) label="default" ;;
         best) label="mf pdf+dist N256" ;;
         best-ao) label="mf pdf+dist N256, --ao-radius 1" ;;
-        *) label="mf pdf+dist N256, --ao-radius 1 $SUN" ;;
+        best-ao-sun) label="mf pdf+dist N256, --ao-radius 1 $SUN" ;;
+        *) label="mf pdf+dist N256, $SKY --ao-radius 1 $SUN" ;;
         esac
         IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
@@ -106,7 +110,8 @@ for s in "${scenes[@]}"; do
     best_vis=$(grep "^| $s | mf pdf+dist N256 |" "$table" | cut -d'|' -f6 | tr -d ' ')
     ao_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 |" "$table" | cut -d'|' -f6 | tr -d ' ')
     sun_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
-    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") | $sun_vis | $(ratio "$best_vis" "$sun_vis") |" >>"$OUT/cut.md"
+    sky_vis=$(grep "^| $s | mf pdf+dist N256, $SKY --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
+    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") | $sun_vis | $(ratio "$best_vis" "$sun_vis") | $sky_vis | $(ratio "$best_vis" "$sky_vis") |" >>"$OUT/cut.md"
     if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights
@@ -170,7 +175,9 @@ docs/lighting.md "Shadow maps"). `default` is `softlight render` with the scene'
 specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--estimator mf --lod pdf --distortion
 -n 256`, whose error against the blind truth is nearly all bias-free noise; `--ao-radius 1` adds
 the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient
-occlusion"), the estimate of visibility it has. nRMSE: RMSE over the
+occlusion"), the estimate of visibility it has; `--sky-maps 32` adds the sky visibility maps
+(docs/lighting.md "Sky visibility maps"), which replace the ambient occlusion on the diffuse.
+nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
 pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
 difference between the two columns of one row is the error that ignoring visibility adds (the
@@ -184,9 +191,11 @@ TEXT
     echo
     echo "What the occlusion (GTAO on the diffuse, read along the bent normal, its visibility cone's"
     echo "specular occlusion on the specular: docs/lighting.md \"Ambient occlusion\", \"Specular"
-    echo "occlusion\") and the env lights' shadow maps (docs/lighting.md \"Shadow maps\") remove of the"
+    echo "occlusion\"), the env lights' shadow maps (docs/lighting.md \"Shadow maps\") and the sky"
+    echo "visibility maps (docs/lighting.md \"Sky visibility maps\") remove of the"
     echo "error of ignoring visibility: nRMSE against the visibility truth of the \`mf pdf+dist N256\`"
-    echo "render without them, with \`--ao-radius 1\`, and with \`--ao-radius 1 $SUN\`, and the factor"
+    echo "render without them, with \`--ao-radius 1\`, with \`--ao-radius 1 $SUN\` and with"
+    echo "\`$SKY --ao-radius 1 $SUN\`, and the factor"
     echo "by which each cuts the first:"
     echo
     cat "$OUT/cut.md"
