@@ -63,12 +63,19 @@ static gtao_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, float rad
 
 /* acos to 7e-5 radians (Abramowitz and Stegun 4.4.45): the horizons' and the normal's angles
  * need no more, and the libm call was most of the pass's time. */
-static float acos_fast(float x)
+static inline float acos_fast(float x)
 {
     float a = fabsf(x);
     a = a > 1.0f ? 1.0f : a;
     float r = sqrtf(1.0f - a) * (1.5707288f + a * (-0.2121144f + a * (0.0742610f - 0.0187293f * a)));
     return x < 0.0f ? SL_PI - r : r;
+}
+
+/* (int)floorf(v) for |v| < 2^31, from the truncation, which vectorizes where floorf does not. */
+static inline int floor_int(float v)
+{
+    int t = (int)v;
+    return (float)t > v ? t - 1 : t;
 }
 
 /* The cosine-weighted visible arc from the slice's view direction to its horizon on one side,
@@ -77,15 +84,16 @@ static float acos_fast(float x)
  * (cos_n, sin_n), with no horizon below the surface's tangent plane: |h - n| <= pi/2. cos(2h - n)
  * comes from c by the double-angle identities, not from a cos call. h (side acos c) and whether
  * it is clamped come from the caller, which shares them with bent_arc. */
-static float arc(float c, float side, float n, float cos_n, float sin_n, float h, bool clamped)
+static inline float arc(float c, float side, float n, float cos_n, float sin_n, float h, bool clamped)
 {
-    if (clamped) { /* clamped at the tangent plane, where cos(2h - n) = -cos n */
-        h = n + side * 0.5f * SL_PI;
-        return 0.5f * (cos_n + h * sin_n);
-    }
-    float s = side * sqrtf(fmaxf(0.0f, 1.0f - c * c)); /* sin h */
+    /* both cases, then a select: no branch, so march_span's loop over texels vectorizes */
+    float h_plane = n + side * 0.5f * SL_PI; /* clamped at the tangent plane, where cos(2h - n) = -cos n */
+    float at_plane = 0.5f * (cos_n + h_plane * sin_n);
+    float sin2 = 1.0f - c * c;
+    float s = side * sqrtf(sin2 > 0.0f ? sin2 : 0.0f); /* sin h */
     float cos_2h = 2.0f * c * c - 1.0f, sin_2h = 2.0f * s * c;
-    return 0.25f * (-(cos_2h * cos_n + sin_2h * sin_n) + cos_n + 2.0f * h * sin_n);
+    float open = 0.25f * (-(cos_2h * cos_n + sin_2h * sin_n) + cos_n + 2.0f * h * sin_n);
+    return clamped ? at_plane : open;
 }
 
 /* The cosine-weighted mean direction of the same arc (the bent normal's share of it), as its
@@ -93,17 +101,13 @@ static float arc(float c, float side, float n, float cos_n, float sin_n, float h
  *   integral_0^h (cos t, sin t) cos(t - n) |sin t| dt
  *     = ((cos n (1 - cos^3 h) + sin n sin^3 h) / 3, cos n sin^3 h / 3 + sin n (2/3 - cos h + cos^3 h / 3)),
  * one expression for either side (for h < 0 it is the integral from h to 0). The horizon is
- * clamped at the tangent plane as arc() clamps it. */
-static void bent_arc(float c, float side, float cos_n, float sin_n, bool clamped, float *along_v, float *along_dir)
+ * clamped at the tangent plane as arc() clamps it (h = n + side pi/2), by a select as there. */
+static inline void bent_arc(float c, float side, float cos_n, float sin_n, bool clamped, float *along_v,
+                            float *along_dir)
 {
-    float ch, sh;
-    if (clamped) { /* h = n + side pi/2 */
-        ch = -side * sin_n;
-        sh = side * cos_n;
-    } else {
-        ch = c;
-        sh = side * sqrtf(fmaxf(0.0f, 1.0f - c * c));
-    }
+    float sin2 = 1.0f - c * c;
+    float ch = clamped ? -side * sin_n : c;
+    float sh = clamped ? side * cos_n : side * sqrtf(sin2 > 0.0f ? sin2 : 0.0f);
     float ch3 = ch * ch * ch, sh3 = sh * sh * sh;
     *along_v = (cos_n * (1.0f - ch3) + sin_n * sh3) * (1.0f / 3.0f);
     *along_dir = cos_n * sh3 * (1.0f / 3.0f) + sin_n * (2.0f / 3.0f - ch + ch3 * (1.0f / 3.0f));
@@ -310,6 +314,188 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
     return (gtao_sample){sum / (float)SL_GTAO_SLICES, bent.x, bent.y, bent.z};
 }
 
+/* texel_ao for the half-resolution texels i0 .. i1 - 1 of row j (at most MARCH_SPAN), vectorized,
+ * with the same bits: the frame's march; texel_ao stays the reference, which sl_gtao_texel runs
+ * (tests/unit/test_gtao.c holds the two to the same bits). The texels are a lane each, in
+ * structure-of-arrays form, read from the grid's channels (planes_of wrote them: the texel's
+ * coverage, normal and position), and the samples go into its AO and bent-normal channels. Each
+ * stage of texel_ao is one vector loop over the lanes: the view vector, the facing normal and the
+ * slice frame; per slice, its direction, screen direction and projected normal; per read (both
+ * sides' SL_GTAO_STEPS each, in texel_ao's order), the plane's gather and the running maximum;
+ * per slice, the arcs. Every expression is texel_ao's (and facing_normal's, lighting.c), term by
+ * term in the same order, its branches as selects of both results: a texel with nothing to read
+ * (not covered, behind the eye, a radius under a pixel) keeps its lane but marches 0 pixels and
+ * takes its open value at the end; a skipped slice (no screen direction, a normal along its axis)
+ * adds nothing; a read off the grid or of the texel itself takes the zero plane after the last
+ * (planes[half_width * half_height]), which fails the edge-on test as in horizon_cos. */
+enum { MARCH_SPAN = 64 };
+static void march_span(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, const gtao_grid *g,
+                       int j, int i0, int i1)
+{
+    enum { S = MARCH_SPAN };
+    const int n = i1 - i0, half_width = g->stride - 3, half_height = g->height;
+    const int zero = half_width * half_height; /* the zero plane */
+    const float *ok = grid_row(g, GRID_OK, j) + 1 + i0, *tnx = grid_row(g, GRID_NX, j) + 1 + i0;
+    const float *tny = grid_row(g, GRID_NY, j) + 1 + i0, *tnz = grid_row(g, GRID_NZ, j) + 1 + i0;
+    const float *tpx = grid_row(g, GRID_PX, j) + 1 + i0, *tpy = grid_row(g, GRID_PY, j) + 1 + i0;
+    const float *tpz = grid_row(g, GRID_PZ, j) + 1 + i0;
+    const float ex = f->view.eye.x, ey = f->view.eye.y, ez = f->view.eye.z;
+    const float fx = f->view.forward.x, fy = f->view.forward.y, fz = f->view.forward.z;
+    const float rx = f->view.right.x, ry = f->view.right.y, rz = f->view.right.z;
+    const float ux = f->view.up.x, uy = f->view.up.y, uz = f->view.up.z;
+    const float radius_pixels = f->radius * f->view.pixels_per_unit, max_pixels = f->max_pixels;
+    const float ppu = f->view.pixels_per_unit, half_w = f->half_width, half_h = f->half_height, r2 = f->radius2;
+    /* per lane: the view vector, the facing normal, the march's length and shift, the slice
+     * frame, the screen position of P; per slice: its angle, then its direction, screen
+     * direction, projected normal and horizons; the sums */
+    float Vx[S], Vy[S], Vz[S], Nx[S], Ny[S], Nz[S], pix[S], shift[S], dep[S], b1x[S], b1y[S], b1z[S];
+    float b2x[S], b2y[S], b2z[S], xc[S], yc[S], ao[S], bx[S], by[S], bz[S];
+    float cphi[SL_GTAO_SLICES][S], sphi[SL_GTAO_SLICES][S];
+    float dx[S], dy[S], dz[S], scx[S], scy[S], lp[S], cos_n[S], sin_n[S], ang[S], best[2][S];
+    int live[S], slice_ok[S]; /* 0 or 1: int, not bool, as the float lanes' masks take them */
+    for (int m = 0; m < n; m++) {
+        const int i = i0 + m, k = bayer4[(i & 3) + 4 * (j & 3)];
+        shift[m] = ((float)bayer4[((i + 2) & 3) + 4 * ((j + 1) & 3)] + 0.5f) / GTAO_PATTERN;
+        for (int sl = 0; sl < SL_GTAO_SLICES; sl++) {
+            cphi[sl][m] = f->dir_x[k][sl];
+            sphi[sl][m] = f->dir_y[k][sl];
+        }
+    }
+#pragma omp simd
+    for (int m = 0; m < n; m++) {
+        const float px = tpx[m], py = tpy[m], pz = tpz[m], nx = tnx[m], ny = tny[m], nz = tnz[m];
+        /* V = normalize(eye - P) */
+        const float vx0 = ex - px, vy0 = ey - py, vz0 = ez - pz;
+        const float vinv = 1.0f / sqrtf(vx0 * vx0 + vy0 * vy0 + vz0 * vz0);
+        const float vx = vx0 * vinv, vy = vy0 * vinv, vz = vz0 * vinv;
+        /* N = facing_normal(normal, V) */
+        const float len2 = nx * nx + ny * ny + nz * nz, ninv = 1.0f / sqrtf(len2);
+        const float nnx = nx * ninv, nny = ny * ninv, nnz = nz * ninv;
+        const float ndotv = nnx * vx + nny * vy + nnz * vz, bend = 0.01f - ndotv;
+        const float ubx = nnx + vx * bend, uby = nny + vy * bend, ubz = nnz + vz * bend;
+        const float uinv = 1.0f / sqrtf(ubx * ubx + uby * uby + ubz * ubz);
+        const bool has_n = len2 > 1e-30f, bent = ndotv < 0.01f;
+        Vx[m] = vx;
+        Vy[m] = vy;
+        Vz[m] = vz;
+        Nx[m] = has_n ? (bent ? ubx * uinv : nnx) : vx;
+        Ny[m] = has_n ? (bent ? uby * uinv : nny) : vy;
+        Nz[m] = has_n ? (bent ? ubz * uinv : nnz) : vz;
+        /* P in the camera's frame, and the march's length in pixels */
+        const float Ex = px - ex, Ey = py - ey, Ez = pz - ez;
+        const float depth = Ex * fx + Ey * fy + Ez * fz;
+        float pixels = radius_pixels / depth;
+        pixels = pixels > max_pixels ? max_pixels : pixels;
+        const int on = (ok[m] > 0.0f) & (depth > 0.0f) & !(pixels < 1.0f);
+        live[m] = on;
+        pix[m] = on ? pixels : 0.0f; /* a lane with nothing to read marches nowhere */
+        dep[m] = depth;
+        xc[m] = Ex * rx + Ey * ry + Ez * rz;
+        yc[m] = Ex * ux + Ey * uy + Ez * uz;
+        /* b1 = normalize(right - V (V.right)), b2 = V x b1 */
+        const float vr = vx * rx + vy * ry + vz * rz;
+        const float b1x0 = rx - vx * vr, b1y0 = ry - vy * vr, b1z0 = rz - vz * vr;
+        const float binv = 1.0f / sqrtf(b1x0 * b1x0 + b1y0 * b1y0 + b1z0 * b1z0);
+        const float b1xm = b1x0 * binv, b1ym = b1y0 * binv, b1zm = b1z0 * binv;
+        b1x[m] = b1xm;
+        b1y[m] = b1ym;
+        b1z[m] = b1zm;
+        b2x[m] = vy * b1zm - vz * b1ym;
+        b2y[m] = vz * b1xm - vx * b1zm;
+        b2z[m] = vx * b1ym - vy * b1xm;
+        ao[m] = bx[m] = by[m] = bz[m] = 0.0f;
+    }
+    for (int sl = 0; sl < SL_GTAO_SLICES; sl++) {
+#pragma omp simd
+        for (int m = 0; m < n; m++) {
+            const float c = cphi[sl][m], s = sphi[sl][m], vx = Vx[m], vy = Vy[m], vz = Vz[m];
+            const float ddx = b1x[m] * c + b2x[m] * s, ddy = b1y[m] * c + b2y[m] * s, ddz = b1z[m] * c + b2z[m] * s;
+            const float ax = ddy * vz - ddz * vy, ay = ddz * vx - ddx * vz, az = ddx * vy - ddy * vx;
+            const float df = ddx * fx + ddy * fy + ddz * fz, depth = dep[m];
+            const float sx = (ddx * rx + ddy * ry + ddz * rz) * depth - xc[m] * df;
+            const float sy = (ddx * ux + ddy * uy + ddz * uz) * depth - yc[m] * df;
+            const float slen = sqrtf(sx * sx + sy * sy);
+            const float nx = Nx[m], ny = Ny[m], nz = Nz[m], na = nx * ax + ny * ay + nz * az;
+            const float npx = nx - ax * na, npy = ny - ay * na, npz = nz - az * na;
+            const float l = sqrtf(npx * npx + npy * npy + npz * npz);
+            const int on = live[m] & (slen > 0.0f) & !(l < 1e-6f);
+            const float cn = (npx * vx + npy * vy + npz * vz) / l, sn = (npx * ddx + npy * ddy + npz * ddz) / l;
+            slice_ok[m] = on;
+            dx[m] = ddx;
+            dy[m] = ddy;
+            dz[m] = ddz;
+            scx[m] = on ? sx / slen : 0.0f; /* a skipped slice marches nowhere */
+            scy[m] = on ? sy / slen : 0.0f;
+            lp[m] = l;
+            cos_n[m] = cn;
+            sin_n[m] = sn;
+            ang[m] = (sn < 0.0f ? -1.0f : 1.0f) * acos_fast(cn);
+            best[0][m] = best[1][m] = -1.0f;
+        }
+        /* horizon_cos: the reads one at a time, each in every lane */
+        for (int r = 0; r < 2 * SL_GTAO_STEPS; r++) {
+            const int side = r / SL_GTAO_STEPS, step = r % SL_GTAO_STEPS;
+#pragma omp simd
+            for (int m = 0; m < n; m++) {
+                const int i = i0 + m;
+                const float sx = side ? -scx[m] : scx[m], sy = side ? -scy[m] : scy[m];
+                const float t = pix[m] * ((float)step + shift[m]) / (float)SL_GTAO_STEPS;
+                const float qx = (float)(2 * i) + 0.5f + sx * t, qy = (float)(2 * j) + 0.5f + sy * t;
+                const int si = floor_int(0.5f * qx), sj = floor_int(0.5f * qy);
+                const bool in = !(si == i && sj == j) & (si >= 0) & (sj >= 0) & (si < half_width) & (sj < half_height);
+                const gtao_plane *q = &planes[in ? sj * half_width + si : zero];
+                const float a = (qx - half_w) / ppu, b = (qy - half_h) / ppu;
+                const float rayx = fx + (rx * a + ux * b), rayy = fy + (ry * a + uy * b), rayz = fz + (rz * a + uz * b);
+                const float along = rayx * q->nx + rayy * q->ny + rayz * q->nz;
+                const float depth = q->w / along;
+                const float ddx = (ex + rayx * depth) - tpx[m], ddy = (ey + rayy * depth) - tpy[m];
+                const float ddz = (ez + rayz * depth) - tpz[m];
+                const float l2 = ddx * ddx + ddy * ddy + ddz * ddz;
+                const bool keep = (fabsf(along) > 1e-6f) & (depth > 0.0f) & !(l2 > r2) & !(l2 < 1e-20f);
+                const float cv = keep ? (ddx * Vx[m] + ddy * Vy[m] + ddz * Vz[m]) / sqrtf(l2) : -INFINITY;
+                best[side][m] = cv > best[side][m] ? cv : best[side][m];
+            }
+        }
+#pragma omp simd
+        for (int m = 0; m < n; m++) {
+            const float c_pos = best[0][m], c_neg = best[1][m], cn = cos_n[m], sn = sin_n[m], a = ang[m];
+            const float h_pos = acos_fast(c_pos), h_neg = -acos_fast(c_neg);
+            const bool clamp_pos = h_pos - a >= 0.5f * SL_PI, clamp_neg = -(h_neg - a) >= 0.5f * SL_PI;
+            const float l = lp[m];
+            const float sum = ao[m] + l * (arc(c_pos, 1.0f, a, cn, sn, h_pos, clamp_pos) +
+                                           arc(c_neg, -1.0f, a, cn, sn, h_neg, clamp_neg));
+            float v_pos, d_pos, v_neg, d_neg;
+            bent_arc(c_pos, 1.0f, cn, sn, clamp_pos, &v_pos, &d_pos);
+            bent_arc(c_neg, -1.0f, cn, sn, clamp_neg, &v_neg, &d_neg);
+            const float vs = v_pos + v_neg, ds = d_pos + d_neg;
+            const float bxs = bx[m] + (Vx[m] * vs + dx[m] * ds) * l, bys = by[m] + (Vy[m] * vs + dy[m] * ds) * l;
+            const float bzs = bz[m] + (Vz[m] * vs + dz[m] * ds) * l;
+            const int on = slice_ok[m];
+            ao[m] = on ? sum : ao[m];
+            bx[m] = on ? bxs : bx[m];
+            by[m] = on ? bys : by[m];
+            bz[m] = on ? bzs : bz[m];
+        }
+    }
+    float *gao = grid_row(g, GRID_AO, j) + 1 + i0, *gbx = grid_row(g, GRID_BX, j) + 1 + i0;
+    float *gby = grid_row(g, GRID_BY, j) + 1 + i0, *gbz = grid_row(g, GRID_BZ, j) + 1 + i0;
+#pragma omp simd
+    for (int m = 0; m < n; m++) {
+        const int on = live[m];
+        gao[m] = on ? ao[m] / (float)SL_GTAO_SLICES : 1.0f;
+        gbx[m] = on ? bx[m] : Nx[m];
+        gby[m] = on ? by[m] : Ny[m];
+        gbz[m] = on ? bz[m] : Nz[m];
+    }
+    for (int m = 0; m < n; m++) /* an empty texel's sample: AO 1 and its own normal, as in texel_ao */
+        if (!(ok[m] > 0.0f)) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * (i0 + m), 2 * j);
+            gbx[m] = t->normal.x;
+            gby[m] = t->normal.y;
+            gbz[m] = t->normal.z;
+        }
+}
+
 /* Half resolution: the raw AO is computed at every other texel of every other row, (2i, 2j), the
  * pattern indexed by (i, j); it reads the full-resolution planes. Each texel's AO is then the
  * mean over the 4 x 4 half-resolution block around it (i - 1 .. i + 2 with i = x / 2, so every
@@ -448,20 +634,14 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
     }
 }
 
+/* The raw samples of rows j0 .. j1 - 1, columns i0 .. i1 - 1, one texel at a time (texel_ao):
+ * sl_gtao_texel's, the reference; the frame marches its rows with march_span. */
 static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, gtao_half *h, int j0,
                       int j1, int i0, int i1)
 {
     for (int j = j0; j < j1; j++)
-        for (int i = i0; i < i1; i++) {
-            gtao_sample s = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
-            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = s;
-            if (h->grid) {
-                grid_row(h->grid, GRID_AO, j)[i + 1] = s.ao;
-                grid_row(h->grid, GRID_BX, j)[i + 1] = s.bx;
-                grid_row(h->grid, GRID_BY, j)[i + 1] = s.by;
-                grid_row(h->grid, GRID_BZ, j)[i + 1] = s.bz;
-            }
-        }
+        for (int i = i0; i < i1; i++)
+            h->ao[(size_t)j * (size_t)h->width + (size_t)i] = texel_ao(gb, planes, f, 2 * i, 2 * j, i, j);
 }
 
 sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y)
@@ -495,22 +675,23 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     if (!(radius > 0.0f) || !isfinite(radius))
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: radius %g, expected a positive number", (double)radius);
     const int height = gb->height, width = gb->width;
+    /* the samples go into the grid alone (march_span, for blurred_span): no h.ao */
     gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL, NULL};
-    h.ao = malloc((size_t)h.width * (size_t)h.height * sizeof *h.ao);
-    gtao_plane *planes = malloc((size_t)h.width * (size_t)h.height * sizeof *planes);
+    const size_t half_count = (size_t)h.width * (size_t)h.height;
+    gtao_plane *planes = malloc((half_count + 1) * sizeof *planes); /* and the zero plane */
     gtao_grid grid = {h.width + 3, h.height, NULL};
     grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1) * sizeof *grid.v);
     h.grid = &grid;
     if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
-    if (!h.ao || !planes || !grid.v || !gb->cone) {
-        free(h.ao);
+    if (!planes || !grid.v || !gb->cone) {
         free(planes);
         free(grid.v);
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
     }
     for (int ch = 0; ch < GRID_CHANNELS; ch++)
         memset(grid_row(&grid, ch, grid.height), 0, (size_t)grid.stride * sizeof *grid.v);
+    planes[half_count] = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
     gtao_frame f = frame_of(gb, cam, radius);
     /* Three loops, each needing the last one's rows around it; every one hands out small chunks
      * (dynamic), so a thread the system deschedules holds up the barrier for one chunk at most
@@ -522,7 +703,8 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
             planes_of(gb, &f, planes, &grid, h.width, j, j + 1);
 #pragma omp for schedule(dynamic, 2)
         for (int j = 0; j < h.height; j++)
-            half_rows(gb, planes, &f, &h, j, j + 1, 0, h.width);
+            for (int i = 0; i < h.width; i += MARCH_SPAN)
+                march_span(gb, planes, &f, &grid, j, i, i + MARCH_SPAN < h.width ? i + MARCH_SPAN : h.width);
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < height; y++) {
             sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)width;
@@ -531,7 +713,6 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
                 blurred_span(gb, &f, &h, x, x + BLUR_SPAN < width ? x + BLUR_SPAN : width, y, cone, row);
         }
     }
-    free(h.ao);
     free(planes);
     free(grid.v);
     return true;
