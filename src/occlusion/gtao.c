@@ -117,14 +117,14 @@ static inline void bent_arc(float c, float side, float cos_n, float sin_n, bool 
  * has 56, and of every other texel of every other row (the half-resolution grid, as the AO
  * itself): the reads reach up to SL_GTAO_MAX_SCREEN of the image height away, and the pass is
  * bound by them; a grid a quarter the texels' count, 1/14 of their bytes, keeps those rows in
- * cache. (0, 0, 0, 0) where nothing was drawn. */
-typedef struct {
-    float nx, ny, nz, w;
-} gtao_plane;
+ * cache. (0, 0, 0, 0) where nothing was drawn. The planes are a float array, PLANE floats a
+ * plane (nx, ny, nz, w), so that march_span gathers them with 32-bit indices. */
+enum { PLANE = 4 };
 
 /* What the frame's blur (blurred_span) reads of the half-resolution grid, a channel at a time:
- * whether the sample's texel is covered (1 or 0), its normal and position, and the sample's AO
- * and bent normal. Each row has one empty entry (all 0) before its samples and two after, so the
+ * whether the sample's texel is covered (1 or 0), its normal (an empty texel's too: march_span
+ * gives it as the empty texel's sample) and position (0 where empty), and the sample's AO and
+ * bent normal. Each row has one empty entry (all 0) before its samples and two after, so the
  * 4 columns around any texel lie in the row in every channel, and one empty row follows the last
  * (row `height`), read in place of rows off the grid: the vector loops need no test of the image's
  * border, and the 56-byte texels are read once, not 16 times. */
@@ -143,19 +143,19 @@ static float *grid_row(const gtao_grid *g, int channel, int j)
 
 /* The planes of the half-resolution grid: entry (i, j) is texel (2i, 2j)'s, for rows j0 .. j1 - 1;
  * with a grid, the same rows' texels (and its empty entries) in it. */
-static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *planes, gtao_grid *grid, int half_width,
+static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, float *planes, gtao_grid *grid, int half_width,
                       int j0, int j1)
 {
     for (int j = j0; j < j1; j++) {
         for (int i = 0; i < half_width; i++) {
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
-            gtao_plane *p = &planes[(size_t)j * (size_t)half_width + (size_t)i];
-            if (sl_gbuffer_covered(t)) {
-                vec3 n = t->normal;
-                *p = (gtao_plane){n.x, n.y, n.z, dot(sub(t->position, f->view.eye), n)};
-            } else {
-                *p = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
-            }
+            float *p = planes + PLANE * ((size_t)j * (size_t)half_width + (size_t)i);
+            bool covered = sl_gbuffer_covered(t);
+            vec3 n = t->normal;
+            p[0] = covered ? n.x : 0.0f;
+            p[1] = covered ? n.y : 0.0f;
+            p[2] = covered ? n.z : 0.0f;
+            p[3] = covered ? dot(sub(t->position, f->view.eye), n) : 0.0f;
         }
         if (!grid)
             continue;
@@ -171,9 +171,9 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
             const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * i, 2 * j);
             bool covered = sl_gbuffer_covered(t);
             ok[i] = covered ? 1.0f : 0.0f;
-            nx[i] = covered ? t->normal.x : 0.0f;
-            ny[i] = covered ? t->normal.y : 0.0f;
-            nz[i] = covered ? t->normal.z : 0.0f;
+            nx[i] = t->normal.x; /* an empty texel's too: march_span's sample of it */
+            ny[i] = t->normal.y;
+            nz[i] = t->normal.z;
             px[i] = covered ? t->position.x : 0.0f;
             py[i] = covered ? t->position.y : 0.0f;
             pz[i] = covered ? t->position.z : 0.0f;
@@ -195,7 +195,7 @@ static void planes_of(const sl_gbuffer *gb, const gtao_frame *f, gtao_plane *pla
  * divisions and square roots of 8 reads in one instruction each; & rather than || and &&, so that
  * it has no branch), a skipped read's cosine -infinity; each side's maximum is then taken step by
  * step in order, so the result has the bits of a loop that skips. */
-static void horizon_cos(const gtao_plane *planes, int half_width, int half_height, const gtao_frame *f, int x, int y,
+static void horizon_cos(const float *planes, int half_width, int half_height, const gtao_frame *f, int x, int y,
                         vec3 P, vec3 V, float sx, float sy, float pixels, float shift, float c[2])
 {
     enum { READS = 2 * SL_GTAO_STEPS };
@@ -208,13 +208,14 @@ static void horizon_cos(const gtao_plane *planes, int half_width, int half_heigh
         py[r] = (float)y + 0.5f + dy * t;
         int si = (int)floorf(0.5f * px[r]), sj = (int)floorf(0.5f * py[r]); /* the grid point's texel: (2si, 2sj) */
         /* a skipped read takes the zero plane, which fails the edge-on test below */
-        gtao_plane q = {0.0f, 0.0f, 0.0f, 0.0f};
+        static const float zero[PLANE] = {0.0f, 0.0f, 0.0f, 0.0f};
+        const float *q = zero;
         if (!((2 * si == x && 2 * sj == y) || si < 0 || sj < 0 || si >= half_width || sj >= half_height))
-            q = planes[(size_t)sj * (size_t)half_width + (size_t)si];
-        qnx[r] = q.nx;
-        qny[r] = q.ny;
-        qnz[r] = q.nz;
-        qw[r] = q.w;
+            q = planes + PLANE * ((size_t)sj * (size_t)half_width + (size_t)si);
+        qnx[r] = q[0];
+        qny[r] = q[1];
+        qnz[r] = q[2];
+        qw[r] = q[3];
     }
 #pragma omp simd
     for (int r = 0; r < READS; r++) {
@@ -249,7 +250,7 @@ typedef struct {
 
 /* The raw sample of texel (x, y), turned and shifted by entry (i, j) of the pattern. Where there is
  * nothing to read, AO 1 and the bent normal N (the texel's normal facing the eye). */
-static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, int x, int y, int i,
+static gtao_sample texel_ao(const sl_gbuffer *gb, const float *planes, const gtao_frame *f, int x, int y, int i,
                             int j)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
@@ -327,9 +328,9 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const gtao_plane *planes, cons
  * (not covered, behind the eye, a radius under a pixel) keeps its lane but marches 0 pixels and
  * takes its open value at the end; a skipped slice (no screen direction, a normal along its axis)
  * adds nothing; a read off the grid or of the texel itself takes the zero plane after the last
- * (planes[half_width * half_height]), which fails the edge-on test as in horizon_cos. */
+ * (at PLANE * half_width * half_height), which fails the edge-on test as in horizon_cos. */
 enum { MARCH_SPAN = 64 };
-static void march_span(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, const gtao_grid *g,
+static void march_span(const float *planes, const gtao_frame *f, const gtao_grid *g,
                        int j, int i0, int i1)
 {
     enum { S = MARCH_SPAN };
@@ -443,11 +444,11 @@ static void march_span(const sl_gbuffer *gb, const gtao_plane *planes, const gta
                 const float qx = (float)(2 * i) + 0.5f + sx * t, qy = (float)(2 * j) + 0.5f + sy * t;
                 const int si = floor_int(0.5f * qx), sj = floor_int(0.5f * qy);
                 const bool in = !(si == i && sj == j) & (si >= 0) & (sj >= 0) & (si < half_width) & (sj < half_height);
-                const gtao_plane *q = &planes[in ? sj * half_width + si : zero];
+                const int q = PLANE * (in ? sj * half_width + si : zero); /* int: 32-bit gathers */
                 const float a = (qx - half_w) / ppu, b = (qy - half_h) / ppu;
                 const float rayx = fx + (rx * a + ux * b), rayy = fy + (ry * a + uy * b), rayz = fz + (rz * a + uz * b);
-                const float along = rayx * q->nx + rayy * q->ny + rayz * q->nz;
-                const float depth = q->w / along;
+                const float along = rayx * planes[q] + rayy * planes[q + 1] + rayz * planes[q + 2];
+                const float depth = planes[q + 3] / along;
                 const float ddx = (ex + rayx * depth) - tpx[m], ddy = (ey + rayy * depth) - tpy[m];
                 const float ddz = (ez + rayz * depth) - tpz[m];
                 const float l2 = ddx * ddx + ddy * ddy + ddz * ddz;
@@ -479,21 +480,15 @@ static void march_span(const sl_gbuffer *gb, const gtao_plane *planes, const gta
     }
     float *gao = grid_row(g, GRID_AO, j) + 1 + i0, *gbx = grid_row(g, GRID_BX, j) + 1 + i0;
     float *gby = grid_row(g, GRID_BY, j) + 1 + i0, *gbz = grid_row(g, GRID_BZ, j) + 1 + i0;
+    /* AO 1 and the facing normal where there was nothing to read; an empty texel's own normal */
 #pragma omp simd
     for (int m = 0; m < n; m++) {
-        const int on = live[m];
+        const int on = live[m], covered = ok[m] > 0.0f;
         gao[m] = on ? ao[m] / (float)SL_GTAO_SLICES : 1.0f;
-        gbx[m] = on ? bx[m] : Nx[m];
-        gby[m] = on ? by[m] : Ny[m];
-        gbz[m] = on ? bz[m] : Nz[m];
+        gbx[m] = on ? bx[m] : covered ? Nx[m] : tnx[m];
+        gby[m] = on ? by[m] : covered ? Ny[m] : tny[m];
+        gbz[m] = on ? bz[m] : covered ? Nz[m] : tnz[m];
     }
-    for (int m = 0; m < n; m++) /* an empty texel's sample: AO 1 and its own normal, as in texel_ao */
-        if (!(ok[m] > 0.0f)) {
-            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, 2 * (i0 + m), 2 * j);
-            gbx[m] = t->normal.x;
-            gby[m] = t->normal.y;
-            gbz[m] = t->normal.z;
-        }
 }
 
 /* Half resolution: the raw AO is computed at every other texel of every other row, (2i, 2j), the
@@ -636,7 +631,7 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
 
 /* The raw samples of rows j0 .. j1 - 1, columns i0 .. i1 - 1, one texel at a time (texel_ao):
  * sl_gtao_texel's, the reference; the frame marches its rows with march_span. */
-static void half_rows(const sl_gbuffer *gb, const gtao_plane *planes, const gtao_frame *f, gtao_half *h, int j0,
+static void half_rows(const sl_gbuffer *gb, const float *planes, const gtao_frame *f, gtao_half *h, int j0,
                       int j1, int i0, int i1)
 {
     for (int j = j0; j < j1; j++)
@@ -654,7 +649,7 @@ sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, 
     gtao_half h = {(gb->width + 1) / 2, (gb->height + 1) / 2, NULL, NULL};
     size_t n = (size_t)h.width * (size_t)h.height;
     h.ao = calloc(n, sizeof *h.ao);
-    gtao_plane *planes = malloc(n * sizeof *planes);
+    float *planes = malloc(PLANE * n * sizeof *planes);
     if (h.ao && planes) {
         planes_of(gb, &f, planes, NULL, h.width, 0, h.height);
         /* the samples of the block blurred() reads */
@@ -678,7 +673,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     /* the samples go into the grid alone (march_span, for blurred_span): no h.ao */
     gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL, NULL};
     const size_t half_count = (size_t)h.width * (size_t)h.height;
-    gtao_plane *planes = malloc((half_count + 1) * sizeof *planes); /* and the zero plane */
+    float *planes = malloc(PLANE * (half_count + 1) * sizeof *planes); /* and the zero plane */
     gtao_grid grid = {h.width + 3, h.height, NULL};
     grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1) * sizeof *grid.v);
     h.grid = &grid;
@@ -691,7 +686,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     }
     for (int ch = 0; ch < GRID_CHANNELS; ch++)
         memset(grid_row(&grid, ch, grid.height), 0, (size_t)grid.stride * sizeof *grid.v);
-    planes[half_count] = (gtao_plane){0.0f, 0.0f, 0.0f, 0.0f};
+    memset(planes + PLANE * half_count, 0, PLANE * sizeof *planes);
     gtao_frame f = frame_of(gb, cam, radius);
     /* Three loops, each needing the last one's rows around it; every one hands out small chunks
      * (dynamic), so a thread the system deschedules holds up the barrier for one chunk at most
@@ -704,7 +699,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
 #pragma omp for schedule(dynamic, 2)
         for (int j = 0; j < h.height; j++)
             for (int i = 0; i < h.width; i += MARCH_SPAN)
-                march_span(gb, planes, &f, &grid, j, i, i + MARCH_SPAN < h.width ? i + MARCH_SPAN : h.width);
+                march_span(planes, &f, &grid, j, i, i + MARCH_SPAN < h.width ? i + MARCH_SPAN : h.width);
 #pragma omp for schedule(dynamic, 4)
         for (int y = 0; y < height; y++) {
             sl_gbuffer_extra *row = gb->extra + (size_t)y * (size_t)width;
