@@ -555,19 +555,28 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
 {
     enum { HALF = BLUR_SPAN / 2 };
     const int n = x1 - x0, count[2] = {(n + 1) / 2, n / 2};
-    /* texel x0 + 2m + p at [p][m]: its normal, position, the depth test's limit; the sums */
+    /* texel x0 + 2m + p at [p][m]: its normal, position, the depth test's limit, whether it is
+     * covered; the sums, then the cone */
     float cnx[2][HALF], cny[2][HALF], cnz[2][HALF], cpx[2][HALF], cpy[2][HALF], cpz[2][HALF], lim[2][HALF];
     float sum[2][HALF], cnt[2][HALF], sbx[2][HALF], sby[2][HALF], sbz[2][HALF];
-    for (int k = 0; k < n; k++) {
-        const int p = k & 1, m = k >> 1;
-        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
-        cnx[p][m] = c->normal.x;
-        cny[p][m] = c->normal.y;
-        cnz[p][m] = c->normal.z;
-        cpx[p][m] = c->position.x;
-        cpy[p][m] = c->position.y;
-        cpz[p][m] = c->position.z;
-        lim[p][m] = SL_GTAO_BLUR_DEPTH * dot(sub(c->position, f->view.eye), f->view.forward);
+    int cov[2][HALF]; /* 0 or 1 */
+    const sl_gbuffer_texel *texels = sl_gbuffer_at(gb, x0, y);
+    const float ex = f->view.eye.x, ey = f->view.eye.y, ez = f->view.eye.z;
+    const float fx = f->view.forward.x, fy = f->view.forward.y, fz = f->view.forward.z;
+    for (int p = 0; p < 2; p++) {
+#pragma omp simd
+        for (int m = 0; m < count[p]; m++) {
+            const sl_gbuffer_texel *c = &texels[2 * m + p];
+            const float px = c->position.x, py = c->position.y, pz = c->position.z;
+            cnx[p][m] = c->normal.x;
+            cny[p][m] = c->normal.y;
+            cnz[p][m] = c->normal.z;
+            cpx[p][m] = px;
+            cpy[p][m] = py;
+            cpz[p][m] = pz;
+            lim[p][m] = SL_GTAO_BLUR_DEPTH * ((px - ex) * fx + (py - ey) * fy + (pz - ez) * fz);
+            cov[p][m] = c->depth < 1.0f; /* sl_gbuffer_covered */
+        }
     }
     /* the block's rows, a row off the grid read as the grid's empty row */
     const float *q[4][GRID_CHANNELS];
@@ -608,22 +617,25 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
             sum[p][m] = ao < 0.0f ? 0.0f : ao > 1.0f ? 1.0f : ao;
             float lb = sqrtf(bx * bx + by * by + bz * bz);
             float inv = 1.0f / lb;
-            sbx[p][m] = bx * inv;
-            sby[p][m] = by * inv;
-            sbz[p][m] = bz * inv;
-            cnt[p][m] = lb;
+            /* an empty texel's cone: its normal, AO 1 */
+            const int covered = cov[p][m];
+            sbx[p][m] = covered ? bx * inv : nx;
+            sby[p][m] = covered ? by * inv : ny;
+            sbz[p][m] = covered ? bz * inv : nz;
+            cnt[p][m] = covered ? lb : 1.0f;
         }
     }
     for (int k = 0; k < n; k++) {
         const int p = k & 1, m = k >> 1;
-        const sl_gbuffer_texel *c = sl_gbuffer_at(gb, x0 + k, y);
-        if (!sl_gbuffer_covered(c)) {
-            cone[x0 + k] = (sl_vec4){c->normal.x, c->normal.y, c->normal.z, 1.0f};
+        if (!cov[p][m]) {
+            cone[x0 + k] = (sl_vec4){sbx[p][m], sby[p][m], sbz[p][m], 1.0f};
             continue;
         }
         vec3 bent = vec3(sbx[p][m], sby[p][m], sbz[p][m]);
-        if (!(cnt[p][m] > 1e-20f)) /* no samples, or bent normals that cancel */
+        if (!(cnt[p][m] > 1e-20f)) { /* no samples, or bent normals that cancel */
+            const sl_gbuffer_texel *c = &texels[k];
             bent = sl_lighting_facing_normal(c->normal, normalize(sub(f->view.eye, c->position)));
+        }
         cone[x0 + k] = (sl_vec4){bent.x, bent.y, bent.z, sum[p][m]};
         extra[x0 + k].occlusion *= sum[p][m];
     }
