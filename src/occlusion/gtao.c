@@ -317,21 +317,23 @@ static gtao_sample texel_ao(const sl_gbuffer *gb, const float *planes, const gta
 
 /* texel_ao for the half-resolution texels i0 .. i1 - 1 of row j (at most MARCH_SPAN), vectorized,
  * with the same bits: the frame's march; texel_ao stays the reference, which sl_gtao_texel runs
- * (tests/unit/test_gtao.c holds the two to the same bits). The texels are a lane each, in
- * structure-of-arrays form, read from the grid's channels (planes_of wrote them: the texel's
- * coverage, normal and position), and the samples go into its AO and bent-normal channels. Each
- * stage of texel_ao is one vector loop over the lanes: the view vector, the facing normal and the
- * slice frame; per slice, its direction, screen direction and projected normal; per read (both
- * sides' SL_GTAO_STEPS each, in texel_ao's order), the plane's gather and the running maximum;
- * per slice, the arcs. Every expression is texel_ao's (and facing_normal's, lighting.c), term by
- * term in the same order, its branches as selects of both results: a texel with nothing to read
- * (not covered, behind the eye, a radius under a pixel) keeps its lane but marches 0 pixels and
- * takes its open value at the end; a skipped slice (no screen direction, a normal along its axis)
- * adds nothing; a read off the grid or of the texel itself takes the zero plane after the last
- * (at PLANE * half_width * half_height), which fails the edge-on test as in horizon_cos. */
+ * (tests/unit/test_gtao.c holds the two to the same bits). The texels come from the grid's
+ * channels (planes_of wrote them: coverage, normal, position) and their samples go into its AO
+ * and bent-normal channels. First, in one vector loop, which texels have something to read
+ * (covered, in front of the eye, a radius of a pixel or more); the others take their open value
+ * (AO 1; the facing normal, or an empty texel's own normal) and drop out, and the rest are packed
+ * into lanes, structure-of-arrays form (about half of a shipped scene's texels are the
+ * environment's: no lane is spent on them). Each stage of texel_ao is then one vector loop over
+ * the lanes: the view vector, the facing normal and the slice frame; per slice, its direction,
+ * screen direction and projected normal; per read (both sides' SL_GTAO_STEPS each, in texel_ao's
+ * order), the plane's gather and the running maximum; per slice, the arcs. Every expression is
+ * texel_ao's (and facing_normal's, lighting.c), term by term in the same order, its branches as
+ * selects of both results: a skipped slice (no screen direction, a normal along its axis) marches
+ * 0 pixels and adds nothing; a read off the grid or of the texel itself takes the zero plane
+ * after the last (at PLANE * half_width * half_height), which fails the edge-on test as in
+ * horizon_cos. */
 enum { MARCH_SPAN = 64 };
-static void march_span(const float *planes, const gtao_frame *f, const gtao_grid *g,
-                       int j, int i0, int i1)
+static void march_span(const float *planes, const gtao_frame *f, const gtao_grid *g, int j, int i0, int i1)
 {
     enum { S = MARCH_SPAN };
     const int n = i1 - i0, half_width = g->stride - 3, half_height = g->height;
@@ -340,31 +342,73 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
     const float *tny = grid_row(g, GRID_NY, j) + 1 + i0, *tnz = grid_row(g, GRID_NZ, j) + 1 + i0;
     const float *tpx = grid_row(g, GRID_PX, j) + 1 + i0, *tpy = grid_row(g, GRID_PY, j) + 1 + i0;
     const float *tpz = grid_row(g, GRID_PZ, j) + 1 + i0;
+    float *gao = grid_row(g, GRID_AO, j) + 1 + i0, *gbx = grid_row(g, GRID_BX, j) + 1 + i0;
+    float *gby = grid_row(g, GRID_BY, j) + 1 + i0, *gbz = grid_row(g, GRID_BZ, j) + 1 + i0;
     const float ex = f->view.eye.x, ey = f->view.eye.y, ez = f->view.eye.z;
     const float fx = f->view.forward.x, fy = f->view.forward.y, fz = f->view.forward.z;
     const float rx = f->view.right.x, ry = f->view.right.y, rz = f->view.right.z;
     const float ux = f->view.up.x, uy = f->view.up.y, uz = f->view.up.z;
     const float radius_pixels = f->radius * f->view.pixels_per_unit, max_pixels = f->max_pixels;
     const float ppu = f->view.pixels_per_unit, half_w = f->half_width, half_h = f->half_height, r2 = f->radius2;
-    /* per lane: the view vector, the facing normal, the march's length and shift, the slice
-     * frame, the screen position of P; per slice: its angle, then its direction, screen
-     * direction, projected normal and horizons; the sums */
-    float Vx[S], Vy[S], Vz[S], Nx[S], Ny[S], Nz[S], pix[S], shift[S], dep[S], b1x[S], b1y[S], b1z[S];
-    float b2x[S], b2y[S], b2z[S], xc[S], yc[S], ao[S], bx[S], by[S], bz[S];
-    float cphi[SL_GTAO_SLICES][S], sphi[SL_GTAO_SLICES][S];
-    float dx[S], dy[S], dz[S], scx[S], scy[S], lp[S], cos_n[S], sin_n[S], ang[S], best[2][S];
-    int live[S], slice_ok[S]; /* 0 or 1: int, not bool, as the float lanes' masks take them */
+    /* per texel: its view depth, march length, whether it has something to read (0 or 1: int,
+     * not bool, as the float lanes' masks take them) */
+    float dep[S], pix[S];
+    int live[S];
+#pragma omp simd
     for (int m = 0; m < n; m++) {
-        const int i = i0 + m, k = bayer4[(i & 3) + 4 * (j & 3)];
-        shift[m] = ((float)bayer4[((i + 2) & 3) + 4 * ((j + 1) & 3)] + 0.5f) / GTAO_PATTERN;
+        const float depth = (tpx[m] - ex) * fx + (tpy[m] - ey) * fy + (tpz[m] - ez) * fz;
+        float pixels = radius_pixels / depth;
+        pixels = pixels > max_pixels ? max_pixels : pixels;
+        live[m] = (ok[m] > 0.0f) & (depth > 0.0f) & !(pixels < 1.0f);
+        dep[m] = depth;
+        pix[m] = pixels;
+        /* the open sample, which a texel with something to read overwrites: AO 1, its own normal
+         * (an empty texel's; a covered one's facing normal below) */
+        gao[m] = 1.0f;
+        gbx[m] = tnx[m];
+        gby[m] = tny[m];
+        gbz[m] = tnz[m];
+    }
+    /* per lane: the texel (its column), its position and normal, march length, shift and slice
+     * angles; the view vector, the facing normal, the slice frame, the screen position of P; per
+     * slice, its direction, screen direction, projected normal and horizons; the sums */
+    int col[S], lanes = 0;
+    float Px[S], Py[S], Pz[S], Tx[S], Ty[S], Tz[S], Lpix[S], Ldep[S], shift[S];
+    float cphi[SL_GTAO_SLICES][S], sphi[SL_GTAO_SLICES][S];
+    float Vx[S], Vy[S], Vz[S], Nx[S], Ny[S], Nz[S], b1x[S], b1y[S], b1z[S], b2x[S], b2y[S], b2z[S], xc[S], yc[S];
+    float ao[S], bx[S], by[S], bz[S];
+    float dx[S], dy[S], dz[S], scx[S], scy[S], lp[S], cos_n[S], sin_n[S], ang[S], best[2][S];
+    int slice_ok[S];
+    for (int m = 0; m < n; m++) {
+        if (!live[m]) {
+            if (ok[m] > 0.0f) { /* covered, nothing to read: texel_ao's open value */
+                vec3 P = vec3(tpx[m], tpy[m], tpz[m]);
+                vec3 N = sl_lighting_facing_normal(vec3(tnx[m], tny[m], tnz[m]), normalize(sub(f->view.eye, P)));
+                gbx[m] = N.x;
+                gby[m] = N.y;
+                gbz[m] = N.z;
+            }
+            continue;
+        }
+        const int c = lanes++, i = i0 + m, k = bayer4[(i & 3) + 4 * (j & 3)];
+        col[c] = i;
+        Px[c] = tpx[m];
+        Py[c] = tpy[m];
+        Pz[c] = tpz[m];
+        Tx[c] = tnx[m];
+        Ty[c] = tny[m];
+        Tz[c] = tnz[m];
+        Lpix[c] = pix[m];
+        Ldep[c] = dep[m];
+        shift[c] = ((float)bayer4[((i + 2) & 3) + 4 * ((j + 1) & 3)] + 0.5f) / GTAO_PATTERN;
         for (int sl = 0; sl < SL_GTAO_SLICES; sl++) {
-            cphi[sl][m] = f->dir_x[k][sl];
-            sphi[sl][m] = f->dir_y[k][sl];
+            cphi[sl][c] = f->dir_x[k][sl];
+            sphi[sl][c] = f->dir_y[k][sl];
         }
     }
 #pragma omp simd
-    for (int m = 0; m < n; m++) {
-        const float px = tpx[m], py = tpy[m], pz = tpz[m], nx = tnx[m], ny = tny[m], nz = tnz[m];
+    for (int m = 0; m < lanes; m++) {
+        const float px = Px[m], py = Py[m], pz = Pz[m], nx = Tx[m], ny = Ty[m], nz = Tz[m];
         /* V = normalize(eye - P) */
         const float vx0 = ex - px, vy0 = ey - py, vz0 = ez - pz;
         const float vinv = 1.0f / sqrtf(vx0 * vx0 + vy0 * vy0 + vz0 * vz0);
@@ -375,22 +419,15 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
         const float ndotv = nnx * vx + nny * vy + nnz * vz, bend = 0.01f - ndotv;
         const float ubx = nnx + vx * bend, uby = nny + vy * bend, ubz = nnz + vz * bend;
         const float uinv = 1.0f / sqrtf(ubx * ubx + uby * uby + ubz * ubz);
-        const bool has_n = len2 > 1e-30f, bent = ndotv < 0.01f;
+        const int has_n = len2 > 1e-30f, bent = ndotv < 0.01f;
         Vx[m] = vx;
         Vy[m] = vy;
         Vz[m] = vz;
         Nx[m] = has_n ? (bent ? ubx * uinv : nnx) : vx;
         Ny[m] = has_n ? (bent ? uby * uinv : nny) : vy;
         Nz[m] = has_n ? (bent ? ubz * uinv : nnz) : vz;
-        /* P in the camera's frame, and the march's length in pixels */
+        /* P in the camera's frame */
         const float Ex = px - ex, Ey = py - ey, Ez = pz - ez;
-        const float depth = Ex * fx + Ey * fy + Ez * fz;
-        float pixels = radius_pixels / depth;
-        pixels = pixels > max_pixels ? max_pixels : pixels;
-        const int on = (ok[m] > 0.0f) & (depth > 0.0f) & !(pixels < 1.0f);
-        live[m] = on;
-        pix[m] = on ? pixels : 0.0f; /* a lane with nothing to read marches nowhere */
-        dep[m] = depth;
         xc[m] = Ex * rx + Ey * ry + Ez * rz;
         yc[m] = Ex * ux + Ey * uy + Ez * uz;
         /* b1 = normalize(right - V (V.right)), b2 = V x b1 */
@@ -408,18 +445,18 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
     }
     for (int sl = 0; sl < SL_GTAO_SLICES; sl++) {
 #pragma omp simd
-        for (int m = 0; m < n; m++) {
+        for (int m = 0; m < lanes; m++) {
             const float c = cphi[sl][m], s = sphi[sl][m], vx = Vx[m], vy = Vy[m], vz = Vz[m];
             const float ddx = b1x[m] * c + b2x[m] * s, ddy = b1y[m] * c + b2y[m] * s, ddz = b1z[m] * c + b2z[m] * s;
             const float ax = ddy * vz - ddz * vy, ay = ddz * vx - ddx * vz, az = ddx * vy - ddy * vx;
-            const float df = ddx * fx + ddy * fy + ddz * fz, depth = dep[m];
+            const float df = ddx * fx + ddy * fy + ddz * fz, depth = Ldep[m];
             const float sx = (ddx * rx + ddy * ry + ddz * rz) * depth - xc[m] * df;
             const float sy = (ddx * ux + ddy * uy + ddz * uz) * depth - yc[m] * df;
             const float slen = sqrtf(sx * sx + sy * sy);
             const float nx = Nx[m], ny = Ny[m], nz = Nz[m], na = nx * ax + ny * ay + nz * az;
             const float npx = nx - ax * na, npy = ny - ay * na, npz = nz - az * na;
             const float l = sqrtf(npx * npx + npy * npy + npz * npz);
-            const int on = live[m] & (slen > 0.0f) & !(l < 1e-6f);
+            const int on = (slen > 0.0f) & !(l < 1e-6f);
             const float cn = (npx * vx + npy * vy + npz * vz) / l, sn = (npx * ddx + npy * ddy + npz * ddz) / l;
             slice_ok[m] = on;
             dx[m] = ddx;
@@ -437,10 +474,10 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
         for (int r = 0; r < 2 * SL_GTAO_STEPS; r++) {
             const int side = r / SL_GTAO_STEPS, step = r % SL_GTAO_STEPS;
 #pragma omp simd
-            for (int m = 0; m < n; m++) {
-                const int i = i0 + m;
+            for (int m = 0; m < lanes; m++) {
+                const int i = col[m];
                 const float sx = side ? -scx[m] : scx[m], sy = side ? -scy[m] : scy[m];
-                const float t = pix[m] * ((float)step + shift[m]) / (float)SL_GTAO_STEPS;
+                const float t = Lpix[m] * ((float)step + shift[m]) / (float)SL_GTAO_STEPS;
                 const float qx = (float)(2 * i) + 0.5f + sx * t, qy = (float)(2 * j) + 0.5f + sy * t;
                 const int si = floor_int(0.5f * qx), sj = floor_int(0.5f * qy);
                 const bool in = !(si == i && sj == j) & (si >= 0) & (sj >= 0) & (si < half_width) & (sj < half_height);
@@ -449,8 +486,8 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
                 const float rayx = fx + (rx * a + ux * b), rayy = fy + (ry * a + uy * b), rayz = fz + (rz * a + uz * b);
                 const float along = rayx * planes[q] + rayy * planes[q + 1] + rayz * planes[q + 2];
                 const float depth = planes[q + 3] / along;
-                const float ddx = (ex + rayx * depth) - tpx[m], ddy = (ey + rayy * depth) - tpy[m];
-                const float ddz = (ez + rayz * depth) - tpz[m];
+                const float ddx = (ex + rayx * depth) - Px[m], ddy = (ey + rayy * depth) - Py[m];
+                const float ddz = (ez + rayz * depth) - Pz[m];
                 const float l2 = ddx * ddx + ddy * ddy + ddz * ddz;
                 const bool keep = (fabsf(along) > 1e-6f) & (depth > 0.0f) & !(l2 > r2) & !(l2 < 1e-20f);
                 const float cv = keep ? (ddx * Vx[m] + ddy * Vy[m] + ddz * Vz[m]) / sqrtf(l2) : -INFINITY;
@@ -458,7 +495,7 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
             }
         }
 #pragma omp simd
-        for (int m = 0; m < n; m++) {
+        for (int m = 0; m < lanes; m++) {
             const float c_pos = best[0][m], c_neg = best[1][m], cn = cos_n[m], sn = sin_n[m], a = ang[m];
             const float h_pos = acos_fast(c_pos), h_neg = -acos_fast(c_neg);
             const bool clamp_pos = h_pos - a >= 0.5f * SL_PI, clamp_neg = -(h_neg - a) >= 0.5f * SL_PI;
@@ -478,16 +515,12 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
             bz[m] = on ? bzs : bz[m];
         }
     }
-    float *gao = grid_row(g, GRID_AO, j) + 1 + i0, *gbx = grid_row(g, GRID_BX, j) + 1 + i0;
-    float *gby = grid_row(g, GRID_BY, j) + 1 + i0, *gbz = grid_row(g, GRID_BZ, j) + 1 + i0;
-    /* AO 1 and the facing normal where there was nothing to read; an empty texel's own normal */
-#pragma omp simd
-    for (int m = 0; m < n; m++) {
-        const int on = live[m], covered = ok[m] > 0.0f;
-        gao[m] = on ? ao[m] / (float)SL_GTAO_SLICES : 1.0f;
-        gbx[m] = on ? bx[m] : covered ? Nx[m] : tnx[m];
-        gby[m] = on ? by[m] : covered ? Ny[m] : tny[m];
-        gbz[m] = on ? bz[m] : covered ? Nz[m] : tnz[m];
+    for (int m = 0; m < lanes; m++) {
+        const int e = col[m] - i0;
+        gao[e] = ao[m] / (float)SL_GTAO_SLICES;
+        gbx[e] = bx[m];
+        gby[e] = by[m];
+        gbz[e] = bz[m];
     }
 }
 
