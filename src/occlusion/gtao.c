@@ -596,19 +596,24 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
     const sl_gbuffer_texel *texels = sl_gbuffer_at(gb, x0, y);
     const float ex = f->view.eye.x, ey = f->view.eye.y, ez = f->view.eye.z;
     const float fx = f->view.forward.x, fy = f->view.forward.y, fz = f->view.forward.z;
+    /* each half's covered texels lie in lanes lo .. hi - 1: the vector loop runs over those
+     * alone (none on a row of the environment), the others keep the empty texel's cone */
+    int lo[2] = {count[0], count[1]}, hi[2] = {0, 0};
     for (int p = 0; p < 2; p++) {
-#pragma omp simd
         for (int m = 0; m < count[p]; m++) {
             const sl_gbuffer_texel *c = &texels[2 * m + p];
             const float px = c->position.x, py = c->position.y, pz = c->position.z;
-            cnx[p][m] = c->normal.x;
-            cny[p][m] = c->normal.y;
-            cnz[p][m] = c->normal.z;
+            const int covered = c->depth < 1.0f; /* sl_gbuffer_covered */
+            cnx[p][m] = sbx[p][m] = c->normal.x;
+            cny[p][m] = sby[p][m] = c->normal.y;
+            cnz[p][m] = sbz[p][m] = c->normal.z;
             cpx[p][m] = px;
             cpy[p][m] = py;
             cpz[p][m] = pz;
             lim[p][m] = SL_GTAO_BLUR_DEPTH * ((px - ex) * fx + (py - ey) * fy + (pz - ez) * fz);
-            cov[p][m] = c->depth < 1.0f; /* sl_gbuffer_covered */
+            cov[p][m] = covered;
+            lo[p] = covered && m < lo[p] ? m : lo[p];
+            hi[p] = covered ? m + 1 : hi[p];
         }
     }
     /* the block's rows, a row off the grid read as the grid's empty row */
@@ -620,7 +625,7 @@ static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_h
     }
     for (int p = 0; p < 2; p++) {
 #pragma omp simd
-        for (int m = 0; m < count[p]; m++) {
+        for (int m = lo[p]; m < hi[p]; m++) {
             const float nx = cnx[p][m], ny = cny[p][m], nz = cnz[p][m], px = cpx[p][m], py = cpy[p][m];
             const float pz = cpz[p][m], l = lim[p][m];
             float s = 0.0f, c = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f;
