@@ -1,10 +1,13 @@
 /* gtao.c - ground-truth-based ambient occlusion over the G-buffer (the method and its limits:
  * gtao.h). Three passes, rows to threads in each: the tangent planes of the half-resolution grid
- * (planes_of), the raw samples on that grid (texel_ao: 2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane
- * reads each, all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and
- * each texel's blurred value multiplied into its occlusion and written with its bent normal into
- * the cone plane (blurred for one texel; blurred_span, the same in vector loops, for the frame).
- * shaders/gtao.frag and gtao_blur.frag are the GLSL twin, in the same order. */
+ * (planes_of), the raw samples on that grid (2 * SL_GTAO_SLICES * SL_GTAO_STEPS plane reads each,
+ * all within SL_GTAO_MAX_SCREEN of the image height; the AO and the bent normal), and each
+ * texel's blurred value multiplied into its occlusion and written with its bent normal into the
+ * cone plane. Each of the last two has a plain per-texel form, the reference (texel_ao, blurred:
+ * sl_gtao_texel runs them), and the frame's, the same expressions in vector loops over a run of a
+ * row's texels, a lane a texel, with the same bits (march_span, blurred_span; tests/unit/test_gtao.c
+ * holds the two to each other). shaders/gtao.frag and gtao_blur.frag are the GLSL twin, in the
+ * same order. */
 #include "gtao.h"
 
 #include <math.h>
@@ -533,7 +536,7 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
 
 typedef struct {
     int width, height; /* (W + 1) / 2 x (H + 1) / 2 */
-    gtao_sample *ao;
+    gtao_sample *ao; /* the samples, for blurred() (NULL for the frame: march_span writes them into the grid) */
     gtao_grid *grid; /* the frame's, for blurred_span (NULL for one texel: blurred() reads the G-buffer) */
 } gtao_half;
 
@@ -580,8 +583,10 @@ static sl_vec4 blurred(const sl_gbuffer *gb, const gtao_frame *f, const gtao_hal
  * columns inner), each sum a select between itself and itself plus the candidate: every texel adds
  * the same values in the same order, and the sums stay in registers. The grid's empty entries and
  * empty row fail the coverage test, as blurred() skips samples off the grid or on empty texels.
- * About half of its time is memory (perf annotate): the row's texels read, its cone and occlusion
- * written. */
+ * The loop runs over each half's lanes from its first covered texel to its last (an empty
+ * texel's cone is its normal and AO 1, which the lanes hold already): none on a row of the
+ * environment. Most of its time is memory (perf annotate): the row's texels read, its cone and
+ * occlusion written. */
 enum { BLUR_SPAN = 256 }; /* texels, even */
 static void blurred_span(const sl_gbuffer *gb, const gtao_frame *f, const gtao_half *h, int x0, int x1, int y,
                          sl_vec4 *cone, sl_gbuffer_extra *extra)
