@@ -484,7 +484,8 @@ static void march_span(const float *planes, const gtao_frame *f, const gtao_grid
                 const float qx = (float)(2 * i) + 0.5f + sx * t, qy = (float)(2 * j) + 0.5f + sy * t;
                 const int si = floor_int(0.5f * qx), sj = floor_int(0.5f * qy);
                 const bool in = !(si == i && sj == j) & (si >= 0) & (sj >= 0) & (si < half_width) & (sj < half_height);
-                const int q = PLANE * (in ? sj * half_width + si : zero); /* int: 32-bit gathers */
+                /* int, for 32-bit gathers: at most PLANE * (SL_RASTER_MAX_SIZE / 2)^2 + PLANE floats */
+                const int q = PLANE * (in ? sj * half_width + si : zero);
                 const float a = (qx - half_w) / ppu, b = (qy - half_h) / ppu;
                 const float rayx = fx + (rx * a + ux * b), rayy = fy + (ry * a + uy * b), rayz = fz + (rz * a + uz * b);
                 const float along = rayx * planes[q] + rayy * planes[q + 1] + rayz * planes[q + 2];
