@@ -342,7 +342,7 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
      * luminous power, radiance times node weight) */
     double power[SL_SHADOW_SUN_MAX] = {0.0}, all = 0.0;
     for (int j = 0; j < lights->count; j++) {
-        double p = luminance(lights->radiance[j]);
+        double p = (double)luminance(lights->radiance[j]);
         all += p > 0.0 ? p : 0.0;
         if (m->env_light_sun[j] >= 0)
             power[m->env_light_sun[j]] += p;
