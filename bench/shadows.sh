@@ -52,7 +52,7 @@ for _ in $(seq 1 "$ROUNDS"); do
             # which maps the frame has: render's lines name them
             [ "$setting" = shadows ] &&
                 awk '/^shadow maps/ { k = k (k ? " and " : "") "point lights (" $3 " cube" ($3 == 1 ? "" : "s") ")" }
-                     /^env-light shadow maps/ { k = k (k ? " and " : "") "env lights (" $4 " map" ($4 == 1 ? "" : "s") ")" }
+                     /^env-light shadow maps: [0-9]/ { k = k (k ? " and " : "") "env lights (" $4 " map" ($4 == 1 ? "" : "s") ")" }
                      END { print k }' "$T/out.txt" >"$T/$s-kind"
         done
     done

@@ -6,7 +6,8 @@
 #   bench/speed-vs-error.sh [BUILD_DIR] [--shards N] [-- extra bench_speed_vs_error options]
 #
 # After the report, bench/sweep_fronts.py appends its split-sum and GGX Pareto tables (from the CSV),
-# then docs/accuracy/mis.md, the MIS section (its figures: bench/mis-front.sh), and the visibility
+# then docs/accuracy/mis.md, the MIS section (its figures: bench/mis-front.sh), docs/accuracy/uses.md
+# (which mode for which use), and the visibility
 # section of bench/visibility-error.sh's last run (docs/accuracy/visibility.md).
 #
 # --shards N: the ground truth first, as N `softlight truth --shard I/N` runs per scene under GNU
@@ -60,6 +61,8 @@ python3 bench/sweep_fronts.py "$data/speed-vs-error.csv" --dat "$data" >"$data/f
 # the MIS estimator's own front on environments generated outside the repository
 # (docs/accuracy/mis.md, the section, and docs/accuracy/mis-front.md, bench/mis-front.sh's table)
 [ "$doc" = none ] || cat docs/accuracy/mis.md docs/accuracy/mis-front.md >>"$doc"
+# which mode for which use (docs/accuracy/uses.md: its figures are the tables')
+[ "$doc" = none ] || cat docs/accuracy/uses.md >>"$doc"
 # the visibility section (bench/visibility-error.sh, its own run), kept across this report's rewrites
 [ "$doc" = none ] || [ ! -f docs/accuracy/visibility.md ] || { echo; cat docs/accuracy/visibility.md; } >>"$doc"
 mkdir -p docs/accuracy

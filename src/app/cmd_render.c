@@ -222,10 +222,17 @@ int cmd_render(int argc, char **argv)
             int mapped = 0;
             for (int k = 0; k < r.suns.count; k++)
                 mapped += r.suns.maps[k].lights;
-            printf("env-light shadow maps: %d orthographic map%s of %d texels a side for %d of %d env lights "
-                   "(clusters of %g degrees, at most %d), drawn in %.1f ms once per scene and environment\n",
-                   r.suns.count, r.suns.count == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, mapped, r.suns.env_light_count,
-                   (double)SL_SHADOW_SUN_CLUSTER_DEG, SL_SHADOW_SUN_MAX, r.timings.sun_shadow_ms);
+            if (r.suns.count == 0)
+                printf("env-light shadow maps: none (no cluster of the %d env lights carries %g%% of the map's "
+                       "luminous power)\n",
+                       r.suns.env_light_count, 100.0 * SL_SHADOW_SUN_MIN_SHARE);
+            else
+                printf("env-light shadow maps: %d orthographic map%s of %d texels a side for %d of %d env lights "
+                       "(clusters of %g degrees with %g%% of the map's luminous power or more, at most %d), drawn "
+                       "in %.1f ms once per scene and environment\n",
+                       r.suns.count, r.suns.count == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, mapped, r.suns.env_light_count,
+                       (double)SL_SHADOW_SUN_CLUSTER_DEG, 100.0 * SL_SHADOW_SUN_MIN_SHARE, SL_SHADOW_SUN_MAX,
+                       r.timings.sun_shadow_ms);
         }
         if (r.sky_built > 0)
             printf("sky visibility maps: %d orthographic maps of %d texels a side (%s weighted), drawn in %.1f ms "

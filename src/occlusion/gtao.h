@@ -61,8 +61,8 @@ sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
 bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
 
 /* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w,
- * through the plain per-texel blur (blurred() in gtao.c), the reference tests/unit/test_gtao.c
- * holds the frame's vector blur to bit for bit. */
+ * through the plain per-texel march and blur (texel_ao and blurred() in gtao.c), the reference
+ * tests/unit/test_gtao.c holds the frame's vector ones to bit for bit. */
 sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, int x, int y);
 
 #endif

@@ -337,6 +337,31 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
         sum[c] = add(sum[c], scale(world[j], luminance(lights->radiance[j])));
         m->maps[c].lights++;
     }
+    /* a cluster with too small a share of the environment's light gets no map: its lights stay
+     * unshadowed (lights->share is the share of all the lights, spread in proportion to their
+     * luminous power, radiance times node weight) */
+    double power[SL_SHADOW_SUN_MAX] = {0.0}, all = 0.0;
+    for (int j = 0; j < lights->count; j++) {
+        double p = (double)luminance(lights->radiance[j]);
+        all += p > 0.0 ? p : 0.0;
+        if (m->env_light_sun[j] >= 0)
+            power[m->env_light_sun[j]] += p;
+    }
+    int kept = 0, to[SL_SHADOW_SUN_MAX];
+    for (int c = 0; c < m->count; c++) {
+        bool keep = all > 0.0 && lights->share * power[c] / all >= SL_SHADOW_SUN_MIN_SHARE;
+        to[c] = keep ? kept : -1;
+        if (keep) {
+            seed[kept] = seed[c];
+            sum[kept] = sum[c];
+            m->maps[kept].lights = m->maps[c].lights;
+            kept++;
+        }
+    }
+    m->count = kept;
+    for (int j = 0; j < lights->count; j++)
+        if (m->env_light_sun[j] >= 0)
+            m->env_light_sun[j] = (signed char)to[m->env_light_sun[j]];
     for (int c = 0; c < m->count; c++) {
         sl_shadow_sun *sun = &m->maps[c];
         float len = length(sum[c]);

@@ -20,7 +20,10 @@
  * through orthographic maps. A sun spans a few adjacent texels, so the lights are clustered by
  * direction, brightest first: a light within SL_SHADOW_SUN_CLUSTER_DEG of a cluster's first
  * (brightest) light joins it, another starts a cluster while there are fewer than
- * SL_SHADOW_SUN_MAX. Each cluster gets one map of SL_SHADOW_SUN_SIZE texels a side, drawn along
+ * SL_SHADOW_SUN_MAX. A cluster that carries under SL_SHADOW_SUN_MIN_SHARE of the environment's
+ * luminous power (a studio's brightest texels) is dropped: its shadow could darken a pixel by
+ * about that share of its light at most, not worth a map and a lookup a pixel. Each remaining
+ * cluster gets one map of SL_SHADOW_SUN_SIZE texels a side, drawn along
  * its power-weighted mean direction (the environment's rotation applied: world space) over the
  * scene's bounds in light space, so the whole scene is in it. A texel holds the depth along the
  * map's axis. Lights outside the mapped clusters stay unshadowed (visibility 1).
@@ -61,6 +64,7 @@ typedef struct {
 #define SL_SHADOW_SUN_MAX 4            /* the most env-light clusters that get a map */
 #define SL_SHADOW_SUN_SIZE 2048        /* texels along an env-light map's side */
 #define SL_SHADOW_SUN_CLUSTER_DEG 5.0f /* a light this close to a cluster's brightest joins it */
+#define SL_SHADOW_SUN_MIN_SHARE 0.01   /* a cluster with less of the environment's luminous power gets no map */
 
 /* One orthographic map (an env-light cluster's, or a sky direction's: src/shadow/sky.h):
  * x = right . P, y = up . P, depth = axis . P (axis = -dir). */

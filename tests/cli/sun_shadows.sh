@@ -2,7 +2,7 @@
 # sun_shadows.sh BUILD_DIR - the env lights' orthographic shadow maps (--shadows with
 # --env-lights; docs/lighting.md "Shadow maps") under a made environment: a black sky and a sun
 # of two texels, so that the env lights hold all of its light. Without env lights --shadows
-# changes nothing; a floor alone under a high sun and a grazing one (3 degrees) stays fully lit
+# changes nothing, nor does a sun with under 1% of the environment's light; a floor alone under a high sun and a grazing one (3 degrees) stays fully lit
 # (no acne); the shadows of a floating slab and of a box standing on the floor (no gap at its
 # foot: no peter-panning) fall where the visibility-aware truth (`softlight truth --visibility`,
 # Embree) puts them, with the environment turned, in the default path, the port (--plain) and
@@ -38,6 +38,21 @@ scene plane-high high 0
 "$SL" render "$T/plane-high.json" --size $S -q --pfm "$T/o0.pfm"
 "$SL" render "$T/plane-high.json" --size $S -q --shadows --pfm "$T/o1.pfm"
 cmp -s "$T/o0.pfm" "$T/o1.pfm" && ok "no env lights: --shadows gives the same bytes" || bad "no env lights: --shadows changed the image"
+
+# a sun under 1% of the environment's light (a sky of 1000 around it) gets no map: the same
+# bytes as without --shadows; on a sky of 10 it carries about 30% and gets one
+python3 "$(dirname "$0")/sun_sky.py" "$T/bright.pfm" 60 40 1000
+scene plane-bright bright 0 '{"shape": "box", "material": "m", "transform": {"translate": [0.3, 0.1, 0.7], "scale": [0.3, 0.3, 0.05]}}'
+"$SL" render "$T/plane-bright.json" --size $S -q --env-lights 4 --pfm "$T/w0.pfm"
+"$SL" render "$T/plane-bright.json" --size $S --env-lights 4 --shadows --pfm "$T/w1.pfm" >"$T/w1.txt"
+cmp -s "$T/w0.pfm" "$T/w1.pfm" && grep -q '^env-light shadow maps: none' "$T/w1.txt" &&
+    ok "a sun with under 1% of the light: no map, the same bytes" ||
+    bad "a sun with under 1% of the light: $(grep '^env-light' "$T/w1.txt")"
+python3 "$(dirname "$0")/sun_sky.py" "$T/dim.pfm" 60 40 10
+scene plane-dim dim 0 '{"shape": "box", "material": "m", "transform": {"translate": [0.3, 0.1, 0.7], "scale": [0.3, 0.3, 0.05]}}'
+"$SL" render "$T/plane-dim.json" --size $S --env-lights 4 --shadows -o "$T/w2.png" >"$T/w2.txt"
+grep -q '^env-light shadow maps: 1 orthographic map' "$T/w2.txt" && ok "a sun with about 30% of the light: one map" ||
+    bad "a sun with about 30% of the light: $(grep '^env-light' "$T/w2.txt")"
 
 # ratio A.pfm B.pfm: the smallest and largest ratio A/B (green) over pixels B lights
 ratio() {

@@ -233,6 +233,40 @@ static void test_frame_matches_texel(void **state)
     sl_gbuffer_free(&gb);
 }
 
+/* The frame against the reference where the radius is under a pixel for the far texels: those
+ * have nothing to read (AO 1, bent normal N in their samples), which the frame's march takes out of
+ * its lanes and the reference returns from texel_ao; the near ones are marched. */
+static void test_frame_matches_texel_small_radius(void **state)
+{
+    (void)state;
+    const int w = 203, h = 61;
+    const float radius = 0.15f;
+    sl_gbuffer gb = {0};
+    sl_camera cam = corner_camera();
+    trace_sized(&gb, &cam, true, w, h);
+    sl_error err = {0};
+    assert_true(sl_gtao_apply(&gb, &cam, radius, 1, &err));
+    sl_gtao_view v = sl_gtao_view_of(&cam, h);
+    int far = 0, near = 0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            sl_vec4 want = sl_gtao_texel(&gb, &cam, radius, x, y), got = gb.cone[y * w + x];
+            if (memcmp(&want, &got, sizeof want) != 0)
+                fail_msg("texel (%d, %d): frame (%.9g, %.9g, %.9g, %.9g), texel (%.9g, %.9g, %.9g, %.9g)", x, y,
+                         (double)got.x, (double)got.y, (double)got.z, (double)got.w, (double)want.x,
+                         (double)want.y, (double)want.z, (double)want.w);
+            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            if (!sl_gbuffer_covered(t) || (x | y) & 1) /* the samples' texels */
+                continue;
+            float pixels = radius * v.pixels_per_unit / dot(sub(t->position, v.eye), v.forward);
+            far += pixels < 1.0f;
+            near += pixels >= 1.0f;
+        }
+    print_message("frame = texel, radius %g: %d samples under a pixel, %d over\n", (double)radius, far, near);
+    assert_true(far > 0 && near > 0);
+    sl_gbuffer_free(&gb);
+}
+
 /* The cone plane: unit bent normals; N (+z) on the open floor; in the corner, a floor point a
  * quarter radius from the wall leans away from it (+x), by more than it does a radius away. */
 static void test_bent_normal(void **state)
@@ -403,6 +437,7 @@ int main(void)
         cmocka_unit_test(test_bent_normal),
         cmocka_unit_test(test_bent_irradiance),
         cmocka_unit_test(test_frame_matches_texel),
+        cmocka_unit_test(test_frame_matches_texel_small_radius),
         cmocka_unit_test(test_specular_occlusion),
         cmocka_unit_test(test_refusals),
     };
