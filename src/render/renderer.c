@@ -522,7 +522,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
     /* the shadow maps here, after the raster and before the lighting, so that a G-buffer drawn
      * elsewhere (sl_renderer_light, --gbuffer) is lit with them too */
     if (!update_env_lights(r, err) || !update_env_oct(r, err) || !update_splitsum(r, estimator, err) ||
-        !update_env_dist(r, estimator, err) || !update_shadows(r, err) || !update_sun_shadows(r, err) || !update_sky(r, err))
+        !update_env_dist(r, estimator, err) || !update_shadows(r, err) || !update_sun_shadows(r, err) ||
+        !update_sky(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
     if (frame) {

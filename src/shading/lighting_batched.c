@@ -1217,9 +1217,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     }
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
-    if (!with_cone) /* read (and selected away) in every lane */
-        for (int i = 0; i < count; i++)
-            docc[i] = 1.0f;
+    const float *do_in = with_cone ? docc : occ; /* likewise */
     const bool diffuse = u->uDiffuse != 0, specular = u->uSpecular != 0;
     const bool shadowed = u->envLightShadows != 0;
     const bool lights = u->uPointLights != 0 && u->uLightCount > 0;
@@ -1234,8 +1232,8 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         float r = 0.0f, g = 0.0f, b = 0.0f;
         /* with the cone each term times its own occlusion, without it the sum times the one
          * occlusion; the factors not applied are 1 (x * 1 is x, bit for bit) */
-        float so_i = so_in[i]; /* loaded in every lane, then selected */
-        float d_occ = with_cone ? docc[i] : 1.0f, s_occ = with_cone ? so_i : 1.0f;
+        float so_i = so_in[i], do_i = do_in[i]; /* loaded in every lane, then selected */
+        float d_occ = with_cone ? do_i : 1.0f, s_occ = with_cone ? so_i : 1.0f;
         float sum_occ = with_cone ? 1.0f : occ[i];
         float dr = r + (((kr[i] * (1.0f / PI)) * p->Er[i]) * I) * d_occ;
         float dg = g + (((kg[i] * (1.0f / PI)) * p->Eg[i]) * I) * d_occ;
