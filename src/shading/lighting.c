@@ -832,17 +832,24 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 }
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
 {
-    /* env_light_visibility's values, each light's read through its slot (envLightVisSlot) in one
-     * vector loop instead of a branch a light */
+    /* env_light_visibility's values, each light's picked by its slot (envLightVisSlot) in one
+     * vector loop of compares and selects (a gather from the slots is slower) instead of a branch
+     * a light: a light past the count is 0, one no map covers 1 */
     const sl_shadow_suns *m = u->envShadowMaps;
-    float slot[SL_SHADOW_SUN_MAX + 2];
+    float map_vis[SL_SHADOW_SUN_MAX] = {0.0f};
     for (int k = 0; k < m->count; k++)
-        slot[k] = sl_shadow_sun_visibility(m, k, P, N);
-    slot[SL_SHADOW_SUN_MAX] = 1.0f;
-    slot[SL_SHADOW_SUN_MAX + 1] = 0.0f;
+        map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
+    _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
 #pragma omp simd
-    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
-        vis[j] = slot[u->envLightVisSlot[j]];
+    for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++) {
+        int k = u->envLightVisSlot[j];
+        float v = k == SL_SHADOW_SUN_MAX ? 1.0f : 0.0f;
+        v = k == 0 ? map_vis[0] : v;
+        v = k == 1 ? map_vis[1] : v;
+        v = k == 2 ? map_vis[2] : v;
+        v = k == 3 ? map_vis[3] : v;
+        vis[j] = v;
+    }
 }
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
 {

@@ -530,18 +530,24 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
     const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};
     const int last = sun->size - 1;
+    /* each column's and row's offset from q and clamped index once: ((float)(x0 + a) + 0.5f) is
+     * fx + (a - 1) + 0.5, formed in float (exact: |fx| < 1e6) rather than converted per tap */
+    float dxs[4], dys[4];
+    int xs[4];
+    for (int a = 0; a < 4; a++) {
+        xs[a] = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
+        dxs[a] = (fx + (float)(a - 1) + 0.5f) * stepx + sun->x0 - xq;
+        dys[a] = (fy + (float)(a - 1) + 0.5f) * stepy + sun->y0 - yq;
+    }
     float vis = 0.0f;
     for (int b = 0; b < 4; b++) {
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
         const float *row = sun->depth + (size_t)y * (size_t)sun->size;
-        float dy = ((float)(y0 + b) + 0.5f) * stepy + sun->y0 - yq;
         float rv = 0.0f;
         for (int a = 0; a < 4; a++) {
-            int x = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
-            float dx = ((float)(x0 + a) + 0.5f) * stepx + sun->x0 - xq;
-            float receiver = zq + gx * dx + gy * dy;
+            float receiver = zq + gx * dxs[a] + gy * dys[b];
             /* open when the stored depth, less the bias, is beyond the receiver's (+inf: empty) */
-            rv += row[x] + bias >= receiver ? wx[a] : 0.0f;
+            rv += row[xs[a]] + bias >= receiver ? wx[a] : 0.0f;
         }
         vis += rv * wy[b];
     }

@@ -118,16 +118,22 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
     float bias = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
     const float wx[2] = {1.0f - tx, tx}, wy[2] = {1.0f - ty, ty};
     const int last = map->size - 1;
+    /* each column's and row's offset from q and clamped index once: ((float)(x0 + a) + 0.5f) is
+     * fx + a + 0.5, formed in float (exact: |fx| < 1e6) rather than converted per tap */
+    float dxs[2], dys[2];
+    int xs[2];
+    for (int a = 0; a < 2; a++) {
+        xs[a] = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
+        dxs[a] = (fx + (float)a + 0.5f) * stepx + map->x0 - xq;
+        dys[a] = (fy + (float)a + 0.5f) * stepy + map->y0 - yq;
+    }
     float vis = 0.0f;
     for (int b = 0; b < 2; b++) {
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
         const float *row = map->depth + (size_t)y * (size_t)map->size;
-        float dy = ((float)(y0 + b) + 0.5f) * stepy + map->y0 - yq;
         for (int a = 0; a < 2; a++) {
-            int x = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
-            float dx = ((float)(x0 + a) + 0.5f) * stepx + map->x0 - xq;
-            float receiver = zq + gx * dx + gy * dy;
-            vis += row[x] + bias >= receiver ? wx[a] * wy[b] : 0.0f;
+            float receiver = zq + gx * dxs[a] + gy * dys[b];
+            vis += row[xs[a]] + bias >= receiver ? wx[a] * wy[b] : 0.0f;
         }
     }
     return fminf(vis, 1.0f);
