@@ -7,10 +7,11 @@
 # the maps and how the two evaluate the lookup:
 # - sky_maps.sh's floor beside a tall wall under a constant white environment, --diffuse-only
 #   --no-lights --sky-maps 32, where the image is E V: V per pixel, each side's image with the
-#   maps over its image without, differs by more than 0.01 at no more than 0.5% of the floor and
-#   wall pixels, the wall's foot is near 0.5 in both, and the images keep the gl_shading.sh
-#   bounds (p99 relative error <= 0.05, share more than 8/255 apart <= 0.1%); measured: p99
-#   0.0006, V apart by more than 0.01 at 0 pixels;
+#   maps over its image without, differs by more than 0.01 at no more than 0.05% of the pixels
+#   (a lookup without the per-tap receiver plane puts 0.29% there), the wall's foot is near 0.5
+#   in both, and the images keep the gl_shading.sh bounds (p99 relative error <= 0.05, share more
+#   than 8/255 apart <= 0.1%); measured: p99 0 (every pixel's error under 4e-6), V at most 3.6e-6
+#   apart;
 # - GL's image without the maps is far outside those bounds against C's with them: a GL that
 #   ignores its maps fails here;
 # - scenes/bunny.json and scenes/pbr.json with --env-lights 32 --shadows --sky-maps 32 (the maps
@@ -93,7 +94,7 @@ fc, fg = foot(rows_c), foot(rows_g)
 print(f"V: {lit} pixels ({occluded} under 0.9), |C - GL| > 0.01 at {far}, at most {worst:.2g}; "
       f"the wall's foot: C {fc:.3f}, GL {fg:.3f}")
 bad = 0
-if occluded < 0.1 * lit or far > 0.005 * lit:
+if occluded < 0.1 * lit or far > 0.0005 * lit:
     print("FAIL V: too few occluded pixels or C and GL apart at too many")
     bad = 1
 if abs(fc - 0.5) > 0.1 or abs(fg - 0.5) > 0.1:
