@@ -90,6 +90,18 @@
 //                                  (its extent along them), world units
 //   vec2  uShadowSunDepth[4]       sz (the box's extent along the axis), the texel's larger side
 //   int   uEnvLightSun[64]         env light j's map, -1: none (never shadowed)
+// Sky visibility maps (src/shadow/sky.h, --sky-maps K; drawn by src/gl/shadow_pass.c with
+// shaders/shadow_depth.vert and shadow_sun.frag), read by sky_visibility: the diffuse term's
+// irradiance (the residual's part: without the env lights' maps' part) times their V; with the
+// cone the diffuse is read about N and times the material's occlusion alone (extra.r over the AO)
+//   sampler2DArray uSkyMaps        the maps: R32F, layer k map k, SL_SKY_MAP_SIZE texels a side
+//                                  (textureSize), row 0 at low y, the depth along the map's axis
+//                                  (+inf: nothing drawn); texelFetch
+//   int   uSkyMapCount             maps, 0 .. 64 (0: none)
+//   vec3  uSkyMapAxis[64], uSkyMapRight[64], uSkyMapUp[64]   map k's frame (world)
+//   vec4  uSkyMapBox[64]           x0, y0, sx, sy as uShadowSunBox
+//   vec2  uSkyMapDepth[64]         sz, the texel's larger side, as uShadowSunDepth
+//   vec3  uSkyMapWeight[64]        m_k: cell k's luminance-weighted direction sum (world)
 // Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
 // compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
@@ -190,6 +202,15 @@ uniform vec3 uShadowSunUp[SHADOW_SUN_MAX];
 uniform vec4 uShadowSunBox[SHADOW_SUN_MAX];
 uniform vec2 uShadowSunDepth[SHADOW_SUN_MAX];
 uniform int uEnvLightSun[MAX_ENV_LIGHTS];
+const int SKY_MAPS_MAX = 64;
+uniform sampler2DArray uSkyMaps;
+uniform int uSkyMapCount;
+uniform vec3 uSkyMapAxis[SKY_MAPS_MAX];
+uniform vec3 uSkyMapRight[SKY_MAPS_MAX];
+uniform vec3 uSkyMapUp[SKY_MAPS_MAX];
+uniform vec4 uSkyMapBox[SKY_MAPS_MAX];
+uniform vec2 uSkyMapDepth[SKY_MAPS_MAX];
+uniform vec3 uSkyMapWeight[SKY_MAPS_MAX];
 
 uniform sampler2D uEnvDist;
 uniform sampler2D uEnvDistMarginal;
@@ -229,12 +250,14 @@ uniform int uSpecular;
 uniform int uPointLights;
 uniform int uRotate;
 // The scene's features: which microfacet sets its G-buffer holds, whether it has env lights,
-// whether a point light has a cube shadow map, whether an env light has an orthographic one.
+// whether a point light has a cube shadow map, whether an env light has an orthographic one,
+// whether the diffuse reads sky visibility maps.
 #define SL_PHONG 1
 #define SL_GGX 1
 #define SL_ENV_LIGHTS 1
 #define SL_SHADOW_CUBES 1
 #define SL_SHADOW_SUNS 1
+#define SL_SKY_MAPS 1
 #endif
 
 layout(location = 0) out vec4 fragColor;
@@ -279,6 +302,9 @@ const float SHADOW_DEPTH_REL = 2e-4;    // and a share of the stored depth
 const float SHADOW_NORMAL_OFFSET = 1.0; // the receiver moved along its normal, in texels
 // The env lights' orthographic maps read the same three, in their own texels:
 const int SHADOW_SUN_SIZE = 2048;       // texels along a map's side
+// The sky visibility maps' lookup (src/shadow/sky.c, whose constants these are), in their texels:
+const float SKY_NORMAL_OFFSET = 1.0;    // the receiver moved along its normal
+const float SKY_BIAS_CONST = 1.0;       // bias beyond the receiver plane
 
 // The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
 // GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
@@ -1190,6 +1216,67 @@ float shadow_sun_visibility(int s, vec3 P, vec3 N)
     return min(vis, 1.0);
 }
 
+// Visibility of sky map k from world point P with unit normal N (the twin of
+// sl_shadow_sky_map_visibility, src/shadow/sky.c, whose comments say why each step): 1 open, 0
+// hidden, 1 where the map's direction is below P's plane; the receiver moved along N by one
+// texel, then a 2x2 bilinear percentage-closer lookup, each tap against the receiver plane's
+// depth under it less a constant bias.
+float sky_map_visibility(int k, vec3 P, vec3 N)
+{
+    vec3 axis = uSkyMapAxis[k], right = uSkyMapRight[k], up = uSkyMapUp[k];
+    vec4 box = uSkyMapBox[k]; // x0, y0, sx, sy
+    float sz = uSkyMapDepth[k].x, texel = uSkyMapDepth[k].y;
+    float na = dot(N, axis);
+    if (!(na < -1e-6))
+        return 1.0;
+    int sizeI = textureSize(uSkyMaps, 0).x;
+    float size = float(sizeI);
+    vec3 q = P + N * (texel * SKY_NORMAL_OFFSET);
+    float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
+    float stepx = box.z / size, stepy = box.w / size;
+    float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;
+    float fx = floor(ux), fy = floor(uy);
+    if (!(abs(fx) < 1e6 && abs(fy) < 1e6))
+        return 1.0;
+    float tx = ux - fx, ty = uy - fy;
+    int x0 = int(fx), y0 = int(fy);
+    float gx = -dot(N, right) / na, gy = -dot(N, up) / na;
+    float bias = texel * SKY_BIAS_CONST + sz * 1e-6;
+    float wx[2] = float[2](1.0 - tx, tx);
+    float wy[2] = float[2](1.0 - ty, ty);
+    int last = sizeI - 1;
+    float vis = 0.0;
+    for (int b = 0; b < 2; b++) {
+        int y = clamp(y0 + b, 0, last);
+        float dy = (float(y0 + b) + 0.5) * stepy + box.y - yq;
+        for (int a = 0; a < 2; a++) {
+            int x = clamp(x0 + a, 0, last);
+            float dx = (float(x0 + a) + 0.5) * stepx + box.x - xq;
+            float receiver = zq + gx * dx + gy * dy;
+            float stored = texelFetch(uSkyMaps, ivec3(x, y, k), 0).r;
+            vis += stored + bias >= receiver ? wx[a] * wy[b] : 0.0;
+        }
+    }
+    return min(vis, 1.0);
+}
+
+// V at world point P with unit normal N (the twin of sl_shadow_sky_visibility, src/shadow/sky.c):
+// each map's visibility weighted by max(N.m_k, 0), a map of weight 0 not read; 1 where no map
+// weighs anything.
+float sky_visibility(vec3 P, vec3 N)
+{
+    float seen = 0.0, all = 0.0;
+    for (int k = 0; k < uSkyMapCount; k++) {
+        float w = max(dot(N, uSkyMapWeight[k]), 0.0);
+        if (w > 0.0) {
+            float v = sky_map_visibility(k, P, N);
+            seen += v * w;
+            all += w;
+        }
+    }
+    return all > 0.0 ? seen / all : 1.0;
+}
+
 // point_light times the light's visibility from P in its shadow map, looked up only where the
 // light adds something.
 vec3 shadowed_point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
@@ -1245,10 +1332,17 @@ void main()
                 shadowedLights = Kd * (1.0 / PI) * seen * uEnvIntensity;
             }
         }
+        // With the sky visibility maps: their V on the residual's irradiance (the env lights'
+        // part, added back after the occlusion, has its own maps); with the cone they replace
+        // the AO on the diffuse (read about N, times the material's occlusion alone)
+        bool skyMaps = SL_SKY_MAPS != 0 && uSkyMapCount > 0;
         if (uHasCone == 0) {
-            if (uDiffuse != 0)
-                color = color + Kd * (1.0 / PI) *
-                        (envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv)) * uEnvIntensity;
+            if (uDiffuse != 0) {
+                vec3 E = envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv);
+                if (skyMaps)
+                    E = E * sky_visibility(P, N);
+                color = color + Kd * (1.0 / PI) * E * uEnvIntensity;
+            }
             if (uSpecular != 0) {
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
@@ -1276,14 +1370,19 @@ void main()
             if (uDiffuse != 0) {
                 // the irradiance along the bent direction; with the env lights' maps, their
                 // part of it taken out along the same direction (the maps add it back about N)
-                vec3 D = bent_irradiance_dir(Nenv, B, c.w);
+                vec3 D = skyMaps ? Nenv : bent_irradiance_dir(Nenv, B, c.w);
                 vec3 E = irradiance(D);
                 if (envShadow) {
                     vec3 unused;
                     env_lights_irradiance(D, envVis, envAll, unused);
                     E = max(E - envAll, vec3(0.0));
                 }
-                color = color + Kd * (1.0 / PI) * E * uEnvIntensity * extra.r;
+                float diffuseOcclusion = extra.r;
+                if (skyMaps) {
+                    E = E * sky_visibility(P, N);
+                    diffuseOcclusion = c.w > 1e-3 ? min(extra.r / c.w, 1.0) : 1.0;
+                }
+                color = color + Kd * (1.0 / PI) * E * uEnvIntensity * diffuseOcclusion;
             }
             if (uSpecular != 0) {
                 vec3 spec;

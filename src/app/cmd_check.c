@@ -97,10 +97,6 @@ int cmd_check(int argc, char **argv)
     sl_image_repairs repairs;
     if (!sl_render_desc_resolve(&desc, &scene, &err))
         goto done;
-    if (desc.options.sky_maps > 0) {
-        sl_fail(&err, SL_ERR_RANGE, "--sky-maps: softlight-gl does not draw the sky visibility maps");
-        goto done;
-    }
     if (!sl_renderer_init(&r, &scene, &desc, &err))
         goto done;
     renderer_ready = true;

@@ -49,7 +49,12 @@ enum {
     UNIT_CONE, /* the occlusion pass's visibility cone, when it ran */
     UNIT_COUNT,
     UNIT_SHADOW_CUBES = UNIT_COUNT, /* 2D arrays (the shadow maps), each bound on its own */
-    UNIT_SHADOW_SUNS
+    UNIT_SHADOW_SUNS,
+    UNIT_SHADOW_SKY, /* 17: unit numbers run to GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS - 1 (48 or more
+                        in OpenGL 3.3; checked in slgl_lighting_create); what is bounded by 16 there
+                        is the fragment stage's active samplers, which a specialized program with
+                        every kind of map keeps under (the general shader has 18: llvmpipe allows 32) */
+    UNIT_END
 };
 #define HAMMERSLEY_BINDING 1
 
@@ -187,6 +192,7 @@ static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer 
     k.ggx = l->ggx;
     k.shadow_cubes = k.point_lights && l->shadows && l->shadows->cube_count > 0;
     k.shadow_suns = k.env_lights && l->shadows && l->shadows->sun_frames.count > 0;
+    k.sky_maps = u->uDiffuse != 0 && l->shadows && l->shadows->sky_frames.count > 0;
     return k;
 }
 
@@ -199,10 +205,10 @@ static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GL
              "#define SL_ESTIMATOR %d\n#define SL_DIFFUSE %d\n#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
              "#define SL_ENV_LAYOUT %d\n#define SL_IRRADIANCE_METHOD %d\n#define SL_POINT_LIGHTS %d\n"
              "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d\n"
-             "#define SL_SHADOW_CUBES %d\n#define SL_SHADOW_SUNS %d",
+             "#define SL_SHADOW_CUBES %d\n#define SL_SHADOW_SUNS %d\n#define SL_SKY_MAPS %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->diffuse, k->specular, k->rotate, k->env_layout,
              k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx, k->shadow_cubes,
-             k->shadow_suns);
+             k->shadow_suns, k->sky_maps);
     if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", slgl_fullscreen_vert, l->user_frag,
                                                    l->general ? NULL : defines, program, err)
                      : !slgl_program_from_sources("full-screen triangle", slgl_fullscreen_vert, "lighting.frag",
@@ -278,6 +284,13 @@ bool slgl_lighting_create(slgl_lighting *l, int width, int height, sl_error *err
         return sl_fail(err, SL_ERR_GL, "lighting framebuffer incomplete (0x%04x)", (unsigned)status);
     }
     glGenBuffers(1, &l->ubo);
+    GLint units = 0;
+    glGetIntegerv(GL_MAX_COMBINED_TEXTURE_IMAGE_UNITS, &units);
+    if (units < UNIT_END) {
+        slgl_lighting_destroy(l);
+        return sl_fail(err, SL_ERR_GL, "lighting: %d texture units, lighting.frag's samplers need %d", (int)units,
+                       (int)UNIT_END);
+    }
     return slgl_check("creating the lighting pass", err);
 }
 
@@ -419,6 +432,30 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
         sun_of[j] = suns && j < suns->env_light_count ? suns->env_light_sun[j] : -1;
     glUniform1iv(loc(p, "uEnvLightSun"), SL_ENV_LIGHTS_MAX, sun_of);
+    /* the sky visibility maps: src/shadow/sky.c's frames and weights as they are */
+    const sl_shadow_sky *sky = shadows && u->skyMaps && u->uDiffuse != 0 ? &shadows->sky_frames : NULL;
+    int sky_count = sky ? sky->count : 0;
+    glUniform1i(loc(p, "uSkyMaps"), UNIT_SHADOW_SKY);
+    glUniform1i(loc(p, "uSkyMapCount"), sky_count);
+    vec3 sky_axis[SL_SKY_MAPS_MAX], sky_right[SL_SKY_MAPS_MAX], sky_up[SL_SKY_MAPS_MAX];
+    vec4 sky_box[SL_SKY_MAPS_MAX];
+    vec2 sky_depth[SL_SKY_MAPS_MAX];
+    for (int k = 0; k < sky_count; k++) {
+        const sl_shadow_sun *map = &sky->maps[k];
+        sky_axis[k] = map->axis;
+        sky_right[k] = map->right;
+        sky_up[k] = map->up;
+        sky_box[k] = vec4(map->x0, map->y0, map->sx, map->sy);
+        sky_depth[k] = vec2(map->sz, map->texel);
+    }
+    if (sky_count > 0) {
+        glUniform3fv(loc(p, "uSkyMapAxis"), sky_count, &sky_axis[0].x);
+        glUniform3fv(loc(p, "uSkyMapRight"), sky_count, &sky_right[0].x);
+        glUniform3fv(loc(p, "uSkyMapUp"), sky_count, &sky_up[0].x);
+        glUniform4fv(loc(p, "uSkyMapBox"), sky_count, &sky_box[0].x);
+        glUniform2fv(loc(p, "uSkyMapDepth"), sky_count, &sky_depth[0].x);
+        glUniform3fv(loc(p, "uSkyMapWeight"), sky_count, &sky->weight[0].x);
+    }
 }
 
 /* The uniforms' lights read maps (softlight's, sl_lighting_uniforms.shadowMaps) where and only
@@ -445,6 +482,14 @@ static bool shadows_agree(const slgl_lighting *l, const sl_lighting_uniforms *u,
               memcmp(c->env_light_sun, gl->env_light_sun, (size_t)c->env_light_count) != 0))
         return sl_fail(err, SL_ERR_RANGE, "lighting: softlight's env lights make %d shadow maps, GL's %d, or in "
                        "other clusters", c->count, gl->count);
+    /* the sky maps: as many, with the same weights (both from sl_shadow_sky_frames, of the same
+     * environment) */
+    const sl_shadow_sky *csky = u->skyMaps;
+    const sl_shadow_sky *glsky = l->shadows && l->shadows->sky_frames.count > 0 ? &l->shadows->sky_frames : NULL;
+    int ccount = csky ? csky->count : 0, glcount = glsky ? glsky->count : 0;
+    if (ccount != glcount || (ccount > 0 && memcmp(csky->weight, glsky->weight, (size_t)ccount * sizeof *csky->weight)))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: softlight's uniforms have %d sky visibility maps, GL's %d, or "
+                       "with other weights", ccount, glcount);
     return true;
 }
 
@@ -498,6 +543,8 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->cubes : 0);
     glActiveTexture(GL_TEXTURE0 + UNIT_SHADOW_SUNS);
     glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->suns : 0);
+    glActiveTexture(GL_TEXTURE0 + UNIT_SHADOW_SKY);
+    glBindTexture(GL_TEXTURE_2D_ARRAY, l->shadows ? l->shadows->sky : 0);
     /* The depth texture is sampled as a value, not compared. */
     glActiveTexture(GL_TEXTURE0 + UNIT_DEPTH);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_COMPARE_MODE, GL_NONE);

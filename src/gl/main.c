@@ -108,8 +108,6 @@ static bool frame_build(frame *f, const gl_outputs *o, const sl_render_desc *des
     if (!sl_renderer_init(&f->renderer, &f->scene, desc, err))
         return false;
     f->renderer_ready = true;
-    if (f->renderer.desc.options.sky_maps > 0) /* the scene's render.sky_maps too */
-        return sl_fail(err, SL_ERR_RANGE, "--sky-maps: softlight-gl does not draw the sky visibility maps");
     f->width = f->renderer.gbuffer.width;
     f->height = f->renderer.gbuffer.height;
     f->view_proj = sl_camera_view_proj(&f->scene.camera, f->width, f->height);
@@ -184,7 +182,12 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
         shadows_all && f->renderer.desc.lighting.env_lights > 0 && f->renderer.env_lights_built > 0
             ? &f->renderer.env_lights
             : NULL;
-    bool shadows = sl_shadow_any(&f->scene, shadows_all) || env_lights;
+    /* the sky visibility maps (--sky-maps K, the scene's render.sky_maps), weighted by what
+     * softlight's renderer weighted its own with: the env lights' residual when their maps take
+     * them out of the irradiance, else the environment (src/render/renderer.c update_sky) */
+    int sky_maps = f->renderer.desc.options.sky_maps;
+    const sl_env *sky_env = f->renderer.sky_env_lights > 0 ? &f->renderer.env_lights.residual : &f->renderer.env;
+    bool shadows = sl_shadow_any(&f->scene, shadows_all) || env_lights || sky_maps > 0;
     /* ambient occlusion after the G-buffer pass (shaders/gtao*.frag); softlight's G-buffer files
      * (--gbuffer) carry it already in their occlusion */
     float ao_radius = o->gbuffer_dir ? 0.0f : f->renderer.desc.options.ao_radius;
@@ -223,7 +226,7 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     /* the maps depend on the scene alone: drawn once, before the timed passes */
     double t_shadows = sl_now_seconds();
     if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, env_lights,
-                                      f->renderer.desc.lighting.env_rotation_deg, err))
+                                      f->renderer.desc.lighting.env_rotation_deg, sky_maps, sky_env, err))
         goto done;
     glFinish();
     t_shadows = sl_now_seconds() - t_shadows;
@@ -236,6 +239,9 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
                "in %.1f ms (glFinish)\n",
                shadow_maps.cube_count, shadow_maps.cube_count == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, suns,
                suns == 1 ? "" : "s", SL_SHADOW_SUN_SIZE, t_shadows * 1e3);
+    if (sky_maps > 0 && o->verbose)
+        printf("sky visibility maps: %d of %d texels a side, weighted by %s\n", shadow_maps.sky_frames.count,
+               SL_SKY_MAP_SIZE, f->renderer.sky_env_lights > 0 ? "the env lights' residual" : "the environment");
     slgl_lighting_set_shadows(&l, &shadow_maps);
     glFinish();
     for (int run = 0; run < runs; run++) {
@@ -357,10 +363,6 @@ static int cmd_render(int argc, char **argv)
         return 2;
     }
     o.scene_path = positional[0];
-    if (desc.options.sky_maps > 0) { /* before a GL context: the refusal needs no GL */
-        fprintf(stderr, "softlight-gl render: --sky-maps: softlight-gl does not draw the sky visibility maps\n");
-        return 2;
-    }
     desc.any_lobe = o.gbuffer_shader != NULL;
     if (o.gbuffer_shader && o.gbuffer_dir) {
         fprintf(stderr, "softlight-gl render: --gbuffer-shader draws a G-buffer, --gbuffer reads one: not both\n");

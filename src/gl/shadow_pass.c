@@ -16,13 +16,20 @@
  * cluster, with shadow_sun.frag keeping the depth along the map's axis as shadow.c does; the
  * same state, its own depth buffer.
  *
+ * Sky visibility maps (with --sky-maps K): the directions, the cells' weights m_k and each map's
+ * frame and box are src/shadow/sky.c's (sl_shadow_sky_frames, from the environment the renderer
+ * weighted C's maps with), drawn as the env lights' are (shadow_sun.frag, sl_shadow_sun_view_proj)
+ * into K layers of an R32F 2D-array texture SL_SKY_MAP_SIZE texels a side.
+ *
  * Each kind of map is its own texture and table in slgl_shadows, bound to its own sampler of
  * lighting.frag (uShadowCubes with uShadowCubeLayer; uShadowSuns with uEnvLightSun and the
- * frames), so one kind is drawn and read without touching the other. */
+ * frames; uSkyMaps with the frames and weights), so one kind is drawn and read without touching
+ * the others. */
 #include <math.h>
 #include <string.h>
 
 #include "shadow/shadow.h"
+#include "shadow/sky.h"
 #include "slgl.h"
 
 void slgl_shadows_destroy(slgl_shadows *s)
@@ -43,6 +50,14 @@ void slgl_shadows_destroy(slgl_shadows *s)
         glDeleteFramebuffers(1, &s->sun_fbo);
     if (s->sun_program)
         glDeleteProgram(s->sun_program);
+    if (s->sky)
+        glDeleteTextures(1, &s->sky);
+    if (s->sky_depth)
+        glDeleteRenderbuffers(1, &s->sky_depth);
+    if (s->sky_fbo)
+        glDeleteFramebuffers(1, &s->sky_fbo);
+    if (s->sky_program)
+        glDeleteProgram(s->sky_program);
     memset(s, 0, sizeof *s);
     for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
         s->cube_layer[i] = -1;
@@ -134,6 +149,34 @@ static bool draw_cubes(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
     return true;
 }
 
+/* Orthographic maps[0 .. count - 1] (their frames set; `geometry`: the scene has some), one layer
+ * each of a fresh R32F 2D array `size` texels a side, with shadow_sun.frag keeping the depth
+ * along each map's axis. */
+static bool draw_ortho(GLuint *program, GLuint *texture, GLuint *fbo, GLuint *depth, const sl_shadow_sun *maps,
+                       int count, int size, bool geometry, const sl_scene *scene, const slgl_mesh *meshes,
+                       sl_error *err)
+{
+    if (!slgl_program_from_files("shadow_depth.vert", "shadow_sun.frag", program, err) ||
+        !make_target(texture, fbo, depth, size, count, err))
+        return false;
+    glUseProgram(*program);
+    GLint mvp_loc = glGetUniformLocation(*program, "uModelViewProj");
+    GLint origin_loc = glGetUniformLocation(*program, "uDepthOrigin");
+    GLint extent_loc = glGetUniformLocation(*program, "uDepthExtent");
+    for (int k = 0; k < count; k++) {
+        const sl_shadow_sun *map = &maps[k];
+        if (geometry) {
+            glUniform1f(origin_loc, map->z0);
+            glUniform1f(extent_loc, map->sz);
+            draw_face(*texture, scene, meshes, mvp_loc, k, sl_shadow_sun_view_proj(map));
+        } else { /* no geometry: every depth stays +inf */
+            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, *texture, 0, k);
+            glClearBufferfv(GL_COLOR, 0, far_away);
+        }
+    }
+    return true;
+}
+
 /* The env lights' orthographic maps, one layer per cluster. */
 static bool draw_suns(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes,
                       const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err)
@@ -142,31 +185,30 @@ static bool draw_suns(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *m
     bool geometry = sl_shadow_suns_frames(m, scene, env_lights, env_rotation_deg);
     if (m->count == 0)
         return true;
-    if (!slgl_program_from_files("shadow_depth.vert", "shadow_sun.frag", &s->sun_program, err) ||
-        !make_target(&s->suns, &s->sun_fbo, &s->sun_depth, SL_SHADOW_SUN_SIZE, m->count, err))
-        return false;
-    glUseProgram(s->sun_program);
-    GLint mvp_loc = glGetUniformLocation(s->sun_program, "uModelViewProj");
-    for (int k = 0; k < m->count; k++) {
-        const sl_shadow_sun *sun = &m->maps[k];
-        if (geometry) {
-            glUniform1f(glGetUniformLocation(s->sun_program, "uDepthOrigin"), sun->z0);
-            glUniform1f(glGetUniformLocation(s->sun_program, "uDepthExtent"), sun->sz);
-            draw_face(s->suns, scene, meshes, mvp_loc, k, sl_shadow_sun_view_proj(sun));
-        } else { /* no geometry: every depth stays +inf */
-            glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->suns, 0, k);
-            glClearBufferfv(GL_COLOR, 0, far_away);
-        }
-    }
-    return true;
+    return draw_ortho(&s->sun_program, &s->suns, &s->sun_fbo, &s->sun_depth, m->maps, m->count, SL_SHADOW_SUN_SIZE,
+                      geometry, scene, meshes, err);
+}
+
+/* The sky visibility maps, one layer per direction. */
+static bool draw_sky(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, int count, const sl_env *env,
+                     float env_rotation_deg, sl_error *err)
+{
+    if (count < 1 || count > SL_SKY_MAPS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
+    sl_shadow_sky *m = &s->sky_frames;
+    bool geometry = sl_shadow_sky_frames(m, count, env, env_rotation_deg, scene);
+    return draw_ortho(&s->sky_program, &s->sky, &s->sky_fbo, &s->sky_depth, m->maps, m->count, SL_SKY_MAP_SIZE,
+                      geometry, scene, meshes, err);
 }
 
 bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
-                       const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err)
+                       const sl_env_lights *env_lights, float env_rotation_deg, int sky_maps, const sl_env *sky_env,
+                       sl_error *err)
 {
     slgl_shadows_destroy(s);
     bool ok = draw_cubes(s, scene, meshes, all, err) &&
-              (!all || !env_lights || draw_suns(s, scene, meshes, env_lights, env_rotation_deg, err));
+              (!all || !env_lights || draw_suns(s, scene, meshes, env_lights, env_rotation_deg, err)) &&
+              (sky_maps <= 0 || draw_sky(s, scene, meshes, sky_maps, sky_env, env_rotation_deg, err));
     glBindVertexArray(0);
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

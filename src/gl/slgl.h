@@ -170,14 +170,24 @@ typedef struct {
                               k = map k; 0 when no env light casts */
     sl_shadow_suns sun_frames; /* their clusters and frames (sl_shadow_suns_frames; no depths):
                               count = the layers, env_light_sun = each env light's */
+    GLuint sky_program;    /* shadow_depth.vert + shadow_sun.frag (the sky maps' own) */
+    GLuint sky_fbo, sky_depth; /* the sky maps' target: a layer of sky + its own depth buffer */
+    GLuint sky;            /* the sky visibility maps: R32F 2D array, SL_SKY_MAP_SIZE a side, layer
+                              k = map k; 0 when there are none */
+    sl_shadow_sky sky_frames; /* their directions, weights m_k and frames (sl_shadow_sky_frames; no
+                              depths): count = the layers */
 } slgl_shadows;
 
 /* Draw the maps of the scene's lights that cast (point light i when `all` is set or its "shadow"
  * key is, as sl_shadow_build chooses) from the uploaded meshes; none when no light casts. With
  * `all` and env lights (NULL: none), the env lights' maps too, clustered and framed by
- * sl_shadow_suns_frames as sl_shadow_suns_build does (env_rotation_deg: the lighting's). */
+ * sl_shadow_suns_frames as sl_shadow_suns_build does (env_rotation_deg: the lighting's). With
+ * sky_maps K > 0, the K sky visibility maps, weighted by sky_env (what the diffuse irradiance
+ * holds: the renderer's choice, src/render/renderer.c update_sky) and framed by
+ * sl_shadow_sky_frames as sl_shadow_sky_build does. */
 bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
-                       const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err);
+                       const sl_env_lights *env_lights, float env_rotation_deg, int sky_maps, const sl_env *sky_env,
+                       sl_error *err);
 /* Free the maps; s is left empty (no light casts), which a zeroed struct is not. */
 void slgl_shadows_destroy(slgl_shadows *s);
 
@@ -192,6 +202,7 @@ typedef struct {
     int phong, ggx;   /* the microfacet sets the G-buffer holds (slgl_lighting_set_lobes) */
     int shadow_cubes; /* point lights on and at least one with a cube shadow map */
     int shadow_suns;  /* env lights and at least one env-light map */
+    int sky_maps;     /* the diffuse term and the sky visibility maps */
 } slgl_lighting_key;
 
 #define SLGL_LIGHTING_PROGRAMS 8 /* programs kept; the oldest goes when a ninth is asked for */

@@ -192,8 +192,9 @@ typedef struct {
     /* each light's visibility slot: its map (0 .. count - 1), SL_SHADOW_SUN_MAX for none (1),
      * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility */
     unsigned char envLightVisSlot[SL_ENV_LIGHTS_MAX];
-    /* C only: the sky visibility maps (NULL: none), the diffuse irradiance times their V
-     * (sl_shadow_sky_visibility); softlight-gl does not draw them (it refuses --sky-maps) */
+    /* the sky visibility maps (NULL: none), the diffuse irradiance times their V
+     * (sl_shadow_sky_visibility); softlight-gl draws its own from the same directions, weights
+     * and frames (sl_shadow_sky_frames), bound as uSkyMaps */
     const sl_shadow_sky *skyMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;

@@ -440,13 +440,19 @@ bool sl_shadow_suns_frames(sl_shadow_suns *m, const sl_scene *scene, const sl_en
 
 mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun) { return sun_view_proj(sun); }
 
-bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
-                           sl_error *err)
+bool sl_shadow_ortho_frames(sl_shadow_sun *maps, int count, int size, const sl_scene *scene)
 {
     vec3 lo, hi;
     bool geometry = sl_scene_bounds(scene, &lo, &hi);
     for (int k = 0; k < count; k++)
         sun_frame(&maps[k], geometry ? lo : vec3s(0.0f), geometry ? hi : vec3s(0.0f), size);
+    return geometry;
+}
+
+bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
+                           sl_error *err)
+{
+    bool geometry = sl_shadow_ortho_frames(maps, count, size, scene);
     const size_t n = (size_t)size * (size_t)size;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);

@@ -122,6 +122,10 @@ mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
  * False (and err) on no memory or a failed draw. */
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
                            sl_error *err);
+/* The frames and boxes sl_shadow_ortho_build gives maps[0 .. count - 1], without drawing (each
+ * map's depth is left as it was): softlight-gl draws its own sky maps from these. False when the
+ * scene has no geometry (every depth +inf). */
+bool sl_shadow_ortho_frames(sl_shadow_sun *maps, int count, int size, const sl_scene *scene);
 /* Does any of the scene's point lights cast (so that a frame needs maps)? */
 bool sl_shadow_any(const sl_scene *scene, bool all);
 void sl_shadow_free(sl_shadow_maps *maps);

@@ -56,11 +56,9 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
     }
 }
 
-bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
-                         const sl_scene *scene, sl_error *err)
+bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg,
+                          const sl_scene *scene)
 {
-    if (count < 1 || count > SL_SKY_MAPS_MAX)
-        return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
     /* environment -> world: a turn by +rotation about +Z (shadow.c sl_shadow_suns_frames) */
     float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
     vec3 dirs[SL_SKY_MAPS_MAX], m[SL_SKY_MAPS_MAX];
@@ -77,12 +75,23 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
         sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
         sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
     }
-    /* maps of another size (an earlier build's) are not reused */
+    sky->count = count;
+    return sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
+}
+
+bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
+                         const sl_scene *scene, sl_error *err)
+{
+    if (count < 1 || count > SL_SKY_MAPS_MAX)
+        return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
+    /* maps of another size (an earlier build's) are not reused: checked before the frames set
+     * the size */
     for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
         if (sky->maps[k].depth && sky->maps[k].size != SL_SKY_MAP_SIZE) {
             free(sky->maps[k].depth);
             sky->maps[k].depth = NULL;
         }
+    sl_shadow_sky_frames(sky, count, env, env_rotation_deg, scene);
     sky->count = 0;
     if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, err))
         return false;

@@ -54,6 +54,12 @@ vec3 sl_shadow_sky_direction(int k, int count);
  * memory or a count out of range. */
 bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
                          const sl_scene *scene, sl_error *err);
+/* The directions, their cells' weights and each map's frame and box as sl_shadow_sky_build makes
+ * them (count 1 .. SL_SKY_MAPS_MAX; count set), without drawing (each map's depth is left as it
+ * was): softlight-gl draws its own maps from these. False when the scene has no geometry (every
+ * depth +inf). */
+bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg,
+                          const sl_scene *scene);
 void sl_shadow_sky_free(sl_shadow_sky *sky);
 /* Map k's visibility from world point P with unit normal N: 1 open, 0 hidden; 1 where the
  * direction is below P's plane (its ray never meets the receiver). */

@@ -5,12 +5,10 @@
 # is E times the visible cosine fraction: the floor at the wall's foot sees about half the sky
 # (V within 0.1 of 0.5), far from it nearly all, and the render's diffuse against `truth
 # --visibility` (Embree; skipped without it) is far closer with the maps than without; trace
-# prints V; softlight-gl and `softlight check` refuse the option (one line, status 2); bad
-# counts are one line, status 2.
+# prints V; bad counts are one line, status 2. softlight-gl's twin of the maps: gl_sky_maps.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init sky_maps "$1"
-GL=${1}/softlight-gl
 S=64x36
 
 # a constant white environment (a 256x128 PFM of ones) and the scene: a 6x6 floor, a wall 4 tall
@@ -78,10 +76,4 @@ fi
 
 expect_error "negative count" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps -1 -o "$T/x.png"
 expect_error "too many" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps 65 -o "$T/x.png"
-expect_error "check refuses the maps" "softlight-gl does not draw the sky visibility maps" -- \
-    "$SL" check "$T/wall.json" --size $S --sky-maps 8
-if [ -x "$GL" ]; then
-    expect_error "softlight-gl refuses the maps" "softlight-gl does not draw the sky visibility maps" -- \
-        "$GL" render "$T/wall.json" --size $S --sky-maps 8 -o "$T/x.png"
-fi
 cli_done sky_maps

@@ -27,6 +27,8 @@ gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone"
 # binds them.
 gbuffer="$gbuffer uShadowCubes uShadowCubeLayer uShadowSuns uShadowSunCount uShadowSunAxis uShadowSunRight"
 gbuffer="$gbuffer uShadowSunUp uShadowSunBox uShadowSunDepth uEnvLightSun"
+# The sky visibility maps likewise: the C struct holds them (skyMaps: src/shadow/sky.h).
+gbuffer="$gbuffer uSkyMaps uSkyMapCount uSkyMapAxis uSkyMapRight uSkyMapUp uSkyMapBox uSkyMapDepth uSkyMapWeight"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac
@@ -37,7 +39,7 @@ for u in $host; do grep -qx "$u" <<<"$glsl" || fail "$u: set by $gl, not a unifo
 
 # Sizes and option values: GLSL `const int NAME = V;` against the C definitions.
 glsl_const() { sed -n "s/^const int $1 = \([0-9]*\);.*/\1/p" "$frag"; }
-c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/shading/splitsum_lut.h src/ibl/env_lights.h src/ibl/ibl.h src/shadow/shadow.h | head -1 | grep -oE '[0-9]+$'; }
+c_value() { grep -rhoE "$1 *=? *\(?[0-9]+" src/core/options.h src/shading/lighting.h src/shading/brdf.h src/shading/splitsum_lut.h src/ibl/env_lights.h src/ibl/ibl.h src/shadow/shadow.h src/shadow/sky.h | head -1 | grep -oE '[0-9]+$'; }
 check() { # check GLSL_NAME C_NAME
     local g v; g=$(glsl_const "$1"); v=$(c_value "$2")
     [ -n "$g" ] && [ "$g" = "$v" ] || fail "$1 = '${g}' in $frag, $2 = '${v}' in C"
@@ -59,6 +61,7 @@ check SHADOW_CUBE_SIZE SL_SHADOW_CUBE_SIZE
 check SHADOW_GUARD SL_SHADOW_GUARD
 check SHADOW_SUN_SIZE SL_SHADOW_SUN_SIZE
 check SHADOW_SUN_MAX SL_SHADOW_SUN_MAX
+check SKY_MAPS_MAX SL_SKY_MAPS_MAX
 # The shadow lookup's float constants: GLSL `const float NAME = V;` against shadow.c's
 # `#define NAME Vf`, compared as numbers.
 for x in SHADOW_BIAS_CONST SHADOW_DEPTH_REL SHADOW_NORMAL_OFFSET; do
@@ -66,6 +69,13 @@ for x in SHADOW_BIAS_CONST SHADOW_DEPTH_REL SHADOW_NORMAL_OFFSET; do
     v=$(sed -n "s/^#define $x \([-+0-9.eE]*\)f.*/\1/p" src/shadow/shadow.c)
     [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
         fail "$x = '${g}' in $frag, '${v}' in src/shadow/shadow.c"
+done
+# The sky maps' lookup constants: GLSL against sky.c's `#define NAME Vf`.
+for x in SKY_NORMAL_OFFSET SKY_BIAS_CONST; do
+    g=$(sed -n "s/^const float $x = \([-+0-9.eE]*\);.*/\1/p" "$frag")
+    v=$(sed -n "s/^#define $x \([-+0-9.eE]*\)f.*/\1/p" src/shadow/sky.c)
+    [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
+        fail "$x = '${g}' in $frag, '${v}' in src/shadow/sky.c"
 done
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
