@@ -48,6 +48,19 @@ gl_check_share() {
     return 1
 }
 
+# gl_within NAME A B: the gl_shading.sh bounds between images A and B (p99 relative error at most
+# 0.05, at most 0.1% of pixels more than 8/255 apart after the tone map), the figures printed; the
+# comparison's output in $T/NAME.txt. The shadow and sky-map tests run it per case.
+gl_within() {
+    local status=0
+    "$SL" compare "$2" "$3" --metric p99rel --tolerance 0.05 >"$T/$1.txt" || status=$?
+    printf '%-18s p99 rel %-10s mean rel %-10s max abs %-10s >1/255 %s%%  >8/255 %s%%\n' "$1" \
+        "$(gl_field "p99 rel error" "$T/$1.txt")" "$(gl_field "mean rel error" "$T/$1.txt")" \
+        "$(gl_field "max abs error" "$T/$1.txt")" "$(gl_field "8-bit diff > 1" "$T/$1.txt")" \
+        "$(gl_field "8-bit diff > 8" "$T/$1.txt")"
+    [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
+}
+
 # gl_compare_estimator NAME SCENE ESTIMATOR P99_TOL OVER8_PERCENT [options...]: render SCENE with
 # --estimator ESTIMATOR and the options through softlight (at GL_TEST_SIZE, with its G-buffer) and
 # through softlight-gl on that G-buffer, print the comparison's line, and return 1 unless the p99

@@ -35,17 +35,7 @@ pair() {
     mkdir -p "$T/$name"
     "$SL" render "$scene" --size "$GL_TEST_SIZE" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" -q
     "$GL" render "$scene" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm"
-    within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm"
-}
-# within NAME A B: the gl_shading.sh bounds between A and B, the figures printed
-within() {
-    local status=0
-    "$SL" compare "$2" "$3" --metric p99rel --tolerance 0.05 >"$T/$1.txt" || status=$?
-    printf '%-16s p99 rel %-10s mean rel %-10s max abs %-10s >1/255 %s%%  >8/255 %s%%\n' "$1" \
-        "$(gl_field "p99 rel error" "$T/$1.txt")" "$(gl_field "mean rel error" "$T/$1.txt")" \
-        "$(gl_field "max abs error" "$T/$1.txt")" "$(gl_field "8-bit diff > 1" "$T/$1.txt")" \
-        "$(gl_field "8-bit diff > 8" "$T/$1.txt")"
-    [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
+    gl_within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm"
 }
 
 # ---- scenes/lamp.json: the flag, then the light's own key
@@ -60,7 +50,7 @@ pair lamp-key "$T/lamp-key.json" || { echo "FAIL lamp, \"shadow\": true: outside
 "$GL" render scenes/lamp.json --gbuffer "$T/lamp" --no-lights --pfm "$T/lamp/g-env.pfm"
 "$SL" render scenes/lamp.json --size "$GL_TEST_SIZE" -q --pfm "$T/lamp/c0.pfm"
 "$SL" render scenes/lamp.json --size "$GL_TEST_SIZE" -q --no-lights --pfm "$T/lamp/c-env.pfm"
-if within "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" >/dev/null; then
+if gl_within "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" >/dev/null; then
     echo "FAIL GL's image without shadow maps is within the bounds of C's with them: the test sees no shadow"
     fail=1
 fi
@@ -123,7 +113,7 @@ json.dump(s, open(sys.argv[1], "w"))
 PY
 pair four "$T/four.json" || { echo "FAIL four lights, two casting: outside the bounds"; fail=1; }
 "$GL" render "$T/four.json" --shadows --gbuffer "$T/four" --pfm "$T/four/g-all.pfm"
-if within "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" >/dev/null; then
+if gl_within "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" >/dev/null; then
     echo "FAIL four lights: GL's image with all four casting is within the bounds of C's with two (the case is void)"
     fail=1
 fi

@@ -25,40 +25,17 @@ source tests/cli/gl_common.bash
 gl_setup "$1"
 fail=0
 
-# within NAME A B: the gl_shading.sh bounds between A and B, the figures printed
-within() {
-    local status=0
-    "$SL" compare "$2" "$3" --metric p99rel --tolerance 0.05 >"$T/$1.txt" || status=$?
-    printf '%-18s p99 rel %-10s mean rel %-10s max abs %-10s >8/255 %s%%\n' "$1" \
-        "$(gl_field "p99 rel error" "$T/$1.txt")" "$(gl_field "mean rel error" "$T/$1.txt")" \
-        "$(gl_field "max abs error" "$T/$1.txt")" "$(gl_field "8-bit diff > 8" "$T/$1.txt")"
-    [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
-}
 
-# ---- the wall under a constant white environment (sky_maps.sh's scene)
-python3 - "$T/white.pfm" <<'PY'
-import struct, sys
-w, h = 256, 128
-with open(sys.argv[1], 'wb') as f:
-    f.write(b'PF\n%d %d\n-1.0\n' % (w, h))
-    f.write(struct.pack('<' + 'f' * (3 * w * h), *([1.0] * (3 * w * h))))
-PY
-cat >"$T/wall.json" <<JSON
-{"camera": {"eye": [3.2, 0, 6], "target": [1.6, 0, 0], "up": [1, 0, 0], "fovy": 50},
- "environment": {"hdr": "$T/white.pfm"},
- "materials": {"m": {"kd": 1, "ks": 0, "alpha": 10}},
- "objects": [{"shape": "plane", "material": "m", "transform": {"scale": [3, 3, 1]}},
-             {"shape": "box", "material": "m", "transform": {"translate": [0, 0, 2], "scale": [0.1, 3, 2]}}],
- "render": {"samples": 1}}
-JSON
+# ---- the wall under a constant white environment (sky_wall.bash)
+source tests/cli/sky_wall.bash
 W=(--no-lights --diffuse-only)
 mkdir -p "$T/wall"
 "$SL" render "$T/wall.json" --size "$GL_TEST_SIZE" "${W[@]}" --sky-maps 32 --aov "$T/wall" --pfm "$T/wall/c.pfm" -q
 "$SL" render "$T/wall.json" --size "$GL_TEST_SIZE" "${W[@]}" --pfm "$T/wall/c0.pfm" -q
 "$GL" render "$T/wall.json" "${W[@]}" --sky-maps 32 --gbuffer "$T/wall" --pfm "$T/wall/g.pfm"
 "$GL" render "$T/wall.json" "${W[@]}" --gbuffer "$T/wall" --pfm "$T/wall/g0.pfm"
-within "wall" "$T/wall/c.pfm" "$T/wall/g.pfm" || { echo "FAIL wall: outside the bounds"; fail=1; }
-if within "GL without maps" "$T/wall/c.pfm" "$T/wall/g0.pfm"; then
+gl_within "wall" "$T/wall/c.pfm" "$T/wall/g.pfm" || { echo "FAIL wall: outside the bounds"; fail=1; }
+if gl_within "GL without maps" "$T/wall/c.pfm" "$T/wall/g0.pfm"; then
     echo "FAIL GL's image without the sky maps is within the bounds of C's with them: the test sees no occlusion"
     fail=1
 fi
@@ -111,13 +88,13 @@ scene() { # scene NAME FILE [options...]
     mkdir -p "$T/$name"
     "$SL" render "$file" --size "$GL_TEST_SIZE" "${O[@]}" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" -q
     "$GL" render "$file" "${O[@]}" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm"
-    within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm" || { echo "FAIL $name: outside the bounds"; fail=1; }
+    gl_within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm" || { echo "FAIL $name: outside the bounds"; fail=1; }
 }
 scene bunny scenes/bunny.json
 scene bunny-ao scenes/bunny.json --ao-radius 1
 scene pbr scenes/pbr.json
 SL_GL_GENERAL=1 "$GL" render scenes/bunny.json "${O[@]}" --gbuffer "$T/bunny" --pfm "$T/bunny/general.pfm"
-within "bunny, general" "$T/bunny/c.pfm" "$T/bunny/general.pfm" ||
+gl_within "bunny, general" "$T/bunny/c.pfm" "$T/bunny/general.pfm" ||
     { echo "FAIL bunny, the general shader: outside the bounds"; fail=1; }
 
 if "$SL" check "$T/wall.json" --size "$GL_TEST_SIZE" "${W[@]}" --sky-maps 32 >"$T/check.txt" 2>&1; then

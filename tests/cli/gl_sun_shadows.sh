@@ -23,15 +23,6 @@ source tests/cli/gl_common.bash
 gl_setup "$1"
 fail=0
 
-# within NAME A B: the gl_shading.sh bounds between A and B, the figures printed
-within() {
-    local status=0
-    "$SL" compare "$2" "$3" --metric p99rel --tolerance 0.05 >"$T/$1.txt" || status=$?
-    printf '%-18s p99 rel %-10s mean rel %-10s max abs %-10s >8/255 %s%%\n' "$1" \
-        "$(gl_field "p99 rel error" "$T/$1.txt")" "$(gl_field "mean rel error" "$T/$1.txt")" \
-        "$(gl_field "max abs error" "$T/$1.txt")" "$(gl_field "8-bit diff > 8" "$T/$1.txt")"
-    [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
-}
 
 # ---- the made sky: a floor, a slab floating over it, a box standing on it
 python3 tests/cli/sun_sky.py "$T/sky.pfm" 40 30
@@ -50,10 +41,10 @@ mkdir -p "$T/occ"
 "$GL" render "$T/occ.json" "${O[@]}" --shadows --gbuffer "$T/occ" --pfm "$T/occ/g.pfm"
 "$GL" render "$T/occ.json" "${O[@]}" --gbuffer "$T/occ" --pfm "$T/occ/g0.pfm"
 SL_GL_GENERAL=1 "$GL" render "$T/occ.json" "${O[@]}" --shadows --gbuffer "$T/occ" --pfm "$T/occ/general.pfm"
-within "made sun" "$T/occ/c.pfm" "$T/occ/g.pfm" || { echo "FAIL made sun: outside the bounds"; fail=1; }
-within "made sun, general" "$T/occ/c.pfm" "$T/occ/general.pfm" ||
+gl_within "made sun" "$T/occ/c.pfm" "$T/occ/g.pfm" || { echo "FAIL made sun: outside the bounds"; fail=1; }
+gl_within "made sun, general" "$T/occ/c.pfm" "$T/occ/general.pfm" ||
     { echo "FAIL made sun, the general shader: outside the bounds"; fail=1; }
-if within "GL without maps" "$T/occ/c.pfm" "$T/occ/g0.pfm"; then
+if gl_within "GL without maps" "$T/occ/c.pfm" "$T/occ/g0.pfm"; then
     echo "FAIL GL's image without shadow maps is within the bounds of C's with them: the test sees no shadow"
     fail=1
 fi
@@ -100,12 +91,12 @@ PY
 mkdir -p "$T/city"
 "$SL" render scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows --aov "$T/city" --pfm "$T/city/c.pfm" -q
 "$GL" render scenes/city-sun.json "${O[@]}" --shadows --gbuffer "$T/city" --pfm "$T/city/g.pfm"
-within "city-sun" "$T/city/c.pfm" "$T/city/g.pfm" || { echo "FAIL city-sun: outside the bounds"; fail=1; }
+gl_within "city-sun" "$T/city/c.pfm" "$T/city/g.pfm" || { echo "FAIL city-sun: outside the bounds"; fail=1; }
 mkdir -p "$T/city-ao"
 "$SL" render scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows --ao-radius 1 --aov "$T/city-ao" \
     --pfm "$T/city-ao/c.pfm" -q
 "$GL" render scenes/city-sun.json "${O[@]}" --shadows --ao-radius 1 --gbuffer "$T/city-ao" --pfm "$T/city-ao/g.pfm"
-within "city-sun-ao" "$T/city-ao/c.pfm" "$T/city-ao/g.pfm" || { echo "FAIL city-sun --ao-radius 1: outside the bounds"; fail=1; }
+gl_within "city-sun-ao" "$T/city-ao/c.pfm" "$T/city-ao/g.pfm" || { echo "FAIL city-sun --ao-radius 1: outside the bounds"; fail=1; }
 if "$SL" check scenes/city-sun.json --size "$GL_TEST_SIZE" "${O[@]}" --shadows >"$T/check.txt" 2>&1; then
     echo "softlight check city-sun --env-lights 32 --shadows: $(tail -1 "$T/check.txt")"
 else
