@@ -1096,10 +1096,10 @@ static const float ones[SL_ENV_LIGHTS_MAX] = {
 _Static_assert(SL_ENV_LIGHTS_MAX == 64, "ones[] has a 1 per env light");
 
 /* The port's env_shadow_diffuse (lighting.c) with the lights' sums taken a group at a time
- * (env_light_groups.h), each group's lights sharing their map's visibility: E read along D less the lights' part of it
- * (returned, clamped at 0) and their diffuse about N times the visibility (`lights`). The same
- * sums as the port's loop over every light, in another order: a few dot products a map where
- * the port takes one a light (64 on a GGX scene). */
+ * (env_light_groups.h), each group's lights sharing their map's visibility: E read along D less
+ * the lights' part of it (returned, clamped at 0) and their diffuse about N times the visibility
+ * (`lights`). The same sums as the port's loop over every light, in another order: a few dot
+ * products a map where the port takes one a light. */
 static vec3 env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent, vec3 D, vec3 Nenv, vec3 Kd,
                                const float *vis, vec3 *lights)
 {
@@ -1164,9 +1164,9 @@ static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3
 /* main()'s sum and its NaN guard over the span, without a trace: sl_shade_surface_color's
  * operations in its order, then sl_shade_finish's, as vector loops around the point lights,
  * which each covered pixel adds one after another through the port's function (the same bits;
- * a term that is off is selected away, not added). c{r,g,b} hold each covered pixel's specular term and each empty pixel's
- * background on entry; l{r,g,b}, with the env lights' shadow maps, their diffuse and specular
- * times their visibility, added after the occlusion (read only then). */
+ * a term that is off is selected away, not added). c{r,g,b} hold each covered pixel's specular
+ * term and each empty pixel's background on entry; l{r,g,b}, with the env lights' shadow maps,
+ * their diffuse and specular times their visibility, added after the occlusion (read only then). */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
                       const float *lr, const float *lg, const float *lb, sl_lighting_task *task, vec3 *out)
