@@ -14,6 +14,7 @@
 #include "ibl/env_dist.h"
 #include "shading/splitsum_lut.h"
 #include "shadow/shadow.h"
+#include "shadow/sky.h"
 
 /* The memory `softlight render` holds, in bytes, phase by phase: what each stage allocates and
  * what is still held from the stages before (src/render/renderer.c's order). The peak is the
@@ -37,7 +38,8 @@ typedef struct {
     size_t env_dist;         /* --estimator mis: the distribution (8 B a grid texel, 4 a row) and
                                 its packed texels (16 B a level-0 texel), held (ibl/env_dist.h) */
     size_t shadows;          /* --shadows: the cube maps of the lights that cast (6 faces of 4-byte
-                                depths) and the env lights' maps (4 B a texel), held */
+                                depths) and the env lights' maps (4 B a texel); --sky-maps: the
+                                sky visibility maps (4 B a texel); held */
     size_t shadows_build;    /* while drawn: one face's or map's 8-byte texels (src/shadow) */
     size_t frame;            /* G-buffer, radiance, display image, PNG encoding, mesh copies */
     size_t peak;
@@ -119,7 +121,7 @@ static size_t oct_chain_texels(int env_w)
  * chains the materials need (sl_renderer_splitsum_sets: Phong, GGX or both). */
 static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, size_t env_file, int irr_w,
                                  int irr_h, size_t irr_file, size_t mesh_bytes, long vertices, size_t gbuffer_pixel,
-                                 int lobe_sets, int cube_maps, int sun_maps)
+                                 int lobe_sets, int cube_maps, int sun_maps, int sky_maps)
 {
     sl_lighting_options modes = sl_lighting_options_resolve(&d->lighting);
     memory_model m = {.program = PROGRAM_BYTES};
@@ -190,8 +192,9 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
     /* the shadow maps are drawn after the G-buffer, before the lighting (renderer.c) */
     size_t face = (size_t)(SL_SHADOW_CUBE_SIZE + 2 * SL_SHADOW_GUARD) * (size_t)(SL_SHADOW_CUBE_SIZE + 2 * SL_SHADOW_GUARD);
     size_t sun = (size_t)SL_SHADOW_SUN_SIZE * (size_t)SL_SHADOW_SUN_SIZE;
-    m.shadows = (size_t)cube_maps * 6 * face * 4 + (size_t)sun_maps * sun * 4;
-    m.shadows_build = sun_maps > 0 ? sun * 8 : cube_maps > 0 ? face * 8 : 0;
+    size_t sky = (size_t)SL_SKY_MAP_SIZE * (size_t)SL_SKY_MAP_SIZE;
+    m.shadows = (size_t)cube_maps * 6 * face * 4 + (size_t)sun_maps * sun * 4 + (size_t)sky_maps * sky * 4;
+    m.shadows_build = sun_maps > 0 ? sun * 8 : sky_maps > 0 ? sky * 8 : cube_maps > 0 ? face * 8 : 0;
     if (m.shadows > 0)
         phase(&m, base + m.frame + m.shadows + m.shadows_build, "drawing the shadow maps");
     phase(&m, base + m.shadows + m.frame, "rendering and writing the frame");
@@ -339,7 +342,7 @@ int cmd_info(int argc, char **argv)
         sun_maps = desc.lighting.env_lights < SL_SHADOW_SUN_MAX ? desc.lighting.env_lights : SL_SHADOW_SUN_MAX;
     memory_model m = model_render(&desc, env_w, env_h, e->hdr_path[0] ? file_bytes(e->hdr_path) : 0, irr_w, irr_h,
                                   irr_w ? file_bytes(e->irradiance_path) : 0, mesh_bytes, vertices, gbuffer_pixel,
-                                  (int)phong + (int)ggx, cube_maps, sun_maps);
+                                  (int)phong + (int)ggx, cube_maps, sun_maps, desc.options.sky_maps);
     double mib = 1024.0 * 1024.0;
     printf("  memory     peak %.1f MiB while %s (a %dx%d render%s%s)\n", (double)m.peak / mib, m.peak_at,
            desc.width, desc.height, desc.lighting.env_lights ? " with env lights" : "",
@@ -347,12 +350,14 @@ int cmd_info(int argc, char **argv)
     printf("             environment %.1f MiB held (mip chain), %.1f MiB while read, %.1f MiB while its mips are "
            "built; irradiance %.1f MiB held, %.1f MiB while built; env lights %.1f MiB held, %.1f MiB while "
            "extracted; octahedral chain %.1f MiB held; split-sum chains %.1f MiB held; environment distribution "
-           "%.1f MiB held; shadow maps %.1f MiB held (%d cube%s, %s%d env-light map%s), %.1f MiB while drawn; "
+           "%.1f MiB held; shadow maps %.1f MiB held (%d cube%s, %s%d env-light map%s, %d sky map%s), %.1f MiB while "
+           "drawn; "
            "frame %.1f MiB (G-buffer %zu B/pixel%s); meshes %.1f MiB; program %.1f MiB\n",
            (double)m.env / mib, (double)m.env_load / mib, (double)m.env_build / mib, (double)m.irradiance / mib,
            (double)m.irradiance_build / mib, (double)m.env_lights / mib, (double)m.env_lights_build / mib,
            (double)m.env_oct / mib, (double)m.splitsum / mib, (double)m.env_dist / mib, (double)m.shadows / mib,
            cube_maps, cube_maps == 1 ? "" : "s", sun_maps ? "at most " : "", sun_maps, sun_maps == 1 ? "" : "s",
+           desc.options.sky_maps, desc.options.sky_maps == 1 ? "" : "s",
            (double)m.shadows_build / mib, (double)m.frame / mib, gbuffer_pixel, extra ? " with occlusion and emission" : "", (double)mesh_bytes / mib,
            (double)m.program / mib);
     sl_scene_free(&scene);
