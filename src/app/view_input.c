@@ -57,6 +57,9 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     v->home_tonemap = r->desc.tonemap;
     v->home_ao_radius = r->desc.options.ao_radius;
     v->home_shadows = r->desc.options.shadows;
+    v->home_sky_maps = r->desc.options.sky_maps;
+    /* Y's count: the scene's or the command line's, else the one docs/lighting.md recommends */
+    v->sky_maps_on = r->desc.options.sky_maps > 0 ? r->desc.options.sky_maps : 32;
     /* O's radius: the scene's or the command line's, else a tenth of the scene's bounding radius */
     v->ao_radius_on = r->desc.options.ao_radius > 0.0f ? r->desc.options.ao_radius
                                                        : 0.05f * length(sub(v->bounds_hi, v->bounds_lo));
@@ -282,6 +285,7 @@ void view_reset_all(viewer *v)
     v->r.desc.tonemap = v->home_tonemap;
     v->r.desc.options.ao_radius = v->home_ao_radius;
     v->r.desc.options.shadows = v->home_shadows;
+    v->r.desc.options.sky_maps = v->home_sky_maps;
     v->mode = VIEW_FINAL;
     view_camera_reset(&v->camera);
 }
@@ -419,6 +423,11 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
     case SDLK_u: /* the maps are drawn before the lighting, once (src/render/renderer.c update_shadows) */
         v->r.desc.options.shadows = !v->r.desc.options.shadows;
         view_message(v, false, "shadows of every point light %s", v->r.desc.options.shadows ? "on" : "off");
+        act = VIEW_ACT_RESTART_LIGHTING;
+        break;
+    case SDLK_y: /* drawn before the lighting, once per scene and environment (renderer.c update_sky) */
+        v->r.desc.options.sky_maps = v->r.desc.options.sky_maps > 0 ? 0 : v->sky_maps_on;
+        view_message(v, false, "sky visibility maps %s", v->r.desc.options.sky_maps > 0 ? "on" : "off");
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     case SDLK_l: {

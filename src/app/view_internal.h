@@ -340,7 +340,9 @@ struct viewer {
     sl_tonemap_options home_tonemap;   /* line's): R restores them */
     float home_ao_radius;              /* and the ambient occlusion's radius (0: off) */
     float ao_radius_on;                /* the radius O turns occlusion on with */
-    bool home_shadows;                 /* every point light casting (--shadows): M toggles it */
+    bool home_shadows;                 /* every point light casting (--shadows): U toggles it */
+    int home_sky_maps;                 /* the sky visibility maps (--sky-maps; 0: off) */
+    int sky_maps_on;                   /* the count Y turns the sky maps on with */
     char env_override[SL_PATH_MAX];    /* --env, `view FILE.hdr`'s or a dropped environment; "": the scene's */
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */

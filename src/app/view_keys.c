@@ -45,6 +45,7 @@ static const key_row rows[] = {
                    "scene's bounding radius)"},
     {"U", "key u", "shadow maps of every point light, and of the env lights when they are on, on / off "
                    "(--shadows; a light's own \"shadow\" key keeps it casting)"},
+    {"Y", "key y", "sky visibility maps on / off (the count of --sky-maps or the scene's, else 32)"},
     {"L", "key l", "mip-level rule: {lod}"},
     {"K", "key k", "estimator: {estimator}"},
     {"G", "key g", "G term: {gterm}"},

@@ -90,6 +90,16 @@ view_same "$T/sh-on.hdr" "$T/sh-ref.hdr" "U turns the shadow maps on" 0
 view_same "$T/sh-off.hdr" "$T/nosh-ref.hdr" "U turns them off again" 0
 echo "ok: U toggles the shadow maps; each still frame is render's"
 
+# ---- Y: the sky visibility maps on (32) and off again, each still frame render's with and without --sky-maps
+"$SL" render scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --sky-maps 32 --hdr "$T/sky-ref.hdr" -q
+"$SL" render scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/nosky-ref.hdr" -q
+printf 'settle\nkey y\nsettle\nscreenshot %s/sky-on\nkey y\nsettle\nscreenshot %s/sky-off\nquit\n' "$T" "$T" >"$T/sky.txt"
+view_run scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/sky.txt"
+view_expect_exit0 "Y"
+view_same "$T/sky-on.hdr" "$T/sky-ref.hdr" "Y turns the sky maps on" 0
+view_same "$T/sky-off.hdr" "$T/nosky-ref.hdr" "Y turns them off again" 0
+echo "ok: Y toggles the sky visibility maps; each still frame is render's"
+
 # ---- N/B and the scene's own N (40): up to 64 and back to 40
 printf 'key n\nscreenshot %s/n-up\nkey b\nscreenshot %s/n-back\nkey b\nscreenshot %s/n-down\nquit\n' "$T" "$T" "$T" >"$T/n.txt"
 view_run "$SCENE" --size 64x36 --script "$T/n.txt"
