@@ -106,6 +106,7 @@ void sl_shadow_sky_free(sl_shadow_sky *sky)
     memset(sky, 0, sizeof *sky);
 }
 
+/* GLSL: sky_map_visibility (softlight-gl's maps, read with texelFetch) */
 float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N)
 {
     const sl_shadow_sun *map = &sky->maps[k];
@@ -148,6 +149,7 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
     return fminf(vis, 1.0f);
 }
 
+/* GLSL: sky_visibility */
 float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each)
 {
     float seen = 0.0f, all = 0.0f;
