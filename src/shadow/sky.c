@@ -79,30 +79,71 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
     return sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
 }
 
+/* Each drawn map's lookup constants in its lane, formed as sl_shadow_sky_map_visibility forms
+ * them per call (so that both round alike). */
+static void sky_lanes(sl_shadow_sky *sky)
+{
+    sl_shadow_sky_lanes *l = &sky->lanes;
+    for (int k = 0; k < sky->count; k++) {
+        const sl_shadow_sun *map = &sky->maps[k];
+        const float size = (float)map->size;
+        l->wx[k] = sky->weight[k].x;
+        l->wy[k] = sky->weight[k].y;
+        l->wz[k] = sky->weight[k].z;
+        l->ax[k] = map->axis.x;
+        l->ay[k] = map->axis.y;
+        l->az[k] = map->axis.z;
+        l->rx[k] = map->right.x;
+        l->ry[k] = map->right.y;
+        l->rz[k] = map->right.z;
+        l->ux[k] = map->up.x;
+        l->uy[k] = map->up.y;
+        l->uz[k] = map->up.z;
+        l->x0[k] = map->x0;
+        l->y0[k] = map->y0;
+        l->offset[k] = map->texel * SKY_NORMAL_OFFSET;
+        l->stepx[k] = map->sx / size;
+        l->stepy[k] = map->sy / size;
+        l->bias[k] = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
+        l->first[k] = (int)(map->depth - sky->block);
+        l->size[k] = map->size;
+    }
+}
+
 bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
                          const sl_scene *scene, sl_error *err)
 {
     if (count < 1 || count > SL_SKY_MAPS_MAX)
         return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
-    /* maps of another size (an earlier build's) are not reused: checked before the frames set
-     * the size */
-    for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
-        if (sky->maps[k].depth && sky->maps[k].size != SL_SKY_MAP_SIZE) {
-            free(sky->maps[k].depth);
-            sky->maps[k].depth = NULL;
+    /* one block for the maps (an earlier build's is reused when it holds as many) */
+    const size_t n = (size_t)SL_SKY_MAP_SIZE * (size_t)SL_SKY_MAP_SIZE;
+    if (sky->block_maps < count) {
+        free(sky->block);
+        sky->block_maps = 0;
+        sky->block = malloc((size_t)count * n * sizeof(float));
+        if (!sky->block) {
+            for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
+                sky->maps[k].depth = NULL;
+            sky->count = 0;
+            return sl_fail(err, SL_ERR_MEMORY, "sky maps: out of memory for %d %dx%d maps", count,
+                           SL_SKY_MAP_SIZE, SL_SKY_MAP_SIZE);
         }
+        sky->block_maps = count;
+    }
+    for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
+        sky->maps[k].depth = k < count ? sky->block + (size_t)k * n : NULL;
     sl_shadow_sky_frames(sky, count, env, env_rotation_deg, scene);
     sky->count = 0;
     if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, err))
         return false;
     sky->count = count;
+    sky_lanes(sky);
     return true;
 }
 
 void sl_shadow_sky_free(sl_shadow_sky *sky)
 {
-    for (int k = 0; k < SL_SKY_MAPS_MAX; k++)
-        free(sky->maps[k].depth);
+    free(sky->block);
     memset(sky, 0, sizeof *sky);
 }
 
@@ -149,9 +190,96 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
     return fminf(vis, 1.0f);
 }
 
+/* i clamped onto 0 .. last, in two selects (a chain of them keeps GCC from vectorizing) */
+static inline int clamp_index(int i, int last)
+{
+    int lo = i < 0 ? 0 : i;
+    return lo > last ? last : lo;
+}
+
+/* sl_shadow_sky_visibility's loop over the maps when they are drawn into the block, a lane a
+ * map: sl_shadow_sky_map_visibility's operations in its order (so each v_k is its value bit for
+ * bit), its branches as selects. A lane whose map is not read (weight 0, direction below the
+ * plane, off the map) computes a value no one reads, from coordinates kept finite and small
+ * before they become indices and every index clamped onto its map: nothing undefined. */
+static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each)
+{
+    const sl_shadow_sky_lanes *l = &sky->lanes;
+    const float *depth = sky->block;
+    const int count = sky->count;
+    float ws[SL_SKY_MAPS_MAX], vs[SL_SKY_MAPS_MAX];
+    float nas[SL_SKY_MAPS_MAX], xqs[SL_SKY_MAPS_MAX], yqs[SL_SKY_MAPS_MAX], zqs[SL_SKY_MAPS_MAX];
+    float uxs[SL_SKY_MAPS_MAX], uys[SL_SKY_MAPS_MAX];
+    const float px = P.x, py = P.y, pz = P.z, nx = N.x, ny = N.y, nz = N.z;
+    /* two loops: with the coordinates' holding select and their truncation in one, GCC moves the
+     * truncation into the select's branch, and a conversion there (it may trap) is not
+     * vectorized */
+#pragma omp simd
+    for (int k = 0; k < count; k++) {
+        const float wd = nx * l->wx[k] + ny * l->wy[k] + nz * l->wz[k];
+        ws[k] = wd > 0.0f ? wd : 0.0f; /* fmaxf(wd, 0): no NaN reaches it but as 0 */
+        nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
+        const float off = l->offset[k];
+        const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
+        const float xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
+        const float yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];
+        xqs[k] = xq;
+        yqs[k] = yq;
+        zqs[k] = qx * l->ax[k] + qy * l->ay[k] + qz * l->az[k];
+        const float ux = (xq - l->x0[k]) / l->stepx[k] - 0.5f, uy = (yq - l->y0[k]) / l->stepy[k] - 0.5f;
+        /* held within 1e7 (NaN too) for the truncation below: whatever lies beyond floors
+         * beyond 1e6, as the held value does, and is not read */
+        uxs[k] = fabsf(ux) < 1e7f ? ux : 1e7f;
+        uys[k] = fabsf(uy) < 1e7f ? uy : 1e7f;
+    }
+#pragma omp simd
+    for (int k = 0; k < count; k++) {
+        const float na = nas[k], xq = xqs[k], yq = yqs[k], zq = zqs[k], ux = uxs[k], uy = uys[k];
+        const float stepx = l->stepx[k], stepy = l->stepy[k];
+        /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
+        const int tx0 = (int)ux, ty0 = (int)uy;
+        const float ftx = (float)tx0, fty = (float)ty0;
+        const bool downx = ftx > ux, downy = fty > uy;
+        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+        const bool read = (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+        const float tx = ux - fx, ty = uy - fy;
+        const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / na;
+        const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / na;
+        const float bias = l->bias[k];
+        const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
+        const int last = l->size[k] - 1, size = l->size[k];
+        const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
+        const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
+        const float dxa = (fx + 0.0f + 0.5f) * stepx + l->x0[k] - xq, dxb = (fx + 1.0f + 0.5f) * stepx + l->x0[k] - xq;
+        const float dya = (fy + 0.0f + 0.5f) * stepy + l->y0[k] - yq, dyb = (fy + 1.0f + 0.5f) * stepy + l->y0[k] - yq;
+        const int rowa = l->first[k] + ya * size, rowb = l->first[k] + yb * size;
+        float vis = 0.0f;
+        vis += depth[rowa + xa] + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
+        vis += depth[rowa + xb] + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
+        vis += depth[rowb + xa] + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
+        vis += depth[rowb + xb] + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
+        vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
+        vs[k] = read ? vis : 1.0f;
+    }
+    float seen = 0.0f, all = 0.0f;
+    for (int k = 0; k < count; k++) {
+        const float w = ws[k];
+        if (each)
+            each[k] = w > 0.0f ? vs[k] : -1.0f;
+        if (w > 0.0f) {
+            seen += vs[k] * w;
+            all += w;
+        }
+    }
+    return all > 0.0f ? seen / all : 1.0f;
+}
+
 /* GLSL: sky_visibility */
 float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each)
 {
+    if (sky->block && sky->count > 0)
+        return sky_visibility_lanes(sky, P, N, each);
     float seen = 0.0f, all = 0.0f;
     for (int k = 0; k < sky->count; k++) {
         float w = fmaxf(dot(N, sky->weight[k]), 0.0f);

@@ -40,10 +40,30 @@
 #define SL_SKY_MAP_SIZE 512 /* texels along a sky map's side */
 #endif
 
+/* The maps' lookup constants, a lane a map (structure of arrays), for sl_shadow_sky_visibility's
+ * loop over the maps: each value as sl_shadow_sky_map_visibility forms it per call. */
+typedef struct {
+    float wx[SL_SKY_MAPS_MAX], wy[SL_SKY_MAPS_MAX], wz[SL_SKY_MAPS_MAX]; /* m_k */
+    float ax[SL_SKY_MAPS_MAX], ay[SL_SKY_MAPS_MAX], az[SL_SKY_MAPS_MAX]; /* axis */
+    float rx[SL_SKY_MAPS_MAX], ry[SL_SKY_MAPS_MAX], rz[SL_SKY_MAPS_MAX]; /* right */
+    float ux[SL_SKY_MAPS_MAX], uy[SL_SKY_MAPS_MAX], uz[SL_SKY_MAPS_MAX]; /* up */
+    float x0[SL_SKY_MAPS_MAX], y0[SL_SKY_MAPS_MAX];
+    float offset[SL_SKY_MAPS_MAX];           /* the normal offset, world units */
+    float stepx[SL_SKY_MAPS_MAX], stepy[SL_SKY_MAPS_MAX]; /* world units per texel */
+    float bias[SL_SKY_MAPS_MAX];
+    int first[SL_SKY_MAPS_MAX];              /* the map's first texel in the block */
+    int size[SL_SKY_MAPS_MAX];
+} sl_shadow_sky_lanes;
+
 typedef struct {
     int count;                        /* maps, 0 .. SL_SKY_MAPS_MAX */
     sl_shadow_sun maps[SL_SKY_MAPS_MAX]; /* maps[k].dir: normalize(weight[k]), or d_k (world) */
     vec3 weight[SL_SKY_MAPS_MAX];     /* m_k in the world (the environment's rotation applied) */
+    /* the drawn maps' depths, one block (maps[k].depth points into it), so that one lookup
+     * reads every map's texels by 32-bit offsets from one base; NULL for frames alone */
+    float *block;
+    int block_maps;                   /* maps the block holds */
+    sl_shadow_sky_lanes lanes;        /* set with the block's maps drawn */
 } sl_shadow_sky;
 
 /* The k-th of `count` spherical Fibonacci directions (environment space, unit). */
