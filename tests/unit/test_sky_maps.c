@@ -1,0 +1,150 @@
+/* test_sky_maps.c - the sky visibility maps' lookup (src/shadow/sky.c): sl_shadow_sky_visibility
+ * reads every map in one loop, a lane a map; sl_shadow_sky_map_visibility is the scalar lookup of
+ * one map that the GLSL twin mirrors. Over maps drawn from a small scene (a floor, a sphere and a
+ * box under a bright sky), V and each map's v_k from the one must equal, bit for bit, the other's
+ * per-map loop, for thousands of points on the surfaces (in contact shadows, on slopes, edge-on
+ * to a map) and of odd points (off every map, huge, NaN). */
+#include "shading_fixtures.h"
+
+#include <stdio.h>
+
+#include "raster/raster.h"
+#include "scene/scene.h"
+#include "shadow/sky.h"
+
+static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n"
+                           " \"environment\": {\"hdr\": \"none.hdr\"},\n"
+                           " \"materials\": {\"m\": {\"kd\": 0.5}},\n"
+                           " \"objects\": [\n"
+                           "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [4, 4, 1]}},\n"
+                           "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0.5, 0, 1]}},\n"
+                           "  {\"shape\": \"box\", \"material\": \"m\", \"transform\": {\"translate\": [-1.5, 1, 0.5],"
+                           " \"rotate\": [0, 0, 1, 30], \"scale\": [0.5, 1.5, 1]}}\n"
+                           " ]}";
+
+/* brighter upward, a dim ground, a sun: every cell weighs something, unevenly */
+static vec3 sky(vec3 d)
+{
+    float up = d.z > 0.0f ? d.z : 0.0f;
+    float sun = dot(d, normalize(vec3(0.4f, -0.3f, 0.8f))) > 0.99f ? 50.0f : 0.0f;
+    return vec3(0.2f + up + sun, 0.25f + up + sun, 0.3f + 1.5f * up + sun);
+}
+
+static uint32_t rng_state = 12345u;
+static float rnd(void) /* [0, 1) */
+{
+    rng_state = rng_state * 1664525u + 1013904223u;
+    return (float)(rng_state >> 8) / 16777216.0f;
+}
+static vec3 rnd_dir(void)
+{
+    float z = 2.0f * rnd() - 1.0f, phi = 2.0f * SL_PI * rnd(), r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
+    return vec3(r * cosf(phi), r * sinf(phi), z);
+}
+
+/* The reference: V from the scalar lookup, map by map (sky.h's formula, in k order). */
+static float reference(const sl_shadow_sky *s, vec3 P, vec3 N, float *each)
+{
+    float seen = 0.0f, all = 0.0f;
+    for (int k = 0; k < s->count; k++) {
+        float w = fmaxf(dot(N, s->weight[k]), 0.0f);
+        float v = w > 0.0f ? sl_shadow_sky_map_visibility(s, k, P, N) : -1.0f;
+        each[k] = v;
+        if (w > 0.0f) {
+            seen += v * w;
+            all += w;
+        }
+    }
+    return all > 0.0f ? seen / all : 1.0f;
+}
+
+/* One (P, N): V and every v_k equal the reference's bits. Counts the points partly hidden. */
+static void check(const sl_shadow_sky *s, vec3 P, vec3 N, int *partial, int *checked)
+{
+    float each[SL_SKY_MAPS_MAX], ref_each[SL_SKY_MAPS_MAX];
+    float V = sl_shadow_sky_visibility(s, P, N, each);
+    float R = reference(s, P, N, ref_each);
+    if (memcmp(&V, &R, sizeof V) != 0 || memcmp(each, ref_each, (size_t)s->count * sizeof *each) != 0) {
+        int k = 0;
+        while (k < s->count && memcmp(&each[k], &ref_each[k], sizeof *each) == 0)
+            k++;
+        fail_msg("K %d, P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): V %.9g, reference %.9g; first map apart %d: %.9g %.9g",
+                 s->count, P.x, P.y, P.z, N.x, N.y, N.z, V, R, k, k < s->count ? each[k] : 0.0f,
+                 k < s->count ? ref_each[k] : 0.0f);
+    }
+    *partial += V > 0.0f && V < 1.0f;
+    *checked += 1;
+}
+
+static void test_lanes_match_scalar(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, &scene, &err))
+        fail_msg("%s", err.msg);
+    sl_env env;
+    fx_env(&env, 64, 32, sky);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    if (!r)
+        fail_msg("%s", err.msg);
+    sl_shadow_sky s;
+    memset(&s, 0, sizeof s);
+    /* 64 then 7 then 32: a block reused by fewer maps, then grown */
+    const int counts[] = {64, 7, 32};
+    for (int c = 0; c < 3; c++) {
+        if (!sl_shadow_sky_build(&s, counts[c], &env, 20.0f * (float)c, r, &scene, &err))
+            fail_msg("%s", err.msg);
+        assert_non_null(s.block);
+        int partial = 0, checked = 0;
+        for (int i = 0; i < 60000; i++) {
+            vec3 P, N;
+            float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
+            switch (i % 4) {
+            case 0: /* the floor, normal up (tilted a little now and then) */
+                P = vec3(4.0f * u, 4.0f * v, 0.0f);
+                N = i % 8 ? vec3(0, 0, 1) : normalize(add(vec3(0, 0, 1), scale(rnd_dir(), 0.3f)));
+                break;
+            case 1: /* the sphere */
+                N = rnd_dir();
+                P = add(vec3(0.5f, 0, 1), N);
+                break;
+            case 2: /* anywhere about the scene, any way */
+                P = vec3(5.0f * u, 5.0f * v, 3.0f * rnd() - 0.5f);
+                N = rnd_dir();
+                break;
+            default: /* the floor by the box, normals near the horizon (edge-on to some maps) */
+                P = vec3(-1.5f + 1.5f * u, 1.0f + 2.0f * v, 0.0f);
+                N = normalize(vec3(u, v, 0.02f * rnd()));
+                break;
+            }
+            check(&s, P, N, &partial, &checked);
+        }
+        /* off every map, huge, non-finite */
+        const vec3 odd_P[] = {vec3(1e4f, 0, 0), vec3(-3e9f, 2e9f, 1), vec3(0, 0, 1e30f), vec3(NAN, 0, 0),
+                              vec3(INFINITY, 0, 0), vec3(0, -INFINITY, 0)};
+        for (size_t p = 0; p < sizeof odd_P / sizeof odd_P[0]; p++) {
+            for (int j = 0; j < 20; j++)
+                check(&s, odd_P[p], rnd_dir(), &partial, &checked);
+            check(&s, odd_P[p], vec3(0, 0, 1), &partial, &checked);
+        }
+        check(&s, vec3(0, 0, 0), vec3(NAN, 0, 0), &partial, &checked);
+        check(&s, vec3(0, 0, 0), vec3(0, 0, 0), &partial, &checked);
+        /* the comparison means something: many points see part of the sky */
+        if (partial < checked / 20)
+            fail_msg("K %d: only %d of %d points partly hidden", counts[c], partial, checked);
+    }
+    sl_shadow_sky_free(&s);
+    assert_null(s.block);
+    sl_raster_destroy(r);
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
+int main(void)
+{
+    const struct CMUnitTest tests[] = {
+        cmocka_unit_test(test_lanes_match_scalar),
+    };
+    return cmocka_run_group_tests(tests, NULL, NULL);
+}
