@@ -242,7 +242,7 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
         const bool downx = ftx > ux, downy = fty > uy;
         const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
         const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-        const bool read = (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+        const bool read = (ws[k] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
         const float tx = ux - fx, ty = uy - fy;
         const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / na;
         const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / na;
@@ -254,11 +254,15 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
         const float dxa = (fx + 0.0f + 0.5f) * stepx + l->x0[k] - xq, dxb = (fx + 1.0f + 0.5f) * stepx + l->x0[k] - xq;
         const float dya = (fy + 0.0f + 0.5f) * stepy + l->y0[k] - yq, dyb = (fy + 1.0f + 0.5f) * stepy + l->y0[k] - yq;
         const int rowa = l->first[k] + ya * size, rowb = l->first[k] + yb * size;
+        /* the texels only where the map is read (the maps outgrow the caches: a map not read
+         * costs no memory traffic) */
+        const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
+        const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
         float vis = 0.0f;
-        vis += depth[rowa + xa] + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
-        vis += depth[rowa + xb] + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
-        vis += depth[rowb + xa] + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
-        vis += depth[rowb + xb] + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
+        vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
+        vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
+        vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
+        vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
         vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
         vs[k] = read ? vis : 1.0f;
     }
