@@ -1,5 +1,7 @@
 /* sky.c - the sky visibility maps (sky.h): the directions, their cells' weights from the
- * environment, the maps (drawn by shadow.c's orthographic machinery) and the per-point lookup. */
+ * environment, the maps (drawn by shadow.c's orthographic machinery, into one block) and the
+ * per-point lookup: every map in one loop, a lane a map, equal bit for bit to the scalar lookup
+ * of one map (sl_shadow_sky_map_visibility, which the GLSL twin mirrors and trace reports). */
 #include "sky.h"
 
 #include <math.h>
@@ -56,31 +58,8 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
     }
 }
 
-bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg,
-                          const sl_scene *scene)
-{
-    /* environment -> world: a turn by +rotation about +Z (shadow.c sl_shadow_suns_frames) */
-    float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
-    vec3 dirs[SL_SKY_MAPS_MAX], m[SL_SKY_MAPS_MAX];
-    for (int k = 0; k < count; k++)
-        dirs[k] = sl_shadow_sky_direction(k, count);
-    cell_weights(env, dirs, count, m);
-    for (int k = 0; k < count; k++) {
-        /* each map looks along its cell's luminous centroid, normalize(m_k), where the cell's
-         * light comes from: a cell across the horizon with a bright sky above and a dark ground
-         * below is the sky's, not its centre's (the centre's would count the ground's occluders
-         * against the sky's light); d_k for a black cell */
-        float len = length(m[k]);
-        vec3 e = len > 0.0f ? scale(m[k], 1.0f / len) : dirs[k];
-        sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
-        sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
-    }
-    sky->count = count;
-    return sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
-}
-
-/* Each drawn map's lookup constants in its lane, formed as sl_shadow_sky_map_visibility forms
- * them per call (so that both round alike). */
+/* Each map's lookup constants in its lane, formed as sl_shadow_sky_map_visibility forms them per
+ * call (so that both round alike); its first texel's offset in the block when it has one. */
 static void sky_lanes(sl_shadow_sky *sky)
 {
     sl_shadow_sky_lanes *l = &sky->lanes;
@@ -105,9 +84,34 @@ static void sky_lanes(sl_shadow_sky *sky)
         l->stepx[k] = map->sx / size;
         l->stepy[k] = map->sy / size;
         l->bias[k] = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
-        l->first[k] = (int)(map->depth - sky->block);
+        l->first[k] = sky->block && map->depth ? (int)(map->depth - sky->block) : 0;
         l->size[k] = map->size;
     }
+}
+
+bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg,
+                          const sl_scene *scene)
+{
+    /* environment -> world: a turn by +rotation about +Z (shadow.c sl_shadow_suns_frames) */
+    float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
+    vec3 dirs[SL_SKY_MAPS_MAX], m[SL_SKY_MAPS_MAX];
+    for (int k = 0; k < count; k++)
+        dirs[k] = sl_shadow_sky_direction(k, count);
+    cell_weights(env, dirs, count, m);
+    for (int k = 0; k < count; k++) {
+        /* each map looks along its cell's luminous centroid, normalize(m_k), where the cell's
+         * light comes from: a cell across the horizon with a bright sky above and a dark ground
+         * below is the sky's, not its centre's (the centre's would count the ground's occluders
+         * against the sky's light); d_k for a black cell */
+        float len = length(m[k]);
+        vec3 e = len > 0.0f ? scale(m[k], 1.0f / len) : dirs[k];
+        sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
+        sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
+    }
+    sky->count = count;
+    bool geometry = sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
+    sky_lanes(sky);
+    return geometry;
 }
 
 bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
@@ -115,7 +119,8 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
 {
     if (count < 1 || count > SL_SKY_MAPS_MAX)
         return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
-    /* one block for the maps (an earlier build's is reused when it holds as many) */
+    /* one block for the maps (an earlier build's is reused when it holds as many: it keeps the
+     * most maps asked for) */
     const size_t n = (size_t)SL_SKY_MAP_SIZE * (size_t)SL_SKY_MAP_SIZE;
     if (sky->block_maps < count) {
         free(sky->block);
@@ -137,7 +142,6 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
     if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, err))
         return false;
     sky->count = count;
-    sky_lanes(sky);
     return true;
 }
 
@@ -190,7 +194,7 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
     return fminf(vis, 1.0f);
 }
 
-/* i clamped onto 0 .. last, in two selects (a chain of them keeps GCC from vectorizing) */
+/* i clamped onto 0 .. last */
 static inline int clamp_index(int i, int last)
 {
     int lo = i < 0 ? 0 : i;
@@ -217,7 +221,7 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
 #pragma omp simd
     for (int k = 0; k < count; k++) {
         const float wd = nx * l->wx[k] + ny * l->wy[k] + nz * l->wz[k];
-        ws[k] = wd > 0.0f ? wd : 0.0f; /* fmaxf(wd, 0): no NaN reaches it but as 0 */
+        ws[k] = wd > 0.0f ? wd : 0.0f; /* fmaxf(wd, 0) but for NaN and -0, which weigh 0 alike */
         nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
         const float off = l->offset[k];
         const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;

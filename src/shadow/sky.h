@@ -63,7 +63,7 @@ typedef struct {
      * reads every map's texels by 32-bit offsets from one base; NULL for frames alone */
     float *block;
     int block_maps;                   /* maps the block holds */
-    sl_shadow_sky_lanes lanes;        /* set with the block's maps drawn */
+    sl_shadow_sky_lanes lanes;        /* set by sl_shadow_sky_frames */
 } sl_shadow_sky;
 
 /* The k-th of `count` spherical Fibonacci directions (environment space, unit). */
@@ -85,7 +85,9 @@ void sl_shadow_sky_free(sl_shadow_sky *sky);
  * direction is below P's plane (its ray never meets the receiver). */
 float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N);
 /* V at world point P with unit normal N (world); each (may be NULL) receives every map's v_k,
- * -1 for a map not read (its weight is 0 at N). */
+ * -1 for a map not read (its weight is 0 at N). Every map in one loop, a lane a map, when they
+ * are drawn (the block): V and each v_k equal, bit for bit, those of a loop over
+ * sl_shadow_sky_map_visibility (tests/unit/test_sky_maps.c). */
 float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each);
 
 #endif
