@@ -19,7 +19,8 @@
  *       float texels), the Phong or the GGX chain: one loop per chain a span uses, a select
  *       when it mixes;
  *   (5) the irradiance, vectorized: sl_irradiance_eval_span (the port's bits) for SH9 and the
- *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv;
+ *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv; with the sky
+ *       visibility maps, times their V a covered pixel at a time (sky_stage, the port's bits);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
  *   (7) the background of empty pixels (sl_shade_background_span, the batched path's);
@@ -66,8 +67,7 @@ typedef struct {
 
 bool sl_shade_splitsum_fast(const sl_lighting_uniforms *u)
 {
-    /* the sky visibility maps' V is the batched path's (lighting_batched.c sky_scale) */
-    return u->uEstimator == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 && !u->skyMaps &&
+    return u->uEstimator == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 &&
            u->splitSumPhongGather.gather && u->splitSumGGXGather.gather &&
            u->uSplitSumPhong->level_count == u->uSplitSumGGX->level_count &&
            u->uSplitSumPhong->levels[0].width == u->uSplitSumGGX->levels[0].width &&
@@ -306,6 +306,23 @@ static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_
     }
 }
 
+/* (5) with the sky visibility maps, their V on each covered pixel's irradiance: the port's
+ * scale(E, V), the same bits (src/shadow/sky.h: one lookup over the maps a pixel). */
+__attribute__((noinline)) /* a stage: see the top of the file */
+static void sky_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
+                      splitsum_block *b)
+{
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
+    for (int i = 0; i < count; i++) {
+        if (t[i].depth >= 1.0f)
+            continue;
+        float V = sl_shadow_sky_visibility(u->skyMaps, t[i].position, vec3(b->Nx[i], b->Ny[i], b->Nz[i]), NULL);
+        b->er[i] *= V;
+        b->eg[i] *= V;
+        b->eb[i] *= V;
+    }
+}
+
 /* (6) main()'s sum without the point lights, in sl_shade_surface_color's order: diffuse
  * (Kd / pi) E I, plus the specular term, times the occlusion. */
 __attribute__((noinline)) /* a stage: see the top of the file */
@@ -413,6 +430,8 @@ static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
     specular_stage(u, count, b);
     if (u->uDiffuse != 0) {
         irradiance_stage(u, count, b);
+        if (u->skyMaps)
+            sky_stage(u, gb, x0, y, count, b);
     } else { /* sum_stage multiplies the diffuse term by 0 */
         memset(b->er, 0, sizeof b->er);
         memset(b->eg, 0, sizeof b->eg);

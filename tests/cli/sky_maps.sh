@@ -44,6 +44,15 @@ open(T + '/v.txt', 'w').write("V at the wall's foot %.3f (want 0.5 +- 0.1), at m
 sys.exit(not (abs(foot - 0.5) < 0.1 and far > 0.85))
 PY
 
+# every path applies V: the default (batched) path, the split sum's own fast path and the port
+# (--plain) give the wall's diffuse to within float rounding (the port's V, the same bits in each)
+"$SL" render "$T/wall.json" $R --sky-maps 32 --estimator splitsum --pfm "$T/ss.pfm"
+"$SL" render "$T/wall.json" $R --sky-maps 32 --plain --pfm "$T/plain.pfm"
+for p in on ss; do
+    "$SL" compare "$T/$p.pfm" "$T/plain.pfm" --metric max --tolerance 1e-5 >/dev/null &&
+        ok "$p path against the port: max 1e-5" || bad "$p path against the port: $("$SL" compare "$T/$p.pfm" "$T/plain.pfm" | grep 'max abs')"
+done
+
 line=$("$SL" trace "$T/wall.json" --size $S --no-lights --sky-maps 32 --pixel 32,30 | grep "^  sky vis")
 [ -n "$line" ] && ok "trace prints V: ${line:0:60}..." || bad "trace has no sky vis line"
 
