@@ -106,6 +106,10 @@ int sl_prefilter_samples(int level, int samples);
 vec2 sl_dir_to_uv(vec3 d);
 vec3 sl_uv_to_dir(vec2 uv);
 
+/* Rec. 709 luminance of a linear radiance: what the sky maps' cells are weighted by and the env
+ * lights' clusters ranked by (src/shadow). */
+static inline float sl_luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
 /* GLSL textureLod(sampler2D, uv, lod) for the environment (texture_lod.c). Non-finite uv reads
  * as 0, NaN lod as 0; never reads out of bounds; an empty env gives 0. */
 vec3 sl_env_texture_lod(const sl_env *env, vec2 uv, float lod);

@@ -3,6 +3,8 @@
  * percentage-closer lookup (shadow.h says what and why). */
 #include "shadow.h"
 
+#include "ibl/ibl.h"
+
 #include <float.h>
 #include <math.h>
 #include <stdlib.h>
@@ -304,9 +306,6 @@ float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
 
 /* ---- the env lights' orthographic maps ---- */
 
-/* Rec. 709 luminance: a light's power for the cluster's weighted direction */
-static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
-
 /* Greedy clusters, brightest light first (env_lights.h keeps them sorted): a light joins the
  * first cluster whose seed is within SL_SHADOW_SUN_CLUSTER_DEG, else seeds one while there is
  * room, else stays unmapped. Directions in world space. */
@@ -320,7 +319,7 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
     for (int j = 0; j < lights->count; j++) {
         int c = -1;
         m->env_light_sun[j] = -1;
-        if (!(luminance(lights->radiance[j]) > 0.0f))
+        if (!(sl_luminance(lights->radiance[j]) > 0.0f))
             continue; /* a black light (more asked than lit texels) adds nothing: no map */
         for (int k = 0; k < m->count && c < 0; k++)
             if (dot(world[seed[k]], world[j]) >= cos_max)
@@ -334,7 +333,7 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
         m->env_light_sun[j] = (signed char)c;
         if (c < 0)
             continue;
-        sum[c] = add(sum[c], scale(world[j], luminance(lights->radiance[j])));
+        sum[c] = add(sum[c], scale(world[j], sl_luminance(lights->radiance[j])));
         m->maps[c].lights++;
     }
     /* a cluster with too small a share of the environment's light gets no map: its lights stay
@@ -342,7 +341,7 @@ static void cluster_lights(sl_shadow_suns *m, const vec3 *world, const sl_env_li
      * luminous power, radiance times node weight) */
     double power[SL_SHADOW_SUN_MAX] = {0.0}, all = 0.0;
     for (int j = 0; j < lights->count; j++) {
-        double p = (double)luminance(lights->radiance[j]);
+        double p = (double)sl_luminance(lights->radiance[j]);
         all += p > 0.0 ? p : 0.0;
         if (m->env_light_sun[j] >= 0)
             power[m->env_light_sun[j]] += p;

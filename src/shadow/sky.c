@@ -23,7 +23,6 @@ vec3 sl_shadow_sky_direction(int k, int count)
     return vec3(r * cosf(phi), r * sinf(phi), z);
 }
 
-static float luminance(vec3 c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 /* m_k = sum over cell k's level-0 texels of lum(L) w dOmega (environment space). A texel joins
  * the direction nearest its centre's. */
@@ -39,7 +38,7 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
     for (int y = 0; y < l->height; y++) {
         float v = ((float)y + 0.5f) / (float)l->height;
         for (int x = 0; x < l->width; x++) {
-            float lum = luminance(l->texels[(size_t)y * (size_t)l->width + (size_t)x]);
+            float lum = sl_luminance(l->texels[(size_t)y * (size_t)l->width + (size_t)x]);
             if (!(lum > 0.0f))
                 continue;
             vec3 w = sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)l->width, v));
