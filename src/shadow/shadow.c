@@ -511,26 +511,12 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     if (s < 0 || s >= m->count)
         return 1.0f;
     const sl_shadow_sun *sun = &m->maps[s];
-    /* every tap's ray runs along the axis: N.axis >= 0 faces away from the lights (they add
-     * nothing there) or grazes them (the plane is never met) */
-    float na = dot(N, sun->axis);
-    if (!(na < -1e-6f))
-        return 1.0f;
-    const float size = (float)sun->size;
-    vec3 q = add(P, scale(N, sun->texel * SHADOW_NORMAL_OFFSET));
-    float xq = dot(q, sun->right), yq = dot(q, sun->up), zq = dot(q, sun->axis);
-    float stepx = sun->sx / size, stepy = sun->sy / size; /* world units per texel */
-    /* texel coordinates, texel centres at integers */
-    float ux = (xq - sun->x0) / stepx - 0.5f, uy = (yq - sun->y0) / stepy - 0.5f;
-    float fx = floorf(ux), fy = floorf(uy);
-    if (!(fabsf(fx) < 1e6f && fabsf(fy) < 1e6f))
-        return 1.0f; /* non-finite or far off the map: nothing there casts */
-    float tx = ux - fx, ty = uy - fy;
+    sl_shadow_ortho_at at;
+    if (!sl_shadow_ortho_locate(sun, P, N, sun->texel * SHADOW_NORMAL_OFFSET, &at))
+        return 1.0f; /* facing away from the lights, or off the map: nothing there casts */
+    const float xq = at.xq, yq = at.yq, zq = at.zq, fx = at.fx, fy = at.fy, tx = at.tx, ty = at.ty;
+    const float stepx = at.stepx, stepy = at.stepy, gx = at.gx, gy = at.gy;
     int x0 = (int)fx - 1, y0 = (int)fy - 1;
-    /* the receiver's plane (through q, normal N) at the tap's lateral offset (dx, dy) from q lies
-     * at depth zq - (N.right dx + N.up dy) / N.axis: each tap is compared with the receiver's own
-     * depth under it, so a tilted plane needs no slope-sized bias (the cube maps' rule) */
-    float gx = -dot(N, sun->right) / na, gy = -dot(N, sun->up) / na;
     float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
     const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
     const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};

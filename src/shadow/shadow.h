@@ -43,6 +43,7 @@
 #ifndef SL_SHADOW_H
 #define SL_SHADOW_H
 
+#include <math.h>
 #include <stdbool.h>
 
 #include "core/error.h"
@@ -122,6 +123,48 @@ mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
  * False (and err) on no memory or a failed draw. */
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
                            sl_error *err);
+/* Where a receiver, world point P with unit normal N, falls on orthographic map `map`: the point
+ * moved `offset` (world units) along N, in the map's frame (xq, yq, zq); its texel coordinates
+ * (texel centres at integers) as floor (fx, fy) and fraction (tx, ty); world units per texel; and
+ * the slope of the receiver's plane (through the moved point, normal N), whose depth at a lateral
+ * offset (dx, dy) from it is zq + gx dx + gy dy: each tap of a lookup is compared with the
+ * receiver's own depth under it, so a tilted plane needs no slope-sized bias. False where the map
+ * has nothing to say: N.axis >= 0 (every tap's ray runs along the axis: the surface faces away
+ * from the map's light or grazes it, and the plane is never met) or a point off the map (or
+ * non-finite). The env lights' lookup (sl_shadow_sun_visibility) and the sky maps'
+ * (sky.c) start here. */
+typedef struct {
+    float xq, yq, zq;
+    float fx, fy, tx, ty;
+    float stepx, stepy;
+    float gx, gy;
+} sl_shadow_ortho_at;
+
+static inline bool sl_shadow_ortho_locate(const sl_shadow_sun *map, vec3 P, vec3 N, float offset,
+                                          sl_shadow_ortho_at *at)
+{
+    float na = dot(N, map->axis);
+    if (!(na < -1e-6f))
+        return false;
+    const float size = (float)map->size;
+    vec3 q = add(P, scale(N, offset));
+    at->xq = dot(q, map->right);
+    at->yq = dot(q, map->up);
+    at->zq = dot(q, map->axis);
+    at->stepx = map->sx / size;
+    at->stepy = map->sy / size;
+    float ux = (at->xq - map->x0) / at->stepx - 0.5f, uy = (at->yq - map->y0) / at->stepy - 0.5f;
+    at->fx = floorf(ux);
+    at->fy = floorf(uy);
+    if (!(fabsf(at->fx) < 1e6f && fabsf(at->fy) < 1e6f))
+        return false;
+    at->tx = ux - at->fx;
+    at->ty = uy - at->fy;
+    at->gx = -dot(N, map->right) / na;
+    at->gy = -dot(N, map->up) / na;
+    return true;
+}
+
 /* The frames and boxes sl_shadow_ortho_build gives maps[0 .. count - 1], without drawing (each
  * map's depth is left as it was): softlight-gl draws its own sky maps from these. False when the
  * scene has no geometry (every depth +inf). */

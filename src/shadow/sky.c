@@ -154,21 +154,12 @@ void sl_shadow_sky_free(sl_shadow_sky *sky)
 float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N)
 {
     const sl_shadow_sun *map = &sky->maps[k];
-    float na = dot(N, map->axis);
-    if (!(na < -1e-6f))
-        return 1.0f; /* the direction is below P's plane: its ray never meets the receiver */
-    const float size = (float)map->size;
-    vec3 q = add(P, scale(N, map->texel * SKY_NORMAL_OFFSET));
-    float xq = dot(q, map->right), yq = dot(q, map->up), zq = dot(q, map->axis);
-    float stepx = map->sx / size, stepy = map->sy / size; /* world units per texel */
-    float ux = (xq - map->x0) / stepx - 0.5f, uy = (yq - map->y0) / stepy - 0.5f;
-    float fx = floorf(ux), fy = floorf(uy);
-    if (!(fabsf(fx) < 1e6f && fabsf(fy) < 1e6f))
-        return 1.0f; /* non-finite or far off the map: nothing there casts */
-    float tx = ux - fx, ty = uy - fy;
+    sl_shadow_ortho_at at;
+    if (!sl_shadow_ortho_locate(map, P, N, map->texel * SKY_NORMAL_OFFSET, &at))
+        return 1.0f; /* the direction below P's plane, or off the map: nothing there casts */
+    const float xq = at.xq, yq = at.yq, zq = at.zq, fx = at.fx, fy = at.fy, tx = at.tx, ty = at.ty;
+    const float stepx = at.stepx, stepy = at.stepy, gx = at.gx, gy = at.gy;
     int x0 = (int)fx, y0 = (int)fy;
-    /* each tap compared with the receiver plane's depth under it (shadow.c's rule) */
-    float gx = -dot(N, map->right) / na, gy = -dot(N, map->up) / na;
     float bias = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
     const float wx[2] = {1.0f - tx, tx}, wy[2] = {1.0f - ty, ty};
     const int last = map->size - 1;
