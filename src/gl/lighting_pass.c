@@ -345,6 +345,35 @@ bool slgl_lighting_set_environment(slgl_lighting *l, const sl_env *env, const sl
 
 static GLint loc(GLuint program, const char *name) { return glGetUniformLocation(program, name); }
 
+/* The uniforms of one kind of orthographic map: its frames' axis, right, up, box and depth. */
+typedef struct {
+    const char *axis, *right, *up, *box, *depth;
+} ortho_uniforms;
+
+/* Orthographic maps[0 .. count - 1]'s frames and boxes, as src/shadow has them (the lookup's
+ * arithmetic starts from the C lookup's numbers): the env lights' and the sky maps'. */
+static void upload_ortho_frames(GLuint p, ortho_uniforms names, const sl_shadow_sun *maps, int count)
+{
+    enum { MAX = SL_SKY_MAPS_MAX > SL_SHADOW_SUN_MAX ? SL_SKY_MAPS_MAX : SL_SHADOW_SUN_MAX };
+    if (count <= 0)
+        return;
+    vec3 axis[MAX], right[MAX], up[MAX];
+    vec4 box[MAX];
+    vec2 depth[MAX];
+    for (int k = 0; k < count; k++) {
+        axis[k] = maps[k].axis;
+        right[k] = maps[k].right;
+        up[k] = maps[k].up;
+        box[k] = vec4(maps[k].x0, maps[k].y0, maps[k].sx, maps[k].sy);
+        depth[k] = vec2(maps[k].sz, maps[k].texel);
+    }
+    glUniform3fv(loc(p, names.axis), count, &axis[0].x);
+    glUniform3fv(loc(p, names.right), count, &right[0].x);
+    glUniform3fv(loc(p, names.up), count, &up[0].x);
+    glUniform4fv(loc(p, names.box), count, &box[0].x);
+    glUniform2fv(loc(p, names.depth), count, &depth[0].x);
+}
+
 /* Copy sl_lighting_uniforms into the program, field by field, name by name; the shadow maps'
  * samplers and layer tables from GL's own maps (uniforms' shadowMaps are softlight's). */
 static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_shadows *shadows)
@@ -410,24 +439,10 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     int count = suns ? suns->count : 0;
     glUniform1i(loc(p, "uShadowSuns"), UNIT_SHADOW_SUNS);
     glUniform1i(loc(p, "uShadowSunCount"), count);
-    vec3 axis[SL_SHADOW_SUN_MAX], right[SL_SHADOW_SUN_MAX], up[SL_SHADOW_SUN_MAX];
-    vec4 box[SL_SHADOW_SUN_MAX];
-    vec2 depth[SL_SHADOW_SUN_MAX];
-    for (int k = 0; k < count; k++) {
-        const sl_shadow_sun *sun = &suns->maps[k];
-        axis[k] = sun->axis;
-        right[k] = sun->right;
-        up[k] = sun->up;
-        box[k] = vec4(sun->x0, sun->y0, sun->sx, sun->sy);
-        depth[k] = vec2(sun->sz, sun->texel);
-    }
-    if (count > 0) {
-        glUniform3fv(loc(p, "uShadowSunAxis"), count, &axis[0].x);
-        glUniform3fv(loc(p, "uShadowSunRight"), count, &right[0].x);
-        glUniform3fv(loc(p, "uShadowSunUp"), count, &up[0].x);
-        glUniform4fv(loc(p, "uShadowSunBox"), count, &box[0].x);
-        glUniform2fv(loc(p, "uShadowSunDepth"), count, &depth[0].x);
-    }
+    upload_ortho_frames(p,
+                        (ortho_uniforms){"uShadowSunAxis", "uShadowSunRight", "uShadowSunUp", "uShadowSunBox",
+                                         "uShadowSunDepth"},
+                        suns ? suns->maps : NULL, count);
     int sun_of[SL_ENV_LIGHTS_MAX];
     for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
         sun_of[j] = suns && j < suns->env_light_count ? suns->env_light_sun[j] : -1;
@@ -437,25 +452,10 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     int sky_count = sky ? sky->count : 0;
     glUniform1i(loc(p, "uSkyMaps"), UNIT_SHADOW_SKY);
     glUniform1i(loc(p, "uSkyMapCount"), sky_count);
-    vec3 sky_axis[SL_SKY_MAPS_MAX], sky_right[SL_SKY_MAPS_MAX], sky_up[SL_SKY_MAPS_MAX];
-    vec4 sky_box[SL_SKY_MAPS_MAX];
-    vec2 sky_depth[SL_SKY_MAPS_MAX];
-    for (int k = 0; k < sky_count; k++) {
-        const sl_shadow_sun *map = &sky->maps[k];
-        sky_axis[k] = map->axis;
-        sky_right[k] = map->right;
-        sky_up[k] = map->up;
-        sky_box[k] = vec4(map->x0, map->y0, map->sx, map->sy);
-        sky_depth[k] = vec2(map->sz, map->texel);
-    }
-    if (sky_count > 0) {
-        glUniform3fv(loc(p, "uSkyMapAxis"), sky_count, &sky_axis[0].x);
-        glUniform3fv(loc(p, "uSkyMapRight"), sky_count, &sky_right[0].x);
-        glUniform3fv(loc(p, "uSkyMapUp"), sky_count, &sky_up[0].x);
-        glUniform4fv(loc(p, "uSkyMapBox"), sky_count, &sky_box[0].x);
-        glUniform2fv(loc(p, "uSkyMapDepth"), sky_count, &sky_depth[0].x);
+    upload_ortho_frames(p, (ortho_uniforms){"uSkyMapAxis", "uSkyMapRight", "uSkyMapUp", "uSkyMapBox", "uSkyMapDepth"},
+                        sky ? sky->maps : NULL, sky_count);
+    if (sky_count > 0)
         glUniform3fv(loc(p, "uSkyMapWeight"), sky_count, &sky->weight[0].x);
-    }
 }
 
 /* The uniforms' lights read maps (softlight's, sl_lighting_uniforms.shadowMaps) where and only
