@@ -61,6 +61,15 @@ gl_within() {
     [ "$status" = 0 ] && gl_check_share "$1" "$T/$1.txt" 0.1
 }
 
+# gl_outside NAME A B WHY: the case must fail gl_within (a GL image that leaves out what C's has,
+# the test's proof that it can see the feature); otherwise print "FAIL WHY" and return 1.
+gl_outside() {
+    if gl_within "$1" "$2" "$3" >/dev/null; then
+        echo "FAIL $4"
+        return 1
+    fi
+}
+
 # gl_compare_estimator NAME SCENE ESTIMATOR P99_TOL OVER8_PERCENT [options...]: render SCENE with
 # --estimator ESTIMATOR and the options through softlight (at GL_TEST_SIZE, with its G-buffer) and
 # through softlight-gl on that G-buffer, print the comparison's line, and return 1 unless the p99

@@ -50,10 +50,8 @@ pair lamp-key "$T/lamp-key.json" || { echo "FAIL lamp, \"shadow\": true: outside
 "$GL" render scenes/lamp.json --gbuffer "$T/lamp" --no-lights --pfm "$T/lamp/g-env.pfm"
 "$SL" render scenes/lamp.json --size "$GL_TEST_SIZE" -q --pfm "$T/lamp/c0.pfm"
 "$SL" render scenes/lamp.json --size "$GL_TEST_SIZE" -q --no-lights --pfm "$T/lamp/c-env.pfm"
-if gl_within "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" >/dev/null; then
-    echo "FAIL GL's image without shadow maps is within the bounds of C's with them: the test sees no shadow"
-    fail=1
-fi
+gl_outside "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" \
+    "GL's image without shadow maps is within the bounds of C's with them: the test sees no shadow" || fail=1
 # dark and lit pixels (x, y from the top, at 320x180): the ball's shadow, the wall's, open floor;
 # the light's term is the image less the one without the light
 PYTHONPATH=tests/cli python3 - "$T/lamp" "$GL_TEST_SIZE" <<'PY' || fail=1
@@ -113,10 +111,8 @@ json.dump(s, open(sys.argv[1], "w"))
 PY
 pair four "$T/four.json" || { echo "FAIL four lights, two casting: outside the bounds"; fail=1; }
 "$GL" render "$T/four.json" --shadows --gbuffer "$T/four" --pfm "$T/four/g-all.pfm"
-if gl_within "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" >/dev/null; then
-    echo "FAIL four lights: GL's image with all four casting is within the bounds of C's with two (the case is void)"
-    fail=1
-fi
+gl_outside "four, GL all cast" "$T/four/c.pfm" "$T/four/g-all.pfm" \
+    "four lights: GL's image with all four casting is within the bounds of C's with two (the case is void)" || fail=1
 
 # ---- hard cases, lit by one point light alone (shadow_scene.bash)
 source tests/cli/shadow_scene.bash
