@@ -80,25 +80,26 @@ view_same "$T/ao-off.hdr" "$T/noao-ref.hdr" "O turns ambient occlusion off" 0
 view_same "$T/ao-on.hdr" "$T/ao-ref.hdr" "O turns it on again with --ao-radius's radius" 0
 echo "ok: O toggles ambient occlusion; each still frame is render's"
 
-# ---- U: the point lights' shadow maps on and off again, each still frame render's with and without --shadows
-"$SL" render scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --shadows --hdr "$T/sh-ref.hdr" -q
-"$SL" render scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/nosh-ref.hdr" -q
-printf 'settle\nkey u\nsettle\nscreenshot %s/sh-on\nkey u\nsettle\nscreenshot %s/sh-off\nquit\n' "$T" "$T" >"$T/sh.txt"
-view_run scenes/lamp.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/sh.txt"
-view_expect_exit0 "U"
-view_same "$T/sh-on.hdr" "$T/sh-ref.hdr" "U turns the shadow maps on" 0
-view_same "$T/sh-off.hdr" "$T/nosh-ref.hdr" "U turns them off again" 0
-echo "ok: U toggles the shadow maps; each still frame is render's"
+# toggle_on_off KEY SCENE WHAT OPTIONS...: KEY turns WHAT on and off again in a viewer started
+# without OPTIONS; each still frame is render's with and without them
+toggle_on_off() {
+    local key=$1 scene=$2 what=$3 k
+    shift 3
+    k=$(echo "$key" | tr 'A-Z' 'a-z')
+    "$SL" render "$scene" --size "$VIEW_TEST_SIZE" -n 8 "$@" --hdr "$T/$k-ref.hdr" -q
+    "$SL" render "$scene" --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/no$k-ref.hdr" -q
+    printf 'settle\nkey %s\nsettle\nscreenshot %s/%s-on\nkey %s\nsettle\nscreenshot %s/%s-off\nquit\n' \
+        "$k" "$T" "$k" "$k" "$T" "$k" >"$T/$k.txt"
+    view_run "$scene" --size "$VIEW_TEST_SIZE" -n 8 --script "$T/$k.txt"
+    view_expect_exit0 "$key"
+    view_same "$T/$k-on.hdr" "$T/$k-ref.hdr" "$key turns $what on" 0
+    view_same "$T/$k-off.hdr" "$T/no$k-ref.hdr" "$key turns $what off again" 0
+    echo "ok: $key toggles $what; each still frame is render's"
+}
 
-# ---- Y: the sky visibility maps on (32) and off again, each still frame render's with and without --sky-maps
-"$SL" render scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --sky-maps 32 --hdr "$T/sky-ref.hdr" -q
-"$SL" render scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/nosky-ref.hdr" -q
-printf 'settle\nkey y\nsettle\nscreenshot %s/sky-on\nkey y\nsettle\nscreenshot %s/sky-off\nquit\n' "$T" "$T" >"$T/sky.txt"
-view_run scenes/bunny.json --size "$VIEW_TEST_SIZE" -n 8 --script "$T/sky.txt"
-view_expect_exit0 "Y"
-view_same "$T/sky-on.hdr" "$T/sky-ref.hdr" "Y turns the sky maps on" 0
-view_same "$T/sky-off.hdr" "$T/nosky-ref.hdr" "Y turns them off again" 0
-echo "ok: Y toggles the sky visibility maps; each still frame is render's"
+# ---- U: the point lights' shadow maps (--shadows); Y: the sky visibility maps (--sky-maps 32)
+toggle_on_off U scenes/lamp.json "the shadow maps" --shadows
+toggle_on_off Y scenes/bunny.json "the sky visibility maps" --sky-maps 32
 
 # ---- N/B and the scene's own N (40): up to 64 and back to 40
 printf 'key n\nscreenshot %s/n-up\nkey b\nscreenshot %s/n-back\nkey b\nscreenshot %s/n-down\nquit\n' "$T" "$T" "$T" >"$T/n.txt"
