@@ -403,6 +403,8 @@ static void sun_frame(sl_shadow_sun *sun, vec3 lo, vec3 hi, int side)
     sun->sy = ey + 2.0f * py;
     sun->sz = ez + 2.0f * pz;
     sun->texel = fmaxf(sun->sx, sun->sy) / size;
+    sun->stepx = sun->sx / size;
+    sun->stepy = sun->sy / size;
 }
 
 /* world -> clip: x, y and the depth along the axis mapped linearly onto [-1, 1] (column-major) */

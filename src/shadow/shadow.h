@@ -74,6 +74,7 @@ typedef struct {
     vec3 axis, right, up;  /* the map's frame: the direction it looks, its x and y */
     float x0, y0, z0;      /* the box's lowest corner in the frame */
     float sx, sy, sz;      /* its extent along right, up and axis */
+    float stepx, stepy;    /* world units per texel along right and up: sx / size, sy / size */
     float texel;           /* the larger of a texel's two sides, world units */
     float spread;          /* tangent of the largest angle between a light and dir (report) */
     int lights;            /* env lights in the cluster */
@@ -146,13 +147,12 @@ static inline bool sl_shadow_ortho_locate(const sl_shadow_sun *map, vec3 P, vec3
     float na = dot(N, map->axis);
     if (!(na < -1e-6f))
         return false;
-    const float size = (float)map->size;
     vec3 q = add(P, scale(N, offset));
     at->xq = dot(q, map->right);
     at->yq = dot(q, map->up);
     at->zq = dot(q, map->axis);
-    at->stepx = map->sx / size;
-    at->stepy = map->sy / size;
+    at->stepx = map->stepx;
+    at->stepy = map->stepy;
     float ux = (at->xq - map->x0) / at->stepx - 0.5f, uy = (at->yq - map->y0) / at->stepy - 0.5f;
     at->fx = floorf(ux);
     at->fy = floorf(uy);

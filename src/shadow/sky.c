@@ -64,7 +64,6 @@ static void sky_lanes(sl_shadow_sky *sky)
     sl_shadow_sky_lanes *l = &sky->lanes;
     for (int k = 0; k < sky->count; k++) {
         const sl_shadow_sun *map = &sky->maps[k];
-        const float size = (float)map->size;
         l->wx[k] = sky->weight[k].x;
         l->wy[k] = sky->weight[k].y;
         l->wz[k] = sky->weight[k].z;
@@ -80,8 +79,8 @@ static void sky_lanes(sl_shadow_sky *sky)
         l->x0[k] = map->x0;
         l->y0[k] = map->y0;
         l->offset[k] = map->texel * SKY_NORMAL_OFFSET;
-        l->stepx[k] = map->sx / size;
-        l->stepy[k] = map->sy / size;
+        l->stepx[k] = map->stepx;
+        l->stepy[k] = map->stepy;
         l->bias[k] = map->texel * SKY_BIAS_CONST + map->sz * 1e-6f;
         l->first[k] = sky->block && map->depth ? (int)(map->depth - sky->block) : 0;
         l->size[k] = map->size;
