@@ -12,7 +12,7 @@
  *   - the diffuse's bent direction (src/shading/bent_irradiance.h): beside the wall under a sky
  *     brighter on the wall's side, AO E(D) is darker than AO E(N) and nearer the irradiance of
  *     the directions the wall leaves open;
- *   - the specular occlusion of the visibility cone (src/shading/specular_occlusion.h): 1 when
+ *   - the specular occlusion of the visibility cone (src/occlusion/specular_occlusion.h): 1 when
  *     open, 0 when closed, never rising as the lobe widens about the cone's axis or as its axis
  *     leaves the cone, never falling as the cone opens, 1 at AO 1 whatever the lobe;
  *   - refusals: no extra plane, a radius that is not positive. */
@@ -24,7 +24,7 @@
 
 #include "occlusion/gtao.h"
 #include "shading/bent_irradiance.h"
-#include "shading/specular_occlusion.h"
+#include "occlusion/specular_occlusion.h"
 #include "scene/camera.h"
 
 #define W 160
