@@ -140,11 +140,11 @@ static fate_counts count_fates(const sl_gbuffer *gb, const sl_camera *cam, float
             if (f == MIRROR_BLOCKED) {
                 c.blocked++;
                 c.blocked_zero += v == 0.0f;
-                c.blocked_sum += v;
+                c.blocked_sum += (double)v;
             } else if (f == MIRROR_OPEN) {
                 c.open++;
                 c.open_one += v == 1.0f;
-                c.open_sum += v;
+                c.open_sum += (double)v;
             }
         }
     return c;
