@@ -790,11 +790,9 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
         vec3 Venv = mat3_mul_vec3(u->uEnvRotation, V);
         vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
         sl_gbuffer_extra e = shade_extra(gb, x, y);
-        shade_surface s = {P,           Kd,          Ks,
-                           alpha,       V,           N,
-                           Nenv,        Venv,        rotation,
-                           e.occlusion, e.emissive,  shade_reflection(gb, x, y),
-                           shade_cone(gb, x, y)};
+        shade_surface s = {.P = P, .Kd = Kd, .Ks = Ks, .alpha = alpha, .V = V, .N = N, .Nenv = Nenv, .Venv = Venv,
+                           .rotation = rotation, .occlusion = e.occlusion, .emissive = e.emissive,
+                           .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, task, trace);
     }
