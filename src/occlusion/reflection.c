@@ -1,8 +1,9 @@
 /* reflection.c - reflection occlusion (reflection.h): the lobe's rays traced against the G-buffer.
  *
- * The pass first reduces every texel to what a ray's test reads of it, its tangent plane as the
- * camera sees it (the facing normal and its offset) and its view depth, 20 bytes in one array;
- * then traces each texel's ray, rows over threads; then averages each texel's cross. A ray's
+ * The pass first reduces every texel to what a ray's test reads of it: its view depth, in a
+ * plane of its own (every step reads it), and beside it its tangent plane as the camera sees it
+ * (the facing normal and its offset) and its position, 32 bytes a texel; then traces each
+ * texel's ray, rows over threads; then averages each texel's cross. A ray's
  * point is linear in t, so its view coordinates are too: each step is three multiply-adds and one
  * division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
  * reference (sl_reflection_texel runs it; tests/unit/test_reflection.c holds the frame to it),
