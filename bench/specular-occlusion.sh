@@ -17,7 +17,7 @@
 #   lagarde   Lagarde and de Rousiers 2014: clamp((N.V + AO)^(2^(-16 a - 1)) - 1 + AO, 0, 1), a the
 #             GGX width of the lobe (for Phong, sqrt(2 / (n + 2)))
 #   cone-sharp  the visibility cone against the lobe's cone, without the fade to 1 near AO 1
-#   cone      the same with the fade (src/shading/specular_occlusion.h, SL_SO_FADE), the
+#   cone      the same with the fade (src/occlusion/specular_occlusion.h, SL_SO_FADE), the
 #             renderer's; its column is also the renderer's own image to within float rounding
 # FADE=F in the environment moves the fade's start (default 0.8, SL_SO_FADE) for the cone column.
 # and each is compared with the truth by `softlight truth --compare` (nRMSE over the covered

@@ -8,7 +8,9 @@
 # with their shadow maps (--shadows), against `truth --lights` and `truth --lights --visibility`
 # (shadow rays). Then the visibility
 # quadrature's own error: the first scene's truth at --vis-level 3 (the default) and 2 against
-# --vis-level 1; and per scene the factor by which the occlusion cuts the visibility error. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
+# --vis-level 1; per scene the factor by which the occlusion cuts the visibility error; and that
+# error alone, apart from the estimator's (bench/visibility_cut.py): the change visibility makes
+# to the truth against the change the methods make to the render. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
 # kept in docs/accuracy/visibility.md, which bench/speed-vs-error.sh appends to the report it
 # rewrites) and prints the tables; --no-doc leaves docs/ alone (tables in out/visibility-error/).
 #
@@ -46,6 +48,7 @@ BEST="--estimator mf --lod pdf --distortion -n 256"
 AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
 SUN="--env-lights 32 --shadows" # the env lights' shadow maps (docs/lighting.md "Shadow maps")
 SKY="--sky-maps 32" # the sky visibility maps (docs/lighting.md "Sky visibility maps")
+REFL="--reflection-occlusion 5" # the specular's rays traced (docs/lighting.md "Reflection occlusion")
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
@@ -75,9 +78,13 @@ table=$OUT/table.md
     echo "|---|---|---:|---:|---:|---:|---:|---:|---:|"
 } >"$table"
 {
-    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut | with --ao-radius 1 $SUN | cut | with $SKY --ao-radius 1 $SUN | cut |"
-    echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+    echo "| scene | nRMSE vs visibility truth, mf pdf+dist N256 | with --ao-radius 1 | cut | with --ao-radius 1 $SUN | cut | with $SKY --ao-radius 1 $SUN | cut | with $REFL $SKY --ao-radius 1 $SUN | cut |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } >"$OUT/cut.md"
+{
+    echo "| scene | visibility's change to the truth | left with --ao-radius 1 | cut | left with --ao-radius 1 $SUN | cut | left with $SKY --ao-radius 1 $SUN | cut | left with $REFL $SKY --ao-radius 1 $SUN | cut |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+} >"$OUT/alone.md"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
     scene=scenes/$s.json
@@ -94,13 +101,21 @@ for s in "${scenes[@]}"; do
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $AO $SUN --pfm "$OUT/$s-best-ao-sun.pfm" -q
     # shellcheck disable=SC2086
     "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $SKY $AO $SUN --pfm "$OUT/$s-best-sky-ao-sun.pfm" -q
-    for variant in default best best-ao best-ao-sun best-sky-ao-sun; do
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST $REFL $SKY $AO $SUN \
+        --pfm "$OUT/$s-best-refl-sky-ao-sun.pfm" -q
+    # the env lights without their maps: what the renders with $SUN change from (the table of the
+    # error alone)
+    # shellcheck disable=SC2086
+    "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --no-lights $BEST --env-lights 32 --pfm "$OUT/$s-best-el.pfm" -q
+    for variant in default best best-ao best-ao-sun best-sky-ao-sun best-refl-sky-ao-sun; do
         case $variant in
         default) label="default" ;;
         best) label="mf pdf+dist N256" ;;
         best-ao) label="mf pdf+dist N256, --ao-radius 1" ;;
         best-ao-sun) label="mf pdf+dist N256, --ao-radius 1 $SUN" ;;
-        *) label="mf pdf+dist N256, $SKY --ao-radius 1 $SUN" ;;
+        best-sky-ao-sun) label="mf pdf+dist N256, $SKY --ao-radius 1 $SUN" ;;
+        *) label="mf pdf+dist N256, $REFL $SKY --ao-radius 1 $SUN" ;;
         esac
         IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
         IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
@@ -111,7 +126,21 @@ for s in "${scenes[@]}"; do
     ao_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 |" "$table" | cut -d'|' -f6 | tr -d ' ')
     sun_vis=$(grep "^| $s | mf pdf+dist N256, --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
     sky_vis=$(grep "^| $s | mf pdf+dist N256, $SKY --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
-    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") | $sun_vis | $(ratio "$best_vis" "$sun_vis") | $sky_vis | $(ratio "$best_vis" "$sky_vis") |" >>"$OUT/cut.md"
+    refl_vis=$(grep "^| $s | mf pdf+dist N256, $REFL $SKY --ao-radius 1 $SUN |" "$table" | cut -d'|' -f6 | tr -d ' ')
+    echo "| $s | $best_vis | $ao_vis | $(ratio "$best_vis" "$ao_vis") | $sun_vis | $(ratio "$best_vis" "$sun_vis") | $sky_vis | $(ratio "$best_vis" "$sky_vis") | $refl_vis | $(ratio "$best_vis" "$refl_vis") |" >>"$OUT/cut.md"
+    # the error alone: each method set's change to the render (from the render without it, the
+    # same estimator and env lights) against visibility's change to the truth
+    "$SL" truth "$scene" --size "$SIZE" --threads "$THREADS" --cache "$OUT/$s-vis.gt" --visibility --parts "$OUT/$s-parts" \
+        >/dev/null 2>&1
+    cut_of() { python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" "$OUT/$s-parts/mask.pfm" "$@"; }
+    added=$(cut_of "$OUT/$s-best.pfm" "$OUT/$s-best.pfm" | cut -d' ' -f1)
+    row="| $s | $added"
+    for pair in "best best-ao" "best-el best-ao-sun" "best-el best-sky-ao-sun" "best-el best-refl-sky-ao-sun"; do
+        read -r from to <<<"$pair"
+        read -r _ left <<<"$(cut_of "$OUT/$s-$from.pfm" "$OUT/$s-$to.pfm")"
+        row="$row | $left | $(ratio "$added" "$left")"
+    done
+    echo "$row |" >>"$OUT/alone.md"
     if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights
@@ -152,6 +181,8 @@ fi
 cat "$table"
 echo
 cat "$OUT/cut.md"
+echo
+cat "$OUT/alone.md"
 [ "$DOC" = 1 ] || exit 0
 
 # the section of docs/accuracy.md: text, the command, the tables
@@ -176,7 +207,9 @@ specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--est
 -n 256`, whose error against the blind truth is nearly all bias-free noise; `--ao-radius 1` adds
 the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient
 occlusion"), the estimate of visibility it has; `--sky-maps 32` adds the sky visibility maps
-(docs/lighting.md "Sky visibility maps"), which replace the ambient occlusion on the diffuse.
+(docs/lighting.md "Sky visibility maps"), which replace the ambient occlusion on the diffuse;
+`--reflection-occlusion 5` traces the specular lobe's rays 5 units against the G-buffer
+(docs/lighting.md "Reflection occlusion").
 nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
 pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
@@ -195,10 +228,23 @@ TEXT
     echo "visibility maps (docs/lighting.md \"Sky visibility maps\") remove of the"
     echo "error of ignoring visibility: nRMSE against the visibility truth of the \`mf pdf+dist N256\`"
     echo "render without them, with \`--ao-radius 1\`, with \`--ao-radius 1 $SUN\` and with"
-    echo "\`$SKY --ao-radius 1 $SUN\`, and the factor"
-    echo "by which each cuts the first:"
+    echo "\`$SKY --ao-radius 1 $SUN\` (and \`$REFL\`, docs/lighting.md \"Reflection occlusion\"), and the"
+    echo "factor by which each cuts the first:"
     echo
     cat "$OUT/cut.md"
+    echo
+    echo "Each figure above holds the estimator's own error too (the plain \`mf\` row against the blind"
+    echo "truth), and \`$SUN\` changes the estimator (the env lights are summed exactly, with less"
+    echo "noise): a cut there can come from less noise rather than from seeing occluders. The"
+    echo "visibility error alone (bench/visibility_cut.py): what visibility changes in the truth, the"
+    echo "visibility truth less the blind one, as an nRMSE of the visibility truth (the error of a"
+    echo "renderer that ignores visibility and has no error of its own), against what each method set"
+    echo "changes in the render, the render with it less the render without it with the same estimator"
+    echo "(\`mf pdf+dist N256\`, with \`--env-lights 32\` for the sets with \`$SUN\`), whose noise"
+    echo "cancels in the difference; \"left\": the nRMSE of that difference of differences, the"
+    echo "visibility error the methods leave; \"cut\": the first column over it:"
+    echo
+    cat "$OUT/alone.md"
     if [ "$LEVELS" = 1 ]; then
         echo
         echo "The visibility quadrature's own error: the visibility truth of ${scenes[0]} at the default"

@@ -185,6 +185,13 @@ layout(std140) uniform HammersleyBlock {
 uniform vec3 uEye;
 uniform mat4 uInvViewProj;
 uniform vec2 uViewport;
+// the reflection occlusion's ray length (0: off) and the camera's frame: right, up and forward
+// unit vectors and the pixels one world unit at view depth 1 spans (src/occlusion/gtao.h)
+uniform float uReflectionDistance;
+uniform vec3 uViewForward;
+uniform vec3 uViewRight;
+uniform vec3 uViewUp;
+uniform float uPixelsPerUnit;
 
 const int MAX_LIGHTS = 16;
 uniform int uLightCount;
@@ -558,7 +565,7 @@ float lobe_param(float a)
     return a <= -1.0 ? max(a, -2.0) : clamp(a, 0.0, MAX_ALPHA);
 }
 
-// Specular occlusion (src/shading/specular_occlusion.h, line for line): the share of the lobe's
+// Specular occlusion (src/occlusion/specular_occlusion.h, line for line): the share of the lobe's
 // cone (about R, holding all but SO_LOBE_OUTSIDE of a Phong lobe's energy) inside the visibility
 // cone (about the bent normal, cos = sqrt(1 - AO)), over the same share for the open hemisphere,
 // fading to 1 as the AO nears 1.
@@ -634,6 +641,124 @@ vec3 facing_normal(vec3 N, vec3 V)
     if (NdotV < MIN_NDOTV)
         N = normalize(N + (MIN_NDOTV - NdotV) * V);
     return N;
+}
+
+// Reflection occlusion (src/occlusion/reflection.c, the pass whose plane the C port reads, step
+// for step): the share of the lobe's rays that leave the scene, traced against the G-buffer. A
+// texel traces one of five rays, (x + 2 y) mod 5: ray 0 along R, rays 1 .. 4 on a ring at
+// REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its cross (itself and
+// the neighbours on the same surface). Each ray takes REFLECTION_STEPS points t = D (k / steps)^2
+// and is blocked at the first behind a texel's tangent plane and within a thickness of it.
+const int REFLECTION_RAYS = 5;
+const int REFLECTION_STEPS = 16;
+const float REFLECTION_RING = 0.5;
+const float REFLECTION_THICKNESS = 0.1;
+const float REFLECTION_OFFSET = 0.002;
+const float REFLECTION_PLANE_EPS = 0.003;
+const float REFLECTION_SAME_DEPTH = 0.02;
+const float REFLECTION_SAME_NORMAL = 0.8;
+
+// The G-buffer texel q as a ray reads it: false when empty, else its position, its normal
+// facing the eye and its view depth.
+bool reflection_surface(ivec2 q, out vec3 Pq, out vec3 Nq, out float zq)
+{
+    Pq = vec3(0.0);
+    Nq = vec3(0.0);
+    zq = 0.0;
+    if (texelFetch(uDepth, q, 0).r >= 1.0)
+        return false;
+    Pq = texelFetch(uPosition, q, 0).xyz;
+    Nq = facing_normal(texelFetch(uNormal, q, 0).xyz, normalize(uEye - Pq));
+    zq = dot(Pq - uEye, uViewForward);
+    return true;
+}
+
+// 1 when the ray from P along the unit R leaves the image, the camera's front or its length
+// unblocked, 0 at its first blocked point.
+float reflection_trace_ray(vec3 P, vec3 R)
+{
+    vec3 d0 = P - uEye;
+    float z0 = dot(d0, uViewForward), zr = dot(R, uViewForward);
+    float x0 = dot(d0, uViewRight), xr = dot(R, uViewRight);
+    float y0 = dot(d0, uViewUp), yr = dot(R, uViewUp);
+    float prev_t = 0.0;
+    for (int k = 1; k <= REFLECTION_STEPS; k++) {
+        float s = float(k) / float(REFLECTION_STEPS);
+        float t = uReflectionDistance * s * s;
+        float z = z0 + zr * t;
+        if (!(z > 1e-4))
+            return 1.0; // behind the camera
+        float scale_px = uPixelsPerUnit / z;
+        float px = 0.5 * uViewport.x + (x0 + xr * t) * scale_px;
+        float py = 0.5 * uViewport.y + (y0 + yr * t) * scale_px;
+        if (!(px >= 0.0 && py >= 0.0 && px < uViewport.x && py < uViewport.y))
+            return 1.0; // off the image
+        vec3 Pc, Nc;
+        float zc;
+        bool covered = reflection_surface(ivec2(int(px), int(py)), Pc, Nc, zc);
+        float thickness = max(t - prev_t, REFLECTION_THICKNESS * zc);
+        prev_t = t;
+        if (!covered || !(z > zc && z < zc + thickness)) // empty, in front of it or too far behind
+            continue;
+        float behind = dot(Nc, P + R * t) - dot(Nc, Pc);
+        if (behind < -REFLECTION_PLANE_EPS * zc)
+            return 0.0;
+    }
+    return 1.0;
+}
+
+// Ray k of the covered texel q: 1 open, 0 blocked.
+float reflection_ray(ivec2 q, int k)
+{
+    vec3 Pq = texelFetch(uPosition, q, 0).xyz;
+    vec3 V = normalize(uEye - Pq);
+    vec3 N = facing_normal(texelFetch(uNormal, q, 0).xyz, V);
+    vec3 R = N * (2.0 * dot(N, V)) - V;
+    float depth = dot(Pq - uEye, uViewForward);
+    vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
+    if (k == 0)
+        return reflection_trace_ray(P, R);
+    float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
+    float ring = REFLECTION_RING * so_acos(pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0)));
+    vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 T = normalize(cross(R, helper)), B = cross(R, T);
+    float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
+    vec3 side = T * cos(phase) + B * sin(phase);
+    vec3 Rk = R * cos(ring) + side * sin(ring);
+    return dot(Rk, N) > 0.0 ? reflection_trace_ray(P, Rk) : 1.0; // below the surface: open
+}
+
+// The covered pixel's visibility: the share of open rays over its cross (the pixel, x + 1,
+// x - 1, y + 1, y - 1), a neighbour counted where it is the same surface (near the pixel's
+// tangent plane, its normal close).
+float reflection_visibility(ivec2 pixel)
+{
+    const ivec2 offsets[REFLECTION_RAYS] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
+                                                   ivec2(0, -1));
+    vec3 Pp, Np;
+    float zp;
+    reflection_surface(pixel, Pp, Np, zp);
+    float dp = dot(Np, Pp);
+    ivec2 size = ivec2(uViewport);
+    float sum = 0.0;
+    int count = 0;
+    for (int m = 0; m < REFLECTION_RAYS; m++) {
+        ivec2 q = pixel + offsets[m];
+        if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y)
+            continue;
+        if (m > 0) {
+            vec3 Pq, Nq;
+            float zq;
+            if (!reflection_surface(q, Pq, Nq, zq))
+                continue;
+            float off = dot(Np, Pq) - dp;
+            if (!(abs(off) < REFLECTION_SAME_DEPTH * zp && dot(Np, Nq) > REFLECTION_SAME_NORMAL))
+                continue;
+        }
+        sum += reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS);
+        count++;
+    }
+    return sum / float(count);
 }
 
 // The pole-free irradiance maps (ported in src/ibl/irradiance_map.c): vertex-centred grids,
@@ -1336,6 +1461,10 @@ void main()
         // part, added back after the occlusion, has its own maps); with the cone they replace
         // the AO on the diffuse (read about N, times the material's occlusion alone)
         bool skyMaps = SL_SKY_MAPS != 0 && uSkyMapCount > 0;
+        // The reflection occlusion: with the cone it caps the specular's factor, without it
+        // scales the specular
+        bool reflection = uReflectionDistance > 0.0;
+        float reflectionVis = reflection ? reflection_visibility(pixel) : 1.0;
         if (uHasCone == 0) {
             if (uDiffuse != 0) {
                 vec3 E = envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv);
@@ -1344,18 +1473,20 @@ void main()
                 color = color + Kd * (1.0 / PI) * E * uEnvIntensity;
             }
             if (uSpecular != 0) {
+                vec3 spec;
                 if (uEstimator == ESTIMATOR_SPLITSUM)
-                    color = color + specular_splitsum(Nenv, Venv, Ks, alpha);
+                    spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
-                    color = color + specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
                 else if (uEstimator == ESTIMATOR_CV)
-                    color = color + specular_cv(Nenv, Venv, Ks, alpha, rotation);
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
                 else if (uEstimator == ESTIMATOR_MIS)
-                    color = color + specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
                 else
-                    color = color + specular_ibl(Nenv, Venv, Ks, alpha, rotation);
+                    spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
-                    color = color + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
+                    spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
+                color = color + spec * reflectionVis;
             }
             color = color * extra.r; // occlusion: the image-based terms only
         } else {
@@ -1367,6 +1498,8 @@ void main()
             vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
+            if (reflection)
+                spec_occlusion = min(spec_occlusion, reflectionVis);
             if (uDiffuse != 0) {
                 // the irradiance along the bent direction; with the env lights' maps, their
                 // part of it taken out along the same direction (the maps add it back about N)

@@ -10,6 +10,7 @@
 #include "core/timer.h"
 #include "gbuffer_load.h"
 #include "occlusion/gtao.h"
+#include "occlusion/reflection.h"
 #include "lighting_load.h"
 #include "render_options.h"
 #include "scene/scene.h"
@@ -47,7 +48,7 @@ static bool any_surface(const sl_gbuffer *gb)
  * bench/vs-gl compares with softlight-gl --time. */
 static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
 {
-    double raster[1000], shading[1000], tonemap[1000], ao[1000];
+    double raster[1000], shading[1000], tonemap[1000], ao[1000], reflection[1000];
     for (int i = 0; i < repeat; i++) {
         if (!sl_renderer_frame(r, NULL, err))
             return false;
@@ -55,11 +56,13 @@ static bool render_frames(sl_renderer *r, int repeat, sl_error *err)
         shading[i] = r->timings.shading_ms;
         tonemap[i] = r->timings.tonemap_ms;
         ao[i] = r->timings.ao_ms;
+        reflection[i] = r->timings.reflection_ms;
     }
     r->timings.raster_ms = sl_median(raster, repeat);
     r->timings.shading_ms = sl_median(shading, repeat);
     r->timings.tonemap_ms = sl_median(tonemap, repeat);
     r->timings.ao_ms = sl_median(ao, repeat);
+    r->timings.reflection_ms = sl_median(reflection, repeat);
     return true;
 }
 
@@ -207,6 +210,10 @@ int cmd_render(int argc, char **argv)
         if (r.desc.options.ao_radius > 0.0f)
             printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
                    (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);
+        if (r.desc.options.reflection_occlusion > 0.0f)
+            printf("reflection occlusion: rays %g world units long, %.1f ms a frame (%d rays x %d steps)\n",
+                   (double)r.desc.options.reflection_occlusion, r.timings.reflection_ms, SL_REFLECTION_RAYS,
+                   SL_REFLECTION_STEPS);
         if (r.shadows_built > 0) {
             int cubes = 0;
             for (int i = 0; i < r.shadows.count; i++)

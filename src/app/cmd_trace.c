@@ -87,6 +87,12 @@ int cmd_trace(int argc, char **argv)
     if (!sl_renderer_raster(&r, NULL, &err) || !sl_renderer_prepare_lighting(&r, NULL, &err) ||
         !sl_lighting_trace_pixel(r.uniforms, &r.gbuffer, pixel[0], pixel[1], trace, &err))
         goto done;
+    if (r.gbuffer.reflection && trace->covered && !trace->program) { /* the rays the plane's value came from */
+        trace->reflection = true;
+        trace->reflection_visibility =
+            sl_reflection_texel(&r.gbuffer, &scene.camera, r.desc.options.reflection_occlusion, pixel[0], gb_y,
+                                trace->reflection_rays, trace->reflection_used);
+    }
     sl_lighting_trace_print(stdout, trace);
     if (desc.gbuffer_program) /* the fetch hook is the built-in textured program's */
         printf("G-buffer program: %s (%s); its texture fetches are not traced\n",

@@ -15,7 +15,8 @@
  * (the lighting shader's assumption); --visibility traces the scene's triangles so that
  * occluders shadow it (docs/ibl.md "Visibility"; needs a build with Embree), and leaves a
  * scene's ambient occlusion (render.ao_radius) off, since it traces what that estimates. The sky
- * visibility maps (render.sky_maps) are never drawn: the truth does not read them. It costs
+ * visibility maps (render.sky_maps) are never drawn and the reflection occlusion
+ * (render.reflection_occlusion) never traced: the truth does not read them. It costs
  * about 5.6 ms per covered pixel and core (a 1280x720 frame is hours): use a small --size, and
  * --cache so a second run is instant. Exit status: 0, or 2 on an error. */
 #include <stdio.h>
@@ -189,6 +190,7 @@ int cmd_truth(int argc, char **argv)
     if (visibility)
         sl_option_set_ao_radius(&desc.options, 0.0f);
     sl_option_set_sky_maps(&desc.options, 0);
+    sl_option_set_reflection_occlusion(&desc.options, 0.0f);
     sl_option_set_diffuse_only(&desc.options, false);
     sl_gt_image gt = {0};
     sl_image total = {0}, display = {0};

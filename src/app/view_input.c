@@ -60,6 +60,10 @@ void view_adopt_scene(viewer *v, sl_scene *scene, const sl_renderer *r)
     v->home_sky_maps = r->desc.options.sky_maps;
     /* Y's count: the scene's or the command line's, else the one docs/lighting.md recommends */
     v->sky_maps_on = r->desc.options.sky_maps > 0 ? r->desc.options.sky_maps : 32;
+    v->home_reflection = r->desc.options.reflection_occlusion;
+    /* J's distance: the scene's or the command line's, else half the scene's bounding diagonal */
+    v->reflection_on = r->desc.options.reflection_occlusion > 0.0f ? r->desc.options.reflection_occlusion
+                                                                  : 0.5f * length(sub(v->bounds_hi, v->bounds_lo));
     /* O's radius: the scene's or the command line's, else a tenth of the scene's bounding radius */
     v->ao_radius_on = r->desc.options.ao_radius > 0.0f ? r->desc.options.ao_radius
                                                        : 0.05f * length(sub(v->bounds_hi, v->bounds_lo));
@@ -286,6 +290,7 @@ void view_reset_all(viewer *v)
     v->r.desc.options.ao_radius = v->home_ao_radius;
     v->r.desc.options.shadows = v->home_shadows;
     v->r.desc.options.sky_maps = v->home_sky_maps;
+    v->r.desc.options.reflection_occlusion = v->home_reflection;
     v->mode = VIEW_FINAL;
     view_camera_reset(&v->camera);
 }
@@ -424,6 +429,13 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         v->r.desc.options.shadows = !v->r.desc.options.shadows;
         view_message(v, false, "shadows of every point light %s", v->r.desc.options.shadows ? "on" : "off");
         act = VIEW_ACT_RESTART_LIGHTING;
+        break;
+    case SDLK_j: /* traced into the G-buffer's plane: the frame is rasterized again */
+        v->r.desc.options.reflection_occlusion =
+            v->r.desc.options.reflection_occlusion > 0.0f ? 0.0f : v->reflection_on;
+        view_message(v, false, "reflection occlusion %s",
+                     v->r.desc.options.reflection_occlusion > 0.0f ? "on" : "off");
+        act = VIEW_ACT_RESTART_CAMERA;
         break;
     case SDLK_y: /* drawn before the lighting, once per scene and environment (renderer.c update_sky) */
         v->r.desc.options.sky_maps = v->r.desc.options.sky_maps > 0 ? 0 : v->sky_maps_on;

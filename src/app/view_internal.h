@@ -343,6 +343,8 @@ struct viewer {
     bool home_shadows;                 /* every point light casting (--shadows): U toggles it */
     int home_sky_maps;                 /* the sky visibility maps (--sky-maps; 0: off) */
     int sky_maps_on;                   /* the count Y turns the sky maps on with */
+    float home_reflection;             /* the reflection occlusion's distance (0: off) */
+    float reflection_on;               /* the distance J turns it on with */
     char env_override[SL_PATH_MAX];    /* --env, `view FILE.hdr`'s or a dropped environment; "": the scene's */
     view_mode mode;
     int move_samples; /* N while moving (--move-samples) */

@@ -46,6 +46,8 @@ static const key_row rows[] = {
     {"U", "key u", "shadow maps of every point light, and of the env lights when they are on, on / off "
                    "(--shadows; a light's own \"shadow\" key keeps it casting)"},
     {"Y", "key y", "sky visibility maps on / off (the count of --sky-maps or the scene's, else 32)"},
+    {"J", "key j", "reflection occlusion on / off (the distance of --reflection-occlusion or the scene's, else "
+                   "half the scene's bounding diagonal)"},
     {"L", "key l", "mip-level rule: {lod}"},
     {"K", "key k", "estimator: {estimator}"},
     {"G", "key g", "G term: {gterm}"},

@@ -208,6 +208,12 @@ typedef enum {
     X(AO_RADIUS, ao_radius, FLOAT, float, "ao-radius", "--ao-radius", NULL, "R",                                     \
       "ambient occlusion of the environment (GTAO on the G-buffer) within R world units (default 0: off)",          \
       (.scene = {"render.ao_radius"}, .min = 0, .max = 1e6))                                                         \
+    /* 0: off, and the frame pays nothing for it (src/occlusion/reflection.h) */                                   \
+    X(REFLECTION_OCCLUSION, reflection_occlusion, FLOAT, float, "reflection-occlusion", "--reflection-occlusion",    \
+      NULL, "D",                                                                                                     \
+      "occlude the environment's specular where the lobe's rays, traced D world units against the G-buffer, hit "  \
+      "a surface (default 0: off)",                                                                                  \
+      (.scene = {"render.reflection_occlusion"}, .min = 0, .max = 1e6))                                              \
     /* 0: off, no maps drawn, the frame pays nothing for them (src/shadow/sky.h) */                                 \
     X(SKY_MAPS, sky_maps, INT, int, "sky-maps", "--sky-maps", NULL, "K",                                             \
       "occlude the environment's diffuse with K orthographic depth maps of the scene from directions over the "     \

@@ -413,6 +413,11 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     glUniform3f(loc(p, "uEye"), u->uEye.x, u->uEye.y, u->uEye.z);
     glUniformMatrix4fv(loc(p, "uInvViewProj"), 1, GL_FALSE, &u->uInvViewProj.c[0].x);
     glUniform2f(loc(p, "uViewport"), u->uViewport.x, u->uViewport.y);
+    glUniform1f(loc(p, "uReflectionDistance"), u->uReflectionDistance);
+    glUniform3f(loc(p, "uViewForward"), u->uViewForward.x, u->uViewForward.y, u->uViewForward.z);
+    glUniform3f(loc(p, "uViewRight"), u->uViewRight.x, u->uViewRight.y, u->uViewRight.z);
+    glUniform3f(loc(p, "uViewUp"), u->uViewUp.x, u->uViewUp.y, u->uViewUp.z);
+    glUniform1f(loc(p, "uPixelsPerUnit"), u->uPixelsPerUnit);
     glUniform1i(loc(p, "uLightCount"), u->uLightCount);
     if (u->uLightCount > 0) {
         glUniform3fv(loc(p, "uLightPosition"), u->uLightCount, &u->uLightPosition[0].x);

@@ -15,7 +15,7 @@
  * slice, integral (cos t V + sin t d) cos(t - n) |sin t| dt in closed form (bent_arc in gtao.c),
  * summed over the slices with the AO's weights and blurred with it. With the AO it describes the
  * visible directions as a cone (axis the bent normal, cosine-weighted share the AO), from which
- * the lighting takes its specular occlusion (src/shading/specular_occlusion.h).
+ * the lighting takes its specular occlusion (src/occlusion/specular_occlusion.h).
  *
  * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: AO in [0, 1] per
  * texel, multiplied into the extra plane's occlusion (which the lighting stage applies to the

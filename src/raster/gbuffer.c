@@ -43,8 +43,10 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     gb->width = width;
     gb->height = height;
     bool extra = gb->extra != NULL;
-    free(gb->cone); /* the old size's: the occlusion pass allocates it again */
+    free(gb->cone); /* the old size's: the occlusion passes allocate them again */
     gb->cone = NULL;
+    free(gb->reflection);
+    gb->reflection = NULL;
     free(gb->extra); /* the old size's */
     gb->extra = NULL;
     return sl_gbuffer_use_extra(gb, extra, 0, err);
@@ -159,8 +161,10 @@ void sl_gbuffer_free(sl_gbuffer *gb)
     free(gb->texels);
     free(gb->extra);
     free(gb->cone);
+    free(gb->reflection);
     gb->texels = NULL;
     gb->extra = NULL;
     gb->cone = NULL;
+    gb->reflection = NULL;
     gb->width = gb->height = 0;
 }

@@ -7,6 +7,7 @@
 #include "core/threads.h"
 #include "core/timer.h"
 #include "occlusion/gtao.h"
+#include "occlusion/reflection.h"
 #include "shadow/shadow.h"
 #include "scene/camera.h"
 
@@ -502,7 +503,16 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
         free(r->gbuffer.cone);
         r->gbuffer.cone = NULL;
     }
-    r->timings.ao_ms = (sl_now_seconds() - t1) * 1e3;
+    double t2 = sl_now_seconds();
+    r->timings.ao_ms = (t2 - t1) * 1e3;
+    float reflection = r->desc.options.reflection_occlusion;
+    if (ok && reflection > 0.0f) {
+        ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, err);
+    } else if (r->gbuffer.reflection) { /* turned off: the lighting reads no plane */
+        free(r->gbuffer.reflection);
+        r->gbuffer.reflection = NULL;
+    }
+    r->timings.reflection_ms = (sl_now_seconds() - t2) * 1e3;
     if (ok && r->desc.banded)
         keep_band(&r->gbuffer, r->desc.band);
     return ok;
@@ -555,6 +565,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         .shadows = current_shadows(r),
         .env_shadows = current_suns(r),
         .sky = current_sky(r),
+        .reflection_distance = r->desc.options.reflection_occlusion,
+        .view = sl_gtao_view_of(cam, r->gbuffer.height),
     };
     return sl_lighting_uniforms_init(r->uniforms, &desc, err);
 }

@@ -20,7 +20,7 @@
 
 #include "../ibl/texture_lod.h"
 #include "lighting_internal.h"
-#include "specular_occlusion.h"
+#include "occlusion/specular_occlusion.h"
 
 /* GLSL constants, same names and values. */
 static const int LOD_NONE = SL_LOD_NONE;
@@ -656,13 +656,17 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     vec3 color = vec3s(0.0f);
     /* With the ambient occlusion's cone (GLSL uHasCone): the diffuse times the occlusion, the
      * specular times the material's share of it and the specular occlusion, each term scaled
-     * before the sum. Without: the sum times the occlusion. */
+     * before the sum. Without: the sum times the occlusion. The reflection occlusion (GLSL
+     * uReflectionDistance > 0) caps the specular's factor with the cone, or scales the specular
+     * without it. */
     const sl_vec4 *cone = s->cone;
     float spec_occlusion = s->occlusion;
     if (cone) {
         float b_dot_r, n_dot_v;
         shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
         spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
+        if (s->reflection)
+            spec_occlusion = fminf(spec_occlusion, *s->reflection);
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the
@@ -726,6 +730,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         trace_specular(trace, add(spec, exact));
         if (cone)
             spec = scale(spec, spec_occlusion);
+        else if (s->reflection)
+            spec = scale(spec, *s->reflection);
         color = add(color, spec);
     }
     if (!cone)
@@ -784,7 +790,9 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
         vec3 Venv = mat3_mul_vec3(u->uEnvRotation, V);
         vec2 rotation = u->uRotate != 0 ? pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
         sl_gbuffer_extra e = shade_extra(gb, x, y);
-        shade_surface s = {P, Kd, Ks, alpha, V, N, Nenv, Venv, rotation, e.occlusion, e.emissive, shade_cone(gb, x, y)};
+        shade_surface s = {.P = P, .Kd = Kd, .Ks = Ks, .alpha = alpha, .V = V, .N = N, .Nenv = Nenv, .Venv = Venv,
+                           .rotation = rotation, .occlusion = e.occlusion, .emissive = e.emissive,
+                           .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, task, trace);
     }

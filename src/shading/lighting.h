@@ -44,6 +44,7 @@
 #include "../ibl/env_lights.h"
 #include "../ibl/ibl.h"
 #include "../ibl/texture_lod.h"
+#include "../occlusion/gtao.h"
 #include "../raster/gbuffer.h"
 #include "../scene/scene.h"
 #include "../shadow/shadow.h"
@@ -124,6 +125,11 @@ typedef struct {
     const sl_shadow_sky *sky;                    /* the sky visibility maps (src/shadow/sky.h): the
                                                     diffuse irradiance (the residual's part) times
                                                     their visibility V; NULL = none */
+    float reflection_distance;                   /* the reflection occlusion's ray length, 0 = off
+                                                    (src/occlusion/reflection.h): softlight-gl
+                                                    traces in the shader with it and `view`; the
+                                                    C port reads the G-buffer's plane */
+    sl_gtao_view view;                           /* the camera's frame (sl_gtao_view_of) */
 } sl_lighting_desc;
 
 /* The uniforms of shaders/lighting.frag with their GLSL names (the G-buffer samplers are the
@@ -146,6 +152,10 @@ typedef struct {
     vec3 uEye;
     mat4 uInvViewProj;
     vec2 uViewport;
+    float uReflectionDistance;           /* GL upload with the frame below: the C port reads the
+                                            G-buffer's reflection plane */
+    vec3 uViewForward, uViewRight, uViewUp;
+    float uPixelsPerUnit;
     int uLightCount;
     vec3 uLightPosition[SL_LIGHTING_MAX_LIGHTS];
     vec3 uLightColor[SL_LIGHTING_MAX_LIGHTS];

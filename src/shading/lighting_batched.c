@@ -1175,6 +1175,10 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+    const float *reflection = shade_reflection(gb, x0, y);
+    float refl[SPAN]; /* the reflection occlusion, 1 without the plane (x * 1 is x, bit for bit) */
+    for (int i = 0; i < count; i++)
+        refl[i] = reflection ? reflection[i] : 1.0f;
     for (int i = 0; i < count; i++) { /* to structure of arrays (shade_extra's "none" without the plane) */
         covered[i] = !(t[i].depth >= 1.0f);
         kr[i] = t[i].kd.x;
@@ -1214,6 +1218,9 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd
         for (int i = 0; i < count; i++)
             spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
+        if (reflection) /* the port's cap */
+            for (int i = 0; i < count; i++)
+                spo[i] = fminf(spo[i], refl[i]);
     }
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
@@ -1233,7 +1240,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         /* with the cone each term times its own occlusion, without it the sum times the one
          * occlusion; the factors not applied are 1 (x * 1 is x, bit for bit) */
         float so_i = so_in[i], do_i = do_in[i]; /* loaded in every lane, then selected */
-        float d_occ = with_cone ? do_i : 1.0f, s_occ = with_cone ? so_i : 1.0f;
+        float d_occ = with_cone ? do_i : 1.0f, s_occ = with_cone ? so_i : refl[i];
         float sum_occ = with_cone ? 1.0f : occ[i];
         float dr = r + (((kr[i] * (1.0f / PI)) * p->Er[i]) * I) * d_occ;
         float dg = g + (((kg[i] * (1.0f / PI)) * p->Eg[i]) * I) * d_occ;
@@ -1386,6 +1393,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 .rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f),
                 .occlusion = shade_extra(gb, x, y).occlusion,
                 .emissive = shade_extra(gb, x, y).emissive,
+                .reflection = shade_reflection(gb, x, y),
                 .cone = shade_cone(gb, x, y),
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);

@@ -21,7 +21,7 @@
 #include "lighting.h"
 #include "lighting_trace.h"
 #include "bent_irradiance.h"
-#include "specular_occlusion.h"
+#include "occlusion/specular_occlusion.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
 enum { SPAN = 32 };
@@ -102,6 +102,7 @@ typedef struct {
     vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */
     float occlusion; /* the G-buffer's extra plane (gbuffer.h): 1 and 0 when it has none */
     vec3 emissive;
+    const float *reflection; /* the G-buffer's reflection occlusion of the pixel, or NULL without it */
     const sl_vec4 *cone; /* the G-buffer's visibility cone (bent normal, AO) of the pixel, or NULL
                             without ambient occlusion */
 } shade_surface;
@@ -117,6 +118,12 @@ typedef struct {
     bool diffuse_given;
     vec3 diffuse;
 } shade_env_shadow;
+
+/* The reflection occlusion of pixel (x, y): NULL without the plane (sl_gbuffer.reflection). */
+static inline const float *shade_reflection(const sl_gbuffer *gb, int x, int y)
+{
+    return gb->reflection ? gb->reflection + (size_t)y * (size_t)gb->width + (size_t)x : NULL;
+}
 
 /* The visibility cone of pixel (x, y): NULL without the plane (sl_gbuffer.cone). */
 static inline const sl_vec4 *shade_cone(const sl_gbuffer *gb, int x, int y)

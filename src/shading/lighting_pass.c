@@ -19,7 +19,7 @@ vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *
     if (u->options.plain)
         return sl_shade_plain(u, gb, x, y, task, trace);
     vec3 c;
-    if (sl_shade_splitsum_fast(u) && !gb->cone)
+    if (sl_shade_splitsum_fast(u) && !gb->cone && !gb->reflection)
         sl_shade_span_splitsum(u, gb, x, y, 1, task, trace, &c);
     else
         sl_shade_span(u, gb, x, y, 1, task, trace, &c);
@@ -29,8 +29,9 @@ vec3 sl_lighting_builtin_texel(const sl_lighting_uniforms *u, const sl_gbuffer *
 void sl_lighting_builtin_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
                              sl_lighting_task *task, vec3 *out)
 {
-    /* the split sum's own path has no visibility cone: with one, the batched path runs the split sum */
-    const bool splitsum = sl_shade_splitsum_fast(u) && !gb->cone;
+    /* the split sum's own path has no visibility cone or reflection occlusion: with either, the
+     * batched path runs the split sum */
+    const bool splitsum = sl_shade_splitsum_fast(u) && !gb->cone && !gb->reflection;
     for (int x = x0; x < x0 + count; x += SPAN) {
         int n = x0 + count - x < SPAN ? x0 + count - x : SPAN;
         if (u->options.plain)

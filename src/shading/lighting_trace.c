@@ -225,8 +225,19 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  %-12s (%.5f, %.5f, %.5f) (the visibility cone's axis, world space; cone half-angle %.2f deg)\n",
                 "bent normal", (double)t->cone_axis.x, (double)t->cone_axis.y, (double)t->cone_axis.z,
                 (double)(acosf(sqrtf(fmaxf(0.0f, 1.0f - t->ao))) * (180.0f / SL_PI)));
-        fprintf(f, "  %-12s %.6g (scales the specular: the material's occlusion times the lobe's share in the cone)\n",
-                "spec occl", (double)t->specular_occlusion);
+        fprintf(f, "  %-12s %.6g (scales the specular: the material's occlusion times the lobe's share in the cone%s)\n",
+                "spec occl", (double)t->specular_occlusion, t->reflection ? ", at most the reflection's" : "");
+    }
+    if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
+        static const char *const member[SL_REFLECTION_RAYS] = {"texel", "x+1", "x-1", "y+1", "y-1"};
+        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's cross; %s the specular:",
+                "reflection", (double)t->reflection_visibility, t->cone ? "caps the factor on" : "scales");
+        for (int m = 0; m < SL_REFLECTION_RAYS; m++)
+            if (t->reflection_used[m])
+                fprintf(f, " %s %s", member[m], t->reflection_rays[m] > 0.5f ? "open" : "blocked");
+            else
+                fprintf(f, " %s -", member[m]);
+        fprintf(f, ")\n");
     }
     print3(f, "lights", t->lights);
     for (int i = 0; i < t->shadow_lights; i++) {

@@ -11,6 +11,7 @@
 #include <stdio.h>
 
 #include "lighting.h"
+#include "occlusion/reflection.h"
 
 /* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. With the microfacet
  * estimator (trace.microfacet) L is the drawn H about +Z, w = reflect(-V, H), LdotH = V.H, and a
@@ -85,6 +86,11 @@ struct sl_lighting_trace {
     vec3 cone_axis;          /* ... its bent normal (world space; the irradiance is looked up along it) */
     float ao;                /* ... its AO (the cone's cosine-weighted share of the hemisphere) */
     float diffuse_occlusion, specular_occlusion; /* ... the factors on the diffuse and the specular */
+    bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
+    float reflection_visibility; /* ... the texel's, which caps or scales the specular's factor */
+    float reflection_rays[SL_REFLECTION_RAYS]; /* ... its cross's rays (the texel, x + 1, x - 1, y + 1,
+                                y - 1): 1 open, 0 blocked (src/occlusion/reflection.h) */
+    int reflection_used[SL_REFLECTION_RAYS]; /* ... whether each counted (the same surface) */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */

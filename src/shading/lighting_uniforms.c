@@ -170,6 +170,11 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uEye = desc->eye;
     u->uInvViewProj = desc->inv_view_proj;
     u->uViewport = vec2((float)desc->width, (float)desc->height);
+    u->uReflectionDistance = desc->reflection_distance;
+    u->uViewForward = desc->view.forward;
+    u->uViewRight = desc->view.right;
+    u->uViewUp = desc->view.up;
+    u->uPixelsPerUnit = desc->view.pixels_per_unit;
     u->uLightCount = desc->light_count;
     for (int i = 0; i < desc->light_count; i++) {
         u->uLightPosition[i] = desc->lights[i].position;

@@ -4,7 +4,8 @@
 #             (its own folder, the public softlight/ headers, or a folder on a lower layer);
 #   docs      every `docs/NAME.md "Section"` reference in the tree resolves (scripts/check-docs.py);
 #   tags      the C port follows shaders/lighting.frag: each `/* GLSL: name` tag in src/shading
-#             (and src/shadow's .c files: the shadow lookup) names a function of lighting.frag,
+#             (and src/shadow's .c files, the shadow lookup, and src/occlusion's, the specular and
+#             reflection occlusion) names a function of lighting.frag,
 #             each file's tags come in lighting.frag's order (a name may repeat right after
 #             itself: one GLSL function in several C pieces), and every function of
 #             lighting.frag is tagged in some such file. With no tag at all it says so and
@@ -67,9 +68,8 @@ check_includes() {
 
 # check_docs ROOT: the section references resolve.
 check_docs() { python3 "$src_root/scripts/check-docs.py" "$1"; }
-
-# check_tags ROOT: the GLSL tags of ROOT/src/shading (and src/shadow, whose lookup lighting.frag
-# ports too) against ROOT/shaders/lighting.frag.
+# check_tags ROOT: the GLSL tags of ROOT/src/shading (and src/shadow and src/occlusion, whose lookups
+# lighting.frag ports too) against ROOT/shaders/lighting.frag.
 check_tags() {
     local root=$1 bad=0 glsl tags f
     # lighting.frag's function definitions in file order (`TYPE name(` at the start of a line,
@@ -83,8 +83,8 @@ check_tags() {
     for f in "$root"/src/shading/*.[ch]; do
         f=src/shading/$(basename "$f"); [ "$f" = src/shading/lighting.c ] || files+=("$f")
     done
-    for f in "$root"/src/shadow/*.c; do
-        [ -f "$f" ] && files+=("src/shadow/$(basename "$f")")
+    for f in "$root"/src/shadow/*.c "$root"/src/occlusion/*.[ch]; do
+        [ -f "$f" ] && files+=("${f#"$root"/}")
     done
     tags=$(cd "$root" && grep -noE '/\* GLSL: [A-Za-z_][A-Za-z0-9_]*' "${files[@]}" /dev/null | sed 's|/\* GLSL: ||')
     if [ -z "$tags" ]; then echo "no GLSL tags in src/shading yet: order not checked"; return 0; fi
@@ -95,7 +95,7 @@ check_tags() {
             if (file == last_file && at[name] < last_at)
                 { print file ":" line ": GLSL: " name " after GLSL: " last_name " (line " last_line "); lighting.frag has them the other way round"; bad = 1 }
             last_file = file; last_at = at[name]; last_name = name; last_line = line }
-        END { for (i = 1; i <= n; i++) if (!(g[i] in tagged)) { print "GLSL function " g[i] " (shaders/lighting.frag) has no GLSL: tag in src/shading or src/shadow"; bad = 1 }
+        END { for (i = 1; i <= n; i++) if (!(g[i] in tagged)) { print "GLSL function " g[i] " (shaders/lighting.frag) has no GLSL: tag in src/shading, src/shadow or src/occlusion"; bad = 1 }
               exit bad }' <<<"$tags"
 }
 

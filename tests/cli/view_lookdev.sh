@@ -2,7 +2,8 @@
 # view_lookdev.sh BUILD_DIR - what a look-dev viewer's user relies on, under Xvfb with scripted
 # input: F frames the model (its bounds in view, from far off), the zoom stays between the
 # bounds and 10 x the framing distance, R restores every setting (the frame and PNG equal
-# `softlight render`'s again), O toggles ambient occlusion, N/B pass the scene's N, the readout
+# `softlight render`'s again), O toggles ambient occlusion (U the shadow maps, Y the sky maps, J
+# the reflection occlusion), N/B pass the scene's N, the readout
 # under the pointer equals the PFM `softlight render` writes at that pixel, T prints softlight trace's text, an edited scene
 # file is reloaded (the camera kept), and --env / an environment alone render as render --env.
 set -euo pipefail
@@ -100,6 +101,16 @@ toggle_on_off() {
 # ---- U: the point lights' shadow maps (--shadows); Y: the sky visibility maps (--sky-maps 32)
 toggle_on_off U scenes/lamp.json "the shadow maps" --shadows
 toggle_on_off Y scenes/bunny.json "the sky visibility maps" --sky-maps 32
+
+# ---- J: the reflection occlusion, in a viewer started with it (its distance): off, then on again
+"$SL" render scenes/grazing.json --size "$VIEW_TEST_SIZE" -n 8 --reflection-occlusion 5 --hdr "$T/j-ref.hdr" -q
+"$SL" render scenes/grazing.json --size "$VIEW_TEST_SIZE" -n 8 --hdr "$T/noj-ref.hdr" -q
+printf 'settle\nkey j\nsettle\nscreenshot %s/j-off\nkey j\nsettle\nscreenshot %s/j-on\nquit\n' "$T" "$T" >"$T/j.txt"
+view_run scenes/grazing.json --size "$VIEW_TEST_SIZE" -n 8 --reflection-occlusion 5 --script "$T/j.txt"
+view_expect_exit0 J
+view_same "$T/j-off.hdr" "$T/noj-ref.hdr" "J turns the reflection occlusion off" 0
+view_same "$T/j-on.hdr" "$T/j-ref.hdr" "J turns it on again with --reflection-occlusion's distance" 0
+echo "ok: J toggles the reflection occlusion; each still frame is render's"
 
 # ---- N/B and the scene's own N (40): up to 64 and back to 40
 printf 'key n\nscreenshot %s/n-up\nkey b\nscreenshot %s/n-back\nkey b\nscreenshot %s/n-down\nquit\n' "$T" "$T" "$T" >"$T/n.txt"

@@ -82,7 +82,7 @@ static inline sl_gbuffer_texel fx_texel(vec3 normal, vec3 kd, vec3 ks, float alp
 /* Shade one texel through sl_lighting_shade (1x1 G-buffer, no task). */
 static inline vec3 fx_shade(const sl_lighting_uniforms *u, sl_gbuffer_texel t)
 {
-    sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+    sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
     return sl_lighting_shade(u, &gb, 0, 0, NULL, NULL);
 }
 

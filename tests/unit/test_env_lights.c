@@ -505,7 +505,7 @@ static void test_exact_rotation_intensity(void **state)
     vec3 N, V;
     mirror_setup(d, 0.5f, 0.05f, &N, &V);
     sl_gbuffer_texel t = fx_texel(N, vec3s(0.0f), vec3s(0.5f), 300.0f);
-    sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+    sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
     sl_lighting_trace *tr = malloc(sizeof *tr);
     assert_non_null(tr);
     for (int plain = 0; plain < 2; plain++) {
@@ -549,7 +549,7 @@ static void test_black_texels_as_lights(void **state)
                                  .env = &l->env, .eye = scale(V, 10.0f), .inv_view_proj = mat4_identity(), .width = 1,
                                  .height = 1, .env_lights = &el};
         sl_gbuffer_texel t = fx_texel(N, vec3s(0.0f), vec3s(0.5f), 50.0f);
-        sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+        sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
         sl_image out = {0};
         fx_render(&desc, &gb, 1, &out, NULL); /* no pixel repaired, every value finite */
         if (fabs(out.data[0] - r.specular[0]) > 1e-4 * r.specular[0])

@@ -1,5 +1,5 @@
 /* test_gtao.c - ambient occlusion from the G-buffer (src/occlusion/gtao.c) on G-buffers traced
- * analytically here, so the rasterizer is out of the picture:
+ * analytically (corner_gbuffer.h), so the rasterizer is out of the picture:
  *   - an open floor sees its whole hemisphere: AO 1 (no self-occlusion from its own texels);
  *   - a floor beside an infinitely tall wall, within radius R: the wall hides the directions
  *     whose hit lies within R, the cosine-weighted share (acos(a) - a sqrt(1 - a^2)) / pi with
@@ -12,7 +12,7 @@
  *   - the diffuse's bent direction (src/shading/bent_irradiance.h): beside the wall under a sky
  *     brighter on the wall's side, AO E(D) is darker than AO E(N) and nearer the irradiance of
  *     the directions the wall leaves open;
- *   - the specular occlusion of the visibility cone (src/shading/specular_occlusion.h): 1 when
+ *   - the specular occlusion of the visibility cone (src/occlusion/specular_occlusion.h): 1 when
  *     open, 0 when closed, never rising as the lobe widens about the cone's axis or as its axis
  *     leaves the cone, never falling as the cone opens, 1 at AO 1 whatever the lobe;
  *   - refusals: no extra plane, a radius that is not positive. */
@@ -20,71 +20,22 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "corner_gbuffer.h"
 #include "testutil.h"
 
 #include "occlusion/gtao.h"
 #include "shading/bent_irradiance.h"
-#include "shading/specular_occlusion.h"
+#include "occlusion/specular_occlusion.h"
 #include "scene/camera.h"
 
 #define W 160
 #define H 120
 #define PI_D 3.14159265358979323846
 
-/* The camera over the corner where the floor z = 0 meets the wall x = 0 (the wall fills x < 0). */
-static sl_camera corner_camera(void)
-{
-    sl_camera c = {0};
-    c.eye = vec3(4.0f, -3.0f, 3.0f);
-    c.target = vec3(1.0f, 0.0f, 0.0f);
-    c.up = vec3(0.0f, 0.0f, 1.0f);
-    c.fovy_deg = 50.0f;
-    c.znear = 0.05f;
-    c.zfar = 100.0f;
-    return c;
-}
-
-/* Trace every pixel centre of a w x h image through the camera: the nearest of the floor z = 0
- * and (with `wall`) the wall x = 0 at z >= 0, facing +x. Row 0 = bottom, as the G-buffer. */
+/* The corner (corner_gbuffer.h) at W x H; the material does not matter to AO. */
 static void trace_sized(sl_gbuffer *gb, const sl_camera *cam, bool wall, int w, int h)
 {
-    sl_error err = {0};
-    assert_true(sl_gbuffer_resize(gb, w, h, &err));
-    assert_true(sl_gbuffer_use_extra(gb, true, 1, &err));
-    sl_gbuffer_clear(gb, 1);
-    mat4 inv = inverse(sl_camera_view_proj(cam, w, h));
-    for (int y = 0; y < h; y++)
-        for (int x = 0; x < w; x++) {
-            vec2 ndc = vec2(2.0f * ((float)x + 0.5f) / (float)w - 1.0f, 2.0f * ((float)y + 0.5f) / (float)h - 1.0f);
-            vec4 nearp = mat4_mul_vec4(inv, vec4(ndc.x, ndc.y, -1.0f, 1.0f));
-            vec4 farp = mat4_mul_vec4(inv, vec4(ndc.x, ndc.y, 1.0f, 1.0f));
-            vec3 o = scale(vec3(nearp.x, nearp.y, nearp.z), 1.0f / nearp.w);
-            vec3 d = normalize(sub(scale(vec3(farp.x, farp.y, farp.z), 1.0f / farp.w), o));
-            float best = INFINITY;
-            vec3 n = vec3(0, 0, 0);
-            if (d.z < 0.0f) {
-                float t = -o.z / d.z;
-                vec3 p = add(o, scale(d, t));
-                if (!wall || p.x >= 0.0f) {
-                    best = t;
-                    n = vec3(0, 0, 1);
-                }
-            }
-            if (wall && d.x < 0.0f) {
-                float t = -o.x / d.x;
-                vec3 p = add(o, scale(d, t));
-                if (p.z >= 0.0f && t < best) {
-                    best = t;
-                    n = vec3(1, 0, 0);
-                }
-            }
-            if (!isfinite(best))
-                continue;
-            sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
-            t->position = add(o, scale(d, best));
-            t->normal = n;
-            t->depth = 0.5f;
-        }
+    corner_trace(gb, cam, wall, w, h, (corner_material){0.0f, 0.0f});
 }
 
 static void trace(sl_gbuffer *gb, const sl_camera *cam, bool wall) { trace_sized(gb, cam, wall, W, H); }

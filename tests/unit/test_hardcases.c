@@ -63,7 +63,7 @@ static void test_reflection_along_z(void **state)
         /* a hair off the pole: |R.xy|^2 = 4e-6 > POLE_EPS = 1e-6 */
         vec3 n2 = normalize(vec3(0.002f, 0, n.z));
         sl_lighting_uniforms *u2 = fx_uniforms(&f->env, NULL, consistent(256), scale(n2, 10.0f), 1, 1);
-        sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+        sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
         t.normal = n2;
         sl_lighting_trace *tr = malloc(sizeof *tr);
         assert_true(sl_lighting_trace_pixel(u2, &gb, 0, 0, tr, NULL));
@@ -103,7 +103,7 @@ static void test_normal_facing_away(void **state)
         fx_texel(vec3(0, 0, -1), vec3s(0.5f), vec3s(0.04f), 10.0f),               /* N = -V */
         fx_texel(vec3(0, 0, 0), vec3s(0.5f), vec3s(0.04f), 10.0f),                /* zero normal */
     };
-    sl_gbuffer gb = {4, 1, t, NULL, NULL};
+    sl_gbuffer gb = {.width = 4, .height = 1, .texels = t};
     sl_image out = {0};
     sl_lighting_stats st;
     assert_true(sl_lighting_pass(u, &st, &gb, &out, 1, &err));
@@ -130,7 +130,7 @@ static void test_samples_below_horizon(void **state)
     vec3 v = fx_view_dir(0.02f, 0.4f);
     sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, (sl_lighting_options){.no_diffuse = true}, scale(v, 10.0f), 1, 1);
     sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3s(0), vec3s(0.04f), 0.0f);
-    sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+    sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
     sl_lighting_trace *tr = malloc(sizeof *tr);
     assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
     int below = 0;
@@ -163,7 +163,7 @@ static void test_alpha_extremes(void **state)
         vec3 v = fx_view_dir(i == 0 ? 0.5f : 1.0f, 0);
         sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, (sl_lighting_options){.no_diffuse = true}, scale(v, 10.0f), 1, 1);
         sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3s(0), vec3s(0.5f), alphas[i]);
-        sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+        sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
         sl_lighting_trace *tr = malloc(sizeof *tr);
         assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
         assert_true(fx_finite3(tr->total));
@@ -209,7 +209,7 @@ static void test_microfacet_poles(void **state)
             o.plain = plain;
             sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, o, scale(n, 10.0f), 1, 1);
             sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(0.5f), 1.0f);
-            sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+            sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
             assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
             assert_true(tr->pole_frame && tr->microfacet);
             assert_near(dot(tr->A, n), 0.0, 1e-6);
@@ -229,7 +229,7 @@ static void test_microfacet_poles(void **state)
     vec3 n = vec3(0.5f, 0, 0.8660254f), v = normalize(sub(scale(n, 2.0f * n.z), vec3(0, 0, 1)));
     sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, microfacet(256), add(vec3(0, 0, 0), scale(v, 10.0f)), 1, 1);
     sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(0.5f), 10.0f);
-    sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+    sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
     assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
     assert_false(tr->pole_frame);
     assert_near(tr->R.z, 1.0, 1e-5);
@@ -260,7 +260,7 @@ static void test_microfacet_alpha_extremes(void **state)
             o.gterm = g ? SL_GTERM_ONE : SL_GTERM_INV_LH2;
             sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, o, scale(v, 10.0f), 1, 1);
             sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3s(0), vec3s(0.5f), alphas[i]);
-            sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+            sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
             assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
             assert_true(fx_finite3(tr->total));
             assert_false(tr->repaired);
@@ -311,7 +311,7 @@ static void test_microfacet_grazing(void **state)
                 o.plain = plain;
                 sl_lighting_uniforms *u = fx_uniforms(&f->env, NULL, o, scale(v, 10.0f), 1, 1);
                 sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3s(0), vec3s(0.04f), alphas[a]);
-                sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+                sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
                 assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, NULL));
                 assert_true(fx_finite3(tr->total) && tr->total.x > 0.0f);
                 int skipped = 0;
@@ -470,7 +470,7 @@ static void test_nonfinite_guard(void **state)
         fx_texel(vec3(0, 0, 1), vec3s(0.5f), vec3s(0.04f), NAN),
     };
     t[0].position = vec3(NAN, 0, 0);
-    sl_gbuffer gb = {4, 1, t, NULL, NULL};
+    sl_gbuffer gb = {.width = 4, .height = 1, .texels = t};
     sl_image out = {0};
     sl_lighting_stats st;
     assert_true(sl_lighting_pass(u, &st, &gb, &out, 1, &err));

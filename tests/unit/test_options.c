@@ -314,8 +314,8 @@ static void test_scene_reads_the_table(void **state)
     }
     /* render.width, height, samples, exposure, contrast, srgb, lod, distortion, gterm, estimator,
      * irradiance, env_layout, diffuse_only, specular_only, no_lights, rotate, frame, env_lights,
-     * ao_radius, sky_maps, shadows; environment.intensity */
-    assert_int_equal(keys, 22);
+     * ao_radius, reflection_occlusion, sky_maps, shadows; environment.intensity */
+    assert_int_equal(keys, 23);
     sl_scene_free(&s);
     expect_scene_text_error("render.diffuse_only", "true, \"specular_only\": true",
                             "t.json: render.diffuse_only and render.specular_only exclude each other");

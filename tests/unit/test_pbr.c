@@ -215,7 +215,7 @@ static vec3 shade(const sl_env *env, const sl_irradiance *irr, bool plain, bool 
     sl_lighting_uniforms *u = fx_uniforms_for(&d);
     sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3(0.5f, 0.4f, 0.3f), vec3s(0.04f), sl_gbuffer_ggx_alpha(0.4f));
     e.depth = t.depth;
-    sl_gbuffer gb = {1, 1, &t, &e, NULL};
+    sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t, .extra = &e};
     vec3 c;
     if (plain)
         c = sl_lighting_shade(u, &gb, 0, 0, NULL, NULL);

@@ -65,7 +65,7 @@ static void test_sample_density(void **state)
         sl_lighting_uniforms *u =
             fx_uniforms(&env, NULL, (sl_lighting_options){.samples = 1024, .no_diffuse = true}, scale(v, 10.0f), 1, 1);
         sl_gbuffer_texel t = fx_texel(vec3(0, 0, 1), vec3s(0), vec3s(0.5f), alphas[a]);
-        sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+        sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
         sl_error err;
         assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, &err));
         assert_int_equal(tr->sample_count, 1024);
@@ -298,7 +298,7 @@ static void test_consistent_vs_truth(void **state)
             sl_lighting_uniforms *u = fx_uniforms(&small, NULL, (sl_lighting_options){.samples = 64,
                 .estimator = SL_ESTIMATOR_CONSISTENT, .no_diffuse = true}, vec3(0, 0, 10), 1, 1);
             sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(kss[k]), alphas[a]);
-            sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+            sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
             assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, &err));
             double mean = 0, m2 = 0;
             int ns = tr->sample_count;
@@ -424,7 +424,7 @@ static void test_microfacet_sample_density(void **state)
             sl_lighting_uniforms *u = fx_uniforms(&env, NULL, (sl_lighting_options){.samples = 1024, .no_diffuse = true,
                 .estimator = SL_ESTIMATOR_MICROFACET, .plain = plain}, scale(v, 10.0f), 1, 1);
             sl_gbuffer_texel t = fx_texel(n, vec3s(0), vec3s(0.5f), alphas[a]);
-            sl_gbuffer gb = {1, 1, &t, NULL, NULL};
+            sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
             sl_error err;
             assert_true(sl_lighting_trace_pixel(u, &gb, 0, 0, tr, &err));
             assert_true(tr->microfacet);

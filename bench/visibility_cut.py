@@ -1,0 +1,50 @@
+"""visibility_cut.py - the visibility error alone, apart from the estimator's (bench/visibility-error.sh).
+
+    python3 bench/visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm
+
+BLIND and VIS: the blind truth and the visibility-aware truth of one scene (`softlight truth`,
+`--visibility`), MASK its covered pixels (`truth --parts DIR`: DIR/mask.pfm); FROM and TO: two
+renders of the scene, the same estimator, without and with the methods that estimate visibility.
+Prints two numbers over the covered pixels, each an RMS over the pixels and channels divided by
+the visibility truth's RMS (as `truth --compare`'s nRMSE):
+  added  what visibility changes in the truth, VIS - BLIND: the error a renderer that ignores
+         visibility makes, with no error of its own;
+  left   how far the methods' change, TO - FROM, is from it: the visibility error they leave.
+The estimator's own error (noise, bias) is in FROM and TO alike, so it cancels in TO - FROM,
+which it does not in TO against VIS: this is the figure that shows what the methods do.
+"""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli"))
+from pfm import read_pfm  # noqa: E402
+
+
+def rgb(path):
+    w, h, channels, v = read_pfm(path)
+    return w, h, (v if channels == 3 else [x for x in v for _ in range(3)])
+
+
+def main():
+    if len(sys.argv) != 6:
+        sys.exit("usage: visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm")
+    images = [rgb(p) for p in sys.argv[1:]]
+    if len({(w, h) for w, h, _ in images}) != 1:
+        sys.exit("visibility_cut.py: the images differ in size")
+    blind, vis, mask, before, after = (v for _, _, v in images)
+    added = left = norm = 0.0
+    for i in range(0, len(vis), 3):
+        if mask[i] <= 0.0:
+            continue
+        for j in range(i, i + 3):
+            change = vis[j] - blind[j]
+            added += change * change
+            left += (after[j] - before[j] - change) ** 2
+            norm += vis[j] * vis[j]
+    if norm <= 0.0:
+        sys.exit("visibility_cut.py: the visibility truth is black over the mask")
+    print("%.4f %.4f" % (math.sqrt(added / norm), math.sqrt(left / norm)))
+
+
+main()

@@ -1,0 +1,440 @@
+/* reflection.c - reflection occlusion (reflection.h): the lobe's rays traced against the G-buffer.
+ *
+ * The pass first reduces every texel to what a ray's test reads of it: its view depth, in a
+ * plane of its own (every step reads it), and beside it its tangent plane as the camera sees it
+ * (the facing normal and its offset) and its position, 32 bytes a texel; then traces each
+ * texel's ray, rows over threads; then averages each texel's cross. A ray's
+ * point is linear in t, so its view coordinates are too: each step is three multiply-adds and one
+ * division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
+ * reference (sl_reflection_texel runs it; tests/unit/test_reflection.c holds the frame to it),
+ * and march_span, the frame's, which steps the rays of a run of a row's texels together, a lane
+ * a ray. A ray's cost is the latency of its reads of the depth plane at points strewn over the
+ * image, one after the other; a span's lanes issue theirs side by side, so the reads overlap.
+ * Both build their rays with ray_of and test a candidate point with blocked_at. */
+#include "reflection.h"
+
+#include <math.h>
+#include <stdint.h>
+#include <stdlib.h>
+#include <string.h>
+
+#include <softlight/lighting.h>
+
+#include "core/threads.h"
+#include "occlusion/gtao.h"
+#include "occlusion/specular_occlusion.h"
+
+/* What a ray reads of a texel: its view depth z (+inf for an empty texel: nothing there blocks),
+ * in a plane of its own since every step reads it and few read more, and its tangent plane
+ * dot(n, X) = d with n facing the eye and its position (for the cross's test of "the same
+ * surface"). */
+typedef struct {
+    float nx, ny, nz, d;
+    float px, py, pz, z;
+} surface_plane;
+
+typedef struct {
+    sl_gtao_view view;
+    float half_width, half_height;
+    float distance;
+    int width, height;
+    const float *depth;           /* each texel's z */
+    const surface_plane *planes;
+    /* the ring's turns: the cosine and sine of ring ray k's phase about R, k = 1 .. 4 */
+    float turn_cos[SL_REFLECTION_RAYS], turn_sin[SL_REFLECTION_RAYS];
+} reflection_frame;
+
+/* GLSL: reflection_surface */
+static surface_plane plane_of(const sl_gbuffer_texel *t, const sl_gtao_view *view)
+{
+    surface_plane s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, INFINITY};
+    if (!sl_gbuffer_covered(t))
+        return s;
+    vec3 N = sl_lighting_facing_normal(t->normal, normalize(sub(view->eye, t->position)));
+    s.nx = N.x;
+    s.ny = N.y;
+    s.nz = N.z;
+    s.d = dot(N, t->position);
+    s.z = dot(sub(t->position, view->eye), view->forward);
+    s.px = t->position.x;
+    s.py = t->position.y;
+    s.pz = t->position.z;
+    return s;
+}
+
+static void planes_of_rows(const sl_gbuffer *gb, const sl_gtao_view *view, surface_plane *planes, float *depth,
+                           int y0, int y1)
+{
+    for (int y = y0; y < y1; y++)
+        for (int x = 0; x < gb->width; x++) {
+            size_t i = (size_t)y * (size_t)gb->width + (size_t)x;
+            planes[i] = plane_of(&gb->texels[i], view);
+            depth[i] = planes[i].z;
+        }
+}
+
+/* A ray in the camera's frame: its start's view depth and screen-plane coordinates (z0, x0, y0)
+ * and their rates along the ray (zr, xr, yr). */
+typedef struct {
+    float z0, zr, x0, xr, y0, yr;
+} view_ray;
+
+static view_ray view_ray_of(const sl_gtao_view *v, vec3 P, vec3 R)
+{
+    vec3 d0 = sub(P, v->eye);
+    return (view_ray){dot(d0, v->forward), dot(R, v->forward), dot(d0, v->right),
+                      dot(R, v->right),    dot(d0, v->up),      dot(R, v->up)};
+}
+
+/* The ray's length at step k (k = 1 .. SL_REFLECTION_STEPS), dense near its start. */
+static float step_length(const reflection_frame *f, int k)
+{
+    float s = (float)k / (float)SL_REFLECTION_STEPS;
+    return f->distance * s * s;
+}
+
+/* Whether the point at t along the ray from P along R, found within the thickness behind texel
+ * c's depth, is behind c's tangent plane: the ray is blocked there. */
+static bool blocked_at(const surface_plane *c, vec3 P, vec3 R, float t)
+{
+    float Qx = P.x + R.x * t, Qy = P.y + R.y * t, Qz = P.z + R.z * t;
+    float behind = c->nx * Qx + c->ny * Qy + c->nz * Qz - c->d;
+    return behind < -SL_REFLECTION_PLANE_EPS * c->z;
+}
+
+/* 1 when the ray from P along the unit R leaves the image, the camera's front or its length
+ * unblocked; 0 at its first blocked point (reflection.h). The reference; march_span is the
+ * frame's form. */
+/* GLSL: reflection_trace_ray */
+static float trace_ray(const reflection_frame *f, vec3 P, vec3 R)
+{
+    const sl_gtao_view *v = &f->view;
+    view_ray r = view_ray_of(v, P, R);
+    float prev_t = 0.0f;
+    for (int k = 1; k <= SL_REFLECTION_STEPS; k++) {
+        float t = step_length(f, k);
+        float z = r.z0 + r.zr * t;
+        if (!(z > 1e-4f))
+            return 1.0f; /* behind the camera */
+        float scale_px = v->pixels_per_unit / z;
+        float px = f->half_width + (r.x0 + r.xr * t) * scale_px;
+        float py = f->half_height + (r.y0 + r.yr * t) * scale_px;
+        if (!(px >= 0.0f && py >= 0.0f && px < (float)f->width && py < (float)f->height))
+            return 1.0f; /* off the image */
+        size_t i = (size_t)(int)py * (size_t)f->width + (size_t)(int)px;
+        float zc = f->depth[i];
+        float thickness = fmaxf(t - prev_t, SL_REFLECTION_THICKNESS * zc);
+        prev_t = t;
+        if (!(z > zc && z < zc + thickness)) /* in front of it, too far behind it, or empty */
+            continue;
+        if (blocked_at(&f->planes[i], P, R, t))
+            return 0.0f;
+    }
+    return 1.0f;
+}
+
+/* The ray texel (x, y) traces: (x + 2 y) mod SL_REFLECTION_RAYS, so that a texel and its four
+ * neighbours trace all five (reflection.h). */
+static int ray_index(int x, int y) { return (x + 2 * y) % SL_REFLECTION_RAYS; }
+
+/* The ring's angle about R for a lobe of roughness alpha (SL_REFLECTION_RING of the lobe's cone
+ * angle), as its cosine and sine: all a ring ray takes of alpha. */
+typedef struct {
+    float cos, sin;
+} ring_angle;
+
+static ring_angle ring_angle_of(float alpha)
+{
+    float ring = SL_REFLECTION_RING * sl_so_lobe_cone(sl_lighting_lobe_param(alpha)).ts;
+    return (ring_angle){cosf(ring), sinf(ring)};
+}
+
+/* ring_angle_of for the last alpha asked (its bits: -0 and 0 are two keys), recomputed when
+ * alpha changes: a run of one material's texels pays for the power, arc cosine, cosine and sine
+ * once. */
+typedef struct {
+    uint32_t alpha_bits;
+    bool valid;
+    ring_angle angle;
+} ring_cache;
+
+static ring_angle cached_ring_angle(ring_cache *c, float alpha)
+{
+    uint32_t bits;
+    memcpy(&bits, &alpha, sizeof bits);
+    if (!c->valid || bits != c->alpha_bits) {
+        c->angle = ring_angle_of(alpha);
+        c->alpha_bits = bits;
+        c->valid = true;
+    }
+    return c->angle;
+}
+
+/* Ray k of the covered texel t (k = 0 along R, else on the ring at turn k - 1, `ring` the
+ * ring's angle for t's alpha; reflection.h): its start P and unit direction. False for a ring
+ * ray below the surface, which counts as open untraced. */
+/* GLSL: reflection_ray */
+static bool ray_of(const reflection_frame *f, const sl_gbuffer_texel *t, int k, ring_angle ring, vec3 *P,
+                   vec3 *direction)
+{
+    const sl_gtao_view *v = &f->view;
+    vec3 V = normalize(sub(v->eye, t->position));
+    vec3 N = sl_lighting_facing_normal(t->normal, V);
+    vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
+    float depth = dot(sub(t->position, v->eye), v->forward);
+    *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * depth));
+    if (k == 0) {
+        *direction = R;
+        return true;
+    }
+    vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+    vec3 T = normalize(cross(R, helper)), B = cross(R, T);
+    vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
+    vec3 Rk = add(scale(R, ring.cos), scale(side, ring.sin));
+    *direction = Rk;
+    return dot(Rk, N) > 0.0f;
+}
+
+/* Whether ray k of the covered texel t is open (1) or blocked (0), traced alone: the reference. */
+static float texel_ray(const reflection_frame *f, const sl_gbuffer_texel *t, int k)
+{
+    vec3 P, R;
+    if (!ray_of(f, t, k, ring_angle_of(t->alpha), &P, &R))
+        return 1.0f; /* below the surface: open */
+    return trace_ray(f, P, R);
+}
+
+/* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
+ * ray_plane (1 for an empty texel), with the same bits. Each covered texel's ray (ray_of) that
+ * has something to trace takes a lane: its start, direction and view_ray, structure-of-arrays.
+ * Then all lanes take step k together: one loop over the lanes projects each one's point and
+ * reads the depth under it, with no branch on what it read, so the reads of all lanes are in
+ * flight at once (trace_ray's expressions term by term; the early exits as flags: a lane off the
+ * image or behind the camera reads texel 0 and leaves); a second loop settles each lane still
+ * marching: it leaves open, or, when the point is within the thickness behind the depth it read,
+ * blocked_at decides. The steps stop when no lane marches. */
+enum { MARCH_SPAN = 64 };
+static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane, int y,
+                       int x0, int x1)
+{
+    enum { S = MARCH_SPAN };
+    const sl_gtao_view *v = &f->view;
+    /* per lane: the texel, the ray's start and direction, its view_ray; whether it still
+     * marches; this step's outcome: it leaves (open), it is near a surface, the texel it read */
+    size_t texel[S];
+    vec3 start[S], dir[S];
+    float z0[S], zr[S], sx0[S], sxr[S], sy0[S], syr[S];
+    int marching[S], leaves[S], near[S], read_at[S];
+    int lanes = 0;
+    for (int x = x0; x < x1; x++) {
+        size_t i = (size_t)y * (size_t)f->width + (size_t)x;
+        const sl_gbuffer_texel *t = &gb->texels[i];
+        ray_plane[i] = 1.0f; /* open unless its march is blocked */
+        if (!sl_gbuffer_covered(t))
+            continue;
+        int k = ray_index(x, y);
+        ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
+        vec3 P, R;
+        if (!ray_of(f, t, k, angle, &P, &R))
+            continue; /* below the surface: open */
+        view_ray r = view_ray_of(v, P, R);
+        const int m = lanes++;
+        texel[m] = i;
+        start[m] = P;
+        dir[m] = R;
+        z0[m] = r.z0;
+        zr[m] = r.zr;
+        sx0[m] = r.x0;
+        sxr[m] = r.xr;
+        sy0[m] = r.y0;
+        syr[m] = r.yr;
+        marching[m] = 1;
+    }
+    const float ppu = v->pixels_per_unit, half_w = f->half_width, half_h = f->half_height;
+    const float width = (float)f->width, height = (float)f->height;
+    const int stride = f->width;
+    const float *depth = f->depth;
+    float prev_t = 0.0f;
+    for (int k = 1, still = lanes; k <= SL_REFLECTION_STEPS && still > 0; k++) {
+        const float t = step_length(f, k), step = t - prev_t;
+        prev_t = t;
+#pragma omp simd
+        for (int m = 0; m < lanes; m++) {
+            const float z = z0[m] + zr[m] * t;
+            const float scale_px = ppu / z;
+            const float px = half_w + (sx0[m] + sxr[m] * t) * scale_px;
+            const float py = half_h + (sy0[m] + syr[m] * t) * scale_px;
+            const int inside = (z > 1e-4f) & (px >= 0.0f) & (py >= 0.0f) & (px < width) & (py < height);
+            /* the coordinates only where they are inside: no conversion of one that is not; an
+             * int, for 32-bit gathers (at most SL_RASTER_MAX_SIZE^2 texels) */
+            const int c = (int)(inside ? py : 0.0f) * stride + (int)(inside ? px : 0.0f);
+            const float zc = depth[c];
+            /* maxf, not trace_ray's fmaxf (which GCC does not vectorize): they differ only for a
+             * NaN zc, where both tests below fail whatever the thickness, and in a zero's sign,
+             * which zc + thickness does not carry into the test */
+            const float thickness = maxf(step, SL_REFLECTION_THICKNESS * zc);
+            leaves[m] = !inside;
+            near[m] = (z > zc) & (z < zc + thickness);
+            read_at[m] = c;
+        }
+        for (int m = 0; m < lanes; m++) {
+            if (!marching[m])
+                continue;
+            if (leaves[m]) {
+                marching[m] = 0;
+                still--;
+            } else if (near[m] && blocked_at(&f->planes[read_at[m]], start[m], dir[m], t)) {
+                ray_plane[texel[m]] = 0.0f;
+                marching[m] = 0;
+                still--;
+            }
+        }
+    }
+}
+
+/* Whether neighbour q is the same surface as texel p: covered, within SL_REFLECTION_SAME_DEPTH of
+ * p's view depth from p's tangent plane, normals within SL_REFLECTION_SAME_NORMAL. */
+static bool same_surface(const surface_plane *p, const surface_plane *q)
+{
+    if (!(q->z < INFINITY))
+        return false;
+    float off = p->nx * q->px + p->ny * q->py + p->nz * q->pz - p->d;
+    float cosn = p->nx * q->nx + p->ny * q->ny + p->nz * q->nz;
+    return fabsf(off) < SL_REFLECTION_SAME_DEPTH * p->z && cosn > SL_REFLECTION_SAME_NORMAL;
+}
+
+/* The visibility of covered texel (x, y) from the rays of its cross (itself and the four
+ * neighbours that are the same surface), each given by `ray_of` (the frame's plane of them, or
+ * traced here); each member's ray and whether it counted go to `rays` and `used` when not NULL,
+ * in the order centre, +x, -x, +y, -y. */
+/* GLSL: reflection_visibility */
+static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
+                              float *rays, int *used)
+{
+    static const int dx[SL_REFLECTION_RAYS] = {0, 1, -1, 0, 0}, dy[SL_REFLECTION_RAYS] = {0, 0, 0, 1, -1};
+    const surface_plane *p = &f->planes[(size_t)y * (size_t)f->width + (size_t)x];
+    float sum = 0.0f;
+    int count = 0;
+    for (int m = 0; m < SL_REFLECTION_RAYS; m++) {
+        int qx = x + dx[m], qy = y + dy[m];
+        bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
+        size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
+        bool take = inside && (m == 0 || same_surface(p, &f->planes[q]));
+        float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, &gb->texels[q], ray_index(qx, qy));
+        if (rays)
+            rays[m] = ray;
+        if (used)
+            used[m] = take;
+        sum += take ? ray : 0.0f;
+        count += take;
+    }
+    return sum / (float)count;
+}
+
+/* The ring rays' turns about R: ray k's phase 2 pi (k - 1) / 4 as its cosine and sine (ray 0,
+ * along R, turns by none). */
+static void ring_turns(float *turn_cos, float *turn_sin)
+{
+    turn_cos[0] = 1.0f;
+    turn_sin[0] = 0.0f;
+    for (int k = 1; k < SL_REFLECTION_RAYS; k++) {
+        float phase = 2.0f * SL_PI * (float)(k - 1) / (float)(SL_REFLECTION_RAYS - 1);
+        turn_cos[k] = cosf(phase);
+        turn_sin[k] = sinf(phase);
+    }
+}
+
+/* The frame's camera, image and rays; its planes and depth come from planes_of_rows (the caller
+ * sets them). */
+static reflection_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, float distance)
+{
+    reflection_frame f;
+    f.view = sl_gtao_view_of(cam, gb->height);
+    f.half_width = 0.5f * (float)gb->width;
+    f.half_height = 0.5f * (float)gb->height;
+    f.distance = distance;
+    f.width = gb->width;
+    f.height = gb->height;
+    f.planes = NULL;
+    f.depth = NULL;
+    ring_turns(f.turn_cos, f.turn_sin);
+    return f;
+}
+
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err)
+{
+    if (!(distance > 0.0f) || !isfinite(distance))
+        return sl_fail(err, SL_ERR_RANGE, "reflection occlusion: distance %g, expected a positive number",
+                       (double)distance);
+    const int width = gb->width, height = gb->height;
+    size_t n = (size_t)width * (size_t)height;
+    surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
+    float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane); /* each texel's own ray */
+    float *depth = malloc((n ? n : 1) * sizeof *depth);
+    if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
+        gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
+    if (!planes || !ray_plane || !depth || !gb->reflection) {
+        free(planes);
+        free(ray_plane);
+        free(depth);
+        return sl_fail(err, SL_ERR_MEMORY, "reflection occlusion: out of memory for %dx%d", width, height);
+    }
+    reflection_frame f = frame_of(gb, cam, distance);
+    f.planes = planes;
+    f.depth = depth;
+    /* dynamic chunks: a row's cost follows what it covers, and a descheduled thread holds up
+     * the barrier for one chunk at most */
+#pragma omp parallel num_threads(sl_threads(threads))
+    {
+#pragma omp for schedule(dynamic, 8)
+        for (int y = 0; y < height; y++)
+            planes_of_rows(gb, &f.view, planes, depth, y, y + 1);
+        ring_cache ring = {0, false, {1.0f, 0.0f}};
+#pragma omp for schedule(dynamic, 2)
+        for (int y = 0; y < height; y++)
+            for (int x = 0; x < width; x += MARCH_SPAN)
+                march_span(&f, gb, &ring, ray_plane, y, x, x + MARCH_SPAN < width ? x + MARCH_SPAN : width);
+#pragma omp for schedule(dynamic, 8)
+        for (int y = 0; y < height; y++)
+            for (int x = 0; x < width; x++) {
+                size_t i = (size_t)y * (size_t)width + (size_t)x;
+                bool covered = sl_gbuffer_covered(&gb->texels[i]);
+                gb->reflection[i] = covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : 1.0f;
+            }
+    }
+    free(planes);
+    free(ray_plane);
+    free(depth);
+    return true;
+}
+
+float sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
+                          int *used)
+{
+    size_t n = (size_t)gb->width * (size_t)gb->height;
+    surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
+    float *depth = malloc((n ? n : 1) * sizeof *depth);
+    if (!planes || !depth) { /* trace and the tests only: an empty answer beats a crash */
+        free(planes);
+        free(depth);
+        return NAN;
+    }
+    reflection_frame f = frame_of(gb, cam, distance);
+    f.planes = planes;
+    f.depth = depth;
+    planes_of_rows(gb, &f.view, planes, depth, 0, gb->height);
+    float v = 1.0f;
+    if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
+        v = cross_visibility(&f, gb, NULL, x, y, rays, used);
+    } else {
+        for (int m = 0; m < SL_REFLECTION_RAYS; m++) {
+            if (rays)
+                rays[m] = 1.0f;
+            if (used)
+                used[m] = 0;
+        }
+    }
+    free(planes);
+    free(depth);
+    return v;
+}

@@ -1,0 +1,74 @@
+/* reflection.h - reflection occlusion: whether the specular lobe's rays leave the scene, traced
+ * against the G-buffer in screen space.
+ *
+ * The ambient occlusion's cone (gtao.h, specular_occlusion.h) sees occluders within its radius
+ * and summarizes them as one cone about the bent normal: a glossy floor beside a sphere, or a
+ * mirror that reflects an object a few units away, keeps its whole reflection of the sky where
+ * the truth shows the object's dark side. This pass follows the reflection itself. A texel's
+ * lobe, with R = reflect(-V, N) and the lobe's cone of half-angle ts (specular_occlusion.h,
+ * sl_so_lobe_cone: 75.6% of the lobe's energy), is probed by SL_REFLECTION_RAYS rays from P
+ * (moved off the surface by a share of its view depth): ray 0 along R, rays 1 .. 4 on a ring at
+ * SL_REFLECTION_RING ts about R at equal turns (a ray below the surface counts as open: the
+ * lobe's part below the horizon is the blind integral's business). Each texel (x, y) traces one
+ * of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all five; its
+ * visibility is the share of open rays over that cross, counting a neighbour only where it is
+ * the same surface (near the texel's tangent plane, its normal close): a fifth of the rays a
+ * texel, the five directions on a smooth surface, its own rays alone at an edge. Each ray takes
+ * SL_REFLECTION_STEPS points at t = D (k / steps)^2, k = 1 .. steps (dense near P, where
+ * contact matters), projects each into the image and reads the texel there: the ray is blocked
+ * when the point lies behind that texel's tangent plane (as the camera sees it) and less than a
+ * thickness behind it along the view (the larger of the step and SL_REFLECTION_THICKNESS of the
+ * texel's view depth: what the G-buffer cannot know, how deep the surface goes). A ray that leaves
+ * the image, passes behind the camera or runs its length is open. The texel's visibility is
+ * the share of open rays, in [0, 1].
+ *
+ * The lighting multiplies the image-based specular by it; with the ambient occlusion's cone it
+ * takes the smaller of the two factors (each is an estimate of the same share: the cone sees
+ * wide lobes and nearby occluders, the rays far ones and narrow lobes).
+ *
+ * The tangent-plane test, not a depth comparison: at a grazing view a texel spans a long stretch
+ * of depth, and a ray rising slowly from a floor is behind the depth of the texel it crosses
+ * while still above the floor.
+ *
+ * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: the plane
+ * sl_gbuffer.reflection (allocated the first time; an empty texel gets 1). shaders/lighting.frag's
+ * reflection_visibility is the GLSL twin (softlight-gl), run per pixel in the lighting pass with
+ * these constants.
+ *
+ * Does not: see what the G-buffer does not hold (off screen, behind another surface, behind the
+ * camera: counted open), or the occluder's radiance (an occluded ray is dark, as the visibility
+ * truth has it). docs/lighting.md "Reflection occlusion" measures it. */
+#ifndef SL_REFLECTION_H
+#define SL_REFLECTION_H
+
+#include <stdbool.h>
+
+#include "core/error.h"
+#include "raster/gbuffer.h"
+#include "scene/scene.h"
+
+#define SL_REFLECTION_RAYS 5          /* R and SL_REFLECTION_RAYS - 1 on the ring */
+#define SL_REFLECTION_STEPS 16        /* points along a ray */
+#define SL_REFLECTION_RING 0.5f       /* the ring's angle, a share of the lobe's cone angle */
+#define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
+#define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
+#define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
+/* The cross's test of "the same surface": within this share of the view depth of the texel's
+ * tangent plane, and normals within this cosine. */
+#define SL_REFLECTION_SAME_DEPTH 0.02f
+#define SL_REFLECTION_SAME_NORMAL 0.8f
+
+/* Set gb->reflection (allocated when NULL) for every texel, rays `distance` world units long
+ * (> 0), on `threads` OpenMP threads (0: all). False (and err) with a distance that is not
+ * positive and finite, or out of memory. */
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err);
+
+/* The visibility of texel (x, y) as sl_reflection_apply computes it, the same bits, and its
+ * cross's rays, in the order the texel, x + 1, x - 1, y + 1, y - 1: each ray 1 open, 0 blocked
+ * (`rays`) and whether it counted (`used`: 0 for a neighbour off the image or another surface);
+ * each SL_REFLECTION_RAYS long or NULL. For softlight trace and the tests. 1 for an empty texel
+ * (nothing used). NAN when out of memory. */
+float sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
+                          int *used);
+
+#endif
