@@ -17,15 +17,7 @@ SIZE=${3:-1280x720}
 T=$(mktemp -d "${TMPDIR:-/tmp}/reflection-occlusion.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 SCENES="bunny grazing top-down model city-sun"
-median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
-# cpu SCENE REPEAT OPTIONS...: user + system seconds of one render
-cpu() {
-    local s=$1 n=$2
-    shift 2
-    /usr/bin/time -f "%U %S" -o "$T/time" "$BUILD/softlight" render "scenes/$s.json" --size "$SIZE" -j 1 "$@" \
-        --repeat "$n" -o "$T/f.png" >"$T/out.txt"
-    awk '{ print $1 + $2 }' "$T/time"
-}
+source bench/cpu_frame.bash
 for _ in $(seq 1 "$ROUNDS"); do
     for s in $SCENES; do
         for setting in off on; do

@@ -24,14 +24,7 @@ ROUNDS=${2:-3}
 SIZE=${3:-1280x720}
 T=$(mktemp -d "${TMPDIR:-/tmp}/shadows.XXXXXX")
 trap 'rm -rf "$T"' EXIT
-median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
-# cpu SCENE REPEAT OPTIONS...: user + system seconds of one render
-cpu() {
-    local s=$1 n=$2; shift 2
-    /usr/bin/time -f "%U %S" -o "$T/time" "$BUILD/softlight" render "scenes/$s.json" --size "$SIZE" -j 1 "$@" \
-        --repeat "$n" -o "$T/f.png" >"$T/out.txt"
-    awk '{ print $1 + $2 }' "$T/time"
-}
+source bench/cpu_frame.bash
 # base SCENE: the options every frame of the scene has
 base() { case $1 in pbr | city-sun) echo "--env-lights 32" ;; esac; }
 SCENES="bunny ggx lamp pbr city-sun"

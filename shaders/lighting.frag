@@ -656,7 +656,7 @@ const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
 const float REFLECTION_PLANE_EPS = 0.003;
 const float REFLECTION_SAME_DEPTH = 0.02;
-const float REFLECTION_SAME_NORMAL = 0.8;
+const float REFLECTION_SAME_NORMAL = 0.998;
 
 // The G-buffer texel q as a ray reads it: false when empty, else its position, its normal
 // facing the eye and its view depth.

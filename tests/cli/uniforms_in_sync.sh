@@ -3,8 +3,8 @@
 # that must agree (docs/architecture.md "Adding a uniform"): shaders/lighting.frag declares it,
 # sl_lighting_uniforms in src/shading/lighting.h holds it for the C port, and src/gl/lighting_pass.c
 # uploads it for softlight-gl. This fails, naming the uniform, when one of them misses a name
-# another has, and when the GLSL's array sizes, option values and shadow-map constants differ
-# from the C constants.
+# another has, and when the GLSL's array sizes, option values, shadow-map and reflection
+# occlusion constants differ from the C constants.
 set -u
 cd "$(dirname "$0")/../.." || exit 2
 frag=shaders/lighting.frag hdr=src/shading/lighting.h gl=src/gl/lighting_pass.c
@@ -76,6 +76,14 @@ for x in SKY_NORMAL_OFFSET SKY_BIAS_CONST; do
     v=$(sed -n "s/^#define $x \([-+0-9.eE]*\)f.*/\1/p" src/shadow/sky.c)
     [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
         fail "$x = '${g}' in $frag, '${v}' in src/shadow/sky.c"
+done
+# The reflection occlusion's constants: GLSL `const int|float REFLECTION_X = V;` against
+# src/occlusion/reflection.h's `#define SL_REFLECTION_X V[f]`.
+for x in RAYS STEPS RING THICKNESS OFFSET PLANE_EPS SAME_DEPTH SAME_NORMAL; do
+    g=$(sed -n "s/^const [a-z]* REFLECTION_$x = \([-+0-9.eE]*\);.*/\1/p" "$frag")
+    v=$(sed -n "s/^#define SL_REFLECTION_$x \([-+0-9.eE]*\).*/\1/p" src/occlusion/reflection.h)
+    [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
+        fail "REFLECTION_$x = '${g}' in $frag, SL_REFLECTION_$x = '${v}' in src/occlusion/reflection.h"
 done
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
