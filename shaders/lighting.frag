@@ -730,7 +730,7 @@ float reflection_ray(ivec2 q, int k)
 
 // The covered pixel's visibility: the share of open rays over its cross (the pixel, x + 1,
 // x - 1, y + 1, y - 1), a neighbour counted where it is the same surface (near the pixel's
-// tangent plane, its normal close).
+// tangent plane, its normal within a few degrees: its ray then stands for the pixel's).
 float reflection_visibility(ivec2 pixel)
 {
     const ivec2 offsets[REFLECTION_RAYS] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),

@@ -304,9 +304,9 @@ static bool same_surface(const surface_plane *p, const surface_plane *q)
 }
 
 /* The visibility of covered texel (x, y) from the rays of its cross (itself and the four
- * neighbours that are the same surface), each given by `ray_of` (the frame's plane of them, or
- * traced here); each member's ray and whether it counted go to `rays` and `used` when not NULL,
- * in the order centre, +x, -x, +y, -y. */
+ * neighbours that are the same surface), each read from `ray_plane` (the frame's plane of them)
+ * or, when that is NULL, traced here; each member's ray and whether it counted go to `rays` and
+ * `used` when not NULL, in the order centre, +x, -x, +y, -y. */
 /* GLSL: reflection_visibility */
 static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
                               float *rays, int *used)
