@@ -2,10 +2,11 @@
  *
  * The pass first reduces every texel to what a ray's test reads of it: its view depth, in a
  * plane of its own (every step reads it), and beside it its tangent plane as the camera sees it
- * (the facing normal and its offset) and its position, 32 bytes a texel; then traces each
- * texel's ray, rows over threads; then averages each texel's cross. A ray's
- * point is linear in t, so its view coordinates are too: each step is three multiply-adds and one
- * division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
+ * (the facing normal and its offset, 16 bytes: the cross's test reads a neighbour's position
+ * from the G-buffer texel itself, not a copy); then traces each texel's ray, rows over threads,
+ * into a plane of one float a texel; then averages each texel's cross. 24 bytes a texel in all,
+ * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
+ * step is three multiply-adds and one division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
  * reference (sl_reflection_texel runs it; tests/unit/test_reflection.c holds the frame to it),
  * and march_span, the frame's, which steps the rays of a run of a row's texels together, a lane
  * a ray. A ray's cost is the latency of its reads of the depth plane at points strewn over the
@@ -24,13 +25,12 @@
 #include "occlusion/gtao.h"
 #include "occlusion/specular_occlusion.h"
 
-/* What a ray reads of a texel: its view depth z (+inf for an empty texel: nothing there blocks),
- * in a plane of its own since every step reads it and few read more, and its tangent plane
- * dot(n, X) = d with n facing the eye and its position (for the cross's test of "the same
- * surface"). */
+/* A texel's tangent plane as the camera sees it: dot(n, X) = d with n facing the eye (all zero
+ * for an empty texel). blocked_at and the cross's test of "the same surface" read it. Its view
+ * depth lies in a plane of its own, since every step reads that and few read more; the position
+ * the cross's test takes of a neighbour is the G-buffer texel's own. */
 typedef struct {
     float nx, ny, nz, d;
-    float px, py, pz, z;
 } surface_plane;
 
 typedef struct {
@@ -38,28 +38,19 @@ typedef struct {
     float half_width, half_height;
     float distance;
     int width, height;
-    const float *depth;           /* each texel's z */
-    const surface_plane *planes;
+    const float *depth;           /* each texel's view depth, +inf for an empty one (nothing there blocks) */
+    const surface_plane *planes;  /* each texel's tangent plane */
     /* the ring's turns: the cosine and sine of ring ray k's phase about R, k = 1 .. 4 */
     float turn_cos[SL_REFLECTION_RAYS], turn_sin[SL_REFLECTION_RAYS];
 } reflection_frame;
 
+/* The covered texel t's tangent plane and, in *depth, its view depth. */
 /* GLSL: reflection_surface */
-static surface_plane plane_of(const sl_gbuffer_texel *t, const sl_gtao_view *view)
+static surface_plane plane_of(const sl_gbuffer_texel *t, const sl_gtao_view *view, float *depth)
 {
-    surface_plane s = {0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, 0.0f, INFINITY};
-    if (!sl_gbuffer_covered(t))
-        return s;
     vec3 N = sl_lighting_facing_normal(t->normal, normalize(sub(view->eye, t->position)));
-    s.nx = N.x;
-    s.ny = N.y;
-    s.nz = N.z;
-    s.d = dot(N, t->position);
-    s.z = dot(sub(t->position, view->eye), view->forward);
-    s.px = t->position.x;
-    s.py = t->position.y;
-    s.pz = t->position.z;
-    return s;
+    *depth = dot(sub(t->position, view->eye), view->forward);
+    return (surface_plane){N.x, N.y, N.z, dot(N, t->position)};
 }
 
 static void planes_of_rows(const sl_gbuffer *gb, const sl_gtao_view *view, surface_plane *planes, float *depth,
@@ -68,8 +59,13 @@ static void planes_of_rows(const sl_gbuffer *gb, const sl_gtao_view *view, surfa
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < gb->width; x++) {
             size_t i = (size_t)y * (size_t)gb->width + (size_t)x;
-            planes[i] = plane_of(&gb->texels[i], view);
-            depth[i] = planes[i].z;
+            const sl_gbuffer_texel *t = &gb->texels[i];
+            if (sl_gbuffer_covered(t)) {
+                planes[i] = plane_of(t, view, &depth[i]);
+            } else {
+                planes[i] = (surface_plane){0.0f, 0.0f, 0.0f, 0.0f};
+                depth[i] = INFINITY;
+            }
         }
 }
 
@@ -93,13 +89,13 @@ static float step_length(const reflection_frame *f, int k)
     return f->distance * s * s;
 }
 
-/* Whether the point at t along the ray from P along R, found within the thickness behind texel
- * c's depth, is behind c's tangent plane: the ray is blocked there. */
-static bool blocked_at(const surface_plane *c, vec3 P, vec3 R, float t)
+/* Whether the point at t along the ray from P along R, found within the thickness behind the
+ * depth zc of texel c, is behind c's tangent plane: the ray is blocked there. */
+static bool blocked_at(const surface_plane *c, float zc, vec3 P, vec3 R, float t)
 {
     float Qx = P.x + R.x * t, Qy = P.y + R.y * t, Qz = P.z + R.z * t;
     float behind = c->nx * Qx + c->ny * Qy + c->nz * Qz - c->d;
-    return behind < -SL_REFLECTION_PLANE_EPS * c->z;
+    return behind < -SL_REFLECTION_PLANE_EPS * zc;
 }
 
 /* 1 when the ray from P along the unit R leaves the image, the camera's front or its length
@@ -127,7 +123,7 @@ static float trace_ray(const reflection_frame *f, vec3 P, vec3 R)
         prev_t = t;
         if (!(z > zc && z < zc + thickness)) /* in front of it, too far behind it, or empty */
             continue;
-        if (blocked_at(&f->planes[i], P, R, t))
+        if (blocked_at(&f->planes[i], zc, P, R, t))
             return 0.0f;
     }
     return 1.0f;
@@ -283,7 +279,7 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
             if (leaves[m]) {
                 marching[m] = 0;
                 still--;
-            } else if (near[m] && blocked_at(&f->planes[read_at[m]], start[m], dir[m], t)) {
+            } else if (near[m] && blocked_at(&f->planes[read_at[m]], depth[read_at[m]], start[m], dir[m], t)) {
                 ray_plane[texel[m]] = 0.0f;
                 marching[m] = 0;
                 still--;
@@ -292,15 +288,18 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
     }
 }
 
-/* Whether neighbour q is the same surface as texel p: covered, within SL_REFLECTION_SAME_DEPTH of
- * p's view depth from p's tangent plane, normals within SL_REFLECTION_SAME_NORMAL. */
-static bool same_surface(const surface_plane *p, const surface_plane *q)
+/* Whether neighbour q is the same surface as texel p (indices into the image): covered, within
+ * SL_REFLECTION_SAME_DEPTH of p's view depth from p's tangent plane, normals within
+ * SL_REFLECTION_SAME_NORMAL. */
+static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t p, size_t q)
 {
-    if (!(q->z < INFINITY))
+    if (!(f->depth[q] < INFINITY))
         return false;
-    float off = p->nx * q->px + p->ny * q->py + p->nz * q->pz - p->d;
-    float cosn = p->nx * q->nx + p->ny * q->ny + p->nz * q->nz;
-    return fabsf(off) < SL_REFLECTION_SAME_DEPTH * p->z && cosn > SL_REFLECTION_SAME_NORMAL;
+    const surface_plane *a = &f->planes[p], *b = &f->planes[q];
+    vec3 Q = gb->texels[q].position;
+    float off = a->nx * Q.x + a->ny * Q.y + a->nz * Q.z - a->d;
+    float cosn = a->nx * b->nx + a->ny * b->ny + a->nz * b->nz;
+    return fabsf(off) < SL_REFLECTION_SAME_DEPTH * f->depth[p] && cosn > SL_REFLECTION_SAME_NORMAL;
 }
 
 /* The visibility of covered texel (x, y) from the rays of its cross (itself and the four
@@ -312,14 +311,14 @@ static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, c
                               float *rays, int *used)
 {
     static const int dx[SL_REFLECTION_RAYS] = {0, 1, -1, 0, 0}, dy[SL_REFLECTION_RAYS] = {0, 0, 0, 1, -1};
-    const surface_plane *p = &f->planes[(size_t)y * (size_t)f->width + (size_t)x];
+    const size_t p = (size_t)y * (size_t)f->width + (size_t)x;
     float sum = 0.0f;
     int count = 0;
     for (int m = 0; m < SL_REFLECTION_RAYS; m++) {
         int qx = x + dx[m], qy = y + dy[m];
         bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
         size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
-        bool take = inside && (m == 0 || same_surface(p, &f->planes[q]));
+        bool take = inside && (m == 0 || same_surface(f, gb, p, q));
         float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, &gb->texels[q], ray_index(qx, qy));
         if (rays)
             rays[m] = ray;
