@@ -76,13 +76,14 @@ expect_error no-blank-line 'noblank\.hdr: byte 34: found the resolution line .-Y
 
 # info's peak against the measured peak (max RSS) of the same render, within 12%: the default
 # render, the two modes that hold a second chain (split sum's prefiltered chain with its pair
-# rows, the octahedral chain), a point light's cube shadow map (scenes/lamp.json --shadows) and
-# 64 sky visibility maps (64 MiB).
+# rows, the octahedral chain), a point light's cube shadow map (scenes/lamp.json --shadows), 64
+# sky visibility maps (64 MiB), and the ambient and reflection occlusion's planes.
 if [ -z "${SL_SANITIZED:-}" ]; then
     for case in "$T/mid.json|" "$T/mid.json|--estimator splitsum" "$T/mid.json|--env-layout oct" \
-                "scenes/lamp.json|--shadows" "$T/mid.json|--sky-maps 64"; do
+                "scenes/lamp.json|--shadows" "$T/mid.json|--sky-maps 64" \
+                "$T/mid.json|--ao-radius 1 --reflection-occlusion 5"; do
         scene=${case%%|*} modes=${case#*|}
-        # shellcheck disable=SC2086 # $modes is zero or two words
+        # shellcheck disable=SC2086 # $modes is zero or more words
         peak=$("$SL" info "$scene" $modes | sed -n 's/.*memory     peak \([0-9.]*\) MiB.*/\1/p')
         # shellcheck disable=SC2086
         rss=$(/usr/bin/time -f '%M' "$SL" render "$scene" $modes -o "$T/mid.png" 2>&1 >/dev/null | tail -n 1 |
