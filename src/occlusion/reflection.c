@@ -166,19 +166,20 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
     return c->angle;
 }
 
-/* Ray k of the covered texel t (k = 0 along R, else on the ring at turn k - 1, `ring` the
- * ring's angle for t's alpha; reflection.h): its start P and unit direction. False for a ring
- * ray below the surface, which counts as open untraced. */
+/* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
+ * angle for the texel's alpha; reflection.h): its start P and unit direction. False for a ring
+ * ray below the surface, which counts as open untraced. The facing normal and the view depth
+ * are the texel's plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
-static bool ray_of(const reflection_frame *f, const sl_gbuffer_texel *t, int k, ring_angle ring, vec3 *P,
+static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring, vec3 *P,
                    vec3 *direction)
 {
-    const sl_gtao_view *v = &f->view;
-    vec3 V = normalize(sub(v->eye, t->position));
-    vec3 N = sl_lighting_facing_normal(t->normal, V);
+    const sl_gbuffer_texel *t = &gb->texels[i];
+    const surface_plane *plane = &f->planes[i];
+    vec3 V = normalize(sub(f->view.eye, t->position));
+    vec3 N = vec3(plane->nx, plane->ny, plane->nz);
     vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
-    float depth = dot(sub(t->position, v->eye), v->forward);
-    *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * depth));
+    *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * f->depth[i]));
     if (k == 0) {
         *direction = R;
         return true;
@@ -191,11 +192,11 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer_texel *t, int k, 
     return dot(Rk, N) > 0.0f;
 }
 
-/* Whether ray k of the covered texel t is open (1) or blocked (0), traced alone: the reference. */
-static float texel_ray(const reflection_frame *f, const sl_gbuffer_texel *t, int k)
+/* Whether ray k of covered texel i is open (1) or blocked (0), traced alone: the reference. */
+static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k)
 {
     vec3 P, R;
-    if (!ray_of(f, t, k, ring_angle_of(t->alpha), &P, &R))
+    if (!ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R))
         return 1.0f; /* below the surface: open */
     return trace_ray(f, P, R);
 }
@@ -231,7 +232,7 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
         int k = ray_index(x, y);
         ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
         vec3 P, R;
-        if (!ray_of(f, t, k, angle, &P, &R))
+        if (!ray_of(f, gb, i, k, angle, &P, &R))
             continue; /* below the surface: open */
         view_ray r = view_ray_of(v, P, R);
         const int m = lanes++;
@@ -319,7 +320,7 @@ static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, c
         bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
         size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
-        float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, &gb->texels[q], ray_index(qx, qy));
+        float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, gb, q, ray_index(qx, qy));
         if (rays)
             rays[m] = ray;
         if (used)
