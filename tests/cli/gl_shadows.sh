@@ -56,14 +56,8 @@ gl_outside "lamp, GL no maps" "$T/lamp/c.pfm" "$T/lamp/g0.pfm" \
 # the light's term is the image less the one without the light
 PYTHONPATH=tests/cli python3 - "$T/lamp" "$GL_TEST_SIZE" <<'PY' || fail=1
 import sys
-from pfm import read_pfm
-d = sys.argv[1]
-w, h, _, c = read_pfm(d + "/c.pfm")
-_, _, _, g = read_pfm(d + "/g.pfm")
-_, _, _, g0 = read_pfm(d + "/g0.pfm")
-_, _, _, env = read_pfm(d + "/g-env.pfm")
-_, _, _, c0 = read_pfm(d + "/c0.pfm")
-_, _, _, cenv = read_pfm(d + "/c-env.pfm")
+from pfm import read_pfms
+w, h, (c, g, g0, env, c0, cenv) = read_pfms(sys.argv[1], "c", "g", "g0", "g-env", "c0", "c-env")
 bad = 0
 # the light's visibility per pixel, C's against GL's
 term = lambda img, base, i: sum(img[3 * i + k] - base[3 * i + k] for k in range(3))

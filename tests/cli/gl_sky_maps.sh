@@ -40,12 +40,8 @@ gl_outside "GL without maps" "$T/wall/c.pfm" "$T/wall/g0.pfm" \
 # V per pixel, C's against GL's; the wall's foot
 PYTHONPATH=tests/cli python3 - "$T/wall" <<'PY' || fail=1
 import sys
-from pfm import read_pfm
-d = sys.argv[1]
-w, h, _, c = read_pfm(d + "/c.pfm")
-_, _, _, c0 = read_pfm(d + "/c0.pfm")
-_, _, _, g = read_pfm(d + "/g.pfm")
-_, _, _, g0 = read_pfm(d + "/g0.pfm")
+from pfm import read_pfms
+w, h, (c, c0, g, g0) = read_pfms(sys.argv[1], "c", "c0", "g", "g0")
 lit = far = occluded = 0
 worst = 0.0
 rows_c, rows_g = {}, {}

@@ -49,12 +49,8 @@ gl_outside "GL without maps" "$T/occ/c.pfm" "$T/occ/g0.pfm" \
 # the sun's visibility per pixel, C's against GL's; the darkest shadowed pixels and the open floor
 PYTHONPATH=tests/cli python3 - "$T/occ" <<'PY' || fail=1
 import sys
-from pfm import read_pfm
-d = sys.argv[1]
-w, h, _, c = read_pfm(d + "/c.pfm")
-_, _, _, c0 = read_pfm(d + "/c0.pfm")
-_, _, _, g = read_pfm(d + "/g.pfm")
-_, _, _, g0 = read_pfm(d + "/g0.pfm")
+from pfm import read_pfms
+w, h, (c, c0, g, g0) = read_pfms(sys.argv[1], "c", "c0", "g", "g0")
 bad = 0
 lit = far = shadowed = edge = 0
 worst = 0.0

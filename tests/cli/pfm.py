@@ -13,3 +13,10 @@ def read_pfm(path):
         n = width * height * channels
         data = struct.unpack(("<" if scale < 0 else ">") + "%df" % n, f.read(n * 4))
     return width, height, channels, data
+
+
+def read_pfms(directory, *names):
+    """(width, height, [values per name]): DIRECTORY/NAME.pfm for each name, as read_pfm reads
+    them; the width and height are the first file's."""
+    images = [read_pfm("%s/%s.pfm" % (directory, name)) for name in names]
+    return images[0][0], images[0][1], [values for _, _, _, values in images]
