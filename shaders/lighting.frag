@@ -124,10 +124,15 @@
 //   sampler2D uSplitSumPhong, uSplitSumGGX  lat-long chains, level k the environment (what the
 //                         samples read) convolved with the lobe of width r = k / uSplitSumMaxLod at
 //                         N = V = R; uploaded level by level, LINEAR_MIPMAP_LINEAR, REPEAT s, CLAMP t
-//   float uSplitSumMaxLod their level count - 1
-//   sampler2D uSplitSumLut  SPLITSUM_LUT_SIZE x (3 SPLITSUM_LUT_SIZE) RGB32F, LINEAR, CLAMP: .x = A,
+//   float uSplitSumMaxLod their level count - 1 (SPLITSUM_LEVELS - 1)
+//   sampler2D uSplitSumLut  SPLITSUM_LUT_SIZE x (3 SPLITSUM_LUT_SIZE) RGBA32F, LINEAR, CLAMP: .x = A,
 //                         .y = B of the BRDF's albedo Ks A + B over (N.V, r), .z = t, the lookup
-//                         direction's factor (splitsum_dir), one set per block of rows
+//                         direction's factor (splitsum_dir), .w = beta, the control variate's
+//                         coefficient (splitsum_beta), one set per block of rows
+//   int   uSplitSumExactLevel  the chains' first exact level: from it on, level k holds the
+//                         environment's integral against cv_kernel's kernel (src/ibl/prefilter.c)
+//   float uSplitSumKernelNorm[SPLITSUM_SETS * SPLITSUM_LEVELS]  1 / Z of set s's level k at
+//                         s SPLITSUM_LEVELS + k (the kernel's normalisation, src/ibl/ibl.h)
 //   int uDiffuse, uSpecular, uPointLights   1 = on, 0 = off
 //   int uRotate       1 = Cranley-Patterson rotation: every Hammersley pair is offset by the
 //                     pixel's pseudo-random vector pixel_rotation() mod 1 (0 = off: the same set
@@ -227,6 +232,8 @@ uniform sampler2D uSplitSumPhong;
 uniform sampler2D uSplitSumGGX;
 uniform sampler2D uSplitSumLut;
 uniform float uSplitSumMaxLod;
+uniform int uSplitSumExactLevel;
+uniform float uSplitSumKernelNorm[18]; // SPLITSUM_SETS * SPLITSUM_LEVELS
 
 uniform uint uFrame;
 
@@ -283,6 +290,7 @@ const int ESTIMATOR_MIS = 5;
 const int ESTIMATOR_CV = 6;
 const int SPLITSUM_LUT_SIZE = 32;
 const int SPLITSUM_SETS = 3;
+const int SPLITSUM_LEVELS = 6;
 const int SPLITSUM_PHONG_INV_LH2 = 0;
 const int SPLITSUM_PHONG_ONE = 1;
 const int SPLITSUM_GGX = 2;
@@ -883,6 +891,72 @@ float microfacet_D(vec2 xi, float alpha)
     return (alpha + 2.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 2.0));
 }
 
+// The control variate's kernel for one pixel (specular_cv; C: sl_cv_kernel): each sample's
+// radiance is subtracted times scale K(w) / p(w), K = ca k_a + cb k_b about dir.
+struct CvKernel {
+    bool on;    // false: the microfacet estimator, nothing subtracted
+    vec3 dir;   // the lookup direction, the kernels' axis
+    int set;    // the chain's set
+    int la, lb; // the levels read
+    float ca, cb; // their exact shares
+    vec3 scale; // beta E
+};
+
+CvKernel no_cv()
+{
+    return CvKernel(false, vec3(0.0), 0, 0, 0, 0.0, 0.0, vec3(0.0));
+}
+
+// The levels a chain read at lod mixes, la with 1 - f and lb = la + 1 with f, and those weights
+// where the level is exact (from uSplitSumExactLevel on), 0 where it is not (level 0, the
+// environment itself, and the sampled levels): cv.ca, cv.cb (src/shading/splitsum_lut.h).
+void cv_levels(float lod, inout CvKernel cv)
+{
+    int max_lod = int(uSplitSumMaxLod);
+    lod = clamp(lod, 0.0, float(max_lod));
+    cv.la = min(int(lod), max_lod);
+    cv.lb = cv.la < max_lod ? cv.la + 1 : max_lod;
+    float f = cv.lb > cv.la ? lod - float(cv.la) : 0.0;
+    cv.ca = cv.la >= uSplitSumExactLevel ? 1.0 - f : 0.0;
+    cv.cb = cv.lb > cv.la && cv.lb >= uSplitSumExactLevel ? f : 0.0;
+}
+
+// Level k's kernel of set `set` at c = w.d (src/ibl/ibl.h sl_prefilter_kernel): the density
+// D(h) G'(c) c / (4 Z) of w about the lookup direction d at N = V = d, h the half vector of w and
+// d, (d.h)^2 = (1 + c) / 2; 0 for c <= 0.
+float cv_kernel_level(int set, int level, float c)
+{
+    if (!(c > 0.0))
+        return 0.0;
+    float r = float(level) / uSplitSumMaxLod;
+    float a = max(r * r, GGX_MIN_A);
+    float a2 = a * a;
+    float nh2 = 0.5 * (1.0 + c);
+    float D;
+    float G;
+    if (set == SPLITSUM_GGX) {
+        float t = (1.0 - nh2) + nh2 * a2;
+        D = a2 / (PI * t * t);
+        G = 2.0 / (c + sqrt(c * c * (1.0 - a2) + a2));
+    } else {
+        float alpha = min(2.0 / a2 - 2.0, MAX_ALPHA);
+        D = (alpha + 2.0) / (2.0 * PI) * pow(nh2, 0.5 * alpha);
+        G = set == SPLITSUM_PHONG_ONE ? 1.0 : 1.0 / max(nh2, 1e-6);
+    }
+    return 0.25 * D * G * c * uSplitSumKernelNorm[set * SPLITSUM_LEVELS + level];
+}
+
+// The kernel mix K = ca k_a + cb k_b the exact part of the chain read stands for.
+float cv_kernel(CvKernel cv, float c)
+{
+    float K = 0.0;
+    if (cv.ca > 0.0)
+        K += cv.ca * cv_kernel_level(cv.set, cv.la, c);
+    if (cv.cb > 0.0)
+        K += cv.cb * cv_kernel_level(cv.set, cv.lb, c);
+    return K;
+}
+
 // Specular IBL by microfacet importance sampling (uEstimator == 3): eq. (1) with the specular
 // term of eq. (2), f = D G F / (4 (w.N)(V.N)), by Monte Carlo with directions drawn through H:
 //   H ~ p_H(H) = D(H) (N.H) about N (microfacet_sample, in the tangent frame A, B, N);
@@ -902,8 +976,9 @@ float microfacet_D(vec2 xi, float alpha)
 // usual G2 (V.H) / ((N.V)(N.H)). N.H is the drawn
 // cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,
 // and p(w) for gems (docs/lighting.md "Estimators").
-// Lbar: subtracted from every sample's radiance (0 here; specular_cv's control variate).
-vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, vec3 Lbar)
+// cv: the control variate's kernel, whose K(w) / p(w) cv.scale Li every sample subtracts when
+// cv.on (specular_cv).
+vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel cv)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
@@ -921,7 +996,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, ve
         float VdotH = dot(V, H);
         vec3 w = normalize(2.0 * VdotH * H - V);
         float wN = dot(w, N);
-        if (VdotH <= 0.0 || wN <= 0.0)
+        if (VdotH <= 0.0 || (wN <= 0.0 && !cv.on))
             continue;
         float NdotH = Hl.z;
         float pdf = D * NdotH / (4.0 * VdotH);
@@ -930,7 +1005,9 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, ve
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN * VdotH / NdotH;
-        vec3 c = F * (Li - Lbar) * weight;
+        vec3 c = wN > 0.0 ? F * Li * weight : vec3(0.0);
+        if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
+            c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf);
         sum = sum + c;
     }
     return sum * (1.0 / float(max(n, 1)));
@@ -1126,16 +1203,108 @@ vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
     return P * (Ks * ab.x + ab.y) * uEnvIntensity;
 }
 
-// The split sum as a control variate (uEstimator 6): its closed value Lbar E_ss (Lbar the
-// prefiltered radiance, E_ss = Ks A + B the table's E[F W]) plus the microfacet samples' estimate
-// of the rest, 1/N sum F W (L(w_k) - Lbar): converges to eq. (1) as N grows (the table's own
-// error times Lbar aside), the samples paying only for what the split sum gets wrong.
+// The control variate's coefficient: the table's fourth value.
+float splitsum_beta(int set, float NdotV, float r)
+{
+    float s = float(SPLITSUM_LUT_SIZE);
+    vec2 uv = vec2((clamp(NdotV, 0.0, 1.0) * (s - 1.0) + 0.5) / s,
+                   (float(set) * s + clamp(r, 0.0, 1.0) * (s - 1.0) + 0.5) / (s * float(SPLITSUM_SETS)));
+    return texture(uSplitSumLut, uv).w;
+}
+
+// Level `level` of a chain read with the Catmull-Rom filter (src/ibl/texture_lod.h
+// sl_env_catmull_rom): 4 x 4 texels about uv, REPEAT in u, and in v a row past a pole is the row
+// beside it half a turn away. The exact levels are exact at their texel centres; this filter
+// passes through them with a third-order error between them, where the bilinear one has a
+// second-order one, which on the widest lobes' coarse levels is a percent.
+vec3 chain_catmull_rom(bool ggx, int level, vec2 uv)
+{
+    // level 0's size halved `level` times, GL's mip sizes: llvmpipe's textureSize gave level 0's
+    // size for a level that is not a constant
+    ivec2 size = ggx ? textureSize(uSplitSumGGX, 0) : textureSize(uSplitSumPhong, 0);
+    int w = max(size.x >> level, 1), h = max(size.y >> level, 1);
+    float x = uv.x * float(w) - 0.5, y = uv.y * float(h) - 0.5;
+    if (!(x > -2.0 && x < float(w) + 1.0 && y > -2.0 && y < float(h) + 1.0))
+        return vec3(0.0);
+    int i = int(floor(x)), j = int(floor(y));
+    float tx = x - float(i), ty = y - float(j);
+    vec4 wx = vec4(((-0.5 * tx + 1.0) * tx - 0.5) * tx, (1.5 * tx - 2.5) * tx * tx + 1.0,
+                   ((-1.5 * tx + 2.0) * tx + 0.5) * tx, (0.5 * tx - 0.5) * tx * tx);
+    vec4 wy = vec4(((-0.5 * ty + 1.0) * ty - 0.5) * ty, (1.5 * ty - 2.5) * ty * ty + 1.0,
+                   ((-1.5 * ty + 2.0) * ty + 0.5) * ty, (0.5 * ty - 0.5) * ty * ty);
+    ivec4 cols, turned;
+    for (int a = 0; a < 4; a++) {
+        int col = i - 1 + a;
+        while (col < 0)
+            col += w;
+        while (col >= w)
+            col -= w;
+        cols[a] = col;
+        int t = col + w / 2;
+        turned[a] = t >= w ? t - w : t;
+    }
+    vec3 sum = vec3(0.0);
+    for (int b = 0; b < 4; b++) {
+        int row = j - 1 + b;
+        bool past = row < 0 || row > h - 1;
+        if (past) {
+            row = row < 0 ? -row - 1 : 2 * h - row - 1;
+            row = clamp(row, 0, h - 1);
+        }
+        vec3 r = vec3(0.0);
+        for (int a = 0; a < 4; a++) {
+            ivec2 t = ivec2(past ? turned[a] : cols[a], row);
+            r += (ggx ? texelFetch(uSplitSumGGX, t, level).rgb : texelFetch(uSplitSumPhong, t, level).rgb) * wx[a];
+        }
+        sum += r * wy[b];
+    }
+    return sum;
+}
+
+// The control variate's kernel for the pixel (docs/lighting.md "Control variate"). The chain's
+// exact levels hold the integral of the environment against a known kernel k about the lookup
+// direction, so with K = ca k_a + cb k_b the exact part of the read and E = Ks A + B the albedo,
+//     integral of f (N.w) L = beta E (ca C_a + cb C_b) + integral of (f (N.w) - beta E K) L.
+// This is what the samples subtract: the kernel's axis, levels and shares, and beta E.
+CvKernel cv_setup(vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    CvKernel cv;
+    float NdotV = dot(N, V);
+    vec3 R = normalize(N * (2.0 * NdotV) - V);
+    float r = splitsum_width(alpha);
+    float lod = r * uSplitSumMaxLod;
+    cv.set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    vec3 ab = splitsum_lut(cv.set, NdotV, r);
+    cv.on = true;
+    cv.dir = splitsum_dir(N, R, ab.z);
+    cv_levels(lod, cv);
+    float beta = splitsum_beta(cv.set, NdotV, r);
+    cv.scale = (Ks * ab.x + ab.y) * beta;
+    return cv;
+}
+
+// The first term, beta E (ca C_a + cb C_b), times the intensity: the chain read along the
+// kernel's axis at its two levels with the Catmull-Rom filter.
+vec3 cv_closed(CvKernel cv)
+{
+    vec2 uv = sl_dir_to_uv(cv.dir);
+    vec3 C = vec3(0.0);
+    if (cv.ca > 0.0)
+        C += cv.ca * chain_catmull_rom(cv.set == SPLITSUM_GGX, cv.la, uv);
+    if (cv.cb > 0.0)
+        C += cv.cb * chain_catmull_rom(cv.set == SPLITSUM_GGX, cv.lb, uv);
+    return cv.scale * C * uEnvIntensity;
+}
+
+// The split sum as a control variate (uEstimator 6): the closed part plus the microfacet samples'
+// estimate of the rest, 1/N sum (F W - beta E K / p) Li. The subtracted kernel follows L across
+// the lobe, so where beta E K is close to the lobe f (N.w) the samples pay only for the
+// difference; beta scales the kernel down where it is not. Any beta leaves the expectation where
+// the microfacet estimator's is.
 vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
-    vec3 ab;
-    vec3 Lbar = splitsum_lookup(N, V, alpha, ab) * uEnvIntensity;
-    vec3 E = Ks * ab.x + ab.y;
-    return Lbar * E + specular_microfacet(N, V, Ks, alpha, rotation, Lbar);
+    CvKernel cv = cv_setup(N, V, Ks, alpha);
+    return cv_closed(cv) + specular_microfacet(N, V, Ks, alpha, rotation, cv);
 }
 
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
@@ -1477,7 +1646,7 @@ void main()
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
-                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else if (uEstimator == ESTIMATOR_CV)
                     spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
                 else if (uEstimator == ESTIMATOR_MIS)
@@ -1522,7 +1691,7 @@ void main()
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
-                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, vec3(0.0));
+                    spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else if (uEstimator == ESTIMATOR_CV)
                     spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
                 else if (uEstimator == ESTIMATOR_MIS)

@@ -119,11 +119,23 @@ bool slgl_lighting_set_splitsum(slgl_lighting *l, const sl_env *phong, const sl_
     l->splitsum_phong = upload_prefiltered(phong);
     l->splitsum_ggx = upload_prefiltered(ggx);
     l->splitsum_levels = phong->level_count;
+    /* the table's A, B, t with the control variate's beta as .w */
+    enum { TEXELS = SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE * SL_SPLITSUM_LUT_SIZE };
+    float *rgba = malloc(sizeof(float) * 4 * TEXELS);
+    if (!rgba)
+        return sl_fail(err, SL_ERR_MEMORY, "gl: no memory for the split-sum table");
+    for (int i = 0; i < TEXELS; i++) {
+        rgba[4 * i] = lut->texels[i].x;
+        rgba[4 * i + 1] = lut->texels[i].y;
+        rgba[4 * i + 2] = lut->texels[i].z;
+        rgba[4 * i + 3] = lut->beta[i];
+    }
     glGenTextures(1, &l->splitsum_lut);
     glBindTexture(GL_TEXTURE_2D, l->splitsum_lut);
     glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
-    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB32F, SL_SPLITSUM_LUT_SIZE, SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE, 0, GL_RGB,
-                 GL_FLOAT, lut->texels);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, SL_SPLITSUM_LUT_SIZE, SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE, 0, GL_RGBA,
+                 GL_FLOAT, rgba);
+    free(rgba);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_LINEAR);
     glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
@@ -394,6 +406,14 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     glUniform1i(loc(p, "uSplitSumGGX"), UNIT_SPLITSUM_GGX);
     glUniform1i(loc(p, "uSplitSumLut"), UNIT_SPLITSUM_LUT);
     glUniform1f(loc(p, "uSplitSumMaxLod"), u->uSplitSumMaxLod);
+    glUniform1i(loc(p, "uSplitSumExactLevel"), u->uSplitSumExactLevel);
+    if (u->uSplitSumLut) { /* each chain level's kernel 1 / Z, set s level k at s SL_PREFILTER_LEVELS + k */
+        float norm[SL_SPLITSUM_SETS * SL_PREFILTER_LEVELS];
+        for (int set = 0; set < SL_SPLITSUM_SETS; set++)
+            for (int k = 0; k < SL_PREFILTER_LEVELS; k++)
+                norm[set * SL_PREFILTER_LEVELS + k] = u->uSplitSumLut->kernels[set][k].inv_norm;
+        glUniform1fv(loc(p, "uSplitSumKernelNorm"), SL_SPLITSUM_SETS * SL_PREFILTER_LEVELS, norm);
+    }
     glUniform1i(loc(p, "uEnvDist"), UNIT_ENV_DIST);
     glUniform1i(loc(p, "uEnvDistMarginal"), UNIT_ENV_DIST_MARGINAL);
     glUniform1i(loc(p, "uEnvDistShift"), u->uEnvDistShift);

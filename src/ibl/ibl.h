@@ -97,6 +97,45 @@ typedef struct {
 bool sl_env_prefilter(sl_env *out, const sl_env *src, const sl_prefilter_desc *desc, sl_error *err);
 /* The lobe width of level k of a chain of `levels`. */
 float sl_prefilter_width(int level, int levels);
+
+/* Levels of width at least SL_PREFILTER_EXACT_WIDTH are not sampled but summed over every texel
+ * of the source (prefilter.c "Exact levels"): their texel at direction d is the self-normalised
+ * quadrature of the kernel below against the environment, so a reader that knows the kernel
+ * knows what the level integrates (the control variate, docs/lighting.md "Control variate").
+ * The sum runs on a source level at most SL_PREFILTER_EXACT_MAX_WIDTH texels wide, the level
+ * being that sum read bilinearly at its texel centres. */
+#define SL_PREFILTER_EXACT_WIDTH 0.4f
+#define SL_PREFILTER_EXACT_MAX_WIDTH 256
+/* The first exact level of a chain of `levels` (levels when none is). */
+int sl_prefilter_first_exact(int levels);
+
+/* A level's kernel: the density of w about d, k(w) = D(h) G'(w.d) (w.d) / (4 Z), h the half
+ * vector of w and d, at N = V = d (the prefilter's weight times the density of its samples),
+ * normalised by Z to integrate to 1 over the sphere. It depends on w only through c = w.d. */
+typedef struct {
+    bool ggx, g_one;
+    float a2;       /* GGX: a^2 of the level's width */
+    float alpha;    /* the Phong set: the exponent of equal peak */
+    float inv_norm; /* 1 / Z */
+} sl_prefilter_kernel;
+sl_prefilter_kernel sl_prefilter_kernel_of(int level, int levels, bool ggx, bool g_one);
+/* k at c = w.d: 0 for c <= 0. (nh2 = (1 + c) / 2 is (d.h)^2.) */
+static inline float sl_prefilter_kernel_eval(const sl_prefilter_kernel *k, float c)
+{
+    if (!(c > 0.0f))
+        return 0.0f;
+    float nh2 = 0.5f * (1.0f + c);
+    float D, G;
+    if (k->ggx) {
+        float t = (1.0f - nh2) + nh2 * k->a2;
+        D = k->a2 / (3.14159265358979f * t * t);
+        G = 2.0f / (c + sqrtf(c * c * (1.0f - k->a2) + k->a2));
+    } else {
+        D = (k->alpha + 2.0f) / (2.0f * 3.14159265358979f) * powf(nh2, 0.5f * k->alpha);
+        G = k->g_one ? 1.0f : 1.0f / fmaxf(nh2, 1e-6f);
+    }
+    return 0.25f * D * G * c * k->inv_norm;
+}
 /* The samples per texel of level k >= 1 for `samples` at level 1: doubled per level, at most
  * SL_HAMMERSLEY_MAX (`samples` is 1 .. SL_HAMMERSLEY_MAX). */
 int sl_prefilter_samples(int level, int samples);

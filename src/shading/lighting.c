@@ -238,11 +238,11 @@ static float microfacet_D(vec2 xi, float alpha)
 }
 
 /* specular_microfacet: the derivation is in the GLSL. The trace records a sample's H,
- * N.H, V.H (as L.H) and D before the test, its p(w) after it. Lbar: the control variate's
- * radiance, subtracted from every sample's (0 for the mf estimator; specular_cv). */
+ * N.H, V.H (as L.H) and D before the test, its p(w) after it. cv: the control variate's kernel,
+ * whose K(w) / p(w) beta E Li every sample subtracts (NULL for the mf estimator; specular_cv). */
 /* GLSL: specular_microfacet */
 static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                                vec3 Lbar, sl_lighting_task *task, sl_lighting_trace *trace)
+                                const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -262,8 +262,9 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float VdotH = dot(V, H);
         vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
         float wN = dot(w, N);
-        if (VdotH <= 0.0f || wN <= 0.0f) {
+        if (VdotH <= 0.0f || wN <= 0.0f)
             below++;
+        if (VdotH <= 0.0f || (wN <= 0.0f && !cv)) {
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .w = w, .wN = wN, .H = H, .NdotH = Hl.z,
                                                      .LdotH = VdotH, .D = D, .sum = sum});
@@ -276,12 +277,17 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN * VdotH / NdotH;
-        vec3 c = scale(mul(F, sub(Li, Lbar)), weight);
+        vec3 c = wN > 0.0f ? scale(mul(F, Li), weight) : vec3s(0.0f);
+        float kp = 0.0f;
+        if (cv) { /* below the horizon too: the kernel reaches there, the BRDF does not */
+            kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
+            c = sub(c, scale(mul(cv->scale, Li), kp));
+        }
         sum = add(sum, c);
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
-                                                 .Li = Li, .c = c, .sum = sum});
+                                                 .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -511,22 +517,82 @@ static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec
     return scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
 }
 
-/* specular_cv: the split sum as a control variate. With Lbar the split sum's radiance and
- * E_ss = Ks A + B its albedo, the integral is Lbar E_ss plus the integral of f (N.w) (L - Lbar),
- * which the microfacet samples estimate: Lbar E_ss + 1/N sum F W (L(w_k) - Lbar). The table
- * holds E[F W] of the same sampler, so the estimate converges to the integral (up to the table's
- * own error times Lbar, and the samples' mip filter) and its variance is that of L - Lbar: the
- * samples pay only for what the split sum gets wrong. */
+/* splitsum_beta: the control variate's coefficient, the table's fourth value (splitsum_lut.h) */
+/* GLSL: splitsum_beta */
+static float splitsum_beta(const sl_lighting_uniforms *u, int set, float NdotV, float r)
+{
+    float s = (float)SPLITSUM_LUT_SIZE;
+    float x = clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f), y = clamp(r, 0.0f, 1.0f) * (s - 1.0f);
+    int i = mini((int)x, SPLITSUM_LUT_SIZE - 2), j = mini((int)y, SPLITSUM_LUT_SIZE - 2);
+    float fx = x - (float)i, fy = y - (float)j;
+    const float *b = u->uSplitSumLut->beta + ((size_t)set * SPLITSUM_LUT_SIZE + (size_t)j) * SPLITSUM_LUT_SIZE + i;
+    return mix(mix(b[0], b[1], fx), mix(b[SPLITSUM_LUT_SIZE], b[SPLITSUM_LUT_SIZE + 1], fx), fy);
+}
+
+/* chain_catmull_rom: level `level` of a chain read with the Catmull-Rom filter (texture_lod.h
+ * sl_env_catmull_rom; GLSL: 16 texelFetch) */
+/* GLSL: chain_catmull_rom */
+static vec3 chain_catmull_rom(const sl_env *chain, int level, vec2 uv)
+{
+    return sl_env_catmull_rom(&chain->levels[level], uv.x, uv.y);
+}
+
+/* cv_setup: the control variate's kernel for the pixel (docs/lighting.md "Control variate"). The
+ * chain's exact levels (prefilter.c) hold the integral of the environment against a known kernel
+ * k about the lookup direction, so with K = ca k_a + cb k_b the part of the read that is exact
+ * (sl_cv_levels) and E = Ks A + B the albedo,
+ *     integral of f (N.w) L = beta E (ca C_a + cb C_b) + integral of (f (N.w) - beta E K) L.
+ * This is what the samples subtract: the kernel's axis, levels and shares, and beta E. */
+/* GLSL: cv_setup */
+static sl_cv_kernel cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    sl_cv_kernel cv;
+    float NdotV = dot(N, V);
+    cv.R = normalize(sub(scale(N, 2.0f * NdotV), V));
+    cv.r = splitsum_width(alpha);
+    cv.lod = cv.r * u->uSplitSumMaxLod;
+    cv.set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
+    cv.ab = splitsum_lut(u, cv.set, NdotV, cv.r);
+    cv.dir = splitsum_dir(N, cv.R, cv.ab.z);
+    cv.levels = sl_cv_levels_at(cv.lod, (int)u->uSplitSumMaxLod, u->uSplitSumExactLevel);
+    cv.beta = splitsum_beta(u, cv.set, NdotV, cv.r);
+    cv.E = add(scale(Ks, cv.ab.x), vec3s(cv.ab.y));
+    cv.scale = scale(cv.E, cv.beta);
+    return cv;
+}
+
+/* cv_closed: the first term, beta E (ca C_a + cb C_b), times the intensity: the chain read along
+ * the kernel's axis at its two levels, with the Catmull-Rom filter (the levels are exact at their
+ * texel centres; the bilinear filter between them is not, on the coarse levels of the widest
+ * lobes). N and V are the trace's. */
+/* GLSL: cv_closed */
+static vec3 cv_closed(const sl_lighting_uniforms *u, vec3 N, vec3 V, const sl_cv_kernel *cv, sl_lighting_trace *trace)
+{
+    vec2 uv = sl_dir_to_uv(cv->dir);
+    const sl_env *chain = cv->set == SPLITSUM_GGX ? u->uSplitSumGGX : u->uSplitSumPhong;
+    vec3 C = vec3s(0.0f);
+    if (cv->levels.ca > 0.0f)
+        C = add(C, scale(chain_catmull_rom(chain, cv->levels.la, uv), cv->levels.ca));
+    if (cv->levels.cb > 0.0f)
+        C = add(C, scale(chain_catmull_rom(chain, cv->levels.lb, uv), cv->levels.cb));
+    trace_splitsum(trace, N, V, cv->R, cv->r, cv->lod, cv->dir, C, cv->ab);
+    return scale(mul(cv->scale, C), u->uEnvIntensity);
+}
+
+/* specular_cv: the split sum as a control variate: the closed part plus the microfacet samples'
+ * estimate of the rest, 1/N sum (F W - beta E K / p) Li. The subtracted kernel follows L across
+ * the lobe, so where beta E K is close to the lobe f (N.w) the samples pay only for the
+ * difference; beta (the table's) scales the kernel down where it is not. Any beta leaves the
+ * expectation where the microfacet estimator's is. */
 /* GLSL: specular_cv */
 static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    vec3 ab;
-    vec3 Lbar = scale(splitsum_lookup(u, N, V, alpha, &ab, trace), u->uEnvIntensity);
-    vec3 E = add(scale(Ks, ab.x), vec3s(ab.y));
-    vec3 correction = specular_microfacet(u, N, V, Ks, alpha, rotation, Lbar, task, trace);
-    trace_cv(trace, Lbar, E, correction);
-    return add(mul(Lbar, E), correction);
+    sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
+    vec3 closed = cv_closed(u, N, V, &cv, trace);
+    vec3 correction = specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, task, trace);
+    trace_cv(trace, &cv, closed, correction);
+    return add(closed, correction);
 }
 
 /* specular_env_lights: Each env light is one texel's quadrature node (its centroid
@@ -706,7 +772,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             if (u->uEstimator == ESTIMATOR_SPLITSUM)
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
             else if (u->uEstimator == ESTIMATOR_MICROFACET)
-                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, vec3s(0.0f), task,
+                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task,
                                            trace);
             else if (u->uEstimator == ESTIMATOR_CV)
                 spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
@@ -826,6 +892,11 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 {
     return specular_splitsum(u, N, V, Ks, alpha, trace);
 }
+sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    return cv_setup(u, N, V, Ks, alpha);
+}
+
 vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
                               sl_lighting_trace *trace)
 {

@@ -168,6 +168,7 @@ typedef struct {
     const sl_env *uSplitSumPhong, *uSplitSumGGX;
     const sl_splitsum_lut *uSplitSumLut;
     float uSplitSumMaxLod;
+    int uSplitSumExactLevel; /* the chains' first exact level (ibl.h sl_prefilter_first_exact) */
     /* the MIS estimator (NULL otherwise): the environment distribution (uEnvDist, uEnvDistMarginal)
      * and log2 of uEnvResidual's level-0 width over its width */
     const sl_env_dist *uEnvDist;

@@ -74,6 +74,7 @@ typedef struct {
     float m5[BLOCK], lod[BLOCK], u[BLOCK], v[BLOCK];
     float weight[BLOCK], cr[BLOCK], cg[BLOCK], cb[BLOCK];
     float vh[BLOCK], pw[BLOCK]; /* microfacet only: V.H and p(w) */
+    float lr[BLOCK], lg[BLOCK], lb[BLOCK], kp[BLOCK]; /* cv only: Li, and K(w) / p(w) */
 } sample_block;
 
 /* log2(TINY): the floor of every log2 in mip_level */
@@ -158,12 +159,17 @@ static inline float clamp_lod(float lod, float max_lod)
 /* Stage (3)'s contribution of sample i, c = F Li weight, from its fetched radiance t (Li = t
  * times the intensity): one expression for every fetch (inlined in each loop, which still
  * vectorizes). */
-static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity)
+static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, vec3 F1, float intensity, bool keep_li)
 {
     float m5 = b->m5[i], weight = b->weight[i];
     b->cr[i] = (Ks.x + F1.x * m5) * (t.x * intensity) * weight;
     b->cg[i] = (Ks.y + F1.y * m5) * (t.y * intensity) * weight;
     b->cb[i] = (Ks.z + F1.z * m5) * (t.z * intensity) * weight;
+    if (keep_li) { /* cv: Li for its subtraction */
+        b->lr[i] = t.x * intensity;
+        b->lg[i] = t.y * intensity;
+        b->lb[i] = t.z * intensity;
+    }
 }
 
 /* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
@@ -183,7 +189,7 @@ typedef struct {
 /* The trace of samples k0 .. k0 + m - 1 of a block, as the port records them; the running sum
  * is in sample order (the pass sums in four partial sums). */
 static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, const sample_block *b, const lobe_view *s,
-                        int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, vec3 *sum)
+                        int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, bool cv, vec3 *sum)
 {
     const bool mf = microfacet_samples(u);
     const vec3 F1 = sub(vec3s(1.0f), Ks);
@@ -203,7 +209,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
             ts->D = s->pdf[i];
             ts->pdf = 0.0f;
         }
-        if (b->wN[i] <= 0.0f || (mf && b->vh[i] <= 0.0f))
+        if ((b->wN[i] <= 0.0f && !cv) || (mf && b->vh[i] <= 0.0f))
             continue;
         vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
         *sum = add(*sum, c);
@@ -219,6 +225,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
         ts->Li = scale(fetch_clamped(u, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
         ts->c = c;
+        ts->cv_kp = cv ? b->kp[i] : 0.0f;
         ts->sum = *sum;
     }
 }
@@ -347,14 +354,15 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
  * pointer into the always-inlined stages, where its fields stay in registers. */
 typedef struct {
     bool mf, ggx, inv_lh2, consistent, distortion, oct;
-    bool cv;          /* the control variate: subtract F Lbar weight from every contribution */
+    bool cv;          /* the control variate: subtract scale K(w) / p(w) Li from every contribution */
     int rule;
     float alpha, a2;
     float base, max_lod, sin_min, intensity;
     float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
     float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
     vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
-    vec3 Lbar;        /* cv: the split sum's radiance, subtracted from every sample's (else 0) */
+    const sl_cv_kernel *cvk; /* cv: the pixel's kernel (else NULL) */
+    const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
 } lobe_consts;
 
 __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const sl_lighting_uniforms *u, vec3 Ks,
@@ -380,7 +388,8 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
     c.cv = false;
-    c.Lbar = vec3s(0.0f);
+    c.cvk = NULL;
+    c.ka = c.kb = NULL;
     return c;
 }
 
@@ -493,6 +502,44 @@ __attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c
             b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
 }
 
+/* cv's K(w) / p(w) into b->kp, K = ca k_a + cb k_b (ibl.h sl_prefilter_kernel_eval), vectorized,
+ * both levels in one loop over one division: GGX's k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2)
+ * + a^2), over the common denominator; the Phong set's powers through core/fast_math.h's log2 (one,
+ * shared) and exp2, as the lod's. A level of share 0 adds 0 (its share multiplies it). */
+__attribute__((always_inline)) static inline void cv_kernel_over_pdf(sample_block *b, int m, vec3 dir,
+                                                                     const sl_prefilter_kernel *ka,
+                                                                     const sl_prefilter_kernel *kb, float ca, float cb)
+{
+    if (ka->ggx) {
+        const float a2a = ka->a2, a2b = kb->a2;
+        const float da = 0.5f * ka->inv_norm * ca * a2a / PI, db = 0.5f * kb->inv_norm * cb * a2b / PI;
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float c = b->wx[i] * dir.x + b->wy[i] * dir.y + b->wz[i] * dir.z;
+            float cc = maxf(c, 0.0f), nh2 = 0.5f * (1.0f + cc);
+            float ta = (1.0f - nh2) + nh2 * a2a, tb = (1.0f - nh2) + nh2 * a2b;
+            float ea = ta * ta * (cc + sqrtf(cc * cc * (1.0f - a2a) + a2a));
+            float eb = tb * tb * (cc + sqrtf(cc * cc * (1.0f - a2b) + a2b));
+            float kp = cc * (da * eb + db * ea) / (ea * eb * b->pw[i]);
+            b->kp[i] = c > 0.0f ? kp : 0.0f;
+        }
+    } else {
+        const float ha = 0.5f * ka->alpha, hb = 0.5f * kb->alpha;
+        const float da = 0.25f * ka->inv_norm * ca * (ka->alpha + 2.0f) / (2.0f * PI);
+        const float db = 0.25f * kb->inv_norm * cb * (kb->alpha + 2.0f) / (2.0f * PI);
+        const float inv = ka->g_one ? 0.0f : 1.0f; /* G = 1 / (d.h)^2, or 1 */
+#pragma omp simd
+        for (int i = 0; i < m; i++) {
+            float c = b->wx[i] * dir.x + b->wy[i] * dir.y + b->wz[i] * dir.z;
+            float nh2 = maxf(0.5f * (1.0f + c), 0.5f); /* c <= 0 gives 0 below: keep exp2's argument in range */
+            float lg = sl_fast_log2(nh2);
+            float D = da * sl_fast_exp2(ha * lg) + db * sl_fast_exp2(hb * lg);
+            float kp = D * c / ((1.0f + inv * (nh2 - 1.0f)) * b->pw[i]);
+            b->kp[i] = c > 0.0f ? kp : 0.0f;
+        }
+    }
+}
+
 /* Stage (3): radiance and contribution: textureLod from the block (texture_lod.h's operations
  * on the block's layout: gathers), c = F Li weight; without a block, the same filter through
  * texture_lod.h, texel by texel. */
@@ -502,46 +549,50 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
     const sl_env_gather *env = &u->residualGather;
     const vec3 Ks = c->Ks, F1 = c->F1;
     const float intensity = c->intensity;
+    const bool keep_li = c->cv;
     if (c->oct) {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_oct_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     } else if (env->e5) { /* the compact rows: 4 64-bit reads a sample */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_e5_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     } else if (env->pairs) { /* the pair rows: 12 64-bit reads a sample instead of 24 32-bit */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_pair_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     } else {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
             vec3 t = sl_env_gather_lod(env, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     }
     if (!env->gather) {
         for (int i = 0; i < m; i++) {
             vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
-            store_contribution(b, i, t, Ks, F1, intensity);
+            store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     }
-    if (c->cv) { /* F (Li - Lbar) weight as F Li weight - F Lbar weight: a loop of its own, so mf's
-                    loops above stay as they are (the port's form to float rounding) */
-        const vec3 Lbar = c->Lbar;
+    if (c->cv) { /* F Li weight - scale K(w) / p(w) Li, the port's form: a loop of its own, so mf's
+                    loops above stay as they are */
+        const sl_cv_kernel *cv = c->cvk;
+        const vec3 dir = cv->dir, sc = cv->scale;
+        cv_kernel_over_pdf(b, m, dir, c->ka, c->kb, cv->levels.ca, cv->levels.cb);
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
-            float m5 = b->m5[i], weight = b->weight[i];
-            b->cr[i] -= (Ks.x + F1.x * m5) * Lbar.x * weight;
-            b->cg[i] -= (Ks.y + F1.y * m5) * Lbar.y * weight;
-            b->cb[i] -= (Ks.z + F1.z * m5) * Lbar.z * weight;
+        for (int i = 0; i < m; i++) { /* below the horizon only the kernel's term: it reaches there */
+            float kp = b->kp[i];
+            bool above = b->wN[i] > 0.0f;
+            b->cr[i] = (above ? b->cr[i] : 0.0f) - sc.x * b->lr[i] * kp;
+            b->cg[i] = (above ? b->cg[i] : 0.0f) - sc.y * b->lg[i] * kp;
+            b->cb[i] = (above ? b->cb[i] : 0.0f) - sc.z * b->lb[i] * kp;
         }
     }
 }
@@ -554,34 +605,42 @@ __attribute__((always_inline)) static inline int stage_horizon(const lobe_consts
 {
     int below_block = 0;
     const float *drop = c->mf ? b->vh : b->wN;
+    const int keep_below = c->cv; /* cv's samples below the horizon keep the kernel's term */
 #pragma omp simd
     for (int i = 0; i < m; i++) {
         int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
+        int keep = above | (keep_below & !(drop[i] <= 0.0f));
         below_block += 1 - above;
-        b->cr[i] = above ? b->cr[i] : 0.0f; /* the trace reads only the samples above */
-        b->cg[i] = above ? b->cg[i] : 0.0f;
-        b->cb[i] = above ? b->cb[i] : 0.0f;
+        b->cr[i] = keep ? b->cr[i] : 0.0f; /* the trace reads only the samples kept */
+        b->cg[i] = keep ? b->cg[i] : 0.0f;
+        b->cb[i] = keep ? b->cb[i] : 0.0f;
     }
     for (int i = m; i < ((m + 3) & ~3); i++)
         b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
     return below_block;
 }
 
-/* specular_ibl (or specular_microfacet, uEstimator = 3, with Lbar subtracted from every sample's
- * radiance: 0, or cv's split-sum radiance), batched, for one pixel whose frame (N,
+/* specular_ibl (or specular_microfacet, uEstimator = 3, with cv's kernel subtracted from every
+ * sample's contribution when cv is not NULL), batched, for one pixel whose frame (N,
  * V, R and A, B: about R, or about N for the microfacet estimator; environment space) the pixel
  * stage computed: the stages above per block of samples, then stage (4)'s sum. Same samples,
  * same sum order. */
 __attribute__((noinline)) /* a call per pixel; inlined, it keeps sl_shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
-                             vec3 Ks, float alpha, vec2 rotation, vec3 Lbar, sl_lighting_task *task,
+                             vec3 Ks, float alpha, vec2 rotation, const sl_cv_kernel *cv, sl_lighting_task *task,
                              sl_lighting_trace *trace)
 {
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
     lobe_consts c = lobe_consts_for(u, Ks, alpha);
-    c.cv = u->uEstimator == ESTIMATOR_CV;
-    c.Lbar = Lbar;
+    if (cv) {
+        c.cv = true;
+        c.cvk = cv;
+        /* a level of share 0 takes the other's kernel: the narrow levels' (not exact) would put
+         * 0 times an overflow into the one-division form */
+        c.ka = &u->uSplitSumLut->kernels[cv->set][cv->levels.ca > 0.0f ? cv->levels.la : cv->levels.lb];
+        c.kb = &u->uSplitSumLut->kernels[cv->set][cv->levels.cb > 0.0f ? cv->levels.lb : cv->levels.la];
+    }
     const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
     const azimuth_table *az = rotate ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
@@ -622,7 +681,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             sz3 += b->cb[i + 3];
         }
         if (trace)
-            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, &trace_sum);
+            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cv, &trace_sum);
     }
     vec3 sum = vec3((sx0 + sx1) + (sx2 + sx3), (sy0 + sy1) + (sy2 + sy3), (sz0 + sz1) + (sz2 + sz3));
     count_samples(task, n, below, pole);
@@ -1078,15 +1137,29 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
                                                  bool pole, vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task,
                                                  sl_lighting_trace *trace)
 {
-    vec3 ab;
+    sl_cv_kernel cv = sl_shade_cv_setup(u, N, V, Ks, alpha);
+    /* beta 0 or no exact level: nothing to add or subtract, the microfacet estimator's loops and
+     * bits (the port's closed part is 0 there too) */
+    const bool subtract = cv.beta > 0.0f && (cv.levels.ca > 0.0f || cv.levels.cb > 0.0f);
+    /* the port's cv_closed with the samples' fast lat-long map */
+    vec3 C = vec3s(0.0f);
+    if (subtract) {
+        float tu, tv;
+        sl_fast_dir_to_uv(cv.dir.x, cv.dir.y, cv.dir.z, &tu, &tv);
+        const sl_env *chain = cv.set == SL_SPLITSUM_GGX ? u->uSplitSumGGX : u->uSplitSumPhong;
+        if (cv.levels.ca > 0.0f)
+            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv.levels.la], tu, tv), cv.levels.ca));
+        if (cv.levels.cb > 0.0f)
+            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv.levels.lb], tu, tv), cv.levels.cb));
+    }
     int traced = trace ? trace->sample_count : 0; /* the lookup's trace records no samples: cv has them */
-    vec3 Lbar = scale(sl_shade_splitsum_lookup(u, N, V, alpha, &ab, trace), u->uEnvIntensity);
+    trace_splitsum(trace, N, V, cv.R, cv.r, cv.lod, cv.dir, C, cv.ab);
     if (trace)
         trace->sample_count = traced;
-    vec3 E = add(scale(Ks, ab.x), vec3s(ab.y));
-    vec3 correction = specular_samples(u, N, V, R, A, B, pole, Ks, alpha, rotation, Lbar, task, trace);
-    trace_cv(trace, Lbar, E, correction);
-    return add(mul(Lbar, E), correction);
+    vec3 closed = scale(mul(cv.scale, C), u->uEnvIntensity);
+    vec3 correction = specular_samples(u, N, V, R, A, B, pole, Ks, alpha, rotation, subtract ? &cv : NO_CV, task, trace);
+    trace_cv(trace, &cv, closed, correction);
+    return add(closed, correction);
 }
 
 /* Every env light's visibility without shadow maps: env_lights_samples multiplies by it. */
@@ -1137,7 +1210,7 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     } else if (u->uEstimator == ESTIMATOR_CV) {
         specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, task, trace);
     } else {
-        specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, vec3s(0.0f), task, trace);
+        specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, NO_CV, task, trace);
     }
     if (env_shadow) /* kept apart: sl_shade_surface_color adds it after the occlusion */
         env_shadow->specular = env_lights_samples(u, N, V, Ks, alpha, env_shadow->vis);

@@ -58,8 +58,24 @@ ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
 float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
 float sl_shade_mis_power(float p, float q);
 vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
+/* The control variate's kernel for one pixel (lighting.c specular_cv; GLSL CvKernel): each
+ * sample's radiance is subtracted times scale K(w) / p(w), K = ca k_a + cb k_b about dir. */
+typedef struct {
+    vec3 R;     /* the reflection direction */
+    float r, lod; /* the lobe width and its chain level r (levels - 1) */
+    vec3 ab;    /* the table's A, B, t */
+    vec3 dir;   /* the lookup direction normalize(mix(N, R, t)), the kernels' axis */
+    int set;    /* the chain's set (splitsum_lut.h) */
+    sl_cv_levels levels;
+    float beta; /* the table's coefficient */
+    vec3 E;     /* the albedo Ks A + B */
+    vec3 scale; /* beta E */
+} sl_cv_kernel;
+/* lighting.c cv_setup: the control variate's kernel for a pixel (the batched path's cv_samples
+ * reads the chain itself) */
+sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
 /* GLSL splitsum_lookup: the split sum's prefiltered radiance (before the intensity) and the
- * table's A, B, t in ab (specular_cv's control variate; the batched path's cv runs it) */
+ * table's A, B, t in ab */
 vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
                               sl_lighting_trace *trace);
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
@@ -375,13 +391,36 @@ static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, 
 }
 
 /* The control variate's terms (specular_cv): Lbar, E_ss and the samples' mean correction. */
-static inline void trace_cv(sl_lighting_trace *t, vec3 Lbar, vec3 E, vec3 correction)
+
+/* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
+#define NO_CV ((const sl_cv_kernel *)NULL)
+
+/* GLSL: cv_kernel_level - level `level`'s kernel of set `set` at c = w.d (ibl.h) */
+static inline float sl_cv_kernel_level(const sl_lighting_uniforms *u, int set, int level, float c)
+{
+    return sl_prefilter_kernel_eval(&u->uSplitSumLut->kernels[set][level], c);
+}
+
+/* GLSL: cv_kernel */
+static inline float sl_cv_kernel_eval(const sl_lighting_uniforms *u, const sl_cv_kernel *cv, float c)
+{
+    float K = 0.0f;
+    if (cv->levels.ca > 0.0f)
+        K += cv->levels.ca * sl_cv_kernel_level(u, cv->set, cv->levels.la, c);
+    if (cv->levels.cb > 0.0f)
+        K += cv->levels.cb * sl_cv_kernel_level(u, cv->set, cv->levels.lb, c);
+    return K;
+}
+
+static inline void trace_cv(sl_lighting_trace *t, const sl_cv_kernel *cv, vec3 closed, vec3 correction)
 {
     if (!t)
         return;
     t->cv = true;
-    t->cv_Lbar = Lbar;
-    t->cv_E = E;
+    t->cv_beta = cv->beta;
+    t->cv_levels = cv->levels;
+    t->cv_E = cv->E;
+    t->cv_closed = closed;
     t->cv_correction = correction;
 }
 

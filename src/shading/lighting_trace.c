@@ -150,12 +150,14 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 (double)t->splitsum_prefiltered.y, (double)t->splitsum_prefiltered.z);
     if (t->cv)
         fprintf(f,
-                "  %-12s (%.6g, %.6g, %.6g) (prefiltered times the intensity)\n  %-12s (%.6g, %.6g, %.6g) (Ks A + B)\n"
-                "  %-12s (%.6g, %.6g, %.6g) (Lbar E_ss)\n  %-12s (%.6g, %.6g, %.6g) (1/N sum F W (Li - Lbar): each"
-                " sample's contribution below is its term)\n",
-                "Lbar", (double)t->cv_Lbar.x, (double)t->cv_Lbar.y, (double)t->cv_Lbar.z, "E_ss", (double)t->cv_E.x,
-                (double)t->cv_E.y, (double)t->cv_E.z, "closed part", (double)(t->cv_Lbar.x * t->cv_E.x),
-                (double)(t->cv_Lbar.y * t->cv_E.y), (double)(t->cv_Lbar.z * t->cv_E.z), "correction",
+                "  %-12s levels %d and %d, shares %.6g and %.6g (0: a level that is not exact)\n"
+                "  %-12s %.6g\n  %-12s (%.6g, %.6g, %.6g) (Ks A + B)\n"
+                "  %-12s (%.6g, %.6g, %.6g) (beta E (ca C_a + cb C_b), times the intensity)\n"
+                "  %-12s (%.6g, %.6g, %.6g) (1/N sum (F W - beta E K / p) Li: each sample's contribution"
+                " below is its term, K/p its kernel over its density)\n",
+                "exact part", t->cv_levels.la, t->cv_levels.lb, (double)t->cv_levels.ca, (double)t->cv_levels.cb,
+                "beta", (double)t->cv_beta, "E", (double)t->cv_E.x, (double)t->cv_E.y, (double)t->cv_E.z, "closed part",
+                (double)t->cv_closed.x, (double)t->cv_closed.y, (double)t->cv_closed.z, "correction",
                 (double)t->cv_correction.x, (double)t->cv_correction.y, (double)t->cv_correction.z);
     if (t->mis)
         print_mis(f, t);
@@ -177,8 +179,16 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, " V.H %+.5f <= 0 (facet faces away): 0\n", (double)s->LdotH);
             continue;
         }
-        if (s->wN <= 0.0f) {
+        if (s->wN <= 0.0f && !t->cv) {
             fprintf(f, " below the horizon: 0\n");
+            continue;
+        }
+        if (s->wN <= 0.0f) { /* cv: the kernel reaches below the horizon, the BRDF does not */
+            fprintf(f, " below the horizon: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
+                       " sum (%.5g,%.5g,%.5g)\n       K/p %.6g\n",
+                    (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
+                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z,
+                    (double)s->cv_kp);
             continue;
         }
         fprintf(f,
@@ -188,6 +198,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 (double)s->F.x, (double)s->F.y, (double)s->F.z, (double)s->lod, (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x,
                 (double)s->sum.y, (double)s->sum.z);
+        if (t->cv)
+            fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
     }
     fprintf(f, "result\n");
     print3(f, "irradiance", t->irradiance);

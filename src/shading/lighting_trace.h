@@ -12,6 +12,7 @@
 
 #include "lighting.h"
 #include "occlusion/reflection.h"
+#include "splitsum_lut.h"
 
 /* Everything sl_lighting_shade computes for one pixel, for `softlight trace`. With the microfacet
  * estimator (trace.microfacet) L is the drawn H about +Z, w = reflect(-V, H), LdotH = V.H, and a
@@ -31,6 +32,7 @@ typedef struct {
     float lod;
     vec3 Li;           /* fetched radiance times intensity */
     vec3 c;            /* contribution */
+    float cv_kp;       /* cv: the kernel mix over the density, K(w) / p(w) */
     vec3 sum;          /* running sum */
 } sl_lighting_trace_sample;
 
@@ -55,10 +57,14 @@ struct sl_lighting_trace {
     vec3 splitsum_dir;       /* ... the lookup direction normalize(mix(N, R, t)), */
     vec3 splitsum_prefiltered; /* ... what it read along it (before the intensity), */
     vec3 splitsum_ab;        /* ... and the table's A (times Ks), B and direction factor t */
-    bool cv;                 /* the control variate ran (specular_cv): the split sum's lookup above, */
-    vec3 cv_Lbar;            /* ... its radiance Lbar (times the intensity), */
-    vec3 cv_E;               /* ... its albedo E_ss = Ks A + B, */
-    vec3 cv_correction;      /* ... and the samples' mean of F W (L - Lbar), each sample's c its term */
+    bool cv;                 /* the control variate ran (specular_cv): the split sum's lookup above
+                                (prefiltered: ca C_a + cb C_b, the exact levels' part), */
+    float cv_beta;           /* ... the table's coefficient beta, */
+    sl_cv_levels cv_levels;  /* ... the levels read and their shares ca, cb, */
+    vec3 cv_E;               /* ... the albedo E = Ks A + B, */
+    vec3 cv_closed;          /* ... the closed part beta E (ca C_a + cb C_b) (times the intensity), */
+    vec3 cv_correction;      /* ... and the samples' mean of (F W - beta E K / p) Li, each sample's c
+                                its term and cv_kp its K(w) / p(w) */
     float alpha;
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];

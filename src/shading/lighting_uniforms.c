@@ -112,10 +112,10 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
     const bool splitsum = o.estimator == SL_ESTIMATOR_SPLITSUM || o.estimator == SL_ESTIMATOR_CV;
     if (splitsum && (!desc->splitsum_phong || !desc->splitsum_ggx || !desc->splitsum_lut ||
-                     desc->splitsum_phong->level_count < 1 ||
-                     desc->splitsum_phong->level_count != desc->splitsum_ggx->level_count))
-        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no prefiltered chains or table given",
-                       sl_estimator_name(o.estimator));
+                     desc->splitsum_phong->level_count != SL_PREFILTER_LEVELS ||
+                     desc->splitsum_ggx->level_count != SL_PREFILTER_LEVELS))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no prefiltered chains of %d levels or no table given",
+                       sl_estimator_name(o.estimator), SL_PREFILTER_LEVELS);
 
     const bool mis = o.estimator == SL_ESTIMATOR_MIS;
     if (mis && oct)
@@ -186,6 +186,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->uSplitSumGGX = desc->splitsum_ggx;
         u->uSplitSumLut = desc->splitsum_lut;
         u->uSplitSumMaxLod = (float)(desc->splitsum_phong->level_count - 1);
+        u->uSplitSumExactLevel = sl_prefilter_first_exact(desc->splitsum_phong->level_count);
         sl_env_gather_init(&u->splitSumPhongGather, u->uSplitSumPhong);
         sl_env_gather_init(&u->splitSumGGXGather, u->uSplitSumGGX);
     }

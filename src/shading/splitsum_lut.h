@@ -26,6 +26,7 @@
 
 #include <softlight/glsl.h>
 #include "../core/options.h"
+#include "../ibl/ibl.h"
 #include "brdf.h"
 
 #define SL_SPLITSUM_LUT_SIZE 32      /* per axis: A and B are smooth; 32 is Karis' and Filament's order */
@@ -41,7 +42,33 @@ typedef enum {
 
 typedef struct {
     vec3 texels[SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE * SL_SPLITSUM_LUT_SIZE];
+    /* the control variate's coefficient beta over the same (set, N.V, r) grid (--estimator cv,
+     * docs/lighting.md "Control variate"); softlight-gl uploads it as the table's .w */
+    float beta[SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE * SL_SPLITSUM_LUT_SIZE];
+    /* each level's kernel in each set's chain of SL_PREFILTER_LEVELS (ibl.h sl_prefilter_kernel) */
+    sl_prefilter_kernel kernels[SL_SPLITSUM_SETS][SL_PREFILTER_LEVELS];
 } sl_splitsum_lut;
+
+/* The control variate's levels for a chain read at lod (the split sum's lod = r (levels - 1)):
+ * textureLod mixes level la with weight 1 - f and lb = la + 1 with f; ca and cb are those
+ * weights where the level is exact (ibl.h sl_prefilter_first_exact) and 0 where it is not (level
+ * 0, the environment itself, and the sampled levels), so ca C_a + cb C_b is the integral of the
+ * environment against ca k_a + cb k_b. */
+typedef struct {
+    int la, lb;
+    float ca, cb;
+} sl_cv_levels;
+/* GLSL: cv_levels */
+static inline sl_cv_levels sl_cv_levels_at(float lod, int max_lod, int first_exact)
+{
+    lod = lod < 0.0f ? 0.0f : lod > (float)max_lod ? (float)max_lod : lod;
+    int la = (int)lod;
+    la = la < max_lod ? la : max_lod;
+    int lb = la < max_lod ? la + 1 : max_lod;
+    float f = lb > la ? lod - (float)la : 0.0f;
+    sl_cv_levels l = {la, lb, la >= first_exact ? 1.0f - f : 0.0f, lb > la && lb >= first_exact ? f : 0.0f};
+    return l;
+}
 
 /* Fill the table (about 0.8 M BRDF evaluations, in parallel; deterministic). */
 void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads);

@@ -1,11 +1,14 @@
 #!/usr/bin/env bash
 # trace_cv.sh BUILD_DIR - `softlight trace --estimator cv` (docs/lighting.md "Control variate"):
-# the trace prints the split sum's lookup, Lbar, E_ss, the closed part, the mean correction and
-# each sample's term F W (Li - Lbar); recomputed here from the printed numbers: the closed part is
-# Lbar E_ss, the correction the last sample's running sum over N, and the specular term the
-# closed part plus the correction (to the printed digits, 1e-4 relative of the specular term).
-# Both paths (the batched default and --plain, the port), on the default scene's alpha 1, Ks 0.9
-# sphere, where the correction is far from 0.
+# the trace prints the chain's exact part (its levels and shares), beta, the albedo E, the closed
+# part, the mean correction, and each sample's term (F W - beta E K/p) Li with its K/p; recomputed
+# here from the printed numbers: the closed part is beta E times the prefiltered read (intensity 1),
+# each sample's contribution F Li G (w.N)(V.H)/(N.H) less beta E K/p Li, the correction the last
+# sample's running sum over N, and the specular term the closed part plus the correction (to the
+# printed digits: 1e-4 relative of the specular term; 5e-3 of a contribution's two terms, whose
+# factors are printed to four digits). Both paths
+# (the batched default and --plain, the port), on the default scene's alpha 1, Ks 0.9 sphere,
+# where beta is near 1 and the kernel's terms are far from 0.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SL="$1/softlight"
@@ -14,22 +17,28 @@ trap 'rm -rf "$T"' EXIT
 for path in "" --plain; do
     "$SL" trace scenes/default.json --size 192x108 --pixel 45,91 --estimator cv -n 16 --lod pdf --distortion \
         --no-lights $path >"$T/trace.txt"
-    for key in "control variate: the split sum's lookup" "Lbar" "E_ss" "closed part" "correction"; do
+    for key in "control variate: the split sum's lookup" "prefiltered" "exact part" "beta" "E" "closed part" \
+        "correction" "K/p"; do
         grep -q "^ *$key" "$T/trace.txt" || { echo "FAIL ($path): no '$key' line"; cat "$T/trace.txt"; exit 1; }
     done
     tr '(),' '   ' <"$T/trace.txt" | awk -v path="$path" '
         function bad(what, got, want) { printf "FAIL (%s): %s printed %g, recomputed %g\n", path, what, got, want; fails++ }
-        function off(a, b, scale) { d = a - b; return (d < 0 ? -d : d) > 1e-4 * scale + 1e-7 }
-        $1 == "Lbar" { l = $2 } $1 == "E_ss" { e = $2 } $1 == "closed" { c = $3 } $1 == "correction" { k = $2 }
+        function off(a, b, tol) { d = a - b; return (d < 0 ? -d : d) > tol }
+        $1 == "prefiltered" { p = $2 } $1 == "beta" { beta = $2 } $1 == "E" { e = $2 }
+        $1 == "closed" { c = $3 } $1 == "correction" { k = $2 }
         /^specular samples/ { n = $5; sub(/;/, "", n) }
-        / sum / { s = $(NF - 2) }
+        / sum / && NF >= 30 { s = $(NF - 2); cx = $25; pred = $18 * $22 * $17 * $11 * $15 / $6; li = $22; have = 1 }
+        / sum / && NF < 30 { s = $(NF - 2); have = 0 }
+        $1 == "K/p" && have { kernel++; if ($2 > 0) used++
+            sub_term = beta * e * $2 * li; want = pred - sub_term
+            if (off(cx, want, 5e-3 * ((pred < 0 ? -pred : pred) + sub_term) + 1e-6)) bad("a contribution", cx, want) }
         $1 == "specular" && NF == 4 { spec = $2 }
         END {
-            if (n == "" || spec == "") { print "FAIL (" path "): no samples or no specular line"; exit 1 }
-            if (off(c, l * e, spec)) bad("closed part", c, l * e)
-            if (off(k, s / n, spec)) bad("correction", k, s / n)
-            if (off(spec, c + k, spec)) bad("specular", spec, c + k)
-            if (k == 0) { print "FAIL (" path "): the correction is 0 on a rough sphere"; fails++ }
+            if (n == "" || spec == "" || kernel == 0) { print "FAIL (" path "): no samples or no specular line"; exit 1 }
+            if (beta < 0.5 || used == 0) { print "FAIL (" path "): beta " beta " and no kernel term on a rough sphere"; fails++ }
+            if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
+            if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
+            if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
             exit fails > 0
         }' || { cat "$T/trace.txt"; exit 1; }
 done

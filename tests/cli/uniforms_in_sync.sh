@@ -29,6 +29,8 @@ gbuffer="$gbuffer uShadowCubes uShadowCubeLayer uShadowSuns uShadowSunCount uSha
 gbuffer="$gbuffer uShadowSunUp uShadowSunBox uShadowSunDepth uEnvLightSun"
 # The sky visibility maps likewise: the C struct holds them (skyMaps: src/shadow/sky.h).
 gbuffer="$gbuffer uSkyMaps uSkyMapCount uSkyMapAxis uSkyMapRight uSkyMapUp uSkyMapBox uSkyMapDepth uSkyMapWeight"
+# The chains' kernel normalisations: the C struct's table holds them (uSplitSumLut's kernels).
+gbuffer="$gbuffer uSplitSumKernelNorm"
 
 for u in $glsl; do
     case " $gbuffer " in *" $u "*) ;; *) grep -qx "$u" <<<"$c" || fail "$u: in $frag, not a field of sl_lighting_uniforms ($hdr)";; esac
@@ -54,6 +56,7 @@ check ESTIMATOR_SPLITSUM SL_ESTIMATOR_SPLITSUM
 check ESTIMATOR_CV SL_ESTIMATOR_CV
 check SPLITSUM_LUT_SIZE SL_SPLITSUM_LUT_SIZE
 check SPLITSUM_SETS SL_SPLITSUM_SETS
+check SPLITSUM_LEVELS SL_PREFILTER_LEVELS
 for x in PHONG_INV_LH2 PHONG_ONE GGX; do check "SPLITSUM_$x" "SL_SPLITSUM_$x"; done
 for x in SH9 OCT DP; do check "IRRADIANCE_$x" "SL_IRRADIANCE_$x"; done
 check ENV_LAYOUT_OCT SL_ENV_LAYOUT_OCT
