@@ -81,9 +81,9 @@ typedef enum {
                                     environment's own radiance (src/ibl/env_dist.h), each weighed
                                     by the power heuristic, lod 0: consistent, and the sun drawn
                                     where it is ("mis") */
-    SL_ESTIMATOR_CV = 6,         /* the split sum as a control variate: its closed value plus the
-                                    mf samples' estimate of what it gets wrong, F W (L - Lbar)
-                                    with Lbar the split sum's prefiltered radiance ("cv") */
+    SL_ESTIMATOR_CV = 6,         /* the split sum as a control variate: its chain's exact part
+                                    times beta E plus the mf samples less the chain's kernel,
+                                    (F W - beta E K / p) L ("cv") */
 } sl_estimator;
 
 /* The G term (uGTerm). */

@@ -1,33 +1,38 @@
 /* prefilter.c - the environment convolved with a reflection lobe, one lobe width per mip level:
  * the first half of the split-sum approximation (Karis 2013, "Real Shading in Unreal Engine 4";
- * --estimator splitsum, docs/lighting.md "Split sum"). The second half, the BRDF's scale and
- * bias over (N.V, width), is the lighting stage's (src/shading/splitsum_lut.c): it owns the BRDF.
+ * --estimator splitsum, docs/lighting.md "Split sum") and the control variate's known integral
+ * (--estimator cv, docs/lighting.md "Control variate"). The second half, the BRDF's scale and bias
+ * over (N.V, width), is the lighting stage's (src/shading/splitsum_lut.c): it owns the BRDF.
  *
  * Level k of the chain (lat-long, the sizes of the environment's own mip chain, so GL's
- * textureLod reads it as a mip chain) holds, at the direction R of each texel centre,
+ * textureLod reads it as a mip chain) holds, at the direction d of each texel centre, the mean of
+ * the environment under the lobe of width r_k = k / (levels - 1) at N = V = d:
  *
- *     P_k(R) = sum_s L(w_s) W_s / sum_s W_s,   W_s = G'(w_s) (N.w_s),   N = V = R   (Karis' assumption)
+ *     P_k(d) = integral of L(w) k(w) dw,   k = D(h) G'(w.d) (w.d) / (4 Z)   (Karis' assumption)
  *
- * with H_s drawn from the density D(H) (N.H) of lobe width r_k = k / (levels - 1) and
- * w_s = reflect(-R, H_s): the microfacet estimator's directions (src/shading/lighting.c,
- * microfacet_sample) at normal view, and W_s that estimator's weight there (G' = G / ((N.w)(N.V))
- * of brdf.h; at V = N the weight G' (N.w) (V.H) / (N.H) is G' (N.w)). So P at normal view is
- * exactly the BRDF-weighted mean the true integral takes (F aside). Karis weights by N.w alone,
- * which drops G': for narrow lobes G' (N.w) is nearly constant, but the wide ones' G' doubles
- * towards their edge (Phong's 1/(L.H)^2, Smith's 1/(N.w) part), and without it their chain is
- * too narrow: on the default scene's alpha 1 spheres the centre was 15% too bright. The lobes are brdf.h's, written here again because ibl sits
+ * the microfacet estimator's density of w at normal view, D (N.H) / (4 V.H) = D / 4, times its
+ * weight there, G' (N.w) (G' = G / ((N.w)(N.V)) of brdf.h), normalised (ibl.h
+ * sl_prefilter_kernel). So P at normal view is exactly the BRDF-weighted mean the true integral
+ * takes (F aside). Karis weights by N.w alone, which drops G': for narrow lobes G' (N.w) is
+ * nearly constant, but the wide ones' G' doubles towards their edge (Phong's 1/(L.H)^2, Smith's
+ * 1/(N.w) part), and without it their chain is too narrow: on the default scene's alpha 1 spheres
+ * the centre was 15% too bright. The lobes are brdf.h's, written here again because ibl sits
  * left of shading: GGX with a = max(r^2, 1e-4) (the width is the perceptual roughness), and the
  * Phong set with the exponent of equal peak, alpha = 2 / a^2 - 2 (brdf.h,
  * sl_ggx_phong_equivalent). Level 0 (r = 0, a mirror) is the environment itself.
  *
- * Each sample reads the source chain at the level of its own footprint (filtered importance
- * sampling: Colbert and Krivanek, GPU Gems 3 ch. 20.4, the --lod gems rule with the lat-long
- * texel's sin(theta) in its solid angle). The sample count doubles per level (desc.samples at
- * level 1, up to SL_HAMMERSLEY_MAX): a level has a quarter of the texels of the one before, so
- * no level costs more than level 1, and the wide lobes, whose samples read the source's coarsest
- * levels (16x8 of a 1024x512 map at 64 samples for r = 1), get the samples they need: with 64
- * for every level the r = 1 level shows the fixed set's aliasing as blotches and horizontal
- * streaks across a rough sphere (docs/lighting.md "Split sum"). */
+ * Two ways to a level:
+ *  - The narrow levels (r < SL_PREFILTER_EXACT_WIDTH: level 1 of the default six) are sampled:
+ *    H drawn from D(H) (N.H), w = reflect(-d, H), each sample read at the level of its own
+ *    footprint (filtered importance sampling: Colbert and Krivanek, GPU Gems 3 ch. 20.4, the
+ *    --lod pdf rule with the lat-long texel's sin(theta) in its solid angle), 64 samples at
+ *    level 1, doubling per level up to SL_HAMMERSLEY_MAX. A lobe a few texels wide would need a
+ *    sum over a million texels for each of the level's 131 072 texels.
+ *  - The wide levels are exact (exact_level): a sum of k over every texel of a source level fine
+ *    enough for the lobe, each texel one node at its centroid weighted by its solid angle, the
+ *    ground truth's quadrature, normalised by the same sum of k alone. Sampled as level 1 is,
+ *    they are 1-5% off that integral (the coarse source levels the wide lobes' samples read), too
+ *    far for a control variate, whose known integral must be the integral. */
 #include "../core/threads.h"
 #include <math.h>
 #include <omp.h>

@@ -897,11 +897,6 @@ sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, ve
     return cv_setup(u, N, V, Ks, alpha);
 }
 
-vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
-                              sl_lighting_trace *trace)
-{
-    return splitsum_lookup(u, N, V, alpha, ab, trace);
-}
 
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }

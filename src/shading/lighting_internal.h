@@ -71,13 +71,29 @@ typedef struct {
     vec3 E;     /* the albedo Ks A + B */
     vec3 scale; /* beta E */
 } sl_cv_kernel;
+/* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
+#define NO_CV ((const sl_cv_kernel *)NULL)
+
+/* GLSL: cv_kernel_level - level `level`'s kernel of set `set` at c = w.d (ibl.h) */
+static inline float sl_cv_kernel_level(const sl_lighting_uniforms *u, int set, int level, float c)
+{
+    return sl_prefilter_kernel_eval(&u->uSplitSumLut->kernels[set][level], c);
+}
+
+/* GLSL: cv_kernel */
+static inline float sl_cv_kernel_eval(const sl_lighting_uniforms *u, const sl_cv_kernel *cv, float c)
+{
+    float K = 0.0f;
+    if (cv->levels.ca > 0.0f)
+        K += cv->levels.ca * sl_cv_kernel_level(u, cv->set, cv->levels.la, c);
+    if (cv->levels.cb > 0.0f)
+        K += cv->levels.cb * sl_cv_kernel_level(u, cv->set, cv->levels.lb, c);
+    return K;
+}
+
 /* lighting.c cv_setup: the control variate's kernel for a pixel (the batched path's cv_samples
  * reads the chain itself) */
 sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
-/* GLSL splitsum_lookup: the split sum's prefiltered radiance (before the intensity) and the
- * table's A, B, t in ab */
-vec3 sl_shade_splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, vec3 *ab,
-                              sl_lighting_trace *trace);
 /* GLSL specular_splitsum: the whole specular term of --estimator splitsum (both paths run it) */
 vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                              sl_lighting_trace *trace);
@@ -390,28 +406,8 @@ static inline void trace_splitsum(sl_lighting_trace *t, vec3 N, vec3 V, vec3 R, 
     t->splitsum_ab = ab;
 }
 
-/* The control variate's terms (specular_cv): Lbar, E_ss and the samples' mean correction. */
-
-/* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
-#define NO_CV ((const sl_cv_kernel *)NULL)
-
-/* GLSL: cv_kernel_level - level `level`'s kernel of set `set` at c = w.d (ibl.h) */
-static inline float sl_cv_kernel_level(const sl_lighting_uniforms *u, int set, int level, float c)
-{
-    return sl_prefilter_kernel_eval(&u->uSplitSumLut->kernels[set][level], c);
-}
-
-/* GLSL: cv_kernel */
-static inline float sl_cv_kernel_eval(const sl_lighting_uniforms *u, const sl_cv_kernel *cv, float c)
-{
-    float K = 0.0f;
-    if (cv->levels.ca > 0.0f)
-        K += cv->levels.ca * sl_cv_kernel_level(u, cv->set, cv->levels.la, c);
-    if (cv->levels.cb > 0.0f)
-        K += cv->levels.cb * sl_cv_kernel_level(u, cv->set, cv->levels.lb, c);
-    return K;
-}
-
+/* The control variate's terms (specular_cv): beta, the levels, E, the closed part and the
+ * samples' mean correction. */
 static inline void trace_cv(sl_lighting_trace *t, const sl_cv_kernel *cv, vec3 closed, vec3 correction)
 {
     if (!t)
