@@ -227,10 +227,12 @@ static latlong_node latlong_node_of(int i, int j, int w, int h)
     return (latlong_node){(float)(x / len), (float)(y / len), (float)(zint / len), (float)omega};
 }
 
-/* Sum level `src` (w x h) into `out` (w x h texels) with kernel k. */
-static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, vec3 *out, int threads)
+/* Sum level `src` (w x h) with kernel k into `out`, a grid of (w / step) x (h / step) texels
+ * (step divides both): the sum at each of its texel centres. From texel i0 of an output row to
+ * texel i is a turn of (i - i0) step source texels. */
+static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, int step, vec3 *out, int threads)
 {
-    const int w = src->width, h = src->height;
+    const int w = src->width, h = src->height, ow = w / step, oh = h / step;
     latlong_node *nodes = malloc((size_t)w * (size_t)h * sizeof *nodes);
     float *rows = malloc((size_t)h * 9 * (size_t)w * sizeof *rows); /* planar r, g, b, each row thrice */
     float *weights = malloc((size_t)threads * (size_t)w * sizeof *weights);
@@ -250,14 +252,14 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, vec
             row[6 * w + i] = row[7 * w + i] = row[8 * w + i] = t.z;
         }
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (int j = 0; j < h; j++) {
+    for (int j = 0; j < oh; j++) {
         float *wt = weights + (size_t)omp_get_thread_num() * w;
         /* the weights are for texel i0 of row j, mid-row, so a lobe's nonzero range does not wrap */
-        const int i0 = w / 2;
-        vec3 dir = sl_uv_to_dir(vec2(((float)i0 + 0.5f) / (float)w, ((float)j + 0.5f) / (float)h));
+        const int i0 = ow / 2;
+        vec3 dir = sl_uv_to_dir(vec2(((float)i0 + 0.5f) / (float)ow, ((float)j + 0.5f) / (float)oh));
         double norm = 0.0;
-        vec3 *dst = out + (size_t)j * w;
-        for (int i = 0; i < w; i++)
+        vec3 *dst = out + (size_t)j * ow;
+        for (int i = 0; i < ow; i++)
             dst[i] = vec3s(0.0f);
         for (int jj = 0; jj < h; jj++) {
             const latlong_node *row_nodes = &nodes[(size_t)jj * w];
@@ -277,9 +279,10 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, vec
                 continue;
             norm += row_norm;
             const float *row = rows + (size_t)jj * 9 * w;
-            for (int i = 0; i < w; i++) {
+            for (int i = 0; i < ow; i++) {
                 float r = 0.0f, g = 0.0f, b = 0.0f;
-                const float *R = row + w + i - i0, *G = R + 3 * w, *B = R + 6 * w; /* texel q + i - i0 */
+                /* texel q + (i - i0) step; the turn is within a row's width either way */
+                const float *R = row + w + (i - i0) * step, *G = R + 3 * w, *B = R + 6 * w;
 #pragma omp simd reduction(+ : r, g, b)
                 for (int q = first; q <= last; q++) {
                     r += wt[q] * R[q];
@@ -290,7 +293,7 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, vec
             }
         }
         float inv = norm > 0.0 ? (float)(1.0 / norm) : 0.0f;
-        for (int i = 0; i < w; i++)
+        for (int i = 0; i < ow; i++)
             dst[i] = scale(dst[i], inv);
     }
     free(nodes);
@@ -299,35 +302,45 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, vec
     return true;
 }
 
-/* Exact level `level` of the chain into dst. The sum runs on one source level, the coarsest
+/* Exact level `level` of the chain into dst. The sum runs over one source level, the coarsest
  * whose row holds at least 39 / a texels (eight a half width, which is about 1.3 a at N = V), at
- * least 128 and at most SL_PREFILTER_EXACT_MAX_WIDTH (or level 0, when it is narrower), on the
- * texel centres of that level; dst is then that grid read with the bilinear filter its readers
- * use at its own texel centres (a coarse level's texel is the lobe's value at its centre, not an
- * average). */
+ * least 128 and at most SL_PREFILTER_EXACT_MAX_WIDTH (or level 0, when it is narrower), to the
+ * centres of a grid coarser by `step`, the largest power of two that leaves a quarter of a half
+ * width a texel (19 / a texels a row, at least 64) or dst's own texels, whichever is coarser: the
+ * summed lobe is smooth at that scale, and the sum's cost is the source's texels times the
+ * grid's. dst is then that grid read with the
+ * Catmull-Rom filter at its own texel centres (a coarse level's texel is the lobe's value at its
+ * centre, not an average; the filter passes through the grid's texels with an error of third
+ * order). */
 static bool exact_level(const sl_env *src, sl_env_level *dst, const sl_prefilter_kernel *k, int threads)
 {
     float a = sqrtf(k->a2 > 0.0f ? k->a2 : 0.0f);
     if (!k->ggx) /* the Phong set: the width of equal peak, a^2 = 2 / (alpha + 2) */
         a = sqrtf(2.0f / (k->alpha + 2.0f));
-    float want = fminf(fmaxf(39.0f / fmaxf(a, 1e-3f), 128.0f), (float)SL_PREFILTER_EXACT_MAX_WIDTH);
+    a = fmaxf(a, 1e-3f);
+    float want = fminf(fmaxf(39.0f / a, 128.0f), (float)SL_PREFILTER_EXACT_MAX_WIDTH);
     int m = 0;
     while (m + 1 < src->level_count && (float)src->levels[m + 1].width >= want)
         m++;
     const sl_env_level *s = &src->levels[m];
-    if (s->width == dst->width && s->height == dst->height)
-        return exact_sum(s, k, dst->texels, threads);
-    vec3 *grid = malloc((size_t)s->width * (size_t)s->height * sizeof *grid);
-    if (!grid || !exact_sum(s, k, grid, threads)) {
-        free(grid);
+    /* the grid: no finer than dst (its texel centres are all a reader sees of a coarse level) */
+    float fine = fminf(fmaxf(19.0f / a, 64.0f), (float)dst->width);
+    int step = 1;
+    while (s->width % (2 * step) == 0 && s->height % (2 * step) == 0 && (float)(s->width / (2 * step)) >= fine)
+        step *= 2;
+    sl_env_level grid = {s->width / step, s->height / step, NULL};
+    if (grid.width == dst->width && grid.height == dst->height)
+        return exact_sum(s, k, step, dst->texels, threads);
+    grid.texels = malloc((size_t)grid.width * (size_t)grid.height * sizeof *grid.texels);
+    if (!grid.texels || !exact_sum(s, k, step, grid.texels, threads)) {
+        free(grid.texels);
         return false;
     }
     for (int j = 0; j < dst->height; j++)
         for (int i = 0; i < dst->width; i++)
             dst->texels[(size_t)j * dst->width + i] =
-                sl_texels_bilinear(grid, s->width, s->height, 0, ((float)i + 0.5f) / (float)dst->width,
-                                   ((float)j + 0.5f) / (float)dst->height);
-    free(grid);
+                sl_env_catmull_rom(&grid, ((float)i + 0.5f) / (float)dst->width, ((float)j + 0.5f) / (float)dst->height);
+    free(grid.texels);
     return true;
 }
 

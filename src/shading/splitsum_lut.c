@@ -175,10 +175,9 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
         for (int k = 0; k < SL_PREFILTER_LEVELS; k++)
             lut->kernels[set][k] = sl_prefilter_kernel_of(k, SL_PREFILTER_LEVELS, set == SL_SPLITSUM_GGX,
                                                           set == SL_SPLITSUM_PHONG_ONE);
-    sl_hammersley hs, hs_beta;
+    sl_hammersley hs;
     sl_error err;
     sl_hammersley_build(&hs, SL_SPLITSUM_LUT_SAMPLES, &err); /* a constant within 1 .. SL_HAMMERSLEY_MAX */
-    sl_hammersley_build(&hs_beta, SL_HAMMERSLEY_MAX, &err);
 #pragma omp parallel for schedule(dynamic) num_threads(sl_threads(threads))
     for (int row = 0; row < SL_SPLITSUM_SETS * S; row++) {
         sl_splitsum_set set = (sl_splitsum_set)(row / S);
@@ -186,7 +185,7 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
         for (int i = 0; i < S; i++) {
             float NdotV = (float)i / (float)(S - 1);
             lut->texels[row * S + i] = albedo(set, NdotV, r, &hs);
-            lut->beta[row * S + i] = cv_beta(lut, set, NdotV, r, lut->texels[row * S + i].z, &hs_beta);
+            lut->beta[row * S + i] = cv_beta(lut, set, NdotV, r, lut->texels[row * S + i].z, &hs);
         }
     }
 }
