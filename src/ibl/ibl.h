@@ -102,8 +102,8 @@ float sl_prefilter_width(int level, int levels);
  * of the source (prefilter.c "Exact levels"): their texel at direction d is the self-normalised
  * quadrature of the kernel below against the environment, so a reader that knows the kernel
  * knows what the level integrates (the control variate, docs/lighting.md "Control variate").
- * The sum runs on a source level at most SL_PREFILTER_EXACT_MAX_WIDTH texels wide, the level
- * being that sum read bilinearly at its texel centres. */
+ * The sum runs over a source level at most SL_PREFILTER_EXACT_MAX_WIDTH texels wide, to a grid
+ * that the level's texel centres read with a Catmull-Rom filter. */
 #define SL_PREFILTER_EXACT_WIDTH 0.4f
 #define SL_PREFILTER_EXACT_MAX_WIDTH 256
 /* The first exact level of a chain of `levels` (levels when none is). */

@@ -199,8 +199,8 @@ static void filter_level(const sl_env *src, sl_env_level *dst, const lobe_sample
  * rad at 256 texels a row, against 0.18 for r = 0.4), so one node a texel stands for the texel.
  * As filter_level, the rows make the work small: source texel i' of row j' seen from the
  * destination texel i of row j depends on i' - i alone, so a row pair's weights are computed
- * once (W kernel values) and each texel of the row is a dot product with the source row,
- * stored three times over so that the shifted index needs no wrap. Rows in parallel, each one thread's:
+ * once (W kernel values) and each texel of the row is a dot product with the source row, stored
+ * three times over so that the shifted index needs no wrap. Rows in parallel, each one thread's:
  * the result does not depend on the thread count. */
 typedef struct {
     float x, y, z; /* the texel's centroid direction */
@@ -308,10 +308,9 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, int
  * centres of a grid coarser by `step`, the largest power of two that leaves a quarter of a half
  * width a texel (19 / a texels a row, at least 64) or dst's own texels, whichever is coarser: the
  * summed lobe is smooth at that scale, and the sum's cost is the source's texels times the
- * grid's. dst is then that grid read with the
- * Catmull-Rom filter at its own texel centres (a coarse level's texel is the lobe's value at its
- * centre, not an average; the filter passes through the grid's texels with an error of third
- * order). */
+ * grid's. dst is then that grid read with the Catmull-Rom filter at its own texel centres (a
+ * coarse level's texel is the lobe's value at its centre, not an average; the filter passes
+ * through the grid's texels with an error of third order). */
 static bool exact_level(const sl_env *src, sl_env_level *dst, const sl_prefilter_kernel *k, int threads)
 {
     float a = sqrtf(k->a2 > 0.0f ? k->a2 : 0.0f);

@@ -82,8 +82,8 @@ static inline vec3 sl_env_bilinear(const sl_env_level *lv, float u, float v)
  * through the texel centres with an error of third order in the texel's size where the bilinear
  * filter's is of second: the control variate reads the chain's exact levels with it (lighting.c
  * cv_closed), whose texels are exact at their centres and whose coarse levels are a few texels a
- * lobe (32 x 16 at r = 1 on a 1024 x 512 map: bilinear reads were 0.5-1.3% off the quadrature,
- * these 0.1%). GLSL: lighting.frag's chain_catmull_rom, with texelFetch. */
+ * lobe (32 x 16 at r = 1 on a 1024 x 512 map, where bilinear reads are 0.5-1.3% RMS off the
+ * quadrature and these 0.3-0.8%). GLSL: lighting.frag's chain_catmull_rom, with texelFetch. */
 static inline void sl_catmull_rom_weights(float t, float w[4])
 {
     w[0] = ((-0.5f * t + 1.0f) * t - 0.5f) * t;

@@ -897,7 +897,6 @@ sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, ve
     return cv_setup(u, N, V, Ks, alpha);
 }
 
-
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)

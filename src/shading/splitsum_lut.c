@@ -70,10 +70,10 @@ static vec3 albedo(sl_splitsum_set set, float NdotV, float r, const sl_hammersle
  *    V.H > 0 needs N.(V + w) > 0, so the directions with N.w <= -N.V are never drawn, and the
  *    samples cannot subtract the kernel's part there;
  *  - the integral of K^2 / p over the rest, p the samples' density of w, D(H) (N.H) / (4 V.H):
- *    beta's denominator. Sampled with the Hammersley set it came out small where it is large:
+ *    beta's denominator. Sampled with a Hammersley set it comes out small where it is large:
  *    near that boundary N.H and with it p go to 0 while K need not, and K / p takes values there
- *    that a thousand samples miss (the Phong set's alpha 20 at N.V 0.6: beta 0.53 and a bias of
- *    4% at N = 1024). */
+ *    that a thousand samples miss (the Phong set's alpha 20 at N.V 0.6: beta 0.53, and cv keeps
+ *    a bias of 4% at N = 1024). */
 static void cv_kernel_integrals(const sl_cv_levels *lv, const sl_prefilter_kernel *ka, const sl_prefilter_kernel *kb,
                                 vec3 dir, vec3 V, float alpha, double *unreachable, double *kk)
 {
@@ -111,10 +111,9 @@ static void cv_kernel_integrals(const sl_cv_levels *lv, const sl_prefilter_kerne
  * beta = E_p[W K / p] / (E integral of K^2 / p), in [0, 1] (the first by the samples, the second
  * on a grid: cv_kernel_integrals); 0 where no exact level is read, and where more than
  * CV_MAX_UNREACHABLE of the kernel lies where no sample reaches (that part would stay in the
- * closed term as a bias). With
- * beta = 1 the rough lobes seen from the side (r 0.4, N.V 0.15) carried 2-3 times the error of
- * the samples alone; with this beta never much more, and down to a hundredth of it where the
- * kernel is the lobe (r 1, N.V 0.95). */
+ * closed term as a bias). With beta = 1 the rough lobes seen from the side (r 0.4, N.V 0.15)
+ * carry 2-3 times the error of the samples alone; with this beta never much more, and down to a
+ * hundredth of it where the kernel is the lobe (r 1, N.V 0.95). */
 #define CV_MAX_UNREACHABLE 1e-3 /* beta is 0 where more of the kernel than this lies out of reach */
 static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float NdotV, float r, float t,
                      const sl_hammersley *hs)

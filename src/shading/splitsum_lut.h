@@ -18,9 +18,10 @@
  *
  * Layout: one texture of SL_SPLITSUM_LUT_SIZE columns (N.V = i / (SIZE - 1)) and
  * SL_SPLITSUM_SETS * SIZE rows (set s, width r = j / (SIZE - 1) in row s SIZE + j); a texel's
- * .x = A, .y = B, .z = t (RGB: the same bilinear filter as the environment, texture_lod.h, and
- * GL_RGB32F in softlight-gl). Read at texel centres, so the lookup never leaves its set's rows.
- * N.V = 0 is evaluated at 0.01, the shader's smallest N.V (facing_normal). */
+ * .x = A, .y = B, .z = t (RGB: the same bilinear filter as the environment, texture_lod.h), and
+ * the control variate's beta over the same grid beside them (--estimator cv; softlight-gl
+ * uploads the four as one GL_RGBA32F texture). Read at texel centres, so the lookup never leaves
+ * its set's rows. N.V = 0 is evaluated at 0.01, the shader's smallest N.V (facing_normal). */
 #ifndef SL_SPLITSUM_LUT_H
 #define SL_SPLITSUM_LUT_H
 
