@@ -207,24 +207,15 @@ typedef struct {
     float solid_angle;
 } latlong_node;
 
-/* The centroid and solid angle of texel (i, j) of a w x h lat-long level: the normalised
- * integral of the direction over the texel, from the integrals over its row's theta range and its
- * azimuth range. */
-static latlong_node latlong_node_of(int i, int j, int w, int h)
+/* The centroid and solid angle of texel (i, j) of a w x h lat-long level, from its row's and
+ * column's moments (texel.c, the ground truth's): the centroid is the normalised integral of the
+ * direction over the texel. */
+static latlong_node latlong_node_of(const ibl_row_moments *rm, const ibl_col_moments *cm)
 {
-    const double pi = 3.14159265358979323846;
-    double t0 = pi * j / h, t1 = pi * (j + 1) / h;
-    double dphi = 2.0 * pi / w;
-    double omega = dphi * (cos(t0) - cos(t1));
-    double zint = 0.5 * (sin(t1) * sin(t1) - sin(t0) * sin(t0));              /* integral cos sin dtheta */
-    double sint = 0.5 * (t1 - t0) - 0.25 * (sin(2.0 * t1) - sin(2.0 * t0)); /* integral sin^2 dtheta */
-    vec3 c = sl_uv_to_dir(vec2(((float)i + 0.5f) / (float)w, ((float)j + 0.5f) / (float)h));
-    double cx = (double)c.x, cy = (double)c.y;
-    double hor = sqrt(cx * cx + cy * cy);
-    double sinc = sin(0.5 * dphi) / (0.5 * dphi);
-    double s = sinc * sint, x = hor > 0.0 ? cx / hor * s : 0.0, y = hor > 0.0 ? cy / hor * s : 0.0;
-    double len = sqrt(x * x + y * y + zint * zint);
-    return (latlong_node){(float)(x / len), (float)(y / len), (float)(zint / len), (float)omega};
+    double x = rm->s * cm->c, y = rm->s * cm->s, z = rm->z * cm->dphi;
+    double len = sqrt(x * x + y * y + z * z);
+    double inv = len > 0.0 ? 1.0 / len : 0.0;
+    return (latlong_node){(float)(x * inv), (float)(y * inv), (float)(z * inv), (float)(rm->dz * cm->dphi)};
 }
 
 /* Sum level `src` (w x h) with kernel k into `out`, a grid of (w / step) x (h / step) texels
@@ -242,15 +233,20 @@ static bool exact_sum(const sl_env_level *src, const sl_prefilter_kernel *k, int
         free(weights);
         return false;
     }
-    for (int j = 0; j < h; j++)
+    for (int j = 0; j < h; j++) {
+        ibl_row_moments rm;
+        sl_ibl_row_moments_at(h, j, &rm);
         for (int i = 0; i < w; i++) {
-            nodes[(size_t)j * w + i] = latlong_node_of(i, j, w, h);
+            ibl_col_moments cm;
+            sl_ibl_col_moments_at(w, i, &cm);
+            nodes[(size_t)j * w + i] = latlong_node_of(&rm, &cm);
             vec3 t = src->texels[(size_t)j * w + i];
             float *row = rows + (size_t)j * 9 * w;
             row[i] = row[w + i] = row[2 * w + i] = t.x;
             row[3 * w + i] = row[4 * w + i] = row[5 * w + i] = t.y;
             row[6 * w + i] = row[7 * w + i] = row[8 * w + i] = t.z;
         }
+    }
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int j = 0; j < oh; j++) {
         float *wt = weights + (size_t)omp_get_thread_num() * w;
