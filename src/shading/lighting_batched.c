@@ -354,14 +354,14 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
  * pointer into the always-inlined stages, where its fields stay in registers. */
 typedef struct {
     bool mf, ggx, inv_lh2, consistent, distortion, oct;
-    bool cv;          /* the control variate: subtract scale K(w) / p(w) Li from every contribution */
     int rule;
     float alpha, a2;
     float base, max_lod, sin_min, intensity;
     float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
     float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
     vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
-    const sl_cv_kernel *cvk; /* cv: the pixel's kernel (else NULL) */
+    const sl_cv_kernel *cvk; /* the control variate's kernel, whose scale K(w) / p(w) Li every
+                                contribution loses (NULL: none) */
     const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
 } lobe_consts;
 
@@ -387,7 +387,6 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
-    c.cv = false;
     c.cvk = NULL;
     c.ka = c.kb = NULL;
     return c;
@@ -549,7 +548,7 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
     const sl_env_gather *env = &u->residualGather;
     const vec3 Ks = c->Ks, F1 = c->F1;
     const float intensity = c->intensity;
-    const bool keep_li = c->cv;
+    const bool keep_li = c->cvk != NULL;
     if (c->oct) {
 #pragma omp simd
         for (int i = 0; i < m; i++) {
@@ -581,7 +580,7 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
             store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     }
-    if (c->cv) { /* F Li weight - scale K(w) / p(w) Li, the port's form: a loop of its own, so mf's
+    if (c->cvk) { /* F Li weight - scale K(w) / p(w) Li, the port's form: a loop of its own, so mf's
                     loops above stay as they are */
         const sl_cv_kernel *cv = c->cvk;
         const vec3 dir = cv->dir, sc = cv->scale;
@@ -605,7 +604,7 @@ __attribute__((always_inline)) static inline int stage_horizon(const lobe_consts
 {
     int below_block = 0;
     const float *drop = c->mf ? b->vh : b->wN;
-    const int keep_below = c->cv; /* cv's samples below the horizon keep the kernel's term */
+    const int keep_below = c->cvk != NULL; /* cv's samples below the horizon keep the kernel's term */
 #pragma omp simd
     for (int i = 0; i < m; i++) {
         int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
@@ -634,7 +633,6 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     const bool rotate = u->uRotate != 0;
     lobe_consts c = lobe_consts_for(u, Ks, alpha);
     if (cv) {
-        c.cv = true;
         c.cvk = cv;
         /* a level of share 0 takes the other's kernel: the narrow levels' (not exact) would put
          * 0 times an overflow into the one-division form */
@@ -681,7 +679,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             sz3 += b->cb[i + 3];
         }
         if (trace)
-            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cv, &trace_sum);
+            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, &trace_sum);
     }
     vec3 sum = vec3((sx0 + sx1) + (sx2 + sx3), (sy0 + sy1) + (sy2 + sy3), (sz0 + sz1) + (sz2 + sz3));
     count_samples(task, n, below, pole);
