@@ -128,7 +128,7 @@
 //   sampler2D uSplitSumLut  SPLITSUM_LUT_SIZE x (3 SPLITSUM_LUT_SIZE) RGBA32F, LINEAR, CLAMP: .x = A,
 //                         .y = B of the BRDF's albedo Ks A + B over (N.V, r), .z = t, the lookup
 //                         direction's factor (splitsum_dir), .w = beta, the control variate's
-//                         coefficient (splitsum_beta), one set per block of rows
+//                         coefficient, one set per block of rows
 //   int   uSplitSumExactLevel  the chains' first exact level: from it on, level k holds the
 //                         environment's integral against cv_kernel's kernel (src/ibl/prefilter.c)
 //   float uSplitSumKernelNorm[SPLITSUM_SETS * SPLITSUM_LEVELS]  1 / Z of set s's level k at
@@ -1164,13 +1164,13 @@ float splitsum_width(float alpha)
 }
 
 // The table at the texel centres of its set: N.V = i / (S - 1) is column i, r = j / (S - 1) row
-// set S + j. A, B and the direction factor t.
-vec3 splitsum_lut(int set, float NdotV, float r)
+// set S + j. A, B, the direction factor t and the control variate's beta.
+vec4 splitsum_lut(int set, float NdotV, float r)
 {
     float s = float(SPLITSUM_LUT_SIZE);
     vec2 uv = vec2((clamp(NdotV, 0.0, 1.0) * (s - 1.0) + 0.5) / s,
                    (float(set) * s + clamp(r, 0.0, 1.0) * (s - 1.0) + 0.5) / (s * float(SPLITSUM_SETS)));
-    return texture(uSplitSumLut, uv).xyz;
+    return texture(uSplitSumLut, uv);
 }
 
 // The lookup direction: the lobe's centroid, which leans from R towards N away from normal view
@@ -1189,7 +1189,7 @@ vec3 splitsum_lookup(vec3 N, vec3 V, float alpha, out vec3 ab)
     float r = splitsum_width(alpha);
     float lod = r * uSplitSumMaxLod;
     int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    ab = splitsum_lut(set, NdotV, r);
+    ab = splitsum_lut(set, NdotV, r).xyz;
     vec2 uv = sl_dir_to_uv(splitsum_dir(N, R, ab.z));
     return sl_lobe_is_ggx(alpha) ? textureLod(uSplitSumGGX, uv, lod).rgb : textureLod(uSplitSumPhong, uv, lod).rgb;
 }
@@ -1201,15 +1201,6 @@ vec3 specular_splitsum(vec3 N, vec3 V, vec3 Ks, float alpha)
     vec3 ab;
     vec3 P = splitsum_lookup(N, V, alpha, ab);
     return P * (Ks * ab.x + ab.y) * uEnvIntensity;
-}
-
-// The control variate's coefficient: the table's fourth value.
-float splitsum_beta(int set, float NdotV, float r)
-{
-    float s = float(SPLITSUM_LUT_SIZE);
-    vec2 uv = vec2((clamp(NdotV, 0.0, 1.0) * (s - 1.0) + 0.5) / s,
-                   (float(set) * s + clamp(r, 0.0, 1.0) * (s - 1.0) + 0.5) / (s * float(SPLITSUM_SETS)));
-    return texture(uSplitSumLut, uv).w;
 }
 
 // Level `level` of a chain read with the Catmull-Rom filter (src/ibl/texture_lod.h
@@ -1274,12 +1265,11 @@ CvKernel cv_setup(vec3 N, vec3 V, vec3 Ks, float alpha)
     float r = splitsum_width(alpha);
     float lod = r * uSplitSumMaxLod;
     cv.set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    vec3 ab = splitsum_lut(cv.set, NdotV, r);
+    vec4 lut = splitsum_lut(cv.set, NdotV, r);
     cv.on = true;
-    cv.dir = splitsum_dir(N, R, ab.z);
+    cv.dir = splitsum_dir(N, R, lut.z);
     cv_levels(lod, cv);
-    float beta = splitsum_beta(cv.set, NdotV, r);
-    cv.scale = (Ks * ab.x + ab.y) * beta;
+    cv.scale = (Ks * lut.x + lut.y) * lut.w;
     return cv;
 }
 

@@ -466,15 +466,23 @@ static float splitsum_width(float alpha)
 }
 
 /* splitsum_lut: texture() of the table at the texel centres of set `set`: N.V = i / (S - 1)
- * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). A, B and t. */
+ * is column i, r = j / (S - 1) row set S + j (splitsum_lut.h). A, B, t and the control
+ * variate's beta, the four values of one texel (GL's RGBA). */
 /* GLSL: splitsum_lut */
-static vec3 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
+static vec4 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
 {
+    enum { W = SPLITSUM_LUT_SIZE, H = SPLITSUM_SETS * SPLITSUM_LUT_SIZE };
     float s = (float)SPLITSUM_LUT_SIZE;
     vec2 uv = vec2((clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / s,
                    ((float)set * s + clamp(r, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / (s * (float)SPLITSUM_SETS));
-    return sl_texels_bilinear(u->uSplitSumLut->texels, SPLITSUM_LUT_SIZE, SPLITSUM_SETS * SPLITSUM_LUT_SIZE, 0, uv.x,
-                              uv.y);
+    vec3 abt = sl_texels_bilinear(u->uSplitSumLut->texels, W, H, 0, uv.x, uv.y);
+    /* beta at the same taps (the uv stays within the texel centres: no wrap) */
+    const sl_latlong_taps t = sl_latlong_taps_at(W, H, uv.x, uv.y);
+    const float *b = u->uSplitSumLut->beta;
+    int x1 = t.x0 + 1 < W ? t.x0 + 1 : t.x0;
+    float beta = mix(mix(b[t.y0 * W + t.x0], b[t.y0 * W + x1], t.fx), mix(b[t.y1 * W + t.x0], b[t.y1 * W + x1], t.fx),
+                     t.fy);
+    return vec4_from3(abt, beta);
 }
 
 /* splitsum_dir: the lookup direction normalize(mix(N, R, t)), t the table's (splitsum_lut.h):
@@ -497,7 +505,7 @@ static vec3 splitsum_lookup(const sl_lighting_uniforms *u, vec3 N, vec3 V, float
     float r = splitsum_width(alpha);
     float lod = r * u->uSplitSumMaxLod;
     int set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    *ab = splitsum_lut(u, set, NdotV, r);
+    *ab = xyz(splitsum_lut(u, set, NdotV, r));
     vec3 dir = splitsum_dir(N, R, ab->z);
     vec2 uv = sl_dir_to_uv(dir);
     vec3 P = sl_lobe_is_ggx(alpha) ? textureLod(u->uSplitSumGGX, uv, lod) : textureLod(u->uSplitSumPhong, uv, lod);
@@ -515,18 +523,6 @@ static vec3 specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec
     vec3 ab;
     vec3 P = splitsum_lookup(u, N, V, alpha, &ab, trace);
     return scale(mul(P, add(scale(Ks, ab.x), vec3s(ab.y))), u->uEnvIntensity);
-}
-
-/* splitsum_beta: the control variate's coefficient, the table's fourth value (splitsum_lut.h) */
-/* GLSL: splitsum_beta */
-static float splitsum_beta(const sl_lighting_uniforms *u, int set, float NdotV, float r)
-{
-    float s = (float)SPLITSUM_LUT_SIZE;
-    float x = clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f), y = clamp(r, 0.0f, 1.0f) * (s - 1.0f);
-    int i = mini((int)x, SPLITSUM_LUT_SIZE - 2), j = mini((int)y, SPLITSUM_LUT_SIZE - 2);
-    float fx = x - (float)i, fy = y - (float)j;
-    const float *b = u->uSplitSumLut->beta + ((size_t)set * SPLITSUM_LUT_SIZE + (size_t)j) * SPLITSUM_LUT_SIZE + i;
-    return mix(mix(b[0], b[1], fx), mix(b[SPLITSUM_LUT_SIZE], b[SPLITSUM_LUT_SIZE + 1], fx), fy);
 }
 
 /* chain_catmull_rom: level `level` of a chain read with the Catmull-Rom filter (texture_lod.h
@@ -552,10 +548,11 @@ static sl_cv_kernel cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     cv.r = splitsum_width(alpha);
     cv.lod = cv.r * u->uSplitSumMaxLod;
     cv.set = sl_lobe_is_ggx(alpha) ? SPLITSUM_GGX : u->uGTerm == GTERM_INV_LH2 ? SPLITSUM_PHONG_INV_LH2 : SPLITSUM_PHONG_ONE;
-    cv.ab = splitsum_lut(u, cv.set, NdotV, cv.r);
+    vec4 lut = splitsum_lut(u, cv.set, NdotV, cv.r);
+    cv.ab = xyz(lut);
     cv.dir = splitsum_dir(N, cv.R, cv.ab.z);
     cv.levels = sl_cv_levels_at(cv.lod, (int)u->uSplitSumMaxLod, u->uSplitSumExactLevel);
-    cv.beta = splitsum_beta(u, cv.set, NdotV, cv.r);
+    cv.beta = lut.w;
     cv.E = add(scale(Ks, cv.ab.x), vec3s(cv.ab.y));
     cv.scale = scale(cv.E, cv.beta);
     return cv;
