@@ -31,8 +31,8 @@
  *  - The wide levels are exact (exact_level): a sum of k over every texel of a source level fine
  *    enough for the lobe, each texel one node at its centroid weighted by its solid angle, the
  *    ground truth's quadrature, normalised by the same sum of k alone. Sampled as level 1 is,
- *    they are 1-5% off that integral (the coarse source levels the wide lobes' samples read), too
- *    far for a control variate, whose known integral must be the integral. */
+ *    they are 1-5% off that integral on 256x128 maps (the coarse source levels the wide lobes'
+ *    samples read), too far for a control variate, whose known integral must be the integral. */
 #include "../core/threads.h"
 #include <math.h>
 #include <omp.h>
