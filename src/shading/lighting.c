@@ -471,7 +471,7 @@ static float splitsum_width(float alpha)
 /* GLSL: splitsum_lut */
 static vec4 splitsum_lut(const sl_lighting_uniforms *u, int set, float NdotV, float r)
 {
-    enum { W = SPLITSUM_LUT_SIZE, H = SPLITSUM_SETS * SPLITSUM_LUT_SIZE };
+    enum { W = SL_SPLITSUM_LUT_SIZE, H = SL_SPLITSUM_SETS * SL_SPLITSUM_LUT_SIZE };
     float s = (float)SPLITSUM_LUT_SIZE;
     vec2 uv = vec2((clamp(NdotV, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / s,
                    ((float)set * s + clamp(r, 0.0f, 1.0f) * (s - 1.0f) + 0.5f) / (s * (float)SPLITSUM_SETS));
