@@ -3,7 +3,7 @@
 #   make test  set up, build Release (GCC and clang) and ASan+UBSan, run every test and a short fuzz run
 JOBS ?= $(shell nproc)
 SCENE ?= scenes/default.json
-FUZZ_SECONDS ?= 20
+FUZZ_SECONDS ?= 15
 
 .PHONY: all setup build run test test-release test-clang test-sanitize fuzz bench debug package clean
 

@@ -13,7 +13,7 @@
 # progressive, CMYK and YCCK; written by fuzz/make_image_seeds.c), so mutations start deep in the
 # decoders, beside hand-made corrupt files and reproducers of past findings.
 #
-# `make test` runs each target for FUZZ_SECONDS (20) s: a smoke test. A real campaign runs one
+# `make test` runs each target for FUZZ_SECONDS (15) s: a smoke test. A real campaign runs one
 # target for hours with a fresh random seed and keeps what it learns:
 #   make fuzz FUZZ_SECONDS=0                      # just builds build-fuzz (clang, ASan + UBSan)
 #   FUZZ_TARGETS=fuzz_texture FUZZ_KEEP=out/fuzz-corpus bash scripts/fuzz.sh build-fuzz 14400 0
