@@ -112,6 +112,7 @@
 //                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w)),
 //                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below),
 //                     6 = cv, the split sum as a control variate (specular_cv)
+//                     7 = cvmis, the same with mis's samples (specular_cvmis)
 // MIS (uEstimator 5; src/ibl/env_dist.h): per Hammersley pair one sample drawn as the microfacet
 // estimator's and one from the environment's luminance, weighed by the power heuristic (the host
 // builds HammersleyBlock with (N + 1) / 2 pairs for N samples), radiance read at level 0 of
@@ -288,6 +289,7 @@ const int ESTIMATOR_MICROFACET = 3;
 const int ESTIMATOR_SPLITSUM = 4;
 const int ESTIMATOR_MIS = 5;
 const int ESTIMATOR_CV = 6;
+const int ESTIMATOR_CV_MIS = 7;
 const int SPLITSUM_LUT_SIZE = 32;
 const int SPLITSUM_SETS = 3;
 const int SPLITSUM_LEVELS = 6;
@@ -1101,7 +1103,10 @@ float mis_power(float p, float q)
 // as xi.y = (k + 1/2)/N already is: unshifted, pair 0 always reads the first column of its row
 // (a dim texel beside a sun, drawn at its tiny density and then weighed away by the BRDF's
 // density): one wasted sample of N, -3% at N = 32 on a sun.
-vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+// With cv.on (specular_cvmis) every sample also subtracts cv.scale K(w) Li / p times its weight,
+// below the horizon too, where K reaches and the BRDF does not; an environment sample the BRDF's
+// draws cannot reach (N.H <= 0 or w.H <= 0) has p_b = 0 and the weight 1.
+vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel cv)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
@@ -1120,7 +1125,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float VdotH = dot(V, H);
         vec3 w = normalize(2.0 * VdotH * H - V);
         float wN = dot(w, N);
-        if (VdotH > 0.0 && wN > 0.0) {
+        if (VdotH > 0.0 && (wN > 0.0 || cv.on)) {
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0 * VdotH);
             ivec2 t = env_texel(w);
@@ -1129,8 +1134,10 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
             vec3 Li = texelFetch(uEnvResidual, t, 0).rgb * uEnvIntensity;
-            float weight = G * wN * VdotH / NdotH * mis;
+            float weight = wN > 0.0 ? G * wN * VdotH / NdotH * mis : 0.0;
             vec3 c = F * Li * weight;
+            if (cv.on)
+                c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf * mis);
             sum = sum + c;
         }
         ivec2 te;
@@ -1141,15 +1148,19 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 He = normalize(we + V);
         float NdotHe = dot(N, He);
         float LdotHe = dot(we, He);
-        if (weN > 0.0 && NdotHe > 0.0 && LdotHe > 0.0) {
-            float De = sl_lobe_D(NdotHe, alpha);
-            float pb = De * NdotHe / (4.0 * LdotHe);
+        bool lit = weN > 0.0 && NdotHe > 0.0 && LdotHe > 0.0;
+        if (lit || cv.on) {
+            bool reached = NdotHe > 0.0 && LdotHe > 0.0;
+            float De = reached ? sl_lobe_D(NdotHe, alpha) : 0.0;
+            float pb = reached ? De * NdotHe / (4.0 * LdotHe) : 0.0;
             float mis = mis_power(e.w, pb);
             vec3 F = sl_brdf_F(Ks, LdotHe);
-            float G = sl_lobe_G(LdotHe, weN, NdotV, alpha, uGTerm);
+            float G = lit ? sl_lobe_G(LdotHe, weN, NdotV, alpha, uGTerm) : 0.0;
             vec3 Li = texelFetch(uEnvResidual, te, 0).rgb * uEnvIntensity;
-            float weight = De * G * weN / (4.0 * e.w) * mis;
+            float weight = lit ? De * G * weN / (4.0 * e.w) * mis : 0.0;
             vec3 c = F * Li * weight;
+            if (cv.on)
+                c = c - cv.scale * Li * (cv_kernel(cv, dot(we, cv.dir)) / e.w * mis);
             sum = sum + c;
         }
     }
@@ -1295,6 +1306,16 @@ vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
     CvKernel cv = cv_setup(N, V, Ks, alpha);
     return cv_closed(cv) + specular_microfacet(N, V, Ks, alpha, rotation, cv);
+}
+
+// The split sum as a control variate with mis's samples (uEstimator 7): the closed part plus
+// 1/n sum over the pairs of each sample's (f (N.w) - beta E K) L / p times its power-heuristic
+// weight. The environment's draws find the small bright sources that the BRDF's miss; the
+// kernel takes the smooth rest off both.
+vec3 specular_cvmis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+{
+    CvKernel cv = cv_setup(N, V, Ks, alpha);
+    return cv_closed(cv) + specular_mis(N, V, Ks, alpha, rotation, cv);
 }
 
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
@@ -1640,7 +1661,9 @@ void main()
                 else if (uEstimator == ESTIMATOR_CV)
                     spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
                 else if (uEstimator == ESTIMATOR_MIS)
-                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
+                else if (uEstimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cvmis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
@@ -1685,7 +1708,9 @@ void main()
                 else if (uEstimator == ESTIMATOR_CV)
                     spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
                 else if (uEstimator == ESTIMATOR_MIS)
-                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation);
+                    spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
+                else if (uEstimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cvmis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)

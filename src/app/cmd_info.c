@@ -169,12 +169,12 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         phase(&m, base + m.env_oct_build, "building the octahedral chain");
         base += m.env_oct;
     }
-    if (modes.estimator == SL_ESTIMATOR_SPLITSUM || modes.estimator == SL_ESTIMATOR_CV) {
+    if (sl_estimator_reads_splitsum(modes.estimator)) {
         m.splitsum = (size_t)lobe_sets * chain_held_bytes(env_w, env_h, false) + sizeof(sl_splitsum_lut);
         phase(&m, base + m.splitsum, "prefiltering for the split sum");
         base += m.splitsum;
     }
-    if (modes.estimator == SL_ESTIMATOR_MIS) {
+    if (sl_estimator_reads_env_dist(modes.estimator)) {
         int gw = env_w, gh = env_h; /* the grid: halved while wider than SL_ENV_DIST_MAX_WIDTH */
         while (gw > SL_ENV_DIST_MAX_WIDTH && gw % 2 == 0 && gh % 2 == 0) {
             gw /= 2;

@@ -19,7 +19,7 @@ static const char *const gterm_names[] = {
 static const char *const estimator_names[] = {
     [SL_ESTIMATOR_DEFAULT] = "default", [SL_ESTIMATOR_SPEC] = "spec", [SL_ESTIMATOR_CONSISTENT] = "consistent",
     [SL_ESTIMATOR_MICROFACET] = "mf", [SL_ESTIMATOR_SPLITSUM] = "splitsum",
-    [SL_ESTIMATOR_MIS] = "mis", [SL_ESTIMATOR_CV] = "cv",
+    [SL_ESTIMATOR_MIS] = "mis", [SL_ESTIMATOR_CV] = "cv", [SL_ESTIMATOR_CV_MIS] = "cvmis",
 };
 static const char *const irradiance_names[] = {
     [SL_IRRADIANCE_SH9] = "sh9", [SL_IRRADIANCE_BRUTE] = "brute", [SL_IRRADIANCE_MAP] = "map",

@@ -84,7 +84,21 @@ typedef enum {
     SL_ESTIMATOR_CV = 6,         /* the split sum as a control variate: its chain's exact part
                                     times beta E plus the mf samples less the chain's kernel,
                                     (F W - beta E K / p) L ("cv") */
+    SL_ESTIMATOR_CV_MIS = 7,     /* the same control variate with mis's pairs of samples: each
+                                    BRDF and environment sample's (f (N.w) - beta E K) L / p
+                                    times its power-heuristic weight ("cvmis") */
 } sl_estimator;
+
+/* What an estimator reads besides the environment: the split sum's chains and table (splitsum,
+ * cv, cvmis), the environment's own distribution (mis, cvmis). */
+static inline bool sl_estimator_reads_splitsum(sl_estimator e)
+{
+    return e == SL_ESTIMATOR_SPLITSUM || e == SL_ESTIMATOR_CV || e == SL_ESTIMATOR_CV_MIS;
+}
+static inline bool sl_estimator_reads_env_dist(sl_estimator e)
+{
+    return e == SL_ESTIMATOR_MIS || e == SL_ESTIMATOR_CV_MIS;
+}
 
 /* The G term (uGTerm). */
 typedef enum {
@@ -164,9 +178,9 @@ typedef enum {
     X(ESTIMATOR, estimator, CHOICE, sl_estimator, "estimator", "--estimator", NULL, NULL,                            \
       "specular estimator: the specification's eq. (3) (default), consistent, microfacet sampling, the "             \
       "split-sum lookup (prefiltered environment, no samples), mis (BRDF and environment sampling), or cv "          \
-      "(the split sum plus microfacet samples of its error)",                                                        \
+      "(the split sum plus microfacet samples of its error) or cvmis (the split sum plus mis samples of its error)", \
       (.scene = {"render.estimator"}, .def = {SL_ESTIMATOR_SPEC}, .min = SL_ESTIMATOR_SPEC,                          \
-       .max = SL_ESTIMATOR_CV, .names = estimator_names))                                                      \
+       .max = SL_ESTIMATOR_CV_MIS, .names = estimator_names))                                                  \
     /* default: the scene's map if it names one (the scene reader chooses "map" then), else this, the pole-free      \
      * octahedral map (docs/ibl.md says why) */                                                                      \
     X(IRRADIANCE, irradiance, CHOICE, sl_irradiance_method, "irradiance", "--irradiance", NULL, NULL,                \

@@ -95,7 +95,7 @@ static bool update_env_dist(sl_renderer *r, sl_estimator estimator, sl_error *er
     if (estimator != SL_ESTIMATOR_DEFAULT)
         o.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if (o.estimator != SL_ESTIMATOR_MIS || r->env_dist_built == lights)
+    if (!sl_estimator_reads_env_dist(o.estimator) || r->env_dist_built == lights)
         return true;
     double t0 = sl_now_seconds();
     sl_env_dist_free(&r->env_dist);
@@ -136,7 +136,7 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
     if (estimator != SL_ESTIMATOR_DEFAULT)
         o.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if ((o.estimator != SL_ESTIMATOR_SPLITSUM && o.estimator != SL_ESTIMATOR_CV) || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
+    if (!sl_estimator_reads_splitsum(o.estimator) || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
         return true;
     double t0 = sl_now_seconds();
     sl_env_free(&r->splitsum_phong);

@@ -33,6 +33,7 @@ static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int ESTIMATOR_CV = SL_ESTIMATOR_CV;
+static const int ESTIMATOR_CV_MIS = SL_ESTIMATOR_CV_MIS;
 static const int GTERM_INV_LH2 = SL_GTERM_INV_LH2;
 static const int SPLITSUM_LUT_SIZE = SL_SPLITSUM_LUT_SIZE;
 static const int SPLITSUM_SETS = SL_SPLITSUM_SETS;
@@ -378,10 +379,12 @@ static vec3 env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t)
 
 /* specular_mis: the derivation is in the GLSL. The trace records the BRDF's sample of pair k in
  * samples[k] (as specular_microfacet does) and the environment's in env_samples[k], each with
- * its own density (pdf), the other strategy's (pdf_other) and its weight (mis). */
+ * its own density (pdf), the other strategy's (pdf_other) and its weight (mis). cv: the control
+ * variate's kernel, whose beta E K(w) Li / p(w) times the weight every sample subtracts, below
+ * the horizon too (NULL for the mis estimator; specular_cvmis). */
 /* GLSL: specular_mis */
 static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                         sl_lighting_task *task, sl_lighting_trace *trace)
+                         const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -403,7 +406,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         float VdotH = dot(V, H);
         vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
         float wN = dot(w, N);
-        if (VdotH > 0.0f && wN > 0.0f) {
+        if (VdotH > 0.0f && (wN > 0.0f || cv)) {
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0f * VdotH);
             ivec2 t = env_texel(u, w);
@@ -412,13 +415,19 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
             vec3 Li = scale(env_texel_fetch(u, t), u->uEnvIntensity);
-            float weight = G * wN * VdotH / NdotH * mis;
+            float weight = wN > 0.0f ? G * wN * VdotH / NdotH * mis : 0.0f;
             vec3 c = scale(mul(F, Li), weight);
+            float kp = 0.0f;
+            if (cv) {
+                kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
+                c = sub(c, scale(mul(cv->scale, Li), kp * mis));
+            }
+            below += wN <= 0.0f;
             sum = add(sum, c);
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
                                                      .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
-                                                     .G = G, .Li = Li, .c = c, .sum = sum});
+                                                     .G = G, .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
         } else {
             below++;
             trace_sample(trace, k,
@@ -433,20 +442,29 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 He = normalize(add(we, V));
         float NdotHe = dot(N, He);
         float LdotHe = dot(we, He);
-        if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
-            float De = sl_lobe_D(NdotHe, alpha);
-            float pb = De * NdotHe / (4.0f * LdotHe);
+        bool lit = weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f;
+        if (lit || cv) {
+            /* the BRDF's density of we: 0 where its draws cannot reach (N.H <= 0 or w.H <= 0) */
+            bool reached = NdotHe > 0.0f && LdotHe > 0.0f;
+            float De = reached ? sl_lobe_D(NdotHe, alpha) : 0.0f;
+            float pb = reached ? De * NdotHe / (4.0f * LdotHe) : 0.0f;
             float mis = mis_power(e.w, pb);
             vec3 F = sl_brdf_F(Ks, LdotHe);
-            float G = sl_lobe_G(LdotHe, weN, NdotV, alpha, (sl_gterm)u->uGTerm);
+            float G = lit ? sl_lobe_G(LdotHe, weN, NdotV, alpha, (sl_gterm)u->uGTerm) : 0.0f;
             vec3 Li = scale(env_texel_fetch(u, te), u->uEnvIntensity);
-            float weight = De * G * weN / (4.0f * e.w) * mis;
+            float weight = lit ? De * G * weN / (4.0f * e.w) * mis : 0.0f;
             vec3 c = scale(mul(F, Li), weight);
+            float kp = 0.0f;
+            if (cv) {
+                kp = sl_cv_kernel_eval(u, cv, dot(we, cv->dir)) / e.w;
+                c = sub(c, scale(mul(cv->scale, Li), kp * mis));
+            }
+            below += !lit;
             sum = add(sum, c);
             trace_env_sample(trace, k,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
-                                                         .F = F, .G = G, .Li = Li, .c = c, .sum = sum});
+                                                         .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,
@@ -588,6 +606,21 @@ static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
     vec3 closed = cv_closed(u, N, V, &cv, trace);
     vec3 correction = specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, task, trace);
+    trace_cv(trace, &cv, closed, correction);
+    return add(closed, correction);
+}
+
+/* specular_cvmis: the split sum as a control variate, its correction drawn as mis draws: the
+ * closed part plus 1/n sum over the pairs of each sample's (f (N.w) - beta E K) L / p times its
+ * power-heuristic weight. The environment's draws find the small bright sources that the BRDF's
+ * miss; the kernel takes the smooth rest off both. */
+/* GLSL: specular_cvmis */
+static vec3 specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                           sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
+    vec3 closed = cv_closed(u, N, V, &cv, trace);
+    vec3 correction = specular_mis(u, N, V, Ks, alpha, rotation, &cv, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -774,7 +807,9 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             else if (u->uEstimator == ESTIMATOR_CV)
                 spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else if (u->uEstimator == ESTIMATOR_MIS)
-                spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+                spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task, trace);
+            else if (u->uEstimator == ESTIMATOR_CV_MIS)
+                spec = specular_cvmis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             if (u->uEnvLightCount > 0 && !env_shadow) {
@@ -874,7 +909,8 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                            sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    return specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+    return u->uEstimator == ESTIMATOR_CV_MIS ? specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace)
+                                             : specular_mis(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
 }
 vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
 {

@@ -51,6 +51,7 @@ static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int ESTIMATOR_CV = SL_ESTIMATOR_CV;
+static const int ESTIMATOR_CV_MIS = SL_ESTIMATOR_CV_MIS;
 
 /* The microfacet estimator's samples: mf, and cv's correction (the same samples, the same frame) */
 static inline bool microfacet_samples(const sl_lighting_uniforms *u)
@@ -1205,6 +1206,8 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
         specular = sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace);
     } else if (u->uEstimator == ESTIMATOR_MIS) {
         specular = mis_samples(u, N, V, Ks, alpha, rotation, task, trace);
+    } else if (u->uEstimator == ESTIMATOR_CV_MIS) { /* the port's loop: not batched yet */
+        specular = sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
     } else if (u->uEstimator == ESTIMATOR_CV) {
         specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, task, trace);
     } else {

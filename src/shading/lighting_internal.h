@@ -49,7 +49,7 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
-/* GLSL specular_mis (the batched path runs it per pixel: lighting_batched.c says why), and its
+/* GLSL specular_mis, or specular_cvmis for that estimator (the batched path runs it per pixel: lighting_batched.c says why), and its
  * pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of level 0 */
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                            sl_lighting_task *task, sl_lighting_trace *trace);

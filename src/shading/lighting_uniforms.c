@@ -76,7 +76,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     if (o.lod_samples < 1 || o.lod_samples > SL_HAMMERSLEY_MAX)
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
-    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_CV ||
+    if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_CV_MIS ||
         (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
@@ -110,22 +110,22 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
     if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
-    const bool splitsum = o.estimator == SL_ESTIMATOR_SPLITSUM || o.estimator == SL_ESTIMATOR_CV;
+    const bool splitsum = sl_estimator_reads_splitsum(o.estimator);
     if (splitsum && (!desc->splitsum_phong || !desc->splitsum_ggx || !desc->splitsum_lut ||
                      desc->splitsum_phong->level_count != SL_PREFILTER_LEVELS ||
                      desc->splitsum_ggx->level_count != SL_PREFILTER_LEVELS))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no prefiltered chains of %d levels or no table given",
                        sl_estimator_name(o.estimator), SL_PREFILTER_LEVELS);
 
-    const bool mis = o.estimator == SL_ESTIMATOR_MIS;
+    const bool mis = sl_estimator_reads_env_dist(o.estimator);
     if (mis && oct)
-        return sl_fail(err, SL_ERR_RANGE, "lighting: the mis estimator reads the lat-long level 0, not the octahedral layout");
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator reads the lat-long level 0, not the octahedral layout", sl_estimator_name(o.estimator));
     if (mis) {
         const sl_env *src = el ? &el->residual : desc->env;
         const sl_env_dist *d = desc->env_dist;
         if (!d || d->width < 1 || d->height < 1 || d->src_width != src->levels[0].width ||
             d->src_height != src->levels[0].height || (d->width << d->level) != d->src_width)
-            return sl_fail(err, SL_ERR_RANGE, "lighting: the mis estimator asked for, but no environment distribution given");
+            return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no environment distribution given", sl_estimator_name(o.estimator));
     }
 
     /* MIS splits its N samples into pairs: one from the BRDF and one from the environment per

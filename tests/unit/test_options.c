@@ -396,7 +396,7 @@ static void test_library_reads_the_table(void **state)
     assert_string_equal(sl_lod_rule_name((sl_lod_rule)(SL_LOD_PDF + 1)), "?");
     /* the GLSL's values (shaders/lighting.frag) are the last of each list */
     assert_int_equal((int)lod->max, SL_LOD_PDF);
-    assert_int_equal((int)est->max, SL_ESTIMATOR_CV);
+    assert_int_equal((int)est->max, SL_ESTIMATOR_CV_MIS);
     assert_int_equal((int)g->max, SL_GTERM_ONE);
     assert_int_equal((int)irr->max, SL_IRRADIANCE_DP);
     assert_int_equal(sl_option_next(lod, SL_LOD_PDF), SL_LOD_NONE);
