@@ -89,7 +89,9 @@ V=("spec-N40|spec|spec-d4|0|40" "mf-pdf+dist-N32|mf|pdf|1|32" "mf-pdf+dist+env64
    "mis-N40|mis|none|0|40" "mis+env32-N40|mis|none|0|40|32" "mis-N64|mis|none|0|64" "mis-N256|mis|none|0|256"
    "mis-N1024|mis|none|0|1024" "splitsum|splitsum|none|0|1" "mf-pdf+dist-N16|mf|pdf|1|16" "cv-pdf+dist-N16|cv|pdf|1|16"
    "cv-pdf+dist-N32|cv|pdf|1|32" "cv-pdf+dist+env8-N8|cv|pdf|1|8|8" "cv-pdf+dist+env8-N16|cv|pdf|1|16|8" "mf-pdf+dist+env64-N32|mf|pdf|1|32|64" "cv-pdf+dist+env64-N16|cv|pdf|1|16|64"
-   "cv-pdf+dist+env64-N32|cv|pdf|1|32|64" "cv-none-N64|cv|none|0|64" "mf-none-N64|mf|none|0|64")
+   "cv-pdf+dist+env64-N32|cv|pdf|1|32|64" "cv-none-N64|cv|none|0|64" "mf-none-N64|mf|none|0|64"
+   "cvmis-N12|cvmis|none|0|12" "cvmis-N16|cvmis|none|0|16" "cvmis-N24|cvmis|none|0|24" "cvmis-N32|cvmis|none|0|32"
+   "cvmis+env64-N16|cvmis|none|0|16|64")
 # MIS_FRONT_ONLY=REGEX: only the variants whose name matches (a partial run); MIS_FRONT_MD=FILE:
 # the table's file (a partial run writes its own, not the whole front's)
 if [ -n "${MIS_FRONT_ONLY:-}" ]; then

@@ -502,11 +502,13 @@ __attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c
             b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
 }
 
-/* cv's K(w) / p(w) into b->kp, K = ca k_a + cb k_b (ibl.h sl_prefilter_kernel_eval), vectorized,
- * both levels in one loop over one division: GGX's k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2)
+/* cv's K(w) / p(w) into kp for the m directions (wx, wy, wz) of densities p, K = ca k_a + cb k_b
+ * (ibl.h sl_prefilter_kernel_eval), vectorized, both levels in one loop over one division: GGX's k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2)
  * + a^2), over the common denominator; the Phong set's powers through core/fast_math.h's log2 (one,
  * shared) and exp2, as the lod's. A level of share 0 adds 0 (its share multiplies it). */
-__attribute__((always_inline)) static inline void cv_kernel_over_pdf(sample_block *b, int m, vec3 dir,
+__attribute__((always_inline)) static inline void cv_kernel_over_pdf(const float *restrict wx, const float *restrict wy,
+                                                                     const float *restrict wz, const float *restrict p,
+                                                                     float *restrict kp_out, int m, vec3 dir,
                                                                      const sl_prefilter_kernel *ka,
                                                                      const sl_prefilter_kernel *kb, float ca, float cb)
 {
@@ -515,13 +517,13 @@ __attribute__((always_inline)) static inline void cv_kernel_over_pdf(sample_bloc
         const float da = 0.5f * ka->inv_norm * ca * a2a / PI, db = 0.5f * kb->inv_norm * cb * a2b / PI;
 #pragma omp simd
         for (int i = 0; i < m; i++) {
-            float c = b->wx[i] * dir.x + b->wy[i] * dir.y + b->wz[i] * dir.z;
+            float c = wx[i] * dir.x + wy[i] * dir.y + wz[i] * dir.z;
             float cc = maxf(c, 0.0f), nh2 = 0.5f * (1.0f + cc);
             float ta = (1.0f - nh2) + nh2 * a2a, tb = (1.0f - nh2) + nh2 * a2b;
             float ea = ta * ta * (cc + sqrtf(cc * cc * (1.0f - a2a) + a2a));
             float eb = tb * tb * (cc + sqrtf(cc * cc * (1.0f - a2b) + a2b));
-            float kp = cc * (da * eb + db * ea) / (ea * eb * b->pw[i]);
-            b->kp[i] = c > 0.0f ? kp : 0.0f;
+            float kp = cc * (da * eb + db * ea) / (ea * eb * p[i]);
+            kp_out[i] = c > 0.0f ? kp : 0.0f;
         }
     } else {
         const float ha = 0.5f * ka->alpha, hb = 0.5f * kb->alpha;
@@ -530,12 +532,12 @@ __attribute__((always_inline)) static inline void cv_kernel_over_pdf(sample_bloc
         const float inv = ka->g_one ? 0.0f : 1.0f; /* G = 1 / (d.h)^2, or 1 */
 #pragma omp simd
         for (int i = 0; i < m; i++) {
-            float c = b->wx[i] * dir.x + b->wy[i] * dir.y + b->wz[i] * dir.z;
+            float c = wx[i] * dir.x + wy[i] * dir.y + wz[i] * dir.z;
             float nh2 = maxf(0.5f * (1.0f + c), 0.5f); /* c <= 0 gives 0 below: keep exp2's argument in range */
             float lg = sl_fast_log2(nh2);
             float D = da * sl_fast_exp2(ha * lg) + db * sl_fast_exp2(hb * lg);
-            float kp = D * c / ((1.0f + inv * (nh2 - 1.0f)) * b->pw[i]);
-            b->kp[i] = c > 0.0f ? kp : 0.0f;
+            float kp = D * c / ((1.0f + inv * (nh2 - 1.0f)) * p[i]);
+            kp_out[i] = c > 0.0f ? kp : 0.0f;
         }
     }
 }
@@ -585,7 +587,7 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
                     loops above stay as they are */
         const sl_cv_kernel *cv = c->cvk;
         const vec3 dir = cv->dir, sc = cv->scale;
-        cv_kernel_over_pdf(b, m, dir, c->ka, c->kb, cv->levels.ca, cv->levels.cb);
+        cv_kernel_over_pdf(b->wx, b->wy, b->wz, b->pw, b->kp, m, dir, c->ka, c->kb, cv->levels.ca, cv->levels.cb);
 #pragma omp simd
         for (int i = 0; i < m; i++) { /* below the horizon only the kernel's term: it reaches there */
             float kp = b->kp[i];
@@ -738,11 +740,14 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
  * directions in every pixel): their BRDF, the BRDF's density and the weights vectorized, as
  * env_lights_samples evaluates a light (D through the fast log2/exp2 for Phong). The sum: per
  * block, the BRDF's samples then the environment's, in sample order (the port alternates; the
- * difference is float rounding). */
+ * difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's kernel term,
+ * scale K(w) Li / p(w) times its weight, subtracted in a loop of its own (cv_kernel_over_pdf for
+ * both strategies' directions), the BRDF's samples below the horizon read for it; a traced cv
+ * pixel runs the port's loop, whose trace has the kernel's terms. */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                        sl_lighting_task *task, sl_lighting_trace *trace)
+                        const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    if (u->uRotate != 0)
+    if (u->uRotate != 0 || (cv && trace))
         return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
     const int n = (int)u->uHammersley.N;
     const float NdotV = dot(N, V);
@@ -770,6 +775,11 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     const float *packed = u->uEnvDist->texel_pdf;
     const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
+    const sl_prefilter_kernel *ka = NULL, *kb = NULL;
+    if (cv) { /* a level of share 0 adds 0: its kernel stands in for the other */
+        ka = &u->uSplitSumLut->kernels[cv->set][cv->levels.ca > 0.0f ? cv->levels.la : cv->levels.lb];
+        kb = &u->uSplitSumLut->kernels[cv->set][cv->levels.cb > 0.0f ? cv->levels.lb : cv->levels.la];
+    }
     sample_block blk;
     sample_block *b = &blk;
     float pe[BLOCK], mis_b[BLOCK], Lr[BLOCK], Lg[BLOCK], Lb[BLOCK];
@@ -823,7 +833,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             ivec2 t = ivec2(tx[i], ty[i]);
             pe[i] = 0.0f;
             Lr[i] = Lg[i] = Lb[i] = 0.0f;
-            if (!valid)
+            if (!valid && !(cv && b->vh[i] > 0.0f)) /* cv: below the horizon too, for the kernel */
                 continue;
             vec3 L;
             if (packed) {
@@ -848,6 +858,17 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             cr[i] = (Ks.x + F1.x * b->m5[i]) * Lr[i] * k;
             cg[i] = (Ks.y + F1.y * b->m5[i]) * Lg[i] * k;
             cb[i] = (Ks.z + F1.z * b->m5[i]) * Lb[i] * k;
+        }
+        if (cv) {
+            const vec3 sc = cv->scale;
+            cv_kernel_over_pdf(b->wx, b->wy, b->wz, b->pw, b->kp, mp, cv->dir, ka, kb, cv->levels.ca, cv->levels.cb);
+#pragma omp simd
+            for (int i = 0; i < mp; i++) {
+                float kw = b->vh[i] > 0.0f ? b->kp[i] * mis_b[i] : 0.0f; /* V.H <= 0: not drawn */
+                cr[i] -= sc.x * Lr[i] * kw;
+                cg[i] -= sc.y * Lg[i] * kw;
+                cb[i] -= sc.z * Lb[i] * kw;
+            }
         }
         /* the environment's samples of the same pairs */
         const float *X = e->wx + k0, *Y = e->wy + k0, *Z = e->wz + k0, *P = e->pe + k0;
@@ -876,8 +897,9 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             float m2 = mm * mm;
             float m5 = m2 * m2 * mm;
             /* products of selects, not &&, and every factor finite when it is 0: vectorizes */
-            float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f) * (LdotH > 0.0f ? 1.0f : 0.0f);
-            float pb = Dv * NdotH / (4.0f * maxf(LdotH, TINY));
+            float reached = (NdotH > 0.0f ? 1.0f : 0.0f) * (LdotH > 0.0f ? 1.0f : 0.0f); /* by the BRDF's draws */
+            float lit = (wN > 0.0f ? 1.0f : 0.0f) * reached;
+            float pb = Dv * NdotH / (4.0f * maxf(LdotH, TINY)) * reached;
             float r = pb / maxf(P[i], TINY);
             float mis = 1.0f / (1.0f + r * r);
             float k = Dv * G * wN / (4.0f * P[i]) * mis * lit;
@@ -888,6 +910,18 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             cr[BLOCK + i] = (Ks.x + F1.x * m5) * ER[i] * k;
             cg[BLOCK + i] = (Ks.y + F1.y * m5) * EG[i] * k;
             cb[BLOCK + i] = (Ks.z + F1.z * m5) * EB[i] * k;
+        }
+        if (cv) {
+            const vec3 sc = cv->scale;
+            float kpe[BLOCK];
+            cv_kernel_over_pdf(X, Y, Z, P, kpe, mp, cv->dir, ka, kb, cv->levels.ca, cv->levels.cb);
+#pragma omp simd
+            for (int i = 0; i < mp; i++) {
+                float kw = P[i] > 0.0f ? kpe[i] * mis_e[i] : 0.0f; /* past n: no sample */
+                cr[BLOCK + i] -= sc.x * ER[i] * kw;
+                cg[BLOCK + i] -= sc.y * EG[i] * kw;
+                cb[BLOCK + i] -= sc.z * EB[i] * kw;
+            }
         }
         for (int i = 0; i < m; i++)
             below += lit_e[i] == 0.0f;
@@ -1129,6 +1163,32 @@ void sl_shade_background_span(const sl_lighting_uniforms *u, int x0, int y, int 
 
 /* ======================== main(): the sum and the span ======================== */
 
+/* The control variate's kernel for the pixel (*cv) and its closed part, the port's cv_closed with
+ * the samples' fast lat-long map. *subtract: whether the samples subtract the kernel; where beta
+ * is 0 or no level is exact they do not, and run the plain estimator's loops and bits (the port's
+ * closed part is 0 there too). */
+static vec3 cv_closed_part(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, sl_cv_kernel *cv,
+                           bool *subtract, sl_lighting_trace *trace)
+{
+    *cv = sl_shade_cv_setup(u, N, V, Ks, alpha);
+    *subtract = cv->beta > 0.0f && (cv->levels.ca > 0.0f || cv->levels.cb > 0.0f);
+    vec3 C = vec3s(0.0f);
+    if (*subtract) {
+        float tu, tv;
+        sl_fast_dir_to_uv(cv->dir.x, cv->dir.y, cv->dir.z, &tu, &tv);
+        const sl_env *chain = cv->set == SL_SPLITSUM_GGX ? u->uSplitSumGGX : u->uSplitSumPhong;
+        if (cv->levels.ca > 0.0f)
+            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv->levels.la], tu, tv), cv->levels.ca));
+        if (cv->levels.cb > 0.0f)
+            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv->levels.lb], tu, tv), cv->levels.cb));
+    }
+    int traced = trace ? trace->sample_count : 0; /* the lookup's trace records no samples: cv has them */
+    trace_splitsum(trace, N, V, cv->R, cv->r, cv->lod, cv->dir, C, cv->ab);
+    if (trace)
+        trace->sample_count = traced;
+    return scale(mul(cv->scale, C), u->uEnvIntensity);
+}
+
 /* lighting.c specular_cv's operations: the split sum's closed value and the microfacet samples'
  * correction. Out of line, so that the pixel loop that inlines pixel_specular stays the size it
  * is for the other estimators. */
@@ -1136,27 +1196,23 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
                                                  bool pole, vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task,
                                                  sl_lighting_trace *trace)
 {
-    sl_cv_kernel cv = sl_shade_cv_setup(u, N, V, Ks, alpha);
-    /* beta 0 or no exact level: nothing to add or subtract, the microfacet estimator's loops and
-     * bits (the port's closed part is 0 there too) */
-    const bool subtract = cv.beta > 0.0f && (cv.levels.ca > 0.0f || cv.levels.cb > 0.0f);
-    /* the port's cv_closed with the samples' fast lat-long map */
-    vec3 C = vec3s(0.0f);
-    if (subtract) {
-        float tu, tv;
-        sl_fast_dir_to_uv(cv.dir.x, cv.dir.y, cv.dir.z, &tu, &tv);
-        const sl_env *chain = cv.set == SL_SPLITSUM_GGX ? u->uSplitSumGGX : u->uSplitSumPhong;
-        if (cv.levels.ca > 0.0f)
-            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv.levels.la], tu, tv), cv.levels.ca));
-        if (cv.levels.cb > 0.0f)
-            C = add(C, scale(sl_env_catmull_rom(&chain->levels[cv.levels.lb], tu, tv), cv.levels.cb));
-    }
-    int traced = trace ? trace->sample_count : 0; /* the lookup's trace records no samples: cv has them */
-    trace_splitsum(trace, N, V, cv.R, cv.r, cv.lod, cv.dir, C, cv.ab);
-    if (trace)
-        trace->sample_count = traced;
-    vec3 closed = scale(mul(cv.scale, C), u->uEnvIntensity);
+    sl_cv_kernel cv;
+    bool subtract;
+    vec3 closed = cv_closed_part(u, N, V, Ks, alpha, &cv, &subtract, trace);
     vec3 correction = specular_samples(u, N, V, R, A, B, pole, Ks, alpha, rotation, subtract ? &cv : NO_CV, task, trace);
+    trace_cv(trace, &cv, closed, correction);
+    return add(closed, correction);
+}
+
+/* lighting.c specular_cvmis's operations: cv_samples' closed part and mis's pairs of samples, less
+ * the kernel's terms. */
+__attribute__((noinline)) static vec3 cvmis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
+                                                    vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    sl_cv_kernel cv;
+    bool subtract;
+    vec3 closed = cv_closed_part(u, N, V, Ks, alpha, &cv, &subtract, trace);
+    vec3 correction = mis_samples(u, N, V, Ks, alpha, rotation, subtract ? &cv : NO_CV, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -1205,9 +1261,9 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     if (u->uEstimator == ESTIMATOR_SPLITSUM) {
         specular = sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace);
     } else if (u->uEstimator == ESTIMATOR_MIS) {
-        specular = mis_samples(u, N, V, Ks, alpha, rotation, task, trace);
-    } else if (u->uEstimator == ESTIMATOR_CV_MIS) { /* the port's loop: not batched yet */
-        specular = sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+        specular = mis_samples(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
+    } else if (u->uEstimator == ESTIMATOR_CV_MIS) {
+        specular = cvmis_samples(u, N, V, Ks, alpha, rotation, task, trace);
     } else if (u->uEstimator == ESTIMATOR_CV) {
         specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, task, trace);
     } else {
