@@ -541,12 +541,14 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d env lights but %s residual environment uploaded",
                        u->uEnvLightCount, l->env_residual ? "a" : "no");
     GLuint residual = l->env_residual ? l->env_residual : l->env;
-    if (sl_estimator_reads_splitsum((sl_estimator)u->uEstimator) && (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
+    if (sl_estimator_reads_splitsum((sl_estimator)u->uEstimator) &&
+        (!l->splitsum_lut || (int)u->uSplitSumMaxLod != l->splitsum_levels - 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: split sum asked for, but its chains of %d levels are not uploaded",
                        (int)u->uSplitSumMaxLod + 1);
     if (!shadows_agree(l, u, err))
         return false;
-    if (sl_estimator_reads_env_dist((sl_estimator)u->uEstimator) && (u->uEnvDist != l->env_dist_source || u->uEnvDist->cdf != l->env_dist_cdf) &&
+    if (sl_estimator_reads_env_dist((sl_estimator)u->uEstimator) &&
+        (u->uEnvDist != l->env_dist_source || u->uEnvDist->cdf != l->env_dist_cdf) &&
         !upload_env_dist(l, u->uEnvDist, err))
         return false;
     GLuint units[UNIT_COUNT] = {g->position,       g->normal,        g->kd,          g->ks_alpha,

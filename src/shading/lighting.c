@@ -909,8 +909,12 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                            sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    return u->uEstimator == ESTIMATOR_CV_MIS ? specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace)
-                                             : specular_mis(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
+    return specular_mis(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
+}
+vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                             sl_lighting_task *task, sl_lighting_trace *trace)
+{
+    return specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace);
 }
 vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
 {

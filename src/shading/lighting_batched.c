@@ -503,9 +503,9 @@ __attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c
 }
 
 /* cv's K(w) / p(w) into kp for the m directions (wx, wy, wz) of densities p, K = ca k_a + cb k_b
- * (ibl.h sl_prefilter_kernel_eval), vectorized, both levels in one loop over one division: GGX's k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2)
- * + a^2), over the common denominator; the Phong set's powers through core/fast_math.h's log2 (one,
- * shared) and exp2, as the lod's. A level of share 0 adds 0 (its share multiplies it). */
+ * (ibl.h sl_prefilter_kernel_eval), vectorized, both levels in one loop over one division: GGX's
+ * k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2) + a^2), over the common denominator; the Phong
+ * set's powers through core/fast_math.h's log2 (one, shared) and exp2, as the lod's. A level of share 0 adds 0 (its share multiplies it). */
 __attribute__((always_inline)) static inline void cv_kernel_over_pdf(const float *restrict wx, const float *restrict wy,
                                                                      const float *restrict wz, const float *restrict p,
                                                                      float *restrict kp_out, int m, vec3 dir,
@@ -742,12 +742,13 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
  * block, the BRDF's samples then the environment's, in sample order (the port alternates; the
  * difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's kernel term,
  * scale K(w) Li / p(w) times its weight, subtracted in a loop of its own (cv_kernel_over_pdf for
- * both strategies' directions), the BRDF's samples below the horizon read for it; a traced cv
- * pixel runs the port's loop, whose trace has the kernel's terms. */
+ * both strategies' directions), the BRDF's samples below the horizon read for it (cvmis_samples
+ * runs the port's loop where this one would: rotation on, or a traced pixel, whose trace then has
+ * the kernel's terms). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    if (u->uRotate != 0 || (cv && trace))
+    if (u->uRotate != 0)
         return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
     const int n = (int)u->uHammersley.N;
     const float NdotV = dot(N, V);
@@ -1209,6 +1210,8 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
 __attribute__((noinline)) static vec3 cvmis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                                                     vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
 {
+    if (u->uRotate != 0 || trace) /* every pixel its own pairs; or the trace of the kernel's terms */
+        return sl_shade_specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace);
     sl_cv_kernel cv;
     bool subtract;
     vec3 closed = cv_closed_part(u, N, V, Ks, alpha, &cv, &subtract, trace);

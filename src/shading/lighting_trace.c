@@ -68,13 +68,24 @@ static void print_program(FILE *f, const sl_lighting_trace *t)
 }
 
 /* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
- * it added (0 below the horizon or for a facet facing away). */
-static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting_trace_sample *s)
+ * it added (0 below the horizon or for a facet facing away). cv (cvmis): every sample drawn adds
+ * the kernel's term too, K/p its kernel over its own density; below the horizon that term alone. */
+static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting_trace_sample *s, bool cv)
 {
     fprintf(f, "  %4d %-4s (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %+-8.4f", k, kind, (double)s->xi.x, (double)s->xi.y,
             (double)s->w.x, (double)s->w.y, (double)s->w.z, (double)s->wN);
-    if (s->wN <= 0.0f || s->LdotH <= 0.0f || s->NdotH <= 0.0f) {
+    bool unlit = s->wN <= 0.0f || s->LdotH <= 0.0f || s->NdotH <= 0.0f;
+    if (unlit && !(cv && s->pdf > 0.0f)) {
         fprintf(f, " %s: 0\n", s->wN <= 0.0f ? "below the horizon" : "facet faces away");
+        return;
+    }
+    if (unlit) {
+        fprintf(f, " %-10.4g %-10.4g %-8.5f %s: the kernel's term alone, Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
+                   " sum (%.5g,%.5g,%.5g)\n       K/p %.6g\n",
+                (double)s->pdf, (double)s->pdf_other, (double)s->mis,
+                s->wN <= 0.0f ? "below the horizon" : "facet faces away", (double)s->Li.x, (double)s->Li.y,
+                (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y,
+                (double)s->sum.z, (double)s->cv_kp);
         return;
     }
     fprintf(f, " %-10.4g %-10.4g %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
@@ -82,6 +93,8 @@ static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting
             (double)s->pdf, (double)s->pdf_other, (double)s->mis, (double)s->D, (double)s->G, (double)s->F.x,
             (double)s->F.y, (double)s->F.z, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
             (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z);
+    if (cv)
+        fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
 }
 
 /* The MIS estimator's samples: per pair k its BRDF sample, then its environment sample. */
@@ -94,8 +107,8 @@ static void print_mis(FILE *f, const sl_lighting_trace *t)
     fprintf(f, "  %4s %-4s %-17s %-26s %-8s %-10s %-10s %-8s %-10s %-8s %-26s %-26s %-26s\n", "k", "from", "xi", "w",
             "w.N", "p (own)", "p (other)", "weight", "D", "G", "F", "Li", "contribution");
     for (int k = 0; k < t->sample_count; k++) {
-        print_mis_sample(f, k, "brdf", &t->samples[k]);
-        print_mis_sample(f, k, "env", &t->env_samples[k]);
+        print_mis_sample(f, k, "brdf", &t->samples[k], t->cv);
+        print_mis_sample(f, k, "env", &t->env_samples[k], t->cv);
     }
 }
 

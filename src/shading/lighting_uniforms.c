@@ -119,13 +119,15 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
 
     const bool mis = sl_estimator_reads_env_dist(o.estimator);
     if (mis && oct)
-        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator reads the lat-long level 0, not the octahedral layout", sl_estimator_name(o.estimator));
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator reads the lat-long level 0, not the octahedral layout",
+                       sl_estimator_name(o.estimator));
     if (mis) {
         const sl_env *src = el ? &el->residual : desc->env;
         const sl_env_dist *d = desc->env_dist;
         if (!d || d->width < 1 || d->height < 1 || d->src_width != src->levels[0].width ||
             d->src_height != src->levels[0].height || (d->width << d->level) != d->src_width)
-            return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no environment distribution given", sl_estimator_name(o.estimator));
+            return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no environment distribution given",
+                           sl_estimator_name(o.estimator));
     }
 
     /* MIS splits its N samples into pairs: one from the BRDF and one from the environment per

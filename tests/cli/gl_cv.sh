@@ -1,12 +1,13 @@
 #!/usr/bin/env bash
 # gl_cv.sh BUILD_DIR - --estimator cv and cvmis: shaders/lighting.frag's specular_cv and
-# specular_cvmis (OpenGL) against the C port, on softlight's G-buffer (--gbuffer), through gl_common.bash's gl_compare_estimator as
-# gl_splitsum.sh and gl_mis.sh. cv is the chain's exact levels read along the lookup direction
-# (the same chains and table on both sides, softlight-gl uploads softlight's; the Catmull-Rom read
-# by texelFetch) plus the microfacet samples less the kernel's term, so what differs is the
-# filtering's float order plus gl_shading.sh's per-sample trigonometry; cvmis adds mis's pairs
-# (gl_mis.sh). Scenes: default (Phong), ggx (the GGX chain), grazing (N.V near 0), top-down with env lights
-# (the chain and the samples of the residual). Tolerances, gl_mis.sh's:
+# specular_cvmis (OpenGL) against the C port, on softlight's G-buffer (--gbuffer), through
+# gl_common.bash's gl_compare_estimator as gl_splitsum.sh and gl_mis.sh. cv is the chain's exact
+# levels read along the lookup direction (the same chains and table on both sides, softlight-gl
+# uploads softlight's; the Catmull-Rom read by texelFetch) plus the microfacet samples less the
+# kernel's term, so what differs is the filtering's float order plus gl_shading.sh's per-sample
+# trigonometry; cvmis takes the kernel's term off mis's pairs instead (gl_mis.sh). Scenes: default
+# (Phong), ggx (the GGX chain), grazing (N.V near 0), top-down with env lights (the chain and the
+# samples of the residual); ggx and top-down again with cvmis. Tolerances, gl_mis.sh's:
 #   p99 of the per-pixel relative error (floor 1e-3)  <= P99_TOL
 #   share of pixels more than 8/255 apart after the tone map <= OVER8_PERCENT
 set -euo pipefail

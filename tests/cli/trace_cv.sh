@@ -8,7 +8,10 @@
 # printed digits: 1e-4 relative of the specular term; 5e-3 of a contribution's two terms, whose
 # factors are printed to four digits). Both paths
 # (the batched default and --plain, the port), on the default scene's alpha 1, Ks 0.9 sphere,
-# where beta is near 1 and the kernel's terms are far from 0.
+# where beta is near 1 and the kernel's terms are far from 0. Then --estimator cvmis (the same
+# kernel with mis's pairs): the same lines, K/p for both strategies' samples, a sample below the
+# horizon adding only -beta E K/p weight Li, the correction the last running sum over the pair
+# count, and the specular term the closed part plus the correction.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SL="$1/softlight"
@@ -39,6 +42,36 @@ for path in "" --plain; do
             if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
             if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
             if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
+            exit fails > 0
+        }' || { cat "$T/trace.txt"; exit 1; }
+done
+for path in "" --plain; do
+    "$SL" trace scenes/default.json --size 192x108 --pixel 45,91 --estimator cvmis -n 16 --no-lights $path \
+        >"$T/trace.txt"
+    for key in "control variate: the split sum's lookup" "beta" "closed part" "correction" "K/p" \
+        "specular samples (MIS"; do
+        grep -q "^ *$key" "$T/trace.txt" || { echo "FAIL cvmis ($path): no '$key' line"; cat "$T/trace.txt"; exit 1; }
+    done
+    tr '(),' '   ' <"$T/trace.txt" | awk -v path="$path" '
+        function bad(what, got, want) { printf "FAIL cvmis (%s): %s printed %g, recomputed %g\n", path, what, got, want; fails++ }
+        function off(a, b, tol) { d = a - b; return (d < 0 ? -d : d) > tol }
+        $1 == "prefiltered" { p = $2 } $1 == "beta" { beta = $2 } $1 == "E" { e = $2 }
+        $1 == "closed" { c = $3 } $1 == "correction" { k = $2 }
+        /^specular samples/ { n = $4 }
+        / sum / { s = $(NF - 2); alone = 0 }
+        /kernel.s term alone/ { for (i = 1; i <= NF; i++) if ($i == "Li") { li = $(i + 1); cx = $(i + 4) }
+            w = $11; alone = 1 }
+        $1 == "K/p" { kernel++; if ($2 > 0) used++
+            if (alone) { below++; want = -beta * e * $2 * w * li
+                if (off(cx, want, 5e-3 * (want < 0 ? -want : want) + 1e-7)) bad("a kernel term below the horizon", cx, want) } }
+        $1 == "specular" && NF == 4 { spec = $2 }
+        END {
+            if (n == "" || spec == "" || kernel == 0) { print "FAIL cvmis (" path "): no samples or no specular line"; exit 1 }
+            if (used == 0) { print "FAIL cvmis (" path "): no kernel term"; fails++ }
+            if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
+            if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
+            if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
+            printf "cvmis (%s): %d samples with a kernel term, %d of them below the horizon\n", path, kernel, below
             exit fails > 0
         }' || { cat "$T/trace.txt"; exit 1; }
 done

@@ -334,7 +334,8 @@ static void test_cv_batched_vs_port(void **state)
 
 /* --estimator cvmis (lighting.c specular_cvmis): the batched path (cv_samples' closed part, mis's
  * pairs through mis_samples with the kernel's terms in loops of their own) against the port, as
- * test_cv_batched_vs_port; and it is not mis's image (so the kernel ran). */
+ * test_cv_batched_vs_port, also with the set rotated per pixel (the port's loop); and it is not
+ * mis's image (so the kernel ran). */
 static void test_cvmis_batched_vs_port(void **state)
 {
     (void)state;
@@ -355,6 +356,19 @@ static void test_cvmis_batched_vs_port(void **state)
     print_message("cvmis batched vs port: max rel %.3g, mean rel %.3g\n", mx, mean);
     assert_true(mean < 1e-4);
     assert_true(mx < 1e-2);
+    /* with the set rotated per pixel the batched path runs the port's loop: the same image */
+    sl_image ra = {0}, rb = {0};
+    d.options.rotate = 1;
+    d.options.plain = false;
+    fx_render(&d, &s.f.gb, 1, &ra, NULL);
+    d.options.plain = true;
+    fx_render(&d, &s.f.gb, 1, &rb, NULL);
+    fx_image_rel_diff(&ra, &rb, &mx, &mean);
+    print_message("cvmis rotated, batched vs port: max rel %.3g, mean rel %.3g\n", mx, mean);
+    assert_true(mx < 1e-5);
+    sl_image_free(&ra);
+    sl_image_free(&rb);
+    d.options.rotate = 0;
     d.options.estimator = SL_ESTIMATOR_MIS;
     fx_render(&d, &s.f.gb, 1, &c, NULL);
     fx_image_rel_diff(&b, &c, &mx, &mean);
