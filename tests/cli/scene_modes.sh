@@ -68,7 +68,7 @@ else echo "FAIL info: no line '$want'"; "$SL" info "$T/modes.json" | grep lighti
 "$SL" render "$T/bad.json" "${SIZE[@]}" -o "$T/bad.png" >"$T/out" 2>"$T/err"
 status=$?
 if [ $status -eq 2 ] && [ "$(wc -l <"$T/err")" -eq 1 ] && [ ! -e "$T/bad.png" ] &&
-    grep -qF 'bad.json: render.estimator: unknown estimator "fastest" (expected spec|consistent|mf|splitsum|mis|cv)' "$T/err"; then
+    grep -qF 'bad.json: render.estimator: unknown estimator "fastest" (expected spec|consistent|mf|splitsum|mis|cv|cvmis)' "$T/err"; then
     echo "ok   an unknown mode: one line, exit 2, nothing written"
 else
     echo "FAIL an unknown mode: status $status, stderr:"; sed 's/^/    /' "$T/err"; fails=$((fails + 1))

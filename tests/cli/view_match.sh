@@ -54,6 +54,8 @@ screenshot $T/mis
 key k
 screenshot $T/cv
 key k
+screenshot $T/cvmis
+key k
 key l
 screenshot $T/gems
 key l
@@ -113,6 +115,7 @@ mf --estimator mf
 splitsum --estimator splitsum
 mis --estimator mis
 cv --estimator cv
+cvmis --estimator cvmis
 gems --lod gems
 pdf --lod pdf
 dp --irradiance dp
