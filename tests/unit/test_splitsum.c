@@ -77,8 +77,6 @@ static void test_constant_environment(void **state)
     sl_splitsum_lut *lut = malloc(sizeof *lut);
     assert_non_null(lut);
     sl_splitsum_lut_build(lut, 0);
-    sl_env_dist dist;
-    assert_true(sl_env_dist_build(&dist, &env, &err));
     sl_ground_truth gt;
     assert_true(sl_ground_truth_init(&gt, &env, &err));
     const float nvs[] = {1.0f, 0.7f, 0.3f};
