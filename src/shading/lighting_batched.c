@@ -505,7 +505,8 @@ __attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c
 /* cv's K(w) / p(w) into kp for the m directions (wx, wy, wz) of densities p, K = ca k_a + cb k_b
  * (ibl.h sl_prefilter_kernel_eval), vectorized, both levels in one loop over one division: GGX's
  * k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2) + a^2), over the common denominator; the Phong
- * set's powers through core/fast_math.h's log2 (one, shared) and exp2, as the lod's. A level of share 0 adds 0 (its share multiplies it). */
+ * set's powers through core/fast_math.h's log2 (one, shared) and exp2, as the lod's. A level of
+ * share 0 adds 0 (its share multiplies it). */
 __attribute__((always_inline)) static inline void cv_kernel_over_pdf(const float *restrict wx, const float *restrict wy,
                                                                      const float *restrict wz, const float *restrict p,
                                                                      float *restrict kp_out, int m, vec3 dir,
