@@ -744,8 +744,8 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
  * difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's kernel term,
  * scale K(w) Li / p(w) times its weight, subtracted in a loop of its own (cv_kernel_over_pdf for
  * both strategies' directions), the BRDF's samples below the horizon read for it (cvmis_samples
- * runs the port's loop where this one would: rotation on, or a traced pixel, whose trace then has
- * the kernel's terms). */
+ * runs the port's specular_cvmis where this one would run the port's loop, and for a traced
+ * pixel, whose trace then has the kernel's terms: cv is never given without a task). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
@@ -1211,7 +1211,9 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
 __attribute__((noinline)) static vec3 cvmis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                                                     vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    if (u->uRotate != 0 || trace) /* every pixel its own pairs; or the trace of the kernel's terms */
+    /* every pixel its own pairs; the trace of the kernel's terms; or no task, whose table
+     * mis_samples would allocate and, failing that, fall back to plain mis */
+    if (u->uRotate != 0 || trace || !task)
         return sl_shade_specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace);
     sl_cv_kernel cv;
     bool subtract;
