@@ -128,10 +128,10 @@ static inline float sl_prefilter_kernel_eval(const sl_prefilter_kernel *k, float
     float D, G;
     if (k->ggx) {
         float t = (1.0f - nh2) + nh2 * k->a2;
-        D = k->a2 / (3.14159265358979f * t * t);
+        D = k->a2 / (SL_PI * t * t);
         G = 2.0f / (c + sqrtf(c * c * (1.0f - k->a2) + k->a2));
     } else {
-        D = (k->alpha + 2.0f) / (2.0f * 3.14159265358979f) * powf(nh2, 0.5f * k->alpha);
+        D = (k->alpha + 2.0f) / (2.0f * SL_PI) * powf(nh2, 0.5f * k->alpha);
         G = k->g_one ? 1.0f : 1.0f / fmaxf(nh2, 1e-6f);
     }
     return 0.25f * D * G * c * k->inv_norm;

@@ -109,16 +109,16 @@ static void cv_kernel_integrals(const sl_cv_levels *lv, const sl_prefilter_kerne
  * independently from one direction to the next, k the kernel mix the chain read stands for
  * (sl_cv_levels) about the lookup direction normalize(mix(N, R, t)) and E the albedo (F = 1):
  * beta = E_p[W K / p] / (E integral of K^2 / p), in [0, 1] (the first by the samples, the second
- * on a grid: cv_kernel_integrals); 0 where no exact level is read, and where more than
- * CV_MAX_UNREACHABLE of the kernel lies where no sample reaches (that part would stay in the
- * closed term as a bias). Checked outside the renderer (GGX r 0.4-1, N.V 0.15-0.95, 24 normals
+ * on a grid: cv_kernel_integrals; E is A + B of the table's `entry`, whose t gives the direction);
+ * 0 where no exact level is read, and where more than CV_MAX_UNREACHABLE of the kernel lies where
+ * no sample reaches (that part would stay in the closed term as a bias). Checked outside the renderer (GGX r 0.4-1, N.V 0.15-0.95, 24 normals
  * each on studio.hdr, forest.hdr and interior.hdr reduced to 256x128, N = 16, the chain summed
  * exactly, RMS error over 16 rotations of the Hammersley set): with beta = 1 the rough lobes
  * seen from the side (r 0.4, N.V 0.15) carried 2-3 times the error of the samples alone; with
  * this beta at most 1.23 times it, and a hundredth of it where the kernel is the lobe (r 1,
  * N.V 0.95). */
 #define CV_MAX_UNREACHABLE 1e-3 /* beta is 0 where more of the kernel than this lies out of reach */
-static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float NdotV, float r, float t,
+static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float NdotV, float r, vec3 entry,
                      const sl_hammersley *hs)
 {
     const int max_lod = SL_PREFILTER_LEVELS - 1;
@@ -131,8 +131,9 @@ static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float Ndot
     NdotV = maxf(NdotV, SHADE_MIN_NDOTV);
     vec3 V = vec3(sqrtf(maxf(1.0f - NdotV * NdotV, 0.0f)), 0.0f, NdotV);
     vec3 R = vec3(-V.x, 0.0f, NdotV);
-    vec3 dir = normalize(add(scale(vec3(0.0f, 0.0f, 1.0f), 1.0f - t), scale(R, t)));
-    double e = 0.0, wk = 0.0;
+    vec3 dir = normalize(add(scale(vec3(0.0f, 0.0f, 1.0f), 1.0f - entry.z), scale(R, entry.z)));
+    double e = (double)entry.x + (double)entry.y; /* E_p[W]: albedo's A + B, over the same samples */
+    double wk = 0.0;
     for (int k = 0; k < hs->n; k++) {
         vec3 H = sl_shade_microfacet_sample(hs->points[k], alpha);
         float VdotH = dot(V, H);
@@ -143,10 +144,8 @@ static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float Ndot
         float pdf = sl_lobe_D(H.z, alpha) * H.z / (4.0f * VdotH);
         float c = dot(w, dir);
         float Kp = (lv.ca * sl_prefilter_kernel_eval(ka, c) + lv.cb * sl_prefilter_kernel_eval(kb, c)) / pdf;
-        e += (double)W;
         wk += (double)W * (double)Kp;
     }
-    e /= hs->n;
     double unreachable, kk;
     cv_kernel_integrals(&lv, ka, kb, dir, V, alpha, &unreachable, &kk);
     if (!(e > 0.0 && kk > 0.0) || unreachable > CV_MAX_UNREACHABLE)
@@ -187,7 +186,7 @@ void sl_splitsum_lut_build(sl_splitsum_lut *lut, int threads)
         for (int i = 0; i < S; i++) {
             float NdotV = (float)i / (float)(S - 1);
             lut->texels[row * S + i] = albedo(set, NdotV, r, &hs);
-            lut->beta[row * S + i] = cv_beta(lut, set, NdotV, r, lut->texels[row * S + i].z, &hs);
+            lut->beta[row * S + i] = cv_beta(lut, set, NdotV, r, lut->texels[row * S + i], &hs);
         }
     }
 }
