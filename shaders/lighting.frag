@@ -112,7 +112,7 @@
 //                     3 = microfacet (H drawn from D(H) (N.H), w = reflect(-V, H), divide by p(w)),
 //                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below),
 //                     6 = cv, the split sum as a control variate (specular_cv)
-//                     7 = cvmis, the same with mis's samples (specular_cvmis)
+//                     7 = cvmis, the same with mis's samples (specular_cv with mis)
 // MIS (uEstimator 5; src/ibl/env_dist.h): per Hammersley pair one sample drawn as the microfacet
 // estimator's and one from the environment's luminance, weighed by the power heuristic (the host
 // builds HammersleyBlock with (N + 1) / 2 pairs for N samples), radiance read at level 0 of
@@ -1103,7 +1103,7 @@ float mis_power(float p, float q)
 // as xi.y = (k + 1/2)/N already is: unshifted, pair 0 always reads the first column of its row
 // (a dim texel beside a sun, drawn at its tiny density and then weighed away by the BRDF's
 // density): one wasted sample of N, -3% at N = 32 on a sun.
-// With cv.on (specular_cvmis) every sample also subtracts cv.scale K(w) Li / p times its weight,
+// With cv.on (specular_cv for cvmis) every sample also subtracts cv.scale K(w) Li / p times its weight,
 // below the horizon too, where K reaches and the BRDF does not; an environment sample the BRDF's
 // draws cannot reach (N.H <= 0 or w.H <= 0) has p_b = 0 and the weight 1.
 vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel cv)
@@ -1297,25 +1297,19 @@ vec3 cv_closed(CvKernel cv)
     return cv.scale * C * uEnvIntensity;
 }
 
-// The split sum as a control variate (uEstimator 6): the closed part plus the microfacet samples'
-// estimate of the rest, 1/N sum (F W - beta E K / p) Li. The subtracted kernel follows L across
-// the lobe, so where beta E K is close to the lobe f (N.w) the samples pay only for the
-// difference; beta scales the kernel down where it is not. Any beta leaves the expectation where
-// the microfacet estimator's is.
-vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
+// The split sum as a control variate (uEstimator 6, and 7 with mis): the closed part plus the
+// samples' estimate of the rest, the microfacet estimator's, 1/N sum (F W - beta E K / p) Li, or
+// with mis (cvmis) mis's pairs, each sample's (f (N.w) - beta E K) Li / p times its
+// power-heuristic weight. The subtracted kernel follows L across the lobe, so where beta E K is
+// close to the lobe f (N.w) the samples pay only for the difference; beta scales the kernel down
+// where it is not. Any beta leaves the expectation where the samples' estimator has it. With mis
+// the environment's draws find the small bright sources that the BRDF's miss, and the kernel
+// takes the smooth rest off both.
+vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, bool mis)
 {
     CvKernel cv = cv_setup(N, V, Ks, alpha);
-    return cv_closed(cv) + specular_microfacet(N, V, Ks, alpha, rotation, cv);
-}
-
-// The split sum as a control variate with mis's samples (uEstimator 7): the closed part plus
-// 1/n sum over the pairs of each sample's (f (N.w) - beta E K) L / p times its power-heuristic
-// weight. The environment's draws find the small bright sources that the BRDF's miss; the
-// kernel takes the smooth rest off both.
-vec3 specular_cvmis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
-{
-    CvKernel cv = cv_setup(N, V, Ks, alpha);
-    return cv_closed(cv) + specular_mis(N, V, Ks, alpha, rotation, cv);
+    return cv_closed(cv) + (mis ? specular_mis(N, V, Ks, alpha, rotation, cv)
+                                : specular_microfacet(N, V, Ks, alpha, rotation, cv));
 }
 
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
@@ -1658,12 +1652,10 @@ void main()
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
                     spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV)
-                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_CV || uEstimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, uEstimator == ESTIMATOR_CV_MIS);
                 else if (uEstimator == ESTIMATOR_MIS)
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV_MIS)
-                    spec = specular_cvmis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
@@ -1705,12 +1697,10 @@ void main()
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
                     spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV)
-                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation);
+                else if (uEstimator == ESTIMATOR_CV || uEstimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, uEstimator == ESTIMATOR_CV_MIS);
                 else if (uEstimator == ESTIMATOR_MIS)
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV_MIS)
-                    spec = specular_cvmis(Nenv, Venv, Ks, alpha, rotation);
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)

@@ -381,7 +381,7 @@ static vec3 env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t)
  * samples[k] (as specular_microfacet does) and the environment's in env_samples[k], each with
  * its own density (pdf), the other strategy's (pdf_other) and its weight (mis). cv: the control
  * variate's kernel, whose beta E K(w) Li / p(w) times the weight every sample subtracts, below
- * the horizon too (NULL for the mis estimator; specular_cvmis). */
+ * the horizon too (NULL for the mis estimator; specular_cv for cvmis). */
 /* GLSL: specular_mis */
 static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                          const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
@@ -594,33 +594,22 @@ static vec3 cv_closed(const sl_lighting_uniforms *u, vec3 N, vec3 V, const sl_cv
     return scale(mul(cv->scale, C), u->uEnvIntensity);
 }
 
-/* specular_cv: the split sum as a control variate: the closed part plus the microfacet samples'
- * estimate of the rest, 1/N sum (F W - beta E K / p) Li. The subtracted kernel follows L across
- * the lobe, so where beta E K is close to the lobe f (N.w) the samples pay only for the
- * difference; beta (the table's) scales the kernel down where it is not. Any beta leaves the
- * expectation where the microfacet estimator's is. */
+/* specular_cv: the split sum as a control variate: the closed part plus the samples' estimate of
+ * the rest, the microfacet estimator's, 1/N sum (F W - beta E K / p) Li, or with `mis` (the cvmis
+ * estimator) mis's pairs, each sample's (f (N.w) - beta E K) Li / p times its power-heuristic
+ * weight. The subtracted kernel follows L across the lobe, so where beta E K is close to the lobe
+ * f (N.w) the samples pay only for the difference; beta (the table's) scales the kernel down where
+ * it is not. Any beta leaves the expectation where the samples' estimator has it. With mis the
+ * environment's draws find the small bright sources that the BRDF's miss, and the kernel takes
+ * the smooth rest off both. */
 /* GLSL: specular_cv */
-static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, bool mis,
                         sl_lighting_task *task, sl_lighting_trace *trace)
 {
     sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
     vec3 closed = cv_closed(u, N, V, &cv, trace);
-    vec3 correction = specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, task, trace);
-    trace_cv(trace, &cv, closed, correction);
-    return add(closed, correction);
-}
-
-/* specular_cvmis: the split sum as a control variate, its correction drawn as mis draws: the
- * closed part plus 1/n sum over the pairs of each sample's (f (N.w) - beta E K) L / p times its
- * power-heuristic weight. The environment's draws find the small bright sources that the BRDF's
- * miss; the kernel takes the smooth rest off both. */
-/* GLSL: specular_cvmis */
-static vec3 specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                           sl_lighting_task *task, sl_lighting_trace *trace)
-{
-    sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
-    vec3 closed = cv_closed(u, N, V, &cv, trace);
-    vec3 correction = specular_mis(u, N, V, Ks, alpha, rotation, &cv, task, trace);
+    vec3 correction = mis ? specular_mis(u, N, V, Ks, alpha, rotation, &cv, task, trace)
+                          : specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -804,12 +793,11 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             else if (u->uEstimator == ESTIMATOR_MICROFACET)
                 spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task,
                                            trace);
-            else if (u->uEstimator == ESTIMATOR_CV)
-                spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+            else if (u->uEstimator == ESTIMATOR_CV || u->uEstimator == ESTIMATOR_CV_MIS)
+                spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation,
+                                   u->uEstimator == ESTIMATOR_CV_MIS, task, trace);
             else if (u->uEstimator == ESTIMATOR_MIS)
                 spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task, trace);
-            else if (u->uEstimator == ESTIMATOR_CV_MIS)
-                spec = specular_cvmis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
             if (u->uEnvLightCount > 0 && !env_shadow) {
@@ -914,7 +902,7 @@ vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 K
 vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                              sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    return specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace);
+    return specular_cv(u, N, V, Ks, alpha, rotation, true, task, trace);
 }
 vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
 {

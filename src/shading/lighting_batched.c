@@ -744,8 +744,8 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
  * difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's kernel term,
  * scale K(w) Li / p(w) times its weight, subtracted in a loop of its own (cv_kernel_over_pdf for
  * both strategies' directions), the BRDF's samples below the horizon read for it (cvmis_samples
- * runs the port's specular_cvmis where this one would run the port's loop, and for a traced
- * pixel, whose trace then has the kernel's terms: cv is never given without a task). */
+ * runs the port's specular_cv, with mis, where this one would run the port's loop, and for a
+ * traced pixel, whose trace then has the kernel's terms: cv is never given without a task). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
 {
@@ -1206,8 +1206,8 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
     return add(closed, correction);
 }
 
-/* lighting.c specular_cvmis's operations: cv_samples' closed part and mis's pairs of samples, less
- * the kernel's terms. */
+/* lighting.c specular_cv's operations with mis: cv_samples' closed part and mis's pairs of
+ * samples, less the kernel's terms. */
 __attribute__((noinline)) static vec3 cvmis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                                                     vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
 {

@@ -49,9 +49,9 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
-/* GLSL specular_mis and specular_cvmis (the batched path runs them per pixel where it does not
- * batch: lighting_batched.c says when), and specular_mis's pieces: env_dist_sample, env_texel,
- * env_dist_pdf, mis_power, and texelFetch of level 0 */
+/* GLSL specular_mis, and specular_cv with mis for cvmis (the batched path runs them per pixel
+ * where it does not batch: lighting_batched.c says when), and specular_mis's pieces:
+ * env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of level 0 */
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                            sl_lighting_task *task, sl_lighting_trace *trace);
 vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # gl_cv.sh BUILD_DIR - --estimator cv and cvmis: shaders/lighting.frag's specular_cv and
-# specular_cvmis (OpenGL) against the C port, on softlight's G-buffer (--gbuffer), through
+# specular_cv with mis (OpenGL) against the C port, on softlight's G-buffer (--gbuffer), through
 # gl_common.bash's gl_compare_estimator as gl_splitsum.sh and gl_mis.sh. cv is the chain's exact
 # levels read along the lookup direction (the same chains and table on both sides, softlight-gl
 # uploads softlight's; the Catmull-Rom read by texelFetch) plus the microfacet samples less the

@@ -344,7 +344,7 @@ static void test_cv_batched_vs_port(void **state)
     ss_teardown(&s);
 }
 
-/* --estimator cvmis (lighting.c specular_cvmis): the batched path (cv_samples' closed part, mis's
+/* --estimator cvmis (lighting.c specular_cv with mis): the batched path (cv_samples' closed part, mis's
  * pairs through mis_samples with the kernel's terms in loops of their own) against the port, also
  * with the set rotated per pixel; and it is not mis's image. Measured: max rel 6.1e-7, rotated
  * 1.8e-7; against mis's image (rotated too) a max rel of 0.24. */

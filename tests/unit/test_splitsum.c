@@ -5,7 +5,7 @@
  * against the ground truth, and --estimator cv and cvmis (the split sum as a control variate, with
  * mf's or mis's samples): the white furnace and the convergence to the ground truth
  * (src/ibl/prefilter.c, src/shading/splitsum_lut.c, lighting.c's specular_splitsum, specular_cv
- * and specular_cvmis). */
+ * with and without mis). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
