@@ -740,8 +740,9 @@ float reflection_ray(ivec2 q, int k)
 
 // The covered pixel's visibility: the share of open rays over its cross (the pixel, x + 1,
 // x - 1, y + 1, y - 1), a neighbour counted where it is the same surface (near the pixel's
-// tangent plane, its normal within a few degrees: its ray then stands for the pixel's).
-float reflection_visibility(ivec2 pixel)
+// tangent plane, its normal within a few degrees: its ray then stands for the pixel's); and in
+// y how many rays it is over.
+vec2 reflection_visibility(ivec2 pixel)
 {
     const ivec2 offsets[REFLECTION_RAYS] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
                                                    ivec2(0, -1));
@@ -768,7 +769,17 @@ float reflection_visibility(ivec2 pixel)
         sum += reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS);
         count++;
     }
-    return sum / float(count);
+    return vec2(sum / float(count), float(count));
+}
+
+// The specular's factor with the cone's (`capped`) and the rays' (`reflection`: visibility,
+// rays): the smaller of the two with one ray, the material's occlusion times the rays'
+// visibility with all five, mixed between by the rays' count.
+float reflection_specular_factor(float capped, float material, vec2 reflection)
+{
+    float weight = clamp((reflection.y - 1.0) * (1.0 / float(REFLECTION_RAYS - 1)), 0.0, 1.0);
+    float both = min(capped, reflection.x), alone = material * reflection.x;
+    return both + (alone - both) * weight;
 }
 
 // The pole-free irradiance maps (ported in src/ibl/irradiance_map.c): vertex-centred grids,
@@ -1635,10 +1646,10 @@ void main()
         // part, added back after the occlusion, has its own maps); with the cone they replace
         // the AO on the diffuse (read about N, times the material's occlusion alone)
         bool skyMaps = SL_SKY_MAPS != 0 && uSkyMapCount > 0;
-        // The reflection occlusion: with the cone it caps the specular's factor, without it
-        // scales the specular
+        // The reflection occlusion: with the cone it joins the specular's factor by its rays'
+        // count, without it scales the specular
         bool reflection = uReflectionDistance > 0.0;
-        float reflectionVis = reflection ? reflection_visibility(pixel) : 1.0;
+        vec2 reflectionVis = reflection ? reflection_visibility(pixel) : vec2(1.0, 0.0);
         if (uHasCone == 0) {
             if (uDiffuse != 0) {
                 vec3 E = envShadow ? max(irradiance(Nenv) - envAll, vec3(0.0)) : irradiance(Nenv);
@@ -1660,7 +1671,7 @@ void main()
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
-                color = color + spec * reflectionVis;
+                color = color + spec * reflectionVis.x;
             }
             color = color * extra.r; // occlusion: the image-based terms only
         } else {
@@ -1673,7 +1684,8 @@ void main()
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
             if (reflection)
-                spec_occlusion = min(spec_occlusion, reflectionVis);
+                spec_occlusion = reflection_specular_factor(spec_occlusion, c.w > 0.0 ? extra.r / c.w : 0.0,
+                                                            reflectionVis);
             if (uDiffuse != 0) {
                 // the irradiance along the bent direction; with the env lights' maps, their
                 // part of it taken out along the same direction (the maps add it back about N)

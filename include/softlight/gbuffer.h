@@ -45,10 +45,11 @@ typedef struct sl_gbuffer {
                                  cone per texel, its axis (the bent normal, unit, world space) in
                                  xyz and its AO in w (src/occlusion/gtao.h; the lighting reads it
                                  for the image-based terms) */
-    float *reflection;        /* NULL, or width * height: the reflection occlusion pass's share of
-                                 each texel's specular lobe whose rays leave the scene
-                                 (src/occlusion/reflection.h; the lighting reads it for the
-                                 image-based specular) */
+    sl_vec2 *reflection;      /* NULL, or width * height: the reflection occlusion pass's share of
+                                 each texel's specular lobe whose rays leave the scene in x, and
+                                 how many rays that share is over in y (1 .. 5; 0 for an empty
+                                 texel) (src/occlusion/reflection.h; the lighting reads it for
+                                 the image-based specular) */
 } sl_gbuffer;
 
 /* Allocate for width x height (no-op when the size is unchanged; contents undefined until

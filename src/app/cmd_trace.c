@@ -89,9 +89,10 @@ int cmd_trace(int argc, char **argv)
         goto done;
     if (r.gbuffer.reflection && trace->covered && !trace->program) { /* the rays the plane's value came from */
         trace->reflection = true;
-        trace->reflection_visibility =
-            sl_reflection_texel(&r.gbuffer, &scene.camera, r.desc.options.reflection_occlusion, pixel[0], gb_y,
-                                trace->reflection_rays, trace->reflection_used);
+        vec2 plane = sl_reflection_texel(&r.gbuffer, &scene.camera, r.desc.options.reflection_occlusion, pixel[0],
+                                         gb_y, trace->reflection_rays, trace->reflection_used);
+        trace->reflection_visibility = plane.x;
+        trace->reflection_count = (int)plane.y;
     }
     sl_lighting_trace_print(stdout, trace);
     if (desc.gbuffer_program) /* the fetch hook is the built-in textured program's */

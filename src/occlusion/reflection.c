@@ -305,10 +305,11 @@ static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t
 
 /* The visibility of covered texel (x, y) from the rays of its cross (itself and the four
  * neighbours that are the same surface), each read from `ray_plane` (the frame's plane of them)
- * or, when that is NULL, traced here; each member's ray and whether it counted go to `rays` and
- * `used` when not NULL, in the order centre, +x, -x, +y, -y. */
+ * or, when that is NULL, traced here, and how many rays it took (1 .. SL_REFLECTION_RAYS); each
+ * member's ray and whether it counted go to `rays` and `used` when not NULL, in the order
+ * centre, +x, -x, +y, -y. */
 /* GLSL: reflection_visibility */
-static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
+static vec2 cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
                               float *rays, int *used)
 {
     static const int dx[SL_REFLECTION_RAYS] = {0, 1, -1, 0, 0}, dy[SL_REFLECTION_RAYS] = {0, 0, 0, 1, -1};
@@ -328,7 +329,7 @@ static float cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, c
         sum += take ? ray : 0.0f;
         count += take;
     }
-    return sum / (float)count;
+    return vec2(sum / (float)count, count);
 }
 
 /* The ring rays' turns about R: ray k's phase 2 pi (k - 1) / 4 as its cosine and sine (ray 0,
@@ -399,7 +400,7 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
             for (int x = 0; x < width; x++) {
                 size_t i = (size_t)y * (size_t)width + (size_t)x;
                 bool covered = sl_gbuffer_covered(&gb->texels[i]);
-                gb->reflection[i] = covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : 1.0f;
+                gb->reflection[i] = covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
             }
     }
     free(planes);
@@ -408,8 +409,8 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     return true;
 }
 
-float sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
-                          int *used)
+vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
+                         int *used)
 {
     size_t n = (size_t)gb->width * (size_t)gb->height;
     surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
@@ -417,13 +418,13 @@ float sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float dist
     if (!planes || !depth) { /* trace and the tests only: an empty answer beats a crash */
         free(planes);
         free(depth);
-        return NAN;
+        return vec2(NAN, 0.0f);
     }
     reflection_frame f = frame_of(gb, cam, distance);
     f.planes = planes;
     f.depth = depth;
     planes_of_rows(gb, &f.view, planes, depth, 0, gb->height);
-    float v = 1.0f;
+    vec2 v = vec2(1.0f, 0.0f);
     if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
         v = cross_visibility(&f, gb, NULL, x, y, rays, used);
     } else {

@@ -21,18 +21,24 @@
  * thickness behind it along the view (the larger of the step and SL_REFLECTION_THICKNESS of the
  * texel's view depth: what the G-buffer cannot know, how deep the surface goes). A ray that leaves
  * the image, passes behind the camera or runs its length is open. The texel's visibility is
- * the share of open rays, in [0, 1].
+ * the share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 5).
  *
- * The lighting multiplies the image-based specular by it; with the ambient occlusion's cone it
- * takes the smaller of the two factors (each is an estimate of the same share: the cone sees
- * wide lobes and nearby occluders, the rays far ones and narrow lobes).
+ * The lighting multiplies the image-based specular by it. With the ambient occlusion's cone
+ * (specular_occlusion.h), both estimate the same share, and the rays' count says which to
+ * believe (sl_reflection_specular_factor): with the cross's five rays, the rays alone, since they
+ * test the lobe's own directions where the cone only compares two cones (beside a ball on a
+ * glossy floor the cone closes over a lobe that passes the ball); with one ray, at an edge or a
+ * sliver of a surface a texel or two wide, the smaller of the two factors, since one ray says
+ * little and the cone sees the occluders around the point; between, the two mixed by the count.
+ * Measured on the shipped scenes against the visibility truth: docs/lighting.md "Reflection
+ * occlusion".
  *
  * The tangent-plane test, not a depth comparison: at a grazing view a texel spans a long stretch
  * of depth, and a ray rising slowly from a floor is behind the depth of the texel it crosses
  * while still above the floor.
  *
  * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: the plane
- * sl_gbuffer.reflection (allocated the first time; an empty texel gets 1). shaders/lighting.frag's
+ * sl_gbuffer.reflection (allocated the first time; an empty texel gets (1, 0)). shaders/lighting.frag's
  * reflection_visibility is the GLSL twin (softlight-gl), run per pixel in the lighting pass with
  * these constants.
  *
@@ -62,17 +68,38 @@
 #define SL_REFLECTION_SAME_DEPTH 0.02f
 #define SL_REFLECTION_SAME_NORMAL 0.998f
 
+/* How much the rays alone weigh against the smaller of the two factors, for a visibility over
+ * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with all five. */
+static inline float sl_reflection_rays_weight(float rays)
+{
+    return clampf((rays - 1.0f) * (1.0f / (float)(SL_REFLECTION_RAYS - 1)), 0.0f, 1.0f);
+}
+
+/* The image-based specular's factor of a texel with the ambient occlusion's cone and this pass:
+ * `capped` the cone's factor (the material's occlusion times the specular occlusion,
+ * lighting_internal.h shade_spec_occlusion), `material` the material's occlusion alone,
+ * `reflection` the texel's plane value (visibility, rays): min(capped, visibility) and material *
+ * visibility mixed by sl_reflection_rays_weight. No branch and no library call: the batched path
+ * runs it in a vector loop (the same bits as the port's call). */
+/* GLSL: reflection_specular_factor */
+static inline float sl_reflection_specular_factor(float capped, float material, sl_vec2 reflection)
+{
+    float weight = sl_reflection_rays_weight(reflection.y);
+    float both = minf(capped, reflection.x), alone = material * reflection.x;
+    return both + (alone - both) * weight;
+}
+
 /* Set gb->reflection (allocated when NULL) for every texel, rays `distance` world units long
  * (> 0), on `threads` OpenMP threads (0: all). False (and err) with a distance that is not
  * positive and finite, or out of memory. */
 bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err);
 
-/* The visibility of texel (x, y) as sl_reflection_apply computes it, the same bits, and its
- * cross's rays, in the order the texel, x + 1, x - 1, y + 1, y - 1: each ray 1 open, 0 blocked
- * (`rays`) and whether it counted (`used`: 0 for a neighbour off the image or another surface);
- * each SL_REFLECTION_RAYS long or NULL. For softlight trace and the tests. 1 for an empty texel
- * (nothing used). NAN when out of memory. */
-float sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
+/* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
+ * rays counted), and its cross's rays, in the order the texel, x + 1, x - 1, y + 1, y - 1: each
+ * ray 1 open, 0 blocked (`rays`) and whether it counted (`used`: 0 for a neighbour off the image
+ * or another surface); each SL_REFLECTION_RAYS long or NULL. For softlight trace and the tests.
+ * (1, 0) for an empty texel (nothing used). Visibility NAN when out of memory. */
+vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
                           int *used);
 
 #endif

@@ -742,8 +742,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     /* With the ambient occlusion's cone (GLSL uHasCone): the diffuse times the occlusion, the
      * specular times the material's share of it and the specular occlusion, each term scaled
      * before the sum. Without: the sum times the occlusion. The reflection occlusion (GLSL
-     * uReflectionDistance > 0) caps the specular's factor with the cone, or scales the specular
-     * without it. */
+     * uReflectionDistance > 0) joins the cone's factor by its rays' count
+     * (sl_reflection_specular_factor), or scales the specular without the cone. */
     const sl_vec4 *cone = s->cone;
     float spec_occlusion = s->occlusion;
     if (cone) {
@@ -751,7 +751,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
         spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
         if (s->reflection)
-            spec_occlusion = fminf(spec_occlusion, *s->reflection);
+            spec_occlusion = sl_reflection_specular_factor(spec_occlusion, shade_material_occlusion(cone->w, s->occlusion),
+                                                           *s->reflection);
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the
@@ -817,7 +818,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         if (cone)
             spec = scale(spec, spec_occlusion);
         else if (s->reflection)
-            spec = scale(spec, *s->reflection);
+            spec = scale(spec, s->reflection->x);
         color = add(color, spec);
     }
     if (!cone)

@@ -1311,10 +1311,14 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
-    const float *reflection = shade_reflection(gb, x0, y);
-    float refl[SPAN]; /* the reflection occlusion, 1 without the plane (x * 1 is x, bit for bit) */
-    for (int i = 0; i < count; i++)
-        refl[i] = reflection ? reflection[i] : 1.0f;
+    const vec2 *reflection = shade_reflection(gb, x0, y);
+    /* the reflection occlusion's visibility, 1 without the plane (x * 1 is x, bit for bit), and
+     * the rays it is over */
+    float refl[SPAN], refl_rays[SPAN];
+    for (int i = 0; i < count; i++) {
+        refl[i] = reflection ? reflection[i].x : 1.0f;
+        refl_rays[i] = reflection ? reflection[i].y : 0.0f;
+    }
     for (int i = 0; i < count; i++) { /* to structure of arrays (shade_extra's "none" without the plane) */
         covered[i] = !(t[i].depth >= 1.0f);
         kr[i] = t[i].kd.x;
@@ -1354,9 +1358,11 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd
         for (int i = 0; i < count; i++)
             spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
-        if (reflection) /* the port's cap */
+        if (reflection) /* the port's join of the two factors */
+#pragma omp simd
             for (int i = 0; i < count; i++)
-                spo[i] = fminf(spo[i], refl[i]);
+                spo[i] = sl_reflection_specular_factor(spo[i], shade_material_occlusion(ao[i], occ[i]),
+                                                       vec2(refl[i], refl_rays[i]));
     }
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */

@@ -21,6 +21,7 @@
 #include "lighting.h"
 #include "lighting_trace.h"
 #include "bent_irradiance.h"
+#include "occlusion/reflection.h"
 #include "occlusion/specular_occlusion.h"
 
 /* The batched path shades a row of up to SPAN pixels at a time (sl_lighting_shade_row cuts rows into spans). */
@@ -137,7 +138,8 @@ typedef struct {
     vec2 rotation;   /* the pixel's Hammersley offset, 0 with rotation off */
     float occlusion; /* the G-buffer's extra plane (gbuffer.h): 1 and 0 when it has none */
     vec3 emissive;
-    const float *reflection; /* the G-buffer's reflection occlusion of the pixel, or NULL without it */
+    const vec2 *reflection; /* the G-buffer's reflection occlusion of the pixel (visibility, rays), or
+                               NULL without it */
     const sl_vec4 *cone; /* the G-buffer's visibility cone (bent normal, AO) of the pixel, or NULL
                             without ambient occlusion */
 } shade_surface;
@@ -155,7 +157,7 @@ typedef struct {
 } shade_env_shadow;
 
 /* The reflection occlusion of pixel (x, y): NULL without the plane (sl_gbuffer.reflection). */
-static inline const float *shade_reflection(const sl_gbuffer *gb, int x, int y)
+static inline const vec2 *shade_reflection(const sl_gbuffer *gb, int x, int y)
 {
     return gb->reflection ? gb->reflection + (size_t)y * (size_t)gb->width + (size_t)x : NULL;
 }
@@ -193,6 +195,15 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
     float so = sl_specular_occlusion_lobe(ao, b_dot_r, n_dot_v, lobe);
     /* the occlusion is the material's times the AO: the material's share stays */
     float share = occlusion * (so / ao);
+    return ao > 0.0f ? share : 0.0f;
+}
+
+/* The material's share of the occlusion `occlusion` (the extra plane's: the material's times the
+ * AO `ao`), 0 where the AO is 0, as shade_spec_occlusion takes it; the reflection occlusion's
+ * rays scale it (sl_reflection_specular_factor). */
+static inline float shade_material_occlusion(float ao, float occlusion)
+{
+    float share = occlusion / ao;
     return ao > 0.0f ? share : 0.0f;
 }
 

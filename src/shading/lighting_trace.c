@@ -251,12 +251,17 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 "bent normal", (double)t->cone_axis.x, (double)t->cone_axis.y, (double)t->cone_axis.z,
                 (double)(acosf(sqrtf(fmaxf(0.0f, 1.0f - t->ao))) * (180.0f / SL_PI)));
         fprintf(f, "  %-12s %.6g (scales the specular: the material's occlusion times the lobe's share in the cone%s)\n",
-                "spec occl", (double)t->specular_occlusion, t->reflection ? ", at most the reflection's" : "");
+                "spec occl", (double)t->specular_occlusion, t->reflection ? ", joined with the reflection's" : "");
     }
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
         static const char *const member[SL_REFLECTION_RAYS] = {"texel", "x+1", "x-1", "y+1", "y-1"};
-        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's cross; %s the specular:",
-                "reflection", (double)t->reflection_visibility, t->cone ? "caps the factor on" : "scales");
+        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's cross, %d rays; ", "reflection",
+                (double)t->reflection_visibility, t->reflection_count);
+        if (t->cone) /* sl_reflection_specular_factor's weight */
+            fprintf(f, "the rays alone weigh %.6g against the smaller factor:",
+                    (double)sl_reflection_rays_weight((float)t->reflection_count));
+        else
+            fprintf(f, "scales the specular:");
         for (int m = 0; m < SL_REFLECTION_RAYS; m++)
             if (t->reflection_used[m])
                 fprintf(f, " %s %s", member[m], t->reflection_rays[m] > 0.5f ? "open" : "blocked");

@@ -93,7 +93,8 @@ struct sl_lighting_trace {
     float ao;                /* ... its AO (the cone's cosine-weighted share of the hemisphere) */
     float diffuse_occlusion, specular_occlusion; /* ... the factors on the diffuse and the specular */
     bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
-    float reflection_visibility; /* ... the texel's, which caps or scales the specular's factor */
+    float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
+    int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_RAYS) */
     float reflection_rays[SL_REFLECTION_RAYS]; /* ... its cross's rays (the texel, x + 1, x - 1, y + 1,
                                 y - 1): 1 open, 0 blocked (src/occlusion/reflection.h) */
     int reflection_used[SL_REFLECTION_RAYS]; /* ... whether each counted (the same surface) */

@@ -6,11 +6,13 @@
 # differs is the two sides' float arithmetic along the same rays:
 # - scenes/grazing.json (a glossy floor at a grazing view reflecting two spheres), image-based light
 #   only, --estimator mf --lod pdf --distortion -n 64, with --reflection-occlusion 5 alone (it scales
-#   the specular) and with --ao-radius 1 (it caps the cone's specular factor), and through the
-#   general shader ($SL_GL_GENERAL): the gl_shading.sh bounds (p99 relative error <= 0.05, share
-#   more than 8/255 apart <= 0.1%); measured p99 0.0016, no pixel more than 1/255 apart;
+#   the specular) and with --ao-radius 1 (it joins the cone's specular factor by its rays' count),
+#   and through the general shader ($SL_GL_GENERAL): the gl_shading.sh bounds (p99 relative error
+#   <= 0.05, share more than 8/255 apart <= 0.1%); measured p99 0.0016, no pixel more than 1/255
+#   apart;
 # - GL's image without the option is far outside those bounds against C's with it (p99 0.73): a
-#   GL that ignores the option fails here, and so does one that counts its own ray alone (no cross).
+#   GL that ignores the option fails here, and so does one that counts its own ray alone (no cross);
+#   one that takes the smaller of the two factors where C joins them fails grazing-ao (p99 0.072).
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -111,8 +111,8 @@ static void test_open_floor(void **state)
             if (!sl_gbuffer_covered(&gb.texels[i]))
                 continue;
             covered++;
-            below += gb.reflection[i] < 1.0f;
-            lowest = fminf(lowest, gb.reflection[i]);
+            below += gb.reflection[i].x < 1.0f;
+            lowest = fminf(lowest, gb.reflection[i].x);
         }
         print_message("open floor, %s camera: %d covered texels, %d below 1, lowest %.3f\n", names[c], covered, below,
                       (double)lowest);
@@ -134,7 +134,7 @@ static fate_counts count_fates(const sl_gbuffer *gb, const sl_camera *cam, float
     fate_counts c = {0};
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
-            float v = gb->reflection[y * W + x];
+            float v = gb->reflection[y * W + x].x;
             c.between += is_floor(gb, x, y) && v > 0.0f && v < 1.0f;
             mirror_fate f = fate_of(gb, cam, dist, x, y);
             if (f == MIRROR_BLOCKED) {
@@ -196,22 +196,28 @@ static void test_rough_beside_wall(void **state)
     sl_gbuffer_free(&gb);
 }
 
-/* The frame's value of (x, y) against the reference's, bit for bit; the reference's `used`:
- * the texel itself when covered, no neighbour off the image. Returns the value. */
+/* The frame's value of (x, y) against the reference's, bit for bit (visibility and rays); the
+ * reference's `used`: the texel itself when covered, no neighbour off the image, as many as the
+ * rays counted. Returns the visibility. */
 static float check_texel(const sl_gbuffer *gb, const sl_camera *cam, int x, int y)
 {
     const int w = gb->width, h = gb->height;
     float rays[SL_REFLECTION_RAYS];
     int used[SL_REFLECTION_RAYS];
-    float want = sl_reflection_texel(gb, cam, DIST, x, y, rays, used), got = gb->reflection[y * w + x];
+    vec2 want = sl_reflection_texel(gb, cam, DIST, x, y, rays, used), got = gb->reflection[y * w + x];
     if (memcmp(&want, &got, sizeof want) != 0)
-        fail_msg("texel (%d, %d): frame %.9g, texel %.9g", x, y, (double)got, (double)want);
+        fail_msg("texel (%d, %d): frame (%.9g, %g), texel (%.9g, %g)", x, y, (double)got.x, (double)got.y,
+                 (double)want.x, (double)want.y);
     assert_int_equal(used[0], sl_gbuffer_covered(sl_gbuffer_at(gb, x, y)));
+    int counted = 0;
+    for (int m = 0; m < SL_REFLECTION_RAYS; m++)
+        counted += used[m];
+    assert_int_equal((int)want.y, counted);
     const bool outside[SL_REFLECTION_RAYS] = {false, x == w - 1, x == 0, y == h - 1, y == 0};
     for (int m = 1; m < SL_REFLECTION_RAYS; m++)
         if (outside[m])
             assert_int_equal(used[m], 0);
-    return want;
+    return want.x;
 }
 
 /* The frame against the reference on a 97 x 61 corner of rough floor (the wall's edge in view, a
@@ -248,6 +254,33 @@ static void test_frame_matches_texel(void **state)
     sl_gbuffer_free(&gb);
 }
 
+/* sl_reflection_specular_factor: with one ray the smaller of the cone's factor and the rays'
+ * visibility; with all five the material's occlusion times the visibility, whatever the cone
+ * says; between, moving from one to the other as rays are added; never outside [0, 1] for
+ * factors in it. */
+static void test_specular_factor(void **state)
+{
+    (void)state;
+    const float material = 0.8f;
+    /* the cone closes (0.1) where the rays see the lobe open (1), and the other way round */
+    assert_float_equal(sl_reflection_specular_factor(0.1f, material, vec2(1.0f, 1.0f)), 0.1, 0.0);
+    assert_float_equal(sl_reflection_specular_factor(0.7f, material, vec2(0.2f, 1.0f)), 0.2, 0.0);
+    assert_float_equal(sl_reflection_specular_factor(0.1f, material, vec2(1.0f, 5.0f)), 0.8, 1e-7);
+    assert_float_equal(sl_reflection_specular_factor(0.7f, material, vec2(0.2f, 5.0f)), 0.16, 1e-7);
+    float last = 0.0f;
+    for (int rays = 1; rays <= SL_REFLECTION_RAYS; rays++) {
+        float f = sl_reflection_specular_factor(0.1f, material, vec2(1.0f, (float)rays));
+        assert_true(f >= last && f <= 1.0f);
+        last = f;
+    }
+    for (int c = 0; c <= 10; c++)
+        for (int v = 0; v <= 5; v++)
+            for (int rays = 0; rays <= SL_REFLECTION_RAYS + 1; rays++) {
+                float f = sl_reflection_specular_factor(0.1f * (float)c, 1.0f, vec2(0.2f * (float)v, (float)rays));
+                assert_true(f >= 0.0f && f <= 1.0f);
+            }
+}
+
 static void test_refusals(void **state)
 {
     (void)state;
@@ -265,10 +298,13 @@ static void test_refusals(void **state)
     sl_gbuffer_at(&gb, ex, ey)->depth = 1.0f;
     sl_error err = {0};
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, &err));
-    assert_float_equal(gb.reflection[ey * W + ex], 1.0, 0.0);
+    assert_float_equal(gb.reflection[ey * W + ex].x, 1.0, 0.0);
+    assert_float_equal(gb.reflection[ey * W + ex].y, 0.0, 0.0);
     float rays[SL_REFLECTION_RAYS];
     int used[SL_REFLECTION_RAYS];
-    assert_float_equal(sl_reflection_texel(&gb, &cam, DIST, ex, ey, rays, used), 1.0, 0.0);
+    vec2 empty = sl_reflection_texel(&gb, &cam, DIST, ex, ey, rays, used);
+    assert_float_equal(empty.x, 1.0, 0.0);
+    assert_float_equal(empty.y, 0.0, 0.0);
     for (int m = 0; m < SL_REFLECTION_RAYS; m++)
         assert_int_equal(used[m], 0);
     sl_gbuffer_free(&gb);
@@ -281,6 +317,7 @@ int main(void)
         cmocka_unit_test(test_mirror_beside_wall),
         cmocka_unit_test(test_rough_beside_wall),
         cmocka_unit_test(test_frame_matches_texel),
+        cmocka_unit_test(test_specular_factor),
         cmocka_unit_test(test_refusals),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
