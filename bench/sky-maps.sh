@@ -5,8 +5,8 @@
 #   bash bench/sky-maps.sh errors [BUILD_DIR] [--scenes bunny,pbr,...]
 #       per scene and setting, the nRMSE of the diffuse (--diffuse-only against --part diffuse) and
 #       of the total against `softlight truth --visibility` at 80x45, image-based light only
-#       (--no-lights), mf pdf+dist N256. Reads the truths bench/visibility-error.sh caches in
-#       out/visibility-error/ (SCENE-vis.gt, at 80x45: run it first with --size 80x45).
+#       (--no-lights), mf pdf+dist N256. The truths are cached in out/sky-maps/ (SCENE-vis.gt;
+#       integrated on the first run, about 20 s each on 2 cores).
 #   bash bench/sky-maps.sh cost [BUILD_DIR] [--other BUILD_DIR2] [--scenes bunny,pbr,city-sun]
 #       CPU seconds (user + sys) of one 1280x720 frame on one thread, the scene's own settings,
 #       without and with the maps: (--repeat 4 less --repeat 1) / 3, the median of 3 runs; and the
@@ -41,15 +41,17 @@ if [ "$MODE" = errors ]; then
     settings=("" "--ao-radius 1" "--sky-maps 32" "--sky-maps 32 --ao-radius 1" "--ao-radius 1 $SUN"
         "--sky-maps 32 --ao-radius 1 $SUN" "--sky-maps 16 --ao-radius 1" "--sky-maps 64 --ao-radius 1"
         "--sky-maps 64 --ao-radius 1 $SUN")
+    mkdir -p out/sky-maps
     nrmse() { # SCENE PART RENDER.pfm
-        "$SL" truth "scenes/$1.json" --size 80x45 --visibility --cache "out/visibility-error/$1-vis.gt" --part "$2" \
+        "$SL" truth "scenes/$1.json" --size 80x45 --visibility --cache "out/sky-maps/$1-vis.gt" --part "$2" \
             --compare "$3" 2>/dev/null | sed -n 's/.*nrmse \([0-9.]*\),.*/\1/p'
     }
     echo "| scene | setting | diffuse nRMSE | total nRMSE |"
     echo "|---|---|---:|---:|"
     IFS=, read -r -a scenes <<<"$SCENES"
     for s in "${scenes[@]}"; do
-        [ -f "out/visibility-error/$s-vis.gt" ] || { echo "sky-maps.sh: no cached truth out/visibility-error/$s-vis.gt" >&2; exit 2; }
+        "$SL" truth "scenes/$s.json" --size 80x45 --visibility --cache "out/sky-maps/$s-vis.gt" >/dev/null 2>&1 ||
+            { echo "sky-maps.sh: the visibility truth of $s failed" >&2; exit 2; }
         for set in "${settings[@]}"; do
             # shellcheck disable=SC2086
             "$SL" render "scenes/$s.json" $BEST $set --diffuse-only --pfm "$TMP/d.pfm"

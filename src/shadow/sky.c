@@ -13,19 +13,27 @@
 #define SKY_NORMAL_OFFSET 1.0f
 #define SKY_BIAS_CONST 1.0f
 
+/* The directions on the sky's side of the horizon: the first count - count / 2; the ground's
+ * are the rest (sky.h). */
+static int sky_side_count(int count) { return count - count / 2; }
+
 vec3 sl_shadow_sky_direction(int k, int count)
 {
-    /* spherical Fibonacci: equal-area bands in z, a golden-angle turn per point */
+    /* each half a hemispherical Fibonacci set: equal-area bands in |z| over (0, 1], a
+     * golden-angle turn per point; the ground's half mirrored below the horizon */
     const float golden = SL_PI * (3.0f - sqrtf(5.0f));
-    float z = 1.0f - (2.0f * (float)k + 1.0f) / (float)count;
+    const int sky = sky_side_count(count);
+    const bool ground = k >= sky;
+    const int j = ground ? k - sky : k, n = ground ? count - sky : sky;
+    float z = 1.0f - ((float)j + 0.5f) / (float)n;
     float r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
-    float phi = golden * (float)k;
-    return vec3(r * cosf(phi), r * sinf(phi), z);
+    float phi = golden * (float)j;
+    return vec3(r * cosf(phi), r * sinf(phi), ground ? -z : z);
 }
 
-
 /* m_k = sum over cell k's level-0 texels of lum(L) w dOmega (environment space). A texel joins
- * the direction nearest its centre's. */
+ * the direction nearest its centre's on its own side of the horizon (z >= 0 is the sky's), or
+ * the nearest of all when its side has none (count 1). */
 static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m)
 {
     for (int k = 0; k < count; k++)
@@ -33,6 +41,7 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
     if (!env || env->level_count < 1)
         return;
     const sl_env_level *l = &env->levels[0];
+    const int sky = sky_side_count(count);
     /* a lat-long texel's solid angle: (2 pi / W) (pi / H) sin(theta) */
     const float texel_sr = 2.0f * SL_PI * SL_PI / ((float)l->width * (float)l->height);
     for (int y = 0; y < l->height; y++) {
@@ -42,9 +51,14 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
             if (!(lum > 0.0f))
                 continue;
             vec3 w = sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)l->width, v));
-            int best = 0;
+            int first = 0, last = count;
+            if (count > sky) { /* both sides have directions */
+                first = w.z >= 0.0f ? 0 : sky;
+                last = w.z >= 0.0f ? sky : count;
+            }
+            int best = first;
             float best_dot = -2.0f;
-            for (int k = 0; k < count; k++) {
+            for (int k = first; k < last; k++) {
                 float d = dot(w, dirs[k]);
                 if (d > best_dot) {
                     best_dot = d;

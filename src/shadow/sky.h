@@ -3,8 +3,11 @@
  * Screen-space ambient occlusion (src/occlusion) sees only what the G-buffer holds within its
  * radius: the sky a large object hides from the ground beside it, or an occluder behind the
  * camera, it cannot see. These maps see the whole scene: K directions d_k spread evenly over the
- * sphere (a spherical Fibonacci set, environment space) cut the sphere into their Voronoi
- * cells. Per cell, from the environment the
+ * sphere (environment space), half over the sky and half over the ground (a hemispherical
+ * Fibonacci set each, the ground's mirrored below the horizon), cut each side of the horizon into
+ * their Voronoi cells: no cell lies across the horizon, where the sky meets the ground and where a
+ * floor, the commonest occluder, cuts the environment (a cell across it would take one
+ * visibility for a sky a floor leaves open and a ground it hides). Per cell, from the environment the
  * diffuse term's irradiance holds (the residual left after the env lights when their shadow maps
  * take them out of it, else the whole environment), a luminance-weighted vector
  *     m_k = sum over the cell's level-0 texels of lum(L(w)) w dOmega,
@@ -66,7 +69,8 @@ typedef struct {
     sl_shadow_sky_lanes lanes;        /* set by sl_shadow_sky_frames */
 } sl_shadow_sky;
 
-/* The k-th of `count` spherical Fibonacci directions (environment space, unit). */
+/* The k-th of `count` directions (environment space, unit): the first count - count / 2 over the
+ * sky (z > 0), the rest over the ground (z < 0), each a hemispherical Fibonacci set. */
 vec3 sl_shadow_sky_direction(int k, int count);
 /* Set `count` (1 .. SL_SKY_MAPS_MAX) directions, their cells' weights from env's level 0 (a
  * lat-long map: the lighting's environment or its residual) and draw the maps on r's threads.

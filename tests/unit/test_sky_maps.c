@@ -1,9 +1,11 @@
-/* test_sky_maps.c - the sky visibility maps' lookup (src/shadow/sky.c): sl_shadow_sky_visibility
- * reads every map in one loop, a lane a map; sl_shadow_sky_map_visibility is the scalar lookup of
- * one map that the GLSL twin mirrors. Over maps drawn from a small scene (a floor, a sphere and a
- * box under a bright sky), V and each map's v_k from the one must equal, bit for bit, the other's
- * per-map loop, for thousands of points on the surfaces (in contact shadows, on slopes, edge-on
- * to a map) and of odd points (off every map, huge, NaN). */
+/* test_sky_maps.c - the sky visibility maps (src/shadow/sky.c). The lookup:
+ * sl_shadow_sky_visibility reads every map in one loop, a lane a map;
+ * sl_shadow_sky_map_visibility is the scalar lookup of one map that the GLSL twin mirrors. Over
+ * maps drawn from a small scene (a floor, a sphere and a box under a bright sky), V and each
+ * map's v_k from the one must equal, bit for bit, the other's per-map loop, for thousands of
+ * points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of odd points (off
+ * every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's side or the
+ * ground's. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -141,10 +143,60 @@ static void test_lanes_match_scalar(void **state)
     sl_scene_free(&scene);
 }
 
+/* The directions and cells split at the horizon: the first count - count / 2 directions over the
+ * sky, the rest over the ground, unit and spread over each side (no two of a side within a few
+ * degrees at K = 64; across the horizon the ground's mirror the sky's, a band's width apart); every
+ * cell's weight vector on its direction's side, under an environment that is bright on both
+ * sides and turned (a cell across the horizon would pull its weight towards the other side); the
+ * weights sum to the whole environment's sum of lum(L) w dOmega, whatever K. */
+static void test_cells_split_at_horizon(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, &scene, &err))
+        fail_msg("%s", err.msg);
+    sl_env env;
+    fx_env(&env, 64, 32, sky);
+    vec3 total = vec3s(0.0f);
+    const int counts[] = {1, 2, 7, 32, 64};
+    for (int c = 0; c < 5; c++) {
+        const int K = counts[c], sky_count = K - K / 2;
+        for (int k = 0; k < K; k++) {
+            vec3 d = sl_shadow_sky_direction(k, K);
+            assert_float_equal(length(d), 1.0, 1e-6);
+            if (k < sky_count ? !(d.z > 0.0f) : !(d.z < 0.0f))
+                fail_msg("K %d: direction %d at z %g, on the wrong side", K, k, (double)d.z);
+            for (int j = k < sky_count ? 0 : sky_count; j < k; j++)
+                if (dot(d, sl_shadow_sky_direction(j, K)) > cosf(radians(K == 64 ? 5.0f : 10.0f)))
+                    fail_msg("K %d: directions %d and %d within a few degrees", K, j, k);
+        }
+        sl_shadow_sky s;
+        memset(&s, 0, sizeof s);
+        assert_true(sl_shadow_sky_frames(&s, K, &env, 30.0f, &scene));
+        vec3 sum = vec3s(0.0f);
+        for (int k = 0; k < K; k++) {
+            vec3 m = s.weight[k];
+            sum = add(sum, m);
+            if (K > 1 && (k < sky_count ? !(m.z > 0.0f) : !(m.z < 0.0f)))
+                fail_msg("K %d: cell %d's weight at z %g, across the horizon", K, k, (double)m.z);
+        }
+        if (c == 0)
+            total = sum;
+        assert_float_equal(sum.x, total.x, 1e-4 * length(total));
+        assert_float_equal(sum.y, total.y, 1e-4 * length(total));
+        assert_float_equal(sum.z, total.z, 1e-4 * length(total));
+        sl_shadow_sky_free(&s);
+    }
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_match_scalar),
+        cmocka_unit_test(test_cells_split_at_horizon),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
