@@ -1,5 +1,5 @@
 # cpu_frame.bash - what the frame-cost benchmarks share (sourced: bench/shadows.sh,
-# bench/reflection-occlusion.sh). They set BUILD, SIZE and T (a temporary directory) first.
+# bench/reflection-occlusion.sh, bench/visibility-cost.sh). They set BUILD, SIZE and T (a temporary directory) first.
 #
 # median: the median of the numbers on stdin, one a line.
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
