@@ -26,9 +26,7 @@ for _ in $(seq 1 "$ROUNDS"); do
         for setting in off on; do
             o=("${BASE[@]}")
             [ "$setting" = on ] && o+=("${SET[@]}")
-            a=$(cpu "$s" 4 "${o[@]}")
-            b=$(cpu "$s" 1 "${o[@]}")
-            echo "$s $setting $(awk -v a="$a" -v b="$b" 'BEGIN { printf "%.4f", (a - b) / 3 }')" >>"$T/all"
+            echo "$s $setting $(frame_cpu "$s" "${o[@]}")" >>"$T/all"
         done
     done
 done

@@ -310,7 +310,7 @@ static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t
  * centre, +x, -x, +y, -y. */
 /* GLSL: reflection_visibility */
 static vec2 cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
-                              float *rays, int *used)
+                             float *rays, int *used)
 {
     static const int dx[SL_REFLECTION_RAYS] = {0, 1, -1, 0, 0}, dy[SL_REFLECTION_RAYS] = {0, 0, 0, 1, -1};
     const size_t p = (size_t)y * (size_t)f->width + (size_t)x;
@@ -400,7 +400,8 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
             for (int x = 0; x < width; x++) {
                 size_t i = (size_t)y * (size_t)width + (size_t)x;
                 bool covered = sl_gbuffer_covered(&gb->texels[i]);
-                gb->reflection[i] = covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
+                gb->reflection[i] =
+                    covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
             }
     }
     free(planes);

@@ -38,9 +38,9 @@
  * while still above the floor.
  *
  * Consumes: a G-buffer (row 0 = bottom) and the camera that drew it. Produces: the plane
- * sl_gbuffer.reflection (allocated the first time; an empty texel gets (1, 0)). shaders/lighting.frag's
- * reflection_visibility is the GLSL twin (softlight-gl), run per pixel in the lighting pass with
- * these constants.
+ * sl_gbuffer.reflection (allocated the first time; an empty texel gets (1, 0)).
+ * shaders/lighting.frag's reflection_visibility is the GLSL twin (softlight-gl), run per pixel in
+ * the lighting pass with these constants, and reflection_specular_factor the join's.
  *
  * Does not: see what the G-buffer does not hold (off screen, behind another surface, behind the
  * camera: counted open), or the occluder's radiance (an occluded ray is dark, as the visibility
@@ -100,6 +100,6 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
  * or another surface); each SL_REFLECTION_RAYS long or NULL. For softlight trace and the tests.
  * (1, 0) for an empty texel (nothing used). Visibility NAN when out of memory. */
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
-                          int *used);
+                         int *used);
 
 #endif

@@ -751,8 +751,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
         spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
         if (s->reflection)
-            spec_occlusion = sl_reflection_specular_factor(spec_occlusion, shade_material_occlusion(cone->w, s->occlusion),
-                                                           *s->reflection);
+            spec_occlusion = sl_reflection_specular_factor(
+                spec_occlusion, shade_material_occlusion(cone->w, s->occlusion), *s->reflection);
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the

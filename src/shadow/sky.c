@@ -112,9 +112,8 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
     cell_weights(env, dirs, count, m);
     for (int k = 0; k < count; k++) {
         /* each map looks along its cell's luminous centroid, normalize(m_k), where the cell's
-         * light comes from: a cell across the horizon with a bright sky above and a dark ground
-         * below is the sky's, not its centre's (the centre's would count the ground's occluders
-         * against the sky's light); d_k for a black cell */
+         * light comes from (a sun in one corner of it, a window), not its centre; d_k for a
+         * black cell */
         float len = length(m[k]);
         vec3 e = len > 0.0f ? scale(m[k], 1.0f / len) : dirs[k];
         sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);

@@ -15,9 +15,9 @@
  * gets an orthographic depth map of S x S texels over the scene's bounds, drawn towards its
  * luminous centroid normalize(m_k) (d_k for a black cell; the environment's rotation applied:
  * world space) by the machinery of the env lights' maps (shadow.h: sl_shadow_ortho_build), once
- * per scene, environment and rotation. The centroid, not d_k: a cell across the horizon with a
- * bright sky above and a dark ground below is lit from the sky, whose occluders differ from the
- * ground's (measured: docs/lighting.md "Sky visibility maps"). Per point P
+ * per scene, environment and rotation. The centroid, not d_k: a cell's light is uneven (a sun in
+ * one corner, a window), and the map looks where it comes from (measured: docs/lighting.md "Sky
+ * visibility maps"). Per point P
  * with normal N (world), each map's visibility v_k (a 2x2 bilinear percentage-closer lookup
  * with the env lights' maps' normal offset and per-tap receiver plane) gives
  *     V = sum_k v_k max(N . m_k, 0) / sum_k max(N . m_k, 0)   (1 where the sum is 0),

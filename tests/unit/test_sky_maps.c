@@ -78,15 +78,22 @@ static void check(const sl_shadow_sky *s, vec3 P, vec3 N, int *partial, int *che
     *checked += 1;
 }
 
+/* The tests' scene and environment (SCENE, sky). */
+static void scene_and_env(sl_scene *scene, sl_env *env)
+{
+    sl_error err = {0};
+    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, scene, &err))
+        fail_msg("%s", err.msg);
+    fx_env(env, 64, 32, sky);
+}
+
 static void test_lanes_match_scalar(void **state)
 {
     (void)state;
     sl_error err = {0};
     sl_scene scene;
-    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, &scene, &err))
-        fail_msg("%s", err.msg);
     sl_env env;
-    fx_env(&env, 64, 32, sky);
+    scene_and_env(&scene, &env);
     sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
     if (!r)
         fail_msg("%s", err.msg);
@@ -152,12 +159,9 @@ static void test_lanes_match_scalar(void **state)
 static void test_cells_split_at_horizon(void **state)
 {
     (void)state;
-    sl_error err = {0};
     sl_scene scene;
-    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, &scene, &err))
-        fail_msg("%s", err.msg);
     sl_env env;
-    fx_env(&env, 64, 32, sky);
+    scene_and_env(&scene, &env);
     vec3 total = vec3s(0.0f);
     const int counts[] = {1, 2, 7, 32, 64};
     for (int c = 0; c < 5; c++) {
