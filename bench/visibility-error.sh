@@ -217,7 +217,8 @@ difference between the two columns of one row is the error that ignoring visibil
 ratio: nRMSE against the visibility truth over nRMSE against the blind one); the plain `mf` rows show
 it nearly alone, since their error against the blind truth is small. Truth seconds: wall time
 of the integration on the loaded machine (cache header), not CPU time. In `textured` the
-alpha-masked leaf shadows as its whole quad (docs/ibl.md "Visibility": masks occlude as opaque).
+alpha-masked leaf casts where its mask keeps it, in the truth and in the maps alike (docs/ibl.md
+"Visibility", docs/lighting.md "Shadow maps").
 
 TEXT
     sed -n '1,/^$/p' "$table" | sed '/^$/d'

@@ -215,8 +215,8 @@ int cmd_truth(int argc, char **argv)
                            .env_rotation_deg = r.desc.lighting.env_rotation_deg,
                            .env_intensity = r.desc.lighting.env_intensity, .threads = threads, .cache_path = cache,
                            .label = positional[0], .progress = on_progress, .progress_user = &p,
-                           .scene = &scene, .visibility = visibility, .visibility_level = vis_level,
-                           .lights = lights};
+                           .scene = &scene, .textures = &r.textures, .visibility = visibility,
+                           .visibility_level = vis_level, .lights = lights};
     if (!sl_gt_image_compute(&gt, &gd, &err) || !sl_gt_image_total(&gt, (sl_gt_geometry)gi, &total, &err))
         goto done;
     if (part > 0) /* one part instead of the sum */

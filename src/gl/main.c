@@ -215,18 +215,17 @@ static bool render(const gl_outputs *o, frame *f, const sl_gbuffer *files, sl_er
     bool phong, ggx;
     lobes_used(&f->scene, files, &phong, &ggx);
     slgl_lighting_set_lobes(&l, phong || o->gbuffer_shader, ggx || o->gbuffer_shader); /* a user's: either */
-    if (o->gbuffer_dir) {
-        if (!slgl_gbuffer_upload(&g, files, err))
-            goto done;
-    } else if (!slgl_textures_upload(&f->renderer.textures, &textures, err)) {
+    if (o->gbuffer_dir && !slgl_gbuffer_upload(&g, files, err))
         goto done;
-    }
+    /* the G-buffer pass's maps, and the masked casters' masks the shadow maps read */
+    if ((!o->gbuffer_dir || shadows) && !slgl_textures_upload(&f->renderer.textures, &textures, err))
+        goto done;
     if ((!o->gbuffer_dir || shadows) && !slgl_meshes_upload(&f->scene, meshes, err))
         goto done;
     /* the maps depend on the scene alone: drawn once, before the timed passes */
     double t_shadows = sl_now_seconds();
-    if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, shadows_all, env_lights,
-                                      f->renderer.desc.lighting.env_rotation_deg, sky_maps, sky_env, err))
+    if (shadows && !slgl_shadows_draw(&shadow_maps, &f->scene, meshes, &f->renderer.textures, &textures, shadows_all,
+                                      env_lights, f->renderer.desc.lighting.env_rotation_deg, sky_maps, sky_env, err))
         goto done;
     glFinish();
     t_shadows = sl_now_seconds() - t_shadows;

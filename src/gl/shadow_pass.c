@@ -24,13 +24,62 @@
  * Each kind of map is its own texture and table in slgl_shadows, bound to its own sampler of
  * lighting.frag (uShadowCubes with uShadowCubeLayer; uShadowSuns with uEnvLightSun and the
  * frames; uSkyMaps with the frames and weights), so one kind is drawn and read without touching
- * the others. */
+ * the others.
+ *
+ * A masked caster (src/raster/coverage.h, as softlight chooses it from the same textures) is drawn
+ * with its coverage map on texture unit 0, through a sampler object in the map's state, and the
+ * shaders discard where the mask cuts it away. */
 #include <math.h>
 #include <string.h>
 
+#include "raster/coverage.h"
 #include "shadow/shadow.h"
 #include "shadow/sky.h"
 #include "slgl.h"
+
+/* What a map's draw reads: the scene, its meshes and, for the masked casters, the textures (the
+ * renderer's, which choose a caster's mask, and their GL names) and a sampler object. */
+typedef struct {
+    const sl_scene *scene;
+    const slgl_mesh *meshes;
+    const sl_scene_textures *sl_textures;
+    const slgl_textures *textures;
+    GLuint sampler;
+} casters;
+
+/* A depth program's uniform locations. */
+typedef struct {
+    GLint mvp, masked, coverage_st, coverage_channel, alpha_cutoff;
+} depth_uniforms;
+
+static depth_uniforms depth_uniforms_of(GLuint program)
+{
+    glUseProgram(program);
+    glUniform1i(glGetUniformLocation(program, "uCoverageMap"), 0); /* texture unit 0 */
+    return (depth_uniforms){glGetUniformLocation(program, "uModelViewProj"), glGetUniformLocation(program, "uMasked"),
+                            glGetUniformLocation(program, "uCoverageST"),
+                            glGetUniformLocation(program, "uCoverageChannel"),
+                            glGetUniformLocation(program, "uAlphaCutoff")};
+}
+
+/* Object obj's mask for a draw: its coverage map bound on unit 0 and the uniforms set, or
+ * uMasked 0 for an opaque caster. */
+static void bind_mask(const casters *c, const depth_uniforms *u, const sl_object *obj)
+{
+    sl_coverage cov;
+    bool masked = c->textures && sl_coverage_of(&c->scene->materials[obj->material], c->sl_textures, &cov) &&
+                  cov.image < c->textures->count;
+    glUniform1i(u->masked, masked);
+    if (!masked)
+        return;
+    glActiveTexture(GL_TEXTURE0);
+    glBindTexture(GL_TEXTURE_2D, c->textures->names[cov.image]);
+    slgl_sampler_set(c->sampler, &cov.map.state);
+    glBindSampler(0, c->sampler);
+    glUniform4f(u->coverage_st, cov.st.x, cov.st.y, cov.st.z, cov.st.w);
+    glUniform1i(u->coverage_channel, cov.channel);
+    glUniform1f(u->alpha_cutoff, cov.cutoff);
+}
 
 void slgl_shadows_destroy(slgl_shadows *s)
 {
@@ -58,6 +107,8 @@ void slgl_shadows_destroy(slgl_shadows *s)
         glDeleteFramebuffers(1, &s->sky_fbo);
     if (s->sky_program)
         glDeleteProgram(s->sky_program);
+    if (s->mask_sampler)
+        glDeleteSamplers(1, &s->mask_sampler);
     memset(s, 0, sizeof *s);
     for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
         s->cube_layer[i] = -1;
@@ -66,9 +117,10 @@ void slgl_shadows_destroy(slgl_shadows *s)
 static const float far_away[4] = {INFINITY, INFINITY, INFINITY, INFINITY}; /* nothing drawn */
 
 /* Layer `layer` of `texture` with view_proj: every object with a triangle. */
-static void draw_face(GLuint texture, const sl_scene *scene, const slgl_mesh *meshes, GLint mvp_loc, int layer,
-                      mat4 view_proj)
+static void draw_face(GLuint texture, const casters *c, const depth_uniforms *u, int layer, mat4 view_proj)
 {
+    const sl_scene *scene = c->scene;
+    const slgl_mesh *meshes = c->meshes;
     glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, texture, 0, layer);
     glClearBufferfv(GL_COLOR, 0, far_away);
     glClearDepth(1.0);
@@ -79,7 +131,8 @@ static void draw_face(GLuint texture, const sl_scene *scene, const slgl_mesh *me
         if (scene->meshes[obj->mesh].triangle_count == 0)
             continue;
         mat4 mvp = mat4_mul(view_proj, obj->model);
-        glUniformMatrix4fv(mvp_loc, 1, GL_FALSE, &mvp.c[0].x);
+        glUniformMatrix4fv(u->mvp, 1, GL_FALSE, &mvp.c[0].x);
+        bind_mask(c, u, obj);
         glBindVertexArray(mesh->vao);
         glDrawElements(GL_TRIANGLES, mesh->index_count, GL_UNSIGNED_INT, NULL);
     }
@@ -118,8 +171,9 @@ static bool make_target(GLuint *texture, GLuint *fbo, GLuint *depth, int side, i
 }
 
 /* The point lights' cube maps. */
-static bool draw_cubes(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all, sl_error *err)
+static bool draw_cubes(slgl_shadows *s, const casters *c, bool all, sl_error *err)
 {
+    const sl_scene *scene = c->scene;
     int casting = 0;
     for (int i = 0; i < scene->light_count && i < SL_LIGHTING_MAX_LIGHTS; i++)
         if (all || scene->lights[i].shadow)
@@ -131,15 +185,14 @@ static bool draw_cubes(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
     if (!slgl_program_from_files("shadow_depth.vert", "shadow_depth.frag", &s->program, err) ||
         !make_target(&s->cubes, &s->fbo, &s->depth, s->side, 6 * casting, err))
         return false;
-    glUseProgram(s->program);
-    GLint mvp_loc = glGetUniformLocation(s->program, "uModelViewProj");
+    depth_uniforms u = depth_uniforms_of(s->program);
     for (int i = 0; i < scene->light_count && i < SL_LIGHTING_MAX_LIGHTS; i++) {
         if (s->cube_layer[i] < 0)
             continue;
         for (int f = 0; f < 6; f++) {
             mat4 view_proj;
             if (sl_shadow_face_view_proj(scene, scene->lights[i].position, f, &view_proj)) {
-                draw_face(s->cubes, scene, meshes, mvp_loc, s->cube_layer[i] + f, view_proj);
+                draw_face(s->cubes, c, &u, s->cube_layer[i] + f, view_proj);
             } else { /* no geometry: every depth stays +inf */
                 glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, s->cubes, 0, s->cube_layer[i] + f);
                 glClearBufferfv(GL_COLOR, 0, far_away);
@@ -153,14 +206,12 @@ static bool draw_cubes(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
  * each of a fresh R32F 2D array `size` texels a side, with shadow_sun.frag keeping the depth
  * along each map's axis. */
 static bool draw_ortho(GLuint *program, GLuint *texture, GLuint *fbo, GLuint *depth, const sl_shadow_sun *maps,
-                       int count, int size, bool geometry, const sl_scene *scene, const slgl_mesh *meshes,
-                       sl_error *err)
+                       int count, int size, bool geometry, const casters *c, sl_error *err)
 {
     if (!slgl_program_from_files("shadow_depth.vert", "shadow_sun.frag", program, err) ||
         !make_target(texture, fbo, depth, size, count, err))
         return false;
-    glUseProgram(*program);
-    GLint mvp_loc = glGetUniformLocation(*program, "uModelViewProj");
+    depth_uniforms u = depth_uniforms_of(*program);
     GLint origin_loc = glGetUniformLocation(*program, "uDepthOrigin");
     GLint extent_loc = glGetUniformLocation(*program, "uDepthExtent");
     for (int k = 0; k < count; k++) {
@@ -168,7 +219,7 @@ static bool draw_ortho(GLuint *program, GLuint *texture, GLuint *fbo, GLuint *de
         if (geometry) {
             glUniform1f(origin_loc, map->z0);
             glUniform1f(extent_loc, map->sz);
-            draw_face(*texture, scene, meshes, mvp_loc, k, sl_shadow_sun_view_proj(map));
+            draw_face(*texture, c, &u, k, sl_shadow_sun_view_proj(map));
         } else { /* no geometry: every depth stays +inf */
             glFramebufferTextureLayer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, *texture, 0, k);
             glClearBufferfv(GL_COLOR, 0, far_away);
@@ -178,37 +229,41 @@ static bool draw_ortho(GLuint *program, GLuint *texture, GLuint *fbo, GLuint *de
 }
 
 /* The env lights' orthographic maps, one layer per cluster. */
-static bool draw_suns(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes,
-                      const sl_env_lights *env_lights, float env_rotation_deg, sl_error *err)
+static bool draw_suns(slgl_shadows *s, const casters *c, const sl_env_lights *env_lights, float env_rotation_deg,
+                      sl_error *err)
 {
     sl_shadow_suns *m = &s->sun_frames;
-    bool geometry = sl_shadow_suns_frames(m, scene, env_lights, env_rotation_deg);
+    bool geometry = sl_shadow_suns_frames(m, c->scene, env_lights, env_rotation_deg);
     if (m->count == 0)
         return true;
     return draw_ortho(&s->sun_program, &s->suns, &s->sun_fbo, &s->sun_depth, m->maps, m->count, SL_SHADOW_SUN_SIZE,
-                      geometry, scene, meshes, err);
+                      geometry, c, err);
 }
 
 /* The sky visibility maps, one layer per direction. */
-static bool draw_sky(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, int count, const sl_env *env,
-                     float env_rotation_deg, sl_error *err)
+static bool draw_sky(slgl_shadows *s, const casters *c, int count, const sl_env *env, float env_rotation_deg,
+                     sl_error *err)
 {
     if (count < 1 || count > SL_SKY_MAPS_MAX)
         return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
     sl_shadow_sky *m = &s->sky_frames;
-    bool geometry = sl_shadow_sky_frames(m, count, env, env_rotation_deg, scene);
+    bool geometry = sl_shadow_sky_frames(m, count, env, env_rotation_deg, c->scene);
     return draw_ortho(&s->sky_program, &s->sky, &s->sky_fbo, &s->sky_depth, m->maps, m->count, SL_SKY_MAP_SIZE,
-                      geometry, scene, meshes, err);
+                      geometry, c, err);
 }
 
-bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
+bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes,
+                       const sl_scene_textures *sl_textures, const slgl_textures *textures, bool all,
                        const sl_env_lights *env_lights, float env_rotation_deg, int sky_maps, const sl_env *sky_env,
                        sl_error *err)
 {
     slgl_shadows_destroy(s);
-    bool ok = draw_cubes(s, scene, meshes, all, err) &&
-              (!all || !env_lights || draw_suns(s, scene, meshes, env_lights, env_rotation_deg, err)) &&
-              (sky_maps <= 0 || draw_sky(s, scene, meshes, sky_maps, sky_env, env_rotation_deg, err));
+    glGenSamplers(1, &s->mask_sampler);
+    const casters c = {scene, meshes, sl_textures, textures, s->mask_sampler};
+    bool ok = draw_cubes(s, &c, all, err) && (!all || !env_lights || draw_suns(s, &c, env_lights, env_rotation_deg, err)) &&
+              (sky_maps <= 0 || draw_sky(s, &c, sky_maps, sky_env, env_rotation_deg, err));
+    glBindSampler(0, 0);
+    glBindTexture(GL_TEXTURE_2D, 0);
     glBindVertexArray(0);
     glDisable(GL_DEPTH_TEST);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);

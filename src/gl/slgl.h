@@ -176,6 +176,7 @@ typedef struct {
                               k = map k; 0 when there are none */
     sl_shadow_sky sky_frames; /* their directions, weights m_k and frames (sl_shadow_sky_frames; no
                               depths): count = the layers */
+    GLuint mask_sampler;   /* a masked caster's coverage map's state while the maps are drawn */
 } slgl_shadows;
 
 /* Draw the maps of the scene's lights that cast (point light i when `all` is set or its "shadow"
@@ -184,8 +185,11 @@ typedef struct {
  * sl_shadow_suns_frames as sl_shadow_suns_build does (env_rotation_deg: the lighting's). With
  * sky_maps K > 0, the K sky visibility maps, weighted by sky_env (what the diffuse irradiance
  * holds: the renderer's choice, src/render/renderer.c update_sky) and framed by
- * sl_shadow_sky_frames as sl_shadow_sky_build does. */
-bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes, bool all,
+ * sl_shadow_sky_frames as sl_shadow_sky_build does. A masked caster (src/raster/coverage.h, from
+ * sl_textures) casts where its mask keeps it, its map read from `textures` (NULL: every caster
+ * opaque). */
+bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *meshes,
+                       const sl_scene_textures *sl_textures, const slgl_textures *textures, bool all,
                        const sl_env_lights *env_lights, float env_rotation_deg, int sky_maps, const sl_env *sky_env,
                        sl_error *err);
 /* Free the maps; s is left empty (no light casts), which a zeroed struct is not. */

@@ -405,7 +405,7 @@ static bool update_shadows(sl_renderer *r, sl_error *err)
         return true;
     double t0 = sl_now_seconds();
     r->shadows_built = 0;
-    if (!sl_shadow_build(&r->shadows, r->raster, r->scene, all, err))
+    if (!sl_shadow_build(&r->shadows, r->raster, r->scene, &r->textures, all, err))
         return false;
     r->shadows_built = want;
     r->timings.shadow_ms = (sl_now_seconds() - t0) * 1e3;
@@ -427,7 +427,7 @@ static bool update_sun_shadows(sl_renderer *r, sl_error *err)
         return true;
     double t0 = sl_now_seconds();
     r->suns_built = 0;
-    if (!sl_shadow_suns_build(&r->suns, r->raster, r->scene, &r->env_lights, rotation, err))
+    if (!sl_shadow_suns_build(&r->suns, r->raster, r->scene, &r->textures, &r->env_lights, rotation, err))
         return false;
     r->suns_built = r->env_lights_built;
     r->suns_rotation = rotation;
@@ -460,7 +460,7 @@ static bool update_sky(sl_renderer *r, sl_error *err)
     r->sky_built = 0;
     int lights = sky_env_lights(r);
     const sl_env *env = lights > 0 ? &r->env_lights.residual : &r->env;
-    if (!sl_shadow_sky_build(&r->sky, want, env, rotation, r->raster, r->scene, err))
+    if (!sl_shadow_sky_build(&r->sky, want, env, rotation, r->raster, r->scene, &r->textures, err))
         return false;
     r->sky_built = want;
     r->sky_env_lights = lights;

@@ -58,7 +58,7 @@ static uint64_t gbuffer_hash(const sl_gbuffer *gb)
 /* The geometry's hash when visibility is on (0 otherwise: then it is not part of the key). */
 static uint64_t vis_hash(const sl_gt_image_desc *d)
 {
-    return d->visibility && d->scene ? sl_visibility_scene_hash(d->scene) : 0;
+    return d->visibility && d->scene ? sl_visibility_scene_hash(d->scene, d->textures) : 0;
 }
 
 static uint64_t combine_key(uint64_t env_h, uint64_t gb_h, uint64_t vis_h, const sl_gt_image_desc *d)
@@ -600,7 +600,7 @@ static bool integrate(sl_gt_image *out, const sl_gt_image_desc *d, sl_error *err
     vis_frame vf = {.cells = &cells, .scene = d->lights ? d->scene : NULL, .cr = cr, .sr = sr};
     sl_visibility *vis = NULL;
     if (d->visibility) {
-        vis = sl_visibility_create(d->scene, nthreads, err);
+        vis = sl_visibility_create(d->scene, d->textures, nthreads, err);
         if (!vis || !vis_cells_build(&cells, &gt, d->visibility_level, err)) {
             sl_visibility_free(vis);
             sl_ground_truth_free(&gt);

@@ -40,6 +40,7 @@
 #include "../ibl/ground_truth.h"
 #include "../ibl/ibl.h"
 #include "../raster/gbuffer.h"
+#include "../raster/gbuffer_textured.h"
 #include "../scene/scene.h"
 
 /* Pixels done of `total` (covered pixels); called from the calling thread, the last call
@@ -63,6 +64,8 @@ typedef struct {
      * that lie above both horizons (N's and the geometric normal's); nodes below the geometric
      * horizon are unseen. Off: the blind integral above, byte for byte. */
     const sl_scene *scene;      /* the occluders and point lights; required with visibility or lights */
+    const sl_scene_textures *textures; /* the scene's images: masked casters occlude where their
+                                          masks keep them (NULL: every caster opaque) */
     bool visibility;
     int visibility_level;       /* 0 .. SL_GT_VIS_LEVEL_MAX */
     /* The scene's point lights added as lighting.frag adds them (not scaled by the occlusion

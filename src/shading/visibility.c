@@ -10,9 +10,11 @@
 #include <string.h>
 
 #include "../core/hash.h"
+#include "../raster/coverage.h"
 
-/* World positions as add_object gives them to Embree: model * p in float, as the vertex shader. */
-uint64_t sl_visibility_scene_hash(const sl_scene *scene)
+/* World positions as add_object gives them to Embree: model * p in float, as the vertex shader;
+ * and each masked caster's mask (raster/coverage.h). */
+uint64_t sl_visibility_scene_hash(const sl_scene *scene, const sl_scene_textures *tex)
 {
     uint64_t h = SL_FNV1A_START;
     for (int o = 0; o < scene->object_count; o++) {
@@ -28,6 +30,13 @@ uint64_t sl_visibility_scene_hash(const sl_scene *scene)
         }
         if (m->triangle_count > 0 && m->indices)
             h = sl_fnv1a(h, m->indices, 3 * sizeof *m->indices * (size_t)m->triangle_count);
+        sl_coverage c;
+        if (obj->material >= 0 && obj->material < scene->material_count &&
+            sl_coverage_of(&scene->materials[obj->material], tex, &c)) {
+            h = sl_coverage_hash(h, &c);
+            if (m->texcoords)
+                h = sl_fnv1a(h, m->texcoords, sizeof *m->texcoords * (size_t)m->vertex_count);
+        }
     }
     return h;
 }
@@ -41,13 +50,48 @@ typedef struct {
     char msg[200];
 } vis_errors;
 
+/* A masked caster's geometry: what its filter reads to find the hit's texture coordinate. */
+typedef struct {
+    sl_coverage coverage;
+    const sl_vec2 *texcoords; /* the mesh's, per vertex; NULL: (0, 0) everywhere, as the raster has it */
+    const uint32_t *indices;  /* the mesh's, 3 a triangle (Embree's primID indexes them) */
+} masked_caster;
+
 struct sl_visibility {
     RTCDevice device;
     RTCScene scene;
     vis_errors errors;
     long triangles;
     double extent; /* the largest absolute coordinate of any vertex */
+    masked_caster *masked; /* one per object, used by the masked ones' filters */
 };
+
+/* Embree's filter for a masked caster, on both kinds of query: a hit where the mask cuts the
+ * surface away is no hit (the ray goes on through the cut-out). The N hits come as structure of
+ * arrays, each field N values (rtcore_ray.h's RTCHitN_* accessors, which are C++ only): Ng_x,
+ * Ng_y, Ng_z, u, v, primID, ... */
+static void masked_filter(const struct RTCFilterFunctionNArguments *args)
+{
+    const masked_caster *g = args->geometryUserPtr;
+    const unsigned n = args->N;
+    const float *hit = (const float *)(const void *)args->hit;
+    const unsigned *prims = (const unsigned *)(const void *)args->hit + 5 * n;
+    for (unsigned i = 0; i < n; i++) {
+        if (args->valid[i] != -1)
+            continue;
+        unsigned prim = prims[i];
+        float u = hit[3 * n + i], v = hit[4 * n + i];
+        vec2 uv = vec2(0.0f, 0.0f);
+        if (g->texcoords) {
+            const uint32_t *t = g->indices + 3 * (size_t)prim;
+            vec2 a = g->texcoords[t[0]], b = g->texcoords[t[1]], c = g->texcoords[t[2]];
+            float w = 1.0f - u - v;
+            uv = vec2(w * a.x + u * b.x + v * c.x, w * a.y + u * b.y + v * c.y);
+        }
+        if (!sl_coverage_keeps(&g->coverage, uv))
+            args->valid[i] = 0;
+    }
+}
 
 static void on_embree_error(void *user, enum RTCError code, const char *str)
 {
@@ -60,8 +104,10 @@ static void on_embree_error(void *user, enum RTCError code, const char *str)
 
 bool sl_visibility_available(void) { return true; }
 
-/* One object's triangles, transformed as the vertex shader places them, as one Embree geometry. */
-static bool add_object(sl_visibility *v, const sl_mesh *m, mat4 model, double *extent, sl_error *err)
+/* One object's triangles, transformed as the vertex shader places them, as one Embree geometry;
+ * `masked` not NULL: a masked caster, filtered by its mask. */
+static bool add_object(sl_visibility *v, const sl_mesh *m, mat4 model, const masked_caster *masked, double *extent,
+                       sl_error *err)
 {
     if (m->triangle_count <= 0 || m->vertex_count <= 0)
         return true;
@@ -95,16 +141,24 @@ static bool add_object(sl_visibility *v, const sl_mesh *m, mat4 model, double *e
         idx[i] = m->indices[i];
     }
     v->triangles += m->triangle_count;
+    if (masked) {
+        rtcSetGeometryUserData(g, (void *)masked);
+        rtcSetGeometryIntersectFilterFunction(g, masked_filter);
+        rtcSetGeometryOccludedFilterFunction(g, masked_filter);
+    }
     rtcCommitGeometry(g);
     rtcAttachGeometry(v->scene, g);
     rtcReleaseGeometry(g); /* the scene holds it */
     return true;
 }
 
-sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error *err)
+sl_visibility *sl_visibility_create(const sl_scene *scene, const sl_scene_textures *tex, int threads, sl_error *err)
 {
     sl_visibility *v = calloc(1, sizeof *v);
-    if (!v) {
+    if (v)
+        v->masked = calloc(scene->object_count > 0 ? (size_t)scene->object_count : 1, sizeof *v->masked);
+    if (!v || !v->masked) {
+        free(v);
         sl_fail(err, SL_ERR_MEMORY, "visibility: no memory");
         return NULL;
     }
@@ -133,7 +187,13 @@ sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error
                          obj->mesh);
             break;
         }
-        ok = add_object(v, &scene->meshes[obj->mesh], obj->model, &extent, err);
+        const sl_mesh *mesh = &scene->meshes[obj->mesh];
+        masked_caster *masked = &v->masked[o];
+        bool cut = obj->material >= 0 && obj->material < scene->material_count &&
+                   sl_coverage_of(&scene->materials[obj->material], tex, &masked->coverage);
+        masked->texcoords = mesh->texcoords;
+        masked->indices = mesh->indices;
+        ok = add_object(v, mesh, obj->model, cut ? masked : NULL, &extent, err);
         if (!ok)
             sl_error_prefix(err, "object %d (%s): ", o, obj->name);
     }
@@ -158,6 +218,7 @@ void sl_visibility_free(sl_visibility *v)
         rtcReleaseScene(v->scene);
     if (v->device)
         rtcReleaseDevice(v->device);
+    free(v->masked);
     free(v);
 }
 
@@ -227,9 +288,10 @@ struct sl_visibility {
 
 bool sl_visibility_available(void) { return false; }
 
-sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error *err)
+sl_visibility *sl_visibility_create(const sl_scene *scene, const sl_scene_textures *tex, int threads, sl_error *err)
 {
     (void)scene;
+    (void)tex;
     (void)threads;
     sl_fail(err, SL_ERR_RANGE, "visibility needs Embree 3: this build has none (install libembree-dev and rebuild)");
     return NULL;

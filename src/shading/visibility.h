@@ -5,8 +5,10 @@
  * float), and answers occlusion queries; nothing in the lighting pass calls it.
  *
  * Geometry: every object's mesh (OBJ meshes, built-in sphere, plane and box, models' meshes),
- * each triangle as the rasterizer draws it, both sides (the raster culls nothing). Alpha-masked
- * materials (discard below a cutoff) occlude as if opaque: the tracer does not read textures.
+ * each triangle as the rasterizer draws it, both sides (the raster culls nothing). A masked
+ * material (discard below a cutoff) occludes where its mask keeps the surface: an Embree filter
+ * reads the mask at the hit's texture coordinate (raster/coverage.h, as the shadow maps' depth
+ * programs do), and a ray goes on through a cut-out. Without the textures every caster is opaque.
  *
  * Rays: a ray leaves P + offset * Ng, where Ng is the geometric normal of the triangle the eye
  * sees at P turned towards the eye (found by tracing the eye ray, sl_visibility_surface) and
@@ -25,6 +27,7 @@
 #include <stdint.h>
 
 #include "../core/error.h"
+#include "../raster/gbuffer_textured.h"
 #include "../scene/scene.h"
 
 typedef struct sl_visibility sl_visibility;
@@ -32,16 +35,17 @@ typedef struct sl_visibility sl_visibility;
 /* Whether this build traces visibility (was built with Embree). */
 bool sl_visibility_available(void);
 
-/* The scene's triangles, transformed and built into Embree's structure; NULL (and err) without
- * Embree, on a mesh or object out of range, or when Embree fails. A scene without triangles
- * gives a structure that occludes nothing. */
-sl_visibility *sl_visibility_create(const sl_scene *scene, int threads, sl_error *err);
+/* The scene's triangles, transformed and built into Embree's structure, masked casters filtered
+ * by their masks in tex (NULL: every caster opaque; tex must outlive the structure); NULL (and
+ * err) without Embree, on a mesh or object out of range, or when Embree fails. A scene without
+ * triangles gives a structure that occludes nothing. */
+sl_visibility *sl_visibility_create(const sl_scene *scene, const sl_scene_textures *tex, int threads, sl_error *err);
 void sl_visibility_free(sl_visibility *v); /* NULL is fine */
 
-/* FNV-1a 64 of the world-space triangles (each object's transformed vertices and indices): part
- * of the truth's cache key, since geometry the camera does not see still occludes. Needs no
- * Embree and builds nothing. */
-uint64_t sl_visibility_scene_hash(const sl_scene *scene);
+/* FNV-1a 64 of the world-space triangles (each object's transformed vertices and indices) and
+ * of each masked caster's mask in tex and texture coordinates: part of the truth's cache key,
+ * since geometry the camera does not see still occludes. Needs no Embree and builds nothing. */
+uint64_t sl_visibility_scene_hash(const sl_scene *scene, const sl_scene_textures *tex);
 long sl_visibility_triangle_count(const sl_visibility *v);
 /* The distance a ray's origin at P is moved along Ng. */
 double sl_visibility_offset(const sl_visibility *v, vec3 p);

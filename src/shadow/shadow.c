@@ -1,9 +1,11 @@
 /* shadow.c - the point lights' cube shadow maps and the env lights' orthographic ones: drawn
- * with the tiled rasterizer and a depth-only program, read with a slope-scaled, normal-offset,
- * percentage-closer lookup (shadow.h says what and why). */
+ * with the tiled rasterizer and a depth-only program (its masked twin for a masked material,
+ * which discards where the mask cuts the surface away: raster/coverage.h), read with a
+ * slope-scaled, normal-offset, percentage-closer lookup (shadow.h says what and why). */
 #include "shadow.h"
 
 #include "ibl/ibl.h"
+#include "raster/coverage.h"
 
 #include <float.h>
 #include <math.h>
@@ -24,10 +26,37 @@ typedef struct {
     float view;
 } shadow_texel;
 
+/* An object's uniforms in a depth pass: its model-view-projection (first: shadow_vert reads the
+ * uniforms as one), and for a masked caster its coverage lookup. */
+typedef struct {
+    mat4 mvp;
+    sl_coverage coverage;
+} caster_uniforms;
+
+/* GLSL: shadow_depth.vert */
 static void shadow_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
 {
     (void)varyings;
     *clip = mat4_mul_vec4(*(const mat4 *)uniforms, vec4_from3(in->position, 1.0f));
+}
+
+/* The masked casters' vertex shader: the same position, and the texture coordinate (GLSL:
+ * shadow_depth.vert's vTexCoord). */
+static void masked_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
+{
+    *clip = mat4_mul_vec4(((const caster_uniforms *)uniforms)->mvp, vec4_from3(in->position, 1.0f));
+    varyings[0] = in->texcoord.x;
+    varyings[1] = in->texcoord.y;
+}
+
+/* Whether a masked caster's fragment is cut away (GLSL: shadow_depth.frag's discard). */
+static bool masked_away(const void *uniforms, const sl_fragment_in *in)
+{
+    const caster_uniforms *u = uniforms;
+    if (sl_coverage_keeps(&u->coverage, vec2(in->varyings[0], in->varyings[1])))
+        return false;
+    discard(in);
+    return true;
 }
 
 static void shadow_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
@@ -56,6 +85,20 @@ static const sl_program shadow_program = {
     .writes_depth = true,
 };
 
+static void shadow_masked_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    if (!masked_away(uniforms, in))
+        shadow_frag(uniforms, in, texel);
+}
+
+static const sl_program shadow_masked_program = {
+    .vertex = masked_vert,
+    .fragment = shadow_masked_frag,
+    .varying_count = 2,
+    .discards = true,
+    .writes_depth = true,
+};
+
 /* The orthographic maps' program: the window depth, linear in the depth along the map's axis
  * (an orthographic projection), kept in both fields. */
 static void sun_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
@@ -81,6 +124,28 @@ static const sl_program sun_program = {
     .fragment_span = sun_frag_span,
     .writes_depth = true,
 };
+
+static void sun_masked_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    if (!masked_away(uniforms, in))
+        sun_frag(uniforms, in, texel);
+}
+
+static const sl_program sun_masked_program = {
+    .vertex = masked_vert,
+    .fragment = sun_masked_frag,
+    .varying_count = 2,
+    .discards = true,
+    .writes_depth = true,
+};
+
+/* A kind of map's two programs: for opaque casters and for masked ones. */
+typedef struct {
+    const sl_program *opaque, *masked;
+} depth_programs;
+
+static const depth_programs cube_programs = {&shadow_program, &shadow_masked_program};
+static const depth_programs ortho_programs = {&sun_program, &sun_masked_program};
 
 bool sl_shadow_any(const sl_scene *scene, bool all)
 {
@@ -137,10 +202,12 @@ static bool cube_range(const sl_scene *scene, vec3 L, float *znear, float *zfar)
 }
 
 /* Draw every mesh of the scene through vp into a side x side target of shadow texels with a
- * depth-only program, the first draw clearing it to "nothing" (+inf). The draw's count: 0 when no
- * mesh has triangles (texels untouched), -1 on error (err set). draws and mvp hold one per object. */
-static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_program *program, mat4 vp, int side,
-                      shadow_texel *texels, sl_draw *draws, mat4 *mvp, sl_error *err)
+ * depth-only program (the masked one for a material tex's masks cut: raster/coverage.h), the
+ * first draw clearing it to "nothing" (+inf). The draw's count: 0 when no mesh has triangles
+ * (texels untouched), -1 on error (err set). draws and casters hold one per object. */
+static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex, depth_programs programs,
+                      mat4 vp, int side, shadow_texel *texels, sl_draw *draws, caster_uniforms *casters,
+                      sl_error *err)
 {
     static const shadow_texel clear = {1.0f, INFINITY};
     sl_target target = {.width = side, .height = side, .texel_size = sizeof(shadow_texel), .texels = texels,
@@ -151,8 +218,11 @@ static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_program *pro
         const sl_mesh *mesh = &scene->meshes[obj->mesh];
         if (mesh->triangle_count == 0)
             continue;
-        mvp[count] = mat4_mul(vp, obj->model);
-        draws[count] = (sl_draw){.program = program, .vs_uniforms = &mvp[count], .mesh = mesh, .cull = SL_CULL_NONE,
+        caster_uniforms *u = &casters[count];
+        u->mvp = mat4_mul(vp, obj->model);
+        bool masked = sl_coverage_of(&scene->materials[obj->material], tex, &u->coverage);
+        draws[count] = (sl_draw){.program = masked ? programs.masked : programs.opaque, .vs_uniforms = u,
+                                 .fs_uniforms = u, .mesh = mesh, .cull = SL_CULL_NONE,
                                  .clear = count == 0 ? &clear : NULL};
         count++;
     }
@@ -161,8 +231,9 @@ static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_program *pro
     return count;
 }
 
-static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene, sl_draw *draws,
-                      mat4 *mvp, shadow_texel *texels, sl_error *err)
+static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene,
+                      const sl_scene_textures *tex, sl_draw *draws, caster_uniforms *casters, shadow_texel *texels,
+                      sl_error *err)
 {
     float znear, zfar;
     if (!cube_range(scene, c->position, &znear, &zfar))
@@ -170,7 +241,7 @@ static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const 
     size_t n = (size_t)m->side * (size_t)m->side;
     for (int f = 0; f < 6; f++) {
         mat4 vp = face_view_proj(m, f, c->position, znear, zfar);
-        int count = draw_depth(r, scene, &shadow_program, vp, m->side, texels, draws, mvp, err);
+        int count = draw_depth(r, scene, tex, cube_programs, vp, m->side, texels, draws, casters, err);
         if (count < 0)
             return false;
         for (size_t k = 0; k < n; k++)
@@ -179,15 +250,16 @@ static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const 
     return true;
 }
 
-bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, bool all, sl_error *err)
+bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex, bool all,
+                     sl_error *err)
 {
     face_frames(m);
     size_t n = (size_t)m->side * (size_t)m->side;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
-    mat4 *mvp = malloc((size_t)objects * sizeof *mvp);
+    caster_uniforms *casters = malloc((size_t)objects * sizeof *casters);
     shadow_texel *texels = malloc(n * sizeof *texels);
-    bool ok = draws && mvp && texels;
+    bool ok = draws && casters && texels;
     if (!ok)
         sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for a %dx%d face", m->side, m->side);
     m->count = scene->light_count;
@@ -203,10 +275,10 @@ bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, boo
                         m->side);
                 ok = false;
             }
-        ok = ok && draw_cube(m, c, r, scene, draws, mvp, texels, err);
+        ok = ok && draw_cube(m, c, r, scene, tex, draws, casters, texels, err);
     }
     free(draws);
-    free(mvp);
+    free(casters);
     free(texels);
     return ok;
 }
@@ -451,15 +523,15 @@ bool sl_shadow_ortho_frames(sl_shadow_sun *maps, int count, int size, const sl_s
 }
 
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
-                           sl_error *err)
+                           const sl_scene_textures *tex, sl_error *err)
 {
     bool geometry = sl_shadow_ortho_frames(maps, count, size, scene);
     const size_t n = (size_t)size * (size_t)size;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
-    mat4 *mvp = malloc((size_t)objects * sizeof *mvp);
+    caster_uniforms *casters = malloc((size_t)objects * sizeof *casters);
     shadow_texel *texels = geometry ? malloc(n * sizeof *texels) : NULL;
-    bool ok = draws && mvp && (texels || !geometry);
+    bool ok = draws && casters && (texels || !geometry);
     if (!ok)
         sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for a %dx%d orthographic map", size, size);
     for (int k = 0; ok && k < count; k++) {
@@ -473,7 +545,7 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
                 sun->depth[t] = INFINITY;
             continue;
         }
-        int drawn = draw_depth(r, scene, &sun_program, sun_view_proj(sun), size, texels, draws, mvp, err);
+        int drawn = draw_depth(r, scene, tex, ortho_programs, sun_view_proj(sun), size, texels, draws, casters, err);
         if (drawn < 0) {
             ok = false;
             break;
@@ -483,18 +555,18 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
             sun->depth[t] = drawn > 0 ? sun->z0 + texels[t].view * sun->sz : INFINITY;
     }
     free(draws);
-    free(mvp);
+    free(casters);
     free(texels);
     return ok;
 }
 
-bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
-                          float env_rotation_deg, sl_error *err)
+bool sl_shadow_suns_build(sl_shadow_suns *m, sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex,
+                          const sl_env_lights *lights, float env_rotation_deg, sl_error *err)
 {
     sl_shadow_suns_frames(m, scene, lights, env_rotation_deg);
     if (m->count == 0)
         return true;
-    bool ok = sl_shadow_ortho_build(m->maps, m->count, SL_SHADOW_SUN_SIZE, r, scene, err);
+    bool ok = sl_shadow_ortho_build(m->maps, m->count, SL_SHADOW_SUN_SIZE, r, scene, tex, err);
     if (!ok)
         m->count = 0;
     return ok;

@@ -49,6 +49,7 @@
 #include "core/error.h"
 #include "core/options.h"
 #include "ibl/env_lights.h"
+#include "raster/gbuffer_textured.h"
 #include "raster/raster.h"
 #include "scene/scene.h"
 
@@ -100,14 +101,17 @@ typedef struct {
 
 /* Draw the cube maps of the scene's point lights that cast: light i casts when `all` is set or
  * its "shadow" key is. `maps` is zeroed on entry or holds maps of an earlier call (reused); the
- * faces are drawn by r, on its threads. False (and err) on no memory. */
-bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, bool all, sl_error *err);
+ * faces are drawn by r, on its threads. A masked material casts where its mask in tex keeps it
+ * (raster/coverage.h); tex NULL: every caster opaque (the same for every map below). False (and
+ * err) on no memory. */
+bool sl_shadow_build(sl_shadow_maps *maps, sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex, bool all,
+                     sl_error *err);
 /* Cluster the env lights (environment space, rotated by env_rotation_deg about +Z into the
  * world as the lighting does) and draw a map per cluster, up to SL_SHADOW_SUN_MAX, on r's
  * threads; lights == NULL or without any leaves no map. `suns` is zeroed on entry or holds maps
  * of an earlier call (reused). False (and err) on no memory. */
-bool sl_shadow_suns_build(sl_shadow_suns *suns, sl_raster *r, const sl_scene *scene, const sl_env_lights *lights,
-                          float env_rotation_deg, sl_error *err);
+bool sl_shadow_suns_build(sl_shadow_suns *suns, sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex,
+                          const sl_env_lights *lights, float env_rotation_deg, sl_error *err);
 void sl_shadow_suns_free(sl_shadow_suns *suns);
 /* The clusters and each map's frame and box as sl_shadow_suns_build makes them, without drawing
  * (each map's depth is left as it was): softlight-gl draws its own maps from these. False when
@@ -123,7 +127,7 @@ mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
  * (src/shadow/sky.h) both. Each map's depth is allocated when NULL (kept at this size otherwise).
  * False (and err) on no memory or a failed draw. */
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
-                           sl_error *err);
+                           const sl_scene_textures *tex, sl_error *err);
 /* Where a receiver, world point P with unit normal N, falls on orthographic map `map`: the point
  * moved `offset` (world units) along N, in the map's frame (xq, yq, zq); its texel coordinates
  * (texel centres at integers) as floor (fx, fy) and fraction (tx, ty); world units per texel; and

@@ -126,7 +126,7 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
 }
 
 bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
-                         const sl_scene *scene, sl_error *err)
+                         const sl_scene *scene, const sl_scene_textures *tex, sl_error *err)
 {
     if (count < 1 || count > SL_SKY_MAPS_MAX)
         return sl_fail(err, SL_ERR_RANGE, "sky maps: %d directions (1..%d)", count, SL_SKY_MAPS_MAX);
@@ -150,7 +150,7 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
         sky->maps[k].depth = k < count ? sky->block + (size_t)k * n : NULL;
     sl_shadow_sky_frames(sky, count, env, env_rotation_deg, scene);
     sky->count = 0;
-    if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, err))
+    if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, tex, err))
         return false;
     sky->count = count;
     return true;

@@ -73,11 +73,12 @@ typedef struct {
  * sky (z > 0), the rest over the ground (z < 0), each a hemispherical Fibonacci set. */
 vec3 sl_shadow_sky_direction(int k, int count);
 /* Set `count` (1 .. SL_SKY_MAPS_MAX) directions, their cells' weights from env's level 0 (a
- * lat-long map: the lighting's environment or its residual) and draw the maps on r's threads.
+ * lat-long map: the lighting's environment or its residual) and draw the maps on r's threads
+ * (a masked material casting where its mask in tex keeps it: shadow.h).
  * `sky` is zeroed on entry or holds maps of an earlier call (reused). False (and err) on no
  * memory or a count out of range. */
 bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg, sl_raster *r,
-                         const sl_scene *scene, sl_error *err);
+                         const sl_scene *scene, const sl_scene_textures *tex, sl_error *err);
 /* The directions, their cells' weights and each map's frame and box as sl_shadow_sky_build makes
  * them (count 1 .. SL_SKY_MAPS_MAX; count set), without drawing (each map's depth is left as it
  * was): softlight-gl draws its own maps from these. False when the scene has no geometry (every

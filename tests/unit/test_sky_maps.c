@@ -102,7 +102,7 @@ static void test_lanes_match_scalar(void **state)
     /* 64 then 7 then 32: a block reused by fewer maps, then grown */
     const int counts[] = {64, 7, 32};
     for (int c = 0; c < 3; c++) {
-        if (!sl_shadow_sky_build(&s, counts[c], &env, 20.0f * (float)c, r, &scene, &err))
+        if (!sl_shadow_sky_build(&s, counts[c], &env, 20.0f * (float)c, r, &scene, NULL, &err))
             fail_msg("%s", err.msg);
         assert_non_null(s.block);
         int partial = 0, checked = 0;

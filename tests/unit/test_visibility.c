@@ -350,7 +350,7 @@ static void test_without_embree(void **state)
     sl_gt_image img;
     assert_false(sl_gt_image_compute(&img, &d, &err));
     assert_msg_contains(err, "needs Embree");
-    assert_null(sl_visibility_create(&scene, 1, &err));
+    assert_null(sl_visibility_create(&scene, NULL, 1, &err));
     sl_gbuffer_free(&gb);
     sl_env_free(&env);
     sl_scene_free(&scene);
