@@ -33,7 +33,7 @@ typedef struct {
     sl_coverage coverage;
 } caster_uniforms;
 
-/* GLSL: shadow_depth.vert */
+/* The opaque casters' vertex shader (shaders/shadow_depth.vert's position). */
 static void shadow_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
 {
     (void)varyings;
@@ -202,7 +202,7 @@ static bool cube_range(const sl_scene *scene, vec3 L, float *znear, float *zfar)
 }
 
 /* Draw every mesh of the scene through vp into a side x side target of shadow texels with a
- * depth-only program (the masked one for a material tex's masks cut: raster/coverage.h), the
+ * depth-only program (the masked one for a material whose mask in tex cuts it: raster/coverage.h), the
  * first draw clearing it to "nothing" (+inf). The draw's count: 0 when no mesh has triangles
  * (texels untouched), -1 on error (err set). draws and casters hold one per object. */
 static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex, depth_programs programs,
