@@ -260,7 +260,8 @@ bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
     slgl_shadows_destroy(s);
     glGenSamplers(1, &s->mask_sampler);
     const casters c = {scene, meshes, sl_textures, textures, s->mask_sampler};
-    bool ok = draw_cubes(s, &c, all, err) && (!all || !env_lights || draw_suns(s, &c, env_lights, env_rotation_deg, err)) &&
+    bool ok = draw_cubes(s, &c, all, err) &&
+              (!all || !env_lights || draw_suns(s, &c, env_lights, env_rotation_deg, err)) &&
               (sky_maps <= 0 || draw_sky(s, &c, sky_maps, sky_env, env_rotation_deg, err));
     glBindSampler(0, 0);
     glBindTexture(GL_TEXTURE_2D, 0);
