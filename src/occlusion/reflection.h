@@ -69,10 +69,18 @@
 #define SL_REFLECTION_SAME_NORMAL 0.998f
 
 /* How much the rays alone weigh against the smaller of the two factors, for a visibility over
- * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with all five. */
+ * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with all five. A build
+ * defining SL_REFLECTION_WEIGHT fixes it at that value whatever the count (0: the smaller factor
+ * everywhere; 1: the rays alone), for bench/visibility-variants.sh's comparison; the GLSL twin
+ * does not follow such a build. */
 static inline float sl_reflection_rays_weight(float rays)
 {
+#ifdef SL_REFLECTION_WEIGHT
+    (void)rays;
+    return SL_REFLECTION_WEIGHT;
+#else
     return clampf((rays - 1.0f) * (1.0f / (float)(SL_REFLECTION_RAYS - 1)), 0.0f, 1.0f);
+#endif
 }
 
 /* The image-based specular's factor of a texel with the ambient occlusion's cone and this pass:

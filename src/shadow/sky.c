@@ -14,14 +14,20 @@
 #define SKY_BIAS_CONST 1.0f
 
 /* The directions on the sky's side of the horizon: the first count - count / 2; the ground's
- * are the rest (sky.h). */
-static int sky_side_count(int count) { return count - count / 2; }
+ * are the rest (sky.h). Without the split (SL_SKY_MAPS_SPLIT 0) every direction is one side's. */
+static int sky_side_count(int count) { return SL_SKY_MAPS_SPLIT ? count - count / 2 : count; }
 
 vec3 sl_shadow_sky_direction(int k, int count)
 {
     /* each half a hemispherical Fibonacci set: equal-area bands in |z| over (0, 1], a
-     * golden-angle turn per point; the ground's half mirrored below the horizon */
+     * golden-angle turn per point; the ground's half mirrored below the horizon (without the
+     * split, one set over the sphere: equal-area bands in z over (-1, 1)) */
     const float golden = SL_PI * (3.0f - sqrtf(5.0f));
+    if (!SL_SKY_MAPS_SPLIT) {
+        float z = 1.0f - (2.0f * (float)k + 1.0f) / (float)count;
+        float r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
+        return vec3(r * cosf(golden * (float)k), r * sinf(golden * (float)k), z);
+    }
     const int sky = sky_side_count(count);
     const bool ground = k >= sky;
     const int j = ground ? k - sky : k, n = ground ? count - sky : sky;
@@ -115,7 +121,7 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
          * light comes from (a sun in one corner of it, a window), not its centre; d_k for a
          * black cell */
         float len = length(m[k]);
-        vec3 e = len > 0.0f ? scale(m[k], 1.0f / len) : dirs[k];
+        vec3 e = len > 0.0f && SL_SKY_MAPS_CENTROID ? scale(m[k], 1.0f / len) : dirs[k];
         sky->maps[k].dir = vec3(c * e.x - s * e.y, s * e.x + c * e.y, e.z);
         sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
     }

@@ -42,6 +42,16 @@
 #ifndef SL_SKY_MAP_SIZE
 #define SL_SKY_MAP_SIZE 512 /* texels along a sky map's side */
 #endif
+/* The two choices docs/lighting.md "Sky visibility maps" measures, each 1 here; a build defining
+ * one as 0 takes the alternative, for bench/visibility-variants.sh: SL_SKY_MAPS_SPLIT 0, one
+ * spherical Fibonacci set over the whole sphere and cells across the horizon;
+ * SL_SKY_MAPS_CENTROID 0, each map drawn along its direction d_k. */
+#ifndef SL_SKY_MAPS_SPLIT
+#define SL_SKY_MAPS_SPLIT 1
+#endif
+#ifndef SL_SKY_MAPS_CENTROID
+#define SL_SKY_MAPS_CENTROID 1
+#endif
 
 /* The maps' lookup constants, a lane a map (structure of arrays), for sl_shadow_sky_visibility's
  * loop over the maps: each value as sl_shadow_sky_map_visibility forms it per call. */
