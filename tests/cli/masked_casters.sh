@@ -8,8 +8,8 @@
 # mask's, is classed by the half it crosses: through the cut-out half the floor stays lit (the
 # image with the maps over the one without at least 0.9), under the kept half it is shadowed (at
 # most 0.1), in at least 97% of each set's pixels; and the same for `softlight truth --visibility`
-# (Embree, its filter reading the mask) against the blind truth. The old rule, a mask casting as
-# its whole quad, shadows the cut-out half's set too and fails every check.
+# (Embree, its filter reading the mask) against the blind truth. A mask that cast as its whole
+# quad would shadow the cut-out half's set too and fail every check.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init masked_casters "$1"
