@@ -30,6 +30,7 @@
  * with its coverage map on texture unit 0, through a sampler object in the map's state, and the
  * shaders discard where the mask cuts it away. */
 #include <math.h>
+#include <stdlib.h>
 #include <string.h>
 
 #include "raster/coverage.h"
@@ -37,12 +38,18 @@
 #include "shadow/sky.h"
 #include "slgl.h"
 
-/* What a map's draw reads: the scene, its meshes and, for the masked casters, the textures (the
- * renderer's, which choose a caster's mask, and their GL names) and a sampler object. */
+/* An object's mask, found once for every map (raster/coverage.h, from the renderer's textures). */
+typedef struct {
+    bool masked;
+    sl_coverage coverage;
+} caster_mask;
+
+/* What a map's draw reads: the scene, its meshes and, for the masked casters, each object's mask,
+ * the textures' GL names and a sampler object. */
 typedef struct {
     const sl_scene *scene;
     const slgl_mesh *meshes;
-    const sl_scene_textures *sl_textures;
+    const caster_mask *masks; /* one per object */
     const slgl_textures *textures;
     GLuint sampler;
 } casters;
@@ -62,23 +69,22 @@ static depth_uniforms depth_uniforms_of(GLuint program)
                             glGetUniformLocation(program, "uAlphaCutoff")};
 }
 
-/* Object obj's mask for a draw: its coverage map bound on unit 0 and the uniforms set, or
+/* Object o's mask for a draw: its coverage map bound on unit 0 and the uniforms set, or
  * uMasked 0 for an opaque caster. */
-static void bind_mask(const casters *c, const depth_uniforms *u, const sl_object *obj)
+static void bind_mask(const casters *c, const depth_uniforms *u, int o)
 {
-    sl_coverage cov;
-    bool masked = c->textures && sl_coverage_of(&c->scene->materials[obj->material], c->sl_textures, &cov) &&
-                  cov.image < c->textures->count;
-    glUniform1i(u->masked, masked);
-    if (!masked)
+    const caster_mask *m = &c->masks[o];
+    glUniform1i(u->masked, m->masked);
+    if (!m->masked)
         return;
+    const sl_coverage *cov = &m->coverage;
     glActiveTexture(GL_TEXTURE0);
-    glBindTexture(GL_TEXTURE_2D, c->textures->names[cov.image]);
-    slgl_sampler_set(c->sampler, &cov.map.state);
+    glBindTexture(GL_TEXTURE_2D, c->textures->names[cov->image]);
+    slgl_sampler_set(c->sampler, &cov->map.state);
     glBindSampler(0, c->sampler);
-    glUniform4f(u->coverage_st, cov.st.x, cov.st.y, cov.st.z, cov.st.w);
-    glUniform1i(u->coverage_channel, cov.channel);
-    glUniform1f(u->alpha_cutoff, cov.cutoff);
+    glUniform4f(u->coverage_st, cov->st.x, cov->st.y, cov->st.z, cov->st.w);
+    glUniform1i(u->coverage_channel, cov->channel);
+    glUniform1f(u->alpha_cutoff, cov->cutoff);
 }
 
 void slgl_shadows_destroy(slgl_shadows *s)
@@ -132,7 +138,7 @@ static void draw_face(GLuint texture, const casters *c, const depth_uniforms *u,
             continue;
         mat4 mvp = mat4_mul(view_proj, obj->model);
         glUniformMatrix4fv(u->mvp, 1, GL_FALSE, &mvp.c[0].x);
-        bind_mask(c, u, obj);
+        bind_mask(c, u, o);
         glBindVertexArray(mesh->vao);
         glDrawElements(GL_TRIANGLES, mesh->index_count, GL_UNSIGNED_INT, NULL);
     }
@@ -258,11 +264,21 @@ bool slgl_shadows_draw(slgl_shadows *s, const sl_scene *scene, const slgl_mesh *
                        sl_error *err)
 {
     slgl_shadows_destroy(s);
+    caster_mask *masks = calloc(scene->object_count > 0 ? (size_t)scene->object_count : 1, sizeof *masks);
+    if (!masks)
+        return sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for %d objects", scene->object_count);
+    for (int o = 0; o < scene->object_count; o++) {
+        caster_mask *m = &masks[o];
+        m->masked = textures &&
+                    sl_coverage_of(&scene->materials[scene->objects[o].material], sl_textures, &m->coverage) &&
+                    m->coverage.image < textures->count;
+    }
     glGenSamplers(1, &s->mask_sampler);
-    const casters c = {scene, meshes, sl_textures, textures, s->mask_sampler};
+    const casters c = {scene, meshes, masks, textures, s->mask_sampler};
     bool ok = draw_cubes(s, &c, all, err) &&
               (!all || !env_lights || draw_suns(s, &c, env_lights, env_rotation_deg, err)) &&
               (sky_maps <= 0 || draw_sky(s, &c, sky_maps, sky_env, env_rotation_deg, err));
+    free(masks);
     glBindSampler(0, 0);
     glBindTexture(GL_TEXTURE_2D, 0);
     glBindVertexArray(0);

@@ -27,11 +27,24 @@ typedef struct {
 } shadow_texel;
 
 /* An object's uniforms in a depth pass: its model-view-projection (first: shadow_vert reads the
- * uniforms as one), and for a masked caster its coverage lookup. */
+ * uniforms as one), set per draw, and whether it is a masked caster with its coverage lookup,
+ * which depend on its material alone (casters_new). */
 typedef struct {
     mat4 mvp;
+    bool masked;
     sl_coverage coverage;
 } caster_uniforms;
+
+/* One caster_uniforms per object of the scene, its mask found once for every map a build draws
+ * (raster/coverage.h; tex NULL: every caster opaque). NULL when out of memory. */
+static caster_uniforms *casters_new(const sl_scene *scene, const sl_scene_textures *tex)
+{
+    int objects = scene->object_count > 0 ? scene->object_count : 1;
+    caster_uniforms *casters = calloc((size_t)objects, sizeof *casters);
+    for (int o = 0; casters && o < scene->object_count; o++)
+        casters[o].masked = sl_coverage_of(&scene->materials[scene->objects[o].material], tex, &casters[o].coverage);
+    return casters;
+}
 
 /* The opaque casters' vertex shader (shaders/shadow_depth.vert's position). */
 static void shadow_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
@@ -202,12 +215,11 @@ static bool cube_range(const sl_scene *scene, vec3 L, float *znear, float *zfar)
 }
 
 /* Draw every mesh of the scene through vp into a side x side target of shadow texels with a
- * depth-only program (the masked one for a material whose mask in tex cuts it: raster/coverage.h), the
- * first draw clearing it to "nothing" (+inf). The draw's count: 0 when no mesh has triangles
- * (texels untouched), -1 on error (err set). draws and casters hold one per object. */
-static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_scene_textures *tex, depth_programs programs,
-                      mat4 vp, int side, shadow_texel *texels, sl_draw *draws, caster_uniforms *casters,
-                      sl_error *err)
+ * depth-only program (the masked one for a masked caster: casters_new), the first draw clearing
+ * it to "nothing" (+inf). The draw's count: 0 when no mesh has triangles (texels untouched), -1
+ * on error (err set). draws and casters hold one per object. */
+static int draw_depth(sl_raster *r, const sl_scene *scene, depth_programs programs, mat4 vp, int side,
+                      shadow_texel *texels, sl_draw *draws, caster_uniforms *casters, sl_error *err)
 {
     static const shadow_texel clear = {1.0f, INFINITY};
     sl_target target = {.width = side, .height = side, .texel_size = sizeof(shadow_texel), .texels = texels,
@@ -218,10 +230,9 @@ static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_scene_textur
         const sl_mesh *mesh = &scene->meshes[obj->mesh];
         if (mesh->triangle_count == 0)
             continue;
-        caster_uniforms *u = &casters[count];
+        caster_uniforms *u = &casters[o];
         u->mvp = mat4_mul(vp, obj->model);
-        bool masked = sl_coverage_of(&scene->materials[obj->material], tex, &u->coverage);
-        draws[count] = (sl_draw){.program = masked ? programs.masked : programs.opaque, .vs_uniforms = u,
+        draws[count] = (sl_draw){.program = u->masked ? programs.masked : programs.opaque, .vs_uniforms = u,
                                  .fs_uniforms = u, .mesh = mesh, .cull = SL_CULL_NONE,
                                  .clear = count == 0 ? &clear : NULL};
         count++;
@@ -231,9 +242,8 @@ static int draw_depth(sl_raster *r, const sl_scene *scene, const sl_scene_textur
     return count;
 }
 
-static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene,
-                      const sl_scene_textures *tex, sl_draw *draws, caster_uniforms *casters, shadow_texel *texels,
-                      sl_error *err)
+static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const sl_scene *scene, sl_draw *draws,
+                      caster_uniforms *casters, shadow_texel *texels, sl_error *err)
 {
     float znear, zfar;
     if (!cube_range(scene, c->position, &znear, &zfar))
@@ -241,7 +251,7 @@ static bool draw_cube(sl_shadow_maps *m, sl_shadow_cube *c, sl_raster *r, const 
     size_t n = (size_t)m->side * (size_t)m->side;
     for (int f = 0; f < 6; f++) {
         mat4 vp = face_view_proj(m, f, c->position, znear, zfar);
-        int count = draw_depth(r, scene, tex, cube_programs, vp, m->side, texels, draws, casters, err);
+        int count = draw_depth(r, scene, cube_programs, vp, m->side, texels, draws, casters, err);
         if (count < 0)
             return false;
         for (size_t k = 0; k < n; k++)
@@ -257,7 +267,7 @@ bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, con
     size_t n = (size_t)m->side * (size_t)m->side;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
-    caster_uniforms *casters = malloc((size_t)objects * sizeof *casters);
+    caster_uniforms *casters = casters_new(scene, tex);
     shadow_texel *texels = malloc(n * sizeof *texels);
     bool ok = draws && casters && texels;
     if (!ok)
@@ -275,7 +285,7 @@ bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, con
                         m->side);
                 ok = false;
             }
-        ok = ok && draw_cube(m, c, r, scene, tex, draws, casters, texels, err);
+        ok = ok && draw_cube(m, c, r, scene, draws, casters, texels, err);
     }
     free(draws);
     free(casters);
@@ -529,7 +539,7 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
     const size_t n = (size_t)size * (size_t)size;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
     sl_draw *draws = malloc((size_t)objects * sizeof *draws);
-    caster_uniforms *casters = malloc((size_t)objects * sizeof *casters);
+    caster_uniforms *casters = casters_new(scene, tex);
     shadow_texel *texels = geometry ? malloc(n * sizeof *texels) : NULL;
     bool ok = draws && casters && (texels || !geometry);
     if (!ok)
@@ -545,7 +555,7 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
                 sun->depth[t] = INFINITY;
             continue;
         }
-        int drawn = draw_depth(r, scene, tex, ortho_programs, sun_view_proj(sun), size, texels, draws, casters, err);
+        int drawn = draw_depth(r, scene, ortho_programs, sun_view_proj(sun), size, texels, draws, casters, err);
         if (drawn < 0) {
             ok = false;
             break;
