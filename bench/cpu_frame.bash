@@ -1,5 +1,16 @@
-# cpu_frame.bash - what the frame-cost benchmarks share (sourced: bench/shadows.sh,
-# bench/reflection-occlusion.sh, bench/visibility-cost.sh). They set BUILD, SIZE and T (a temporary directory) first.
+# cpu_frame.bash - what the frame-cost benchmarks share (sourced from the repository's root:
+# bench/shadows.sh, bench/reflection-occlusion.sh, bench/visibility-cost.sh).
+#
+# frame_bench_args NAME [BUILD_DIR] [ROUNDS] [SIZE]: the benchmarks' arguments into BUILD, ROUNDS
+# and SIZE (defaults build, 3, 1280x720), and T, a temporary directory removed on exit.
+frame_bench_args() {
+    local name=$1
+    BUILD=${2:-build}
+    ROUNDS=${3:-3}
+    SIZE=${4:-1280x720}
+    T=$(mktemp -d "${TMPDIR:-/tmp}/$name.XXXXXX")
+    trap 'rm -rf "$T"' EXIT
+}
 #
 # median: the median of the numbers on stdin, one a line.
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }

@@ -11,13 +11,9 @@
 # Prints a markdown table. About 5 minutes on 2 loaded cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build}
-ROUNDS=${2:-3}
-SIZE=${3:-1280x720}
-T=$(mktemp -d "${TMPDIR:-/tmp}/reflection-occlusion.XXXXXX")
-trap 'rm -rf "$T"' EXIT
-SCENES="bunny grazing top-down model city-sun"
 source bench/cpu_frame.bash
+frame_bench_args reflection-occlusion "$@"
+SCENES="bunny grazing top-down model city-sun"
 for _ in $(seq 1 "$ROUNDS"); do
     for s in $SCENES; do
         for setting in off on; do

@@ -19,12 +19,8 @@
 # together, and the maps' draw time as render prints it (wall).
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build}
-ROUNDS=${2:-3}
-SIZE=${3:-1280x720}
-T=$(mktemp -d "${TMPDIR:-/tmp}/shadows.XXXXXX")
-trap 'rm -rf "$T"' EXIT
 source bench/cpu_frame.bash
+frame_bench_args shadows "$@"
 # base SCENE: the options every frame of the scene has
 base() { case $1 in pbr | city-sun) echo "--env-lights 32" ;; esac; }
 SCENES="bunny ggx lamp pbr city-sun"

@@ -12,15 +12,11 @@
 # Prints a markdown table. About 10 minutes with 3 rounds on 2 loaded cores.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-BUILD=${1:-build}
-ROUNDS=${2:-3}
-SIZE=${3:-1280x720}
-T=$(mktemp -d "${TMPDIR:-/tmp}/visibility-cost.XXXXXX")
-trap 'rm -rf "$T"' EXIT
+source bench/cpu_frame.bash
+frame_bench_args visibility-cost "$@"
 SCENES="default bunny ggx lamp pbr model textured top-down grazing city-sun"
 BASE=(--env-lights 32)
 SET=(--shadows --ao-radius 1 --sky-maps 32 --reflection-occlusion 5)
-source bench/cpu_frame.bash
 for _ in $(seq 1 "$ROUNDS"); do
     for s in $SCENES; do
         for setting in off on; do
