@@ -17,46 +17,58 @@ cd "$(dirname "$0")/../.."
 SL="$1/softlight"
 T=$(mktemp -d)
 trap 'rm -rf "$T"' EXIT
-for path in "" --plain; do
-    "$SL" trace scenes/default.json --size 192x108 --pixel 45,91 --estimator cv -n 16 --lod pdf --distortion \
-        --no-lights $path >"$T/trace.txt"
-    for key in "control variate: the split sum's lookup" "prefiltered" "exact part" "beta" "E" "closed part" \
-        "correction" "K/p"; do
-        grep -q "^ *$key" "$T/trace.txt" || { echo "FAIL ($path): no '$key' line"; cat "$T/trace.txt"; exit 1; }
+# trace LABEL PIXEL PATH OPTIONS... -- KEY...: trace PIXEL of the default scene with OPTIONS and
+# PATH ("" or --plain) into $T/trace.txt; every KEY must begin a line of it
+trace() {
+    local label=$1 pixel=$2 path=$3
+    shift 3
+    local options=()
+    while [ "$1" != "--" ]; do options+=("$1"); shift; done
+    shift
+    "$SL" trace scenes/default.json --size 192x108 --pixel "$pixel" --no-lights "${options[@]}" $path >"$T/trace.txt"
+    for key in "$@"; do
+        grep -q "^ *$key" "$T/trace.txt" || { echo "FAIL $label($path): no '$key' line"; cat "$T/trace.txt"; exit 1; }
     done
-    tr '(),' '   ' <"$T/trace.txt" | awk -v path="$path" '
-        function bad(what, got, want) { printf "FAIL (%s): %s printed %g, recomputed %g\n", path, what, got, want; fails++ }
+}
+# check LABEL PATH AWK: $T/trace.txt through awk with AWK after the parts both estimators share:
+# bad and off, the printed factors of the closed part (p, beta, e, c), the correction k and the
+# specular term spec, and sums(), which recomputes the closed part, the correction (s / n, s and
+# n set by AWK) and the specular term
+check() {
+    tr '(),' '   ' <"$T/trace.txt" | awk -v label="$1" -v path="$2" '
+        function bad(what, got, want) { printf "FAIL %s(%s): %s printed %g, recomputed %g\n", label, path, what, got, want; fails++ }
         function off(a, b, tol) { d = a - b; return (d < 0 ? -d : d) > tol }
+        function sums() {
+            if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
+            if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
+            if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
+        }
         $1 == "prefiltered" { p = $2 } $1 == "beta" { beta = $2 } $1 == "E" { e = $2 }
         $1 == "closed" { c = $3 } $1 == "correction" { k = $2 }
+        $1 == "specular" && NF == 4 { spec = $2 }
+        '"$3" || { cat "$T/trace.txt"; exit 1; }
+}
+for path in "" --plain; do
+    trace "" 45,91 "$path" --estimator cv -n 16 --lod pdf --distortion -- "control variate: the split sum's lookup" \
+        "prefiltered" "exact part" "beta" "E" "closed part" "correction" "K/p"
+    check "" "$path" '
         /^specular samples/ { n = $5; sub(/;/, "", n) }
         / sum / && NF >= 30 { s = $(NF - 2); cx = $25; pred = $18 * $22 * $17 * $11 * $15 / $6; li = $22; have = 1 }
         / sum / && NF < 30 { s = $(NF - 2); have = 0 }
         $1 == "K/p" && have { kernel++; if ($2 > 0) used++
             sub_term = beta * e * $2 * li; want = pred - sub_term
             if (off(cx, want, 5e-3 * ((pred < 0 ? -pred : pred) + sub_term) + 1e-6)) bad("a contribution", cx, want) }
-        $1 == "specular" && NF == 4 { spec = $2 }
         END {
             if (n == "" || spec == "" || kernel == 0) { print "FAIL (" path "): no samples or no specular line"; exit 1 }
             if (beta < 0.5 || used == 0) { print "FAIL (" path "): beta " beta " and no kernel term on a rough sphere"; fails++ }
-            if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
-            if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
-            if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
+            sums()
             exit fails > 0
-        }' || { cat "$T/trace.txt"; exit 1; }
+        }'
 done
 for path in "" --plain; do
-    "$SL" trace scenes/default.json --size 192x108 --pixel 45,91 --estimator cvmis -n 16 --no-lights $path \
-        >"$T/trace.txt"
-    for key in "control variate: the split sum's lookup" "beta" "closed part" "correction" "K/p" \
-        "specular samples (MIS"; do
-        grep -q "^ *$key" "$T/trace.txt" || { echo "FAIL cvmis ($path): no '$key' line"; cat "$T/trace.txt"; exit 1; }
-    done
-    tr '(),' '   ' <"$T/trace.txt" | awk -v path="$path" '
-        function bad(what, got, want) { printf "FAIL cvmis (%s): %s printed %g, recomputed %g\n", path, what, got, want; fails++ }
-        function off(a, b, tol) { d = a - b; return (d < 0 ? -d : d) > tol }
-        $1 == "prefiltered" { p = $2 } $1 == "beta" { beta = $2 } $1 == "E" { e = $2 }
-        $1 == "closed" { c = $3 } $1 == "correction" { k = $2 }
+    trace "cvmis " 45,91 "$path" --estimator cvmis -n 16 -- "control variate: the split sum's lookup" "beta" \
+        "closed part" "correction" "K/p" "specular samples (MIS"
+    check "cvmis " "$path" '
         /^specular samples/ { n = $4 }
         / sum / { s = $(NF - 2); alone = 0 }
         /kernel.s term alone/ { for (i = 1; i <= NF; i++) if ($i == "Li") { li = $(i + 1); cx = $(i + 4) }
@@ -64,15 +76,12 @@ for path in "" --plain; do
         $1 == "K/p" { kernel++; if ($2 > 0) used++
             if (alone) { below++; want = -beta * e * $2 * w * li
                 if (off(cx, want, 5e-3 * (want < 0 ? -want : want) + 1e-7)) bad("a kernel term below the horizon", cx, want) } }
-        $1 == "specular" && NF == 4 { spec = $2 }
         END {
             if (n == "" || spec == "" || kernel == 0) { print "FAIL cvmis (" path "): no samples or no specular line"; exit 1 }
             if (used == 0) { print "FAIL cvmis (" path "): no kernel term"; fails++ }
-            if (off(c, beta * e * p, 1e-4 * spec + 1e-7)) bad("closed part", c, beta * e * p)
-            if (off(k, s / n, 1e-4 * spec + 1e-7)) bad("correction", k, s / n)
-            if (off(spec, c + k, 1e-4 * spec + 1e-7)) bad("specular", spec, c + k)
+            sums()
             printf "cvmis (%s): %d samples with a kernel term, %d of them below the horizon\n", path, kernel, below
             exit fails > 0
-        }' || { cat "$T/trace.txt"; exit 1; }
+        }'
 done
 echo "trace_cv: ok"
