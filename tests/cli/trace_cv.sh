@@ -9,9 +9,11 @@
 # factors are printed to four digits). Both paths
 # (the batched default and --plain, the port), on the default scene's alpha 1, Ks 0.9 sphere,
 # where beta is near 1 and the kernel's terms are far from 0. Then --estimator cvmis (the same
-# kernel with mis's pairs): the same lines, K/p for both strategies' samples, a sample below the
-# horizon adding only -beta E K/p weight Li, the correction the last running sum over the pair
-# count, and the specular term the closed part plus the correction.
+# kernel with mis's pairs), on the alpha 1, Ks 0.5 sphere, where the kernel reaches some of the
+# samples below the horizon: the same lines, K/p for both strategies' samples, a sample below the
+# horizon adding only -beta E K/p weight Li (at least one with K/p > 0, so the check bites), the
+# correction the last running sum over the pair count, and the specular term the closed part
+# plus the correction.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SL="$1/softlight"
@@ -66,7 +68,7 @@ for path in "" --plain; do
         }'
 done
 for path in "" --plain; do
-    trace "cvmis " 45,91 "$path" --estimator cvmis -n 16 -- "control variate: the split sum's lookup" "beta" \
+    trace "cvmis " 45,75 "$path" --estimator cvmis -n 16 -- "control variate: the split sum's lookup" "beta" \
         "closed part" "correction" "K/p" "specular samples (MIS"
     check "cvmis " "$path" '
         /^specular samples/ { n = $4 }
@@ -74,13 +76,14 @@ for path in "" --plain; do
         /kernel.s term alone/ { for (i = 1; i <= NF; i++) if ($i == "Li") { li = $(i + 1); cx = $(i + 4) }
             w = $11; alone = 1 }
         $1 == "K/p" { kernel++; if ($2 > 0) used++
-            if (alone) { below++; want = -beta * e * $2 * w * li
+            if (alone) { below++; if ($2 > 0) reached++; want = -beta * e * $2 * w * li
                 if (off(cx, want, 5e-3 * (want < 0 ? -want : want) + 1e-7)) bad("a kernel term below the horizon", cx, want) } }
         END {
             if (n == "" || spec == "" || kernel == 0) { print "FAIL cvmis (" path "): no samples or no specular line"; exit 1 }
             if (used == 0) { print "FAIL cvmis (" path "): no kernel term"; fails++ }
+            if (reached == 0) { print "FAIL cvmis (" path "): no sample below the horizon that the kernel reaches"; fails++ }
             sums()
-            printf "cvmis (%s): %d samples with a kernel term, %d of them below the horizon\n", path, kernel, below
+            printf "cvmis (%s): %d samples with a kernel term, %d of them below the horizon, %d the kernel reaches\n", path, kernel, below, reached
             exit fails > 0
         }'
 done
