@@ -502,6 +502,16 @@ __attribute__((always_inline)) static inline void stage_lod(const lobe_consts *c
             b->weight[i] = b->weight[i] * sl_lobe_D(b->NdotH[i], alpha) / pdf[i];
 }
 
+/* The pixel's two levels' kernels for cv_kernel_over_pdf. A level of share 0 takes the other's
+ * kernel: it adds 0 (its share multiplies it), and the narrow levels' (not exact) would put 0
+ * times an overflow into the one-division form. */
+static inline void cv_kernels(const sl_lighting_uniforms *u, const sl_cv_kernel *cv, const sl_prefilter_kernel **ka,
+                              const sl_prefilter_kernel **kb)
+{
+    *ka = &u->uSplitSumLut->kernels[cv->set][cv->levels.ca > 0.0f ? cv->levels.la : cv->levels.lb];
+    *kb = &u->uSplitSumLut->kernels[cv->set][cv->levels.cb > 0.0f ? cv->levels.lb : cv->levels.la];
+}
+
 /* cv's K(w) / p(w) into kp for the m directions (wx, wy, wz) of densities p, K = ca k_a + cb k_b
  * (ibl.h sl_prefilter_kernel_eval), vectorized, both levels in one loop over one division: GGX's
  * k = d 2c / (t^2 (c + s)), s = sqrt(c^2 (1 - a^2) + a^2), over the common denominator; the Phong
@@ -638,10 +648,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     lobe_consts c = lobe_consts_for(u, Ks, alpha);
     if (cv) {
         c.cvk = cv;
-        /* a level of share 0 takes the other's kernel: the narrow levels' (not exact) would put
-         * 0 times an overflow into the one-division form */
-        c.ka = &u->uSplitSumLut->kernels[cv->set][cv->levels.ca > 0.0f ? cv->levels.la : cv->levels.lb];
-        c.kb = &u->uSplitSumLut->kernels[cv->set][cv->levels.cb > 0.0f ? cv->levels.lb : cv->levels.la];
+        cv_kernels(u, cv, &c.ka, &c.kb);
     }
     const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
@@ -778,10 +785,8 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     const float *packed = u->uEnvDist->texel_pdf;
     const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
     const sl_prefilter_kernel *ka = NULL, *kb = NULL;
-    if (cv) { /* a level of share 0 adds 0: its kernel stands in for the other */
-        ka = &u->uSplitSumLut->kernels[cv->set][cv->levels.ca > 0.0f ? cv->levels.la : cv->levels.lb];
-        kb = &u->uSplitSumLut->kernels[cv->set][cv->levels.cb > 0.0f ? cv->levels.lb : cv->levels.la];
-    }
+    if (cv)
+        cv_kernels(u, cv, &ka, &kb);
     sample_block blk;
     sample_block *b = &blk;
     float pe[BLOCK], mis_b[BLOCK], Lr[BLOCK], Lg[BLOCK], Lb[BLOCK];
