@@ -45,23 +45,13 @@ scene sun sun ''
 # |y| < 0.8 and 0.15 < |x| < 0.8
 fates() {
     python3 - "$T" "$1" "$2" <<'PY'
-import math, sys
+import sys
 from pfm import read_pfm
+from sun_sky import sun_directions
 T, kind, aov = sys.argv[1], sys.argv[2], sys.argv[3]
 w, h, _, pos = read_pfm(aov + '/position.pfm')
 _, _, _, nrm = read_pfm(aov + '/normal.pfm')
-def sun_dirs():  # the two texel centres sun_sky.py lights, as it finds them
-    el, az = math.radians(51.34), math.radians(180.0)
-    d = (math.cos(el) * math.cos(az), math.cos(el) * math.sin(az), math.sin(el))
-    u = (0.5 - math.atan2(d[1], d[0]) / (2 * math.pi)) % 1.0
-    i, j = int(u * 64), int(math.acos(d[2]) / math.pi * 32)
-    out = []
-    for di in (0, 1):
-        uc, vc = ((i + di) % 64 + 0.5) / 64, (j + 0.5) / 32
-        phi, th = (0.5 - uc) * 2 * math.pi, vc * math.pi
-        out.append((math.sin(th) * math.cos(phi), math.sin(th) * math.sin(phi), math.cos(th)))
-    return out
-dirs = sun_dirs()
+dirs = sun_directions(51.34, 180.0)  # the sun's two texels, as sun_sky.py lights them
 def side(P, D):  # 'cut', 'kept' or None: where the ray from P along D crosses z = 1
     if D[2] <= 0:
         return None
