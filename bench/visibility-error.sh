@@ -10,18 +10,23 @@
 # quadrature's own error: the first scene's truth at --vis-level 3 (the default) and 2 against
 # --vis-level 1; per scene the factor by which the occlusion cuts the visibility error; and that
 # error alone, apart from the estimator's (bench/visibility_cut.py): the change visibility makes
-# to the truth against the change the methods make to the render. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
+# to the truth against the change the methods make to the render, with the share of what the
+# methods leave that the 10 worst pixels carry. Then the same error alone at a second size, twice
+# the first by default (--check-size, on --check-scenes; --no-check skips it), since a figure that
+# a handful of pixels decide moves with the image size. Writes the section "Visibility" of docs/accuracy.md (its text and tables, also
 # kept in docs/accuracy/visibility.md, which bench/speed-vs-error.sh appends to the report it
-# rewrites) and prints the tables; --no-doc leaves docs/ alone (tables in out/visibility-error/).
+# rewrites) and prints the tables; --no-doc leaves docs/ alone (tables in out/visibility-error/SIZE/).
 #
 #   bash bench/visibility-error.sh [BUILD_DIR] [--size WxH] [--scenes bunny,pbr,...] [--threads N]
-#                                  [--no-levels] [--no-doc]
+#                                  [--no-levels] [--no-doc] [--no-point-lights]
+#                                  [--check-size WxH] [--check-scenes bunny,...] [--no-check]
 #
-# Truths are cached in out/visibility-error/ (a rerun with unchanged inputs integrates nothing).
+# Truths are cached in out/visibility-error/SIZE/ (a rerun with unchanged inputs integrates nothing).
 # Figures per comparison from `softlight truth --compare`: nRMSE (RMSE over the covered pixels
 # divided by the truth's RMS, linear radiance) and the share of pixels more than 1/255 off after
 # the scene's tone map. About an hour for the default set at 160x90 on 2 loaded cores, nearly all
-# of it the truths (2-6 minutes each; a visibility truth costs about 1.1x a blind one in CPU time).
+# of it the truths (2-6 minutes each; a visibility truth costs about 1.1x a blind one in CPU time),
+# and as long again for the check at 320x180 on its four scenes (4 times the pixels).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=build
@@ -31,6 +36,10 @@ SCENES=bunny,pbr,model,textured,top-down,grazing,city-sun,lamp
 THREADS=2
 LEVELS=1
 DOC=1
+LIGHTS=1
+CHECK_SIZE=
+CHECK_SCENES=bunny,model,textured,grazing
+CHECK=1
 while [ $# -gt 0 ]; do
     case $1 in
     --size) SIZE=$2; shift 2 ;;
@@ -38,11 +47,17 @@ while [ $# -gt 0 ]; do
     --threads) THREADS=$2; shift 2 ;;
     --no-levels) LEVELS=0; shift ;;
     --no-doc) DOC=0; shift ;;
+    --no-point-lights) LIGHTS=0; shift ;;
+    --check-size) CHECK_SIZE=$2; shift 2 ;;
+    --check-scenes) CHECK_SCENES=$2; shift 2 ;;
+    --no-check) CHECK=0; shift ;;
     *) echo "visibility-error.sh: unknown option $1" >&2; exit 2 ;;
     esac
 done
+# the check's size: twice the first's, each side
+[ -n "$CHECK_SIZE" ] || CHECK_SIZE=$(awk -F x -v s="$SIZE" 'BEGIN { split(s, d, "x"); printf "%dx%d", 2 * d[1], 2 * d[2] }')
 SL=$BUILD/softlight
-OUT=out/visibility-error
+OUT=out/visibility-error/$SIZE
 mkdir -p "$OUT"
 BEST="--estimator mf --lod pdf --distortion -n 256"
 AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
@@ -82,8 +97,8 @@ table=$OUT/table.md
     echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } >"$OUT/cut.md"
 {
-    echo "| scene | visibility's change to the truth | left with --ao-radius 1 | cut | left with --ao-radius 1 $SUN | cut | left with $SKY --ao-radius 1 $SUN | cut | left with $REFL $SKY --ao-radius 1 $SUN | cut |"
-    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+    echo "| scene | visibility's change to the truth | left with --ao-radius 1 | cut | left with --ao-radius 1 $SUN | cut | left with $SKY --ao-radius 1 $SUN | cut | left with $REFL $SKY --ao-radius 1 $SUN | cut | the last's share in its 10 worst pixels |"
+    echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 } >"$OUT/alone.md"
 IFS=, read -r -a scenes <<<"$SCENES"
 for s in "${scenes[@]}"; do
@@ -137,11 +152,11 @@ for s in "${scenes[@]}"; do
     row="| $s | $added"
     for pair in "best best-ao" "best-el best-ao-sun" "best-el best-sky-ao-sun" "best-el best-refl-sky-ao-sun"; do
         read -r from to <<<"$pair"
-        read -r _ left <<<"$(cut_of "$OUT/$s-$from.pfm" "$OUT/$s-$to.pfm")"
+        read -r _ left worst <<<"$(cut_of "$OUT/$s-$from.pfm" "$OUT/$s-$to.pfm")"
         row="$row | $left | $(ratio "$added" "$left")"
     done
-    echo "$row |" >>"$OUT/alone.md"
-    if python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
+    echo "$row | $worst |" >>"$OUT/alone.md"
+    if [ "$LIGHTS" = 1 ] && python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights
         truth "$s-vis-lights" "$scene" --lights --visibility
@@ -183,6 +198,26 @@ echo
 cat "$OUT/cut.md"
 echo
 cat "$OUT/alone.md"
+
+# the check: the error alone at the second size, and the full set's cut at both
+check=$OUT/check.md
+if [ "$CHECK" = 1 ]; then
+    bash "$0" "$BUILD" --size "$CHECK_SIZE" --scenes "$CHECK_SCENES" --threads "$THREADS" --no-levels --no-doc \
+        --no-point-lights --no-check >/dev/null
+    {
+        echo "| scene | cut at $SIZE | its 10 worst pixels' share | cut at $CHECK_SIZE | its 10 worst pixels' share |"
+        echo "|---|---:|---:|---:|---:|"
+        IFS=, read -r -a checked <<<"$CHECK_SCENES"
+        for s in "${checked[@]}"; do
+            # the last two columns of a scene's row: the full set's cut and its worst pixels' share
+            a=$(awk -F'|' -v s=" $s " '$2 == s { print $(NF - 2) "|" $(NF - 1) }' "$OUT/alone.md")
+            b=$(awk -F'|' -v s=" $s " '$2 == s { print $(NF - 2) "|" $(NF - 1) }' "out/visibility-error/$CHECK_SIZE/alone.md")
+            echo "| $s |${a:- - | - }|${b:- - | - }|"
+        done
+    } >"$check"
+    echo
+    cat "$check"
+fi
 [ "$DOC" = 1 ] || exit 0
 
 # the section of docs/accuracy.md: text, the command, the tables
@@ -246,6 +281,15 @@ TEXT
     echo "visibility error the methods leave; \"cut\": the first column over it:"
     echo
     cat "$OUT/alone.md"
+    if [ "$CHECK" = 1 ]; then
+        echo
+        echo "The same at $CHECK_SIZE (\`--size $CHECK_SIZE\`, image-based light only), against the first size:"
+        echo "the full set's cut and the share of what it leaves in the 10 worst pixels. Where that share is"
+        echo "large, a handful of pixels decide the figure (the glint of a sharp lobe at a silhouette or an"
+        echo "edge, whose factor the methods take to 0 or leave at 1), and the cut moves with the image size:"
+        echo
+        cat "$check"
+    fi
     if [ "$LEVELS" = 1 ]; then
         echo
         echo "The visibility quadrature's own error: the visibility truth of ${scenes[0]} at the default"

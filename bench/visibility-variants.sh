@@ -5,7 +5,7 @@
 #   - the reflection occlusion's join with the ambient occlusion's cone (docs/lighting.md
 #     "Reflection occlusion", its paragraph on the join): the visibility error alone that the full method set leaves
 #     (bench/visibility_cut.py: the render's change against the truth's, 160x90, the truths
-#     bench/visibility-error.sh caches in out/visibility-error/: run it first), and the cut, for
+#     bench/visibility-error.sh caches in out/visibility-error/160x90/: run it first), and the cut, for
 #     the build as it is (the join by the rays' count), SL_REFLECTION_WEIGHT=0.0f (the smaller of
 #     the two factors everywhere) and SL_REFLECTION_WEIGHT=1.0f (the rays alone);
 #   - the sky visibility maps' cells (docs/lighting.md "Sky visibility maps", why they split at
@@ -22,7 +22,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
 SCENES="bunny pbr model textured top-down grazing city-sun"
-OUT=out/visibility-error
+OUT=out/visibility-error/160x90
 variant() { # variant NAME DEFINE: build-variants/NAME's softlight, configured with -DDEFINE
     local dir=build-variants/$1
     cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_C_FLAGS=-D$2" >/dev/null
@@ -47,7 +47,7 @@ for s in $SCENES; do
     added=""
     for b in "$BUILD" build-variants/smaller build-variants/rays; do
         "$b/softlight" render "scenes/$s.json" --size 160x90 --threads 2 --no-lights -q "${SET[@]}" --pfm "$T/to.pfm"
-        read -r a left <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
+        read -r a left _ <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
             "$OUT/$s-parts/mask.pfm" "$OUT/$s-best-el.pfm" "$T/to.pfm")"
         [ -n "$added" ] || { added=$a; row="$row | $a"; }
         row="$row | $left | $(awk -v a="$added" -v l="$left" 'BEGIN { printf "%.2fx", a / l }')"

@@ -5,11 +5,13 @@
 BLIND and VIS: the blind truth and the visibility-aware truth of one scene (`softlight truth`,
 `--visibility`), MASK its covered pixels (`truth --parts DIR`: DIR/mask.pfm); FROM and TO: two
 renders of the scene, the same estimator, without and with the methods that estimate visibility.
-Prints two numbers over the covered pixels, each an RMS over the pixels and channels divided by
-the visibility truth's RMS (as `truth --compare`'s nRMSE):
+Prints three numbers over the covered pixels, the first two each an RMS over the pixels and
+channels divided by the visibility truth's RMS (as `truth --compare`'s nRMSE):
   added  what visibility changes in the truth, VIS - BLIND: the error a renderer that ignores
          visibility makes, with no error of its own;
-  left   how far the methods' change, TO - FROM, is from it: the visibility error they leave.
+  left   how far the methods' change, TO - FROM, is from it: the visibility error they leave;
+  worst  the share of left's square that its WORST pixels carry (10): near 1 when a handful of
+         pixels (a glint at a silhouette) decide the figure, so that it moves with the image size.
 The estimator's own error (noise, bias) is in FROM and TO alike, so it cancels in TO - FROM,
 which it does not in TO against VIS: this is the figure that shows what the methods do.
 """
@@ -19,6 +21,9 @@ import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli"))
 from pfm import read_pfm  # noqa: E402
+
+
+WORST = 10  # the pixels whose share of what is left is reported
 
 
 def rgb(path):
@@ -34,17 +39,22 @@ def main():
         sys.exit("visibility_cut.py: the images differ in size")
     blind, vis, mask, before, after = (v for _, _, v in images)
     added = left = norm = 0.0
+    per_pixel = []
     for i in range(0, len(vis), 3):
         if mask[i] <= 0.0:
             continue
+        pixel = 0.0
         for j in range(i, i + 3):
             change = vis[j] - blind[j]
             added += change * change
-            left += (after[j] - before[j] - change) ** 2
+            pixel += (after[j] - before[j] - change) ** 2
             norm += vis[j] * vis[j]
+        left += pixel
+        per_pixel.append(pixel)
     if norm <= 0.0:
         sys.exit("visibility_cut.py: the visibility truth is black over the mask")
-    print("%.4f %.4f" % (math.sqrt(added / norm), math.sqrt(left / norm)))
+    worst = sum(sorted(per_pixel, reverse=True)[:WORST]) / left if left > 0.0 else 0.0
+    print("%.4f %.4f %.2f" % (math.sqrt(added / norm), math.sqrt(left / norm), worst))
 
 
 main()
