@@ -1,6 +1,6 @@
 """visibility_cut.py - the visibility error alone, apart from the estimator's (bench/visibility-error.sh).
 
-    python3 bench/visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm
+    python3 bench/visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm [CORRECTED.pfm]
 
 BLIND and VIS: the blind truth and the visibility-aware truth of one scene (`softlight truth`,
 `--visibility`), MASK its covered pixels (`truth --parts DIR`: DIR/mask.pfm); FROM and TO: two
@@ -14,9 +14,14 @@ channels divided by the visibility truth's RMS (as `truth --compare`'s nRMSE):
          pixels (a glint at a silhouette) decide the figure, so that it moves with the image size.
 The estimator's own error (noise, bias) is in FROM and TO alike, so it cancels in TO - FROM,
 which it does not in TO against VIS: this is the figure that shows what the methods do.
+CORRECTED, when given, receives BLIND + (TO - FROM), clamped at 0: the blind truth with the
+methods' change, which `softlight truth --visibility --compare` scores like a render (its nRMSE is
+`left` but where the clamp bites; its share of pixels more than 1/255 off is the figure that a
+handful of pixels cannot carry).
 """
 import math
 import os
+import struct
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli"))
@@ -32,9 +37,9 @@ def rgb(path):
 
 
 def main():
-    if len(sys.argv) != 6:
-        sys.exit("usage: visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm")
-    images = [rgb(p) for p in sys.argv[1:]]
+    if len(sys.argv) not in (6, 7):
+        sys.exit("usage: visibility_cut.py BLIND.pfm VIS.pfm MASK.pfm FROM.pfm TO.pfm [CORRECTED.pfm]")
+    images = [rgb(p) for p in sys.argv[1:6]]
     if len({(w, h) for w, h, _ in images}) != 1:
         sys.exit("visibility_cut.py: the images differ in size")
     blind, vis, mask, before, after = (v for _, _, v in images)
@@ -54,6 +59,12 @@ def main():
     if norm <= 0.0:
         sys.exit("visibility_cut.py: the visibility truth is black over the mask")
     worst = sum(sorted(per_pixel, reverse=True)[:WORST]) / left if left > 0.0 else 0.0
+    if len(sys.argv) == 7:
+        width, height = images[0][0], images[0][1]
+        corrected = [max(b + a - f, 0.0) for b, a, f in zip(blind, after, before)]
+        with open(sys.argv[6], "wb") as out:
+            out.write(b"PF\n%d %d\n-1.0\n" % (width, height))
+            out.write(struct.pack("<%df" % len(corrected), *corrected))
     print("%.4f %.4f %.2f" % (math.sqrt(added / norm), math.sqrt(left / norm), worst))
 
 
