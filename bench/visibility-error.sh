@@ -80,17 +80,12 @@ rays() {
 }
 # ratio A B: A / B to one decimal ("-" when B is 0 or missing)
 ratio() { awk -v a="$1" -v b="$2" 'BEGIN { if (b + 0 > 0) printf "%.1fx", a / b; else printf "-" }'; }
-# shares SCENE RENDER.pfm TRUTH_NAME TRUTH_OPTIONS...: "share over 1/255|share over 8/255" of RENDER
-shares() {
-    local scene=$1 render=$2 name=$3; shift 3
-    "$SL" truth "$scene" --size "$SIZE" --threads "$THREADS" --cache "$OUT/$name.gt" --compare "$render" "$@" 2>/dev/null |
-        sed -n 's/.*>1\/255 \([0-9.]*%\), >8\/255 \([0-9.]*%\).*/\1|\2/p'
-}
-# figures SCENE RENDER.pfm TRUTH_NAME TRUTH_OPTIONS...: "nrmse|share over 1/255" of RENDER against it
+# figures SCENE RENDER.pfm TRUTH_NAME TRUTH_OPTIONS...: "nrmse|share over 1/255|share over 8/255" of
+# RENDER against it
 figures() {
     local scene=$1 render=$2 name=$3; shift 3
     "$SL" truth "$scene" --size "$SIZE" --threads "$THREADS" --cache "$OUT/$name.gt" --compare "$render" "$@" 2>/dev/null |
-        sed -n 's/.*nrmse \([0-9.]*\),.*>1\/255 \([0-9.]*%\),.*/\1|\2/p'
+        sed -n 's/.*nrmse \([0-9.]*\),.*>1\/255 \([0-9.]*%\), >8\/255 \([0-9.]*%\).*/\1|\2|\3/p'
 }
 
 table=$OUT/table.md
@@ -138,8 +133,8 @@ for s in "${scenes[@]}"; do
         best-sky-ao-sun) label="mf pdf+dist N256, $SKY --ao-radius 1 $SUN" ;;
         *) label="mf pdf+dist N256, $REFL $SKY --ao-radius 1 $SUN" ;;
         esac
-        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
-        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
+        IFS='|' read -r bn bs _ <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-blind")"
+        IFS='|' read -r vn vs _ <<<"$(figures "$scene" "$OUT/$s-$variant.pfm" "$s-vis" --visibility)"
         echo "| $s | $label | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | ${tb:--} | ${tv:--} |" >>"$table"
     done
     # the cut: the visibility error of the mf render without and with the occlusion
@@ -163,21 +158,21 @@ for s in "${scenes[@]}"; do
     done
     # the pixels visibly off, after the tone map: the blind truth, and the blind truth with the
     # full set's change (the last pair's; visibility_cut.py), each against the visibility truth
-    IFS='|' read -r i1 i8 <<<"$(shares "$scene" "$OUT/$s-blind.pfm" "$s-vis" --visibility)"
-    IFS='|' read -r l1 l8 <<<"$(shares "$scene" "$OUT/$s-corrected.pfm" "$s-vis" --visibility)"
+    IFS='|' read -r _ i1 i8 <<<"$(figures "$scene" "$OUT/$s-blind.pfm" "$s-vis" --visibility)"
+    IFS='|' read -r _ l1 l8 <<<"$(figures "$scene" "$OUT/$s-corrected.pfm" "$s-vis" --visibility)"
     echo "$row | $worst | $i1, $i8 | $l1, $l8 |" >>"$OUT/alone.md"
     if [ "$LIGHTS" = 1 ] && python3 -c 'import json, sys; sys.exit(not json.load(open(sys.argv[1])).get("lights"))' "$scene"; then
         # with the scene's point lights: shadow rays to them
         truth "$s-blind-lights" "$scene" --lights
         truth "$s-vis-lights" "$scene" --lights --visibility
         "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --pfm "$OUT/$s-lights.pfm" -q
-        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-blind-lights" --lights)"
-        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-vis-lights" --lights --visibility)"
+        IFS='|' read -r bn bs _ <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-blind-lights" --lights)"
+        IFS='|' read -r vn vs _ <<<"$(figures "$scene" "$OUT/$s-lights.pfm" "$s-vis-lights" --lights --visibility)"
         echo "| $s | default, point lights on | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | $(seconds "$s-blind-lights") | $(seconds "$s-vis-lights") |" >>"$table"
         # the same with the lights' shadow maps (--shadows, docs/lighting.md "Shadow maps")
         "$SL" render "$scene" --size "$SIZE" --threads "$THREADS" --shadows --pfm "$OUT/$s-shadows.pfm" -q
-        IFS='|' read -r bn bs <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-blind-lights" --lights)"
-        IFS='|' read -r vn vs <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-vis-lights" --lights --visibility)"
+        IFS='|' read -r bn bs _ <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-blind-lights" --lights)"
+        IFS='|' read -r vn vs _ <<<"$(figures "$scene" "$OUT/$s-shadows.pfm" "$s-vis-lights" --lights --visibility)"
         echo "| $s | default, point lights on, --shadows | $bn | $bs | $vn | $vs | $(ratio "$vn" "$bn") | $(seconds "$s-blind-lights") | $(seconds "$s-vis-lights") |" >>"$table"
     fi
 done
@@ -196,7 +191,7 @@ if [ "$LEVELS" = 1 ]; then # the quadrature's own error, on the first scene
         [ $level = 3 ] && name=$s-vis
         rays=$(rays "$name")
         secs=$(seconds "$name")
-        IFS='|' read -r n o <<<"$(figures "$scene" "$OUT/$name.pfm" "$s-vis-L1" --visibility --vis-level 1)"
+        IFS='|' read -r n o _ <<<"$(figures "$scene" "$OUT/$name.pfm" "$s-vis-L1" --visibility --vis-level 1)"
         echo "| $s | $level | ${rays:--} | ${secs:--} | $n | $o |" >>"$table"
     done
     rays=$(rays "$s-vis-L1")
