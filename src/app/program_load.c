@@ -197,7 +197,8 @@ static bool compile(const char *path, const char *text, size_t text_size, const 
     if (argc == 0)
         return fail(msg, msg_size, "%s: $CC names no compiler", path);
     const int cc_args = argc;
-    const char *flags[] = {"-std=c11", "-shared", "-fPIC", "-fno-math-errno", "-ffp-contract=off", "-Wall"};
+    const char *flags[] = {"-std=c11", "-shared", "-fPIC", "-fno-math-errno", "-fno-trapping-math", "-ffp-contract=off",
+                           "-Wall"};
     for (size_t i = 0; i < sizeof flags / sizeof *flags; i++)
         argv[argc++] = (char *)flags[i];
     if (opt->debug) {

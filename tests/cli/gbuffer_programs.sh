@@ -216,7 +216,7 @@ else
 fi
 
 # a prebuilt object: the same bytes as its source
-if cc -std=c11 -shared -fPIC -O2 -fno-math-errno -ffp-contract=off -Iinclude -o "$T/checker.so" \
+if cc -std=c11 -shared -fPIC -O2 -fno-math-errno -fno-trapping-math -ffp-contract=off -Iinclude -o "$T/checker.so" \
     examples/shaders/checker.c -lm && "$SL" render "$T/plane.json" -q --size 64x36 --gbuffer-shader "$T/checker.so" \
     --pfm "$T/b.pfm" && cmp -s "$T/a.pfm" "$T/b.pfm"; then
     ok "a prebuilt shared object gives its source's image"
