@@ -125,11 +125,18 @@ fi
 
 load_after=$(load)
 cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
+# the widest vectors the CPU has: the lighting pass's loops run at that width under -march=native
+flags=$(grep -m1 '^flags' /proc/cpuinfo)
+case " $flags " in
+*" avx512f "*) isa=AVX-512 ;;
+*" avx2 "*) isa=AVX2 ;;
+*) isa=SSE ;;
+esac
 # the commit the programs were built from: the source tree of the build's CMake cache
 src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$BUILD/CMakeCache.txt" 2>/dev/null)
 commit=$(git -C "${src:-.}" rev-parse --short HEAD 2>/dev/null || echo unknown)
 stamp="Measured $start by \`bench/report.sh\` ($RUNS runs, medians) with a Release build of commit \
-$commit: $cpu, $(nproc) cores, load average $load_before before and $load_after after (other \
+$commit: $cpu ($isa), $(nproc) cores, load average $load_before before and $load_after after (other \
 work on the machine counts in it)."
 echo "$stamp" >"$T/stamp.md"
 
