@@ -209,11 +209,18 @@ static inline int clamp_index(int i, int last)
     return lo > last ? last : lo;
 }
 
+/* Lanes a chunk of sky_visibility_lanes: one vector of 8 floats (AVX2). The directions are in
+ * bands of height, zenith to horizon on the sky's side, then nadir to horizon on the ground's
+ * (sl_shadow_sky_direction), so a chunk's maps face about the same way and a receiver turned
+ * away from all of them (a floor from the ground's maps) skips the chunk whole. */
+#define SKY_CHUNK 8
+
 /* sl_shadow_sky_visibility's loop over the maps when they are drawn into the block, a lane a
  * map: sl_shadow_sky_map_visibility's operations in its order (so each v_k is its value bit for
- * bit), its branches as selects. A lane whose map is not read (weight 0, direction below the
- * plane, off the map) computes a value no one reads, from coordinates kept finite and small
- * before they become indices and every index clamped onto its map: nothing undefined. */
+ * bit), its branches as selects. A chunk of maps none of which weighs anything at N is skipped;
+ * in a chunk that is read, a lane whose map is not read (weight 0, direction below the plane,
+ * off the map) computes a value no one reads, from coordinates kept finite and small before they
+ * become indices and every index clamped onto its map: nothing undefined. */
 static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each)
 {
     const sl_shadow_sky_lanes *l = &sky->lanes;
@@ -223,60 +230,71 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
     float nas[SL_SKY_MAPS_MAX], xqs[SL_SKY_MAPS_MAX], yqs[SL_SKY_MAPS_MAX], zqs[SL_SKY_MAPS_MAX];
     float uxs[SL_SKY_MAPS_MAX], uys[SL_SKY_MAPS_MAX];
     const float px = P.x, py = P.y, pz = P.z, nx = N.x, ny = N.y, nz = N.z;
-    /* two loops: with the coordinates' holding select and their truncation in one, GCC moves the
-     * truncation into the select's branch, and a conversion there (it may trap) is not
-     * vectorized */
 #pragma omp simd
     for (int k = 0; k < count; k++) {
         const float wd = nx * l->wx[k] + ny * l->wy[k] + nz * l->wz[k];
         ws[k] = wd > 0.0f ? wd : 0.0f; /* fmaxf(wd, 0) but for NaN and -0, which weigh 0 alike */
-        nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
-        const float off = l->offset[k];
-        const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
-        const float xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
-        const float yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];
-        xqs[k] = xq;
-        yqs[k] = yq;
-        zqs[k] = qx * l->ax[k] + qy * l->ay[k] + qz * l->az[k];
-        const float ux = (xq - l->x0[k]) / l->stepx[k] - 0.5f, uy = (yq - l->y0[k]) / l->stepy[k] - 0.5f;
-        /* held within 1e7 (NaN too) for the truncation below: whatever lies beyond floors
-         * beyond 1e6, as the held value does, and is not read */
-        uxs[k] = fabsf(ux) < 1e7f ? ux : 1e7f;
-        uys[k] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }
+    for (int c0 = 0; c0 < count; c0 += SKY_CHUNK) {
+        const int c1 = c0 + SKY_CHUNK < count ? c0 + SKY_CHUNK : count;
+        bool any = false;
+        for (int k = c0; k < c1; k++)
+            any |= ws[k] > 0.0f;
+        if (!any)
+            continue; /* no v_k of the chunk is read */
+        /* two loops: with the coordinates' holding select and their truncation in one, GCC
+         * moves the truncation into the select's branch, and a conversion there (it may trap)
+         * is not vectorized */
 #pragma omp simd
-    for (int k = 0; k < count; k++) {
-        const float na = nas[k], xq = xqs[k], yq = yqs[k], zq = zqs[k], ux = uxs[k], uy = uys[k];
-        const float stepx = l->stepx[k], stepy = l->stepy[k];
-        /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
-        const int tx0 = (int)ux, ty0 = (int)uy;
-        const float ftx = (float)tx0, fty = (float)ty0;
-        const bool downx = ftx > ux, downy = fty > uy;
-        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
-        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-        const bool read = (ws[k] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
-        const float tx = ux - fx, ty = uy - fy;
-        const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / na;
-        const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / na;
-        const float bias = l->bias[k];
-        const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
-        const int last = l->size[k] - 1, size = l->size[k];
-        const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
-        const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
-        const float dxa = (fx + 0.0f + 0.5f) * stepx + l->x0[k] - xq, dxb = (fx + 1.0f + 0.5f) * stepx + l->x0[k] - xq;
-        const float dya = (fy + 0.0f + 0.5f) * stepy + l->y0[k] - yq, dyb = (fy + 1.0f + 0.5f) * stepy + l->y0[k] - yq;
-        const int rowa = l->first[k] + ya * size, rowb = l->first[k] + yb * size;
-        /* the texels only where the map is read (the maps outgrow the caches: a map not read
-         * costs no memory traffic) */
-        const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
-        const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
-        float vis = 0.0f;
-        vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
-        vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
-        vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
-        vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
-        vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
-        vs[k] = read ? vis : 1.0f;
+        for (int k = c0; k < c1; k++) {
+            nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
+            const float off = l->offset[k];
+            const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
+            const float xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
+            const float yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];
+            xqs[k] = xq;
+            yqs[k] = yq;
+            zqs[k] = qx * l->ax[k] + qy * l->ay[k] + qz * l->az[k];
+            const float ux = (xq - l->x0[k]) / l->stepx[k] - 0.5f, uy = (yq - l->y0[k]) / l->stepy[k] - 0.5f;
+            /* held within 1e7 (NaN too) for the truncation below: whatever lies beyond floors
+             * beyond 1e6, as the held value does, and is not read */
+            uxs[k] = fabsf(ux) < 1e7f ? ux : 1e7f;
+            uys[k] = fabsf(uy) < 1e7f ? uy : 1e7f;
+        }
+#pragma omp simd
+        for (int k = c0; k < c1; k++) {
+            const float na = nas[k], xq = xqs[k], yq = yqs[k], zq = zqs[k], ux = uxs[k], uy = uys[k];
+            const float stepx = l->stepx[k], stepy = l->stepy[k];
+            /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
+            const int tx0 = (int)ux, ty0 = (int)uy;
+            const float ftx = (float)tx0, fty = (float)ty0;
+            const bool downx = ftx > ux, downy = fty > uy;
+            const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+            const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+            const bool read = (ws[k] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+            const float tx = ux - fx, ty = uy - fy;
+            const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / na;
+            const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / na;
+            const float bias = l->bias[k];
+            const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
+            const int last = l->size[k] - 1, size = l->size[k];
+            const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
+            const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
+            const float dxa = (fx + 0.0f + 0.5f) * stepx + l->x0[k] - xq, dxb = (fx + 1.0f + 0.5f) * stepx + l->x0[k] - xq;
+            const float dya = (fy + 0.0f + 0.5f) * stepy + l->y0[k] - yq, dyb = (fy + 1.0f + 0.5f) * stepy + l->y0[k] - yq;
+            const int rowa = l->first[k] + ya * size, rowb = l->first[k] + yb * size;
+            /* the texels only where the map is read (the maps outgrow the caches: a map not read
+             * costs no memory traffic) */
+            const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
+            const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
+            float vis = 0.0f;
+            vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
+            vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
+            vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
+            vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
+            vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
+            vs[k] = read ? vis : 1.0f;
+        }
     }
     float seen = 0.0f, all = 0.0f;
     for (int k = 0; k < count; k++) {
