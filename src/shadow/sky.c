@@ -242,9 +242,8 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
             any |= ws[k] > 0.0f;
         if (!any)
             continue; /* no v_k of the chunk is read */
-        /* two loops: with the coordinates' holding select and their truncation in one, GCC
-         * moves the truncation into the select's branch, and a conversion there (it may trap)
-         * is not vectorized */
+        /* two loops, the coordinates and then the taps: with the coordinates' holding select and
+         * their truncation in one loop, GCC has moved the truncation into the select's branch */
 #pragma omp simd
         for (int k = c0; k < c1; k++) {
             nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
