@@ -1,5 +1,6 @@
 # cpu_frame.bash - what the frame-cost benchmarks share (sourced from the repository's root:
-# bench/shadows.sh, bench/reflection-occlusion.sh, bench/visibility-cost.sh).
+# bench/shadows.sh, bench/reflection-occlusion.sh, bench/visibility-cost.sh; bench/report.sh
+# takes vector_isa).
 #
 # frame_bench_args NAME [BUILD_DIR] [ROUNDS] [SIZE]: the benchmarks' arguments into BUILD, ROUNDS
 # and SIZE (defaults build, 3, 1280x720), and T, a temporary directory removed on exit.
@@ -10,6 +11,19 @@ frame_bench_args() {
     SIZE=${4:-1280x720}
     T=$(mktemp -d "${TMPDIR:-/tmp}/$name.XXXXXX")
     trap 'rm -rf "$T"' EXIT
+}
+#
+# vector_isa: the widest vectors this CPU has, AVX-512, AVX2 or SSE. A -march=native build runs
+# its vector loops at that width, and a frame's time differs by times between them: each
+# benchmark's stamp names it.
+vector_isa() {
+    local flags
+    flags=$(grep -m1 '^flags' /proc/cpuinfo)
+    case " $flags " in
+    *" avx512f "*) echo AVX-512 ;;
+    *" avx2 "*) echo AVX2 ;;
+    *) echo SSE ;;
+    esac
 }
 #
 # median: the median of the numbers on stdin, one a line.

@@ -29,6 +29,7 @@
 # About 4 minutes on an idle 2-core machine with RUNS = 3.
 set -euo pipefail
 cd "$(dirname "$0")/.."
+source bench/cpu_frame.bash # vector_isa
 BUILD=${1:-build}
 RUNS=${2:-3}
 export OMP_WAIT_POLICY=passive
@@ -125,13 +126,7 @@ fi
 
 load_after=$(load)
 cpu=$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //')
-# the widest vectors the CPU has: the lighting pass's loops run at that width under -march=native
-flags=$(grep -m1 '^flags' /proc/cpuinfo)
-case " $flags " in
-*" avx512f "*) isa=AVX-512 ;;
-*" avx2 "*) isa=AVX2 ;;
-*) isa=SSE ;;
-esac
+isa=$(vector_isa)
 # the commit the programs were built from: the source tree of the build's CMake cache
 src=$(sed -n 's/^CMAKE_HOME_DIRECTORY:INTERNAL=//p' "$BUILD/CMakeCache.txt" 2>/dev/null)
 commit=$(git -C "${src:-.}" rev-parse --short HEAD 2>/dev/null || echo unknown)

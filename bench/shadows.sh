@@ -59,4 +59,4 @@ for s in $SCENES; do
         printf "| %s.json | %s | %.0f ms | %.0f ms | %.1f%% | %.0f ms | %.0f ms | %.1f%% | %.0f ms |\n",
                s, k, n, h, 100 * (h - n) / h, a, b, 100 * (b - n) / b, m }'
 done
-echo "($(nproc) cores, load average $(cut -d' ' -f1-3 /proc/loadavg) at the end, $ROUNDS rounds, medians; bash bench/shadows.sh $BUILD $ROUNDS $SIZE)"
+echo "($(nproc) cores, $(vector_isa), load average $(cut -d' ' -f1-3 /proc/loadavg) at the end, $ROUNDS rounds, medians; bash bench/shadows.sh $BUILD $ROUNDS $SIZE)"
