@@ -21,11 +21,10 @@ handful of pixels cannot carry).
 """
 import math
 import os
-import struct
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests", "cli"))
-from pfm import read_pfm  # noqa: E402
+from pfm import read_pfm, write_pfm  # noqa: E402
 
 
 WORST = 10  # the pixels whose share of what is left is reported
@@ -60,11 +59,8 @@ def main():
         sys.exit("visibility_cut.py: the visibility truth is black over the mask")
     worst = sum(sorted(per_pixel, reverse=True)[:WORST]) / left if left > 0.0 else 0.0
     if len(sys.argv) == 7:
-        width, height = images[0][0], images[0][1]
         corrected = [max(b + a - f, 0.0) for b, a, f in zip(blind, after, before)]
-        with open(sys.argv[6], "wb") as out:
-            out.write(b"PF\n%d %d\n-1.0\n" % (width, height))
-            out.write(struct.pack("<%df" % len(corrected), *corrected))
+        write_pfm(sys.argv[6], images[0][0], images[0][1], corrected)
     print("%.4f %.4f %.2f" % (math.sqrt(added / norm), math.sqrt(left / norm), worst))
 
 

@@ -1,5 +1,5 @@
-"""pfm.py - the PFM reader the CLI tests' Python checks share (standard library only): they run
-with PYTHONPATH set to tests/cli and `from pfm import read_pfm`."""
+"""pfm.py - the PFM reader and writer the CLI tests' Python checks and the benchmarks share
+(standard library only): they run with tests/cli on their path and `from pfm import read_pfm`."""
 import struct
 
 
@@ -13,6 +13,14 @@ def read_pfm(path):
         n = width * height * channels
         data = struct.unpack(("<" if scale < 0 else ">") + "%df" % n, f.read(n * 4))
     return width, height, channels, data
+
+
+def write_pfm(path, width, height, values):
+    """PATH as a little-endian colour PFM: VALUES are width * height RGB triples, flat, bottom
+    row first (read_pfm's order)."""
+    with open(path, "wb") as f:
+        f.write(b"PF\n%d %d\n-1.0\n" % (width, height))
+        f.write(struct.pack("<%df" % len(values), *values))
 
 
 def read_pfms(directory, *names):

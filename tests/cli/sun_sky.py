@@ -4,8 +4,9 @@ radiance SKY) but for a sun of two adjacent texels at that direction (degrees), 
 that on a black sky the env lights hold all of its light. Imported, sun_directions gives the two
 texels' centres' directions, which the light comes from."""
 import math
-import struct
 import sys
+
+from pfm import write_pfm
 
 W, H = 64, 32
 
@@ -35,8 +36,4 @@ if __name__ == "__main__":
     img = [[(sky, sky, sky)] * W for _ in range(H)]
     for i, j in sun_texels(float(sys.argv[2]), float(sys.argv[3])):
         img[j][i] = (3000.0, 3000.0, 3000.0)
-    with open(path, "wb") as f:
-        f.write(b"PF\n%d %d\n-1.0\n" % (W, H))
-        for row in reversed(img):                               # PFM: bottom row first
-            for p in row:
-                f.write(struct.pack("<3f", *p))
+    write_pfm(path, W, H, [c for row in reversed(img) for p in row for c in p])  # bottom row first
