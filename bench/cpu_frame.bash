@@ -14,8 +14,8 @@ frame_bench_args() {
 }
 #
 # vector_isa: the widest vectors this CPU has, AVX-512, AVX2 or SSE. A -march=native build runs
-# its vector loops at that width, and a frame's time differs by times between them: each
-# benchmark's stamp names it.
+# its vector loops at that width, so each benchmark's stamp names it: figures compare only
+# between machines of the same kind.
 vector_isa() {
     local flags
     flags=$(grep -m1 '^flags' /proc/cpuinfo)
