@@ -102,6 +102,10 @@
 //   vec4  uSkyMapBox[64]           x0, y0, sx, sy as uShadowSunBox
 //   vec2  uSkyMapDepth[64]         sz, the texel's larger side, as uShadowSunDepth
 //   vec3  uSkyMapWeight[64]        m_k: cell k's luminance-weighted direction sum (world)
+//   vec3  uSkyCellSite[64]         d_k: cell k's site (environment space; horizon_visible)
+//   int   uSkyCellSkySites         the sites on the sky's side of the horizon: the first ones
+// With the maps, every estimator's samples across the horizon from R are summed apart and times
+// the visibility of the map whose cell holds their luminous direction (horizon_visible).
 // Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
 // compiles them in as constants, see "Specialization" below):
 //   int uLodRule      1 none (lod 0), 2 spec, 3 spec with D/4 (default), 4 GPU Gems 3,
@@ -224,6 +228,8 @@ uniform vec3 uSkyMapUp[SKY_MAPS_MAX];
 uniform vec4 uSkyMapBox[SKY_MAPS_MAX];
 uniform vec2 uSkyMapDepth[SKY_MAPS_MAX];
 uniform vec3 uSkyMapWeight[SKY_MAPS_MAX];
+uniform vec3 uSkyCellSite[SKY_MAPS_MAX];
+uniform int uSkyCellSkySites;
 
 uniform sampler2D uEnvDist;
 uniform sampler2D uEnvDistMarginal;
@@ -266,7 +272,7 @@ uniform int uPointLights;
 uniform int uRotate;
 // The scene's features: which microfacet sets its G-buffer holds, whether it has env lights,
 // whether a point light has a cube shadow map, whether an env light has an orthographic one,
-// whether the diffuse reads sky visibility maps.
+// whether sky visibility maps are drawn.
 #define SL_PHONG 1
 #define SL_GGX 1
 #define SL_ENV_LIGHTS 1
@@ -847,6 +853,35 @@ vec3 irradiance(vec3 N)
     return max(e, vec3(0.0));
 }
 
+// The specular's part from across the horizon, with the sky maps (src/shading/lighting_internal.h
+// shade_horizon says why): the samples whose w lies on the other side of the horizon (z >= 0 is
+// the sky's) from R are summed apart, with their directions weighted by |luminance|; main adds
+// the part times its map's visibility (horizon_visible) after the specular's occlusion.
+bool gHorizonOn;  // the maps are drawn: split
+bool gHorizonSky; // R on the sky's side
+vec3 gHorizonSum; // the contributions from across, over the estimate's count
+vec3 gHorizonDir; // their directions times |luminance|
+
+void horizon_for(vec3 N, vec3 V)
+{
+    vec3 R = N * (2.0 * dot(N, V)) - V;
+    gHorizonOn = SL_SKY_MAPS != 0 && uSkyMapCount > 0;
+    gHorizonSky = R.z >= 0.0;
+    gHorizonSum = vec3(0.0);
+    gHorizonDir = vec3(0.0);
+}
+
+bool horizon_across(vec3 w)
+{
+    return gHorizonOn && (w.z >= 0.0) != gHorizonSky;
+}
+
+void horizon_add(vec3 w, vec3 c)
+{
+    gHorizonSum = gHorizonSum + c;
+    gHorizonDir = gHorizonDir + w * abs(dot(c, vec3(0.2126, 0.7152, 0.0722)));
+}
+
 // Specular IBL, eq. (3): N, V unit in environment space, N.V >= MIN_NDOTV.
 vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
@@ -879,8 +914,12 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         if (uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = F * Li * weight;
-        sum = sum + c;
+        if (horizon_across(w))
+            horizon_add(w, c);
+        else
+            sum = sum + c;
     }
+    gHorizonSum = gHorizonSum * (1.0 / float(max(n, 1)));
     return sum * (1.0 / float(max(n, 1)));
 }
 
@@ -1021,8 +1060,12 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         vec3 c = wN > 0.0 ? F * Li * weight : vec3(0.0);
         if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
             c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf);
-        sum = sum + c;
+        if (horizon_across(w))
+            horizon_add(w, c);
+        else
+            sum = sum + c;
     }
+    gHorizonSum = gHorizonSum * (1.0 / float(max(n, 1)));
     return sum * (1.0 / float(max(n, 1)));
 }
 
@@ -1149,7 +1192,10 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf * mis);
-            sum = sum + c;
+            if (horizon_across(w))
+                horizon_add(w, c);
+            else
+                sum = sum + c;
         }
         ivec2 te;
         vec2 xe = vec2(fract(xi.x + half_), xi.y);
@@ -1172,9 +1218,13 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(we, cv.dir)) / e.w * mis);
-            sum = sum + c;
+            if (horizon_across(we))
+                horizon_add(we, c);
+            else
+                sum = sum + c;
         }
     }
+    gHorizonSum = gHorizonSum * (1.0 / float(max(n, 1)));
     return sum * (1.0 / float(max(n, 1)));
 }
 
@@ -1587,6 +1637,37 @@ float sky_visibility(vec3 P, vec3 N)
     return all > 0.0 ? seen / all : 1.0;
 }
 
+// The cell holding direction d (environment space, unit; the twin of sl_shadow_sky_cell): the
+// nearest site on d's side of the horizon, or the nearest of all when that side has none.
+int sky_cell(vec3 d)
+{
+    int first = 0, last = uSkyMapCount;
+    if (uSkyMapCount > uSkyCellSkySites) {
+        first = d.z >= 0.0 ? 0 : uSkyCellSkySites;
+        last = d.z >= 0.0 ? uSkyCellSkySites : uSkyMapCount;
+    }
+    int best = first;
+    float bestDot = -2.0;
+    for (int k = first; k < last; k++) {
+        float c = dot(d, uSkyCellSite[k]);
+        if (c > bestDot) {
+            bestDot = c;
+            best = k;
+        }
+    }
+    return best;
+}
+
+// The part across the horizon (gHorizonSum) times the visibility from P (world, N the world
+// normal) of the map whose cell holds its luminous direction; 0 with nothing across.
+vec3 horizon_visible(vec3 P, vec3 N)
+{
+    float len = length(gHorizonDir);
+    if (!(len > 0.0))
+        return vec3(0.0);
+    return gHorizonSum * sky_map_visibility(sky_cell(gHorizonDir / len), P, N);
+}
+
 // point_light times the light's visibility from P in its shadow map, looked up only where the
 // light adds something.
 vec3 shadowed_point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
@@ -1659,6 +1740,7 @@ void main()
             }
             if (uSpecular != 0) {
                 vec3 spec;
+                horizon_for(Nenv, Venv);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
@@ -1671,7 +1753,8 @@ void main()
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
-                color = color + spec * reflectionVis.x;
+                // the part across the horizon: after the factor (the sum's occlusion below scales it)
+                color = color + (spec * reflectionVis.x + horizon_visible(P, N));
             }
             color = color * extra.r; // occlusion: the image-based terms only
         } else {
@@ -1705,6 +1788,7 @@ void main()
             }
             if (uSpecular != 0) {
                 vec3 spec;
+                horizon_for(Nenv, Venv);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
@@ -1717,7 +1801,9 @@ void main()
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
-                color = color + spec * spec_occlusion;
+                // the part across the horizon: after the factor, times the material's occlusion
+                float materialOcclusion = c.w > 0.0 ? extra.r / c.w : 0.0;
+                color = color + (spec * spec_occlusion + horizon_visible(P, N) * materialOcclusion);
             }
         }
         if (envShadow) {

@@ -204,7 +204,7 @@ static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer 
     k.ggx = l->ggx;
     k.shadow_cubes = k.point_lights && l->shadows && l->shadows->cube_count > 0;
     k.shadow_suns = k.env_lights && l->shadows && l->shadows->sun_frames.count > 0;
-    k.sky_maps = u->uDiffuse != 0 && l->shadows && l->shadows->sky_frames.count > 0;
+    k.sky_maps = l->shadows && l->shadows->sky_frames.count > 0;
     return k;
 }
 
@@ -472,15 +472,18 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
         sun_of[j] = suns && j < suns->env_light_count ? suns->env_light_sun[j] : -1;
     glUniform1iv(loc(p, "uEnvLightSun"), SL_ENV_LIGHTS_MAX, sun_of);
-    /* the sky visibility maps: src/shadow/sky.c's frames and weights as they are */
-    const sl_shadow_sky *sky = shadows && u->skyMaps && u->uDiffuse != 0 ? &shadows->sky_frames : NULL;
+    /* the sky visibility maps: src/shadow/sky.c's frames, weights and cells' sites as they are */
+    const sl_shadow_sky *sky = shadows && u->skyMaps ? &shadows->sky_frames : NULL;
     int sky_count = sky ? sky->count : 0;
     glUniform1i(loc(p, "uSkyMaps"), UNIT_SHADOW_SKY);
     glUniform1i(loc(p, "uSkyMapCount"), sky_count);
     upload_ortho_frames(p, (ortho_uniforms){"uSkyMapAxis", "uSkyMapRight", "uSkyMapUp", "uSkyMapBox", "uSkyMapDepth"},
                         sky ? sky->maps : NULL, sky_count);
-    if (sky_count > 0)
+    if (sky_count > 0) {
         glUniform3fv(loc(p, "uSkyMapWeight"), sky_count, &sky->weight[0].x);
+        glUniform3fv(loc(p, "uSkyCellSite"), sky_count, &sky->site[0].x);
+        glUniform1i(loc(p, "uSkyCellSkySites"), sky->sky_sites);
+    }
 }
 
 /* The uniforms' lights read maps (softlight's, sl_lighting_uniforms.shadowMaps) where and only

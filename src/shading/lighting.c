@@ -175,7 +175,7 @@ static vec3 irradiance(const sl_lighting_uniforms *u, vec3 N)
 
 /* GLSL: specular_ibl */
 static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                         sl_lighting_task *task, sl_lighting_trace *trace)
+                         shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 R = normalize(sub(scale(N, 2.0f * NdotV), V));
@@ -212,13 +212,18 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         if (u->uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = scale(mul(F, Li), weight);
-        sum = add(sum, c);
+        bool across = shade_horizon_across(h, w);
+        if (across)
+            shade_horizon_add(h, w, c);
+        else
+            sum = add(sum, c);
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .H = H, .NdotH = NdotH,
                                                  .LdotH = LdotH, .D = D, .F = F, .G = G, .lod = lod, .Li = Li, .c = c,
-                                                 .sum = sum});
+                                                 .across = across, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
+    h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
@@ -243,7 +248,8 @@ static float microfacet_D(vec2 xi, float alpha)
  * whose K(w) / p(w) beta E Li every sample subtracts (NULL for the mf estimator; specular_cv). */
 /* GLSL: specular_microfacet */
 static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                                const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
+                                const sl_cv_kernel *cv, shade_horizon *h, sl_lighting_task *task,
+                                sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -284,13 +290,18 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
             kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
             c = sub(c, scale(mul(cv->scale, Li), kp));
         }
-        sum = add(sum, c);
+        bool across = shade_horizon_across(h, w);
+        if (across)
+            shade_horizon_add(h, w, c);
+        else
+            sum = add(sum, c);
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
-                                                 .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
+                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
+    h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
@@ -384,7 +395,7 @@ static vec3 env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t)
  * the horizon too (NULL for the mis estimator; specular_cv for cvmis). */
 /* GLSL: specular_mis */
 static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                         const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
+                         const sl_cv_kernel *cv, shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -423,11 +434,16 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += wN <= 0.0f;
-            sum = add(sum, c);
+            bool across = shade_horizon_across(h, w);
+            if (across)
+                shade_horizon_add(h, w, c);
+            else
+                sum = add(sum, c);
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
                                                      .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
-                                                     .G = G, .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
+                                                     .G = G, .Li = Li, .c = c, .cv_kp = kp, .across = across,
+                                                     .sum = sum});
         } else {
             below++;
             trace_sample(trace, k,
@@ -460,11 +476,16 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += !lit;
-            sum = add(sum, c);
+            bool across = shade_horizon_across(h, we);
+            if (across)
+                shade_horizon_add(h, we, c);
+            else
+                sum = add(sum, c);
             trace_env_sample(trace, k,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
-                                                         .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp, .sum = sum});
+                                                         .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp,
+                                                         .across = across, .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,
@@ -473,6 +494,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         }
     }
     count_samples(task, 2 * n, below, axis.x == 1.0f);
+    h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
@@ -604,12 +626,12 @@ static vec3 cv_closed(const sl_lighting_uniforms *u, vec3 N, vec3 V, const sl_cv
  * the smooth rest off both. */
 /* GLSL: specular_cv */
 static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, bool mis,
-                        sl_lighting_task *task, sl_lighting_trace *trace)
+                        shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     sl_cv_kernel cv = cv_setup(u, N, V, Ks, alpha);
     vec3 closed = cv_closed(u, N, V, &cv, trace);
-    vec3 correction = mis ? specular_mis(u, N, V, Ks, alpha, rotation, &cv, task, trace)
-                          : specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, task, trace);
+    vec3 correction = mis ? specular_mis(u, N, V, Ks, alpha, rotation, &cv, h, task, trace)
+                          : specular_microfacet(u, N, V, Ks, alpha, rotation, &cv, h, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -733,10 +755,27 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
     return scale(textureLod(u->uEnv, sl_dir_to_uv(d), 0.0f), u->uEnvIntensity);
 }
 
+/* GLSL: horizon_visible - the part across the horizon times the visibility of the sky map whose
+ * cell holds its luminous direction: one map for the part, as the lobe's tail across the
+ * horizon lies within a cell or two */
+vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
+                              sl_lighting_trace *trace)
+{
+    float len = length(h->dir);
+    if (!(len > 0.0f))
+        return vec3s(0.0f); /* nothing across, or only black */
+    vec3 d = scale(h->dir, 1.0f / len);
+    int k = sl_shadow_sky_cell(u->skyMaps, d);
+    float v = sl_shadow_sky_map_visibility(u->skyMaps, k, P, N);
+    vec3 visible = scale(h->sum, v);
+    trace_horizon(trace, h, d, k, v, visible);
+    return visible;
+}
+
 /* Part of GLSL main: from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */
 vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E_given,
-                         const vec3 *specular, const shade_env_shadow *env_shadow, sl_lighting_task *task,
-                         sl_lighting_trace *trace)
+                            const vec3 *specular, const vec3 *across, const shade_env_shadow *env_shadow,
+                            sl_lighting_task *task, sl_lighting_trace *trace)
 {
     vec3 color = vec3s(0.0f);
     /* With the ambient occlusion's cone (GLSL uHasCone): the diffuse times the occlusion, the
@@ -786,21 +825,29 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     }
     if (u->uSpecular != 0) {
         vec3 spec;
+        /* with the sky maps, the samples' part from across the horizon (shade_horizon), times its
+         * map's visibility: added after the pixel's specular factor, times the material's
+         * occlusion (with the cone; without it the sum's occlusion below scales it) */
+        vec3 beyond = vec3s(0.0f);
         if (specular) {
             spec = *specular; /* the batched path's, env lights included */
+            beyond = across ? *across : vec3s(0.0f);
         } else {
+            shade_horizon h = shade_horizon_for(u, s->Nenv, s->Venv);
             if (u->uEstimator == ESTIMATOR_SPLITSUM)
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
             else if (u->uEstimator == ESTIMATOR_MICROFACET)
-                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task,
+                spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, &h, task,
                                            trace);
             else if (u->uEstimator == ESTIMATOR_CV || u->uEstimator == ESTIMATOR_CV_MIS)
                 spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation,
-                                   u->uEstimator == ESTIMATOR_CV_MIS, task, trace);
+                                   u->uEstimator == ESTIMATOR_CV_MIS, &h, task, trace);
             else if (u->uEstimator == ESTIMATOR_MIS)
-                spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, task, trace);
+                spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, &h, task, trace);
             else
-                spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, task, trace);
+                spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, &h, task, trace);
+            if (h.on)
+                beyond = sl_shade_horizon_visible(u, &h, s->P, s->N, trace);
             if (u->uEnvLightCount > 0 && !env_shadow) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL);
                 spec = add(spec, exact);
@@ -814,11 +861,13 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             trace_env_lights(trace, u->uEnvLightCount, exact);
             shadowed_lights = add(shadowed_lights, exact);
         }
-        trace_specular(trace, add(spec, exact));
+        trace_specular(trace, add(add(spec, beyond), exact));
         if (cone)
             spec = scale(spec, spec_occlusion);
         else if (s->reflection)
             spec = scale(spec, s->reflection->x);
+        if (u->skyMaps)
+            spec = add(spec, scale(beyond, cone ? shade_material_occlusion(cone->w, s->occlusion) : 1.0f));
         color = add(color, spec);
     }
     if (!cone)
@@ -881,7 +930,7 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
                            .rotation = rotation, .occlusion = e.occlusion, .emissive = e.emissive,
                            .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
-        color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, task, trace);
+        color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, NULL, task, trace);
     }
     return sl_shade_finish(color, task, trace);
 }
@@ -896,14 +945,14 @@ vec3 sl_shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample
 float sl_shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
 vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                           sl_lighting_task *task, sl_lighting_trace *trace)
+                           shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    return specular_mis(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
+    return specular_mis(u, N, V, Ks, alpha, rotation, NO_CV, h, task, trace);
 }
 vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                             sl_lighting_task *task, sl_lighting_trace *trace)
+                             shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
-    return specular_cv(u, N, V, Ks, alpha, rotation, true, task, trace);
+    return specular_cv(u, N, V, Ks, alpha, rotation, true, h, task, trace);
 }
 vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel)
 {

@@ -204,8 +204,9 @@ typedef struct {
      * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility */
     unsigned char envLightVisSlot[SL_ENV_LIGHTS_MAX];
     /* the sky visibility maps (NULL: none), the diffuse irradiance times their V
-     * (sl_shadow_sky_visibility); softlight-gl draws its own from the same directions, weights
-     * and frames (sl_shadow_sky_frames), bound as uSkyMaps */
+     * (sl_shadow_sky_visibility) and the specular's part across the horizon times one map's
+     * (lighting_internal.h: shade_horizon); softlight-gl draws its own from the same directions,
+     * weights and frames (sl_shadow_sky_frames), bound as uSkyMaps */
     const sl_shadow_sky *skyMaps;
     /* the lighting program (NULL = the built-in) and the frame's uniforms as it sees them */
     const sl_lighting_program *program;

@@ -188,9 +188,11 @@ typedef struct {
 } lobe_view;
 
 /* The trace of samples k0 .. k0 + m - 1 of a block, as the port records them; the running sum
- * is in sample order (the pass sums in four partial sums). */
+ * is in sample order (the pass sums in four partial sums) and leaves out the samples across the
+ * horizon (h). */
 static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, const sample_block *b, const lobe_view *s,
-                        int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, bool cv, vec3 *sum)
+                        int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, bool cv, const shade_horizon *h,
+                        vec3 *sum)
 {
     const bool mf = microfacet_samples(u);
     const vec3 F1 = sub(vec3s(1.0f), Ks);
@@ -213,7 +215,9 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         if ((b->wN[i] <= 0.0f && !cv) || (mf && b->vh[i] <= 0.0f))
             continue;
         vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
-        *sum = add(*sum, c);
+        ts->across = shade_horizon_across(h, ts->w);
+        if (!ts->across)
+            *sum = add(*sum, c);
         /* the spec path does not form H (stage (1)): normalize(w + V), as the port has it */
         ts->H = mf ? vec3(b->hx[i], b->hy[i], b->hz[i]) : normalize(add(ts->w, V));
         ts->NdotH = b->NdotH[i];
@@ -640,8 +644,8 @@ __attribute__((always_inline)) static inline int stage_horizon(const lobe_consts
  * same sum order. */
 __attribute__((noinline)) /* a call per pixel; inlined, it keeps sl_shade_span from vectorizing */
 static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B, bool pole,
-                             vec3 Ks, float alpha, vec2 rotation, const sl_cv_kernel *cv, sl_lighting_task *task,
-                             sl_lighting_trace *trace)
+                             vec3 Ks, float alpha, vec2 rotation, const sl_cv_kernel *cv, shade_horizon *h,
+                             sl_lighting_task *task, sl_lighting_trace *trace)
 {
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
@@ -669,6 +673,16 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         stage_lod(&c, s.pdf, m, b);
         stage_fetch(u, &c, m, b);
         below += stage_horizon(&c, m, b);
+        if (trace)
+            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, h, &trace_sum);
+        if (h->on) /* the samples across the horizon to h, in sample order, and +0 in their place */
+            for (int i = 0; i < m; i++) {
+                vec3 w = vec3(b->wx[i], b->wy[i], b->wz[i]);
+                if (shade_horizon_across(h, w)) {
+                    shade_horizon_add(h, w, vec3(b->cr[i], b->cg[i], b->cb[i]));
+                    b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
+                }
+            }
         /* (4) the sum: sample k goes into partial sum k mod 4 and the four are added at the end,
          * (0 + 1) + (2 + 3): four short dependency chains instead of one long one (the port adds
          * in sample order; the difference is float rounding). The same order whatever the
@@ -689,11 +703,10 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
             sz2 += b->cb[i + 2];
             sz3 += b->cb[i + 3];
         }
-        if (trace)
-            trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, &trace_sum);
     }
     vec3 sum = vec3((sx0 + sx1) + (sx2 + sx3), (sy0 + sy1) + (sy2 + sy3), (sz0 + sz1) + (sz2 + sz3));
     count_samples(task, n, below, pole);
+    h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
     return scale(sum, 1.0f / (float)(n > 1 ? n : 1));
 }
 
@@ -704,18 +717,20 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
 static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, int i, const float *D, const float *pe,
                            const float *mis_b, const float *Lr, const float *Lg, const float *Lb, vec3 cb,
                            const env_sample_table *e, int ke, vec3 ce, float De, float pbe, float mis_e, vec3 Ks,
-                           float alpha, sl_gterm gterm, vec3 N, vec3 V, vec3 *sum)
+                           float alpha, sl_gterm gterm, vec3 N, vec3 V, const shade_horizon *h, vec3 *sum)
 {
     const float NdotV = dot(N, V);
     vec3 w = vec3(b->wx[i], b->wy[i], b->wz[i]), H = vec3(b->hx[i], b->hy[i], b->hz[i]);
     vec2 xi = vec2(b->xi1[i], b->xi2[i]);
     if (b->vh[i] > 0.0f && b->wN[i] > 0.0f) {
-        *sum = add(*sum, cb);
+        bool across = shade_horizon_across(h, w);
+        if (!across)
+            *sum = add(*sum, cb);
         trace_sample(t, k, &(sl_lighting_trace_sample){
             .xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .pdf = b->pw[i], .pdf_other = pe[i], .mis = mis_b[i],
             .w = w, .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i], .LdotH = b->vh[i], .D = D[i],
             .F = sl_brdf_F(Ks, b->vh[i]), .G = sl_lobe_G(b->vh[i], b->wN[i], NdotV, alpha, gterm),
-            .Li = vec3(Lr[i], Lg[i], Lb[i]), .c = cb, .sum = *sum});
+            .Li = vec3(Lr[i], Lg[i], Lb[i]), .c = cb, .across = across, .sum = *sum});
     } else {
         trace_sample(t, k, &(sl_lighting_trace_sample){.xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .w = w,
                                                           .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i],
@@ -727,7 +742,9 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
     sl_lighting_trace_sample s = {.xi = vec2(e->xe1[ke], e->xe2[ke]), .pdf = e->pe[ke], .w = we, .wN = weN, .H = He,
                                   .NdotH = NdotHe, .LdotH = LdotHe};
     if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
-        *sum = add(*sum, ce);
+        s.across = shade_horizon_across(h, we);
+        if (!s.across)
+            *sum = add(*sum, ce);
         s.pdf_other = pbe;
         s.mis = mis_e;
         s.D = De;
@@ -754,10 +771,10 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
  * runs the port's specular_cv, with mis, where this one would run the port's loop, and for a
  * traced pixel, whose trace then has the kernel's terms: cv is never given without a task). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                        const sl_cv_kernel *cv, sl_lighting_task *task, sl_lighting_trace *trace)
+                        const sl_cv_kernel *cv, shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
     if (u->uRotate != 0)
-        return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+        return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, h, task, trace);
     const int n = (int)u->uHammersley.N;
     const float NdotV = dot(N, V);
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
@@ -770,7 +787,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     if (!task) { /* tests and traces: the table on the heap, 36 KB */
         local = malloc(sizeof *local);
         if (!local)
-            return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, task, trace);
+            return sl_shade_specular_mis(u, N, V, Ks, alpha, rotation, h, task, trace);
     }
     const env_sample_table *e = sl_shade_env_samples_for(u, task, local);
     const bool ggx = sl_lobe_is_ggx(alpha);
@@ -932,6 +949,20 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         }
         for (int i = 0; i < m; i++)
             below += lit_e[i] == 0.0f;
+        if (trace)
+            for (int i = 0; i < m; i++)
+                trace_mis_pair(trace, k0 + i, b, i, D, pe, mis_b, Lr, Lg, Lb, vec3(cr[i], cg[i], cb[i]), e, k0 + i,
+                               vec3(cr[BLOCK + i], cg[BLOCK + i], cb[BLOCK + i]), De[i], pbe[i], mis_e[i], Ks, alpha,
+                               (sl_gterm)u->uGTerm, N, V, h, &trace_sum);
+        if (h->on) /* the samples across the horizon to h, in the sum's order, and +0 in their place */
+            for (int j = 0; j < 2 * m; j++) {
+                int i = j < m ? j : BLOCK + j - m;
+                vec3 w = j < m ? vec3(b->wx[i], b->wy[i], b->wz[i]) : vec3(X[j - m], Y[j - m], Z[j - m]);
+                if (shade_horizon_across(h, w)) {
+                    shade_horizon_add(h, w, vec3(cr[i], cg[i], cb[i]));
+                    cr[i] = cg[i] = cb[i] = 0.0f;
+                }
+            }
         for (int i = 0; i < m; i++) {
             sr += cr[i];
             sg += cg[i];
@@ -942,14 +973,10 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             sg += cg[BLOCK + i];
             sb += cb[BLOCK + i];
         }
-        if (trace)
-            for (int i = 0; i < m; i++)
-                trace_mis_pair(trace, k0 + i, b, i, D, pe, mis_b, Lr, Lg, Lb, vec3(cr[i], cg[i], cb[i]), e, k0 + i,
-                               vec3(cr[BLOCK + i], cg[BLOCK + i], cb[BLOCK + i]), De[i], pbe[i], mis_e[i], Ks, alpha,
-                               (sl_gterm)u->uGTerm, N, V, &trace_sum);
     }
     free(local);
     count_samples(task, 2 * n, below, axis.x == 1.0f);
+    h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
     return scale(vec3(sr, sg, sb), 1.0f / (float)(n > 1 ? n : 1));
 }
 
@@ -1200,13 +1227,14 @@ static vec3 cv_closed_part(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 K
  * correction. Out of line, so that the pixel loop that inlines pixel_specular stays the size it
  * is for the other estimators. */
 __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 R, vec3 A, vec3 B,
-                                                 bool pole, vec3 Ks, float alpha, vec2 rotation, sl_lighting_task *task,
-                                                 sl_lighting_trace *trace)
+                                                 bool pole, vec3 Ks, float alpha, vec2 rotation, shade_horizon *h,
+                                                 sl_lighting_task *task, sl_lighting_trace *trace)
 {
     sl_cv_kernel cv;
     bool subtract;
     vec3 closed = cv_closed_part(u, N, V, Ks, alpha, &cv, &subtract, trace);
-    vec3 correction = specular_samples(u, N, V, R, A, B, pole, Ks, alpha, rotation, subtract ? &cv : NO_CV, task, trace);
+    vec3 correction =
+        specular_samples(u, N, V, R, A, B, pole, Ks, alpha, rotation, subtract ? &cv : NO_CV, h, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -1214,16 +1242,17 @@ __attribute__((noinline)) static vec3 cv_samples(const sl_lighting_uniforms *u, 
 /* lighting.c specular_cv's operations with mis: cv_samples' closed part and mis's pairs of
  * samples, less the kernel's terms. */
 __attribute__((noinline)) static vec3 cvmis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
-                                                    vec2 rotation, sl_lighting_task *task, sl_lighting_trace *trace)
+                                                    vec2 rotation, shade_horizon *h, sl_lighting_task *task,
+                                                    sl_lighting_trace *trace)
 {
     /* every pixel its own pairs; the trace of the kernel's terms; or no task, whose table
      * mis_samples would allocate and, failing that, fall back to plain mis */
     if (u->uRotate != 0 || trace || !task)
-        return sl_shade_specular_cvmis(u, N, V, Ks, alpha, rotation, task, trace);
+        return sl_shade_specular_cvmis(u, N, V, Ks, alpha, rotation, h, task, trace);
     sl_cv_kernel cv;
     bool subtract;
     vec3 closed = cv_closed_part(u, N, V, Ks, alpha, &cv, &subtract, trace);
-    vec3 correction = mis_samples(u, N, V, Ks, alpha, rotation, subtract ? &cv : NO_CV, task, trace);
+    vec3 correction = mis_samples(u, N, V, Ks, alpha, rotation, subtract ? &cv : NO_CV, h, task, trace);
     trace_cv(trace, &cv, closed, correction);
     return add(closed, correction);
 }
@@ -1256,15 +1285,17 @@ static vec3 env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent,
 /* The specular term of covered pixel i of the span (0 with it off): the split sum's lookup (the
  * port's own: nothing to batch) or the samples, and the env lights; with their shadow maps
  * (env_shadow, its vis set) the env lights' sum times each one's visibility goes to
- * env_shadow->specular instead. */
+ * env_shadow->specular instead. With the sky maps the samples' part across the horizon goes to
+ * h (shade_horizon_for's, set here). */
 __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighting_uniforms *u, const pixel_block *p,
                                                                  int i, vec3 Ks, float alpha, vec2 rotation,
-                                                                 shade_env_shadow *env_shadow, sl_lighting_task *task,
-                                                                 sl_lighting_trace *trace)
+                                                                 shade_env_shadow *env_shadow, shade_horizon *h,
+                                                                 sl_lighting_task *task, sl_lighting_trace *trace)
 {
+    const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
+    *h = shade_horizon_for(u, N, V);
     if (u->uSpecular == 0)
         return vec3s(0.0f);
-    const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
     if (env_shadow)
         env_shadow->specular = vec3s(0.0f);
     const vec3 R = vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
@@ -1272,13 +1303,13 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     if (u->uEstimator == ESTIMATOR_SPLITSUM) {
         specular = sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace);
     } else if (u->uEstimator == ESTIMATOR_MIS) {
-        specular = mis_samples(u, N, V, Ks, alpha, rotation, NO_CV, task, trace);
+        specular = mis_samples(u, N, V, Ks, alpha, rotation, NO_CV, h, task, trace);
     } else if (u->uEstimator == ESTIMATOR_CV_MIS) {
-        specular = cvmis_samples(u, N, V, Ks, alpha, rotation, task, trace);
+        specular = cvmis_samples(u, N, V, Ks, alpha, rotation, h, task, trace);
     } else if (u->uEstimator == ESTIMATOR_CV) {
-        specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, task, trace);
+        specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, h, task, trace);
     } else {
-        specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, NO_CV, task, trace);
+        specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, NO_CV, h, task, trace);
     }
     if (env_shadow) /* kept apart: sl_shade_surface_color adds it after the occlusion */
         env_shadow->specular = env_lights_samples(u, N, V, Ks, alpha, env_shadow->vis);
@@ -1310,9 +1341,11 @@ static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3
  * their diffuse and specular times their visibility, added after the occlusion (read only then). */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
-                      const float *lr, const float *lg, const float *lb, sl_lighting_task *task, vec3 *out)
+                      const float *lr, const float *lg, const float *lb, const float *ar, const float *ag,
+                      const float *ab, sl_lighting_task *task, vec3 *out)
 {
     float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], docc[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
+    float mocc[SPAN]; /* the part across the horizon's factor: the material's occlusion with the cone, else 1 */
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
@@ -1368,7 +1401,14 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
             for (int i = 0; i < count; i++)
                 spo[i] = sl_reflection_specular_factor(spo[i], shade_material_occlusion(ao[i], occ[i]),
                                                        vec2(refl[i], refl_rays[i]));
+#pragma omp simd
+        for (int i = 0; i < count; i++)
+            mocc[i] = shade_material_occlusion(ao[i], occ[i]);
+    } else {
+        for (int i = 0; i < count; i++)
+            mocc[i] = 1.0f;
     }
+    const bool horizon = u->skyMaps != NULL;
     const bool with_cone = cone != NULL;
     const float *so_in = with_cone ? spo : occ; /* read in every lane: never an unset array */
     const float *do_in = with_cone ? docc : occ; /* likewise */
@@ -1396,6 +1436,12 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         g = diffuse ? dg : g;
         b = diffuse ? db : b;
         float sr = r + cr[i] * s_occ, sg = g + cg[i] * s_occ, sb = b + cb[i] * s_occ;
+        /* with the sky maps the port's spec * factor + across * its factor, then added */
+        float hr = r + (cr[i] * s_occ + ar[i] * mocc[i]), hg = g + (cg[i] * s_occ + ag[i] * mocc[i]);
+        float hb = b + (cb[i] * s_occ + ab[i] * mocc[i]);
+        sr = horizon ? hr : sr;
+        sg = horizon ? hg : sg;
+        sb = horizon ? hb : sb;
         r = specular ? sr : r;
         g = specular ? sg : g;
         b = specular ? sb : b;
@@ -1458,6 +1504,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     pixel_block pb;
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
+    float ar[SPAN], ag[SPAN], ab[SPAN]; /* with the sky maps: the part across the horizon, visible */
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
@@ -1499,6 +1546,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
              * built field by field and read back as arguments stalled on store forwarding) */
             count_bent(task, p->bent[i]);
             vec2 rotation = u->uRotate != 0 ? sl_shade_pixel_rotation(u, x, y) : vec2(0.0f, 0.0f);
+            shade_horizon h;
             if (shadowed) {
                 /* sl_shade_surface_color's env-shadow terms, the same functions: the specular
                  * keeps the lights apart, the irradiance loses their part, both come back
@@ -1506,7 +1554,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 shade_env_shadow es;
                 vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
                 sl_shade_env_light_visibility(u, t[i].position, N, es.vis);
-                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, task, NULL);
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, &h, task, NULL);
                 vec3 lights = vec3s(0.0f);
                 if (u->uDiffuse != 0) {
                     const sl_vec4 *cone = shade_cone(gb, x, y);
@@ -1523,10 +1571,17 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 lg[i] = lights.y;
                 lb[i] = lights.z;
             } else {
-                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, task, NULL);
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, &h, task, NULL);
             }
-            if (u->skyMaps) /* sl_shade_surface_color's V on the residual's irradiance */
+            if (u->skyMaps) { /* sl_shade_surface_color's V on the residual's irradiance */
                 sky_scale(u, p, i, t[i].position);
+                vec3 across = h.on ? sl_shade_horizon_visible(u, &h, t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
+                                                              NULL)
+                                   : vec3s(0.0f);
+                ar[i] = across.x;
+                ag[i] = across.y;
+                ab[i] = across.z;
+            }
         } else {
             shade_surface s = {
                 .P = t[i].position,
@@ -1567,11 +1622,15 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 sky_scale(u, p, i, s.P);
                 E = vec3(p->Er[i], p->Eg[i], p->Eb[i]);
             }
-            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, task, trace);
-            color = sl_shade_surface_color(u, &s, &E, &specular, env_shadow, task, trace);
+            shade_horizon h;
+            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, &h, task, trace);
+            vec3 across = h.on && u->uSpecular != 0 ? sl_shade_horizon_visible(u, &h, s.P, s.N, trace) : vec3s(0.0f);
+            color = sl_shade_surface_color(u, &s, &E, &specular, &across, env_shadow, task, trace);
         }
         if (vector_sum && shadowed && t[i].depth >= 1.0f)
             lr[i] = lg[i] = lb[i] = 0.0f; /* read (and selected away) by sum_stage */
+        if (vector_sum && u->skyMaps && t[i].depth >= 1.0f)
+            ar[i] = ag[i] = ab[i] = 0.0f; /* likewise */
         if (vector_sum) {
             cr[i] = color.x;
             cg[i] = color.y;
@@ -1582,5 +1641,6 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     }
     if (vector_sum)
         sum_stage(u, gb, t, x0, y, count, p, cr, cg, cb, shadowed ? lr : cr, shadowed ? lg : cg, shadowed ? lb : cb,
-                  task, out); /* without maps l{r,g,b} are read and selected away: never an unset array */
+                  u->skyMaps ? ar : cr, u->skyMaps ? ag : cg, u->skyMaps ? ab : cb, task,
+                  out); /* without maps l{r,g,b} and a{r,g,b} are read and selected away: never an unset array */
 }

@@ -50,13 +50,9 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
-/* GLSL specular_mis, and specular_cv with mis for cvmis (the batched path runs them per pixel
- * where it does not batch: lighting_batched.c says when), and specular_mis's pieces:
- * env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of level 0 */
-vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                           sl_lighting_task *task, sl_lighting_trace *trace);
-vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
-                             sl_lighting_task *task, sl_lighting_trace *trace);
+/* specular_mis's pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of
+ * level 0 */
+
 vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel);
 ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
 float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
@@ -77,6 +73,54 @@ typedef struct {
 } sl_cv_kernel;
 /* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
 #define NO_CV ((const sl_cv_kernel *)NULL)
+
+/* The specular's part from across the horizon, with the sky visibility maps (uniforms' skyMaps;
+ * docs/lighting.md "Sky visibility maps"). A lobe about R that reaches the other side of the
+ * horizon (z >= 0 is the sky's, where the maps' cells are cut) is cut there the way a floor cuts
+ * the environment: one side hidden, the other open. The pixel's specular factor (the cone's, the
+ * reflection occlusion's) speaks for the lobe about R, so every estimator sums the samples that
+ * lie across apart, and that part takes the visibility of the sky map whose cell holds its
+ * luminous direction (sl_shade_horizon_visible). Without the maps `on` is false and every sample
+ * stays in the estimate. */
+typedef struct {
+    bool on;  /* the maps are drawn: split */
+    bool sky; /* R on the sky's side */
+    vec3 sum; /* the samples' contributions from across, over the estimate's count */
+    vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
+} shade_horizon;
+
+/* GLSL: horizon_for */
+static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv)
+{
+    vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
+    return (shade_horizon){.on = u->skyMaps != NULL, .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f)};
+}
+
+/* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
+static inline bool shade_horizon_across(const shade_horizon *h, vec3 w)
+{
+    return h->on && (w.z >= 0.0f) != h->sky;
+}
+
+/* GLSL: horizon_add - a sample's contribution c from direction w into the part across */
+static inline void shade_horizon_add(shade_horizon *h, vec3 w, vec3 c)
+{
+    h->sum = add(h->sum, c);
+    h->dir = add(h->dir, scale(w, fabsf(sl_luminance(c))));
+}
+
+/* The part across the horizon times its visibility from world point P with world normal N: that
+ * of the sky map whose cell holds normalize(h->dir) (sl_shadow_sky_cell); 0 with nothing
+ * across. Recorded in the trace. */
+vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
+                              sl_lighting_trace *trace);
+/* GLSL specular_mis, and specular_cv with mis for cvmis, each with the part across the horizon
+ * to h (the batched path runs them per pixel where it does not batch: lighting_batched.c says
+ * when) */
+vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                           shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace);
+vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
+                             shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace);
 
 /* GLSL: cv_kernel_level - level `level`'s kernel of set `set` at c = w.d (ibl.h) */
 static inline float sl_cv_kernel_level(const sl_lighting_uniforms *u, int set, int level, float c)
@@ -236,9 +280,12 @@ static inline float shade_diffuse_occlusion(const sl_lighting_uniforms *u, const
  * `specular` NULL runs the port's specular_ibl / specular_microfacet and specular_env_lights;
  * the batched path passes the value of that whole term, computed by its own loops, the env
  * lights left out of it when their shadow maps are on (env_shadow then holds them).
+ * `across` (with `specular` given): the part of it across the horizon times its visibility
+ * (sl_shade_horizon_visible), which `specular` leaves out; NULL: none.
  * `env_shadow` (uniforms' envLightShadows only; NULL: the port looks the visibilities up). */
 vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *s, const vec3 *E, const vec3 *specular,
-                         const shade_env_shadow *env_shadow, sl_lighting_task *task, sl_lighting_trace *trace);
+                            const vec3 *across, const shade_env_shadow *env_shadow, sl_lighting_task *task,
+                            sl_lighting_trace *trace);
 
 /* The end of main(): a NaN or Inf becomes 0 (counted, and traced). */
 vec3 sl_shade_finish(vec3 color, sl_lighting_task *task, sl_lighting_trace *trace);
@@ -475,6 +522,19 @@ static inline void trace_specular(sl_lighting_trace *t, vec3 specular)
 {
     if (t)
         t->specular = specular;
+}
+
+static inline void trace_horizon(sl_lighting_trace *t, const shade_horizon *h, vec3 dir, int cell, float v,
+                                 vec3 visible)
+{
+    if (t) {
+        t->horizon = true;
+        t->horizon_part = h->sum;
+        t->horizon_dir = dir;
+        t->horizon_cell = cell;
+        t->horizon_visibility = v;
+        t->horizon_visible = visible;
+    }
 }
 
 static inline void trace_light(sl_lighting_trace *t, int i, vec3 light)

@@ -67,6 +67,9 @@ static void print_program(FILE *f, const sl_lighting_trace *t)
         fprintf(f, "  a NaN/Inf was replaced by magenta (1, 0, 1)\n");
 }
 
+/* A sample whose contribution went to the part across the horizon (sky maps) says so after its sum. */
+#define ACROSS(s) ((s)->across ? " across the horizon" : "")
+
 /* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
  * it added (0 below the horizon or for a facet facing away). cv (cvmis): every sample drawn adds
  * the kernel's term too, K/p its kernel over its own density; below the horizon that term alone. */
@@ -81,18 +84,18 @@ static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting
     }
     if (unlit) {
         fprintf(f, " %-10.4g %-10.4g %-8.5f %s: the kernel's term alone, Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                   " sum (%.5g,%.5g,%.5g)\n       K/p %.6g\n",
+                   " sum (%.5g,%.5g,%.5g)%s\n       K/p %.6g\n",
                 (double)s->pdf, (double)s->pdf_other, (double)s->mis,
                 s->wN <= 0.0f ? "below the horizon" : "facet faces away", (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y,
-                (double)s->sum.z, (double)s->cv_kp);
+                (double)s->sum.z, ACROSS(s), (double)s->cv_kp);
         return;
     }
     fprintf(f, " %-10.4g %-10.4g %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-               " sum (%.5g,%.5g,%.5g)\n",
+               " sum (%.5g,%.5g,%.5g)%s\n",
             (double)s->pdf, (double)s->pdf_other, (double)s->mis, (double)s->D, (double)s->G, (double)s->F.x,
             (double)s->F.y, (double)s->F.z, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z);
+            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s));
     if (cv)
         fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
 }
@@ -198,19 +201,19 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         }
         if (s->wN <= 0.0f) { /* cv: the kernel reaches below the horizon, the BRDF does not */
             fprintf(f, " below the horizon: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                       " sum (%.5g,%.5g,%.5g)\n       K/p %.6g\n",
+                       " sum (%.5g,%.5g,%.5g)%s\n       K/p %.6g\n",
                     (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z,
+                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s),
                     (double)s->cv_kp);
             continue;
         }
         fprintf(f,
                 " (%+.5f,%+.5f,%+.5f) %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) %-8.4f (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                " sum (%.5g,%.5g,%.5g)\n",
+                " sum (%.5g,%.5g,%.5g)%s\n",
                 (double)s->H.x, (double)s->H.y, (double)s->H.z, (double)s->LdotH, (double)s->D, (double)s->G,
                 (double)s->F.x, (double)s->F.y, (double)s->F.z, (double)s->lod, (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x,
-                (double)s->sum.y, (double)s->sum.z);
+                (double)s->sum.y, (double)s->sum.z, ACROSS(s));
         if (t->cv)
             fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
     }
@@ -241,6 +244,15 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 fprintf(f, " %.2f", (double)t->sky_map_visibility[k]);
         fprintf(f, ")\n");
     }
+    if (t->horizon)
+        fprintf(f,
+                "  %-12s (%.6g, %.6g, %.6g): the samples across the horizon from R, their luminous direction "
+                "(%.5f, %.5f, %.5f) in map %d's cell, visibility %.4g: (%.6g, %.6g, %.6g) in specular, added after "
+                "its occlusion\n",
+                "across", (double)t->horizon_part.x, (double)t->horizon_part.y, (double)t->horizon_part.z,
+                (double)t->horizon_dir.x, (double)t->horizon_dir.y, (double)t->horizon_dir.z, t->horizon_cell,
+                (double)t->horizon_visibility, (double)t->horizon_visible.x, (double)t->horizon_visible.y,
+                (double)t->horizon_visible.z);
     if (t->extra && !t->cone)
         fprintf(f, "  %-12s %.6g (scales diffuse and specular, not lights)\n", "occlusion", (double)t->occlusion);
     if (t->cone) { /* the ambient occlusion's cone (--ao-radius): each term its own factor */

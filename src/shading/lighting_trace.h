@@ -33,7 +33,8 @@ typedef struct {
     vec3 Li;           /* fetched radiance times intensity */
     vec3 c;            /* contribution */
     float cv_kp;       /* cv: the kernel mix over the density, K(w) / p(w) */
-    vec3 sum;          /* running sum */
+    bool across;       /* w lies across the horizon from R (sky maps): c went to the part across */
+    vec3 sum;          /* running sum (of the samples not across) */
 } sl_lighting_trace_sample;
 
 struct sl_lighting_trace {
@@ -86,6 +87,13 @@ struct sl_lighting_trace {
     int sky_maps;            /* with the sky visibility maps (uniforms' skyMaps): their count, else 0 */
     float sky_visibility;    /* ... V, which the irradiance includes */
     float sky_map_visibility[SL_SKY_MAPS_MAX]; /* ... each map's v_k (-1: not read, weight 0) */
+    bool horizon;            /* ... samples across the horizon from R were summed apart: */
+    vec3 horizon_part;       /* ... their part of the specular, */
+    vec3 horizon_dir;        /* ... its luminous direction (environment space), */
+    int horizon_cell;        /* ... the map whose cell holds that direction, */
+    float horizon_visibility; /* ... the map's visibility from the point, */
+    vec3 horizon_visible;    /* ... and the part times it, which specular includes (added after the
+                                specular's occlusion) */
     float occlusion;         /* the G-buffer's extra plane: scales irradiance..specular, not lights */
     vec3 emissive;           /* added last */
     bool cone;               /* the G-buffer has the ambient occlusion's cone (--ao-radius): */

@@ -217,7 +217,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->envLightShadows = u->envShadowMaps ? 1 : 0;
     if (u->envShadowMaps)
         group_env_lights(u);
-    u->skyMaps = u->uDiffuse != 0 && desc->sky && desc->sky->count > 0 ? desc->sky : NULL;
+    u->skyMaps = desc->sky && desc->sky->count > 0 ? desc->sky : NULL;
     sl_lighting_frame_uniforms *f = &u->frame;
     f->eye = u->uEye;
     f->inv_view_proj = u->uInvViewProj;

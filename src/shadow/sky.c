@@ -37,9 +37,32 @@ vec3 sl_shadow_sky_direction(int k, int count)
     return vec3(r * cosf(phi), r * sinf(phi), ground ? -z : z);
 }
 
+/* The index of the site among dirs[0 .. count) nearest w on w's side of the horizon (z >= 0 is
+ * the sky's), or the nearest of all when that side has none (count 1). */
+static int nearest_site(const vec3 *dirs, int count, vec3 w)
+{
+    const int sky = sky_side_count(count);
+    int first = 0, last = count;
+    if (count > sky) { /* both sides have directions */
+        first = w.z >= 0.0f ? 0 : sky;
+        last = w.z >= 0.0f ? sky : count;
+    }
+    int best = first;
+    float best_dot = -2.0f;
+    for (int k = first; k < last; k++) {
+        float d = dot(w, dirs[k]);
+        if (d > best_dot) {
+            best_dot = d;
+            best = k;
+        }
+    }
+    return best;
+}
+
+int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d) { return nearest_site(sky->site, sky->count, d); }
+
 /* m_k = sum over cell k's level-0 texels of lum(L) w dOmega (environment space). A texel joins
- * the direction nearest its centre's on its own side of the horizon (z >= 0 is the sky's), or
- * the nearest of all when its side has none (count 1). */
+ * the cell of its centre's direction (nearest_site). */
 static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m)
 {
     for (int k = 0; k < count; k++)
@@ -47,7 +70,6 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
     if (!env || env->level_count < 1)
         return;
     const sl_env_level *l = &env->levels[0];
-    const int sky = sky_side_count(count);
     /* a lat-long texel's solid angle: (2 pi / W) (pi / H) sin(theta) */
     const float texel_sr = 2.0f * SL_PI * SL_PI / ((float)l->width * (float)l->height);
     for (int y = 0; y < l->height; y++) {
@@ -57,20 +79,7 @@ static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m
             if (!(lum > 0.0f))
                 continue;
             vec3 w = sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)l->width, v));
-            int first = 0, last = count;
-            if (count > sky) { /* both sides have directions */
-                first = w.z >= 0.0f ? 0 : sky;
-                last = w.z >= 0.0f ? sky : count;
-            }
-            int best = first;
-            float best_dot = -2.0f;
-            for (int k = first; k < last; k++) {
-                float d = dot(w, dirs[k]);
-                if (d > best_dot) {
-                    best_dot = d;
-                    best = k;
-                }
-            }
+            int best = nearest_site(dirs, count, w);
             float sin_theta = sqrtf(fmaxf(1.0f - w.z * w.z, 0.0f));
             m[best] = add(m[best], scale(w, lum * texel_sr * sin_theta));
         }
@@ -114,7 +123,7 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
     float phi = radians(env_rotation_deg), c = cosf(phi), s = sinf(phi);
     vec3 dirs[SL_SKY_MAPS_MAX], m[SL_SKY_MAPS_MAX];
     for (int k = 0; k < count; k++)
-        dirs[k] = sl_shadow_sky_direction(k, count);
+        sky->site[k] = dirs[k] = sl_shadow_sky_direction(k, count);
     cell_weights(env, dirs, count, m);
     for (int k = 0; k < count; k++) {
         /* each map looks along its cell's luminous centroid, normalize(m_k), where the cell's
@@ -126,6 +135,7 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
         sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
     }
     sky->count = count;
+    sky->sky_sites = sky_side_count(count);
     bool geometry = sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
     sky_lanes(sky);
     return geometry;

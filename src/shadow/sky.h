@@ -72,6 +72,8 @@ typedef struct {
     int count;                        /* maps, 0 .. SL_SKY_MAPS_MAX */
     sl_shadow_sun maps[SL_SKY_MAPS_MAX]; /* maps[k].dir: normalize(weight[k]), or d_k (world) */
     vec3 weight[SL_SKY_MAPS_MAX];     /* m_k in the world (the environment's rotation applied) */
+    vec3 site[SL_SKY_MAPS_MAX];       /* d_k, environment space: the cells' sites (sl_shadow_sky_cell) */
+    int sky_sites;                    /* the sites on the sky's side: the first sky_sites */
     /* the drawn maps' depths, one block (maps[k].depth points into it), so that one lookup
      * reads every map's texels by 32-bit offsets from one base; NULL for frames alone */
     float *block;
@@ -96,6 +98,10 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
 bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, float env_rotation_deg,
                           const sl_scene *scene);
 void sl_shadow_sky_free(sl_shadow_sky *sky);
+/* The cell holding direction d (environment space, unit): the nearest site on d's side of the
+ * horizon (z >= 0 is the sky's), or the nearest of all when that side has none (count 1); the
+ * rule by which the cells' weights take the environment's texels. */
+int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d);
 /* Map k's visibility from world point P with unit normal N: 1 open, 0 hidden; 1 where the
  * direction is below P's plane (its ray never meets the receiver). */
 float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3 N);

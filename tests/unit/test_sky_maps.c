@@ -5,7 +5,8 @@
  * map's v_k from the one must equal, bit for bit, the other's per-map loop, for thousands of
  * points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of odd points (off
  * every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's side or the
- * ground's. */
+ * ground's; sl_shadow_sky_cell, the cell of a direction (which the lighting's part across the
+ * horizon reads), is the rule the weights were summed by. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -155,7 +156,10 @@ static void test_lanes_match_scalar(void **state)
  * degrees at K = 64; across the horizon the ground's mirror the sky's, a band's width apart); every
  * cell's weight vector on its direction's side, under an environment that is bright on both
  * sides and turned (a cell across the horizon would pull its weight towards the other side); the
- * weights sum to the whole environment's sum of lum(L) w dOmega, whatever K. */
+ * weights sum to the whole environment's sum of lum(L) w dOmega, whatever K. sl_shadow_sky_cell
+ * puts each site in its own cell and every direction in a cell on its side whose site is the
+ * nearest there, and the weights summed again texel by texel into the cells it gives are the
+ * frames' (turned into the world). */
 static void test_cells_split_at_horizon(void **state)
 {
     (void)state;
@@ -184,6 +188,42 @@ static void test_cells_split_at_horizon(void **state)
             sum = add(sum, m);
             if (K > 1 && (k < sky_count ? !(m.z > 0.0f) : !(m.z < 0.0f)))
                 fail_msg("K %d: cell %d's weight at z %g, across the horizon", K, k, (double)m.z);
+        }
+        /* each site its own cell; random directions in the nearest site's cell on their side */
+        for (int k = 0; k < K; k++)
+            if (sl_shadow_sky_cell(&s, s.site[k]) != k)
+                fail_msg("K %d: site %d in cell %d", K, k, sl_shadow_sky_cell(&s, s.site[k]));
+        for (int i = 0; i < 2000; i++) {
+            vec3 d = rnd_dir();
+            int k = sl_shadow_sky_cell(&s, d);
+            assert_true(k >= 0 && k < K);
+            if (K > 1 && (k < sky_count) != (d.z >= 0.0f))
+                fail_msg("K %d: direction at z %g in cell %d, across the horizon", K, (double)d.z, k);
+            for (int j = 0; j < K; j++)
+                if ((K == 1 || (j < sky_count) == (k < sky_count)) && dot(d, s.site[j]) > dot(d, s.site[k]))
+                    fail_msg("K %d: site %d nearer than cell %d's", K, j, k);
+        }
+        /* the weights again, each texel into sl_shadow_sky_cell's cell (sky.c cell_weights' sum),
+         * then turned by the environment's 30 degrees */
+        vec3 m[SL_SKY_MAPS_MAX];
+        for (int k = 0; k < K; k++)
+            m[k] = vec3s(0.0f);
+        const sl_env_level *l0 = &env.levels[0];
+        for (int y = 0; y < l0->height; y++)
+            for (int x = 0; x < l0->width; x++) {
+                vec3 w = sl_uv_to_dir(vec2(((float)x + 0.5f) / (float)l0->width, ((float)y + 0.5f) / (float)l0->height));
+                float lum = sl_luminance(l0->texels[(size_t)y * (size_t)l0->width + (size_t)x]);
+                float dw = 2.0f * SL_PI * SL_PI / ((float)l0->width * (float)l0->height) * sqrtf(1.0f - w.z * w.z);
+                int k = sl_shadow_sky_cell(&s, w);
+                m[k] = add(m[k], scale(w, lum * dw));
+            }
+        const float cr = cosf(radians(30.0f)), sr = sinf(radians(30.0f));
+        for (int k = 0; k < K; k++) {
+            vec3 mw = vec3(cr * m[k].x - sr * m[k].y, sr * m[k].x + cr * m[k].y, m[k].z);
+            if (length(sub(mw, s.weight[k])) > 1e-4f * length(sum))
+                fail_msg("K %d: cell %d's weight summed by sl_shadow_sky_cell is (%g, %g, %g), the frames' (%g, %g, "
+                         "%g)", K, k, (double)mw.x, (double)mw.y, (double)mw.z, (double)s.weight[k].x,
+                         (double)s.weight[k].y, (double)s.weight[k].z);
         }
         if (c == 0)
             total = sum;
