@@ -18,6 +18,11 @@
 #   weighted by the env lights' residual), bunny also with --ao-radius 1 (the cone: the diffuse
 #   read about N, times the material's occlusion alone) and through the general shader
 #   ($SL_GL_GENERAL): the same bounds; measured p99 0.019 (bunny), 0.020 (bunny, AO), 0.006 (pbr);
+# - the specular's part across the horizon (lighting.frag horizon_visible): sky_wall.bash's glossy
+#   wall on its floor, --specular-only --no-lights --sky-maps 32, within the bounds, and C's image
+#   without the maps far outside them against GL's with (a GL that keeps the part fails here);
+#   scenes/model.json with --ao-radius 1 (the cone's factor on R's side, the material's occlusion
+#   on the part across), the same bounds; measured p99 0.00012 (the wall), 0.0015 (model);
 # - `softlight check` on the wall with --sky-maps 32 passes.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
@@ -87,6 +92,17 @@ scene() { # scene NAME FILE [options...]
 scene bunny scenes/bunny.json
 scene bunny-ao scenes/bunny.json --ao-radius 1
 scene pbr scenes/pbr.json
+scene model-ao scenes/model.json --ao-radius 1
+
+# ---- the specular's part across the horizon: the glossy wall on its floor
+G=(--no-lights --specular-only)
+mkdir -p "$T/gloss"
+"$SL" render "$T/gloss.json" --size "$GL_TEST_SIZE" "${G[@]}" --sky-maps 32 --aov "$T/gloss" --pfm "$T/gloss/c.pfm" -q
+"$SL" render "$T/gloss.json" --size "$GL_TEST_SIZE" "${G[@]}" --pfm "$T/gloss/c0.pfm" -q
+"$GL" render "$T/gloss.json" "${G[@]}" --sky-maps 32 --gbuffer "$T/gloss" --pfm "$T/gloss/g.pfm"
+gl_within "gloss" "$T/gloss/c.pfm" "$T/gloss/g.pfm" || { echo "FAIL gloss: outside the bounds"; fail=1; }
+gl_outside "C without maps" "$T/gloss/c0.pfm" "$T/gloss/g.pfm" \
+    "C's glossy wall without the maps is within the bounds of GL's with them: the test sees no part across" || fail=1
 SL_GL_GENERAL=1 "$GL" render scenes/bunny.json "${O[@]}" --gbuffer "$T/bunny" --pfm "$T/bunny/general.pfm"
 gl_within "bunny, general" "$T/bunny/c.pfm" "$T/bunny/general.pfm" ||
     { echo "FAIL bunny, the general shader: outside the bounds"; fail=1; }

@@ -5,7 +5,12 @@
 # is E times the visible cosine fraction: the floor at the wall's foot sees about half the sky
 # (V within 0.1 of 0.5), far from it nearly all, and the render's diffuse against `truth
 # --visibility` (Embree; skipped without it) is far closer with the maps than without; trace
-# prints V; bad counts are one line, status 2. softlight-gl's twin of the maps: gl_sky_maps.sh.
+# prints V; bad counts are one line, status 2. The specular's part across the horizon: a glossy
+# wall alone keeps its image with the maps (nothing occludes: every map open, the split only
+# sums in another order); on a floor, a wall pixel whose lobe about R rises reaches down across
+# the horizon, and trace shows that part in a ground map's cell, hidden by the floor, and the
+# pixel's specular without the maps less that part is the one with them (no other factor: no
+# AO); the batched path and the port agree on it. softlight-gl's twin of the maps: gl_sky_maps.sh.
 set -u
 . "$(dirname "$0")/lib.bash"
 cli_init sky_maps "$1"
@@ -69,6 +74,44 @@ if "$SL" truth "$T/wall.json" --size 2x2 --visibility --pfm "$T/probe.pfm" >/dev
 else
     echo "skip the truth comparison: a build without Embree"
 fi
+
+# ---- the specular's part across the horizon (sky_wall.bash's glossy wall)
+G="--size $S --no-lights --specular-only -q"
+"$SL" render "$T/gloss-alone.json" $G --pfm "$T/alone0.pfm"
+"$SL" render "$T/gloss-alone.json" $G --sky-maps 32 --pfm "$T/alone32.pfm"
+"$SL" compare "$T/alone0.pfm" "$T/alone32.pfm" --metric max --tolerance 1e-5 >/dev/null &&
+    ok "a glossy wall alone: the same image with the maps as without (max 1e-5)" ||
+    bad "a glossy wall alone changes with the maps: $("$SL" compare "$T/alone0.pfm" "$T/alone32.pfm" | grep 'max abs')"
+"$SL" render "$T/gloss.json" $G --pfm "$T/gloss0.pfm"
+"$SL" render "$T/gloss.json" $G --sky-maps 32 --pfm "$T/gloss32.pfm"
+"$SL" render "$T/gloss.json" $G --sky-maps 32 --plain --pfm "$T/gloss32p.pfm"
+"$SL" compare "$T/gloss32.pfm" "$T/gloss32p.pfm" --metric p99rel --tolerance 1e-4 >/dev/null &&
+    ok "the part across the horizon: the batched path and the port agree (p99 relative 1e-4)" ||
+    bad "the part across the horizon: batched against the port: $("$SL" compare "$T/gloss32.pfm" "$T/gloss32p.pfm" | grep "p99 rel")"
+# pixel (32, 8) is the wall a metre above the eye: R rises, the lobe's lower part is across
+"$SL" trace "$T/gloss.json" --size $S --no-lights --specular-only --sky-maps 32 --pixel 32,8 >"$T/trace.txt"
+PYTHONPATH="$(dirname "$0")" python3 - "$T" <<'PY' && ok "$(cat "$T/across.txt")" || bad "the part across the horizon: $(cat "$T/across.txt")"
+import re, sys
+from pfm import read_pfm
+T = sys.argv[1]
+text = open(T + '/trace.txt').read()
+m = re.search(r'^  across +\(([-\d.e+]+), [^)]*\): .* in map (\d+)\'s cell, visibility ([-\d.e+]+)', text, re.M)
+spec = re.search(r'^  specular +\(([-\d.e+]+),', text, re.M)
+samples = len(re.findall(r' across the horizon$', text, re.M))
+out = open(T + '/across.txt', 'w')
+if not m or not spec:
+    out.write('trace has no across line')
+    sys.exit(1)
+part, cell, vis = float(m.group(1)), int(m.group(2)), float(m.group(3))
+w, h, _, off = read_pfm(T + '/gloss0.pfm')
+_, _, _, on = read_pfm(T + '/gloss32.pfm')
+i = 3 * ((h - 1 - 8) * w + 32)
+drop = off[i] - on[i]
+out.write('pixel (32, 8): %d samples across, their part %.4f in map %d\'s cell (a ground map: %s), visibility %.2f; '
+          'the specular %.4f without the maps, %.4f with (less %.4f)' % (samples, part, cell, cell >= 16, vis,
+                                                                         off[i], on[i], drop))
+sys.exit(not (samples > 0 and cell >= 16 and vis < 0.1 and part > 0.05 * off[i] and abs(drop - part * (1 - vis)) < 2e-3 * off[i]))
+PY
 
 expect_error "negative count" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps -1 -o "$T/x.png"
 expect_error "too many" "sky-maps" -- "$SL" render "$T/wall.json" --size $S --sky-maps 65 -o "$T/x.png"
