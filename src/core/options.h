@@ -230,8 +230,8 @@ typedef enum {
       (.scene = {"render.reflection_occlusion"}, .min = 0, .max = 1e6))                                              \
     /* 0: off, no maps drawn, the frame pays nothing for them (src/shadow/sky.h) */                                 \
     X(SKY_MAPS, sky_maps, INT, int, "sky-maps", "--sky-maps", NULL, "K",                                             \
-      "occlude the environment's diffuse with K orthographic depth maps of the scene from directions over the "     \
-      "sphere (sky visibility maps; 0..64; default 0: off)",                                                        \
+      "occlude the environment's diffuse, and the specular across the horizon, with K orthographic depth maps of "  \
+      "the scene from directions over the sphere (sky visibility maps; 0..64; default 0: off)",                      \
       (.scene = {"render.sky_maps"}, .min = 0, .max = SL_SKY_MAPS_MAX))                                              \
     /* off: no maps drawn, the frame pays nothing for them (src/shadow/shadow.h) */                                 \
     X(SHADOWS, shadows, FLAG, bool, "shadows", "--shadows", NULL, NULL,                                             \

@@ -1,4 +1,5 @@
-/* sky.h - sky visibility maps: a world-space occlusion of the environment for the diffuse term.
+/* sky.h - sky visibility maps: a world-space occlusion of the environment for the diffuse term
+ * and for the specular's part across the horizon.
  *
  * Screen-space ambient occlusion (src/occlusion) sees only what the G-buffer holds within its
  * radius: the sky a large object hides from the ground beside it, or an occluder behind the
@@ -22,7 +23,9 @@
  * with the env lights' maps' normal offset and per-tap receiver plane) gives
  *     V = sum_k v_k max(N . m_k, 0) / sum_k max(N . m_k, 0)   (1 where the sum is 0),
  * and the diffuse term's irradiance (the residual's part) is multiplied by V. A map whose weight
- * is 0 at N is not read.
+ * is 0 at N is not read. The specular's samples across the horizon from the reflection direction
+ * take the visibility of one map, that of the cell holding their luminous direction
+ * (sl_shadow_sky_cell; src/shading/lighting_internal.h shade_horizon).
  *
  * Limits: the angular resolution is a cell, 4 pi / K steradians (K = 32: about 0.39 sr, a cone
  * of about 20 degrees half-angle): an occluder's edge in the sky moves V in steps of a cell's
