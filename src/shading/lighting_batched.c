@@ -1338,7 +1338,10 @@ static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3
  * which each covered pixel adds one after another through the port's function (the same bits;
  * a term that is off is selected away, not added). c{r,g,b} hold each covered pixel's specular
  * term and each empty pixel's background on entry; l{r,g,b}, with the env lights' shadow maps,
- * their diffuse and specular times their visibility, added after the occlusion (read only then). */
+ * their diffuse and specular times their visibility, added after the occlusion (read only then);
+ * a{r,g,b}, with the sky maps, the specular's part across the horizon times its map's visibility
+ * (sl_shade_horizon_visible), added after the specular's factor times the material's occlusion
+ * (read only then). */
 static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const sl_gbuffer_texel *t, int x0, int y,
                       int count, const pixel_block *p, const float *cr, const float *cg, const float *cb,
                       const float *lr, const float *lg, const float *lb, const float *ar, const float *ag,
