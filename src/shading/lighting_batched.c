@@ -352,6 +352,42 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
     }
 }
 
+/* The samples among m (directions w, contributions c) that lie across the horizon from h's R
+ * (shade_horizon_across) to h, in sample order, and +0 in their place, which leaves every partial
+ * sum's bits as they are. Counted first in one vector loop, so that a lobe on one side of the
+ * horizon (most) skips the rest; out of line, so that the estimators' loops keep their size. */
+__attribute__((noinline)) static void horizon_split(shade_horizon *h, const float *wx, const float *wy,
+                                                    const float *wz, float *cr, float *cg, float *cb, int m)
+{
+    const int sky = h->sky;
+    int across = 0;
+#pragma omp simd reduction(+ : across)
+    for (int i = 0; i < m; i++)
+        across += (wz[i] >= 0.0f) != sky;
+    if (across == 0)
+        return;
+    /* shade_horizon_add's sums, vectorized (its order is the port's, sample by sample; these
+     * differ by float rounding) */
+    float sr = 0.0f, sg = 0.0f, sb = 0.0f, dx = 0.0f, dy = 0.0f, dz = 0.0f;
+#pragma omp simd reduction(+ : sr, sg, sb, dx, dy, dz)
+    for (int i = 0; i < m; i++) {
+        bool a = (wz[i] >= 0.0f) != sky;
+        float r = a ? cr[i] : 0.0f, g = a ? cg[i] : 0.0f, b = a ? cb[i] : 0.0f;
+        float l = fabsf(sl_luminance(vec3(r, g, b)));
+        sr += r;
+        sg += g;
+        sb += b;
+        dx += wx[i] * l;
+        dy += wy[i] * l;
+        dz += wz[i] * l;
+        cr[i] = a ? 0.0f : cr[i];
+        cg[i] = a ? 0.0f : cg[i];
+        cb[i] = a ? 0.0f : cb[i];
+    }
+    h->sum = add(h->sum, vec3(sr, sg, sb));
+    h->dir = add(h->dir, vec3(dx, dy, dz));
+}
+
 /* ======================== specular_samples and its stages ======================== */
 
 /* What every stage of specular_samples reads for one pixel: the options as flags, the lobe,
@@ -675,14 +711,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         below += stage_horizon(&c, m, b);
         if (trace)
             trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, h, &trace_sum);
-        if (h->on) /* the samples across the horizon to h, in sample order, and +0 in their place */
-            for (int i = 0; i < m; i++) {
-                vec3 w = vec3(b->wx[i], b->wy[i], b->wz[i]);
-                if (shade_horizon_across(h, w)) {
-                    shade_horizon_add(h, w, vec3(b->cr[i], b->cg[i], b->cb[i]));
-                    b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
-                }
-            }
+        if (h->on)
+            horizon_split(h, b->wx, b->wy, b->wz, b->cr, b->cg, b->cb, m);
         /* (4) the sum: sample k goes into partial sum k mod 4 and the four are added at the end,
          * (0 + 1) + (2 + 3): four short dependency chains instead of one long one (the port adds
          * in sample order; the difference is float rounding). The same order whatever the
@@ -954,15 +984,10 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
                 trace_mis_pair(trace, k0 + i, b, i, D, pe, mis_b, Lr, Lg, Lb, vec3(cr[i], cg[i], cb[i]), e, k0 + i,
                                vec3(cr[BLOCK + i], cg[BLOCK + i], cb[BLOCK + i]), De[i], pbe[i], mis_e[i], Ks, alpha,
                                (sl_gterm)u->uGTerm, N, V, h, &trace_sum);
-        if (h->on) /* the samples across the horizon to h, in the sum's order, and +0 in their place */
-            for (int j = 0; j < 2 * m; j++) {
-                int i = j < m ? j : BLOCK + j - m;
-                vec3 w = j < m ? vec3(b->wx[i], b->wy[i], b->wz[i]) : vec3(X[j - m], Y[j - m], Z[j - m]);
-                if (shade_horizon_across(h, w)) {
-                    shade_horizon_add(h, w, vec3(cr[i], cg[i], cb[i]));
-                    cr[i] = cg[i] = cb[i] = 0.0f;
-                }
-            }
+        if (h->on) { /* the BRDF's samples, then the environment's: the sum's order */
+            horizon_split(h, b->wx, b->wy, b->wz, cr, cg, cb, m);
+            horizon_split(h, X, Y, Z, cr + BLOCK, cg + BLOCK, cb + BLOCK, m);
+        }
         for (int i = 0; i < m; i++) {
             sr += cr[i];
             sg += cg[i];
