@@ -736,6 +736,23 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
     return scale(mul(f, u->uLightColor[i]), u->uLightIntensity[i] / d2 * NdotL);
 }
 
+/* GLSL: horizon_visible - the part across the horizon times the visibility of the sky map whose
+ * cell holds its luminous direction: one map for the part, as the lobe's tail across the
+ * horizon lies within a cell or two */
+vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
+                              sl_lighting_trace *trace)
+{
+    float len = length(h->dir);
+    if (!(len > 0.0f))
+        return vec3s(0.0f); /* nothing across, or only black */
+    vec3 d = scale(h->dir, 1.0f / len);
+    int k = sl_shadow_sky_cell(u->skyMaps, d);
+    float v = sl_shadow_sky_map_visibility(u->skyMaps, k, P, N);
+    vec3 visible = scale(h->sum, v);
+    trace_horizon(trace, h, d, k, v, visible);
+    return visible;
+}
+
 /* GLSL: shadowed_point_light. point_light times the light's visibility from P in its shadow
  * maps (src/shadow: sl_shadow_point_visibility, lighting.frag's shadow_point_visibility),
  * looked up only where the light adds something. */
@@ -753,23 +770,6 @@ static vec3 background(const sl_lighting_uniforms *u, vec2 fragCoord)
 {
     vec3 d = shade_background_dir(u->uInvViewProj.c, u->uEnvRotation.c, u->uViewport, fragCoord);
     return scale(textureLod(u->uEnv, sl_dir_to_uv(d), 0.0f), u->uEnvIntensity);
-}
-
-/* GLSL: horizon_visible - the part across the horizon times the visibility of the sky map whose
- * cell holds its luminous direction: one map for the part, as the lobe's tail across the
- * horizon lies within a cell or two */
-vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
-                              sl_lighting_trace *trace)
-{
-    float len = length(h->dir);
-    if (!(len > 0.0f))
-        return vec3s(0.0f); /* nothing across, or only black */
-    vec3 d = scale(h->dir, 1.0f / len);
-    int k = sl_shadow_sky_cell(u->skyMaps, d);
-    float v = sl_shadow_sky_map_visibility(u->skyMaps, k, P, N);
-    vec3 visible = scale(h->sum, v);
-    trace_horizon(trace, h, d, k, v, visible);
-    return visible;
 }
 
 /* Part of GLSL main: from `if (uDiffuse != 0)` on (lighting_internal.h: sl_shade_surface_color). */

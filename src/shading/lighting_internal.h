@@ -50,29 +50,6 @@ float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GL
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
-/* specular_mis's pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of
- * level 0 */
-
-vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel);
-ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
-float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
-float sl_shade_mis_power(float p, float q);
-vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
-/* The control variate's kernel for one pixel (lighting.c specular_cv; GLSL CvKernel): each
- * sample's radiance is subtracted times scale K(w) / p(w), K = ca k_a + cb k_b about dir. */
-typedef struct {
-    vec3 R;     /* the reflection direction */
-    float r, lod; /* the lobe width and its chain level r (levels - 1) */
-    vec3 ab;    /* the table's A, B, t */
-    vec3 dir;   /* the lookup direction normalize(mix(N, R, t)), the kernels' axis */
-    int set;    /* the chain's set (splitsum_lut.h) */
-    sl_cv_levels levels;
-    float beta; /* the table's coefficient */
-    vec3 E;     /* the albedo Ks A + B */
-    vec3 scale; /* beta E */
-} sl_cv_kernel;
-/* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
-#define NO_CV ((const sl_cv_kernel *)NULL)
 
 /* The specular's part from across the horizon, with the sky visibility maps (uniforms' skyMaps;
  * docs/lighting.md "Sky visibility maps"). A lobe about R that reaches the other side of the
@@ -121,6 +98,29 @@ vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 K
                            shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace);
 vec3 sl_shade_specular_cvmis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                              shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace);
+
+/* specular_mis's pieces: env_dist_sample, env_texel, env_dist_pdf, mis_power, and texelFetch of
+ * level 0 */
+vec4 sl_shade_env_dist_sample(const sl_lighting_uniforms *u, vec2 xi, ivec2 *texel);
+ivec2 sl_shade_env_texel(const sl_lighting_uniforms *u, vec3 w);
+float sl_shade_env_dist_pdf(const sl_lighting_uniforms *u, ivec2 t);
+float sl_shade_mis_power(float p, float q);
+vec3 sl_shade_env_texel_fetch(const sl_lighting_uniforms *u, ivec2 t);
+/* The control variate's kernel for one pixel (lighting.c specular_cv; GLSL CvKernel): each
+ * sample's radiance is subtracted times scale K(w) / p(w), K = ca k_a + cb k_b about dir. */
+typedef struct {
+    vec3 R;     /* the reflection direction */
+    float r, lod; /* the lobe width and its chain level r (levels - 1) */
+    vec3 ab;    /* the table's A, B, t */
+    vec3 dir;   /* the lookup direction normalize(mix(N, R, t)), the kernels' axis */
+    int set;    /* the chain's set (splitsum_lut.h) */
+    sl_cv_levels levels;
+    float beta; /* the table's coefficient */
+    vec3 E;     /* the albedo Ks A + B */
+    vec3 scale; /* beta E */
+} sl_cv_kernel;
+/* GLSL: no_cv - the microfacet estimator's: no kernel, nothing subtracted */
+#define NO_CV ((const sl_cv_kernel *)NULL)
 
 /* GLSL: cv_kernel_level - level `level`'s kernel of set `set` at c = w.d (ibl.h) */
 static inline float sl_cv_kernel_level(const sl_lighting_uniforms *u, int set, int level, float c)

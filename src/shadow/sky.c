@@ -59,8 +59,6 @@ static int nearest_site(const vec3 *dirs, int count, vec3 w)
     return best;
 }
 
-int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d) { return nearest_site(sky->site, sky->count, d); }
-
 /* m_k = sum over cell k's level-0 texels of lum(L) w dOmega (environment space). A texel joins
  * the cell of its centre's direction (nearest_site). */
 static void cell_weights(const sl_env *env, const vec3 *dirs, int count, vec3 *m)
@@ -336,3 +334,6 @@ float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *
     }
     return all > 0.0f ? seen / all : 1.0f;
 }
+
+/* GLSL: sky_cell */
+int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d) { return nearest_site(sky->site, sky->count, d); }

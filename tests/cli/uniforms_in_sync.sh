@@ -29,6 +29,7 @@ gbuffer="$gbuffer uShadowCubes uShadowCubeLayer uShadowSuns uShadowSunCount uSha
 gbuffer="$gbuffer uShadowSunUp uShadowSunBox uShadowSunDepth uEnvLightSun"
 # The sky visibility maps likewise: the C struct holds them (skyMaps: src/shadow/sky.h).
 gbuffer="$gbuffer uSkyMaps uSkyMapCount uSkyMapAxis uSkyMapRight uSkyMapUp uSkyMapBox uSkyMapDepth uSkyMapWeight"
+gbuffer="$gbuffer uSkyCellSite uSkyCellSkySites"
 # The chains' kernel normalisations: the C struct's table holds them (uSplitSumLut's kernels).
 gbuffer="$gbuffer uSplitSumKernelNorm"
 
