@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# visibility-variants.sh - the alternatives to three choices of the visibility methods, measured as
+# visibility-variants.sh - the alternatives to four choices of the visibility methods, measured as
 # docs/lighting.md quotes them. Each alternative is a build of this tree with one define
 # (build-variants/NAME, configured with -DCMAKE_C_FLAGS=-DDEFINE; only the softlight program):
 #   - the reflection occlusion's join with the ambient occlusion's cone (docs/lighting.md
@@ -13,11 +13,15 @@
 #     bench/sky-maps.sh caches in out/sky-maps/: run `bash bench/sky-maps.sh errors` first) of
 #     --sky-maps 32 alone and with --ao-radius 1 --env-lights 32 --shadows, for the build as it
 #     is, SL_SKY_MAPS_SPLIT=0 (one Fibonacci set over the sphere, cells across the horizon) and
-#     SL_SKY_MAPS_CENTROID=0 (each map along its direction d_k).
+#     SL_SKY_MAPS_CENTROID=0 (each map along its direction d_k);
+#   - the specular's part across the horizon (docs/lighting.md "Sky visibility maps", why the
+#     specular across the horizon): the visibility error alone that the full method set leaves, as
+#     the first table, for the build as it is and SL_SKY_MAPS_HORIZON=0 (no part across: every
+#     sample keeps the pixel's factor).
 #
 #   bash bench/visibility-variants.sh [BUILD_DIR]
 #
-# Prints two markdown tables. About 10 minutes on 2 cores, most of it the four builds.
+# Prints three markdown tables. About 12 minutes on 2 cores, most of it the five builds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -32,6 +36,7 @@ variant smaller SL_REFLECTION_WEIGHT=0.0f
 variant rays SL_REFLECTION_WEIGHT=1.0f
 variant whole-sphere SL_SKY_MAPS_SPLIT=0
 variant centre SL_SKY_MAPS_CENTROID=0
+variant no-horizon SL_SKY_MAPS_HORIZON=0
 T=$(mktemp -d "${TMPDIR:-/tmp}/visibility-variants.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 
@@ -70,6 +75,22 @@ for s in $SCENES; do
                 --part diffuse --compare "$T/d.pfm" 2>/dev/null | sed -n 's/.*nrmse \([0-9.]*\),.*/\1/p')
             row="$row | $n"
         done
+    done
+    echo "$row |"
+done
+
+echo
+echo "| scene | visibility's change to the truth | left, the part across the horizon | cut | left, without it | cut |"
+echo "|---|---:|---:|---:|---:|---:|"
+for s in $SCENES; do
+    row="| $s"
+    added=""
+    for b in "$BUILD" build-variants/no-horizon; do
+        "$b/softlight" render "scenes/$s.json" --size 160x90 --threads 2 --no-lights -q "${SET[@]}" --pfm "$T/to.pfm"
+        read -r a left _ <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
+            "$OUT/$s-parts/mask.pfm" "$OUT/$s-best-el.pfm" "$T/to.pfm")"
+        [ -n "$added" ] || { added=$a; row="$row | $a"; }
+        row="$row | $left | $(awk -v a="$added" -v l="$left" 'BEGIN { printf "%.2fx", a / l }')"
     done
     echo "$row |"
 done

@@ -70,7 +70,8 @@ typedef struct {
 static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv)
 {
     vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
-    return (shade_horizon){.on = u->skyMaps != NULL, .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f)};
+    return (shade_horizon){.on = SL_SKY_MAPS_HORIZON && u->skyMaps != NULL, .sky = R.z >= 0.0f, .sum = vec3s(0.0f),
+                           .dir = vec3s(0.0f)};
 }
 
 /* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */

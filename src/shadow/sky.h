@@ -45,15 +45,20 @@
 #ifndef SL_SKY_MAP_SIZE
 #define SL_SKY_MAP_SIZE 512 /* texels along a sky map's side */
 #endif
-/* The two choices docs/lighting.md "Sky visibility maps" measures, each 1 here; a build defining
+/* The three choices docs/lighting.md "Sky visibility maps" measures, each 1 here; a build defining
  * one as 0 takes the alternative, for bench/visibility-variants.sh: SL_SKY_MAPS_SPLIT 0, one
  * spherical Fibonacci set over the whole sphere and cells across the horizon;
- * SL_SKY_MAPS_CENTROID 0, each map drawn along its direction d_k. */
+ * SL_SKY_MAPS_CENTROID 0, each map drawn along its direction d_k; SL_SKY_MAPS_HORIZON 0, the
+ * specular's samples across the horizon keep the pixel's factor (the C paths only: the GLSL twin
+ * does not follow such a build). */
 #ifndef SL_SKY_MAPS_SPLIT
 #define SL_SKY_MAPS_SPLIT 1
 #endif
 #ifndef SL_SKY_MAPS_CENTROID
 #define SL_SKY_MAPS_CENTROID 1
+#endif
+#ifndef SL_SKY_MAPS_HORIZON
+#define SL_SKY_MAPS_HORIZON 1
 #endif
 
 /* The maps' lookup constants, a lane a map (structure of arrays), for sl_shadow_sky_visibility's
