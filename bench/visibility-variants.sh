@@ -46,19 +46,25 @@ echo "| scene | visibility's change to the truth | left, the join | cut | left, 
 echo "|---|---:|---:|---:|---:|---:|---:|---:|"
 SET=(--estimator mf --lod pdf --distortion -n 256 --reflection-occlusion 5 --sky-maps 32 --ao-radius 1 --env-lights 32
     --shadows)
-for s in $SCENES; do
-    [ -f "$OUT/$s-best-el.pfm" ] || { echo "visibility-variants.sh: run bench/visibility-error.sh first ($s)" >&2; exit 2; }
-    row="| $s"
-    added=""
-    for b in "$BUILD" build-variants/smaller build-variants/rays; do
-        "$b/softlight" render "scenes/$s.json" --size 160x90 --threads 2 --no-lights -q "${SET[@]}" --pfm "$T/to.pfm"
-        read -r a left _ <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
-            "$OUT/$s-parts/mask.pfm" "$OUT/$s-best-el.pfm" "$T/to.pfm")"
-        [ -n "$added" ] || { added=$a; row="$row | $a"; }
-        row="$row | $left | $(awk -v a="$added" -v l="$left" 'BEGIN { printf "%.2fx", a / l }')"
+# cut_rows BUILD...: per scene, visibility's change to the truth, then for each build the error
+# the full set leaves and the cut (bench/visibility_cut.py), a table row each
+cut_rows() {
+    local s b a left row added
+    for s in $SCENES; do
+        [ -f "$OUT/$s-best-el.pfm" ] || { echo "visibility-variants.sh: run bench/visibility-error.sh first ($s)" >&2; exit 2; }
+        row="| $s"
+        added=""
+        for b in "$@"; do
+            "$b/softlight" render "scenes/$s.json" --size 160x90 --threads 2 --no-lights -q "${SET[@]}" --pfm "$T/to.pfm"
+            read -r a left _ <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
+                "$OUT/$s-parts/mask.pfm" "$OUT/$s-best-el.pfm" "$T/to.pfm")"
+            [ -n "$added" ] || { added=$a; row="$row | $a"; }
+            row="$row | $left | $(awk -v a="$added" -v l="$left" 'BEGIN { printf "%.2fx", a / l }')"
+        done
+        echo "$row |"
     done
-    echo "$row |"
-done
+}
+cut_rows "$BUILD" build-variants/smaller build-variants/rays
 
 echo
 echo "| scene | diffuse nRMSE, --sky-maps 32: as built | whole sphere | along d_k | with --ao-radius 1 --env-lights 32 --shadows: as built | whole sphere | along d_k |"
@@ -82,15 +88,4 @@ done
 echo
 echo "| scene | visibility's change to the truth | left, the part across the horizon | cut | left, without it | cut |"
 echo "|---|---:|---:|---:|---:|---:|"
-for s in $SCENES; do
-    row="| $s"
-    added=""
-    for b in "$BUILD" build-variants/no-horizon; do
-        "$b/softlight" render "scenes/$s.json" --size 160x90 --threads 2 --no-lights -q "${SET[@]}" --pfm "$T/to.pfm"
-        read -r a left _ <<<"$(python3 bench/visibility_cut.py "$OUT/$s-blind.pfm" "$OUT/$s-vis.pfm" \
-            "$OUT/$s-parts/mask.pfm" "$OUT/$s-best-el.pfm" "$T/to.pfm")"
-        [ -n "$added" ] || { added=$a; row="$row | $a"; }
-        row="$row | $left | $(awk -v a="$added" -v l="$left" 'BEGIN { printf "%.2fx", a / l }')"
-    done
-    echo "$row |"
-done
+cut_rows "$BUILD" build-variants/no-horizon
