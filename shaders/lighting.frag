@@ -1766,9 +1766,11 @@ void main()
             vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
             float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
+            // the material's share of the occlusion: the reflection join's and the part across
+            // the horizon's
+            float materialOcclusion = c.w > 0.0 ? extra.r / c.w : 0.0;
             if (reflection)
-                spec_occlusion = reflection_specular_factor(spec_occlusion, c.w > 0.0 ? extra.r / c.w : 0.0,
-                                                            reflectionVis);
+                spec_occlusion = reflection_specular_factor(spec_occlusion, materialOcclusion, reflectionVis);
             if (uDiffuse != 0) {
                 // the irradiance along the bent direction; with the env lights' maps, their
                 // part of it taken out along the same direction (the maps add it back about N)
@@ -1802,7 +1804,6 @@ void main()
                 if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
                 // the part across the horizon: after the factor, times the material's occlusion
-                float materialOcclusion = c.w > 0.0 ? extra.r / c.w : 0.0;
                 color = color + (spec * spec_occlusion + horizon_visible(P, N) * materialOcclusion);
             }
         }

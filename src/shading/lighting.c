@@ -785,13 +785,15 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
      * (sl_reflection_specular_factor), or scales the specular without the cone. */
     const sl_vec4 *cone = s->cone;
     float spec_occlusion = s->occlusion;
+    /* the material's share of the occlusion: the reflection occlusion's join and the specular's
+     * part across the horizon take it (1 without the cone: the sum's occlusion scales those) */
+    float material_occlusion = cone ? shade_material_occlusion(cone->w, s->occlusion) : 1.0f;
     if (cone) {
         float b_dot_r, n_dot_v;
         shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
         spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
         if (s->reflection)
-            spec_occlusion = sl_reflection_specular_factor(
-                spec_occlusion, shade_material_occlusion(cone->w, s->occlusion), *s->reflection);
+            spec_occlusion = sl_reflection_specular_factor(spec_occlusion, material_occlusion, *s->reflection);
         trace_cone(trace, cone, s->occlusion, spec_occlusion);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the
@@ -867,7 +869,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         else if (s->reflection)
             spec = scale(spec, s->reflection->x);
         if (u->skyMaps)
-            spec = add(spec, scale(beyond, cone ? shade_material_occlusion(cone->w, s->occlusion) : 1.0f));
+            spec = add(spec, scale(beyond, material_occlusion));
         color = add(color, spec);
     }
     if (!cone)

@@ -353,8 +353,8 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
 }
 
 /* The samples among m (directions w, contributions c) that lie across the horizon from h's R
- * (shade_horizon_across) to h, in sample order, and +0 in their place, which leaves every partial
- * sum's bits as they are. Counted first in one vector loop, so that a lobe on one side of the
+ * (shade_horizon_across) to h, and +0 in their place, which leaves every partial sum's bits as
+ * they are. Counted first in one vector loop, so that a lobe on one side of the
  * horizon (most) skips the rest; out of line, so that the estimators' loops keep their size. */
 __attribute__((noinline)) static void horizon_split(shade_horizon *h, const float *wx, const float *wy,
                                                     const float *wz, float *cr, float *cg, float *cb, int m)
@@ -1373,7 +1373,8 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
                       const float *ab, sl_lighting_task *task, vec3 *out)
 {
     float kr[SPAN], kg[SPAN], kb[SPAN], occ[SPAN], spo[SPAN], docc[SPAN], emr[SPAN], emg[SPAN], emb[SPAN];
-    float mocc[SPAN]; /* the part across the horizon's factor: the material's occlusion with the cone, else 1 */
+    float mocc[SPAN]; /* the material's occlusion with the cone (the reflection join's and the part across the
+                         horizon's), else 1 */
     int covered[SPAN];
     const sl_gbuffer_extra *ex = gb->extra ? gb->extra + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     const sl_vec4 *cone = gb->cone ? gb->cone + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
@@ -1424,14 +1425,13 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd
         for (int i = 0; i < count; i++)
             spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
-        if (reflection) /* the port's join of the two factors */
-#pragma omp simd
-            for (int i = 0; i < count; i++)
-                spo[i] = sl_reflection_specular_factor(spo[i], shade_material_occlusion(ao[i], occ[i]),
-                                                       vec2(refl[i], refl_rays[i]));
 #pragma omp simd
         for (int i = 0; i < count; i++)
             mocc[i] = shade_material_occlusion(ao[i], occ[i]);
+        if (reflection) /* the port's join of the two factors */
+#pragma omp simd
+            for (int i = 0; i < count; i++)
+                spo[i] = sl_reflection_specular_factor(spo[i], mocc[i], vec2(refl[i], refl_rays[i]));
     } else {
         for (int i = 0; i < count; i++)
             mocc[i] = 1.0f;
@@ -1652,7 +1652,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             }
             shade_horizon h;
             vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, &h, task, trace);
-            vec3 across = h.on && u->uSpecular != 0 ? sl_shade_horizon_visible(u, &h, s.P, s.N, trace) : vec3s(0.0f);
+            vec3 across = h.on ? sl_shade_horizon_visible(u, &h, s.P, s.N, trace) : vec3s(0.0f);
             color = sl_shade_surface_color(u, &s, &E, &specular, &across, env_shadow, task, trace);
         }
         if (vector_sum && shadowed && t[i].depth >= 1.0f)
