@@ -204,9 +204,11 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
     t->iw_lo = minf(iw0, minf(iw1, iw2));
     t->iw_hi = maxf(iw0, maxf(iw1, iw2));
     t->vary = (uint32_t)ch->vary_count;
-    float *pv = ch->vary + ch->vary_count;
+    /* A program without varyings (depth only) has no varying store: ch->vary is NULL, and even
+     * NULL + 0 is undefined, so the address is formed only inside the loop. */
     for (int i = 0; i < call->nvary; i++)
-        plane(&fr, (double)v0.v[i] * e[0].iw, (double)v1.v[i] * e[1].iw, (double)v2.v[i] * e[2].iw, pv + 3 * i);
+        plane(&fr, (double)v0.v[i] * e[0].iw, (double)v1.v[i] * e[1].iw, (double)v2.v[i] * e[2].iw,
+              ch->vary + ch->vary_count + 3 * i);
 
     /* Bin: every tile the bounds touch, unless an edge excludes the whole tile. */
     uint32_t index = (uint32_t)ch->tri_count;

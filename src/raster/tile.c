@@ -197,11 +197,13 @@ void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count,
                 const rast_tri *next = &ch->tris[bin->items[i + RAST_PREFETCH] & ~RAST_BIN_FULL];
                 __builtin_prefetch(next);
                 __builtin_prefetch((const char *)next + RAST_CACHE_LINE);
-                __builtin_prefetch(ch->vary + next->vary);
+                if (ch->vary)
+                    __builtin_prefetch(ch->vary + next->vary);
             }
             c.t = t;
             c.call = &d->calls[t->call];
-            const float *planes = ch->vary + t->vary;
+            /* a batch of programs without varyings has no varying store (NULL + 0 is undefined) */
+            const float *planes = ch->vary ? ch->vary + t->vary : NULL;
             for (int k = 0, n = c.call->nvary; k < n; k++) {
                 c.p0[k] = planes[3 * k];
                 c.pdx[k] = planes[3 * k + 1];
