@@ -10,6 +10,7 @@
 # samples of the residual); ggx and top-down again with cvmis. Tolerances, gl_mis.sh's:
 #   p99 of the per-pixel relative error (floor 1e-3)  <= P99_TOL
 #   share of pixels more than 8/255 apart after the tone map <= OVER8_PERCENT
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -11,6 +11,7 @@
 # Then the feature must be wired: GL's image with --env-lights must differ from GL's without
 # (else uEnvLightCount or uEnvResidual never reached the shader), the C one too, and
 # `softlight trace --env-lights 8` must print the env lights' part of the specular.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -24,6 +24,7 @@
 #   objects), 0.01 and 1% (its floor, and the plane).
 # - position and normal: the plain varyings; on textured.json one pixel at the sphere's depth tie
 #   (gl_raster.sh) is 0.007 apart: bound 0.01, share 0.1%.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

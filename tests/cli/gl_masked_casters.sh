@@ -9,6 +9,7 @@
 #   bounds (p99 relative error <= 0.05, share more than 8/255 apart <= 0.1%) of softlight's;
 # - scenes/textured.json, whose leaf is alpha-masked, with --env-lights 32 --shadows --sky-maps 32,
 #   within the same bounds (a GL that casts the leaf's whole quad: p99 0.115, outside).
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

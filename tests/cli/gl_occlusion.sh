@@ -15,6 +15,7 @@
 # The specular occlusion: bunny's specular alone (--specular-only --no-lights) in the crease where
 # it meets the floor (C's AO < 0.6) keeps under a third of what it has without --ao-radius, in
 # GL as in C (measured: 0.003 of it in both), and the two agree as the radiance does.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

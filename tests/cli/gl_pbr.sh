@@ -22,6 +22,7 @@
 # Measured here: kd 0.0065 / 0.69% > 1/255, ks 0.0063 / 0.54%, alpha 0.0051 / 0.35%, occlusion
 # 0.0029 / 0, emissive 0.0032 / 0; radiance p99 rel 0.0050, GL lighting on softlight's G-buffer
 # 0.0028.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -13,6 +13,7 @@
 # sphere at a depth tie), 7.7e-7 on the soups. Before setup.c built its planes on the exact
 # positions (on the snapped ones: a vertex moved by up to 1/512 pixel times a steep depth
 # slope) it was 1.1e-5 on the shipped scenes and 1.2e-4 on the soups.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -13,6 +13,7 @@
 # - GL's image without the option is far outside those bounds against C's with it (p99 0.73): a
 #   GL that ignores the option fails here, and so does one that counts its own ray alone (no cross);
 #   one that takes the smaller of the two factors where C joins them fails grazing-ao (p99 0.072).
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -21,6 +21,7 @@
 # - a light 0.02 over a floor, grazing it: GL's image with --shadows is its image without (no
 #   acne: every tap of every pixel passes), as C's is;
 # - `softlight check scenes/lamp.json --shadows` compares them too, and passes.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

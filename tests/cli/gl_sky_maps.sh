@@ -24,6 +24,7 @@
 #   scenes/model.json with --ao-radius 1 (the cone's factor on R's side, the material's occlusion
 #   on the part across), the same bounds; measured p99 0.00012 (the wall), 0.0015 (model);
 # - `softlight check` on the wall with --sky-maps 32 passes.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -9,6 +9,7 @@
 # gems lod + G = 1 + distortion + dual-paraboloid irradiance, split sum on GGX only, a scene with
 # both lobe sets and a point light, and --gbuffer (the lobe sets read from softlight's G-buffer
 # files: a program for Phong alone would shade the GGX sphere wrong, and the reverse).
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -17,6 +17,7 @@
 # - scenes/city-sun.json with --env-lights 32 --shadows within the same bounds, also with
 #   --ao-radius 1 (the lights' part of the irradiance taken out along the bent direction), and
 #   `softlight check` on it passes.
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -28,6 +28,7 @@
 #   mips (as kd above), so pixels past level 0 (the far floor) can pass 1/255: measured max
 #   0.0063, 14% of the floor's pixels over 1/255, all of them within 1.5/255 (bound: 20%).
 #   Normal exact (no normal map on the floor).
+# CTest label: release-only
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 source tests/cli/gl_common.bash

@@ -9,6 +9,7 @@
 # every surface, and the next screenshot must equal render's of that program; then by a source
 # with a syntax error: stderr must name the file and line, the viewer keeps running with the grey
 # program, exit 0; the trace of a pixel (T) names the program and prints its texel.
+# CTest label: release-only
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"

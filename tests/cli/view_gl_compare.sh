@@ -18,6 +18,7 @@
 #   does the env lights' (U on scenes/city-sun.json with --env-lights 32);
 # - a softlight-gl that cannot run is a message, and the viewer goes on (exit 0); --glsl without
 #   --lighting, or naming no file, is one line and exit 2.
+# CTest label: release-only
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"

@@ -7,6 +7,7 @@
 # source is replaced (renamed over, as editors save) by a constant-colour program, and the next
 # screenshot must equal render's of that program; then by a source with a syntax error: stderr
 # must name the file and line, the viewer keeps running with the constant program, exit 0.
+# CTest label: release-only
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"

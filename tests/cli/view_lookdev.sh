@@ -6,6 +6,7 @@
 # the reflection occlusion), N/B pass the scene's N, the readout
 # under the pointer equals the PFM `softlight render` writes at that pixel, T prints softlight trace's text, an edited scene
 # file is reloaded (the camera kept), and --env / an environment alone render as render --env.
+# CTest label: release-only
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"

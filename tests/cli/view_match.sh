@@ -7,6 +7,7 @@
 # change the image; R must bring back exactly the first image; the G-buffer views must change
 # the PNG but not the linear screenshot. Also: exit status 0, one clear line and exit 2 with no
 # display, and --help without a display.
+# CTest label: release-only
 set -euo pipefail
 source "$(dirname "$0")/view_common.bash"
 view_setup "$@"
