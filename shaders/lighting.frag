@@ -1668,6 +1668,19 @@ vec3 horizon_visible(vec3 P, vec3 N)
     return gHorizonSum * sky_map_visibility(sky_cell(gHorizonDir / len), P, N);
 }
 
+// With the sky maps' part across the horizon, the share of the cone's occlusion across the
+// horizon from R, in [0, 1]: the cone's axis B leans away from its occluders, and the share of
+// the lean B - N that points across from R's side is taken as theirs. The maps take that part of
+// the lobe, so the specular occlusion opens the cone's AO by it; 0 without the maps.
+float cone_across(vec3 B, vec3 N, vec3 R)
+{
+    vec3 lean = B - N;
+    float len = length(lean);
+    float up = len > 1e-6 ? lean.z / len : 0.0;
+    float across = R.z >= 0.0 ? up : -up;
+    return SL_SKY_MAPS != 0 && uSkyMapCount > 0 ? clamp(across, 0.0, 1.0) : 0.0;
+}
+
 // point_light times the light's visibility from P in its shadow map, looked up only where the
 // light adds something.
 vec3 shadowed_point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
@@ -1764,7 +1777,7 @@ void main()
             vec4 c = texelFetch(uCone, pixel, 0);
             vec3 B = uEnvRotation * c.xyz;
             vec3 R = Nenv * (2.0 * dot(Nenv, Venv)) - Venv;
-            float so = specular_occlusion(c.w, dot(B, R), dot(Nenv, Venv), alpha);
+            float so = specular_occlusion(c.w + (1.0 - c.w) * cone_across(B, Nenv, R), dot(B, R), dot(Nenv, Venv), alpha);
             float spec_occlusion = c.w > 0.0 ? extra.r * (so / c.w) : 0.0;
             // the material's share of the occlusion: the reflection join's and the part across
             // the horizon's

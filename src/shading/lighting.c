@@ -789,12 +789,13 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
      * part across the horizon take it (1 without the cone: the sum's occlusion scales those) */
     float material_occlusion = cone ? shade_material_occlusion(cone->w, s->occlusion) : 1.0f;
     if (cone) {
-        float b_dot_r, n_dot_v;
-        shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v);
-        spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha));
+        float b_dot_r, n_dot_v, cone_across;
+        shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v, &cone_across);
+        spec_occlusion =
+            shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha), cone_across);
         if (s->reflection)
             spec_occlusion = sl_reflection_specular_factor(spec_occlusion, material_occlusion, *s->reflection);
-        trace_cone(trace, cone, s->occlusion, spec_occlusion);
+        trace_cone(trace, cone, s->occlusion, spec_occlusion, cone_across);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the
      * batched path, else looked up here). The lights' part of the irradiance is taken out of E

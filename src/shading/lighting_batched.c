@@ -1401,19 +1401,20 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
      * lobe parameter), then the factor for the span in one vector loop; an empty pixel's lane
      * is computed and never read */
     if (cone) {
-        float bdr[SPAN], ndv[SPAN], ao[SPAN], lobe_cos[SPAN], lobe_angle[SPAN]; /* a float array each: vectorizes */
+        float bdr[SPAN], ndv[SPAN], acr[SPAN], ao[SPAN], lobe_cos[SPAN], lobe_angle[SPAN]; /* a float array each: vectorizes */
         float last_alpha = NAN;
         sl_so_lobe last = {1.0f, 0.0f};
         for (int i = 0; i < count; i++) {
             ao[i] = cone[i].w;
             docc[i] = shade_diffuse_occlusion(u, &cone[i], occ[i]);
             bdr[i] = ndv[i] = 1.0f;
+            acr[i] = 0.0f;
             lobe_cos[i] = last.cos_s;
             lobe_angle[i] = last.ts;
             if (!covered[i])
                 continue;
             shade_cone_cosines(u, &cone[i], vec3(p->NEx[i], p->NEy[i], p->NEz[i]), vec3(p->VEx[i], p->VEy[i], p->VEz[i]),
-                               &bdr[i], &ndv[i]);
+                               &bdr[i], &ndv[i], &acr[i]);
             float alpha = shade_lobe_param(t[i].alpha);
             if (!(alpha == last_alpha)) {
                 last = sl_so_lobe_cone(alpha);
@@ -1424,7 +1425,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         }
 #pragma omp simd
         for (int i = 0; i < count; i++)
-            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]});
+            spo[i] = shade_spec_occlusion(ao[i], occ[i], bdr[i], ndv[i], (sl_so_lobe){lobe_cos[i], lobe_angle[i]}, acr[i]);
 #pragma omp simd
         for (int i = 0; i < count; i++)
             mocc[i] = shade_material_occlusion(ao[i], occ[i]);

@@ -222,22 +222,45 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
 
 /* The specular term's occlusion with the visibility cone, in two steps both paths share (so
  * both have the same bits): shade_cone_cosines, B.R and N.V of the lobe about R =
- * reflect(-Venv, Nenv) with B the cone's axis in environment space; shade_spec_occlusion, the
- * material's `occlusion` times its share of the AO `ao` (the cone's w) and the specular
- * occlusion (sl_specular_occlusion_lobe). The second has no branch: the batched path runs it
- * over a span in one vector loop. GLSL main's uHasCone branch has both inline. */
+ * reflect(-Venv, Nenv) with B the cone's axis in environment space, and the share of the cone's
+ * occlusion across the horizon from R (shade_cone_across); shade_spec_occlusion, the material's
+ * `occlusion` times its share of the AO `ao` (the cone's w) and the specular occlusion
+ * (sl_specular_occlusion_lobe) of the cone opened by that share. The second has no branch: the
+ * batched path runs it over a span in one vector loop. GLSL main's uHasCone branch has both
+ * inline. */
+
+/* GLSL: cone_across
+ * With the sky maps' part across the horizon (shade_horizon_for's condition; 0 without it), the
+ * share of the cone's occlusion that lies across the horizon from R, in [0, 1]. The maps take
+ * the lobe's part across, so the cone's factor, which the rest of the lobe keeps, should count
+ * only the occluders on R's side; the cone does not say where its occluders are, but its axis
+ * leans away from them: the share of the lean B - N that points across the horizon from R (its
+ * z over its length, signed by R's side) is taken as their share across. A pedestal's side face
+ * beside the floor (the bent normal leans up, R just above the horizon) keeps its reflection of
+ * the sky, as the visibility truth does, where the whole cone closed over it. */
+static inline float shade_cone_across(const sl_lighting_uniforms *u, vec3 B, vec3 Nenv, vec3 R)
+{
+    vec3 lean = sub(B, Nenv);
+    float len = sqrtf(dot(lean, lean));
+    float up = len > 1e-6f ? lean.z / len : 0.0f; /* > 0: the occluders lie below */
+    float across = R.z >= 0.0f ? up : -up;
+    return SL_SKY_MAPS_HORIZON && u->skyMaps != NULL ? clampf(across, 0.0f, 1.0f) : 0.0f;
+}
+
 static inline void shade_cone_cosines(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv, vec3 Venv,
-                                      float *b_dot_r, float *n_dot_v)
+                                      float *b_dot_r, float *n_dot_v, float *across)
 {
     vec3 B = mat3_mul_vec3(u->uEnvRotation, vec3(cone->x, cone->y, cone->z));
     vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
     *b_dot_r = dot(B, R);
     *n_dot_v = dot(Nenv, Venv);
+    *across = shade_cone_across(u, B, Nenv, R);
 }
 
-static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_r, float n_dot_v, sl_so_lobe lobe)
+static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_r, float n_dot_v, sl_so_lobe lobe,
+                                         float across)
 {
-    float so = sl_specular_occlusion_lobe(ao, b_dot_r, n_dot_v, lobe);
+    float so = sl_specular_occlusion_lobe(ao + (1.0f - ao) * across, b_dot_r, n_dot_v, lobe);
     /* the occlusion is the material's times the AO: the material's share stays */
     float share = occlusion * (so / ao);
     return ao > 0.0f ? share : 0.0f;
@@ -555,11 +578,13 @@ static inline void trace_extra(sl_lighting_trace *t, float occlusion, vec3 emiss
 }
 
 /* The pixel's visibility cone and what the lighting made of it: the bent normal (world space),
- * the AO, the diffuse and specular factors applied. */
+ * the AO, the diffuse and specular factors applied, the share of the cone's occlusion across the
+ * horizon (shade_cone_across). */
 static inline void trace_cone(sl_lighting_trace *t, const sl_vec4 *cone, float diffuse_occlusion,
-                              float specular_occlusion)
+                              float specular_occlusion, float cone_across)
 {
     if (t && cone) {
+        t->cone_across = cone_across;
         t->cone = true;
         t->cone_axis = vec3(cone->x, cone->y, cone->z);
         t->ao = cone->w;

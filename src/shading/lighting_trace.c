@@ -264,6 +264,10 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 (double)(acosf(sqrtf(fmaxf(0.0f, 1.0f - t->ao))) * (180.0f / SL_PI)));
         fprintf(f, "  %-12s %.6g (scales the specular: the material's occlusion times the lobe's share in the cone%s)\n",
                 "spec occl", (double)t->specular_occlusion, t->reflection ? ", joined with the reflection's" : "");
+        if (t->cone_across > 0.0f)
+            fprintf(f, "  %-12s %.6g (the share of the cone's occlusion across the horizon from R, left to the sky maps:"
+                       " the cone's AO opened by it for the specular)\n",
+                    "cone across", (double)t->cone_across);
     }
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
         static const char *const member[SL_REFLECTION_RAYS] = {"texel", "x+1", "x-1", "y+1", "y-1"};

@@ -100,6 +100,8 @@ struct sl_lighting_trace {
     vec3 cone_axis;          /* ... its bent normal (world space; the irradiance is looked up along it) */
     float ao;                /* ... its AO (the cone's cosine-weighted share of the hemisphere) */
     float diffuse_occlusion, specular_occlusion; /* ... the factors on the diffuse and the specular */
+    float cone_across;       /* ... the share of its occlusion across the horizon from R, which the
+                                specular's factor leaves to the sky maps (0 without them) */
     bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
     float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
     int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_RAYS) */

@@ -6,13 +6,17 @@
  * points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of odd points (off
  * every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's side or the
  * ground's; sl_shadow_sky_cell, the cell of a direction (which the lighting's part across the
- * horizon reads), is the rule the weights were summed by. */
+ * horizon reads), is the rule the weights were summed by. The cone's share across the horizon
+ * (shade_cone_across, which opens the specular occlusion's cone where the maps take the part its
+ * occluders hide): 0 without the maps, all of the cone's lean when it points across from R, none
+ * when it points to R's side, and the specular's factor never falls as the share grows. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
 
 #include "raster/raster.h"
 #include "scene/scene.h"
+#include "shading/lighting_internal.h"
 #include "shadow/sky.h"
 
 static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n"
@@ -236,11 +240,52 @@ static void test_cells_split_at_horizon(void **state)
     sl_scene_free(&scene);
 }
 
+static void test_cone_across(void **state)
+{
+    (void)state;
+    sl_shadow_sky maps = {0};
+    sl_lighting_uniforms u = {.uEnvRotation = mat3_identity(), .skyMaps = &maps};
+    sl_lighting_uniforms none = u;
+    none.skyMaps = NULL;
+    /* a face turned a little down, and cone axes each leaning from it along one axis (the
+     * function reads only the lean's direction) */
+    vec3 N = normalize(vec3(-0.95f, 0.0f, -0.3f));
+    vec3 up_lean = vec3(N.x, N.y, -N.z);          /* occluders below: the floor */
+    vec3 down_lean = vec3(N.x, N.y, N.z - 0.3f);  /* occluders above: an overhang */
+    vec3 side_lean = vec3(N.x, N.y + 0.3f, N.z);  /* occluders beside */
+    vec3 R_sky = normalize(vec3(-0.44f, 0.9f, 0.06f)), R_ground = normalize(vec3(-0.44f, 0.9f, -0.06f));
+    assert_float_equal(shade_cone_across(&none, up_lean, N, R_sky), 0.0f, 0.0f);
+    float a = shade_cone_across(&u, up_lean, N, R_sky);
+    assert_true(a > 0.99f && a <= 1.0f);
+    assert_float_equal(shade_cone_across(&u, up_lean, N, R_ground), 0.0f, 0.0f);
+    assert_true(shade_cone_across(&u, down_lean, N, R_ground) > 0.99f);
+    assert_float_equal(shade_cone_across(&u, down_lean, N, R_sky), 0.0f, 0.0f);
+    assert_true(shade_cone_across(&u, side_lean, N, R_sky) < 1e-6f);
+    assert_float_equal(shade_cone_across(&u, N, N, R_sky), 0.0f, 0.0f); /* no lean: nothing said */
+    /* the factor: a pedestal's side face beside the floor (model.json, GGX r = 0.3), R just above
+     * the horizon and outside the cone, which leans up. The whole share across gives the
+     * material's occlusion back, and the factor grows with the share. */
+    vec3 Np = normalize(vec3(-0.866f, 0.049f, 0.498f)), Bp = normalize(vec3(-0.694f, 0.034f, 0.719f));
+    vec3 Rp = normalize(vec3(-0.442f, 0.895f, 0.059f));
+    assert_true(shade_cone_across(&u, Bp, Np, Rp) > 0.7f); /* most of the lean is up */
+    sl_so_lobe lobe = sl_so_lobe_cone(sl_gbuffer_ggx_alpha(0.3f));
+    float ao = 0.859f, material = 0.9f, occlusion = material * ao;
+    float b_dot_r = dot(Bp, Rp), n_dot_v = dot(Np, Rp), last = -1.0f;
+    for (int k = 0; k <= 10; k++) {
+        float f = shade_spec_occlusion(ao, occlusion, b_dot_r, n_dot_v, lobe, (float)k / 10.0f);
+        assert_true(f >= last);
+        last = f;
+    }
+    assert_true(shade_spec_occlusion(ao, occlusion, b_dot_r, n_dot_v, lobe, 0.0f) < 0.8f * material);
+    assert_float_equal(last, material, 1e-6);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_match_scalar),
         cmocka_unit_test(test_cells_split_at_horizon),
+        cmocka_unit_test(test_cone_across),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
