@@ -849,8 +849,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                 spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, &h, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, &h, task, trace);
-            if (h.on)
-                beyond = sl_shade_horizon_visible(u, &h, s->P, s->N, trace);
+            beyond = sl_shade_horizon_visible(u, &h, s->P, s->N, trace);
             if (u->uEnvLightCount > 0 && !env_shadow) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL);
                 spec = add(spec, exact);

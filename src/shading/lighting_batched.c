@@ -1604,9 +1604,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             }
             if (u->skyMaps) { /* sl_shade_surface_color's V on the residual's irradiance */
                 sky_scale(u, p, i, t[i].position);
-                vec3 across = h.on ? sl_shade_horizon_visible(u, &h, t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
-                                                              NULL)
-                                   : vec3s(0.0f);
+                vec3 across = sl_shade_horizon_visible(u, &h, t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
                 ar[i] = across.x;
                 ag[i] = across.y;
                 ab[i] = across.z;
@@ -1653,7 +1651,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             }
             shade_horizon h;
             vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, &h, task, trace);
-            vec3 across = h.on ? sl_shade_horizon_visible(u, &h, s.P, s.N, trace) : vec3s(0.0f);
+            vec3 across = sl_shade_horizon_visible(u, &h, s.P, s.N, trace);
             color = sl_shade_surface_color(u, &s, &E, &specular, &across, env_shadow, task, trace);
         }
         if (vector_sum && shadowed && t[i].depth >= 1.0f)

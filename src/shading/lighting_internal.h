@@ -66,12 +66,17 @@ typedef struct {
     vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
 } shade_horizon;
 
+/* Whether the specular is split at the horizon: the maps are drawn (and the build has the split) */
+static inline bool shade_horizon_on(const sl_lighting_uniforms *u)
+{
+    return SL_SKY_MAPS_HORIZON && u->skyMaps != NULL;
+}
+
 /* GLSL: horizon_for */
 static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv)
 {
     vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
-    return (shade_horizon){.on = SL_SKY_MAPS_HORIZON && u->skyMaps != NULL, .sky = R.z >= 0.0f, .sum = vec3s(0.0f),
-                           .dir = vec3s(0.0f)};
+    return (shade_horizon){.on = shade_horizon_on(u), .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f)};
 }
 
 /* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
@@ -89,7 +94,7 @@ static inline void shade_horizon_add(shade_horizon *h, vec3 w, vec3 c)
 
 /* The part across the horizon times its visibility from world point P with world normal N: that
  * of the sky map whose cell holds normalize(h->dir) (sl_shadow_sky_cell); 0 with nothing
- * across. Recorded in the trace. */
+ * across, and so without the split (h->on false). Recorded in the trace. */
 vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
                               sl_lighting_trace *trace);
 /* GLSL specular_mis, and specular_cv with mis for cvmis, each with the part across the horizon
@@ -230,7 +235,7 @@ static inline sl_gbuffer_extra shade_extra(const sl_gbuffer *gb, int x, int y)
  * inline. */
 
 /* GLSL: cone_across
- * With the sky maps' part across the horizon (shade_horizon_for's condition; 0 without it), the
+ * With the sky maps' part across the horizon (shade_horizon_on; 0 without it), the
  * share of the cone's occlusion that lies across the horizon from R, in [0, 1]. The maps take
  * the lobe's part across, so the cone's factor, which the rest of the lobe keeps, should count
  * only the occluders on R's side; the cone does not say where its occluders are, but its axis
@@ -244,7 +249,7 @@ static inline float shade_cone_across(const sl_lighting_uniforms *u, vec3 B, vec
     float len = sqrtf(dot(lean, lean));
     float up = len > 1e-6f ? lean.z / len : 0.0f; /* > 0: the occluders lie below */
     float across = R.z >= 0.0f ? up : -up;
-    return SL_SKY_MAPS_HORIZON && u->skyMaps != NULL ? clampf(across, 0.0f, 1.0f) : 0.0f;
+    return shade_horizon_on(u) ? clampf(across, 0.0f, 1.0f) : 0.0f;
 }
 
 static inline void shade_cone_cosines(const sl_lighting_uniforms *u, const sl_vec4 *cone, vec3 Nenv, vec3 Venv,
