@@ -862,10 +862,16 @@ bool gHorizonSky; // R on the sky's side
 vec3 gHorizonSum; // the contributions from across, over the estimate's count
 vec3 gHorizonDir; // their directions times |luminance|
 
+// whether the specular is split at the horizon: the maps are drawn
+bool horizon_on()
+{
+    return SL_SKY_MAPS != 0 && uSkyMapCount > 0;
+}
+
 void horizon_for(vec3 N, vec3 V)
 {
     vec3 R = N * (2.0 * dot(N, V)) - V;
-    gHorizonOn = SL_SKY_MAPS != 0 && uSkyMapCount > 0;
+    gHorizonOn = horizon_on();
     gHorizonSky = R.z >= 0.0;
     gHorizonSum = vec3(0.0);
     gHorizonDir = vec3(0.0);
@@ -1678,7 +1684,7 @@ float cone_across(vec3 B, vec3 N, vec3 R)
     float len = length(lean);
     float up = len > 1e-6 ? lean.z / len : 0.0;
     float across = R.z >= 0.0 ? up : -up;
-    return SL_SKY_MAPS != 0 && uSkyMapCount > 0 ? clamp(across, 0.0, 1.0) : 0.0;
+    return horizon_on() ? clamp(across, 0.0, 1.0) : 0.0;
 }
 
 // point_light times the light's visibility from P in its shadow map, looked up only where the

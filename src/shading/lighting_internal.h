@@ -66,7 +66,8 @@ typedef struct {
     vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
 } shade_horizon;
 
-/* Whether the specular is split at the horizon: the maps are drawn (and the build has the split) */
+/* GLSL: horizon_on - whether the specular is split at the horizon: the maps are drawn (and the
+ * build has the split) */
 static inline bool shade_horizon_on(const sl_lighting_uniforms *u)
 {
     return SL_SKY_MAPS_HORIZON && u->skyMaps != NULL;
