@@ -152,6 +152,8 @@ typedef struct {
     int last_rows;            /* rows in the last slice */
     double seconds;           /* spent on this job so far */
     int64_t nonfinite_base;   /* the tasks' NaN/Inf count when the job began */
+    sl_lighting_planes planes; /* what the rows read from the whole G-buffer, filled when the job
+                                  begins (as sl_lighting_pass fills its own) */
     /* When display is set, each row is also tone mapped into it (row y at display + y
      * display_pitch, sl_tonemap_row_xrgb8888) right after it is lit, while it is in cache:
      * a moving frame goes straight into the window's texture (view_refine.c). */
@@ -160,10 +162,12 @@ typedef struct {
     int display_pitch;
 } view_shade_job;
 
-/* Start a job for freshly prepared uniforms (threads <= 0: OpenMP's default); rows are shaded
- * straight into the output image. `same_cost`: the last job's rows cost the same (the next frame
- * of an accumulation), so its measured row cost sizes the first slice; else it is measured again. */
-bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err);
+/* Start a job for freshly prepared uniforms u over gb (threads <= 0: OpenMP's default); rows are
+ * shaded straight into the output image. `same_cost`: the last job's rows cost the same (the next
+ * frame of an accumulation), so its measured row cost sizes the first slice; else it is measured
+ * again. */
+bool view_shade_begin(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, int threads,
+                      bool same_cost, sl_error *err);
 /* Shade rows until about `budget_s` seconds have passed (at least two rows a thread; INFINITY:
  * every row left, in one parallel region). `first_row` gets the first row done by this call.
  * True when every row of `out` is done. */

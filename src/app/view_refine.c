@@ -280,8 +280,8 @@ static bool stage_begin(viewer *v, int stage, sl_error *err)
         }
         if (stage == VIEW_STAGE_ACCUMULATE && v->acc_count == 0)
             v->acc_ms = 0.0;
-        if (!view_shade_begin(&v->shade, v->r.desc.threads, stage == VIEW_STAGE_ACCUMULATE && v->acc_count > 0,
-                              err))
+        if (!view_shade_begin(&v->shade, v->r.uniforms, &v->r.gbuffer, v->r.desc.threads,
+                              stage == VIEW_STAGE_ACCUMULATE && v->acc_count > 0, err))
             return false;
         v->job_active = true;
         return true;

@@ -8,8 +8,9 @@
  * sl_lighting_shade per pixel, docs/performance.md "Viewer"). Inside a slice the
  * rows are shared between threads (OpenMP, dynamic schedule) in bands of 4, as the library's pass
  * shares them;
- * each pixel depends only on its texel and the read-only uniforms, so the result is identical
- * for any thread count and slicing. */
+ * each pixel depends only on its texel, the read-only uniforms and the planes the job fills when
+ * it begins (sl_lighting_planes, as the pass fills its own), so the result is identical for any
+ * thread count and slicing. */
 #include "view_internal.h"
 
 #include <math.h>
@@ -20,7 +21,8 @@
 
 enum { BAND_ROWS = 4 }; /* rows a chunk of the parallel loop, as sl_lighting_pass's bands */
 
-bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error *err)
+bool view_shade_begin(view_shade_job *job, const sl_lighting_uniforms *u, const sl_gbuffer *gb, int threads,
+                      bool same_cost, sl_error *err)
 {
     int n = threads > 0 ? threads : omp_get_max_threads();
     if (job->tasks && job->thread_count != n)
@@ -39,6 +41,10 @@ bool view_shade_begin(view_shade_job *job, int threads, bool same_cost, sl_error
     /* The uniforms were re-initialised in place: cached sample tables are stale. */
     for (int i = 0; i < n; i++)
         sl_lighting_task_reset(job->tasks[i]);
+    if (!sl_lighting_planes_prepare(&job->planes, u, gb, n, err))
+        return false;
+    for (int i = 0; i < n; i++)
+        sl_lighting_task_use_planes(job->tasks[i], &job->planes);
     job->next_row = 0;
     job->seconds = 0.0;
     job->nonfinite_base = 0;
@@ -121,4 +127,5 @@ void view_shade_free(view_shade_job *job)
     free(job->tasks);
     job->tasks = NULL;
     job->thread_count = 0;
+    sl_lighting_planes_free(&job->planes);
 }

@@ -381,13 +381,15 @@ bool sl_renderer_resize(sl_renderer *r, int width, int height, sl_error *err)
 }
 
 /* A shard's band: the whole frame is rasterized (so every texel in the band is what the unsharded
- * frame has), then the rows outside are emptied; per-pixel stages skip empty texels. */
+ * frame has), then the rows outside are emptied, all but the one beside each edge of the band,
+ * which the lighting's sky plane fills the band's edge rows from (sl_lighting_planes); per-pixel
+ * stages skip empty texels. */
 static void keep_band(sl_gbuffer *gb, const int band[2])
 {
     const sl_gbuffer_texel empty = {.depth = 1.0f};
     for (int y = 0; y < gb->height; y++) {
         int row = gb->height - 1 - y; /* image row 0 = top = G-buffer row height - 1 */
-        if (row >= band[0] && row < band[1])
+        if (row >= band[0] - 1 && row < band[1] + 1)
             continue;
         for (int x = 0; x < gb->width; x++)
             *sl_gbuffer_at(gb, x, y) = empty;

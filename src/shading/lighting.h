@@ -244,6 +244,22 @@ void sl_lighting_task_reset(sl_lighting_task *task);
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats); /* adds */
 void sl_lighting_task_destroy(sl_lighting_task *task);
 
+/* What the built-in's batched paths read from a whole G-buffer, filled before any of its rows is
+ * shaded: the sky maps' V per texel (with u->skyMaps and the diffuse term: sky_plane.c, a
+ * quarter of the lookups). sl_lighting_pass keeps its own; a caller that schedules rows itself
+ * (the viewer) prepares one after the uniforms and before the rows, and hands it to each task
+ * (without it a task's pixels look V up themselves: the port's values, slower). */
+typedef struct {
+    float *sky;      /* width x height in the G-buffer's order, or NULL: not needed */
+    size_t capacity; /* floats allocated */
+} sl_lighting_planes;
+bool sl_lighting_planes_prepare(sl_lighting_planes *planes, const sl_lighting_uniforms *u, const sl_gbuffer *gb,
+                                int threads, sl_error *err);
+void sl_lighting_planes_free(sl_lighting_planes *planes);
+/* The task's rows read `planes` (NULL: none) until the next call (sl_lighting_task_reset, which
+ * drops the sample tables, keeps it). */
+void sl_lighting_task_use_planes(sl_lighting_task *task, const sl_lighting_planes *planes);
+
 /* What a lighting program's NaN or Inf becomes (the built-in repairs its own to 0): magenta,
  * loud in any tone map. */
 #define SL_LIGHTING_NONFINITE vec3(1.0f, 0.0f, 1.0f)

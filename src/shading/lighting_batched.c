@@ -1347,12 +1347,13 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
 }
 
 /* The sky visibility maps' V (src/shadow/sky.h) on covered pixel i's irradiance: the port's
- * scale(E, V), the same bits. */
-static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3 P)
+ * scale(E, V), from the pass's plane (sky_row: the span's part of it) where it has one, else
+ * looked up as the port does. */
+static void sky_scale(const sl_lighting_uniforms *u, pixel_block *p, int i, vec3 P, const float *sky_row)
 {
     if (u->uDiffuse == 0)
         return;
-    float V = sl_shadow_sky_visibility(u->skyMaps, P, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
+    float V = sky_row ? sky_row[i] : sl_shadow_sky_visibility(u->skyMaps, P, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
     p->Er[i] *= V;
     p->Eg[i] *= V;
     p->Eb[i] *= V;
@@ -1538,6 +1539,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     const bool irradiance = empty < count && u->uDiffuse != 0;
+    const float *sky_row = task && task->sky_plane ? task->sky_plane + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
     if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
         pixel_stage(u, t, count, p);
     /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's
@@ -1603,7 +1605,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, &h, task, NULL);
             }
             if (u->skyMaps) { /* sl_shade_surface_color's V on the residual's irradiance */
-                sky_scale(u, p, i, t[i].position);
+                sky_scale(u, p, i, t[i].position, sky_row);
                 vec3 across = sl_shade_horizon_visible(u, &h, t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
                 ar[i] = across.x;
                 ag[i] = across.y;
@@ -1646,7 +1648,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 p->Er[i] = E.x;
                 p->Eg[i] = E.y;
                 p->Eb[i] = E.z;
-                sky_scale(u, p, i, s.P);
+                sky_scale(u, p, i, s.P, sky_row);
                 E = vec3(p->Er[i], p->Eg[i], p->Eb[i]);
             }
             shade_horizon h;

@@ -417,7 +417,29 @@ struct sl_lighting_task {
     azimuth_table azimuth;
     env_sample_table env_samples;
     sl_lighting_stats stats;
+    /* the sky maps' V per texel of the G-buffer being lit (sl_lighting_planes, sky_plane.c), for
+     * the batched paths; NULL: each pixel looks its V up */
+    const float *sky_plane;
 };
+
+/* ---- the sky maps' V over a whole G-buffer (sky_plane.c) ---- */
+
+/* The fill's tests: an anchor stands for a texel where it lies within SL_SKY_PLANE_SAME_DEPTH of
+ * the texel's view distance from its tangent plane with its normal within
+ * SL_SKY_PLANE_SAME_NORMAL (a cosine: 18 degrees), and the anchors' V are within
+ * SL_SKY_PLANE_AGREE of each other (the lighting pass's; bench_sky_plane and the tests pass
+ * others). */
+#define SL_SKY_PLANE_SAME_DEPTH 0.002f
+#define SL_SKY_PLANE_SAME_NORMAL 0.95f
+#define SL_SKY_PLANE_AGREE 0.01f
+
+/* V (sl_shadow_sky_visibility at each covered texel's P and lighting normal) into plane, w x h
+ * floats in the G-buffer's order (1 at an empty texel): looked up at the anchors (even x and y)
+ * and filled between them where the surface allows and the anchors' V are within `agree` of each
+ * other (agree < 0: every covered texel looked up), with `threads` OpenMP threads (> 0).
+ * u->skyMaps must be set. Returns the lookups made. */
+int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+                          int threads);
 
 /* ---- trace hooks and counters: the named points where a path records what a pixel computed.
  * trace and task may be NULL (the pass has no trace); a hook then does nothing. ---- */

@@ -1,8 +1,9 @@
 /* lighting_pass.c - runs the frame's lighting program (softlight/lighting.h) over a G-buffer:
  * the built-in's dispatch between the port (lighting.c, options.plain), the batched path
  * (lighting_batched.c) and the split-sum fast path (lighting_splitsum.c, for --estimator
- * splitsum), another program's forms with its NaN/Inf made loud and counted, the pass (OpenMP over bands of whole
- * rows, one task per thread), and the accumulation of rotated frames. */
+ * splitsum), another program's forms with its NaN/Inf made loud and counted, the planes the
+ * batched paths read from the whole G-buffer (sl_lighting_planes: the sky maps' V), the pass
+ * (OpenMP over bands of whole rows, one task per thread), and the accumulation of rotated frames. */
 
 #include <math.h>
 #include <omp.h>
@@ -101,6 +102,34 @@ void sl_lighting_shade_row(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
         out[i] = guard_nonfinite(out[i], task);
 }
 
+bool sl_lighting_planes_prepare(sl_lighting_planes *planes, const sl_lighting_uniforms *u, const sl_gbuffer *gb,
+                                int threads, sl_error *err)
+{
+    /* the built-in's batched paths only: the port looks V up per pixel, another program as it likes */
+    if (u->program || u->options.plain || !u->skyMaps || u->uDiffuse == 0) {
+        free(planes->sky);
+        *planes = (sl_lighting_planes){0};
+        return true;
+    }
+    size_t need = (size_t)gb->width * (size_t)gb->height;
+    if (planes->capacity < need) {
+        float *grown = realloc(planes->sky, need * sizeof *grown);
+        if (!grown)
+            return sl_fail(err, SL_ERR_MEMORY, "lighting: no memory for the sky maps' plane (%dx%d)", gb->width,
+                           gb->height);
+        planes->sky = grown;
+        planes->capacity = need;
+    }
+    sl_sky_plane_fill(u, gb, planes->sky, SL_SKY_PLANE_AGREE, threads > 0 ? threads : omp_get_max_threads());
+    return true;
+}
+
+void sl_lighting_planes_free(sl_lighting_planes *planes)
+{
+    free(planes->sky);
+    *planes = (sl_lighting_planes){0};
+}
+
 /* A band is BAND_ROWS whole rows: the G-buffer and the image are read and written in address
  * order, which the hardware prefetcher follows (32x32 tiles jumped to a new page every 32
  * texels, and the split sum spent a fifth of its time waiting for its first G-buffer read). */
@@ -140,9 +169,19 @@ bool sl_lighting_pass_hooked(const sl_lighting_uniforms *u, sl_lighting_stats *s
             return false;
         }
     }
+    sl_lighting_planes planes = {0};
+    if (!sl_lighting_planes_prepare(&planes, u, gb, nthreads, err)) {
+        for (int i = 0; i < nthreads; i++)
+            sl_lighting_task_destroy(tasks[i]);
+        free(tasks);
+        return false;
+    }
+    for (int i = 0; i < nthreads; i++)
+        sl_lighting_task_use_planes(tasks[i], &planes);
     const int band_count = (gb->height + BAND_ROWS - 1) / BAND_ROWS;
     /* Each band writes only its own pixels; each pixel's value depends on nothing but its
-     * texel and the read-only uniforms, so the image does not depend on the thread count. */
+     * texel, the read-only uniforms and the planes filled before the bands, so the image does
+     * not depend on the thread count. */
 #pragma omp parallel num_threads(nthreads)
     {
         sl_lighting_task *task = tasks[omp_get_thread_num()];
@@ -168,6 +207,7 @@ bool sl_lighting_pass_hooked(const sl_lighting_uniforms *u, sl_lighting_stats *s
         sl_lighting_task_destroy(tasks[i]);
     }
     free(tasks);
+    sl_lighting_planes_free(&planes);
     return true;
 }
 

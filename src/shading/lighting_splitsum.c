@@ -20,7 +20,8 @@
  *       when it mixes;
  *   (5) the irradiance, vectorized: sl_irradiance_eval_span (the port's bits) for SH9 and the
  *       pole-free maps, the lat-long map's bilinear fetch at the fast atan2's uv; with the sky
- *       visibility maps, times their V a covered pixel at a time (sky_stage, the port's bits);
+ *       visibility maps, times their V a covered pixel at a time (sky_stage: the lighting pass's
+ *       plane, sky_plane.c, or the port's lookup);
  *   (6) main()'s sum in the port's order: diffuse + specular, times the occlusion, each point
  *       light (a loop per light over the span; Phong's D through fast log2/exp2), emission;
  *   (7) the background of empty pixels (sl_shade_background_span, the batched path's);
@@ -307,16 +308,18 @@ static void irradiance_stage(const sl_lighting_uniforms *u, int count, splitsum_
 }
 
 /* (5) with the sky visibility maps, their V on each covered pixel's irradiance: the port's
- * scale(E, V), the same bits (src/shadow/sky.h: one lookup over the maps a pixel). */
+ * scale(E, V), V from the pass's plane (sky_row: the span's part of it) where it has one, else
+ * the port's lookup (src/shadow/sky.h: one over the maps a pixel). */
 __attribute__((noinline)) /* a stage: see the top of the file */
 static void sky_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
-                      splitsum_block *b)
+                      const float *sky_row, splitsum_block *b)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
     for (int i = 0; i < count; i++) {
         if (t[i].depth >= 1.0f)
             continue;
-        float V = sl_shadow_sky_visibility(u->skyMaps, t[i].position, vec3(b->Nx[i], b->Ny[i], b->Nz[i]), NULL);
+        float V = sky_row ? sky_row[i]
+                          : sl_shadow_sky_visibility(u->skyMaps, t[i].position, vec3(b->Nx[i], b->Ny[i], b->Nz[i]), NULL);
         b->er[i] *= V;
         b->eg[i] *= V;
         b->eb[i] *= V;
@@ -422,7 +425,7 @@ static void point_light_stage(const sl_lighting_uniforms *u, int j, int count, s
 /* Stages (1) to (6) for a span with covered pixels (an empty pixel's lanes compute values that
  * nobody reads). */
 static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, int y, int count,
-                           splitsum_block *b, sl_lighting_trace *trace)
+                           const float *sky_row, splitsum_block *b, sl_lighting_trace *trace)
 {
     load_stage(u, gb, x0, y, count, b);
     frame_stage(u, count, b);
@@ -431,7 +434,7 @@ static void surface_stages(const sl_lighting_uniforms *u, const sl_gbuffer *gb, 
     if (u->uDiffuse != 0) {
         irradiance_stage(u, count, b);
         if (u->skyMaps)
-            sky_stage(u, gb, x0, y, count, b);
+            sky_stage(u, gb, x0, y, count, sky_row, b);
     } else { /* sum_stage multiplies the diffuse term by 0 */
         memset(b->er, 0, sizeof b->er);
         memset(b->eg, 0, sizeof b->eg);
@@ -514,7 +517,9 @@ void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb,
     if (empty > 0)
         sl_shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
-        surface_stages(u, gb, x0, y, count, b, trace);
+        surface_stages(u, gb, x0, y, count,
+                       task && task->sky_plane ? task->sky_plane + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL,
+                       b, trace);
     if (!trace) {
         finish_stage(u, t, count, empty, task, b, out);
         return;

@@ -31,6 +31,11 @@ void sl_lighting_task_reset(sl_lighting_task *task)
     task->env_samples.n = 0;
 }
 
+void sl_lighting_task_use_planes(sl_lighting_task *task, const sl_lighting_planes *planes)
+{
+    task->sky_plane = planes ? planes->sky : NULL;
+}
+
 void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *stats)
 {
     stats->pixels += task->stats.pixels;

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # shard.sh BUILD_DIR - `--shard I/N` and `softlight merge`: shards run as separate processes with
 # GNU parallel (standing in for hosts), merged, give byte for byte the files of the unsharded
-# command, for render on every shipped scene (PNG, .pfm, .hdr, AOVs, normals) and for truth; bad
-# sets of partials are refused with one line, exit 2, and nothing written.
+# command, for render on every shipped scene (PNG, .pfm, .hdr, AOVs, normals), with the sky maps,
+# and for truth; bad sets of partials are refused with one line, exit 2, and nothing written.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
 SL="$(cd "$1" && pwd)/softlight"
@@ -22,6 +22,13 @@ for scene in scenes/*.json; do
     cmp -s "$T/$f" "$T/m-$f" || fail "$scene: merged $f differs from the unsharded one"
   done
 done
+
+# the sky maps' plane fills a texel from the rows beside it: a shard's edge rows too
+"$SL" render scenes/default.json --size 80x45 -n 8 -q --sky-maps 32 --pfm "$T/sky.pfm" -o "$T/sky.png"
+parallel "$SL" render scenes/default.json --size 80x45 -n 8 -q --sky-maps 32 --pfm "$T/m-sky.pfm" -o "$T/m-sky.png" \
+  --shard {}/3 -j 1 ::: 1 2 3
+"$SL" merge -q "$T"/m-sky.png.shard-*-of-3
+cmp -s "$T/sky.pfm" "$T/m-sky.pfm" || fail "--sky-maps 32: merged radiance differs from the unsharded one"
 
 # truth: 4 shards, one of them empty of geometry is fine; 45 rows over 4 shards
 scene=scenes/default.json

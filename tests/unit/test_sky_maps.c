@@ -9,7 +9,10 @@
  * horizon reads), is the rule the weights were summed by. The cone's share across the horizon
  * (shade_cone_across, which opens the specular occlusion's cone where the maps take the part its
  * occluders hide): 0 without the maps, all of the cone's lean when it points across from R, none
- * when it points to R's side, and the specular's factor never falls as the share grows. */
+ * when it points to R's side, and the specular's factor never falls as the share grows. The
+ * plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit, a
+ * texel beside an empty one is looked up, about a third of the texels are, and the fill stays
+ * near the lookups, nearer than a fill without the agreement test. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -280,12 +283,84 @@ static void test_cone_across(void **state)
     assert_float_equal(last, material, 1e-6);
 }
 
+static void test_sky_plane(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    sl_env env;
+    scene_and_env(&scene, &env);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    sl_gbuffer gb = {0};
+    sl_shadow_sky s = {0};
+    const int w = 320, h = 180;
+    if (!r || !sl_gbuffer_resize(&gb, w, h, &err) || !sl_raster_scene(r, &scene, &scene.camera, &gb, &err) ||
+        !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
+        fail_msg("%s", err.msg);
+    sl_lighting_uniforms u = {.uEnvRotation = mat3_identity(), .uEye = scene.camera.eye, .skyMaps = &s};
+    float *filled = malloc(sizeof(float) * w * h), *every = malloc(sizeof(float) * w * h),
+          *loose = malloc(sizeof(float) * w * h);
+    assert_non_null(filled);
+    assert_non_null(every);
+    assert_non_null(loose);
+    int64_t lookups = sl_sky_plane_fill(&u, &gb, filled, SL_SKY_PLANE_AGREE, 2);
+    int64_t all = sl_sky_plane_fill(&u, &gb, every, -1.0f, 2);
+    sl_sky_plane_fill(&u, &gb, loose, 1.0f, 1); /* any V between anchors on one surface */
+    int covered = 0, partial = 0, off = 0, loose_off = 0;
+    double sum = 0.0;
+    for (int y = 0; y < h; y++)
+        for (int x = 0; x < w; x++) {
+            size_t i = (size_t)y * w + (size_t)x;
+            if (gb.texels[i].depth >= 1.0f)
+                continue;
+            covered++;
+            partial += every[i] < 0.95f;
+            /* the every-texel plane is the lookup */
+            const vec3 rows[3] = {u.uEnvRotation.c[0], u.uEnvRotation.c[1], u.uEnvRotation.c[2]};
+            shade_view_frame f = shade_view_frame_at(u.uEye, gb.texels[i].position, gb.texels[i].normal, rows);
+            assert_float_equal(every[i], sl_shadow_sky_visibility(&s, gb.texels[i].position, f.N, NULL), 0.0f);
+            if (x % 2 == 0 && y % 2 == 0)
+                assert_float_equal(filled[i], every[i], 0.0f);
+            bool edge = false; /* an anchor it would be filled from is off the image or empty */
+            for (int dy = -(y % 2); dy <= y % 2; dy += 2)
+                for (int dx = -(x % 2); dx <= x % 2; dx += 2) {
+                    int ax = x + dx, ay = y + dy;
+                    edge |= ax < 0 || ay < 0 || ax >= w || ay >= h ||
+                            gb.texels[(size_t)ay * w + (size_t)ax].depth >= 1.0f;
+                }
+            if (edge)
+                assert_float_equal(filled[i], every[i], 0.0f);
+            double d = fabs((double)filled[i] - (double)every[i]);
+            sum += d;
+            off += d > 1.0 / 255.0;
+            loose_off += fabs((double)loose[i] - (double)every[i]) > 1.0 / 255.0;
+        }
+    print_message("sky plane %dx%d: %d covered (%d partly hidden), lookups %.3f a texel, > 1/255 off at %d "
+                  "(without the agreement test %d), mean |dV| %.2g\n",
+                  w, h, covered, partial, (double)lookups / covered, off, loose_off, sum / covered);
+    assert_true(partial > covered / 10); /* the comparison means something */
+    assert_int_equal(all, covered);
+    assert_true(lookups < covered / 2 && lookups > covered / 4);
+    assert_true(off <= covered / 100);
+    assert_true(loose_off > 4 * off);
+    assert_true(sum / covered < 1e-3);
+    free(filled);
+    free(every);
+    free(loose);
+    sl_shadow_sky_free(&s);
+    sl_gbuffer_free(&gb);
+    sl_raster_destroy(r);
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_match_scalar),
         cmocka_unit_test(test_cells_split_at_horizon),
         cmocka_unit_test(test_cone_across),
+        cmocka_unit_test(test_sky_plane),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

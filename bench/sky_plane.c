@@ -1,0 +1,140 @@
+/* sky_plane.c - bench_sky_plane: the sky maps' V over a whole G-buffer, filled between anchors
+ * (src/shading/sky_plane.c, what the batched lighting paths read) against a lookup at every
+ * texel (what the port does), on scene files (not a test).
+ *
+ *   bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...
+ *
+ * --agree: the fill's agreement of the anchors' V (default SL_SKY_PLANE_AGREE, the lighting
+ * pass's). Per scene, after one warm-up round, ROUNDS rounds of the two in turn on one thread, each timed
+ * in process CPU time: the median of each and of the per-round ratio (a change of load falls on
+ * both), the lookups the fill makes per covered texel, and how far its V is from the lookup's:
+ * the largest difference, the 99.9th percentile and the share of covered texels more than 1/255
+ * apart. The maps weigh the whole environment (--sky-maps K alone) and are drawn once, before
+ * the rounds. docs/lighting.md "Sky visibility maps" quotes it. */
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#include "render/renderer.h"
+#include "shading/lighting_internal.h"
+
+enum { MAX_ROUNDS = 64 };
+
+static double cpu_ms(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
+}
+
+static int cmp_double(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return x < y ? -1 : x > y;
+}
+
+static double median(double *v, int n)
+{
+    qsort(v, (size_t)n, sizeof *v, cmp_double);
+    return v[n / 2];
+}
+
+static int bench_scene(const char *path, int w, int h, int rounds, int maps, float agree)
+{
+    sl_error err;
+    sl_scene scene;
+    if (!sl_scene_load(path, &scene, &err)) {
+        fprintf(stderr, "bench_sky_plane: %s\n", err.msg);
+        return 1;
+    }
+    sl_render_desc desc = {0};
+    sl_option_set_size(&desc.options, w, h);
+    sl_option_set_threads(&desc.options, 1);
+    sl_option_set_sky_maps(&desc.options, maps);
+    static sl_renderer r;
+    int status = 1;
+    float *filled = malloc((size_t)w * (size_t)h * sizeof *filled);
+    float *every = malloc((size_t)w * (size_t)h * sizeof *every);
+    double *diff = malloc((size_t)w * (size_t)h * sizeof *diff);
+    if (!filled || !every || !diff) {
+        fprintf(stderr, "bench_sky_plane: no memory\n");
+        goto done;
+    }
+    if (!sl_renderer_init(&r, &scene, &desc, &err) || !sl_renderer_raster(&r, NULL, &err) ||
+        !sl_renderer_prepare_lighting(&r, NULL, &err)) {
+        fprintf(stderr, "bench_sky_plane: %s: %s\n", path, err.msg);
+        goto done;
+    }
+    const sl_lighting_uniforms *u = r.uniforms;
+    const sl_gbuffer *gb = &r.gbuffer;
+    double t_fill[MAX_ROUNDS], t_every[MAX_ROUNDS], ratio[MAX_ROUNDS];
+    int64_t lookups = 0;
+    for (int k = -1; k < rounds; k++) {
+        double c0 = cpu_ms();
+        lookups = sl_sky_plane_fill(u, gb, filled, agree, 1);
+        double c1 = cpu_ms();
+        sl_sky_plane_fill(u, gb, every, -1.0f, 1);
+        double c2 = cpu_ms();
+        if (k >= 0) {
+            t_fill[k] = c1 - c0;
+            t_every[k] = c2 - c1;
+            ratio[k] = (c1 - c0) / (c2 - c1);
+        }
+    }
+    int covered = 0, over = 0;
+    double worst = 0.0;
+    for (int i = 0; i < w * h; i++) {
+        if (gb->texels[i].depth >= 1.0f)
+            continue;
+        double d = fabs((double)filled[i] - (double)every[i]);
+        diff[covered++] = d;
+        worst = d > worst ? d : worst;
+        over += d > 1.0 / 255.0;
+    }
+    qsort(diff, (size_t)covered, sizeof *diff, cmp_double);
+    double p999 = covered > 0 ? diff[(size_t)(0.999 * (covered - 1))] : 0.0;
+    printf("%s %dx%d, %d maps, agree %g, %d covered: fill %.1f ms, every texel %.1f ms, ratio %.2f; lookups %.3f a covered "
+           "texel; |V - V_every| max %.4f, p99.9 %.5f, > 1/255 at %.3f%%\n",
+           path, w, h, maps, agree, covered, median(t_fill, rounds), median(t_every, rounds), median(ratio, rounds),
+           covered > 0 ? (double)lookups / covered : 0.0, worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
+    status = 0;
+done:
+    sl_renderer_free(&r);
+    sl_scene_free(&scene);
+    free(filled);
+    free(every);
+    free(diff);
+    return status;
+}
+
+int main(int argc, char **argv)
+{
+    int w = 1280, h = 720, rounds = 7, maps = 32, status = 0, scenes = 0;
+    float agree = SL_SKY_PLANE_AGREE;
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--size") && i + 1 < argc && sscanf(argv[i + 1], "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
+            i++;
+        else if (!strcmp(argv[i], "--rounds") && i + 1 < argc && (rounds = atoi(argv[i + 1])) > 0 &&
+                 rounds <= MAX_ROUNDS)
+            i++;
+        else if (!strcmp(argv[i], "--maps") && i + 1 < argc && (maps = atoi(argv[i + 1])) > 0 &&
+                 maps <= SL_SKY_MAPS_MAX)
+            i++;
+        else if (!strcmp(argv[i], "--agree") && i + 1 < argc && (agree = strtof(argv[i + 1], NULL)) >= 0.0f)
+            i++;
+        else if (argv[i][0] == '-') {
+            fprintf(stderr, "usage: bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...\n");
+            return 2;
+        } else {
+            status |= bench_scene(argv[i], w, h, rounds, maps, agree);
+            scenes++;
+        }
+    }
+    if (scenes == 0) {
+        fprintf(stderr, "usage: bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...\n");
+        return 2;
+    }
+    return status;
+}

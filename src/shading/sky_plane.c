@@ -1,0 +1,122 @@
+/* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer with
+ * about a quarter of the lookups, for the batched lighting paths.
+ *
+ * A lookup reads every map that faces the normal (half of them, four taps each) and is the
+ * costliest part of the sky maps' frame. V is smooth along a surface: a map's texel spans a few
+ * pixels at the sizes a frame is drawn at, its taps are filtered, and its weights turn with the
+ * normal over cells some 20 degrees wide. So the pass looks V up at the texels of even x and even
+ * y (the anchors) and fills each other texel from the anchors around it: the two beside it (odd
+ * x, even y: left and right), the two below and above (even x, odd y) or the four at its corners
+ * (odd x and y), as their mean, where each of them is covered and on the texel's surface (within
+ * SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane, the normals within
+ * SL_SKY_PLANE_SAME_NORMAL) and their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere
+ * else (an object's edge, a crease, a shadow's border, the image's last row or column) the texel
+ * is looked up itself. Where V is linear along the surface the mean is exact; where it bends
+ * between anchors that agree, the mean is off by less than the agreement allows.
+ *
+ * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
+ * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps". */
+
+#include <omp.h>
+#include <stdint.h>
+
+#include "lighting_internal.h"
+
+/* The lookup at texel (x, y), with the normal the lighting uses there (shade_view_frame_at: the
+ * G-buffer's normal, turned toward the eye where it faces away). 1 for an empty texel (unread). */
+static float exact_visibility(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y)
+{
+    const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+    if (t->depth >= 1.0f)
+        return 1.0f;
+    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
+    shade_view_frame f = shade_view_frame_at(u->uEye, t->position, t->normal, r);
+    return sl_shadow_sky_visibility(u->skyMaps, t->position, f.N, NULL);
+}
+
+/* Texel p's side of the same-surface test, once per texel: its normal (the G-buffer's,
+ * unnormalized) and squared length, and the square of the tangent plane's allowance. */
+typedef struct {
+    vec3 P, n;
+    float n2, allowance2;
+} surface_test;
+
+static surface_test surface_test_of(const sl_lighting_uniforms *u, const sl_gbuffer_texel *p)
+{
+    vec3 eye_to_p = sub(p->position, u->uEye);
+    float reach = SL_SKY_PLANE_SAME_DEPTH * SL_SKY_PLANE_SAME_DEPTH * dot(eye_to_p, eye_to_p);
+    float n2 = dot(p->normal, p->normal);
+    return (surface_test){p->position, p->normal, n2, reach * n2};
+}
+
+/* Whether covered texel q may stand for p: q covered, its normal within SL_SKY_PLANE_SAME_NORMAL
+ * of p's, and within SL_SKY_PLANE_SAME_DEPTH of p's view distance from p's tangent plane (both
+ * compared squared: no square root in the fill). */
+static bool same_surface(const surface_test *p, const sl_gbuffer_texel *q)
+{
+    if (q->depth >= 1.0f)
+        return false;
+    float d = dot(p->n, q->normal), q2 = dot(q->normal, q->normal);
+    if (!(d > 0.0f) || d * d < SL_SKY_PLANE_SAME_NORMAL * SL_SKY_PLANE_SAME_NORMAL * p->n2 * q2)
+        return false;
+    float off = dot(sub(q->position, p->P), p->n); /* the distance times |n| */
+    return off * off <= p->allowance2;
+}
+
+/* Texel (x, y)'s V from the anchors at the given offsets (n of them), or its own lookup (counted
+ * in *lookups). */
+static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
+                        const int (*offsets)[2], int n, float agree, int64_t *lookups)
+{
+    const sl_gbuffer_texel *p = sl_gbuffer_at(gb, x, y);
+    if (p->depth >= 1.0f)
+        return 1.0f;
+    const surface_test test = surface_test_of(u, p);
+    float lo = 1.0f, hi = 0.0f, sum = 0.0f;
+    bool stand_in = agree >= 0.0f && test.n2 > 0.0f;
+    for (int k = 0; k < n && stand_in; k++) {
+        int ax = x + offsets[k][0], ay = y + offsets[k][1];
+        stand_in = ax >= 0 && ay >= 0 && ax < gb->width && ay < gb->height &&
+                   same_surface(&test, sl_gbuffer_at(gb, ax, ay));
+        if (stand_in) {
+            float v = plane[(size_t)ay * (size_t)gb->width + (size_t)ax];
+            lo = v < lo ? v : lo;
+            hi = v > hi ? v : hi;
+            sum += v;
+        }
+    }
+    if (stand_in && hi - lo <= agree)
+        return sum / (float)n;
+    ++*lookups;
+    return exact_visibility(u, gb, x, y);
+}
+
+int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+                          int threads)
+{
+    static const int beside[2][2] = {{-1, 0}, {1, 0}}, across[2][2] = {{0, -1}, {0, 1}},
+                     corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
+    const int w = gb->width, h = gb->height;
+    int64_t lookups = 0;
+    /* the anchors first: every fill reads only anchors */
+#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
+    for (int y = 0; y < h; y += 2)
+        for (int x = 0; x < w; x += 2) {
+            const bool covered = !(sl_gbuffer_at(gb, x, y)->depth >= 1.0f);
+            plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
+            lookups += covered;
+        }
+#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
+    for (int y = 0; y < h; y++) {
+        float *row = plane + (size_t)y * (size_t)w;
+        if (y % 2 == 0) {
+            for (int x = 1; x < w; x += 2)
+                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, agree, &lookups);
+        } else {
+            for (int x = 0; x < w; x++)
+                row[x] = fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree,
+                                    &lookups);
+        }
+    }
+    return lookups;
+}
