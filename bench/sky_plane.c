@@ -5,12 +5,13 @@
  *   bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...
  *
  * --agree: the fill's agreement of the anchors' V (default SL_SKY_PLANE_AGREE, the lighting
- * pass's). Per scene, after one warm-up round, ROUNDS rounds of the two in turn on one thread, each timed
- * in process CPU time: the median of each and of the per-round ratio (a change of load falls on
- * both), the lookups the fill makes per covered texel, and how far its V is from the lookup's:
- * the largest difference, the 99.9th percentile and the share of covered texels more than 1/255
- * apart. The maps weigh the whole environment (--sky-maps K alone) and are drawn once, before
- * the rounds. docs/lighting.md "Sky visibility maps" quotes it. */
+ * pass's). Per scene, after one warm-up round, ROUNDS rounds of the two in turn on one thread,
+ * each timed in process CPU time: the median of each and of the per-round ratio (a change of
+ * load falls on both), the lookups the fill makes per covered texel, and how far its V is from
+ * the lookup's: the largest difference, the 99.9th percentile and the share of covered texels
+ * more than 1/255 apart; a markdown table, a row a scene. The maps weigh the whole environment
+ * (--sky-maps K alone) and are drawn once, before the rounds. docs/lighting.md "Sky visibility
+ * maps" quotes it. */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -95,10 +96,9 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
     }
     qsort(diff, (size_t)covered, sizeof *diff, cmp_double);
     double p999 = covered > 0 ? diff[(size_t)(0.999 * (covered - 1))] : 0.0;
-    printf("%s %dx%d, %d maps, agree %g, %d covered: fill %.1f ms, every texel %.1f ms, ratio %.2f; lookups %.3f a covered "
-           "texel; |V - V_every| max %.4f, p99.9 %.5f, > 1/255 at %.3f%%\n",
-           path, w, h, maps, agree, covered, median(t_fill, rounds), median(t_every, rounds), median(ratio, rounds),
-           covered > 0 ? (double)lookups / covered : 0.0, worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
+    printf("| %s | %dx%d | %d | %.3f | %.1f | %.1f | %.2f | %.4f | %.5f | %.3f%% |\n", path, w, h, covered,
+           covered > 0 ? (double)lookups / covered : 0.0, median(t_fill, rounds), median(t_every, rounds),
+           median(ratio, rounds), worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
     status = 0;
 done:
     sl_renderer_free(&r);
@@ -128,6 +128,11 @@ int main(int argc, char **argv)
             fprintf(stderr, "usage: bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...\n");
             return 2;
         } else {
+            if (scenes == 0)
+                printf("%d maps, agree %g, %d rounds on one thread:\n\n"
+                       "| scene | size | covered texels | lookups a covered texel | fill ms | every texel ms | ratio "
+                       "| max abs dV | p99.9 abs dV | share > 1/255 |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+                       maps, agree, rounds);
             status |= bench_scene(argv[i], w, h, rounds, maps, agree);
             scenes++;
         }

@@ -1,21 +1,25 @@
 /* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer with
- * about a quarter of the lookups, for the batched lighting paths.
+ * about a third of the lookups, for the batched lighting paths.
  *
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
  * costliest part of the sky maps' frame. V is smooth along a surface: a map's texel spans a few
  * pixels at the sizes a frame is drawn at, its taps are filtered, and its weights turn with the
- * normal over cells some 20 degrees wide. So the pass looks V up at the texels of even x and even
- * y (the anchors) and fills each other texel from the anchors around it: the two beside it (odd
- * x, even y: left and right), the two below and above (even x, odd y) or the four at its corners
- * (odd x and y), as their mean, where each of them is covered and on the texel's surface (within
- * SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane, the normals within
- * SL_SKY_PLANE_SAME_NORMAL) and their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere
- * else (an object's edge, a crease, a shadow's border, the image's last row or column) the texel
- * is looked up itself. Where V is linear along the surface the mean is exact; where it bends
- * between anchors that agree, the mean is off by less than the agreement allows.
+ * normal over cells some 20 degrees wide. So the pass looks V up at the anchors, the texels whose
+ * x and y are multiples of 2^SL_SKY_PLANE_LEVELS (2: every other texel each way), and fills the
+ * grid of half that spacing from them, then the next, down to every texel: a texel on a row of
+ * the coarser grid from the two beside it, one on a column from the two below and above, one
+ * between from the four at its corners, as their mean, where each of them is covered and on the
+ * texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane,
+ * the normals within SL_SKY_PLANE_SAME_NORMAL) and their V lie within SL_SKY_PLANE_AGREE of each
+ * other. Anywhere else (an object's edge, a crease, a shadow's border, the image's last row or
+ * column) the texel is looked up itself. Where V is linear along the surface the mean is exact;
+ * where it bends between texels that agree, the mean is off by about what the agreement allows;
+ * a feature narrower than the spacing that both sides miss (a thin shadow between anchors) is
+ * missed.
  *
  * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
- * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps". */
+ * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"
+ * (bench_sky_plane). */
 
 #include <omp.h>
 #include <stdint.h>
@@ -63,10 +67,10 @@ static bool same_surface(const surface_test *p, const sl_gbuffer_texel *q)
     return off * off <= p->allowance2;
 }
 
-/* Texel (x, y)'s V from the anchors at the given offsets (n of them), or its own lookup (counted
- * in *lookups). */
+/* Texel (x, y)'s V from the texels at the given offsets times `step` (n of them), or its own
+ * lookup (counted in *lookups). */
 static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
-                        const int (*offsets)[2], int n, float agree, int64_t *lookups)
+                        const int (*offsets)[2], int n, int step, float agree, int64_t *lookups)
 {
     const sl_gbuffer_texel *p = sl_gbuffer_at(gb, x, y);
     if (p->depth >= 1.0f)
@@ -75,7 +79,7 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
     float lo = 1.0f, hi = 0.0f, sum = 0.0f;
     bool stand_in = agree >= 0.0f && test.n2 > 0.0f;
     for (int k = 0; k < n && stand_in; k++) {
-        int ax = x + offsets[k][0], ay = y + offsets[k][1];
+        int ax = x + step * offsets[k][0], ay = y + step * offsets[k][1];
         stand_in = ax >= 0 && ay >= 0 && ax < gb->width && ay < gb->height &&
                    same_surface(&test, sl_gbuffer_at(gb, ax, ay));
         if (stand_in) {
@@ -91,32 +95,47 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
     return exact_visibility(u, gb, x, y);
 }
 
-int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+/* The texels of the grid of spacing `step` that are not on the grid of twice that, from the
+ * latter's: along a row of it, from the two beside; on a row between two of its rows, from the
+ * two below and above, or the four at the corners. */
+static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, int step, float agree,
                           int threads)
 {
     static const int beside[2][2] = {{-1, 0}, {1, 0}}, across[2][2] = {{0, -1}, {0, 1}},
                      corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
     const int w = gb->width, h = gb->height;
     int64_t lookups = 0;
-    /* the anchors first: every fill reads only anchors */
 #pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
-    for (int y = 0; y < h; y += 2)
-        for (int x = 0; x < w; x += 2) {
+    for (int y = 0; y < h; y += step) {
+        float *row = plane + (size_t)y * (size_t)w;
+        if ((y / step) % 2 == 0) {
+            for (int x = step; x < w; x += 2 * step)
+                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, &lookups);
+        } else {
+            for (int x = 0; x < w; x += step) {
+                bool on_column = (x / step) % 2 == 0;
+                row[x] = fill_texel(u, gb, plane, x, y, on_column ? across : corners, on_column ? 2 : 4, step, agree,
+                                    &lookups);
+            }
+        }
+    }
+    return lookups;
+}
+
+int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+                          int threads)
+{
+    const int w = gb->width, h = gb->height, spacing = 1 << SL_SKY_PLANE_LEVELS;
+    int64_t lookups = 0;
+    /* the anchors, then each level from the one above it: a level reads only coarser grids */
+#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
+    for (int y = 0; y < h; y += spacing)
+        for (int x = 0; x < w; x += spacing) {
             const bool covered = !(sl_gbuffer_at(gb, x, y)->depth >= 1.0f);
             plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
             lookups += covered;
         }
-#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
-    for (int y = 0; y < h; y++) {
-        float *row = plane + (size_t)y * (size_t)w;
-        if (y % 2 == 0) {
-            for (int x = 1; x < w; x += 2)
-                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, agree, &lookups);
-        } else {
-            for (int x = 0; x < w; x++)
-                row[x] = fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree,
-                                    &lookups);
-        }
-    }
+    for (int step = spacing / 2; step >= 1; step /= 2)
+        lookups += fill_level(u, gb, plane, step, agree, threads);
     return lookups;
 }
