@@ -425,14 +425,14 @@ struct sl_lighting_task {
 /* ---- the sky maps' V over a whole G-buffer (sky_plane.c) ---- */
 
 /* The fill's tests: an anchor stands for a texel where it lies within SL_SKY_PLANE_SAME_DEPTH of
- * the texel's view distance from its tangent plane with its normal within
- * SL_SKY_PLANE_SAME_NORMAL (a cosine: 18 degrees), and the anchors' V are within
- * SL_SKY_PLANE_AGREE of each other (the lighting pass's; bench_sky_plane and the tests pass
- * others). SL_SKY_PLANE_LEVELS: the anchors lie 2^LEVELS texels apart and each level halves the
- * spacing (1: every other texel; a build with 2, anchors 4 apart, looks up half as many texels
- * again and misses twice as many features narrower than that: docs/lighting.md "Sky visibility
- * maps"). */
+ * the texel's view distance from its tangent plane, within SL_SKY_PLANE_REACH texels of the
+ * finest map from it, with its normal within SL_SKY_PLANE_SAME_NORMAL (a cosine: 18 degrees),
+ * and the anchors' V are within SL_SKY_PLANE_AGREE of each other (the lighting pass's;
+ * bench_sky_plane and the tests pass others). SL_SKY_PLANE_LEVELS: the anchors lie 2^LEVELS
+ * texels apart and each level halves the spacing (1: every other texel; docs/lighting.md "Sky
+ * visibility maps" measures a build with 2). */
 #define SL_SKY_PLANE_SAME_DEPTH 0.002f
+#define SL_SKY_PLANE_REACH 2.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
 #define SL_SKY_PLANE_AGREE 0.01f
 #ifndef SL_SKY_PLANE_LEVELS

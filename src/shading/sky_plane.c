@@ -1,5 +1,5 @@
 /* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer with
- * about a third of the lookups, for the batched lighting paths.
+ * a third to two thirds of the lookups at 1280x720, for the batched lighting paths.
  *
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
  * costliest part of the sky maps' frame. V is smooth along a surface: a map's texel spans a few
@@ -10,9 +10,10 @@
  * the coarser grid from the two beside it, one on a column from the two below and above, one
  * between from the four at its corners, as their mean, where each of them is covered and on the
  * texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane,
- * the normals within SL_SKY_PLANE_SAME_NORMAL) and their V lie within SL_SKY_PLANE_AGREE of each
- * other. Anywhere else (an object's edge, a crease, a shadow's border, the image's last row or
- * column) the texel is looked up itself. Where V is linear along the surface the mean is exact;
+ * the normals within SL_SKY_PLANE_SAME_NORMAL, within SL_SKY_PLANE_REACH texels of the finest
+ * map from it) and their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere else (an
+ * object's edge, a crease, a shadow's border, the image's last row or column, a frame whose
+ * pixels are coarser than the maps' texels) the texel is looked up itself. Where V is linear along the surface the mean is exact;
  * where it bends between texels that agree, the mean is off by about what the agreement allows;
  * a feature narrower than the spacing that both sides miss (a thin shadow between anchors) is
  * missed.
@@ -21,6 +22,7 @@
  * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"
  * (bench_sky_plane). */
 
+#include <math.h>
 #include <omp.h>
 #include <stdint.h>
 
@@ -38,44 +40,62 @@ static float exact_visibility(const sl_lighting_uniforms *u, const sl_gbuffer *g
     return sl_shadow_sky_visibility(u->skyMaps, t->position, f.N, NULL);
 }
 
-/* Texel p's side of the same-surface test, once per texel: its normal (the G-buffer's,
- * unnormalized) and squared length, and the square of the tangent plane's allowance. */
-typedef struct {
-    vec3 P, n;
-    float n2, allowance2;
-} surface_test;
-
-static surface_test surface_test_of(const sl_lighting_uniforms *u, const sl_gbuffer_texel *p)
+/* The farthest an anchor may lie from the texel it fills, squared (world units): SL_SKY_PLANE_REACH
+ * texels of the finest map. Farther, V can change between them by more than the maps resolve,
+ * unseen by both (a shadow's edge, a thin occluder's shadow): a frame too small for the maps'
+ * texels (a floor far off at a grazing view, an image of 160x90) is looked up texel by texel. */
+static float reach_squared(const sl_shadow_sky *sky)
 {
-    vec3 eye_to_p = sub(p->position, u->uEye);
-    float reach = SL_SKY_PLANE_SAME_DEPTH * SL_SKY_PLANE_SAME_DEPTH * dot(eye_to_p, eye_to_p);
-    float n2 = dot(p->normal, p->normal);
-    return (surface_test){p->position, p->normal, n2, reach * n2};
+    float texel = INFINITY;
+    for (int k = 0; k < sky->count; k++) {
+        texel = sky->lanes.stepx[k] < texel ? sky->lanes.stepx[k] : texel;
+        texel = sky->lanes.stepy[k] < texel ? sky->lanes.stepy[k] : texel;
+    }
+    float reach = SL_SKY_PLANE_REACH * texel;
+    return reach * reach;
 }
 
-/* Whether covered texel q may stand for p: q covered, its normal within SL_SKY_PLANE_SAME_NORMAL
- * of p's, and within SL_SKY_PLANE_SAME_DEPTH of p's view distance from p's tangent plane (both
- * compared squared: no square root in the fill). */
+/* Texel p's side of the same-surface test, once per texel: its normal (the G-buffer's,
+ * unnormalized) and squared length, the square of the tangent plane's allowance, and the reach. */
+typedef struct {
+    vec3 P, n;
+    float n2, allowance2, reach2;
+} surface_test;
+
+static surface_test surface_test_of(const sl_lighting_uniforms *u, const sl_gbuffer_texel *p, float reach2)
+{
+    vec3 eye_to_p = sub(p->position, u->uEye);
+    float depth2 = SL_SKY_PLANE_SAME_DEPTH * SL_SKY_PLANE_SAME_DEPTH * dot(eye_to_p, eye_to_p);
+    float n2 = dot(p->normal, p->normal);
+    return (surface_test){p->position, p->normal, n2, depth2 * n2, reach2};
+}
+
+/* Whether covered texel q may stand for p: q covered, within the reach of p, its normal within
+ * SL_SKY_PLANE_SAME_NORMAL of p's, and within SL_SKY_PLANE_SAME_DEPTH of p's view distance from
+ * p's tangent plane (each compared squared: no square root in the fill). */
 static bool same_surface(const surface_test *p, const sl_gbuffer_texel *q)
 {
     if (q->depth >= 1.0f)
         return false;
+    vec3 pq = sub(q->position, p->P);
+    if (!(dot(pq, pq) <= p->reach2))
+        return false;
     float d = dot(p->n, q->normal), q2 = dot(q->normal, q->normal);
     if (!(d > 0.0f) || d * d < SL_SKY_PLANE_SAME_NORMAL * SL_SKY_PLANE_SAME_NORMAL * p->n2 * q2)
         return false;
-    float off = dot(sub(q->position, p->P), p->n); /* the distance times |n| */
+    float off = dot(pq, p->n); /* the distance times |n| */
     return off * off <= p->allowance2;
 }
 
 /* Texel (x, y)'s V from the texels at the given offsets times `step` (n of them), or its own
  * lookup (counted in *lookups). */
 static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
-                        const int (*offsets)[2], int n, int step, float agree, int64_t *lookups)
+                        const int (*offsets)[2], int n, int step, float agree, float reach2, int64_t *lookups)
 {
     const sl_gbuffer_texel *p = sl_gbuffer_at(gb, x, y);
     if (p->depth >= 1.0f)
         return 1.0f;
-    const surface_test test = surface_test_of(u, p);
+    const surface_test test = surface_test_of(u, p, reach2);
     float lo = 1.0f, hi = 0.0f, sum = 0.0f;
     bool stand_in = agree >= 0.0f && test.n2 > 0.0f;
     for (int k = 0; k < n && stand_in; k++) {
@@ -99,7 +119,7 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
  * latter's: along a row of it, from the two beside; on a row between two of its rows, from the
  * two below and above, or the four at the corners. */
 static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, int step, float agree,
-                          int threads)
+                          float reach2, int threads)
 {
     static const int beside[2][2] = {{-1, 0}, {1, 0}}, across[2][2] = {{0, -1}, {0, 1}},
                      corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
@@ -110,12 +130,12 @@ static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
         float *row = plane + (size_t)y * (size_t)w;
         if ((y / step) % 2 == 0) {
             for (int x = step; x < w; x += 2 * step)
-                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, &lookups);
+                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, reach2, &lookups);
         } else {
             for (int x = 0; x < w; x += step) {
                 bool on_column = (x / step) % 2 == 0;
                 row[x] = fill_texel(u, gb, plane, x, y, on_column ? across : corners, on_column ? 2 : 4, step, agree,
-                                    &lookups);
+                                    reach2, &lookups);
             }
         }
     }
@@ -135,7 +155,8 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
             plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
             lookups += covered;
         }
+    const float reach2 = reach_squared(u->skyMaps);
     for (int step = spacing / 2; step >= 1; step /= 2)
-        lookups += fill_level(u, gb, plane, step, agree, threads);
+        lookups += fill_level(u, gb, plane, step, agree, reach2, threads);
     return lookups;
 }
