@@ -432,7 +432,7 @@ struct sl_lighting_task {
  * texels apart and each level halves the spacing (1: every other texel; docs/lighting.md "Sky
  * visibility maps" measures a build with 2). */
 #define SL_SKY_PLANE_SAME_DEPTH 0.002f
-#define SL_SKY_PLANE_REACH 2.0f
+#define SL_SKY_PLANE_REACH 3.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
 #define SL_SKY_PLANE_AGREE 0.01f
 #ifndef SL_SKY_PLANE_LEVELS

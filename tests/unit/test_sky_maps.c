@@ -11,7 +11,7 @@
  * occluders hide): 0 without the maps, all of the cone's lean when it points across from R, none
  * when it points to R's side, and the specular's factor never falls as the share grows. The
  * plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit, a
- * texel beside an empty one is looked up, about half of the texels are at 1280x720 (every one
+ * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every one
  * where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
  * lookups, nearer than a fill without the agreement test. */
 #include "shading_fixtures.h"
@@ -351,8 +351,8 @@ static void test_sky_plane(void **state)
                   w, h, covered, partial, (double)lookups / covered, off, loose_off, sum / covered);
     assert_true(partial > covered / 10); /* the comparison means something */
     assert_int_equal(all, covered);
-    assert_true(lookups < 0.7 * covered && lookups > covered / 4); /* measured 0.556 */
-    assert_true(off <= covered / 500);                              /* measured 0.076% */
+    assert_true(lookups < 0.6 * covered && lookups > covered / 4); /* measured 0.419 */
+    assert_true(off <= covered / 500);                              /* measured 0.115% */
     assert_true(loose_off > 4 * off);
     assert_true(sum / covered < 1e-4);
     free(filled);
