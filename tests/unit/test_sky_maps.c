@@ -11,8 +11,8 @@
  * occluders hide): 0 without the maps, all of the cone's lean when it points across from R, none
  * when it points to R's side, and the specular's factor never falls as the share grows. The
  * plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit, a
- * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every one
- * where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
+ * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every
+ * one where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
  * lookups, nearer than a fill without the agreement test. */
 #include "shading_fixtures.h"
 
