@@ -16,30 +16,18 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
-#include <time.h>
 
+#include "core/timer.h"
 #include "render/renderer.h"
 #include "shading/lighting_internal.h"
 
 enum { MAX_ROUNDS = 64 };
 
-static double cpu_ms(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
-    return 1e3 * (double)ts.tv_sec + 1e-6 * (double)ts.tv_nsec;
-}
-
-static int cmp_double(const void *a, const void *b)
+/* ascending, for the percentile of V's differences */
+static int ascending(const void *a, const void *b)
 {
     double x = *(const double *)a, y = *(const double *)b;
     return x < y ? -1 : x > y;
-}
-
-static double median(double *v, int n)
-{
-    qsort(v, (size_t)n, sizeof *v, cmp_double);
-    return v[n / 2];
 }
 
 static int bench_scene(const char *path, int w, int h, int rounds, int maps, float agree)
@@ -73,14 +61,14 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
     double t_fill[MAX_ROUNDS], t_every[MAX_ROUNDS], ratio[MAX_ROUNDS];
     int64_t lookups = 0;
     for (int k = -1; k < rounds; k++) {
-        double c0 = cpu_ms();
+        double c0 = sl_process_cpu_seconds();
         lookups = sl_sky_plane_fill(u, gb, filled, agree, 1);
-        double c1 = cpu_ms();
+        double c1 = sl_process_cpu_seconds();
         sl_sky_plane_fill(u, gb, every, -1.0f, 1);
-        double c2 = cpu_ms();
+        double c2 = sl_process_cpu_seconds();
         if (k >= 0) {
-            t_fill[k] = c1 - c0;
-            t_every[k] = c2 - c1;
+            t_fill[k] = 1e3 * (c1 - c0);
+            t_every[k] = 1e3 * (c2 - c1);
             ratio[k] = (c1 - c0) / (c2 - c1);
         }
     }
@@ -94,11 +82,11 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
         worst = d > worst ? d : worst;
         over += d > 1.0 / 255.0;
     }
-    qsort(diff, (size_t)covered, sizeof *diff, cmp_double);
+    qsort(diff, (size_t)covered, sizeof *diff, ascending);
     double p999 = covered > 0 ? diff[(size_t)(0.999 * (covered - 1))] : 0.0;
     printf("| %s | %dx%d | %d | %.3f | %.1f | %.1f | %.2f | %.4f | %.5f | %.3f%% |\n", path, w, h, covered,
-           covered > 0 ? (double)lookups / covered : 0.0, median(t_fill, rounds), median(t_every, rounds),
-           median(ratio, rounds), worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
+           covered > 0 ? (double)lookups / covered : 0.0, sl_median(t_fill, rounds), sl_median(t_every, rounds),
+           sl_median(ratio, rounds), worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
     status = 0;
 done:
     sl_renderer_free(&r);
