@@ -245,8 +245,8 @@ void sl_lighting_task_stats(const sl_lighting_task *task, sl_lighting_stats *sta
 void sl_lighting_task_destroy(sl_lighting_task *task);
 
 /* What the built-in's batched paths read from a whole G-buffer, filled before any of its rows is
- * shaded: the sky maps' V per texel (with u->skyMaps and the diffuse term: sky_plane.c, a
- * quarter of the lookups). sl_lighting_pass keeps its own; a caller that schedules rows itself
+ * shaded: the sky maps' V per texel (with u->skyMaps and the diffuse term: sky_plane.c, fewer
+ * lookups than one a pixel). sl_lighting_pass keeps its own; a caller that schedules rows itself
  * (the viewer) prepares one after the uniforms and before the rows, and hands it to each task
  * (without it a task's pixels look V up themselves: the port's values, slower). */
 typedef struct {

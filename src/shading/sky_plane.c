@@ -1,22 +1,21 @@
-/* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer with
- * two fifths to four fifths of the lookups at 1280x720, for the batched lighting paths.
+/* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer, with
+ * a third to four fifths of the lookups at 1280x720, for the batched lighting paths.
  *
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
- * costliest part of the sky maps' frame. V is smooth along a surface: a map's texel spans a few
- * pixels at the sizes a frame is drawn at, its taps are filtered, and its weights turn with the
- * normal over cells some 20 degrees wide. So the pass looks V up at the anchors, the texels whose
- * x and y are multiples of 2^SL_SKY_PLANE_LEVELS (2: every other texel each way), and fills the
- * grid of half that spacing from them, then the next, down to every texel: a texel on a row of
- * the coarser grid from the two beside it, one on a column from the two below and above, one
- * between from the four at its corners, as their mean, where each of them is covered and on the
- * texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane,
- * the normals within SL_SKY_PLANE_SAME_NORMAL, within SL_SKY_PLANE_REACH texels of the finest
- * map from it) and their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere else (an
- * object's edge, a crease, a shadow's border, the image's last row or column, a frame whose
- * pixels are coarser than the maps' texels) the texel is looked up itself. Where V is linear along the surface the mean is exact;
- * where it bends between texels that agree, the mean is off by about what the agreement allows;
- * a feature narrower than the spacing that both sides miss (a thin shadow between anchors) is
- * missed.
+ * costliest part of the sky maps' frame. V is smooth along a surface at the scale of the maps'
+ * texels: its taps are filtered, and its weights turn with the normal over cells some 20 degrees
+ * wide. So the pass looks V up at the anchors, the texels whose x and y are multiples of
+ * 2^SL_SKY_PLANE_LEVELS (2: every other texel each way), and fills the grid of half that spacing
+ * from them, then the next, down to every texel: a texel on a row of the coarser grid from the
+ * two beside it, one on a column from the two below and above, one between from the four at its
+ * corners, as their mean, where each of them is covered, on the texel's surface (within
+ * SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane, the normals within
+ * SL_SKY_PLANE_SAME_NORMAL) and within SL_SKY_PLANE_REACH texels of the finest map from it, and
+ * their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere else (an object's edge, a crease,
+ * a shadow's border, the image's last row or column, pixels coarser than the maps' texels) the
+ * texel is looked up itself. Where V is linear along the surface the mean is exact; where it
+ * bends between texels that agree, the mean is off by about what the agreement allows; a feature
+ * narrower than the spacing that both sides miss (a thin shadow between anchors) is missed.
  *
  * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
  * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"
