@@ -28,13 +28,15 @@ vector_isa() {
 #
 # median: the median of the numbers on stdin, one a line.
 median() { sort -g | awk '{ v[NR] = $1 } END { print (NR % 2) ? v[(NR + 1) / 2] : (v[NR / 2] + v[NR / 2 + 1]) / 2 }'; }
-# cpu SCENE REPEAT OPTIONS...: user + system seconds of one render of scenes/SCENE.json at SIZE
-# on one thread (-j 1: no OpenMP spinning counted) with --repeat REPEAT; what render prints goes
-# to $T/out.txt. CPU time, which a loaded machine inflates far less than wall time.
+# cpu SCENE REPEAT OPTIONS...: user + system seconds of one render of scenes/SCENE.json (SCENE
+# itself when it names a .json file) at SIZE on one thread (-j 1: no OpenMP spinning counted)
+# with --repeat REPEAT; what render prints goes to $T/out.txt. CPU time, which a loaded machine
+# inflates far less than wall time.
 cpu() {
-    local s=$1 n=$2
+    local s=$1 n=$2 file
     shift 2
-    /usr/bin/time -f "%U %S" -o "$T/time" "$BUILD/softlight" render "scenes/$s.json" --size "$SIZE" -j 1 "$@" \
+    case $s in *.json) file=$s ;; *) file=scenes/$s.json ;; esac
+    /usr/bin/time -f "%U %S" -o "$T/time" "$BUILD/softlight" render "$file" --size "$SIZE" -j 1 "$@" \
         --repeat "$n" -o "$T/f.png" >"$T/out.txt"
     awk '{ print $1 + $2 }' "$T/time"
 }

@@ -7,7 +7,8 @@
 # ambient occlusion (--ao-radius 1), the sky visibility maps (--sky-maps 32) and the reflection
 # occlusion (--reflection-occlusion 5); and the set's share of the frame that has it.
 #
-#   bash bench/visibility-cost.sh [BUILD_DIR] [ROUNDS] [SIZE]    defaults: build 3 1280x720
+#   bash bench/visibility-cost.sh [BUILD_DIR] [ROUNDS] [SIZE] [SCENE.json ...]
+#   defaults: build 3 1280x720 and every shipped scene; scene files given replace the shipped ones
 #
 # Prints a markdown table. About 10 minutes with 3 rounds on 2 loaded cores.
 set -euo pipefail
@@ -15,6 +16,7 @@ cd "$(dirname "$0")/.."
 source bench/cpu_frame.bash
 frame_bench_args visibility-cost "$@"
 SCENES="default bunny ggx lamp pbr model textured top-down grazing city-sun"
+[ $# -gt 3 ] && SCENES="${*:4}"
 BASE=(--env-lights 32)
 SET=(--shadows --ao-radius 1 --sky-maps 32 --reflection-occlusion 5)
 for _ in $(seq 1 "$ROUNDS"); do
