@@ -1687,6 +1687,19 @@ float cone_across(vec3 B, vec3 N, vec3 R)
     return horizon_on() ? clamp(across, 0.0, 1.0) : 0.0;
 }
 
+// With the sky maps, a lobe at least half a cell wide (its cone's angle ts at least half that of
+// a cap of 4 pi / K steradians) also takes the visibility of the map whose cell holds R, times
+// the material's occlusion: the specular's factor is the smaller of `capped` and that (the
+// rays see only what the G-buffer holds; the map sees the whole scene). R in environment space,
+// P and N in the world.
+float lobe_map_factor(float capped, float material, vec3 P, vec3 N, vec3 R, float alpha)
+{
+    float ts = so_acos(pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0)));
+    if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || ts < 0.5 * so_acos(1.0 - 2.0 / float(uSkyMapCount)))
+        return capped;
+    return min(capped, material * sky_map_visibility(sky_cell(R), P, N));
+}
+
 // point_light times the light's visibility from P in its shadow map, looked up only where the
 // light adds something.
 vec3 shadowed_point_light(int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha)
@@ -1790,6 +1803,7 @@ void main()
             float materialOcclusion = c.w > 0.0 ? extra.r / c.w : 0.0;
             if (reflection)
                 spec_occlusion = reflection_specular_factor(spec_occlusion, materialOcclusion, reflectionVis);
+            spec_occlusion = lobe_map_factor(spec_occlusion, materialOcclusion, P, N, R, alpha);
             if (uDiffuse != 0) {
                 // the irradiance along the bent direction; with the env lights' maps, their
                 // part of it taken out along the same direction (the maps add it back about N)

@@ -782,7 +782,9 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
      * specular times the material's share of it and the specular occlusion, each term scaled
      * before the sum. Without: the sum times the occlusion. The reflection occlusion (GLSL
      * uReflectionDistance > 0) joins the cone's factor by its rays' count
-     * (sl_reflection_specular_factor), or scales the specular without the cone. */
+     * (sl_reflection_specular_factor), or scales the specular without the cone; with the sky maps
+     * a wide lobe's factor is at most its material's occlusion times the map of R's cell
+     * (shade_lobe_map). */
     const sl_vec4 *cone = s->cone;
     float spec_occlusion = s->occlusion;
     /* the material's share of the occlusion: the reflection occlusion's join and the specular's
@@ -795,7 +797,11 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha), cone_across);
         if (s->reflection)
             spec_occlusion = sl_reflection_specular_factor(spec_occlusion, material_occlusion, *s->reflection);
-        trace_cone(trace, cone, s->occlusion, spec_occlusion, cone_across);
+        float before_map = spec_occlusion;
+        vec3 R = sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv);
+        spec_occlusion = shade_lobe_map(u, spec_occlusion, material_occlusion, s->P, s->N, R, sl_so_lobe_cone(s->alpha).ts);
+        trace_cone(trace, cone, s->occlusion, spec_occlusion, cone_across,
+                   spec_occlusion < before_map ? before_map : -1.0f);
     }
     /* With the env lights' shadow maps: each env light's visibility from the point (given by the
      * batched path, else looked up here). The lights' part of the irradiance is taken out of E

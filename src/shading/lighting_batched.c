@@ -1434,6 +1434,15 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd
             for (int i = 0; i < count; i++)
                 spo[i] = sl_reflection_specular_factor(spo[i], mocc[i], vec2(refl[i], refl_rays[i]));
+        if (u->skyMaps) /* a wide lobe's map of R's cell (shade_lobe_map), per covered pixel */
+            for (int i = 0; i < count; i++) {
+                if (!covered[i])
+                    continue;
+                vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), VE = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
+                vec3 R = sub(scale(NE, 2.0f * dot(NE, VE)), VE);
+                spo[i] = shade_lobe_map(u, spo[i], mocc[i], t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), R,
+                                        lobe_angle[i]);
+            }
     } else {
         for (int i = 0; i < count; i++)
             mocc[i] = 1.0f;

@@ -272,6 +272,25 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
     return ao > 0.0f ? share : 0.0f;
 }
 
+/* GLSL: lobe_map_factor
+ * With the sky maps, a lobe at least half a cell wide (its cone's angle ts, sl_so_lobe_cone, at
+ * least half the angle of a cap of 4 pi / K steradians) also takes the visibility of the one map
+ * whose cell holds R, times the material's occlusion: the specular's factor is the smaller of
+ * `capped` and that. The reflection occlusion's rays see only what the G-buffer holds: a floor
+ * beside a pedestal, whose lobe the model on the pedestal hides from behind, keeps its rays open
+ * where the truth loses nearly all of it; the map sees the whole scene. A cell is wide for a
+ * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
+ * keeps `capped`. R in environment space (unnormalized: the cell is the nearest site's), P and N
+ * in the world. */
+static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
+                                   vec3 R, float ts)
+{
+    if (!u->skyMaps || ts < 0.5f * sl_so_acos(1.0f - 2.0f / (float)u->skyMaps->count))
+        return capped;
+    float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
+    return minf(capped, material * v);
+}
+
 /* The material's share of the occlusion `occlusion` (the extra plane's: the material's times the
  * AO `ao`), 0 where the AO is 0, as shade_spec_occlusion takes it; the reflection occlusion's
  * rays scale it (sl_reflection_specular_factor). */
@@ -613,10 +632,11 @@ static inline void trace_extra(sl_lighting_trace *t, float occlusion, vec3 emiss
  * the AO, the diffuse and specular factors applied, the share of the cone's occlusion across the
  * horizon (shade_cone_across). */
 static inline void trace_cone(sl_lighting_trace *t, const sl_vec4 *cone, float diffuse_occlusion,
-                              float specular_occlusion, float cone_across)
+                              float specular_occlusion, float cone_across, float lobe_map)
 {
     if (t && cone) {
         t->cone_across = cone_across;
+        t->lobe_map = lobe_map;
         t->cone = true;
         t->cone_axis = vec3(cone->x, cone->y, cone->z);
         t->ao = cone->w;

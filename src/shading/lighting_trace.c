@@ -268,6 +268,9 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, "  %-12s %.6g (the share of the cone's occlusion across the horizon from R, left to the sky maps:"
                        " the cone's AO opened by it for the specular)\n",
                     "cone across", (double)t->cone_across);
+        if (t->lobe_map >= 0.0f)
+            fprintf(f, "  %-12s %.6g (the specular's factor before the sky map of R's cell, which lowered it to spec occl)\n",
+                    "lobe map", (double)t->lobe_map);
     }
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
         static const char *const member[SL_REFLECTION_RAYS] = {"texel", "x+1", "x-1", "y+1", "y-1"};

@@ -102,6 +102,8 @@ struct sl_lighting_trace {
     float diffuse_occlusion, specular_occlusion; /* ... the factors on the diffuse and the specular */
     float cone_across;       /* ... the share of its occlusion across the horizon from R, which the
                                 specular's factor leaves to the sky maps (0 without them) */
+    float lobe_map;          /* ... the factor before the sky map of R's cell (shade_lobe_map),
+                                when that map lowered it; -1 when it did not */
     bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
     float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
     int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_RAYS) */

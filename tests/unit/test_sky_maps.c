@@ -13,7 +13,8 @@
  * plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit, a
  * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every
  * one where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
- * lookups, nearer than a fill without the agreement test. */
+ * lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
+ * R's cell (shade_lobe_map) where that map is hidden, and only there. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -365,6 +366,40 @@ static void test_sky_plane(void **state)
     sl_scene_free(&scene);
 }
 
+/* shade_lobe_map: a wide lobe about an R that meets the sphere takes the map of R's cell (the
+ * sphere hides it), one about an R to the open sky keeps its factor, and so do a narrow lobe and
+ * a frame without the maps. */
+static void test_lobe_map(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    sl_env env;
+    scene_and_env(&scene, &env);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    sl_shadow_sky s = {0};
+    if (!r || !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
+        fail_msg("%s", err.msg);
+    sl_lighting_uniforms u = {.uEnvRotation = mat3_identity(), .uEye = scene.camera.eye, .skyMaps = &s};
+    sl_lighting_uniforms none = u;
+    none.skyMaps = NULL;
+    /* the floor in front of the sphere (centre (0.5, 0, 1), radius 1): 37 degrees of it from P */
+    vec3 P = vec3(0.5f, -1.3f, 0.0f), N = vec3(0.0f, 0.0f, 1.0f);
+    vec3 to_sphere = normalize(vec3(0.0f, 1.3f, 1.0f)), to_sky = normalize(vec3(0.0f, -1.0f, 1.0f));
+    const float wide = sl_so_lobe_cone(sl_gbuffer_ggx_alpha(0.5f)).ts;
+    const float narrow = sl_so_lobe_cone(sl_gbuffer_ggx_alpha(0.05f)).ts;
+    const float half_cell = 0.5f * sl_so_acos(1.0f - 2.0f / 32.0f);
+    assert_true(wide > half_cell && narrow < half_cell);
+    assert_true(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sphere, wide) < 0.1f);
+    assert_float_equal(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sky, wide), 0.7f, 0.0f);
+    assert_float_equal(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sphere, narrow), 0.7f, 0.0f);
+    assert_float_equal(shade_lobe_map(&none, 0.7f, 0.8f, P, N, to_sphere, wide), 0.7f, 0.0f);
+    sl_shadow_sky_free(&s);
+    sl_raster_destroy(r);
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -372,6 +407,7 @@ int main(void)
         cmocka_unit_test(test_cells_split_at_horizon),
         cmocka_unit_test(test_cone_across),
         cmocka_unit_test(test_sky_plane),
+        cmocka_unit_test(test_lobe_map),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
