@@ -25,7 +25,8 @@
  * and the diffuse term's irradiance (the residual's part) is multiplied by V. A map whose weight
  * is 0 at N is not read. The specular's samples across the horizon from the reflection direction
  * take the visibility of one map, that of the cell holding their luminous direction
- * (sl_shadow_sky_cell; src/shading/lighting_internal.h shade_horizon).
+ * (sl_shadow_sky_cell; src/shading/lighting_internal.h shade_horizon), and a lobe at least half
+ * a cell wide the map of the cell holding R (shade_lobe_map).
  *
  * Limits: the angular resolution is a cell, 4 pi / K steradians (K = 32: about 0.39 sr, a cone
  * of about 20 degrees half-angle): an occluder's edge in the sky moves V in steps of a cell's
