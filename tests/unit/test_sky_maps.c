@@ -285,21 +285,46 @@ static void test_cone_across(void **state)
     assert_float_equal(last, material, 1e-6);
 }
 
+/* The tests' scene and environment with 32 maps drawn, and the lighting's uniforms that read
+ * them (the environment unrotated, the eye the scene's camera's). */
+typedef struct {
+    sl_scene scene;
+    sl_env env;
+    sl_raster *raster;
+    sl_shadow_sky sky;
+    sl_lighting_uniforms u;
+} drawn_maps;
+
+static void draw_maps(drawn_maps *m)
+{
+    sl_error err = {0};
+    memset(m, 0, sizeof *m);
+    scene_and_env(&m->scene, &m->env);
+    m->raster = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    if (!m->raster || !sl_shadow_sky_build(&m->sky, 32, &m->env, 0.0f, m->raster, &m->scene, NULL, &err))
+        fail_msg("%s", err.msg);
+    m->u = (sl_lighting_uniforms){.uEnvRotation = mat3_identity(), .uEye = m->scene.camera.eye, .skyMaps = &m->sky};
+}
+
+static void free_maps(drawn_maps *m)
+{
+    sl_shadow_sky_free(&m->sky);
+    sl_raster_destroy(m->raster);
+    sl_env_free(&m->env);
+    sl_scene_free(&m->scene);
+}
+
 static void test_sky_plane(void **state)
 {
     (void)state;
     sl_error err = {0};
-    sl_scene scene;
-    sl_env env;
-    scene_and_env(&scene, &env);
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    static drawn_maps m;
+    draw_maps(&m);
     sl_gbuffer gb = {0};
-    sl_shadow_sky s = {0};
     /* a frame whose pixels are coarser than the maps' texels: every texel looked up */
-    if (!r || !sl_gbuffer_resize(&gb, 160, 90, &err) || !sl_raster_scene(r, &scene, &scene.camera, &gb, &err) ||
-        !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
+    if (!sl_gbuffer_resize(&gb, 160, 90, &err) || !sl_raster_scene(m.raster, &m.scene, &m.scene.camera, &gb, &err))
         fail_msg("%s", err.msg);
-    sl_lighting_uniforms u = {.uEnvRotation = mat3_identity(), .uEye = scene.camera.eye, .skyMaps = &s};
+    const sl_lighting_uniforms u = m.u;
     float *coarse = malloc(sizeof(float) * 160 * 90);
     assert_non_null(coarse);
     int coarse_covered = 0;
@@ -308,7 +333,7 @@ static void test_sky_plane(void **state)
     assert_int_equal(sl_sky_plane_fill(&u, &gb, coarse, SL_SKY_PLANE_AGREE, 2), coarse_covered);
     free(coarse);
     const int w = 1280, h = 720;
-    if (!sl_gbuffer_resize(&gb, w, h, &err) || !sl_raster_scene(r, &scene, &scene.camera, &gb, &err))
+    if (!sl_gbuffer_resize(&gb, w, h, &err) || !sl_raster_scene(m.raster, &m.scene, &m.scene.camera, &gb, &err))
         fail_msg("%s", err.msg);
     float *filled = malloc(sizeof(float) * w * h), *every = malloc(sizeof(float) * w * h),
           *loose = malloc(sizeof(float) * w * h);
@@ -330,7 +355,7 @@ static void test_sky_plane(void **state)
             /* the every-texel plane is the lookup */
             const vec3 rows[3] = {u.uEnvRotation.c[0], u.uEnvRotation.c[1], u.uEnvRotation.c[2]};
             shade_view_frame f = shade_view_frame_at(u.uEye, gb.texels[i].position, gb.texels[i].normal, rows);
-            assert_float_equal(every[i], sl_shadow_sky_visibility(&s, gb.texels[i].position, f.N, NULL), 0.0f);
+            assert_float_equal(every[i], sl_shadow_sky_visibility(&m.sky, gb.texels[i].position, f.N, NULL), 0.0f);
             if (x % 2 == 0 && y % 2 == 0)
                 assert_float_equal(filled[i], every[i], 0.0f);
             bool edge = false; /* an anchor it would be filled from is off the image or empty */
@@ -359,11 +384,8 @@ static void test_sky_plane(void **state)
     free(filled);
     free(every);
     free(loose);
-    sl_shadow_sky_free(&s);
     sl_gbuffer_free(&gb);
-    sl_raster_destroy(r);
-    sl_env_free(&env);
-    sl_scene_free(&scene);
+    free_maps(&m);
 }
 
 /* shade_lobe_map: a wide lobe about an R that meets the sphere takes the map of R's cell (the
@@ -372,15 +394,9 @@ static void test_sky_plane(void **state)
 static void test_lobe_map(void **state)
 {
     (void)state;
-    sl_error err = {0};
-    sl_scene scene;
-    sl_env env;
-    scene_and_env(&scene, &env);
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
-    sl_shadow_sky s = {0};
-    if (!r || !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
-        fail_msg("%s", err.msg);
-    sl_lighting_uniforms u = {.uEnvRotation = mat3_identity(), .uEye = scene.camera.eye, .skyMaps = &s};
+    static drawn_maps m;
+    draw_maps(&m);
+    const sl_lighting_uniforms u = m.u;
     sl_lighting_uniforms none = u;
     none.skyMaps = NULL;
     /* the floor in front of the sphere (centre (0.5, 0, 1), radius 1): 37 degrees of it from P */
@@ -394,10 +410,7 @@ static void test_lobe_map(void **state)
     assert_float_equal(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sky, wide), 0.7f, 0.0f);
     assert_float_equal(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sphere, narrow), 0.7f, 0.0f);
     assert_float_equal(shade_lobe_map(&none, 0.7f, 0.8f, P, N, to_sphere, wide), 0.7f, 0.0f);
-    sl_shadow_sky_free(&s);
-    sl_raster_destroy(r);
-    sl_env_free(&env);
-    sl_scene_free(&scene);
+    free_maps(&m);
 }
 
 int main(void)
