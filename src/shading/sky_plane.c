@@ -124,19 +124,24 @@ static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
                      corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
     const int w = gb->width, h = gb->height;
     int64_t lookups = 0;
-#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
+    /* a row's count added atomically, not by a reduction clause: clang makes one a global lock
+     * symbol in the library (tests/cli/exports.sh) */
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (int y = 0; y < h; y += step) {
         float *row = plane + (size_t)y * (size_t)w;
+        int64_t row_lookups = 0;
         if ((y / step) % 2 == 0) {
             for (int x = step; x < w; x += 2 * step)
-                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, reach2, &lookups);
+                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, reach2, &row_lookups);
         } else {
             for (int x = 0; x < w; x += step) {
                 bool on_column = (x / step) % 2 == 0;
                 row[x] = fill_texel(u, gb, plane, x, y, on_column ? across : corners, on_column ? 2 : 4, step, agree,
-                                    reach2, &lookups);
+                                    reach2, &row_lookups);
             }
         }
+#pragma omp atomic
+        lookups += row_lookups;
     }
     return lookups;
 }
@@ -147,13 +152,17 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
     const int w = gb->width, h = gb->height, spacing = 1 << SL_SKY_PLANE_LEVELS;
     int64_t lookups = 0;
     /* the anchors, then each level from the one above it: a level reads only coarser grids */
-#pragma omp parallel for schedule(dynamic) num_threads(threads) reduction(+ : lookups)
-    for (int y = 0; y < h; y += spacing)
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (int y = 0; y < h; y += spacing) {
+        int64_t row_lookups = 0;
         for (int x = 0; x < w; x += spacing) {
             const bool covered = !(sl_gbuffer_at(gb, x, y)->depth >= 1.0f);
             plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
-            lookups += covered;
+            row_lookups += covered;
         }
+#pragma omp atomic
+        lookups += row_lookups;
+    }
     const float reach2 = reach_squared(u->skyMaps);
     for (int step = spacing / 2; step >= 1; step /= 2)
         lookups += fill_level(u, gb, plane, step, agree, reach2, threads);
