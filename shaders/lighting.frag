@@ -1695,7 +1695,7 @@ float cone_across(vec3 B, vec3 N, vec3 R)
 float lobe_map_factor(float capped, float material, vec3 P, vec3 N, vec3 R, float alpha)
 {
     float ts = so_acos(pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0)));
-    if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || ts < 0.5 * so_acos(1.0 - 2.0 / float(uSkyMapCount)))
+    if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || ts < 0.5 * acos(1.0 - 2.0 / float(uSkyMapCount)))
         return capped;
     return min(capped, material * sky_map_visibility(sky_cell(R), P, N));
 }

@@ -793,13 +793,13 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     if (cone) {
         float b_dot_r, n_dot_v, cone_across;
         shade_cone_cosines(u, cone, s->Nenv, s->Venv, &b_dot_r, &n_dot_v, &cone_across);
-        spec_occlusion =
-            shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, sl_so_lobe_cone(s->alpha), cone_across);
+        const sl_so_lobe lobe = sl_so_lobe_cone(s->alpha);
+        spec_occlusion = shade_spec_occlusion(cone->w, s->occlusion, b_dot_r, n_dot_v, lobe, cone_across);
         if (s->reflection)
             spec_occlusion = sl_reflection_specular_factor(spec_occlusion, material_occlusion, *s->reflection);
         float before_map = spec_occlusion;
         vec3 R = sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv);
-        spec_occlusion = shade_lobe_map(u, spec_occlusion, material_occlusion, s->P, s->N, R, sl_so_lobe_cone(s->alpha).ts);
+        spec_occlusion = shade_lobe_map(u, spec_occlusion, material_occlusion, s->P, s->N, R, lobe.ts);
         trace_cone(trace, cone, s->occlusion, spec_occlusion, cone_across,
                    spec_occlusion < before_map ? before_map : -1.0f);
     }

@@ -285,7 +285,7 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
-    if (!u->skyMaps || ts < 0.5f * sl_so_acos(1.0f - 2.0f / (float)u->skyMaps->count))
+    if (!u->skyMaps || ts < 0.5f * u->skyMaps->cell_angle)
         return capped;
     float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
     return minf(capped, material * v);

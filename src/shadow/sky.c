@@ -133,6 +133,7 @@ bool sl_shadow_sky_frames(sl_shadow_sky *sky, int count, const sl_env *env, floa
         sky->weight[k] = vec3(c * m[k].x - s * m[k].y, s * m[k].x + c * m[k].y, m[k].z);
     }
     sky->count = count;
+    sky->cell_angle = acosf(1.0f - 2.0f / (float)count);
     sky->sky_sites = sky_side_count(count);
     bool geometry = sl_shadow_ortho_frames(sky->maps, count, SL_SKY_MAP_SIZE, scene);
     sky_lanes(sky);

@@ -83,6 +83,9 @@ typedef struct {
     vec3 weight[SL_SKY_MAPS_MAX];     /* m_k in the world (the environment's rotation applied) */
     vec3 site[SL_SKY_MAPS_MAX];       /* d_k, environment space: the cells' sites (sl_shadow_sky_cell) */
     int sky_sites;                    /* the sites on the sky's side: the first sky_sites */
+    float cell_angle;                 /* a cell's size as the angle of a cap of 4 pi / count
+                                         steradians, acos(1 - 2 / count) (the lighting's
+                                         shade_lobe_map compares a lobe's cone with it) */
     /* the drawn maps' depths, one block (maps[k].depth points into it), so that one lookup
      * reads every map's texels by 32-bit offsets from one base; NULL for frames alone */
     float *block;
