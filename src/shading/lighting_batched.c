@@ -1548,7 +1548,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
     const bool irradiance = empty < count && u->uDiffuse != 0;
-    const float *sky_row = task && task->sky_plane ? task->sky_plane + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+    const float *sky_row = shade_sky_row(task, gb, x0, y);
     if (empty < count) /* a span of background alone (most of ggx.json's) needs no frames */
         pixel_stage(u, t, count, p);
     /* the diffuse term's irradiance(NE) for the whole span in vector loops (an empty pixel's

@@ -443,6 +443,12 @@ struct sl_lighting_task {
 
 /* ---- the sky maps' V over a whole G-buffer (sky_plane.c) ---- */
 
+/* The task's plane of V from texel (x0, y) of gb on, or NULL: the span looks V up itself. */
+static inline const float *shade_sky_row(const sl_lighting_task *task, const sl_gbuffer *gb, int x0, int y)
+{
+    return task && task->sky_plane ? task->sky_plane + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL;
+}
+
 /* The fill's tests: an anchor stands for a texel where it lies within SL_SKY_PLANE_SAME_DEPTH of
  * the texel's view distance from its tangent plane, within SL_SKY_PLANE_REACH texels of the
  * finest map from it, with its normal within SL_SKY_PLANE_SAME_NORMAL (a cosine: 18 degrees),

@@ -517,9 +517,7 @@ void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb,
     if (empty > 0)
         sl_shade_background_span(u, x0, y, count, b->bgr, b->bgg, b->bgb);
     if (empty < count) /* a span of background alone (much of a frame) lights nothing */
-        surface_stages(u, gb, x0, y, count,
-                       task && task->sky_plane ? task->sky_plane + (size_t)y * (size_t)gb->width + (size_t)x0 : NULL,
-                       b, trace);
+        surface_stages(u, gb, x0, y, count, shade_sky_row(task, gb, x0, y), b, trace);
     if (!trace) {
         finish_stage(u, t, count, empty, task, b, out);
         return;
