@@ -453,14 +453,11 @@ static inline const float *shade_sky_row(const sl_lighting_task *task, const sl_
  * the texel's view distance from its tangent plane, within SL_SKY_PLANE_REACH texels of the
  * finest map from it, with its normal within SL_SKY_PLANE_SAME_NORMAL (a cosine: 18 degrees),
  * and the anchors' V are within SL_SKY_PLANE_AGREE of each other (the lighting pass's;
- * bench_sky_plane and the tests pass others). SL_SKY_PLANE_LEVELS: the anchors lie 2^LEVELS
- * texels apart and each level halves the spacing (1: every other texel; anchors farther apart
- * mostly pass the reach at 1280x720, and fill little more). */
+ * bench_sky_plane and the tests pass others). */
 #define SL_SKY_PLANE_SAME_DEPTH 0.002f
 #define SL_SKY_PLANE_REACH 3.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
 #define SL_SKY_PLANE_AGREE 0.01f
-#define SL_SKY_PLANE_LEVELS 1
 
 /* V (sl_shadow_sky_visibility at each covered texel's P and lighting normal) into plane, w x h
  * floats in the G-buffer's order (1 at an empty texel): looked up at the anchors (even x and y)

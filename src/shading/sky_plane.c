@@ -4,18 +4,17 @@
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
  * costliest part of the sky maps' frame. V is smooth along a surface at the scale of the maps'
  * texels: its taps are filtered, and its weights turn with the normal over cells some 20 degrees
- * wide. So the pass looks V up at the anchors, the texels whose x and y are multiples of
- * 2^SL_SKY_PLANE_LEVELS (2: every other texel each way), and fills the grid of half that spacing
- * from them, then the next, down to every texel: a texel on a row of the coarser grid from the
- * two beside it, one on a column from the two below and above, one between from the four at its
- * corners, as their mean, where each of them is covered, on the texel's surface (within
- * SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent plane, the normals within
- * SL_SKY_PLANE_SAME_NORMAL) and within SL_SKY_PLANE_REACH texels of the finest map from it, and
- * their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere else (an object's edge, a crease,
- * a shadow's border, the image's last row or column, pixels coarser than the maps' texels) the
- * texel is looked up itself. Where V is linear along the surface the mean is exact; where it
- * bends between texels that agree, the mean is off by about what the agreement allows; a feature
- * narrower than the spacing that both sides miss (a thin shadow between anchors) is missed.
+ * wide. So the pass looks V up at the anchors, the texels of even x and even y, and fills each
+ * other texel from the anchors around it: the two beside it (odd x, even y), the two below and
+ * above it (even x, odd y) or the four at its corners (odd x and y), as their mean, where each of
+ * them is covered, on the texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance
+ * from its tangent plane, the normals within SL_SKY_PLANE_SAME_NORMAL) and within
+ * SL_SKY_PLANE_REACH texels of the finest map from it, and their V lie within SL_SKY_PLANE_AGREE
+ * of each other. Anywhere else (an object's edge, a crease, a shadow's border, the image's last
+ * row or column, pixels coarser than the maps' texels) the texel is looked up itself. Where V
+ * is linear along the surface the mean is exact; where it bends between anchors that agree, the
+ * mean is off by about what the agreement allows; a feature narrower than the anchors' spacing
+ * that both miss (a thin shadow between them) is missed.
  *
  * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
  * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"
@@ -86,10 +85,10 @@ static bool same_surface(const surface_test *p, const sl_gbuffer_texel *q)
     return off * off <= p->allowance2;
 }
 
-/* Texel (x, y)'s V from the texels at the given offsets times `step` (n of them), or its own
- * lookup (counted in *lookups). */
+/* Texel (x, y)'s V from the anchors at the given offsets (n of them), or its own lookup
+ * (counted in *lookups). */
 static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
-                        const int (*offsets)[2], int n, int step, float agree, float reach2, int64_t *lookups)
+                        const int (*offsets)[2], int n, float agree, float reach2, int64_t *lookups)
 {
     const sl_gbuffer_texel *p = sl_gbuffer_at(gb, x, y);
     if (p->depth >= 1.0f)
@@ -98,7 +97,7 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
     float lo = 1.0f, hi = 0.0f, sum = 0.0f;
     bool stand_in = agree >= 0.0f && test.n2 > 0.0f;
     for (int k = 0; k < n && stand_in; k++) {
-        int ax = x + step * offsets[k][0], ay = y + step * offsets[k][1];
+        int ax = x + offsets[k][0], ay = y + offsets[k][1];
         stand_in = ax >= 0 && ay >= 0 && ax < gb->width && ay < gb->height &&
                    same_surface(&test, sl_gbuffer_at(gb, ax, ay));
         if (stand_in) {
@@ -114,48 +113,21 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
     return exact_visibility(u, gb, x, y);
 }
 
-/* The texels of the grid of spacing `step` that are not on the grid of twice that, from the
- * latter's: along a row of it, from the two beside; on a row between two of its rows, from the
- * two below and above, or the four at the corners. */
-static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, int step, float agree,
-                          float reach2, int threads)
+int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+                          int threads)
 {
     static const int beside[2][2] = {{-1, 0}, {1, 0}}, across[2][2] = {{0, -1}, {0, 1}},
                      corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
     const int w = gb->width, h = gb->height;
+    const float reach2 = reach_squared(u->skyMaps);
     int64_t lookups = 0;
-    /* a row's count added atomically, not by a reduction clause: clang makes one a global lock
-     * symbol in the library (tests/cli/exports.sh) */
+    /* Each row's count is added atomically, not by a reduction clause: clang makes one a global
+     * lock symbol in the library (tests/cli/exports.sh). The anchors first: every fill reads
+     * only anchors. */
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (int y = 0; y < h; y += step) {
-        float *row = plane + (size_t)y * (size_t)w;
+    for (int y = 0; y < h; y += 2) {
         int64_t row_lookups = 0;
-        if ((y / step) % 2 == 0) {
-            for (int x = step; x < w; x += 2 * step)
-                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, step, agree, reach2, &row_lookups);
-        } else {
-            for (int x = 0; x < w; x += step) {
-                bool on_column = (x / step) % 2 == 0;
-                row[x] = fill_texel(u, gb, plane, x, y, on_column ? across : corners, on_column ? 2 : 4, step, agree,
-                                    reach2, &row_lookups);
-            }
-        }
-#pragma omp atomic
-        lookups += row_lookups;
-    }
-    return lookups;
-}
-
-int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
-                          int threads)
-{
-    const int w = gb->width, h = gb->height, spacing = 1 << SL_SKY_PLANE_LEVELS;
-    int64_t lookups = 0;
-    /* the anchors, then each level from the one above it: a level reads only coarser grids */
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (int y = 0; y < h; y += spacing) {
-        int64_t row_lookups = 0;
-        for (int x = 0; x < w; x += spacing) {
+        for (int x = 0; x < w; x += 2) {
             const bool covered = !(sl_gbuffer_at(gb, x, y)->depth >= 1.0f);
             plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
             row_lookups += covered;
@@ -163,8 +135,20 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
 #pragma omp atomic
         lookups += row_lookups;
     }
-    const float reach2 = reach_squared(u->skyMaps);
-    for (int step = spacing / 2; step >= 1; step /= 2)
-        lookups += fill_level(u, gb, plane, step, agree, reach2, threads);
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (int y = 0; y < h; y++) {
+        float *row = plane + (size_t)y * (size_t)w;
+        int64_t row_lookups = 0;
+        if (y % 2 == 0) { /* an anchors' row: from the two beside */
+            for (int x = 1; x < w; x += 2)
+                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, agree, reach2, &row_lookups);
+        } else { /* between: from the two below and above, or the four at the corners */
+            for (int x = 0; x < w; x++)
+                row[x] = fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree,
+                                    reach2, &row_lookups);
+        }
+#pragma omp atomic
+        lookups += row_lookups;
+    }
     return lookups;
 }
