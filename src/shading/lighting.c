@@ -798,7 +798,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         if (s->reflection)
             spec_occlusion = sl_reflection_specular_factor(spec_occlusion, material_occlusion, *s->reflection);
         float before_map = spec_occlusion;
-        vec3 R = sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv);
+        vec3 R = normalize(sub(scale(s->Nenv, 2.0f * dot(s->Nenv, s->Venv)), s->Venv)); /* the batched path's p->R */
         spec_occlusion = shade_lobe_map(u, spec_occlusion, material_occlusion, s->P, s->N, R, lobe.ts);
         trace_cone(trace, cone, s->occlusion, spec_occlusion, cone_across,
                    spec_occlusion < before_map ? before_map : -1.0f);

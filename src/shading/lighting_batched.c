@@ -1438,10 +1438,8 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
             for (int i = 0; i < count; i++) {
                 if (!covered[i])
                     continue;
-                vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), VE = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
-                vec3 R = sub(scale(NE, 2.0f * dot(NE, VE)), VE);
-                spo[i] = shade_lobe_map(u, spo[i], mocc[i], t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), R,
-                                        lobe_angle[i]);
+                spo[i] = shade_lobe_map(u, spo[i], mocc[i], t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
+                                        vec3(p->Rx[i], p->Ry[i], p->Rz[i]), lobe_angle[i]);
             }
     } else {
         for (int i = 0; i < count; i++)

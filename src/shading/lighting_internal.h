@@ -280,8 +280,8 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * beside a pedestal, whose lobe the model on the pedestal hides from behind, keeps its rays open
  * where the truth loses nearly all of it; the map sees the whole scene. A cell is wide for a
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
- * keeps `capped`. R in environment space (unnormalized: the cell is the nearest site's), P and N
- * in the world. */
+ * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
+ * world. */
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
