@@ -322,7 +322,7 @@ const int SHADOW_CUBE_SIZE = 512;       // texels along a face's side, inside th
 const int SHADOW_GUARD = 3;             // texels of guard band on each side
 const float SHADOW_BIAS_CONST = 1.0;    // bias beyond the receiver plane, in texel footprints
 const float SHADOW_DEPTH_REL = 2e-4;    // and a share of the stored depth
-const float SHADOW_NORMAL_OFFSET = 1.0; // the receiver moved along its normal, in texels
+const float SHADOW_NORMAL_OFFSET = 1.0; // the receiver moved along its normal, in texels, at most
 // The env lights' orthographic maps read the same three, in their own texels:
 const int SHADOW_SUN_SIZE = 2048;       // texels along a map's side
 // The sky visibility maps' lookup (src/shadow/sky.c, whose constants these are), in their texels:
@@ -1480,6 +1480,14 @@ int shadow_major_face(vec3 d)
     return d.z >= 0.0 ? 4 : 5;
 }
 
+// The normal offset's share of its full length for a receiver whose normal makes cosine c with
+// the direction to the light: the sine (src/shadow/shadow.h sl_shadow_offset_share, which says
+// why). Every lookup below takes it.
+float shadow_offset_share(float c)
+{
+    return sqrt(max(1.0 - c * c, 0.0));
+}
+
 // Visibility of point light i from P with unit normal N in its cube map (the twin of
 // sl_shadow_point_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit,
 // 0 shadowed; the receiver moved along N by one texel's footprint, then a 3-texel box of
@@ -1496,7 +1504,7 @@ float shadow_point_visibility(int i, vec3 P, vec3 N)
         return 1.0;
     float dist = sqrt(dist2);
     float texel = 2.0 * dist / float(SHADOW_CUBE_SIZE);
-    vec3 q = d + N * (texel * SHADOW_NORMAL_OFFSET);
+    vec3 q = d + N * (texel * SHADOW_NORMAL_OFFSET * shadow_offset_share(dot(N, d) / dist));
     int f = shadow_major_face(q);
     vec3 ax, rt, up;
     shadow_face_frame(f, ax, rt, up);
@@ -1551,7 +1559,7 @@ float shadow_sun_visibility(int s, vec3 P, vec3 N)
     if (!(na < -1e-6))
         return 1.0;
     float size = float(SHADOW_SUN_SIZE);
-    vec3 q = P + N * (texel * SHADOW_NORMAL_OFFSET);
+    vec3 q = P + N * (texel * SHADOW_NORMAL_OFFSET * shadow_offset_share(na));
     float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
     float stepx = box.z / size, stepy = box.w / size;
     float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;
@@ -1597,7 +1605,7 @@ float sky_map_visibility(int k, vec3 P, vec3 N)
         return 1.0;
     int sizeI = textureSize(uSkyMaps, 0).x;
     float size = float(sizeI);
-    vec3 q = P + N * (texel * SKY_NORMAL_OFFSET);
+    vec3 q = P + N * (texel * SKY_NORMAL_OFFSET * shadow_offset_share(na));
     float xq = dot(q, right), yq = dot(q, up), zq = dot(q, axis);
     float stepx = box.z / size, stepy = box.w / size;
     float ux = (xq - box.x) / stepx - 0.5, uy = (yq - box.y) / stepy - 0.5;

@@ -18,7 +18,7 @@
  * interpolation of 1/w. */
 #define SHADOW_BIAS_CONST 1.0f
 #define SHADOW_DEPTH_REL 2e-4f
-#define SHADOW_NORMAL_OFFSET 1.0f /* the receiver moved along its normal by this many texels */
+#define SHADOW_NORMAL_OFFSET 1.0f /* the receiver moved along its normal by up to this many texels */
 
 /* The target's texel: the window depth the rasterizer tests, and the view depth kept. */
 typedef struct {
@@ -339,7 +339,7 @@ float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
     /* one texel's footprint at the receiver: a face spans tan 2 / SIZE per texel, at view depth
      * up to dist */
     float texel = 2.0f * dist / (float)SL_SHADOW_CUBE_SIZE;
-    vec3 q = add(d, scale(N, texel * SHADOW_NORMAL_OFFSET));
+    vec3 q = add(d, scale(N, texel * SHADOW_NORMAL_OFFSET * sl_shadow_offset_share(dot(N, d) / dist)));
     int f = major_face(q);
     vec3 ax = m->axis[f], rt = m->right[f], up = m->up[f];
     float z = dot(q, ax);

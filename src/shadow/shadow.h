@@ -9,7 +9,8 @@
  * and its bias are in world units.
  *
  * Lookup (sl_shadow_point_visibility): the face of the major axis of P - light, the receiver
- * moved along its normal by one texel's footprint (normal offset); percentage-closer filtering
+ * moved along its normal by one texel's footprint times the sine of its angle to the light
+ * (normal offset, sl_shadow_offset_share); percentage-closer filtering
  * over the 4x4 texels around it, weighted by a 3-texel box convolved with the bilinear tent (a
  * 3x3 grid of bilinear comparisons), so the shadow's edge is about three texels wide and moves
  * smoothly as P moves. Each tap is compared with the depth at which its own ray meets the
@@ -128,16 +129,30 @@ mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
  * False (and err) on no memory or a failed draw. */
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
                            const sl_scene_textures *tex, sl_error *err);
+/* The normal offset's share of its full length (a texel's footprint) for a receiver whose normal
+ * makes cosine c with the direction to the light: the sine, sqrt(1 - c^2). The offset keeps a
+ * receiver off its own texels where its footprint spans a range of depth, which is where the
+ * light grazes it (all of it); a receiver that faces the light has no such span, and the offset
+ * would only move it towards what stands in front of it (a ball's underside a few texels over a
+ * floor, seen from below by a sky map, came out lit). Every lookup takes it: the cube maps, the
+ * env lights' maps and the sky maps (shadow.c, sky.c). */
+/* GLSL: shadow_offset_share */
+static inline float sl_shadow_offset_share(float c)
+{
+    float s = 1.0f - c * c;
+    return sqrtf(s > 0.0f ? s : 0.0f);
+}
+
 /* Where a receiver, world point P with unit normal N, falls on orthographic map `map`: the point
- * moved `offset` (world units) along N, in the map's frame (xq, yq, zq); its texel coordinates
- * (texel centres at integers) as floor (fx, fy) and fraction (tx, ty); world units per texel; and
- * the slope of the receiver's plane (through the moved point, normal N), whose depth at a lateral
- * offset (dx, dy) from it is zq + gx dx + gy dy: each tap of a lookup is compared with the
- * receiver's own depth under it, so a tilted plane needs no slope-sized bias. False where the map
- * has nothing to say: N.axis >= 0 (every tap's ray runs along the axis: the surface faces away
- * from the map's light or grazes it, and the plane is never met) or a point off the map (or
- * non-finite). The env lights' lookup (sl_shadow_sun_visibility) and the sky maps'
- * (sky.c) start here. */
+ * moved along N by `offset` (world units) times sl_shadow_offset_share of N and the axis, in the
+ * map's frame (xq, yq, zq); its texel coordinates (texel centres at integers) as floor (fx, fy)
+ * and fraction (tx, ty); world units per texel; and the slope of the receiver's plane (through
+ * the moved point, normal N), whose depth at a lateral offset (dx, dy) from it is
+ * zq + gx dx + gy dy: each tap of a lookup is compared with the receiver's own depth under it, so
+ * a tilted plane needs no slope-sized bias. False where the map has nothing to say: N.axis >= 0
+ * (every tap's ray runs along the axis: the surface faces away from the map's light or grazes
+ * it, and the plane is never met) or a point off the map (or non-finite). The env lights' lookup
+ * (sl_shadow_sun_visibility) and the sky maps' (sky.c) start here. */
 typedef struct {
     float xq, yq, zq;
     float fx, fy, tx, ty;
@@ -151,7 +166,7 @@ static inline bool sl_shadow_ortho_locate(const sl_shadow_sun *map, vec3 P, vec3
     float na = dot(N, map->axis);
     if (!(na < -1e-6f))
         return false;
-    vec3 q = add(P, scale(N, offset));
+    vec3 q = add(P, scale(N, offset * sl_shadow_offset_share(na)));
     at->xq = dot(q, map->right);
     at->yq = dot(q, map->up);
     at->zq = dot(q, map->axis);

@@ -8,8 +8,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* The lookup's offsets, in map texels: the receiver moved along its normal, and the bias past
- * the receiver plane's depth per tap (shadow.c's values for the env lights' maps). */
+/* The lookup's offsets, in map texels: the receiver moved along its normal (at most: shadow.h
+ * sl_shadow_offset_share), and the bias past the receiver plane's depth per tap (shadow.c's
+ * values for the env lights' maps). */
 #define SKY_NORMAL_OFFSET 1.0f
 #define SKY_BIAS_CONST 1.0f
 
@@ -255,8 +256,9 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
          * their truncation in one loop, GCC has moved the truncation into the select's branch */
 #pragma omp simd
         for (int k = c0; k < c1; k++) {
-            nas[k] = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
-            const float off = l->offset[k];
+            const float na = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
+            nas[k] = na;
+            const float off = l->offset[k] * sl_shadow_offset_share(na);
             const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
             const float xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
             const float yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];

@@ -70,7 +70,7 @@ typedef struct {
     float rx[SL_SKY_MAPS_MAX], ry[SL_SKY_MAPS_MAX], rz[SL_SKY_MAPS_MAX]; /* right */
     float ux[SL_SKY_MAPS_MAX], uy[SL_SKY_MAPS_MAX], uz[SL_SKY_MAPS_MAX]; /* up */
     float x0[SL_SKY_MAPS_MAX], y0[SL_SKY_MAPS_MAX];
-    float offset[SL_SKY_MAPS_MAX];           /* the normal offset, world units */
+    float offset[SL_SKY_MAPS_MAX];           /* the normal offset at its longest, world units */
     float stepx[SL_SKY_MAPS_MAX], stepy[SL_SKY_MAPS_MAX]; /* world units per texel */
     float bias[SL_SKY_MAPS_MAX];
     int first[SL_SKY_MAPS_MAX];              /* the map's first texel in the block */

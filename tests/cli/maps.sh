@@ -4,7 +4,7 @@
 #             (its own folder, the public softlight/ headers, or a folder on a lower layer);
 #   docs      every `docs/NAME.md "Section"` reference in the tree resolves (scripts/check-docs.py);
 #   tags      the C port follows shaders/lighting.frag: each `/* GLSL: name` tag in src/shading
-#             (and src/shadow's .c files, the shadow lookup, and src/occlusion's, the specular and
+#             (and src/shadow's files, the shadow lookup, and src/occlusion's, the specular and
 #             reflection occlusion) names a function of lighting.frag,
 #             each file's tags come in lighting.frag's order (a name may repeat right after
 #             itself: one GLSL function in several C pieces), and every function of
@@ -83,7 +83,7 @@ check_tags() {
     for f in "$root"/src/shading/*.[ch]; do
         f=src/shading/$(basename "$f"); [ "$f" = src/shading/lighting.c ] || files+=("$f")
     done
-    for f in "$root"/src/shadow/*.c "$root"/src/occlusion/*.[ch]; do
+    for f in "$root"/src/shadow/*.[ch] "$root"/src/occlusion/*.[ch]; do
         [ -f "$f" ] && files+=("${f#"$root"/}")
     done
     tags=$(cd "$root" && grep -noE '/\* GLSL: [A-Za-z_][A-Za-z0-9_]*' "${files[@]}" /dev/null | sed 's|/\* GLSL: ||')
