@@ -455,7 +455,7 @@ static inline const float *shade_sky_row(const sl_lighting_task *task, const sl_
  * and the anchors' V are within SL_SKY_PLANE_AGREE of each other (the lighting pass's;
  * bench_sky_plane and the tests pass others). */
 #define SL_SKY_PLANE_SAME_DEPTH 0.002f
-#define SL_SKY_PLANE_REACH 3.0f
+#define SL_SKY_PLANE_REACH 6.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
 #define SL_SKY_PLANE_AGREE 0.01f
 

@@ -44,7 +44,7 @@
 #include "shadow/shadow.h"
 
 #ifndef SL_SKY_MAP_SIZE
-#define SL_SKY_MAP_SIZE 512 /* texels along a sky map's side */
+#define SL_SKY_MAP_SIZE 1024 /* texels along a sky map's side */
 #endif
 /* The three choices docs/lighting.md "Sky visibility maps" measures, each 1 here; a build defining
  * one as 0 takes the alternative, for bench/visibility-variants.sh: SL_SKY_MAPS_SPLIT 0, one
