@@ -662,10 +662,12 @@ vec3 facing_normal(vec3 N, vec3 V)
 // Reflection occlusion (src/occlusion/reflection.c, the pass whose plane the C port reads, step
 // for step): the share of the lobe's rays that leave the scene, traced against the G-buffer. A
 // texel traces one of five rays, (x + 2 y) mod 5: ray 0 along R, rays 1 .. 4 on a ring at
-// REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its cross (itself and
-// the neighbours on the same surface). Each ray takes REFLECTION_STEPS points t = D (k / steps)^2
+// REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its 3x3 block (itself
+// and the neighbours on the same surface). Each ray takes REFLECTION_STEPS points t = D (k / steps)^2
 // and is blocked at the first behind a texel's tangent plane and within a thickness of it.
 const int REFLECTION_RAYS = 5;
+const int REFLECTION_BLOCK = 9;
+const float REFLECTION_BELOW = -1.0; // a ray below the surface: no part of the visibility
 const int REFLECTION_STEPS = 16;
 const float REFLECTION_RING = 0.5;
 const float REFLECTION_THICKNESS = 0.1;
@@ -723,7 +725,7 @@ float reflection_trace_ray(vec3 P, vec3 R)
     return 1.0;
 }
 
-// Ray k of the covered texel q: 1 open, 0 blocked.
+// Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface.
 float reflection_ray(ivec2 q, int k)
 {
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
@@ -741,17 +743,18 @@ float reflection_ray(ivec2 q, int k)
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
     vec3 side = T * cos(phase) + B * sin(phase);
     vec3 Rk = R * cos(ring) + side * sin(ring);
-    return dot(Rk, N) > 0.0 ? reflection_trace_ray(P, Rk) : 1.0; // below the surface: open
+    return dot(Rk, N) > 0.0 ? reflection_trace_ray(P, Rk) : REFLECTION_BELOW; // not counted
 }
 
-// The covered pixel's visibility: the share of open rays over its cross (the pixel, x + 1,
-// x - 1, y + 1, y - 1), a neighbour counted where it is the same surface (near the pixel's
-// tangent plane, its normal within a few degrees: its ray then stands for the pixel's); and in
-// y how many rays it is over.
+// The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,
+// x - 1, y + 1, y - 1, then the corners), a neighbour counted where it is the same surface (near
+// the pixel's tangent plane, its normal within a few degrees: its ray then stands for the
+// pixel's); and in y how many rays it is over.
 vec2 reflection_visibility(ivec2 pixel)
 {
-    const ivec2 offsets[REFLECTION_RAYS] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
-                                                   ivec2(0, -1));
+    const ivec2 offsets[REFLECTION_BLOCK] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
+                                                    ivec2(0, -1), ivec2(1, 1), ivec2(-1, 1), ivec2(1, -1),
+                                                    ivec2(-1, -1));
     vec3 Pp, Np;
     float zp;
     reflection_surface(pixel, Pp, Np, zp);
@@ -759,7 +762,7 @@ vec2 reflection_visibility(ivec2 pixel)
     ivec2 size = ivec2(uViewport);
     float sum = 0.0;
     int count = 0;
-    for (int m = 0; m < REFLECTION_RAYS; m++) {
+    for (int m = 0; m < REFLECTION_BLOCK; m++) {
         ivec2 q = pixel + offsets[m];
         if (q.x < 0 || q.y < 0 || q.x >= size.x || q.y >= size.y)
             continue;
@@ -772,15 +775,18 @@ vec2 reflection_visibility(ivec2 pixel)
             if (!(abs(off) < REFLECTION_SAME_DEPTH * zp && dot(Np, Nq) > REFLECTION_SAME_NORMAL))
                 continue;
         }
-        sum += reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS);
+        float ray = reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS);
+        if (ray < 0.0)
+            continue; // below its surface
+        sum += ray;
         count++;
     }
-    return vec2(sum / float(count), float(count));
+    return count > 0 ? vec2(sum / float(count), float(count)) : vec2(1.0, 0.0);
 }
 
 // The specular's factor with the cone's (`capped`) and the rays' (`reflection`: visibility,
 // rays): the smaller of the two with one ray, the material's occlusion times the rays'
-// visibility with all five, mixed between by the rays' count.
+// visibility with five or more, mixed between by the rays' count.
 float reflection_specular_factor(float capped, float material, vec2 reflection)
 {
     float weight = clamp((reflection.y - 1.0) * (1.0 / float(REFLECTION_RAYS - 1)), 0.0, 1.0);

@@ -2,9 +2,9 @@
  *
  * The pass first reduces every texel to what a ray's test reads of it: its view depth, in a
  * plane of its own (every step reads it), and beside it its tangent plane as the camera sees it
- * (the facing normal and its offset, 16 bytes: the cross's test reads a neighbour's position
+ * (the facing normal and its offset, 16 bytes: the block's test reads a neighbour's position
  * from the G-buffer texel itself, not a copy); then traces each texel's ray, rows over threads,
- * into a plane of one float a texel; then averages each texel's cross. 24 bytes a texel in all,
+ * into a plane of one float a texel; then averages each texel's block. 24 bytes a texel in all,
  * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
  * step is three multiply-adds and one division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
  * reference (sl_reflection_texel runs it; tests/unit/test_reflection.c holds the frame to it),
@@ -26,9 +26,9 @@
 #include "occlusion/specular_occlusion.h"
 
 /* A texel's tangent plane as the camera sees it: dot(n, X) = d with n facing the eye (all zero
- * for an empty texel). blocked_at and the cross's test of "the same surface" read it. Its view
+ * for an empty texel). blocked_at and the block's test of "the same surface" read it. Its view
  * depth lies in a plane of its own, since every step reads that and few read more; the position
- * the cross's test takes of a neighbour is the G-buffer texel's own. */
+ * the block's test takes of a neighbour is the G-buffer texel's own. */
 typedef struct {
     float nx, ny, nz, d;
 } surface_plane;
@@ -168,7 +168,7 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
 
 /* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
  * angle for the texel's alpha; reflection.h): its start P and unit direction. False for a ring
- * ray below the surface, which counts as open untraced. The facing normal and the view depth
+ * ray below the surface, which is not traced and not counted. The facing normal and the view depth
  * are the texel's plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
 static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring, vec3 *P,
@@ -192,18 +192,19 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
     return dot(Rk, N) > 0.0f;
 }
 
-/* Whether ray k of covered texel i is open (1) or blocked (0), traced alone: the reference. */
+/* Whether ray k of covered texel i is open (1) or blocked (0), or SL_REFLECTION_BELOW, traced
+ * alone: the reference. */
 static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k)
 {
     vec3 P, R;
     if (!ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R))
-        return 1.0f; /* below the surface: open */
+        return SL_REFLECTION_BELOW;
     return trace_ray(f, P, R);
 }
 
 /* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
- * ray_plane (1 for an empty texel), with the same bits. Each covered texel's ray (ray_of) that
- * has something to trace takes a lane: its start, direction and view_ray, structure-of-arrays.
+ * ray_plane (1 for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the
+ * same bits. Each covered texel's ray (ray_of) that has something to trace takes a lane: its start, direction and view_ray, structure-of-arrays.
  * Then all lanes take step k together: one loop over the lanes projects each one's point and
  * reads the depth under it, with no branch on what it read, so the reads of all lanes are in
  * flight at once (trace_ray's expressions term by term; the early exits as flags: a lane off the
@@ -232,8 +233,10 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
         int k = ray_index(x, y);
         ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
         vec3 P, R;
-        if (!ray_of(f, gb, i, k, angle, &P, &R))
-            continue; /* below the surface: open */
+        if (!ray_of(f, gb, i, k, angle, &P, &R)) {
+            ray_plane[i] = SL_REFLECTION_BELOW;
+            continue;
+        }
         view_ray r = view_ray_of(v, P, R);
         const int m = lanes++;
         texel[m] = i;
@@ -303,25 +306,28 @@ static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t
     return fabsf(off) < SL_REFLECTION_SAME_DEPTH * f->depth[p] && cosn > SL_REFLECTION_SAME_NORMAL;
 }
 
-/* The visibility of covered texel (x, y) from the rays of its cross (itself and the four
+const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2] = {{0, 0},  {1, 0},  {-1, 0}, {0, 1},  {0, -1},
+                                                                  {1, 1},  {-1, 1}, {1, -1}, {-1, -1}};
+
+/* The visibility of covered texel (x, y) from the rays of its block (itself and the eight
  * neighbours that are the same surface), each read from `ray_plane` (the frame's plane of them)
- * or, when that is NULL, traced here, and how many rays it took (1 .. SL_REFLECTION_RAYS); each
- * member's ray and whether it counted go to `rays` and `used` when not NULL, in the order
- * centre, +x, -x, +y, -y. */
+ * or, when that is NULL, traced here, and how many rays it took (1 .. SL_REFLECTION_BLOCK); each
+ * member's ray and whether it counted go to `rays` and `used` when not NULL, in the order of
+ * sl_reflection_block_offsets. */
 /* GLSL: reflection_visibility */
-static vec2 cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
+static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
                              float *rays, int *used)
 {
-    static const int dx[SL_REFLECTION_RAYS] = {0, 1, -1, 0, 0}, dy[SL_REFLECTION_RAYS] = {0, 0, 0, 1, -1};
     const size_t p = (size_t)y * (size_t)f->width + (size_t)x;
     float sum = 0.0f;
     int count = 0;
-    for (int m = 0; m < SL_REFLECTION_RAYS; m++) {
-        int qx = x + dx[m], qy = y + dy[m];
+    for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
+        int qx = x + sl_reflection_block_offsets[m][0], qy = y + sl_reflection_block_offsets[m][1];
         bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
         size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
         float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, gb, q, ray_index(qx, qy));
+        take = take && ray >= 0.0f; /* not SL_REFLECTION_BELOW */
         if (rays)
             rays[m] = ray;
         if (used)
@@ -329,7 +335,7 @@ static vec2 cross_visibility(const reflection_frame *f, const sl_gbuffer *gb, co
         sum += take ? ray : 0.0f;
         count += take;
     }
-    return vec2(sum / (float)count, count);
+    return count > 0 ? vec2(sum / (float)count, count) : vec2(1.0f, 0.0f);
 }
 
 /* The ring rays' turns about R: ray k's phase 2 pi (k - 1) / 4 as its cosine and sine (ray 0,
@@ -401,7 +407,7 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
                 size_t i = (size_t)y * (size_t)width + (size_t)x;
                 bool covered = sl_gbuffer_covered(&gb->texels[i]);
                 gb->reflection[i] =
-                    covered ? cross_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
+                    covered ? block_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
             }
     }
     free(planes);
@@ -427,9 +433,9 @@ vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float dista
     planes_of_rows(gb, &f.view, planes, depth, 0, gb->height);
     vec2 v = vec2(1.0f, 0.0f);
     if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
-        v = cross_visibility(&f, gb, NULL, x, y, rays, used);
+        v = block_visibility(&f, gb, NULL, x, y, rays, used);
     } else {
-        for (int m = 0; m < SL_REFLECTION_RAYS; m++) {
+        for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
             if (rays)
                 rays[m] = 1.0f;
             if (used)

@@ -8,24 +8,31 @@
  * lobe, with R = reflect(-V, N) and the lobe's cone of half-angle ts (specular_occlusion.h,
  * sl_so_lobe_cone: 75.6% of the lobe's energy), is probed by SL_REFLECTION_RAYS rays from P
  * (moved off the surface by a share of its view depth): ray 0 along R, rays 1 .. 4 on a ring at
- * SL_REFLECTION_RING ts about R at equal turns (a ray below the surface counts as open: the
- * lobe's part below the horizon is the blind integral's business). Each texel (x, y) traces one
+ * SL_REFLECTION_RING ts about R at equal turns (a ray below the surface is no part of the
+ * visibility: the integral has no light from below the horizon to hide, and a grazing lobe's
+ * ring dips under it; counted as open it would dilute the share of what is hidden). Each texel
+ * (x, y) traces one
  * of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all five; its
- * visibility is the share of open rays over that cross, counting a neighbour only where it is
- * the same surface (near the texel's tangent plane, its normal within a few degrees): a fifth of
- * the rays a texel, the five directions on a flat or finely drawn surface, its own ray alone at
- * an edge or where the normal turns fast across a texel. Each ray takes
+ * visibility is the share of open rays over its block, the texel and the eight around it
+ * (SL_REFLECTION_BLOCK), counting a neighbour only where it is the same surface (near the
+ * texel's tangent plane, its normal within a few degrees): one ray a texel, the five directions
+ * over a block of a flat or finely drawn surface (the ring's twice, R's once), its own ray alone
+ * at an edge or where the normal turns fast across a texel. The block rather than the cross of
+ * five: at an object's silhouette over a floor, where the cross keeps two or three of its
+ * members, the block keeps five or more, so the rays decide rather than the cone (below), and its
+ * nine rays are less noisy than five. Each ray takes
  * SL_REFLECTION_STEPS points at t = D (k / steps)^2, k = 1 .. steps (dense near P, where
  * contact matters), projects each into the image and reads the texel there: the ray is blocked
  * when the point lies behind that texel's tangent plane (as the camera sees it) and less than a
  * thickness behind it along the view (the larger of the step and SL_REFLECTION_THICKNESS of the
  * texel's view depth: what the G-buffer cannot know, how deep the surface goes). A ray that leaves
  * the image, passes behind the camera or runs its length is open. The texel's visibility is
- * the share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 5).
+ * the share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 9; none, and
+ * visibility 1, where every ray of the block is below its surface).
  *
  * The lighting multiplies the image-based specular by it. With the ambient occlusion's cone
  * (specular_occlusion.h), both estimate the same share, and the rays' count says which to
- * believe (sl_reflection_specular_factor): with the cross's five rays, the rays alone, since they
+ * believe (sl_reflection_specular_factor): with five rays or more, the rays alone, since they
  * test the lobe's own directions where the cone only compares two cones (beside a ball on a
  * glossy floor the cone closes over a lobe that passes the ball); with one ray, at an edge or a
  * sliver of a surface a texel or two wide, the smaller of the two factors, since one ray says
@@ -55,12 +62,14 @@
 #include "scene/scene.h"
 
 #define SL_REFLECTION_RAYS 5          /* R and SL_REFLECTION_RAYS - 1 on the ring */
+#define SL_REFLECTION_BLOCK 9         /* the texels whose rays a texel's visibility is over: 3x3 */
+#define SL_REFLECTION_BELOW (-1.0f)   /* a ray's value below the surface (not counted), else 1 or 0 */
 #define SL_REFLECTION_STEPS 16        /* points along a ray */
 #define SL_REFLECTION_RING 0.5f       /* the ring's angle, a share of the lobe's cone angle */
 #define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
 #define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
 #define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
-/* The cross's test of "the same surface": within this share of the view depth of the texel's
+/* The block's test of "the same surface": within this share of the view depth of the texel's
  * tangent plane, and normals within this cosine (3.6 degrees): a neighbour's ray stands for the
  * texel's only where their reflections are within twice that. Looser, a rounded edge lends its
  * neighbours' rays, turned twice as far as their normals, into the floor beside it (0.8, the
@@ -69,7 +78,7 @@
 #define SL_REFLECTION_SAME_NORMAL 0.998f
 
 /* How much the rays alone weigh against the smaller of the two factors, for a visibility over
- * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with all five. A build
+ * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with five or more. A build
  * defining SL_REFLECTION_WEIGHT fixes it at that value whatever the count (0: the smaller factor
  * everywhere; 1: the rays alone), for bench/visibility-variants.sh's comparison; the GLSL twin
  * does not follow such a build. */
@@ -103,10 +112,15 @@ static inline float sl_reflection_specular_factor(float capped, float material, 
 bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err);
 
 /* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
- * rays counted), and its cross's rays, in the order the texel, x + 1, x - 1, y + 1, y - 1: each
- * ray 1 open, 0 blocked (`rays`) and whether it counted (`used`: 0 for a neighbour off the image
- * or another surface); each SL_REFLECTION_RAYS long or NULL. For softlight trace and the tests.
- * (1, 0) for an empty texel (nothing used). Visibility NAN when out of memory. */
+ * rays counted), and its block's rays, in the order of sl_reflection_block_offsets (the texel,
+ * x + 1, x - 1, y + 1, y - 1, then the corners): each ray 1 open, 0 blocked (`rays`) and whether
+ * it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below its
+ * surface, whose value is SL_REFLECTION_BELOW); each
+ * SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0) for an empty texel
+ * (nothing used). Visibility NAN when out of memory. */
+/* The block's members as offsets (dx, dy) from the texel, in the order above. */
+extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
+
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
                          int *used);
 

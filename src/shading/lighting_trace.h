@@ -106,10 +106,11 @@ struct sl_lighting_trace {
                                 when that map lowered it; -1 when it did not */
     bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
     float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
-    int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_RAYS) */
-    float reflection_rays[SL_REFLECTION_RAYS]; /* ... its cross's rays (the texel, x + 1, x - 1, y + 1,
-                                y - 1): 1 open, 0 blocked (src/occlusion/reflection.h) */
-    int reflection_used[SL_REFLECTION_RAYS]; /* ... whether each counted (the same surface) */
+    int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_BLOCK) */
+    float reflection_rays[SL_REFLECTION_BLOCK]; /* ... its block's rays (the texel, x + 1, x - 1, y + 1,
+                                y - 1, then the corners): 1 open, 0 blocked, SL_REFLECTION_BELOW below
+                                its surface (src/occlusion/reflection.h) */
+    int reflection_used[SL_REFLECTION_BLOCK]; /* ... whether each counted (the same surface) */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */
