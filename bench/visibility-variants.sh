@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# visibility-variants.sh - the alternatives to four choices of the visibility methods, measured as
+# visibility-variants.sh - the alternatives to five choices of the visibility methods, measured as
 # docs/lighting.md quotes them. Each alternative is a build of this tree with one define
 # (build-variants/NAME, configured with -DCMAKE_C_FLAGS=-DDEFINE; only the softlight program):
 #   - the reflection occlusion's join with the ambient occlusion's cone (docs/lighting.md
@@ -17,11 +17,14 @@
 #   - the specular's part across the horizon (docs/lighting.md "Sky visibility maps", why the
 #     specular across the horizon): the visibility error alone that the full method set leaves, as
 #     the first table, for the build as it is and SL_SKY_MAPS_HORIZON=0 (no part across: every
-#     sample keeps the pixel's factor).
+#     sample keeps the pixel's factor);
+#   - a wide lobe's own map (docs/lighting.md "Sky visibility maps"): the same, for the build as it
+#     is (a lobe from half a cell's angle wide takes its map), SL_LOBE_MAP_SHARE=1e9f (no lobe
+#     does), 0.28f and 0.7f (from about 0.1 and 0.25 rad at K = 32).
 #
 #   bash bench/visibility-variants.sh [BUILD_DIR]
 #
-# Prints three markdown tables. About 12 minutes on 2 cores, most of it the five builds.
+# Prints four markdown tables. About 20 minutes on 2 cores, most of it the eight builds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -37,6 +40,9 @@ variant rays SL_REFLECTION_WEIGHT=1.0f
 variant whole-sphere SL_SKY_MAPS_SPLIT=0
 variant centre SL_SKY_MAPS_CENTROID=0
 variant no-horizon SL_SKY_MAPS_HORIZON=0
+variant no-lobe-map SL_LOBE_MAP_SHARE=1e9f
+variant lobe-map-0.28 SL_LOBE_MAP_SHARE=0.28f
+variant lobe-map-0.7 SL_LOBE_MAP_SHARE=0.7f
 T=$(mktemp -d "${TMPDIR:-/tmp}/visibility-variants.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 
@@ -89,3 +95,8 @@ echo
 echo "| scene | visibility's change to the truth | left, the part across the horizon | cut | left, without it | cut |"
 echo "|---|---:|---:|---:|---:|---:|"
 cut_rows "$BUILD" build-variants/no-horizon
+
+echo
+echo "| scene | visibility's change to the truth | left, a wide lobe's map from half a cell | cut | left, no lobe's map | cut | left, from 0.28 of a cell | cut | left, from 0.7 | cut |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+cut_rows "$BUILD" build-variants/no-lobe-map build-variants/lobe-map-0.28 build-variants/lobe-map-0.7

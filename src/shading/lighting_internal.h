@@ -282,10 +282,15 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
  * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
  * world. */
+/* The share of a cell's angle from which a lobe takes its map. A build defining another (1e9f:
+ * none does) is for bench/visibility-variants.sh's comparison; the GLSL twin does not follow it. */
+#ifndef SL_LOBE_MAP_SHARE
+#define SL_LOBE_MAP_SHARE 0.5f
+#endif
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
-    if (!u->skyMaps || ts < 0.5f * u->skyMaps->cell_angle)
+    if (!u->skyMaps || ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle)
         return capped;
     float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
     return minf(capped, material * v);
