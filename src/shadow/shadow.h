@@ -134,7 +134,7 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
  * receiver off its own texels where its footprint spans a range of depth, which is where the
  * light grazes it (all of it); a receiver that faces the light has no such span, and the offset
  * would only move it towards what stands in front of it (a ball's underside a few texels over a
- * floor, seen from below by a sky map, came out lit). Every lookup takes it: the cube maps, the
+ * floor, seen from below by a sky map, reads lit). Every lookup takes it: the cube maps, the
  * env lights' maps and the sky maps (shadow.c, sky.c). */
 /* GLSL: shadow_offset_share */
 static inline float sl_shadow_offset_share(float c)
