@@ -663,8 +663,9 @@ vec3 facing_normal(vec3 N, vec3 V)
 // for step): the share of the lobe's rays that leave the scene, traced against the G-buffer. A
 // texel traces one of five rays, (x + 2 y) mod 5: ray 0 along R, rays 1 .. 4 on a ring at
 // REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its 3x3 block (itself
-// and the neighbours on the same surface). Each ray takes REFLECTION_STEPS points t = D (k / steps)^2
-// and is blocked at the first behind a texel's tangent plane and within a thickness of it.
+// and the neighbours on the same surface; a ray below its surface is not counted). Each ray
+// takes REFLECTION_STEPS points t = D (k / steps)^2 and is blocked at the first behind a texel's
+// tangent plane and within a thickness of it.
 const int REFLECTION_RAYS = 5;
 const int REFLECTION_BLOCK = 9;
 const float REFLECTION_BELOW = -1.0; // a ray below the surface: no part of the visibility
@@ -1496,7 +1497,7 @@ float shadow_offset_share(float c)
 
 // Visibility of point light i from P with unit normal N in its cube map (the twin of
 // sl_shadow_point_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit,
-// 0 shadowed; the receiver moved along N by one texel's footprint, then a 3-texel box of
+// 0 shadowed; the receiver moved along N by up to one texel's footprint, then a 3-texel box of
 // bilinear comparisons over the 4x4 texels around it, each tap against the depth at which its
 // own ray meets the receiver's plane, less a constant bias.
 float shadow_point_visibility(int i, vec3 P, vec3 N)
@@ -1551,7 +1552,7 @@ float shadow_point_visibility(int i, vec3 P, vec3 N)
 
 // Visibility of env-light map s from world point P with unit normal N (the twin of
 // sl_shadow_sun_visibility, src/shadow/shadow.c, whose comments say why each step): 1 lit, 0
-// shadowed, 1 for a normal facing away from the lights; the receiver moved along N by one
+// shadowed, 1 for a normal facing away from the lights; the receiver moved along N by up to one
 // texel, then the cube maps' 3-texel box of bilinear comparisons, each tap against the
 // receiver plane's depth under it less a constant bias.
 float shadow_sun_visibility(int s, vec3 P, vec3 N)
@@ -1598,7 +1599,7 @@ float shadow_sun_visibility(int s, vec3 P, vec3 N)
 
 // Visibility of sky map k from world point P with unit normal N (the twin of
 // sl_shadow_sky_map_visibility, src/shadow/sky.c, whose comments say why each step): 1 open, 0
-// hidden, 1 where the map's direction is below P's plane; the receiver moved along N by one
+// hidden, 1 where the map's direction is below P's plane; the receiver moved along N by up to one
 // texel, then a 2x2 bilinear percentage-closer lookup, each tap against the receiver plane's
 // depth under it less a constant bias.
 float sky_map_visibility(int k, vec3 P, vec3 N)

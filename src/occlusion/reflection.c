@@ -168,8 +168,8 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
 
 /* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
  * angle for the texel's alpha; reflection.h): its start P and unit direction. False for a ring
- * ray below the surface, which is not traced and not counted. The facing normal and the view depth
- * are the texel's plane's (plane_of), not formed again. */
+ * ray below the surface, which is not traced and not counted. The facing normal and the view
+ * depth are the texel's plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
 static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring, vec3 *P,
                    vec3 *direction)
@@ -204,8 +204,8 @@ static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i
 
 /* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
  * ray_plane (1 for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the
- * same bits. Each covered texel's ray (ray_of) that has something to trace takes a lane: its start, direction and view_ray, structure-of-arrays.
- * Then all lanes take step k together: one loop over the lanes projects each one's point and
+ * same bits. Each covered texel's ray (ray_of) that has something to trace takes a lane: its
+ * start, direction and view_ray, structure-of-arrays. Then all lanes take step k together: one loop over the lanes projects each one's point and
  * reads the depth under it, with no branch on what it read, so the reads of all lanes are in
  * flight at once (trace_ray's expressions term by term; the early exits as flags: a lane off the
  * image or behind the camera reads texel 0 and leaves); a second loop settles each lane still

@@ -11,9 +11,8 @@
  * SL_REFLECTION_RING ts about R at equal turns (a ray below the surface is no part of the
  * visibility: the integral has no light from below the horizon to hide, and a grazing lobe's
  * ring dips under it; counted as open it would dilute the share of what is hidden). Each texel
- * (x, y) traces one
- * of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all five; its
- * visibility is the share of open rays over its block, the texel and the eight around it
+ * (x, y) traces one of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all
+ * five; its visibility is the share of open rays over its block, the texel and the eight around it
  * (SL_REFLECTION_BLOCK), counting a neighbour only where it is the same surface (near the
  * texel's tangent plane, its normal within a few degrees): one ray a texel, the five directions
  * over a block of a flat or finely drawn surface (the ring's twice, R's once), its own ray alone
@@ -111,16 +110,16 @@ static inline float sl_reflection_specular_factor(float capped, float material, 
  * positive and finite, or out of memory. */
 bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err);
 
-/* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
- * rays counted), and its block's rays, in the order of sl_reflection_block_offsets (the texel,
- * x + 1, x - 1, y + 1, y - 1, then the corners): each ray 1 open, 0 blocked (`rays`) and whether
- * it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below its
- * surface, whose value is SL_REFLECTION_BELOW); each
- * SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0) for an empty texel
- * (nothing used). Visibility NAN when out of memory. */
-/* The block's members as offsets (dx, dy) from the texel, in the order above. */
+/* The block's members as offsets (dx, dy) from the texel: the texel, x + 1, x - 1, y + 1, y - 1,
+ * then the corners. */
 extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
 
+/* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
+ * rays counted), and its block's rays, in the order of sl_reflection_block_offsets: each ray 1
+ * open, 0 blocked or SL_REFLECTION_BELOW (`rays`) and whether it counted (`used`: 0 for a
+ * neighbour off the image or another surface, or a ray below its surface); each
+ * SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0) for an empty texel
+ * (nothing used). Visibility NAN when out of memory. */
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
                          int *used);
 

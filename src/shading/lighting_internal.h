@@ -272,6 +272,12 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
     return ao > 0.0f ? share : 0.0f;
 }
 
+/* The share of a cell's angle from which a lobe takes its map. A build defining another (1e9f:
+ * none does) is for bench/visibility-variants.sh's comparison; the GLSL twin does not follow it. */
+#ifndef SL_LOBE_MAP_SHARE
+#define SL_LOBE_MAP_SHARE 0.5f
+#endif
+
 /* GLSL: lobe_map_factor
  * With the sky maps, a lobe at least half a cell wide (its cone's angle ts, sl_so_lobe_cone, at
  * least half the angle of a cap of 4 pi / K steradians) also takes the visibility of the one map
@@ -282,11 +288,6 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
  * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
  * world. */
-/* The share of a cell's angle from which a lobe takes its map. A build defining another (1e9f:
- * none does) is for bench/visibility-variants.sh's comparison; the GLSL twin does not follow it. */
-#ifndef SL_LOBE_MAP_SHARE
-#define SL_LOBE_MAP_SHARE 0.5f
-#endif
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
