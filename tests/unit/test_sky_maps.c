@@ -14,7 +14,8 @@
  * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every
  * one where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
  * lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
- * R's cell (shade_lobe_map) where that map is hidden, and only there. */
+ * R's cell (shade_lobe_map) where that map is hidden, and only there. A ball's underside a few
+ * texels over a floor 160 units wide reads hidden in every steep ground map. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -285,6 +286,61 @@ static void test_cone_across(void **state)
     assert_float_equal(last, material, 1e-6);
 }
 
+/* A ball's underside three to five map texels over a wide floor: the floor hides every direction
+ * below the horizon from it, so each steep ground map its normal faces reads it hidden. The floor
+ * is 160 units wide, the maps' texel 0.16 units (SL_SKY_MAP_SIZE 1024). Measured: 70 maps read,
+ * none open; with maps of 512 texels (a build with -DSL_SKY_MAP_SIZE=512), whose texel is as tall
+ * as these heights, 18 of the 70 read open. */
+static void test_underside_over_wide_floor(void **state)
+{
+    (void)state;
+    static const char *wide =
+        "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n"
+        " \"environment\": {\"hdr\": \"none.hdr\"},\n"
+        " \"materials\": {\"m\": {\"kd\": 0.5}},\n"
+        " \"objects\": [\n"
+        "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [80, 80, 1]}},\n"
+        "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0, 0, 1]}}\n"
+        " ]}";
+    sl_error err = {0};
+    sl_scene scene;
+    sl_env env;
+    if (!sl_scene_parse(wide, strlen(wide), "t.json", "", true, &scene, &err))
+        fail_msg("%s", err.msg);
+    fx_env(&env, 64, 32, sky);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    sl_shadow_sky s;
+    memset(&s, 0, sizeof s);
+    if (!r || !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
+        fail_msg("%s", err.msg);
+    const int sky_side = s.count - s.count / 2;
+    int read = 0, open = 0;
+    for (int h = 0; h < 3; h++)
+        for (int a = 0; a < 8; a++) {
+            /* heights 0.5, 0.6, 0.7 over the floor (three to five texels), eight ways round */
+            float c = 1.0f - (0.5f + 0.1f * (float)h), sn = sqrtf(1.0f - c * c);
+            float phi = 2.0f * SL_PI * (float)a / 8.0f;
+            vec3 N = vec3(sn * cosf(phi), sn * sinf(phi), -c), P = add(vec3(0, 0, 1), N);
+            float each[SL_SKY_MAPS_MAX];
+            sl_shadow_sky_visibility(&s, P, N, each);
+            for (int k = sky_side; k < s.count; k++)
+                /* read, facing N well, looking up from well below the horizon (a map nearer the
+                 * horizon sees the floor edge-on, its depth across a texel spanning more than the
+                 * height: "contact occlusion is a texel or two wide", docs/lighting.md) */
+                if (each[k] >= 0.0f && dot(N, s.maps[k].axis) < -0.5f && s.maps[k].axis.z > 0.5f) {
+                    read++;
+                    open += each[k] > 0.25f;
+                }
+        }
+    print_message("underside over a 160-unit floor: %d ground maps read, %d of them open\n", read, open);
+    assert_true(read > 20);
+    assert_int_equal(open, 0);
+    sl_shadow_sky_free(&s);
+    sl_raster_destroy(r);
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
 /* The tests' scene and environment with 32 maps drawn, and the lighting's uniforms that read
  * them (the environment unrotated, the eye the scene's camera's). */
 typedef struct {
@@ -421,6 +477,7 @@ int main(void)
         cmocka_unit_test(test_cone_across),
         cmocka_unit_test(test_sky_plane),
         cmocka_unit_test(test_lobe_map),
+        cmocka_unit_test(test_underside_over_wide_floor),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
