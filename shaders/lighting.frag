@@ -104,6 +104,8 @@
 //   vec3  uSkyMapWeight[64]        m_k: cell k's luminance-weighted direction sum (world)
 //   vec3  uSkyCellSite[64]         d_k: cell k's site (environment space; horizon_visible)
 //   int   uSkyCellSkySites         the sites on the sky's side of the horizon: the first ones
+//   float uSkyCellAngle            a cell's angle, acos(1 - 2 / K): the cap of 4 pi / K steradians
+//                                  (lobe_map_factor)
 // With the maps, every estimator's samples across the horizon from R are summed apart and times
 // the visibility of the map whose cell holds their luminous direction (horizon_visible).
 // Options (the values of the C enums in src/shading/lighting.h, already resolved; softlight-gl
@@ -230,6 +232,7 @@ uniform vec2 uSkyMapDepth[SKY_MAPS_MAX];
 uniform vec3 uSkyMapWeight[SKY_MAPS_MAX];
 uniform vec3 uSkyCellSite[SKY_MAPS_MAX];
 uniform int uSkyCellSkySites;
+uniform float uSkyCellAngle;
 
 uniform sampler2D uEnvDist;
 uniform sampler2D uEnvDistMarginal;
@@ -328,6 +331,9 @@ const int SHADOW_SUN_SIZE = 2048;       // texels along a map's side
 // The sky visibility maps' lookup (src/shadow/sky.c, whose constants these are), in their texels:
 const float SKY_NORMAL_OFFSET = 1.0;    // the receiver moved along its normal
 const float SKY_BIAS_CONST = 1.0;       // bias beyond the receiver plane
+// A lobe at least this share of a sky map's cell wide takes that map too (lobe_map_factor; the
+// C side's SL_LOBE_MAP_SHARE, src/shading/lighting_internal.h):
+const float LOBE_MAP_SHARE = 0.5;
 
 // The specification's lat-long map (ported in src/ibl/latlong.c). atan(0, 0) is undefined in
 // GLSL, so the poles take phi = 0 explicitly, as C's atan2 does; u = 1 (atan = -pi) folds to 0,
@@ -613,6 +619,13 @@ float so_acos(float x)
     return x < 0.0 ? PI - r : r;
 }
 
+// the cosine of the lobe's cone (SO_LOBE_OUTSIDE of its energy outside), which depends on the
+// lobe parameter alone; its angle is so_acos of it
+float so_lobe_cos(float alpha)
+{
+    return pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0));
+}
+
 // the lobe's cap: cosine cos_s, angle ts; the smaller cap over 2 pi is 1 - max(cos_v, cos_s)
 float so_cap_share(float cos_v, float tv, float cos_s, float ts, float cos_d)
 {
@@ -629,7 +642,7 @@ float specular_occlusion(float ao, float b_dot_r, float n_dot_v, float alpha)
         return 0.0;
     if (ao >= 1.0) // the fade's weight is 1: nothing hidden, exactly
         return 1.0;
-    float cos_s = pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0));
+    float cos_s = so_lobe_cos(alpha);
     float ts = so_acos(cos_s);
     float cos_v = sqrt(max(0.0, 1.0 - ao));
     float open = so_cap_share(0.0, 0.5 * PI, cos_s, ts, n_dot_v);
@@ -738,7 +751,7 @@ float reflection_ray(ivec2 q, int k)
     if (k == 0)
         return reflection_trace_ray(P, R);
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
-    float ring = REFLECTION_RING * so_acos(pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0)));
+    float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
     vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     vec3 T = normalize(cross(R, helper)), B = cross(R, T);
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
@@ -1702,15 +1715,14 @@ float cone_across(vec3 B, vec3 N, vec3 R)
     return horizon_on() ? clamp(across, 0.0, 1.0) : 0.0;
 }
 
-// With the sky maps, a lobe at least half a cell wide (its cone's angle ts at least half that of
-// a cap of 4 pi / K steradians) also takes the visibility of the map whose cell holds R, times
+// With the sky maps, a lobe at least LOBE_MAP_SHARE of a cell wide (its cone's angle ts at least
+// that share of uSkyCellAngle, a cap of 4 pi / K steradians') also takes the visibility of the map whose cell holds R, times
 // the material's occlusion: the specular's factor is the smaller of `capped` and that (the
 // rays see only what the G-buffer holds; the map sees the whole scene). R in environment space,
 // P and N in the world.
 float lobe_map_factor(float capped, float material, vec3 P, vec3 N, vec3 R, float alpha)
 {
-    float ts = so_acos(pow(SO_LOBE_OUTSIDE, 1.0 / (so_phong_exponent(alpha) + 1.0)));
-    if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || ts < 0.5 * acos(1.0 - 2.0 / float(uSkyMapCount)))
+    if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || so_acos(so_lobe_cos(alpha)) < LOBE_MAP_SHARE * uSkyCellAngle)
         return capped;
     return min(capped, material * sky_map_visibility(sky_cell(R), P, N));
 }

@@ -483,6 +483,7 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
         glUniform3fv(loc(p, "uSkyMapWeight"), sky_count, &sky->weight[0].x);
         glUniform3fv(loc(p, "uSkyCellSite"), sky_count, &sky->site[0].x);
         glUniform1i(loc(p, "uSkyCellSkySites"), sky->sky_sites);
+        glUniform1f(loc(p, "uSkyCellAngle"), sky->cell_angle);
     }
 }
 

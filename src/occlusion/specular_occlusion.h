@@ -60,12 +60,12 @@ static inline float sl_so_acos(float x)
 }
 
 /* The lobe's cone, which depends on the lobe parameter alone (a caller shading many pixels of
- * one material computes it once): its cosine cos_s and its angle ts (GLSL specular_occlusion's
- * first lines). */
+ * one material computes it once): its cosine cos_s (GLSL so_lobe_cos) and its angle ts. */
 typedef struct {
     float cos_s, ts;
 } sl_so_lobe;
 
+/* GLSL: so_lobe_cos */
 static inline sl_so_lobe sl_so_lobe_cone(float alpha)
 {
     float cos_s = powf(SL_SO_LOBE_OUTSIDE, 1.0f / (sl_so_phong_exponent(alpha) + 1.0f));

@@ -17,7 +17,7 @@
 # - scenes/bunny.json and scenes/pbr.json with --env-lights 32 --shadows --sky-maps 32 (the maps
 #   weighted by the env lights' residual), bunny also with --ao-radius 1 (the cone: the diffuse
 #   read about N, times the material's occlusion alone) and through the general shader
-#   ($SL_GL_GENERAL): the same bounds; measured p99 0.019 (bunny), 0.019 (bunny, AO), 0.0042 (pbr);
+#   ($SL_GL_GENERAL): the same bounds; measured p99 0.019 (bunny), 0.019 (bunny, AO), 0.0045 (pbr);
 # - the specular's part across the horizon (lighting.frag horizon_visible): sky_wall.bash's glossy
 #   wall on its floor, --specular-only --no-lights --sky-maps 32, within the bounds, and C's image
 #   without the maps far outside them against GL's with (a GL that keeps the part fails here);

@@ -3,8 +3,8 @@
 # that must agree (docs/architecture.md "Adding a uniform"): shaders/lighting.frag declares it,
 # sl_lighting_uniforms in src/shading/lighting.h holds it for the C port, and src/gl/lighting_pass.c
 # uploads it for softlight-gl. This fails, naming the uniform, when one of them misses a name
-# another has, and when the GLSL's array sizes, option values, shadow-map and reflection
-# occlusion constants differ from the C constants.
+# another has, and when the GLSL's array sizes, option values, shadow-map, reflection occlusion and
+# lobe-map constants differ from the C constants.
 set -u
 cd "$(dirname "$0")/../.." || exit 2
 frag=shaders/lighting.frag hdr=src/shading/lighting.h gl=src/gl/lighting_pass.c
@@ -29,7 +29,7 @@ gbuffer="$gbuffer uShadowCubes uShadowCubeLayer uShadowSuns uShadowSunCount uSha
 gbuffer="$gbuffer uShadowSunUp uShadowSunBox uShadowSunDepth uEnvLightSun"
 # The sky visibility maps likewise: the C struct holds them (skyMaps: src/shadow/sky.h).
 gbuffer="$gbuffer uSkyMaps uSkyMapCount uSkyMapAxis uSkyMapRight uSkyMapUp uSkyMapBox uSkyMapDepth uSkyMapWeight"
-gbuffer="$gbuffer uSkyCellSite uSkyCellSkySites"
+gbuffer="$gbuffer uSkyCellSite uSkyCellSkySites uSkyCellAngle"
 # The chains' kernel normalisations: the C struct's table holds them (uSplitSumLut's kernels).
 gbuffer="$gbuffer uSplitSumKernelNorm"
 
@@ -84,12 +84,17 @@ for x in SKY_NORMAL_OFFSET SKY_BIAS_CONST; do
 done
 # The reflection occlusion's constants: GLSL `const int|float REFLECTION_X = V;` against
 # src/occlusion/reflection.h's `#define SL_REFLECTION_X V[f]`.
-for x in RAYS STEPS RING THICKNESS OFFSET PLANE_EPS SAME_DEPTH SAME_NORMAL; do
+for x in RAYS BLOCK STEPS RING THICKNESS OFFSET PLANE_EPS SAME_DEPTH SAME_NORMAL; do
     g=$(sed -n "s/^const [a-z]* REFLECTION_$x = \([-+0-9.eE]*\);.*/\1/p" "$frag")
     v=$(sed -n "s/^#define SL_REFLECTION_$x \([-+0-9.eE]*\).*/\1/p" src/occlusion/reflection.h)
     [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
         fail "REFLECTION_$x = '${g}' in $frag, SL_REFLECTION_$x = '${v}' in src/occlusion/reflection.h"
 done
+# A wide lobe's map: GLSL LOBE_MAP_SHARE against src/shading/lighting_internal.h's default.
+g=$(sed -n 's/^const float LOBE_MAP_SHARE = \([0-9.]*\);.*/\1/p' "$frag")
+v=$(sed -n 's/^#define SL_LOBE_MAP_SHARE \([0-9.]*\)f$/\1/p' src/shading/lighting_internal.h)
+[ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
+    fail "LOBE_MAP_SHARE = '${g}' in $frag, SL_LOBE_MAP_SHARE = '${v}' in src/shading/lighting_internal.h"
 pairs=$(sed -n 's/^ *vec4 hammersley\[\([0-9]*\)\];/\1/p' "$frag")
 max=$(c_value SL_HAMMERSLEY_MAX)
 [ -n "$pairs" ] && [ $((pairs * 2)) = "$max" ] || fail "hammersley[$pairs] in $frag holds $((pairs * 2)) pairs, SL_HAMMERSLEY_MAX = $max"
