@@ -89,14 +89,17 @@ static void check(const sl_shadow_sky *s, vec3 P, vec3 N, int *partial, int *che
     *checked += 1;
 }
 
-/* The tests' scene and environment (SCENE, sky). */
-static void scene_and_env(sl_scene *scene, sl_env *env)
+/* A scene from its text and the tests' environment (sky). */
+static void scene_text_and_env(const char *text, sl_scene *scene, sl_env *env)
 {
     sl_error err = {0};
-    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, scene, &err))
+    if (!sl_scene_parse(text, strlen(text), "t.json", "", true, scene, &err))
         fail_msg("%s", err.msg);
     fx_env(env, 64, 32, sky);
 }
+
+/* The tests' scene and environment (SCENE, sky). */
+static void scene_and_env(sl_scene *scene, sl_env *env) { scene_text_and_env(SCENE, scene, env); }
 
 static void test_lanes_match_scalar(void **state)
 {
@@ -286,6 +289,38 @@ static void test_cone_across(void **state)
     assert_float_equal(last, material, 1e-6);
 }
 
+/* A scene (its text) and the tests' environment with 32 maps drawn, and the lighting's uniforms
+ * that read them (the environment unrotated, the eye the scene's camera's); draw_maps, the tests'
+ * scene's. */
+typedef struct {
+    sl_scene scene;
+    sl_env env;
+    sl_raster *raster;
+    sl_shadow_sky sky;
+    sl_lighting_uniforms u;
+} drawn_maps;
+
+static void draw_scene_maps(drawn_maps *m, const char *text)
+{
+    sl_error err = {0};
+    memset(m, 0, sizeof *m);
+    scene_text_and_env(text, &m->scene, &m->env);
+    m->raster = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    if (!m->raster || !sl_shadow_sky_build(&m->sky, 32, &m->env, 0.0f, m->raster, &m->scene, NULL, &err))
+        fail_msg("%s", err.msg);
+    m->u = (sl_lighting_uniforms){.uEnvRotation = mat3_identity(), .uEye = m->scene.camera.eye, .skyMaps = &m->sky};
+}
+
+static void free_maps(drawn_maps *m)
+{
+    sl_shadow_sky_free(&m->sky);
+    sl_raster_destroy(m->raster);
+    sl_env_free(&m->env);
+    sl_scene_free(&m->scene);
+}
+
+static void draw_maps(drawn_maps *m) { draw_scene_maps(m, SCENE); }
+
 /* A ball's underside three to five map texels over a wide floor: the floor hides every direction
  * below the horizon from it, so each steep ground map its normal faces reads it hidden. The floor
  * is 160 units wide, the maps' texel 0.16 units (SL_SKY_MAP_SIZE 1024). Measured: 70 maps read,
@@ -302,18 +337,10 @@ static void test_underside_over_wide_floor(void **state)
         "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [80, 80, 1]}},\n"
         "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0, 0, 1]}}\n"
         " ]}";
-    sl_error err = {0};
-    sl_scene scene;
-    sl_env env;
-    if (!sl_scene_parse(wide, strlen(wide), "t.json", "", true, &scene, &err))
-        fail_msg("%s", err.msg);
-    fx_env(&env, 64, 32, sky);
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
-    sl_shadow_sky s;
-    memset(&s, 0, sizeof s);
-    if (!r || !sl_shadow_sky_build(&s, 32, &env, 0.0f, r, &scene, NULL, &err))
-        fail_msg("%s", err.msg);
-    const int sky_side = s.count - s.count / 2;
+    static drawn_maps m;
+    draw_scene_maps(&m, wide);
+    const sl_shadow_sky *s = &m.sky;
+    const int sky_side = s->sky_sites; /* the ground's maps follow */
     int read = 0, open = 0;
     for (int h = 0; h < 3; h++)
         for (int a = 0; a < 8; a++) {
@@ -322,12 +349,12 @@ static void test_underside_over_wide_floor(void **state)
             float phi = 2.0f * SL_PI * (float)a / 8.0f;
             vec3 N = vec3(sn * cosf(phi), sn * sinf(phi), -c), P = add(vec3(0, 0, 1), N);
             float each[SL_SKY_MAPS_MAX];
-            sl_shadow_sky_visibility(&s, P, N, each);
-            for (int k = sky_side; k < s.count; k++)
+            sl_shadow_sky_visibility(s, P, N, each);
+            for (int k = sky_side; k < s->count; k++)
                 /* read, facing N well, looking up from well below the horizon (a map nearer the
                  * horizon sees the floor edge-on, its depth across a texel spanning more than the
                  * height: "contact occlusion is a texel or two wide", docs/lighting.md) */
-                if (each[k] >= 0.0f && dot(N, s.maps[k].axis) < -0.5f && s.maps[k].axis.z > 0.5f) {
+                if (each[k] >= 0.0f && dot(N, s->maps[k].axis) < -0.5f && s->maps[k].axis.z > 0.5f) {
                     read++;
                     open += each[k] > 0.25f;
                 }
@@ -335,39 +362,7 @@ static void test_underside_over_wide_floor(void **state)
     print_message("underside over a 160-unit floor: %d ground maps read, %d of them open\n", read, open);
     assert_true(read > 20);
     assert_int_equal(open, 0);
-    sl_shadow_sky_free(&s);
-    sl_raster_destroy(r);
-    sl_env_free(&env);
-    sl_scene_free(&scene);
-}
-
-/* The tests' scene and environment with 32 maps drawn, and the lighting's uniforms that read
- * them (the environment unrotated, the eye the scene's camera's). */
-typedef struct {
-    sl_scene scene;
-    sl_env env;
-    sl_raster *raster;
-    sl_shadow_sky sky;
-    sl_lighting_uniforms u;
-} drawn_maps;
-
-static void draw_maps(drawn_maps *m)
-{
-    sl_error err = {0};
-    memset(m, 0, sizeof *m);
-    scene_and_env(&m->scene, &m->env);
-    m->raster = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
-    if (!m->raster || !sl_shadow_sky_build(&m->sky, 32, &m->env, 0.0f, m->raster, &m->scene, NULL, &err))
-        fail_msg("%s", err.msg);
-    m->u = (sl_lighting_uniforms){.uEnvRotation = mat3_identity(), .uEye = m->scene.camera.eye, .skyMaps = &m->sky};
-}
-
-static void free_maps(drawn_maps *m)
-{
-    sl_shadow_sky_free(&m->sky);
-    sl_raster_destroy(m->raster);
-    sl_env_free(&m->env);
-    sl_scene_free(&m->scene);
+    free_maps(&m);
 }
 
 static void test_sky_plane(void **state)
@@ -460,7 +455,7 @@ static void test_lobe_map(void **state)
     vec3 to_sphere = normalize(vec3(0.0f, 1.3f, 1.0f)), to_sky = normalize(vec3(0.0f, -1.0f, 1.0f));
     const float wide = sl_so_lobe_cone(sl_gbuffer_ggx_alpha(0.5f)).ts;
     const float narrow = sl_so_lobe_cone(sl_gbuffer_ggx_alpha(0.05f)).ts;
-    const float half_cell = 0.5f * sl_so_acos(1.0f - 2.0f / 32.0f);
+    const float half_cell = SL_LOBE_MAP_SHARE * m.sky.cell_angle;
     assert_true(wide > half_cell && narrow < half_cell);
     assert_true(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sphere, wide) < 0.1f);
     assert_float_equal(shade_lobe_map(&u, 0.7f, 0.8f, P, N, to_sky, wide), 0.7f, 0.0f);
