@@ -94,12 +94,11 @@ static mirror_fate fate_of(const sl_gbuffer *gb, const sl_camera *cam, float dis
     if (!is_floor(gb, x, y))
         return MIRROR_OTHER;
     bool seen;
-    float t = mirror_hit(gb, cam, x, y, &seen);
-    if (t > 1.5f * dist)
+    if (mirror_hit(gb, cam, x, y, &seen) > 1.5f * dist)
         return MIRROR_OPEN;
-    if (!(t < 0.7f * dist && seen && floor_block(gb, x, y)))
+    if (!floor_block(gb, x, y))
         return MIRROR_OTHER;
-    for (int dy = -1; dy <= 1; dy++)
+    for (int dy = -1; dy <= 1; dy++) /* the texel and its eight neighbours */
         for (int dx = -1; dx <= 1; dx++)
             if (!(mirror_hit(gb, cam, x + dx, y + dy, &seen) < 0.7f * dist && seen))
                 return MIRROR_OTHER;
