@@ -927,7 +927,10 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             b->Lz[i] = b->pdf[i] = 1.0f;
         }
         const float *D = b->pdf;
-        microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, ggx, a2);
+        if (ggx) /* ggx a constant at each call, as stage_directions has it */
+            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, true, a2);
+        else
+            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, false, a2);
         for (int i = m; i < mp; i++)
             b->vh[i] = 0.0f;
         /* the BRDF's samples: texel, density and radiance, one at a time (one read of the
