@@ -796,9 +796,9 @@ typedef struct {
 
 /* The environment's samples of a block of pairs (specular_mis's second half, vectorized over the
  * pairs): the BRDF at each direction (D, G, F), the BRDF's density there, the power heuristic's
- * weight and the contribution. Inlined with `ggx` a constant, once per lobe set: one loop for
- * both sets computed GGX's D and G and Phong's (its D through log2 and exp2) for every sample and
- * selected, and the set a pixel does not use was a quarter of mis_samples' time. */
+ * weight and the contribution. Inlined with `ggx` a constant, once per lobe set, so that a pixel
+ * computes its own set's D and G only: one loop for both sets would compute GGX's and Phong's
+ * (a log2 and an exp2 a sample) and select, about a quarter of mis_samples' time for nothing. */
 __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_lobe *l, const bool ggx,
                                                                  const float *X, const float *Y, const float *Z,
                                                                  const float *P, const float *ER, const float *EG,
@@ -853,15 +853,17 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
  * pairs, and the port's loop runs). Per block of pairs: the BRDF's samples from the per-alpha
  * microfacet table through microfacet_directions (the microfacet estimator's stage (1)); their
  * level-0 texel through the fast lat-long map (vectorized), then the environment's radiance and
- * density there, one packed read a sample; their weights and contributions vectorized. The environment's samples come from the task's table (the same
- * directions in every pixel): their BRDF, the BRDF's density and the weights vectorized, as
- * env_lights_samples evaluates a light (D through the fast log2/exp2 for Phong). The sum: per
- * block, the BRDF's samples then the environment's, in sample order (the port alternates; the
- * difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's kernel term,
- * scale K(w) Li / p(w) times its weight, subtracted in a loop of its own (cv_kernel_over_pdf for
- * both strategies' directions), the BRDF's samples below the horizon read for it (cvmis_samples
- * runs the port's specular_cv, with mis, where this one would run the port's loop, and for a
- * traced pixel, whose trace then has the kernel's terms: cv is never given without a task). */
+ * density there, one packed read a sample; their weights and contributions vectorized. The
+ * environment's samples come from the task's table (the same directions in every pixel): their
+ * BRDF, the BRDF's density and the weights vectorized (env_pair_terms), as env_lights_samples
+ * evaluates a light (D through the fast log2/exp2 for Phong). Both halves run with the lobe set a
+ * constant, a loop per set. The sum: per block, the BRDF's samples then the environment's, in
+ * sample order (the port alternates; the difference is float rounding). cv (cvmis_samples; NULL
+ * for mis): each sample's kernel term, scale K(w) Li / p(w) times its weight, subtracted in a
+ * loop of its own (cv_kernel_over_pdf for both strategies' directions), the BRDF's samples below
+ * the horizon read for it (cvmis_samples runs the port's specular_cv, with mis, where this one
+ * would run the port's loop, and for a traced pixel, whose trace then has the kernel's terms: cv
+ * is never given without a task). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         const sl_cv_kernel *cv, shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
