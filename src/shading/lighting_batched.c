@@ -787,6 +787,22 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
     trace_env_sample(t, k, &s);
 }
 
+/* A light direction w = (x, y, z) in the pixel's frame: w.N, and N.H and w.H of the half vector
+ * H = normalize(w + V) (its length floored at TINY: w = -V gives H = 0, not a NaN), as the env
+ * lights and mis's environment samples evaluate the BRDF at a given direction. */
+__attribute__((always_inline)) static inline void toward_light(float x, float y, float z, vec3 N, vec3 V, float *wN,
+                                                              float *NdotH, float *LdotH)
+{
+    *wN = (x * N.x + y * N.y) + z * N.z;
+    float hx = x + V.x, hy = y + V.y, hz = z + V.z;
+    float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
+    hx *= ih;
+    hy *= ih;
+    hz *= ih;
+    *NdotH = (N.x * hx + N.y * hy) + N.z * hz;
+    *LdotH = (x * hx + y * hy) + z * hz;
+}
+
 /* The lobe of a pixel as env_pair_terms reads it (mis_samples' constants). */
 typedef struct {
     vec3 N, V, Ks, F1;
@@ -810,14 +826,8 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
     const float NdotV = l->NdotV, a2 = l->a2, kv = l->kv;
 #pragma omp simd
     for (int i = 0; i < mp; i++) {
-        float wN = (X[i] * N.x + Y[i] * N.y) + Z[i] * N.z;
-        float hx = X[i] + V.x, hy = Y[i] + V.y, hz = Z[i] + V.z;
-        float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
-        hx *= ih;
-        hy *= ih;
-        hz *= ih;
-        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
-        float LdotH = (X[i] * hx + Y[i] * hy) + Z[i] * hz;
+        float wN, NdotH, LdotH;
+        toward_light(X[i], Y[i], Z[i], N, V, &wN, &NdotH, &LdotH);
         float Dv, G;
         if (ggx) {
             float c2 = NdotH * NdotH;
@@ -1058,14 +1068,8 @@ static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
     for (int j = 0; j < n; j++) {
-        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z;
-        float hx = X[j] + V.x, hy = Y[j] + V.y, hz = Z[j] + V.z;
-        float ih = 1.0f / sqrtf(maxf((hx * hx + hy * hy) + hz * hz, TINY));
-        hx *= ih;
-        hy *= ih;
-        hz *= ih;
-        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
-        float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
+        float wN, NdotH, LdotH;
+        toward_light(X[j], Y[j], Z[j], N, V, &wN, &NdotH, &LdotH);
         float c2 = NdotH * NdotH;
         float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
         float D = a2 / (PI * t * t);
