@@ -863,17 +863,18 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
  * pairs, and the port's loop runs). Per block of pairs: the BRDF's samples from the per-alpha
  * microfacet table through microfacet_directions (the microfacet estimator's stage (1)); their
  * level-0 texel through the fast lat-long map (vectorized), then the environment's radiance and
- * density there, one packed read a sample; their weights and contributions vectorized. The
- * environment's samples come from the task's table (the same directions in every pixel): their
- * BRDF, the BRDF's density and the weights vectorized (env_pair_terms), as env_lights_samples
- * evaluates a light (D through the fast log2/exp2 for Phong). Both halves run with the lobe set a
- * constant, a loop per set. The sum: per block, the BRDF's samples then the environment's, in
- * sample order (the port alternates; the difference is float rounding). cv (cvmis_samples; NULL
- * for mis): each sample's kernel term, scale K(w) Li / p(w) times its weight, subtracted in a
- * loop of its own (cv_kernel_over_pdf for both strategies' directions), the BRDF's samples below
- * the horizon read for it (cvmis_samples runs the port's specular_cv, with mis, where this one
- * would run the port's loop, and for a traced pixel, whose trace then has the kernel's terms: cv
- * is never given without a task). */
+ * density there, one packed read a sample, prefetched and read after the environment's samples
+ * are computed; their weights and contributions vectorized. The environment's samples come from
+ * the task's table (the same directions in every pixel): their BRDF, the BRDF's density and the
+ * weights vectorized (env_pair_terms), as env_lights_samples evaluates a light (D through the
+ * fast log2/exp2 for Phong). Both halves run with the lobe set a constant, a loop per set. The
+ * sum: per block, the BRDF's samples then the environment's, in sample order (the port
+ * alternates; the difference is float rounding). cv (cvmis_samples; NULL for mis): each sample's
+ * kernel term, scale K(w) Li / p(w) times its weight, subtracted in a loop of its own
+ * (cv_kernel_over_pdf for both strategies' directions), the BRDF's samples below the horizon read
+ * for it (cvmis_samples runs the port's specular_cv, with mis, where this one would run the
+ * port's loop, and for a traced pixel, whose trace then has the kernel's terms: cv is never given
+ * without a task). */
 static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                         const sl_cv_kernel *cv, shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)
 {
@@ -958,6 +959,34 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
             tx[i] = x < w0 - 1 ? x : w0 - 1;
             ty[i] = y < h0 - 1 ? y : h0 - 1;
         }
+        /* the BRDF's texels asked for now and read after the environment's samples, whose
+         * arithmetic runs while they come in from memory (a random read of the 8 MB array is
+         * the BRDF sample's largest cost; the sums below keep their order) */
+        if (packed)
+            for (int i = 0; i < mp; i++)
+                __builtin_prefetch(packed + 4 * ((size_t)ty[i] * (size_t)w0 + (size_t)tx[i]));
+        /* the environment's samples of the same pairs */
+        const float *X = e->wx + k0, *Y = e->wy + k0, *Z = e->wz + k0, *P = e->pe + k0;
+        const float *ER = e->lr + k0, *EG = e->lg + k0, *EB = e->lb + k0;
+        float lit_e[BLOCK];
+        if (ggx) /* a loop per lobe set: each computes its own D and G only */
+            env_pair_terms(&pair, true, X, Y, Z, P, ER, EG, EB, mp, lit_e, De, pbe, mis_e, cr + BLOCK, cg + BLOCK,
+                           cb + BLOCK);
+        else
+            env_pair_terms(&pair, false, X, Y, Z, P, ER, EG, EB, mp, lit_e, De, pbe, mis_e, cr + BLOCK, cg + BLOCK,
+                           cb + BLOCK);
+        if (cv) {
+            const vec3 sc = cv->scale;
+            float kpe[BLOCK];
+            cv_kernel_over_pdf(X, Y, Z, P, kpe, mp, cv->dir, ka, kb, cv->levels.ca, cv->levels.cb);
+#pragma omp simd
+            for (int i = 0; i < mp; i++) {
+                float kw = P[i] > 0.0f ? kpe[i] * mis_e[i] : 0.0f; /* past n: no sample */
+                cr[BLOCK + i] -= sc.x * ER[i] * kw;
+                cg[BLOCK + i] -= sc.y * EG[i] * kw;
+                cb[BLOCK + i] -= sc.z * EB[i] * kw;
+            }
+        }
         /* the reads apart from the index arithmetic, so that their cache misses overlap */
         for (int i = 0; i < mp; i++) {
             bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
@@ -1000,28 +1029,6 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
                 cr[i] -= sc.x * Lr[i] * kw;
                 cg[i] -= sc.y * Lg[i] * kw;
                 cb[i] -= sc.z * Lb[i] * kw;
-            }
-        }
-        /* the environment's samples of the same pairs */
-        const float *X = e->wx + k0, *Y = e->wy + k0, *Z = e->wz + k0, *P = e->pe + k0;
-        const float *ER = e->lr + k0, *EG = e->lg + k0, *EB = e->lb + k0;
-        float lit_e[BLOCK];
-        if (ggx) /* a loop per lobe set: each computes its own D and G only */
-            env_pair_terms(&pair, true, X, Y, Z, P, ER, EG, EB, mp, lit_e, De, pbe, mis_e, cr + BLOCK, cg + BLOCK,
-                           cb + BLOCK);
-        else
-            env_pair_terms(&pair, false, X, Y, Z, P, ER, EG, EB, mp, lit_e, De, pbe, mis_e, cr + BLOCK, cg + BLOCK,
-                           cb + BLOCK);
-        if (cv) {
-            const vec3 sc = cv->scale;
-            float kpe[BLOCK];
-            cv_kernel_over_pdf(X, Y, Z, P, kpe, mp, cv->dir, ka, kb, cv->levels.ca, cv->levels.cb);
-#pragma omp simd
-            for (int i = 0; i < mp; i++) {
-                float kw = P[i] > 0.0f ? kpe[i] * mis_e[i] : 0.0f; /* past n: no sample */
-                cr[BLOCK + i] -= sc.x * ER[i] * kw;
-                cg[BLOCK + i] -= sc.y * EG[i] * kw;
-                cb[BLOCK + i] -= sc.z * EB[i] * kw;
             }
         }
         for (int i = 0; i < m; i++)
