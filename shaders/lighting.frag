@@ -1716,10 +1716,10 @@ float cone_across(vec3 B, vec3 N, vec3 R)
 }
 
 // With the sky maps, a lobe at least LOBE_MAP_SHARE of a cell wide (its cone's angle ts at least
-// that share of uSkyCellAngle, a cap of 4 pi / K steradians') also takes the visibility of the map whose cell holds R, times
-// the material's occlusion: the specular's factor is the smaller of `capped` and that (the
-// rays see only what the G-buffer holds; the map sees the whole scene). R in environment space,
-// P and N in the world.
+// that share of uSkyCellAngle, the angle of a cap of 4 pi / K steradians) also takes the
+// visibility of the map whose cell holds R, times the material's occlusion: the specular's
+// factor is the smaller of `capped` and that (the rays see only what the G-buffer holds; the map
+// sees the whole scene). R in environment space, P and N in the world.
 float lobe_map_factor(float capped, float material, vec3 P, vec3 N, vec3 R, float alpha)
 {
     if (!(SL_SKY_MAPS != 0 && uSkyMapCount > 0) || so_acos(so_lobe_cos(alpha)) < LOBE_MAP_SHARE * uSkyCellAngle)

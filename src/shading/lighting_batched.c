@@ -813,8 +813,8 @@ typedef struct {
 /* The environment's samples of a block of pairs (specular_mis's second half, vectorized over the
  * pairs): the BRDF at each direction (D, G, F), the BRDF's density there, the power heuristic's
  * weight and the contribution. Inlined with `ggx` a constant, once per lobe set, so that a pixel
- * computes its own set's D and G only: one loop for both sets would compute GGX's and Phong's
- * (a log2 and an exp2 a sample) and select, about a quarter of mis_samples' time for nothing. */
+ * computes its own set's D and G only, not both sets' (Phong's D is a log2 and an exp2 a sample)
+ * and a select. */
 __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_lobe *l, const bool ggx,
                                                                  const float *X, const float *Y, const float *Z,
                                                                  const float *P, const float *ER, const float *EG,
@@ -830,9 +830,7 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
         toward_light(X[i], Y[i], Z[i], N, V, &wN, &NdotH, &LdotH);
         float Dv, G;
         if (ggx) {
-            float c2 = NdotH * NdotH;
-            float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
-            Dv = a2 / (PI * t * t);
+            Dv = sl_ggx_D(NdotH, a2);
             G = ggx_g(maxf(wN, 0.0f), NdotV, kv, a2);
         } else {
             Dv = sl_fast_exp2(l->log2_c + l->alpha * sl_fast_log2(maxf(NdotH, l->nh_floor)));
@@ -1077,9 +1075,7 @@ static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V
     for (int j = 0; j < n; j++) {
         float wN, NdotH, LdotH;
         toward_light(X[j], Y[j], Z[j], N, V, &wN, &NdotH, &LdotH);
-        float c2 = NdotH * NdotH;
-        float t = maxf(1.0f - c2, 0.0f) + c2 * a2; /* sl_ggx_D's form */
-        float D = a2 / (PI * t * t);
+        float D = sl_ggx_D(NdotH, a2);
         float wl = maxf(wN, 0.0f);
         float G = 2.0f / maxf(wl * kv + NdotV * sqrtf(wl * wl * (1.0f - a2) + a2), TINY);
         float mm = maxf(1.0f - LdotH, 0.0f);

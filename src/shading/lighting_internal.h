@@ -273,8 +273,8 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
 }
 
 /* The share of a cell's angle from which a lobe takes its map (GLSL LOBE_MAP_SHARE,
- * tests/cli/uniforms_in_sync.sh). A build defining another (1e9f: none does) is for
- * bench/visibility-variants.sh's comparison; the GLSL twin does not follow it. */
+ * tests/cli/uniforms_in_sync.sh). A build defining another (1e9f: no lobe takes a map)
+ * is for bench/visibility-variants.sh's comparison; the GLSL twin does not follow it. */
 #ifndef SL_LOBE_MAP_SHARE
 #define SL_LOBE_MAP_SHARE 0.5f
 #endif
