@@ -969,6 +969,32 @@ float microfacet_D(vec2 xi, float alpha)
     return (alpha + 2.0) / (2.0 * PI) * pow(xi.y, alpha / (alpha + 2.0));
 }
 
+// GGX's microfacet sampling draws H from the visible normals (Heitz 2018), by Dupuy and
+// Benyoub's spherical caps (2023): with V stretched to the unit-roughness configuration,
+// Vh = normalize(a V.x, a V.y, V.z) in the frame about N, a point c on the unit sphere's cap
+// z > -Vh.z (z uniform, the azimuth eq. (4)'s of xi.x), H = normalize(a h.x, a h.y, h.z) for
+// h = c + Vh. H has the density D_V(H) = G1(V) max(V.H, 0) D(H) / (N.V), so w = reflect(-V, H)
+// has p(w) = G1(V) D(H) / (4 N.V) = D(H) / ggx_visible_norm, and the estimator's weight
+// f (w.N) / p(w) is F G2 / G1(V) <= F. Drawn from D(H) (N.H) instead, a grazing view wastes the
+// draws whose facet faces away (V.H <= 0) and overweights the rest by up to 2 / (N.V).
+vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
+{
+    float a = sqrt(a2);
+    vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
+    float phi = 2.0 * PI * (0.5 - xi.x);
+    float z = (1.0 - xi.y) * (1.0 + Vh.z) - Vh.z;
+    float st = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
+    vec3 h = vec3(st * cos(phi), st * sin(phi), z) + Vh;
+    vec3 H = vec3(a * h.x, a * h.y, h.z);
+    return H / max(length(H), TINY); // h = 0 (c = -Vh, a point of measure 0): H = 0, dropped as V.H <= 0
+}
+
+// 4 (N.V) / G1(V) = 2 (N.V + sqrt((N.V)^2 (1 - a^2) + a^2)): the visible normals' p(w) is D(H) over it.
+float ggx_visible_norm(float NdotV, float a2)
+{
+    return 2.0 * (NdotV + sqrt(NdotV * NdotV * (1.0 - a2) + a2));
+}
+
 // The control variate's kernel for one pixel (specular_cv; C: sl_cv_kernel): each sample's
 // radiance is subtracted times scale K(w) / p(w), K = ca k_a + cb k_b about dir.
 struct CvKernel {
@@ -1049,9 +1075,9 @@ float cv_kernel(CvKernel cv, float c)
 // 2 / (V.N) for both G choices: bounded (200 at the bent-normal floor N.V = 0.01), where the
 // consistent estimator's D/p is not. Samples with V.H <= 0 (the microfacet faces away from
 // the eye) or w.N <= 0 (reflected below the horizon) contribute 0 (docs/conventions.md,
-// erratum 2). GGX: the same
-// estimator with GGX's D (it cancels) and G' = 4 Vis, whose weight 4 Vis (w.N)(V.H)/(N.H) is the
-// usual G2 (V.H) / ((N.V)(N.H)). N.H is the drawn
+// erratum 2). GGX draws H from the visible normals instead (ggx_visible_normal): p(w) =
+// D(H) / norm, norm = ggx_visible_norm, and the term F L G' (w.N) norm / 4 = F L G2 / G1(V),
+// G' = 4 Vis; every draw has V.H > 0 and a weight at most 1. N.H is the drawn
 // cos(theta_h), H's z in the frame. The mip level takes D(H) for the spec rules, as written,
 // and p(w) for gems (docs/lighting.md "Estimators").
 // cv: the control variate's kernel, whose K(w) / p(w) cv.scale Li every sample subtracts when
@@ -1062,14 +1088,19 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
+    // GGX: V in the frame and the visible normals' norm, once a pixel
+    bool ggx = sl_lobe_is_ggx(alpha);
+    float a2 = sl_ggx_a2(alpha);
+    vec3 Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    float norm = ggx_visible_norm(NdotV, a2);
     int n = int(uHammersley.N);
     vec3 sum = vec3(0.0);
     for (int k = 0; k < n; k++) {
         vec2 xi = hammersley_point(k);
         if (uRotate != 0)
             xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
-        vec3 Hl = microfacet_sample(xi, alpha);
-        float D = microfacet_D(xi, alpha);
+        vec3 Hl = ggx ? ggx_visible_normal(xi, Vl, a2) : microfacet_sample(xi, alpha);
+        float D = ggx ? sl_ggx_D(Hl.z, a2) : microfacet_D(xi, alpha);
         vec3 H = normalize(Hl.x * A + Hl.y * B + Hl.z * N);
         float VdotH = dot(V, H);
         vec3 w = normalize(2.0 * VdotH * H - V);
@@ -1077,12 +1108,12 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         if (VdotH <= 0.0 || (wN <= 0.0 && !cv.on))
             continue;
         float NdotH = Hl.z;
-        float pdf = D * NdotH / (4.0 * VdotH);
+        float pdf = ggx ? D / norm : D * NdotH / (4.0 * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
-        float weight = G * wN * VdotH / NdotH;
+        float weight = ggx ? G * wN * norm / 4.0 : G * wN * VdotH / NdotH;
         vec3 c = wN > 0.0 ? F * Li * weight : vec3(0.0);
         if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
             c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf);

@@ -243,6 +243,22 @@ static float microfacet_D(vec2 xi, float alpha)
     return (alpha + 2.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 2.0f));
 }
 
+/* GLSL: ggx_visible_normal (the derivation is in the GLSL) */
+static vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
+{
+    float a = sqrtf(a2);
+    vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
+    float phi = 2.0f * PI * (0.5f - xi.x);
+    float z = (1.0f - xi.y) * (1.0f + Vh.z) - Vh.z;
+    float st = sqrtf(clamp(1.0f - z * z, 0.0f, 1.0f));
+    vec3 h = add(vec3(st * cosf(phi), st * sinf(phi), z), Vh);
+    vec3 H = vec3(a * h.x, a * h.y, h.z);
+    return scale(H, 1.0f / maxf(length(H), TINY));
+}
+
+/* GLSL: ggx_visible_norm */
+static float ggx_visible_norm(float NdotV, float a2) { return 2.0f * (NdotV + sqrtf(NdotV * NdotV * (1.0f - a2) + a2)); }
+
 /* specular_microfacet: the derivation is in the GLSL. The trace records a sample's H,
  * N.H, V.H (as L.H) and D before the test, its p(w) after it. cv: the control variate's kernel,
  * whose K(w) / p(w) beta E Li every sample subtracts (NULL for the mf estimator; specular_cv). */
@@ -255,6 +271,11 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
+    /* GGX: V in the frame and the visible normals' norm, once a pixel */
+    const bool ggx = sl_lobe_is_ggx(alpha);
+    const float a2 = sl_ggx_a2(alpha);
+    const vec3 Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    const float norm = ggx_visible_norm(NdotV, a2);
     int n = (int)u->uHammersley.N;
     vec3 sum = vec3s(0.0f);
     int below = 0;
@@ -263,8 +284,8 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         vec2 xi = hammersley_point(u, k);
         if (u->uRotate != 0)
             xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
-        vec3 Hl = microfacet_sample(xi, alpha);
-        float D = microfacet_D(xi, alpha);
+        vec3 Hl = ggx ? ggx_visible_normal(xi, Vl, a2) : microfacet_sample(xi, alpha);
+        float D = ggx ? sl_ggx_D(Hl.z, a2) : microfacet_D(xi, alpha);
         vec3 H = normalize(add(add(scale(A, Hl.x), scale(B, Hl.y)), scale(N, Hl.z)));
         float VdotH = dot(V, H);
         vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
@@ -278,12 +299,12 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
             continue;
         }
         float NdotH = Hl.z;
-        float pdf = D * NdotH / (4.0f * VdotH);
+        float pdf = ggx ? D / norm : D * NdotH / (4.0f * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
-        float weight = G * wN * VdotH / NdotH;
+        float weight = ggx ? G * wN * norm / 4.0f : G * wN * VdotH / NdotH;
         vec3 c = wN > 0.0f ? scale(mul(F, Li), weight) : vec3s(0.0f);
         float kp = 0.0f;
         if (cv) { /* below the horizon too: the kernel reaches there, the BRDF does not */

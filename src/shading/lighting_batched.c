@@ -235,6 +235,42 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
     }
 }
 
+/* Stage (0) of the microfacet estimator for a GGX lobe: H drawn from the visible normals
+ * (ggx_visible_normal's operations, vectorized) for the view Vl in the frame A, B, N, with the
+ * table's azimuths (cos, sin of 2 pi (0.5 - xi1): the port's own values) rotated as rotated_lobe
+ * rotates them when rotation is on (rotate: the pair shifted by `rotation`; off, the shift is 0
+ * and the rotation (1, 0): the same bits). The block's pdf holds D(H), as the table's does. */
+static void visible_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, vec3 Vl, bool rotate, vec2 rotation,
+                             sample_block *b)
+{
+    const float shift_x = rotate ? rotation.x : 0.0f, shift_y = rotate ? rotation.y : 0.0f;
+    const float rho = 2.0f * PI * shift_x;
+    const float cr = rotate ? cosf(rho) : 1.0f, sr = rotate ? sinf(rho) : 0.0f;
+    const float a = sqrtf(a2);
+    const vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
+    const float vx = Vh.x, vy = Vh.y, vz = Vh.z; /* scalars: a struct read in the loop stops GCC's vectorizer */
+    const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        float s1 = xi1[i] + shift_x, s2 = xi2[i] + shift_y;
+        float x1 = s1 - sl_fast_floor(s1); /* fract, as the port computes it */
+        float x2 = s2 - sl_fast_floor(s2);
+        float cp = cphi[i] * cr + sphi[i] * sr;
+        float sp = sphi[i] * cr - cphi[i] * sr;
+        float z = (1.0f - x2) * (1.0f + vz) - vz;
+        float st = sqrtf(maxf(1.0f - z * z, 0.0f)); /* the port's clamp to [0, 1]: 1 - z^2 <= 1 */
+        float hx = a * (st * cp + vx), hy = a * (st * sp + vy), hz = z + vz;
+        float ih = 1.0f / maxf(sqrtf((hx * hx + hy * hy) + hz * hz), TINY);
+        float Hz = hz * ih;
+        b->xi1[i] = x1;
+        b->xi2[i] = x2;
+        b->Lx[i] = hx * ih;
+        b->Ly[i] = hy * ih;
+        b->Lz[i] = Hz;
+        b->pdf[i] = sl_ggx_D(Hz, a2); /* D(H) */
+    }
+}
+
 /* ======================== stage (1): directions and weights ======================== */
 
 /* GGX's G' = 4 Vis(w.N, N.V) = 2 / (w.N kv + N.V sqrt((w.N)^2 (1 - a^2) + a^2)), kv the N.V half
@@ -302,14 +338,18 @@ __attribute__((always_inline)) static inline void spec_directions(sample_block *
 
 /* Stage (1) of specular_microfacet: (L, pdf) are (H about +Z, D(H)) and A, B span the frame
  * about N; w = reflect(-V, H), p(w) = D (N.H) / (4 V.H), and the weight G (w.N)(V.H)/(N.H) with
- * the Phong set's G or GGX's G' (ggx constant at each call, as spec_directions). */
+ * the Phong set's G or GGX's G' (ggx constant at each call, as spec_directions). visible (GGX
+ * only, a constant too): H drawn from the visible normals (visible_lobe_ggx), p(w) = D / norm
+ * and the weight G' (w.N) norm / 4, norm = 2 (N.V + kv) (ggx_visible_norm). */
 __attribute__((always_inline)) static inline void microfacet_directions(sample_block *b, int m, const float *Lx,
                                                                         const float *Ly, const float *Lz,
                                                                         const float *pdf, vec3 N, vec3 V, vec3 A,
-                                                                        vec3 B, bool inv_lh2, bool ggx, float a2)
+                                                                        vec3 B, bool inv_lh2, bool ggx, bool visible,
+                                                                        float a2)
 {
     const float NdotV = dot(N, V);
     const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
+    const float norm = 2.0f * (NdotV + kv);
 #pragma omp simd
     for (int i = 0; i < m; i++) {
         float hx = (A.x * Lx[i] + B.x * Ly[i]) + N.x * Lz[i];
@@ -341,9 +381,11 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
         b->NdotH[i] = NdotH;
         b->LdotH[i] = VdotH;
         b->vh[i] = VdotH;
-        b->pw[i] = pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
+        b->pw[i] = visible ? pdf[i] / norm : pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
         b->m5[i] = m2 * m2 * mm;
-        if (ggx) {
+        if (ggx && visible) {
+            b->weight[i] = ggx_g(wN, NdotV, kv, a2) * wN * norm / 4.0f; /* G' (w.N) norm / 4 */
+        } else if (ggx) {
             b->weight[i] = ggx_g(wN, NdotV, kv, a2) * wN * VdotH / NdotH; /* G' (w.N)(V.H)/(N.H) */
         } else {
             float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
@@ -401,6 +443,7 @@ typedef struct {
     float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
     float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
     vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
+    vec3 Vl;          /* microfacet, GGX: V in the frame A, B, N (visible_lobe_ggx) */
     const sl_cv_kernel *cvk; /* the control variate's kernel, whose scale K(w) / p(w) Li every
                                 contribution loses (NULL: none) */
     const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
@@ -428,22 +471,26 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
+    c.Vl = vec3s(0.0f); /* the caller's, with the frame */
     c.cvk = NULL;
     c.ka = c.kb = NULL;
     return c;
 }
 
 /* Stage (0): the block's skewed samples, from the task's table, recomputed (no task), or
- * rotated per pixel. Returns where they are (the table's arrays or the block's). */
+ * rotated per pixel; a GGX lobe's microfacet samples from the visible normals, per pixel.
+ * Returns where they are (the table's arrays or the block's). */
 __attribute__((always_inline)) static inline lobe_view stage_samples(const sl_lighting_uniforms *u,
                                                                      const lobe_consts *c, const lobe_table *lobe,
                                                                      const azimuth_table *az, bool rotate,
                                                                      vec2 rotation, int k0, int m, sample_block *b)
 {
-    if (lobe)
+    if (c->mf && c->ggx) /* the visible normals: the pixel's own, from V */
+        visible_lobe_ggx(az, k0, m, c->a2, c->Vl, rotate, rotation, b);
+    else if (lobe)
         return (lobe_view){lobe->xi1 + k0, lobe->xi2 + k0, lobe->Lx + k0, lobe->Ly + k0, lobe->Lz + k0,
                            lobe->pdf + k0};
-    if (rotate && c->ggx)
+    else if (rotate && c->ggx)
         rotated_lobe_ggx(az, k0, m, c->a2, c->mf, rotation, b);
     else if (rotate)
         rotated_lobe(az, k0, m, c->alpha, c->mf ? 2.0f : 1.0f, rotation, b);
@@ -462,9 +509,9 @@ __attribute__((always_inline)) static inline void stage_directions(const lobe_co
                                                                    sample_block *b)
 {
     if (c->mf && c->ggx)
-        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, true, c->a2);
+        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, true, true, c->a2);
     else if (c->mf)
-        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, false, c->a2);
+        microfacet_directions(b, m, s->Lx, s->Ly, s->Lz, s->pdf, N, V, A, B, c->inv_lh2, false, false, c->a2);
     else if (c->ggx)
         spec_directions(b, m, s->Lx, s->Ly, s->Lz, N, V, R, A, B, c->inv_lh2, true, c->a2);
     else
@@ -690,10 +737,12 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         c.cvk = cv;
         cv_kernels(u, cv, &c.ka, &c.kb);
     }
-    const lobe_table *lobe = task && !rotate ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
-    azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
-    const azimuth_table *az = rotate ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
     const float NdotV = dot(N, V);
+    const bool visible = c.mf && c.ggx; /* drawn per pixel from the azimuths (visible_lobe_ggx) */
+    c.Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    const lobe_table *lobe = task && !rotate && !visible ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
+    azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
+    const azimuth_table *az = rotate || visible ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
     sample_block blk;
     sample_block *b = &blk;
     /* stage (4)'s four partial sums per channel, as scalars: as arrays GCC kept them on the
@@ -939,9 +988,9 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         }
         const float *D = b->pdf;
         if (ggx) /* ggx a constant at each call, as stage_directions has it */
-            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, true, a2);
+            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, true, false, a2);
         else
-            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, false, a2);
+            microfacet_directions(b, mp, b->Lx, b->Ly, b->Lz, D, N, V, A, B, inv_lh2, false, false, a2);
         for (int i = m; i < mp; i++)
             b->vh[i] = 0.0f;
         /* the BRDF's samples: texel, density and radiance, one at a time (one read of the

@@ -179,8 +179,10 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         print_mis(f, t);
     else if (!t->splitsum || t->cv)
         fprintf(f, "specular samples (N = %d; %s; %s)\n", t->sample_count,
-            t->microfacet ? "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H"
-                          : "directions drawn about R",
+            !t->microfacet              ? "directions drawn about R"
+            : sl_lobe_is_ggx(t->alpha) ? "microfacet estimator: H drawn from GGX's visible normals about N, w = "
+                                         "reflect(-V, H), L.H = V.H, p(w) = D / (2 (N.V + sqrt((N.V)^2 (1 - a^2) + a^2)))"
+                                       : "microfacet estimator: H drawn about N, w = reflect(-V, H), L.H = V.H",
             t->plain ? "plain port" : "batched path: lod and uv by core/fast_math.h, 4 partial sums");
     if (!t->mis)
         fprintf(f, "  %4s %-17s %-26s %-9s %-26s %-8s %-26s %-8s %-10s %-8s %-26s %-8s %-26s %-26s\n", "k", "xi",
