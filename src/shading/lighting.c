@@ -257,7 +257,10 @@ static vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
 }
 
 /* GLSL: ggx_visible_norm */
-static float ggx_visible_norm(float NdotV, float a2) { return 2.0f * (NdotV + sqrtf(NdotV * NdotV * (1.0f - a2) + a2)); }
+static float ggx_visible_norm(float NdotV, float a2)
+{
+    return 2.0f * (NdotV + sqrtf(NdotV * NdotV * (1.0f - a2) + a2));
+}
 
 /* specular_microfacet: the derivation is in the GLSL. The trace records a sample's H,
  * N.H, V.H (as L.H) and D before the test, its p(w) after it. cv: the control variate's kernel,

@@ -381,7 +381,7 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
         b->NdotH[i] = NdotH;
         b->LdotH[i] = VdotH;
         b->vh[i] = VdotH;
-        b->pw[i] = visible ? pdf[i] / norm : pdf[i] * NdotH / (4.0f * VdotH); /* p(w) = D (N.H) / (4 V.H) */
+        b->pw[i] = visible ? pdf[i] / norm : pdf[i] * NdotH / (4.0f * VdotH); /* p(w) */
         b->m5[i] = m2 * m2 * mm;
         if (ggx && visible) {
             b->weight[i] = ggx_g(wN, NdotV, kv, a2) * wN * norm / 4.0f; /* G' (w.N) norm / 4 */
