@@ -971,22 +971,27 @@ float microfacet_D(vec2 xi, float alpha)
 
 // GGX's microfacet sampling draws H from the visible normals (Heitz 2018), by Dupuy and
 // Benyoub's spherical caps (2023): with V stretched to the unit-roughness configuration,
-// Vh = normalize(a V.x, a V.y, V.z) in the frame about N, a point c on the unit sphere's cap
-// z > -Vh.z (z uniform, the azimuth eq. (4)'s of xi.x), H = normalize(a h.x, a h.y, h.z) for
-// h = c + Vh. H has the density D_V(H) = G1(V) max(V.H, 0) D(H) / (N.V), so w = reflect(-V, H)
-// has p(w) = G1(V) D(H) / (4 N.V) = D(H) / ggx_visible_norm, and the estimator's weight
+// Vh = normalize(a V.x, a V.y, V.z) in the frame about N (ggx_stretched_view, once a pixel), a
+// point c on the unit sphere's cap z > -Vh.z (z uniform, the azimuth eq. (4)'s of xi.x),
+// H = normalize(a h.x, a h.y, h.z) for h = c + Vh. H has the density
+// D_V(H) = G1(V) max(V.H, 0) D(H) / (N.V), so w = reflect(-V, H) has
+// p(w) = G1(V) D(H) / (4 N.V) = D(H) / ggx_visible_norm, and the estimator's weight
 // f (w.N) / p(w) is F G2 / G1(V) <= F. Drawn from D(H) (N.H) instead, a grazing view wastes the
 // draws whose facet faces away (V.H <= 0) and overweights the rest by up to 2 / (N.V).
-vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
+vec3 ggx_visible_normal(vec2 xi, vec3 Vh, float a)
 {
-    float a = sqrt(a2);
-    vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
     float phi = 2.0 * PI * (0.5 - xi.x);
     float z = (1.0 - xi.y) * (1.0 + Vh.z) - Vh.z;
     float st = sqrt(clamp(1.0 - z * z, 0.0, 1.0));
     vec3 h = vec3(st * cos(phi), st * sin(phi), z) + Vh;
     vec3 H = vec3(a * h.x, a * h.y, h.z);
     return H / max(length(H), TINY); // h = 0 (c = -Vh, a point of measure 0): H = 0, dropped as V.H <= 0
+}
+
+// V in the frame about N (Vl) stretched by a = sqrt(a^2) to the unit-roughness configuration.
+vec3 ggx_stretched_view(vec3 Vl, float a)
+{
+    return normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
 }
 
 // 4 (N.V) / G1(V) = 2 (N.V + sqrt((N.V)^2 (1 - a^2) + a^2)): the visible normals' p(w) is D(H) over it.
@@ -1088,10 +1093,10 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
-    // GGX: V in the frame and the visible normals' norm, once a pixel
+    // GGX: the stretched view and the visible normals' norm, once a pixel
     bool ggx = sl_lobe_is_ggx(alpha);
-    float a2 = sl_ggx_a2(alpha);
-    vec3 Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    float a2 = sl_ggx_a2(alpha), a = sqrt(a2);
+    vec3 Vh = ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a);
     float norm = ggx_visible_norm(NdotV, a2);
     int n = int(uHammersley.N);
     vec3 sum = vec3(0.0);
@@ -1099,7 +1104,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         vec2 xi = hammersley_point(k);
         if (uRotate != 0)
             xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
-        vec3 Hl = ggx ? ggx_visible_normal(xi, Vl, a2) : microfacet_sample(xi, alpha);
+        vec3 Hl = ggx ? ggx_visible_normal(xi, Vh, a) : microfacet_sample(xi, alpha);
         float D = ggx ? sl_ggx_D(Hl.z, a2) : microfacet_D(xi, alpha);
         vec3 H = normalize(Hl.x * A + Hl.y * B + Hl.z * N);
         float VdotH = dot(V, H);

@@ -244,10 +244,8 @@ static float microfacet_D(vec2 xi, float alpha)
 }
 
 /* GLSL: ggx_visible_normal (the derivation is in the GLSL) */
-static vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
+static vec3 ggx_visible_normal(vec2 xi, vec3 Vh, float a)
 {
-    float a = sqrtf(a2);
-    vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
     float phi = 2.0f * PI * (0.5f - xi.x);
     float z = (1.0f - xi.y) * (1.0f + Vh.z) - Vh.z;
     float st = sqrtf(clamp(1.0f - z * z, 0.0f, 1.0f));
@@ -255,6 +253,9 @@ static vec3 ggx_visible_normal(vec2 xi, vec3 Vl, float a2)
     vec3 H = vec3(a * h.x, a * h.y, h.z);
     return scale(H, 1.0f / maxf(length(H), TINY));
 }
+
+/* GLSL: ggx_stretched_view */
+static vec3 ggx_stretched_view(vec3 Vl, float a) { return normalize(vec3(a * Vl.x, a * Vl.y, Vl.z)); }
 
 /* GLSL: ggx_visible_norm */
 static float ggx_visible_norm(float NdotV, float a2)
@@ -274,10 +275,10 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
-    /* GGX: V in the frame and the visible normals' norm, once a pixel */
+    /* GGX: the stretched view and the visible normals' norm, once a pixel */
     const bool ggx = sl_lobe_is_ggx(alpha);
-    const float a2 = sl_ggx_a2(alpha);
-    const vec3 Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    const float a2 = sl_ggx_a2(alpha), a = sqrtf(a2);
+    const vec3 Vh = ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a);
     const float norm = ggx_visible_norm(NdotV, a2);
     int n = (int)u->uHammersley.N;
     vec3 sum = vec3s(0.0f);
@@ -287,7 +288,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         vec2 xi = hammersley_point(u, k);
         if (u->uRotate != 0)
             xi = vec2(fract(xi.x + rotation.x), fract(xi.y + rotation.y));
-        vec3 Hl = ggx ? ggx_visible_normal(xi, Vl, a2) : microfacet_sample(xi, alpha);
+        vec3 Hl = ggx ? ggx_visible_normal(xi, Vh, a) : microfacet_sample(xi, alpha);
         float D = ggx ? sl_ggx_D(Hl.z, a2) : microfacet_D(xi, alpha);
         vec3 H = normalize(add(add(scale(A, Hl.x), scale(B, Hl.y)), scale(N, Hl.z)));
         float VdotH = dot(V, H);
@@ -975,6 +976,7 @@ vec3 sl_shade_skewed_sample(vec2 xi, float alpha) { return skewed_sample(xi, alp
 float sl_shade_sample_pdf(vec2 xi, float alpha) { return sample_pdf(xi, alpha); }
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha) { return microfacet_sample(xi, alpha); }
 float sl_shade_microfacet_D(vec2 xi, float alpha) { return microfacet_D(xi, alpha); }
+vec3 sl_shade_ggx_stretched_view(vec3 Vl, float a) { return ggx_stretched_view(Vl, a); }
 vec3 sl_shade_facing_normal(vec3 N, vec3 V) { return facing_normal(N, V); }
 vec3 sl_shade_specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation,
                            shade_horizon *h, sl_lighting_task *task, sl_lighting_trace *trace)

@@ -236,18 +236,17 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
 }
 
 /* Stage (0) of the microfacet estimator for a GGX lobe: H drawn from the visible normals
- * (ggx_visible_normal's operations, vectorized) for the view Vl in the frame A, B, N, with the
- * table's azimuths (cos, sin of 2 pi (0.5 - xi1): the port's own values) rotated as rotated_lobe
- * rotates them when rotation is on (rotate: the pair shifted by `rotation`; off, the shift is 0
- * and the rotation (1, 0): the same bits). The block's pdf holds D(H), as the table's does. */
-static void visible_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, vec3 Vl, bool rotate, vec2 rotation,
-                             sample_block *b)
+ * (ggx_visible_normal's operations, vectorized) for the stretched view Vh (the pixel's, in the
+ * frame A, B, N) and a = sqrt(a^2), with the table's azimuths (cos, sin of 2 pi (0.5 - xi1): the
+ * port's own values) rotated as rotated_lobe rotates them when rotation is on (rotate: the pair
+ * shifted by `rotation`; off, the shift is 0 and the rotation (1, 0): the same bits). The
+ * block's pdf holds D(H), as the table's does. */
+static void visible_lobe_ggx(const azimuth_table *az, int k0, int m, float a2, float a, vec3 Vh, bool rotate,
+                             vec2 rotation, sample_block *b)
 {
     const float shift_x = rotate ? rotation.x : 0.0f, shift_y = rotate ? rotation.y : 0.0f;
     const float rho = 2.0f * PI * shift_x;
     const float cr = rotate ? cosf(rho) : 1.0f, sr = rotate ? sinf(rho) : 0.0f;
-    const float a = sqrtf(a2);
-    const vec3 Vh = normalize(vec3(a * Vl.x, a * Vl.y, Vl.z));
     const float vx = Vh.x, vy = Vh.y, vz = Vh.z; /* scalars: a struct read in the loop stops GCC's vectorizer */
     const float *xi1 = az->xi1 + k0, *xi2 = az->xi2 + k0, *cphi = az->cphi + k0, *sphi = az->sphi + k0;
 #pragma omp simd
@@ -443,7 +442,8 @@ typedef struct {
     float log2_c_lod; /* log2 of D's constant (alpha + 2)/(2 pi), or a^2/pi; spec-d4 takes D/4 */
     float log2_d4;    /* microfacet: log2 D - log2 4 under spec-d4 */
     vec3 Ks, F1;      /* F = Ks + F1 (1 - L.H)^5 */
-    vec3 Vl;          /* microfacet, GGX: V in the frame A, B, N (visible_lobe_ggx) */
+    float a;          /* GGX: sqrt(a^2) */
+    vec3 Vh;          /* microfacet, GGX: the stretched view in the frame A, B, N (visible_lobe_ggx) */
     const sl_cv_kernel *cvk; /* the control variate's kernel, whose scale K(w) / p(w) Li every
                                 contribution loses (NULL: none) */
     const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
@@ -471,7 +471,8 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.log2_d4 = c.rule == LOD_SPEC_D4 ? 2.0f : 0.0f;
     c.Ks = Ks;
     c.F1 = sub(vec3s(1.0f), Ks);
-    c.Vl = vec3s(0.0f); /* the caller's, with the frame */
+    c.a = c.ggx ? sqrtf(c.a2) : 0.0f;
+    c.Vh = vec3s(0.0f); /* the caller's, with the frame */
     c.cvk = NULL;
     c.ka = c.kb = NULL;
     return c;
@@ -486,7 +487,7 @@ __attribute__((always_inline)) static inline lobe_view stage_samples(const sl_li
                                                                      vec2 rotation, int k0, int m, sample_block *b)
 {
     if (c->mf && c->ggx) /* the visible normals: the pixel's own, from V */
-        visible_lobe_ggx(az, k0, m, c->a2, c->Vl, rotate, rotation, b);
+        visible_lobe_ggx(az, k0, m, c->a2, c->a, c->Vh, rotate, rotation, b);
     else if (lobe)
         return (lobe_view){lobe->xi1 + k0, lobe->xi2 + k0, lobe->Lx + k0, lobe->Ly + k0, lobe->Lz + k0,
                            lobe->pdf + k0};
@@ -739,7 +740,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     }
     const float NdotV = dot(N, V);
     const bool visible = c.mf && c.ggx; /* drawn per pixel from the azimuths (visible_lobe_ggx) */
-    c.Vl = vec3(dot(V, A), dot(V, B), NdotV);
+    if (visible)
+        c.Vh = sl_shade_ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), c.a);
     const lobe_table *lobe = task && !rotate && !visible ? sl_shade_lobe_for(u, task, alpha, c.mf) : NULL;
     azimuth_table local_az; /* 16 KB, filled only without a task (tests, traces) */
     const azimuth_table *az = rotate || visible ? sl_shade_azimuth_for(u, task, &local_az) : NULL;
@@ -852,10 +854,33 @@ __attribute__((always_inline)) static inline void toward_light(float x, float y,
     *LdotH = (x * hx + y * hy) + z * hz;
 }
 
+/* A Phong lobe's D at a given direction, D = (alpha + 2)/(2 pi) (N.H)^alpha, through the fast
+ * log2/exp2 (the env lights and mis's environment samples): sl_fast_exp2 needs its argument in
+ * [-126, 127], and log2_c + alpha log2(N.H) >= -120 when N.H >= 2^((-120 - log2_c)/alpha).
+ * Clamping N.H at that floor, not the sum, keeps the loops vectorizable (GCC gives up on a max of
+ * the exp2's argument); below the floor D < 2^-120 anyway. */
+typedef struct {
+    float log2_c, alpha, nh_floor;
+} phong_fast_D;
+
+static inline phong_fast_D phong_fast_D_for(float alpha)
+{
+    phong_fast_D p = {sl_fast_log2((alpha + 2.0f) / (2.0f * PI)), alpha, TINY};
+    if (alpha > 0.0f)
+        p.nh_floor = maxf(sl_fast_exp2(maxf((-120.0f - p.log2_c) / alpha, -126.0f)), TINY);
+    return p;
+}
+
+__attribute__((always_inline)) static inline float phong_fast_D_at(const phong_fast_D *p, float NdotH)
+{
+    return sl_fast_exp2(p->log2_c + p->alpha * sl_fast_log2(maxf(NdotH, p->nh_floor)));
+}
+
 /* The lobe of a pixel as env_pair_terms reads it (mis_samples' constants). */
 typedef struct {
     vec3 N, V, Ks, F1;
-    float NdotV, a2, kv, log2_c, alpha, nh_floor;
+    float NdotV, a2, kv;
+    phong_fast_D phong; /* the Phong set's D (unread for GGX) */
     bool inv_lh2;
 } env_pair_lobe;
 
@@ -882,7 +907,7 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
             Dv = sl_ggx_D(NdotH, a2);
             G = ggx_g(maxf(wN, 0.0f), NdotV, kv, a2);
         } else {
-            Dv = sl_fast_exp2(l->log2_c + l->alpha * sl_fast_log2(maxf(NdotH, l->nh_floor)));
+            Dv = phong_fast_D_at(&l->phong, NdotH);
             float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
             G = l->inv_lh2 ? 1.0f / (LH * LH) : 1.0f;
         }
@@ -946,12 +971,10 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
     const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f;
     const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
-    const float log2_c = ggx ? 0.0f : sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
-    const float nh_floor = !ggx && alpha > 0.0f ? maxf(sl_fast_exp2(maxf((-120.0f - log2_c) / alpha, -126.0f)), TINY)
-                                                : TINY; /* env_lights_samples' floor */
     const float I = u->uEnvIntensity;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
-    const env_pair_lobe pair = {N, V, Ks, F1, NdotV, a2, kv, log2_c, alpha, nh_floor, inv_lh2};
+    const env_pair_lobe pair = {N, V, Ks, F1, NdotV, a2, kv, ggx ? (phong_fast_D){0.0f, 0.0f, TINY} : phong_fast_D_for(alpha),
+                                inv_lh2};
     const float *packed = u->uEnvDist->texel_pdf;
     const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
     const sl_prefilter_kernel *ka = NULL, *kb = NULL;
@@ -1156,25 +1179,14 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
-    const float log2_c = sl_fast_log2((alpha + 2.0f) / (2.0f * PI));
-    /* sl_fast_exp2 needs its argument in [-126, 127]: log2_c + alpha log2(N.H) >= -120 when
-     * N.H >= 2^((-120 - log2_c)/alpha). Clamping N.H, not the sum, keeps the loop vectorizable
-     * (GCC gives up on a max of the exp2's argument); below that floor D < 2^-120 anyway. */
-    const float nh_floor = alpha > 0.0f ? maxf(sl_fast_exp2(maxf((-120.0f - log2_c) / alpha, -126.0f)), TINY) : TINY;
+    const phong_fast_D phong = phong_fast_D_for(alpha);
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
     for (int j = 0; j < n; j++) {
-        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z;
-        float hx = X[j] + V.x, hy = Y[j] + V.y, hz = Z[j] + V.z;
-        float ih = 1.0f / sqrtf((hx * hx + hy * hy) + hz * hz);
-        hx *= ih;
-        hy *= ih;
-        hz *= ih;
-        float NdotH = (N.x * hx + N.y * hy) + N.z * hz;
-        float LdotH = (X[j] * hx + Y[j] * hy) + Z[j] * hz;
-        /* D = (alpha + 2)/(2 pi) (N.H)^alpha, exp2 of a log2 kept >= -120 by the floor on N.H */
-        float D = sl_fast_exp2(log2_c + alpha * sl_fast_log2(maxf(NdotH, nh_floor)));
+        float wN, NdotH, LdotH;
+        toward_light(X[j], Y[j], Z[j], N, V, &wN, &NdotH, &LdotH);
+        float D = phong_fast_D_at(&phong, NdotH);
         float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
         float mm = maxf(1.0f - LdotH, 0.0f);
         float m2 = mm * mm;

@@ -49,6 +49,7 @@ vec3 sl_shade_skewed_sample(vec2 xi, float alpha);                         /* GL
 float sl_shade_sample_pdf(vec2 xi, float alpha);                           /* GLSL sample_pdf */
 vec3 sl_shade_microfacet_sample(vec2 xi, float alpha);                     /* GLSL microfacet_sample */
 float sl_shade_microfacet_D(vec2 xi, float alpha);                         /* GLSL microfacet_D */
+vec3 sl_shade_ggx_stretched_view(vec3 Vl, float a);                        /* GLSL ggx_stretched_view */
 vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GLSL facing_normal */
 
 /* The specular's part from across the horizon, with the sky visibility maps (uniforms' skyMaps;
