@@ -7,8 +7,8 @@
 # after the tone map. The same build reproduces the references exactly; the slack is for other
 # compilers and instruction sets (-march=native) reordering float arithmetic (ggx: the
 # line-by-line port, `--plain`, a different order of the same formulas, lands at p99 3.7e-4,
-# 0% of pixels over 1/255: a sharp lobe's D, taken from its visible normal's N.H, moves by 1e-3
-# for an ulp of N.H). A real shading change (a wrong lod, a lost term) moves thousands of
+# 0% of pixels over 1/255: a sharp lobe's D, taken from its visible normal's N.H, moves by about
+# 1e-3 for an ulp of N.H, as 1 - (N.H)^2 is about a^2 = 1e-4 at r = 0.1). A real shading change (a wrong lod, a lost term) moves thousands of
 # pixels by far more. On failure the full `softlight compare` report says by how much, and a
 # difference image is written.
 #
