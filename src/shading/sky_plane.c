@@ -26,16 +26,50 @@
 
 #include "lighting_internal.h"
 
-/* The lookup at texel (x, y), with the normal the lighting uses there (shade_view_frame_at: the
- * G-buffer's normal, turned toward the eye where it faces away). 1 for an empty texel (unread). */
-static float exact_visibility(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y)
+/* Texels waiting for their lookups, made SL_SKY_POINTS at a time (sl_shadow_sky_visibility_points:
+ * the texels of a run of a row read the same few cache lines of each map): their points, the
+ * normals the lighting uses there (shade_view_frame_at: the G-buffer's normal, turned toward the
+ * eye where it faces away), and where each V goes. */
+typedef struct {
+    sl_shadow_sky_points points;
+    float *dest[SL_SKY_POINTS];
+    int n;
+} lookup_batch;
+
+static void lookup_flush(const sl_lighting_uniforms *u, lookup_batch *b)
+{
+    if (b->n == 0)
+        return;
+    for (int i = b->n; i < SL_SKY_POINTS; i++) { /* a lane not used: N = 0 weighs no map */
+        b->points.px[i] = b->points.py[i] = b->points.pz[i] = 0.0f;
+        b->points.nx[i] = b->points.ny[i] = b->points.nz[i] = 0.0f;
+    }
+    float V[SL_SKY_POINTS];
+    sl_shadow_sky_visibility_points(u->skyMaps, &b->points, V);
+    for (int i = 0; i < b->n; i++)
+        *b->dest[i] = V[i];
+    b->n = 0;
+}
+
+/* Texel (x, y)'s lookup into *dest, made with the batch's (1 at once for an empty texel, which
+ * is not read). Returns whether it is a lookup (the texel is covered). */
+static bool lookup_add(const sl_lighting_uniforms *u, const sl_gbuffer *gb, lookup_batch *b, int x, int y,
+                       float *dest)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
-    if (t->depth >= 1.0f)
-        return 1.0f;
+    if (t->depth >= 1.0f) {
+        *dest = 1.0f;
+        return false;
+    }
     const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
     shade_view_frame f = shade_view_frame_at(u->uEye, t->position, t->normal, r);
-    return sl_shadow_sky_visibility(u->skyMaps, t->position, f.N, NULL);
+    const int i = b->n;
+    b->points.px[i] = t->position.x, b->points.py[i] = t->position.y, b->points.pz[i] = t->position.z;
+    b->points.nx[i] = f.N.x, b->points.ny[i] = f.N.y, b->points.nz[i] = f.N.z;
+    b->dest[i] = dest;
+    if (++b->n == SL_SKY_POINTS)
+        lookup_flush(u, b);
+    return true;
 }
 
 /* The farthest an anchor may lie from the texel it fills, squared (world units): SL_SKY_PLANE_REACH
@@ -85,14 +119,17 @@ static bool same_surface(const surface_test *p, const sl_gbuffer_texel *q)
     return off * off <= p->allowance2;
 }
 
-/* Texel (x, y)'s V from the anchors at the given offsets (n of them), or its own lookup
- * (counted in *lookups). */
-static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
-                        const int (*offsets)[2], int n, float agree, float reach2, int64_t *lookups)
+/* Texel (x, y)'s V from the anchors at the given offsets (n of them) into *dest, or else its own
+ * lookup into the batch (counted in *lookups). */
+static void fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const float *plane, int x, int y,
+                       const int (*offsets)[2], int n, float agree, float reach2, lookup_batch *batch, float *dest,
+                       int64_t *lookups)
 {
     const sl_gbuffer_texel *p = sl_gbuffer_at(gb, x, y);
-    if (p->depth >= 1.0f)
-        return 1.0f;
+    if (p->depth >= 1.0f) {
+        *dest = 1.0f;
+        return;
+    }
     const surface_test test = surface_test_of(u, p, reach2);
     float lo = 1.0f, hi = 0.0f, sum = 0.0f;
     bool stand_in = agree >= 0.0f && test.n2 > 0.0f;
@@ -108,9 +145,9 @@ static float fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, con
         }
     }
     if (stand_in && hi - lo <= agree)
-        return sum / (float)n;
-    ++*lookups;
-    return exact_visibility(u, gb, x, y);
+        *dest = sum / (float)n;
+    else
+        *lookups += lookup_add(u, gb, batch, x, y, dest);
 }
 
 int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
@@ -126,27 +163,29 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
      * only anchors. */
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (int y = 0; y < h; y += 2) {
+        float *row = plane + (size_t)y * (size_t)w;
+        lookup_batch batch = {.n = 0};
         int64_t row_lookups = 0;
-        for (int x = 0; x < w; x += 2) {
-            const bool covered = !(sl_gbuffer_at(gb, x, y)->depth >= 1.0f);
-            plane[(size_t)y * (size_t)w + (size_t)x] = exact_visibility(u, gb, x, y);
-            row_lookups += covered;
-        }
+        for (int x = 0; x < w; x += 2)
+            row_lookups += lookup_add(u, gb, &batch, x, y, &row[x]);
+        lookup_flush(u, &batch);
 #pragma omp atomic
         lookups += row_lookups;
     }
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (int y = 0; y < h; y++) {
         float *row = plane + (size_t)y * (size_t)w;
+        lookup_batch batch = {.n = 0};
         int64_t row_lookups = 0;
         if (y % 2 == 0) { /* an anchors' row: from the two beside */
             for (int x = 1; x < w; x += 2)
-                row[x] = fill_texel(u, gb, plane, x, y, beside, 2, agree, reach2, &row_lookups);
+                fill_texel(u, gb, plane, x, y, beside, 2, agree, reach2, &batch, &row[x], &row_lookups);
         } else { /* between: from the two below and above, or the four at the corners */
             for (int x = 0; x < w; x++)
-                row[x] = fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree,
-                                    reach2, &row_lookups);
+                fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree, reach2,
+                           &batch, &row[x], &row_lookups);
         }
+        lookup_flush(u, &batch);
 #pragma omp atomic
         lookups += row_lookups;
     }

@@ -1,7 +1,9 @@
 /* sky.c - the sky visibility maps (sky.h): the directions, their cells' weights from the
  * environment, the maps (drawn by shadow.c's orthographic machinery, into one block) and the
- * per-point lookup: every map in one loop, a lane a map, equal bit for bit to the scalar lookup
- * of one map (sl_shadow_sky_map_visibility, which the GLSL twin mirrors and trace reports). */
+ * lookups: a point's, every map in one loop, a lane a map; a run of points', the maps one after
+ * another, a lane a point (the plane the batched lighting reads); each equal bit for bit to the
+ * scalar lookup of one map (sl_shadow_sky_map_visibility, which the GLSL twin mirrors and trace
+ * reports). */
 #include "sky.h"
 
 #include <math.h>
@@ -317,6 +319,91 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
         }
     }
     return all > 0.0f ? seen / all : 1.0f;
+}
+
+/* The lanes' loop turned about: a lane a point, the maps one after another. Per point and map
+ * the operations of sky_visibility_lanes (and so of sl_shadow_sky_map_visibility) in their order,
+ * and per point the sums over the maps in k's order, adding 0 (which leaves a sum's bits) where a
+ * map weighs nothing: V's bits are the one-point lookup's. */
+void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_sky_points *pts, float *V)
+{
+    enum { L = SL_SKY_POINTS };
+    if (!sky->block || sky->count <= 0) {
+        for (int i = 0; i < L; i++)
+            V[i] = sl_shadow_sky_visibility(sky, vec3(pts->px[i], pts->py[i], pts->pz[i]),
+                                            vec3(pts->nx[i], pts->ny[i], pts->nz[i]), NULL);
+        return;
+    }
+    const sl_shadow_sky_lanes *l = &sky->lanes;
+    const float *depth = sky->block;
+    const float *px = pts->px, *py = pts->py, *pz = pts->pz, *nx = pts->nx, *ny = pts->ny, *nz = pts->nz;
+    float seen[L] = {0}, all[L] = {0};
+    for (int k = 0; k < sky->count; k++) {
+        const float wkx = l->wx[k], wky = l->wy[k], wkz = l->wz[k];
+        float ws[L];
+        bool any = false;
+#pragma omp simd
+        for (int i = 0; i < L; i++) {
+            const float wd = nx[i] * wkx + ny[i] * wky + nz[i] * wkz;
+            ws[i] = wd > 0.0f ? wd : 0.0f;
+        }
+        for (int i = 0; i < L; i++)
+            any |= ws[i] > 0.0f;
+        if (!any)
+            continue; /* no point reads map k */
+        const float ax = l->ax[k], ay = l->ay[k], az = l->az[k], rx = l->rx[k], ry = l->ry[k], rz = l->rz[k];
+        const float ux_ = l->ux[k], uy_ = l->uy[k], uz_ = l->uz[k], x0 = l->x0[k], y0 = l->y0[k];
+        const float stepx = l->stepx[k], stepy = l->stepy[k], offset = l->offset[k], bias = l->bias[k];
+        const int last = l->size[k] - 1, size = l->size[k], first = l->first[k];
+        float nas[L], xqs[L], yqs[L], zqs[L], uxs[L], uys[L];
+#pragma omp simd
+        for (int i = 0; i < L; i++) {
+            const float na = nx[i] * ax + ny[i] * ay + nz[i] * az;
+            nas[i] = na;
+            const float off = offset * sl_shadow_offset_share(na);
+            const float qx = px[i] + nx[i] * off, qy = py[i] + ny[i] * off, qz = pz[i] + nz[i] * off;
+            const float xq = qx * rx + qy * ry + qz * rz;
+            const float yq = qx * ux_ + qy * uy_ + qz * uz_;
+            xqs[i] = xq;
+            yqs[i] = yq;
+            zqs[i] = qx * ax + qy * ay + qz * az;
+            const float ux = (xq - x0) / stepx - 0.5f, uy = (yq - y0) / stepy - 0.5f;
+            uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
+            uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
+        }
+#pragma omp simd
+        for (int i = 0; i < L; i++) {
+            const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], ux = uxs[i], uy = uys[i];
+            const int tx0 = (int)ux, ty0 = (int)uy;
+            const float ftx = (float)tx0, fty = (float)ty0;
+            const bool downx = ftx > ux, downy = fty > uy;
+            const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+            const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+            const bool read = (ws[i] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+            const float tx = ux - fx, ty = uy - fy;
+            const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
+            const float gy = -(nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_) / na;
+            const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
+            const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
+            const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
+            const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - xq;
+            const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - yq;
+            const int rowa = first + ya * size, rowb = first + yb * size;
+            const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
+            const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
+            float vis = 0.0f;
+            vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
+            vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
+            vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
+            vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
+            vis = vis < 1.0f ? vis : 1.0f;
+            const float v = read ? vis : 1.0f;
+            seen[i] += ws[i] > 0.0f ? v * ws[i] : 0.0f;
+            all[i] += ws[i];
+        }
+    }
+    for (int i = 0; i < L; i++)
+        V[i] = all[i] > 0.0f ? seen[i] / all[i] : 1.0f;
 }
 
 /* GLSL: sky_visibility */

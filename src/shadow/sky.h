@@ -123,4 +123,18 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
  * sl_shadow_sky_map_visibility (tests/unit/test_sky_maps.c). */
 float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *each);
 
+/* Points for sl_shadow_sky_visibility_points, a lane a point (structure of arrays): world P and
+ * unit N. A lane not used holds N = 0, which no map weighs: its V is 1 and it reads nothing. */
+#define SL_SKY_POINTS 16
+typedef struct {
+    float px[SL_SKY_POINTS], py[SL_SKY_POINTS], pz[SL_SKY_POINTS];
+    float nx[SL_SKY_POINTS], ny[SL_SKY_POINTS], nz[SL_SKY_POINTS];
+} sl_shadow_sky_points;
+
+/* V at every point of pts into V[0 .. SL_SKY_POINTS): each sl_shadow_sky_visibility(P, N)'s
+ * bits. The maps one after another, each read at all the points at once: points that lie near
+ * each other (a run of a row of the image) read the same few cache lines of each map, and a map
+ * that faces none of them is skipped (tests/unit/test_sky_maps.c). */
+void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_sky_points *pts, float *V);
+
 #endif

@@ -1,8 +1,10 @@
 /* test_sky_maps.c - the sky visibility maps (src/shadow/sky.c). The lookup:
  * sl_shadow_sky_visibility reads every map in one loop, a lane a map;
+ * sl_shadow_sky_visibility_points reads the maps one after another, a lane a point;
  * sl_shadow_sky_map_visibility is the scalar lookup of one map that the GLSL twin mirrors. Over
  * maps drawn from a small scene (a floor, a sphere and a box under a bright sky), V and each
- * map's v_k from the one must equal, bit for bit, the other's per-map loop, for thousands of
+ * map's v_k from the first, and V from the second, must equal, bit for bit, the third's per-map
+ * loop, for thousands of
  * points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of odd points (off
  * every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's side or the
  * ground's; sl_shadow_sky_cell, the cell of a direction (which the lighting's part across the
@@ -71,8 +73,35 @@ static float reference(const sl_shadow_sky *s, vec3 P, vec3 N, float *each)
     return all > 0.0f ? seen / all : 1.0f;
 }
 
-/* One (P, N): V and every v_k equal the reference's bits. Counts the points partly hidden. */
-static void check(const sl_shadow_sky *s, vec3 P, vec3 N, int *partial, int *checked)
+/* The points checked, SL_SKY_POINTS at a time for sl_shadow_sky_visibility_points, with the V of
+ * the one-point lookup of each. */
+typedef struct {
+    sl_shadow_sky_points points;
+    float V[SL_SKY_POINTS];
+    int n;
+} point_batch;
+
+/* The batch's points looked up together: each lane's V the one-point lookup's bits. */
+static void check_points(const sl_shadow_sky *s, point_batch *b)
+{
+    if (b->n == 0)
+        return;
+    sl_shadow_sky_points *p = &b->points;
+    for (int i = b->n; i < SL_SKY_POINTS; i++)
+        p->px[i] = p->py[i] = p->pz[i] = p->nx[i] = p->ny[i] = p->nz[i] = 0.0f;
+    float V[SL_SKY_POINTS];
+    sl_shadow_sky_visibility_points(s, p, V);
+    for (int i = 0; i < SL_SKY_POINTS; i++)
+        if (memcmp(&V[i], i < b->n ? &b->V[i] : &(float){1.0f}, sizeof V[i]) != 0)
+            fail_msg("K %d, lane %d of %d, P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): points %.9g, one point %.9g",
+                     s->count, i, b->n, p->px[i], p->py[i], p->pz[i], p->nx[i], p->ny[i], p->nz[i], V[i],
+                     i < b->n ? b->V[i] : 1.0f);
+    b->n = 0;
+}
+
+/* One (P, N): V and every v_k equal the reference's bits, and V the points lookup's (the point
+ * joins the batch). Counts the points partly hidden. */
+static void check(const sl_shadow_sky *s, point_batch *batch, vec3 P, vec3 N, int *partial, int *checked)
 {
     float each[SL_SKY_MAPS_MAX], ref_each[SL_SKY_MAPS_MAX];
     float V = sl_shadow_sky_visibility(s, P, N, each);
@@ -87,6 +116,12 @@ static void check(const sl_shadow_sky *s, vec3 P, vec3 N, int *partial, int *che
     }
     *partial += V > 0.0f && V < 1.0f;
     *checked += 1;
+    sl_shadow_sky_points *p = &batch->points;
+    const int i = batch->n++;
+    p->px[i] = P.x, p->py[i] = P.y, p->pz[i] = P.z, p->nx[i] = N.x, p->ny[i] = N.y, p->nz[i] = N.z;
+    batch->V[i] = V;
+    if (batch->n == SL_SKY_POINTS)
+        check_points(s, batch);
 }
 
 /* A scene from its text and the tests' environment (sky). */
@@ -120,6 +155,7 @@ static void test_lanes_match_scalar(void **state)
             fail_msg("%s", err.msg);
         assert_non_null(s.block);
         int partial = 0, checked = 0;
+        point_batch batch = {.n = 0};
         for (int i = 0; i < 60000; i++) {
             vec3 P, N;
             float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
@@ -141,18 +177,19 @@ static void test_lanes_match_scalar(void **state)
                 N = normalize(vec3(u, v, 0.02f * rnd()));
                 break;
             }
-            check(&s, P, N, &partial, &checked);
+            check(&s, &batch, P, N, &partial, &checked);
         }
         /* off every map, huge, non-finite */
         const vec3 odd_P[] = {vec3(1e4f, 0, 0), vec3(-3e9f, 2e9f, 1), vec3(0, 0, 1e30f), vec3(NAN, 0, 0),
                               vec3(INFINITY, 0, 0), vec3(0, -INFINITY, 0)};
         for (size_t p = 0; p < sizeof odd_P / sizeof odd_P[0]; p++) {
             for (int j = 0; j < 20; j++)
-                check(&s, odd_P[p], rnd_dir(), &partial, &checked);
-            check(&s, odd_P[p], vec3(0, 0, 1), &partial, &checked);
+                check(&s, &batch, odd_P[p], rnd_dir(), &partial, &checked);
+            check(&s, &batch, odd_P[p], vec3(0, 0, 1), &partial, &checked);
         }
-        check(&s, vec3(0, 0, 0), vec3(NAN, 0, 0), &partial, &checked);
-        check(&s, vec3(0, 0, 0), vec3(0, 0, 0), &partial, &checked);
+        check(&s, &batch, vec3(0, 0, 0), vec3(NAN, 0, 0), &partial, &checked);
+        check(&s, &batch, vec3(0, 0, 0), vec3(0, 0, 0), &partial, &checked);
+        check_points(&s, &batch);
         /* the comparison means something: many points see part of the sky */
         if (partial < checked / 20)
             fail_msg("K %d: only %d of %d points partly hidden", counts[c], partial, checked);
