@@ -1,17 +1,21 @@
 /* sky_plane.c - bench_sky_plane: the sky maps' V over a whole G-buffer, filled between anchors
  * (src/shading/sky_plane.c, what the batched lighting paths read) against a lookup at every
- * texel (what the port does), on scene files (not a test).
+ * texel, and that lookup made 16 texels at a time (sl_shadow_sky_visibility_points, a lane a
+ * texel: the plane's) against one texel at a time (sl_shadow_sky_visibility, a lane a map: what
+ * the port does), on scene files (not a test).
  *
  *   bench_sky_plane [--size 1280x720] [--rounds 7] [--maps 32] [--agree A] SCENE.json ...
  *
  * --agree: the fill's agreement of the anchors' V (default SL_SKY_PLANE_AGREE, the lighting
- * pass's). Per scene, after one warm-up round, ROUNDS rounds of the two in turn on one thread,
- * each timed in process CPU time: the median of each and of the per-round ratio (a change of
- * load falls on both), the lookups the fill makes per covered texel, and how far its V is from
- * the lookup's: the largest difference, the 99.9th percentile and the share of covered texels
- * more than 1/255 apart; a markdown table, a row a scene. The maps weigh the whole environment
- * (--sky-maps K alone) and are drawn once, before the rounds. docs/lighting.md "Sky visibility
- * maps" quotes it. */
+ * pass's). Per scene, after one warm-up round, ROUNDS rounds of the fill, the every-texel lookup
+ * 16 texels at a time and the every-texel lookup one texel at a time, in turn on one thread, each
+ * timed in process CPU time: the median of each and of the per-round ratios, fill to every texel
+ * and 16 at a time to one at a time (a change of load falls on both), the lookups the fill makes
+ * per covered texel, and how far its V is from the lookup's: the largest difference, the 99.9th
+ * percentile and the share of covered texels more than 1/255 apart; a markdown table, a row a
+ * scene. The maps weigh the whole environment (--sky-maps K alone) and are drawn once, before
+ * the rounds. docs/lighting.md "Sky visibility maps" quotes it. The two every-texel lookups' V
+ * must be equal bit for bit (else the bench fails). */
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -46,8 +50,9 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
     int status = 1;
     float *filled = malloc((size_t)w * (size_t)h * sizeof *filled);
     float *every = malloc((size_t)w * (size_t)h * sizeof *every);
+    float *single = malloc((size_t)w * (size_t)h * sizeof *single);
     double *diff = malloc((size_t)w * (size_t)h * sizeof *diff);
-    if (!filled || !every || !diff) {
+    if (!filled || !every || !single || !diff) {
         fprintf(stderr, "bench_sky_plane: no memory\n");
         goto done;
     }
@@ -58,7 +63,8 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
     }
     const sl_lighting_uniforms *u = r.uniforms;
     const sl_gbuffer *gb = &r.gbuffer;
-    double t_fill[MAX_ROUNDS], t_every[MAX_ROUNDS], ratio[MAX_ROUNDS];
+    double t_fill[MAX_ROUNDS], t_every[MAX_ROUNDS], ratio[MAX_ROUNDS], t_single[MAX_ROUNDS], gain[MAX_ROUNDS];
+    const vec3 rows[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
     int64_t lookups = 0;
     for (int k = -1; k < rounds; k++) {
         double c0 = sl_process_cpu_seconds();
@@ -66,11 +72,26 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
         double c1 = sl_process_cpu_seconds();
         sl_sky_plane_fill(u, gb, every, -1.0f, 1);
         double c2 = sl_process_cpu_seconds();
+        for (int i = 0; i < w * h; i++) {
+            const sl_gbuffer_texel *t = &gb->texels[i];
+            single[i] = 1.0f;
+            if (!(t->depth >= 1.0f)) {
+                shade_view_frame f = shade_view_frame_at(u->uEye, t->position, t->normal, rows);
+                single[i] = sl_shadow_sky_visibility(u->skyMaps, t->position, f.N, NULL);
+            }
+        }
+        double c3 = sl_process_cpu_seconds();
         if (k >= 0) {
             t_fill[k] = 1e3 * (c1 - c0);
             t_every[k] = 1e3 * (c2 - c1);
+            t_single[k] = 1e3 * (c3 - c2);
             ratio[k] = (c1 - c0) / (c2 - c1);
+            gain[k] = (c2 - c1) / (c3 - c2);
         }
+    }
+    if (memcmp(every, single, (size_t)w * (size_t)h * sizeof *every) != 0) {
+        fprintf(stderr, "bench_sky_plane: %s: the lookups 16 texels at a time differ from one at a time\n", path);
+        goto done;
     }
     int covered = 0, over = 0;
     double worst = 0.0;
@@ -84,15 +105,17 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
     }
     qsort(diff, (size_t)covered, sizeof *diff, ascending);
     double p999 = covered > 0 ? diff[(size_t)(0.999 * (covered - 1))] : 0.0;
-    printf("| %s | %dx%d | %d | %.3f | %.1f | %.1f | %.2f | %.4f | %.5f | %.3f%% |\n", path, w, h, covered,
-           covered > 0 ? (double)lookups / covered : 0.0, sl_median(t_fill, rounds), sl_median(t_every, rounds),
-           sl_median(ratio, rounds), worst, p999, covered > 0 ? 100.0 * over / covered : 0.0);
+    printf("| %s | %dx%d | %d | %.3f | %.1f | %.1f | %.2f | %.4f | %.5f | %.3f%% | %.1f | %.2f |\n", path, w, h,
+           covered, covered > 0 ? (double)lookups / covered : 0.0, sl_median(t_fill, rounds), sl_median(t_every, rounds),
+           sl_median(ratio, rounds), worst, p999, covered > 0 ? 100.0 * over / covered : 0.0,
+           sl_median(t_single, rounds), sl_median(gain, rounds));
     status = 0;
 done:
     sl_renderer_free(&r);
     sl_scene_free(&scene);
     free(filled);
     free(every);
+    free(single);
     free(diff);
     return status;
 }
@@ -119,7 +142,8 @@ int main(int argc, char **argv)
             if (scenes == 0)
                 printf("%d maps, agree %g, %d rounds on one thread:\n\n"
                        "| scene | size | covered texels | lookups a covered texel | fill ms | every texel ms | ratio "
-                       "| max abs dV | p99.9 abs dV | share > 1/255 |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|\n",
+                       "| max abs dV | p99.9 abs dV | share > 1/255 | every texel one at a time ms | 16 at a time / one "
+                       "at a time |\n|---|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n",
                        maps, agree, rounds);
             status |= bench_scene(argv[i], w, h, rounds, maps, agree);
             scenes++;
