@@ -221,6 +221,46 @@ static inline int clamp_index(int i, int last)
     return lo > last ? last : lo;
 }
 
+/* One map's 2x2 percentage-closer lookup at one point, the body both lane loops share: from the
+ * point's place on the map (xq, yq, zq, and ux, uy its texel coordinates, held finite), its
+ * normal along the map's axis (na) and across its right and up (nr, nu), and the map's constants;
+ * sl_shadow_sky_map_visibility's operations in its order, its branches as selects. 1 where the
+ * map is not read (it weighs nothing at the point, faces away from it, or the point is off it),
+ * and then its texels are not read either (the maps outgrow the caches: a map not read costs no
+ * memory traffic); every index is clamped onto the map, so a value no one reads is computed
+ * from nothing undefined. */
+__attribute__((always_inline)) static inline float lane_lookup(const float *depth, bool weighs, float na, float nr,
+                                                               float nu, float xq, float yq, float zq, float ux,
+                                                               float uy, float x0, float y0, float stepx,
+                                                               float stepy, float bias, int first, int size)
+{
+    /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
+    const int tx0 = (int)ux, ty0 = (int)uy;
+    const float ftx = (float)tx0, fty = (float)ty0;
+    const bool downx = ftx > ux, downy = fty > uy;
+    const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+    const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+    const bool read = weighs & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+    const float tx = ux - fx, ty = uy - fy;
+    const float gx = -nr / na, gy = -nu / na;
+    const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
+    const int last = size - 1;
+    const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
+    const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
+    const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - xq;
+    const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - yq;
+    const int rowa = first + ya * size, rowb = first + yb * size;
+    const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
+    const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
+    float vis = 0.0f;
+    vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
+    vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
+    vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
+    vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
+    vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
+    return read ? vis : 1.0f;
+}
+
 /* Lanes a chunk of sky_visibility_lanes: one vector of 8 floats (AVX2). The directions are in
  * bands of height, zenith to horizon on the sky's side, then nadir to horizon on the ground's
  * (sl_shadow_sky_direction), so a chunk's maps face about the same way and a receiver turned
@@ -275,37 +315,10 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
         }
 #pragma omp simd
         for (int k = c0; k < c1; k++) {
-            const float na = nas[k], xq = xqs[k], yq = yqs[k], zq = zqs[k], ux = uxs[k], uy = uys[k];
-            const float stepx = l->stepx[k], stepy = l->stepy[k];
-            /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
-            const int tx0 = (int)ux, ty0 = (int)uy;
-            const float ftx = (float)tx0, fty = (float)ty0;
-            const bool downx = ftx > ux, downy = fty > uy;
-            const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
-            const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-            const bool read = (ws[k] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
-            const float tx = ux - fx, ty = uy - fy;
-            const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / na;
-            const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / na;
-            const float bias = l->bias[k];
-            const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
-            const int last = l->size[k] - 1, size = l->size[k];
-            const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
-            const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
-            const float dxa = (fx + 0.0f + 0.5f) * stepx + l->x0[k] - xq, dxb = (fx + 1.0f + 0.5f) * stepx + l->x0[k] - xq;
-            const float dya = (fy + 0.0f + 0.5f) * stepy + l->y0[k] - yq, dyb = (fy + 1.0f + 0.5f) * stepy + l->y0[k] - yq;
-            const int rowa = l->first[k] + ya * size, rowb = l->first[k] + yb * size;
-            /* the texels only where the map is read (the maps outgrow the caches: a map not read
-             * costs no memory traffic) */
-            const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
-            const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
-            float vis = 0.0f;
-            vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
-            vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
-            vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
-            vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
-            vis = vis < 1.0f ? vis : 1.0f; /* fminf: vis is finite where read */
-            vs[k] = read ? vis : 1.0f;
+            const float nr = nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k];
+            const float nu = nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k];
+            vs[k] = lane_lookup(depth, ws[k] > 0.0f, nas[k], nr, nu, xqs[k], yqs[k], zqs[k], uxs[k], uys[k], l->x0[k],
+                                l->y0[k], l->stepx[k], l->stepy[k], l->bias[k], l->first[k], l->size[k]);
         }
     }
     float seen = 0.0f, all = 0.0f;
@@ -354,7 +367,7 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
         const float ax = l->ax[k], ay = l->ay[k], az = l->az[k], rx = l->rx[k], ry = l->ry[k], rz = l->rz[k];
         const float ux_ = l->ux[k], uy_ = l->uy[k], uz_ = l->uz[k], x0 = l->x0[k], y0 = l->y0[k];
         const float stepx = l->stepx[k], stepy = l->stepy[k], offset = l->offset[k], bias = l->bias[k];
-        const int last = l->size[k] - 1, size = l->size[k], first = l->first[k];
+        const int size = l->size[k], first = l->first[k];
         float nas[L], xqs[L], yqs[L], zqs[L], uxs[L], uys[L];
 #pragma omp simd
         for (int i = 0; i < L; i++) {
@@ -373,31 +386,10 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
         }
 #pragma omp simd
         for (int i = 0; i < L; i++) {
-            const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], ux = uxs[i], uy = uys[i];
-            const int tx0 = (int)ux, ty0 = (int)uy;
-            const float ftx = (float)tx0, fty = (float)ty0;
-            const bool downx = ftx > ux, downy = fty > uy;
-            const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
-            const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-            const bool read = (ws[i] > 0.0f) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
-            const float tx = ux - fx, ty = uy - fy;
-            const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
-            const float gy = -(nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_) / na;
-            const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
-            const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
-            const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
-            const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - xq;
-            const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - yq;
-            const int rowa = first + ya * size, rowb = first + yb * size;
-            const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
-            const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
-            float vis = 0.0f;
-            vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
-            vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
-            vis += dba + bias >= zq + gx * dxa + gy * dyb ? wx0 * ty : 0.0f;
-            vis += dbb + bias >= zq + gx * dxb + gy * dyb ? tx * ty : 0.0f;
-            vis = vis < 1.0f ? vis : 1.0f;
-            const float v = read ? vis : 1.0f;
+            const float nr = nx[i] * rx + ny[i] * ry + nz[i] * rz;
+            const float nu = nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_;
+            const float v = lane_lookup(depth, ws[i] > 0.0f, nas[i], nr, nu, xqs[i], yqs[i], zqs[i], uxs[i], uys[i], x0,
+                                        y0, stepx, stepy, bias, first, size);
             seen[i] += ws[i] > 0.0f ? v * ws[i] : 0.0f;
             all[i] += ws[i];
         }
