@@ -14,7 +14,9 @@
  * row or column, pixels coarser than the maps' texels) the texel is looked up itself. Where V
  * is linear along the surface the mean is exact; where it bends between anchors that agree, the
  * mean is off by about what the agreement allows; a feature narrower than the anchors' spacing
- * that both miss (a thin shadow between them) is missed.
+ * that both miss (a thin shadow between them) is missed. The lookups, the anchors' and the
+ * fill's alike, are made SL_SKY_POINTS texels of a row at a time, a SIMD lane a texel
+ * (sl_shadow_sky_visibility_points), with the bits of the one-texel lookup.
  *
  * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
  * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"

@@ -2,18 +2,17 @@
  * sl_shadow_sky_visibility reads every map in one loop, a lane a map;
  * sl_shadow_sky_visibility_points reads the maps one after another, a lane a point;
  * sl_shadow_sky_map_visibility is the scalar lookup of one map that the GLSL twin mirrors. Over
- * maps drawn from a small scene (a floor, a sphere and a box under a bright sky), V and each
- * map's v_k from the first, and V from the second, must equal, bit for bit, the third's per-map
- * loop, for thousands of
- * points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of odd points (off
- * every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's side or the
- * ground's; sl_shadow_sky_cell, the cell of a direction (which the lighting's part across the
- * horizon reads), is the rule the weights were summed by. The cone's share across the horizon
- * (shade_cone_across, which opens the specular occlusion's cone where the maps take the part its
- * occluders hide): 0 without the maps, all of the cone's lean when it points across from R, none
- * when it points to R's side, and the specular's factor never falls as the share grows. The
- * plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit, a
- * texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every
+ * maps drawn from a small scene (a floor, a sphere and a box under a bright sky), V and each map's
+ * v_k from the first, and V from the second, must equal, bit for bit, the third's per-map loop,
+ * for thousands of points on the surfaces (in contact shadows, on slopes, edge-on to a map) and of
+ * odd points (off every map, huge, NaN). The cells: split at the horizon, each wholly on the sky's
+ * side or the ground's; sl_shadow_sky_cell, the cell of a direction (which the lighting's part
+ * across the horizon reads), is the rule the weights were summed by. The cone's share across the
+ * horizon (shade_cone_across, which opens the specular occlusion's cone where the maps take the
+ * part its occluders hide): 0 without the maps, all of the cone's lean when it points across from
+ * R, none when it points to R's side, and the specular's factor never falls as the share grows.
+ * The plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit,
+ * a texel beside an empty one is looked up, about two fifths of the texels are at 1280x720 (every
  * one where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
  * lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
  * R's cell (shade_lobe_map) where that map is hidden, and only there. A ball's underside a few
