@@ -364,11 +364,13 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
             any |= ws[i] > 0.0f;
         if (!any)
             continue; /* no point reads map k */
+        /* map k's frame (its axis, right and up), box and offsets, the same for every lane */
         const float ax = l->ax[k], ay = l->ay[k], az = l->az[k], rx = l->rx[k], ry = l->ry[k], rz = l->rz[k];
-        const float ux_ = l->ux[k], uy_ = l->uy[k], uz_ = l->uz[k], x0 = l->x0[k], y0 = l->y0[k];
+        const float upx = l->ux[k], upy = l->uy[k], upz = l->uz[k], x0 = l->x0[k], y0 = l->y0[k];
         const float stepx = l->stepx[k], stepy = l->stepy[k], offset = l->offset[k], bias = l->bias[k];
         const int size = l->size[k], first = l->first[k];
         float nas[L], xqs[L], yqs[L], zqs[L], uxs[L], uys[L];
+        /* two loops, the coordinates and then the taps, as sky_visibility_lanes has them */
 #pragma omp simd
         for (int i = 0; i < L; i++) {
             const float na = nx[i] * ax + ny[i] * ay + nz[i] * az;
@@ -376,7 +378,7 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
             const float off = offset * sl_shadow_offset_share(na);
             const float qx = px[i] + nx[i] * off, qy = py[i] + ny[i] * off, qz = pz[i] + nz[i] * off;
             const float xq = qx * rx + qy * ry + qz * rz;
-            const float yq = qx * ux_ + qy * uy_ + qz * uz_;
+            const float yq = qx * upx + qy * upy + qz * upz;
             xqs[i] = xq;
             yqs[i] = yq;
             zqs[i] = qx * ax + qy * ay + qz * az;
@@ -387,7 +389,7 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
 #pragma omp simd
         for (int i = 0; i < L; i++) {
             const float nr = nx[i] * rx + ny[i] * ry + nz[i] * rz;
-            const float nu = nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_;
+            const float nu = nx[i] * upx + ny[i] * upy + nz[i] * upz;
             const float v = lane_lookup(depth, ws[i] > 0.0f, nas[i], nr, nu, xqs[i], yqs[i], zqs[i], uxs[i], uys[i], x0,
                                         y0, stepx, stepy, bias, first, size);
             seen[i] += ws[i] > 0.0f ? v * ws[i] : 0.0f;
