@@ -1,6 +1,6 @@
 # cpu_frame.bash - what the frame-cost benchmarks share (sourced from the repository's root:
-# bench/shadows.sh, bench/reflection-occlusion.sh, bench/visibility-cost.sh; bench/report.sh and
-# bench/mis-front.sh take vector_isa).
+# bench/shadows.sh, bench/reflection-occlusion.sh; bench/report.sh, bench/mis-front.sh and
+# bench/visibility-cost.sh take vector_isa).
 #
 # frame_bench_args NAME [BUILD_DIR] [ROUNDS] [SIZE]: the benchmarks' arguments into BUILD, ROUNDS
 # and SIZE (defaults build, 3, 1280x720), and T, a temporary directory removed on exit.
