@@ -1,7 +1,7 @@
 /* visibility_cost.c - bench_visibility_cost: what the whole set of visibility methods costs a
  * frame, measured in one process on scene files (not a test).
  *
- *   bench_visibility_cost [--size 1280x720] [--rounds 9] SCENE.json ...
+ *   bench_visibility_cost [--size 1280x720] [--rounds 9] [--each] SCENE.json ...
  *
  * Per scene two renderers on one thread, the scene's own settings with --env-lights 32 (the
  * estimator the set goes with: docs/accuracy.md "Visibility"), the second also with the set:
@@ -12,7 +12,10 @@
  * round, each frame timed in process CPU time: a change of load falls on both frames of a round.
  * Prints a markdown row per scene: the median frame of each, the set's share of the frame with it
  * (the median of the rounds' own shares, 1 - without / with) and the lowest and highest of those.
- * docs/lighting.md "What the whole set costs" quotes it (bench/visibility-cost.sh). */
+ * --each: also a renderer per method with that method alone, each round's frames in turn, and a
+ * second table: per scene each method's CPU ms a frame over the frame without the set (the
+ * median of the rounds' differences) and the set's. docs/lighting.md "What the whole set costs"
+ * quotes both (bench/visibility-cost.sh). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -22,19 +25,29 @@
 
 enum { MAX_ROUNDS = 64 };
 
-/* The renderer of `scene` at w x h on one thread with --env-lights 32, and the set when `set`. */
-static bool renderer_for(sl_renderer *r, const sl_scene *scene, int w, int h, bool set, sl_error *err)
+/* The settings a scene is rendered with: without the set, each method alone, the whole set. */
+enum { WITHOUT, SHADOWS, AO, SKY_MAPS, REFLECTION, WITH, SETTINGS };
+#define SETTING_BIT(s) (1u << (s))
+static const char *const method_names[SETTINGS] = {
+    [SHADOWS] = "--shadows", [AO] = "--ao-radius 1", [SKY_MAPS] = "--sky-maps 32",
+    [REFLECTION] = "--reflection-occlusion 5"};
+
+/* The renderer of `scene` at w x h on one thread with --env-lights 32 and the methods of setting s
+ * (WITH: all of them). */
+static bool renderer_for(sl_renderer *r, const sl_scene *scene, int w, int h, int s, sl_error *err)
 {
     sl_render_desc desc = {0};
     sl_option_set_size(&desc.options, w, h);
     sl_option_set_threads(&desc.options, 1);
     sl_option_set_env_lights(&desc.options, 32);
-    if (set) {
+    if (s == SHADOWS || s == WITH)
         sl_option_set_shadows(&desc.options, true);
+    if (s == AO || s == WITH)
         sl_option_set_ao_radius(&desc.options, 1.0f);
+    if (s == SKY_MAPS || s == WITH)
         sl_option_set_sky_maps(&desc.options, 32);
+    if (s == REFLECTION || s == WITH)
         sl_option_set_reflection_occlusion(&desc.options, 5.0f);
-    }
     return sl_renderer_init(r, scene, &desc, err);
 }
 
@@ -53,7 +66,8 @@ static int ascending(const void *a, const void *b)
     return x < y ? -1 : x > y;
 }
 
-static int bench_scene(const char *path, int w, int h, int rounds)
+/* Scene at `path`: a row of the first table, and with `each` a row of the second into `*each_row`. */
+static int bench_scene(const char *path, int w, int h, int rounds, bool each, char *each_row, size_t row_size)
 {
     sl_error err = {0};
     sl_scene scene;
@@ -61,33 +75,45 @@ static int bench_scene(const char *path, int w, int h, int rounds)
         fprintf(stderr, "bench_visibility_cost: %s\n", err.msg);
         return 1;
     }
-    static sl_renderer without, with;
-    memset(&without, 0, sizeof without);
-    memset(&with, 0, sizeof with);
+    static sl_renderer r[SETTINGS];
+    memset(r, 0, sizeof r);
+    const unsigned used = each ? (1u << SETTINGS) - 1u : SETTING_BIT(WITHOUT) | SETTING_BIT(WITH);
     int status = 1;
-    double off[MAX_ROUNDS], on[MAX_ROUNDS], share[MAX_ROUNDS], first;
-    if (!renderer_for(&without, &scene, w, h, false, &err) || !renderer_for(&with, &scene, w, h, true, &err) ||
-        !timed_frame(&without, &first, &err) || !timed_frame(&with, &first, &err))
-        goto failed;
-    for (int k = 0; k < rounds; k++) {
-        bool turned = k % 2 == 1;
-        if (!timed_frame(turned ? &with : &without, turned ? &on[k] : &off[k], &err) ||
-            !timed_frame(turned ? &without : &with, turned ? &off[k] : &on[k], &err))
+    static double t[SETTINGS][MAX_ROUNDS];
+    double share[MAX_ROUNDS], extra[MAX_ROUNDS], first;
+    for (int s = 0; s < SETTINGS; s++)
+        if ((used & SETTING_BIT(s)) && (!renderer_for(&r[s], &scene, w, h, s, &err) || !timed_frame(&r[s], &first, &err)))
             goto failed;
-        share[k] = on[k] > 0.0 ? 100.0 * (1.0 - off[k] / on[k]) : 0.0;
-    }
+    /* a round: every setting's frame, back to back, starting one further each round */
+    for (int k = 0; k < rounds; k++)
+        for (int n = 0; n < SETTINGS; n++) {
+            const int s = (n + k) % SETTINGS;
+            if ((used & SETTING_BIT(s)) && !timed_frame(&r[s], &t[s][k], &err))
+                goto failed;
+        }
+    for (int k = 0; k < rounds; k++)
+        share[k] = t[WITH][k] > 0.0 ? 100.0 * (1.0 - t[WITHOUT][k] / t[WITH][k]) : 0.0;
     double median_share = sl_median(share, rounds);
     qsort(share, (size_t)rounds, sizeof *share, ascending);
-    printf("| %s | %.3f | %.3f | %.0f%% | %.0f%% to %.0f%% |\n", path, sl_median(off, rounds), sl_median(on, rounds),
-           median_share, share[0], share[rounds - 1]);
+    printf("| %s | %.3f | %.3f | %.0f%% | %.0f%% to %.0f%% |\n", path, sl_median(t[WITHOUT], rounds),
+           sl_median(t[WITH], rounds), median_share, share[0], share[rounds - 1]);
     fflush(stdout);
+    if (each) {
+        int used_chars = snprintf(each_row, row_size, "| %s | %.0f |", path, 1e3 * sl_median(t[WITHOUT], rounds));
+        for (int s = SHADOWS; s <= WITH && used_chars > 0 && (size_t)used_chars < row_size; s++) {
+            for (int k = 0; k < rounds; k++)
+                extra[k] = 1e3 * (t[s][k] - t[WITHOUT][k]);
+            used_chars += snprintf(each_row + used_chars, row_size - (size_t)used_chars, " %.0f |",
+                                   sl_median(extra, rounds));
+        }
+    }
     status = 0;
     goto done;
 failed:
     fprintf(stderr, "bench_visibility_cost: %s: %s\n", path, err.msg);
 done:
-    sl_renderer_free(&without);
-    sl_renderer_free(&with);
+    for (int s = 0; s < SETTINGS; s++)
+        sl_renderer_free(&r[s]);
     sl_scene_free(&scene);
     return status;
 }
@@ -95,14 +121,19 @@ done:
 int main(int argc, char **argv)
 {
     int w = 1280, h = 720, rounds = 9, status = 0, scenes = 0;
-    const char *usage = "usage: bench_visibility_cost [--size 1280x720] [--rounds 9] SCENE.json ...\n";
+    bool each = false;
+    const char *usage = "usage: bench_visibility_cost [--size 1280x720] [--rounds 9] [--each] SCENE.json ...\n";
+    enum { ROW = 512, MAX_SCENES = 64 };
+    static char rows[MAX_SCENES][ROW];
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--size") && i + 1 < argc && sscanf(argv[i + 1], "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
             i++;
         else if (!strcmp(argv[i], "--rounds") && i + 1 < argc && (rounds = atoi(argv[i + 1])) > 0 &&
                  rounds <= MAX_ROUNDS)
             i++;
-        else if (argv[i][0] == '-') {
+        else if (!strcmp(argv[i], "--each"))
+            each = true;
+        else if (argv[i][0] == '-' || scenes == MAX_SCENES) {
             fputs(usage, stderr);
             return 2;
         } else {
@@ -111,13 +142,23 @@ int main(int argc, char **argv)
                        "--reflection-occlusion 5 | the set's share of the frame | the rounds' shares, lowest to highest "
                        "|\n|---|---:|---:|---:|---:|\n",
                        w, h);
-            status |= bench_scene(argv[i], w, h, rounds);
+            rows[scenes][0] = '\0';
+            status |= bench_scene(argv[i], w, h, rounds, each, rows[scenes], ROW);
             scenes++;
         }
     }
     if (scenes == 0) {
         fputs(usage, stderr);
         return 2;
+    }
+    if (each) {
+        printf("\n| scene, %dx%d | CPU ms a frame, --env-lights 32 |", w, h);
+        for (int s = SHADOWS; s < WITH; s++)
+            printf(" + %s alone |", method_names[s]);
+        printf(" + the set |\n|---|---:|---:|---:|---:|---:|---:|\n");
+        for (int k = 0; k < scenes; k++)
+            if (rows[k][0])
+                printf("%s\n", rows[k]);
     }
     return status;
 }
