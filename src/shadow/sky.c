@@ -221,37 +221,87 @@ static inline int clamp_index(int i, int last)
     return lo > last ? last : lo;
 }
 
-/* One map's 2x2 percentage-closer lookup at one point, the body both lane loops share: from the
- * point's place on the map (xq, yq, zq, and ux, uy its texel coordinates, held finite), its
- * normal along the map's axis (na) and across its right and up (nr, nu), and the map's constants;
- * sl_shadow_sky_map_visibility's operations in its order, its branches as selects. 1 where the
- * map is not read (it weighs nothing at the point, faces away from it, or the point is off it),
- * and then its texels are not read either (the maps outgrow the caches: a map not read costs no
- * memory traffic); every index is clamped onto the map, so a value no one reads is computed
- * from nothing undefined. */
-__attribute__((always_inline)) static inline float lane_lookup(const float *depth, bool weighs, float na, float nr,
-                                                               float nu, float xq, float yq, float zq, float ux,
-                                                               float uy, float x0, float y0, float stepx,
-                                                               float stepy, float bias, int first, int size)
+/* The two lane loops' shared bodies, each the operations of sl_shadow_sky_map_visibility for map
+ * k at point P with normal N, in its order, its branches as selects; map k's constants read from
+ * the lanes (a lane each in the loop over the maps, the same for every lane in the loop over the
+ * points). Two loops, the place and then the taps: with the place's holding select and the taps'
+ * truncation in one loop, GCC has moved the truncation into the select's branch. */
+
+/* Where P lands on map k: N along the map's axis (na), the receiver moved off along N (q) and seen
+ * in the map's frame (xq, yq, zq), and its texel coordinates (ux, uy), held within 1e7 (NaN too)
+ * for the truncation in lane_lookup: whatever lies beyond floors beyond 1e6, as the held value
+ * does, and is not read. */
+typedef struct {
+    float na, xq, yq, zq, ux, uy;
+} lane_place;
+
+__attribute__((always_inline)) static inline lane_place lane_place_of(const sl_shadow_sky_lanes *l, int k, float px,
+                                                                      float py, float pz, float nx, float ny,
+                                                                      float nz)
 {
+    lane_place p;
+    p.na = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
+    const float off = l->offset[k] * sl_shadow_offset_share(p.na);
+    const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
+    p.xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
+    p.yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];
+    p.zq = qx * l->ax[k] + qy * l->ay[k] + qz * l->az[k];
+    const float ux = (p.xq - l->x0[k]) / l->stepx[k] - 0.5f, uy = (p.yq - l->y0[k]) / l->stepy[k] - 0.5f;
+    p.ux = fabsf(ux) < 1e7f ? ux : 1e7f;
+    p.uy = fabsf(uy) < 1e7f ? uy : 1e7f;
+    return p;
+}
+
+/* The places of a loop's lanes, structure of arrays (an array of lane_place stops GCC's
+ * vectorizer): lane i's stored and read back whole. */
+typedef struct {
+    float na[SL_SKY_MAPS_MAX], xq[SL_SKY_MAPS_MAX], yq[SL_SKY_MAPS_MAX], zq[SL_SKY_MAPS_MAX];
+    float ux[SL_SKY_MAPS_MAX], uy[SL_SKY_MAPS_MAX];
+} lane_places;
+_Static_assert(SL_SKY_POINTS <= SL_SKY_MAPS_MAX, "a loop over the points fits the places' arrays");
+
+__attribute__((always_inline)) static inline void lane_place_store(lane_places *s, int i, lane_place p)
+{
+    s->na[i] = p.na, s->xq[i] = p.xq, s->yq[i] = p.yq, s->zq[i] = p.zq, s->ux[i] = p.ux, s->uy[i] = p.uy;
+}
+
+__attribute__((always_inline)) static inline lane_place lane_place_load(const lane_places *s, int i)
+{
+    return (lane_place){s->na[i], s->xq[i], s->yq[i], s->zq[i], s->ux[i], s->uy[i]};
+}
+
+/* Map k's 2x2 percentage-closer lookup at the place p of a point with normal N: 1 where the map is
+ * not read (it weighs nothing there, faces away, or the point is off it), and then its texels
+ * are not read either (the maps outgrow the caches: a map not read costs no memory traffic);
+ * every index is clamped onto the map, so a value no one reads is computed from nothing
+ * undefined. */
+__attribute__((always_inline)) static inline float lane_lookup(const sl_shadow_sky_lanes *l, int k, const float *depth,
+                                                               bool weighs, lane_place p, float nx, float ny,
+                                                               float nz)
+{
+    const float stepx = l->stepx[k], stepy = l->stepy[k], x0 = l->x0[k], y0 = l->y0[k];
+    const int size = l->size[k], first = l->first[k];
     /* floorf by truncation (exact below 2^24; it vectorizes where floorf does not) */
-    const int tx0 = (int)ux, ty0 = (int)uy;
+    const int tx0 = (int)p.ux, ty0 = (int)p.uy;
     const float ftx = (float)tx0, fty = (float)ty0;
-    const bool downx = ftx > ux, downy = fty > uy;
+    const bool downx = ftx > p.ux, downy = fty > p.uy;
     const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
     const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-    const bool read = weighs & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
-    const float tx = ux - fx, ty = uy - fy;
-    const float gx = -nr / na, gy = -nu / na;
+    const bool read = weighs & (p.na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+    const float tx = p.ux - fx, ty = p.uy - fy;
+    const float gx = -(nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k]) / p.na;
+    const float gy = -(nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k]) / p.na;
+    const float bias = l->bias[k];
     const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
     const int last = size - 1;
     const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
     const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
-    const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - xq;
-    const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - yq;
+    const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - p.xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - p.xq;
+    const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - p.yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - p.yq;
     const int rowa = first + ya * size, rowb = first + yb * size;
     const float daa = read ? depth[rowa + xa] : 0.0f, dab = read ? depth[rowa + xb] : 0.0f;
     const float dba = read ? depth[rowb + xa] : 0.0f, dbb = read ? depth[rowb + xb] : 0.0f;
+    const float zq = p.zq;
     float vis = 0.0f;
     vis += daa + bias >= zq + gx * dxa + gy * dya ? wx0 * wy0 : 0.0f;
     vis += dab + bias >= zq + gx * dxb + gy * dya ? tx * wy0 : 0.0f;
@@ -279,8 +329,7 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
     const float *depth = sky->block;
     const int count = sky->count;
     float ws[SL_SKY_MAPS_MAX], vs[SL_SKY_MAPS_MAX];
-    float nas[SL_SKY_MAPS_MAX], xqs[SL_SKY_MAPS_MAX], yqs[SL_SKY_MAPS_MAX], zqs[SL_SKY_MAPS_MAX];
-    float uxs[SL_SKY_MAPS_MAX], uys[SL_SKY_MAPS_MAX];
+    lane_places places;
     const float px = P.x, py = P.y, pz = P.z, nx = N.x, ny = N.y, nz = N.z;
 #pragma omp simd
     for (int k = 0; k < count; k++) {
@@ -294,32 +343,12 @@ static float sky_visibility_lanes(const sl_shadow_sky *sky, vec3 P, vec3 N, floa
             any |= ws[k] > 0.0f;
         if (!any)
             continue; /* no v_k of the chunk is read */
-        /* two loops, the coordinates and then the taps: with the coordinates' holding select and
-         * their truncation in one loop, GCC has moved the truncation into the select's branch */
 #pragma omp simd
-        for (int k = c0; k < c1; k++) {
-            const float na = nx * l->ax[k] + ny * l->ay[k] + nz * l->az[k];
-            nas[k] = na;
-            const float off = l->offset[k] * sl_shadow_offset_share(na);
-            const float qx = px + nx * off, qy = py + ny * off, qz = pz + nz * off;
-            const float xq = qx * l->rx[k] + qy * l->ry[k] + qz * l->rz[k];
-            const float yq = qx * l->ux[k] + qy * l->uy[k] + qz * l->uz[k];
-            xqs[k] = xq;
-            yqs[k] = yq;
-            zqs[k] = qx * l->ax[k] + qy * l->ay[k] + qz * l->az[k];
-            const float ux = (xq - l->x0[k]) / l->stepx[k] - 0.5f, uy = (yq - l->y0[k]) / l->stepy[k] - 0.5f;
-            /* held within 1e7 (NaN too) for the truncation below: whatever lies beyond floors
-             * beyond 1e6, as the held value does, and is not read */
-            uxs[k] = fabsf(ux) < 1e7f ? ux : 1e7f;
-            uys[k] = fabsf(uy) < 1e7f ? uy : 1e7f;
-        }
+        for (int k = c0; k < c1; k++)
+            lane_place_store(&places, k, lane_place_of(l, k, px, py, pz, nx, ny, nz));
 #pragma omp simd
-        for (int k = c0; k < c1; k++) {
-            const float nr = nx * l->rx[k] + ny * l->ry[k] + nz * l->rz[k];
-            const float nu = nx * l->ux[k] + ny * l->uy[k] + nz * l->uz[k];
-            vs[k] = lane_lookup(depth, ws[k] > 0.0f, nas[k], nr, nu, xqs[k], yqs[k], zqs[k], uxs[k], uys[k], l->x0[k],
-                                l->y0[k], l->stepx[k], l->stepy[k], l->bias[k], l->first[k], l->size[k]);
-        }
+        for (int k = c0; k < c1; k++)
+            vs[k] = lane_lookup(l, k, depth, ws[k] > 0.0f, lane_place_load(&places, k), nx, ny, nz);
     }
     float seen = 0.0f, all = 0.0f;
     for (int k = 0; k < count; k++) {
@@ -364,34 +393,13 @@ void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_s
             any |= ws[i] > 0.0f;
         if (!any)
             continue; /* no point reads map k */
-        /* map k's frame (its axis, right and up), box and offsets, the same for every lane */
-        const float ax = l->ax[k], ay = l->ay[k], az = l->az[k], rx = l->rx[k], ry = l->ry[k], rz = l->rz[k];
-        const float upx = l->ux[k], upy = l->uy[k], upz = l->uz[k], x0 = l->x0[k], y0 = l->y0[k];
-        const float stepx = l->stepx[k], stepy = l->stepy[k], offset = l->offset[k], bias = l->bias[k];
-        const int size = l->size[k], first = l->first[k];
-        float nas[L], xqs[L], yqs[L], zqs[L], uxs[L], uys[L];
-        /* two loops, the coordinates and then the taps, as sky_visibility_lanes has them */
+        lane_places places;
+#pragma omp simd
+        for (int i = 0; i < L; i++)
+            lane_place_store(&places, i, lane_place_of(l, k, px[i], py[i], pz[i], nx[i], ny[i], nz[i]));
 #pragma omp simd
         for (int i = 0; i < L; i++) {
-            const float na = nx[i] * ax + ny[i] * ay + nz[i] * az;
-            nas[i] = na;
-            const float off = offset * sl_shadow_offset_share(na);
-            const float qx = px[i] + nx[i] * off, qy = py[i] + ny[i] * off, qz = pz[i] + nz[i] * off;
-            const float xq = qx * rx + qy * ry + qz * rz;
-            const float yq = qx * upx + qy * upy + qz * upz;
-            xqs[i] = xq;
-            yqs[i] = yq;
-            zqs[i] = qx * ax + qy * ay + qz * az;
-            const float ux = (xq - x0) / stepx - 0.5f, uy = (yq - y0) / stepy - 0.5f;
-            uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
-            uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
-        }
-#pragma omp simd
-        for (int i = 0; i < L; i++) {
-            const float nr = nx[i] * rx + ny[i] * ry + nz[i] * rz;
-            const float nu = nx[i] * upx + ny[i] * upy + nz[i] * upz;
-            const float v = lane_lookup(depth, ws[i] > 0.0f, nas[i], nr, nu, xqs[i], yqs[i], zqs[i], uxs[i], uys[i], x0,
-                                        y0, stepx, stepy, bias, first, size);
+            const float v = lane_lookup(l, k, depth, ws[i] > 0.0f, lane_place_load(&places, i), nx[i], ny[i], nz[i]);
             seen[i] += ws[i] > 0.0f ? v * ws[i] : 0.0f;
             all[i] += ws[i];
         }
