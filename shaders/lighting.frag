@@ -1093,11 +1093,11 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 0.0, 1.0);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
-    // GGX: the stretched view and the visible normals' norm, once a pixel
+    // GGX: the stretched view and the visible normals' norm, once a pixel (a Phong lobe reads neither)
     bool ggx = sl_lobe_is_ggx(alpha);
-    float a2 = sl_ggx_a2(alpha), a = sqrt(a2);
-    vec3 Vh = ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a);
-    float norm = ggx_visible_norm(NdotV, a2);
+    float a2 = ggx ? sl_ggx_a2(alpha) : 0.0, a = sqrt(a2);
+    vec3 Vh = ggx ? ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a) : vec3(0.0);
+    float norm = ggx ? ggx_visible_norm(NdotV, a2) : 1.0;
     int n = int(uHammersley.N);
     vec3 sum = vec3(0.0);
     for (int k = 0; k < n; k++) {

@@ -275,11 +275,11 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
     vec3 axis = (N.x * N.x + N.y * N.y < POLE_EPS) ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 0.0f, 1.0f);
     vec3 A = normalize(cross(axis, N));
     vec3 B = normalize(cross(N, A));
-    /* GGX: the stretched view and the visible normals' norm, once a pixel */
+    /* GGX: the stretched view and the visible normals' norm, once a pixel (a Phong lobe reads neither) */
     const bool ggx = sl_lobe_is_ggx(alpha);
-    const float a2 = sl_ggx_a2(alpha), a = sqrtf(a2);
-    const vec3 Vh = ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a);
-    const float norm = ggx_visible_norm(NdotV, a2);
+    const float a2 = ggx ? sl_ggx_a2(alpha) : 0.0f, a = sqrtf(a2);
+    const vec3 Vh = ggx ? ggx_stretched_view(vec3(dot(V, A), dot(V, B), NdotV), a) : vec3s(0.0f);
+    const float norm = ggx ? ggx_visible_norm(NdotV, a2) : 1.0f;
     int n = (int)u->uHammersley.N;
     vec3 sum = vec3s(0.0f);
     int below = 0;
