@@ -36,7 +36,13 @@ typedef struct {
     sl_shadow_sky_points points;
     float *dest[SL_SKY_POINTS];
     int n;
+    vec3 env_rotation[3]; /* the frame's, for shade_view_frame_at */
 } lookup_batch;
+
+static lookup_batch lookup_batch_for(const sl_lighting_uniforms *u)
+{
+    return (lookup_batch){.n = 0, .env_rotation = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]}};
+}
 
 static void lookup_flush(const sl_lighting_uniforms *u, lookup_batch *b)
 {
@@ -63,8 +69,7 @@ static bool lookup_add(const sl_lighting_uniforms *u, const sl_gbuffer *gb, look
         *dest = 1.0f;
         return false;
     }
-    const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
-    shade_view_frame f = shade_view_frame_at(u->uEye, t->position, t->normal, r);
+    shade_view_frame f = shade_view_frame_at(u->uEye, t->position, t->normal, b->env_rotation);
     const int i = b->n;
     b->points.px[i] = t->position.x, b->points.py[i] = t->position.y, b->points.pz[i] = t->position.z;
     b->points.nx[i] = f.N.x, b->points.ny[i] = f.N.y, b->points.nz[i] = f.N.z;
@@ -166,7 +171,7 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (int y = 0; y < h; y += 2) {
         float *row = plane + (size_t)y * (size_t)w;
-        lookup_batch batch = {.n = 0};
+        lookup_batch batch = lookup_batch_for(u);
         int64_t row_lookups = 0;
         for (int x = 0; x < w; x += 2)
             row_lookups += lookup_add(u, gb, &batch, x, y, &row[x]);
@@ -177,7 +182,7 @@ int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, f
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
     for (int y = 0; y < h; y++) {
         float *row = plane + (size_t)y * (size_t)w;
-        lookup_batch batch = {.n = 0};
+        lookup_batch batch = lookup_batch_for(u);
         int64_t row_lookups = 0;
         if (y % 2 == 0) { /* an anchors' row: from the two beside */
             for (int x = 1; x < w; x += 2)
