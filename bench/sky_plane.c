@@ -21,18 +21,12 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_common.h"
 #include "core/timer.h"
 #include "render/renderer.h"
 #include "shading/lighting_internal.h"
 
 enum { MAX_ROUNDS = 64 };
-
-/* ascending, for the percentile of V's differences */
-static int ascending(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
 
 static int bench_scene(const char *path, int w, int h, int rounds, int maps, float agree)
 {
@@ -103,7 +97,7 @@ static int bench_scene(const char *path, int w, int h, int rounds, int maps, flo
         worst = d > worst ? d : worst;
         over += d > 1.0 / 255.0;
     }
-    qsort(diff, (size_t)covered, sizeof *diff, ascending);
+    qsort(diff, (size_t)covered, sizeof *diff, bench_ascending);
     double p999 = covered > 0 ? diff[(size_t)(0.999 * (covered - 1))] : 0.0;
     printf("| %s | %dx%d | %d | %.3f | %.1f | %.1f | %.2f | %.4f | %.5f | %.3f%% | %.1f | %.2f |\n", path, w, h,
            covered, covered > 0 ? (double)lookups / covered : 0.0, sl_median(t_fill, rounds), sl_median(t_every, rounds),
@@ -125,13 +119,10 @@ int main(int argc, char **argv)
     int w = 1280, h = 720, rounds = 7, maps = 32, status = 0, scenes = 0;
     float agree = SL_SKY_PLANE_AGREE;
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--size") && i + 1 < argc && sscanf(argv[i + 1], "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
-            i++;
-        else if (!strcmp(argv[i], "--rounds") && i + 1 < argc && (rounds = atoi(argv[i + 1])) > 0 &&
-                 rounds <= MAX_ROUNDS)
-            i++;
-        else if (!strcmp(argv[i], "--maps") && i + 1 < argc && (maps = atoi(argv[i + 1])) > 0 &&
-                 maps <= SL_SKY_MAPS_MAX)
+        if (bench_size_arg(argc, argv, &i, &w, &h) || bench_rounds_arg(argc, argv, &i, &rounds, MAX_ROUNDS))
+            continue;
+        if (!strcmp(argv[i], "--maps") && i + 1 < argc && (maps = atoi(argv[i + 1])) > 0 &&
+            maps <= SL_SKY_MAPS_MAX)
             i++;
         else if (!strcmp(argv[i], "--agree") && i + 1 < argc && (agree = strtof(argv[i + 1], NULL)) >= 0.0f)
             i++;

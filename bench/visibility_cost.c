@@ -20,6 +20,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+#include "bench_common.h"
 #include "core/timer.h"
 #include "render/renderer.h"
 
@@ -60,12 +61,6 @@ static bool timed_frame(sl_renderer *r, double *seconds, sl_error *err)
     return ok;
 }
 
-static int ascending(const void *a, const void *b)
-{
-    double x = *(const double *)a, y = *(const double *)b;
-    return x < y ? -1 : x > y;
-}
-
 /* Scene at `path`: a row of the first table, and with `each` a row of the second into `*each_row`. */
 static int bench_scene(const char *path, int w, int h, int rounds, bool each, char *each_row, size_t row_size)
 {
@@ -94,7 +89,7 @@ static int bench_scene(const char *path, int w, int h, int rounds, bool each, ch
     for (int k = 0; k < rounds; k++)
         share[k] = t[WITH][k] > 0.0 ? 100.0 * (1.0 - t[WITHOUT][k] / t[WITH][k]) : 0.0;
     double median_share = sl_median(share, rounds);
-    qsort(share, (size_t)rounds, sizeof *share, ascending);
+    qsort(share, (size_t)rounds, sizeof *share, bench_ascending);
     printf("| %s | %.3f | %.3f | %.0f%% | %.0f%% to %.0f%% |\n", path, sl_median(t[WITHOUT], rounds),
            sl_median(t[WITH], rounds), median_share, share[0], share[rounds - 1]);
     fflush(stdout);
@@ -126,12 +121,9 @@ int main(int argc, char **argv)
     enum { ROW = 512, MAX_SCENES = 64 };
     static char rows[MAX_SCENES][ROW];
     for (int i = 1; i < argc; i++) {
-        if (!strcmp(argv[i], "--size") && i + 1 < argc && sscanf(argv[i + 1], "%dx%d", &w, &h) == 2 && w > 0 && h > 0)
-            i++;
-        else if (!strcmp(argv[i], "--rounds") && i + 1 < argc && (rounds = atoi(argv[i + 1])) > 0 &&
-                 rounds <= MAX_ROUNDS)
-            i++;
-        else if (!strcmp(argv[i], "--each"))
+        if (bench_size_arg(argc, argv, &i, &w, &h) || bench_rounds_arg(argc, argv, &i, &rounds, MAX_ROUNDS))
+            continue;
+        if (!strcmp(argv[i], "--each"))
             each = true;
         else if (argv[i][0] == '-' || scenes == MAX_SCENES) {
             fputs(usage, stderr);
