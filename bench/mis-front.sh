@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # mis-front.sh - the MIS estimator's speed against error front (docs/accuracy.md "MIS"): the
 # recipe (spec N40), the best microfacet settings at its cost (mf pdf+dist N32, and N16 with 64
-# env lights, which GGX scenes get by default, also at the scenes' own N 40) and --estimator mis over N, alone and with 32 env lights, on shipped scenes and on environments that are not in the repository, written here into
-# a temporary directory: a sun of 5e4 on a few texels in a dark sky, four small lamps (2e3..1e4) at
-# night, a sun of 1e5 two degrees above the horizon (1024x512 PFM each).
+# env lights, which GGX scenes get by default, also at the scenes' own N 40) and --estimator mis
+# over N, alone and with 32 env lights, on shipped scenes and on environments that are not in the
+# repository, which bench/check_environments.py writes into a temporary directory: a sun of 5e4 on
+# a few texels in a dark sky, four small lamps (2e3..1e4) at night, a sun of 1e5 two degrees above
+# the horizon (1024x512 PFM each).
 #
 #   bench/mis-front.sh [BUILD_DIR] [SCENE:SIZE ...]
 #   MIS_FRONT_ONLY='^(spec|mf|cv|splitsum)' MIS_FRONT_MD=docs/accuracy/cv-front.md bench/mis-front.sh build ...
@@ -32,54 +34,7 @@ trap 'rm -rf "$T"' EXIT
 cache=out/ground-truth/mis
 mkdir -p "$cache" docs/accuracy
 
-python3 - "$T" <<'PY'
-import json, math, os, struct, sys
-W, H = 1024, 512
-out = sys.argv[1]
-def direction(i, j):
-    phi, th = 2 * math.pi * (0.5 - (i + 0.5) / W), math.pi * (j + 0.5) / H
-    return (math.cos(phi) * math.sin(th), math.sin(phi) * math.sin(th), math.cos(th))
-def unit(a):
-    n = math.sqrt(sum(x * x for x in a))
-    return tuple(x / n for x in a)
-def dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-def write(name, f):  # PFM, bottom row first
-    with open(os.path.join(out, name + ".pfm"), "wb") as fh:
-        fh.write(b"PF\n%d %d\n-1.0\n" % (W, H))
-        for j in range(H - 1, -1, -1):
-            row = []
-            for i in range(W):
-                row.extend(f(direction(i, j)))
-            fh.write(struct.pack("<%df" % (3 * W), *row))
-sun = unit((0.4, -0.3, 0.8))
-def sunny(d):  # a sun of 5e4, 0.25 degrees in radius, in a dark blue sky
-    if dot(d, sun) > math.cos(math.radians(0.25)):
-        return (5e4, 4.7e4, 4.2e4)
-    return (0.02 + 0.05 * d[2], 0.04 + 0.08 * d[2], 0.12 + 0.2 * d[2]) if d[2] > 0 else (0.03, 0.025, 0.02)
-lamps = [(unit((1, 0.2, 0.15)), 1e4), (unit((-0.5, 0.8, 0.3)), 5e3), (unit((-0.3, -0.9, 0.05)), 2e3),
-         (unit((0.1, 0.1, 0.95)), 8e3)]
-def night(d):  # four lamps of 0.18 degrees in radius, a faint sky
-    for c, e in lamps:
-        if dot(d, c) > math.cos(math.radians(0.18)):
-            return (e, 0.8 * e, 0.5 * e)
-    return (0.002, 0.003, 0.008) if d[2] > 0 else (0.004, 0.004, 0.004)
-c2 = math.cos(math.radians(2))
-low = unit((0.6 * c2, 0.8 * c2, math.sin(math.radians(2))))
-def horizon(d):  # a sun of 1e5 two degrees above the horizon, a warm sky
-    if dot(d, low) > math.cos(math.radians(0.3)):
-        return (1e5, 8e4, 5e4)
-    if d[2] > 0:
-        g = math.exp(-6 * d[2])
-        return (0.3 + 1.5 * g, 0.25 + 0.8 * g, 0.3 + 0.3 * g)
-    return (0.08, 0.06, 0.05)
-for name, f in (("sun", sunny), ("night", night), ("horizon", horizon)):
-    write(name, f)
-    for base in ("ggx", "default", "grazing"):
-        s = json.load(open("scenes/%s.json" % base))
-        s["environment"] = {"hdr": os.path.join(out, name + ".pfm"), "intensity": 1, "rotation": 0}
-        json.dump(s, open(os.path.join(out, "%s-%s.json" % (base, name)), "w"))
-PY
+python3 bench/check_environments.py "$T"
 
 scenes=("$@")
 [ ${#scenes[@]} -gt 0 ] || scenes=(ggx:320x180 default:320x180 ggx-sun:320x180 ggx-night:320x180 ggx-horizon:320x180
