@@ -1,17 +1,19 @@
 /* reflection.c - reflection occlusion (reflection.h): the lobe's rays traced against the G-buffer.
  *
  * The pass first reduces every texel to what a ray's test reads of it: its view depth, in a
- * plane of its own (every step reads it), and beside it its tangent plane as the camera sees it
- * (the facing normal and its offset, 16 bytes: the block's test reads a neighbour's position
- * from the G-buffer texel itself, not a copy); then traces each texel's ray, rows over threads,
- * into a plane of one float a texel; then averages each texel's block. 24 bytes a texel in all,
+ * plane of its own (every step reads it), beside it its tangent plane as the camera sees it (the
+ * facing normal and its offset, 16 bytes) and its position, a plane a coordinate (the block's
+ * test of the same surface reads them); then traces each texel's ray, rows over threads, into a
+ * plane of one float a texel; then averages each texel's block. 36 bytes a texel in all,
  * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
- * step is three multiply-adds and one division. Tracing has two forms with the same bits: trace_ray, one ray at a time, the
- * reference (sl_reflection_texel runs it; tests/unit/test_reflection.c holds the frame to it),
- * and march_span, the frame's, which steps the rays of a run of a row's texels together, a lane
- * a ray. A ray's cost is the latency of its reads of the depth plane at points strewn over the
- * image, one after the other; a span's lanes issue theirs side by side, so the reads overlap.
- * Both build their rays with ray_of and test a candidate point with blocked_at. */
+ * step is three multiply-adds and one division. Tracing and the block each have two forms with
+ * the same bits: a reference for one texel (trace_ray, one ray at a time, and block_visibility,
+ * which sl_reflection_texel runs; tests/unit/test_reflection.c holds the frame to them), and the
+ * frame's. march_span steps the rays of a run of a row's texels together, a lane a ray: a ray's
+ * cost is the latency of its reads of the depth plane at points strewn over the image, one after
+ * the other, and a span's lanes issue theirs side by side, so the reads overlap. block_row tests
+ * one block member for a whole row at a time, a vector loop. Both tracing forms build their rays
+ * with ray_of and test a candidate point with blocked_at. */
 #include "reflection.h"
 
 #include <math.h>
@@ -40,6 +42,7 @@ typedef struct {
     int width, height;
     const float *depth;           /* each texel's view depth, +inf for an empty one (nothing there blocks) */
     const surface_plane *planes;  /* each texel's tangent plane */
+    const float *px, *py, *pz;    /* each texel's position (the frame's block pass; NULL in the reference) */
     /* the ring's turns: the cosine and sine of ring ray k's phase about R, k = 1 .. 4 */
     float turn_cos[SL_REFLECTION_RAYS], turn_sin[SL_REFLECTION_RAYS];
 } reflection_frame;
@@ -53,8 +56,10 @@ static surface_plane plane_of(const sl_gbuffer_texel *t, const sl_gtao_view *vie
     return (surface_plane){N.x, N.y, N.z, dot(N, t->position)};
 }
 
+/* Each texel's tangent plane and view depth, rows y0 .. y1 - 1; with `position` not NULL its
+ * position too, one plane a coordinate (position[0 .. 2]). */
 static void planes_of_rows(const sl_gbuffer *gb, const sl_gtao_view *view, surface_plane *planes, float *depth,
-                           int y0, int y1)
+                           float *const *position, int y0, int y1)
 {
     for (int y = y0; y < y1; y++)
         for (int x = 0; x < gb->width; x++) {
@@ -65,6 +70,11 @@ static void planes_of_rows(const sl_gbuffer *gb, const sl_gtao_view *view, surfa
             } else {
                 planes[i] = (surface_plane){0.0f, 0.0f, 0.0f, 0.0f};
                 depth[i] = INFINITY;
+            }
+            if (position) {
+                position[0][i] = t->position.x;
+                position[1][i] = t->position.y;
+                position[2][i] = t->position.z;
             }
         }
 }
@@ -310,13 +320,11 @@ const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2] = {{0, 0},  {1, 0}
                                                                   {1, 1},  {-1, 1}, {1, -1}, {-1, -1}};
 
 /* The visibility of covered texel (x, y) from the rays of its block (itself and the eight
- * neighbours that are the same surface), each read from `ray_plane` (the frame's plane of them)
- * or, when that is NULL, traced here, and how many rays it took (1 .. SL_REFLECTION_BLOCK); each
- * member's ray and whether it counted go to `rays` and `used` when not NULL, in the order of
- * sl_reflection_block_offsets. */
+ * neighbours that are the same surface), each traced here, and how many rays it took (1 ..
+ * SL_REFLECTION_BLOCK); each member's ray and whether it counted go to `rays` and `used` when not
+ * NULL, in the order of sl_reflection_block_offsets. The reference; block_row is the frame's. */
 /* GLSL: reflection_visibility */
-static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int x, int y,
-                             float *rays, int *used)
+static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, int x, int y, float *rays, int *used)
 {
     const size_t p = (size_t)y * (size_t)f->width + (size_t)x;
     float sum = 0.0f;
@@ -326,7 +334,7 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, co
         bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
         size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
-        float ray = !take ? 1.0f : ray_plane ? ray_plane[q] : texel_ray(f, gb, q, ray_index(qx, qy));
+        float ray = take ? texel_ray(f, gb, q, ray_index(qx, qy)) : 1.0f;
         take = take && ray >= 0.0f; /* not SL_REFLECTION_BELOW */
         if (rays)
             rays[m] = ray;
@@ -336,6 +344,49 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, co
         count += take;
     }
     return count > 0 ? vec2(sum / (float)count, count) : vec2(1.0f, 0.0f);
+}
+
+/* block_visibility of every texel of row y (vec2(1, 0) for an empty one) into `out`, from the
+ * frame's plane of rays: the frame's form, the same bits (a sum of rays that are 0 or 1 is exact
+ * in any order). One loop a block member along the row, each texel's plane beside its member's
+ * position, normal and ray, so that every member's test of the same surface runs as a vector
+ * loop over the row where the reference reads nine scattered texels a texel. */
+static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int y, vec2 *out)
+{
+    const int w = f->width;
+    const size_t row = (size_t)y * (size_t)w;
+    const surface_plane *a = f->planes + row;
+    const float *za = f->depth + row;
+#pragma omp simd
+    for (int x = 0; x < w; x++) { /* the texel itself, if its ray is not below its surface */
+        float ray = ray_plane[row + (size_t)x];
+        int take = ray >= 0.0f;
+        out[x] = vec2(take ? ray : 0.0f, (float)take);
+    }
+    for (int m = 1; m < SL_REFLECTION_BLOCK; m++) {
+        const int dx = sl_reflection_block_offsets[m][0], qy = y + sl_reflection_block_offsets[m][1];
+        if (qy < 0 || qy >= f->height)
+            continue;
+        const size_t qrow = (size_t)qy * (size_t)w;
+        const int x0 = dx < 0 ? -dx : 0, x1 = dx > 0 ? w - dx : w;
+#pragma omp simd
+        for (int x = x0; x < x1; x++) {
+            const size_t q = qrow + (size_t)(x + dx);
+            const surface_plane *b = &f->planes[q];
+            /* same_surface's expressions, term by term */
+            float off = a[x].nx * f->px[q] + a[x].ny * f->py[q] + a[x].nz * f->pz[q] - a[x].d;
+            float cosn = a[x].nx * b->nx + a[x].ny * b->ny + a[x].nz * b->nz;
+            float ray = ray_plane[q];
+            int take = (f->depth[q] < INFINITY) & (fabsf(off) < SL_REFLECTION_SAME_DEPTH * za[x]) &
+                       (cosn > SL_REFLECTION_SAME_NORMAL) & (ray >= 0.0f);
+            out[x].x += take ? ray : 0.0f;
+            out[x].y += (float)take;
+        }
+    }
+    for (int x = 0; x < w; x++) {
+        bool counted = sl_gbuffer_covered(&gb->texels[row + (size_t)x]) && out[x].y > 0.0f;
+        out[x] = counted ? vec2(out[x].x / out[x].y, out[x].y) : vec2(1.0f, 0.0f);
+    }
 }
 
 /* The ring rays' turns about R: ray k's phase 2 pi (k - 1) / 4 as its cosine and sine (ray 0,
@@ -364,6 +415,7 @@ static reflection_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, flo
     f.height = gb->height;
     f.planes = NULL;
     f.depth = NULL;
+    f.px = f.py = f.pz = NULL;
     ring_turns(f.turn_cos, f.turn_sin);
     return f;
 }
@@ -378,24 +430,32 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
     float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane); /* each texel's own ray */
     float *depth = malloc((n ? n : 1) * sizeof *depth);
+    float *position[3]; /* x, y and z of each texel's position: the block pass reads them */
+    for (int c = 0; c < 3; c++)
+        position[c] = malloc((n ? n : 1) * sizeof *position[c]);
     if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
-    if (!planes || !ray_plane || !depth || !gb->reflection) {
+    if (!planes || !ray_plane || !depth || !position[0] || !position[1] || !position[2] || !gb->reflection) {
         free(planes);
         free(ray_plane);
         free(depth);
+        for (int c = 0; c < 3; c++)
+            free(position[c]);
         return sl_fail(err, SL_ERR_MEMORY, "reflection occlusion: out of memory for %dx%d", width, height);
     }
     reflection_frame f = frame_of(gb, cam, distance);
     f.planes = planes;
     f.depth = depth;
+    f.px = position[0];
+    f.py = position[1];
+    f.pz = position[2];
     /* dynamic chunks: a row's cost follows what it covers, and a descheduled thread holds up
      * the barrier for one chunk at most */
 #pragma omp parallel num_threads(sl_threads(threads))
     {
 #pragma omp for schedule(dynamic, 8)
         for (int y = 0; y < height; y++)
-            planes_of_rows(gb, &f.view, planes, depth, y, y + 1);
+            planes_of_rows(gb, &f.view, planes, depth, position, y, y + 1);
         ring_cache ring = {0, false, {1.0f, 0.0f}};
 #pragma omp for schedule(dynamic, 2)
         for (int y = 0; y < height; y++)
@@ -403,16 +463,13 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
                 march_span(&f, gb, &ring, ray_plane, y, x, x + MARCH_SPAN < width ? x + MARCH_SPAN : width);
 #pragma omp for schedule(dynamic, 8)
         for (int y = 0; y < height; y++)
-            for (int x = 0; x < width; x++) {
-                size_t i = (size_t)y * (size_t)width + (size_t)x;
-                bool covered = sl_gbuffer_covered(&gb->texels[i]);
-                gb->reflection[i] =
-                    covered ? block_visibility(&f, gb, ray_plane, x, y, NULL, NULL) : vec2(1.0f, 0.0f);
-            }
+            block_row(&f, gb, ray_plane, y, gb->reflection + (size_t)y * (size_t)width);
     }
     free(planes);
     free(ray_plane);
     free(depth);
+    for (int c = 0; c < 3; c++)
+        free(position[c]);
     return true;
 }
 
@@ -430,10 +487,10 @@ vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float dista
     reflection_frame f = frame_of(gb, cam, distance);
     f.planes = planes;
     f.depth = depth;
-    planes_of_rows(gb, &f.view, planes, depth, 0, gb->height);
+    planes_of_rows(gb, &f.view, planes, depth, NULL, 0, gb->height);
     vec2 v = vec2(1.0f, 0.0f);
     if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
-        v = block_visibility(&f, gb, NULL, x, y, rays, used);
+        v = block_visibility(&f, gb, x, y, rays, used);
     } else {
         for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
             if (rays)
