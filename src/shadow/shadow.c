@@ -362,23 +362,29 @@ float sl_shadow_point_visibility(const sl_shadow_maps *m, int i, vec3 P, vec3 N)
     /* a 3-texel box of bilinear comparisons: texels fx-1 .. fx+2 weighted (1-t, 1, 1, t) / 3 */
     const float wx[4] = {(1.0f - tx) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, tx / 3.0f};
     const float wy[4] = {(1.0f - ty) / 3.0f, 1.0f / 3.0f, 1.0f / 3.0f, ty / 3.0f};
-    int last = m->side - 1;
+    const int last = m->side - 1;
     const float *depth = c->depth[f];
-    /* the guard band keeps the block inside the face but at the very edge of a face's frustum */
-    bool inside = x0 >= 0 && y0 >= 0 && x0 + 3 <= last && y0 + 3 <= last;
+    /* each column's and row's clamped index and share of N.(ray) once (the guard band keeps the
+     * block inside the face, so the clamp bites only at the very edge of a face's frustum) */
+    int xs[4], ys[4];
+    float nx[4], ny[4];
+    for (int a = 0; a < 4; a++) {
+        xs[a] = x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
+        ys[a] = y0 + a < 0 ? 0 : y0 + a > last ? last : y0 + a;
+        nx[a] = nr * (cx0 + (float)a * step);
+        ny[a] = na + nu * (cy0 + (float)a * step);
+    }
+    const float scale_rel = 1.0f + SHADOW_DEPTH_REL;
     float vis = 0.0f;
     for (int b = 0; b < 4; b++) {
-        int y = inside ? y0 + b : y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
-        const float *row = depth + (size_t)y * (size_t)m->side;
-        float ny = na + nu * (cy0 + (float)b * step);
+        const float *row = depth + (size_t)ys[b] * (size_t)m->side;
         float rv = 0.0f;
         for (int a = 0; a < 4; a++) {
-            int x = inside ? x0 + a : x0 + a < 0 ? 0 : x0 + a > last ? last : x0 + a;
-            float nd = ny + nr * (cx0 + (float)a * step);
+            float nd = ny[b] + nx[a];
             /* open when the stored depth, less the bias, is beyond the receiver plane's depth
              * nq / nd along the tap's ray, multiplied out by nd < 0 (no division; an empty
              * texel's +inf gives -inf); a ray that never meets the plane (its horizon) is open */
-            bool open = nd > -1e-6f || (row[x] * (1.0f + SHADOW_DEPTH_REL) + bias) * nd <= nq;
+            int open = (nd > -1e-6f) | ((row[xs[a]] * scale_rel + bias) * nd <= nq);
             rv += open ? wx[a] : 0.0f;
         }
         vis += rv * wy[b];
