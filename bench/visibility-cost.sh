@@ -13,7 +13,7 @@
 #   bash bench/visibility-cost.sh [BUILD_DIR] [ROUNDS] [SIZE] [SCENE.json ...]
 #   defaults: build 9 1280x720 and every shipped scene; scene files given replace the shipped ones
 #
-# Prints two markdown tables. About 10 minutes with 9 rounds for the shipped scenes.
+# Prints two markdown tables. About 13 minutes with 9 rounds for the shipped scenes.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/cpu_frame.bash
