@@ -197,7 +197,8 @@ typedef struct {
 } shade_surface;
 
 /* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's
- * visibility (sl_shade_env_light_visibility; 0 past the count), and the batched path's specular
+ * visibility (sl_shade_env_light_visibility; 0 past the count up to the count rounded up to 16,
+ * as far as the batched loops read, and unset beyond), and the batched path's specular
  * sum over the lights, each times its visibility; with `diffuse_given` the batched path has also
  * taken the lights' part out of the E it passes and summed their diffuse times the visibility
  * (`diffuse`), which sl_shade_surface_color then adds instead of summing it again. */
