@@ -52,12 +52,11 @@ static int nearest_site(const vec3 *dirs, int count, vec3 w)
     }
     int best = first;
     float best_dot = -2.0f;
-    for (int k = first; k < last; k++) {
+    for (int k = first; k < last; k++) { /* selects, not a branch: which site wins is data */
         float d = dot(w, dirs[k]);
-        if (d > best_dot) {
-            best_dot = d;
-            best = k;
-        }
+        bool nearer = d > best_dot;
+        best = nearer ? k : best;
+        best_dot = nearer ? d : best_dot;
     }
     return best;
 }
