@@ -8,11 +8,16 @@ the specular estimators (bench/mis-front.sh's front, bench/adaptive-samples.sh):
   night.pfm    four lamps of 0.18 degrees in radius (2e3 .. 1e4) in a faint sky
   horizon.pfm  a sun of 1e5 two degrees above the horizon in a warm sky
 and, for each, ggx-NAME.json, default-NAME.json and grazing-NAME.json: those shipped scenes with
-the environment replaced (intensity 1, no rotation). Run from the repository's root.
+the environment replaced (intensity 1, no rotation; each scene names its environment by its file
+name, so DIR can move).
 """
 import json, math, os, struct, sys
 W, H = 1024, 512
+if len(sys.argv) != 2:
+    print("usage: check_environments.py DIR", file=sys.stderr)
+    sys.exit(2)
 out = sys.argv[1]
+scenes = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes")
 os.makedirs(out, exist_ok=True)
 def direction(i, j):
     phi, th = 2 * math.pi * (0.5 - (i + 0.5) / W), math.pi * (j + 0.5) / H
@@ -54,6 +59,6 @@ def horizon(d):  # a sun of 1e5 two degrees above the horizon, a warm sky
 for name, f in (("sun", sunny), ("night", night), ("horizon", horizon)):
     write(name, f)
     for base in ("ggx", "default", "grazing"):
-        s = json.load(open("scenes/%s.json" % base))
+        s = json.load(open(os.path.join(scenes, base + ".json")))
         s["environment"] = {"hdr": name + ".pfm", "intensity": 1, "rotation": 0}
         json.dump(s, open(os.path.join(out, "%s-%s.json" % (base, name)), "w"))
