@@ -1023,9 +1023,9 @@ void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N
     for (int k = 0; k < m->count; k++)
         map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
     _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
-    const int read = (u->uEnvLightCount + 15) & ~15;
+    const int lights_read = (u->uEnvLightCount + 15) & ~15;
 #pragma omp simd
-    for (int j = 0; j < read; j++) {
+    for (int j = 0; j < lights_read; j++) {
         int k = u->envLightVisSlot[j];
         float v = k == SL_SHADOW_SUN_MAX ? 1.0f : 0.0f;
         v = k == 0 ? map_vis[0] : v;
