@@ -1017,15 +1017,15 @@ void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N
     /* env_light_visibility's values, each light's picked by its slot (envLightVisSlot) in one
      * vector loop of compares and selects (a gather from the slots is slower) instead of a branch
      * a light: a light past the count is 0, one no map covers 1. Only as far as the batched
-     * loops read: the count rounded up to 16 (env_lights_samples), not all SL_ENV_LIGHTS_MAX. */
+     * loops read (shade_env_light_lanes), not all SL_ENV_LIGHTS_MAX. */
     const sl_shadow_suns *m = u->envShadowMaps;
     float map_vis[SL_SHADOW_SUN_MAX] = {0.0f};
     for (int k = 0; k < m->count; k++)
         map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
     _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
-    const int lights_read = (u->uEnvLightCount + 15) & ~15;
+    const int lanes = shade_env_light_lanes(u);
 #pragma omp simd
-    for (int j = 0; j < lights_read; j++) {
+    for (int j = 0; j < lanes; j++) {
         int k = u->envLightVisSlot[j];
         float v = k == SL_SHADOW_SUN_MAX ? 1.0f : 0.0f;
         v = k == 0 ? map_vis[0] : v;

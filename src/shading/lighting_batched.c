@@ -1136,7 +1136,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
 static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
                                    const float *vis)
 {
-    const int n = (u->uEnvLightCount + 15) & ~15; /* zero lights add exactly 0 (below) */
+    const int n = shade_env_light_lanes(u); /* zero lights add exactly 0 (below) */
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const float a2 = sl_ggx_a2(alpha), NdotV = dot(N, V);
@@ -1172,10 +1172,7 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
 {
     if (sl_lobe_is_ggx(alpha))
         return env_lights_samples_ggx(u, N, V, Ks, alpha, vis);
-    /* Whole vectors: the arrays are zero past uEnvLightCount (a zero direction and radiance add
-     * exactly 0), so rounding the count up to 16 keeps a small K off the scalar remainder loop,
-     * which made K = 8 cost as much as K = 24. */
-    const int n = (u->uEnvLightCount + 15) & ~15;
+    const int n = shade_env_light_lanes(u); /* whole vectors */
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;

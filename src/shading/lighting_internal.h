@@ -159,6 +159,10 @@ vec3 sl_shade_specular_splitsum(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod);
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N);
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha);
+/* The env lights the batched loops run over: the count rounded up to whole vectors of 16. The
+ * uniforms' light arrays are zero past the count (a zero direction and radiance add exactly 0),
+ * and a small K stays off the scalar remainder loop, which made K = 8 cost as much as K = 24. */
+static inline int shade_env_light_lanes(const sl_lighting_uniforms *u) { return (u->uEnvLightCount + 15) & ~15; }
 /* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
@@ -197,8 +201,8 @@ typedef struct {
 } shade_surface;
 
 /* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's
- * visibility (sl_shade_env_light_visibility; 0 past the count up to the count rounded up to 16,
- * as far as the batched loops read, and unset beyond), and the batched path's specular
+ * visibility (sl_shade_env_light_visibility; 0 past the count as far as the batched loops read,
+ * shade_env_light_lanes, and unset beyond), and the batched path's specular
  * sum over the lights, each times its visibility; with `diffuse_given` the batched path has also
  * taken the lights' part out of the E it passes and summed their diffuse times the visibility
  * (`diffuse`), which sl_shade_surface_color then adds instead of summing it again. */
