@@ -48,8 +48,9 @@ def main():
         k, path = arg.split("=", 1)
         renders[int(k)] = rgb(path)[0]
     ladder = sorted(renders)
-    if BUDGET not in renders or 4 not in renders or 32 not in renders:
-        sys.exit("adaptive_samples.py: the ladder needs N = 4, 16 and 32")
+    needed = sorted({4, BUDGET} | {k for split in SPLITS for _, k in split})  # the look's, the budget's, the splits'
+    if any(k not in renders for k in needed):
+        sys.exit("adaptive_samples.py: the ladder needs N = " + ", ".join(str(k) for k in needed))
     pixels = [i for i in range(n) if mask[3 * i] > 0]
     codes = {k: [[code(v[3 * i + c]) for c in range(3)] for i in pixels] for k, v in renders.items()}
     tcodes = [[code(truth[3 * i + c]) for c in range(3)] for i in pixels]

@@ -129,11 +129,13 @@ int main(int argc, char **argv)
             fputs(usage, stderr);
             return 2;
         } else {
-            if (scenes == 0)
-                printf("| scene, %dx%d | CPU s a frame, --env-lights 32 | with --shadows --ao-radius 1 --sky-maps 32 "
-                       "--reflection-occlusion 5 | the set's share of the frame | the rounds' shares, lowest to highest "
-                       "|\n|---|---:|---:|---:|---:|\n",
-                       w, h);
+            if (scenes == 0) {
+                printf("| scene, %dx%d | CPU s a frame, --env-lights 32 | with", w, h);
+                for (int s = SHADOWS; s < WITH; s++)
+                    printf(" %s", method_names[s]);
+                printf(" | the set's share of the frame | the rounds' shares, lowest to highest |\n"
+                       "|---|---:|---:|---:|---:|\n");
+            }
             rows[scenes][0] = '\0';
             status |= bench_scene(argv[i], w, h, rounds, each, rows[scenes], ROW);
             scenes++;
