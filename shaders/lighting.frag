@@ -676,7 +676,8 @@ vec3 facing_normal(vec3 N, vec3 V)
 // for step): the share of the lobe's rays that leave the scene, traced against the G-buffer. A
 // texel traces one of five rays, (x + 2 y) mod 5: ray 0 along R, rays 1 .. 4 on a ring at
 // REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its 3x3 block (itself
-// and the neighbours on the same surface; a ray below its surface is not counted). Each ray
+// and the neighbours on the same surface; a ray below its surface is not counted), each weighted
+// by its cosine to the normal. Each ray
 // takes REFLECTION_STEPS points t = D (k / steps)^2 and is blocked at the first behind a texel's
 // tangent plane and within a thickness of it.
 const int REFLECTION_RAYS = 5;
@@ -687,6 +688,7 @@ const float REFLECTION_RING = 0.5;
 const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
 const float REFLECTION_PLANE_EPS = 0.003;
+const float REFLECTION_MIN_COSINE = 1e-6; // a ray's least weight (R at a silhouette)
 const float REFLECTION_SAME_DEPTH = 0.02;
 const float REFLECTION_SAME_NORMAL = 0.998;
 
@@ -739,8 +741,9 @@ float reflection_trace_ray(vec3 P, vec3 R)
     return 1.0;
 }
 
-// Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface.
-float reflection_ray(ivec2 q, int k)
+// Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface; its weight
+// in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE).
+float reflection_ray(ivec2 q, int k, out float weight)
 {
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
     vec3 V = normalize(uEye - Pq);
@@ -748,8 +751,10 @@ float reflection_ray(ivec2 q, int k)
     vec3 R = N * (2.0 * dot(N, V)) - V;
     float depth = dot(Pq - uEye, uViewForward);
     vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
-    if (k == 0)
+    if (k == 0) {
+        weight = max(dot(R, N), REFLECTION_MIN_COSINE);
         return reflection_trace_ray(P, R);
+    }
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
     vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
@@ -757,13 +762,14 @@ float reflection_ray(ivec2 q, int k)
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
     vec3 side = T * cos(phase) + B * sin(phase);
     vec3 Rk = R * cos(ring) + side * sin(ring);
+    weight = max(dot(Rk, N), REFLECTION_MIN_COSINE);
     return dot(Rk, N) > 0.0 ? reflection_trace_ray(P, Rk) : REFLECTION_BELOW; // not counted
 }
 
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,
-// x - 1, y + 1, y - 1, then the corners), a neighbour counted where it is the same surface (near
-// the pixel's tangent plane, its normal within a few degrees: its ray then stands for the
-// pixel's); and in y how many rays it is over.
+// x - 1, y + 1, y - 1, then the corners), each weighted by its cosine, a neighbour counted where
+// it is the same surface (near the pixel's tangent plane, its normal within a few degrees: its ray
+// then stands for the pixel's); and in y how many rays it is over.
 vec2 reflection_visibility(ivec2 pixel)
 {
     const ivec2 offsets[REFLECTION_BLOCK] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
@@ -774,7 +780,7 @@ vec2 reflection_visibility(ivec2 pixel)
     reflection_surface(pixel, Pp, Np, zp);
     float dp = dot(Np, Pp);
     ivec2 size = ivec2(uViewport);
-    float sum = 0.0;
+    float open = 0.0, total = 0.0; // the counted rays' weights: the open ones', all
     int count = 0;
     for (int m = 0; m < REFLECTION_BLOCK; m++) {
         ivec2 q = pixel + offsets[m];
@@ -789,13 +795,15 @@ vec2 reflection_visibility(ivec2 pixel)
             if (!(abs(off) < REFLECTION_SAME_DEPTH * zp && dot(Np, Nq) > REFLECTION_SAME_NORMAL))
                 continue;
         }
-        float ray = reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS);
+        float weight;
+        float ray = reflection_ray(q, (q.x + 2 * q.y) % REFLECTION_RAYS, weight);
         if (ray < 0.0)
             continue; // below its surface
-        sum += ray;
+        open += ray * weight;
+        total += weight;
         count++;
     }
-    return count > 0 ? vec2(sum / float(count), float(count)) : vec2(1.0, 0.0);
+    return count > 0 ? vec2(open / total, float(count)) : vec2(1.0, 0.0);
 }
 
 // The specular's factor with the cone's (`capped`) and the rays' (`reflection`: visibility,

@@ -90,7 +90,8 @@ int cmd_trace(int argc, char **argv)
     if (r.gbuffer.reflection && trace->covered && !trace->program) { /* the rays the plane's value came from */
         trace->reflection = true;
         vec2 plane = sl_reflection_texel(&r.gbuffer, &scene.camera, r.desc.options.reflection_occlusion, pixel[0],
-                                         gb_y, trace->reflection_rays, trace->reflection_used);
+                                         gb_y, trace->reflection_rays, trace->reflection_weights,
+                                         trace->reflection_used);
         trace->reflection_visibility = plane.x;
         trace->reflection_count = (int)plane.y;
     }

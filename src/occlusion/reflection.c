@@ -4,9 +4,11 @@
  * plane of its own (every step reads it), beside it its tangent plane as the camera sees it (the
  * facing normal and its offset, 16 bytes) and its position, a plane a coordinate (the block's
  * test of the same surface reads them); then traces each texel's ray, rows over threads, into a
- * plane of one float a texel; then averages each texel's block. 36 bytes a texel in all,
+ * plane of one float a texel, its weight into another; then averages each texel's block, the
+ * weights' sum in a plane of its own. 44 bytes a texel in all,
  * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
- * step is three multiply-adds and one division. Tracing and the block each have two forms with
+ * step is three multiply-adds and one division. Each ray weighs its cosine to the normal in the
+ * block's share, in a plane beside the rays'. Tracing and the block each have two forms with
  * the same bits: a reference for one texel (trace_ray, one ray at a time, and block_visibility,
  * which sl_reflection_texel runs; tests/unit/test_reflection.c holds the frame to them), and the
  * frame's. march_span steps the rays of a run of a row's texels together, a lane a ray: a ray's
@@ -177,12 +179,13 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
 }
 
 /* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
- * angle for the texel's alpha; reflection.h): its start P and unit direction. False for a ring
+ * angle for the texel's alpha; reflection.h): its start P, unit direction and weight in the
+ * block's share (its cosine to the normal, at least SL_REFLECTION_MIN_COSINE). False for a ring
  * ray below the surface, which is not traced and not counted. The facing normal and the view
  * depth are the texel's plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
 static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring, vec3 *P,
-                   vec3 *direction)
+                   vec3 *direction, float *weight)
 {
     const sl_gbuffer_texel *t = &gb->texels[i];
     const surface_plane *plane = &f->planes[i];
@@ -192,6 +195,7 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
     *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * f->depth[i]));
     if (k == 0) {
         *direction = R;
+        *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
         return true;
     }
     vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
@@ -199,22 +203,23 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
     vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
     vec3 Rk = add(scale(R, ring.cos), scale(side, ring.sin));
     *direction = Rk;
+    *weight = maxf(dot(Rk, N), SL_REFLECTION_MIN_COSINE);
     return dot(Rk, N) > 0.0f;
 }
 
 /* Whether ray k of covered texel i is open (1) or blocked (0), or SL_REFLECTION_BELOW, traced
- * alone: the reference. */
-static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k)
+ * alone, and its weight: the reference. */
+static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, float *weight)
 {
     vec3 P, R;
-    if (!ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R))
+    if (!ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R, weight))
         return SL_REFLECTION_BELOW;
     return trace_ray(f, P, R);
 }
 
 /* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
  * ray_plane (1 for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the same
- * bits. Each covered texel's ray (ray_of) that has something to trace takes a lane: its start,
+ * bits, and each ray's weight into weight_plane (0 where none is traced). Each covered texel's ray (ray_of) that has something to trace takes a lane: its start,
  * direction and view_ray, structure-of-arrays. Then all lanes take step k together: one loop over
  * the lanes projects each one's point and reads the depth under it, with no branch on what it
  * read, so the reads of all lanes are in flight at once (trace_ray's expressions term by term; the
@@ -222,8 +227,8 @@ static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i
  * second loop settles each lane still marching: it leaves open, or, when the point is within the
  * thickness behind the depth it read, blocked_at decides. The steps stop when no lane marches. */
 enum { MARCH_SPAN = 64 };
-static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane, int y,
-                       int x0, int x1)
+static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane,
+                       float *weight_plane, int y, int x0, int x1)
 {
     enum { S = MARCH_SPAN };
     const sl_gtao_view *v = &f->view;
@@ -238,13 +243,15 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
         size_t i = (size_t)y * (size_t)f->width + (size_t)x;
         const sl_gbuffer_texel *t = &gb->texels[i];
         ray_plane[i] = 1.0f; /* open unless its march is blocked */
+        weight_plane[i] = 0.0f;
         if (!sl_gbuffer_covered(t))
             continue;
         int k = ray_index(x, y);
         ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
         vec3 P, R;
-        if (!ray_of(f, gb, i, k, angle, &P, &R)) {
+        if (!ray_of(f, gb, i, k, angle, &P, &R, &weight_plane[i])) {
             ray_plane[i] = SL_REFLECTION_BELOW;
+            weight_plane[i] = 0.0f;
             continue;
         }
         view_ray r = view_ray_of(v, P, R);
@@ -321,37 +328,45 @@ const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2] = {{0, 0},  {1, 0}
 
 /* The visibility of covered texel (x, y) from the rays of its block (itself and the eight
  * neighbours that are the same surface), each traced here, and how many rays it took (1 ..
- * SL_REFLECTION_BLOCK); each member's ray and whether it counted go to `rays` and `used` when not
- * NULL, in the order of sl_reflection_block_offsets. The reference; block_row is the frame's. */
+ * SL_REFLECTION_BLOCK); each member's ray, its weight and whether it counted go to `rays`,
+ * `weights` and `used` when not NULL, in the order of sl_reflection_block_offsets. The
+ * reference; block_row is the frame's. */
 /* GLSL: reflection_visibility */
-static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, int x, int y, float *rays, int *used)
+static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, int x, int y, float *rays,
+                             float *weights, int *used)
 {
     const size_t p = (size_t)y * (size_t)f->width + (size_t)x;
-    float sum = 0.0f;
+    float open = 0.0f, total = 0.0f; /* the counted rays' weights: the open ones', all */
     int count = 0;
     for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
         int qx = x + sl_reflection_block_offsets[m][0], qy = y + sl_reflection_block_offsets[m][1];
         bool inside = qx >= 0 && qy >= 0 && qx < f->width && qy < f->height;
         size_t q = inside ? (size_t)qy * (size_t)f->width + (size_t)qx : 0;
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
-        float ray = take ? texel_ray(f, gb, q, ray_index(qx, qy)) : 1.0f;
+        float weight = 0.0f;
+        float ray = take ? texel_ray(f, gb, q, ray_index(qx, qy), &weight) : 1.0f;
         take = take && ray >= 0.0f; /* not SL_REFLECTION_BELOW */
         if (rays)
             rays[m] = ray;
+        if (weights)
+            weights[m] = take ? weight : 0.0f;
         if (used)
             used[m] = take;
-        sum += take ? ray : 0.0f;
+        open += take ? ray * weight : 0.0f;
+        total += take ? weight : 0.0f;
         count += take;
     }
-    return count > 0 ? vec2(sum / (float)count, count) : vec2(1.0f, 0.0f);
+    return count > 0 ? vec2(open / total, count) : vec2(1.0f, 0.0f);
 }
 
 /* block_visibility of every texel of row y (vec2(1, 0) for an empty one) into `out`, from the
- * frame's plane of rays: the frame's form, the same bits (a sum of rays that are 0 or 1 is exact
- * in any order). One loop a block member along the row, each texel's plane beside its member's
- * position, normal and ray, so that every member's test of the same surface runs as a vector
- * loop over the row where the reference reads nine scattered texels a texel. */
-static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane, int y, vec2 *out)
+ * frame's planes of rays and weights, `total` the row's scratch for the weights' sums: the frame's
+ * form, the same bits (each texel's sums add the members in the reference's order). One loop a
+ * block member along the row, each texel's plane beside its member's position, normal and ray,
+ * so that every member's test of the same surface runs as a vector loop over the row where the
+ * reference reads nine scattered texels a texel. */
+static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane,
+                      const float *weight_plane, int y, vec2 *out, float *total)
 {
     const int w = f->width;
     const size_t row = (size_t)y * (size_t)w;
@@ -359,9 +374,10 @@ static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const flo
     const float *za = f->depth + row;
 #pragma omp simd
     for (int x = 0; x < w; x++) { /* the texel itself, if its ray is not below its surface */
-        float ray = ray_plane[row + (size_t)x];
+        float ray = ray_plane[row + (size_t)x], weight = weight_plane[row + (size_t)x];
         int take = ray >= 0.0f;
-        out[x] = vec2(take ? ray : 0.0f, (float)take);
+        out[x] = vec2(take ? ray * weight : 0.0f, (float)take);
+        total[x] = take ? weight : 0.0f;
     }
     for (int m = 1; m < SL_REFLECTION_BLOCK; m++) {
         const int dx = sl_reflection_block_offsets[m][0], qy = y + sl_reflection_block_offsets[m][1];
@@ -376,16 +392,17 @@ static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const flo
             /* same_surface's expressions, term by term */
             float off = a[x].nx * f->px[q] + a[x].ny * f->py[q] + a[x].nz * f->pz[q] - a[x].d;
             float cosn = a[x].nx * b->nx + a[x].ny * b->ny + a[x].nz * b->nz;
-            float ray = ray_plane[q];
+            float ray = ray_plane[q], weight = weight_plane[q];
             int take = (f->depth[q] < INFINITY) & (fabsf(off) < SL_REFLECTION_SAME_DEPTH * za[x]) &
                        (cosn > SL_REFLECTION_SAME_NORMAL) & (ray >= 0.0f);
-            out[x].x += take ? ray : 0.0f;
+            out[x].x += take ? ray * weight : 0.0f;
             out[x].y += (float)take;
+            total[x] += take ? weight : 0.0f;
         }
     }
     for (int x = 0; x < w; x++) {
         bool counted = sl_gbuffer_covered(&gb->texels[row + (size_t)x]) && out[x].y > 0.0f;
-        out[x] = counted ? vec2(out[x].x / out[x].y, out[x].y) : vec2(1.0f, 0.0f);
+        out[x] = counted ? vec2(out[x].x / total[x], out[x].y) : vec2(1.0f, 0.0f);
     }
 }
 
@@ -428,16 +445,21 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     const int width = gb->width, height = gb->height;
     size_t n = (size_t)width * (size_t)height;
     surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
-    float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane); /* each texel's own ray */
+    float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane);       /* each texel's own ray */
+    float *weight_plane = malloc((n ? n : 1) * sizeof *weight_plane); /* ... and its weight */
+    float *weight_sum = malloc((n ? n : 1) * sizeof *weight_sum);     /* each block's weights' sum */
     float *depth = malloc((n ? n : 1) * sizeof *depth);
     float *position[3]; /* x, y and z of each texel's position: the block pass reads them */
     for (int c = 0; c < 3; c++)
         position[c] = malloc((n ? n : 1) * sizeof *position[c]);
     if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
-    if (!planes || !ray_plane || !depth || !position[0] || !position[1] || !position[2] || !gb->reflection) {
+    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth || !position[0] || !position[1] ||
+        !position[2] || !gb->reflection) {
         free(planes);
         free(ray_plane);
+        free(weight_plane);
+        free(weight_sum);
         free(depth);
         for (int c = 0; c < 3; c++)
             free(position[c]);
@@ -460,13 +482,17 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
 #pragma omp for schedule(dynamic, 2)
         for (int y = 0; y < height; y++)
             for (int x = 0; x < width; x += MARCH_SPAN)
-                march_span(&f, gb, &ring, ray_plane, y, x, x + MARCH_SPAN < width ? x + MARCH_SPAN : width);
+                march_span(&f, gb, &ring, ray_plane, weight_plane, y, x,
+                           x + MARCH_SPAN < width ? x + MARCH_SPAN : width);
 #pragma omp for schedule(dynamic, 8)
         for (int y = 0; y < height; y++)
-            block_row(&f, gb, ray_plane, y, gb->reflection + (size_t)y * (size_t)width);
+            block_row(&f, gb, ray_plane, weight_plane, y, gb->reflection + (size_t)y * (size_t)width,
+                      weight_sum + (size_t)y * (size_t)width);
     }
     free(planes);
     free(ray_plane);
+    free(weight_plane);
+    free(weight_sum);
     free(depth);
     for (int c = 0; c < 3; c++)
         free(position[c]);
@@ -474,7 +500,7 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
 }
 
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
-                         int *used)
+                         float *weights, int *used)
 {
     size_t n = (size_t)gb->width * (size_t)gb->height;
     surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
@@ -490,11 +516,13 @@ vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float dista
     planes_of_rows(gb, &f.view, planes, depth, NULL, 0, gb->height);
     vec2 v = vec2(1.0f, 0.0f);
     if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
-        v = block_visibility(&f, gb, x, y, rays, used);
+        v = block_visibility(&f, gb, x, y, rays, weights, used);
     } else {
         for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
             if (rays)
                 rays[m] = 1.0f;
+            if (weights)
+                weights[m] = 0.0f;
             if (used)
                 used[m] = 0;
         }

@@ -13,7 +13,9 @@
  * ring dips under it; counted as open it would dilute the share of what is hidden). Each texel
  * (x, y) traces one of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all
  * five; its visibility is the share of open rays over its block, the texel and the eight around it
- * (SL_REFLECTION_BLOCK), counting a neighbour only where it is the same surface (near the
+ * (SL_REFLECTION_BLOCK), each ray weighted by its cosine to the texel's normal (the light along it
+ * reaches the surface by that cosine, so that a lobe's rays near the horizon, at a grazing view,
+ * count for less than those above them), counting a neighbour only where it is the same surface (near the
  * texel's tangent plane, its normal within a few degrees): one ray a texel, the five directions
  * over a block of a flat or finely drawn surface (the ring's twice, R's once), its own ray alone
  * at an edge or where the normal turns fast across a texel. The block rather than the cross of
@@ -26,8 +28,8 @@
  * thickness behind it along the view (the larger of the step and SL_REFLECTION_THICKNESS of the
  * texel's view depth: what the G-buffer cannot know, how deep the surface goes). A ray that leaves
  * the image, passes behind the camera or runs its length is open. The texel's visibility is
- * the share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 9; none, and
- * visibility 1, where every ray of the block is below its surface).
+ * the weighted share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 9;
+ * none, and visibility 1, where every ray of the block is below its surface).
  *
  * The lighting multiplies the image-based specular by it. With the ambient occlusion's cone
  * (specular_occlusion.h), both estimate the same share, and the rays' count says which to
@@ -68,6 +70,7 @@
 #define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
 #define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
 #define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
+#define SL_REFLECTION_MIN_COSINE 1e-6f /* a ray's least weight: R at a silhouette, where N.V = 0, still counts */
 /* The block's test of "the same surface": within this share of the view depth of the texel's
  * tangent plane, and normals within this cosine (3.6 degrees): a neighbour's ray stands for the
  * texel's only where their reflections are within twice that. Looser, a rounded edge lends its
@@ -116,11 +119,12 @@ extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
 
 /* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
  * rays counted), and its block's rays, in the order of sl_reflection_block_offsets: each ray 1
- * open, 0 blocked or SL_REFLECTION_BELOW (`rays`) and whether it counted (`used`: 0 for a
- * neighbour off the image or another surface, or a ray below its surface); each
- * SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0) for an empty texel
- * (nothing used). Visibility NAN when out of memory. */
+ * open, 0 blocked or SL_REFLECTION_BELOW (`rays`), its weight (`weights`: the cosine to the
+ * normal of the texel that traced it, at least SL_REFLECTION_MIN_COSINE; 0 where not counted) and
+ * whether it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below
+ * its surface); each SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0)
+ * for an empty texel (nothing used). Visibility NAN when out of memory. */
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
-                         int *used);
+                         float *weights, int *used);
 
 #endif

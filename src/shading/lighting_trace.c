@@ -277,7 +277,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
         static const char *const member[SL_REFLECTION_BLOCK] = {"texel",   "x+1",     "x-1",     "y+1",    "y-1",
                                                                  "x+1,y+1", "x-1,y+1", "x+1,y-1", "x-1,y-1"};
-        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's block, %d rays; ", "reflection",
+        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's block, each weighted by its cosine, %d rays; ",
+                "reflection",
                 (double)t->reflection_visibility, t->reflection_count);
         if (t->cone) /* sl_reflection_specular_factor's weight */
             fprintf(f, "the rays alone weigh %.6g against the smaller factor:",
@@ -286,7 +287,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, "scales the specular:");
         for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
             if (t->reflection_used[m])
-                fprintf(f, " %s %s", member[m], t->reflection_rays[m] > 0.5f ? "open" : "blocked");
+                fprintf(f, " %s %s %.3g", member[m], t->reflection_rays[m] > 0.5f ? "open" : "blocked",
+                        (double)t->reflection_weights[m]);
             else if (t->reflection_rays[m] < 0.0f)
                 fprintf(f, " %s below", member[m]);
             else

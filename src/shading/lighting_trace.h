@@ -110,6 +110,7 @@ struct sl_lighting_trace {
     float reflection_rays[SL_REFLECTION_BLOCK]; /* ... its block's rays (the texel, x + 1, x - 1, y + 1,
                                 y - 1, then the corners): 1 open, 0 blocked, SL_REFLECTION_BELOW below
                                 its surface (src/occlusion/reflection.h) */
+    float reflection_weights[SL_REFLECTION_BLOCK]; /* ... each counted ray's weight, its cosine */
     int reflection_used[SL_REFLECTION_BLOCK]; /* ... whether each counted (the same surface) */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */

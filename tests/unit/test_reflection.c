@@ -217,26 +217,38 @@ static void test_rough_beside_wall(void **state)
 
 /* The frame's value of (x, y) against the reference's, bit for bit (visibility and rays); the
  * reference's `used`: the texel itself when covered and its ray above its surface, no member
- * below its surface or off the image, as many as the rays counted. Returns the visibility. */
+ * below its surface or off the image, as many as the rays counted; its visibility the counted
+ * rays' share weighted by their cosines, each in [SL_REFLECTION_MIN_COSINE, 1] (0 where not
+ * counted). Returns the visibility. */
 static float check_texel(const sl_gbuffer *gb, const sl_camera *cam, int x, int y, int *below_rays)
 {
     const int w = gb->width, h = gb->height;
-    float rays[SL_REFLECTION_BLOCK];
+    float rays[SL_REFLECTION_BLOCK], weights[SL_REFLECTION_BLOCK];
     int used[SL_REFLECTION_BLOCK];
-    vec2 want = sl_reflection_texel(gb, cam, DIST, x, y, rays, used), got = gb->reflection[y * w + x];
+    vec2 want = sl_reflection_texel(gb, cam, DIST, x, y, rays, weights, used), got = gb->reflection[y * w + x];
     if (memcmp(&want, &got, sizeof want) != 0)
         fail_msg("texel (%d, %d): frame (%.9g, %g), texel (%.9g, %g)", x, y, (double)got.x, (double)got.y,
                  (double)want.x, (double)want.y);
     assert_int_equal(used[0], sl_gbuffer_covered(sl_gbuffer_at(gb, x, y)) && rays[0] >= 0.0f);
     int counted = 0, below = 0;
+    float open = 0.0f, total = 0.0f;
     for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
         counted += used[m];
+        if (used[m]) {
+            assert_true(weights[m] >= SL_REFLECTION_MIN_COSINE && weights[m] <= 1.0f);
+            open += rays[m] * weights[m];
+            total += weights[m];
+        } else {
+            assert_float_equal(weights[m], 0.0, 0.0);
+        }
         below += rays[m] == SL_REFLECTION_BELOW;
         if (rays[m] == SL_REFLECTION_BELOW)
             assert_int_equal(used[m], 0);
     }
     if (counted == 0)
         assert_float_equal(want.x, 1.0, 0.0);
+    else
+        assert_float_equal(want.x, open / total, 0.0);
     *below_rays += below;
     assert_int_equal((int)want.y, counted);
     for (int m = 1; m < SL_REFLECTION_BLOCK; m++) {
@@ -327,9 +339,9 @@ static void test_refusals(void **state)
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, &err));
     assert_float_equal(gb.reflection[ey * W + ex].x, 1.0, 0.0);
     assert_float_equal(gb.reflection[ey * W + ex].y, 0.0, 0.0);
-    float rays[SL_REFLECTION_BLOCK];
+    float rays[SL_REFLECTION_BLOCK], weights[SL_REFLECTION_BLOCK];
     int used[SL_REFLECTION_BLOCK];
-    vec2 empty = sl_reflection_texel(&gb, &cam, DIST, ex, ey, rays, used);
+    vec2 empty = sl_reflection_texel(&gb, &cam, DIST, ex, ey, rays, weights, used);
     assert_float_equal(empty.x, 1.0, 0.0);
     assert_float_equal(empty.y, 0.0, 0.0);
     for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
