@@ -219,8 +219,9 @@ static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i
 
 /* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
  * ray_plane (1 for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the same
- * bits, and each ray's weight into weight_plane (0 where none is traced). Each covered texel's ray (ray_of) that has something to trace takes a lane: its start,
- * direction and view_ray, structure-of-arrays. Then all lanes take step k together: one loop over
+ * bits, and each ray's weight into weight_plane (0 where none is traced). Each covered texel's
+ * ray (ray_of) that has something to trace takes a lane: its start, direction and view_ray,
+ * structure-of-arrays. Then all lanes take step k together: one loop over
  * the lanes projects each one's point and reads the depth under it, with no branch on what it
  * read, so the reads of all lanes are in flight at once (trace_ray's expressions term by term; the
  * early exits as flags: a lane off the image or behind the camera reads texel 0 and leaves); a

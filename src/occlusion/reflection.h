@@ -13,15 +13,15 @@
  * ring dips under it; counted as open it would dilute the share of what is hidden). Each texel
  * (x, y) traces one of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all
  * five; its visibility is the share of open rays over its block, the texel and the eight around it
- * (SL_REFLECTION_BLOCK), each ray weighted by its cosine to the texel's normal (the light along it
- * reaches the surface by that cosine, so that a lobe's rays near the horizon, at a grazing view,
- * count for less than those above them), counting a neighbour only where it is the same surface (near the
- * texel's tangent plane, its normal within a few degrees): one ray a texel, the five directions
- * over a block of a flat or finely drawn surface (the ring's twice, R's once), its own ray alone
- * at an edge or where the normal turns fast across a texel. The block rather than the cross of
- * five: at an object's silhouette over a floor, where the cross keeps two or three of its
- * members, the block keeps five or more, so the rays decide rather than the cone (below), and its
- * nine rays are less noisy than five. Each ray takes
+ * (SL_REFLECTION_BLOCK), each ray weighted by its cosine to the normal of the texel that traced it
+ * (the light along it reaches the surface by that cosine, so that a lobe's rays near the horizon,
+ * at a grazing view, count for less than those above them), counting a neighbour only where it is
+ * the same surface (near the texel's tangent plane, its normal within a few degrees): one ray a
+ * texel, the five directions over a block of a flat or finely drawn surface (the ring's twice,
+ * R's once), its own ray alone at an edge or where the normal turns fast across a texel. The
+ * block rather than the cross of five: at an object's silhouette over a floor, where the cross
+ * keeps two or three of its members, the block keeps five or more, so the rays decide rather
+ * than the cone (below), and its nine rays are less noisy than five. Each ray takes
  * SL_REFLECTION_STEPS points at t = D (k / steps)^2, k = 1 .. steps (dense near P, where
  * contact matters), projects each into the image and reads the texel there: the ray is blocked
  * when the point lies behind that texel's tangent plane (as the camera sees it) and less than a
@@ -70,7 +70,7 @@
 #define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
 #define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
 #define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
-#define SL_REFLECTION_MIN_COSINE 1e-6f /* a ray's least weight: R at a silhouette, where N.V = 0, still counts */
+#define SL_REFLECTION_MIN_COSINE 1e-6f /* a ray's least weight: R at a silhouette (N.V = 0) counts */
 /* The block's test of "the same surface": within this share of the view depth of the texel's
  * tangent plane, and normals within this cosine (3.6 degrees): a neighbour's ray stands for the
  * texel's only where their reflections are within twice that. Looser, a rounded edge lends its

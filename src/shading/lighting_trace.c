@@ -277,9 +277,9 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
         static const char *const member[SL_REFLECTION_BLOCK] = {"texel",   "x+1",     "x-1",     "y+1",    "y-1",
                                                                  "x+1,y+1", "x-1,y+1", "x+1,y-1", "x-1,y-1"};
-        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's block, each weighted by its cosine, %d rays; ",
-                "reflection",
-                (double)t->reflection_visibility, t->reflection_count);
+        fprintf(f, "  %-12s %.6g (the share of open rays over the texel's block, each weighted by its cosine,"
+                   " %d rays; ",
+                "reflection", (double)t->reflection_visibility, t->reflection_count);
         if (t->cone) /* sl_reflection_specular_factor's weight */
             fprintf(f, "the rays alone weigh %.6g against the smaller factor:",
                     (double)sl_reflection_rays_weight((float)t->reflection_count));
