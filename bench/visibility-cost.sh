@@ -5,7 +5,7 @@
 # rounds, with the scene's own settings and --env-lights 32 (the estimator the set goes with:
 # docs/accuracy.md "Visibility"); the set is the env lights' shadow maps and the point lights'
 # (--shadows), the ambient occlusion (--ao-radius 1), the sky visibility maps (--sky-maps 32) and
-# the reflection occlusion (--reflection-occlusion 5). Each frame in process CPU time, the maps'
+# the reflection occlusion (--reflection-occlusion 7). Each frame in process CPU time, the maps'
 # one-off draw left out; the set's share of the frame that has it as the median of the rounds'
 # own shares, and their range; then each method alone, its CPU ms a frame over the frame
 # without the set (bench_visibility_cost --each).

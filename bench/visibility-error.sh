@@ -63,7 +63,7 @@ BEST="--estimator mf --lod pdf --distortion -n 256"
 AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
 SUN="--env-lights 32 --shadows" # the env lights' shadow maps (docs/lighting.md "Shadow maps")
 SKY="--sky-maps 32" # the sky visibility maps (docs/lighting.md "Sky visibility maps")
-REFL="--reflection-occlusion 5" # the specular's rays traced (docs/lighting.md "Reflection occlusion")
+REFL="--reflection-occlusion 7" # the specular's rays traced (docs/lighting.md "Reflection occlusion")
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
@@ -251,7 +251,7 @@ specification's estimator, N = 40 in these scenes); `mf pdf+dist N256` is `--est
 the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient
 occlusion"), the estimate of visibility it has; `--sky-maps 32` adds the sky visibility maps
 (docs/lighting.md "Sky visibility maps"), which replace the ambient occlusion on the diffuse and
-occlude the specular's part across the horizon; `--reflection-occlusion 5` traces the specular
+occlude the specular's part across the horizon; `--reflection-occlusion 7` traces the specular
 lobe's rays 5 units against the G-buffer (docs/lighting.md "Reflection occlusion").
 nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered

@@ -7,7 +7,7 @@
  * estimator the set goes with: docs/accuracy.md "Visibility"), the second also with the set:
  * the env lights' and point lights' shadow maps (--shadows), the ambient occlusion
  * (--ao-radius 1), the sky visibility maps (--sky-maps 32) and the reflection occlusion
- * (--reflection-occlusion 5). One frame of each first (the maps are drawn then, once per scene
+ * (--reflection-occlusion 7). One frame of each first (the maps are drawn then, once per scene
  * and environment), then ROUNDS rounds of a frame of each, back to back, the order turned each
  * round, each frame timed in process CPU time: a change of load falls on both frames of a round.
  * Prints a markdown row per scene: the median frame of each, the set's share of the frame with it
@@ -31,7 +31,7 @@ enum { WITHOUT, SHADOWS, AO, SKY_MAPS, REFLECTION, WITH, SETTINGS };
 #define SETTING_BIT(s) (1u << (s))
 static const char *const method_names[SETTINGS] = {
     [SHADOWS] = "--shadows", [AO] = "--ao-radius 1", [SKY_MAPS] = "--sky-maps 32",
-    [REFLECTION] = "--reflection-occlusion 5"};
+    [REFLECTION] = "--reflection-occlusion 7"};
 
 /* The renderer of `scene` at w x h on one thread with --env-lights 32 and the methods of setting s
  * (WITH: all of them). */
@@ -48,7 +48,7 @@ static bool renderer_for(sl_renderer *r, const sl_scene *scene, int w, int h, in
     if (s == SKY_MAPS || s == WITH)
         sl_option_set_sky_maps(&desc.options, 32);
     if (s == REFLECTION || s == WITH)
-        sl_option_set_reflection_occlusion(&desc.options, 5.0f);
+        sl_option_set_reflection_occlusion(&desc.options, 7.0f);
     return sl_renderer_init(r, scene, &desc, err);
 }
 
