@@ -252,7 +252,7 @@ the renderer's screen-space ambient occlusion within 1 world unit (docs/lighting
 occlusion"), the estimate of visibility it has; `--sky-maps 32` adds the sky visibility maps
 (docs/lighting.md "Sky visibility maps"), which replace the ambient occlusion on the diffuse and
 occlude the specular's part across the horizon; `--reflection-occlusion 7` traces the specular
-lobe's rays 5 units against the G-buffer (docs/lighting.md "Reflection occlusion").
+lobe's rays 7 units against the G-buffer (docs/lighting.md "Reflection occlusion").
 nRMSE: RMSE over the
 covered pixels in linear radiance divided by the truth's RMS; `>1/255`: the share of covered
 pixels more than 1/255 off after the scene's tone map (`softlight truth --compare`). The
