@@ -29,9 +29,16 @@ enum { MAX_ROUNDS = 64 };
 /* The settings a scene is rendered with: without the set, each method alone, the whole set. */
 enum { WITHOUT, SHADOWS, AO, SKY_MAPS, REFLECTION, WITH, SETTINGS };
 #define SETTING_BIT(s) (1u << (s))
+/* The set's values, each declared once: the methods' names and renderer_for read them. */
+#define SET_AO_RADIUS 1
+#define SET_SKY_MAPS 32
+#define SET_REFLECTION_LENGTH 7
+#define STRINGIFY_(x) #x
+#define STRINGIFY(x) STRINGIFY_(x)
 static const char *const method_names[SETTINGS] = {
-    [SHADOWS] = "--shadows", [AO] = "--ao-radius 1", [SKY_MAPS] = "--sky-maps 32",
-    [REFLECTION] = "--reflection-occlusion 7"};
+    [SHADOWS] = "--shadows", [AO] = "--ao-radius " STRINGIFY(SET_AO_RADIUS),
+    [SKY_MAPS] = "--sky-maps " STRINGIFY(SET_SKY_MAPS),
+    [REFLECTION] = "--reflection-occlusion " STRINGIFY(SET_REFLECTION_LENGTH)};
 
 /* The renderer of `scene` at w x h on one thread with --env-lights 32 and the methods of setting s
  * (WITH: all of them). */
@@ -44,11 +51,11 @@ static bool renderer_for(sl_renderer *r, const sl_scene *scene, int w, int h, in
     if (s == SHADOWS || s == WITH)
         sl_option_set_shadows(&desc.options, true);
     if (s == AO || s == WITH)
-        sl_option_set_ao_radius(&desc.options, 1.0f);
+        sl_option_set_ao_radius(&desc.options, (float)SET_AO_RADIUS);
     if (s == SKY_MAPS || s == WITH)
-        sl_option_set_sky_maps(&desc.options, 32);
+        sl_option_set_sky_maps(&desc.options, SET_SKY_MAPS);
     if (s == REFLECTION || s == WITH)
-        sl_option_set_reflection_occlusion(&desc.options, 7.0f);
+        sl_option_set_reflection_occlusion(&desc.options, (float)SET_REFLECTION_LENGTH);
     return sl_renderer_init(r, scene, &desc, err);
 }
 
