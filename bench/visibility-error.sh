@@ -59,11 +59,7 @@ done
 SL=$BUILD/softlight
 OUT=out/visibility-error/$SIZE
 mkdir -p "$OUT"
-BEST="--estimator mf --lod pdf --distortion -n 256"
-AO="--ao-radius 1" # screen-space ambient occlusion within 1 world unit (docs/lighting.md "Ambient occlusion")
-SUN="--env-lights 32 --shadows" # the env lights' shadow maps (docs/lighting.md "Shadow maps")
-SKY="--sky-maps 32" # the sky visibility maps (docs/lighting.md "Sky visibility maps")
-REFL="--reflection-occlusion 7" # the specular's rays traced (docs/lighting.md "Reflection occlusion")
+source bench/visibility_set.bash # BEST, AO, SUN, SKY, REFL
 
 # truth NAME SCENE OPTIONS...: the truth of SCENE at SIZE with OPTIONS, cached as NAME
 truth() {
