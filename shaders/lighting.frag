@@ -762,8 +762,9 @@ float reflection_ray(ivec2 q, int k, out float weight)
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
     vec3 side = T * cos(phase) + B * sin(phase);
     vec3 Rk = R * cos(ring) + side * sin(ring);
-    weight = max(dot(Rk, N), REFLECTION_MIN_COSINE);
-    return dot(Rk, N) > 0.0 ? reflection_trace_ray(P, Rk) : REFLECTION_BELOW; // not counted
+    float cosine = dot(Rk, N);
+    weight = max(cosine, REFLECTION_MIN_COSINE);
+    return cosine > 0.0 ? reflection_trace_ray(P, Rk) : REFLECTION_BELOW; // not counted
 }
 
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,

@@ -202,9 +202,10 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
     vec3 T = normalize(cross(R, helper)), B = cross(R, T);
     vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
     vec3 Rk = add(scale(R, ring.cos), scale(side, ring.sin));
+    float cosine = dot(Rk, N);
     *direction = Rk;
-    *weight = maxf(dot(Rk, N), SL_REFLECTION_MIN_COSINE);
-    return dot(Rk, N) > 0.0f;
+    *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
+    return cosine > 0.0f;
 }
 
 /* Whether ray k of covered texel i is open (1) or blocked (0), or SL_REFLECTION_BELOW, traced
