@@ -31,7 +31,7 @@
 #define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G; GGX alpha <= -1"
 #define GT_HEADER_MAX 4096
 /* Part of the key with visibility or lights only (the blind truth's key is left as it was). */
-#define GT_VIS_VERSION "visibility: one ray per cell at its nodes' centroid above both horizons, Ng from the eye ray; point lights as lighting.frag"
+#define GT_VIS_VERSION "visibility: one ray per cell at its nodes' centroid above both horizons, Ng from the eye ray, the offset relative to the extent; point lights as lighting.frag"
 
 
 /* ---- hashing: FNV-1a 64 (core/hash.h) ---- */
