@@ -226,12 +226,11 @@ long sl_visibility_triangle_count(const sl_visibility *v) { return v->triangles;
 double sl_visibility_offset(const sl_visibility *v, vec3 p)
 {
     /* A G-buffer position's float error grows with its own coordinates and with those of the
-     * triangle it was interpolated from (up to the extent), so the offset is relative to both:
-     * the same scene modelled in millimetres or in kilometres gets the same truth. A floor of a
-     * tenth of the extent keeps a point near the origin above the error of its triangle's far
-     * vertices. */
+     * triangle it was interpolated from (up to the extent), so the offset is relative to both.
+     * Its floor near the origin, 1e-4 world units, shrinks with a scene under 10 units across to a
+     * tenth of its extent: a scene modelled in millimetres gets the truth it has in metres. */
     double m = fmax(fabs((double)p.x), fmax(fabs((double)p.y), fabs((double)p.z)));
-    return 1e-4 * fmax(0.1 * v->extent, m) + 1e-6 * v->extent;
+    return 1e-4 * fmax(fmin(1.0, 0.1 * v->extent), m) + 1e-6 * v->extent;
 }
 
 bool sl_visibility_surface(const sl_visibility *v, vec3 eye, vec3 p, double ng[3])

@@ -12,10 +12,11 @@
  *
  * Rays: a ray leaves P + offset * Ng, where Ng is the geometric normal of the triangle the eye
  * sees at P turned towards the eye (found by tracing the eye ray, sl_visibility_surface) and
- * offset = 1e-4 max(X / 10, |P|max) + 1e-6 X, X the scene's largest absolute vertex coordinate:
- * above the float error of a G-buffer position (a few ulps of P and of the triangle's vertices),
- * well below any feature of the shipped scenes (0.1 mm on a floor 8 units wide), and in
- * proportion to the scene, so that its truth does not depend on the unit it is modelled in.
+ * offset = 1e-4 max(min(1, X / 10), |P|max) + 1e-6 X, X the scene's largest absolute vertex
+ * coordinate: above the float error of a G-buffer position (a few ulps of P and of the triangle's
+ * vertices), well below any feature of the shipped scenes (0.1 mm on a floor 8 units wide), and
+ * in proportion to a scene under 10 units across, so that one modelled in millimetres has the
+ * truth it has in metres.
  *
  * Threads: the build uses `threads` (Embree's own build threads, counted by the caller); every
  * query only reads the built structure, so callers may query from many threads at once.
