@@ -4,7 +4,9 @@
  * The loop uses L.H = |L + V| / 2 and N.H = (N.L + N.V) / |L + V|, which follow from
  * H = (L + V) / |L + V| with unit L and V, so H itself is never formed. The Fresnel term is
  * split as F = Ks + (1 - Ks) p5 with p5 = (1 - L.H)^5, so one pass serves every Ks:
- * specular = Ks * S0 + (1 - Ks) * S1 with S0 = sum k L, S1 = sum k p5 L. */
+ * specular = Ks * S0 + (1 - Ks) * S1 with S0 = sum k L, S1 = sum k p5 L. The kernel k per node
+ * (sl_gt_kernel) and the split of the texels near a narrow lobe's peak (sl_gt_node_kernel) are
+ * what the image truth's loops (src/shading/ground_truth_image.c) call too. */
 #include "ground_truth.h"
 
 #include <math.h>
@@ -52,6 +54,92 @@ double sl_ground_truth_ggx_dvis(double nh, double nl, double nv, double a2)
     return den > 0.0 ? d * 0.5 / den : 0.0;
 }
 
+/* The split: a texel is split where the reflected lobe's narrowest width (2 a N.V, with a GGX's a
+ * or a Phong exponent's of equal peak, N.V at least SPLIT_MIN_NV) spans fewer than
+ * SPLIT_CELLS_PER_WIDTH cells of the texel's side, into at most SPLIT_MAX x SPLIT_MAX cells, for
+ * every texel whose centroid lies within SPLIT_NEAR_WIDTHS widths 2 a of R plus two texels. At
+ * twice the cells per width and SPLIT_MAX a mis N = 1024 render of scenes/ggx.json is as far from
+ * the truth (nRMSE 0.0079 against 0.0080 at 192x108). */
+#define SPLIT_CELLS_PER_WIDTH 8.0
+#define SPLIT_MAX 16.0
+#define SPLIT_MIN_NV 0.02
+#define SPLIT_NEAR_WIDTHS 6.0
+
+void sl_gt_lobe_init(sl_gt_lobe *l, const double n[3], const double v[3], bool ggx, double alpha, double a2,
+                     int width, int height, bool split)
+{
+    *l = (sl_gt_lobe){.n = {n[0], n[1], n[2]}, .v = {v[0], v[1], v[2]}, .ggx = ggx, .width = width, .height = height};
+    l->nv = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
+    l->alpha = ggx ? 0.0 : alpha;
+    l->d_norm = (l->alpha + 2.0) / (2.0 * PI_D);
+    l->a2 = ggx ? a2 : 0.0;
+    for (int i = 0; i < 3; i++)
+        l->r[i] = 2.0 * l->nv * n[i] - v[i];
+    /* a: the lobe's width in H (N.H = cos a about its peak); a texel's side: at most pi / H along a
+     * meridian and 2 pi / W along the equator */
+    const double a = ggx ? sqrt(a2) : sqrt(2.0 / (alpha + 2.0));
+    const double side = fmax(PI_D / height, 2.0 * PI_D / width);
+    const double narrowest = 2.0 * a * fmin(fmax(l->nv, SPLIT_MIN_NV), 1.0);
+    l->split = split ? (int)fmin(ceil(SPLIT_CELLS_PER_WIDTH * side / narrowest), SPLIT_MAX) : 1;
+    l->cos_near = cos(fmin(SPLIT_NEAR_WIDTHS * 2.0 * a + 2.0 * side, PI_D));
+}
+
+/* The texel of centroid w split into s x s cells of equal solid angle (z = cos(theta) and phi
+ * uniform: ibl_internal.h's parametrisation), the kernel read at each cell's middle, each times its
+ * solid angle, over the texel's node weight |integral of w| (texel.c), which the radiance carries. */
+static bool split_kernel(const sl_gt_lobe *l, double wx, double wy, double wz, double k[4])
+{
+    const int W = l->width, H = l->height, s = l->split;
+    int j = (int)(acos(fmin(fmax(wz, -1.0), 1.0)) * H / PI_D);
+    double u = 0.5 - atan2(wy, wx) / (2.0 * PI_D);
+    int i = (int)((u - floor(u)) * W);
+    j = j < 0 ? 0 : j >= H ? H - 1 : j;
+    i = i < 0 ? 0 : i >= W ? W - 1 : i;
+    ibl_row_moments rm;
+    ibl_col_moments cm;
+    sl_ibl_row_moments_at(H, j, &rm);
+    sl_ibl_col_moments_at(W, i, &cm);
+    const double mx = rm.s * cm.c, my = rm.s * cm.s, mz = rm.z * cm.dphi;
+    const double weight = sqrt(mx * mx + my * my + mz * mz);
+    if (!(weight > 0.0))
+        return false;
+    const double z0 = cos(PI_D * j / H), z1 = cos(PI_D * (j + 1) / H);
+    const double cell = 2.0 * PI_D / W * (z0 - z1) / ((double)s * (double)s) / weight;
+    double sum[4] = {0.0, 0.0, 0.0, 0.0};
+    for (int b = 0; b < s; b++) {
+        const double z = z0 + (z1 - z0) * (b + 0.5) / s, sz = sqrt(fmax(1.0 - z * z, 0.0));
+        for (int a = 0; a < s; a++) {
+            const double phi = 2.0 * PI_D * (0.5 - (i + (a + 0.5) / s) / W);
+            const double cx = cos(phi) * sz, cy = sin(phi) * sz;
+            const double c = l->n[0] * cx + l->n[1] * cy + l->n[2] * z;
+            double k_inv, k_one, p5;
+            if (!(c > 0.0) || !sl_gt_kernel(l, c, cx, cy, z, &k_inv, &k_one, &p5))
+                continue;
+            sum[0] += k_inv;
+            sum[1] += k_inv * p5;
+            sum[2] += k_one;
+            sum[3] += k_one * p5;
+        }
+    }
+    for (int q = 0; q < 4; q++)
+        k[q] = sum[q] * cell;
+    return true;
+}
+
+bool sl_gt_node_kernel(const sl_gt_lobe *l, double c, double wx, double wy, double wz, bool texel, double k[4])
+{
+    if (texel && l->split > 1 && l->r[0] * wx + l->r[1] * wy + l->r[2] * wz > l->cos_near)
+        return split_kernel(l, wx, wy, wz, k);
+    double k_inv, k_one, p5;
+    if (!sl_gt_kernel(l, c, wx, wy, wz, &k_inv, &k_one, &p5))
+        return false;
+    k[0] = k_inv;
+    k[1] = k_inv * p5;
+    k[2] = k_one;
+    k[3] = k_one * p5;
+    return true;
+}
+
 static bool unit(vec3 a, double out[3])
 {
     double x = (double)a.x, y = (double)a.y, z = (double)a.z;
@@ -92,11 +180,11 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
     double cr = cos(q->rotation), sr = sin(q->rotation);
     const double nx = cr * nw[0] + sr * nw[1], ny = -sr * nw[0] + cr * nw[1], nz = nw[2];
     const double vx = cr * vw[0] + sr * vw[1], vy = -sr * vw[0] + cr * vw[1], vz = vw[2];
-    const double nv = nx * vx + ny * vy + nz * vz;
-    const double alpha = q->alpha, d_norm = (alpha + 2.0) / (2.0 * PI_D);
+    const double n[3] = {nx, ny, nz}, v[3] = {vx, vy, vz};
     const bool g_one = q->g == SL_GT_G_ONE;
-    const bool ggx = q->ggx;
-    const double a2 = ggx ? sl_ground_truth_ggx_a2(q->roughness) : 0.0;
+    sl_gt_lobe lobe;
+    sl_gt_lobe_init(&lobe, n, v, q->ggx, q->alpha, q->ggx ? sl_ground_truth_ggx_a2(q->roughness) : 0.0, gt->width,
+                    gt->height, !q->centroid_only);
 
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
@@ -110,30 +198,16 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
         dr += c * r[t];
         dg += c * g[t];
         db += c * b[t];
-        double len2 = 2.0 + 2.0 * (vx * x[t] + vy * y[t] + vz * z[t]); /* |L + V|^2 */
-        if (!(len2 > 1e-24))
-            continue; /* L = -V: H undefined, a set of measure zero */
-        double len = sqrt(len2);
-        double nh = (c + nv) / len;
-        if (!(nh > 0.0))
+        double k4[4];
+        if (!sl_gt_node_kernel(&lobe, c, x[t], y[t], z[t], true, k4))
             continue;
-        double lh = 0.5 * len;
-        double k;
-        if (ggx) {
-            k = sl_ground_truth_ggx_dvis(nh, c, nv, a2) * c;
-        } else {
-            double gterm = g_one ? 1.0 : 1.0 / (lh * lh);
-            k = 0.25 * d_norm * pow(nh, alpha) * gterm * c;
-        }
-        double p = 1.0 - lh;
-        p = p > 0.0 ? p : 0.0;
-        double p5 = (p * p) * (p * p) * p;
+        const double k = g_one ? k4[2] : k4[0], kp5 = g_one ? k4[3] : k4[1];
         s0r += k * r[t];
         s0g += k * g[t];
         s0b += k * b[t];
-        s1r += k * p5 * r[t];
-        s1g += k * p5 * g[t];
-        s1b += k * p5 * b[t];
+        s1r += kp5 * r[t];
+        s1g += kp5 * g[t];
+        s1b += kp5 * b[t];
     }
     const double kd[3] = {(double)q->kd.x, (double)q->kd.y, (double)q->kd.z};
     const double ks[3] = {(double)q->ks.x, (double)q->ks.y, (double)q->ks.z};

@@ -3,8 +3,9 @@
  *
  * The per-pixel integral is sl_ground_truth_shade's loop (src/ibl/ground_truth.c) with one change: it
  * accumulates the specular sums for both G terms at once. Both loops use the same node table
- * (sl_ground_truth) and the same operations in the same order, so each G term's result is
- * the one sl_ground_truth_shade returns; test_ground_truth_image checks that.
+ * (sl_ground_truth) and the same kernel per node (sl_gt_node_kernel, which splits the texels near
+ * a narrow lobe's peak), so each G term's result is the one sl_ground_truth_shade returns;
+ * test_ground_truth_image checks that.
  *
  * Visibility and point lights (the second half of "the integral"): the nodes regrouped by
  * cell, one ray per cell, the same per-node terms (vis_add_node); test_visibility checks them
@@ -28,7 +29,7 @@
 #define GT_IMAGE_MAGIC "softlight ground truth v1"
 /* Part of the key: bump when the integral or the per-pixel conventions change, so stale
  * caches are recomputed rather than trusted. */
-#define GT_IMAGE_VERSION "level-0 texel quadrature (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G; GGX alpha <= -1"
+#define GT_IMAGE_VERSION "level-0 texel quadrature, split near narrow lobes' peaks (ground_truth.h); facing_normal 0.01; alpha <= 1e7; both G; GGX alpha <= -1"
 #define GT_HEADER_MAX 4096
 /* Part of the key with visibility or lights only (the blind truth's key is left as it was). */
 #define GT_VIS_VERSION "visibility: one ray per cell at its nodes' centroid above both horizons, Ng from the eye ray, the offset relative to the extent; point lights as lighting.frag"
@@ -134,13 +135,13 @@ static bool finite3(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(
 static void shade_both(const sl_ground_truth *gt, const double n[3], const double v[3], const double kd[3],
                        const double ks[3], double alpha, double intensity, double diffuse[3], double spec[2][3])
 {
-    const double nx = n[0], ny = n[1], nz = n[2], vx = v[0], vy = v[1], vz = v[2];
-    const double nv = nx * vx + ny * vy + nz * vz;
-    const double d_norm = (alpha + 2.0) / (2.0 * PI_D);
+    const double nx = n[0], ny = n[1], nz = n[2];
     /* alpha < 0: a GGX lobe (lobe_param's range [-2, -1]), whose G has no --g choice: both
      * planes get the same sums */
     const bool ggx = alpha < 0.0;
-    const double a2 = ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0;
+    sl_gt_lobe lobe;
+    sl_gt_lobe_init(&lobe, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height,
+                    true);
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
     double dr = 0, dg = 0, db = 0;
@@ -153,41 +154,21 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
         dr += c * r[t];
         dg += c * g[t];
         db += c * b[t];
-        double len2 = 2.0 + 2.0 * (vx * x[t] + vy * y[t] + vz * z[t]);
-        if (!(len2 > 1e-24))
+        double k[4]; /* k_inv, k_inv p5, k_one, k_one p5 */
+        if (!sl_gt_node_kernel(&lobe, c, x[t], y[t], z[t], true, k))
             continue;
-        double len = sqrt(len2);
-        double nh = (c + nv) / len;
-        if (!(nh > 0.0))
-            continue;
-        /* (N.H)^alpha <= exp(-alpha (1 - N.H)) rounds to exactly 0 in double past 746: skipping
-         * those texels adds nothing ground_truth.c would not add as +0 (same bits, less pow). */
-        if (alpha * (1.0 - nh) > 746.0)
-            continue;
-        double lh = 0.5 * len;
-        double k_one, k_inv;
-        if (ggx) {
-            k_one = k_inv = sl_ground_truth_ggx_dvis(nh, c, nv, a2) * c; /* as ground_truth.c */
-        } else {
-            double base = 0.25 * d_norm * pow(nh, alpha);
-            k_one = base * 1.0 * c; /* as ground_truth.c: 0.25 d pow * gterm * c */
-            k_inv = base * (1.0 / (lh * lh)) * c;
-        }
-        double p = 1.0 - lh;
-        p = p > 0.0 ? p : 0.0;
-        double p5 = (p * p) * (p * p) * p;
-        s0[0][0] += k_inv * r[t];
-        s0[0][1] += k_inv * g[t];
-        s0[0][2] += k_inv * b[t];
-        s1[0][0] += k_inv * p5 * r[t];
-        s1[0][1] += k_inv * p5 * g[t];
-        s1[0][2] += k_inv * p5 * b[t];
-        s0[1][0] += k_one * r[t];
-        s0[1][1] += k_one * g[t];
-        s0[1][2] += k_one * b[t];
-        s1[1][0] += k_one * p5 * r[t];
-        s1[1][1] += k_one * p5 * g[t];
-        s1[1][2] += k_one * p5 * b[t];
+        s0[0][0] += k[0] * r[t];
+        s0[0][1] += k[0] * g[t];
+        s0[0][2] += k[0] * b[t];
+        s1[0][0] += k[1] * r[t];
+        s1[0][1] += k[1] * g[t];
+        s1[0][2] += k[1] * b[t];
+        s0[1][0] += k[2] * r[t];
+        s0[1][1] += k[2] * g[t];
+        s0[1][2] += k[2] * b[t];
+        s1[1][0] += k[3] * r[t];
+        s1[1][1] += k[3] * g[t];
+        s1[1][2] += k[3] * b[t];
     }
     const double dsum[3] = {dr, dg, db};
     for (int ch = 0; ch < 3; ch++) {
@@ -338,45 +319,22 @@ typedef struct {
     double cr, sr;         /* world -> environment: d_env = Rz(-rotation) d_world */
 } vis_frame;
 
-/* One lobe: shade_both's per-node terms, for unit environment-space n and v. */
-typedef struct {
-    double n[3], v[3], nv, alpha, d_norm, a2;
-    bool ggx;
-} vis_lobe;
-
-/* Node w (unit, environment space) with radiance-times-weight rgb into the sums: the operations of
- * shade_both's loop body, in its order. */
-static inline void vis_add_node(const vis_lobe *l, double c, double wx, double wy, double wz, const double rgb[3],
-                                double dsum[3], double s0[2][3], double s1[2][3])
+/* Node w (unit, environment space) with radiance-times-weight rgb into the sums: shade_both's loop
+ * body (a texel's node, split near a narrow lobe's peak as there), or a point light's direction
+ * (`texel` false: read at w). */
+static inline void vis_add_node(const sl_gt_lobe *l, double c, double wx, double wy, double wz, bool texel,
+                                const double rgb[3], double dsum[3], double s0[2][3], double s1[2][3])
 {
     for (int ch = 0; ch < 3; ch++)
         dsum[ch] += c * rgb[ch];
-    double len2 = 2.0 + 2.0 * (l->v[0] * wx + l->v[1] * wy + l->v[2] * wz);
-    if (!(len2 > 1e-24))
+    double k[4]; /* k_inv, k_inv p5, k_one, k_one p5 */
+    if (!sl_gt_node_kernel(l, c, wx, wy, wz, texel, k))
         return;
-    double len = sqrt(len2);
-    double nh = (c + l->nv) / len;
-    if (!(nh > 0.0))
-        return;
-    if (l->alpha * (1.0 - nh) > 746.0)
-        return;
-    double lh = 0.5 * len;
-    double k_one, k_inv;
-    if (l->ggx) {
-        k_one = k_inv = sl_ground_truth_ggx_dvis(nh, c, l->nv, l->a2) * c;
-    } else {
-        double base = 0.25 * l->d_norm * pow(nh, l->alpha);
-        k_one = base * 1.0 * c;
-        k_inv = base * (1.0 / (lh * lh)) * c;
-    }
-    double p = 1.0 - lh;
-    p = p > 0.0 ? p : 0.0;
-    double p5 = (p * p) * (p * p) * p;
     for (int ch = 0; ch < 3; ch++) {
-        s0[0][ch] += k_inv * rgb[ch];
-        s1[0][ch] += k_inv * p5 * rgb[ch];
-        s0[1][ch] += k_one * rgb[ch];
-        s1[1][ch] += k_one * p5 * rgb[ch];
+        s0[0][ch] += k[0] * rgb[ch];
+        s1[0][ch] += k[1] * rgb[ch];
+        s0[1][ch] += k[2] * rgb[ch];
+        s1[1][ch] += k[3] * rgb[ch];
     }
 }
 
@@ -390,7 +348,7 @@ static void to_world(const vis_frame *f, const double e[3], double w[3])
 
 /* The environment's part with visibility: sums over the nodes of the cells P sees. ng is the
  * geometric normal in environment space, org the rays' origin (world). Returns the rays traced. */
-static long vis_environment(const vis_frame *f, const vis_lobe *l, const double ng[3], const double org[3],
+static long vis_environment(const vis_frame *f, const sl_gt_lobe *l, const double ng[3], const double org[3],
                             double dsum[3], double s0[2][3], double s1[2][3])
 {
     const vis_cells *cl = f->cells;
@@ -433,7 +391,7 @@ static long vis_environment(const vis_frame *f, const vis_lobe *l, const double 
             if (!(ng[0] * wx + ng[1] * wy + ng[2] * wz > 0.0))
                 continue; /* behind the surface itself */
             const double rgb[3] = {cl->r[t], cl->g[t], cl->b[t]};
-            vis_add_node(l, cn, wx, wy, wz, rgb, dsum, s0, s1);
+            vis_add_node(l, cn, wx, wy, wz, true, rgb, dsum, s0, s1);
         }
     }
     return rays;
@@ -442,7 +400,7 @@ static long vis_environment(const vis_frame *f, const vis_lobe *l, const double 
 /* The scene's point lights as lighting.frag's point_light adds them: f color intensity / d^2
  * (N.L)+, in double; with visibility (vis non-NULL) each times a shadow ray from org to the light,
  * and 0 below the geometric horizon. Adds to diffuse and both specular planes. */
-static long add_point_lights(const vis_frame *f, const vis_lobe *l, vec3 p, const double *ng_world,
+static long add_point_lights(const vis_frame *f, const sl_gt_lobe *l, vec3 p, const double *ng_world,
                              const double org[3], const double kd[3], const double ks[3], float *diffuse,
                              float *spec0, float *spec1)
 {
@@ -476,7 +434,7 @@ static long add_point_lights(const vis_frame *f, const vis_lobe *l, vec3 p, cons
         }
         const double e = (double)li->intensity / d2;
         const double rgb[3] = {(double)li->color.x * e, (double)li->color.y * e, (double)li->color.z * e};
-        vis_add_node(l, c, le[0], le[1], le[2], rgb, d, s0, s1);
+        vis_add_node(l, c, le[0], le[1], le[2], false, rgb, d, s0, s1);
     }
     for (int ch = 0; ch < 3; ch++) {
         diffuse[ch] += (float)(kd[ch] / PI_D * d[ch]);
@@ -499,14 +457,13 @@ static long shade_texel_vis(const sl_ground_truth *gt, const vis_frame *f, const
     unit_d(N, nw);
     unit_d(V, vw);
     const double cr = f->cr, sr = f->sr;
-    vis_lobe l = {.n = {cr * nw[0] + sr * nw[1], -sr * nw[0] + cr * nw[1], nw[2]},
-                  .v = {cr * vw[0] + sr * vw[1], -sr * vw[0] + cr * vw[1], vw[2]}};
-    l.nv = l.n[0] * l.v[0] + l.n[1] * l.v[1] + l.n[2] * l.v[2];
-    float a = shade_lobe_param(t->alpha);
-    l.alpha = (double)a;
-    l.d_norm = (l.alpha + 2.0) / (2.0 * PI_D);
-    l.ggx = l.alpha < 0.0;
-    l.a2 = l.ggx ? sl_ground_truth_ggx_a2(-1.0 - l.alpha) : 0.0;
+    const double n[3] = {cr * nw[0] + sr * nw[1], -sr * nw[0] + cr * nw[1], nw[2]};
+    const double v[3] = {cr * vw[0] + sr * vw[1], -sr * vw[0] + cr * vw[1], vw[2]};
+    const double alpha = (double)shade_lobe_param(t->alpha);
+    const bool ggx = alpha < 0.0;
+    sl_gt_lobe l;
+    sl_gt_lobe_init(&l, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height,
+                    true);
     const double kd[3] = {(double)t->kd.x, (double)t->kd.y, (double)t->kd.z};
     const double ks[3] = {(double)t->ks.x, (double)t->ks.y, (double)t->ks.z};
     long rays = 0;
