@@ -19,7 +19,7 @@
  * node, except near the peak of a lobe narrower than a few texels (a sharp lobe, or any lobe
  * seen at a grazing angle, whose reflected directions crowd into a sliver): there a texel is
  * split into s x s cells of equal solid angle and the BRDF read at each (sl_gt_lobe). One node a
- * texel read 56.0 where the integral is 63.4 (GGX r = 0.1 at N.V = 0.15 on a 1024x512 map), and
+ * texel reads 56.0 where the integral is 63.4 (GGX r = 0.1 at N.V = 0.15 on a 1024x512 map), and
  * half the integral at N.V = 0.02 under a sun near the horizon.
  *
  * Rotation: the environment turned by `rotation` radians about +Z, as the lighting shader

@@ -220,7 +220,7 @@ static void test_env_dist_reduced(void **state)
  * 0.017, 0.0038, 0.00077: about N^-1, the Hammersley set's rate), below 1.5e-3 at N = 1024. The
  * reference is
  * fine_specular (4 x 4 cells a texel, 8 x 8 with the sun), which the ground truth matches to 0.05%
- * RMS (printed; read at the texels' centroids alone it erred by 1.2%, more than MIS at N = 1024:
+ * RMS (printed; read at the texels' centroids alone it errs by 1.2%, more than MIS at N = 1024:
  * test_ground_truth_split). The microfacet
  * estimator at lod 0 is printed beside it on the sun: it finds the sun only by luck. */
 static void test_mis_converges(void **state)
@@ -297,7 +297,7 @@ static void test_mis_converges(void **state)
  * 0.5 and 0.15 under a white environment and a sun of 1e4 on a few texels, and rough ones (GGX
  * 0.25, 0.5, Phong 100) at N.V 0.02 under the sun of test_hard_grazing just above the horizon,
  * each within 1% (measured: 0.22% at worst, GGX 0.1 and Phong 1e4 seen head-on). Read at the
- * texels' centroids alone, GGX 0.1 seen head-on under the white environment was 12% low and the
+ * texels' centroids alone, GGX 0.1 seen head-on under the white environment is 12% low and the
  * grazing GGX 0.25 lobe half the integral. */
 static void test_ground_truth_split(void **state)
 {
