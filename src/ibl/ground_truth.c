@@ -105,12 +105,18 @@ static bool split_kernel(const sl_gt_lobe *l, double wx, double wy, double wz, d
         return false;
     const double z0 = cos(PI_D * j / H), z1 = cos(PI_D * (j + 1) / H);
     const double cell = 2.0 * PI_D / W * (z0 - z1) / ((double)s * (double)s) / weight;
+    /* each column's azimuth once: the cells of a column share it */
+    double cos_phi[(int)SPLIT_MAX], sin_phi[(int)SPLIT_MAX];
+    for (int a = 0; a < s; a++) {
+        const double phi = 2.0 * PI_D * (0.5 - (i + (a + 0.5) / s) / W);
+        cos_phi[a] = cos(phi);
+        sin_phi[a] = sin(phi);
+    }
     double sum[4] = {0.0, 0.0, 0.0, 0.0};
     for (int b = 0; b < s; b++) {
         const double z = z0 + (z1 - z0) * (b + 0.5) / s, sz = sqrt(fmax(1.0 - z * z, 0.0));
         for (int a = 0; a < s; a++) {
-            const double phi = 2.0 * PI_D * (0.5 - (i + (a + 0.5) / s) / W);
-            const double cx = cos(phi) * sz, cy = sin(phi) * sz;
+            const double cx = cos_phi[a] * sz, cy = sin_phi[a] * sz;
             const double c = l->n[0] * cx + l->n[1] * cy + l->n[2] * z;
             double k_inv, k_one, p5;
             if (!(c > 0.0) || !sl_gt_kernel(l, c, cx, cy, z, &k_inv, &k_one, &p5))

@@ -8,7 +8,7 @@
  * test_ground_truth_image checks that.
  *
  * Visibility and point lights (the second half of "the integral"): the nodes regrouped by
- * cell, one ray per cell, the same per-node terms (vis_add_node); test_visibility checks them
+ * cell, one ray per cell, the same per-node terms (add_node); test_visibility checks them
  * against closed forms and, with nothing in the way, against the blind pass. */
 #include "ground_truth_image.h"
 
@@ -131,6 +131,26 @@ bool sl_gt_image_total(const sl_gt_image *img, sl_gt_geometry g, sl_image *total
 
 static bool finite3(vec3 a) { return isfinite(a.x) && isfinite(a.y) && isfinite(a.z); }
 
+/* Node w (unit, environment space, c = N.w > 0) with radiance-times-weight rgb into the sums: a
+ * texel's node (split near a narrow lobe's peak: sl_gt_node_kernel), or a point light's direction
+ * (`texel` false: read at w). The blind loop (shade_both) and the visibility pass add every node
+ * through it. */
+static inline void add_node(const sl_gt_lobe *l, double c, double wx, double wy, double wz, bool texel,
+                            const double rgb[3], double dsum[3], double s0[2][3], double s1[2][3])
+{
+    for (int ch = 0; ch < 3; ch++)
+        dsum[ch] += c * rgb[ch];
+    double k[4]; /* k_inv, k_inv p5, k_one, k_one p5 */
+    if (!sl_gt_node_kernel(l, c, wx, wy, wz, texel, k))
+        return;
+    for (int ch = 0; ch < 3; ch++) {
+        s0[0][ch] += k[0] * rgb[ch];
+        s1[0][ch] += k[1] * rgb[ch];
+        s0[1][ch] += k[2] * rgb[ch];
+        s1[1][ch] += k[3] * rgb[ch];
+    }
+}
+
 /* sl_ground_truth_shade for unit, environment-space n and v, with both G terms. */
 static void shade_both(const sl_ground_truth *gt, const double n[3], const double v[3], const double kd[3],
                        const double ks[3], double alpha, double intensity, double diffuse[3], double spec[2][3])
@@ -144,33 +164,13 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
                     true);
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
-    double dr = 0, dg = 0, db = 0;
     /* [0]: G = 1/(L.H)^2, [1]: G = 1; s0 = sum k L, s1 = sum k p5 L (ground_truth.c) */
-    double s0[2][3] = {{0}}, s1[2][3] = {{0}};
+    double dsum[3] = {0}, s0[2][3] = {{0}}, s1[2][3] = {{0}};
     for (size_t t = 0; t < gt->count; t++) {
         double c = nx * x[t] + ny * y[t] + nz * z[t];
-        if (!(c > 0.0))
-            continue;
-        dr += c * r[t];
-        dg += c * g[t];
-        db += c * b[t];
-        double k[4]; /* k_inv, k_inv p5, k_one, k_one p5 */
-        if (!sl_gt_node_kernel(&lobe, c, x[t], y[t], z[t], true, k))
-            continue;
-        s0[0][0] += k[0] * r[t];
-        s0[0][1] += k[0] * g[t];
-        s0[0][2] += k[0] * b[t];
-        s1[0][0] += k[1] * r[t];
-        s1[0][1] += k[1] * g[t];
-        s1[0][2] += k[1] * b[t];
-        s0[1][0] += k[2] * r[t];
-        s0[1][1] += k[2] * g[t];
-        s0[1][2] += k[2] * b[t];
-        s1[1][0] += k[3] * r[t];
-        s1[1][1] += k[3] * g[t];
-        s1[1][2] += k[3] * b[t];
+        if (c > 0.0)
+            add_node(&lobe, c, x[t], y[t], z[t], true, (const double[3]){r[t], g[t], b[t]}, dsum, s0, s1);
     }
-    const double dsum[3] = {dr, dg, db};
     for (int ch = 0; ch < 3; ch++) {
         diffuse[ch] = intensity * kd[ch] / PI_D * dsum[ch];
         for (int gi = 0; gi < 2; gi++)
@@ -319,25 +319,6 @@ typedef struct {
     double cr, sr;         /* world -> environment: d_env = Rz(-rotation) d_world */
 } vis_frame;
 
-/* Node w (unit, environment space) with radiance-times-weight rgb into the sums: shade_both's loop
- * body (a texel's node, split near a narrow lobe's peak as there), or a point light's direction
- * (`texel` false: read at w). */
-static inline void vis_add_node(const sl_gt_lobe *l, double c, double wx, double wy, double wz, bool texel,
-                                const double rgb[3], double dsum[3], double s0[2][3], double s1[2][3])
-{
-    for (int ch = 0; ch < 3; ch++)
-        dsum[ch] += c * rgb[ch];
-    double k[4]; /* k_inv, k_inv p5, k_one, k_one p5 */
-    if (!sl_gt_node_kernel(l, c, wx, wy, wz, texel, k))
-        return;
-    for (int ch = 0; ch < 3; ch++) {
-        s0[0][ch] += k[0] * rgb[ch];
-        s1[0][ch] += k[1] * rgb[ch];
-        s0[1][ch] += k[2] * rgb[ch];
-        s1[1][ch] += k[3] * rgb[ch];
-    }
-}
-
 /* env -> world for a ray: d_world = Rz(rotation) d_env */
 static void to_world(const vis_frame *f, const double e[3], double w[3])
 {
@@ -391,7 +372,7 @@ static long vis_environment(const vis_frame *f, const sl_gt_lobe *l, const doubl
             if (!(ng[0] * wx + ng[1] * wy + ng[2] * wz > 0.0))
                 continue; /* behind the surface itself */
             const double rgb[3] = {cl->r[t], cl->g[t], cl->b[t]};
-            vis_add_node(l, cn, wx, wy, wz, true, rgb, dsum, s0, s1);
+            add_node(l, cn, wx, wy, wz, true, rgb, dsum, s0, s1);
         }
     }
     return rays;
@@ -434,7 +415,7 @@ static long add_point_lights(const vis_frame *f, const sl_gt_lobe *l, vec3 p, co
         }
         const double e = (double)li->intensity / d2;
         const double rgb[3] = {(double)li->color.x * e, (double)li->color.y * e, (double)li->color.z * e};
-        vis_add_node(l, c, le[0], le[1], le[2], false, rgb, d, s0, s1);
+        add_node(l, c, le[0], le[1], le[2], false, rgb, d, s0, s1);
     }
     for (int ch = 0; ch < 3; ch++) {
         diffuse[ch] += (float)(kd[ch] / PI_D * d[ch]);
