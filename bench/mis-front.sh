@@ -21,7 +21,7 @@
 # to docs/accuracy/mis-front.md (bench/speed-vs-error.sh appends docs/accuracy/mis.md, the section
 # that reads it, and the table to docs/accuracy.md) and rewrites that section's table at a glance
 # (bench/mis_glance.py). The default list takes about half an hour on the 2-core machine, most of
-# it the ground truth (the grazing scenes' about 5 minutes each); later runs reuse the cache.
+# it the ground truth (the grazing scenes' a few minutes each); later runs reuse the cache.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/cpu_frame.bash # vector_isa
