@@ -50,7 +50,11 @@
 //                         read with texelFetch (env_oct_bilinear: the fold at the edge is by hand)
 //   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
 //   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
-//   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|
+//   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|,
+//                                .a: the texel's solid angle over that |integral|
+//   vec4  uEnvLightTexel[64]     the texel's bounds: cos(theta) at its top and bottom edges, phi
+//                                at its first edge and the signed width to its last
+//   float uEnvLightSide          the level-0 texel's longest side, max(pi / H, 2 pi / W)
 // Irradiance (diffuse term, Kd / pi * E(N)):
 //   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
 //                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP,
@@ -180,6 +184,8 @@ const int MAX_ENV_LIGHTS = 64;
 uniform int uEnvLightCount;
 uniform vec4 uEnvLightDir[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
+uniform vec4 uEnvLightTexel[MAX_ENV_LIGHTS];
+uniform float uEnvLightSide;
 
 #ifdef SL_SPECIALIZED
 const int uIrradianceMethod = SL_IRRADIANCE_METHOD;
@@ -1444,28 +1450,133 @@ vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, bool mis)
                                 : specular_microfacet(N, V, Ks, alpha, rotation, cv));
 }
 
+// Env lights near a narrow lobe's peak (src/core/options.h SL_TEXEL_SPLIT_*, the ground truth's
+// rule): where the lobe is narrower than a few texels (a sharp lobe, or any lobe seen at a grazing
+// angle), one node a texel misses or overshoots its peak, so a light's texel near R is read over
+// cells. Reflected about a facet spread by a (the lobe's width in H: GGX's a, or the Phong
+// exponent's of equal peak), R spreads 2 a in the plane of N and V (along B) and 2 a N.V across
+// it (along T), and the G term changes on a scale of N.V (L.H and L.N are about N.V near R at
+// grazing): widths 2 a N.V and 2 min(a, N.V). Each side of the texel gets as many cells as the
+// lobe's width across it asks.
+const int TEXEL_SPLIT_CELLS_PER_WIDTH = 8;
+const int TEXEL_SPLIT_MAX = 16;
+const float TEXEL_SPLIT_MIN_NV = 0.02;
+const int ENV_LIGHT_NEAR_WIDTHS = 3;
+
+struct EnvLightSplit {
+    int cells;      // the most cells a side any texel needs (1: no light is split)
+    float cosNear;  // a light with R.l at most this is not near
+    vec3 R, T, B;   // R and the lobe's axes across it
+    float across, along, side; // the lobe's widths along T and B, the texel's longest side
+};
+
+EnvLightSplit env_light_split(vec3 N, vec3 V, float alpha)
+{
+    float a = sl_lobe_is_ggx(alpha) ? sqrt(sl_ggx_a2(alpha)) : sqrt(2.0 / (alpha + 2.0));
+    float NdotV = dot(N, V);
+    EnvLightSplit s;
+    float nv = clamp(NdotV, TEXEL_SPLIT_MIN_NV, 1.0);
+    s.across = 2.0 * a * nv;
+    s.along = 2.0 * min(a, nv);
+    s.R = 2.0 * NdotV * N - V;
+    vec3 T = cross(N, V); // N = V: the lobe is round, any T across R serves
+    float t = length(T);
+    vec3 other = abs(s.R.z) < 0.9 ? vec3(0.0, 0.0, 1.0) : vec3(1.0, 0.0, 0.0);
+    s.T = t > 1e-6 ? T / t : normalize(cross(s.R, other));
+    s.B = cross(s.R, s.T);
+    s.side = uEnvLightSide;
+    s.cells = int(min(ceil(float(TEXEL_SPLIT_CELLS_PER_WIDTH) * uEnvLightSide / s.across), float(TEXEL_SPLIT_MAX)));
+    s.cosNear = cos(min(float(ENV_LIGHT_NEAR_WIDTHS) * s.along + 2.0 * uEnvLightSide, PI));
+    return s;
+}
+
+// The BRDF (2) at unit w times w.N: 0 below the horizon and for facets facing away (N.H <= 0).
+vec3 env_light_brdf(vec3 w, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    float wN = dot(w, N);
+    if (wN <= 0.0)
+        return vec3(0.0);
+    vec3 H = normalize(w + V);
+    float NdotH = dot(N, H);
+    if (NdotH <= 0.0)
+        return vec3(0.0);
+    float LdotH = dot(w, H);
+    float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, uGTerm);
+    return sl_brdf_F(Ks, LdotH) * (sl_lobe_D(NdotH, alpha) * G / 4.0 * wN);
+}
+
+// Whether light direction l's texel lies within ENV_LIGHT_NEAR_WIDTHS of the lobe's widths of R
+// along both of its axes, give or take two texels (the offset l - R in radians, near R).
+bool env_light_near(EnvLightSplit s, vec3 l)
+{
+    if (s.cells <= 1 || dot(s.R, l) <= s.cosNear)
+        return false;
+    vec3 q = l - s.R;
+    float t = max(abs(dot(q, s.T)) - 2.0 * s.side, 0.0) / s.across;
+    float b = max(abs(dot(q, s.B)) - 2.0 * s.side, 0.0) / s.along;
+    return t * t + b * b < float(ENV_LIGHT_NEAR_WIDTHS * ENV_LIGHT_NEAR_WIDTHS);
+}
+
+// The cells a texel side of length `side` along unit e needs, 1 .. TEXEL_SPLIT_MAX.
+int env_light_cells_along(EnvLightSplit s, vec3 e, float side)
+{
+    float t = dot(e, s.T) / s.across, b = dot(e, s.B) / s.along;
+    return int(clamp(ceil(float(TEXEL_SPLIT_CELLS_PER_WIDTH) * side * sqrt(t * t + b * b)), 1.0,
+                     float(TEXEL_SPLIT_MAX)));
+}
+
+// The rows and columns of cells env light j's texel is split into: as many along each of its sides
+// (its centroid's south and east) as the lobe's width across that side asks.
+ivec2 env_light_grid(int j, EnvLightSplit s)
+{
+    vec4 box = uEnvLightTexel[j];
+    vec3 c = uEnvLightDir[j].xyz;
+    float st = max(sqrt(c.x * c.x + c.y * c.y), 1e-6); // sin(theta) of the centroid
+    vec3 east = vec3(-c.y / st, c.x / st, 0.0), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
+    return ivec2(env_light_cells_along(s, south, acos(box.y) - acos(box.x)),
+                 env_light_cells_along(s, east, abs(box.w) * st));
+}
+
+// Env light j's texel split into cells of equal solid angle (z = cos(theta) and phi uniform over
+// its box), the BRDF times the cosine read at each cell's middle, each cell weighing its share of
+// the texel's solid angle over its node weight (the radiance carries the node weight).
+vec3 env_light_cells(int j, vec3 N, vec3 V, vec3 Ks, float alpha, EnvLightSplit s)
+{
+    vec4 box = uEnvLightTexel[j];
+    ivec2 grid = env_light_grid(j, s);
+    int rows = grid.x, cols = grid.y;
+    if (rows * cols == 1) // the centroid, the better node
+        return env_light_brdf(uEnvLightDir[j].xyz, N, V, Ks, alpha);
+    vec3 sum = vec3(0.0);
+    for (int b = 0; b < rows; b++) {
+        float z = mix(box.x, box.y, (float(b) + 0.5) / float(rows));
+        float sz = sqrt(max(1.0 - z * z, 0.0));
+        for (int a = 0; a < cols; a++) {
+            float phi = box.z + box.w * (float(a) + 0.5) / float(cols);
+            sum = sum + env_light_brdf(vec3(cos(phi) * sz, sin(phi) * sz, z), N, V, Ks, alpha);
+        }
+    }
+    return sum * (uEnvLightRadiance[j].a / float(rows * cols));
+}
+
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
 // the node weight), so this is the ground truth's sum over those texels: the BRDF (2) at w,
-// times w.N; 0 below the horizon and for facets facing away (N.H <= 0). Environment space.
+// times w.N, or over the texel's cells near a narrow lobe's peak (env_light_split); 0 for a light
+// below the horizon. Environment space.
 // shadowed: each light times vis[j], its visibility in its shadow map (env_light_visibility);
 // otherwise vis is not read.
 vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, float vis[MAX_ENV_LIGHTS])
 {
+    EnvLightSplit split = env_light_split(N, V, alpha);
     vec3 sum = vec3(0.0);
     for (int j = 0; j < uEnvLightCount; j++) {
         vec3 w = uEnvLightDir[j].xyz;
-        float wN = dot(w, N);
-        if (wN <= 0.0)
+        if (dot(w, N) <= 0.0)
             continue;
-        vec3 H = normalize(w + V);
-        float NdotH = dot(N, H);
-        if (NdotH <= 0.0)
-            continue;
-        float LdotH = dot(w, H);
-        float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, uGTerm);
-        vec3 f = sl_brdf_F(Ks, LdotH) * (sl_lobe_D(NdotH, alpha) * G / 4.0);
+        vec3 f = env_light_near(split, w) ? env_light_cells(j, N, V, Ks, alpha, split)
+                                          : env_light_brdf(w, N, V, Ks, alpha);
         float v = shadowed ? vis[j] : 1.0; // x 1 is exact: without maps, the same bits
-        sum = sum + f * uEnvLightRadiance[j].rgb * (wN * v);
+        sum = sum + f * uEnvLightRadiance[j].rgb * v;
     }
     return sum * uEnvIntensity;
 }

@@ -37,6 +37,20 @@
 /* Most env lights K: MAX_ENV_LIGHTS in the GLSL (whole groups of 16 for the batched path). */
 #define SL_ENV_LIGHTS_MAX 64
 #define SL_SKY_MAPS_MAX 64 /* the most sky visibility maps (--sky-maps; src/shadow/sky.h) */
+/* A texel under a lobe narrower than a few texels is integrated over cells of equal solid angle,
+ * by the ground truth (src/ibl/ground_truth.h) and by the env lights (lighting.frag
+ * env_light_split, TEXEL_SPLIT_* there): where the lobe's narrowest width 2 a max(N.V, MIN_NV)
+ * spans fewer than CELLS_PER_WIDTH cells of the texel's side, that many cells a side, at most MAX.
+ * The truth splits the texels whose centroid lies within NEAR_WIDTHS widths 2 a of R plus two
+ * texels, s x s cells each. The env lights split those within ENV_LIGHT_NEAR_WIDTHS of the lobe's
+ * widths along each of its axes, as many cells along each side of the texel as the lobe's width
+ * across it asks (lighting.c env_light_split): at 6 widths, as the truth, they come out as close
+ * to it on the MIS front's scenes at twice the cost on grazing.json. */
+#define SL_TEXEL_SPLIT_CELLS_PER_WIDTH 8
+#define SL_TEXEL_SPLIT_MAX 16
+#define SL_TEXEL_SPLIT_NEAR_WIDTHS 6
+#define SL_TEXEL_SPLIT_MIN_NV 0.02
+#define SL_ENV_LIGHT_NEAR_WIDTHS 3
 /* Most point lights of a scene: MAX_LIGHTS in the GLSL, the size of its uLight* arrays (and of
  * sl_lighting_uniforms'). Here, not in shading/lighting.h, because the scene reader checks it
  * where the lights are read (`lights[16]: at most 16 point lights`). */

@@ -421,7 +421,9 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     if (u->uEnvLightCount > 0) {
         glUniform4fv(loc(p, "uEnvLightDir"), u->uEnvLightCount, &u->uEnvLightDir[0].x);
         glUniform4fv(loc(p, "uEnvLightRadiance"), u->uEnvLightCount, &u->uEnvLightRadiance[0].x);
+        glUniform4fv(loc(p, "uEnvLightTexel"), u->uEnvLightCount, &u->uEnvLightTexel[0].x);
     }
+    glUniform1f(loc(p, "uEnvLightSide"), u->uEnvLightSide);
     glUniform1f(loc(p, "uEnvMaxLod"), u->uEnvMaxLod);
     glUniform1i(loc(p, "uEnvLayout"), u->uEnvLayout);
     glUniform1f(loc(p, "uLodBase"), u->uLodBase);

@@ -1,6 +1,7 @@
 /* env_lights.c - extraction of the brightest texels as exact lights (env_lights.h). */
 #include "env_lights.h"
 
+#include <math.h>
 #include <string.h>
 
 #include "ibl_internal.h"
@@ -82,6 +83,12 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
                                    (float)(((double)L.z - (double)residual.z) * weight));
         lights->dir[j] = vec3((float)nodes.x[k], (float)nodes.y[k], (float)nodes.z[k]);
         lights->texel[j] = k;
+        /* the texel's bounds and solid angle (2 pi / W)(cos theta0 - cos theta1), in double */
+        const int row = (int)(k / (size_t)l0->width), col = (int)(k % (size_t)l0->width);
+        const double z0 = cos(PI_D * row / l0->height), z1 = cos(PI_D * (row + 1) / l0->height);
+        const double dphi = 2.0 * PI_D / l0->width;
+        lights->box[j] = vec4((float)z0, (float)z1, (float)(PI_D - dphi * col), (float)-dphi);
+        lights->spread[j] = weight > 0.0 ? (float)(dphi * (z0 - z1) / weight) : 0.0f;
         taken += luminance3(lights->radiance[j]);
     }
     sl_ibl_texels_free(&nodes);

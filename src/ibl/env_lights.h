@@ -10,7 +10,9 @@
  *
  * lets the estimator sample a residual whose dynamic range is capped, while each extracted
  * texel becomes a light evaluated with the full BRDF at its centroid, the node the ground
- * truth uses for it (ground_truth.h), so that part is exact for any alpha.
+ * truth uses for it (ground_truth.h), or over cells of equal solid angle where the lobe is
+ * narrower than a few texels, as the truth splits such texels; so that part is exact for any
+ * alpha.
  *
  * The residual keeps each extracted texel's colour at the luminance of the brightest texel
  * that was not extracted (the clamp): r_t = L_t * clamp / Y(L_t), Y the Rec. 709 luminance.
@@ -37,6 +39,11 @@ typedef struct {
     vec3 dir[SL_ENV_LIGHTS_MAX];      /* unit centroid direction, environment space */
     vec3 radiance[SL_ENV_LIGHTS_MAX]; /* (L_t - r_t) * node weight, brightest first */
     size_t texel[SL_ENV_LIGHTS_MAX];  /* index j * width + i of the texel in level 0 */
+    vec4 box[SL_ENV_LIGHTS_MAX];      /* the texel's bounds for a split (z = cos(theta), phi as
+                                         ibl.h's lat-long maps them): z at its top and bottom edges,
+                                         phi at its first edge and the signed width to its last */
+    float spread[SL_ENV_LIGHTS_MAX];  /* its solid angle over its node weight |integral of w|: a
+                                         cell of a split into s x s gets radiance * spread / s^2 */
     sl_env residual;        /* the environment less the lights, full mip chain */
 } sl_env_lights;
 

@@ -14,8 +14,6 @@
 
 #include "ibl_internal.h"
 
-#define PI_D 3.14159265358979323846
-
 bool sl_ground_truth_init(sl_ground_truth *gt, const sl_env *env, sl_error *err)
 {
     memset(gt, 0, sizeof *gt);
@@ -54,19 +52,16 @@ double sl_ground_truth_ggx_dvis(double nh, double nl, double nv, double a2)
     return den > 0.0 ? d * 0.5 / den : 0.0;
 }
 
-/* The split: a texel is split where the reflected lobe's narrowest width (2 a N.V, with a GGX's a
- * or a Phong exponent's of equal peak, N.V at least SPLIT_MIN_NV) spans fewer than
- * SPLIT_CELLS_PER_WIDTH cells of the texel's side, into at most SPLIT_MAX x SPLIT_MAX cells, for
- * every texel whose centroid lies within SPLIT_NEAR_WIDTHS widths 2 a of R plus two texels. At
- * twice the cells per width and SPLIT_MAX a mis N = 1024 render of scenes/ggx.json is as far from
- * the truth (nRMSE 0.0079 against 0.0080 at 192x108). */
-#define SPLIT_CELLS_PER_WIDTH 8.0
-#define SPLIT_MAX 16.0
-#define SPLIT_MIN_NV 0.02
-#define SPLIT_NEAR_WIDTHS 6.0
+/* The split's rule and constants: core/options.h SL_TEXEL_SPLIT_*. At twice the cells per width
+ * and the most cells a mis N = 1024 render of scenes/ggx.json is as far from the truth (nRMSE
+ * 0.0079 against 0.0080 at 192x108). */
+#define SPLIT_CELLS_PER_WIDTH ((double)SL_TEXEL_SPLIT_CELLS_PER_WIDTH)
+#define SPLIT_MAX ((double)SL_TEXEL_SPLIT_MAX)
+#define SPLIT_MIN_NV SL_TEXEL_SPLIT_MIN_NV
+#define SPLIT_NEAR_WIDTHS ((double)SL_TEXEL_SPLIT_NEAR_WIDTHS)
 
 void sl_gt_lobe_init(sl_gt_lobe *l, const double n[3], const double v[3], bool ggx, double alpha, double a2,
-                     int width, int height, bool split)
+                     int width, int height)
 {
     *l = (sl_gt_lobe){.n = {n[0], n[1], n[2]}, .v = {v[0], v[1], v[2]}, .ggx = ggx, .width = width, .height = height};
     l->nv = n[0] * v[0] + n[1] * v[1] + n[2] * v[2];
@@ -80,7 +75,7 @@ void sl_gt_lobe_init(sl_gt_lobe *l, const double n[3], const double v[3], bool g
     const double a = ggx ? sqrt(a2) : sqrt(2.0 / (alpha + 2.0));
     const double side = fmax(PI_D / height, 2.0 * PI_D / width);
     const double narrowest = 2.0 * a * fmin(fmax(l->nv, SPLIT_MIN_NV), 1.0);
-    l->split = split ? (int)fmin(ceil(SPLIT_CELLS_PER_WIDTH * side / narrowest), SPLIT_MAX) : 1;
+    l->split = (int)fmin(ceil(SPLIT_CELLS_PER_WIDTH * side / narrowest), SPLIT_MAX);
     l->cos_near = cos(fmin(SPLIT_NEAR_WIDTHS * 2.0 * a + 2.0 * side, PI_D));
 }
 
@@ -106,7 +101,7 @@ static bool split_kernel(const sl_gt_lobe *l, double wx, double wy, double wz, d
     const double z0 = cos(PI_D * j / H), z1 = cos(PI_D * (j + 1) / H);
     const double cell = 2.0 * PI_D / W * (z0 - z1) / ((double)s * (double)s) / weight;
     /* each column's azimuth once: the cells of a column share it */
-    double cos_phi[(int)SPLIT_MAX], sin_phi[(int)SPLIT_MAX];
+    double cos_phi[SL_TEXEL_SPLIT_MAX], sin_phi[SL_TEXEL_SPLIT_MAX];
     for (int a = 0; a < s; a++) {
         const double phi = 2.0 * PI_D * (0.5 - (i + (a + 0.5) / s) / W);
         cos_phi[a] = cos(phi);
@@ -190,7 +185,7 @@ bool sl_ground_truth_shade(const sl_ground_truth *gt, const sl_gt_query *q, sl_g
     const bool g_one = q->g == SL_GT_G_ONE;
     sl_gt_lobe lobe;
     sl_gt_lobe_init(&lobe, n, v, q->ggx, q->alpha, q->ggx ? sl_ground_truth_ggx_a2(q->roughness) : 0.0, gt->width,
-                    gt->height, !q->centroid_only);
+                    gt->height);
 
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;

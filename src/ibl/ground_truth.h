@@ -53,8 +53,6 @@ typedef struct {
     bool ggx;          /* GGX's D and G in place of the Phong set's */
     double roughness;  /* GGX: perceptual roughness r in [0, 1] */
     sl_gt_geometry g;
-    bool centroid_only; /* every texel one node at its centroid, never split: the quadrature the env
-                           lights sum (src/ibl/env_lights.h), for their tests */
     double rotation;   /* radians about +Z */
     double intensity;  /* multiplies the environment (explicit: 0 gives black) */
 } sl_gt_query;
@@ -101,10 +99,9 @@ typedef struct {
     double cos_near;       /* near the peak: the centroid's cosine to R above this */
 } sl_gt_lobe;
 
-/* n, v: unit, environment space; alpha: the Phong exponent (ggx false) or a2: GGX's a^2; split:
- * false for one node a texel everywhere (sl_gt_query.centroid_only). */
+/* n, v: unit, environment space; alpha: the Phong exponent (ggx false) or a2: GGX's a^2. */
 void sl_gt_lobe_init(sl_gt_lobe *l, const double n[3], const double v[3], bool ggx, double alpha, double a2,
-                     int width, int height, bool split);
+                     int width, int height);
 
 /* The BRDF times the cosine at unit direction w with c = N.w > 0, the Fresnel term split out:
  * k_inv = D G' / 4 c with G' = 1/(L.H)^2 (GGX: its own), k_one the same with G' = 1, p5 =

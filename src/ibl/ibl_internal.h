@@ -15,6 +15,9 @@
 
 #include "ibl.h"
 
+/* pi in double, for the module's closed forms */
+#define PI_D 3.14159265358979323846
+
 /* Integrals over one row, z from cos(theta1) to cos(theta0). */
 typedef struct {
     double dz;  /* integral of 1       = cos(theta0) - cos(theta1) */

@@ -39,8 +39,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI_D 3.14159265358979323846
-
 /* Real SH normalisation constants (the same numbers as the float ones in sl_irradiance_eval). */
 #define K0 0.28209479177387814 /* sqrt(1 / (4 pi)) */
 #define K1 0.48860251190291992 /* sqrt(3 / (4 pi)) */

@@ -48,8 +48,6 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define PI_D 3.14159265358979323846
-
 /* Rec. 709 luminance, as the env lights use to rank texels. */
 static double luma(double r, double g, double b) { return 0.2126 * r + 0.7152 * g + 0.0722 * b; }
 

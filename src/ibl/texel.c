@@ -9,8 +9,6 @@
 #include <math.h>
 #include <stdlib.h>
 
-#define PI_D 3.14159265358979323846
-
 void sl_ibl_row_moments_at(int height, int j, ibl_row_moments *m)
 {
     double t0 = PI_D * (double)j / (double)height;

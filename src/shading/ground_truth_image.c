@@ -160,8 +160,7 @@ static void shade_both(const sl_ground_truth *gt, const double n[3], const doubl
      * planes get the same sums */
     const bool ggx = alpha < 0.0;
     sl_gt_lobe lobe;
-    sl_gt_lobe_init(&lobe, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height,
-                    true);
+    sl_gt_lobe_init(&lobe, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height);
     const double *restrict x = gt->x, *restrict y = gt->y, *restrict z = gt->z;
     const double *restrict r = gt->r, *restrict g = gt->g, *restrict b = gt->b;
     /* [0]: G = 1/(L.H)^2, [1]: G = 1; s0 = sum k L, s1 = sum k p5 L (ground_truth.c) */
@@ -443,8 +442,7 @@ static long shade_texel_vis(const sl_ground_truth *gt, const vis_frame *f, const
     const double alpha = (double)shade_lobe_param(t->alpha);
     const bool ggx = alpha < 0.0;
     sl_gt_lobe l;
-    sl_gt_lobe_init(&l, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height,
-                    true);
+    sl_gt_lobe_init(&l, n, v, ggx, alpha, ggx ? sl_ground_truth_ggx_a2(-1.0 - alpha) : 0.0, gt->width, gt->height);
     const double kd[3] = {(double)t->kd.x, (double)t->kd.y, (double)t->kd.z};
     const double ks[3] = {(double)t->ks.x, (double)t->ks.y, (double)t->ks.z};
     long rays = 0;

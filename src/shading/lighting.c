@@ -661,29 +661,134 @@ static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     return add(closed, correction);
 }
 
+#define CELLS_PER_WIDTH ((float)SL_TEXEL_SPLIT_CELLS_PER_WIDTH)
+#define NEAR_WIDTHS ((float)SL_ENV_LIGHT_NEAR_WIDTHS)
+
+/* GLSL: env_light_split. Where the lobe is narrower than a few texels (a sharp lobe, or any lobe
+ * seen at a grazing angle), one node a texel misses or overshoots its peak: the env lights whose
+ * centroid lies near R are then read over cells of their texel, by the ground truth's rule
+ * (core/options.h SL_TEXEL_SPLIT_*) but along each of the texel's axes apart. Reflected about a
+ * facet spread by a (the lobe's width in H: GGX's a, or the Phong exponent's of equal peak), R
+ * spreads 2 a in the plane of N and V (along B) and 2 a N.V across it (along T): at grazing view
+ * the lobe is a sliver, and a texel needs many cells across it and fewer along it. Along it the
+ * G term changes on a scale of N.V too (L.H and L.N are about N.V near R at grazing), hence its
+ * width 2 min(a, N.V). cells: the most any texel needs (1: no light is split). */
+shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha)
+{
+    float a = sl_lobe_is_ggx(alpha) ? sqrtf(sl_ggx_a2(alpha)) : sqrtf(2.0f / (alpha + 2.0f));
+    float NdotV = dot(N, V);
+    float nv = clampf(NdotV, (float)SL_TEXEL_SPLIT_MIN_NV, 1.0f);
+    float across = 2.0f * a * nv, along = 2.0f * minf(a, nv);
+    shade_env_light_split split;
+    split.R = sub(scale(N, 2.0f * NdotV), V);
+    vec3 T = cross(N, V); /* N = V: the lobe is round, any T across R serves */
+    float t = length(T);
+    vec3 other = fabsf(split.R.z) < 0.9f ? vec3(0.0f, 0.0f, 1.0f) : vec3(1.0f, 0.0f, 0.0f);
+    split.T = t > 1e-6f ? scale(T, 1.0f / t) : normalize(cross(split.R, other));
+    split.B = cross(split.R, split.T);
+    split.across = across;
+    split.along = along;
+    split.side = u->uEnvLightSide;
+    split.cells = (int)minf(ceilf(CELLS_PER_WIDTH * u->uEnvLightSide / across), (float)SL_TEXEL_SPLIT_MAX);
+    split.cos_near = cosf(minf(NEAR_WIDTHS * along + 2.0f * u->uEnvLightSide, SL_PI));
+    return split;
+}
+
+/* GLSL: env_light_brdf. The BRDF of eq. (2) at unit w times w.N: 0 below the horizon and for
+ * facets facing away (N.H <= 0). */
+static vec3 env_light_brdf(const sl_lighting_uniforms *u, vec3 w, vec3 N, vec3 V, vec3 Ks, float alpha)
+{
+    float wN = dot(w, N);
+    if (wN <= 0.0f)
+        return vec3s(0.0f);
+    vec3 H = normalize(add(w, V));
+    float NdotH = dot(N, H);
+    if (NdotH <= 0.0f)
+        return vec3s(0.0f);
+    float LdotH = dot(w, H);
+    float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, (sl_gterm)u->uGTerm);
+    return scale(sl_brdf_F(Ks, LdotH), sl_lobe_D(NdotH, alpha) * G / 4.0f * wN);
+}
+
+/* GLSL: env_light_near. Whether env light j's texel lies within NEAR_WIDTHS lobe widths of R
+ * along both of the lobe's axes, give or take two texels: R.l > cos_near bounds it round R, then
+ * the offset l - R is measured along T and B (in radians, near R). */
+bool sl_shade_env_light_near(const shade_env_light_split *split, vec3 l)
+{
+    if (split->cells <= 1 || dot(split->R, l) <= split->cos_near)
+        return false;
+    vec3 q = sub(l, split->R);
+    float t = maxf(fabsf(dot(q, split->T)) - 2.0f * split->side, 0.0f) / split->across;
+    float b = maxf(fabsf(dot(q, split->B)) - 2.0f * split->side, 0.0f) / split->along;
+    return t * t + b * b < NEAR_WIDTHS * NEAR_WIDTHS;
+}
+
+/* GLSL: env_light_cells_along. The cells a texel side of length `side` along unit e needs: that
+ * many cells per width of the lobe as e crosses it (T, B), 1 .. SL_TEXEL_SPLIT_MAX. */
+static int env_light_cells_along(const shade_env_light_split *split, vec3 e, float side)
+{
+    float t = dot(e, split->T) / split->across, b = dot(e, split->B) / split->along;
+    return (int)clampf(ceilf(CELLS_PER_WIDTH * side * sqrtf(t * t + b * b)), 1.0f, (float)SL_TEXEL_SPLIT_MAX);
+}
+
+/* GLSL: env_light_grid. The rows and columns of cells that env light j's texel is split into:
+ * as many along each of its sides (its centroid's south and east) as the lobe's width across that
+ * side asks. */
+void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_env_light_split *split, int *rows,
+                             int *cols)
+{
+    vec4 box = u->uEnvLightTexel[j];
+    vec3 c = xyz(u->uEnvLightDir[j]);
+    float st = maxf(sqrtf(c.x * c.x + c.y * c.y), 1e-6f); /* sin(theta) of the centroid */
+    vec3 east = vec3(-c.y / st, c.x / st, 0.0f), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
+    *rows = env_light_cells_along(split, south, acosf(box.y) - acosf(box.x));
+    *cols = env_light_cells_along(split, east, fabsf(box.w) * st);
+}
+
+/* GLSL: env_light_cells. Env light j's texel split into cells of equal solid angle (z = cos(theta)
+ * and phi uniform over its box), as many along each of its sides as the lobe's width across that
+ * side asks (env_light_split), the BRDF times the cosine read at each cell's middle, each cell
+ * weighing its share of the texel's solid angle over its node weight (the radiance carries the
+ * node weight). */
+static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V, vec3 Ks, float alpha,
+                            const shade_env_light_split *split)
+{
+    vec4 box = u->uEnvLightTexel[j];
+    int rows, cols;
+    sl_shade_env_light_grid(u, j, split, &rows, &cols);
+    if (rows * cols == 1) /* the centroid, the better node */
+        return env_light_brdf(u, xyz(u->uEnvLightDir[j]), N, V, Ks, alpha);
+    vec3 sum = vec3s(0.0f);
+    for (int b = 0; b < rows; b++) {
+        float z = mixf(box.x, box.y, ((float)b + 0.5f) / (float)rows);
+        float sz = sqrtf(maxf(1.0f - z * z, 0.0f));
+        for (int a = 0; a < cols; a++) {
+            float phi = box.z + box.w * ((float)a + 0.5f) / (float)cols;
+            vec3 w = vec3(cosf(phi) * sz, sinf(phi) * sz, z);
+            sum = add(sum, env_light_brdf(u, w, N, V, Ks, alpha));
+        }
+    }
+    return scale(sum, u->uEnvLightRadiance[j].w / (float)(rows * cols));
+}
+
 /* specular_env_lights: Each env light is one texel's quadrature node (its centroid
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
- * those texels: the BRDF of eq. (2) at w, times w.N; 0 below the horizon and for facets
- * facing away (N.H <= 0). */
+ * those texels: the BRDF of eq. (2) at w, times w.N, or over the texel's cells near a narrow
+ * lobe's peak (env_light_split); 0 for a light below the horizon. */
 /* GLSL: specular_env_lights (vis: each light's shadow-map visibility; NULL: all 1, the GLSL's
  * shadowed = false) */
 static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis)
 {
+    shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < u->uEnvLightCount; j++) {
         vec3 w = xyz(u->uEnvLightDir[j]);
-        float wN = dot(w, N);
-        if (wN <= 0.0f)
+        if (dot(w, N) <= 0.0f)
             continue;
-        vec3 H = normalize(add(w, V));
-        float NdotH = dot(N, H);
-        if (NdotH <= 0.0f)
-            continue;
-        float LdotH = dot(w, H);
-        float G = sl_lobe_G(LdotH, wN, dot(N, V), alpha, (sl_gterm)u->uGTerm);
-        vec3 f = scale(sl_brdf_F(Ks, LdotH), sl_lobe_D(NdotH, alpha) * G / 4.0f);
+        vec3 f = sl_shade_env_light_near(&split, w) ? env_light_cells(u, j, N, V, Ks, alpha, &split)
+                                                    : env_light_brdf(u, w, N, V, Ks, alpha);
         float v = vis ? vis[j] : 1.0f; /* x 1 is exact: without maps, the same bits */
-        sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), wN * v));
+        sum = add(sum, scale(mul(f, xyz(u->uEnvLightRadiance[j])), v));
     }
     return scale(sum, u->uEnvIntensity);
 }
@@ -884,14 +989,14 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             if (u->uEnvLightCount > 0 && !env_shadow) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL);
                 spec = add(spec, exact);
-                trace_env_lights(trace, u->uEnvLightCount, exact);
+                trace_env_lights(trace, u, s->Nenv, s->Venv, s->alpha, exact);
             }
         }
         vec3 exact = vec3s(0.0f); /* shadowed: kept apart from the occluded rest */
         if (env_shadow) {
             exact = specular ? env_shadow->specular
                              : specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, env_shadow->vis);
-            trace_env_lights(trace, u->uEnvLightCount, exact);
+            trace_env_lights(trace, u, s->Nenv, s->Venv, s->alpha, exact);
             shadowed_lights = add(shadowed_lights, exact);
         }
         trace_specular(trace, add(add(spec, beyond), exact));

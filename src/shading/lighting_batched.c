@@ -1131,54 +1131,34 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
 
 /* ======================== env lights ======================== */
 
-/* specular_env_lights for a GGX lobe, batched as the Phong one below: D and G' = 4 Vis of
- * brdf.h's formulas, the lights vectorized, the sum in light order. */
-static vec3 env_lights_samples_ggx(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha,
-                                   const float *vis)
+/* specular_env_lights' kernel at unit directions (X, Y, Z)[0 .. n), vectorized: k = D G' / 4
+ * (w.N), 0 below the horizon and for facets facing away, and m5 = (1 - L.H)^5, so that a
+ * direction's term is (Ks + (1 - Ks) m5) k times its radiance. GGX: brdf.h's D and G' = 4 Vis;
+ * Phong: D through the fast log2/exp2 as the lod does. The lights and a split light's cells
+ * (env_light_cells) share it. */
+static void env_kernel(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, const float *X, const float *Y,
+                       const float *Z, int n, float *k, float *m5)
 {
-    const int n = shade_env_light_lanes(u); /* zero lights add exactly 0 (below) */
-    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
-    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
-    const float a2 = sl_ggx_a2(alpha), NdotV = dot(N, V);
-    const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
-    const vec3 F1 = sub(vec3s(1.0f), Ks);
-    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+    if (sl_lobe_is_ggx(alpha)) {
+        const float a2 = sl_ggx_a2(alpha), NdotV = dot(N, V);
+        const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
 #pragma omp simd
-    for (int j = 0; j < n; j++) {
-        float wN, NdotH, LdotH;
-        toward_light(X[j], Y[j], Z[j], N, V, &wN, &NdotH, &LdotH);
-        float D = sl_ggx_D(NdotH, a2);
-        float wl = maxf(wN, 0.0f);
-        float G = 2.0f / maxf(wl * kv + NdotV * sqrtf(wl * wl * (1.0f - a2) + a2), TINY);
-        float mm = maxf(1.0f - LdotH, 0.0f);
-        float m2 = mm * mm;
-        float m5 = m2 * m2 * mm;
-        float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f);
-        float k = D * G / 4.0f * wN * lit * vis[j]; /* x 1 without maps: the same bits */
-        cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
-        cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
-        cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
+        for (int j = 0; j < n; j++) {
+            float wN, NdotH, LdotH;
+            toward_light(X[j], Y[j], Z[j], N, V, &wN, &NdotH, &LdotH);
+            float D = sl_ggx_D(NdotH, a2);
+            float wl = maxf(wN, 0.0f);
+            float G = 2.0f / maxf(wl * kv + NdotV * sqrtf(wl * wl * (1.0f - a2) + a2), TINY);
+            float mm = maxf(1.0f - LdotH, 0.0f);
+            float m2 = mm * mm;
+            m5[j] = m2 * m2 * mm;
+            float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f);
+            k[j] = D * G / 4.0f * wN * lit;
+        }
+        return;
     }
-    vec3 sum = vec3s(0.0f);
-    for (int j = 0; j < n; j++)
-        sum = add(sum, vec3(cr[j], cg[j], cb[j]));
-    return scale(sum, u->uEnvIntensity);
-}
-
-/* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms),
- * D through the fast log2/exp2 as the lod does, and the sum in light order. */
-__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
-                                                         float alpha, const float *vis)
-{
-    if (sl_lobe_is_ggx(alpha))
-        return env_lights_samples_ggx(u, N, V, Ks, alpha, vis);
-    const int n = shade_env_light_lanes(u); /* whole vectors */
-    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
-    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
     const phong_fast_D phong = phong_fast_D_for(alpha);
-    const vec3 F1 = sub(vec3s(1.0f), Ks);
-    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
     for (int j = 0; j < n; j++) {
         float wN, NdotH, LdotH;
@@ -1187,13 +1167,83 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
         float LH = maxf(LdotH, SL_BRDF_MIN_LDOTH);
         float mm = maxf(1.0f - LdotH, 0.0f);
         float m2 = mm * mm;
-        float m5 = m2 * m2 * mm;
+        m5[j] = m2 * m2 * mm;
         float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f); /* products, not &&: vectorizes */
         float g = 1.0f / (LH * LH); /* computed, then selected: a division under a branch stops GCC */
-        float k = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit * vis[j]; /* x 1 without maps: the same bits */
-        cr[j] = (Ks.x + F1.x * m5) * k * LR[j];
-        cg[j] = (Ks.y + F1.y * m5) * k * LG[j];
-        cb[j] = (Ks.z + F1.z * m5) * k * LB[j];
+        k[j] = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit;
+    }
+}
+
+#define CELLS_MAX (SL_TEXEL_SPLIT_MAX * SL_TEXEL_SPLIT_MAX)
+
+/* env_light_cells, batched: the cells' directions formed row by row (each column's azimuth once),
+ * the kernel over all of them at once, and Fresnel's two parts summed apart, Ks sum k + (1 - Ks)
+ * sum k m5. */
+static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V, vec3 Ks, float alpha, int rows,
+                            int cols)
+{
+    const vec4 box = u->uEnvLightTexel[j];
+    float cos_phi[SL_TEXEL_SPLIT_MAX], sin_phi[SL_TEXEL_SPLIT_MAX];
+    for (int a = 0; a < cols; a++) {
+        float phi = box.z + box.w * ((float)a + 0.5f) / (float)cols;
+        cos_phi[a] = cosf(phi);
+        sin_phi[a] = sinf(phi);
+    }
+    float X[CELLS_MAX], Y[CELLS_MAX], Z[CELLS_MAX], k[CELLS_MAX], m5[CELLS_MAX];
+    for (int b = 0; b < rows; b++) {
+        float z = mixf(box.x, box.y, ((float)b + 0.5f) / (float)rows);
+        float sz = sqrtf(maxf(1.0f - z * z, 0.0f));
+        for (int a = 0; a < cols; a++) {
+            X[b * cols + a] = cos_phi[a] * sz;
+            Y[b * cols + a] = sin_phi[a] * sz;
+            Z[b * cols + a] = z;
+        }
+    }
+    const int n = rows * cols;
+    env_kernel(u, N, V, alpha, X, Y, Z, n, k, m5);
+    float s0 = 0.0f, s1 = 0.0f;
+#pragma omp simd reduction(+ : s0, s1)
+    for (int c = 0; c < n; c++) {
+        s0 += k[c];
+        s1 += k[c] * m5[c];
+    }
+    vec3 f = add(scale(Ks, s0), scale(sub(vec3s(1.0f), Ks), s1));
+    return scale(f, u->uEnvLightRadiance[j].w / (float)n);
+}
+
+/* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms), then
+ * the few that env_light_split reads over their texel's cells (those near R, when the lobe is
+ * narrower than a few texels) replaced by their cells' sum, and the sum in light order. */
+__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
+                                                         float alpha, const float *vis)
+{
+    const int n = shade_env_light_lanes(u); /* zero lights add exactly 0 (below) */
+    const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
+    const vec3 F1 = sub(vec3s(1.0f), Ks);
+    float k[SL_ENV_LIGHTS_MAX], m5[SL_ENV_LIGHTS_MAX];
+    env_kernel(u, N, V, alpha, u->envLightX, u->envLightY, u->envLightZ, n, k, m5);
+    float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float kv = k[j] * vis[j]; /* x 1 without maps: the same bits */
+        cr[j] = (Ks.x + F1.x * m5[j]) * kv * LR[j];
+        cg[j] = (Ks.y + F1.y * m5[j]) * kv * LG[j];
+        cb[j] = (Ks.z + F1.z * m5[j]) * kv * LB[j];
+    }
+    const shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
+    for (int j = 0; split.cells > 1 && j < u->uEnvLightCount; j++) {
+        vec3 w = xyz(u->uEnvLightDir[j]);
+        if (dot(w, N) <= 0.0f || !sl_shade_env_light_near(&split, w))
+            continue;
+        int rows, cols;
+        sl_shade_env_light_grid(u, j, &split, &rows, &cols);
+        if (rows * cols == 1)
+            continue; /* its centroid's term stands */
+        vec3 f = env_light_cells(u, j, N, V, Ks, alpha, rows, cols);
+        vec3 c = scale(mul(f, xyz(u->uEnvLightRadiance[j])), vis[j]);
+        cr[j] = c.x;
+        cg[j] = c.y;
+        cb[j] = c.z;
     }
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < n; j++)
@@ -1443,7 +1493,7 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     else if (u->uEnvLightCount > 0) {
         vec3 exact = env_lights_samples(u, N, V, Ks, alpha, ones);
         specular = add(specular, exact);
-        trace_env_lights(trace, u->uEnvLightCount, exact);
+        trace_env_lights(trace, u, N, V, alpha, exact);
     }
     return specular;
 }

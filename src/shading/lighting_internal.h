@@ -163,6 +163,20 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
  * uniforms' light arrays are zero past the count (a zero direction and radiance add exactly 0),
  * and a small K stays off the scalar remainder loop, which made K = 8 cost as much as K = 24. */
 static inline int shade_env_light_lanes(const sl_lighting_uniforms *u) { return (u->uEnvLightCount + 15) & ~15; }
+/* GLSL EnvLightSplit, env_light_split, env_light_grid: which env lights a pixel's lobe reads
+ * over cells of their texel (those whose direction l has R.l > cos_near, when cells > 1), and
+ * into how many rows and columns of cells light j's texel is split (lighting.c says why). T and B: the lobe's two axes across R, each scaled to SL_TEXEL_SPLIT_CELLS_PER_WIDTH
+ * over the lobe's width along it. */
+typedef struct {
+    int cells;
+    float cos_near;
+    vec3 R, T, B;
+    float across, along, side;
+} shade_env_light_split;
+shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha);
+bool sl_shade_env_light_near(const shade_env_light_split *split, vec3 l);
+void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_env_light_split *split, int *rows,
+                             int *cols);
 /* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
@@ -601,11 +615,26 @@ static inline void trace_diffuse(sl_lighting_trace *t, vec3 E, vec3 diffuse)
     }
 }
 
-static inline void trace_env_lights(sl_lighting_trace *t, int count, vec3 exact)
+/* N, V: environment space, as specular_env_lights takes them */
+static inline void trace_env_lights(sl_lighting_trace *t, const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha,
+                                    vec3 exact)
 {
-    if (t) {
-        t->env_light_count = count;
-        t->env_lights = exact;
+    if (!t)
+        return;
+    t->env_light_count = u->uEnvLightCount;
+    t->env_lights = exact;
+    t->env_lights_split = t->env_light_cells = 0;
+    const shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        vec3 w = xyz(u->uEnvLightDir[j]);
+        int rows, cols;
+        if (dot(w, N) <= 0.0f || !sl_shade_env_light_near(&split, w))
+            continue;
+        sl_shade_env_light_grid(u, j, &split, &rows, &cols);
+        if (rows * cols > 1) {
+            t->env_lights_split++;
+            t->env_light_cells = rows * cols > t->env_light_cells ? rows * cols : t->env_light_cells;
+        }
     }
 }
 

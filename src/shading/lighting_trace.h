@@ -75,6 +75,9 @@ struct sl_lighting_trace {
     sl_lighting_trace_sample env_samples[SL_HAMMERSLEY_MAX];
     int env_light_count;     /* uEnvLightCount */
     vec3 env_lights;         /* their exact part of the specular (included in specular) */
+    int env_lights_split;    /* ... how many were read over cells of their texel, near a lobe
+                                narrower than a few texels (lighting.frag env_light_split), */
+    int env_light_cells;     /* ... and the most cells one of them was read over */
     vec3 irradiance, diffuse, specular, lights, background;
     vec3 light[SL_LIGHTING_MAX_LIGHTS];
     int shadow_lights;       /* with shadow maps (uniforms' shadowMaps): uLightCount, else 0 */

@@ -145,7 +145,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
     for (int j = 0; j < u->uEnvLightCount; j++) {
         u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
-        u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, 0.0f);
+        u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, el->spread[j]);
+        u->uEnvLightTexel[j] = el->box[j];
         u->envLightX[j] = el->dir[j].x;
         u->envLightY[j] = el->dir[j].y;
         u->envLightZ[j] = el->dir[j].z;
@@ -159,6 +160,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     /* In float, as a shader computing it would; log2 of a product of ints <= 2^28 is exact enough. */
     u->uLodBase = 0.5f * log2f((float)s0->width * (float)s0->height / (float)o.lod_samples);
     u->uSinThetaMin = sinf(SL_PI / (2.0f * (float)l0->height));
+    u->uEnvLightSide = fmaxf(SL_PI / (float)l0->height, 2.0f * SL_PI / (float)l0->width);
     /* world -> environment: rotate by -rotation about +Z (column-major). */
     float phi = radians(o.env_rotation_deg);
     float c = cosf(phi), s = sinf(phi);

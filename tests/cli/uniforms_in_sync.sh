@@ -49,6 +49,13 @@ check() { # check GLSL_NAME C_NAME
 }
 check MAX_LIGHTS SL_LIGHTING_MAX_LIGHTS
 check MAX_ENV_LIGHTS SL_ENV_LIGHTS_MAX
+check TEXEL_SPLIT_CELLS_PER_WIDTH SL_TEXEL_SPLIT_CELLS_PER_WIDTH
+check TEXEL_SPLIT_MAX SL_TEXEL_SPLIT_MAX
+check ENV_LIGHT_NEAR_WIDTHS SL_ENV_LIGHT_NEAR_WIDTHS
+g=$(sed -n 's/^const float TEXEL_SPLIT_MIN_NV = \([-+0-9.eE]*\);.*/\1/p' "$frag")
+v=$(sed -n 's/^#define SL_TEXEL_SPLIT_MIN_NV \([-+0-9.eE]*\)$/\1/p' src/core/options.h)
+[ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||
+    fail "TEXEL_SPLIT_MIN_NV = '${g}' in $frag, SL_TEXEL_SPLIT_MIN_NV = '${v}' in src/core/options.h"
 for x in NONE SPEC SPEC_D4 GEMS PDF; do check "LOD_$x" "SL_LOD_$x"; done
 check GTERM_INV_LH2 SL_GTERM_INV_LH2
 check ESTIMATOR_CONSISTENT SL_ESTIMATOR_CONSISTENT

@@ -14,6 +14,7 @@
  *   paths           the plain port and the batched path agree with env lights on
  *   errors          options.env_lights > 0 without (or with mismatched) extracted lights */
 #include "shading_fixtures.h"
+#include "shading/lighting_internal.h"
 #include "shading/lighting_trace.h"
 #include "ibl/env_lights.h"
 #include "shading/env_light_groups.h"
@@ -370,6 +371,14 @@ static double exact_tolerance(float alpha, double nv)
     return 1e-4 + 4.0 * 1.19e-7 * (double)alpha + 1.2e-7 / (nv * nv);
 }
 
+/* Where the lobe is narrower than a few texels, the env lights and the truth both split the
+ * texels near R into cells, by one rule of width but not the same cells: the truth s x s, over
+ * every texel within 6 widths, the env lights as many along each side as the lobe's width across
+ * it asks, within 3 widths along each of the lobe's axes (core/options.h). The two quadratures
+ * then differ by their own errors: measured worst 1.1% (alpha 10, G one, N.V 0.027, where the
+ * lamp's texel straddles the horizon and the cells below it are dropped), 0.5% elsewhere. */
+#define SPLIT_TOLERANCE 0.015
+
 /* Shade the lamps map's specular at (N, V) in environment space for one alpha, both G terms
  * and both paths, against the truth. rot_deg and intensity: the environment's rotation and
  * intensity (the shader's options, the truth's query). */
@@ -381,7 +390,7 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
     const vec3 ks = vec3(0.9f, 0.6f, 0.3f);
     for (int g = 0; g < 2; g++) {
         sl_gt_query q = {.n = N, .v = V, .kd = vec3s(0.0f), .ks = ks, .alpha = ALPHAS[a],
-                         .g = g ? SL_GT_G_ONE : SL_GT_G_INV_LH2, .centroid_only = true, .rotation = rad,
+                         .g = g ? SL_GT_G_ONE : SL_GT_G_INV_LH2, .rotation = rad,
                          .intensity = intensity};
         sl_gt_result r;
         sl_error err;
@@ -396,12 +405,13 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
                                   .width = 1, .height = 1, .env_lights = el};
             sl_lighting_uniforms *u = fx_uniforms_for(&d);
             vec3 c = fx_shade(u, fx_texel(N, vec3s(0.0f), ks, ALPHAS[a]));
+            const bool split = sl_shade_env_light_split(u, Ne, Ve, ALPHAS[a]).cells > 1;
             free(u);
             double e = 0.0;
             for (int ch = 0; ch < 3; ch++)
                 e = fmax(e, fabs((double)(&c.x)[ch] - r.specular[ch]) / tmax);
             /* the set-ups put a lamp in the lobe: the truth is far from 0 */
-            double tol = exact_tolerance(ALPHAS[a], (double)dot(N, V));
+            double tol = exact_tolerance(ALPHAS[a], (double)dot(N, V)) + (split ? SPLIT_TOLERANCE : 0.0);
             if (!(tmax > 1e-3) || !(e <= tol))
                 fail_msg("alpha %g, G %s, %s path, estimator %s, N.V %.4f, rotation %g, intensity %g: specular "
                          "(%.8g %.8g %.8g), ground truth (%.8g %.8g %.8g): relative error %.3g > %.3g",
@@ -542,7 +552,7 @@ static void test_black_texels_as_lights(void **state)
     vec3 d = texel_dir(LAMP_W, LAMP_H, (size_t)LAMPS[0].j * LAMP_W + LAMPS[0].i);
     vec3 N, V;
     mirror_setup(d, 0.6f, 0.0f, &N, &V);
-    sl_gt_query q = {.n = N, .v = V, .ks = vec3s(0.5f), .alpha = 50.0, .g = SL_GT_G_INV_LH2, .centroid_only = true,
+    sl_gt_query q = {.n = N, .v = V, .ks = vec3s(0.5f), .alpha = 50.0, .g = SL_GT_G_INV_LH2,
                      .intensity = 1.0};
     sl_gt_result r;
     assert_true(sl_ground_truth_shade(&l->gt, &q, &r, &err));
@@ -554,7 +564,8 @@ static void test_black_texels_as_lights(void **state)
         sl_gbuffer gb = {.width = 1, .height = 1, .texels = &t};
         sl_image out = {0};
         fx_render(&desc, &gb, 1, &out, NULL); /* no pixel repaired, every value finite */
-        if (fabs(out.data[0] - r.specular[0]) > 1e-4 * r.specular[0])
+        /* alpha 50 at N.V 0.6 is narrower than a few of this map's texels: both split */
+        if (fabs(out.data[0] - r.specular[0]) > (1e-4 + SPLIT_TOLERANCE) * r.specular[0])
             fail_msg("%s path, %d env lights on %d lit texels: specular %.8g, truth %.8g", plain ? "plain" : "batched",
                      el.count, LAMP_COUNT, (double)out.data[0], r.specular[0]);
         sl_image_free(&out);
@@ -589,12 +600,10 @@ static double nrmse(const sl_image *img, const double *truth, const unsigned cha
  * estimator, lod pdf with the distortion (the configuration of the top-down measurement). The
  * sampled sun is read through a blur of ~1 texel per sample cone and misses the truth's peak by
  * far; with K = 16 (the sun's texels and the sky's brightest) only the sky (luminance < 1.1) is
- * sampled. Measured (alpha 1000, 10000): nRMSE without 0.063 / 0.21, with 0.00011 / 0.0010, a
- * factor of 560 / 210; asserted: at least 20x better and below 0.01 (10x margins). The truth here
- * is the quadrature the env lights sum, each texel read at its centroid (centroid_only): against
- * the truth that splits the sun's texels (these lobes are a texel wide or less on this 128x64
- * map), the env lights' own error shows, nRMSE 0.026 / 0.146 with them against 0.054 / 0.097
- * without. */
+ * sampled. The sun's texels are as wide as these lobes or wider on this 128x64 map, so the env
+ * lights read them over cells, as the truth does. Measured (alpha 1000, 10000): nRMSE without
+ * 0.054 / 0.097, with 0.00028 / 0.00056, a factor of 194 / 175 (read at their centroids alone,
+ * 0.026 / 0.146); asserted: at least 20x better and below 0.01 (9x margins). */
 static void test_sun_error_drops(void **state)
 {
     (void)state;
@@ -626,7 +635,7 @@ static void test_sun_error_drops(void **state)
                     continue;
                 vec3 v = normalize(sub(cam.eye, t->position));
                 sl_gt_query q = {.n = t->normal, .v = v, .ks = t->ks, .alpha = t->alpha, .g = SL_GT_G_INV_LH2,
-                                 .centroid_only = true, .intensity = 1.0};
+                                 .intensity = 1.0};
                 sl_gt_result r;
                 assert_true(sl_ground_truth_shade(&gt, &q, &r, &err));
                 truth[(H - 1 - y) * W + x] = 0.2126 * r.specular[0] + 0.7152 * r.specular[1] + 0.0722 * r.specular[2];
