@@ -6,8 +6,10 @@
  *                   order (brightest first, ties by index), the node directions and weights
  *                   against a closed form derived here; K >= texels, 1x1 and 2x1 maps, bad K
  *   exactness       an environment that is black but for its lights: the residual is 0, so the
- *                   specular IS the ground truth's sum (float rounding) for every alpha, N.V down
- *                   to grazing, both G terms, both paths, any estimator; with rotation/intensity
+ *                   specular IS the ground truth's sum (float rounding; where the lobe is narrow
+ *                   enough that both split the texels into cells, within the two quadratures'
+ *                   difference) for Phong alpha 1 .. 1e5 and GGX r 0.3 and 0.1, N.V down to
+ *                   grazing, both G terms, both paths, any estimator; with rotation/intensity
  *   black texels    K larger than the lit texels: the black texels taken must stay harmless
  *   mixed           a sky with a 30000x sun: much closer to the truth with K = 16 than without;
  *                   K = 0 is bit for bit the render without the feature
@@ -349,13 +351,19 @@ static void mirror_setup(vec3 d, float nv, float gamma, vec3 *N, vec3 *V)
     *V = normalize(sub(scale(h, 2.0f * dot(h, d)), d));
 }
 
+enum { ALPHA_COUNT = 8 };
+
 typedef struct {
-    double worst[6];       /* per alpha */
-    double worst_share[6]; /* of the tolerance */
+    double worst[ALPHA_COUNT];       /* per alpha */
+    double worst_share[ALPHA_COUNT]; /* of the tolerance */
     int shaded;
 } exact_stats;
 
-static const float ALPHAS[6] = {1.0f, 10.0f, 100.0f, 1000.0f, 10000.0f, 1e5f};
+/* Phong exponents, then GGX r = 0.3 and 0.1 (the G-buffer's lobe parameter -1 - r) */
+static const float ALPHAS[ALPHA_COUNT] = {1.0f, 10.0f, 100.0f, 1000.0f, 10000.0f, 1e5f, -1.3f, -1.1f};
+
+/* A lobe parameter's Phong exponent, GGX's of equal peak */
+static float phong_alpha(float alpha) { return alpha >= 0.0f ? alpha : sl_ggx_phong_equivalent(-1.0f - alpha); }
 
 /* The float budget of the exact sum against the double ground truth, from two conditionings:
  *  - D = c (N.H)^alpha raises N.H's rounding to the power alpha: N.H near 1 computed a few ulp
@@ -389,7 +397,9 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
     vec3 N = rotz(Ne, rad), V = rotz(Ve, rad); /* world = Rz(rotation) env */
     const vec3 ks = vec3(0.9f, 0.6f, 0.3f);
     for (int g = 0; g < 2; g++) {
-        sl_gt_query q = {.n = N, .v = V, .kd = vec3s(0.0f), .ks = ks, .alpha = ALPHAS[a],
+        const bool ggx = ALPHAS[a] < 0.0f;
+        sl_gt_query q = {.n = N, .v = V, .kd = vec3s(0.0f), .ks = ks, .alpha = ggx ? 0.0 : ALPHAS[a], .ggx = ggx,
+                         .roughness = ggx ? -1.0 - ALPHAS[a] : 0.0,
                          .g = g ? SL_GT_G_ONE : SL_GT_G_INV_LH2, .rotation = rad,
                          .intensity = intensity};
         sl_gt_result r;
@@ -411,7 +421,7 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
             for (int ch = 0; ch < 3; ch++)
                 e = fmax(e, fabs((double)(&c.x)[ch] - r.specular[ch]) / tmax);
             /* the set-ups put a lamp in the lobe: the truth is far from 0 */
-            double tol = exact_tolerance(ALPHAS[a], (double)dot(N, V)) + (split ? SPLIT_TOLERANCE : 0.0);
+            double tol = exact_tolerance(phong_alpha(ALPHAS[a]), (double)dot(N, V)) + (split ? SPLIT_TOLERANCE : 0.0);
             if (!(tmax > 1e-3) || !(e <= tol))
                 fail_msg("alpha %g, G %s, %s path, estimator %s, N.V %.4f, rotation %g, intensity %g: specular "
                          "(%.8g %.8g %.8g), ground truth (%.8g %.8g %.8g): relative error %.3g > %.3g",
@@ -427,7 +437,7 @@ static void exact_case(const sl_env *env, const sl_env_lights *el, const sl_grou
 
 /* H off N by 0.75 / sqrt(alpha) (D down to about exp(-0.28) of its peak: the lobe's flank,
  * where D's slope in N.H is steepest relative to its value), at most 0.3 rad. */
-static float off_mirror(float alpha) { return fminf(0.3f, 0.75f / sqrtf(alpha)); }
+static float off_mirror(float alpha) { return fminf(0.3f, 0.75f / sqrtf(phong_alpha(alpha))); }
 
 typedef struct {
     sl_env env;
@@ -462,7 +472,7 @@ static int lamps_teardown(void **state)
 /* Every lamp at the mirror direction (H = N: D at its peak, where a sampled estimator at alpha
  * 1e5 reads a blur) and a lobe width off it, N.V from head-on to grazing (0.03; 0.01 is where
  * normals are bent). The residual is black, so the specular is the lights' sum alone and must
- * equal the ground truth's sum over the same nodes. */
+ * equal the ground truth's sum over the same texels (SPLIT_TOLERANCE where both split them). */
 static void test_exact_on_lamps(void **state)
 {
     lamps *l = *state;
@@ -473,7 +483,7 @@ static void test_exact_on_lamps(void **state)
     for (int k = 0; k < LAMP_COUNT; k++) {
         vec3 d = texel_dir(LAMP_W, LAMP_H, (size_t)LAMPS[k].j * LAMP_W + LAMPS[k].i);
         for (int i = 0; i < 5; i++)
-            for (int a = 0; a < 6; a++)
+            for (int a = 0; a < ALPHA_COUNT; a++)
                 for (int off = 0; off < 2; off++) {
                     vec3 N, V;
                     mirror_setup(d, nvs[i], off ? off_mirror(ALPHAS[a]) : 0.0f, &N, &V);
@@ -485,7 +495,7 @@ static void test_exact_on_lamps(void **state)
                     exact_case(&l->env, &l->el, &l->gt, N, V, a, 0.0f, 1.0f, est, &st);
                 }
     }
-    for (int a = 0; a < 6; a++)
+    for (int a = 0; a < ALPHA_COUNT; a++)
         print_message("alpha %-6g worst relative error vs ground truth %.3g (worst %.0f%% of the tolerance)\n",
                       (double)ALPHAS[a], st.worst[a], 100.0 * st.worst_share[a]);
     assert_true(st.shaded > 1000);
@@ -494,7 +504,7 @@ static void test_exact_on_lamps(void **state)
 /* The exact part carries the environment's rotation and intensity: the same mirror set-ups with
  * the map turned by 37 degrees (and -120) and 2.5x (and 0.5x) brighter, against the truth with
  * the same rotation and intensity. Also the trace: with a black residual the specular is the
- * env lights' part alone, and the trace reports it. */
+ * env lights' part alone, and the trace reports it and the lights it split. */
 static void test_exact_rotation_intensity(void **state)
 {
     lamps *l = *state;
@@ -503,13 +513,13 @@ static void test_exact_rotation_intensity(void **state)
     for (int k = 0; k < LAMP_COUNT; k += 2) {
         vec3 d = texel_dir(LAMP_W, LAMP_H, (size_t)LAMPS[k].j * LAMP_W + LAMPS[k].i);
         for (int r = 0; r < 2; r++)
-            for (int a = 0; a < 6; a++) {
+            for (int a = 0; a < ALPHA_COUNT; a++) {
                 vec3 N, V;
                 mirror_setup(d, r ? 0.2f : 0.8f, (k / 2 + a) % 2 ? off_mirror(ALPHAS[a]) : 0.0f, &N, &V);
                 exact_case(&l->env, &l->el, &l->gt, N, V, a, rots[r], gains[r], SL_ESTIMATOR_MICROFACET, &st);
             }
     }
-    for (int a = 0; a < 6; a++)
+    for (int a = 0; a < ALPHA_COUNT; a++)
         print_message("rotated: alpha %-6g worst relative error %.3g\n", (double)ALPHAS[a], st.worst[a]);
     /* trace, both paths: the samples read the black residual, so specular = env lights' part */
     vec3 d = texel_dir(LAMP_W, LAMP_H, (size_t)LAMPS[2].j * LAMP_W + LAMPS[2].i);
@@ -529,6 +539,8 @@ static void test_exact_rotation_intensity(void **state)
         assert_int_equal(tr->env_light_count, LAMP_COUNT);
         assert_true(tr->env_lights.x > 0.0f);
         assert_memory_equal(&tr->env_lights, &tr->specular, sizeof(vec3));
+        /* alpha 300 is narrower than this map's texels: the lamp near R is read over cells */
+        assert_true(tr->env_lights_split >= 1 && tr->env_light_cells > 1);
         free(u);
     }
     free(tr);
