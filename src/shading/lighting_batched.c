@@ -1211,6 +1211,43 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
     return scale(f, u->uEnvLightRadiance[j].w / (float)n);
 }
 
+/* The lights env_light_near picks (near R, when the lobe is narrower than a few texels), each
+ * one's centroid term replaced by the sum over its texel's cells: the test vectorized over the
+ * lights (env_light_near's, in its order), the few it passes one by one. */
+static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_light_split *split, vec3 N, vec3 V,
+                             vec3 Ks, float alpha, const float *vis, float *cr, float *cg, float *cb)
+{
+    const int n = shade_env_light_lanes(u);
+    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
+    const vec3 R = split->R, T = split->T, B = split->B;
+    const float edge = 2.0f * split->side, cos_near = split->cos_near;
+    const float across = split->across, along = split->along;
+    const float near2 = (float)(SL_ENV_LIGHT_NEAR_WIDTHS * SL_ENV_LIGHT_NEAR_WIDTHS);
+    int near[SL_ENV_LIGHTS_MAX];
+#pragma omp simd
+    for (int j = 0; j < n; j++) {
+        float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z; /* 0 past the count: not near */
+        float rl = (R.x * X[j] + R.y * Y[j]) + R.z * Z[j];
+        float qx = X[j] - R.x, qy = Y[j] - R.y, qz = Z[j] - R.z;
+        float t = maxf(fabsf((qx * T.x + qy * T.y) + qz * T.z) - edge, 0.0f) / across;
+        float b = maxf(fabsf((qx * B.x + qy * B.y) + qz * B.z) - edge, 0.0f) / along;
+        near[j] = (wN > 0.0f) & (rl > cos_near) & (t * t + b * b < near2);
+    }
+    for (int j = 0; j < u->uEnvLightCount; j++) {
+        if (!near[j])
+            continue;
+        int rows, cols;
+        sl_shade_env_light_grid(u, j, split, &rows, &cols);
+        if (rows * cols == 1)
+            continue; /* its centroid's term stands */
+        vec3 f = env_light_cells(u, j, N, V, Ks, alpha, rows, cols);
+        vec3 c = scale(mul(f, xyz(u->uEnvLightRadiance[j])), vis[j]);
+        cr[j] = c.x;
+        cg[j] = c.y;
+        cb[j] = c.z;
+    }
+}
+
 /* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms), then
  * the few that env_light_split reads over their texel's cells (those near R, when the lobe is
  * narrower than a few texels) replaced by their cells' sum, and the sum in light order. */
@@ -1231,20 +1268,8 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
         cb[j] = (Ks.z + F1.z * m5[j]) * kv * LB[j];
     }
     const shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
-    for (int j = 0; split.cells > 1 && j < u->uEnvLightCount; j++) {
-        vec3 w = xyz(u->uEnvLightDir[j]);
-        if (dot(w, N) <= 0.0f || !sl_shade_env_light_near(&split, w))
-            continue;
-        int rows, cols;
-        sl_shade_env_light_grid(u, j, &split, &rows, &cols);
-        if (rows * cols == 1)
-            continue; /* its centroid's term stands */
-        vec3 f = env_light_cells(u, j, N, V, Ks, alpha, rows, cols);
-        vec3 c = scale(mul(f, xyz(u->uEnvLightRadiance[j])), vis[j]);
-        cr[j] = c.x;
-        cg[j] = c.y;
-        cb[j] = c.z;
-    }
+    if (split.cells > 1)
+        env_lights_split(u, &split, N, V, Ks, alpha, vis, cr, cg, cb);
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < n; j++)
         sum = add(sum, vec3(cr[j], cg[j], cb[j]));
