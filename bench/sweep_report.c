@@ -351,8 +351,9 @@ static void write_design(FILE *f)
                "   one level finer;\n"
                "9. `mf pdf+dist+env32` - plus env lights (`--env-lights 32`, src/ibl/env_lights.h): the\n"
                "   environment's 32 brightest texels are summed as lights, each at its texel's centroid (the\n"
-               "   ground truth's node but near a narrow lobe's peak: docs/ibl.md \"Narrow lobes\"), and the\n"
-               "   samples read the rest, whose brightest texel is then the 33rd;\n"
+               "   ground truth's node; near a narrow lobe's peak over cells of the texel, as the truth:\n"
+               "   docs/ibl.md \"Narrow lobes\"), and the samples read the rest, whose brightest texel is then\n"
+               "   the 33rd;\n"
                "10. `consistent gems+dist+env32` and 11. `spec spec-d4+env32` - the same split under the other\n"
                "   two estimators.\n\n"
                "The number of env lights K = 4, 8, 16, 32, 64 for `mf pdf+dist` at N = 16 and 32. Their\n"
@@ -481,13 +482,14 @@ static void write_why_env_lights(const report *rp, FILE *f)
                "  and it steps up and down along N with whether a sample lands on it.\n");
     int e0 = find(vl, "mf pdf+dist N32"), e32 = find(vl, "mf pdf+dist+env32 N32");
     if (e0 >= 0 && e32 >= 0 && sum[e0].done && sum[e32].done) {
-        fprintf(f, "* Env lights take exactly those texels out of the sampled map and sum them each at its\n"
-                   "  texel's centroid, exact but where a lobe narrower than a texel or two meets one (the ground\n"
-                   "  truth integrates the texel there: docs/ibl.md \"Narrow lobes\"), and the samples read a\n"
+        fprintf(f, "* Env lights take exactly those texels out of the sampled map and sum them as the ground\n"
+                   "  truth does, each at its texel's centroid or, near the peak of a lobe narrower than a few\n"
+                   "  texels, over cells of the texel (docs/ibl.md \"Narrow lobes\"), and the samples read a\n"
                    "  residual whose brightest texel is the 33rd: `mf pdf+dist N32` -> `+env32`: nRMSE %.4f -> %.4f,\n"
                    "  specular %.4f -> %.4f, mean relative %.3f -> %.3f, >8/255 %.1f%% -> %.1f%%, lighting %.2f ->\n"
                    "  %.2f CPU ms"
-                   " (32 BRDF evaluations per pixel, vectorized over the lights). Per scene (nRMSE):",
+                   " (32 BRDF evaluations per pixel, vectorized over the lights, and more for the few lights a narrow"
+                   " lobe splits). Per scene (nRMSE):",
                 sum[e0].e[0].nrmse, sum[e32].e[0].nrmse, sum[e0].e[2].nrmse, sum[e32].e[2].nrmse,
                 sum[e0].e[0].mean_rel, sum[e32].e[0].mean_rel, 100 * sum[e0].e[0].over8, 100 * sum[e32].e[0].over8,
                 sum[e0].cpu_ms, sum[e32].cpu_ms);

@@ -1131,17 +1131,36 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
 
 /* ======================== env lights ======================== */
 
+/* A pixel's lobe as specular_env_lights' kernel reads it (with N and V), formed once per pixel. */
+typedef struct {
+    bool ggx, inv_lh2;
+    float a2, NdotV, kv; /* GGX */
+    phong_fast_D phong;  /* Phong */
+} env_lobe;
+
+static env_lobe env_lobe_for(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha)
+{
+    env_lobe l = {.ggx = sl_lobe_is_ggx(alpha), .inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2};
+    if (l.ggx) {
+        l.a2 = sl_ggx_a2(alpha);
+        l.NdotV = dot(N, V);
+        l.kv = sqrtf(l.NdotV * l.NdotV * (1.0f - l.a2) + l.a2);
+    } else {
+        l.phong = phong_fast_D_for(alpha);
+    }
+    return l;
+}
+
 /* specular_env_lights' kernel at unit directions (X, Y, Z)[0 .. n), vectorized: k = D G' / 4
  * (w.N), 0 below the horizon and for facets facing away, and m5 = (1 - L.H)^5, so that a
  * direction's term is (Ks + (1 - Ks) m5) k times its radiance. GGX: brdf.h's D and G' = 4 Vis;
- * Phong: D through the fast log2/exp2 as the lod does. The lights and a split light's cells
- * (env_light_cells) share it. */
-static void env_kernel(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha, const float *X, const float *Y,
-                       const float *Z, int n, float *k, float *m5)
+ * Phong: D through the fast log2/exp2 as the lod does. The lights and the split lights' cells
+ * (env_lights_split) share it. */
+static void env_kernel(const env_lobe *l, vec3 N, vec3 V, const float *X, const float *Y, const float *Z, int n,
+                       float *k, float *m5)
 {
-    if (sl_lobe_is_ggx(alpha)) {
-        const float a2 = sl_ggx_a2(alpha), NdotV = dot(N, V);
-        const float kv = sqrtf(NdotV * NdotV * (1.0f - a2) + a2);
+    if (l->ggx) {
+        const float a2 = l->a2, NdotV = l->NdotV, kv = l->kv;
 #pragma omp simd
         for (int j = 0; j < n; j++) {
             float wN, NdotH, LdotH;
@@ -1157,8 +1176,8 @@ static void env_kernel(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alph
         }
         return;
     }
-    const bool inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
-    const phong_fast_D phong = phong_fast_D_for(alpha);
+    const float g_on = l->inv_lh2 ? 1.0f : 0.0f; /* a float: a bool read from *l stops GCC vectorizing */
+    const phong_fast_D phong = l->phong;
 #pragma omp simd
     for (int j = 0; j < n; j++) {
         float wN, NdotH, LdotH;
@@ -1170,17 +1189,23 @@ static void env_kernel(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alph
         m5[j] = m2 * m2 * mm;
         float lit = (wN > 0.0f ? 1.0f : 0.0f) * (NdotH > 0.0f ? 1.0f : 0.0f); /* products, not &&: vectorizes */
         float g = 1.0f / (LH * LH); /* computed, then selected: a division under a branch stops GCC */
-        k[j] = D * (inv_lh2 ? g : 1.0f) / 4.0f * wN * lit;
+        k[j] = D * (g_on != 0.0f ? g : 1.0f) / 4.0f * wN * lit;
     }
 }
 
-#define CELLS_MAX (SL_TEXEL_SPLIT_MAX * SL_TEXEL_SPLIT_MAX)
+/* The split lights' cells of one pixel, gathered so that one kernel pass covers them all: a
+ * light's texel is split into at most SL_TEXEL_SPLIT_MAX^2 cells, and a batch holds four such. */
+#define CELL_BATCH (4 * SL_TEXEL_SPLIT_MAX * SL_TEXEL_SPLIT_MAX)
 
-/* env_light_cells, batched: the cells' directions formed row by row (each column's azimuth once),
- * the kernel over all of them at once, and Fresnel's two parts summed apart, Ks sum k + (1 - Ks)
- * sum k m5. */
-static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V, vec3 Ks, float alpha, int rows,
-                            int cols)
+typedef struct {
+    float X[CELL_BATCH], Y[CELL_BATCH], Z[CELL_BATCH], k[CELL_BATCH], m5[CELL_BATCH];
+    int count, cells;                                        /* lights, cells held */
+    int light[SL_ENV_LIGHTS_MAX], first[SL_ENV_LIGHTS_MAX + 1]; /* each one's index, first cell */
+} cell_batch;
+
+/* env_light_cells' directions for light j, rows x cols, appended: formed row by row, each
+ * column's azimuth once. */
+static void cells_add(cell_batch *c, const sl_lighting_uniforms *u, int j, int rows, int cols)
 {
     const vec4 box = u->uEnvLightTexel[j];
     float cos_phi[SL_TEXEL_SPLIT_MAX], sin_phi[SL_TEXEL_SPLIT_MAX];
@@ -1189,7 +1214,7 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
         cos_phi[a] = cosf(phi);
         sin_phi[a] = sinf(phi);
     }
-    float X[CELLS_MAX], Y[CELLS_MAX], Z[CELLS_MAX], k[CELLS_MAX], m5[CELLS_MAX];
+    float *X = c->X + c->cells, *Y = c->Y + c->cells, *Z = c->Z + c->cells;
     for (int b = 0; b < rows; b++) {
         float z = mixf(box.x, box.y, ((float)b + 0.5f) / (float)rows);
         float sz = sqrtf(maxf(1.0f - z * z, 0.0f));
@@ -1199,23 +1224,40 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
             Z[b * cols + a] = z;
         }
     }
-    const int n = rows * cols;
-    env_kernel(u, N, V, alpha, X, Y, Z, n, k, m5);
-    float s0 = 0.0f, s1 = 0.0f;
+    c->light[c->count++] = j;
+    c->cells += rows * cols;
+    c->first[c->count] = c->cells;
+}
+
+/* The kernel over the batch's cells, then each light's term, its cells' mean (Fresnel's two parts
+ * summed apart, Ks sum k + (1 - Ks) sum k m5) times its solid angle over its node weight, in
+ * place of its centroid's. */
+static void cells_flush(cell_batch *c, const sl_lighting_uniforms *u, const env_lobe *l, vec3 N, vec3 V, vec3 Ks,
+                        const float *vis, float *cr, float *cg, float *cb)
+{
+    env_kernel(l, N, V, c->X, c->Y, c->Z, c->cells, c->k, c->m5);
+    for (int i = 0; i < c->count; i++) {
+        const int j = c->light[i], c0 = c->first[i], c1 = c->first[i + 1];
+        float s0 = 0.0f, s1 = 0.0f;
 #pragma omp simd reduction(+ : s0, s1)
-    for (int c = 0; c < n; c++) {
-        s0 += k[c];
-        s1 += k[c] * m5[c];
+        for (int q = c0; q < c1; q++) {
+            s0 += c->k[q];
+            s1 += c->k[q] * c->m5[q];
+        }
+        vec3 f = scale(add(scale(Ks, s0), scale(sub(vec3s(1.0f), Ks), s1)), u->uEnvLightRadiance[j].w / (float)(c1 - c0));
+        vec3 t = scale(mul(f, xyz(u->uEnvLightRadiance[j])), vis[j]);
+        cr[j] = t.x;
+        cg[j] = t.y;
+        cb[j] = t.z;
     }
-    vec3 f = add(scale(Ks, s0), scale(sub(vec3s(1.0f), Ks), s1));
-    return scale(f, u->uEnvLightRadiance[j].w / (float)n);
+    c->count = c->cells = 0;
 }
 
 /* The lights env_light_near picks (near R, when the lobe is narrower than a few texels), each
  * one's centroid term replaced by the sum over its texel's cells: the test vectorized over the
- * lights (env_light_near's, in its order), the few it passes one by one. */
-static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_light_split *split, vec3 N, vec3 V,
-                             vec3 Ks, float alpha, const float *vis, float *cr, float *cg, float *cb)
+ * lights (env_light_near's, in its order), the cells of those it passes gathered into batches. */
+static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_light_split *split, const env_lobe *l,
+                             vec3 N, vec3 V, vec3 Ks, const float *vis, float *cr, float *cg, float *cb)
 {
     const int n = shade_env_light_lanes(u);
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
@@ -1233,6 +1275,9 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
         float b = maxf(fabsf((qx * B.x + qy * B.y) + qz * B.z) - edge, 0.0f) / along;
         near[j] = (wN > 0.0f) & (rl > cos_near) & (t * t + b * b < near2);
     }
+    cell_batch c;
+    c.count = c.cells = 0;
+    c.first[0] = 0;
     for (int j = 0; j < u->uEnvLightCount; j++) {
         if (!near[j])
             continue;
@@ -1240,12 +1285,12 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
         sl_shade_env_light_grid(u, j, split, &rows, &cols);
         if (rows * cols == 1)
             continue; /* its centroid's term stands */
-        vec3 f = env_light_cells(u, j, N, V, Ks, alpha, rows, cols);
-        vec3 c = scale(mul(f, xyz(u->uEnvLightRadiance[j])), vis[j]);
-        cr[j] = c.x;
-        cg[j] = c.y;
-        cb[j] = c.z;
+        if (c.cells + rows * cols > CELL_BATCH)
+            cells_flush(&c, u, l, N, V, Ks, vis, cr, cg, cb);
+        cells_add(&c, u, j, rows, cols);
     }
+    if (c.count > 0)
+        cells_flush(&c, u, l, N, V, Ks, vis, cr, cg, cb);
 }
 
 /* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms), then
@@ -1257,8 +1302,9 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     const int n = shade_env_light_lanes(u); /* zero lights add exactly 0 (below) */
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
+    const env_lobe lobe = env_lobe_for(u, N, V, alpha);
     float k[SL_ENV_LIGHTS_MAX], m5[SL_ENV_LIGHTS_MAX];
-    env_kernel(u, N, V, alpha, u->envLightX, u->envLightY, u->envLightZ, n, k, m5);
+    env_kernel(&lobe, N, V, u->envLightX, u->envLightY, u->envLightZ, n, k, m5);
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
     for (int j = 0; j < n; j++) {
@@ -1269,7 +1315,7 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     }
     const shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
     if (split.cells > 1)
-        env_lights_split(u, &split, N, V, Ks, alpha, vis, cr, cg, cb);
+        env_lights_split(u, &split, &lobe, N, V, Ks, vis, cr, cg, cb);
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < n; j++)
         sum = add(sum, vec3(cr[j], cg[j], cb[j]));

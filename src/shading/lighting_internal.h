@@ -163,10 +163,11 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
  * uniforms' light arrays are zero past the count (a zero direction and radiance add exactly 0),
  * and a small K stays off the scalar remainder loop, which made K = 8 cost as much as K = 24. */
 static inline int shade_env_light_lanes(const sl_lighting_uniforms *u) { return (u->uEnvLightCount + 15) & ~15; }
-/* GLSL EnvLightSplit, env_light_split, env_light_grid: which env lights a pixel's lobe reads
- * over cells of their texel (those whose direction l has R.l > cos_near, when cells > 1), and
- * into how many rows and columns of cells light j's texel is split (lighting.c says why). T and B: the lobe's two axes across R, each scaled to SL_TEXEL_SPLIT_CELLS_PER_WIDTH
- * over the lobe's width along it. */
+/* GLSL EnvLightSplit, env_light_split, env_light_near, env_light_grid: which env lights a
+ * pixel's lobe reads over cells of their texel (those near R, when cells > 1), and into how many
+ * rows and columns of cells light j's texel is split (lighting.c says why). R, T, B: the mirror
+ * direction and the lobe's unit axes across it; across, along: its widths along T and B (radians);
+ * side: the level-0 texel's longest side. */
 typedef struct {
     int cells;
     float cos_near;

@@ -228,8 +228,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 "env lights", (double)t->env_lights.x, (double)t->env_lights.y, (double)t->env_lights.z,
                 t->env_light_count);
     if (t->env_lights_split > 0)
-        fprintf(f, "  %-12s %d near the lobe's peak read over cells of their texel (at most %d cells)\n", "", t->env_lights_split,
-                t->env_light_cells);
+        fprintf(f, "  %-12s %d near the lobe's peak read over cells of their texel (at most %d cells)\n", "",
+                t->env_lights_split, t->env_light_cells);
     for (int j = 0; j < t->env_shadow_lights; j++) {
         char name[32];
         snprintf(name, sizeof name, "env light %d", j);

@@ -614,8 +614,8 @@ static double nrmse(const sl_image *img, const double *truth, const unsigned cha
  * far; with K = 16 (the sun's texels and the sky's brightest) only the sky (luminance < 1.1) is
  * sampled. The sun's texels are as wide as these lobes or wider on this 128x64 map, so the env
  * lights read them over cells, as the truth does. Measured (alpha 1000, 10000): nRMSE without
- * 0.054 / 0.097, with 0.00028 / 0.00056, a factor of 194 / 175 (read at their centroids alone,
- * 0.026 / 0.146); asserted: at least 20x better and below 0.01 (9x margins). */
+ * 0.054 / 0.097, with 0.00028 / 0.00056, a factor of 194 / 175; asserted: at least 20x better and
+ * below 0.01 (9x margins). */
 static void test_sun_error_drops(void **state)
 {
     (void)state;
