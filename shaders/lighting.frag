@@ -1456,8 +1456,9 @@ vec3 specular_cv(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, bool mis)
 // cells. Reflected about a facet spread by a (the lobe's width in H: GGX's a, or the Phong
 // exponent's of equal peak), R spreads 2 a in the plane of N and V (along B) and 2 a N.V across
 // it (along T), and the G term changes on a scale of N.V (L.H and L.N are about N.V near R at
-// grazing): widths 2 a N.V and 2 min(a, N.V). Each side of the texel gets as many cells as the
-// lobe's width across it asks.
+// grazing): the cells' widths 2 a N.V and 2 min(a, N.V); which lights are near is measured
+// against the lobe's own widths, 2 a N.V and 2 a. Each side of the texel gets as many cells as
+// the lobe's width across it asks.
 const int TEXEL_SPLIT_CELLS_PER_WIDTH = 8;
 const int TEXEL_SPLIT_MAX = 16;
 const float TEXEL_SPLIT_MIN_NV = 0.02;
@@ -1467,7 +1468,8 @@ struct EnvLightSplit {
     int cells;      // the most cells a side any texel needs (1: no light is split)
     float cosNear;  // a light with R.l at most this is not near
     vec3 R, T, B;   // R and the lobe's axes across it
-    float across, along, side; // the lobe's widths along T and B, the texel's longest side
+    float across, along;       // the cells' widths along T and B
+    float reach, side;         // the lobe's own along B (the near test's), the texel's longest side
 };
 
 EnvLightSplit env_light_split(vec3 N, vec3 V, float alpha)
@@ -1478,6 +1480,7 @@ EnvLightSplit env_light_split(vec3 N, vec3 V, float alpha)
     float nv = clamp(NdotV, TEXEL_SPLIT_MIN_NV, 1.0);
     s.across = 2.0 * a * nv;
     s.along = 2.0 * min(a, nv);
+    s.reach = 2.0 * a;
     s.R = 2.0 * NdotV * N - V;
     vec3 T = cross(N, V); // N = V: the lobe is round, any T across R serves
     float t = length(T);
@@ -1486,7 +1489,7 @@ EnvLightSplit env_light_split(vec3 N, vec3 V, float alpha)
     s.B = cross(s.R, s.T);
     s.side = uEnvLightSide;
     s.cells = int(min(ceil(float(TEXEL_SPLIT_CELLS_PER_WIDTH) * uEnvLightSide / s.across), float(TEXEL_SPLIT_MAX)));
-    s.cosNear = cos(min(float(ENV_LIGHT_NEAR_WIDTHS) * s.along + 2.0 * uEnvLightSide, PI));
+    s.cosNear = cos(min(float(ENV_LIGHT_NEAR_WIDTHS) * s.reach + 2.0 * uEnvLightSide, PI));
     return s;
 }
 
@@ -1506,14 +1509,15 @@ vec3 env_light_brdf(vec3 w, vec3 N, vec3 V, vec3 Ks, float alpha)
 }
 
 // Whether light direction l's texel lies within ENV_LIGHT_NEAR_WIDTHS of the lobe's widths of R
-// along both of its axes, give or take two texels (the offset l - R in radians, near R).
+// (2 a N.V across, 2 a along) along both of its axes, give or take two texels (the offset l - R
+// in radians, near R).
 bool env_light_near(EnvLightSplit s, vec3 l)
 {
     if (s.cells <= 1 || dot(s.R, l) <= s.cosNear)
         return false;
     vec3 q = l - s.R;
     float t = max(abs(dot(q, s.T)) - 2.0 * s.side, 0.0) / s.across;
-    float b = max(abs(dot(q, s.B)) - 2.0 * s.side, 0.0) / s.along;
+    float b = max(abs(dot(q, s.B)) - 2.0 * s.side, 0.0) / s.reach;
     return t * t + b * b < float(ENV_LIGHT_NEAR_WIDTHS * ENV_LIGHT_NEAR_WIDTHS);
 }
 

@@ -671,8 +671,9 @@ static vec3 specular_cv(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
  * facet spread by a (the lobe's width in H: GGX's a, or the Phong exponent's of equal peak), R
  * spreads 2 a in the plane of N and V (along B) and 2 a N.V across it (along T): at grazing view
  * the lobe is a sliver, and a texel needs many cells across it and fewer along it. Along it the
- * G term changes on a scale of N.V too (L.H and L.N are about N.V near R at grazing), hence its
- * width 2 min(a, N.V). cells: the most any texel needs (1: no light is split). */
+ * G term changes on a scale of N.V too (L.H and L.N are about N.V near R at grazing), hence the
+ * cells' width 2 min(a, N.V) there; which lights are near is measured against the lobe's own
+ * reach, 2 a. cells: the most any texel needs (1: no light is split). */
 shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha)
 {
     float a = sl_lobe_is_ggx(alpha) ? sqrtf(sl_ggx_a2(alpha)) : sqrtf(2.0f / (alpha + 2.0f));
@@ -688,9 +689,10 @@ shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, ve
     split.B = cross(split.R, split.T);
     split.across = across;
     split.along = along;
+    split.reach = 2.0f * a;
     split.side = u->uEnvLightSide;
     split.cells = (int)minf(ceilf(CELLS_PER_WIDTH * u->uEnvLightSide / across), (float)SL_TEXEL_SPLIT_MAX);
-    split.cos_near = cosf(minf(NEAR_WIDTHS * along + 2.0f * u->uEnvLightSide, SL_PI));
+    split.cos_near = cosf(minf(NEAR_WIDTHS * split.reach + 2.0f * u->uEnvLightSide, SL_PI));
     return split;
 }
 
@@ -711,15 +713,16 @@ static vec3 env_light_brdf(const sl_lighting_uniforms *u, vec3 w, vec3 N, vec3 V
 }
 
 /* GLSL: env_light_near. Whether env light j's texel lies within NEAR_WIDTHS lobe widths of R
- * along both of the lobe's axes, give or take two texels: R.l > cos_near bounds it round R, then
- * the offset l - R is measured along T and B (in radians, near R). */
+ * (2 a N.V across, 2 a along) along both of the lobe's axes, give or take two texels: R.l >
+ * cos_near bounds it round R, then the offset l - R is measured along T and B (in radians, near
+ * R). */
 bool sl_shade_env_light_near(const shade_env_light_split *split, vec3 l)
 {
     if (split->cells <= 1 || dot(split->R, l) <= split->cos_near)
         return false;
     vec3 q = sub(l, split->R);
     float t = maxf(fabsf(dot(q, split->T)) - 2.0f * split->side, 0.0f) / split->across;
-    float b = maxf(fabsf(dot(q, split->B)) - 2.0f * split->side, 0.0f) / split->along;
+    float b = maxf(fabsf(dot(q, split->B)) - 2.0f * split->side, 0.0f) / split->reach;
     return t * t + b * b < NEAR_WIDTHS * NEAR_WIDTHS;
 }
 

@@ -1263,7 +1263,7 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
     const vec3 R = split->R, T = split->T, B = split->B;
     const float edge = 2.0f * split->side, cos_near = split->cos_near;
-    const float across = split->across, along = split->along;
+    const float across = split->across, reach = split->reach;
     const float near2 = (float)(SL_ENV_LIGHT_NEAR_WIDTHS * SL_ENV_LIGHT_NEAR_WIDTHS);
     int near[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
@@ -1272,7 +1272,7 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
         float rl = (R.x * X[j] + R.y * Y[j]) + R.z * Z[j];
         float qx = X[j] - R.x, qy = Y[j] - R.y, qz = Z[j] - R.z;
         float t = maxf(fabsf((qx * T.x + qy * T.y) + qz * T.z) - edge, 0.0f) / across;
-        float b = maxf(fabsf((qx * B.x + qy * B.y) + qz * B.z) - edge, 0.0f) / along;
+        float b = maxf(fabsf((qx * B.x + qy * B.y) + qz * B.z) - edge, 0.0f) / reach;
         near[j] = (wN > 0.0f) & (rl > cos_near) & (t * t + b * b < near2);
     }
     cell_batch c;

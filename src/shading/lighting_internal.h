@@ -166,13 +166,14 @@ static inline int shade_env_light_lanes(const sl_lighting_uniforms *u) { return 
 /* GLSL EnvLightSplit, env_light_split, env_light_near, env_light_grid: which env lights a
  * pixel's lobe reads over cells of their texel (those near R, when cells > 1), and into how many
  * rows and columns of cells light j's texel is split (lighting.c says why). R, T, B: the mirror
- * direction and the lobe's unit axes across it; across, along: its widths along T and B (radians);
- * side: the level-0 texel's longest side. */
+ * direction and the lobe's unit axes across it; across, along: the cells' widths along T and B
+ * (radians), reach: the lobe's own along B (the near test's); side: the level-0 texel's longest
+ * side. */
 typedef struct {
     int cells;
     float cos_near;
     vec3 R, T, B;
-    float across, along, side;
+    float across, along, reach, side;
 } shade_env_light_split;
 shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, vec3 N, vec3 V, float alpha);
 bool sl_shade_env_light_near(const shade_env_light_split *split, vec3 l);

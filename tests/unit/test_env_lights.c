@@ -323,12 +323,13 @@ static void test_tiny_maps(void **state)
 
 /* ---- b. exactness: black but for the lights ---- */
 
-/* Hot texels spread over the sphere, different colours and brightness. */
+/* Hot texels spread over the sphere, different colours and brightness, two of them in the rows
+ * at the poles (wedges a split must cut along their narrow azimuth). */
 static const hot_texel LAMPS[] = {
-    {5, 4, {400, 300, 200}}, {20, 10, {30, 600, 40}}, {33, 15, {900, 900, 900}},
-    {47, 22, {70, 80, 1500}}, {60, 27, {1000, 200, 50}}, {12, 29, {250, 250, 10}},
+    {5, 4, {400, 300, 200}}, {20, 10, {30, 600, 40}}, {33, 15, {900, 900, 900}},  {47, 22, {70, 80, 1500}},
+    {60, 27, {1000, 200, 50}}, {12, 29, {250, 250, 10}}, {40, 0, {600, 500, 400}}, {7, 31, {300, 400, 800}},
 };
-enum { LAMP_W = 64, LAMP_H = 32, LAMP_COUNT = 6 };
+enum { LAMP_W = 64, LAMP_H = 32, LAMP_COUNT = 8 };
 
 static vec3 rotz(vec3 d, double rad)
 {
