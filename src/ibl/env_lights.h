@@ -43,7 +43,7 @@ typedef struct {
                                          ibl.h's lat-long maps them): z at its top and bottom edges,
                                          phi at its first edge and the signed width to its last */
     float spread[SL_ENV_LIGHTS_MAX];  /* its solid angle over its node weight |integral of w|: a
-                                         cell of a split into s x s gets radiance * spread / s^2 */
+                                         cell of a split into n gets radiance * spread / n */
     sl_env residual;        /* the environment less the lights, full mip chain */
 } sl_env_lights;
 
