@@ -1131,7 +1131,8 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
 
 /* ======================== env lights ======================== */
 
-/* A pixel's lobe as specular_env_lights' kernel reads it (with N and V), formed once per pixel. */
+/* A pixel's lobe constants as specular_env_lights' kernel reads them, formed once per pixel (N and
+ * V travel beside them). */
 typedef struct {
     bool ggx, inv_lh2;
     float a2, NdotV, kv; /* GGX */
