@@ -49,7 +49,8 @@
 //                         chain uploaded level by level (src/ibl/env_oct.c), MAX_LEVEL = levels - 1,
 //                         read with texelFetch (env_oct_bilinear: the fold at the edge is by hand)
 //   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
-//   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
+//   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space),
+//                                .w: the texel's side along its meridian, pi / H
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|,
 //                                .a: the texel's solid angle over that |integral|
 //   vec4  uEnvLightTexel[64]     the texel's bounds: cos(theta) at its top and bottom edges, phi
@@ -1533,12 +1534,11 @@ int env_light_cells_along(EnvLightSplit s, vec3 e, float side)
 // (its centroid's south and east) as the lobe's width across that side asks.
 ivec2 env_light_grid(int j, EnvLightSplit s)
 {
-    vec4 box = uEnvLightTexel[j];
     vec3 c = uEnvLightDir[j].xyz;
     float st = max(sqrt(c.x * c.x + c.y * c.y), 1e-6); // sin(theta) of the centroid
     vec3 east = vec3(-c.y / st, c.x / st, 0.0), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
-    return ivec2(env_light_cells_along(s, south, acos(box.y) - acos(box.x)),
-                 env_light_cells_along(s, east, abs(box.w) * st));
+    return ivec2(env_light_cells_along(s, south, uEnvLightDir[j].w),
+                 env_light_cells_along(s, east, abs(uEnvLightTexel[j].w) * st));
 }
 
 // Env light j's texel split into cells of equal solid angle (z = cos(theta) and phi uniform over

@@ -740,12 +740,11 @@ static int env_light_cells_along(const shade_env_light_split *split, vec3 e, flo
 void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_env_light_split *split, int *rows,
                              int *cols)
 {
-    vec4 box = u->uEnvLightTexel[j];
     vec3 c = xyz(u->uEnvLightDir[j]);
     float st = maxf(sqrtf(c.x * c.x + c.y * c.y), 1e-6f); /* sin(theta) of the centroid */
     vec3 east = vec3(-c.y / st, c.x / st, 0.0f), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
-    *rows = env_light_cells_along(split, south, acosf(box.y) - acosf(box.x));
-    *cols = env_light_cells_along(split, east, fabsf(box.w) * st);
+    *rows = env_light_cells_along(split, south, u->uEnvLightDir[j].w);
+    *cols = env_light_cells_along(split, east, fabsf(u->uEnvLightTexel[j].w) * st);
 }
 
 /* GLSL: env_light_cells. Env light j's texel split into cells of equal solid angle (z = cos(theta)

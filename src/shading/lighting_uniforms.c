@@ -144,7 +144,9 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
     u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
     for (int j = 0; j < u->uEnvLightCount; j++) {
-        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
+        /* .w: the texel's side along its meridian, theta1 - theta0 = pi / H, which the split's grid
+         * reads for every pixel */
+        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, SL_PI / (float)l0->height);
         u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, el->spread[j]);
         u->uEnvLightTexel[j] = el->box[j];
         u->envLightX[j] = el->dir[j].x;
