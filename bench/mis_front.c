@@ -5,6 +5,9 @@
  *
  *   bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS] ...
  *
+ * ENV_LIGHTS: a count K, or auto: those of the brightest 64 worth their cost, as the GGX default
+ * takes them (src/ibl/env_lights.h sl_env_lights_extract_worth).
+ *
  * Why a program of its own: the sweep of bench/speed_vs_error.c runs every variant on fixed
  * scenes; this one takes any scene file (the environments bench/mis-front.sh writes into a
  * temporary directory) and only the variants asked for. */
@@ -52,37 +55,62 @@ int main(int argc, char **argv)
     sl_option_set_size(&desc.options, w, h);
     sl_option_set_threads(&desc.options, atoi(argv[4]));
     sl_option_set_no_lights(&desc.options, true);
-    static sl_renderer r;
-    if (!sl_renderer_init(&r, &scene, &desc, &err) || !sl_renderer_raster(&r, NULL, &err))
-        return fail(argv[1], &err);
     const int nv = argc - 5;
     static double t[MAX_VARIANTS][FRAMES];
     sl_lighting_options opts[MAX_VARIANTS];
+    sl_renderer *pool[MAX_VARIANTS], *of[MAX_VARIANTS];
+    int pool_key[MAX_VARIANTS], renderers = 0;
     char names[MAX_VARIANTS][64];
     for (int i = 0; i < nv; i++) {
-        char est[32], lod[32];
+        char est[32], lod[32], lights[32] = "0";
         int dist, n, env_lights = 0;
-        if (sscanf(argv[5 + i], "%63[^|]|%31[^|]|%31[^|]|%d|%d|%d", names[i], est, lod, &dist, &n, &env_lights) < 5) {
-            fprintf(stderr, "bench_mis_front: %s: expected NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS]\n", argv[5 + i]);
+        if (sscanf(argv[5 + i], "%63[^|]|%31[^|]|%31[^|]|%d|%d|%31s", names[i], est, lod, &dist, &n, lights) < 5 ||
+            (strcmp(lights, "auto") != 0 && sscanf(lights, "%d", &env_lights) != 1)) {
+            fprintf(stderr, "bench_mis_front: %s: expected NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS or auto]\n", argv[5 + i]);
             return 2;
         }
-        opts[i] = r.desc.lighting;
-        if (!sl_estimator_parse(est, &opts[i].estimator) || !sl_lod_rule_parse(lod, &opts[i].lod_rule)) {
+        /* auto: the GGX default's ceiling, those of the brightest SL_ENV_LIGHTS_MAX worth their cost */
+        bool worth = strcmp(lights, "auto") == 0;
+        if (worth)
+            env_lights = SL_ENV_LIGHTS_MAX;
+        sl_estimator estimator;
+        sl_lod_rule lod_rule;
+        if (!sl_estimator_parse(est, &estimator) || !sl_lod_rule_parse(lod, &lod_rule)) {
             fprintf(stderr, "bench_mis_front: %s: unknown estimator or lod rule\n", argv[5 + i]);
             return 2;
         }
+        /* a renderer per env-light request, each extracted once: a shared one would extract
+         * again before each frame of a variant whose request differs from the last one's, and
+         * that frame would start with the caches the extraction left */
+        int key = 2 * env_lights + (worth ? 1 : 0), slot = 0;
+        while (slot < renderers && pool_key[slot] != key)
+            slot++;
+        if (slot == renderers) {
+            pool[slot] = calloc(1, sizeof *pool[slot]);
+            if (!pool[slot] || !sl_renderer_init(pool[slot], &scene, &desc, &err) ||
+                !sl_renderer_raster(pool[slot], NULL, &err))
+                return fail(argv[1], &err);
+            pool_key[renderers++] = key;
+        }
+        sl_renderer *renderer = pool[slot];
+        of[i] = renderer;
+        opts[i] = renderer->desc.lighting;
+        opts[i].estimator = estimator;
+        opts[i].lod_rule = lod_rule;
         opts[i].distortion = dist != 0;
         opts[i].samples = n;
         opts[i].env_lights = env_lights; /* extracted once per count, outside the timed frames */
+        opts[i].env_lights_worth = worth;
         opts[i].no_point_lights = true;
     }
     for (int f = -1; f < FRAMES; f++)
         for (int i = 0; i < nv; i++) {
-            r.desc.lighting = opts[i];
-            if (!sl_renderer_prepare_lighting(&r, NULL, &err))
+            sl_renderer *r = of[i];
+            r->desc.lighting = opts[i];
+            if (!sl_renderer_prepare_lighting(r, NULL, &err))
                 return fail(names[i], &err);
             double c0 = cpu_ms();
-            if (!sl_renderer_shade(&r, NULL, &err))
+            if (!sl_renderer_shade(r, NULL, &err))
                 return fail(names[i], &err);
             double c1 = cpu_ms();
             if (f >= 0)
@@ -90,7 +118,7 @@ int main(int argc, char **argv)
             if (f == FRAMES - 1) {
                 char path[1024];
                 snprintf(path, sizeof path, "%s/%s.pfm", argv[3], names[i]);
-                if (!sl_image_write_pfm(path, &r.radiance, &err))
+                if (!sl_image_write_pfm(path, &r->radiance, &err))
                     return fail(path, &err);
             }
         }
@@ -98,7 +126,10 @@ int main(int argc, char **argv)
         qsort(t[i], FRAMES, sizeof t[i][0], cmp_double);
         printf("%s %.2f\n", names[i], t[i][FRAMES / 2]);
     }
-    sl_renderer_free(&r);
+    for (int k = 0; k < renderers; k++) {
+        sl_renderer_free(pool[k]);
+        free(pool[k]);
+    }
     sl_scene_free(&scene);
     return 0;
 }

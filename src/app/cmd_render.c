@@ -221,10 +221,19 @@ int cmd_render(int argc, char **argv)
             printf("shadow maps: %d cube map%s of %d texels a face side, drawn in %.1f ms once per scene\n", cubes,
                    cubes == 1 ? "" : "s", SL_SHADOW_CUBE_SIZE, r.timings.shadow_ms);
         }
-        if (r.env_lights_built > 0)
-            printf("env lights: %d texels summed exactly (%.1f%% of the map's luminous power, residual clamped at "
+        const sl_lighting_options *lo = &r.desc.lighting;
+        if (r.env_lights_built > 0) {
+            char of[64] = "";
+            if (lo->env_lights_worth)
+                snprintf(of, sizeof of, ", those worth their cost of the brightest %d", lo->env_lights);
+            printf("env lights: %d texels summed exactly%s (%.1f%% of the map's luminous power, residual clamped at "
                    "luminance %.4g), extracted in %.1f ms once per environment\n",
-                   r.env_lights.count, 100.0 * r.env_lights.share, (double)r.env_lights.clamp, r.timings.env_lights_ms);
+                   r.env_lights.count, of, 100.0 * r.env_lights.share, (double)r.env_lights.clamp,
+                   r.timings.env_lights_ms);
+        }
+        else if (lo->env_lights > 0 && lo->env_lights_worth)
+            printf("env lights: none (the brightest %d texels are a plateau, not peaks: the samples read the whole "
+                   "environment)\n", lo->env_lights);
         if (r.suns_built > 0) {
             int mapped = 0;
             for (int k = 0; k < r.suns.count; k++)

@@ -36,6 +36,13 @@
 #define SL_HAMMERSLEY_MAX 1024
 /* Most env lights K: MAX_ENV_LIGHTS in the GLSL (whole groups of 16 for the batched path). */
 #define SL_ENV_LIGHTS_MAX 64
+/* Which of the brightest texels are worth their cost as lights, where the count is a ceiling (the
+ * GGX default: src/ibl/env_lights.h sl_env_lights_extract_worth). None when the part the ceiling's
+ * lights would take out of their texels is under WORTH_PEAK of those texels' power: the brightest
+ * texels are a plateau (a softbox, an overcast sky), not peaks, and filtered samples read a
+ * plateau well. Else the fewest lights that take all but WORTH_REST of what the ceiling's take. */
+#define SL_ENV_LIGHTS_WORTH_PEAK 0.25
+#define SL_ENV_LIGHTS_WORTH_REST 0.02
 #define SL_SKY_MAPS_MAX 64 /* the most sky visibility maps (--sky-maps; src/shadow/sky.h) */
 /* A texel under a lobe narrower than a few texels is integrated over cells of equal solid angle,
  * by the ground truth (src/ibl/ground_truth.h) and by the env lights (lighting.frag

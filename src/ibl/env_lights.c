@@ -29,7 +29,49 @@ static void rank_insert(ranked *best, int *kept, int cap, double y, size_t index
     best[at] = (ranked){y, index};
 }
 
+/* How many of the ranked texels best[0 .. kept) are worth taking as lights, at most `most`
+ * (SL_ENV_LIGHTS_WORTH_*, core/options.h). k lights clamped at the next texel's luminance Y_k
+ * take (Y_j - Y_k) / Y_j of each texel j's power P_j (its node's luminance); that is monotone
+ * in k, so the fewest within WORTH_REST of the ceiling's take is found by a walk up. */
+static int lights_worth(const ranked *best, int kept, int most, const ibl_texels *nodes)
+{
+    double power[SL_ENV_LIGHTS_MAX];
+    for (int j = 0; j < kept && j < most; j++) {
+        size_t k = best[j].index;
+        power[j] = luminance(nodes->r[k], nodes->g[k], nodes->b[k]);
+    }
+    /* what k lights take, and the power of their texels */
+    double taken[SL_ENV_LIGHTS_MAX + 1] = {0}, own = 0.0;
+    int ceiling = kept < most ? kept : most;
+    for (int k = 1; k <= ceiling; k++) {
+        double clamp = kept > k ? best[k].y : 0.0;
+        for (int j = 0; j < k; j++)
+            taken[k] += best[j].y > 0.0 ? power[j] * (1.0 - clamp / best[j].y) : 0.0;
+    }
+    for (int j = 0; j < ceiling; j++)
+        own += power[j];
+    if (!(taken[ceiling] >= SL_ENV_LIGHTS_WORTH_PEAK * own) || !(taken[ceiling] > 0.0))
+        return 0;
+    int k = 1;
+    while (k < ceiling && taken[k] < (1.0 - SL_ENV_LIGHTS_WORTH_REST) * taken[ceiling])
+        k++;
+    return k;
+}
+
+static bool extract(sl_env_lights *lights, const sl_env *env, int count, bool worth, int threads, sl_error *err);
+
 bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, int threads, sl_error *err)
+{
+    return extract(lights, env, count, false, threads, err);
+}
+
+bool sl_env_lights_extract_worth(sl_env_lights *lights, const sl_env *env, int most, int threads, sl_error *err)
+{
+    return extract(lights, env, most, true, threads, err);
+}
+
+/* The `count` brightest texels (`worth`: `count` a ceiling, lights_worth's part of it). */
+static bool extract(sl_env_lights *lights, const sl_env *env, int count, bool worth, int threads, sl_error *err)
 {
     memset(lights, 0, sizeof *lights);
     if (!env || env->level_count < 1)
@@ -52,6 +94,13 @@ bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, 
             continue;
         total += luminance(nodes.r[k], nodes.g[k], nodes.b[k]);
         rank_insert(best, &kept, count + 1, luminance3(l0->texels[k]), k);
+    }
+    if (worth) {
+        count = lights_worth(best, kept, count, &nodes);
+        if (count == 0) { /* none worth it: no lights, and no residual to build */
+            sl_ibl_texels_free(&nodes);
+            return true;
+        }
     }
     int n = kept < count ? kept : count;
     double clamp = kept > count ? best[count].y : 0.0;

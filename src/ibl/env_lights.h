@@ -51,6 +51,12 @@ typedef struct {
  * residual's mip chain. Ties are broken by texel index, so the result is deterministic. On
  * failure *lights is empty. */
 bool sl_env_lights_extract(sl_env_lights *lights, const sl_env *env, int count, int threads, sl_error *err);
+/* The same with `most` a ceiling: only as many of the `most` brightest texels as are worth their
+ * cost (SL_ENV_LIGHTS_WORTH_*, core/options.h), possibly none (count 0, no residual built: the
+ * estimator reads env itself). Each light costs every pixel its evaluation, so a map whose
+ * brightest texels are a plateau pays nothing, and one whose sun is four texels pays for about
+ * four. */
+bool sl_env_lights_extract_worth(sl_env_lights *lights, const sl_env *env, int most, int threads, sl_error *err);
 void sl_env_lights_free(sl_env_lights *lights);
 
 #endif

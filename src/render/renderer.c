@@ -50,20 +50,26 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
     return ok;
 }
 
-/* The env lights for the requested count, extracted once per environment and count. */
+/* The env lights for the requested count (or ceiling), extracted once per environment and
+ * request. A ceiling can leave none (env_lights_built 0): the frame then reads the environment as
+ * without env lights. */
 static bool update_env_lights(sl_renderer *r, sl_error *err)
 {
-    int want = r->desc.lighting.env_lights;
-    if (want <= 0 || want == r->env_lights_built)
+    const sl_lighting_options *o = &r->desc.lighting;
+    int asked = o->env_lights > 0 ? 2 * o->env_lights + (o->env_lights_worth ? 1 : 0) : 0;
+    if (asked == 0 || asked == r->env_lights_asked)
         return true;
     double t0 = sl_now_seconds();
     sl_env_lights_free(&r->env_lights);
     r->env_lights_built = 0;
+    r->env_lights_asked = 0;
     sl_env_free(&r->env_oct); /* resampled from the old residual */
     r->env_oct_built = -1;
-    if (!sl_env_lights_extract(&r->env_lights, &r->env, want, r->desc.threads, err))
+    if (!(o->env_lights_worth ? sl_env_lights_extract_worth : sl_env_lights_extract)(&r->env_lights, &r->env,
+                                                                                    o->env_lights, r->desc.threads, err))
         return false;
-    r->env_lights_built = want;
+    r->env_lights_built = r->env_lights.count;
+    r->env_lights_asked = asked;
     r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
     return true;
 }
@@ -205,8 +211,10 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
             sl_option_set_lod(&o, SL_LOD_PDF);
         if (!sl_option_is_set(&o, SL_OPT_DISTORTION))
             sl_option_set_distortion(&o, true);
-        if (!sl_option_is_set(&o, SL_OPT_ENV_LIGHTS))
+        if (!sl_option_is_set(&o, SL_OPT_ENV_LIGHTS)) {
             sl_option_set_env_lights(&o, SL_ENV_LIGHTS_MAX);
+            d->env_lights_worth = true; /* a ceiling: only the lights worth their cost */
+        }
     }
     if (!sl_option_values_check(&o, scene->path, err))
         return false;
@@ -239,6 +247,7 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
         .frame = (uint32_t)o.frame,
         .plain = o.plain,
         .env_lights = o.env_lights,
+        .env_lights_worth = d->env_lights_worth,
     };
     return true;
 }
@@ -334,6 +343,7 @@ bool sl_renderer_set_environment(sl_renderer *r, const char *hdr_path, sl_error 
     sl_env_free(&old);
     sl_env_lights_free(&r->env_lights); /* extracted from the old one: rebuilt on the next frame */
     r->env_lights_built = 0;
+    r->env_lights_asked = 0;
     r->suns_built = 0; /* the old lights' directions: redrawn with them */
     r->sky_built = 0;  /* weighted by the old environment: likewise */
     sl_env_free(&r->env_oct); /* resampled from the old one: rebuilt on the next frame */
@@ -538,6 +548,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         !update_sky(r, err))
         return false;
     sl_lighting_options options = r->desc.lighting; /* a copy: r->desc stays the caller's settings */
+    if (r->env_lights_built == 0)
+        options.env_lights = 0; /* a ceiling that left none worth their cost */
     if (frame) {
         options.samples = frame->samples;
         options.lod_samples = frame->lod_samples;

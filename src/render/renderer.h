@@ -47,6 +47,9 @@
 typedef struct {
     sl_option_values options;     /* given: the caller's; resolved: what the render uses */
     int irradiance_map_width;     /* brute-force map width; 0 = 64 */
+    bool env_lights_worth;        /* the env lights' count is a ceiling (sl_lighting_options); set
+                                     by the resolution where it chooses the count itself (the GGX
+                                     default), kept when the desc is resolved again */
     /* a shard (app/shard.h): only image rows [band[0], band[1]) (row 0 = top) keep their
      * G-buffer texels after the raster, so lighting and ground truth cost only the band */
     bool banded;
@@ -97,7 +100,9 @@ struct sl_renderer {
     sl_irradiance irradiance;
     bool have_irradiance;
     sl_env_lights env_lights; /* built on first use for desc.lighting.env_lights > 0 */
-    int env_lights_built;     /* the count they were extracted with; 0 = none */
+    int env_lights_built;     /* the count extracted, in use; 0 = none */
+    int env_lights_asked;     /* the request they were extracted for: K times 2, plus 1 for a
+                                 ceiling (env_lights_worth); 0 = none yet */
     sl_env env_oct;           /* --env-layout oct: the octahedral chain of env, or of the env
                                  lights' residual; built on first use */
     int env_oct_built;        /* -1 = none, else the env lights count of what it was built from */

@@ -81,6 +81,10 @@ typedef struct {
     int env_lights;                /* K: the environment's K brightest texels are summed exactly
                                       and the estimator samples the rest (src/ibl/env_lights.h);
                                       0 = off, else 1 .. SL_ENV_LIGHTS_MAX */
+    bool env_lights_worth;         /* env_lights is a ceiling: only as many as are worth their
+                                      cost, possibly none (sl_env_lights_extract_worth; the GGX
+                                      default). The renderer extracts them; the lighting stage
+                                      reads what it is given */
 } sl_lighting_options;
 
 /* Fill every zero field with its default (the option table's, core/options.h). */

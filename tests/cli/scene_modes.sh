@@ -48,15 +48,38 @@ same "softlight: the scene's modes = the same options on the command line" "$T/c
 same "softlight: \"estimator\": \"splitsum\" = --estimator splitsum" "$T/cli_ss.pfm" "$T/file_ss.pfm"
 "$SL" render "$T/plain.json" "${SIZE[@]}" --pfm "$T/plain.pfm" >/dev/null &&
     "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator spec --pfm "$T/plain_spec.pfm" >/dev/null &&
-    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mf --lod pdf --distortion --env-lights 64 \
+    "$SL" render "$T/plain.json" "${SIZE[@]}" --estimator mf --lod pdf --distortion \
         --pfm "$T/plain_ggx.pfm" >/dev/null &&
     "$SL" render "$T/splitsum.json" "${SIZE[@]}" --estimator spec --pfm "$T/override.pfm" >/dev/null &&
     "$SL" render "$T/default.json" "${SIZE[@]}" --pfm "$T/default.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
 same "softlight: --estimator spec wins over the scene's splitsum" "$T/plain_spec.pfm" "$T/override.pfm"
 same "softlight: \"default\" is the default" "$T/plain.pfm" "$T/default.pfm"
 # a scene of GGX materials only (this one) is shaded by the microfacet estimator with the pdf
-# rule, the distortion and 64 env lights unless it asks for another estimator
-same "softlight: an all-GGX scene's default is mf pdf+dist with 64 env lights" "$T/plain.pfm" "$T/plain_ggx.pfm"
+# rule, the distortion and those of the 64 brightest texels worth their cost as env lights unless
+# it asks for another estimator: under the studio map, whose brightest texels are a plateau, none
+same "softlight: an all-GGX scene's default is mf pdf+dist, under the studio map without env lights" \
+    "$T/plain.pfm" "$T/plain_ggx.pfm"
+if "$SL" render "$T/plain.json" "${SIZE[@]}" -o "$T/plain.png" | grep -q "^env lights: none (the brightest 64 texels"; then
+    echo "ok   softlight: the render says the default took no env lights"
+else echo "FAIL softlight: no 'env lights: none' line"; fails=$((fails + 1)); fi
+# under a sky with a sun of three texels (a 64x32 PFM), the default takes those three and no more
+python3 - "$T/sun.pfm" <<'PY'
+import struct, sys
+w, h = 64, 32
+px = [(0.5, 0.6, 0.8)] * (w * h)
+for i, j, v in ((10, 5, 9e3), (11, 5, 6e3), (10, 6, 3e3)):
+    px[(h - 1 - j) * w + i] = (v, v, v) # PFM rows run bottom to top
+with open(sys.argv[1], "wb") as f:
+    f.write(b"PF\n%d %d\n-1.0\n" % (w, h) + b"".join(struct.pack("<3f", *p) for p in px))
+PY
+"$SL" render "$T/plain.json" "${SIZE[@]}" --env "$T/sun.pfm" --pfm "$T/sun_default.pfm" >"$T/sun_out" &&
+    "$SL" render "$T/plain.json" "${SIZE[@]}" --env "$T/sun.pfm" --estimator mf --lod pdf --distortion \
+        --env-lights 3 --pfm "$T/sun_3.pfm" >/dev/null || { echo "FAIL: render"; exit 1; }
+same "softlight: an all-GGX scene's default under a sun of three texels is --env-lights 3" \
+    "$T/sun_default.pfm" "$T/sun_3.pfm"
+if grep -q "^env lights: 3 texels summed exactly, those worth their cost of the brightest 64" "$T/sun_out"; then
+    echo "ok   softlight: the render says the default took the sun's 3 texels"
+else echo "FAIL softlight: no 'env lights: 3 texels' line:"; grep "env lights" "$T/sun_out"; fails=$((fails + 1)); fi
 if cmp -s "$T/plain.pfm" "$T/file.pfm"; then
     echo "FAIL: the modes changed nothing (the test would pass without reading them)"; fails=$((fails + 1))
 fi

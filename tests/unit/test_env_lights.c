@@ -10,6 +10,8 @@
  *                   enough that both split the texels into cells, within the two quadratures'
  *                   difference) for Phong alpha 1 .. 1e5 and GGX r 0.3 and 0.1, N.V down to
  *                   grazing, both G terms, both paths, any estimator; with rotation/intensity
+ *   worth           the GGX default's ceiling: a sun's or the lamps' texels and no more, none
+ *                   on a plateau or a constant map, never more than the ceiling
  *   black texels    K larger than the lit texels: the black texels taken must stay harmless
  *   mixed           a sky with a 30000x sun: much closer to the truth with K = 16 than without;
  *                   K = 0 is bit for bit the render without the feature
@@ -251,6 +253,73 @@ static void test_decomposition(void **state)
     sl_env none = {0};
     sl_env_lights el;
     assert_false(sl_env_lights_extract(&el, &none, 4, 0, &err));
+    sl_env_free(&env);
+    free(t);
+}
+
+/* The GGX default's ceiling (sl_env_lights_extract_worth): a sun of 3 texels or 4 lamps in a
+ * sky give those texels and nothing else, bit for bit what asking for that count gives; a plateau
+ * (a softbox of 72 texels within 1% of each other) and a constant map give none and no residual;
+ * a ramp of 80 peaks halving each time stops at the ceiling or where the rest take under 2%. */
+static void test_worth_their_cost(void **state)
+{
+    (void)state;
+    enum { W = 64, H = 32 };
+    sl_error err;
+    const hot_texel sun[] = {{10, 5, {9000, 8000, 7000}}, {11, 5, {6000, 5000, 4000}}, {10, 6, {3000, 2500, 2000}}};
+    const hot_texel lamps[] = {{3, 20, {1e4, 9e3, 8e3}}, {30, 18, {5e3, 5e3, 5e3}}, {45, 17, {3e3, 2e3, 1e3}},
+                               {60, 22, {2e3, 2e3, 2e3}}};
+    struct {
+        const hot_texel *hot;
+        int count;
+    } peaks[] = {{sun, 3}, {lamps, 4}};
+    for (int c = 0; c < 2; c++) {
+        vec3 *t = sky_texels(W, H, peaks[c].hot, peaks[c].count, true);
+        sl_env env;
+        env_from_texels(&env, W, H, t);
+        sl_env_lights worth, asked;
+        assert_true(sl_env_lights_extract_worth(&worth, &env, SL_ENV_LIGHTS_MAX, 0, &err));
+        assert_int_equal(worth.count, peaks[c].count);
+        assert_true(sl_env_lights_extract(&asked, &env, peaks[c].count, 0, &err));
+        assert_memory_equal(worth.radiance, asked.radiance, sizeof worth.radiance);
+        assert_memory_equal(worth.texel, asked.texel, sizeof worth.texel);
+        assert_memory_equal(worth.residual.levels[0].texels, asked.residual.levels[0].texels, sizeof(vec3) * W * H);
+        sl_env_lights_free(&worth);
+        sl_env_lights_free(&asked);
+        sl_env_free(&env);
+        free(t);
+    }
+    /* a softbox: 12 x 6 texels at 100 within +-0.5%, on the sky */
+    vec3 *t = sky_texels(W, H, NULL, 0, true);
+    for (int j = 8; j < 14; j++)
+        for (int i = 20; i < 32; i++)
+            t[j * W + i] = vec3s(100.0f * (1.0f + 0.005f * sinf(1.7f * (float)(i * 7 + j))));
+    sl_env env;
+    env_from_texels(&env, W, H, t);
+    sl_env_lights el;
+    assert_true(sl_env_lights_extract_worth(&el, &env, SL_ENV_LIGHTS_MAX, 0, &err));
+    assert_int_equal(el.count, 0);
+    assert_int_equal(el.residual.level_count, 0);
+    sl_env_free(&env);
+    /* a constant map */
+    for (int k = 0; k < W * H; k++)
+        t[k] = vec3s(2.0f);
+    env_from_texels(&env, W, H, t);
+    assert_true(sl_env_lights_extract_worth(&el, &env, SL_ENV_LIGHTS_MAX, 0, &err));
+    assert_int_equal(el.count, 0);
+    sl_env_free(&env);
+    /* 80 peaks 1000 / 2^k over a black map: a ceiling of 1, 2 or 3 takes them all; under the
+     * most, the lights that take all but 2% of what 64 would take (2000 (1 - 2^-k) - 1000 k 2^-k:
+     * 8 take 1961 of 2000, 7 take 1930) */
+    for (int k = 0; k < W * H; k++)
+        t[k] = vec3s(k < 80 ? ldexpf(1000.0f, -k) : 0.0f);
+    env_from_texels(&env, W, H, t);
+    const int most[] = {1, 2, 3, SL_ENV_LIGHTS_MAX}, expect[] = {1, 2, 3, 8};
+    for (int m = 0; m < 4; m++) {
+        assert_true(sl_env_lights_extract_worth(&el, &env, most[m], 0, &err));
+        assert_int_equal(el.count, expect[m]);
+        sl_env_lights_free(&el);
+    }
     sl_env_free(&env);
     free(t);
 }
@@ -858,6 +927,7 @@ int main(void)
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_decomposition),
         cmocka_unit_test(test_all_texels_taken),
+        cmocka_unit_test(test_worth_their_cost),
         cmocka_unit_test(test_tiny_maps),
         cmocka_unit_test_setup_teardown(test_exact_on_lamps, lamps_setup, lamps_teardown),
         cmocka_unit_test_setup_teardown(test_exact_rotation_intensity, lamps_setup, lamps_teardown),
