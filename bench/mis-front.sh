@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # mis-front.sh - the MIS estimator's speed against error front (docs/accuracy.md "MIS"): the
 # recipe (spec N40), the best microfacet settings at its cost (mf pdf+dist N32, and N16 with 64
-# env lights, which GGX scenes get by default, also at the scenes' own N 40) and --estimator mis
+# env lights or with those worth their cost, `auto`, which GGX scenes get by default, both also at
+# the scenes' own N 40) and --estimator mis
 # over N, alone and with 32 env lights, on shipped scenes and on environments that are not in the
 # repository, which bench/check_environments.py writes into a temporary directory: a sun of 5e4 on
 # a few texels in a dark sky, four small lamps (2e3..1e4) at night, a sun of 1e5 two degrees above
@@ -42,6 +43,7 @@ scenes=("$@")
     default-sun:192x108 default-night:192x108 grazing-horizon:192x108 city-sun:192x108 default-horizon:192x108
     grazing:192x108)
 V=("spec-N40|spec|spec-d4|0|40" "mf-pdf+dist-N32|mf|pdf|1|32" "mf-pdf+dist+env64-N16|mf|pdf|1|16|64"
+   "mf-pdf+dist+envauto-N16|mf|pdf|1|16|auto" "mf-pdf+dist+envauto-N40|mf|pdf|1|40|auto"
    "mis-N8|mis|none|0|8" "mis-N16|mis|none|0|16" "mis+env32-N16|mis|none|0|16|32" "mis-N24|mis|none|0|24"
    "mis-N40|mis|none|0|40" "mis+env32-N40|mis|none|0|40|32" "mis-N64|mis|none|0|64" "mis-N256|mis|none|0|256"
    "mis-N1024|mis|none|0|1024" "splitsum|splitsum|none|0|1" "mf-pdf+dist-N16|mf|pdf|1|16" "cv-pdf+dist-N16|cv|pdf|1|16"

@@ -10,7 +10,7 @@ scene with their nRMSE and share. It rewrites the lines between the section's ma
 import sys
 
 RECIPE = "spec-N40"
-COLUMNS = [("mf-pdf+dist-N32", "mf pdf+dist N32"), ("mf-pdf+dist+env64-N16", "mf pdf+dist N16 + 64 env lights"),
+COLUMNS = [("mf-pdf+dist-N32", "mf pdf+dist N32"), ("mf-pdf+dist+envauto-N16", "GGX default at N16: mf pdf+dist + env lights worth their cost"),
            ("mis-N16", "mis N16"), ("mis+env32-N16", "mis N16 + 32 env lights"), ("mis-N40", "mis N40"),
            ("mis-N256", "mis N256")]
 BEGIN, END = "<!-- mis-glance:begin -->", "<!-- mis-glance:end -->"

@@ -181,7 +181,8 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
  * when there are none). */
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx);
 /* Whether every object of the scene is drawn with a GGX material (imported models): the scene
- * whose default lighting is the microfacet estimator with 64 env lights (sl_render_desc_resolve). */
+ * whose default lighting is the microfacet estimator with up to 64 env lights, those worth their
+ * cost (sl_render_desc_resolve). */
 bool sl_renderer_all_ggx(const sl_scene *scene);
 /* The split-sum chain of a lobe set (NULL when none is built). A set no material uses is not
  * prefiltered: the other set's chain stands in for it (no pixel reads it). */
