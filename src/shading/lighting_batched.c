@@ -66,6 +66,7 @@ static const float TINY = SL_BRDF_TINY;
 /* Samples are processed in blocks of BLOCK, so the per-sample arrays live on the stack (5 KB)
  * whatever N is; N = 40 is one block. */
 enum { BLOCK = 64 };
+_Static_assert(BLOCK % SL_SAMPLE_LANES == 0, "a block's padding stays in the block");
 
 /* One block of samples, structure of arrays: stage (1) writes them, (2) and (3) read them. */
 typedef struct {
@@ -479,24 +480,29 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
 }
 
 /* Stage (0): the block's skewed samples, from the task's table, recomputed (no task), or
- * rotated per pixel; a GGX lobe's microfacet samples from the visible normals, per pixel.
+ * rotated per pixel; a GGX lobe's microfacet samples from the visible normals, per pixel: m
+ * samples and their padding to mv (sl_samples_padded), from the tables' padded tails or copied.
  * Returns where they are (the table's arrays or the block's). */
 __attribute__((always_inline)) static inline lobe_view stage_samples(const sl_lighting_uniforms *u,
                                                                      const lobe_consts *c, const lobe_table *lobe,
                                                                      const azimuth_table *az, bool rotate,
-                                                                     vec2 rotation, int k0, int m, sample_block *b)
+                                                                     vec2 rotation, int k0, int m, int mv,
+                                                                     sample_block *b)
 {
     if (c->mf && c->ggx) /* the visible normals: the pixel's own, from V */
-        visible_lobe_ggx(az, k0, m, c->a2, c->a, c->Vh, rotate, rotation, b);
+        visible_lobe_ggx(az, k0, mv, c->a2, c->a, c->Vh, rotate, rotation, b);
     else if (lobe)
         return (lobe_view){lobe->xi1 + k0, lobe->xi2 + k0, lobe->Lx + k0, lobe->Ly + k0, lobe->Lz + k0,
                            lobe->pdf + k0};
     else if (rotate && c->ggx)
-        rotated_lobe_ggx(az, k0, m, c->a2, c->mf, rotation, b);
+        rotated_lobe_ggx(az, k0, mv, c->a2, c->mf, rotation, b);
     else if (rotate)
-        rotated_lobe(az, k0, m, c->alpha, c->mf ? 2.0f : 1.0f, rotation, b);
-    else
+        rotated_lobe(az, k0, mv, c->alpha, c->mf ? 2.0f : 1.0f, rotation, b);
+    else {
         sl_shade_lobe_fill(u, c->alpha, c->mf, k0, m, b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf);
+        float *columns[] = {b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf};
+        sl_shade_pad_samples(columns, 6, m, mv);
+    }
     return (lobe_view){b->xi1, b->xi2, b->Lx, b->Ly, b->Lz, b->pdf};
 }
 
@@ -698,26 +704,26 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
     }
 }
 
-/* Stage (4), its first half: the horizon test. Samples below the horizon (microfacet: or with
- * V.H <= 0) add nothing: their contributions become +0, and a block that is not a multiple of 4
- * (only the last; BLOCK is one) is padded with +0, which leaves every partial sum's bits as they
- * are (a sum starts at +0 and is never -0). Returns how many were below. */
-__attribute__((always_inline)) static inline int stage_horizon(const lobe_consts *c, int m, sample_block *b)
+/* Stage (4), its first half: the horizon test over the mv samples of the block, m of them
+ * real. Samples below the horizon (microfacet: or with V.H <= 0) add nothing: their
+ * contributions become +0, and so do the padding's (m .. mv, a multiple of 4), which leaves
+ * every partial sum's bits as they are (a sum starts at +0 and is never -0). Returns how many
+ * of the m were below. */
+__attribute__((always_inline)) static inline int stage_horizon(const lobe_consts *c, int m, int mv, sample_block *b)
 {
     int below_block = 0;
     const float *drop = c->mf ? b->vh : b->wN;
     const int keep_below = c->cvk != NULL; /* cv's samples below the horizon keep the kernel's term */
 #pragma omp simd
-    for (int i = 0; i < m; i++) {
+    for (int i = 0; i < mv; i++) {
+        int real = i < m;
         int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
-        int keep = above | (keep_below & !(drop[i] <= 0.0f));
-        below_block += 1 - above;
+        int keep = real & (above | (keep_below & !(drop[i] <= 0.0f)));
+        below_block += real & (1 - above);
         b->cr[i] = keep ? b->cr[i] : 0.0f; /* the trace reads only the samples kept */
         b->cg[i] = keep ? b->cg[i] : 0.0f;
         b->cb[i] = keep ? b->cb[i] : 0.0f;
     }
-    for (int i = m; i < ((m + 3) & ~3); i++)
-        b->cr[i] = b->cg[i] = b->cb[i] = 0.0f;
     return below_block;
 }
 
@@ -754,12 +760,12 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     vec3 trace_sum = vec3s(0.0f);
     int below = 0;
     for (int k0 = 0; k0 < n; k0 += BLOCK) {
-        const int m = n - k0 < BLOCK ? n - k0 : BLOCK;
-        const lobe_view s = stage_samples(u, &c, lobe, az, rotate, rotation, k0, m, b);
-        stage_directions(&c, &s, m, N, V, R, A, B, b);
-        stage_lod(&c, s.pdf, m, b);
-        stage_fetch(u, &c, m, b);
-        below += stage_horizon(&c, m, b);
+        const int m = n - k0 < BLOCK ? n - k0 : BLOCK, mv = sl_samples_padded(m);
+        const lobe_view s = stage_samples(u, &c, lobe, az, rotate, rotation, k0, m, mv, b);
+        stage_directions(&c, &s, mv, N, V, R, A, B, b);
+        stage_lod(&c, s.pdf, mv, b);
+        stage_fetch(u, &c, mv, b);
+        below += stage_horizon(&c, m, mv, b);
         if (trace)
             trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, h, &trace_sum);
         if (h->on)

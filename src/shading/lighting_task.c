@@ -73,6 +73,13 @@ void sl_shade_lobe_fill(const sl_lighting_uniforms *u, float alpha, bool microfa
     }
 }
 
+void sl_shade_pad_samples(float *const *columns, int count, int m, int padded)
+{
+    for (int c = 0; c < count; c++)
+        for (int i = m; i < padded; i++)
+            columns[c][i] = columns[c][m - 1];
+}
+
 const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_task *task, float alpha, bool microfacet)
 {
     int n = (int)u->uHammersley.N;
@@ -85,6 +92,8 @@ const lobe_table *sl_shade_lobe_for(const sl_lighting_uniforms *u, sl_lighting_t
     lobe_table *t = &task->slots[task->next];
     task->next = (task->next + 1) % SLOTS;
     sl_shade_lobe_fill(u, alpha, microfacet, 0, n, t->xi1, t->xi2, t->Lx, t->Ly, t->Lz, t->pdf);
+    float *columns[] = {t->xi1, t->xi2, t->Lx, t->Ly, t->Lz, t->pdf};
+    sl_shade_pad_samples(columns, 6, n, sl_samples_padded(n));
     t->microfacet = microfacet;
     t->alpha = alpha;
     t->n = n;
@@ -111,6 +120,8 @@ const azimuth_table *sl_shade_azimuth_for(const sl_lighting_uniforms *u, sl_ligh
         t->cphi[k] = cosf(phi);
         t->sphi[k] = sinf(phi);
     }
+    float *columns[] = {t->xi1, t->xi2, t->cphi, t->sphi};
+    sl_shade_pad_samples(columns, 4, n, sl_samples_padded(n));
     t->n = n;
     return t;
 }
