@@ -49,13 +49,13 @@
 //                         chain uploaded level by level (src/ibl/env_oct.c), MAX_LEVEL = levels - 1,
 //                         read with texelFetch (env_oct_bilinear: the fold at the edge is by hand)
 //   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
-//   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space),
-//                                .w: the texel's side along its meridian, pi / H
+//   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|,
 //                                .a: the texel's solid angle over that |integral|
 //   vec4  uEnvLightTexel[64]     the texel's bounds: cos(theta) at its top and bottom edges, phi
 //                                at its first edge and the signed width to its last
 //   float uEnvLightSide          the level-0 texel's longest side, max(pi / H, 2 pi / W)
+//   float uEnvLightMeridian      every level-0 texel's side along its meridian, pi / H
 // Irradiance (diffuse term, Kd / pi * E(N)):
 //   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
 //                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP,
@@ -187,6 +187,7 @@ uniform vec4 uEnvLightDir[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightTexel[MAX_ENV_LIGHTS];
 uniform float uEnvLightSide;
+uniform float uEnvLightMeridian;
 
 #ifdef SL_SPECIALIZED
 const int uIrradianceMethod = SL_IRRADIANCE_METHOD;
@@ -1537,7 +1538,7 @@ ivec2 env_light_grid(int j, EnvLightSplit s)
     vec3 c = uEnvLightDir[j].xyz;
     float st = max(sqrt(c.x * c.x + c.y * c.y), 1e-6); // sin(theta) of the centroid
     vec3 east = vec3(-c.y / st, c.x / st, 0.0), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
-    return ivec2(env_light_cells_along(s, south, uEnvLightDir[j].w),
+    return ivec2(env_light_cells_along(s, south, uEnvLightMeridian),
                  env_light_cells_along(s, east, abs(uEnvLightTexel[j].w) * st));
 }
 

@@ -743,7 +743,7 @@ void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_e
     vec3 c = xyz(u->uEnvLightDir[j]);
     float st = maxf(sqrtf(c.x * c.x + c.y * c.y), 1e-6f); /* sin(theta) of the centroid */
     vec3 east = vec3(-c.y / st, c.x / st, 0.0f), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
-    *rows = env_light_cells_along(split, south, u->uEnvLightDir[j].w);
+    *rows = env_light_cells_along(split, south, u->uEnvLightMeridian);
     *cols = env_light_cells_along(split, east, fabsf(u->uEnvLightTexel[j].w) * st);
 }
 

@@ -144,9 +144,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
     u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
     for (int j = 0; j < u->uEnvLightCount; j++) {
-        /* .w: the texel's side along its meridian, theta1 - theta0 = pi / H, which the split's grid
-         * reads for every pixel */
-        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, SL_PI / (float)l0->height);
+        u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
         u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, el->spread[j]);
         u->uEnvLightTexel[j] = el->box[j];
         u->envLightX[j] = el->dir[j].x;
@@ -163,6 +161,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uLodBase = 0.5f * log2f((float)s0->width * (float)s0->height / (float)o.lod_samples);
     u->uSinThetaMin = sinf(SL_PI / (2.0f * (float)l0->height));
     u->uEnvLightSide = fmaxf(SL_PI / (float)l0->height, 2.0f * SL_PI / (float)l0->width);
+    u->uEnvLightMeridian = SL_PI / (float)l0->height; /* theta1 - theta0 of every texel: the split's grid */
     /* world -> environment: rotate by -rotation about +Z (column-major). */
     float phi = radians(o.env_rotation_deg);
     float c = cosf(phi), s = sinf(phi);
