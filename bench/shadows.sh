@@ -7,7 +7,7 @@
 #   bench/shadows.sh [BUILD_DIR] [ROUNDS] [SIZE]    defaults: build 3 1280x720
 #
 # Scenes: the shipped ones with point lights (bunny, ggx, lamp: their lights' cube maps; ggx is
-# GGX, whose default env lights cast too) and two with a sun or bright lamps in the environment
+# GGX, whose default takes no env lights under its studio map) and two with a sun or bright lamps in the environment
 # (pbr, city-sun: every frame with --env-lights 32, the setting the maps need, so the frame
 # without maps has the same env lights). The "maps of" column is what render reports drawing.
 # A frame's cost is CPU time on one thread (-j 1: no OpenMP spinning counted), which a loaded
