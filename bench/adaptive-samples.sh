@@ -4,9 +4,12 @@
 # needed"). Per scene: the ground truth (`softlight truth`, cached by content in
 # out/ground-truth/mis/, the cache bench/mis-front.sh fills), the split sum, and the GGX default
 # estimator (--estimator mf --lod pdf --distortion --env-lights 64; point lights off) at N = 4 ..
-# 256; bench/adaptive_samples.py then prints a markdown row: the share of pixels more than a
-# display step off at each N, the share that an oracle allocation of a mean of 16 samples a pixel
-# leaves, and the share that a rule driven by a cheap look at the image leaves.
+# 256, and the same estimator at N = 8 with its sample set rotated per pixel, one frame each for 8
+# frames (each pixel's own noise); bench/adaptive_samples.py then prints a markdown row: the share
+# of pixels more than a display step off at each N, the share that an oracle allocation of a mean
+# of 16 samples a pixel leaves (and one that counts a pixel only from where it stays within a
+# step), and the shares that a rule driven by a cheap look at the image and a rule driven by each
+# pixel's noise leave.
 #
 #   bash bench/adaptive-samples.sh [BUILD_DIR] [SCENE.json[:WxH] ...]
 #   defaults: build, scenes/ggx.json and scenes/default.json at 192x108
@@ -15,7 +18,7 @@
 #   python3 bench/check_environments.py out/check-environments
 #   bash bench/adaptive-samples.sh build scenes/ggx.json out/check-environments/ggx-sun.json ...
 #
-# About 5 minutes a scene on the 2-core machine when the truth is cached.
+# A few seconds a scene at 192x108 on the 2-core machine when the truth is cached.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -25,6 +28,7 @@ SL=$BUILD/softlight
 SCENES=("$@")
 [ ${#SCENES[@]} -gt 0 ] || SCENES=(scenes/ggx.json:192x108 scenes/default.json:192x108)
 LADDER=(4 8 16 32 64 128 256)
+FRAMES=8 # rotated frames of N = 8 for the spread
 T=$(mktemp -d "${TMPDIR:-/tmp}/softlight-adaptive.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 cache=out/ground-truth/mis
@@ -35,8 +39,8 @@ echo
 header="| scene | size"
 rule="|---|---"
 for n in "${LADDER[@]}"; do header+=" | N $n"; rule+="|---:"; done
-echo "$header | oracle, mean 16 | look-driven, mean 12 + 4 |"
-echo "$rule|---:|---:|"
+echo "$header | oracle, mean 16 | steady oracle, mean 16 | look-driven, mean 12 + 4 | spread-driven, mean 16 |"
+echo "$rule|---:|---:|---:|---:|"
 for entry in "${SCENES[@]}"; do
     scene=${entry%%:*}
     size=192x108
@@ -50,6 +54,11 @@ for entry in "${SCENES[@]}"; do
         "$SL" render "$scene" --size "$size" --no-lights --estimator mf --lod pdf --distortion --env-lights 64 \
             -n "$n" --pfm "$T/n$n.pfm" -q
         renders+=("$n=$T/n$n.pfm")
+    done
+    for ((f = 0; f < FRAMES; f++)); do
+        "$SL" render "$scene" --size "$size" --no-lights --estimator mf --lod pdf --distortion --env-lights 64 \
+            -n 8 --rotate --frame "$f" --pfm "$T/rot$f.pfm" -q
+        renders+=("rot=$T/rot$f.pfm")
     done
     read -r exposure contrast < <(python3 -c 'import json, sys
 r = json.load(open(sys.argv[1])).get("render", {})
