@@ -1,13 +1,13 @@
 #!/usr/bin/env bash
 # adaptive-samples.sh - whether spending a frame's specular samples unevenly, more where a pixel's
 # estimate is off, would move the front of docs/accuracy.md (its section "Samples where they are
-# needed"). Per scene: the ground truth (`softlight truth`, cached by content in out/ground-
-# truth/mis/, the cache bench/mis-front.sh fills), the split sum, and the GGX default's estimator
-# with its env lights at their ceiling (--estimator mf --lod pdf --distortion --env-lights 64; point
-# lights off) at N = 4 .. 256, and the same estimator at N = 8 with its sample set rotated per
-# pixel, one frame each for 8 frames (each pixel's own noise); bench/adaptive_samples.py then prints
-# a markdown row: the share of pixels more than a display step off at each N, the share that an
-# oracle allocation of a mean of 16 samples a pixel leaves (and one that counts a pixel only from
+# needed"). Per scene: the ground truth (`softlight truth`, cached by content in
+# out/ground-truth/mis/, the cache bench/mis-front.sh fills), the split sum, and the GGX default's
+# estimator with its env lights at their ceiling (--estimator mf --lod pdf --distortion --env-lights
+# 64; point lights off) at N = 4 .. 256, and the same estimator at N = 8 with its sample set rotated
+# per pixel, one frame each for 8 frames (each pixel's own noise); bench/adaptive_samples.py then
+# prints a markdown row: the share of pixels more than a display step off at each N, the share that
+# an oracle allocation of a mean of 16 samples a pixel leaves (and one that counts a pixel only from
 # where it stays within a step), and the shares that a rule driven by a cheap look at the image and
 # a rule driven by each pixel's noise leave.
 #
