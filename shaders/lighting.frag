@@ -52,10 +52,12 @@
 //   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|,
 //                                .a: the texel's solid angle over that |integral|
-//   vec4  uEnvLightTexel[64]     the texel's bounds: cos(theta) at its top and bottom edges, phi
-//                                at its first edge and the signed width to its last
+//   vec4  uEnvLightTexel[64]     .xyz: the texel's bounds: cos(theta) at its top and bottom
+//                                edges, phi at its first edge
 //   float uEnvLightSide          the level-0 texel's longest side, max(pi / H, 2 pi / W)
 //   float uEnvLightMeridian      every level-0 texel's side along its meridian, pi / H
+//   float uEnvLightAzimuth       every level-0 texel's signed width in phi, first edge to last,
+//                                -2 pi / W
 // Irradiance (diffuse term, Kd / pi * E(N)):
 //   int   uIrradianceMethod   0 = SH9 from uSH, otherwise the map uIrradianceMap
 //                             (the values of sl_irradiance_method: 0 SH9, 1 BRUTE, 2 MAP,
@@ -188,6 +190,7 @@ uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightTexel[MAX_ENV_LIGHTS];
 uniform float uEnvLightSide;
 uniform float uEnvLightMeridian;
+uniform float uEnvLightAzimuth;
 
 #ifdef SL_SPECIALIZED
 const int uIrradianceMethod = SL_IRRADIANCE_METHOD;
@@ -1539,7 +1542,7 @@ ivec2 env_light_grid(int j, EnvLightSplit s)
     float st = max(sqrt(c.x * c.x + c.y * c.y), 1e-6); // sin(theta) of the centroid
     vec3 east = vec3(-c.y / st, c.x / st, 0.0), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
     return ivec2(env_light_cells_along(s, south, uEnvLightMeridian),
-                 env_light_cells_along(s, east, abs(uEnvLightTexel[j].w) * st));
+                 env_light_cells_along(s, east, abs(uEnvLightAzimuth) * st));
 }
 
 // Env light j's texel split into cells of equal solid angle (z = cos(theta) and phi uniform over
@@ -1557,7 +1560,7 @@ vec3 env_light_cells(int j, vec3 N, vec3 V, vec3 Ks, float alpha, EnvLightSplit 
         float z = mix(box.x, box.y, (float(b) + 0.5) / float(rows));
         float sz = sqrt(max(1.0 - z * z, 0.0));
         for (int a = 0; a < cols; a++) {
-            float phi = box.z + box.w * (float(a) + 0.5) / float(cols);
+            float phi = box.z + uEnvLightAzimuth * (float(a) + 0.5) / float(cols);
             sum = sum + env_light_brdf(vec3(cos(phi) * sz, sin(phi) * sz, z), N, V, Ks, alpha);
         }
     }

@@ -425,6 +425,7 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     }
     glUniform1f(loc(p, "uEnvLightSide"), u->uEnvLightSide);
     glUniform1f(loc(p, "uEnvLightMeridian"), u->uEnvLightMeridian);
+    glUniform1f(loc(p, "uEnvLightAzimuth"), u->uEnvLightAzimuth);
     glUniform1f(loc(p, "uEnvMaxLod"), u->uEnvMaxLod);
     glUniform1i(loc(p, "uEnvLayout"), u->uEnvLayout);
     glUniform1f(loc(p, "uLodBase"), u->uLodBase);

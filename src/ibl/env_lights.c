@@ -113,6 +113,8 @@ static bool extract(sl_env_lights *lights, const sl_env *env, int count, bool wo
     _Static_assert(sizeof(vec3) == 3 * sizeof(float), "a level's texels are the image's floats");
     memcpy(img.data, l0->texels, (size_t)l0->width * (size_t)l0->height * sizeof(vec3));
     double taken = 0.0;
+    const double dphi = 2.0 * PI_D / l0->width;
+    lights->azimuth = (float)-dphi;
     for (int j = 0; j < n; j++) {
         size_t k = best[j].index;
         vec3 L = l0->texels[k];
@@ -135,8 +137,7 @@ static bool extract(sl_env_lights *lights, const sl_env *env, int count, bool wo
         /* the texel's bounds and solid angle (2 pi / W)(cos theta0 - cos theta1), in double */
         const int row = (int)(k / (size_t)l0->width), col = (int)(k % (size_t)l0->width);
         const double z0 = cos(PI_D * row / l0->height), z1 = cos(PI_D * (row + 1) / l0->height);
-        const double dphi = 2.0 * PI_D / l0->width;
-        lights->box[j] = vec4((float)z0, (float)z1, (float)(PI_D - dphi * col), (float)-dphi);
+        lights->box[j] = vec3((float)z0, (float)z1, (float)(PI_D - dphi * col));
         lights->spread[j] = weight > 0.0 ? (float)(dphi * (z0 - z1) / weight) : 0.0f;
         taken += luminance3(lights->radiance[j]);
     }

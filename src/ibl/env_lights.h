@@ -39,11 +39,13 @@ typedef struct {
     vec3 dir[SL_ENV_LIGHTS_MAX];      /* unit centroid direction, environment space */
     vec3 radiance[SL_ENV_LIGHTS_MAX]; /* (L_t - r_t) * node weight, brightest first */
     size_t texel[SL_ENV_LIGHTS_MAX];  /* index j * width + i of the texel in level 0 */
-    vec4 box[SL_ENV_LIGHTS_MAX];      /* the texel's bounds for a split (z = cos(theta), phi as
+    vec3 box[SL_ENV_LIGHTS_MAX];      /* the texel's bounds for a split (z = cos(theta), phi as
                                          ibl.h's lat-long maps them): z at its top and bottom edges,
-                                         phi at its first edge and the signed width to its last */
+                                         phi at its first edge (its width: azimuth) */
     float spread[SL_ENV_LIGHTS_MAX];  /* its solid angle over its node weight |integral of w|: a
                                          cell of a split into n gets radiance * spread / n */
+    float azimuth;          /* every level-0 texel's signed width in phi, first edge to last:
+                               -2 pi / W (phi falls as u grows) */
     sl_env residual;        /* the environment less the lights, full mip chain */
 } sl_env_lights;
 

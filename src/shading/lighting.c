@@ -744,7 +744,7 @@ void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_e
     float st = maxf(sqrtf(c.x * c.x + c.y * c.y), 1e-6f); /* sin(theta) of the centroid */
     vec3 east = vec3(-c.y / st, c.x / st, 0.0f), south = vec3(c.z * c.x / st, c.z * c.y / st, -st);
     *rows = env_light_cells_along(split, south, u->uEnvLightMeridian);
-    *cols = env_light_cells_along(split, east, fabsf(u->uEnvLightTexel[j].w) * st);
+    *cols = env_light_cells_along(split, east, fabsf(u->uEnvLightAzimuth) * st);
 }
 
 /* GLSL: env_light_cells. Env light j's texel split into cells of equal solid angle (z = cos(theta)
@@ -765,7 +765,7 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
         float z = mixf(box.x, box.y, ((float)b + 0.5f) / (float)rows);
         float sz = sqrtf(maxf(1.0f - z * z, 0.0f));
         for (int a = 0; a < cols; a++) {
-            float phi = box.z + box.w * ((float)a + 0.5f) / (float)cols;
+            float phi = box.z + u->uEnvLightAzimuth * ((float)a + 0.5f) / (float)cols;
             vec3 w = vec3(cosf(phi) * sz, sinf(phi) * sz, z);
             sum = add(sum, env_light_brdf(u, w, N, V, Ks, alpha));
         }

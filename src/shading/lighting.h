@@ -168,9 +168,11 @@ typedef struct {
     vec4 uEnvLightDir[SL_ENV_LIGHTS_MAX];      /* .xyz: unit direction, environment space */
     vec4 uEnvLightRadiance[SL_ENV_LIGHTS_MAX]; /* .rgb: radiance times the texel's node weight,
                                                   .a: its solid angle over that weight */
-    vec4 uEnvLightTexel[SL_ENV_LIGHTS_MAX];    /* the texel's bounds (sl_env_lights.box) */
+    vec4 uEnvLightTexel[SL_ENV_LIGHTS_MAX];    /* .xyz: the texel's bounds (sl_env_lights.box) */
     float uEnvLightSide;                 /* the level-0 texel's longest side, max(pi / H, 2 pi / W) */
     float uEnvLightMeridian;             /* every level-0 texel's side along its meridian, pi / H */
+    float uEnvLightAzimuth;              /* every level-0 texel's signed width in phi, -2 pi / W
+                                            (sl_env_lights.azimuth; 0 without env lights) */
     /* the split-sum method (estimator SPLITSUM; NULL otherwise): the prefiltered chains of the
      * two lobe sets, the BRDF's table, and the lod of lobe width 1 (levels - 1) */
     const sl_env *uSplitSumPhong, *uSplitSumGGX;

@@ -1217,7 +1217,7 @@ static void cells_add(cell_batch *c, const sl_lighting_uniforms *u, int j, int r
     const vec4 box = u->uEnvLightTexel[j];
     float cos_phi[SL_TEXEL_SPLIT_MAX], sin_phi[SL_TEXEL_SPLIT_MAX];
     for (int a = 0; a < cols; a++) {
-        float phi = box.z + box.w * ((float)a + 0.5f) / (float)cols;
+        float phi = box.z + u->uEnvLightAzimuth * ((float)a + 0.5f) / (float)cols;
         cos_phi[a] = cosf(phi);
         sin_phi[a] = sinf(phi);
     }

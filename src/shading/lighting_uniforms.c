@@ -143,10 +143,11 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uEnvLayout = (int)o.env_layout;
     _Static_assert(SL_ENV_LIGHTS_MAX % 16 == 0, "the batched path runs whole groups of 16 env lights");
     u->uEnvLightCount = el ? el->count : 0; /* the arrays stay zero past it (memset above) */
+    u->uEnvLightAzimuth = el ? el->azimuth : 0.0f;
     for (int j = 0; j < u->uEnvLightCount; j++) {
         u->uEnvLightDir[j] = vec4(el->dir[j].x, el->dir[j].y, el->dir[j].z, 0.0f);
         u->uEnvLightRadiance[j] = vec4(el->radiance[j].x, el->radiance[j].y, el->radiance[j].z, el->spread[j]);
-        u->uEnvLightTexel[j] = el->box[j];
+        u->uEnvLightTexel[j] = vec4(el->box[j].x, el->box[j].y, el->box[j].z, 0.0f);
         u->envLightX[j] = el->dir[j].x;
         u->envLightY[j] = el->dir[j].y;
         u->envLightZ[j] = el->dir[j].z;
