@@ -700,6 +700,7 @@ const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
 const float REFLECTION_PLANE_EPS = 0.003;
 const float REFLECTION_MIN_COSINE = 1e-6; // a ray's least weight (R at a silhouette)
+const float REFLECTION_INTO_MARGIN = 0.15; // below the geometric normal's horizon by more: into it
 const float REFLECTION_SAME_DEPTH = 0.02;
 const float REFLECTION_SAME_NORMAL = 0.998;
 
@@ -752,8 +753,51 @@ float reflection_trace_ray(vec3 P, vec3 R)
     return 1.0;
 }
 
+// Along the image axis d from the covered texel q (position Pq, view depth zq): the step across
+// it, between its two neighbours on the axis (a central difference) or between q and the one
+// neighbour there is, counting a neighbour covered and within the thickness in view depth (farther,
+// it is another surface); false where neither is.
+bool reflection_axis_step(ivec2 q, ivec2 d, vec3 Pq, float zq, out vec3 step_across)
+{
+    vec3 ends[2] = vec3[](Pq, Pq);
+    bool found = false;
+    ivec2 size = ivec2(uViewport);
+    for (int side = 0; side < 2; side++) {
+        ivec2 n = q + (2 * side - 1) * d;
+        if (n.x < 0 || n.y < 0 || n.x >= size.x || n.y >= size.y)
+            continue;
+        vec3 Pn, Nn;
+        float zn;
+        if (reflection_surface(n, Pn, Nn, zn) && abs(zn - zq) < REFLECTION_THICKNESS * zq) {
+            ends[side] = Pn;
+            found = true;
+        }
+    }
+    step_across = ends[1] - ends[0];
+    return found;
+}
+
+// The covered texel q's geometric normal, facing V: the normal of the plane its steps along x and
+// y span, the surface the rasterizer drew, which a smooth or normal-mapped N leans away from; N
+// where an axis has no step or the two span no plane.
+vec3 reflection_geometric_normal(ivec2 q, vec3 Pq, float zq, vec3 V, vec3 N)
+{
+    vec3 along_x, along_y;
+    if (!reflection_axis_step(q, ivec2(1, 0), Pq, zq, along_x) ||
+        !reflection_axis_step(q, ivec2(0, 1), Pq, zq, along_y))
+        return N;
+    vec3 n = cross(along_x, along_y);
+    float len = length(n);
+    if (!(len > 0.0))
+        return N;
+    n /= len;
+    return dot(n, V) < 0.0 ? -n : n;
+}
+
 // Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface; its weight
-// in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE).
+// in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE). A ray above
+// N's horizon and below the geometric normal's by more than REFLECTION_INTO_MARGIN enters the
+// surface drawn: blocked, not traced.
 float reflection_ray(ivec2 q, int k, out float weight)
 {
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
@@ -761,10 +805,11 @@ float reflection_ray(ivec2 q, int k, out float weight)
     vec3 N = facing_normal(texelFetch(uNormal, q, 0).xyz, V);
     vec3 R = N * (2.0 * dot(N, V)) - V;
     float depth = dot(Pq - uEye, uViewForward);
+    vec3 Ng = reflection_geometric_normal(q, Pq, depth, V, N);
     vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
     if (k == 0) {
         weight = max(dot(R, N), REFLECTION_MIN_COSINE);
-        return reflection_trace_ray(P, R);
+        return dot(R, Ng) < -REFLECTION_INTO_MARGIN ? 0.0 : reflection_trace_ray(P, R);
     }
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
@@ -775,7 +820,9 @@ float reflection_ray(ivec2 q, int k, out float weight)
     vec3 Rk = R * cos(ring) + side * sin(ring);
     float cosine = dot(Rk, N);
     weight = max(cosine, REFLECTION_MIN_COSINE);
-    return cosine > 0.0 ? reflection_trace_ray(P, Rk) : REFLECTION_BELOW; // not counted
+    if (!(cosine > 0.0))
+        return REFLECTION_BELOW; // not counted
+    return dot(Rk, Ng) < -REFLECTION_INTO_MARGIN ? 0.0 : reflection_trace_ray(P, Rk);
 }
 
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,

@@ -178,25 +178,78 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
     return c->angle;
 }
 
+/* Along one image axis (dx, dy) from covered texel i at (x, y): the step across it, between its
+ * two neighbours on the axis (a central difference) or between i and the one neighbour there is,
+ * counting a neighbour that is covered and within the thickness in view depth
+ * (SL_REFLECTION_THICKNESS of i's; farther, it is another surface, as the surface behind at a
+ * silhouette). False where neither is. */
+static bool axis_step(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int x, int y, int dx, int dy,
+                      vec3 *step)
+{
+    const float z = f->depth[i], near = SL_REFLECTION_THICKNESS * z;
+    vec3 ends[2] = {gb->texels[i].position, gb->texels[i].position};
+    bool found = false;
+    for (int side = 0; side < 2; side++) {
+        int qx = x + (2 * side - 1) * dx, qy = y + (2 * side - 1) * dy;
+        if (qx < 0 || qy < 0 || qx >= f->width || qy >= f->height)
+            continue;
+        size_t q = (size_t)qy * (size_t)f->width + (size_t)qx;
+        if (fabsf(f->depth[q] - z) < near) { /* +inf for an empty neighbour */
+            ends[side] = gb->texels[q].position;
+            found = true;
+        }
+    }
+    *step = sub(ends[1], ends[0]);
+    return found;
+}
+
+/* The geometric normal of covered texel i, facing the eye V: the normal of the plane its steps
+ * along x and y span (axis_step), the surface the rasterizer drew, which a smooth or
+ * normal-mapped N leans away from. N where an axis has no step or the two span no plane. */
+/* GLSL: reflection_geometric_normal */
+static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, size_t i, vec3 V, vec3 N)
+{
+    const int x = (int)(i % (size_t)f->width), y = (int)(i / (size_t)f->width);
+    vec3 along_x, along_y;
+    if (!axis_step(f, gb, i, x, y, 1, 0, &along_x) || !axis_step(f, gb, i, x, y, 0, 1, &along_y))
+        return N;
+    vec3 n = cross(along_x, along_y);
+    float len = length(n);
+    if (!(len > 0.0f))
+        return N;
+    n = scale(n, 1.0f / len);
+    return dot(n, V) < 0.0f ? scale(n, -1.0f) : n;
+}
+
+/* What ray_of found of a ray before any march: below the shading normal's horizon (not traced,
+ * not counted), into the texel's own surface (below the geometric normal's horizon by more than
+ * SL_REFLECTION_INTO_MARGIN, while above the shading normal's: blocked by it, not traced), or to
+ * be traced. */
+typedef enum { RAY_BELOW, RAY_INTO_SURFACE, RAY_TRACE } ray_start;
+
 /* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
  * angle for the texel's alpha; reflection.h): its start P, unit direction and weight in the
- * block's share (its cosine to the normal, at least SL_REFLECTION_MIN_COSINE). False for a ring
- * ray below the surface, which is not traced and not counted. The facing normal and the view
- * depth are the texel's plane's (plane_of), not formed again. */
+ * block's share (its cosine to the normal, at least SL_REFLECTION_MIN_COSINE), and whether it is
+ * traced (ray_start). A ray above the shading normal's horizon and below the geometric normal's
+ * (geometric_normal; by more than SL_REFLECTION_INTO_MARGIN) enters the surface that the
+ * rasterizer drew: blocked, as the visibility truth has it (a normal-mapped or smooth sphere's
+ * rim, where N leans past the silhouette). The facing
+ * normal and the view depth are the texel's plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
-static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring, vec3 *P,
-                   vec3 *direction, float *weight)
+static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring,
+                        vec3 *P, vec3 *direction, float *weight)
 {
     const sl_gbuffer_texel *t = &gb->texels[i];
     const surface_plane *plane = &f->planes[i];
     vec3 V = normalize(sub(f->view.eye, t->position));
     vec3 N = vec3(plane->nx, plane->ny, plane->nz);
     vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
+    vec3 Ng = geometric_normal(f, gb, i, V, N);
     *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * f->depth[i]));
     if (k == 0) {
         *direction = R;
         *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
-        return true;
+        return dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
     }
     vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
     vec3 T = normalize(cross(R, helper)), B = cross(R, T);
@@ -205,7 +258,9 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
     float cosine = dot(Rk, N);
     *direction = Rk;
     *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
-    return cosine > 0.0f;
+    if (!(cosine > 0.0f))
+        return RAY_BELOW;
+    return dot(Rk, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
 }
 
 /* Whether ray k of covered texel i is open (1) or blocked (0), or SL_REFLECTION_BELOW, traced
@@ -213,8 +268,11 @@ static bool ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, in
 static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, float *weight)
 {
     vec3 P, R;
-    if (!ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R, weight))
-        return SL_REFLECTION_BELOW;
+    switch (ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R, weight)) {
+    case RAY_BELOW: return SL_REFLECTION_BELOW;
+    case RAY_INTO_SURFACE: return 0.0f;
+    case RAY_TRACE: break;
+    }
     return trace_ray(f, P, R);
 }
 
@@ -251,9 +309,14 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
         int k = ray_index(x, y);
         ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
         vec3 P, R;
-        if (!ray_of(f, gb, i, k, angle, &P, &R, &weight_plane[i])) {
+        ray_start start_as = ray_of(f, gb, i, k, angle, &P, &R, &weight_plane[i]);
+        if (start_as == RAY_BELOW) {
             ray_plane[i] = SL_REFLECTION_BELOW;
             weight_plane[i] = 0.0f;
+            continue;
+        }
+        if (start_as == RAY_INTO_SURFACE) {
+            ray_plane[i] = 0.0f;
             continue;
         }
         view_ray r = view_ray_of(v, P, R);

@@ -10,6 +10,12 @@
 #   and through the general shader ($SL_GL_GENERAL): the gl_shading.sh bounds (p99 relative error
 #   <= 0.05, share more than 8/255 apart <= 0.1%); measured p99 0.0016, no pixel more than 1/255
 #   apart;
+# - scenes/textured.json (a normal-mapped ball, whose N leans past the silhouette at its rim), the
+#   same options, and a floor whose vertex normals lean 15 degrees away from a camera 1 unit above
+#   it (a mesh written here): a ray above N's horizon and more than 0.15 below that of the
+#   geometric normal (rebuilt from the G-buffer's positions) enters the surface, blocked on both
+#   sides; the same bounds (measured on the floor: p99 0.0021, no pixel more than 1/255 apart; a GL
+#   that traces those rays: p99 0.25, 10% of pixels more than 1/255 apart);
 # - GL's image without the option is far outside those bounds against C's with it (p99 0.73): a
 #   GL that ignores the option fails here, and so does one that counts its own ray alone (no cross);
 #   one that takes the smaller of the two factors where C joins them fails grazing-ao (p99 0.072).
@@ -22,16 +28,36 @@ fail=0
 
 O0=(--no-lights --estimator mf --lod pdf --distortion -n 64)
 O=("${O0[@]}" --reflection-occlusion 5)
-case_of() { # case_of NAME [options...]
-    local name=$1
-    shift
+case_of() { # case_of NAME SCENE [options...]
+    local name=$1 scene=$2
+    shift 2
     mkdir -p "$T/$name"
-    "$SL" render scenes/grazing.json --size "$GL_TEST_SIZE" "${O[@]}" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" -q
-    "$GL" render scenes/grazing.json "${O[@]}" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm"
+    "$SL" render "$scene" --size "$GL_TEST_SIZE" "${O[@]}" "$@" --aov "$T/$name" --pfm "$T/$name/c.pfm" -q
+    "$GL" render "$scene" "${O[@]}" "$@" --gbuffer "$T/$name" --pfm "$T/$name/g.pfm"
     gl_within "$name" "$T/$name/c.pfm" "$T/$name/g.pfm" || { echo "FAIL $name: outside the bounds"; fail=1; }
 }
-case_of grazing
-case_of grazing-ao --ao-radius 1
+case_of grazing scenes/grazing.json
+case_of grazing-ao scenes/grazing.json --ao-radius 1
+case_of textured scenes/textured.json
+# the leaning floor: 20 x 20 units in 800 triangles, one vertex normal tilted towards -x
+awk 'BEGIN {
+    n = 20; t = 15 * atan2(0, -1) / 180
+    for (j = 0; j <= n; j++) for (i = 0; i <= n; i++) printf "v %g %g 0\n", -10 + i, -10 + j
+    printf "vn %.6f 0 %.6f\n", -sin(t), cos(t)
+    for (j = 0; j < n; j++) for (i = 0; i < n; i++) {
+        a = j * (n + 1) + i + 1
+        printf "f %d//1 %d//1 %d//1\nf %d//1 %d//1 %d//1\n", a, a + 1, a + n + 2, a, a + n + 2, a + n + 1
+    }
+}' >"$T/leaning.obj"
+cat >"$T/leaning.json" <<JSON
+{
+  "camera": {"eye": [5, 0, 1], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 50, "near": 0.05, "far": 50},
+  "environment": {"hdr": "$PWD/scenes/envmaps/studio.hdr"},
+  "materials": {"glossy": {"kd": 0.05, "ks": 1, "alpha": 2000}},
+  "objects": [{"mesh": "leaning.obj", "material": "glossy"}]
+}
+JSON
+case_of leaning "$T/leaning.json"
 SL_GL_GENERAL=1 "$GL" render scenes/grazing.json "${O[@]}" --gbuffer "$T/grazing" --pfm "$T/grazing/general.pfm"
 gl_within "grazing, general" "$T/grazing/c.pfm" "$T/grazing/general.pfm" ||
     { echo "FAIL grazing, the general shader: outside the bounds"; fail=1; }
