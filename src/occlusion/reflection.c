@@ -233,8 +233,8 @@ typedef enum { RAY_BELOW, RAY_INTO_SURFACE, RAY_TRACE } ray_start;
  * traced (ray_start). A ray above the shading normal's horizon and below the geometric normal's
  * (geometric_normal; by more than SL_REFLECTION_INTO_MARGIN) enters the surface that the
  * rasterizer drew: blocked, as the visibility truth has it (a normal-mapped or smooth sphere's
- * rim, where N leans past the silhouette). The facing
- * normal and the view depth are the texel's plane's (plane_of), not formed again. */
+ * rim, where N leans past the silhouette). The facing normal and the view depth are the texel's
+ * plane's (plane_of), not formed again. */
 /* GLSL: reflection_ray */
 static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, ring_angle ring,
                         vec3 *P, vec3 *direction, float *weight)
