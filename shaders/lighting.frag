@@ -687,10 +687,10 @@ vec3 facing_normal(vec3 N, vec3 V)
 // for step): the share of the lobe's rays that leave the scene, traced against the G-buffer. A
 // texel traces one of five rays, (x + 2 y) mod 5: ray 0 along R, rays 1 .. 4 on a ring at
 // REFLECTION_RING of the lobe's cone angle; a pixel averages the rays of its 3x3 block (itself
-// and the neighbours on the same surface; a ray below its surface is not counted), each weighted
-// by its cosine to the normal. Each ray
-// takes REFLECTION_STEPS points t = D (k / steps)^2 and is blocked at the first behind a texel's
-// tangent plane and within a thickness of it.
+// and the neighbours on the same surface; a ray below its surface is not counted, one into the
+// surface drawn, below the geometric normal's horizon, is blocked), each weighted by its cosine
+// to the normal. Each ray takes REFLECTION_STEPS points t = D (k / steps)^2 and is blocked at the
+// first behind a texel's tangent plane and within a thickness of it.
 const int REFLECTION_RAYS = 5;
 const int REFLECTION_BLOCK = 9;
 const float REFLECTION_BELOW = -1.0; // a ray below the surface: no part of the visibility
