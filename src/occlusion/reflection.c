@@ -263,14 +263,15 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     return dot(Rk, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
 }
 
-/* Whether ray k of covered texel i is open (1) or blocked (0), or SL_REFLECTION_BELOW, traced
- * alone, and its weight: the reference. */
+/* Whether ray k of covered texel i is open (1), blocked (0) or into its own surface
+ * (SL_REFLECTION_INTO, blocked), or SL_REFLECTION_BELOW, traced alone, and its weight: the
+ * reference. */
 static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int k, float *weight)
 {
     vec3 P, R;
     switch (ray_of(f, gb, i, k, ring_angle_of(gb->texels[i].alpha), &P, &R, weight)) {
     case RAY_BELOW: return SL_REFLECTION_BELOW;
-    case RAY_INTO_SURFACE: return 0.0f;
+    case RAY_INTO_SURFACE: return SL_REFLECTION_INTO;
     case RAY_TRACE: break;
     }
     return trace_ray(f, P, R);
@@ -410,14 +411,15 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, in
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
         float weight = 0.0f;
         float ray = take ? texel_ray(f, gb, q, ray_index(qx, qy), &weight) : 1.0f;
-        take = take && ray >= 0.0f; /* not SL_REFLECTION_BELOW */
+        take = take && ray != SL_REFLECTION_BELOW;
+        float value = ray == SL_REFLECTION_INTO ? 0.0f : ray; /* blocked, as the frame's plane has it */
         if (rays)
             rays[m] = ray;
         if (weights)
             weights[m] = take ? weight : 0.0f;
         if (used)
             used[m] = take;
-        open += take ? ray * weight : 0.0f;
+        open += take ? value * weight : 0.0f;
         total += take ? weight : 0.0f;
         count += take;
     }

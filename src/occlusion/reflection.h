@@ -71,6 +71,8 @@
 #define SL_REFLECTION_RAYS 5          /* R and SL_REFLECTION_RAYS - 1 on the ring */
 #define SL_REFLECTION_BLOCK 9         /* the texels whose rays a texel's visibility is over: 3x3 */
 #define SL_REFLECTION_BELOW (-1.0f)   /* a ray's value below the surface (not counted), else 1 or 0 */
+#define SL_REFLECTION_INTO (-2.0f)    /* sl_reflection_texel's value of a ray into its own surface
+                                         (blocked, counted as 0; the frame's plane holds 0) */
 #define SL_REFLECTION_STEPS 16        /* points along a ray */
 #define SL_REFLECTION_RING 0.5f       /* the ring's angle, a share of the lobe's cone angle */
 #define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
@@ -131,7 +133,8 @@ extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
 
 /* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
  * rays counted), and its block's rays, in the order of sl_reflection_block_offsets: each ray 1
- * open, 0 blocked or SL_REFLECTION_BELOW (`rays`), its weight (`weights`: the cosine to the
+ * open, 0 blocked, SL_REFLECTION_INTO into its own surface (blocked) or SL_REFLECTION_BELOW
+ * (`rays`), its weight (`weights`: the cosine to the
  * normal of the texel that traced it, at least SL_REFLECTION_MIN_COSINE; 0 where not counted) and
  * whether it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below
  * its surface); each SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0)

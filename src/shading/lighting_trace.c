@@ -290,7 +290,10 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, "scales the specular:");
         for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
             if (t->reflection_used[m])
-                fprintf(f, " %s %s %.3g", member[m], t->reflection_rays[m] > 0.5f ? "open" : "blocked",
+                fprintf(f, " %s %s %.3g", member[m],
+                        t->reflection_rays[m] > 0.5f                 ? "open"
+                        : t->reflection_rays[m] == SL_REFLECTION_INTO ? "into its surface"
+                                                                      : "blocked",
                         (double)t->reflection_weights[m]);
             else if (t->reflection_rays[m] < 0.0f)
                 fprintf(f, " %s below", member[m]);

@@ -111,8 +111,9 @@ struct sl_lighting_trace {
     float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
     int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_BLOCK) */
     float reflection_rays[SL_REFLECTION_BLOCK]; /* ... its block's rays (the texel, x + 1, x - 1, y + 1,
-                                y - 1, then the corners): 1 open, 0 blocked, SL_REFLECTION_BELOW below
-                                its surface (src/occlusion/reflection.h) */
+                                y - 1, then the corners): 1 open, 0 blocked, SL_REFLECTION_INTO into
+                                its own surface, SL_REFLECTION_BELOW below it
+                                (src/occlusion/reflection.h) */
     float reflection_weights[SL_REFLECTION_BLOCK]; /* ... each counted ray's weight, its cosine */
     int reflection_used[SL_REFLECTION_BLOCK]; /* ... whether each counted (the same surface) */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
