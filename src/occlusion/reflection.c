@@ -183,6 +183,7 @@ static ring_angle cached_ring_angle(ring_cache *c, float alpha)
  * counting a neighbour that is covered and within the thickness in view depth
  * (SL_REFLECTION_THICKNESS of i's; farther, it is another surface, as the surface behind at a
  * silhouette). False where neither is. */
+/* GLSL: reflection_axis_step */
 static bool axis_step(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int x, int y, int dx, int dy,
                       vec3 *step)
 {
