@@ -81,9 +81,10 @@
 #define SL_REFLECTION_MIN_COSINE 1e-6f /* a ray's least weight: R at a silhouette (N.V = 0) counts */
 /* How far below the geometric normal's horizon (the cosine) a ray must run to be taken into its
  * surface: the normal rebuilt across a texel or two of a curved surface is off by up to half the
- * turn across them, most at a silhouette, where a texel spans a wide arc (at 160x90, none: three
- * shipped scenes' spheres lose visibility error that the truth keeps; 0.15 loses none and takes
- * model.json's pixels more than 8/255 off from 6.1% to 5.2%). */
+ * turn across them, most at a silhouette, where a texel spans a wide arc. With no margin, at
+ * 160x90, rays at the rims of three shipped scenes' spheres are blocked where the truth finds
+ * them open; with 0.15 none is, and model.json's pixels more than 8/255 off fall from 6.1% to
+ * 5.2% (docs/lighting.md "Reflection occlusion"). */
 #define SL_REFLECTION_INTO_MARGIN 0.15f
 /* The block's test of "the same surface": within this share of the view depth of the texel's
  * tangent plane, and normals within this cosine (3.6 degrees): a neighbour's ray stands for the
@@ -134,8 +135,8 @@ extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
 /* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
  * rays counted), and its block's rays, in the order of sl_reflection_block_offsets: each ray 1
  * open, 0 blocked, SL_REFLECTION_INTO into its own surface (blocked) or SL_REFLECTION_BELOW
- * (`rays`), its weight (`weights`: the cosine to the
- * normal of the texel that traced it, at least SL_REFLECTION_MIN_COSINE; 0 where not counted) and
+ * (`rays`), its weight (`weights`: the cosine to the normal of the texel that traced it, at
+ * least SL_REFLECTION_MIN_COSINE; 0 where not counted) and
  * whether it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below
  * its surface); each SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0)
  * for an empty texel (nothing used). Visibility NAN when out of memory. */
