@@ -59,7 +59,8 @@ int main(int argc, char **argv)
     static double t[MAX_VARIANTS][FRAMES];
     sl_lighting_options opts[MAX_VARIANTS];
     sl_renderer *pool[MAX_VARIANTS], *of[MAX_VARIANTS];
-    int pool_key[MAX_VARIANTS], renderers = 0;
+    int pool_lights[MAX_VARIANTS], renderers = 0; /* each pool renderer's request: K, a ceiling or not */
+    bool pool_worth[MAX_VARIANTS];
     char names[MAX_VARIANTS][64];
     for (int i = 0; i < nv; i++) {
         char est[32], lod[32], lights[32] = "0";
@@ -82,15 +83,17 @@ int main(int argc, char **argv)
         /* a renderer per env-light request, each extracted once: a shared one would extract
          * again before each frame of a variant whose request differs from the last one's, and
          * that frame would start with the caches the extraction left */
-        int key = 2 * env_lights + (worth ? 1 : 0), slot = 0;
-        while (slot < renderers && pool_key[slot] != key)
+        int slot = 0;
+        while (slot < renderers && !(pool_lights[slot] == env_lights && pool_worth[slot] == worth))
             slot++;
         if (slot == renderers) {
             pool[slot] = calloc(1, sizeof *pool[slot]);
             if (!pool[slot] || !sl_renderer_init(pool[slot], &scene, &desc, &err) ||
                 !sl_renderer_raster(pool[slot], NULL, &err))
                 return fail(argv[1], &err);
-            pool_key[renderers++] = key;
+            pool_lights[slot] = env_lights;
+            pool_worth[slot] = worth;
+            renderers++;
         }
         sl_renderer *renderer = pool[slot];
         of[i] = renderer;

@@ -56,8 +56,8 @@ static bool build_irradiance(sl_renderer *r, sl_error *err)
 static bool update_env_lights(sl_renderer *r, sl_error *err)
 {
     const sl_lighting_options *o = &r->desc.lighting;
-    int asked = o->env_lights > 0 ? 2 * o->env_lights + (o->env_lights_worth ? 1 : 0) : 0;
-    if (asked == 0 || asked == r->env_lights_asked)
+    if (o->env_lights <= 0 ||
+        (o->env_lights == r->env_lights_asked && o->env_lights_worth == r->env_lights_asked_worth))
         return true;
     double t0 = sl_now_seconds();
     sl_env_lights_free(&r->env_lights);
@@ -69,7 +69,8 @@ static bool update_env_lights(sl_renderer *r, sl_error *err)
                                                                                     o->env_lights, r->desc.threads, err))
         return false;
     r->env_lights_built = r->env_lights.count;
-    r->env_lights_asked = asked;
+    r->env_lights_asked = o->env_lights;
+    r->env_lights_asked_worth = o->env_lights_worth;
     r->timings.env_lights_ms = (sl_now_seconds() - t0) * 1e3;
     return true;
 }

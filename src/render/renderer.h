@@ -101,8 +101,9 @@ struct sl_renderer {
     bool have_irradiance;
     sl_env_lights env_lights; /* built on first use for desc.lighting.env_lights > 0 */
     int env_lights_built;     /* the count extracted, in use; 0 = none */
-    int env_lights_asked;     /* the request they were extracted for: K times 2, plus 1 for a
-                                 ceiling (env_lights_worth); 0 = none yet */
+    int env_lights_asked;     /* the request they were extracted for: the count or ceiling K;
+                                 0 = none yet */
+    bool env_lights_asked_worth; /* ... and whether K was a ceiling (env_lights_worth) */
     sl_env env_oct;           /* --env-layout oct: the octahedral chain of env, or of the env
                                  lights' residual; built on first use */
     int env_oct_built;        /* -1 = none, else the env lights count of what it was built from */
