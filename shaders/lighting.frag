@@ -703,6 +703,7 @@ const float REFLECTION_MIN_COSINE = 1e-6; // a ray's least weight (R at a silhou
 const float REFLECTION_INTO_MARGIN = 0.15; // below the geometric normal's horizon by more: into it
 const float REFLECTION_SAME_DEPTH = 0.02;
 const float REFLECTION_SAME_NORMAL = 0.998;
+const int REFLECTION_LONE = 3; // a block counting fewer rays adds the pixel's own other rays
 
 // The G-buffer texel q as a ray reads it: false when empty, else its position, its normal
 // facing the eye and its view depth.
@@ -828,7 +829,8 @@ float reflection_ray(ivec2 q, int k, out float weight)
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,
 // x - 1, y + 1, y - 1, then the corners), each weighted by its cosine, a neighbour counted where
 // it is the same surface (near the pixel's tangent plane, its normal within a few degrees: its ray
-// then stands for the pixel's); and in y how many rays it is over.
+// then stands for the pixel's), and the pixel's own other rays where the block counts fewer than
+// REFLECTION_LONE; and in y how many rays it is over.
 vec2 reflection_visibility(ivec2 pixel)
 {
     const ivec2 offsets[REFLECTION_BLOCK] = ivec2[](ivec2(0, 0), ivec2(1, 0), ivec2(-1, 0), ivec2(0, 1),
@@ -861,6 +863,20 @@ vec2 reflection_visibility(ivec2 pixel)
         open += ray * weight;
         total += weight;
         count++;
+    }
+    if (count < REFLECTION_LONE) { // an edge, a normal map's bumps: the pixel's own other rays too
+        int own = (pixel.x + 2 * pixel.y) % REFLECTION_RAYS;
+        for (int k = 0; k < REFLECTION_RAYS; k++) {
+            if (k == own)
+                continue;
+            float weight;
+            float ray = reflection_ray(pixel, k, weight);
+            if (ray < 0.0)
+                continue; // below its surface
+            open += ray * weight;
+            total += weight;
+            count++;
+        }
     }
     return count > 0 ? vec2(open / total, float(count)) : vec2(1.0, 0.0);
 }

@@ -5,7 +5,8 @@
  * facing normal and its offset, 16 bytes) and its position, a plane a coordinate (the block's
  * test of the same surface reads them); then traces each texel's ray, rows over threads, into a
  * plane of one float a texel, its weight into another; then averages each texel's block, the
- * weights' sum in a plane of its own. 44 bytes a texel in all,
+ * weights' sum in a plane of its own, and where the block counts fewer than SL_REFLECTION_LONE
+ * rays traces the texel's own other rays into its sums (lone_rays, a texel at a time: few are). 44 bytes a texel in all,
  * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
  * step is three multiply-adds and one division. Each ray weighs its cosine to the normal in the
  * block's share, in a plane beside the rays'. Tracing and the block each have two forms with
@@ -393,11 +394,41 @@ static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t
 const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2] = {{0, 0},  {1, 0},  {-1, 0}, {0, 1},  {0, -1},
                                                                   {1, 1},  {-1, 1}, {1, -1}, {-1, -1}};
 
+/* The rays of covered texel i at (x, y) besides its own ray (ray_index), added to the block's
+ * sums (open, total, count) where the block counts fewer than SL_REFLECTION_LONE: each ray,
+ * its weight and whether it counted to `rays`, `weights` and `used` when not NULL
+ * (SL_REFLECTION_RAYS - 1 long, in the order of k). The frame's block_row and the reference
+ * block_visibility both end with it, so that their sums take the same terms in the same order. */
+static void lone_rays(const reflection_frame *f, const sl_gbuffer *gb, size_t i, int x, int y, float *open,
+                      float *total, int *count, float *rays, float *weights, int *used)
+{
+    const bool lone = *count < SL_REFLECTION_LONE;
+    for (int k = 0, m = 0; k < SL_REFLECTION_RAYS; k++) {
+        if (k == ray_index(x, y))
+            continue;
+        float weight = 0.0f;
+        float ray = lone ? texel_ray(f, gb, i, k, &weight) : 1.0f;
+        bool take = lone && ray != SL_REFLECTION_BELOW;
+        float value = ray == SL_REFLECTION_INTO ? 0.0f : ray;
+        if (rays)
+            rays[m] = ray;
+        if (weights)
+            weights[m] = take ? weight : 0.0f;
+        if (used)
+            used[m] = take;
+        m++;
+        *open += take ? value * weight : 0.0f;
+        *total += take ? weight : 0.0f;
+        *count += take;
+    }
+}
+
 /* The visibility of covered texel (x, y) from the rays of its block (itself and the eight
- * neighbours that are the same surface), each traced here, and how many rays it took (1 ..
- * SL_REFLECTION_BLOCK); each member's ray, its weight and whether it counted go to `rays`,
- * `weights` and `used` when not NULL, in the order of sl_reflection_block_offsets. The
- * reference; block_row is the frame's. */
+ * neighbours that are the same surface), each traced here, and its own other rays where the
+ * block counts fewer than SL_REFLECTION_LONE (lone_rays); and how many rays it took (1 ..
+ * SL_REFLECTION_MEMBERS). Each ray, its weight and whether it counted go to `rays`, `weights`
+ * and `used` when not NULL, in the order of sl_reflection_block_offsets and then lone_rays'.
+ * The reference; block_row is the frame's. */
 /* GLSL: reflection_visibility */
 static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, int x, int y, float *rays,
                              float *weights, int *used)
@@ -424,6 +455,8 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, in
         total += take ? weight : 0.0f;
         count += take;
     }
+    lone_rays(f, gb, p, x, y, &open, &total, &count, rays ? rays + SL_REFLECTION_BLOCK : NULL,
+              weights ? weights + SL_REFLECTION_BLOCK : NULL, used ? used + SL_REFLECTION_BLOCK : NULL);
     return count > 0 ? vec2(open / total, count) : vec2(1.0f, 0.0f);
 }
 
@@ -469,8 +502,15 @@ static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const flo
         }
     }
     for (int x = 0; x < w; x++) {
-        bool counted = sl_gbuffer_covered(&gb->texels[row + (size_t)x]) && out[x].y > 0.0f;
-        out[x] = counted ? vec2(out[x].x / total[x], out[x].y) : vec2(1.0f, 0.0f);
+        const size_t i = row + (size_t)x;
+        if (!sl_gbuffer_covered(&gb->texels[i])) {
+            out[x] = vec2(1.0f, 0.0f);
+            continue;
+        }
+        int count = (int)out[x].y;
+        if (count < SL_REFLECTION_LONE) /* few texels: traced here, one at a time */
+            lone_rays(f, gb, i, x, y, &out[x].x, &total[x], &count, NULL, NULL, NULL);
+        out[x] = count > 0 ? vec2(out[x].x / total[x], (float)count) : vec2(1.0f, 0.0f);
     }
 }
 
@@ -586,7 +626,7 @@ vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float dista
     if (sl_gbuffer_covered(sl_gbuffer_at(gb, x, y))) {
         v = block_visibility(&f, gb, x, y, rays, weights, used);
     } else {
-        for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
+        for (int m = 0; m < SL_REFLECTION_MEMBERS; m++) {
             if (rays)
                 rays[m] = 1.0f;
             if (weights)

@@ -24,7 +24,9 @@
  * at a grazing view, count for less than those above them), counting a neighbour only where it is
  * the same surface (near the texel's tangent plane, its normal within a few degrees): one ray a
  * texel, the five directions over a block of a flat or finely drawn surface (the ring's twice,
- * R's once), its own ray alone at an edge or where the normal turns fast across a texel. The
+ * R's once). Where the block counts fewer than SL_REFLECTION_LONE rays (an edge, a normal map's
+ * bumps: the normal turns fast across a texel), the texel traces its own other four too, so its
+ * visibility is over its five rays rather than its one ray's 0 or 1. The
  * block rather than the cross of five: at an object's silhouette over a floor, where the cross
  * keeps two or three of its members, the block keeps five or more, so the rays decide rather
  * than the cone (below), and its nine rays are less noisy than five. Each ray takes
@@ -34,7 +36,7 @@
  * thickness behind it along the view (the larger of the step and SL_REFLECTION_THICKNESS of the
  * texel's view depth: what the G-buffer cannot know, how deep the surface goes). A ray that leaves
  * the image, passes behind the camera or runs its length is open. The texel's visibility is
- * the weighted share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 9;
+ * the weighted share of open rays, in [0, 1], kept with the number of rays it is over (1 .. 13;
  * none, and visibility 1, where every ray of the block is below its surface).
  *
  * The lighting multiplies the image-based specular by it. With the ambient occlusion's cone
@@ -93,6 +95,16 @@
  * ambient occlusion blur's, put model.json's visibility error at 0.186 against 0.103). */
 #define SL_REFLECTION_SAME_DEPTH 0.02f
 #define SL_REFLECTION_SAME_NORMAL 0.998f
+/* A texel whose block counts fewer rays than this (its neighbours other surfaces: an edge, a
+ * normal map's bumps, a rounded edge's turn) traces its own other SL_REFLECTION_RAYS - 1 rays
+ * too, so that its visibility moves in fifths rather than between 0 and 1 (docs/lighting.md
+ * "Reflection occlusion": the texels alone are few, and their rays cost about what the frame's
+ * march spends on them). */
+#define SL_REFLECTION_LONE 3
+/* What sl_reflection_texel reports a ray of: the block's members, then the texel's own other
+ * rays, traced where the block counts fewer than SL_REFLECTION_LONE (ray k for k = 0 ..
+ * SL_REFLECTION_RAYS - 1 but its own, in that order). */
+#define SL_REFLECTION_MEMBERS (SL_REFLECTION_BLOCK + SL_REFLECTION_RAYS - 1)
 
 /* How much the rays alone weigh against the smaller of the two factors, for a visibility over
  * `rays` rays: (rays - 1) / (SL_REFLECTION_RAYS - 1), 0 with one ray, 1 with five or more. A build
@@ -133,13 +145,15 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
 extern const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2];
 
 /* The plane value of texel (x, y) as sl_reflection_apply computes it, the same bits (visibility,
- * rays counted), and its block's rays, in the order of sl_reflection_block_offsets: each ray 1
- * open, 0 blocked, SL_REFLECTION_INTO into its own surface (blocked) or SL_REFLECTION_BELOW
- * (`rays`), its weight (`weights`: the cosine to the normal of the texel that traced it, at
- * least SL_REFLECTION_MIN_COSINE; 0 where not counted) and
- * whether it counted (`used`: 0 for a neighbour off the image or another surface, or a ray below
- * its surface); each SL_REFLECTION_BLOCK long or NULL. For softlight trace and the tests. (1, 0)
- * for an empty texel (nothing used). Visibility NAN when out of memory. */
+ * rays counted), and its rays, its block's in the order of sl_reflection_block_offsets and then
+ * its own others (SL_REFLECTION_MEMBERS): each ray 1 open, 0 blocked, SL_REFLECTION_INTO into
+ * its own surface (blocked) or SL_REFLECTION_BELOW (`rays`; 1 for an own ray not traced), its
+ * weight (`weights`: the cosine to the normal of the texel that traced it, at least
+ * SL_REFLECTION_MIN_COSINE; 0 where not counted) and whether it counted (`used`: 0 for a
+ * neighbour off the image or another surface, a ray below its surface, or an own ray not traced,
+ * where the block counts SL_REFLECTION_LONE rays or more); each SL_REFLECTION_MEMBERS long or
+ * NULL. For softlight trace and the tests. (1, 0) for an empty texel (nothing used). Visibility
+ * NAN when out of memory. */
 vec2 sl_reflection_texel(const sl_gbuffer *gb, const sl_camera *cam, float distance, int x, int y, float *rays,
                          float *weights, int *used);
 

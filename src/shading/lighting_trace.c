@@ -278,18 +278,22 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                     "lobe map", (double)t->lobe_map);
     }
     if (t->reflection) { /* the reflection occlusion (--reflection-occlusion) */
-        static const char *const member[SL_REFLECTION_BLOCK] = {"texel",   "x+1",     "x-1",     "y+1",    "y-1",
-                                                                 "x+1,y+1", "x-1,y+1", "x+1,y-1", "x-1,y-1"};
+        static const char *const member[SL_REFLECTION_MEMBERS] = {
+            "texel",   "x+1",     "x-1",   "y+1",   "y-1",   "x+1,y+1", "x-1,y+1",
+            "x+1,y-1", "x-1,y-1", "own+1", "own+2", "own+3", "own+4"};
         fprintf(f, "  %-12s %.6g (the share of open rays over the texel's block, each weighted by its cosine,"
+                   " with the texel's own other rays own+1 .. own+4 where the block counts fewer than %d;"
                    " %d rays; ",
-                "reflection", (double)t->reflection_visibility, t->reflection_count);
+                "reflection", (double)t->reflection_visibility, SL_REFLECTION_LONE, t->reflection_count);
         if (t->cone) /* sl_reflection_specular_factor's weight */
             fprintf(f, "the rays alone weigh %.6g against the smaller factor:",
                     (double)sl_reflection_rays_weight((float)t->reflection_count));
         else
             fprintf(f, "scales the specular:");
-        for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
-            if (t->reflection_used[m])
+        for (int m = 0; m < SL_REFLECTION_MEMBERS; m++)
+            if (m >= SL_REFLECTION_BLOCK && !t->reflection_used[m] && t->reflection_rays[m] >= 0.0f)
+                continue; /* an own ray not traced: the block counts enough */
+            else if (t->reflection_used[m])
                 fprintf(f, " %s %s %.3g", member[m],
                         t->reflection_rays[m] > 0.5f                 ? "open"
                         : t->reflection_rays[m] == SL_REFLECTION_INTO ? "into its surface"

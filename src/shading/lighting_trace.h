@@ -109,13 +109,15 @@ struct sl_lighting_trace {
                                 when that map lowered it; -1 when it did not */
     bool reflection;         /* the G-buffer has the reflection occlusion (--reflection-occlusion): */
     float reflection_visibility; /* ... the texel's, which joins or scales the specular's factor */
-    int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_BLOCK) */
-    float reflection_rays[SL_REFLECTION_BLOCK]; /* ... its block's rays (the texel, x + 1, x - 1, y + 1,
-                                y - 1, then the corners): 1 open, 0 blocked, SL_REFLECTION_INTO into
-                                its own surface, SL_REFLECTION_BELOW below it
-                                (src/occlusion/reflection.h) */
-    float reflection_weights[SL_REFLECTION_BLOCK]; /* ... each counted ray's weight, its cosine */
-    int reflection_used[SL_REFLECTION_BLOCK]; /* ... whether each counted (the same surface) */
+    int reflection_count;        /* ... the rays it is over (1 .. SL_REFLECTION_MEMBERS) */
+    float reflection_rays[SL_REFLECTION_MEMBERS]; /* ... its block's rays (the texel, x + 1, x - 1,
+                                y + 1, y - 1, then the corners), then its own others (where the
+                                block counts fewer than SL_REFLECTION_LONE): 1 open, 0 blocked,
+                                SL_REFLECTION_INTO into its own surface, SL_REFLECTION_BELOW below
+                                it (src/occlusion/reflection.h) */
+    float reflection_weights[SL_REFLECTION_MEMBERS]; /* ... each counted ray's weight, its cosine */
+    int reflection_used[SL_REFLECTION_MEMBERS]; /* ... whether each counted (the same surface, or
+                                an own ray traced) */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */

@@ -91,7 +91,7 @@ for x in SKY_NORMAL_OFFSET SKY_BIAS_CONST; do
 done
 # The reflection occlusion's constants: GLSL `const int|float REFLECTION_X = V;` against
 # src/occlusion/reflection.h's `#define SL_REFLECTION_X V[f]`.
-for x in RAYS BLOCK STEPS RING THICKNESS OFFSET PLANE_EPS SAME_DEPTH SAME_NORMAL; do
+for x in RAYS BLOCK STEPS RING THICKNESS OFFSET PLANE_EPS SAME_DEPTH SAME_NORMAL LONE; do
     g=$(sed -n "s/^const [a-z]* REFLECTION_$x = \([-+0-9.eE]*\);.*/\1/p" "$frag")
     v=$(sed -n "s/^#define SL_REFLECTION_$x \([-+0-9.eE]*\).*/\1/p" src/occlusion/reflection.h)
     [ -n "$g" ] && [ -n "$v" ] && awk -v a="$g" -v b="$v" 'BEGIN { exit !(a + 0 == b + 0) }' ||

@@ -18,6 +18,8 @@
  *     gives a texel the ray of its neighbour fails; a ray below its surface never counts);
  *   - shading normals tilted away from the eye on an open mirror floor: a texel whose reflection
  *     enters the floor (below the geometric normal rebuilt from the positions) is blocked;
+ *   - a rough floor whose normals lean every texel its own way, as a normal map's bumps: no
+ *     neighbour counts, and each texel's visibility is over its own five rays, not 0 or 1;
  *   - refusals: a distance that is not positive and finite (infinity too); an empty texel gets 1
  *     and uses no ray. */
 #include <math.h>
@@ -225,16 +227,18 @@ static void test_rough_beside_wall(void **state)
 static float check_texel(const sl_gbuffer *gb, const sl_camera *cam, int x, int y, int *below_rays)
 {
     const int w = gb->width, h = gb->height;
-    float rays[SL_REFLECTION_BLOCK], weights[SL_REFLECTION_BLOCK];
-    int used[SL_REFLECTION_BLOCK];
+    float rays[SL_REFLECTION_MEMBERS], weights[SL_REFLECTION_MEMBERS];
+    int used[SL_REFLECTION_MEMBERS];
     vec2 want = sl_reflection_texel(gb, cam, DIST, x, y, rays, weights, used), got = gb->reflection[y * w + x];
     if (memcmp(&want, &got, sizeof want) != 0)
         fail_msg("texel (%d, %d): frame (%.9g, %g), texel (%.9g, %g)", x, y, (double)got.x, (double)got.y,
                  (double)want.x, (double)want.y);
     assert_int_equal(used[0], sl_gbuffer_covered(sl_gbuffer_at(gb, x, y)) && rays[0] != SL_REFLECTION_BELOW);
-    int counted = 0, below = 0;
+    int counted = 0, below = 0, block = 0, own = 0;
     float open = 0.0f, total = 0.0f;
-    for (int m = 0; m < SL_REFLECTION_BLOCK; m++) {
+    for (int m = 0; m < SL_REFLECTION_MEMBERS; m++) {
+        block += m < SL_REFLECTION_BLOCK && used[m];
+        own += m >= SL_REFLECTION_BLOCK && used[m];
         counted += used[m];
         if (used[m]) {
             assert_true(weights[m] >= SL_REFLECTION_MIN_COSINE && weights[m] <= 1.0f);
@@ -253,6 +257,9 @@ static float check_texel(const sl_gbuffer *gb, const sl_camera *cam, int x, int 
         assert_float_equal(want.x, open / total, 0.0);
     *below_rays += below;
     assert_int_equal((int)want.y, counted);
+    /* the texel's own other rays count only where its block counts fewer than SL_REFLECTION_LONE */
+    if (block >= SL_REFLECTION_LONE)
+        assert_int_equal(own, 0);
     for (int m = 1; m < SL_REFLECTION_BLOCK; m++) {
         int qx = x + sl_reflection_block_offsets[m][0], qy = y + sl_reflection_block_offsets[m][1];
         if (qx < 0 || qy < 0 || qx >= w || qy >= h)
@@ -335,7 +342,7 @@ static void test_tilted_normals(void **state)
             into_zero += gb.reflection[y * W + x].x == 0.0f;
             if (x % 7 == 0 && y % 5 == 0) {
                 check_texel(&gb, &cam, x, y, &below);
-                float rays[SL_REFLECTION_BLOCK];
+                float rays[SL_REFLECTION_MEMBERS];
                 sl_reflection_texel(&gb, &cam, DIST, x, y, rays, NULL, NULL);
                 assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0); /* trace says why it is blocked */
                 checked++;
@@ -345,6 +352,61 @@ static void test_tilted_normals(void **state)
                   into, checked);
     assert_true(into > 1000 && checked > 50);
     assert_int_equal(into_zero, into);
+    sl_gbuffer_free(&gb);
+}
+
+/* A rough floor beside the wall whose shading normals lean BUMP degrees, each texel of a 3 x 3
+ * tile toward its own azimuth, as a normal map's bumps turn them: no neighbour is the same
+ * surface (their normals more than SL_REFLECTION_SAME_NORMAL apart), so each floor texel's
+ * block counts its own ray alone and it traces its other four: its visibility is over its own
+ * rays, strictly between 0 and 1 where the wall hides part of its lobe (measured: 2617 of the
+ * 11702 floor texels; with its one ray each is 0 or 1: none), and the frame gives the reference's bits
+ * (check_texel, which also holds that the own rays count only where the block counts fewer than
+ * SL_REFLECTION_LONE). */
+#define BUMP 8.0f
+static void test_lone_texels(void **state)
+{
+    (void)state;
+    sl_gbuffer gb = {0};
+    sl_camera cam = corner_camera();
+    corner_trace(&gb, &cam, true, W, H, rough);
+    const float c = cosf(radians(BUMP)), s = sinf(radians(BUMP));
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            if (!is_floor(&gb, x, y))
+                continue;
+            float azimuth = 2.0f * SL_PI * (float)(x % 3 + 3 * (y % 3)) / 9.0f;
+            t->normal = vec3(s * cosf(azimuth), s * sinf(azimuth), c);
+        }
+    sl_error err = {0};
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, &err));
+    int floor = 0, alone = 0, between = 0, checked = 0, below = 0;
+    for (int y = 1; y < H - 1; y++)
+        for (int x = 1; x < W - 1; x++) {
+            if (!floor_block(&gb, x, y))
+                continue;
+            vec2 v = gb.reflection[y * W + x];
+            floor++;
+            float rays[SL_REFLECTION_MEMBERS];
+            int used[SL_REFLECTION_MEMBERS];
+            sl_reflection_texel(&gb, &cam, DIST, x, y, rays, NULL, used);
+            int block = 0;
+            for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
+                block += used[m];
+            alone += block <= 1; /* 0 where its own ray is below its surface */
+            between += v.x > 0.0f && v.x < 1.0f;
+            if (x % 9 == 0 && y % 7 == 0) {
+                check_texel(&gb, &cam, x, y, &below);
+                checked++;
+            }
+        }
+    print_message("lone texels: %d of %d floor texels count no neighbour's ray, %d strictly between "
+                  "0 and 1; frame = texel on %d\n",
+                  alone, floor, between, checked);
+    assert_true(floor > 10000 && checked > 100);
+    assert_int_equal(alone, floor);
+    assert_true(between > 500);
     sl_gbuffer_free(&gb);
 }
 
@@ -362,14 +424,14 @@ static void test_specular_factor(void **state)
     assert_float_equal(sl_reflection_specular_factor(0.1f, material, vec2(1.0f, 5.0f)), 0.8, 1e-7);
     assert_float_equal(sl_reflection_specular_factor(0.7f, material, vec2(0.2f, 5.0f)), 0.16, 1e-7);
     float last = 0.0f;
-    for (int rays = 1; rays <= SL_REFLECTION_BLOCK; rays++) {
+    for (int rays = 1; rays <= SL_REFLECTION_MEMBERS; rays++) {
         float f = sl_reflection_specular_factor(0.1f, material, vec2(1.0f, (float)rays));
         assert_true(f >= last && f <= 1.0f);
         last = f;
     }
     for (int c = 0; c <= 10; c++)
         for (int v = 0; v <= 5; v++)
-            for (int rays = 0; rays <= SL_REFLECTION_BLOCK + 1; rays++) {
+            for (int rays = 0; rays <= SL_REFLECTION_MEMBERS + 1; rays++) {
                 float f = sl_reflection_specular_factor(0.1f * (float)c, 1.0f, vec2(0.2f * (float)v, (float)rays));
                 assert_true(f >= 0.0f && f <= 1.0f);
             }
@@ -394,12 +456,12 @@ static void test_refusals(void **state)
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, &err));
     assert_float_equal(gb.reflection[ey * W + ex].x, 1.0, 0.0);
     assert_float_equal(gb.reflection[ey * W + ex].y, 0.0, 0.0);
-    float rays[SL_REFLECTION_BLOCK], weights[SL_REFLECTION_BLOCK];
-    int used[SL_REFLECTION_BLOCK];
+    float rays[SL_REFLECTION_MEMBERS], weights[SL_REFLECTION_MEMBERS];
+    int used[SL_REFLECTION_MEMBERS];
     vec2 empty = sl_reflection_texel(&gb, &cam, DIST, ex, ey, rays, weights, used);
     assert_float_equal(empty.x, 1.0, 0.0);
     assert_float_equal(empty.y, 0.0, 0.0);
-    for (int m = 0; m < SL_REFLECTION_BLOCK; m++)
+    for (int m = 0; m < SL_REFLECTION_MEMBERS; m++)
         assert_int_equal(used[m], 0);
     sl_gbuffer_free(&gb);
 }
@@ -412,6 +474,7 @@ int main(void)
         cmocka_unit_test(test_rough_beside_wall),
         cmocka_unit_test(test_frame_matches_texel),
         cmocka_unit_test(test_tilted_normals),
+        cmocka_unit_test(test_lone_texels),
         cmocka_unit_test(test_specular_factor),
         cmocka_unit_test(test_refusals),
     };
