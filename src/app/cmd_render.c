@@ -211,9 +211,10 @@ int cmd_render(int argc, char **argv)
             printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
                    (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);
         if (r.desc.options.reflection_occlusion > 0.0f)
-            printf("reflection occlusion: rays %g world units long, %.1f ms a frame (%d rays x %d steps)\n",
+            printf("reflection occlusion: rays %g world units long, %.1f ms a frame (%d rays x %d steps; %lld "
+                   "texels, at edges and where the normal turns fast, traced their own %d)\n",
                    (double)r.desc.options.reflection_occlusion, r.timings.reflection_ms, SL_REFLECTION_RAYS,
-                   SL_REFLECTION_STEPS);
+                   SL_REFLECTION_STEPS, (long long)r.timings.reflection_lone, SL_REFLECTION_RAYS);
         if (r.shadows_built > 0) {
             int cubes = 0;
             for (int i = 0; i < r.shadows.count; i++)

@@ -6,17 +6,18 @@
  * test of the same surface reads them); then traces each texel's ray, rows over threads, into a
  * plane of one float a texel, its weight into another; then averages each texel's block, the
  * weights' sum in a plane of its own, and where the block counts fewer than SL_REFLECTION_LONE
- * rays traces the texel's own other rays into its sums (lone_rays, a texel at a time: few are). 44 bytes a texel in all,
- * allocated for the frame. A ray's point is linear in t, so its view coordinates are too: each
- * step is three multiply-adds and one division. Each ray weighs its cosine to the normal in the
- * block's share, in a plane beside the rays'. Tracing and the block each have two forms with
- * the same bits: a reference for one texel (trace_ray, one ray at a time, and block_visibility,
- * which sl_reflection_texel runs; tests/unit/test_reflection.c holds the frame to them), and the
- * frame's. march_span steps the rays of a run of a row's texels together, a lane a ray: a ray's
- * cost is the latency of its reads of the depth plane at points strewn over the image, one after
- * the other, and a span's lanes issue theirs side by side, so the reads overlap. block_row tests
- * one block member for a whole row at a time, a vector loop. Both tracing forms build their rays
- * with ray_of and test a candidate point with blocked_at. */
+ * rays adds the texel's own other rays (lone_rays), traced into a row of each thread's. 44 bytes
+ * a texel in all, allocated for the frame. A ray's point is linear in t, so its view coordinates
+ * are too: each step is three multiply-adds and one division. Each ray weighs its cosine to the
+ * normal in the block's share, in a plane beside the rays'. Tracing and the block each have two
+ * forms with the same bits: a reference for one texel (trace_ray, one ray at a time, and
+ * block_visibility, which sl_reflection_texel runs; tests/unit/test_reflection.c holds the frame
+ * to them), and the frame's. march_lanes steps up to MARCH_SPAN rays together, a lane a ray (a
+ * run of a row's texels' own rays, or a row's lone texels' others): a ray's cost is the latency
+ * of its reads of the depth plane at points strewn over the image, one after the other, and the
+ * lanes issue theirs side by side, so the reads overlap. block_row tests one block member for a
+ * whole row at a time, a vector loop. Both tracing forms build their rays with ray_of and test a
+ * candidate point with blocked_at. */
 #include "reflection.h"
 
 #include <math.h>
@@ -112,7 +113,7 @@ static bool blocked_at(const surface_plane *c, float zc, vec3 P, vec3 R, float t
 }
 
 /* 1 when the ray from P along the unit R leaves the image, the camera's front or its length
- * unblocked; 0 at its first blocked point (reflection.h). The reference; march_span is the
+ * unblocked; 0 at its first blocked point (reflection.h). The reference; march_lanes is the
  * frame's form. */
 /* GLSL: reflection_trace_ray */
 static float trace_ray(const reflection_frame *f, vec3 P, vec3 R)
@@ -279,62 +280,33 @@ static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i
     return trace_ray(f, P, R);
 }
 
-/* trace_ray for the rays of row y's texels x0 .. x1 - 1 (at most MARCH_SPAN), written into
- * ray_plane (1 for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the same
- * bits, and each ray's weight into weight_plane (0 where none is traced). Each covered texel's
- * ray (ray_of) that has something to trace takes a lane: its start, direction and view_ray,
- * structure-of-arrays. Then all lanes take step k together: one loop over
- * the lanes projects each one's point and reads the depth under it, with no branch on what it
- * read, so the reads of all lanes are in flight at once (trace_ray's expressions term by term; the
- * early exits as flags: a lane off the image or behind the camera reads texel 0 and leaves); a
- * second loop settles each lane still marching: it leaves open, or, when the point is within the
- * thickness behind the depth it read, blocked_at decides. The steps stop when no lane marches. */
+/* Rays marched together, a lane a ray, structure-of-arrays: each lane's start and direction, its
+ * view_ray, and where its outcome goes (1 set by whoever adds it; 0 written when it is blocked).
+ * march_lanes runs trace_ray's steps for all of them with the same bits: one loop over the lanes
+ * projects each one's point and reads the depth under it, with no branch on what it read, so the
+ * reads of all lanes are in flight at once (trace_ray's expressions term by term; the early exits
+ * as flags: a lane off the image or behind the camera reads texel 0 and leaves); a second loop
+ * settles each lane still marching: it leaves open, or, when the point is within the thickness
+ * behind the depth it read, blocked_at decides. The steps stop when no lane marches. A ray's cost
+ * is the latency of its reads, one after the other; side by side, they overlap. */
 enum { MARCH_SPAN = 64 };
-static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane,
-                       float *weight_plane, int y, int x0, int x1)
+typedef struct {
+    float *out[MARCH_SPAN];
+    vec3 start[MARCH_SPAN], dir[MARCH_SPAN];
+    float z0[MARCH_SPAN], zr[MARCH_SPAN], sx0[MARCH_SPAN], sxr[MARCH_SPAN], sy0[MARCH_SPAN], syr[MARCH_SPAN];
+    int lanes;
+} ray_lanes;
+
+static void march_lanes(const reflection_frame *f, ray_lanes *l)
 {
     enum { S = MARCH_SPAN };
-    const sl_gtao_view *v = &f->view;
-    /* per lane: the texel, the ray's start and direction, its view_ray; whether it still
-     * marches; this step's outcome: it leaves (open), it is near a surface, the texel it read */
-    size_t texel[S];
-    vec3 start[S], dir[S];
-    float z0[S], zr[S], sx0[S], sxr[S], sy0[S], syr[S];
+    /* per lane: whether it still marches; this step's outcome: it leaves (open), it is near a
+     * surface, the texel it read */
     int marching[S], leaves[S], near[S], read_at[S];
-    int lanes = 0;
-    for (int x = x0; x < x1; x++) {
-        size_t i = (size_t)y * (size_t)f->width + (size_t)x;
-        const sl_gbuffer_texel *t = &gb->texels[i];
-        ray_plane[i] = 1.0f; /* open unless its march is blocked */
-        weight_plane[i] = 0.0f;
-        if (!sl_gbuffer_covered(t))
-            continue;
-        int k = ray_index(x, y);
-        ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
-        vec3 P, R;
-        ray_start start_as = ray_of(f, gb, i, k, angle, &P, &R, &weight_plane[i]);
-        if (start_as == RAY_BELOW) {
-            ray_plane[i] = SL_REFLECTION_BELOW;
-            weight_plane[i] = 0.0f;
-            continue;
-        }
-        if (start_as == RAY_INTO_SURFACE) {
-            ray_plane[i] = 0.0f;
-            continue;
-        }
-        view_ray r = view_ray_of(v, P, R);
-        const int m = lanes++;
-        texel[m] = i;
-        start[m] = P;
-        dir[m] = R;
-        z0[m] = r.z0;
-        zr[m] = r.zr;
-        sx0[m] = r.x0;
-        sxr[m] = r.xr;
-        sy0[m] = r.y0;
-        syr[m] = r.yr;
+    const int lanes = l->lanes;
+    for (int m = 0; m < lanes; m++)
         marching[m] = 1;
-    }
+    const sl_gtao_view *v = &f->view;
     const float ppu = v->pixels_per_unit, half_w = f->half_width, half_h = f->half_height;
     const float width = (float)f->width, height = (float)f->height;
     const int stride = f->width;
@@ -345,10 +317,10 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
         prev_t = t;
 #pragma omp simd
         for (int m = 0; m < lanes; m++) {
-            const float z = z0[m] + zr[m] * t;
+            const float z = l->z0[m] + l->zr[m] * t;
             const float scale_px = ppu / z;
-            const float px = half_w + (sx0[m] + sxr[m] * t) * scale_px;
-            const float py = half_h + (sy0[m] + syr[m] * t) * scale_px;
+            const float px = half_w + (l->sx0[m] + l->sxr[m] * t) * scale_px;
+            const float py = half_h + (l->sy0[m] + l->syr[m] * t) * scale_px;
             const int inside = (z > 1e-4f) & (px >= 0.0f) & (py >= 0.0f) & (px < width) & (py < height);
             /* the coordinates only where they are inside: no conversion of one that is not; an
              * int, for 32-bit gathers (at most SL_RASTER_MAX_SIZE^2 texels) */
@@ -368,13 +340,74 @@ static void march_span(const reflection_frame *f, const sl_gbuffer *gb, ring_cac
             if (leaves[m]) {
                 marching[m] = 0;
                 still--;
-            } else if (near[m] && blocked_at(&f->planes[read_at[m]], depth[read_at[m]], start[m], dir[m], t)) {
-                ray_plane[texel[m]] = 0.0f;
+            } else if (near[m] && blocked_at(&f->planes[read_at[m]], depth[read_at[m]], l->start[m], l->dir[m], t)) {
+                *l->out[m] = 0.0f;
                 marching[m] = 0;
                 still--;
             }
         }
     }
+    l->lanes = 0;
+}
+
+/* A lane for the ray from P along R into l, its outcome to *out (set to 1 here); the lanes
+ * marched first when they are full. */
+static void march_add(const reflection_frame *f, ray_lanes *l, vec3 P, vec3 R, float *out)
+{
+    if (l->lanes == MARCH_SPAN)
+        march_lanes(f, l);
+    view_ray r = view_ray_of(&f->view, P, R);
+    const int m = l->lanes++;
+    *out = 1.0f;
+    l->out[m] = out;
+    l->start[m] = P;
+    l->dir[m] = R;
+    l->z0[m] = r.z0;
+    l->zr[m] = r.zr;
+    l->sx0[m] = r.x0;
+    l->sxr[m] = r.xr;
+    l->sy0[m] = r.y0;
+    l->syr[m] = r.yr;
+}
+
+/* Ray k of covered texel i (ray_of, `ring` its ring angle) as texel_ray finds it, with the same
+ * bits, into *ray and *weight: SL_REFLECTION_BELOW (weight 0) or 0 into its surface at once, else
+ * a lane of l whose march writes it (1 open, 0 blocked). */
+static void ray_to_lanes(const reflection_frame *f, const sl_gbuffer *gb, ray_lanes *l, size_t i, int k,
+                         ring_angle ring, float *ray, float *weight)
+{
+    vec3 P, R;
+    switch (ray_of(f, gb, i, k, ring, &P, &R, weight)) {
+    case RAY_BELOW:
+        *ray = SL_REFLECTION_BELOW;
+        *weight = 0.0f;
+        return;
+    case RAY_INTO_SURFACE: *ray = 0.0f; return;
+    case RAY_TRACE: march_add(f, l, P, R, ray); return;
+    }
+}
+
+/* trace_ray for the rays of row y's texels (each its own, ray_index), written into ray_plane (1
+ * for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the same bits, and
+ * each ray's weight into weight_plane (0 where none is traced): each covered texel's ray that has
+ * something to trace takes a lane (march_lanes). */
+static void march_row(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane,
+                      float *weight_plane, int y)
+{
+    ray_lanes l;
+    l.lanes = 0;
+    for (int x = 0; x < f->width; x++) {
+        size_t i = (size_t)y * (size_t)f->width + (size_t)x;
+        const sl_gbuffer_texel *t = &gb->texels[i];
+        ray_plane[i] = 1.0f;
+        weight_plane[i] = 0.0f;
+        if (!sl_gbuffer_covered(t))
+            continue;
+        int k = ray_index(x, y);
+        ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
+        ray_to_lanes(f, gb, &l, i, k, angle, &ray_plane[i], &weight_plane[i]);
+    }
+    march_lanes(f, &l);
 }
 
 /* Whether neighbour q is the same surface as texel p (indices into the image): covered, within
@@ -462,12 +495,16 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, in
 
 /* block_visibility of every texel of row y (vec2(1, 0) for an empty one) into `out`, from the
  * frame's planes of rays and weights, `total` the row's scratch for the weights' sums: the frame's
- * form, the same bits (each texel's sums add the members in the reference's order). One loop a
+ * form, the same bits (each texel's sums add the members in the reference's order, then its own
+ * other rays where the block counts fewer than SL_REFLECTION_LONE, as lone_rays). One loop a
  * block member along the row, each texel's plane beside its member's position, normal and ray,
  * so that every member's test of the same surface runs as a vector loop over the row where the
- * reference reads nine scattered texels a texel. */
-static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane,
-                      const float *weight_plane, int y, vec2 *out, float *total)
+ * reference reads nine scattered texels a texel. The lone texels' own rays are marched together
+ * (march_lanes), into `lone_ray` and `lone_weight`, SL_REFLECTION_RAYS - 1 a texel of the row.
+ * Returns how many texels of the row are lone. */
+static int block_row(const reflection_frame *f, const sl_gbuffer *gb, const float *ray_plane,
+                     const float *weight_plane, int y, vec2 *out, float *total, ring_cache *ring, float *lone_ray,
+                     float *lone_weight)
 {
     const int w = f->width;
     const size_t row = (size_t)y * (size_t)w;
@@ -501,17 +538,42 @@ static void block_row(const reflection_frame *f, const sl_gbuffer *gb, const flo
             total[x] += take ? weight : 0.0f;
         }
     }
+    enum { OTHERS = SL_REFLECTION_RAYS - 1 };
+    ray_lanes lanes;
+    lanes.lanes = 0;
+    int lone = 0;
+    for (int x = 0; x < w; x++) { /* the lone texels' own other rays, in lanes */
+        const size_t i = row + (size_t)x;
+        const sl_gbuffer_texel *t = &gb->texels[i];
+        if (!sl_gbuffer_covered(t) || !(out[x].y < (float)SL_REFLECTION_LONE))
+            continue;
+        lone++;
+        for (int k = 0, j = 0; k < SL_REFLECTION_RAYS; k++) {
+            if (k == ray_index(x, y))
+                continue;
+            ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
+            ray_to_lanes(f, gb, &lanes, i, k, angle, &lone_ray[x * OTHERS + j], &lone_weight[x * OTHERS + j]);
+            j++;
+        }
+    }
+    march_lanes(f, &lanes);
     for (int x = 0; x < w; x++) {
         const size_t i = row + (size_t)x;
         if (!sl_gbuffer_covered(&gb->texels[i])) {
             out[x] = vec2(1.0f, 0.0f);
             continue;
         }
-        int count = (int)out[x].y;
-        if (count < SL_REFLECTION_LONE) /* few texels: traced here, one at a time */
-            lone_rays(f, gb, i, x, y, &out[x].x, &total[x], &count, NULL, NULL, NULL);
-        out[x] = count > 0 ? vec2(out[x].x / total[x], (float)count) : vec2(1.0f, 0.0f);
+        if (out[x].y < (float)SL_REFLECTION_LONE) /* lone_rays' sums, term by term */
+            for (int j = 0; j < OTHERS; j++) {
+                float ray = lone_ray[x * OTHERS + j], weight = lone_weight[x * OTHERS + j];
+                int take = ray != SL_REFLECTION_BELOW;
+                out[x].x += take ? ray * weight : 0.0f;
+                total[x] += take ? weight : 0.0f;
+                out[x].y += (float)take;
+            }
+        out[x] = out[x].y > 0.0f ? vec2(out[x].x / total[x], out[x].y) : vec2(1.0f, 0.0f);
     }
+    return lone;
 }
 
 /* The ring rays' turns about R: ray k's phase 2 pi (k - 1) / 4 as its cosine and sine (ray 0,
@@ -545,7 +607,8 @@ static reflection_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, flo
     return f;
 }
 
-bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err)
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, int64_t *lone_texels,
+                         sl_error *err)
 {
     if (!(distance > 0.0f) || !isfinite(distance))
         return sl_fail(err, SL_ERR_RANGE, "reflection occlusion: distance %g, expected a positive number",
@@ -557,13 +620,18 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     float *weight_plane = malloc((n ? n : 1) * sizeof *weight_plane); /* ... and its weight */
     float *weight_sum = malloc((n ? n : 1) * sizeof *weight_sum);     /* each block's weights' sum */
     float *depth = malloc((n ? n : 1) * sizeof *depth);
+    const int team = sl_threads(threads);
+    /* each thread's row of lone texels' own other rays and their weights (block_row) */
+    const size_t lone_row = (size_t)(SL_REFLECTION_RAYS - 1) * (size_t)(width > 0 ? width : 1);
+    float *lone = malloc(2 * (size_t)team * lone_row * sizeof *lone);
     float *position[3]; /* x, y and z of each texel's position: the block pass reads them */
     for (int c = 0; c < 3; c++)
         position[c] = malloc((n ? n : 1) * sizeof *position[c]);
     if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
-    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth || !position[0] || !position[1] ||
+    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth || !lone || !position[0] || !position[1] ||
         !position[2] || !gb->reflection) {
+        free(lone);
         free(planes);
         free(ray_plane);
         free(weight_plane);
@@ -576,12 +644,13 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     reflection_frame f = frame_of(gb, cam, distance);
     f.planes = planes;
     f.depth = depth;
+    int64_t lone_count = 0;
     f.px = position[0];
     f.py = position[1];
     f.pz = position[2];
     /* dynamic chunks: a row's cost follows what it covers, and a descheduled thread holds up
      * the barrier for one chunk at most */
-#pragma omp parallel num_threads(sl_threads(threads))
+#pragma omp parallel num_threads(team)
     {
 #pragma omp for schedule(dynamic, 8)
         for (int y = 0; y < height; y++)
@@ -589,14 +658,21 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
         ring_cache ring = {0, false, {1.0f, 0.0f}};
 #pragma omp for schedule(dynamic, 2)
         for (int y = 0; y < height; y++)
-            for (int x = 0; x < width; x += MARCH_SPAN)
-                march_span(&f, gb, &ring, ray_plane, weight_plane, y, x,
-                           x + MARCH_SPAN < width ? x + MARCH_SPAN : width);
+            march_row(&f, gb, &ring, ray_plane, weight_plane, y);
+        float *lone_ray = lone + 2 * (size_t)omp_get_thread_num() * lone_row, *lone_weight = lone_ray + lone_row;
 #pragma omp for schedule(dynamic, 8)
-        for (int y = 0; y < height; y++)
-            block_row(&f, gb, ray_plane, weight_plane, y, gb->reflection + (size_t)y * (size_t)width,
-                      weight_sum + (size_t)y * (size_t)width);
+        for (int y = 0; y < height; y++) {
+            int lone_in_row = block_row(&f, gb, ray_plane, weight_plane, y, gb->reflection + (size_t)y * (size_t)width,
+                                        weight_sum + (size_t)y * (size_t)width, &ring, lone_ray, lone_weight);
+            /* atomic, not a reduction clause: clang makes one a global lock symbol in the library
+             * (tests/cli/exports.sh) */
+#pragma omp atomic
+            lone_count += lone_in_row;
+        }
     }
+    if (lone_texels)
+        *lone_texels = lone_count;
+    free(lone);
     free(planes);
     free(ray_plane);
     free(weight_plane);

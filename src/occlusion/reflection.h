@@ -65,6 +65,7 @@
 #define SL_REFLECTION_H
 
 #include <stdbool.h>
+#include <stdint.h>
 
 #include "core/error.h"
 #include "raster/gbuffer.h"
@@ -136,9 +137,12 @@ static inline float sl_reflection_specular_factor(float capped, float material, 
 }
 
 /* Set gb->reflection (allocated when NULL) for every texel, rays `distance` world units long
- * (> 0), on `threads` OpenMP threads (0: all). False (and err) with a distance that is not
- * positive and finite, or out of memory. */
-bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, sl_error *err);
+ * (> 0), on `threads` OpenMP threads (0: all), and *lone_texels (when not NULL) to how many
+ * covered texels traced their own other rays (their block counted fewer than
+ * SL_REFLECTION_LONE). False (and err) with a distance that is not positive and finite, or out
+ * of memory. */
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, int64_t *lone_texels,
+                         sl_error *err);
 
 /* The block's members as offsets (dx, dy) from the texel: the texel, x + 1, x - 1, y + 1, y - 1,
  * then the corners. */

@@ -520,7 +520,7 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     r->timings.ao_ms = (t2 - t1) * 1e3;
     float reflection = r->desc.options.reflection_occlusion;
     if (ok && reflection > 0.0f) {
-        ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, err);
+        ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, &r->timings.reflection_lone, err);
     } else if (r->gbuffer.reflection) { /* turned off: the lighting reads no plane */
         free(r->gbuffer.reflection);
         r->gbuffer.reflection = NULL;

@@ -83,6 +83,7 @@ typedef struct {
     double raster_ms, shading_ms, tonemap_ms; /* last frame */
     double ao_ms;       /* last frame's ambient occlusion (--ao-radius; 0 when off) */
     double reflection_ms; /* last frame's reflection occlusion (--reflection-occlusion; 0 when off) */
+    int64_t reflection_lone; /* ... its texels that traced their own five rays (sl_reflection_apply) */
     double shadow_ms;   /* the point lights' shadow maps (--shadows or a light's "shadow"): drawn
                            on the first frame that needs them, kept for the renderer's scene */
     double sun_shadow_ms; /* the env lights' maps (--shadows with --env-lights): drawn on the first

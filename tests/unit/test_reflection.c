@@ -114,7 +114,7 @@ static void corner_visibility(sl_gbuffer *gb, const sl_camera *cam, bool wall, c
 {
     sl_error err = {0};
     corner_trace(gb, cam, wall, W, H, m);
-    assert_true(sl_reflection_apply(gb, cam, dist, 2, &err));
+    assert_true(sl_reflection_apply(gb, cam, dist, 2, NULL, &err));
     assert_non_null(gb->reflection);
 }
 
@@ -282,7 +282,7 @@ static void test_frame_matches_texel(void **state)
         for (int x = 40; x < 46; x++)
             sl_gbuffer_at(&gb, x, y)->depth = 1.0f;
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 3, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 3, NULL, &err));
     int checked = 0, empty = 0, partial = 0, zero = 0, below = 0;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
@@ -326,7 +326,7 @@ static void test_tilted_normals(void **state)
         t->normal = vec3(-across.x * s, -across.y * s, c);
     }
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
     int into = 0, into_zero = 0, checked = 0, below = 0;
     for (int y = 0; y < H; y++)
         for (int x = 0; x < W; x++) {
@@ -380,7 +380,7 @@ static void test_lone_texels(void **state)
             t->normal = vec3(s * cosf(azimuth), s * sinf(azimuth), c);
         }
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
     int floor = 0, alone = 0, between = 0, checked = 0, below = 0;
     for (int y = 1; y < H - 1; y++)
         for (int x = 1; x < W - 1; x++) {
@@ -446,14 +446,14 @@ static void test_refusals(void **state)
     const float bad[] = {0.0f, -1.0f, NAN, INFINITY};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         sl_error err = {0};
-        assert_false(sl_reflection_apply(&gb, &cam, bad[i], 1, &err));
+        assert_false(sl_reflection_apply(&gb, &cam, bad[i], 1, NULL, &err));
         assert_msg_contains(err, "reflection occlusion: distance");
     }
     /* an empty texel: 1, nothing of its block used */
     int ex = W / 2, ey = H / 2;
     sl_gbuffer_at(&gb, ex, ey)->depth = 1.0f;
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, NULL, &err));
     assert_float_equal(gb.reflection[ey * W + ex].x, 1.0, 0.0);
     assert_float_equal(gb.reflection[ey * W + ex].y, 0.0, 0.0);
     float rays[SL_REFLECTION_MEMBERS], weights[SL_REFLECTION_MEMBERS];
