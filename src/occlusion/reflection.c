@@ -427,6 +427,25 @@ static bool same_surface(const reflection_frame *f, const sl_gbuffer *gb, size_t
 const int sl_reflection_block_offsets[SL_REFLECTION_BLOCK][2] = {{0, 0},  {1, 0},  {-1, 0}, {0, 1},  {0, -1},
                                                                   {1, 1},  {-1, 1}, {1, -1}, {-1, -1}};
 
+/* One ray into the reference's sums (the open rays' weights, all weights, the count) and its
+ * report (each pointer NULL or where it goes): counted where `take` and not below its surface, a
+ * ray into its surface as blocked, as the frame's plane has it. */
+static void tally_ray(float ray, float weight, bool take, float *ray_out, float *weight_out, int *used_out,
+                      float *open, float *total, int *count)
+{
+    take = take && ray != SL_REFLECTION_BELOW;
+    float value = ray == SL_REFLECTION_INTO ? 0.0f : ray;
+    if (ray_out)
+        *ray_out = ray;
+    if (weight_out)
+        *weight_out = take ? weight : 0.0f;
+    if (used_out)
+        *used_out = take;
+    *open += take ? value * weight : 0.0f;
+    *total += take ? weight : 0.0f;
+    *count += take;
+}
+
 /* The rays of covered texel i at (x, y) besides its own ray (ray_index), added to the block's
  * sums (open, total, count) where the block counts fewer than SL_REFLECTION_LONE: each ray,
  * its weight and whether it counted to `rays`, `weights` and `used` when not NULL
@@ -441,18 +460,9 @@ static void lone_rays(const reflection_frame *f, const sl_gbuffer *gb, size_t i,
             continue;
         float weight = 0.0f;
         float ray = lone ? texel_ray(f, gb, i, k, &weight) : 1.0f;
-        bool take = lone && ray != SL_REFLECTION_BELOW;
-        float value = ray == SL_REFLECTION_INTO ? 0.0f : ray;
-        if (rays)
-            rays[m] = ray;
-        if (weights)
-            weights[m] = take ? weight : 0.0f;
-        if (used)
-            used[m] = take;
+        tally_ray(ray, weight, lone, rays ? &rays[m] : NULL, weights ? &weights[m] : NULL, used ? &used[m] : NULL,
+                  open, total, count);
         m++;
-        *open += take ? value * weight : 0.0f;
-        *total += take ? weight : 0.0f;
-        *count += take;
     }
 }
 
@@ -476,17 +486,8 @@ static vec2 block_visibility(const reflection_frame *f, const sl_gbuffer *gb, in
         bool take = inside && (m == 0 || same_surface(f, gb, p, q));
         float weight = 0.0f;
         float ray = take ? texel_ray(f, gb, q, ray_index(qx, qy), &weight) : 1.0f;
-        take = take && ray != SL_REFLECTION_BELOW;
-        float value = ray == SL_REFLECTION_INTO ? 0.0f : ray; /* blocked, as the frame's plane has it */
-        if (rays)
-            rays[m] = ray;
-        if (weights)
-            weights[m] = take ? weight : 0.0f;
-        if (used)
-            used[m] = take;
-        open += take ? value * weight : 0.0f;
-        total += take ? weight : 0.0f;
-        count += take;
+        tally_ray(ray, weight, take, rays ? &rays[m] : NULL, weights ? &weights[m] : NULL, used ? &used[m] : NULL,
+                  &open, &total, &count);
     }
     lone_rays(f, gb, p, x, y, &open, &total, &count, rays ? rays + SL_REFLECTION_BLOCK : NULL,
               weights ? weights + SL_REFLECTION_BLOCK : NULL, used ? used + SL_REFLECTION_BLOCK : NULL);
