@@ -98,9 +98,9 @@
 #define SL_REFLECTION_SAME_NORMAL 0.998f
 /* A texel whose block counts fewer rays than this (its neighbours other surfaces: an edge, a
  * normal map's bumps, a rounded edge's turn) traces its own other SL_REFLECTION_RAYS - 1 rays
- * too, so that its visibility moves in fifths rather than between 0 and 1 (docs/lighting.md
- * "Reflection occlusion": the texels alone are few, and their rays cost about what the frame's
- * march spends on them). */
+ * too, so that its visibility moves in fifths rather than between 0 and 1. At most 2.3% of the
+ * covered texels of a shipped scene at 1280x720 are lone (a normal-mapped ball's), and their rays
+ * add up to a sixth to the pass (docs/lighting.md "Reflection occlusion", what it costs). */
 #define SL_REFLECTION_LONE 3
 /* What sl_reflection_texel reports a ray of: the block's members, then the texel's own other
  * rays, traced where the block counts fewer than SL_REFLECTION_LONE (ray k for k = 0 ..
