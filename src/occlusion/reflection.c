@@ -289,7 +289,7 @@ static float texel_ray(const reflection_frame *f, const sl_gbuffer *gb, size_t i
  * settles each lane still marching: it leaves open, or, when the point is within the thickness
  * behind the depth it read, blocked_at decides. The steps stop when no lane marches. A ray's cost
  * is the latency of its reads, one after the other; side by side, they overlap. */
-enum { MARCH_SPAN = 64 };
+enum { MARCH_SPAN = 128 };
 typedef struct {
     float *out[MARCH_SPAN];
     vec3 start[MARCH_SPAN], dir[MARCH_SPAN];
