@@ -43,8 +43,9 @@
  * (specular_occlusion.h), both estimate the same share, and the rays' count says which to
  * believe (sl_reflection_specular_factor): with five rays or more, the rays alone, since they
  * test the lobe's own directions where the cone only compares two cones (beside a ball on a
- * glossy floor the cone closes over a lobe that passes the ball); with one ray, at an edge or a
- * sliver of a surface a texel or two wide, the smaller of the two factors, since one ray says
+ * glossy floor the cone closes over a lobe that passes the ball; a lone texel's own five rays
+ * count as five); with one ray, on a sliver of a surface a texel or two wide whose other rays dip
+ * below it, the smaller of the two factors, since one ray says
  * little and the cone sees the occluders around the point; between, the two mixed by the count.
  * Measured on the shipped scenes against the visibility truth: docs/lighting.md "Reflection
  * occlusion".
