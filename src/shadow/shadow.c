@@ -541,6 +541,9 @@ bool sl_shadow_ortho_frames(sl_shadow_sun *maps, int count, int size, const sl_s
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
                            const sl_scene_textures *tex, sl_error *err)
 {
+    if (size < SL_SHADOW_TILE || size % SL_SHADOW_TILE != 0)
+        return sl_fail(err, SL_ERR_RANGE, "shadow maps: an orthographic map of %d texels a side, not a multiple of %d",
+                       size, SL_SHADOW_TILE);
     bool geometry = sl_shadow_ortho_frames(maps, count, size, scene);
     const size_t n = (size_t)size * (size_t)size;
     int objects = scene->object_count > 0 ? scene->object_count : 1;
@@ -566,9 +569,13 @@ bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *
             ok = false;
             break;
         }
-        /* window depth -> depth along the axis; the clear's +inf stays */
-        for (size_t t = 0; t < n; t++)
-            sun->depth[t] = drawn > 0 ? sun->z0 + texels[t].view * sun->sz : INFINITY;
+        /* window depth -> depth along the axis, into tiles (sl_shadow_tile_index); the clear's
+         * +inf stays */
+        for (int y = 0; y < size; y++)
+            for (int x = 0; x < size; x++) {
+                const shadow_texel *t = &texels[(size_t)y * (size_t)size + (size_t)x];
+                sun->depth[sl_shadow_tile_index(x, y, size)] = drawn > 0 ? sun->z0 + t->view * sun->sz : INFINITY;
+            }
     }
     free(draws);
     free(casters);
@@ -623,12 +630,11 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     float vis = 0.0f;
     for (int b = 0; b < 4; b++) {
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
-        const float *row = sun->depth + (size_t)y * (size_t)sun->size;
         float rv = 0.0f;
         for (int a = 0; a < 4; a++) {
             float receiver = zq + gx * dxs[a] + gy * dys[b];
             /* open when the stored depth, less the bias, is beyond the receiver's (+inf: empty) */
-            rv += row[xs[a]] + bias >= receiver ? wx[a] : 0.0f;
+            rv += sun->depth[sl_shadow_tile_index(xs[a], y, sun->size)] + bias >= receiver ? wx[a] : 0.0f;
         }
         vis += rv * wy[b];
     }

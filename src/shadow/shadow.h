@@ -81,8 +81,23 @@ typedef struct {
     float spread;          /* tangent of the largest angle between a light and dir (report) */
     int lights;            /* env lights in the cluster */
     int size;              /* texels along the map's side (SL_SHADOW_SUN_SIZE for an env light's) */
-    float *depth;          /* size^2 depths along axis, row 0 = low y; +inf empty */
+    float *depth;          /* size^2 depths along axis, in tiles (sl_shadow_tile_index), row 0 =
+                              low y; +inf empty */
 } sl_shadow_sun;
+
+/* An orthographic map's texels are stored in tiles of SL_SHADOW_TILE x SL_SHADOW_TILE, 64 bytes
+ * (a cache line), the tiles row after row and each tile's texels row after row: a lookup's
+ * percentage-closer taps lie in fewer lines than in rows of texels, and the points of a run of
+ * an image row, which land along a line across the map in any direction, touch fewer lines too.
+ * Texel (x, y)'s place in a map of size x size (size a multiple of the tile). */
+#define SL_SHADOW_TILE 4
+static inline int sl_shadow_tile_index(int x, int y, int size)
+{
+    const int tiles = size / SL_SHADOW_TILE;
+    return ((y / SL_SHADOW_TILE) * tiles + x / SL_SHADOW_TILE) * (SL_SHADOW_TILE * SL_SHADOW_TILE) +
+           (y % SL_SHADOW_TILE) * SL_SHADOW_TILE + x % SL_SHADOW_TILE;
+}
+_Static_assert(SL_SHADOW_SUN_SIZE % SL_SHADOW_TILE == 0, "an env light's map is a whole number of tiles");
 
 typedef struct {
     int side;              /* SL_SHADOW_CUBE_SIZE + 2 SL_SHADOW_GUARD */
@@ -125,8 +140,9 @@ bool sl_shadow_suns_frames(sl_shadow_suns *suns, const sl_scene *scene, const sl
 mat4 sl_shadow_sun_view_proj(const sl_shadow_sun *sun);
 /* Frame each of maps[0 .. count - 1] from its dir (set) over the scene's bounds, `size` texels a
  * side, and draw it on r's threads: the env lights' maps and the sky visibility maps
- * (src/shadow/sky.h) both. Each map's depth is allocated when NULL (kept at this size otherwise).
- * False (and err) on no memory or a failed draw. */
+ * (src/shadow/sky.h) both. Each map's depth is allocated when NULL (kept at this size otherwise)
+ * and stored in tiles (sl_shadow_tile_index). False (and err) on a size that is not a multiple of
+ * SL_SHADOW_TILE, no memory or a failed draw. */
 bool sl_shadow_ortho_build(sl_shadow_sun *maps, int count, int size, sl_raster *r, const sl_scene *scene,
                            const sl_scene_textures *tex, sl_error *err);
 /* The normal offset's share of its full length (a texel's footprint) for a receiver whose normal

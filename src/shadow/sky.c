@@ -16,18 +16,6 @@
 #define SKY_NORMAL_OFFSET 1.0f
 #define SKY_BIAS_CONST 1.0f
 
-/* Texel (x, y)'s place in a map of size x size stored in tiles of SL_SKY_TILE x SL_SKY_TILE
- * texels, the tiles row after row and each tile's texels row after row: a 2x2 lookup's taps lie
- * in one tile's cache line more often than not, and the points of a run of a row of the image,
- * which land along a line across each map in any direction, touch a quarter of the lines that
- * rows of texels would (sl_shadow_sky_build lays the drawn maps out so). */
-static inline int sky_texel_index(int x, int y, int size)
-{
-    const int tiles = size / SL_SKY_TILE;
-    return ((y / SL_SKY_TILE) * tiles + x / SL_SKY_TILE) * (SL_SKY_TILE * SL_SKY_TILE) +
-           (y % SL_SKY_TILE) * SL_SKY_TILE + x % SL_SKY_TILE;
-}
-
 /* The directions on the sky's side of the horizon: the first count - count / 2; the ground's
  * are the rest (sky.h). Without the split (SL_SKY_MAPS_SPLIT 0) every direction is one side's. */
 static int sky_side_count(int count) { return SL_SKY_MAPS_SPLIT ? count - count / 2 : count; }
@@ -181,19 +169,6 @@ bool sl_shadow_sky_build(sl_shadow_sky *sky, int count, const sl_env *env, float
     sky->count = 0;
     if (!sl_shadow_ortho_build(sky->maps, count, SL_SKY_MAP_SIZE, r, scene, tex, err))
         return false;
-    /* drawn row after row; read in tiles (sky_texel_index) */
-    float *rows = malloc(n * sizeof *rows);
-    if (!rows)
-        return sl_fail(err, SL_ERR_MEMORY, "sky maps: out of memory for a %dx%d map", SL_SKY_MAP_SIZE,
-                       SL_SKY_MAP_SIZE);
-    for (int k = 0; k < count; k++) {
-        float *depth = sky->maps[k].depth;
-        memcpy(rows, depth, n * sizeof *rows);
-        for (int y = 0; y < SL_SKY_MAP_SIZE; y++)
-            for (int x = 0; x < SL_SKY_MAP_SIZE; x++)
-                depth[sky_texel_index(x, y, SL_SKY_MAP_SIZE)] = rows[(size_t)y * SL_SKY_MAP_SIZE + (size_t)x];
-    }
-    free(rows);
     sky->count = count;
     return true;
 }
@@ -231,7 +206,7 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
         int y = y0 + b < 0 ? 0 : y0 + b > last ? last : y0 + b;
         for (int a = 0; a < 2; a++) {
             float receiver = zq + gx * dxs[a] + gy * dys[b];
-            float stored = map->depth[sky_texel_index(xs[a], y, map->size)];
+            float stored = map->depth[sl_shadow_tile_index(xs[a], y, map->size)];
             vis += stored + bias >= receiver ? wx[a] * wy[b] : 0.0f;
         }
     }
@@ -323,8 +298,8 @@ __attribute__((always_inline)) static inline float lane_lookup(const sl_shadow_s
     const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
     const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - p.xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - p.xq;
     const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - p.yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - p.yq;
-    const int iaa = first + sky_texel_index(xa, ya, size), iab = first + sky_texel_index(xb, ya, size);
-    const int iba = first + sky_texel_index(xa, yb, size), ibb = first + sky_texel_index(xb, yb, size);
+    const int iaa = first + sl_shadow_tile_index(xa, ya, size), iab = first + sl_shadow_tile_index(xb, ya, size);
+    const int iba = first + sl_shadow_tile_index(xa, yb, size), ibb = first + sl_shadow_tile_index(xb, yb, size);
     const float daa = read ? depth[iaa] : 0.0f, dab = read ? depth[iab] : 0.0f;
     const float dba = read ? depth[iba] : 0.0f, dbb = read ? depth[ibb] : 0.0f;
     const float zq = p.zq;

@@ -46,8 +46,7 @@
 #ifndef SL_SKY_MAP_SIZE
 #define SL_SKY_MAP_SIZE 1024 /* texels along a sky map's side */
 #endif
-#define SL_SKY_TILE 4 /* the maps are stored in tiles of 4 x 4 texels, 64 bytes: a cache line */
-_Static_assert(SL_SKY_MAP_SIZE % SL_SKY_TILE == 0, "a sky map's side is a whole number of tiles");
+_Static_assert(SL_SKY_MAP_SIZE % SL_SHADOW_TILE == 0, "a sky map is a whole number of tiles (sl_shadow_tile_index)");
 /* The three choices docs/lighting.md "Sky visibility maps" measures, each 1 here; a build defining
  * one as 0 takes the alternative, for bench/visibility-variants.sh: SL_SKY_MAPS_SPLIT 0, one
  * spherical Fibonacci set over the whole sphere and cells across the horizon;
