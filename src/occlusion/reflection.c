@@ -387,25 +387,111 @@ static void ray_to_lanes(const reflection_frame *f, const sl_gbuffer *gb, ray_la
     }
 }
 
+/* ray_of for the texels x0 .. x0 + n - 1 of row y (n at most MARCH_SPAN), each its own ray
+ * (ray_index) at its ring angle (`ring_cos`, `ring_sin`), into structure-of-arrays: the start,
+ * the direction, the weight and ray_start. ray_of's expressions term by term, with its branches
+ * (an axis without a step, a plane that is none, the helper axis, ray 0 against the ring) as
+ * selects of both results, so that one vector loop forms a run of rays with ray_of's bits; an
+ * empty texel's lane holds what its zero plane gives and is not read. */
+typedef struct {
+    float px[MARCH_SPAN], py[MARCH_SPAN], pz[MARCH_SPAN], dx[MARCH_SPAN], dy[MARCH_SPAN], dz[MARCH_SPAN];
+    float weight[MARCH_SPAN];
+    int start[MARCH_SPAN];
+} ray_starts;
+
+static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const int *k_of,
+                         const float *ring_cos, const float *ring_sin, ray_starts *out)
+{
+    const int w = f->width, h = f->height;
+    const int row = y * w; /* an int: at most SL_RASTER_MAX_SIZE^2 texels */
+    const bool below = y > 0, above = y + 1 < h;
+    const vec3 eye = f->view.eye;
+    const float *depth = f->depth, *px = f->px, *py = f->py, *pz = f->pz;
+#pragma omp simd
+    for (int m = 0; m < n; m++) {
+        const int x = x0 + m, k = k_of[m];
+        const int i = row + x;
+        const vec3 P = vec3(px[i], py[i], pz[i]); /* the G-buffer texel's position */
+        const surface_plane *plane = &f->planes[i];
+        const float z = depth[i], near = SL_REFLECTION_THICKNESS * z;
+        vec3 V = normalize(sub(eye, P));
+        vec3 N = vec3(plane->nx, plane->ny, plane->nz);
+        vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
+        /* geometric_normal: axis_step along x, then along y */
+        const int ql = x > 0 ? i - 1 : i, qr = x + 1 < w ? i + 1 : i;
+        const int qb = below ? i - w : i, qa = above ? i + w : i;
+        const bool l = x > 0 && fabsf(depth[ql] - z) < near, r = x + 1 < w && fabsf(depth[qr] - z) < near;
+        const bool b = below && fabsf(depth[qb] - z) < near, a = above && fabsf(depth[qa] - z) < near;
+        const vec3 along_x = sub(r ? vec3(px[qr], py[qr], pz[qr]) : P, l ? vec3(px[ql], py[ql], pz[ql]) : P);
+        const vec3 along_y = sub(a ? vec3(px[qa], py[qa], pz[qa]) : P, b ? vec3(px[qb], py[qb], pz[qb]) : P);
+        vec3 g = cross(along_x, along_y);
+        const float len = length(g);
+        g = scale(g, 1.0f / len);
+        g = dot(g, V) < 0.0f ? scale(g, -1.0f) : g;
+        const vec3 Ng = (l || r) && (b || a) && len > 0.0f ? g : N;
+        const vec3 start = add(P, scale(N, SL_REFLECTION_OFFSET * z));
+        /* ray 0 along R; ray k on the ring */
+        const float weight0 = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
+        const int start0 = dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
+        const vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+        const vec3 T = normalize(cross(R, helper)), B = cross(R, T);
+        const vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
+        const vec3 Rk = add(scale(R, ring_cos[m]), scale(side, ring_sin[m]));
+        const float cosine = dot(Rk, N);
+        const float weightk = maxf(cosine, SL_REFLECTION_MIN_COSINE);
+        const int startk = !(cosine > 0.0f)                               ? RAY_BELOW
+                           : dot(Rk, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE
+                                                                          : RAY_TRACE;
+        const vec3 dir = k == 0 ? R : Rk;
+        out->px[m] = start.x, out->py[m] = start.y, out->pz[m] = start.z;
+        out->dx[m] = dir.x, out->dy[m] = dir.y, out->dz[m] = dir.z;
+        out->weight[m] = k == 0 ? weight0 : weightk;
+        out->start[m] = k == 0 ? start0 : startk;
+    }
+}
+
 /* trace_ray for the rays of row y's texels (each its own, ray_index), written into ray_plane (1
  * for an empty texel, SL_REFLECTION_BELOW for a ray below its surface), with the same bits, and
- * each ray's weight into weight_plane (0 where none is traced): each covered texel's ray that has
- * something to trace takes a lane (march_lanes). */
+ * each ray's weight into weight_plane (0 where none is traced): the rays formed a run at a time
+ * (rays_of_span), and each that has something to trace takes a lane (march_lanes). */
 static void march_row(const reflection_frame *f, const sl_gbuffer *gb, ring_cache *ring, float *ray_plane,
                       float *weight_plane, int y)
 {
     ray_lanes l;
     l.lanes = 0;
-    for (int x = 0; x < f->width; x++) {
-        size_t i = (size_t)y * (size_t)f->width + (size_t)x;
-        const sl_gbuffer_texel *t = &gb->texels[i];
-        ray_plane[i] = 1.0f;
-        weight_plane[i] = 0.0f;
-        if (!sl_gbuffer_covered(t))
-            continue;
-        int k = ray_index(x, y);
-        ring_angle angle = k != 0 ? cached_ring_angle(ring, t->alpha) : (ring_angle){1.0f, 0.0f};
-        ray_to_lanes(f, gb, &l, i, k, angle, &ray_plane[i], &weight_plane[i]);
+    ray_starts rs;
+    int k_of[MARCH_SPAN];
+    float ring_cos[MARCH_SPAN], ring_sin[MARCH_SPAN];
+    for (int x0 = 0; x0 < f->width; x0 += MARCH_SPAN) {
+        const int n = f->width - x0 < MARCH_SPAN ? f->width - x0 : MARCH_SPAN;
+        for (int m = 0; m < n; m++) {
+            const sl_gbuffer_texel *t = &gb->texels[(size_t)y * (size_t)f->width + (size_t)(x0 + m)];
+            k_of[m] = ray_index(x0 + m, y);
+            ring_angle angle = k_of[m] != 0 && sl_gbuffer_covered(t) ? cached_ring_angle(ring, t->alpha)
+                                                                      : (ring_angle){1.0f, 0.0f};
+            ring_cos[m] = angle.cos;
+            ring_sin[m] = angle.sin;
+        }
+        rays_of_span(f, y, x0, n, k_of, ring_cos, ring_sin, &rs);
+        for (int m = 0; m < n; m++) {
+            size_t i = (size_t)y * (size_t)f->width + (size_t)(x0 + m);
+            ray_plane[i] = 1.0f;
+            weight_plane[i] = 0.0f;
+            if (!sl_gbuffer_covered(&gb->texels[i]))
+                continue;
+            weight_plane[i] = rs.weight[m];
+            switch ((ray_start)rs.start[m]) {
+            case RAY_BELOW:
+                ray_plane[i] = SL_REFLECTION_BELOW;
+                weight_plane[i] = 0.0f;
+                break;
+            case RAY_INTO_SURFACE: ray_plane[i] = 0.0f; break;
+            case RAY_TRACE:
+                march_add(f, &l, vec3(rs.px[m], rs.py[m], rs.pz[m]), vec3(rs.dx[m], rs.dy[m], rs.dz[m]),
+                          &ray_plane[i]);
+                break;
+            }
+        }
     }
     march_lanes(f, &l);
 }
