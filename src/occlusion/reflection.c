@@ -16,8 +16,9 @@
  * run of a row's texels' own rays, or a row's lone texels' others): a ray's cost is the latency
  * of its reads of the depth plane at points strewn over the image, one after the other, and the
  * lanes issue theirs side by side, so the reads overlap. block_row tests one block member for a
- * whole row at a time, a vector loop. Both tracing forms build their rays with ray_of and test a
- * candidate point with blocked_at. */
+ * whole row at a time, a vector loop. The reference builds each ray with ray_of, the frame a run
+ * of a row's at a time with rays_of_span (ray_of's expressions in one vector loop; the lone
+ * texels' few with ray_of); both test a candidate point with blocked_at. */
 #include "reflection.h"
 
 #include <math.h>
