@@ -371,14 +371,13 @@ static void march_add(const reflection_frame *f, ray_lanes *l, vec3 P, vec3 R, f
     l->syr[m] = r.yr;
 }
 
-/* Ray k of covered texel i (ray_of, `ring` its ring angle) as texel_ray finds it, with the same
- * bits, into *ray and *weight: SL_REFLECTION_BELOW (weight 0) or 0 into its surface at once, else
- * a lane of l whose march writes it (1 open, 0 blocked). */
-static void ray_to_lanes(const reflection_frame *f, const sl_gbuffer *gb, ray_lanes *l, size_t i, int k,
-                         ring_angle ring, float *ray, float *weight)
+/* A ray as ray_of found it (`start_as`, from P along R, its weight in *weight) into *ray as
+ * texel_ray finds it, with the same bits: SL_REFLECTION_BELOW (and weight 0) or 0 into its surface
+ * at once, else a lane of l whose march writes it (1 open, 0 blocked). */
+static void ray_into_lanes(const reflection_frame *f, ray_lanes *l, ray_start start_as, vec3 P, vec3 R, float *ray,
+                           float *weight)
 {
-    vec3 P, R;
-    switch (ray_of(f, gb, i, k, ring, &P, &R, weight)) {
+    switch (start_as) {
     case RAY_BELOW:
         *ray = SL_REFLECTION_BELOW;
         *weight = 0.0f;
@@ -386,6 +385,15 @@ static void ray_to_lanes(const reflection_frame *f, const sl_gbuffer *gb, ray_la
     case RAY_INTO_SURFACE: *ray = 0.0f; return;
     case RAY_TRACE: march_add(f, l, P, R, ray); return;
     }
+}
+
+/* Ray k of covered texel i (ray_of, `ring` its ring angle) into *ray and *weight (ray_into_lanes). */
+static void ray_to_lanes(const reflection_frame *f, const sl_gbuffer *gb, ray_lanes *l, size_t i, int k,
+                         ring_angle ring, float *ray, float *weight)
+{
+    vec3 P, R;
+    ray_start start_as = ray_of(f, gb, i, k, ring, &P, &R, weight);
+    ray_into_lanes(f, l, start_as, P, R, ray, weight);
 }
 
 /* ray_of for the texels x0 .. x0 + n - 1 of row y (n at most MARCH_SPAN), each its own ray
@@ -481,17 +489,8 @@ static void march_row(const reflection_frame *f, const sl_gbuffer *gb, ring_cach
             if (!sl_gbuffer_covered(&gb->texels[i]))
                 continue;
             weight_plane[i] = rs.weight[m];
-            switch ((ray_start)rs.start[m]) {
-            case RAY_BELOW:
-                ray_plane[i] = SL_REFLECTION_BELOW;
-                weight_plane[i] = 0.0f;
-                break;
-            case RAY_INTO_SURFACE: ray_plane[i] = 0.0f; break;
-            case RAY_TRACE:
-                march_add(f, &l, vec3(rs.px[m], rs.py[m], rs.pz[m]), vec3(rs.dx[m], rs.dy[m], rs.dz[m]),
-                          &ray_plane[i]);
-                break;
-            }
+            ray_into_lanes(f, &l, (ray_start)rs.start[m], vec3(rs.px[m], rs.py[m], rs.pz[m]),
+                           vec3(rs.dx[m], rs.dy[m], rs.dz[m]), &ray_plane[i], &weight_plane[i]);
         }
     }
     march_lanes(f, &l);

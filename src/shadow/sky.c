@@ -220,7 +220,6 @@ static inline int clamp_index(int i, int last)
     return lo > last ? last : lo;
 }
 
-
 /* The two lane loops' shared bodies, each the operations of sl_shadow_sky_map_visibility for map
  * k at point P with normal N, in its order, its branches as selects; map k's constants read from
  * the lanes (a lane each in the loop over the maps, the same for every lane in the loop over the
