@@ -1129,6 +1129,10 @@ void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N
     float map_vis[SL_SHADOW_SUN_MAX] = {0.0f};
     for (int k = 0; k < m->count; k++)
         map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
+    sl_shade_env_light_visibility_of(u, map_vis, vis);
+}
+void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis)
+{
     _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
     const int lanes = shade_env_light_lanes(u);
 #pragma omp simd

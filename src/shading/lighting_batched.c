@@ -1799,6 +1799,22 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             p->Er[i] = p->Eg[i] = p->Eb[i] = 0.0f;
     if (empty > 0)
         sl_shade_background_span(u, x0, y, count, p->bg_r, p->bg_g, p->bg_b);
+    /* with the env lights' shadow maps, each map's visibility for the span's covered pixels in
+     * one vector loop (sl_shadow_sun_visibility_lanes: the bits of the port's lookup), read per
+     * pixel below; SPAN x SL_SHADOW_SUN_MAX, pixel-major */
+    float sun_vis[SPAN][SL_SHADOW_SUN_MAX] = {{0.0f}};
+    if (shadowed && empty < count) {
+        int covered[SPAN];
+        float vis[SPAN];
+        for (int i = 0; i < count; i++)
+            covered[i] = t[i].depth < 1.0f;
+        for (int k = 0; k < u->envShadowMaps->count; k++) {
+            sl_shadow_sun_visibility_lanes(u->envShadowMaps, k, count, p->Px, p->Py, p->Pz, p->Nx, p->Ny, p->Nz,
+                                           covered, vis);
+            for (int i = 0; i < count; i++)
+                sun_vis[i][k] = vis[i];
+        }
+    }
     if (empty < count) /* B, a stack argument of specular_samples, from memory stored long before */
         for (int i = 0; i < count; i++)
             p->B[i] = vec3(p->Bx[i], p->By[i], p->Bz[i]);
@@ -1820,8 +1836,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                  * keeps the lights apart, the irradiance loses their part, both come back
                  * times the visibility after the occlusion */
                 shade_env_shadow es;
-                vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
-                sl_shade_env_light_visibility(u, t[i].position, N, es.vis);
+                vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
+                sl_shade_env_light_visibility_of(u, sun_vis[i], es.vis);
                 color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, &h, task, NULL);
                 vec3 lights = vec3s(0.0f);
                 if (u->uDiffuse != 0) {
@@ -1873,7 +1889,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             es.diffuse_given = false;
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
             if (u->envLightShadows != 0) {
-                sl_shade_env_light_visibility(u, s.P, s.N, es.vis);
+                sl_shade_env_light_visibility_of(u, sun_vis[i], es.vis);
                 env_shadow = &es;
                 if (u->uDiffuse != 0) { /* the lights' diffuse by group, as in the vector sum's branch */
                     vec3 D = s.cone ? shade_diffuse_dir(u, s.cone, s.Nenv) : s.Nenv;

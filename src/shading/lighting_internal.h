@@ -181,6 +181,9 @@ void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_e
                              int *cols);
 /* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
 void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
+/* The same from each map's visibility at the point (map_vis[k]: sl_shadow_sun_visibility of map
+ * k, SL_SHADOW_SUN_MAX of them, those past the maps' count read and not used) */
+void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);

@@ -640,3 +640,104 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
     }
     return fminf(vis, 1.0f);
 }
+
+/* One row of a lane's 4x4 taps (sl_shadow_sun_visibility's inner loop, written out: GCC does not
+ * vectorize the loop over the points with loops inside): the sum of the columns' weights wx0 ..
+ * wx3 whose stored depth at texels i0 .. i3, less the bias, lies beyond the receiver's plane at
+ * (dx0 .. dx3, dy). */
+__attribute__((always_inline)) static inline float sun_row(const float *depth, bool read, int i0, int i1, int i2,
+                                                           int i3, float bias, float zq, float gx, float dx0,
+                                                           float dx1, float dx2, float dx3, float gy, float dy,
+                                                           float wx0, float wx12, float wx3)
+{
+    float rv = 0.0f;
+    rv += (read ? depth[i0] : 0.0f) + bias >= zq + gx * dx0 + gy * dy ? wx0 : 0.0f;
+    rv += (read ? depth[i1] : 0.0f) + bias >= zq + gx * dx1 + gy * dy ? wx12 : 0.0f;
+    rv += (read ? depth[i2] : 0.0f) + bias >= zq + gx * dx2 + gy * dy ? wx12 : 0.0f;
+    rv += (read ? depth[i3] : 0.0f) + bias >= zq + gx * dx3 + gy * dy ? wx3 : 0.0f;
+    return rv;
+}
+
+/* sl_shadow_sun_visibility for `count` points (count <= SL_SHADOW_SUN_LANES) in one vector loop,
+ * a lane a point: its operations in its order, its early returns as a `read` mask and floorf by
+ * truncation (exact below 2^24; it vectorizes where floorf does not), so each value is its bits.
+ * A lane not read (not covered, facing away from the lights, off the map) is 1 and reads no
+ * texel; its indices are clamped onto the map all the same, from coordinates held within 1e7
+ * (NaN too), so nothing undefined is computed. */
+void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
+                                    const float *pz, const float *nx, const float *ny, const float *nz,
+                                    const int *covered, float *vis)
+{
+    if (s < 0 || s >= m->count) {
+        for (int i = 0; i < count; i++)
+            vis[i] = 1.0f;
+        return;
+    }
+    const sl_shadow_sun *sun = &m->maps[s];
+    const float *depth = sun->depth;
+    const float offset = sun->texel * SHADOW_NORMAL_OFFSET;
+    const float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
+    const float ax = sun->axis.x, ay = sun->axis.y, az = sun->axis.z;
+    const float rx = sun->right.x, ry = sun->right.y, rz = sun->right.z;
+    const float ux_ = sun->up.x, uy_ = sun->up.y, uz_ = sun->up.z;
+    const float x0 = sun->x0, y0 = sun->y0, stepx = sun->stepx, stepy = sun->stepy;
+    const int size = sun->size, last = sun->size - 1;
+    /* two loops, the place and then the taps (as sky.c's lanes: with the place's holding select
+     * and the taps' truncation in one loop, GCC moves the truncation into the select's branch
+     * and does not vectorize) */
+    float nas[SL_SHADOW_SUN_LANES], xqs[SL_SHADOW_SUN_LANES], yqs[SL_SHADOW_SUN_LANES], zqs[SL_SHADOW_SUN_LANES];
+    float uxs[SL_SHADOW_SUN_LANES], uys[SL_SHADOW_SUN_LANES];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        /* sl_shadow_ortho_locate */
+        const float na = nx[i] * ax + ny[i] * ay + nz[i] * az;
+        const float off = offset * sl_shadow_offset_share(na);
+        const float qx = px[i] + nx[i] * off, qy = py[i] + ny[i] * off, qz = pz[i] + nz[i] * off;
+        const float xq = qx * rx + qy * ry + qz * rz;
+        const float yq = qx * ux_ + qy * uy_ + qz * uz_;
+        const float ux = (xq - x0) / stepx - 0.5f, uy = (yq - y0) / stepy - 0.5f;
+        nas[i] = na;
+        xqs[i] = xq;
+        yqs[i] = yq;
+        zqs[i] = qx * ax + qy * ay + qz * az;
+        uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
+        uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
+    }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], ux = uxs[i], uy = uys[i];
+        const int tx0 = (int)ux, ty0 = (int)uy;
+        const float ftx = (float)tx0, fty = (float)ty0;
+        const bool downx = ftx > ux, downy = fty > uy;
+        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+        const bool read = (covered[i] != 0) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+        const float tx = ux - fx, ty = uy - fy;
+        const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
+        const float gy = -(nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_) / na;
+        /* sl_shadow_sun_visibility's taps: the columns and rows ix - 1 .. ix + 2 and iy - 1 ..
+         * iy + 2, each column's and row's offset from q, and the box-tent weights */
+        const float wx0 = (1.0f - tx) / 3.0f, wx3 = tx / 3.0f, wy0 = (1.0f - ty) / 3.0f, wy3 = ty / 3.0f;
+        const float w12 = 1.0f / 3.0f;
+        const int c0 = sl_shadow_clamp_index(ix - 1, last), c1 = sl_shadow_clamp_index(ix, last);
+        const int c2 = sl_shadow_clamp_index(ix + 1, last), c3 = sl_shadow_clamp_index(ix + 2, last);
+        const int r0 = sl_shadow_clamp_index(iy - 1, last), r1 = sl_shadow_clamp_index(iy, last);
+        const int r2 = sl_shadow_clamp_index(iy + 1, last), r3 = sl_shadow_clamp_index(iy + 2, last);
+        const float dx0 = (fx + -1.0f + 0.5f) * stepx + x0 - xq, dx1 = (fx + 0.0f + 0.5f) * stepx + x0 - xq;
+        const float dx2 = (fx + 1.0f + 0.5f) * stepx + x0 - xq, dx3 = (fx + 2.0f + 0.5f) * stepx + x0 - xq;
+        const float dy0 = (fy + -1.0f + 0.5f) * stepy + y0 - yq, dy1 = (fy + 0.0f + 0.5f) * stepy + y0 - yq;
+        const float dy2 = (fy + 1.0f + 0.5f) * stepy + y0 - yq, dy3 = (fy + 2.0f + 0.5f) * stepy + y0 - yq;
+#define SUN_ROW(r, dy)                                                                                              \
+    sun_row(depth, read, sl_shadow_tile_index(c0, r, size), sl_shadow_tile_index(c1, r, size),                    \
+            sl_shadow_tile_index(c2, r, size), sl_shadow_tile_index(c3, r, size), bias, zq, gx, dx0, dx1, dx2, dx3, \
+            gy, dy, wx0, w12, wx3)
+        float v = 0.0f;
+        v += SUN_ROW(r0, dy0) * wy0;
+        v += SUN_ROW(r1, dy1) * w12;
+        v += SUN_ROW(r2, dy2) * w12;
+        v += SUN_ROW(r3, dy3) * wy3;
+#undef SUN_ROW
+        v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
+        vis[i] = read ? v : 1.0f;
+    }
+}

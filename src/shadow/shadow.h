@@ -97,6 +97,12 @@ static inline int sl_shadow_tile_index(int x, int y, int size)
     return ((y / SL_SHADOW_TILE) * tiles + x / SL_SHADOW_TILE) * (SL_SHADOW_TILE * SL_SHADOW_TILE) +
            (y % SL_SHADOW_TILE) * SL_SHADOW_TILE + x % SL_SHADOW_TILE;
 }
+/* A texel index clamped onto a map's 0 .. last (the lookups' taps past its edge read the edge). */
+static inline int sl_shadow_clamp_index(int i, int last)
+{
+    int lo = i < 0 ? 0 : i;
+    return lo > last ? last : lo;
+}
 _Static_assert(SL_SHADOW_SUN_SIZE % SL_SHADOW_TILE == 0, "an env light's map is a whole number of tiles");
 
 typedef struct {
@@ -218,5 +224,11 @@ float sl_shadow_point_visibility(const sl_shadow_maps *maps, int i, vec3 P, vec3
 /* Visibility of env-light map s (0 .. count - 1) from world point P with unit normal N: 1
  * lit, 0 shadowed; 1 for a normal facing away from the lights (they add nothing there). */
 float sl_shadow_sun_visibility(const sl_shadow_suns *suns, int s, vec3 P, vec3 N);
+#define SL_SHADOW_SUN_LANES 32 /* the most points of one sl_shadow_sun_visibility_lanes */
+/* sl_shadow_sun_visibility of map s at `count` points (count <= SL_SHADOW_SUN_LANES) (world positions px, py, pz; unit normals
+ * nx, ny, nz) at once, bit for bit, into vis; 1 where covered[i] is 0. */
+void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *suns, int s, int count, const float *px, const float *py,
+                                    const float *pz, const float *nx, const float *ny, const float *nz,
+                                    const int *covered, float *vis);
 
 #endif

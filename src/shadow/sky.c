@@ -213,13 +213,6 @@ float sl_shadow_sky_map_visibility(const sl_shadow_sky *sky, int k, vec3 P, vec3
     return fminf(vis, 1.0f);
 }
 
-/* i clamped onto 0 .. last */
-static inline int clamp_index(int i, int last)
-{
-    int lo = i < 0 ? 0 : i;
-    return lo > last ? last : lo;
-}
-
 /* The two lane loops' shared bodies, each the operations of sl_shadow_sky_map_visibility for map
  * k at point P with normal N, in its order, its branches as selects; map k's constants read from
  * the lanes (a lane each in the loop over the maps, the same for every lane in the loop over the
@@ -293,8 +286,8 @@ __attribute__((always_inline)) static inline float lane_lookup(const sl_shadow_s
     const float bias = l->bias[k];
     const float wx0 = 1.0f - tx, wy0 = 1.0f - ty;
     const int last = size - 1;
-    const int xa = clamp_index(ix, last), xb = clamp_index(ix + 1, last);
-    const int ya = clamp_index(iy, last), yb = clamp_index(iy + 1, last);
+    const int xa = sl_shadow_clamp_index(ix, last), xb = sl_shadow_clamp_index(ix + 1, last);
+    const int ya = sl_shadow_clamp_index(iy, last), yb = sl_shadow_clamp_index(iy + 1, last);
     const float dxa = (fx + 0.0f + 0.5f) * stepx + x0 - p.xq, dxb = (fx + 1.0f + 0.5f) * stepx + x0 - p.xq;
     const float dya = (fy + 0.0f + 0.5f) * stepy + y0 - p.yq, dyb = (fy + 1.0f + 0.5f) * stepy + y0 - p.yq;
     const int iaa = first + sl_shadow_tile_index(xa, ya, size), iab = first + sl_shadow_tile_index(xb, ya, size);
