@@ -1720,21 +1720,28 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         tg[i] = shadowed ? lit_g : g;
         tb[i] = shadowed ? lit_b : b;
     }
-    /* the point lights, one after another per covered pixel as the port adds them (each a
-     * direction, a lookup in its shadow map and a BRDF: the port's own function) */
-    if (lights)
-        for (int i = 0; i < count; i++) {
-            if (!covered[i])
-                continue;
-            const vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]);
-            const float alpha = shade_lobe_param(t[i].alpha);
-            for (int l = 0; l < u->uLightCount; l++) {
-                vec3 light = sl_shade_point_light(u, l, t[i].position, N, V, t[i].kd, t[i].ks, alpha);
+    /* the point lights, one after another for each covered pixel as the port adds them (each a
+     * direction and a BRDF: the port's own function), a light's shadow-map lookups for the whole
+     * span in one vector loop (sl_shadow_point_visibility_lanes: the port's lookup's bits) */
+    if (lights) {
+        for (int l = 0; l < u->uLightCount; l++) {
+            float vis[SPAN];
+            if (u->shadowMaps)
+                sl_shadow_point_visibility_lanes(u->shadowMaps, l, count, p->Px, p->Py, p->Pz, p->Nx, p->Ny, p->Nz,
+                                                 covered, vis);
+            for (int i = 0; i < count; i++) {
+                if (!covered[i])
+                    continue;
+                const vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]);
+                const float alpha = shade_lobe_param(t[i].alpha);
+                vec3 light = sl_shade_point_light_seen(u, l, t[i].position, N, V, t[i].kd, t[i].ks, alpha,
+                                                       u->shadowMaps ? vis[i] : 1.0f);
                 tr[i] += light.x;
                 tg[i] += light.y;
                 tb[i] += light.z;
             }
         }
+    }
 #pragma omp simd reduction(+ : nonfinite)
     for (int i = 0; i < count; i++) {
         float r = tr[i], g = tg[i], b = tb[i];

@@ -279,12 +279,14 @@ bool sl_shadow_build(sl_shadow_maps *m, sl_raster *r, const sl_scene *scene, con
         c->position = scene->lights[i].position;
         if (!c->casts)
             continue;
-        for (int f = 0; f < 6 && ok; f++)
-            if (!c->depth[f] && !(c->depth[f] = malloc(n * sizeof(float)))) {
-                sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for light %d's cube (%d texels a side)", i,
-                        m->side);
-                ok = false;
-            }
+        if (!c->block && !(c->block = malloc(6 * n * sizeof(float)))) {
+            sl_fail(err, SL_ERR_MEMORY, "shadow maps: out of memory for light %d's cube (%d texels a side)", i,
+                    m->side);
+            ok = false;
+            break;
+        }
+        for (int f = 0; f < 6; f++)
+            c->depth[f] = c->block + (size_t)f * n;
         ok = ok && draw_cube(m, c, r, scene, draws, casters, texels, err);
     }
     free(draws);
@@ -307,8 +309,7 @@ bool sl_shadow_face_view_proj(const sl_scene *scene, vec3 L, int f, mat4 *vp)
 void sl_shadow_free(sl_shadow_maps *m)
 {
     for (int i = 0; i < SL_LIGHTING_MAX_LIGHTS; i++)
-        for (int f = 0; f < 6; f++)
-            free(m->cubes[i].depth[f]);
+        free(m->cubes[i].block);
 
     memset(m, 0, sizeof *m);
 }
@@ -658,7 +659,7 @@ __attribute__((always_inline)) static inline float sun_row(const float *depth, b
     return rv;
 }
 
-/* sl_shadow_sun_visibility for `count` points (count <= SL_SHADOW_SUN_LANES) in one vector loop,
+/* sl_shadow_sun_visibility for `count` points (count <= SL_SHADOW_LANES) in one vector loop,
  * a lane a point: its operations in its order, its early returns as a `read` mask and floorf by
  * truncation (exact below 2^24; it vectorizes where floorf does not), so each value is its bits.
  * A lane not read (not covered, facing away from the lights, off the map) is 1 and reads no
@@ -685,8 +686,8 @@ void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, c
     /* two loops, the place and then the taps (as sky.c's lanes: with the place's holding select
      * and the taps' truncation in one loop, GCC moves the truncation into the select's branch
      * and does not vectorize) */
-    float nas[SL_SHADOW_SUN_LANES], xqs[SL_SHADOW_SUN_LANES], yqs[SL_SHADOW_SUN_LANES], zqs[SL_SHADOW_SUN_LANES];
-    float uxs[SL_SHADOW_SUN_LANES], uys[SL_SHADOW_SUN_LANES];
+    float nas[SL_SHADOW_LANES], xqs[SL_SHADOW_LANES], yqs[SL_SHADOW_LANES], zqs[SL_SHADOW_LANES];
+    float uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         /* sl_shadow_ortho_locate */
@@ -737,6 +738,118 @@ void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, c
         v += SUN_ROW(r2, dy2) * w12;
         v += SUN_ROW(r3, dy3) * wy3;
 #undef SUN_ROW
+        v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
+        vis[i] = read ? v : 1.0f;
+    }
+}
+
+/* One row of a lane's 4x4 cube-map taps (sl_shadow_point_visibility's inner loop, written out):
+ * the sum of the columns' weights wx0 .. wx3 whose tap is open, at texels i0 .. i3 of the block,
+ * with N.(ray) ny + nx0 .. ny + nx3. */
+__attribute__((always_inline)) static inline float cube_row(const float *block, bool read, int i0, int i1, int i2,
+                                                            int i3, float scale_rel, float bias, float nq, float ny,
+                                                            float nx0, float nx1, float nx2, float nx3, float wx0,
+                                                            float wx12, float wx3)
+{
+    const float nd0 = ny + nx0, nd1 = ny + nx1, nd2 = ny + nx2, nd3 = ny + nx3;
+    float rv = 0.0f;
+    rv += (nd0 > -1e-6f) | (((read ? block[i0] : 0.0f) * scale_rel + bias) * nd0 <= nq) ? wx0 : 0.0f;
+    rv += (nd1 > -1e-6f) | (((read ? block[i1] : 0.0f) * scale_rel + bias) * nd1 <= nq) ? wx12 : 0.0f;
+    rv += (nd2 > -1e-6f) | (((read ? block[i2] : 0.0f) * scale_rel + bias) * nd2 <= nq) ? wx12 : 0.0f;
+    rv += (nd3 > -1e-6f) | (((read ? block[i3] : 0.0f) * scale_rel + bias) * nd3 <= nq) ? wx3 : 0.0f;
+    return rv;
+}
+
+/* sl_shadow_point_visibility for `count` points in vector loops, a lane a point, as
+ * sl_shadow_sun_visibility_lanes does it: its operations in its order (major_face as selects, the
+ * face's frame from a table), its early returns as a `read` mask, floorf by truncation, the six
+ * faces read through the cube's block; each value its bits. A lane not read is 1 and reads no
+ * texel; its coordinates are held within 1e7 (NaN too) and its indices clamped onto the face. */
+void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int count, const float *px,
+                                      const float *py, const float *pz, const float *nx, const float *ny,
+                                      const float *nz, const int *covered, float *vis)
+{
+    if (light < 0 || light >= m->count || !m->cubes[light].casts) {
+        for (int i = 0; i < count; i++)
+            vis[i] = 1.0f;
+        return;
+    }
+    const sl_shadow_cube *c = &m->cubes[light];
+    const float *block = c->block;
+    const float lx = c->position.x, ly = c->position.y, lz = c->position.z;
+    float fax[6], fay[6], faz[6], frx[6], fry[6], frz[6], fux[6], fuy[6], fuz[6];
+    for (int f = 0; f < 6; f++) {
+        fax[f] = m->axis[f].x, fay[f] = m->axis[f].y, faz[f] = m->axis[f].z;
+        frx[f] = m->right[f].x, fry[f] = m->right[f].y, frz[f] = m->right[f].z;
+        fux[f] = m->up[f].x, fuy[f] = m->up[f].y, fuz[f] = m->up[f].z;
+    }
+    const int side = m->side, last = m->side - 1, face_texels = m->side * m->side;
+    const float sidef = (float)m->side, proj = m->proj;
+    const float step = 2.0f / (sidef * proj), edge = 1.0f / proj;
+    const float scale_rel = 1.0f + SHADOW_DEPTH_REL;
+    /* the place (q, its face, depth and texel coordinates), then the taps: two loops, as in
+     * sl_shadow_sun_visibility_lanes */
+    float qxs[SL_SHADOW_LANES], qys[SL_SHADOW_LANES], qzs[SL_SHADOW_LANES];
+    float texels[SL_SHADOW_LANES], uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES];
+    int faces[SL_SHADOW_LANES], seen[SL_SHADOW_LANES];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        const float dx = px[i] - lx, dy = py[i] - ly, dz = pz[i] - lz;
+        const float dist2 = dx * dx + dy * dy + dz * dz;
+        const float dist = sqrtf(dist2 > 0.0f ? dist2 : 1.0f); /* where dist2 <= 0, not read */
+        const float texel = 2.0f * dist / (float)SL_SHADOW_CUBE_SIZE;
+        const float off = texel * SHADOW_NORMAL_OFFSET *
+                          sl_shadow_offset_share((nx[i] * dx + ny[i] * dy + nz[i] * dz) / dist);
+        const float qx = dx + nx[i] * off, qy = dy + ny[i] * off, qz = dz + nz[i] * off;
+        /* major_face */
+        const float ax = fabsf(qx), ay = fabsf(qy), az = fabsf(qz);
+        const bool on_x = (ax >= ay) & (ax >= az), on_y = !on_x & (ay >= az);
+        const int f = on_x ? (qx >= 0.0f ? 0 : 1) : on_y ? (qy >= 0.0f ? 2 : 3) : (qz >= 0.0f ? 4 : 5);
+        const float z = qx * fax[f] + qy * fay[f] + qz * faz[f];
+        const float ux = (proj * (qx * frx[f] + qy * fry[f] + qz * frz[f]) / z + 1.0f) * 0.5f * sidef - 0.5f;
+        const float uy = (proj * (qx * fux[f] + qy * fuy[f] + qz * fuz[f]) / z + 1.0f) * 0.5f * sidef - 0.5f;
+        qxs[i] = qx, qys[i] = qy, qzs[i] = qz, texels[i] = texel, faces[i] = f;
+        seen[i] = (covered[i] != 0) & (dist2 > 0.0f) & (z > 0.0f);
+        uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
+        uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
+    }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        const int f = faces[i];
+        const float qx = qxs[i], qy = qys[i], qz = qzs[i], ux = uxs[i], uy = uys[i];
+        const bool read = seen[i] != 0;
+        const int tx0 = (int)ux, ty0 = (int)uy;
+        const float ftx = (float)tx0, fty = (float)ty0;
+        const bool downx = ftx > ux, downy = fty > uy;
+        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
+        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
+        const float tx = ux - fx, ty = uy - fy;
+        const int x0 = ix - 1, y0 = iy - 1;
+        const float nq = nx[i] * qx + ny[i] * qy + nz[i] * qz;
+        const float na = nx[i] * fax[f] + ny[i] * fay[f] + nz[i] * faz[f];
+        const float nr = nx[i] * frx[f] + ny[i] * fry[f] + nz[i] * frz[f];
+        const float nu = nx[i] * fux[f] + ny[i] * fuy[f] + nz[i] * fuz[f];
+        const float cx0 = ((float)x0 + 0.5f) * step - edge, cy0 = ((float)y0 + 0.5f) * step - edge;
+        const float bias = texels[i] * SHADOW_BIAS_CONST;
+        const float wx0 = (1.0f - tx) / 3.0f, wx3 = tx / 3.0f, wy0 = (1.0f - ty) / 3.0f, wy3 = ty / 3.0f;
+        const float w12 = 1.0f / 3.0f;
+        const int c0 = sl_shadow_clamp_index(x0, last), c1 = sl_shadow_clamp_index(x0 + 1, last);
+        const int c2 = sl_shadow_clamp_index(x0 + 2, last), c3 = sl_shadow_clamp_index(x0 + 3, last);
+        const int base = f * face_texels;
+        const int r0 = base + sl_shadow_clamp_index(y0, last) * side, r1 = base + sl_shadow_clamp_index(y0 + 1, last) * side;
+        const int r2 = base + sl_shadow_clamp_index(y0 + 2, last) * side, r3 = base + sl_shadow_clamp_index(y0 + 3, last) * side;
+        const float nx0 = nr * (cx0 + 0.0f * step), nx1 = nr * (cx0 + 1.0f * step);
+        const float nx2 = nr * (cx0 + 2.0f * step), nx3 = nr * (cx0 + 3.0f * step);
+        const float ny0 = na + nu * (cy0 + 0.0f * step), ny1 = na + nu * (cy0 + 1.0f * step);
+        const float ny2 = na + nu * (cy0 + 2.0f * step), ny3 = na + nu * (cy0 + 3.0f * step);
+#define CUBE_ROW(r, ny) \
+    cube_row(block, read, r + c0, r + c1, r + c2, r + c3, scale_rel, bias, nq, ny, nx0, nx1, nx2, nx3, wx0, w12, wx3)
+        float v = 0.0f;
+        v += CUBE_ROW(r0, ny0) * wy0;
+        v += CUBE_ROW(r1, ny1) * w12;
+        v += CUBE_ROW(r2, ny2) * w12;
+        v += CUBE_ROW(r3, ny3) * wy3;
+#undef CUBE_ROW
         v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
         vis[i] = read ? v : 1.0f;
     }

@@ -4,7 +4,7 @@
  * for thousands of points of a small scene (a floor, a sphere and a box) under two orthographic
  * maps, one steep and one low: on the surfaces (in the shadows, on their edges, on slopes, edge-on
  * to a map), anywhere about the scene with any normal, and odd points (off the map, huge, NaN);
- * every count of lanes from 1 to SL_SHADOW_SUN_LANES; a lane not covered is 1. */
+ * every count of lanes from 1 to SL_SHADOW_LANES; a lane not covered is 1. */
 #include "shading_fixtures.h"
 
 #include "raster/raster.h"
@@ -19,7 +19,10 @@ static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0
                            "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0.5, 0, 1]}},\n"
                            "  {\"shape\": \"box\", \"material\": \"m\", \"transform\": {\"translate\": [-1.5, 1, 0.5],"
                            " \"rotate\": [0, 0, 1, 30], \"scale\": [0.5, 1.5, 1]}}\n"
-                           " ]}";
+                           " ],\n"
+                           /* over the scene, and low beside the box (long shadows across the floor) */
+                           " \"lights\": [{\"position\": [1, -1, 5], \"shadow\": true},\n"
+                           "            {\"position\": [-3, 2.5, 0.4], \"shadow\": true}]}";
 
 static uint32_t rng_state = 2024u;
 static float rnd(void) /* [0, 1) */
@@ -35,40 +38,113 @@ static vec3 rnd_dir(void)
 
 /* Points waiting for a lanes lookup, with the one-point lookup's value of each. */
 typedef struct {
-    float px[SL_SHADOW_SUN_LANES], py[SL_SHADOW_SUN_LANES], pz[SL_SHADOW_SUN_LANES];
-    float nx[SL_SHADOW_SUN_LANES], ny[SL_SHADOW_SUN_LANES], nz[SL_SHADOW_SUN_LANES];
-    int covered[SL_SHADOW_SUN_LANES];
-    float expect[SL_SHADOW_SUN_LANES];
+    float px[SL_SHADOW_LANES], py[SL_SHADOW_LANES], pz[SL_SHADOW_LANES];
+    float nx[SL_SHADOW_LANES], ny[SL_SHADOW_LANES], nz[SL_SHADOW_LANES];
+    int covered[SL_SHADOW_LANES];
+    float expect[SL_SHADOW_LANES];
     int n, size; /* points held; the run's length that flushes them */
 } batch;
 
-static void flush(const sl_shadow_suns *m, int s, batch *b)
+/* The maps under test: the env lights' (suns) or the point lights' (cubes), and which. */
+typedef struct {
+    const sl_shadow_suns *suns;
+    const sl_shadow_maps *cubes;
+    int s;
+} maps;
+
+static float one_point(const maps *m, vec3 P, vec3 N)
+{
+    return m->suns ? sl_shadow_sun_visibility(m->suns, m->s, P, N) : sl_shadow_point_visibility(m->cubes, m->s, P, N);
+}
+
+static void flush(const maps *m, batch *b)
 {
     if (b->n == 0)
         return;
-    float vis[SL_SHADOW_SUN_LANES];
-    sl_shadow_sun_visibility_lanes(m, s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, b->covered, vis);
+    float vis[SL_SHADOW_LANES];
+    if (m->suns)
+        sl_shadow_sun_visibility_lanes(m->suns, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, b->covered, vis);
+    else
+        sl_shadow_point_visibility_lanes(m->cubes, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, b->covered,
+                                         vis);
     for (int i = 0; i < b->n; i++)
         if (memcmp(&vis[i], &b->expect[i], sizeof vis[i]) != 0)
-            fail_msg("map %d, lane %d of %d, P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): lanes %.9g, one point %.9g", s, i,
+            fail_msg("%s %d, lane %d of %d, P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): lanes %.9g, one point %.9g",
+                     m->suns ? "sun map" : "point light", m->s, i,
                      b->n, b->px[i], b->py[i], b->pz[i], b->nx[i], b->ny[i], b->nz[i], vis[i], b->expect[i]);
     b->n = 0;
-    b->size = b->size % SL_SHADOW_SUN_LANES + 1; /* every run length in turn */
+    b->size = b->size % SL_SHADOW_LANES + 1; /* every run length in turn */
 }
 
 /* One point joins the batch; a point not covered (every 7th) must come back 1. Returns the
  * one-point lookup's value. */
-static float add_point(const sl_shadow_suns *m, int s, batch *b, vec3 P, vec3 N)
+static float add_point(const maps *m, batch *b, vec3 P, vec3 N)
 {
     const int i = b->n;
     const bool covered = (b->size + i) % 7 != 0;
     b->px[i] = P.x, b->py[i] = P.y, b->pz[i] = P.z, b->nx[i] = N.x, b->ny[i] = N.y, b->nz[i] = N.z;
     b->covered[i] = covered;
-    const float v = sl_shadow_sun_visibility(m, s, P, N);
+    const float v = one_point(m, P, N);
     b->expect[i] = covered ? v : 1.0f;
     if (++b->n == b->size)
-        flush(m, s, b);
+        flush(m, b);
     return v;
+}
+
+/* Thousands of points of the scene, and odd ones, through both lookups of m; the lookups must
+ * see shadows and their edges (else the comparison says little). */
+static void check_scene(const maps *m)
+{
+    batch b = {.n = 0, .size = 1};
+    int partial = 0, dark = 0;
+    for (int i = 0; i < 40000; i++) {
+        vec3 P, N;
+        float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
+        switch (i % 4) {
+        case 0: /* the floor, normal up (tilted now and then) */
+            P = vec3(4.0f * u, 4.0f * v, 0.0f);
+            N = i % 8 ? vec3(0, 0, 1) : normalize(add(vec3(0, 0, 1), scale(rnd_dir(), 0.3f)));
+            break;
+        case 1: /* the sphere */
+            N = rnd_dir();
+            P = add(vec3(0.5f, 0, 1), N);
+            break;
+        case 2: /* anywhere about the scene, any way */
+            P = vec3(5.0f * u, 5.0f * v, 3.0f * rnd() - 0.5f);
+            N = rnd_dir();
+            break;
+        default: /* the box's sides and the floor by it, normals near the horizon */
+            P = vec3(-1.5f + 1.5f * u, 1.0f + 2.0f * v, 0.0f);
+            N = normalize(vec3(u, v, 0.02f * rnd()));
+            break;
+        }
+        float vis = add_point(m, &b, P, N);
+        partial += vis > 0.0f && vis < 1.0f;
+        dark += vis == 0.0f;
+    }
+    /* off the map, huge, non-finite, at a light */
+    const vec3 odd_P[] = {vec3(1e4f, 0, 0), vec3(-3e9f, 2e9f, 1), vec3(0, 0, 1e30f), vec3(NAN, 0, 0),
+                          vec3(INFINITY, 0, 0), vec3(0, -INFINITY, 0), vec3(1, -1, 5), vec3(-3, 2.5f, 0.4f)};
+    for (size_t p = 0; p < sizeof odd_P / sizeof odd_P[0]; p++) {
+        for (int j = 0; j < 20; j++)
+            add_point(m, &b, odd_P[p], rnd_dir());
+        add_point(m, &b, odd_P[p], vec3(0, 0, 1));
+    }
+    add_point(m, &b, vec3(0, 0, 0), vec3(NAN, 0, 0));
+    add_point(m, &b, vec3(0, 0, 0), vec3(0, 0, 0));
+    flush(m, &b);
+    if (partial < 200 || dark < 1000)
+        fail_msg("%s %d: %d points on a shadow's edge, %d in the shadow", m->suns ? "sun map" : "point light", m->s,
+                 partial, dark);
+}
+
+static void scene_and_raster(sl_scene *scene, sl_raster **r)
+{
+    sl_error err = {0};
+    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, scene, &err))
+        fail_msg("%s", err.msg);
+    if (!(*r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err)))
+        fail_msg("%s", err.msg);
 }
 
 static void test_sun_lanes_match_scalar(void **state)
@@ -76,11 +152,8 @@ static void test_sun_lanes_match_scalar(void **state)
     (void)state;
     sl_error err = {0};
     sl_scene scene;
-    if (!sl_scene_parse(SCENE, strlen(SCENE), "t.json", "", true, &scene, &err))
-        fail_msg("%s", err.msg);
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
-    if (!r)
-        fail_msg("%s", err.msg);
+    sl_raster *r;
+    scene_and_raster(&scene, &r);
     sl_shadow_suns m;
     memset(&m, 0, sizeof m);
     m.count = 2;
@@ -88,50 +161,28 @@ static void test_sun_lanes_match_scalar(void **state)
     m.maps[1].dir = normalize(vec3(-0.9f, 0.2f, 0.12f)); /* low: long shadows, grazing floor */
     if (!sl_shadow_ortho_build(m.maps, m.count, 256, r, &scene, NULL, &err))
         fail_msg("%s", err.msg);
-    for (int s = 0; s < m.count; s++) {
-        batch b = {.n = 0, .size = 1};
-        int partial = 0, dark = 0;
-        for (int i = 0; i < 40000; i++) {
-            vec3 P, N;
-            float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
-            switch (i % 4) {
-            case 0: /* the floor, normal up (tilted now and then) */
-                P = vec3(4.0f * u, 4.0f * v, 0.0f);
-                N = i % 8 ? vec3(0, 0, 1) : normalize(add(vec3(0, 0, 1), scale(rnd_dir(), 0.3f)));
-                break;
-            case 1: /* the sphere */
-                N = rnd_dir();
-                P = add(vec3(0.5f, 0, 1), N);
-                break;
-            case 2: /* anywhere about the scene, any way */
-                P = vec3(5.0f * u, 5.0f * v, 3.0f * rnd() - 0.5f);
-                N = rnd_dir();
-                break;
-            default: /* the box's sides and the floor by it, normals near the horizon */
-                P = vec3(-1.5f + 1.5f * u, 1.0f + 2.0f * v, 0.0f);
-                N = normalize(vec3(u, v, 0.02f * rnd()));
-                break;
-            }
-            float vis = add_point(&m, s, &b, P, N);
-            partial += vis > 0.0f && vis < 1.0f;
-            dark += vis == 0.0f;
-        }
-        /* off the map, huge, non-finite */
-        const vec3 odd_P[] = {vec3(1e4f, 0, 0), vec3(-3e9f, 2e9f, 1), vec3(0, 0, 1e30f), vec3(NAN, 0, 0),
-                              vec3(INFINITY, 0, 0), vec3(0, -INFINITY, 0)};
-        for (size_t p = 0; p < sizeof odd_P / sizeof odd_P[0]; p++) {
-            for (int j = 0; j < 20; j++)
-                add_point(&m, s, &b, odd_P[p], rnd_dir());
-            add_point(&m, s, &b, odd_P[p], vec3(0, 0, 1));
-        }
-        add_point(&m, s, &b, vec3(0, 0, 0), vec3(NAN, 0, 0));
-        add_point(&m, s, &b, vec3(0, 0, 0), vec3(0, 0, 0));
-        flush(&m, s, &b);
-        /* the comparison means something: points in the shadows and on their edges */
-        if (partial < 200 || dark < 1000)
-            fail_msg("map %d: %d points on a shadow's edge, %d in the shadow", s, partial, dark);
-    }
+    for (int s = 0; s < m.count; s++)
+        check_scene(&(maps){.suns = &m, .s = s});
     sl_shadow_suns_free(&m);
+    sl_raster_destroy(r);
+    sl_scene_free(&scene);
+}
+
+static void test_point_lanes_match_scalar(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    sl_raster *r;
+    scene_and_raster(&scene, &r);
+    assert_int_equal(scene.light_count, 2);
+    sl_shadow_maps m;
+    memset(&m, 0, sizeof m);
+    if (!sl_shadow_build(&m, r, &scene, NULL, false, &err))
+        fail_msg("%s", err.msg);
+    for (int s = 0; s < m.count; s++)
+        check_scene(&(maps){.cubes = &m, .s = s});
+    sl_shadow_free(&m);
     sl_raster_destroy(r);
     sl_scene_free(&scene);
 }
@@ -140,6 +191,7 @@ int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_sun_lanes_match_scalar),
+        cmocka_unit_test(test_point_lanes_match_scalar),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }
