@@ -1135,14 +1135,16 @@ void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float
 {
     _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
     const int lanes = shade_env_light_lanes(u);
+    /* held before the loop: read through the pointer in it, clang does not vectorize the loop */
+    const float v0 = map_vis[0], v1 = map_vis[1], v2 = map_vis[2], v3 = map_vis[3];
 #pragma omp simd
     for (int j = 0; j < lanes; j++) {
         int k = u->envLightVisSlot[j];
         float v = k == SL_SHADOW_SUN_MAX ? 1.0f : 0.0f;
-        v = k == 0 ? map_vis[0] : v;
-        v = k == 1 ? map_vis[1] : v;
-        v = k == 2 ? map_vis[2] : v;
-        v = k == 3 ? map_vis[3] : v;
+        v = k == 0 ? v0 : v;
+        v = k == 1 ? v1 : v;
+        v = k == 2 ? v2 : v;
+        v = k == 3 ? v3 : v;
         vis[j] = v;
     }
 }

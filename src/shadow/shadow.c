@@ -704,6 +704,7 @@ void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, c
         uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
         uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }
+    float out[SL_SHADOW_LANES];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], ux = uxs[i], uy = uys[i];
@@ -739,8 +740,11 @@ void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, c
         v += SUN_ROW(r3, dy3) * wy3;
 #undef SUN_ROW
         v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
-        vis[i] = read ? v : 1.0f;
+        out[i] = read ? v : 1.0f;
     }
+    for (int i = 0; i < count; i++) /* through a local array: clang does not vectorize the loop
+                                       storing through a pointer beside the maps' gathers */
+        vis[i] = out[i];
 }
 
 /* One row of a lane's 4x4 cube-map taps (sl_shadow_point_visibility's inner loop, written out):
@@ -753,10 +757,10 @@ __attribute__((always_inline)) static inline float cube_row(const float *block, 
 {
     const float nd0 = ny + nx0, nd1 = ny + nx1, nd2 = ny + nx2, nd3 = ny + nx3;
     float rv = 0.0f;
-    rv += (nd0 > -1e-6f) | (((read ? block[i0] : 0.0f) * scale_rel + bias) * nd0 <= nq) ? wx0 : 0.0f;
-    rv += (nd1 > -1e-6f) | (((read ? block[i1] : 0.0f) * scale_rel + bias) * nd1 <= nq) ? wx12 : 0.0f;
-    rv += (nd2 > -1e-6f) | (((read ? block[i2] : 0.0f) * scale_rel + bias) * nd2 <= nq) ? wx12 : 0.0f;
-    rv += (nd3 > -1e-6f) | (((read ? block[i3] : 0.0f) * scale_rel + bias) * nd3 <= nq) ? wx3 : 0.0f;
+    rv += ((nd0 > -1e-6f) | (((read ? block[i0] : 0.0f) * scale_rel + bias) * nd0 <= nq)) ? wx0 : 0.0f;
+    rv += ((nd1 > -1e-6f) | (((read ? block[i1] : 0.0f) * scale_rel + bias) * nd1 <= nq)) ? wx12 : 0.0f;
+    rv += ((nd2 > -1e-6f) | (((read ? block[i2] : 0.0f) * scale_rel + bias) * nd2 <= nq)) ? wx12 : 0.0f;
+    rv += ((nd3 > -1e-6f) | (((read ? block[i3] : 0.0f) * scale_rel + bias) * nd3 <= nq)) ? wx3 : 0.0f;
     return rv;
 }
 
@@ -813,6 +817,7 @@ void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int co
         uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
         uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }
+    float out[SL_SHADOW_LANES];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         const int f = faces[i];
@@ -851,6 +856,9 @@ void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int co
         v += CUBE_ROW(r3, ny3) * wy3;
 #undef CUBE_ROW
         v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
-        vis[i] = read ? v : 1.0f;
+        out[i] = read ? v : 1.0f;
     }
+    for (int i = 0; i < count; i++) /* through a local array: clang does not vectorize the loop
+                                       storing through a pointer beside the maps' gathers */
+        vis[i] = out[i];
 }
