@@ -1152,14 +1152,10 @@ vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, 
 {
     return shadowed_point_light(u, i, P, N, V, Kd, Ks, alpha);
 }
-vec3 sl_shade_point_light_seen(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
-                               float alpha, float vis)
+vec3 sl_shade_point_light_unshadowed(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
+                                     float alpha)
 {
-    /* shadowed_point_light with its lookup's value given */
-    vec3 light = point_light(u, i, P, N, V, Kd, Ks, alpha);
-    if (u->shadowMaps && (light.x > 0.0f || light.y > 0.0f || light.z > 0.0f))
-        light = scale(light, vis);
-    return light;
+    return point_light(u, i, P, N, V, Kd, Ks, alpha);
 }
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord) { return background(u, fragCoord); }
 

@@ -1346,6 +1346,26 @@ typedef struct {
     float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
 } pixel_block;
 
+/* The span's pixels that a shadow map is read for, packed (the lanes lookups cost the same for a
+ * pixel that needs nothing): each one's position and normal as pixel_block holds them, and which
+ * pixel it is. */
+typedef struct {
+    float px[SPAN], py[SPAN], pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN];
+    int read[SPAN]; /* all 1: every packed point is looked up */
+    int pixel[SPAN];
+    int n;
+} shadow_points;
+_Static_assert(SPAN <= SL_SHADOW_LANES, "a span's points fit one lanes lookup");
+
+static void shadow_points_add(shadow_points *s, const pixel_block *p, int i)
+{
+    const int k = s->n++;
+    s->px[k] = p->Px[i], s->py[k] = p->Py[i], s->pz[k] = p->Pz[i];
+    s->nx[k] = p->Nx[i], s->ny[k] = p->Ny[i], s->nz[k] = p->Nz[i];
+    s->read[k] = 1;
+    s->pixel[k] = i;
+}
+
 static inline float select_f(bool c, float a, float b) { return c ? a : b; }
 
 /* main() up to the samples (V, facing_normal, the environment frame) and specular_ibl's frame
@@ -1721,27 +1741,41 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
         tb[i] = shadowed ? lit_b : b;
     }
     /* the point lights, one after another for each covered pixel as the port adds them (each a
-     * direction and a BRDF: the port's own function), a light's shadow-map lookups for the whole
-     * span in one vector loop (sl_shadow_point_visibility_lanes: the port's lookup's bits) */
-    if (lights) {
+     * direction and a BRDF: the port's own function); with shadow maps, a light's lookups for the
+     * pixels it lights (sl_shade_point_light's condition) packed into one vector loop
+     * (sl_shadow_point_visibility_lanes: the port's lookup's bits), each light scaled by its own */
+    if (lights)
         for (int l = 0; l < u->uLightCount; l++) {
-            float vis[SPAN];
-            if (u->shadowMaps)
-                sl_shadow_point_visibility_lanes(u->shadowMaps, l, count, p->Px, p->Py, p->Pz, p->Nx, p->Ny, p->Nz,
-                                                 covered, vis);
+            float Lr[SPAN], Lg[SPAN], Lb[SPAN];
+            shadow_points lit;
+            lit.n = 0;
             for (int i = 0; i < count; i++) {
                 if (!covered[i])
                     continue;
                 const vec3 N = vec3(p->Nx[i], p->Ny[i], p->Nz[i]), V = vec3(p->Vx[i], p->Vy[i], p->Vz[i]);
-                const float alpha = shade_lobe_param(t[i].alpha);
-                vec3 light = sl_shade_point_light_seen(u, l, t[i].position, N, V, t[i].kd, t[i].ks, alpha,
-                                                       u->shadowMaps ? vis[i] : 1.0f);
-                tr[i] += light.x;
-                tg[i] += light.y;
-                tb[i] += light.z;
+                vec3 light = sl_shade_point_light_unshadowed(u, l, t[i].position, N, V, t[i].kd, t[i].ks,
+                                                             shade_lobe_param(t[i].alpha));
+                Lr[i] = light.x, Lg[i] = light.y, Lb[i] = light.z;
+                if (u->shadowMaps && (light.x > 0.0f || light.y > 0.0f || light.z > 0.0f))
+                    shadow_points_add(&lit, p, i);
+            }
+            if (lit.n > 0) {
+                float vis[SPAN];
+                sl_shadow_point_visibility_lanes(u->shadowMaps, l, lit.n, lit.px, lit.py, lit.pz, lit.nx, lit.ny,
+                                                 lit.nz, lit.read, vis);
+                for (int k = 0; k < lit.n; k++) { /* scale(light, v) */
+                    const int i = lit.pixel[k];
+                    Lr[i] = Lr[i] * vis[k], Lg[i] = Lg[i] * vis[k], Lb[i] = Lb[i] * vis[k];
+                }
+            }
+            for (int i = 0; i < count; i++) {
+                if (!covered[i])
+                    continue;
+                tr[i] += Lr[i];
+                tg[i] += Lg[i];
+                tb[i] += Lb[i];
             }
         }
-    }
 #pragma omp simd reduction(+ : nonfinite)
     for (int i = 0; i < count; i++) {
         float r = tr[i], g = tg[i], b = tb[i];
@@ -1811,15 +1845,17 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
      * pixel below; SPAN x SL_SHADOW_SUN_MAX, pixel-major */
     float sun_vis[SPAN][SL_SHADOW_SUN_MAX] = {{0.0f}};
     if (shadowed && empty < count) {
-        int covered[SPAN];
-        float vis[SPAN];
+        shadow_points seen;
+        seen.n = 0;
         for (int i = 0; i < count; i++)
-            covered[i] = t[i].depth < 1.0f;
+            if (t[i].depth < 1.0f)
+                shadow_points_add(&seen, p, i);
         for (int k = 0; k < u->envShadowMaps->count; k++) {
-            sl_shadow_sun_visibility_lanes(u->envShadowMaps, k, count, p->Px, p->Py, p->Pz, p->Nx, p->Ny, p->Nz,
-                                           covered, vis);
-            for (int i = 0; i < count; i++)
-                sun_vis[i][k] = vis[i];
+            float vis[SPAN];
+            sl_shadow_sun_visibility_lanes(u->envShadowMaps, k, seen.n, seen.px, seen.py, seen.pz, seen.nx, seen.ny,
+                                           seen.nz, seen.read, vis);
+            for (int j = 0; j < seen.n; j++)
+                sun_vis[seen.pixel[j]][k] = vis[j];
         }
     }
     if (empty < count) /* B, a stack argument of specular_samples, from memory stored long before */

@@ -186,10 +186,10 @@ void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N
 void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
-/* the same with the light's shadow-map visibility at P, N given (sl_shadow_point_visibility's
- * value: the batched path looks a span's up at once) */
-vec3 sl_shade_point_light_seen(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
-                               float alpha, float vis);
+/* point_light alone: the batched path looks the visibility up for a span's pixels that it lights
+ * at once, and scales as sl_shade_point_light does */
+vec3 sl_shade_point_light_unshadowed(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks,
+                                     float alpha);
 vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord);
 
 /* What a lighting program's toolbox reads (softlight/lighting.h: opaque there): the frame's
