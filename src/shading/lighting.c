@@ -871,13 +871,21 @@ static vec3 point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, ve
 /* GLSL: horizon_visible - the part across the horizon times the visibility of the sky map whose
  * cell holds its luminous direction: one map for the part, as the lobe's tail across the
  * horizon lies within a cell or two */
-vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
-                              sl_lighting_trace *trace)
+bool sl_shade_horizon_dir(const shade_horizon *h, vec3 *d)
 {
     float len = length(h->dir);
     if (!(len > 0.0f))
-        return vec3s(0.0f); /* nothing across, or only black */
-    vec3 d = scale(h->dir, 1.0f / len);
+        return false; /* nothing across, or only black */
+    *d = scale(h->dir, 1.0f / len);
+    return true;
+}
+
+vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
+                              sl_lighting_trace *trace)
+{
+    vec3 d;
+    if (!sl_shade_horizon_dir(h, &d))
+        return vec3s(0.0f);
     int k = sl_shadow_sky_cell(u->skyMaps, d);
     float v = sl_shadow_sky_map_visibility(u->skyMaps, k, P, N);
     vec3 visible = scale(h->sum, v);

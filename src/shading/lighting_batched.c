@@ -1684,13 +1684,25 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
 #pragma omp simd
             for (int i = 0; i < count; i++)
                 spo[i] = sl_reflection_specular_factor(spo[i], mocc[i], vec2(refl[i], refl_rays[i]));
-        if (u->skyMaps) /* a wide lobe's map of R's cell (shade_lobe_map), per covered pixel */
-            for (int i = 0; i < count; i++) {
-                if (!covered[i])
-                    continue;
-                spo[i] = shade_lobe_map(u, spo[i], mocc[i], t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]),
-                                        vec3(p->Rx[i], p->Ry[i], p->Rz[i]), lobe_angle[i]);
+        if (u->skyMaps) { /* a wide lobe's map of R's cell (shade_lobe_map), the span's looked up at once */
+            shadow_points wide;
+            wide.n = 0;
+            float rx[SPAN], ry[SPAN], rz[SPAN];
+            for (int i = 0; i < count; i++)
+                if (covered[i] && shade_lobe_map_wide(u, lobe_angle[i])) {
+                    rx[wide.n] = p->Rx[i], ry[wide.n] = p->Ry[i], rz[wide.n] = p->Rz[i];
+                    shadow_points_add(&wide, p, i);
+                }
+            if (wide.n > 0) {
+                float v[SPAN];
+                sl_shadow_sky_cell_visibility_lanes(u->skyMaps, wide.n, rx, ry, rz, wide.px, wide.py, wide.pz,
+                                                    wide.nx, wide.ny, wide.nz, v);
+                for (int k = 0; k < wide.n; k++) {
+                    const int i = wide.pixel[k];
+                    spo[i] = shade_lobe_map_with(spo[i], mocc[i], v[k]);
+                }
             }
+        }
     } else {
         for (int i = 0; i < count; i++)
             mocc[i] = 1.0f;
@@ -1813,6 +1825,14 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     pixel_block *p = &pb;
     float cr[SPAN], cg[SPAN], cb[SPAN]; /* sum_stage's input: the specular term, or the background */
     float ar[SPAN], ag[SPAN], ab[SPAN]; /* with the sky maps: the part across the horizon, visible */
+    struct {
+        shadow_points at;                   /* the pixels with a part across, packed */
+        float dx[SPAN], dy[SPAN], dz[SPAN]; /* its direction (sl_shade_horizon_dir) */
+        float r[SPAN], g[SPAN], b[SPAN];    /* its sum */
+        int n;
+    } across_maps;
+    across_maps.n = 0;
+    across_maps.at.n = 0;
     int empty = 0;
     for (int i = 0; i < count; i++)
         empty += t[i].depth >= 1.0f;
@@ -1902,10 +1922,16 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             }
             if (u->skyMaps) { /* sl_shade_surface_color's V on the residual's irradiance */
                 sky_scale(u, p, i, t[i].position, sky_row);
-                vec3 across = sl_shade_horizon_visible(u, &h, t[i].position, vec3(p->Nx[i], p->Ny[i], p->Nz[i]), NULL);
-                ar[i] = across.x;
-                ag[i] = across.y;
-                ab[i] = across.z;
+                /* sl_shade_horizon_visible, its lookup made for the span's pixels at once below */
+                vec3 d;
+                ar[i] = ag[i] = ab[i] = 0.0f;
+                if (sl_shade_horizon_dir(&h, &d)) {
+                    const int k = across_maps.n;
+                    across_maps.dx[k] = d.x, across_maps.dy[k] = d.y, across_maps.dz[k] = d.z;
+                    across_maps.r[k] = h.sum.x, across_maps.g[k] = h.sum.y, across_maps.b[k] = h.sum.z;
+                    shadow_points_add(&across_maps.at, p, i);
+                    across_maps.n++;
+                }
             }
         } else {
             shade_surface s = {
@@ -1962,6 +1988,16 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             cb[i] = color.z;
         } else {
             out[i] = sl_shade_finish(color, task, trace);
+        }
+    }
+    if (across_maps.n > 0) { /* scale(h.sum, v) */
+        float v[SPAN];
+        const shadow_points *at = &across_maps.at;
+        sl_shadow_sky_cell_visibility_lanes(u->skyMaps, across_maps.n, across_maps.dx, across_maps.dy, across_maps.dz,
+                                            at->px, at->py, at->pz, at->nx, at->ny, at->nz, v);
+        for (int k = 0; k < across_maps.n; k++) {
+            const int i = at->pixel[k];
+            ar[i] = across_maps.r[k] * v[k], ag[i] = across_maps.g[k] * v[k], ab[i] = across_maps.b[k] * v[k];
         }
     }
     if (vector_sum)

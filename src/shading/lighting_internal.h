@@ -97,6 +97,9 @@ static inline void shade_horizon_add(shade_horizon *h, vec3 w, vec3 c)
 /* The part across the horizon times its visibility from world point P with world normal N: that
  * of the sky map whose cell holds normalize(h->dir) (sl_shadow_sky_cell); 0 with nothing
  * across, and so without the split (h->on false). Recorded in the trace. */
+/* normalize(h->dir) into *d, or false with nothing across (its sum 0): the map's direction (the
+ * batched path looks a span's maps up at once, sl_shadow_sky_cell_visibility_lanes) */
+bool sl_shade_horizon_dir(const shade_horizon *h, vec3 *d);
 vec3 sl_shade_horizon_visible(const sl_lighting_uniforms *u, const shade_horizon *h, vec3 P, vec3 N,
                               sl_lighting_trace *trace);
 /* GLSL specular_mis, and specular_cv with mis for cvmis, each with the part across the horizon
@@ -318,13 +321,19 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
  * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
  * world. */
+static inline bool shade_lobe_map_wide(const sl_lighting_uniforms *u, float ts)
+{
+    return u->skyMaps && !(ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle);
+}
+/* the factor with the map's visibility v (the batched path looks a span's up at once) */
+static inline float shade_lobe_map_with(float capped, float material, float v) { return minf(capped, material * v); }
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
-    if (!u->skyMaps || ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle)
+    if (!shade_lobe_map_wide(u, ts))
         return capped;
     float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
-    return minf(capped, material * v);
+    return shade_lobe_map_with(capped, material, v);
 }
 
 /* The material's share of the occlusion `occlusion` (the extra plane's: the material's times the

@@ -422,3 +422,55 @@ float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *
 
 /* GLSL: sky_cell */
 int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d) { return nearest_site(sky->site, sky->count, d); }
+
+/* sl_shadow_sky_map_visibility of each point's own map, that of the cell of a direction
+ * (sl_shadow_sky_cell), for `count` points at once (count <= SL_SHADOW_LANES): the batched
+ * lighting's part of the specular across the horizon and a wide lobe's map of R's cell. The
+ * cells by nearest_site's loop with a lane a point (its sites in its order, those of the other
+ * side of the horizon masked), the lookups by the lanes' bodies with each lane's map constants
+ * gathered: each cell and value the one-point functions' bits (tests/unit/test_sky_maps.c). */
+void sl_shadow_sky_cell_visibility_lanes(const sl_shadow_sky *sky, int count, const float *dx, const float *dy,
+                                         const float *dz, const float *px, const float *py, const float *pz,
+                                         const float *nx, const float *ny, const float *nz, float *v)
+{
+    enum { L = SL_SHADOW_LANES };
+    if (!sky->block || sky->count <= 0) {
+        for (int i = 0; i < count; i++)
+            v[i] = sl_shadow_sky_map_visibility(sky, sl_shadow_sky_cell(sky, vec3(dx[i], dy[i], dz[i])),
+                                                vec3(px[i], py[i], pz[i]), vec3(nx[i], ny[i], nz[i]));
+        return;
+    }
+    const int sites = sky->count, sky_sites = sky_side_count(sites);
+    const bool split = sites > sky_sites; /* both sides have sites */
+    int cell[L];
+    float best_dot[L];
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        cell[i] = split && !(dz[i] >= 0.0f) ? sky_sites : 0;
+        best_dot[i] = -2.0f;
+    }
+    for (int k = 0; k < sites; k++) {
+        const vec3 s = sky->site[k];
+        const bool on_sky = k < sky_sites;
+#pragma omp simd
+        for (int i = 0; i < count; i++) {
+            const bool side = !split || ((dz[i] >= 0.0f) == on_sky);
+            const float d = dx[i] * s.x + dy[i] * s.y + dz[i] * s.z;
+            const bool nearer = side & (d > best_dot[i]);
+            cell[i] = nearer ? k : cell[i];
+            best_dot[i] = nearer ? d : best_dot[i];
+        }
+    }
+    const sl_shadow_sky_lanes *l = &sky->lanes;
+    lane_places places;
+    _Static_assert(L <= SL_SKY_MAPS_MAX, "a lanes lookup fits the places' arrays");
+#pragma omp simd
+    for (int i = 0; i < count; i++)
+        lane_place_store(&places, i, lane_place_of(l, cell[i], px[i], py[i], pz[i], nx[i], ny[i], nz[i]));
+    float out[L]; /* through a local array, as shadow.c's lanes */
+#pragma omp simd
+    for (int i = 0; i < count; i++)
+        out[i] = lane_lookup(l, cell[i], sky->block, true, lane_place_load(&places, i), nx[i], ny[i], nz[i]);
+    for (int i = 0; i < count; i++)
+        v[i] = out[i];
+}

@@ -16,7 +16,9 @@
  * one where the pixels are coarser than the maps' texels, 160x90), and the fill stays near the
  * lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
  * R's cell (shade_lobe_map) where that map is hidden, and only there. A ball's underside a few
- * texels over a floor 160 units wide reads hidden in every steep ground map. */
+ * texels over a floor 160 units wide reads hidden in every steep ground map. A run of points'
+ * lookups each in the map of its own direction's cell (sl_shadow_sky_cell_visibility_lanes) equal
+ * the one-point functions' bits. */
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -500,10 +502,68 @@ static void test_lobe_map(void **state)
     free_maps(&m);
 }
 
+/* sl_shadow_sky_cell_visibility_lanes against sl_shadow_sky_map_visibility of
+ * sl_shadow_sky_cell, bit for bit: points on and about the scene, directions any way (on the
+ * horizon, NaN among them), runs of every length up to SL_SHADOW_LANES, for K = 32 and 7 (an odd
+ * split) and 1 (one side alone). */
+static void test_cell_lanes_match_scalar(void **state)
+{
+    (void)state;
+    sl_error err = {0};
+    sl_scene scene;
+    sl_env env;
+    scene_and_env(&scene, &env);
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
+    if (!r)
+        fail_msg("%s", err.msg);
+    sl_shadow_sky s;
+    memset(&s, 0, sizeof s);
+    const int counts[] = {32, 7, 1};
+    for (int c = 0; c < 3; c++) {
+        if (!sl_shadow_sky_build(&s, counts[c], &env, 15.0f, r, &scene, NULL, &err))
+            fail_msg("%s", err.msg);
+        int partial = 0;
+        for (int run = 0, n = 1; run < 2000; run++, n = n % SL_SHADOW_LANES + 1) {
+            float dx[SL_SHADOW_LANES], dy[SL_SHADOW_LANES], dz[SL_SHADOW_LANES], v[SL_SHADOW_LANES];
+            float px[SL_SHADOW_LANES], py[SL_SHADOW_LANES], pz[SL_SHADOW_LANES];
+            float nx[SL_SHADOW_LANES], ny[SL_SHADOW_LANES], nz[SL_SHADOW_LANES];
+            for (int i = 0; i < n; i++) {
+                vec3 d = rnd_dir(), N = rnd_dir();
+                vec3 P = i % 2 ? vec3(4.0f * rnd() - 2.0f, 4.0f * rnd() - 2.0f, 0.0f) : add(vec3(0.5f, 0, 1), N);
+                if (i % 2)
+                    N = vec3(0, 0, 1);
+                if (run % 97 == 0 && i == 0)
+                    d.z = NAN;
+                if (run % 89 == 0 && i == 1)
+                    d = normalize(vec3(d.x, d.y, 0.0f)); /* on the horizon */
+                dx[i] = d.x, dy[i] = d.y, dz[i] = d.z, px[i] = P.x, py[i] = P.y, pz[i] = P.z;
+                nx[i] = N.x, ny[i] = N.y, nz[i] = N.z;
+            }
+            sl_shadow_sky_cell_visibility_lanes(&s, n, dx, dy, dz, px, py, pz, nx, ny, nz, v);
+            for (int i = 0; i < n; i++) {
+                vec3 d = vec3(dx[i], dy[i], dz[i]), P = vec3(px[i], py[i], pz[i]), N = vec3(nx[i], ny[i], nz[i]);
+                float one = sl_shadow_sky_map_visibility(&s, sl_shadow_sky_cell(&s, d), P, N);
+                if (memcmp(&one, &v[i], sizeof one) != 0)
+                    fail_msg("K %d, lane %d of %d, d (%.9g %.9g %.9g) P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): lanes "
+                             "%.9g, one point %.9g",
+                             counts[c], i, n, d.x, d.y, d.z, P.x, P.y, P.z, N.x, N.y, N.z, v[i], one);
+                partial += one > 0.0f && one < 1.0f;
+            }
+        }
+        if (partial < 100)
+            fail_msg("K %d: only %d lookups partly hidden", counts[c], partial);
+    }
+    sl_shadow_sky_free(&s);
+    sl_raster_destroy(r);
+    sl_env_free(&env);
+    sl_scene_free(&scene);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
         cmocka_unit_test(test_lanes_match_scalar),
+        cmocka_unit_test(test_cell_lanes_match_scalar),
         cmocka_unit_test(test_cells_split_at_horizon),
         cmocka_unit_test(test_cone_across),
         cmocka_unit_test(test_sky_plane),
