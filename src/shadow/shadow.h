@@ -35,6 +35,10 @@
  * (city.hdr's: under a degree) makes a penumbra under a texel wide for occluders a few units
  * above the receiver.
  *
+ * Both lookups also come for a run of points at once, a SIMD lane a point, each lane the
+ * one-point lookup's bits (sl_shadow_point_visibility_lanes, sl_shadow_sun_visibility_lanes):
+ * the batched lighting's span; the one-point lookups are the twins of lighting.frag's.
+ *
  * Consumes: the scene's objects (every mesh, opaque: alpha masks are not read), light positions
  * and the env lights' directions. Produces: per light, its visibility in [0, 1] at a world
  * point. A light that does not cast is fully visible. Does not: soften a point light with its

@@ -1,9 +1,10 @@
 /* sky.c - the sky visibility maps (sky.h): the directions, their cells' weights from the
  * environment, the maps (drawn by shadow.c's orthographic machinery, into one block) and the
  * lookups: a point's, every map in one loop, a lane a map; a run of points', the maps one after
- * another, a lane a point (the plane the batched lighting reads); each equal bit for bit to the
- * scalar lookup of one map (sl_shadow_sky_map_visibility, which the GLSL twin mirrors and trace
- * reports). */
+ * another, a lane a point (the plane the batched lighting reads); a run of points' each in the
+ * map of its own direction's cell, a lane a point (the batched lighting's part across the
+ * horizon and wide lobes); each equal bit for bit to the scalar lookup of one map
+ * (sl_shadow_sky_map_visibility, which the GLSL twin mirrors and trace reports). */
 #include "sky.h"
 
 #include <math.h>
