@@ -1127,20 +1127,12 @@ vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
 {
     return specular_env_lights(u, N, V, Ks, alpha, NULL);
 }
-void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
+void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis)
 {
     /* env_light_visibility's values, each light's picked by its slot (envLightVisSlot) in one
      * vector loop of compares and selects (a gather from the slots is slower) instead of a branch
      * a light: a light past the count is 0, one no map covers 1. Only as far as the batched
      * loops read (shade_env_light_lanes), not all SL_ENV_LIGHTS_MAX. */
-    const sl_shadow_suns *m = u->envShadowMaps;
-    float map_vis[SL_SHADOW_SUN_MAX] = {0.0f};
-    for (int k = 0; k < m->count; k++)
-        map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
-    sl_shade_env_light_visibility_of(u, map_vis, vis);
-}
-void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis)
-{
     _Static_assert(SL_SHADOW_SUN_MAX == 4, "a select per map below");
     const int lanes = shade_env_light_lanes(u);
     /* held before the loop: read through the pointer in it, clang does not vectorize the loop */

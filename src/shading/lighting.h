@@ -211,7 +211,7 @@ typedef struct {
      * visibility slot */
     sl_env_light_groups envLightGroups;
     /* each light's visibility slot: its map (0 .. count - 1), SL_SHADOW_SUN_MAX for none (1),
-     * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility */
+     * SL_SHADOW_SUN_MAX + 1 past the count (0): sl_shade_env_light_visibility_of */
     unsigned char envLightVisSlot[SL_ENV_LIGHTS_MAX];
     /* the sky visibility maps (NULL: none), the diffuse irradiance times their V
      * (sl_shadow_sky_visibility) and the specular's part across the horizon times one map's

@@ -1346,12 +1346,11 @@ typedef struct {
     float bg_r[SPAN], bg_g[SPAN], bg_b[SPAN]; /* background(), for the empty pixels */
 } pixel_block;
 
-/* The span's pixels that a shadow map is read for, packed (the lanes lookups cost the same for a
- * pixel that needs nothing): each one's position and normal as pixel_block holds them, and which
- * pixel it is. */
+/* The span's pixels that a shadow or sky map is read for, packed (a lanes lookup costs the same
+ * for a pixel that needs nothing): each one's position and normal as pixel_block holds them, and
+ * which pixel it is. */
 typedef struct {
     float px[SPAN], py[SPAN], pz[SPAN], nx[SPAN], ny[SPAN], nz[SPAN];
-    int read[SPAN]; /* all 1: every packed point is looked up */
     int pixel[SPAN];
     int n;
 } shadow_points;
@@ -1362,7 +1361,6 @@ static void shadow_points_add(shadow_points *s, const pixel_block *p, int i)
     const int k = s->n++;
     s->px[k] = p->Px[i], s->py[k] = p->Py[i], s->pz[k] = p->Pz[i];
     s->nx[k] = p->Nx[i], s->ny[k] = p->Ny[i], s->nz[k] = p->Nz[i];
-    s->read[k] = 1;
     s->pixel[k] = i;
 }
 
@@ -1774,7 +1772,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
             if (lit.n > 0) {
                 float vis[SPAN];
                 sl_shadow_point_visibility_lanes(u->shadowMaps, l, lit.n, lit.px, lit.py, lit.pz, lit.nx, lit.ny,
-                                                 lit.nz, lit.read, vis);
+                                                 lit.nz, vis);
                 for (int k = 0; k < lit.n; k++) { /* scale(light, v) */
                     const int i = lit.pixel[k];
                     Lr[i] = Lr[i] * vis[k], Lg[i] = Lg[i] * vis[k], Lb[i] = Lb[i] * vis[k];
@@ -1873,7 +1871,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
         for (int k = 0; k < u->envShadowMaps->count; k++) {
             float vis[SPAN];
             sl_shadow_sun_visibility_lanes(u->envShadowMaps, k, seen.n, seen.px, seen.py, seen.pz, seen.nx, seen.ny,
-                                           seen.nz, seen.read, vis);
+                                           seen.nz, vis);
             for (int j = 0; j < seen.n; j++)
                 sun_vis[seen.pixel[j]][k] = vis[j];
         }

@@ -182,10 +182,9 @@ shade_env_light_split sl_shade_env_light_split(const sl_lighting_uniforms *u, ve
 bool sl_shade_env_light_near(const shade_env_light_split *split, vec3 l);
 void sl_shade_env_light_grid(const sl_lighting_uniforms *u, int j, const shade_env_light_split *split, int *rows,
                              int *cols);
-/* C only: each env light's shadow-map visibility from world P, N (shade_env_shadow.vis) */
-void sl_shade_env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis);
-/* The same from each map's visibility at the point (map_vis[k]: sl_shadow_sun_visibility of map
- * k, SL_SHADOW_SUN_MAX of them, those past the maps' count read and not used) */
+/* C only: each env light's shadow-map visibility at a point (shade_env_shadow.vis, as the port's
+ * env_light_visibility gives it) from each map's there (map_vis[k]: sl_shadow_sun_visibility of
+ * map k, SL_SHADOW_SUN_MAX of them, those past the maps' count read and not used) */
 void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis);
 /* point_light times the light's shadow-map visibility (1 without maps) */
 vec3 sl_shade_point_light(const sl_lighting_uniforms *u, int i, vec3 P, vec3 N, vec3 V, vec3 Kd, vec3 Ks, float alpha);
@@ -227,7 +226,7 @@ typedef struct {
 } shade_surface;
 
 /* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's
- * visibility (sl_shade_env_light_visibility; 0 past the count as far as the batched loops read,
+ * visibility (sl_shade_env_light_visibility_of; 0 past the count as far as the batched loops read,
  * shade_env_light_lanes, and unset beyond), and the batched path's specular
  * sum over the lights, each times its visibility; with `diffuse_given` the batched path has also
  * taken the lights' part out of the E it passes and summed their diffuse times the visibility

@@ -662,12 +662,11 @@ __attribute__((always_inline)) static inline float sun_row(const float *depth, b
 /* sl_shadow_sun_visibility for `count` points (count <= SL_SHADOW_LANES) in one vector loop,
  * a lane a point: its operations in its order, its early returns as a `read` mask and floorf by
  * truncation (exact below 2^24; it vectorizes where floorf does not), so each value is its bits.
- * A lane not read (not covered, facing away from the lights, off the map) is 1 and reads no
- * texel; its indices are clamped onto the map all the same, from coordinates held within 1e7
- * (NaN too), so nothing undefined is computed. */
+ * A lane not read (facing away from the lights, off the map) is 1 and reads no texel; its
+ * indices are clamped onto the map all the same, from coordinates held within 1e7 (NaN too), so
+ * nothing undefined is computed. */
 void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
-                                    const float *pz, const float *nx, const float *ny, const float *nz,
-                                    const int *covered, float *vis)
+                                    const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
 {
     if (s < 0 || s >= m->count) {
         for (int i = 0; i < count; i++)
@@ -713,7 +712,7 @@ void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, c
         const bool downx = ftx > ux, downy = fty > uy;
         const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
         const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-        const bool read = (covered[i] != 0) & (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+        const bool read = (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
         const float tx = ux - fx, ty = uy - fy;
         const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
         const float gy = -(nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_) / na;
@@ -771,7 +770,7 @@ __attribute__((always_inline)) static inline float cube_row(const float *block, 
  * texel; its coordinates are held within 1e7 (NaN too) and its indices clamped onto the face. */
 void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int count, const float *px,
                                       const float *py, const float *pz, const float *nx, const float *ny,
-                                      const float *nz, const int *covered, float *vis)
+                                      const float *nz, float *vis)
 {
     if (light < 0 || light >= m->count || !m->cubes[light].casts) {
         for (int i = 0; i < count; i++)
@@ -813,7 +812,7 @@ void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int co
         const float ux = (proj * (qx * frx[f] + qy * fry[f] + qz * frz[f]) / z + 1.0f) * 0.5f * sidef - 0.5f;
         const float uy = (proj * (qx * fux[f] + qy * fuy[f] + qz * fuz[f]) / z + 1.0f) * 0.5f * sidef - 0.5f;
         qxs[i] = qx, qys[i] = qy, qzs[i] = qz, texels[i] = texel, faces[i] = f;
-        seen[i] = (covered[i] != 0) & (dist2 > 0.0f) & (z > 0.0f);
+        seen[i] = (dist2 > 0.0f) & (z > 0.0f);
         uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
         uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }

@@ -1,10 +1,12 @@
 /* test_shadow_lanes.c - the shadow maps' lookups made for a run of points at once, a SIMD lane a
- * point, which the batched lighting reads: sl_shadow_sun_visibility_lanes against the one-point
- * lookup sl_shadow_sun_visibility that the port, the trace and the GLSL twin mirror, bit for bit,
- * for thousands of points of a small scene (a floor, a sphere and a box) under two orthographic
- * maps, one steep and one low: on the surfaces (in the shadows, on their edges, on slopes, edge-on
- * to a map), anywhere about the scene with any normal, and odd points (off the map, huge, NaN);
- * every count of lanes from 1 to SL_SHADOW_LANES; a lane not covered is 1. */
+ * point, which the batched lighting reads: sl_shadow_sun_visibility_lanes and
+ * sl_shadow_point_visibility_lanes against the one-point lookups sl_shadow_sun_visibility and
+ * sl_shadow_point_visibility that the port, the trace and the GLSL twin mirror, bit for bit, for
+ * thousands of points of a small scene (a floor, a sphere and a box) under two orthographic maps,
+ * one steep and one low, and two point lights' cube maps, one over the scene and one low beside
+ * the box: on the surfaces (in the shadows, on their edges, on slopes, edge-on to a map), anywhere
+ * about the scene with any normal (every face of a cube), and odd points (off a map, huge, NaN, at
+ * a light); in runs of every length from 1 to SL_SHADOW_LANES. */
 #include "shading_fixtures.h"
 
 #include "raster/raster.h"
@@ -40,7 +42,6 @@ static vec3 rnd_dir(void)
 typedef struct {
     float px[SL_SHADOW_LANES], py[SL_SHADOW_LANES], pz[SL_SHADOW_LANES];
     float nx[SL_SHADOW_LANES], ny[SL_SHADOW_LANES], nz[SL_SHADOW_LANES];
-    int covered[SL_SHADOW_LANES];
     float expect[SL_SHADOW_LANES];
     int n, size; /* points held; the run's length that flushes them */
 } batch;
@@ -63,10 +64,9 @@ static void flush(const maps *m, batch *b)
         return;
     float vis[SL_SHADOW_LANES];
     if (m->suns)
-        sl_shadow_sun_visibility_lanes(m->suns, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, b->covered, vis);
+        sl_shadow_sun_visibility_lanes(m->suns, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, vis);
     else
-        sl_shadow_point_visibility_lanes(m->cubes, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, b->covered,
-                                         vis);
+        sl_shadow_point_visibility_lanes(m->cubes, m->s, b->n, b->px, b->py, b->pz, b->nx, b->ny, b->nz, vis);
     for (int i = 0; i < b->n; i++)
         if (memcmp(&vis[i], &b->expect[i], sizeof vis[i]) != 0)
             fail_msg("%s %d, lane %d of %d, P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): lanes %.9g, one point %.9g",
@@ -76,16 +76,13 @@ static void flush(const maps *m, batch *b)
     b->size = b->size % SL_SHADOW_LANES + 1; /* every run length in turn */
 }
 
-/* One point joins the batch; a point not covered (every 7th) must come back 1. Returns the
- * one-point lookup's value. */
+/* One point joins the batch. Returns the one-point lookup's value. */
 static float add_point(const maps *m, batch *b, vec3 P, vec3 N)
 {
     const int i = b->n;
-    const bool covered = (b->size + i) % 7 != 0;
     b->px[i] = P.x, b->py[i] = P.y, b->pz[i] = P.z, b->nx[i] = N.x, b->ny[i] = N.y, b->nz[i] = N.z;
-    b->covered[i] = covered;
     const float v = one_point(m, P, N);
-    b->expect[i] = covered ? v : 1.0f;
+    b->expect[i] = v;
     if (++b->n == b->size)
         flush(m, b);
     return v;
