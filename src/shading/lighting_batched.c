@@ -396,8 +396,11 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
 
 /* The samples among m (directions w, contributions c) that lie across the horizon from h's R
  * (shade_horizon_across) to h, and +0 in their place, which leaves every partial sum's bits as
- * they are. Counted first in one vector loop, so that a lobe on one side of the
- * horizon (most) skips the rest; out of line, so that the estimators' loops keep their size. */
+ * they are. Those that add something are counted first in one vector loop, so that a lobe on one
+ * side of the horizon (most) skips the rest, and so does a floor's, whose samples across are
+ * those below its own horizon, 0 already: moved, they would add 0 to the part and to its
+ * direction, which leaves their bits as they are. Out of line, so that the estimators' loops keep
+ * their size. */
 __attribute__((noinline)) static void horizon_split(shade_horizon *h, const float *wx, const float *wy,
                                                     const float *wz, float *cr, float *cg, float *cb, int m)
 {
@@ -405,7 +408,7 @@ __attribute__((noinline)) static void horizon_split(shade_horizon *h, const floa
     int across = 0;
 #pragma omp simd reduction(+ : across)
     for (int i = 0; i < m; i++)
-        across += (wz[i] >= 0.0f) != sky;
+        across += ((wz[i] >= 0.0f) != sky) & ((cr[i] != 0.0f) | (cg[i] != 0.0f) | (cb[i] != 0.0f));
     if (across == 0)
         return;
     /* shade_horizon_add's sums, vectorized (its order is the port's, sample by sample; these
