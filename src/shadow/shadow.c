@@ -659,14 +659,15 @@ __attribute__((always_inline)) static inline float sun_row(const float *depth, b
     return rv;
 }
 
-/* sl_shadow_sun_visibility for `count` points (count <= SL_SHADOW_LANES) in one vector loop,
+/* sl_shadow_sun_visibility for `count` points (at most SL_SHADOW_LANES) in one vector loop,
  * a lane a point: its operations in its order, its early returns as a `read` mask and floorf by
  * truncation (exact below 2^24; it vectorizes where floorf does not), so each value is its bits.
  * A lane not read (facing away from the lights, off the map) is 1 and reads no texel; its
  * indices are clamped onto the map all the same, from coordinates held within 1e7 (NaN too), so
  * nothing undefined is computed. */
-void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
-                                    const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
+__attribute__((noinline)) /* inlined into its caller's loop, clang does not vectorize it */
+static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
+                               const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
 {
     if (s < 0 || s >= m->count) {
         for (int i = 0; i < count; i++)
@@ -763,14 +764,14 @@ __attribute__((always_inline)) static inline float cube_row(const float *block, 
     return rv;
 }
 
-/* sl_shadow_point_visibility for `count` points in vector loops, a lane a point, as
- * sl_shadow_sun_visibility_lanes does it: its operations in its order (major_face as selects, the
+/* sl_shadow_point_visibility for `count` points (at most SL_SHADOW_LANES) in vector loops, a lane
+ * a point, as sun_visibility_run does it: its operations in its order (major_face as selects, the
  * face's frame from a table), its early returns as a `read` mask, floorf by truncation, the six
  * faces read through the cube's block; each value its bits. A lane not read is 1 and reads no
  * texel; its coordinates are held within 1e7 (NaN too) and its indices clamped onto the face. */
-void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int count, const float *px,
-                                      const float *py, const float *pz, const float *nx, const float *ny,
-                                      const float *nz, float *vis)
+__attribute__((noinline)) /* as sun_visibility_run */
+static void point_visibility_run(const sl_shadow_maps *m, int light, int count, const float *px, const float *py,
+                                 const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
 {
     if (light < 0 || light >= m->count || !m->cubes[light].casts) {
         for (int i = 0; i < count; i++)
@@ -791,7 +792,7 @@ void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int co
     const float step = 2.0f / (sidef * proj), edge = 1.0f / proj;
     const float scale_rel = 1.0f + SHADOW_DEPTH_REL;
     /* the place (q, its face, depth and texel coordinates), then the taps: two loops, as in
-     * sl_shadow_sun_visibility_lanes */
+     * sun_visibility_run */
     float qxs[SL_SHADOW_LANES], qys[SL_SHADOW_LANES], qzs[SL_SHADOW_LANES];
     float texels[SL_SHADOW_LANES], uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES];
     int faces[SL_SHADOW_LANES], seen[SL_SHADOW_LANES];
@@ -860,4 +861,22 @@ void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int co
     for (int i = 0; i < count; i++) /* through a local array: clang does not vectorize the loop
                                        storing through a pointer beside the maps' gathers */
         vis[i] = out[i];
+}
+
+/* The lanes lookups of any number of points: runs of at most SL_SHADOW_LANES, each in one loop. */
+void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
+                                    const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
+{
+    for (int i = 0; i < count; i += SL_SHADOW_LANES)
+        sun_visibility_run(m, s, count - i < SL_SHADOW_LANES ? count - i : SL_SHADOW_LANES, px + i, py + i, pz + i,
+                           nx + i, ny + i, nz + i, vis + i);
+}
+
+void sl_shadow_point_visibility_lanes(const sl_shadow_maps *m, int light, int count, const float *px,
+                                      const float *py, const float *pz, const float *nx, const float *ny,
+                                      const float *nz, float *vis)
+{
+    for (int i = 0; i < count; i += SL_SHADOW_LANES)
+        point_visibility_run(m, light, count - i < SL_SHADOW_LANES ? count - i : SL_SHADOW_LANES, px + i, py + i,
+                             pz + i, nx + i, ny + i, nz + i, vis + i);
 }

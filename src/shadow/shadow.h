@@ -228,15 +228,15 @@ bool sl_shadow_face_view_proj(const sl_scene *scene, vec3 L, int f, mat4 *vp);
  * 1 lit, 0 shadowed, between on a filtered edge; 1 for a light without a map. */
 float sl_shadow_point_visibility(const sl_shadow_maps *maps, int i, vec3 P, vec3 N);
 #define SL_SHADOW_LANES 32 /* the most points of one lanes lookup (the batched lighting's span) */
-/* sl_shadow_point_visibility of light i at `count` points (count <= SL_SHADOW_LANES; world
- * positions px, py, pz, unit normals nx, ny, nz) at once, bit for bit, into vis. */
+/* sl_shadow_point_visibility of light i at `count` points (world positions px, py, pz, unit
+ * normals nx, ny, nz), SL_SHADOW_LANES at a time, bit for bit, into vis. */
 void sl_shadow_point_visibility_lanes(const sl_shadow_maps *maps, int i, int count, const float *px, const float *py,
                                       const float *pz, const float *nx, const float *ny, const float *nz, float *vis);
 /* Visibility of env-light map s (0 .. count - 1) from world point P with unit normal N: 1
  * lit, 0 shadowed; 1 for a normal facing away from the lights (they add nothing there). */
 float sl_shadow_sun_visibility(const sl_shadow_suns *suns, int s, vec3 P, vec3 N);
-/* sl_shadow_sun_visibility of map s at `count` points (count <= SL_SHADOW_LANES; world positions
- * px, py, pz, unit normals nx, ny, nz) at once, bit for bit, into vis. */
+/* sl_shadow_sun_visibility of map s at `count` points (world positions px, py, pz, unit normals
+ * nx, ny, nz), SL_SHADOW_LANES at a time, bit for bit, into vis. */
 void sl_shadow_sun_visibility_lanes(const sl_shadow_suns *suns, int s, int count, const float *px, const float *py,
                                     const float *pz, const float *nx, const float *ny, const float *nz, float *vis);
 

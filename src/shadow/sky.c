@@ -425,14 +425,15 @@ float sl_shadow_sky_visibility(const sl_shadow_sky *sky, vec3 P, vec3 N, float *
 int sl_shadow_sky_cell(const sl_shadow_sky *sky, vec3 d) { return nearest_site(sky->site, sky->count, d); }
 
 /* sl_shadow_sky_map_visibility of each point's own map, that of the cell of a direction
- * (sl_shadow_sky_cell), for `count` points at once (count <= SL_SHADOW_LANES): the batched
+ * (sl_shadow_sky_cell), for `count` points (at most SL_SHADOW_LANES): the batched
  * lighting's part of the specular across the horizon and a wide lobe's map of R's cell. The
  * cells by nearest_site's loop with a lane a point (its sites in its order, those of the other
  * side of the horizon masked), the lookups by the lanes' bodies with each lane's map constants
  * gathered: each cell and value the one-point functions' bits (tests/unit/test_sky_maps.c). */
-void sl_shadow_sky_cell_visibility_lanes(const sl_shadow_sky *sky, int count, const float *dx, const float *dy,
-                                         const float *dz, const float *px, const float *py, const float *pz,
-                                         const float *nx, const float *ny, const float *nz, float *v)
+__attribute__((noinline)) /* inlined into its caller's loop, clang does not vectorize it */
+static void cell_visibility_run(const sl_shadow_sky *sky, int count, const float *dx, const float *dy,
+                                const float *dz, const float *px, const float *py, const float *pz, const float *nx,
+                                const float *ny, const float *nz, float *v)
 {
     enum { L = SL_SHADOW_LANES };
     if (!sky->block || sky->count <= 0) {
@@ -474,4 +475,14 @@ void sl_shadow_sky_cell_visibility_lanes(const sl_shadow_sky *sky, int count, co
         out[i] = lane_lookup(l, cell[i], sky->block, true, lane_place_load(&places, i), nx[i], ny[i], nz[i]);
     for (int i = 0; i < count; i++)
         v[i] = out[i];
+}
+
+/* Any number of points: runs of at most SL_SHADOW_LANES, each in one pass. */
+void sl_shadow_sky_cell_visibility_lanes(const sl_shadow_sky *sky, int count, const float *dx, const float *dy,
+                                         const float *dz, const float *px, const float *py, const float *pz,
+                                         const float *nx, const float *ny, const float *nz, float *v)
+{
+    for (int i = 0; i < count; i += SL_SHADOW_LANES)
+        cell_visibility_run(sky, count - i < SL_SHADOW_LANES ? count - i : SL_SHADOW_LANES, dx + i, dy + i, dz + i,
+                            px + i, py + i, pz + i, nx + i, ny + i, nz + i, v + i);
 }

@@ -138,9 +138,9 @@ typedef struct {
  * that faces none of them is skipped (tests/unit/test_sky_maps.c). */
 void sl_shadow_sky_visibility_points(const sl_shadow_sky *sky, const sl_shadow_sky_points *pts, float *V);
 
-/* For `count` points (count <= SL_SHADOW_LANES; directions d in environment space, world P and
- * unit N): sl_shadow_sky_map_visibility(sky, sl_shadow_sky_cell(sky, d), P, N), bit for bit,
- * into v. */
+/* For `count` points (directions d in environment space, world P and unit N), SL_SHADOW_LANES at
+ * a time: sl_shadow_sky_map_visibility(sky, sl_shadow_sky_cell(sky, d), P, N), bit for bit, into
+ * v. */
 void sl_shadow_sky_cell_visibility_lanes(const sl_shadow_sky *sky, int count, const float *dx, const float *dy,
                                          const float *dz, const float *px, const float *py, const float *pz,
                                          const float *nx, const float *ny, const float *nz, float *v);

@@ -6,7 +6,7 @@
  * one steep and one low, and two point lights' cube maps, one over the scene and one low beside
  * the box: on the surfaces (in the shadows, on their edges, on slopes, edge-on to a map), anywhere
  * about the scene with any normal (every face of a cube), and odd points (off a map, huge, NaN, at
- * a light); in runs of every length from 1 to SL_SHADOW_LANES. */
+ * a light); in runs of every length from 1 to SL_SHADOW_LANES, and one longer. */
 #include "shading_fixtures.h"
 
 #include "raster/raster.h"
@@ -135,6 +135,27 @@ static void check_scene(const maps *m)
                  partial, dark);
 }
 
+/* A run longer than the lanes (taken SL_SHADOW_LANES at a time): each value still the one-point
+ * lookup's. */
+static void check_long_run(const maps *m)
+{
+    enum { RUN = 2 * SL_SHADOW_LANES + 13 };
+    float px[RUN], py[RUN], pz[RUN], nx[RUN], ny[RUN], nz[RUN], vis[RUN];
+    for (int i = 0; i < RUN; i++) {
+        vec3 N = rnd_dir(), P = add(vec3(0.5f, 0, 1), N); /* the sphere */
+        px[i] = P.x, py[i] = P.y, pz[i] = P.z, nx[i] = N.x, ny[i] = N.y, nz[i] = N.z;
+    }
+    if (m->suns)
+        sl_shadow_sun_visibility_lanes(m->suns, m->s, RUN, px, py, pz, nx, ny, nz, vis);
+    else
+        sl_shadow_point_visibility_lanes(m->cubes, m->s, RUN, px, py, pz, nx, ny, nz, vis);
+    for (int i = 0; i < RUN; i++) {
+        float one = one_point(m, vec3(px[i], py[i], pz[i]), vec3(nx[i], ny[i], nz[i]));
+        if (memcmp(&one, &vis[i], sizeof one) != 0)
+            fail_msg("a run of %d, point %d: lanes %.9g, one point %.9g", RUN, i, vis[i], one);
+    }
+}
+
 static void scene_and_raster(sl_scene *scene, sl_raster **r)
 {
     sl_error err = {0};
@@ -158,8 +179,10 @@ static void test_sun_lanes_match_scalar(void **state)
     m.maps[1].dir = normalize(vec3(-0.9f, 0.2f, 0.12f)); /* low: long shadows, grazing floor */
     if (!sl_shadow_ortho_build(m.maps, m.count, 256, r, &scene, NULL, &err))
         fail_msg("%s", err.msg);
-    for (int s = 0; s < m.count; s++)
+    for (int s = 0; s < m.count; s++) {
         check_scene(&(maps){.suns = &m, .s = s});
+        check_long_run(&(maps){.suns = &m, .s = s});
+    }
     sl_shadow_suns_free(&m);
     sl_raster_destroy(r);
     sl_scene_free(&scene);
@@ -177,8 +200,10 @@ static void test_point_lanes_match_scalar(void **state)
     memset(&m, 0, sizeof m);
     if (!sl_shadow_build(&m, r, &scene, NULL, false, &err))
         fail_msg("%s", err.msg);
-    for (int s = 0; s < m.count; s++)
+    for (int s = 0; s < m.count; s++) {
         check_scene(&(maps){.cubes = &m, .s = s});
+        check_long_run(&(maps){.cubes = &m, .s = s});
+    }
     sl_shadow_free(&m);
     sl_raster_destroy(r);
     sl_scene_free(&scene);

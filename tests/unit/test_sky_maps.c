@@ -504,8 +504,8 @@ static void test_lobe_map(void **state)
 
 /* sl_shadow_sky_cell_visibility_lanes against sl_shadow_sky_map_visibility of
  * sl_shadow_sky_cell, bit for bit: points on and about the scene, directions any way (on the
- * horizon, NaN among them), runs of every length up to SL_SHADOW_LANES, for K = 32 and 7 (an odd
- * split) and 1 (one side alone). */
+ * horizon, NaN among them), runs of every length up to twice SL_SHADOW_LANES and more, for K = 32
+ * and 7 (an odd split) and 1 (one side alone). */
 static void test_cell_lanes_match_scalar(void **state)
 {
     (void)state;
@@ -523,10 +523,11 @@ static void test_cell_lanes_match_scalar(void **state)
         if (!sl_shadow_sky_build(&s, counts[c], &env, 15.0f, r, &scene, NULL, &err))
             fail_msg("%s", err.msg);
         int partial = 0;
-        for (int run = 0, n = 1; run < 2000; run++, n = n % SL_SHADOW_LANES + 1) {
-            float dx[SL_SHADOW_LANES], dy[SL_SHADOW_LANES], dz[SL_SHADOW_LANES], v[SL_SHADOW_LANES];
-            float px[SL_SHADOW_LANES], py[SL_SHADOW_LANES], pz[SL_SHADOW_LANES];
-            float nx[SL_SHADOW_LANES], ny[SL_SHADOW_LANES], nz[SL_SHADOW_LANES];
+        enum { MOST = 2 * SL_SHADOW_LANES + 5 }; /* runs longer than the lanes too */
+        for (int run = 0, n = 1; run < 2000; run++, n = n % MOST + 1) {
+            float dx[MOST], dy[MOST], dz[MOST], v[MOST];
+            float px[MOST], py[MOST], pz[MOST];
+            float nx[MOST], ny[MOST], nz[MOST];
             for (int i = 0; i < n; i++) {
                 vec3 d = rnd_dir(), N = rnd_dir();
                 vec3 P = i % 2 ? vec3(4.0f * rnd() - 2.0f, 4.0f * rnd() - 2.0f, 0.0f) : add(vec3(0.5f, 0, 1), N);
