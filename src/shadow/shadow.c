@@ -680,7 +680,7 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
     const float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
     const float ax = sun->axis.x, ay = sun->axis.y, az = sun->axis.z;
     const float rx = sun->right.x, ry = sun->right.y, rz = sun->right.z;
-    const float ux_ = sun->up.x, uy_ = sun->up.y, uz_ = sun->up.z;
+    const float upx = sun->up.x, upy = sun->up.y, upz = sun->up.z;
     const float x0 = sun->x0, y0 = sun->y0, stepx = sun->stepx, stepy = sun->stepy;
     const int size = sun->size, last = sun->size - 1;
     /* two loops, the place and then the taps (as sky.c's lanes: with the place's holding select
@@ -695,7 +695,7 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
         const float off = offset * sl_shadow_offset_share(na);
         const float qx = px[i] + nx[i] * off, qy = py[i] + ny[i] * off, qz = pz[i] + nz[i] * off;
         const float xq = qx * rx + qy * ry + qz * rz;
-        const float yq = qx * ux_ + qy * uy_ + qz * uz_;
+        const float yq = qx * upx + qy * upy + qz * upz;
         const float ux = (xq - x0) / stepx - 0.5f, uy = (yq - y0) / stepy - 0.5f;
         nas[i] = na;
         xqs[i] = xq;
@@ -716,7 +716,7 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
         const bool read = (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
         const float tx = ux - fx, ty = uy - fy;
         const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
-        const float gy = -(nx[i] * ux_ + ny[i] * uy_ + nz[i] * uz_) / na;
+        const float gy = -(nx[i] * upx + ny[i] * upy + nz[i] * upz) / na;
         /* sl_shadow_sun_visibility's taps: the columns and rows ix - 1 .. ix + 2 and iy - 1 ..
          * iy + 2, each column's and row's offset from q, and the box-tent weights */
         const float wx0 = (1.0f - tx) / 3.0f, wx3 = tx / 3.0f, wy0 = (1.0f - ty) / 3.0f, wy3 = ty / 3.0f;
@@ -841,8 +841,10 @@ static void point_visibility_run(const sl_shadow_maps *m, int light, int count, 
         const int c0 = sl_shadow_clamp_index(x0, last), c1 = sl_shadow_clamp_index(x0 + 1, last);
         const int c2 = sl_shadow_clamp_index(x0 + 2, last), c3 = sl_shadow_clamp_index(x0 + 3, last);
         const int base = f * face_texels;
-        const int r0 = base + sl_shadow_clamp_index(y0, last) * side, r1 = base + sl_shadow_clamp_index(y0 + 1, last) * side;
-        const int r2 = base + sl_shadow_clamp_index(y0 + 2, last) * side, r3 = base + sl_shadow_clamp_index(y0 + 3, last) * side;
+        const int r0 = base + sl_shadow_clamp_index(y0, last) * side;
+        const int r1 = base + sl_shadow_clamp_index(y0 + 1, last) * side;
+        const int r2 = base + sl_shadow_clamp_index(y0 + 2, last) * side;
+        const int r3 = base + sl_shadow_clamp_index(y0 + 3, last) * side;
         const float nx0 = nr * (cx0 + 0.0f * step), nx1 = nr * (cx0 + 1.0f * step);
         const float nx2 = nr * (cx0 + 2.0f * step), nx3 = nr * (cx0 + 3.0f * step);
         const float ny0 = na + nu * (cy0 + 0.0f * step), ny1 = na + nu * (cy0 + 1.0f * step);
