@@ -13,7 +13,7 @@ name, so DIR can move).
 """
 import json, math, os, struct, sys
 W, H = 1024, 512
-if len(sys.argv) != 2:
+if len(sys.argv) != 2 or sys.argv[1].startswith("-"):
     print("usage: check_environments.py DIR", file=sys.stderr)
     sys.exit(2)
 out = sys.argv[1]
