@@ -7,6 +7,7 @@
  * the box: on the surfaces (in the shadows, on their edges, on slopes, edge-on to a map), anywhere
  * about the scene with any normal (every face of a cube), and odd points (off a map, huge, NaN, at
  * a light); in runs of every length from 1 to SL_SHADOW_LANES, and one longer. */
+#include "occluder_points.h"
 #include "shading_fixtures.h"
 
 #include "raster/raster.h"
@@ -26,17 +27,7 @@ static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0
                            " \"lights\": [{\"position\": [1, -1, 5], \"shadow\": true},\n"
                            "            {\"position\": [-3, 2.5, 0.4], \"shadow\": true}]}";
 
-static uint32_t rng_state = 2024u;
-static float rnd(void) /* [0, 1) */
-{
-    rng_state = rng_state * 1664525u + 1013904223u;
-    return (float)(rng_state >> 8) / 16777216.0f;
-}
-static vec3 rnd_dir(void)
-{
-    float z = 2.0f * rnd() - 1.0f, phi = 2.0f * SL_PI * rnd(), r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
-    return vec3(r * cosf(phi), r * sinf(phi), z);
-}
+static fx_rng rng = {2024u};
 
 /* Points waiting for a lanes lookup, with the one-point lookup's value of each. */
 typedef struct {
@@ -96,25 +87,7 @@ static void check_scene(const maps *m)
     int partial = 0, dark = 0;
     for (int i = 0; i < 40000; i++) {
         vec3 P, N;
-        float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
-        switch (i % 4) {
-        case 0: /* the floor, normal up (tilted now and then) */
-            P = vec3(4.0f * u, 4.0f * v, 0.0f);
-            N = i % 8 ? vec3(0, 0, 1) : normalize(add(vec3(0, 0, 1), scale(rnd_dir(), 0.3f)));
-            break;
-        case 1: /* the sphere */
-            N = rnd_dir();
-            P = add(vec3(0.5f, 0, 1), N);
-            break;
-        case 2: /* anywhere about the scene, any way */
-            P = vec3(5.0f * u, 5.0f * v, 3.0f * rnd() - 0.5f);
-            N = rnd_dir();
-            break;
-        default: /* the box's sides and the floor by it, normals near the horizon */
-            P = vec3(-1.5f + 1.5f * u, 1.0f + 2.0f * v, 0.0f);
-            N = normalize(vec3(u, v, 0.02f * rnd()));
-            break;
-        }
+        fx_occluder_point(&rng, i, &P, &N);
         float vis = add_point(m, &b, P, N);
         partial += vis > 0.0f && vis < 1.0f;
         dark += vis == 0.0f;
@@ -124,7 +97,7 @@ static void check_scene(const maps *m)
                           vec3(INFINITY, 0, 0), vec3(0, -INFINITY, 0), vec3(1, -1, 5), vec3(-3, 2.5f, 0.4f)};
     for (size_t p = 0; p < sizeof odd_P / sizeof odd_P[0]; p++) {
         for (int j = 0; j < 20; j++)
-            add_point(m, &b, odd_P[p], rnd_dir());
+            add_point(m, &b, odd_P[p], fx_rnd_dir(&rng));
         add_point(m, &b, odd_P[p], vec3(0, 0, 1));
     }
     add_point(m, &b, vec3(0, 0, 0), vec3(NAN, 0, 0));
@@ -142,7 +115,7 @@ static void check_long_run(const maps *m)
     enum { RUN = 2 * SL_SHADOW_LANES + 13 };
     float px[RUN], py[RUN], pz[RUN], nx[RUN], ny[RUN], nz[RUN], vis[RUN];
     for (int i = 0; i < RUN; i++) {
-        vec3 N = rnd_dir(), P = add(vec3(0.5f, 0, 1), N); /* the sphere */
+        vec3 N = fx_rnd_dir(&rng), P = add(vec3(0.5f, 0, 1), N); /* the sphere */
         px[i] = P.x, py[i] = P.y, pz[i] = P.z, nx[i] = N.x, ny[i] = N.y, nz[i] = N.z;
     }
     if (m->suns)

@@ -19,6 +19,7 @@
  * texels over a floor 160 units wide reads hidden in every steep ground map. A run of points'
  * lookups each in the map of its own direction's cell (sl_shadow_sky_cell_visibility_lanes) equal
  * the one-point functions' bits. */
+#include "occluder_points.h"
 #include "shading_fixtures.h"
 
 #include <stdio.h>
@@ -46,17 +47,9 @@ static vec3 sky(vec3 d)
     return vec3(0.2f + up + sun, 0.25f + up + sun, 0.3f + 1.5f * up + sun);
 }
 
-static uint32_t rng_state = 12345u;
-static float rnd(void) /* [0, 1) */
-{
-    rng_state = rng_state * 1664525u + 1013904223u;
-    return (float)(rng_state >> 8) / 16777216.0f;
-}
-static vec3 rnd_dir(void)
-{
-    float z = 2.0f * rnd() - 1.0f, phi = 2.0f * SL_PI * rnd(), r = sqrtf(fmaxf(1.0f - z * z, 0.0f));
-    return vec3(r * cosf(phi), r * sinf(phi), z);
-}
+static fx_rng rng = {12345u};
+static float rnd(void) { return fx_rnd(&rng); } /* [0, 1) */
+static vec3 rnd_dir(void) { return fx_rnd_dir(&rng); }
 
 /* The reference: V from the scalar lookup, map by map (sky.h's formula, in k order). */
 static float reference(const sl_shadow_sky *s, vec3 P, vec3 N, float *each)
@@ -159,25 +152,7 @@ static void test_lanes_match_scalar(void **state)
         point_batch batch = {.n = 0};
         for (int i = 0; i < 60000; i++) {
             vec3 P, N;
-            float u = 2.0f * rnd() - 1.0f, v = 2.0f * rnd() - 1.0f;
-            switch (i % 4) {
-            case 0: /* the floor, normal up (tilted a little now and then) */
-                P = vec3(4.0f * u, 4.0f * v, 0.0f);
-                N = i % 8 ? vec3(0, 0, 1) : normalize(add(vec3(0, 0, 1), scale(rnd_dir(), 0.3f)));
-                break;
-            case 1: /* the sphere */
-                N = rnd_dir();
-                P = add(vec3(0.5f, 0, 1), N);
-                break;
-            case 2: /* anywhere about the scene, any way */
-                P = vec3(5.0f * u, 5.0f * v, 3.0f * rnd() - 0.5f);
-                N = rnd_dir();
-                break;
-            default: /* the floor by the box, normals near the horizon (edge-on to some maps) */
-                P = vec3(-1.5f + 1.5f * u, 1.0f + 2.0f * v, 0.0f);
-                N = normalize(vec3(u, v, 0.02f * rnd()));
-                break;
-            }
+            fx_occluder_point(&rng, i, &P, &N);
             check(&s, &batch, P, N, &partial, &checked);
         }
         /* off every map, huge, non-finite */
@@ -510,17 +485,12 @@ static void test_cell_lanes_match_scalar(void **state)
 {
     (void)state;
     sl_error err = {0};
-    sl_scene scene;
-    sl_env env;
-    scene_and_env(&scene, &env);
-    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 1}, &err);
-    if (!r)
-        fail_msg("%s", err.msg);
-    sl_shadow_sky s;
-    memset(&s, 0, sizeof s);
+    static drawn_maps m;
+    draw_maps(&m);
+    sl_shadow_sky *s = &m.sky;
     const int counts[] = {32, 7, 1};
     for (int c = 0; c < 3; c++) {
-        if (!sl_shadow_sky_build(&s, counts[c], &env, 15.0f, r, &scene, NULL, &err))
+        if (!sl_shadow_sky_build(s, counts[c], &m.env, 15.0f, m.raster, &m.scene, NULL, &err))
             fail_msg("%s", err.msg);
         int partial = 0;
         enum { MOST = 2 * SL_SHADOW_LANES + 5 }; /* runs longer than the lanes too */
@@ -540,10 +510,10 @@ static void test_cell_lanes_match_scalar(void **state)
                 dx[i] = d.x, dy[i] = d.y, dz[i] = d.z, px[i] = P.x, py[i] = P.y, pz[i] = P.z;
                 nx[i] = N.x, ny[i] = N.y, nz[i] = N.z;
             }
-            sl_shadow_sky_cell_visibility_lanes(&s, n, dx, dy, dz, px, py, pz, nx, ny, nz, v);
+            sl_shadow_sky_cell_visibility_lanes(s, n, dx, dy, dz, px, py, pz, nx, ny, nz, v);
             for (int i = 0; i < n; i++) {
                 vec3 d = vec3(dx[i], dy[i], dz[i]), P = vec3(px[i], py[i], pz[i]), N = vec3(nx[i], ny[i], nz[i]);
-                float one = sl_shadow_sky_map_visibility(&s, sl_shadow_sky_cell(&s, d), P, N);
+                float one = sl_shadow_sky_map_visibility(s, sl_shadow_sky_cell(s, d), P, N);
                 if (memcmp(&one, &v[i], sizeof one) != 0)
                     fail_msg("K %d, lane %d of %d, d (%.9g %.9g %.9g) P (%.9g %.9g %.9g) N (%.9g %.9g %.9g): lanes "
                              "%.9g, one point %.9g",
@@ -554,10 +524,7 @@ static void test_cell_lanes_match_scalar(void **state)
         if (partial < 100)
             fail_msg("K %d: only %d lookups partly hidden", counts[c], partial);
     }
-    sl_shadow_sky_free(&s);
-    sl_raster_destroy(r);
-    sl_env_free(&env);
-    sl_scene_free(&scene);
+    free_maps(&m);
 }
 
 int main(void)
