@@ -1,6 +1,6 @@
-/* occluder_points.h - points on and about the occluder scene the shadow and sky-map lookup tests
- * draw their maps over (a floor 8 units wide, a unit sphere standing on it at (0.5, 0, 1), a box
- * at (-1.5, 1)), each with a normal: the floor's, the sphere's, anywhere any way, and the floor by
+/* occluder_points.h - the occluder scene the shadow and sky-map lookup tests draw their maps over
+ * (FX_OCCLUDER_SCENE: a floor 8 units wide, a unit sphere standing on it at (0.5, 0, 1), a box at
+ * (-1.5, 1)), and points on and about it, each with a normal: the floor's, the sphere's, anywhere any way, and the floor by
  * the box edge-on; from a seeded generator of the tests' own, so a test's points are the same on
  * every run. Header-only (static inline functions): each test executable is one translation
  * unit. */
@@ -11,6 +11,19 @@
 #include <stdint.h>
 
 #include "softlight/glsl.h"
+
+/* The scene's text up to its objects' closing bracket: a test closes it ("}") or adds keys first
+ * (lights). */
+#define FX_OCCLUDER_SCENE \
+    "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n" \
+    " \"environment\": {\"hdr\": \"none.hdr\"},\n" \
+    " \"materials\": {\"m\": {\"kd\": 0.5}},\n" \
+    " \"objects\": [\n" \
+    "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [4, 4, 1]}},\n" \
+    "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0.5, 0, 1]}},\n" \
+    "  {\"shape\": \"box\", \"material\": \"m\", \"transform\": {\"translate\": [-1.5, 1, 0.5]," \
+    " \"rotate\": [0, 0, 1, 30], \"scale\": [0.5, 1.5, 1]}}\n" \
+    " ]"
 
 /* The generator's state (a linear congruential generator: the same sequence on every machine). */
 typedef struct {

@@ -14,15 +14,7 @@
 #include "scene/scene.h"
 #include "shadow/shadow.h"
 
-static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n"
-                           " \"environment\": {\"hdr\": \"none.hdr\"},\n"
-                           " \"materials\": {\"m\": {\"kd\": 0.5}},\n"
-                           " \"objects\": [\n"
-                           "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [4, 4, 1]}},\n"
-                           "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0.5, 0, 1]}},\n"
-                           "  {\"shape\": \"box\", \"material\": \"m\", \"transform\": {\"translate\": [-1.5, 1, 0.5],"
-                           " \"rotate\": [0, 0, 1, 30], \"scale\": [0.5, 1.5, 1]}}\n"
-                           " ],\n"
+static const char *SCENE = FX_OCCLUDER_SCENE ",\n"
                            /* over the scene, and low beside the box (long shadows across the floor) */
                            " \"lights\": [{\"position\": [1, -1, 5], \"shadow\": true},\n"
                            "            {\"position\": [-3, 2.5, 0.4], \"shadow\": true}]}";

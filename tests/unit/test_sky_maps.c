@@ -29,15 +29,7 @@
 #include "shading/lighting_internal.h"
 #include "shadow/sky.h"
 
-static const char *SCENE = "{\"camera\": {\"eye\": [0, -8, 3], \"target\": [0, 0, 0.5]},\n"
-                           " \"environment\": {\"hdr\": \"none.hdr\"},\n"
-                           " \"materials\": {\"m\": {\"kd\": 0.5}},\n"
-                           " \"objects\": [\n"
-                           "  {\"shape\": \"plane\", \"material\": \"m\", \"transform\": {\"scale\": [4, 4, 1]}},\n"
-                           "  {\"shape\": \"sphere\", \"material\": \"m\", \"transform\": {\"translate\": [0.5, 0, 1]}},\n"
-                           "  {\"shape\": \"box\", \"material\": \"m\", \"transform\": {\"translate\": [-1.5, 1, 0.5],"
-                           " \"rotate\": [0, 0, 1, 30], \"scale\": [0.5, 1.5, 1]}}\n"
-                           " ]}";
+static const char *SCENE = FX_OCCLUDER_SCENE "}";
 
 /* brighter upward, a dim ground, a sun: every cell weighs something, unevenly */
 static vec3 sky(vec3 d)
