@@ -1864,8 +1864,9 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
     /* with the env lights' shadow maps, each map's visibility for the span's covered pixels in
      * one vector loop (sl_shadow_sun_visibility_lanes: the bits of the port's lookup), read per
      * pixel below; SPAN x SL_SHADOW_SUN_MAX, pixel-major */
-    float sun_vis[SPAN][SL_SHADOW_SUN_MAX] = {{0.0f}};
+    float sun_vis[SPAN][SL_SHADOW_SUN_MAX]; /* read only with the maps, and then set */
     if (shadowed && empty < count) {
+        memset(sun_vis, 0, sizeof sun_vis); /* the slots past the maps' count: read, not used */
         shadow_points seen;
         seen.n = 0;
         for (int i = 0; i < count; i++)
