@@ -232,6 +232,9 @@ uniform vec3 uShadowSunUp[SHADOW_SUN_MAX];
 uniform vec4 uShadowSunBox[SHADOW_SUN_MAX];
 uniform vec2 uShadowSunDepth[SHADOW_SUN_MAX];
 uniform int uEnvLightSun[MAX_ENV_LIGHTS];
+uniform int uEnvGlowCount;               // with the env lights' maps, their count
+uniform vec4 uEnvGlow[SHADOW_SUN_MAX];   // map k's glow: .xyz its direction (environment space),
+                                         // .w the cosine of the cap its samples lie in
 const int SKY_MAPS_MAX = 64;
 uniform sampler2DArray uSkyMaps;
 uniform int uSkyMapCount;
@@ -991,6 +994,24 @@ void horizon_add(vec3 w, vec3 c)
     gHorizonDir = gHorizonDir + w * abs(dot(c, vec3(0.2126, 0.7152, 0.0722)));
 }
 
+// A sun's glow (src/shading/lighting_internal.h shade_glow says why): with the env lights' maps,
+// a sample whose w lies in a map's glow is times that map's visibility before it is summed.
+int gGlowCount;                     // the maps whose glow applies (0: none)
+float gGlowVis[SHADOW_SUN_MAX];     // each map's visibility from the pixel's point (env_light_visibility)
+
+void glow_for(bool envShadow)
+{
+    gGlowCount = envShadow ? uEnvGlowCount : 0;
+}
+
+vec3 glow(vec3 w, vec3 c)
+{
+    for (int k = 0; k < gGlowCount; k++)
+        if (dot(w, uEnvGlow[k].xyz) >= uEnvGlow[k].w)
+            return c * gGlowVis[k];
+    return c;
+}
+
 // Specular IBL, eq. (3): N, V unit in environment space, N.V >= MIN_NDOTV.
 vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
 {
@@ -1022,7 +1043,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float weight = G * wN / 4.0;
         if (uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
-        vec3 c = F * Li * weight;
+        vec3 c = glow(w, F * Li * weight);
         if (horizon_across(w))
             horizon_add(w, c);
         else
@@ -1205,6 +1226,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         vec3 c = wN > 0.0 ? F * Li * weight : vec3(0.0);
         if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
             c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf);
+        c = glow(w, c);
         if (horizon_across(w))
             horizon_add(w, c);
         else
@@ -1337,6 +1359,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf * mis);
+            c = glow(w, c);
             if (horizon_across(w))
                 horizon_add(w, c);
             else
@@ -1363,6 +1386,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(we, cv.dir)) / e.w * mis);
+            c = glow(we, c);
             if (horizon_across(we))
                 horizon_add(we, c);
             else
@@ -1656,12 +1680,14 @@ vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, fl
 float shadow_sun_visibility(int s, vec3 P, vec3 N);
 
 // Each env light's visibility from world point P with normal N: that of its map, 1 for a light
-// no map covers, 0 past the count. One lookup per map.
+// no map covers, 0 past the count, and each map's in gGlowVis (glow). One lookup per map.
 void env_light_visibility(vec3 P, vec3 N, out float vis[MAX_ENV_LIGHTS])
 {
     float map_vis[SHADOW_SUN_MAX];
     for (int k = 0; k < uShadowSunCount; k++)
         map_vis[k] = shadow_sun_visibility(k, P, N);
+    for (int k = 0; k < SHADOW_SUN_MAX; k++) // the glow's (glow)
+        gGlowVis[k] = k < uShadowSunCount ? map_vis[k] : 0.0;
     for (int j = 0; j < MAX_ENV_LIGHTS; j++) {
         int k = j < uEnvLightCount ? uEnvLightSun[j] : -2;
         vis[j] = k >= 0 ? map_vis[k] : k == -1 ? 1.0 : 0.0;
@@ -2027,6 +2053,7 @@ void main()
             if (uSpecular != 0) {
                 vec3 spec;
                 horizon_for(Nenv, Venv);
+                glow_for(envShadow);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)
@@ -2078,6 +2105,7 @@ void main()
             if (uSpecular != 0) {
                 vec3 spec;
                 horizon_for(Nenv, Venv);
+                glow_for(envShadow);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
                 else if (uEstimator == ESTIMATOR_MICROFACET)

@@ -476,6 +476,10 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++)
         sun_of[j] = suns && j < suns->env_light_count ? suns->env_light_sun[j] : -1;
     glUniform1iv(loc(p, "uEnvLightSun"), SL_ENV_LIGHTS_MAX, sun_of);
+    /* the maps' glows: the C uniforms' (a GL draw shadows the lights where and only where the C
+     * side has maps: shadows_agree) */
+    glUniform1i(loc(p, "uEnvGlowCount"), count > 0 ? u->uEnvGlowCount : 0);
+    glUniform4fv(loc(p, "uEnvGlow"), SL_SHADOW_SUN_MAX, &u->uEnvGlow[0].x);
     /* the sky visibility maps: src/shadow/sky.c's frames, weights and cells' sites as they are */
     const sl_shadow_sky *sky = shadows && u->skyMaps ? &shadows->sky_frames : NULL;
     int sky_count = sky ? sky->count : 0;

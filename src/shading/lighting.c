@@ -212,6 +212,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         if (u->uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = scale(mul(F, Li), weight);
+        c = shade_glow(h, w, c);
         bool across = shade_horizon_across(h, w);
         if (across)
             shade_horizon_add(h, w, c);
@@ -220,7 +221,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .H = H, .NdotH = NdotH,
                                                  .LdotH = LdotH, .D = D, .F = F, .G = G, .lod = lod, .Li = Li, .c = c,
-                                                 .across = across, .sum = sum});
+                                                 .across = across, .glow = shade_glow_map(h, w) + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -315,6 +316,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
             kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
             c = sub(c, scale(mul(cv->scale, Li), kp));
         }
+        c = shade_glow(h, w, c);
         bool across = shade_horizon_across(h, w);
         if (across)
             shade_horizon_add(h, w, c);
@@ -323,7 +325,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
-                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across, .sum = sum});
+                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across, .glow = shade_glow_map(h, w) + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -459,6 +461,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += wN <= 0.0f;
+            c = shade_glow(h, w, c);
             bool across = shade_horizon_across(h, w);
             if (across)
                 shade_horizon_add(h, w, c);
@@ -468,7 +471,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
                                                      .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
                                                      .G = G, .Li = Li, .c = c, .cv_kp = kp, .across = across,
-                                                     .sum = sum});
+                                                     .glow = shade_glow_map(h, w) + 1, .sum = sum});
         } else {
             below++;
             trace_sample(trace, k,
@@ -501,6 +504,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += !lit;
+            c = shade_glow(h, we, c);
             bool across = shade_horizon_across(h, we);
             if (across)
                 shade_horizon_add(h, we, c);
@@ -510,7 +514,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
                                                          .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp,
-                                                         .across = across, .sum = sum});
+                                                         .across = across, .glow = shade_glow_map(h, we) + 1, .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,
@@ -798,13 +802,13 @@ static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
 /* GLSL: env_light_visibility. Each env light's visibility from world point P with normal N,
  * that of its cluster's map (src/shadow: sl_shadow_sun_visibility, lighting.frag's
  * shadow_sun_visibility), 1 for a light no map covers, 0 past the count (the batched path reads
- * whole vectors). One lookup per map. */
-static void env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, float *vis)
+ * whole vectors), into es->vis, and each map's into es->map_vis (the glow's). One lookup per map. */
+static void env_light_visibility(const sl_lighting_uniforms *u, vec3 P, vec3 N, shade_env_shadow *es)
 {
     const sl_shadow_suns *m = u->envShadowMaps;
-    float map_vis[SL_SHADOW_SUN_MAX];
-    for (int k = 0; k < m->count; k++)
-        map_vis[k] = sl_shadow_sun_visibility(m, k, P, N);
+    float *map_vis = es->map_vis, *vis = es->vis;
+    for (int k = 0; k < SL_SHADOW_SUN_MAX; k++)
+        map_vis[k] = k < m->count ? sl_shadow_sun_visibility(m, k, P, N) : 0.0f;
     for (int j = 0; j < SL_ENV_LIGHTS_MAX; j++) {
         int k = j < u->uEnvLightCount ? m->env_light_sun[j] : -2;
         vis[j] = k >= 0 ? map_vis[k] : k == -1 ? 1.0f : 0.0f;
@@ -950,7 +954,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
     shade_env_shadow own;
     own.diffuse_given = false;
     if (u->envLightShadows != 0 && !env_shadow) {
-        env_light_visibility(u, s->P, s->N, own.vis);
+        env_light_visibility(u, s->P, s->N, &own);
         env_shadow = &own;
     }
     vec3 shadowed_lights = vec3s(0.0f); /* the env lights' diffuse and specular, times their visibility */
@@ -983,6 +987,8 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             beyond = across ? *across : vec3s(0.0f);
         } else {
             shade_horizon h = shade_horizon_for(u, s->Nenv, s->Venv);
+            if (env_shadow)
+                shade_horizon_glow(&h, u, env_shadow->map_vis);
             if (u->uEstimator == ESTIMATOR_SPLITSUM)
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
             else if (u->uEstimator == ESTIMATOR_MICROFACET)

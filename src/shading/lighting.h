@@ -173,6 +173,10 @@ typedef struct {
     float uEnvLightMeridian;             /* every level-0 texel's side along its meridian, pi / H */
     float uEnvLightAzimuth;              /* every level-0 texel's signed width in phi, -2 pi / W
                                             (sl_env_lights.azimuth; 0 without env lights) */
+    int uEnvGlowCount;                   /* with the env lights' maps, their count; else 0 */
+    vec4 uEnvGlow[SL_SHADOW_SUN_MAX];    /* map k's glow (lighting_internal.h shade_glow): .xyz its
+                                            direction (environment space), .w the cosine of the
+                                            cap about it that its samples lie in */
     /* the split-sum method (estimator SPLITSUM; NULL otherwise): the prefiltered chains of the
      * two lobe sets, the BRDF's table, and the lod of lobe width 1 (levels - 1) */
     const sl_env *uSplitSumPhong, *uSplitSumGGX;

@@ -217,6 +217,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
             continue;
         vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
         ts->across = shade_horizon_across(h, ts->w);
+        ts->glow = shade_glow_map(h, ts->w) + 1;
         if (!ts->across)
             *sum = add(*sum, c);
         /* the spec path does not form H (stage (1)): normalize(w + V), as the port has it */
@@ -391,6 +392,31 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
             float LH = maxf(VdotH, SL_BRDF_MIN_LDOTH);
             b->weight[i] = (inv_lh2 ? 1.0f / (LH * LH) : 1.0f) * wN * VdotH / NdotH; /* G (w.N)(V.H)/(N.H) */
         }
+    }
+}
+
+/* shade_glow over m samples (directions w, contributions c), in place: each sample's factor is
+ * the visibility of the first map whose glow holds it (the glows tested last to first, each
+ * overwriting), else 1, and c times it (x * 1 is x: the port's c as it is, bit for bit).
+ * Out of line, as horizon_split. */
+__attribute__((noinline)) static void glow_scale(const shade_horizon *h, const float *wx, const float *wy,
+                                                 const float *wz, float *cr, float *cg, float *cb, int m)
+{
+    float f[BLOCK];
+    for (int i = 0; i < m; i++)
+        f[i] = 1.0f;
+    for (int k = h->glows - 1; k >= 0; k--) {
+        const float gx = h->glow[k].x, gy = h->glow[k].y, gz = h->glow[k].z, cap = h->glow[k].w;
+        const float v = h->glow_vis[k];
+#pragma omp simd
+        for (int i = 0; i < m; i++)
+            f[i] = wx[i] * gx + wy[i] * gy + wz[i] * gz >= cap ? v : f[i];
+    }
+#pragma omp simd
+    for (int i = 0; i < m; i++) {
+        cr[i] *= f[i];
+        cg[i] *= f[i];
+        cb[i] *= f[i];
     }
 }
 
@@ -769,6 +795,8 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
         stage_lod(&c, s.pdf, mv, b);
         stage_fetch(u, &c, mv, b);
         below += stage_horizon(&c, m, mv, b);
+        if (h->glows > 0)
+            glow_scale(h, b->wx, b->wy, b->wz, b->cr, b->cg, b->cb, m);
         if (trace)
             trace_block(u, trace, b, &s, k0, m, Ks, alpha, V, NdotV, c.cvk != NULL, h, &trace_sum);
         if (h->on)
@@ -820,7 +848,8 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
             .xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .pdf = b->pw[i], .pdf_other = pe[i], .mis = mis_b[i],
             .w = w, .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i], .LdotH = b->vh[i], .D = D[i],
             .F = sl_brdf_F(Ks, b->vh[i]), .G = sl_lobe_G(b->vh[i], b->wN[i], NdotV, alpha, gterm),
-            .Li = vec3(Lr[i], Lg[i], Lb[i]), .c = cb, .across = across, .sum = *sum});
+            .Li = vec3(Lr[i], Lg[i], Lb[i]), .c = cb, .across = across, .glow = shade_glow_map(h, w) + 1,
+            .sum = *sum});
     } else {
         trace_sample(t, k, &(sl_lighting_trace_sample){.xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .w = w,
                                                           .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i],
@@ -833,6 +862,7 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
                                   .NdotH = NdotHe, .LdotH = LdotHe};
     if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
         s.across = shade_horizon_across(h, we);
+        s.glow = shade_glow_map(h, we) + 1;
         if (!s.across)
             *sum = add(*sum, ce);
         s.pdf_other = pbe;
@@ -1112,6 +1142,10 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         }
         for (int i = 0; i < m; i++)
             below += lit_e[i] == 0.0f;
+        if (h->glows > 0) { /* the BRDF's samples, then the environment's */
+            glow_scale(h, b->wx, b->wy, b->wz, cr, cg, cb, m);
+            glow_scale(h, X, Y, Z, cr + BLOCK, cg + BLOCK, cb + BLOCK, m);
+        }
         if (trace)
             for (int i = 0; i < m; i++)
                 trace_mis_pair(trace, k0 + i, b, i, D, pe, mis_b, Lr, Lg, Lb, vec3(cr[i], cg[i], cb[i]), e, k0 + i,
@@ -1570,6 +1604,8 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
 {
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
     *h = shade_horizon_for(u, N, V);
+    if (env_shadow)
+        shade_horizon_glow(h, u, env_shadow->map_vis);
     if (u->uSpecular == 0)
         return vec3s(0.0f);
     if (env_shadow)
@@ -1903,6 +1939,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 shade_env_shadow es;
                 vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
                 sl_shade_env_light_visibility_of(u, sun_vis[i], es.vis);
+                memcpy(es.map_vis, sun_vis[i], sizeof es.map_vis);
                 color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, &h, task, NULL);
                 vec3 lights = vec3s(0.0f);
                 if (u->uDiffuse != 0) {
@@ -1961,6 +1998,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */
             if (u->envLightShadows != 0) {
                 sl_shade_env_light_visibility_of(u, sun_vis[i], es.vis);
+                memcpy(es.map_vis, sun_vis[i], sizeof es.map_vis);
                 env_shadow = &es;
                 if (u->uDiffuse != 0) { /* the lights' diffuse by group, as in the vector sum's branch */
                     vec3 D = s.cone ? shade_diffuse_dir(u, s.cone, s.Nenv) : s.Nenv;

@@ -59,12 +59,17 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GL
  * reflection occlusion's) speaks for the lobe about R, so every estimator sums the samples that
  * lie across apart, and that part takes the visibility of the sky map whose cell holds its
  * luminous direction (sl_shade_horizon_visible). Without the maps `on` is false and every sample
- * stays in the estimate. */
+ * stays in the estimate.
+ * It also carries what the env lights' maps say of a sample's direction (shade_glow): a sample
+ * in a map's glow is times that map's visibility before it is summed. */
 typedef struct {
     bool on;  /* the maps are drawn: split */
     bool sky; /* R on the sky's side */
     vec3 sum; /* the samples' contributions from across, over the estimate's count */
     vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
+    int glows;                        /* the env lights' maps whose glow applies (0: none) */
+    const vec4 *glow;                 /* their glows' caps (uniforms' uEnvGlow) */
+    float glow_vis[SL_SHADOW_SUN_MAX]; /* each map's visibility from the pixel's point */
 } shade_horizon;
 
 /* GLSL: horizon_on - whether the specular is split at the horizon: the maps are drawn (and the
@@ -78,7 +83,38 @@ static inline bool shade_horizon_on(const sl_lighting_uniforms *u)
 static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv)
 {
     vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
-    return (shade_horizon){.on = shade_horizon_on(u), .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f)};
+    return (shade_horizon){.on = shade_horizon_on(u), .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f),
+                           .glows = 0, .glow = u->uEnvGlow};
+}
+
+/* GLSL: glow_for - with the env lights' shadow maps, each map's visibility from the pixel's point
+ * (map_vis[k], SL_SHADOW_SUN_MAX of them, those past the count unread) for shade_glow. */
+static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_uniforms *u, const float *map_vis)
+{
+    h->glows = u->uEnvGlowCount;
+    for (int k = 0; k < SL_SHADOW_SUN_MAX; k++)
+        h->glow_vis[k] = map_vis[k];
+}
+
+/* GLSL: glow - a sample's contribution c from direction w (environment space) times the
+ * visibility of the first map whose glow holds w, else c as it is. The env lights take a sun's
+ * brightest texels out of the environment; the texels about them that the samples still read
+ * (the disc's rim, the sky's glare around it) lie behind what hides the sun, which the map sees
+ * along their own direction, where the pixel's specular factor (the cone, the reflection
+ * occlusion's rays, the sky map of R's cell) speaks for the lobe about R. A glossy ball behind a
+ * bunny's ear, its lobe's core open beside the ear and the sun's glare behind it, keeps the glare
+ * without it (docs/lighting.md "Shadow maps", the glow). */
+static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or -1: none (the trace's) */
+{
+    for (int k = 0; k < h->glows; k++)
+        if (dot(w, xyz(h->glow[k])) >= h->glow[k].w)
+            return k;
+    return -1;
+}
+static inline vec3 shade_glow(const shade_horizon *h, vec3 w, vec3 c)
+{
+    int k = shade_glow_map(h, w);
+    return k >= 0 ? scale(c, h->glow_vis[k]) : c;
 }
 
 /* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
@@ -233,6 +269,7 @@ typedef struct {
  * (`diffuse`), which sl_shade_surface_color then adds instead of summing it again. */
 typedef struct {
     float vis[SL_ENV_LIGHTS_MAX];
+    float map_vis[SL_SHADOW_SUN_MAX]; /* each map's visibility (unset past the maps' count): the glow's */
     vec3 specular;
     bool diffuse_given;
     vec3 diffuse;

@@ -70,6 +70,15 @@ static void print_program(FILE *f, const sl_lighting_trace *t)
 /* A sample whose contribution went to the part across the horizon (sky maps) says so after its sum. */
 #define ACROSS(s) ((s)->across ? " across the horizon" : "")
 
+/* A sample in an env-light map's glow (c times the map's visibility) says which, after that. */
+static const char *glow_mark(const sl_lighting_trace_sample *s)
+{
+    static const char *const marks[] = {"", " in map 0's glow", " in map 1's glow", " in map 2's glow",
+                                        " in map 3's glow"};
+    _Static_assert(SL_SHADOW_SUN_MAX == 4, "a mark per map");
+    return s->glow > 0 && s->glow <= SL_SHADOW_SUN_MAX ? marks[s->glow] : "";
+}
+
 /* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
  * it added (0 below the horizon or for a facet facing away). cv (cvmis): every sample drawn adds
  * the kernel's term too, K/p its kernel over its own density; below the horizon that term alone. */
@@ -84,18 +93,18 @@ static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting
     }
     if (unlit) {
         fprintf(f, " %-10.4g %-10.4g %-8.5f %s: the kernel's term alone, Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                   " sum (%.5g,%.5g,%.5g)%s\n       K/p %.6g\n",
+                   " sum (%.5g,%.5g,%.5g)%s%s\n       K/p %.6g\n",
                 (double)s->pdf, (double)s->pdf_other, (double)s->mis,
                 s->wN <= 0.0f ? "below the horizon" : "facet faces away", (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y,
-                (double)s->sum.z, ACROSS(s), (double)s->cv_kp);
+                (double)s->sum.z, ACROSS(s), glow_mark(s), (double)s->cv_kp);
         return;
     }
     fprintf(f, " %-10.4g %-10.4g %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-               " sum (%.5g,%.5g,%.5g)%s\n",
+               " sum (%.5g,%.5g,%.5g)%s%s\n",
             (double)s->pdf, (double)s->pdf_other, (double)s->mis, (double)s->D, (double)s->G, (double)s->F.x,
             (double)s->F.y, (double)s->F.z, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s));
+            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s), glow_mark(s));
     if (cv)
         fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
 }
@@ -203,19 +212,19 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
         }
         if (s->wN <= 0.0f) { /* cv: the kernel reaches below the horizon, the BRDF does not */
             fprintf(f, " below the horizon: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                       " sum (%.5g,%.5g,%.5g)%s\n       K/p %.6g\n",
+                       " sum (%.5g,%.5g,%.5g)%s%s\n       K/p %.6g\n",
                     (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s),
+                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s), glow_mark(s),
                     (double)s->cv_kp);
             continue;
         }
         fprintf(f,
                 " (%+.5f,%+.5f,%+.5f) %-8.5f %-10.4g %-8.4g (%.4f,%.4f,%.4f) %-8.4f (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
-                " sum (%.5g,%.5g,%.5g)%s\n",
+                " sum (%.5g,%.5g,%.5g)%s%s\n",
                 (double)s->H.x, (double)s->H.y, (double)s->H.z, (double)s->LdotH, (double)s->D, (double)s->G,
                 (double)s->F.x, (double)s->F.y, (double)s->F.z, (double)s->lod, (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x,
-                (double)s->sum.y, (double)s->sum.z, ACROSS(s));
+                (double)s->sum.y, (double)s->sum.z, ACROSS(s), glow_mark(s));
         if (t->cv)
             fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
     }

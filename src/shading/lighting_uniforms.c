@@ -52,8 +52,9 @@ void sl_hammersley_pack_std140(const sl_hammersley *set, sl_hammersley_block *bl
     }
 }
 
-/* Each env light's visibility slot (envLightVisSlot) and the lights grouped by map
- * (envLightGroups). */
+/* Each env light's visibility slot (envLightVisSlot), the lights grouped by map
+ * (envLightGroups), and each map's glow (uEnvGlow): its direction in environment space and the
+ * cap its lights spread over (sl_shadow_sun.spread) widened by SL_SHADOW_GLOW_DEG. */
 static void group_env_lights(sl_lighting_uniforms *u)
 {
     const sl_shadow_suns *m = u->envShadowMaps;
@@ -63,6 +64,12 @@ static void group_env_lights(sl_lighting_uniforms *u)
     }
     sl_env_light_groups_build(&u->envLightGroups, u->uEnvLightDir, u->uEnvLightRadiance, u->uEnvLightCount,
                               m->env_light_sun, m->count);
+    u->uEnvGlowCount = m->count;
+    for (int k = 0; k < m->count; k++) {
+        vec3 d = mat3_mul_vec3(u->uEnvRotation, m->maps[k].dir);
+        float cap = fminf(atanf(m->maps[k].spread) + radians(SL_SHADOW_GLOW_DEG), SL_PI);
+        u->uEnvGlow[k] = vec4(d.x, d.y, d.z, cosf(cap));
+    }
 }
 
 bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *desc, sl_error *err)

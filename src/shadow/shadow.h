@@ -74,6 +74,13 @@ typedef struct {
 #define SL_SHADOW_SUN_SIZE 2048        /* texels along an env-light map's side */
 #define SL_SHADOW_SUN_CLUSTER_DEG 5.0f /* a light this close to a cluster's brightest joins it */
 #define SL_SHADOW_SUN_MIN_SHARE 0.01   /* a cluster with less of the environment's luminous power gets no map */
+/* A sun's glow: the environment's samples (the residual the env lights leave) within this angle
+ * beyond the cap a cluster's lights spread over take the cluster's map's visibility too
+ * (src/shading/lighting_internal.h shade_glow; docs/lighting.md "Shadow maps", why 10 degrees).
+ * A build defining another is for bench/visibility-variants.sh's comparison. */
+#ifndef SL_SHADOW_GLOW_DEG
+#define SL_SHADOW_GLOW_DEG 10.0f
+#endif
 
 /* One orthographic map (an env-light cluster's, or a sky direction's: src/shadow/sky.h):
  * x = right . P, y = up . P, depth = axis . P (axis = -dir). */

@@ -14,6 +14,10 @@
 # - the same through the general shader ($SL_GL_GENERAL: every option a uniform);
 # - GL's image without maps is far outside those bounds against C's with them: a GL that
 #   ignores its maps fails here;
+# - a sun's glow: a glossy floor facing a sun in a glare that two env lights leave to the samples
+#   (sun_sky.py), a box's shadow across its reflection, --env-lights 2 --shadows, the default
+#   estimator and MIS: within the same bounds (a GL that left the glare in the shadow lit would
+#   be a third of the light apart over a seventh of the image: sun_shadows.sh);
 # - scenes/city-sun.json with --env-lights 32 --shadows within the same bounds, also with
 #   --ao-radius 1 (the lights' part of the irradiance taken out along the bent direction), and
 #   `softlight check` on it passes.
@@ -81,6 +85,26 @@ for name, x, y, want in (("slab's shadow", 154, 109, "dark"), ("box's shadow", 1
         bad = 1
 sys.exit(bad)
 PY
+
+# ---- a sun's glow
+python3 tests/cli/sun_sky.py "$T/glare.pfm" 25 90 0 300
+cat >"$T/glare.json" <<JSON
+{"camera": {"eye": [0, -3.5, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
+ "environment": {"hdr": "$T/glare.pfm"},
+ "materials": {"floor": {"brdf": "ggx", "kd": 0.05, "ks": 0.9, "roughness": 0.3},
+               "m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
+ "objects": [{"shape": "plane", "material": "floor", "transform": {"scale": [3, 3, 1]}},
+   {"shape": "box", "material": "m", "transform": {"translate": [0, 1.2, 0.4], "scale": 0.4}}]}
+JSON
+for est in spec mis; do
+    mkdir -p "$T/glare-$est"
+    "$SL" render "$T/glare.json" --size "$GL_TEST_SIZE" --env-lights 2 --shadows --estimator $est \
+        --aov "$T/glare-$est" --pfm "$T/glare-$est/c.pfm" -q
+    "$GL" render "$T/glare.json" --env-lights 2 --shadows --estimator $est --gbuffer "$T/glare-$est" \
+        --pfm "$T/glare-$est/g.pfm"
+    gl_within "glare, $est" "$T/glare-$est/c.pfm" "$T/glare-$est/g.pfm" ||
+        { echo "FAIL a sun's glow, --estimator $est: outside the bounds"; fail=1; }
+done
 
 # ---- scenes/city-sun.json, and softlight check
 mkdir -p "$T/city"

@@ -1,8 +1,10 @@
-"""sun_sky.py PATH ELEVATION AZIMUTH [SKY] - a made environment for the env lights' shadow tests
-(sun_shadows.sh, gl_sun_shadows.sh, masked_casters.bash): a 64x32 lat-long PFM, black (or of
+"""sun_sky.py PATH ELEVATION AZIMUTH [SKY [GLOW]] - a made environment for the env lights' shadow
+tests (sun_shadows.sh, gl_sun_shadows.sh, masked_casters.bash): a 64x32 lat-long PFM, black (or of
 radiance SKY) but for a sun of two adjacent texels at that direction (degrees), radiance 3000, so
-that on a black sky the env lights hold all of its light. Imported, sun_directions gives the two
-texels' centres' directions, which the light comes from."""
+that on a black sky the env lights hold all of its light; with GLOW, the ten texels about the
+sun's two (a block of 4x3 texels, the sun in its middle row) are of radiance GLOW: a glare that
+two env lights leave to the samples. Imported, sun_directions gives the two texels' centres'
+directions, which the light comes from."""
 import math
 import sys
 
@@ -33,7 +35,13 @@ def sun_directions(el_deg, az_deg):
 if __name__ == "__main__":
     path = sys.argv[1]
     sky = float(sys.argv[4]) if len(sys.argv) > 4 else 0.0
+    glow = float(sys.argv[5]) if len(sys.argv) > 5 else 0.0
     img = [[(sky, sky, sky)] * W for _ in range(H)]
+    if glow > 0.0:
+        (i0, j0), _ = sun_texels(float(sys.argv[2]), float(sys.argv[3]))
+        for dj in (-1, 0, 1):
+            for di in (-1, 0, 1, 2):
+                img[j0 + dj][(i0 + di) % W] = (glow, glow, glow)
     for i, j in sun_texels(float(sys.argv[2]), float(sys.argv[3])):
         img[j][i] = (3000.0, 3000.0, 3000.0)
     write_pfm(path, W, H, [c for row in reversed(img) for p in row for c in p])  # bottom row first
