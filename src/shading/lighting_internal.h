@@ -88,12 +88,18 @@ static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec
 }
 
 /* GLSL: glow_for - with the env lights' shadow maps, each map's visibility from the pixel's point
- * (map_vis[k], SL_SHADOW_SUN_MAX of them, those past the count unread) for shade_glow. */
+ * (map_vis[k], SL_SHADOW_SUN_MAX of them, those past the count unread) for shade_glow. Where
+ * every map sees the point (most of a frame) no glow applies: times 1 leaves every contribution's
+ * bits as they are, so the estimators skip the tests (lighting.frag makes them and multiplies
+ * by 1). */
 static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_uniforms *u, const float *map_vis)
 {
-    h->glows = u->uEnvGlowCount;
-    for (int k = 0; k < SL_SHADOW_SUN_MAX; k++)
+    bool shadowed = false;
+    for (int k = 0; k < SL_SHADOW_SUN_MAX; k++) {
         h->glow_vis[k] = map_vis[k];
+        shadowed |= k < u->uEnvGlowCount && map_vis[k] < 1.0f;
+    }
+    h->glows = shadowed ? u->uEnvGlowCount : 0;
 }
 
 /* GLSL: glow - a sample's contribution c from direction w (environment space) times the

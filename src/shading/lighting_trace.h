@@ -35,7 +35,7 @@ typedef struct {
     float cv_kp;       /* cv: the kernel mix over the density, K(w) / p(w) */
     bool across;       /* w lies across the horizon from R (sky maps): c went to the part across */
     int glow;          /* 1 + the env-light map whose glow holds w (c is times its visibility:
-                          lighting_internal.h shade_glow), 0: none */
+                          lighting_internal.h shade_glow), 0: none, or every map sees the point */
     vec3 sum;          /* running sum (of the samples not across) */
 } sl_lighting_trace_sample;
 
