@@ -1004,12 +1004,19 @@ void glow_for(bool envShadow)
     gGlowCount = envShadow ? uEnvGlowCount : 0;
 }
 
+// c times the visibility of the map whose direction is nearest w, where w lies in its glow
 vec3 glow(vec3 w, vec3 c)
 {
-    for (int k = 0; k < gGlowCount; k++)
-        if (dot(w, uEnvGlow[k].xyz) >= uEnvGlow[k].w)
-            return c * gGlowVis[k];
-    return c;
+    float nearest = -2.0;
+    int map = -1;
+    for (int k = 0; k < gGlowCount; k++) {
+        float d = dot(w, uEnvGlow[k].xyz);
+        if (d > nearest) {
+            nearest = d;
+            map = k;
+        }
+    }
+    return map >= 0 && nearest >= uEnvGlow[map].w ? c * gGlowVis[map] : c;
 }
 
 // Specular IBL, eq. (3): N, V unit in environment space, N.V >= MIN_NDOTV.

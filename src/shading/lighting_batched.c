@@ -395,28 +395,37 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
     }
 }
 
-/* shade_glow over m samples (directions w, contributions c), in place: each sample's factor is
- * the visibility of the first map whose glow holds it (the glows tested last to first, each
- * overwriting), else 1, and c times it (x * 1 is x: the port's c as it is, bit for bit).
- * Out of line, as horizon_split. */
+/* shade_glow over m samples (directions w, contributions c), in place: each lane keeps the
+ * nearest map so far (its cosine, cap and visibility, a later map only where strictly nearer, as
+ * shade_glow_map), then c times its visibility where w lies in its glow, else times 1 (x * 1 is
+ * x: the port's c as it is, bit for bit). Out of line, as horizon_split. */
 __attribute__((noinline)) static void glow_scale(const shade_horizon *h, const float *wx, const float *wy,
                                                  const float *wz, float *cr, float *cg, float *cb, int m)
 {
-    float f[BLOCK];
-    for (int i = 0; i < m; i++)
-        f[i] = 1.0f;
-    for (int k = h->glows - 1; k >= 0; k--) {
-        const float gx = h->glow[k].x, gy = h->glow[k].y, gz = h->glow[k].z, cap = h->glow[k].w;
+    float nearest[BLOCK], cap[BLOCK], vis[BLOCK];
+    for (int i = 0; i < m; i++) {
+        nearest[i] = -2.0f;
+        cap[i] = 2.0f;
+        vis[i] = 1.0f;
+    }
+    for (int k = 0; k < h->glows; k++) {
+        const float gx = h->glow[k].x, gy = h->glow[k].y, gz = h->glow[k].z, cap_k = h->glow[k].w;
         const float v = h->glow_vis[k];
 #pragma omp simd
-        for (int i = 0; i < m; i++)
-            f[i] = wx[i] * gx + wy[i] * gy + wz[i] * gz >= cap ? v : f[i];
+        for (int i = 0; i < m; i++) {
+            float d = wx[i] * gx + wy[i] * gy + wz[i] * gz;
+            bool nearer = d > nearest[i];
+            nearest[i] = nearer ? d : nearest[i];
+            cap[i] = nearer ? cap_k : cap[i];
+            vis[i] = nearer ? v : vis[i];
+        }
     }
 #pragma omp simd
     for (int i = 0; i < m; i++) {
-        cr[i] *= f[i];
-        cg[i] *= f[i];
-        cb[i] *= f[i];
+        float f = nearest[i] >= cap[i] ? vis[i] : 1.0f;
+        cr[i] *= f;
+        cg[i] *= f;
+        cb[i] *= f;
     }
 }
 

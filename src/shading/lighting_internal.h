@@ -103,7 +103,9 @@ static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_unifor
 }
 
 /* GLSL: glow - a sample's contribution c from direction w (environment space) times the
- * visibility of the first map whose glow holds w, else c as it is. The env lights take a sun's
+ * visibility of the map whose direction is nearest w where w lies in that map's glow, else c as
+ * it is (not the first map whose glow holds w: two clusters of one sun's texels, each with its
+ * own shadow, have glows that overlap). The env lights take a sun's
  * brightest texels out of the environment; the texels about them that the samples still read
  * (the disc's rim, the sky's glare around it) lie behind what hides the sun, which the map sees
  * along their own direction, where the pixel's specular factor (the cone, the reflection
@@ -112,10 +114,16 @@ static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_unifor
  * without it (docs/lighting.md "Shadow maps", the glow). */
 static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or -1: none (the trace's) */
 {
-    for (int k = 0; k < h->glows; k++)
-        if (dot(w, xyz(h->glow[k])) >= h->glow[k].w)
-            return k;
-    return -1;
+    float nearest = -2.0f;
+    int map = -1;
+    for (int k = 0; k < h->glows; k++) {
+        float d = dot(w, xyz(h->glow[k]));
+        if (d > nearest) {
+            nearest = d;
+            map = k;
+        }
+    }
+    return map >= 0 && nearest >= h->glow[map].w ? map : -1;
 }
 static inline vec3 shade_glow(const shade_horizon *h, vec3 w, vec3 c)
 {

@@ -76,10 +76,10 @@ typedef struct {
 #define SL_SHADOW_SUN_MIN_SHARE 0.01   /* a cluster with less of the environment's luminous power gets no map */
 /* A sun's glow: the environment's samples (the residual the env lights leave) within this angle
  * beyond the cap a cluster's lights spread over take the cluster's map's visibility too
- * (src/shading/lighting_internal.h shade_glow; docs/lighting.md "Shadow maps", why 10 degrees).
+ * (src/shading/lighting_internal.h shade_glow; docs/lighting.md "Shadow maps", why 7 degrees).
  * A build defining another is for bench/visibility-variants.sh's comparison. */
 #ifndef SL_SHADOW_GLOW_DEG
-#define SL_SHADOW_GLOW_DEG 10.0f
+#define SL_SHADOW_GLOW_DEG 7.0f
 #endif
 
 /* One orthographic map (an env-light cluster's, or a sky direction's: src/shadow/sky.h):
