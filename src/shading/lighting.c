@@ -325,7 +325,8 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
-                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across, .glow = shade_glow_map(h, w) + 1, .sum = sum});
+                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across,
+                                                 .glow = shade_glow_map(h, w) + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -514,7 +515,8 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
                                                          .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp,
-                                                         .across = across, .glow = shade_glow_map(h, we) + 1, .sum = sum});
+                                                         .across = across, .glow = shade_glow_map(h, we) + 1,
+                                                         .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,

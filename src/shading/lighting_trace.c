@@ -104,7 +104,8 @@ static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting
                " sum (%.5g,%.5g,%.5g)%s%s\n",
             (double)s->pdf, (double)s->pdf_other, (double)s->mis, (double)s->D, (double)s->G, (double)s->F.x,
             (double)s->F.y, (double)s->F.z, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s), glow_mark(s));
+            (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s),
+            glow_mark(s));
     if (cv)
         fprintf(f, "       K/p %.6g\n", (double)s->cv_kp);
 }
@@ -214,8 +215,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, " below the horizon: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
                        " sum (%.5g,%.5g,%.5g)%s%s\n       K/p %.6g\n",
                     (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
-                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s), glow_mark(s),
-                    (double)s->cv_kp);
+                    (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s),
+                    glow_mark(s), (double)s->cv_kp);
             continue;
         }
         fprintf(f,

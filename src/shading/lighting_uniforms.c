@@ -64,7 +64,7 @@ static void group_env_lights(sl_lighting_uniforms *u)
     }
     sl_env_light_groups_build(&u->envLightGroups, u->uEnvLightDir, u->uEnvLightRadiance, u->uEnvLightCount,
                               m->env_light_sun, m->count);
-    u->uEnvGlowCount = m->count;
+    u->uEnvGlowCount = SL_SHADOW_GLOW_DEG >= 0.0f ? m->count : 0;
     for (int k = 0; k < m->count; k++) {
         vec3 d = mat3_mul_vec3(u->uEnvRotation, m->maps[k].dir);
         float cap = fminf(atanf(m->maps[k].spread) + radians(SL_SHADOW_GLOW_DEG), SL_PI);

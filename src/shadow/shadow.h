@@ -77,7 +77,8 @@ typedef struct {
 /* A sun's glow: the environment's samples (the residual the env lights leave) within this angle
  * beyond the cap a cluster's lights spread over take the cluster's map's visibility too
  * (src/shading/lighting_internal.h shade_glow; docs/lighting.md "Shadow maps", why 7 degrees).
- * A build defining another is for bench/visibility-variants.sh's comparison. */
+ * A build defining another (a negative one: no glow) is for bench/visibility-variants.sh's
+ * comparison. */
 #ifndef SL_SHADOW_GLOW_DEG
 #define SL_SHADOW_GLOW_DEG 7.0f
 #endif
