@@ -87,6 +87,19 @@ static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec
                            .glows = 0, .glow = u->uEnvGlow};
 }
 
+/* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
+static inline bool shade_horizon_across(const shade_horizon *h, vec3 w)
+{
+    return h->on && (w.z >= 0.0f) != h->sky;
+}
+
+/* GLSL: horizon_add - a sample's contribution c from direction w into the part across */
+static inline void shade_horizon_add(shade_horizon *h, vec3 w, vec3 c)
+{
+    h->sum = add(h->sum, c);
+    h->dir = add(h->dir, scale(w, fabsf(sl_luminance(c))));
+}
+
 /* GLSL: glow_for - with the env lights' shadow maps, each map's visibility from the pixel's point
  * (map_vis[k], SL_SHADOW_SUN_MAX of them, those past the count unread) for shade_glow. Where
  * every map sees the point (most of a frame) no glow applies: times 1 leaves every contribution's
@@ -104,14 +117,14 @@ static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_unifor
 
 /* GLSL: glow - a sample's contribution c from direction w (environment space) times the
  * visibility of the map whose direction is nearest w where w lies in that map's glow, else c as
- * it is (not the first map whose glow holds w: two clusters of one sun's texels, each with its
- * own shadow, have glows that overlap). The env lights take a sun's
- * brightest texels out of the environment; the texels about them that the samples still read
- * (the disc's rim, the sky's glare around it) lie behind what hides the sun, which the map sees
- * along their own direction, where the pixel's specular factor (the cone, the reflection
- * occlusion's rays, the sky map of R's cell) speaks for the lobe about R. A glossy ball behind a
- * bunny's ear, its lobe's core open beside the ear and the sun's glare behind it, keeps the glare
- * without it (docs/lighting.md "Shadow maps", the glow). */
+ * it is (the nearest map's, not the first whose glow holds w: two clusters of one sun's texels,
+ * each with its own shadow, have glows that overlap). The env lights take a sun's brightest
+ * texels out of the environment; the texels about them that the samples still read (the disc's
+ * rim, the sky's glare around it) lie behind what hides the sun, which the map sees along their
+ * own direction, where the pixel's specular factor (the cone, the reflection occlusion's rays,
+ * the sky map of R's cell) speaks for the lobe about R. A glossy ball behind a bunny's ear, its
+ * lobe's core open beside the ear and the sun's glare behind it, keeps the glare without it
+ * (docs/lighting.md "Shadow maps", the glow). */
 static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or -1: none (the trace's) */
 {
     float nearest = -2.0f;
@@ -129,19 +142,6 @@ static inline vec3 shade_glow(const shade_horizon *h, vec3 w, vec3 c)
 {
     int k = shade_glow_map(h, w);
     return k >= 0 ? scale(c, h->glow_vis[k]) : c;
-}
-
-/* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
-static inline bool shade_horizon_across(const shade_horizon *h, vec3 w)
-{
-    return h->on && (w.z >= 0.0f) != h->sky;
-}
-
-/* GLSL: horizon_add - a sample's contribution c from direction w into the part across */
-static inline void shade_horizon_add(shade_horizon *h, vec3 w, vec3 c)
-{
-    h->sum = add(h->sum, c);
-    h->dir = add(h->dir, scale(w, fabsf(sl_luminance(c))));
 }
 
 /* The part across the horizon times its visibility from world point P with world normal N: that
