@@ -87,15 +87,8 @@ sys.exit(bad)
 PY
 
 # ---- a sun's glow
-python3 tests/cli/sun_sky.py "$T/glare.pfm" 25 90 0 300
-cat >"$T/glare.json" <<JSON
-{"camera": {"eye": [0, -3.5, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
- "environment": {"hdr": "$T/glare.pfm"},
- "materials": {"floor": {"brdf": "ggx", "kd": 0.05, "ks": 0.9, "roughness": 0.3},
-               "m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
- "objects": [{"shape": "plane", "material": "floor", "transform": {"scale": [3, 3, 1]}},
-   {"shape": "box", "material": "m", "transform": {"translate": [0, 1.2, 0.4], "scale": 0.4}}]}
-JSON
+source tests/cli/glare_scene.bash
+glare_scene "$T"
 for est in spec mis; do
     mkdir -p "$T/glare-$est"
     "$SL" render "$T/glare.json" --size "$GL_TEST_SIZE" --env-lights 2 --shadows --estimator $est \

@@ -141,20 +141,13 @@ PY
 done
 
 # a sun's glow: a glossy floor (GGX, r 0.3) facing a sun 25 degrees up in a glare of ten texels
-# of 300 (sun_sky.py), a box between; two env lights take the sun, the samples read the glare.
+# of 300 (glare_scene.bash), a box between; two env lights take the sun, the samples read the glare.
 # Over the floor pixels in the truth's shadow (under half the light without shadows), the
 # render's distance from the truth over its light without shadows: 0.10 with the glow and
 # 0.36 to 0.39 without it (a build with SL_SHADOW_GLOW_DEG 0), at 96x54; over the whole floor
 # the relative L1 0.048 to 0.057 with it, 0.12 to 0.13 without
-python3 "$(dirname "$0")/sun_sky.py" "$T/glare.pfm" 25 90 0 300
-cat >"$T/glare.json" <<JSON
-{"camera": {"eye": [0, -3.5, 1.5], "target": [0, 0, 0], "up": [0, 0, 1], "fovy": 45},
- "environment": {"hdr": "$T/glare.pfm"},
- "materials": {"floor": {"brdf": "ggx", "kd": 0.05, "ks": 0.9, "roughness": 0.3},
-               "m": {"kd": 0.6, "ks": 0.04, "alpha": 10}},
- "objects": [{"shape": "plane", "material": "floor", "transform": {"scale": [3, 3, 1]}},
-   {"shape": "box", "material": "m", "transform": {"translate": [0, 1.2, 0.4], "scale": 0.4}}]}
-JSON
+source "$(dirname "$0")/glare_scene.bash"
+glare_scene "$T"
 G=96x54
 "$SL" truth "$T/glare.json" --size $G --visibility --vis-level 0 --pfm "$T/gt.pfm" >/dev/null 2>&1
 "$SL" render "$T/glare.json" --size $G -q --env-lights 2 --pfm "$T/gb.pfm"
