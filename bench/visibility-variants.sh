@@ -26,12 +26,15 @@
 #     build of its own);
 #   - a sun's glow (docs/lighting.md "Shadow maps", why 7 degrees): the same, for no glow
 #     (SL_SHADOW_GLOW_DEG=-1.0f), glows of 0 (the clusters' own spread alone), 3, 5 and 10
-#     degrees beyond the spread, and the build as it is (7).
+#     degrees beyond the spread, and the build as it is (7);
+#   - the reflection occlusion's ring (docs/lighting.md "Reflection occlusion", why half the
+#     lobe's cone): the same, for the build as it is (0.5) and SL_REFLECTION_RING=0.75f and 1.0f.
 #
-#   [SCENES="bunny pbr ..."] [TABLES="join cells horizon lobe length glow"] bash bench/visibility-variants.sh [BUILD_DIR]
+#   [SCENES="bunny pbr ..."] [TABLES="join cells horizon lobe length glow ring"] bash bench/visibility-variants.sh [BUILD_DIR]
 #
-# TABLES names the tables to make (default all six, in that order: the ones above), and only
-# their builds are made. Prints the markdown tables. About 35 minutes on 2 cores, most of it the thirteen builds.
+# TABLES names the tables to make (default all seven, in that order: the ones above), and only
+# their builds are made. Prints the markdown tables. About 40 minutes on 2 cores for all seven, most
+# of it the fifteen builds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD=${1:-build}
@@ -42,7 +45,7 @@ variant() { # variant NAME DEFINE: build-variants/NAME's softlight, configured w
     cmake -S . -B "$dir" -DCMAKE_BUILD_TYPE=Release "-DCMAKE_C_FLAGS=-D$2" >/dev/null
     cmake --build "$dir" -j "$(nproc)" --target softlight >/dev/null
 }
-TABLES=${TABLES:-"join cells horizon lobe length glow"}
+TABLES=${TABLES:-"join cells horizon lobe length glow ring"}
 want() { case " $TABLES " in *" $1 "*) return 0 ;; *) return 1 ;; esac; }
 if want join; then variant smaller SL_REFLECTION_WEIGHT=0.0f; variant rays SL_REFLECTION_WEIGHT=1.0f; fi
 if want cells; then variant whole-sphere SL_SKY_MAPS_SPLIT=0; variant centre SL_SKY_MAPS_CENTROID=0; fi
@@ -56,6 +59,7 @@ if want glow; then
     variant no-glow SL_SHADOW_GLOW_DEG=-1.0f
     for g in 0 3 5 10; do variant glow-$g SL_SHADOW_GLOW_DEG=$g.0f; done
 fi
+if want ring; then variant ring-0.75 SL_REFLECTION_RING=0.75f; variant ring-1.0 SL_REFLECTION_RING=1.0f; fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/visibility-variants.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 
@@ -139,4 +143,11 @@ echo
 echo "| scene | visibility's change to the truth | left, no glow | cut | left, the spread alone | cut | left, 3 degrees beyond it | cut | left, 5 | cut | left, 7 (as built) | cut | left, 10 | cut |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 cut_rows build-variants/no-glow build-variants/glow-0 build-variants/glow-3 build-variants/glow-5 "$BUILD" build-variants/glow-10
+fi
+
+if want ring; then
+echo
+echo "| scene | visibility's change to the truth | left, the ring at half the lobe's cone (as built) | cut | left, at 0.75 of it | cut | left, at the cone | cut |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|"
+cut_rows "$BUILD" build-variants/ring-0.75 build-variants/ring-1.0
 fi

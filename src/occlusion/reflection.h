@@ -78,7 +78,11 @@
 #define SL_REFLECTION_INTO (-2.0f)    /* sl_reflection_texel's value of a ray into its own surface
                                          (blocked, counted as 0; the frame's plane holds 0) */
 #define SL_REFLECTION_STEPS 16        /* points along a ray */
-#define SL_REFLECTION_RING 0.5f       /* the ring's angle, a share of the lobe's cone angle */
+/* the ring's angle, a share of the lobe's cone angle (docs/lighting.md "Reflection occlusion",
+ * why half; a build defining another is for bench/visibility-variants.sh's comparison) */
+#ifndef SL_REFLECTION_RING
+#define SL_REFLECTION_RING 0.5f
+#endif
 #define SL_REFLECTION_THICKNESS 0.1f  /* a surface's assumed depth, a share of its view depth */
 #define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
 #define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
