@@ -212,7 +212,8 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         if (u->uEstimator == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = scale(mul(F, Li), weight);
-        c = shade_glow(h, w, c);
+        int glow;
+        c = shade_glow(h, w, c, &glow);
         bool across = shade_horizon_across(h, w);
         if (across)
             shade_horizon_add(h, w, c);
@@ -221,7 +222,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .H = H, .NdotH = NdotH,
                                                  .LdotH = LdotH, .D = D, .F = F, .G = G, .lod = lod, .Li = Li, .c = c,
-                                                 .across = across, .glow = shade_glow_map(h, w) + 1, .sum = sum});
+                                                 .across = across, .glow = glow + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -316,7 +317,8 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
             kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
             c = sub(c, scale(mul(cv->scale, Li), kp));
         }
-        c = shade_glow(h, w, c);
+        int glow;
+        c = shade_glow(h, w, c, &glow);
         bool across = shade_horizon_across(h, w);
         if (across)
             shade_horizon_add(h, w, c);
@@ -326,7 +328,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
                                                  .Li = Li, .c = c, .cv_kp = kp, .across = across,
-                                                 .glow = shade_glow_map(h, w) + 1, .sum = sum});
+                                                 .glow = glow + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
     h->sum = scale(h->sum, 1.0f / (float)(n > 1 ? n : 1));
@@ -462,7 +464,8 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += wN <= 0.0f;
-            c = shade_glow(h, w, c);
+            int glow;
+            c = shade_glow(h, w, c, &glow);
             bool across = shade_horizon_across(h, w);
             if (across)
                 shade_horizon_add(h, w, c);
@@ -472,7 +475,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
                                                      .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
                                                      .G = G, .Li = Li, .c = c, .cv_kp = kp, .across = across,
-                                                     .glow = shade_glow_map(h, w) + 1, .sum = sum});
+                                                     .glow = glow + 1, .sum = sum});
         } else {
             below++;
             trace_sample(trace, k,
@@ -505,7 +508,8 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
             below += !lit;
-            c = shade_glow(h, we, c);
+            int glow;
+            c = shade_glow(h, we, c, &glow);
             bool across = shade_horizon_across(h, we);
             if (across)
                 shade_horizon_add(h, we, c);
@@ -515,7 +519,7 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
                                                          .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp,
-                                                         .across = across, .glow = shade_glow_map(h, we) + 1,
+                                                         .across = across, .glow = glow + 1,
                                                          .sum = sum});
         } else {
             below++;

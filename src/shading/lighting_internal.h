@@ -138,10 +138,10 @@ static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or 
     }
     return map >= 0 && nearest >= h->glow[map].w ? map : -1;
 }
-static inline vec3 shade_glow(const shade_horizon *h, vec3 w, vec3 c)
+static inline vec3 shade_glow(const shade_horizon *h, vec3 w, vec3 c, int *map) /* *map: the trace's */
 {
-    int k = shade_glow_map(h, w);
-    return k >= 0 ? scale(c, h->glow_vis[k]) : c;
+    *map = shade_glow_map(h, w);
+    return *map >= 0 ? scale(c, h->glow_vis[*map]) : c;
 }
 
 /* The part across the horizon times its visibility from world point P with world normal N: that
