@@ -125,7 +125,7 @@ static inline void shade_horizon_glow(shade_horizon *h, const sl_lighting_unifor
  * the sky map of R's cell) speaks for the lobe about R. A glossy ball behind a bunny's ear, its
  * lobe's core open beside the ear and the sun's glare behind it, keeps the glare without it
  * (docs/lighting.md "Shadow maps", the glow). */
-static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or -1: none (the trace's) */
+static inline int shade_glow_map(const shade_horizon *h, vec3 w) /* the map, or -1: none */
 {
     float nearest = -2.0f;
     int map = -1;
