@@ -402,27 +402,34 @@ __attribute__((always_inline)) static inline void microfacet_directions(sample_b
 __attribute__((noinline)) static void glow_scale(const shade_horizon *h, const float *wx, const float *wy,
                                                  const float *wz, float *cr, float *cg, float *cb, int m)
 {
-    float nearest[BLOCK], cap[BLOCK], vis[BLOCK];
-    for (int i = 0; i < m; i++) {
-        nearest[i] = -2.0f;
-        cap[i] = 2.0f;
-        vis[i] = 1.0f;
+    enum { MAPS = SL_SHADOW_SUN_MAX };
+    _Static_assert(MAPS == 4, "the unroll below counts the maps");
+    /* the maps' glows in locals, those past the count zero and never nearer: the loop over them
+     * has a constant count, so that it unrolls inside the vector loop over the samples and the
+     * nearest so far stays in registers (kept in arrays, GCC stored it by masked stores, which
+     * some cores issue slowly) */
+    float gx[MAPS], gy[MAPS], gz[MAPS], gcap[MAPS], gvis[MAPS];
+    int live[MAPS];
+    for (int k = 0; k < MAPS; k++) {
+        live[k] = k < h->glows;
+        gx[k] = live[k] ? h->glow[k].x : 0.0f;
+        gy[k] = live[k] ? h->glow[k].y : 0.0f;
+        gz[k] = live[k] ? h->glow[k].z : 0.0f;
+        gcap[k] = live[k] ? h->glow[k].w : 2.0f;
+        gvis[k] = live[k] ? h->glow_vis[k] : 1.0f;
     }
-    for (int k = 0; k < h->glows; k++) {
-        const float gx = h->glow[k].x, gy = h->glow[k].y, gz = h->glow[k].z, cap_k = h->glow[k].w;
-        const float v = h->glow_vis[k];
 #pragma omp simd
-        for (int i = 0; i < m; i++) {
-            float d = wx[i] * gx + wy[i] * gy + wz[i] * gz;
-            bool nearer = d > nearest[i];
-            nearest[i] = nearer ? d : nearest[i];
-            cap[i] = nearer ? cap_k : cap[i];
-            vis[i] = nearer ? v : vis[i];
+    for (int i = 0; i < m; i++) {
+        float nearest = -2.0f, cap = 2.0f, vis = 1.0f;
+#pragma GCC unroll 4 /* MAPS: a constant the pragma cannot name */
+        for (int k = 0; k < MAPS; k++) {
+            const float d = wx[i] * gx[k] + wy[i] * gy[k] + wz[i] * gz[k];
+            const bool nearer = live[k] & (d > nearest);
+            nearest = nearer ? d : nearest;
+            cap = nearer ? gcap[k] : cap;
+            vis = nearer ? gvis[k] : vis;
         }
-    }
-#pragma omp simd
-    for (int i = 0; i < m; i++) {
-        float f = nearest[i] >= cap[i] ? vis[i] : 1.0f;
+        const float f = nearest >= cap ? vis : 1.0f;
         cr[i] *= f;
         cg[i] *= f;
         cb[i] *= f;
