@@ -22,6 +22,7 @@
 #include "reflection.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdlib.h>
 #include <string.h>
@@ -444,8 +445,9 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         vec3 N = vec3(plane->nx, plane->ny, plane->nz);
         vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
         /* geometric_normal: axis_step along x, then along y */
-        const int ql = x > 0 ? i - 1 : i, qr = x + 1 < w ? i + 1 : i;
-        const int qb = below ? i - w : i, qa = above ? i + w : i;
+        /* the neighbours' texels read whether they are there or not (contiguous reads, not a
+         * gather's): the planes' margins hold the rows above the first and below the last */
+        const int ql = i - 1, qr = i + 1, qb = i - w, qa = i + w;
         const bool l = x > 0 && fabsf(depth[ql] - z) < near, r = x + 1 < w && fabsf(depth[qr] - z) < near;
         const bool b = below && fabsf(depth[qb] - z) < near, a = above && fabsf(depth[qa] - z) < near;
         const vec3 along_x = sub(r ? vec3(px[qr], py[qr], pz[qr]) : P, l ? vec3(px[ql], py[ql], pz[ql]) : P);
@@ -723,27 +725,38 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane);       /* each texel's own ray */
     float *weight_plane = malloc((n ? n : 1) * sizeof *weight_plane); /* ... and its weight */
     float *weight_sum = malloc((n ? n : 1) * sizeof *weight_sum);     /* each block's weights' sum */
-    float *depth = malloc((n ? n : 1) * sizeof *depth);
+    /* the depth and position planes with a margin of a row and a texel each side, which
+     * rays_of_span reads as the neighbours of the first and last rows' texels (empty there) */
+    const size_t margin = (size_t)width + 1;
+    float *depth_block = malloc((n + 2 * margin) * sizeof *depth_block);
     const int team = sl_threads(threads);
     /* each thread's row of lone texels' own other rays and their weights (block_row) */
     const size_t lone_row = (size_t)(SL_REFLECTION_RAYS - 1) * (size_t)(width > 0 ? width : 1);
     float *lone = malloc(2 * (size_t)team * lone_row * sizeof *lone);
-    float *position[3]; /* x, y and z of each texel's position: the block pass reads them */
+    float *position_block[3]; /* x, y and z of each texel's position: the block pass reads them */
     for (int c = 0; c < 3; c++)
-        position[c] = malloc((n ? n : 1) * sizeof *position[c]);
+        position_block[c] = malloc((n + 2 * margin) * sizeof *position_block[c]);
     if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
-    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth || !lone || !position[0] || !position[1] ||
-        !position[2] || !gb->reflection) {
+    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth_block || !lone || !position_block[0] ||
+        !position_block[1] || !position_block[2] || !gb->reflection) {
         free(lone);
         free(planes);
         free(ray_plane);
         free(weight_plane);
         free(weight_sum);
-        free(depth);
+        free(depth_block);
         for (int c = 0; c < 3; c++)
-            free(position[c]);
+            free(position_block[c]);
         return sl_fail(err, SL_ERR_MEMORY, "reflection occlusion: out of memory for %dx%d", width, height);
+    }
+    float *depth = depth_block + margin, *position[3];
+    for (int c = 0; c < 3; c++)
+        position[c] = position_block[c] + margin;
+    for (size_t j = 0; j < margin; j++) {
+        depth[-1 - (ptrdiff_t)j] = depth[n + j] = INFINITY;
+        for (int c = 0; c < 3; c++)
+            position[c][-1 - (ptrdiff_t)j] = position[c][n + j] = 0.0f;
     }
     reflection_frame f = frame_of(gb, cam, distance);
     f.planes = planes;
@@ -781,9 +794,9 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     free(ray_plane);
     free(weight_plane);
     free(weight_sum);
-    free(depth);
+    free(depth_block);
     for (int c = 0; c < 3; c++)
-        free(position[c]);
+        free(position_block[c]);
     return true;
 }
 
