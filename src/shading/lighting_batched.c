@@ -406,8 +406,8 @@ __attribute__((noinline)) static void glow_scale(const shade_horizon *h, const f
     _Static_assert(MAPS == 4, "the unroll below counts the maps");
     /* the maps' glows in locals, those past the count zero and never nearer: the loop over them
      * has a constant count, so that it unrolls inside the vector loop over the samples and the
-     * nearest so far stays in registers (kept in arrays, GCC stored it by masked stores, which
-     * some cores issue slowly) */
+     * nearest so far stays in registers (in arrays beside a loop over the maps, GCC stores it
+     * by masked stores, which some cores issue slowly) */
     float gx[MAPS], gy[MAPS], gz[MAPS], gcap[MAPS], gvis[MAPS];
     int live[MAPS];
     for (int k = 0; k < MAPS; k++) {
