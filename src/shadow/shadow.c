@@ -644,27 +644,53 @@ float sl_shadow_sun_visibility(const sl_shadow_suns *m, int s, vec3 P, vec3 N)
 
 /* One row of a lane's 4x4 taps (sl_shadow_sun_visibility's inner loop, written out: GCC does not
  * vectorize the loop over the points with loops inside): the sum of the columns' weights wx0 ..
- * wx3 whose stored depth at texels i0 .. i3, less the bias, lies beyond the receiver's plane at
- * (dx0 .. dx3, dy). */
-__attribute__((always_inline)) static inline float sun_row(const float *depth, bool read, int i0, int i1, int i2,
-                                                           int i3, float bias, float zq, float gx, float dx0,
-                                                           float dx1, float dx2, float dx3, float gy, float dy,
-                                                           float wx0, float wx12, float wx3)
+ * wx3 whose stored depth d0 .. d3 (0 where not read), less the bias, lies beyond the receiver's
+ * plane at (dx0 .. dx3, dy). */
+__attribute__((always_inline)) static inline float sun_row(float d0, float d1, float d2, float d3, float bias,
+                                                           float zq, float gx, float dx0, float dx1, float dx2,
+                                                           float dx3, float gy, float dy, float wx0, float wx12,
+                                                           float wx3)
 {
     float rv = 0.0f;
-    rv += (read ? depth[i0] : 0.0f) + bias >= zq + gx * dx0 + gy * dy ? wx0 : 0.0f;
-    rv += (read ? depth[i1] : 0.0f) + bias >= zq + gx * dx1 + gy * dy ? wx12 : 0.0f;
-    rv += (read ? depth[i2] : 0.0f) + bias >= zq + gx * dx2 + gy * dy ? wx12 : 0.0f;
-    rv += (read ? depth[i3] : 0.0f) + bias >= zq + gx * dx3 + gy * dy ? wx3 : 0.0f;
+    rv += d0 + bias >= zq + gx * dx0 + gy * dy ? wx0 : 0.0f;
+    rv += d1 + bias >= zq + gx * dx1 + gy * dy ? wx12 : 0.0f;
+    rv += d2 + bias >= zq + gx * dx2 + gy * dy ? wx12 : 0.0f;
+    rv += d3 + bias >= zq + gx * dx3 + gy * dy ? wx3 : 0.0f;
     return rv;
 }
 
-/* sl_shadow_sun_visibility for `count` points (at most SL_SHADOW_LANES) in one vector loop,
- * a lane a point: its operations in its order, its early returns as a `read` mask and floorf by
- * truncation (exact below 2^24; it vectorizes where floorf does not), so each value is its bits.
- * A lane not read (facing away from the lights, off the map) is 1 and reads no texel; its
- * indices are clamped onto the map all the same, from coordinates held within 1e7 (NaN too), so
- * nothing undefined is computed. */
+/* A lane's texel cell along one axis: floorf(u) by truncation (exact below 2^24; it vectorizes
+ * where floorf does not), as an index and as a float. */
+__attribute__((always_inline)) static inline void lane_cell(float u, int *i, float *f)
+{
+    const int t = (int)u;
+    const float ft = (float)t;
+    const bool down = ft > u;
+    *i = down ? t - 1 : t;
+    *f = down ? ft - 1.0f : ft;
+}
+
+/* The 4x4 taps of SL_SHADOW_LANES lanes: where each reads (a vector loop), what it reads (taps_read,
+ * plain loads), then the test (a vector loop). The reads are plain loads rather than the vector
+ * loop's gathers, as the reflection occlusion's march: on cores whose gathers issue slowly they
+ * cost less, and the bits are the same. */
+typedef struct {
+    int at[16][SL_SHADOW_LANES];   /* tap a + 4 b: column a, row b */
+    float depth[16][SL_SHADOW_LANES];
+} lane_taps;
+
+static void taps_read(const float *texels, int count, lane_taps *t)
+{
+    for (int k = 0; k < 16; k++)
+        for (int i = 0; i < count; i++)
+            t->depth[k][i] = texels[t->at[k][i]];
+}
+
+/* sl_shadow_sun_visibility for `count` points (at most SL_SHADOW_LANES), a lane a point: its
+ * operations in its order, its early returns as a `read` mask and floorf by truncation, so each
+ * value is its bits. A lane not read (facing away from the lights, off the map) is 1 and takes
+ * its taps as 0 (it reads texel 0); its indices are clamped onto the map all the same, from
+ * coordinates held within 1e7 (NaN too), so nothing undefined is computed. */
 __attribute__((noinline)) /* inlined into its caller's loop, clang does not vectorize it */
 static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const float *px, const float *py,
                                const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
@@ -675,7 +701,6 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
         return;
     }
     const sl_shadow_sun *sun = &m->maps[s];
-    const float *depth = sun->depth;
     const float offset = sun->texel * SHADOW_NORMAL_OFFSET;
     const float bias = sun->texel * SHADOW_BIAS_CONST + sun->sz * 1e-6f;
     const float ax = sun->axis.x, ay = sun->axis.y, az = sun->axis.z;
@@ -683,11 +708,13 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
     const float upx = sun->up.x, upy = sun->up.y, upz = sun->up.z;
     const float x0 = sun->x0, y0 = sun->y0, stepx = sun->stepx, stepy = sun->stepy;
     const int size = sun->size, last = sun->size - 1;
-    /* two loops, the place and then the taps (as sky.c's lanes: with the place's holding select
-     * and the taps' truncation in one loop, GCC moves the truncation into the select's branch
-     * and does not vectorize) */
+    /* the place, then the cells and taps, then the test: separate loops (with the place's
+     * holding select and the cells' truncation in one loop, GCC moves the truncation into the
+     * select's branch and does not vectorize) */
     float nas[SL_SHADOW_LANES], xqs[SL_SHADOW_LANES], yqs[SL_SHADOW_LANES], zqs[SL_SHADOW_LANES];
-    float uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES];
+    float uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES], fxs[SL_SHADOW_LANES], fys[SL_SHADOW_LANES];
+    int reads[SL_SHADOW_LANES];
+    lane_taps taps;
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         /* sl_shadow_ortho_locate */
@@ -704,71 +731,83 @@ static void sun_visibility_run(const sl_shadow_suns *m, int s, int count, const 
         uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
         uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        int ix, iy;
+        float fx, fy;
+        lane_cell(uxs[i], &ix, &fx);
+        lane_cell(uys[i], &iy, &fy);
+        const bool read = (nas[i] < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
+        /* the columns and rows ix - 1 .. ix + 2 and iy - 1 .. iy + 2 */
+#pragma GCC unroll 4
+        for (int b = 0; b < 4; b++) {
+            const int r = sl_shadow_clamp_index(iy - 1 + b, last);
+#pragma GCC unroll 4
+            for (int a = 0; a < 4; a++)
+                taps.at[a + 4 * b][i] = read ? sl_shadow_tile_index(sl_shadow_clamp_index(ix - 1 + a, last), r, size) : 0;
+        }
+        fxs[i] = fx;
+        fys[i] = fy;
+        reads[i] = read;
+    }
+    taps_read(sun->depth, count, &taps);
     float out[SL_SHADOW_LANES];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
-        const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], ux = uxs[i], uy = uys[i];
-        const int tx0 = (int)ux, ty0 = (int)uy;
-        const float ftx = (float)tx0, fty = (float)ty0;
-        const bool downx = ftx > ux, downy = fty > uy;
-        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
-        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-        const bool read = (na < -1e-6f) & (fabsf(fx) < 1e6f) & (fabsf(fy) < 1e6f);
-        const float tx = ux - fx, ty = uy - fy;
+        const float na = nas[i], xq = xqs[i], yq = yqs[i], zq = zqs[i], fx = fxs[i], fy = fys[i];
+        const bool read = reads[i] != 0;
+        const float tx = uxs[i] - fx, ty = uys[i] - fy;
         const float gx = -(nx[i] * rx + ny[i] * ry + nz[i] * rz) / na;
         const float gy = -(nx[i] * upx + ny[i] * upy + nz[i] * upz) / na;
-        /* sl_shadow_sun_visibility's taps: the columns and rows ix - 1 .. ix + 2 and iy - 1 ..
-         * iy + 2, each column's and row's offset from q, and the box-tent weights */
+        /* sl_shadow_sun_visibility's taps: each column's and row's offset from q, and the
+         * box-tent weights */
         const float wx0 = (1.0f - tx) / 3.0f, wx3 = tx / 3.0f, wy0 = (1.0f - ty) / 3.0f, wy3 = ty / 3.0f;
         const float w12 = 1.0f / 3.0f;
-        const int c0 = sl_shadow_clamp_index(ix - 1, last), c1 = sl_shadow_clamp_index(ix, last);
-        const int c2 = sl_shadow_clamp_index(ix + 1, last), c3 = sl_shadow_clamp_index(ix + 2, last);
-        const int r0 = sl_shadow_clamp_index(iy - 1, last), r1 = sl_shadow_clamp_index(iy, last);
-        const int r2 = sl_shadow_clamp_index(iy + 1, last), r3 = sl_shadow_clamp_index(iy + 2, last);
         const float dx0 = (fx + -1.0f + 0.5f) * stepx + x0 - xq, dx1 = (fx + 0.0f + 0.5f) * stepx + x0 - xq;
         const float dx2 = (fx + 1.0f + 0.5f) * stepx + x0 - xq, dx3 = (fx + 2.0f + 0.5f) * stepx + x0 - xq;
         const float dy0 = (fy + -1.0f + 0.5f) * stepy + y0 - yq, dy1 = (fy + 0.0f + 0.5f) * stepy + y0 - yq;
         const float dy2 = (fy + 1.0f + 0.5f) * stepy + y0 - yq, dy3 = (fy + 2.0f + 0.5f) * stepy + y0 - yq;
-#define SUN_ROW(r, dy)                                                                                              \
-    sun_row(depth, read, sl_shadow_tile_index(c0, r, size), sl_shadow_tile_index(c1, r, size),                    \
-            sl_shadow_tile_index(c2, r, size), sl_shadow_tile_index(c3, r, size), bias, zq, gx, dx0, dx1, dx2, dx3, \
-            gy, dy, wx0, w12, wx3)
+#define SUN_TAP(k) (read ? taps.depth[k][i] : 0.0f)
+#define SUN_ROW(b, dy)                                                                                            \
+    sun_row(SUN_TAP(4 * (b)), SUN_TAP(4 * (b) + 1), SUN_TAP(4 * (b) + 2), SUN_TAP(4 * (b) + 3), bias, zq, gx, dx0, \
+            dx1, dx2, dx3, gy, dy, wx0, w12, wx3)
         float v = 0.0f;
-        v += SUN_ROW(r0, dy0) * wy0;
-        v += SUN_ROW(r1, dy1) * w12;
-        v += SUN_ROW(r2, dy2) * w12;
-        v += SUN_ROW(r3, dy3) * wy3;
+        v += SUN_ROW(0, dy0) * wy0;
+        v += SUN_ROW(1, dy1) * w12;
+        v += SUN_ROW(2, dy2) * w12;
+        v += SUN_ROW(3, dy3) * wy3;
 #undef SUN_ROW
+#undef SUN_TAP
         v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
         out[i] = read ? v : 1.0f;
     }
     for (int i = 0; i < count; i++) /* through a local array: clang does not vectorize the loop
-                                       storing through a pointer beside the maps' gathers */
+                                       storing through a pointer beside the maps' reads */
         vis[i] = out[i];
 }
 
 /* One row of a lane's 4x4 cube-map taps (sl_shadow_point_visibility's inner loop, written out):
- * the sum of the columns' weights wx0 .. wx3 whose tap is open, at texels i0 .. i3 of the block,
- * with N.(ray) ny + nx0 .. ny + nx3. */
-__attribute__((always_inline)) static inline float cube_row(const float *block, bool read, int i0, int i1, int i2,
-                                                            int i3, float scale_rel, float bias, float nq, float ny,
-                                                            float nx0, float nx1, float nx2, float nx3, float wx0,
-                                                            float wx12, float wx3)
+ * the sum of the columns' weights wx0 .. wx3 whose tap is open, of stored depths d0 .. d3 (0
+ * where not read), with N.(ray) ny + nx0 .. ny + nx3. */
+__attribute__((always_inline)) static inline float cube_row(float d0, float d1, float d2, float d3, float scale_rel,
+                                                            float bias, float nq, float ny, float nx0, float nx1,
+                                                            float nx2, float nx3, float wx0, float wx12, float wx3)
 {
     const float nd0 = ny + nx0, nd1 = ny + nx1, nd2 = ny + nx2, nd3 = ny + nx3;
     float rv = 0.0f;
-    rv += ((nd0 > -1e-6f) | (((read ? block[i0] : 0.0f) * scale_rel + bias) * nd0 <= nq)) ? wx0 : 0.0f;
-    rv += ((nd1 > -1e-6f) | (((read ? block[i1] : 0.0f) * scale_rel + bias) * nd1 <= nq)) ? wx12 : 0.0f;
-    rv += ((nd2 > -1e-6f) | (((read ? block[i2] : 0.0f) * scale_rel + bias) * nd2 <= nq)) ? wx12 : 0.0f;
-    rv += ((nd3 > -1e-6f) | (((read ? block[i3] : 0.0f) * scale_rel + bias) * nd3 <= nq)) ? wx3 : 0.0f;
+    rv += ((nd0 > -1e-6f) | ((d0 * scale_rel + bias) * nd0 <= nq)) ? wx0 : 0.0f;
+    rv += ((nd1 > -1e-6f) | ((d1 * scale_rel + bias) * nd1 <= nq)) ? wx12 : 0.0f;
+    rv += ((nd2 > -1e-6f) | ((d2 * scale_rel + bias) * nd2 <= nq)) ? wx12 : 0.0f;
+    rv += ((nd3 > -1e-6f) | ((d3 * scale_rel + bias) * nd3 <= nq)) ? wx3 : 0.0f;
     return rv;
 }
 
-/* sl_shadow_point_visibility for `count` points (at most SL_SHADOW_LANES) in vector loops, a lane
- * a point, as sun_visibility_run does it: its operations in its order (major_face as selects, the
- * face's frame from a table), its early returns as a `read` mask, floorf by truncation, the six
- * faces read through the cube's block; each value its bits. A lane not read is 1 and reads no
- * texel; its coordinates are held within 1e7 (NaN too) and its indices clamped onto the face. */
+/* sl_shadow_point_visibility for `count` points (at most SL_SHADOW_LANES), a lane a point, as
+ * sun_visibility_run does it: its operations in its order (major_face as selects, the face's
+ * frame from a table), its early returns as a `read` mask, floorf by truncation, the six faces
+ * read through the cube's block by plain loads (lane_taps); each value its bits. A lane not read
+ * is 1 and takes its taps as 0; its coordinates are held within 1e7 (NaN too) and its indices
+ * clamped onto the face. */
 __attribute__((noinline)) /* as sun_visibility_run */
 static void point_visibility_run(const sl_shadow_maps *m, int light, int count, const float *px, const float *py,
                                  const float *pz, const float *nx, const float *ny, const float *nz, float *vis)
@@ -779,7 +818,6 @@ static void point_visibility_run(const sl_shadow_maps *m, int light, int count, 
         return;
     }
     const sl_shadow_cube *c = &m->cubes[light];
-    const float *block = c->block;
     const float lx = c->position.x, ly = c->position.y, lz = c->position.z;
     float fax[6], fay[6], faz[6], frx[6], fry[6], frz[6], fux[6], fuy[6], fuz[6];
     for (int f = 0; f < 6; f++) {
@@ -791,11 +829,13 @@ static void point_visibility_run(const sl_shadow_maps *m, int light, int count, 
     const float sidef = (float)m->side, proj = m->proj;
     const float step = 2.0f / (sidef * proj), edge = 1.0f / proj;
     const float scale_rel = 1.0f + SHADOW_DEPTH_REL;
-    /* the place (q, its face, depth and texel coordinates), then the taps: two loops, as in
-     * sun_visibility_run */
+    /* the place (q, its face, depth and texel coordinates), the cells and taps, then the test:
+     * separate loops, as in sun_visibility_run */
     float qxs[SL_SHADOW_LANES], qys[SL_SHADOW_LANES], qzs[SL_SHADOW_LANES];
     float texels[SL_SHADOW_LANES], uxs[SL_SHADOW_LANES], uys[SL_SHADOW_LANES];
-    int faces[SL_SHADOW_LANES], seen[SL_SHADOW_LANES];
+    float fxs[SL_SHADOW_LANES], fys[SL_SHADOW_LANES];
+    int faces[SL_SHADOW_LANES], seen[SL_SHADOW_LANES], xs[SL_SHADOW_LANES], ys[SL_SHADOW_LANES];
+    lane_taps taps;
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         const float dx = px[i] - lx, dy = py[i] - ly, dz = pz[i] - lz;
@@ -817,19 +857,31 @@ static void point_visibility_run(const sl_shadow_maps *m, int light, int count, 
         uxs[i] = fabsf(ux) < 1e7f ? ux : 1e7f;
         uys[i] = fabsf(uy) < 1e7f ? uy : 1e7f;
     }
+#pragma omp simd
+    for (int i = 0; i < count; i++) {
+        int ix, iy;
+        float fx, fy;
+        lane_cell(uxs[i], &ix, &fx);
+        lane_cell(uys[i], &iy, &fy);
+        const int x0 = ix - 1, y0 = iy - 1, base = faces[i] * face_texels;
+#pragma GCC unroll 4
+        for (int b = 0; b < 4; b++) {
+            const int r = base + sl_shadow_clamp_index(y0 + b, last) * side;
+#pragma GCC unroll 4
+            for (int a = 0; a < 4; a++)
+                taps.at[a + 4 * b][i] = seen[i] ? r + sl_shadow_clamp_index(x0 + a, last) : 0;
+        }
+        fxs[i] = fx, fys[i] = fy, xs[i] = x0, ys[i] = y0;
+    }
+    taps_read(c->block, count, &taps);
     float out[SL_SHADOW_LANES];
 #pragma omp simd
     for (int i = 0; i < count; i++) {
         const int f = faces[i];
-        const float qx = qxs[i], qy = qys[i], qz = qzs[i], ux = uxs[i], uy = uys[i];
+        const float qx = qxs[i], qy = qys[i], qz = qzs[i], fx = fxs[i], fy = fys[i];
         const bool read = seen[i] != 0;
-        const int tx0 = (int)ux, ty0 = (int)uy;
-        const float ftx = (float)tx0, fty = (float)ty0;
-        const bool downx = ftx > ux, downy = fty > uy;
-        const int ix = downx ? tx0 - 1 : tx0, iy = downy ? ty0 - 1 : ty0;
-        const float fx = downx ? ftx - 1.0f : ftx, fy = downy ? fty - 1.0f : fty;
-        const float tx = ux - fx, ty = uy - fy;
-        const int x0 = ix - 1, y0 = iy - 1;
+        const float tx = uxs[i] - fx, ty = uys[i] - fy;
+        const int x0 = xs[i], y0 = ys[i];
         const float nq = nx[i] * qx + ny[i] * qy + nz[i] * qz;
         const float na = nx[i] * fax[f] + ny[i] * fay[f] + nz[i] * faz[f];
         const float nr = nx[i] * frx[f] + ny[i] * fry[f] + nz[i] * frz[f];
@@ -838,30 +890,26 @@ static void point_visibility_run(const sl_shadow_maps *m, int light, int count, 
         const float bias = texels[i] * SHADOW_BIAS_CONST;
         const float wx0 = (1.0f - tx) / 3.0f, wx3 = tx / 3.0f, wy0 = (1.0f - ty) / 3.0f, wy3 = ty / 3.0f;
         const float w12 = 1.0f / 3.0f;
-        const int c0 = sl_shadow_clamp_index(x0, last), c1 = sl_shadow_clamp_index(x0 + 1, last);
-        const int c2 = sl_shadow_clamp_index(x0 + 2, last), c3 = sl_shadow_clamp_index(x0 + 3, last);
-        const int base = f * face_texels;
-        const int r0 = base + sl_shadow_clamp_index(y0, last) * side;
-        const int r1 = base + sl_shadow_clamp_index(y0 + 1, last) * side;
-        const int r2 = base + sl_shadow_clamp_index(y0 + 2, last) * side;
-        const int r3 = base + sl_shadow_clamp_index(y0 + 3, last) * side;
         const float nx0 = nr * (cx0 + 0.0f * step), nx1 = nr * (cx0 + 1.0f * step);
         const float nx2 = nr * (cx0 + 2.0f * step), nx3 = nr * (cx0 + 3.0f * step);
         const float ny0 = na + nu * (cy0 + 0.0f * step), ny1 = na + nu * (cy0 + 1.0f * step);
         const float ny2 = na + nu * (cy0 + 2.0f * step), ny3 = na + nu * (cy0 + 3.0f * step);
-#define CUBE_ROW(r, ny) \
-    cube_row(block, read, r + c0, r + c1, r + c2, r + c3, scale_rel, bias, nq, ny, nx0, nx1, nx2, nx3, wx0, w12, wx3)
+#define CUBE_TAP(k) (read ? taps.depth[k][i] : 0.0f)
+#define CUBE_ROW(b, ny)                                                                                         \
+    cube_row(CUBE_TAP(4 * (b)), CUBE_TAP(4 * (b) + 1), CUBE_TAP(4 * (b) + 2), CUBE_TAP(4 * (b) + 3), scale_rel, \
+             bias, nq, ny, nx0, nx1, nx2, nx3, wx0, w12, wx3)
         float v = 0.0f;
-        v += CUBE_ROW(r0, ny0) * wy0;
-        v += CUBE_ROW(r1, ny1) * w12;
-        v += CUBE_ROW(r2, ny2) * w12;
-        v += CUBE_ROW(r3, ny3) * wy3;
+        v += CUBE_ROW(0, ny0) * wy0;
+        v += CUBE_ROW(1, ny1) * w12;
+        v += CUBE_ROW(2, ny2) * w12;
+        v += CUBE_ROW(3, ny3) * wy3;
 #undef CUBE_ROW
+#undef CUBE_TAP
         v = v < 1.0f ? v : 1.0f; /* fminf: v is finite where read */
         out[i] = read ? v : 1.0f;
     }
     for (int i = 0; i < count; i++) /* through a local array: clang does not vectorize the loop
-                                       storing through a pointer beside the maps' gathers */
+                                       storing through a pointer beside the maps' reads */
         vis[i] = out[i];
 }
 
