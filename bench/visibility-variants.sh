@@ -28,7 +28,9 @@
 #     (SL_SHADOW_GLOW_DEG=-1.0f), glows of 0 (the clusters' own spread alone), 3, 5 and 10
 #     degrees beyond the spread, and the build as it is (7);
 #   - the reflection occlusion's ring (docs/lighting.md "Reflection occlusion", why half the
-#     lobe's cone): the same, for the build as it is (0.5) and SL_REFLECTION_RING=0.75f and 1.0f.
+#     lobe's cone and why an ellipse): the same, for the build as it is (0.5, an ellipse N.V as wide
+#     across the plane of incidence), SL_REFLECTION_RING=0.75f and 1.0f, and SL_REFLECTION_ELLIPSE=0
+#     (a round ring at 0.5).
 #
 #   [SCENES="bunny pbr ..."] [TABLES="join cells horizon lobe length glow ring"] bash bench/visibility-variants.sh [BUILD_DIR]
 #
@@ -59,7 +61,11 @@ if want glow; then
     variant no-glow SL_SHADOW_GLOW_DEG=-1.0f
     for g in 0 3 5 10; do variant glow-$g SL_SHADOW_GLOW_DEG=$g.0f; done
 fi
-if want ring; then variant ring-0.75 SL_REFLECTION_RING=0.75f; variant ring-1.0 SL_REFLECTION_RING=1.0f; fi
+if want ring; then
+    variant ring-0.75 SL_REFLECTION_RING=0.75f
+    variant ring-1.0 SL_REFLECTION_RING=1.0f
+    variant ring-round SL_REFLECTION_ELLIPSE=0
+fi
 T=$(mktemp -d "${TMPDIR:-/tmp}/visibility-variants.XXXXXX")
 trap 'rm -rf "$T"' EXIT
 
@@ -147,7 +153,7 @@ fi
 
 if want ring; then
 echo
-echo "| scene | visibility's change to the truth | left, the ring at half the lobe's cone (as built) | cut | left, at 0.75 of it | cut | left, at the cone | cut |"
-echo "|---|---:|---:|---:|---:|---:|---:|---:|"
-cut_rows "$BUILD" build-variants/ring-0.75 build-variants/ring-1.0
+echo "| scene | visibility's change to the truth | left, the ring at half the lobe's cone (as built) | cut | left, at 0.75 of it | cut | left, at the cone | cut | left, a round ring at half the cone | cut |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
+cut_rows "$BUILD" build-variants/ring-0.75 build-variants/ring-1.0 build-variants/ring-round
 fi

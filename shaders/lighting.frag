@@ -699,6 +699,8 @@ const int REFLECTION_BLOCK = 9;
 const float REFLECTION_BELOW = -1.0; // a ray below the surface: no part of the visibility
 const int REFLECTION_STEPS = 16;
 const float REFLECTION_RING = 0.5;
+const int REFLECTION_ELLIPSE = 1;   // the ring an ellipse, N.V as wide across the plane of incidence
+const float REFLECTION_PLANE_MIN = 1e-6; // R on N within this (squared sine): no plane of incidence
 const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
 const float REFLECTION_PLANE_EPS = 0.003;
@@ -798,6 +800,22 @@ vec3 reflection_geometric_normal(ivec2 q, vec3 Pq, float zq, vec3 V, vec3 N)
     return dot(n, V) < 0.0 ? -n : n;
 }
 
+// Ring ray direction: R turned by the ring's angle at the phase, in the lobe's frame: T in the
+// plane of incidence from R towards N, B = R x T across it; an ellipse whose reach across is N.V
+// of its reach in the plane, as a microfacet lobe's reflection is (reflection.c ring_direction).
+// At N.V = 1 (no plane of incidence) the helper axis's frame.
+vec3 reflection_ring_direction(vec3 N, vec3 R, float n_dot_v, float phase, float ring)
+{
+    vec3 toward_n = N - R * n_dot_v;
+    float len2 = dot(toward_n, toward_n);
+    vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+    vec3 T = len2 > REFLECTION_PLANE_MIN ? toward_n * (1.0 / sqrt(len2)) : normalize(cross(R, helper));
+    vec3 B = cross(R, T);
+    float across = REFLECTION_ELLIPSE != 0 ? max(n_dot_v, 0.0) : 1.0;
+    vec3 side = T * cos(phase) + B * (across * sin(phase));
+    return normalize(R * cos(ring) + side * sin(ring));
+}
+
 // Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface; its weight
 // in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE). A ray above
 // N's horizon and below the geometric normal's by more than REFLECTION_INTO_MARGIN enters the
@@ -817,11 +835,8 @@ float reflection_ray(ivec2 q, int k, out float weight)
     }
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
-    vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
-    vec3 T = normalize(cross(R, helper)), B = cross(R, T);
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
-    vec3 side = T * cos(phase) + B * sin(phase);
-    vec3 Rk = R * cos(ring) + side * sin(ring);
+    vec3 Rk = reflection_ring_direction(N, R, dot(N, V), phase, ring);
     float cosine = dot(Rk, N);
     weight = max(cosine, REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0))

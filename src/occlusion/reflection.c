@@ -232,6 +232,29 @@ static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, si
     return dot(n, V) < 0.0f ? scale(n, -1.0f) : n;
 }
 
+/* Ring ray direction: R turned by the ring's angle (its cosine and sine) at the phase whose
+ * cosine and sine are turn_cos and turn_sin, in the lobe's frame: T in the plane of incidence,
+ * from R towards N, and B = R x T across it. A microfacet lobe's reflection is narrower across
+ * that plane than in it: a half vector turned by a small angle within the plane turns the
+ * reflection by twice it, across the plane by 2 (N.V) times it. So the ring is an ellipse whose
+ * reach across is N.V (n_dot_v) times its reach in the plane: at a grazing view a floor's lobe
+ * is a narrow streak up and down, and round rays at its sides would test directions it does not
+ * hold (a sphere beside the streak). At N.V = 1 (R on N: no plane of incidence) the lobe is round
+ * and the helper axis's frame stands in. No branch: the vector loop of rays_of_span runs it. */
+/* GLSL: reflection_ring_direction */
+__attribute__((always_inline)) static inline vec3 ring_direction(vec3 N, vec3 R, float n_dot_v, float turn_cos,
+                                                                 float turn_sin, ring_angle ring)
+{
+    const vec3 toward_n = sub(N, scale(R, n_dot_v));
+    const float len2 = dot(toward_n, toward_n);
+    const vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
+    const vec3 T = len2 > SL_REFLECTION_PLANE_MIN ? scale(toward_n, 1.0f / sqrtf(len2)) : normalize(cross(R, helper));
+    const vec3 B = cross(R, T);
+    const float across = SL_REFLECTION_ELLIPSE ? maxf(n_dot_v, 0.0f) : 1.0f;
+    const vec3 side = add(scale(T, turn_cos), scale(B, across * turn_sin));
+    return normalize(add(scale(R, ring.cos), scale(side, ring.sin)));
+}
+
 /* What ray_of found of a ray before any march: below the shading normal's horizon (not traced,
  * not counted), into the texel's own surface (below the geometric normal's horizon by more than
  * SL_REFLECTION_INTO_MARGIN, while above the shading normal's: blocked by it, not traced), or to
@@ -262,10 +285,7 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
         *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
         return dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
     }
-    vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
-    vec3 T = normalize(cross(R, helper)), B = cross(R, T);
-    vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
-    vec3 Rk = add(scale(R, ring.cos), scale(side, ring.sin));
+    vec3 Rk = ring_direction(N, R, dot(N, V), f->turn_cos[k], f->turn_sin[k], ring);
     float cosine = dot(Rk, N);
     *direction = Rk;
     *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
@@ -461,10 +481,8 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         /* ray 0 along R; ray k on the ring */
         const float weight0 = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
         const int start0 = dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
-        const vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
-        const vec3 T = normalize(cross(R, helper)), B = cross(R, T);
-        const vec3 side = add(scale(T, f->turn_cos[k]), scale(B, f->turn_sin[k]));
-        const vec3 Rk = add(scale(R, ring_cos[m]), scale(side, ring_sin[m]));
+        const vec3 Rk = ring_direction(N, R, dot(N, V), f->turn_cos[k], f->turn_sin[k],
+                                       (ring_angle){ring_cos[m], ring_sin[m]});
         const float cosine = dot(Rk, N);
         const float weightk = maxf(cosine, SL_REFLECTION_MIN_COSINE);
         const int startk = !(cosine > 0.0f)                               ? RAY_BELOW

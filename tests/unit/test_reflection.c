@@ -12,6 +12,9 @@
  *   - a rough floor beside the wall: the lobe's ring of rays gives a penumbra of visibilities
  *     strictly between 0 and 1, far wider than the mirror's, and the blocked set stays darker
  *     than the open one (a ring collapsed onto R leaves the mirror's penumbra alone: fails);
+ *   - a rough floor at a grazing view along the wall: the ring is the lobe's streak, narrow
+ *     across the plane of incidence, and no ray of a texel whose reflection heads away from the
+ *     wall meets it (a round ring's side rays do: fails);
  *   - the frame (sl_reflection_apply) gives the same bits as the per-texel reference
  *     (sl_reflection_texel) at the image's borders, across the wall's edge and over the floor's
  *     reflection of the wall, and the reference says which block members counted (a frame that
@@ -30,6 +33,7 @@
 #include "testutil.h"
 
 #include "occlusion/reflection.h"
+#include "occlusion/specular_occlusion.h"
 
 #define W 160
 #define H 120
@@ -216,6 +220,63 @@ static void test_rough_beside_wall(void **state)
     assert_true(c.between > 0);
     assert_true(c.between > 3 * mirror_between);
     assert_true(blocked_mean < open_mean);
+    sl_gbuffer_free(&gb);
+}
+
+/* A rough floor (Phong 5) seen at a grazing view along the wall, from 0.6 units beside it, rays
+ * 6 long: a microfacet lobe's reflection at a grazing view is a streak in the plane of incidence,
+ * N.V times as wide across it as along it, and the ring is an ellipse of that shape. On the
+ * floor texels whose blocks are floor, right of the eye (their mirror rays head away from the
+ * wall), and whose ellipses cannot reach the wall within the rays' length, every visibility is 1,
+ * while a round ring's rays across the plane (the ring's angle to the side of R) would meet the
+ * wall within the rays' length and in the image from many of them (measured: 1 over 4388
+ * texels, 646 of which a round ring's side ray meets the wall from). */
+/* Whether floor point P lies right of the eye (its mirror ray heads away from the wall) and its
+ * ellipse's rays across, which reach N.V sin(ring) to the side a unit along, cannot reach the
+ * wall within `dist`. */
+static bool streak_clear_of_wall(const sl_camera *cam, vec3 P, float ring, float dist)
+{
+    vec3 V = normalize(sub(cam->eye, P));
+    return P.x >= cam->eye.x && V.z * sinf(ring) * dist < P.x;
+}
+
+static void test_grazing_streak(void **state)
+{
+    (void)state;
+    const float dist = 6.0f;
+    sl_camera cam = corner_camera();
+    cam.eye = vec3(0.6f, -10.0f, 0.4f);
+    cam.target = vec3(0.6f, 20.0f, 0.0f);
+    sl_gbuffer gb = {0};
+    const corner_material wide = {5.0f, 0.9f};
+    corner_visibility(&gb, &cam, true, wide, dist);
+    const float ring = SL_REFLECTION_RING * sl_so_lobe_cone(wide.alpha).ts;
+    int texels = 0, round_blocked = 0;
+    float lowest = 1.0f;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            if (!floor_block(&gb, x, y))
+                continue;
+            vec3 P = sl_gbuffer_at(&gb, x, y)->position;
+            vec3 d = normalize(sub(P, cam.eye)), R = vec3(d.x, d.y, -d.z), N = vec3(0.0f, 0.0f, 1.0f);
+            if (!streak_clear_of_wall(&cam, sl_gbuffer_at(&gb, x - 1, y)->position, ring, dist))
+                continue; /* the block's left column, and so the whole block */
+            texels++;
+            lowest = fminf(lowest, gb.reflection[y * W + x].x);
+            /* a round ring's ray across the plane of incidence, towards the wall */
+            vec3 T = normalize(sub(N, scale(R, dot(N, R)))), B = cross(R, T);
+            vec3 side = normalize(add(scale(R, cosf(ring)), scale(B, (B.x < 0.0f ? 1.0f : -1.0f) * sinf(ring))));
+            if (side.x < 0.0f) {
+                float t = -P.x / side.x;
+                vec3 hit = add(P, scale(side, t));
+                round_blocked += t < 0.7f * dist && hit.z > 0.0f && in_image(&cam, hit, W, H);
+            }
+        }
+    print_message("grazing rough floor beside the wall: lowest visibility %.3f over %d texels right of the eye, %d of "
+                  "which a round ring's side ray meets the wall from\n",
+                  (double)lowest, texels, round_blocked);
+    assert_true(texels > 500 && round_blocked > texels / 10);
+    assert_float_equal(lowest, 1.0, 0.0);
     sl_gbuffer_free(&gb);
 }
 
@@ -472,6 +533,7 @@ int main(void)
         cmocka_unit_test(test_open_floor),
         cmocka_unit_test(test_mirror_beside_wall),
         cmocka_unit_test(test_rough_beside_wall),
+        cmocka_unit_test(test_grazing_streak),
         cmocka_unit_test(test_frame_matches_texel),
         cmocka_unit_test(test_tilted_normals),
         cmocka_unit_test(test_lone_texels),
