@@ -699,7 +699,7 @@ const int REFLECTION_BLOCK = 9;
 const float REFLECTION_BELOW = -1.0; // a ray below the surface: no part of the visibility
 const int REFLECTION_STEPS = 16;
 const float REFLECTION_RING = 0.5;
-const int REFLECTION_ELLIPSE = 1;   // the ring an ellipse, N.V as wide across the plane of incidence
+const int REFLECTION_ELLIPSE = 1;   // the ring on the lobe's ellipse: twice the angle along, 2 N.V across
 const float REFLECTION_PLANE_MIN = 1e-6; // R on N within this (squared sine): no plane of incidence
 const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
@@ -800,10 +800,10 @@ vec3 reflection_geometric_normal(ivec2 q, vec3 Pq, float zq, vec3 V, vec3 N)
     return dot(n, V) < 0.0 ? -n : n;
 }
 
-// Ring ray direction: R turned by the ring's angle at the phase, in the lobe's frame: T in the
-// plane of incidence from R towards N, B = R x T across it; an ellipse whose reach across is N.V
-// of its reach in the plane, as a microfacet lobe's reflection is (reflection.c ring_direction).
-// At N.V = 1 (no plane of incidence) the helper axis's frame.
+// Ring ray direction: R turned at the phase in the lobe's frame, T in the plane of incidence from
+// R towards N, B = R x T across it, on the lobe's ellipse about R: twice the ring's angle in the
+// plane, 2 N.V times it across, as a microfacet lobe's reflection is (reflection.c
+// ring_direction). At N.V = 1 (no plane of incidence) the helper axis's frame.
 vec3 reflection_ring_direction(vec3 N, vec3 R, float n_dot_v, float phase, float ring)
 {
     vec3 toward_n = N - R * n_dot_v;
@@ -811,8 +811,9 @@ vec3 reflection_ring_direction(vec3 N, vec3 R, float n_dot_v, float phase, float
     vec3 helper = abs(R.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
     vec3 T = len2 > REFLECTION_PLANE_MIN ? toward_n * (1.0 / sqrt(len2)) : normalize(cross(R, helper));
     vec3 B = cross(R, T);
-    float across = REFLECTION_ELLIPSE != 0 ? max(n_dot_v, 0.0) : 1.0;
-    vec3 side = T * cos(phase) + B * (across * sin(phase));
+    float along = REFLECTION_ELLIPSE != 0 ? 2.0 : 1.0;
+    float across = REFLECTION_ELLIPSE != 0 ? 2.0 * max(n_dot_v, 0.0) : 1.0;
+    vec3 side = T * (along * cos(phase)) + B * (across * sin(phase));
     return normalize(R * cos(ring) + side * sin(ring));
 }
 

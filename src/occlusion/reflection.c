@@ -232,15 +232,17 @@ static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, si
     return dot(n, V) < 0.0f ? scale(n, -1.0f) : n;
 }
 
-/* Ring ray direction: R turned by the ring's angle (its cosine and sine) at the phase whose
- * cosine and sine are turn_cos and turn_sin, in the lobe's frame: T in the plane of incidence,
- * from R towards N, and B = R x T across it. A microfacet lobe's reflection is narrower across
- * that plane than in it: a half vector turned by a small angle within the plane turns the
- * reflection by twice it, across the plane by 2 (N.V) times it. So the ring is an ellipse whose
- * reach across is N.V (n_dot_v) times its reach in the plane: at a grazing view a floor's lobe
- * is a narrow streak up and down, and round rays at its sides would test directions it does not
- * hold (a sphere beside the streak). At N.V = 1 (R on N: no plane of incidence) the lobe is round
- * and the helper axis's frame stands in. No branch: the vector loop of rays_of_span runs it. */
+/* Ring ray direction: R turned at the phase whose cosine and sine are turn_cos and turn_sin, in
+ * the lobe's frame: T in the plane of incidence, from R towards N, and B = R x T across it. The
+ * cone's angle ts is that of the lobe about the half vector (the set's exponent about R,
+ * specular_occlusion.h); the reflection turns a half vector's small turn within the plane of
+ * incidence by twice it and one across the plane by 2 (N.V) times it. So the lobe about R is an
+ * ellipse, twice the cone in the plane and 2 N.V times it across (at a grazing view a floor's
+ * lobe is a long, narrow streak), and the ring is that ellipse at the ring's angle:
+ * normalize(R cos(ring) + (2 cos(phase) T + 2 N.V sin(phase) B) sin(ring)). At N.V = 1 (R on N:
+ * no plane of incidence) the lobe is round and the helper axis's frame stands in. A build with
+ * SL_REFLECTION_ELLIPSE 0 turns R on the round ring of the ring's angle instead. No branch: the
+ * vector loop of rays_of_span runs it. */
 /* GLSL: reflection_ring_direction */
 __attribute__((always_inline)) static inline vec3 ring_direction(vec3 N, vec3 R, float n_dot_v, float turn_cos,
                                                                  float turn_sin, ring_angle ring)
@@ -250,8 +252,9 @@ __attribute__((always_inline)) static inline vec3 ring_direction(vec3 N, vec3 R,
     const vec3 helper = fabsf(R.x) < 0.9f ? vec3(1.0f, 0.0f, 0.0f) : vec3(0.0f, 1.0f, 0.0f);
     const vec3 T = len2 > SL_REFLECTION_PLANE_MIN ? scale(toward_n, 1.0f / sqrtf(len2)) : normalize(cross(R, helper));
     const vec3 B = cross(R, T);
-    const float across = SL_REFLECTION_ELLIPSE ? maxf(n_dot_v, 0.0f) : 1.0f;
-    const vec3 side = add(scale(T, turn_cos), scale(B, across * turn_sin));
+    const float along = SL_REFLECTION_ELLIPSE ? 2.0f : 1.0f;
+    const float across = SL_REFLECTION_ELLIPSE ? 2.0f * maxf(n_dot_v, 0.0f) : 1.0f;
+    const vec3 side = add(scale(T, along * turn_cos), scale(B, across * turn_sin));
     return normalize(add(scale(R, ring.cos), scale(side, ring.sin)));
 }
 

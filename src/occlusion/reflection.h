@@ -8,11 +8,12 @@
  * lobe, with R = reflect(-V, N) and the lobe's cone of half-angle ts (specular_occlusion.h,
  * sl_so_lobe_cone: 75.6% of the lobe's energy), is probed by SL_REFLECTION_RAYS rays from P
  * (moved off the surface by a share of its view depth): ray 0 along R, rays 1 .. 4 on a ring at
- * SL_REFLECTION_RING ts about R at equal turns, two in the plane of incidence and two across it,
- * the ring an ellipse whose reach across is N.V of its reach in the plane, as the lobe's
- * reflection is narrower across (SL_REFLECTION_ELLIPSE; a ray below the surface is no part of the
- * visibility: the integral has no light from below the horizon to hide, and a grazing lobe's
- * ring dips under it; counted as open it would dilute the share of what is hidden). A ray above
+ * SL_REFLECTION_RING of the lobe's reach about R at equal turns, two in the plane of incidence
+ * and two across it: the lobe about R is an ellipse, 2 ts in the plane and 2 ts N.V across it,
+ * since the cone is the lobe's about the half vector (SL_REFLECTION_ELLIPSE; a ray below the
+ * surface is no part of the visibility: the integral has no light from below the horizon to
+ * hide, and a grazing lobe's ring dips under it; counted as open it would dilute the share of
+ * what is hidden). A ray above
  * N's horizon and below that of the geometric normal (by more than SL_REFLECTION_INTO_MARGIN),
  * the normal of the plane the G-buffer's positions span across P along x and y (its neighbours
  * there within the thickness in view depth), enters the surface the rasterizer drew, which a
@@ -85,10 +86,10 @@
 #ifndef SL_REFLECTION_RING
 #define SL_REFLECTION_RING 0.5f
 #endif
-/* The ring in the lobe's frame: an ellipse whose reach across the plane of incidence is N.V of its
- * reach in it, as a microfacet lobe's reflection is (reflection.c ring_direction; docs/lighting.md
- * "Reflection occlusion", why; a build defining 0, a round ring, is for
- * bench/visibility-variants.sh's comparison) */
+/* The ring in the lobe's frame: the ellipse of the lobe about R, twice the cone's angle in the
+ * plane of incidence and 2 N.V times it across, as a microfacet lobe's reflection is
+ * (reflection.c ring_direction; docs/lighting.md "Reflection occlusion", why; a build defining 0,
+ * the round ring at the ring's angle, is for bench/visibility-variants.sh's comparison) */
 #ifndef SL_REFLECTION_ELLIPSE
 #define SL_REFLECTION_ELLIPSE 1
 #endif
