@@ -153,7 +153,7 @@ fi
 
 if want ring; then
 echo
-echo "| scene | visibility's change to the truth | left, the ring at half the lobe's cone (as built) | cut | left, at 0.75 of it | cut | left, at the cone | cut | left, a round ring at half the cone | cut |"
+echo "| scene | visibility's change to the truth | left, the ellipse at half the lobe's cone (as built) | cut | left, the ellipse at 0.75 of it | cut | left, the ellipse at the cone | cut | left, a round ring at half the cone | cut |"
 echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
 cut_rows "$BUILD" build-variants/ring-0.75 build-variants/ring-1.0 build-variants/ring-round
 fi
