@@ -28,9 +28,9 @@
 #     (SL_SHADOW_GLOW_DEG=-1.0f), glows of 0 (the clusters' own spread alone), 3, 5 and 10
 #     degrees beyond the spread, and the build as it is (7);
 #   - the reflection occlusion's ring (docs/lighting.md "Reflection occlusion", why half the
-#     lobe's cone and why an ellipse): the same, for the build as it is (0.5, an ellipse N.V as wide
-#     across the plane of incidence), SL_REFLECTION_RING=0.75f and 1.0f, and SL_REFLECTION_ELLIPSE=0
-#     (a round ring at 0.5).
+#     lobe's cone and why an ellipse): the same, for the build as it is (0.5, on the lobe's
+#     ellipse), SL_REFLECTION_RING=0.75f and 1.0f, and SL_REFLECTION_ELLIPSE=0 (a round ring at
+#     0.5).
 #
 #   [SCENES="bunny pbr ..."] [TABLES="join cells horizon lobe length glow ring"] bash bench/visibility-variants.sh [BUILD_DIR]
 #

@@ -234,9 +234,9 @@ static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, si
 
 /* Ring ray direction: R turned at the phase whose cosine and sine are turn_cos and turn_sin, in
  * the lobe's frame: T in the plane of incidence, from R towards N, and B = R x T across it. The
- * cone's angle ts is that of the lobe about the half vector (the set's exponent about R,
- * specular_occlusion.h); the reflection turns a half vector's small turn within the plane of
- * incidence by twice it and one across the plane by 2 (N.V) times it. So the lobe about R is an
+ * cone's angle ts (specular_occlusion.h) comes from the set's exponent about the half vector; the
+ * reflection turns a half vector's small turn within the plane of incidence by twice it and one
+ * across the plane by 2 (N.V) times it. So the lobe about R is an
  * ellipse, twice the cone in the plane and 2 N.V times it across (at a grazing view a floor's
  * lobe is a long, narrow streak), and the ring is that ellipse at the ring's angle:
  * normalize(R cos(ring) + (2 cos(phase) T + 2 N.V sin(phase) B) sin(ring)). At N.V = 1 (R on N:
