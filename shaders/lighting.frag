@@ -826,7 +826,8 @@ float reflection_ray(ivec2 q, int k, out float weight)
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
     vec3 V = normalize(uEye - Pq);
     vec3 N = facing_normal(texelFetch(uNormal, q, 0).xyz, V);
-    vec3 R = N * (2.0 * dot(N, V)) - V;
+    float n_dot_v = dot(N, V);
+    vec3 R = N * (2.0 * n_dot_v) - V;
     float depth = dot(Pq - uEye, uViewForward);
     vec3 Ng = reflection_geometric_normal(q, Pq, depth, V, N);
     vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
@@ -837,7 +838,7 @@ float reflection_ray(ivec2 q, int k, out float weight)
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
     float phase = 2.0 * PI * float(k - 1) / float(REFLECTION_RAYS - 1);
-    vec3 Rk = reflection_ring_direction(N, R, dot(N, V), phase, ring);
+    vec3 Rk = reflection_ring_direction(N, R, n_dot_v, phase, ring);
     float cosine = dot(Rk, N);
     weight = max(cosine, REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0))

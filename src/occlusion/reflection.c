@@ -280,7 +280,8 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     const surface_plane *plane = &f->planes[i];
     vec3 V = normalize(sub(f->view.eye, t->position));
     vec3 N = vec3(plane->nx, plane->ny, plane->nz);
-    vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
+    const float n_dot_v = dot(N, V);
+    vec3 R = sub(scale(N, 2.0f * n_dot_v), V);
     vec3 Ng = geometric_normal(f, gb, i, V, N);
     *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * f->depth[i]));
     if (k == 0) {
@@ -288,7 +289,7 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
         *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
         return dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
     }
-    vec3 Rk = ring_direction(N, R, dot(N, V), f->turn_cos[k], f->turn_sin[k], ring);
+    vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k], ring);
     float cosine = dot(Rk, N);
     *direction = Rk;
     *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
@@ -466,7 +467,8 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         const float z = depth[i], near = SL_REFLECTION_THICKNESS * z;
         vec3 V = normalize(sub(eye, P));
         vec3 N = vec3(plane->nx, plane->ny, plane->nz);
-        vec3 R = sub(scale(N, 2.0f * dot(N, V)), V);
+        const float n_dot_v = dot(N, V);
+        vec3 R = sub(scale(N, 2.0f * n_dot_v), V);
         /* geometric_normal: axis_step along x, then along y */
         /* the neighbours' texels read whether they are there or not (contiguous reads, not a
          * gather's): the planes' margins hold the rows above the first and below the last */
@@ -484,7 +486,7 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         /* ray 0 along R; ray k on the ring */
         const float weight0 = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
         const int start0 = dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
-        const vec3 Rk = ring_direction(N, R, dot(N, V), f->turn_cos[k], f->turn_sin[k],
+        const vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k],
                                        (ring_angle){ring_cos[m], ring_sin[m]});
         const float cosine = dot(Rk, N);
         const float weightk = maxf(cosine, SL_REFLECTION_MIN_COSINE);
