@@ -65,8 +65,24 @@ layout(location = 4) out vec4 oExtra;
 
 vec2 map_uv(vec2 uv, vec4 st) { return vec2(uv.x * st.x + st.z, uv.y * st.y + st.w); }
 
+// The facet normal, as gbuffer.frag's facet_code: the triangle's plane (dFdx and dFdy of the
+// position lie in it; their cross product faces the viewer), octahedral-encoded into the normal's
+// and Kd's spare .w channels, (2, 2) where the derivatives span no plane.
+vec2 facet_code(vec3 dx, vec3 dy)
+{
+    vec3 f = cross(dx, dy);
+    float l1 = abs(f.x) + abs(f.y) + abs(f.z);
+    if (!(l1 > 0.0))
+        return vec2(2.0);
+    vec2 p = f.xy / l1;
+    if (f.z < 0.0)
+        p = (1.0 - abs(p.yx)) * vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
+    return p;
+}
+
 void main()
 {
+    vec2 facet = facet_code(dFdx(vWorldPos), dFdy(vWorldPos)); // before the discard, as the maps
     vec4 kd = vec4(1.0), ks = vec4(1.0), gloss = vec4(1.0), mask = vec4(1.0);
     vec4 nt = vec4(0.5, 0.5, 1.0, 1.0);
     vec4 mr = vec4(1.0), occ = vec4(1.0), em = vec4(1.0);
@@ -102,13 +118,13 @@ void main()
         n = dot(p, p) > 1e-30 ? normalize(p) : n;
     }
     oPosition = vec4(vWorldPos, 1.0);
-    oNormal = vec4(n, 0.0);
-    oKd = vec4(uKd * kd.rgb, 0.0);
+    oNormal = vec4(n, facet.x);
+    oKd = vec4(uKd * kd.rgb, facet.y);
     oKsAlpha = vec4(uKs * ks.rgb, uRoughness >= 0.0 ? -1.0 - uRoughness * gloss.x : uAlpha * gloss.x);
     if (uMetallic >= 0.0) {
         vec3 base = oKd.rgb;
         float metal = uMetallic * mr.z;
-        oKd = vec4(base * (1.0 - metal), 0.0);
+        oKd = vec4(base * (1.0 - metal), facet.y);
         oKsAlpha = vec4(vec3(0.04) + (base - vec3(0.04)) * metal, -1.0 - uRoughness * gloss.x * mr.y);
     }
     oExtra = vec4(1.0 + uOcclusionStrength * (occ.x - 1.0), uEmissive * em.rgb);

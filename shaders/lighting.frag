@@ -16,7 +16,9 @@
 // G-buffer, read with texelFetch(sampler, ivec2(gl_FragCoord.xy), 0); window coordinates, row 0
 // at the bottom, the size of the target:
 //   sampler2D uPosition   .xyz = world-space position (RGB32F or RGBA32F)
-//   sampler2D uNormal     .xyz = world-space normal (need not be unit; zero is handled)
+//   sampler2D uNormal     .xyz = world-space normal (need not be unit; zero is handled); .w with
+//                         uKd's .w: the facet normal, octahedral (facet_normal), read by the
+//                         reflection occlusion only when uHasFacet != 0
 //   sampler2D uKd         .rgb = linear diffuse albedo Kd
 //   sampler2D uKsAlpha    .rgb = Ks (Schlick F0, linear), .a = the lobe parameter alpha: >= 0
 //                         the Phong exponent, <= -1 GGX with roughness r = -1 - alpha (a float
@@ -164,6 +166,7 @@ uniform sampler2D uDepth;
 uniform sampler2D uExtra; // .r occlusion, .gba emission: only when uHasExtra (src/raster/gbuffer.h)
 uniform sampler2D uCone;  // .xyz bent normal, .w AO: only when uHasCone (src/occlusion/gtao.h)
 uniform int uHasCone;
+uniform int uHasFacet; // uNormal.w, uKd.w hold the facet normal (src/raster/gbuffer.h sl_gbuffer.facet)
 #ifdef SL_SPECIALIZED
 const int uHasExtra = SL_HAS_EXTRA;
 #else
@@ -705,7 +708,7 @@ const float REFLECTION_THICKNESS = 0.1;
 const float REFLECTION_OFFSET = 0.002;
 const float REFLECTION_PLANE_EPS = 0.003;
 const float REFLECTION_MIN_COSINE = 1e-6; // a ray's least weight (R at a silhouette)
-const float REFLECTION_INTO_MARGIN = 0.15; // below the geometric normal's horizon by more: into it
+const float REFLECTION_INTO_MARGIN = 0.15; // below the rebuilt normal's horizon by more: into it (none with the facet)
 const float REFLECTION_SAME_DEPTH = 0.02;
 const float REFLECTION_SAME_NORMAL = 0.998;
 const int REFLECTION_LONE = 3; // a block counting fewer rays adds the pixel's own other rays
@@ -783,11 +786,31 @@ bool reflection_axis_step(ivec2 q, ivec2 d, vec3 Pq, float zq, out vec3 step_acr
     return found;
 }
 
-// The covered texel q's geometric normal, facing V: the normal of the plane its steps along x and
-// y span, the surface the rasterizer drew, which a smooth or normal-mapped N leans away from; N
-// where an axis has no step or the two span no plane.
+// The facet normal of texel q, decoded from uNormal.w and uKd.w (gbuffer.frag's facet_code);
+// (0, 0, 0) for the code (2, 2): no plane.
+vec3 facet_normal(ivec2 q)
+{
+    vec2 p = vec2(texelFetch(uNormal, q, 0).w, texelFetch(uKd, q, 0).w);
+    if (abs(p.x) > 1.5)
+        return vec3(0.0);
+    vec3 n = vec3(p, 1.0 - abs(p.x) - abs(p.y));
+    if (n.z < 0.0)
+        n.xy = (1.0 - abs(n.yx)) * vec2(n.x >= 0.0 ? 1.0 : -1.0, n.y >= 0.0 ? 1.0 : -1.0);
+    return normalize(n);
+}
+
+// The covered texel q's geometric normal, facing V: the surface the rasterizer drew, which a
+// smooth or normal-mapped N leans away from. The facet where the G-buffer has it (uHasFacet);
+// else the normal of the plane its steps along x and y span, N where an axis has no step or the
+// two span no plane.
 vec3 reflection_geometric_normal(ivec2 q, vec3 Pq, float zq, vec3 V, vec3 N)
 {
+    if (uHasFacet != 0) {
+        vec3 f = facet_normal(q);
+        if (!(dot(f, f) > 0.0))
+            return N;
+        return dot(f, V) < 0.0 ? -f : f;
+    }
     vec3 along_x, along_y;
     if (!reflection_axis_step(q, ivec2(1, 0), Pq, zq, along_x) ||
         !reflection_axis_step(q, ivec2(0, 1), Pq, zq, along_y))
@@ -819,8 +842,8 @@ vec3 reflection_ring_direction(vec3 N, vec3 R, float n_dot_v, float phase, float
 
 // Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface; its weight
 // in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE). A ray above
-// N's horizon and below the geometric normal's by more than REFLECTION_INTO_MARGIN enters the
-// surface drawn: blocked, not traced.
+// N's horizon and below the geometric normal's (by more than REFLECTION_INTO_MARGIN with the
+// rebuilt normal) enters the surface drawn: blocked, not traced.
 float reflection_ray(ivec2 q, int k, out float weight)
 {
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
@@ -830,10 +853,11 @@ float reflection_ray(ivec2 q, int k, out float weight)
     vec3 R = N * (2.0 * n_dot_v) - V;
     float depth = dot(Pq - uEye, uViewForward);
     vec3 Ng = reflection_geometric_normal(q, Pq, depth, V, N);
+    float margin = uHasFacet != 0 ? 0.0 : REFLECTION_INTO_MARGIN;
     vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
     if (k == 0) {
         weight = max(dot(R, N), REFLECTION_MIN_COSINE);
-        return dot(R, Ng) < -REFLECTION_INTO_MARGIN ? 0.0 : reflection_trace_ray(P, R);
+        return dot(R, Ng) < -margin ? 0.0 : reflection_trace_ray(P, R);
     }
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
@@ -843,7 +867,7 @@ float reflection_ray(ivec2 q, int k, out float weight)
     weight = max(cosine, REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0))
         return REFLECTION_BELOW; // not counted
-    return dot(Rk, Ng) < -REFLECTION_INTO_MARGIN ? 0.0 : reflection_trace_ray(P, Rk);
+    return dot(Rk, Ng) < -margin ? 0.0 : reflection_trace_ray(P, Rk);
 }
 
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,

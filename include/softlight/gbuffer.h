@@ -50,6 +50,11 @@ typedef struct sl_gbuffer {
                                  how many rays that share is over in y (1 .. 5; 0 for an empty
                                  texel) (src/occlusion/reflection.h; the lighting reads it for
                                  the image-based specular) */
+    sl_vec3 *facet;           /* NULL, or width * height: the world-space unit normal of the triangle
+                                 drawn at each texel, on the camera's side (0 where empty): the
+                                 surface itself, which a smooth mesh's or a normal map's normal
+                                 leans away from (sl_target.facets; the reflection occlusion asks for
+                                 it, src/occlusion/reflection.h) */
 } sl_gbuffer;
 
 /* Allocate for width x height (no-op when the size is unchanged; contents undefined until
@@ -59,9 +64,12 @@ SL_API bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *e
 SL_API void sl_gbuffer_clear(sl_gbuffer *gb, int threads);
 /* Allocate the extra plane (on) or free it. */
 SL_API bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, int threads, sl_error *err);
+/* Allocate the facet plane (on: sl_raster_scene fills it from then on) or free it. */
+SL_API bool sl_gbuffer_use_facet(sl_gbuffer *gb, bool on, sl_error *err);
 SL_API void sl_gbuffer_free(sl_gbuffer *gb);
 /* The G-buffer as a render target (depth in the texel's depth field; with the extra plane, its
- * tile hooks clear and resolve the plane). */
+ * tile hooks clear and resolve the plane; with the facet plane, the target's facets, whose
+ * facet_view_proj the caller sets to the camera's view-projection). */
 SL_API sl_target sl_gbuffer_target(sl_gbuffer *gb);
 
 /* Clear the G-buffer and draw every object of the scene with the built-in programs from `cam`,
@@ -71,7 +79,9 @@ SL_API bool sl_raster_scene(sl_raster *r, const sl_scene *scene, const sl_camera
 
 /* The channels as PFM files in `dir`, shown upright by a PFM viewer: position.pfm, normal.pfm,
  * view.pfm (normalize(eye - position), 0 where empty), kd.pfm, ks.pfm, alpha.pfm, depth.pfm,
- * mask.pfm (1 where covered); and the reverse (resizes gb to the files' size). */
+ * mask.pfm (1 where covered); with the extra plane occlusion.pfm and emissive.pfm, with the cone
+ * plane bent.pfm and ao.pfm, with the facet plane facet.pfm; and the reverse (resizes gb to the
+ * files' size and takes each plane whose files are there). */
 SL_API bool sl_gbuffer_write_aovs(const sl_gbuffer *gb, sl_vec3 eye, const char *dir, sl_error *err);
 SL_API bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err);
 /* Debug view: normal * 0.5 + 0.5 as RGB, row 0 = top, 0 where empty. Allocates img. */

@@ -41,6 +41,15 @@ typedef struct sl_target {
     void (*tile_clear)(void *ctx, int x0, int y0, int x1, int y1);
     void (*tile_drawn)(void *ctx, int x0, int y0, int x1, int y1, const float *depth, int stride);
     void *tile_ctx;
+    /* Optional (NULL: none): width * height facet normals written beside the texels. Wherever a
+     * fragment writes its texel, its facet is set to the unit normal of the triangle's plane in
+     * the space that facet_view_proj carries to clip space (a camera's view-projection: world
+     * space), on the viewer's side (the eye's for a perspective view_proj, the side an orthographic
+     * one looks from); a
+     * draw's clear sets it to 0. The plane is the triangle's own, not the interpolated normals':
+     * what a ray tracer would intersect. */
+    sl_vec3 *facets;
+    sl_mat4 facet_view_proj;
 } sl_target;
 
 typedef enum sl_cull_mode {

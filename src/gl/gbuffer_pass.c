@@ -6,7 +6,8 @@
  * bit for bit: the uniforms come from the same C function (sl_gbuffer_uniforms_init) with the same
  * view-projection (sl_camera_view_proj), the viewport is the whole target, depth test LESS against
  * a clear depth of 1, no culling (softlight's sl_raster_scene draws both faces), no blending, no
- * multisampling. Targets: 0 position (w = 1 where drawn), 1 normal, 2 kd, 3 ks + alpha; cleared to
+ * multisampling. Targets: 0 position (w = 1 where drawn), 1 normal, 2 kd, 3 ks + alpha, the .w of
+ * 1 and 2 the facet normal (octahedral: facet_code; softlight's sl_gbuffer.facet); cleared to
  * 0 like sl_gbuffer_clear; for a scene with occlusion or emission, 4 the extra channels (cleared to
  * "none", written by both programs: gbuffer.frag writes "none" where the C program leaves its plane
  * to the depth-tag resolve, src/raster/gbuffer.h). Row 0 is the bottom row in both.
@@ -19,7 +20,10 @@
  *
  * --gbuffer-shader: the user's fragment shader, linked with gbuffer_textured.vert, draws every
  * object with the textured program's uniforms (the C side: src/raster/gbuffer_user.c). A shader
- * without oExtra leaves the extra target as cleared ("none"), as the C side's default. */
+ * without oExtra leaves the extra target as cleared ("none"), as the C side's default; its .w
+ * channels are its own, so the lighting rebuilds the geometric normal from the positions there
+ * (uHasFacet 0), where softlight's rasterizer writes the facet plane for any program. */
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -316,7 +320,31 @@ bool slgl_gbuffer_draw(slgl_gbuffer *g, const sl_scene *scene, const slgl_mesh *
                                       GL_COLOR_ATTACHMENT3, GL_COLOR_ATTACHMENT4};
         glDrawBuffers(5, all);
     }
+    g->facet = !g->user_program; /* a user's shader writes its own .w channels */
     return slgl_check("the G-buffer pass", err);
+}
+
+/* gbuffer.frag's facet_code of a unit normal (0 for none: the code (2, 2)), and lighting.frag's
+ * facet_normal back: the facet plane in the normal's and Kd's spare .w channels. */
+static vec2 facet_code(vec3 f)
+{
+    float l1 = fabsf(f.x) + fabsf(f.y) + fabsf(f.z);
+    if (!(l1 > 0.0f))
+        return vec2(2.0f, 2.0f);
+    vec2 p = vec2(f.x / l1, f.y / l1);
+    if (f.z < 0.0f)
+        p = vec2((1.0f - fabsf(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f), (1.0f - fabsf(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f));
+    return p;
+}
+
+static vec3 facet_decode(float a, float b)
+{
+    if (fabsf(a) > 1.5f)
+        return vec3s(0.0f);
+    vec3 n = vec3(a, b, 1.0f - fabsf(a) - fabsf(b));
+    if (n.z < 0.0f)
+        n = vec3((1.0f - fabsf(b)) * (a >= 0.0f ? 1.0f : -1.0f), (1.0f - fabsf(a)) * (b >= 0.0f ? 1.0f : -1.0f), n.z);
+    return normalize(n);
 }
 
 /* Read one RGBA32F attachment, row 0 = bottom. */
@@ -343,21 +371,31 @@ bool slgl_gbuffer_read(const slgl_gbuffer *g, sl_gbuffer *out, sl_error *err)
     read_rgba(GL_COLOR_ATTACHMENT0, g->width, g->height, buf);
     for (size_t i = 0; i < n; i++)
         out->texels[i].position = vec3(buf[4 * i], buf[4 * i + 1], buf[4 * i + 2]);
+    bool ok = sl_gbuffer_use_facet(out, g->facet, err);
     read_rgba(GL_COLOR_ATTACHMENT1, g->width, g->height, buf);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         out->texels[i].normal = vec3(buf[4 * i], buf[4 * i + 1], buf[4 * i + 2]);
+        if (out->facet) /* its first code, the second below */
+            out->facet[i].x = buf[4 * i + 3];
+    }
     read_rgba(GL_COLOR_ATTACHMENT2, g->width, g->height, buf);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         out->texels[i].kd = vec3(buf[4 * i], buf[4 * i + 1], buf[4 * i + 2]);
+        if (out->facet)
+            out->facet[i] = facet_decode(out->facet[i].x, buf[4 * i + 3]);
+    }
     read_rgba(GL_COLOR_ATTACHMENT3, g->width, g->height, buf);
     for (size_t i = 0; i < n; i++) {
         out->texels[i].ks = vec3(buf[4 * i], buf[4 * i + 1], buf[4 * i + 2]);
         out->texels[i].alpha = buf[4 * i + 3];
     }
     glReadPixels(0, 0, g->width, g->height, GL_DEPTH_COMPONENT, GL_FLOAT, depth);
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         out->texels[i].depth = depth[i];
-    bool ok = sl_gbuffer_use_extra(out, g->extra != 0, 0, err);
+        if (out->facet && !sl_gbuffer_covered(&out->texels[i])) /* 0 where empty, as softlight's clear */
+            out->facet[i] = vec3s(0.0f);
+    }
+    ok = ok && sl_gbuffer_use_extra(out, g->extra != 0, 0, err);
     if (ok && g->extra) { /* tagged with the texel's depth, as softlight's resolve leaves them */
         read_rgba(GL_COLOR_ATTACHMENT4, g->width, g->height, buf);
         for (size_t i = 0; i < n; i++)
@@ -388,9 +426,10 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
         for (size_t i = 0; i < n; i++) {
             const sl_gbuffer_texel *t = &in->texels[i];
             float covered = sl_gbuffer_covered(t) ? 1.0f : 0.0f;
+            vec2 facet = in->facet ? facet_code(in->facet[i]) : vec2(2.0f, 2.0f);
             vec4 v = target == 0   ? vec4_from3(t->position, covered)
-                     : target == 1 ? vec4_from3(t->normal, 0.0f)
-                     : target == 2 ? vec4_from3(t->kd, 0.0f)
+                     : target == 1 ? vec4_from3(t->normal, facet.x)
+                     : target == 2 ? vec4_from3(t->kd, facet.y)
                      : target == 3 ? vec4_from3(t->ks, t->alpha)
                      : target == 5 ? vec4(in->extra[i].occlusion, in->extra[i].emissive.x, in->extra[i].emissive.y,
                                           in->extra[i].emissive.z)
@@ -414,6 +453,7 @@ bool slgl_gbuffer_upload(slgl_gbuffer *g, const sl_gbuffer *in, sl_error *err)
         glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
         g->cone = g->cone_files;
     }
+    g->facet = in->facet != NULL;
     free(buf);
     return slgl_check("uploading the G-buffer", err);
 }

@@ -574,6 +574,7 @@ bool slgl_lighting_draw(slgl_lighting *l, const slgl_gbuffer *g, const sl_lighti
     glUseProgram(program);
     glUniform1i(loc(program, "uHasExtra"), g->extra != 0);
     glUniform1i(loc(program, "uHasCone"), g->cone != 0);
+    glUniform1i(loc(program, "uHasFacet"), g->facet);
     for (int i = 0; i < UNIT_COUNT; i++) {
         glActiveTexture(GL_TEXTURE0 + (GLenum)i);
         glBindTexture(GL_TEXTURE_2D, units[i]);

@@ -94,6 +94,9 @@ typedef struct {
     GLuint user_program;                   /* --gbuffer-shader: gbuffer_textured.vert and the user's
                                               fragment shader, for every object; 0 = none */
     bool user_extra;                       /* the user's shader writes oExtra (location 4) */
+    bool facet;                            /* normal.w and kd.w hold the facet normal (gbuffer.frag's
+                                              facet_code): drawn by softlight's own programs, or
+                                              uploaded from a G-buffer with its facet plane */
 } slgl_gbuffer;
 
 typedef struct {

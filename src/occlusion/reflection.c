@@ -55,6 +55,7 @@ typedef struct {
     const float *depth;           /* each texel's view depth, +inf for an empty one (nothing there blocks) */
     const surface_plane *planes;  /* each texel's tangent plane */
     const float *px, *py, *pz;    /* each texel's position (the frame's block pass; NULL in the reference) */
+    const sl_vec3 *facet;         /* the G-buffer's facet plane, or NULL: the normal rebuilt from positions */
     /* the ring's turns: the cosine and sine of ring ray k's phase about R, k = 1 .. 4 */
     float turn_cos[SL_REFLECTION_RAYS], turn_sin[SL_REFLECTION_RAYS];
 } reflection_frame;
@@ -214,12 +215,19 @@ static bool axis_step(const reflection_frame *f, const sl_gbuffer *gb, size_t i,
     return found;
 }
 
-/* The geometric normal of covered texel i, facing the eye V: the normal of the plane its steps
- * along x and y span (axis_step), the surface the rasterizer drew, which a smooth or
- * normal-mapped N leans away from. N where an axis has no step or the two span no plane. */
+/* The geometric normal of covered texel i, facing the eye V: the surface the rasterizer drew,
+ * which a smooth or normal-mapped N leans away from. The G-buffer's facet where it has the plane
+ * (the triangle's own); else the normal of the plane its steps along x and y span (axis_step),
+ * N where an axis has no step or the two span no plane. */
 /* GLSL: reflection_geometric_normal */
 static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, size_t i, vec3 V, vec3 N)
 {
+    if (f->facet) {
+        const vec3 n = f->facet[i];
+        if (!(dot(n, n) > 0.0f))
+            return N;
+        return dot(n, V) < 0.0f ? scale(n, -1.0f) : n;
+    }
     const int x = (int)(i % (size_t)f->width), y = (int)(i / (size_t)f->width);
     vec3 along_x, along_y;
     if (!axis_step(f, gb, i, x, y, 1, 0, &along_x) || !axis_step(f, gb, i, x, y, 0, 1, &along_y))
@@ -258,6 +266,12 @@ __attribute__((always_inline)) static inline vec3 ring_direction(vec3 N, vec3 R,
     return normalize(add(scale(R, ring.cos), scale(side, ring.sin)));
 }
 
+/* How far below the geometric normal's horizon a ray must point to enter the surface: none with
+ * the facet plane (the triangle the visibility truth intersects), SL_REFLECTION_INTO_MARGIN with
+ * the normal rebuilt from the positions, which is off by up to half the turn across the texels
+ * it spans. */
+static inline float into_margin(const reflection_frame *f) { return f->facet ? 0.0f : SL_REFLECTION_INTO_MARGIN; }
+
 /* What ray_of found of a ray before any march: below the shading normal's horizon (not traced,
  * not counted), into the texel's own surface (below the geometric normal's horizon by more than
  * SL_REFLECTION_INTO_MARGIN, while above the shading normal's: blocked by it, not traced), or to
@@ -283,11 +297,12 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     const float n_dot_v = dot(N, V);
     vec3 R = sub(scale(N, 2.0f * n_dot_v), V);
     vec3 Ng = geometric_normal(f, gb, i, V, N);
+    const float margin = into_margin(f);
     *P = add(t->position, scale(N, SL_REFLECTION_OFFSET * f->depth[i]));
     if (k == 0) {
         *direction = R;
         *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
-        return dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
+        return dot(R, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
     }
     vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k], ring);
     float cosine = dot(Rk, N);
@@ -295,7 +310,7 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0f))
         return RAY_BELOW;
-    return dot(Rk, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
+    return dot(Rk, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
 }
 
 /* Whether ray k of covered texel i is open (1), blocked (0) or into its own surface
@@ -458,6 +473,8 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
     const bool below = y > 0, above = y + 1 < h;
     const vec3 eye = f->view.eye;
     const float *depth = f->depth, *px = f->px, *py = f->py, *pz = f->pz;
+    const sl_vec3 *facet = f->facet;
+    const float margin = into_margin(f);
 #pragma omp simd
     for (int m = 0; m < n; m++) {
         const int x = x0 + m, k = k_of[m];
@@ -469,7 +486,7 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         vec3 N = vec3(plane->nx, plane->ny, plane->nz);
         const float n_dot_v = dot(N, V);
         vec3 R = sub(scale(N, 2.0f * n_dot_v), V);
-        /* geometric_normal: axis_step along x, then along y */
+        /* geometric_normal: the facet, or axis_step along x, then along y */
         /* the neighbours' texels read whether they are there or not (contiguous reads, not a
          * gather's): the planes' margins hold the rows above the first and below the last */
         const int ql = i - 1, qr = i + 1, qb = i - w, qa = i + w;
@@ -481,18 +498,21 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         const float len = length(g);
         g = scale(g, 1.0f / len);
         g = dot(g, V) < 0.0f ? scale(g, -1.0f) : g;
-        const vec3 Ng = (l || r) && (b || a) && len > 0.0f ? g : N;
+        const vec3 rebuilt = (l || r) && (b || a) && len > 0.0f ? g : N;
+        const vec3 fn = facet ? facet[i] : N;
+        const vec3 facing = dot(fn, V) < 0.0f ? scale(fn, -1.0f) : fn;
+        const vec3 Ng = !facet ? rebuilt : dot(fn, fn) > 0.0f ? facing : N;
         const vec3 start = add(P, scale(N, SL_REFLECTION_OFFSET * z));
         /* ray 0 along R; ray k on the ring */
         const float weight0 = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
-        const int start0 = dot(R, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE : RAY_TRACE;
+        const int start0 = dot(R, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
         const vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k],
                                        (ring_angle){ring_cos[m], ring_sin[m]});
         const float cosine = dot(Rk, N);
         const float weightk = maxf(cosine, SL_REFLECTION_MIN_COSINE);
         const int startk = !(cosine > 0.0f)                               ? RAY_BELOW
-                           : dot(Rk, Ng) < -SL_REFLECTION_INTO_MARGIN ? RAY_INTO_SURFACE
-                                                                          : RAY_TRACE;
+                           : dot(Rk, Ng) < -margin ? RAY_INTO_SURFACE
+                                                   : RAY_TRACE;
         const vec3 dir = k == 0 ? R : Rk;
         out->px[m] = start.x, out->py[m] = start.y, out->pz[m] = start.z;
         out->dx[m] = dir.x, out->dy[m] = dir.y, out->dz[m] = dir.z;
@@ -732,6 +752,7 @@ static reflection_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, flo
     f.planes = NULL;
     f.depth = NULL;
     f.px = f.py = f.pz = NULL;
+    f.facet = gb->facet;
     ring_turns(f.turn_cos, f.turn_sin);
     return f;
 }

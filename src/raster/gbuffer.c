@@ -42,7 +42,11 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     gb->texels = t;
     gb->width = width;
     gb->height = height;
-    bool extra = gb->extra != NULL;
+    bool extra = gb->extra != NULL, facet = gb->facet != NULL;
+    free(gb->facet); /* the old size's */
+    gb->facet = NULL;
+    if (facet && !sl_gbuffer_use_facet(gb, true, err))
+        return false;
     free(gb->cone); /* the old size's: the occlusion passes allocate them again */
     gb->cone = NULL;
     free(gb->reflection);
@@ -50,6 +54,23 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     free(gb->extra); /* the old size's */
     gb->extra = NULL;
     return sl_gbuffer_use_extra(gb, extra, 0, err);
+}
+
+bool sl_gbuffer_use_facet(sl_gbuffer *gb, bool on, sl_error *err)
+{
+    if (!on || !gb->texels) {
+        free(gb->facet);
+        gb->facet = NULL;
+        return true;
+    }
+    if (gb->facet)
+        return true;
+    size_t n = (size_t)gb->width * (size_t)gb->height;
+    if (!(gb->facet = plane_alloc(n * sizeof *gb->facet)))
+        return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the facet plane of %dx%d (%zu bytes)",
+                       gb->width, gb->height, n * sizeof *gb->facet);
+    memset(gb->facet, 0, n * sizeof *gb->facet);
+    return true;
 }
 
 bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, int threads, sl_error *err)
@@ -138,6 +159,7 @@ sl_target sl_gbuffer_target(sl_gbuffer *gb)
         .tile_clear = gb->extra ? tile_clear : NULL,
         .tile_drawn = gb->extra ? tile_drawn : NULL,
         .tile_ctx = gb,
+        .facets = gb->facet,
     };
 }
 
@@ -146,6 +168,8 @@ void sl_gbuffer_clear(sl_gbuffer *gb, int threads)
     if (!gb->texels)
         return;
     sl_gbuffer_extra_clear(gb, threads);
+    if (gb->facet)
+        memset(gb->facet, 0, (size_t)gb->width * (size_t)gb->height * sizeof *gb->facet);
     const sl_gbuffer_texel empty = {.depth = 1.0f};
     int w = gb->width;
 #pragma omp parallel for schedule(dynamic, 16) num_threads(sl_threads(threads))
@@ -162,6 +186,8 @@ void sl_gbuffer_free(sl_gbuffer *gb)
     free(gb->extra);
     free(gb->cone);
     free(gb->reflection);
+    free(gb->facet);
+    gb->facet = NULL;
     gb->texels = NULL;
     gb->extra = NULL;
     gb->cone = NULL;

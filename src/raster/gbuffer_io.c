@@ -18,7 +18,8 @@
  * A G-buffer with the extra plane (gbuffer.h: occlusion, emission) adds occlusion.pfm and
  * emissive.pfm (layers `occlusion`, `emissive.R/G/B`); one without it writes neither, and reading
  * takes the plane when both files are there. One with the ambient occlusion's cone plane
- * (sl_gbuffer.cone) adds bent.pfm and ao.pfm the same way (layers `bent.X/Y/Z`, `ao`). */
+ * (sl_gbuffer.cone) adds bent.pfm and ao.pfm the same way (layers `bent.X/Y/Z`, `ao`), and one with
+ * the facet plane (sl_gbuffer.facet) facet.pfm (layer `facet.X/Y/Z`). */
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -27,8 +28,8 @@
 #include "gbuffer.h"
 #include "raster.h"
 
-/* OCCLUSION and EMISSIVE are the extra plane's (gbuffer.h), BENT and AO the cone plane's, each
- * pair written only by a G-buffer that has the plane. */
+/* OCCLUSION and EMISSIVE are the extra plane's (gbuffer.h), BENT and AO the cone plane's, FACET
+ * the facet plane's, each written only by a G-buffer that has the plane. */
 enum {
     AOV_POSITION,
     AOV_NORMAL,
@@ -42,16 +43,21 @@ enum {
     AOV_EMISSIVE,
     AOV_BENT,
     AOV_AO,
+    AOV_FACET,
     AOV_COUNT
 };
 static const char *const aov_names[AOV_COUNT] = {"position", "normal", "view", "kd", "ks", "alpha", "depth", "mask",
-                                                 "occlusion", "emissive", "bent", "ao"};
-static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1, 1, 3, 3, 1};
-static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "", "", "", "RGB", "XYZ", ""};
+                                                 "occlusion", "emissive", "bent", "ao", "facet"};
+static const int aov_channels[AOV_COUNT] = {3, 3, 3, 3, 3, 1, 1, 1, 1, 3, 3, 1, 3};
+static const char *const aov_suffixes[AOV_COUNT] = {"XYZ", "XYZ", "XYZ", "RGB", "RGB", "", "",
+                                                    "",    "",    "RGB", "XYZ", "",  "XYZ"};
 
-/* Whether a G-buffer has the AOV: the extra plane's two only with it, the cone's only with it. */
+/* Whether a G-buffer has the AOV: the extra plane's two only with it, the cone's and the facet's
+ * only with theirs. */
 static bool aov_present(const sl_gbuffer *gb, int aov)
 {
+    if (aov == AOV_FACET)
+        return gb->facet != NULL;
     return aov < AOV_OCCLUSION || (aov < AOV_BENT ? gb->extra != NULL : gb->cone != NULL);
 }
 
@@ -87,6 +93,7 @@ static void aov_get(const sl_gbuffer *gb, int x, int y, vec3 eye, int aov, float
     case AOV_OCCLUSION: out[0] = e ? e->occlusion : 1.0f; return;
     case AOV_BENT: v = gb->cone ? xyz(gb->cone[t - gb->texels]) : t->normal; break;
     case AOV_AO: out[0] = gb->cone ? gb->cone[t - gb->texels].w : 1.0f; return;
+    case AOV_FACET: v = gb->facet ? gb->facet[t - gb->texels] : vec3s(0.0f); break;
     default: v = e ? e->emissive : vec3s(0.0f); break;
     }
     out[0] = v.x;
@@ -106,6 +113,7 @@ static void aov_set(sl_gbuffer *gb, int x, int y, int aov, const float *in)
     case AOV_EMISSIVE: if (e) e->emissive = v; break;
     case AOV_BENT: if (gb->cone) gb->cone[t - gb->texels] = vec4(v.x, v.y, v.z, gb->cone[t - gb->texels].w); break;
     case AOV_AO: if (gb->cone) gb->cone[t - gb->texels].w = in[0]; break;
+    case AOV_FACET: if (gb->facet) gb->facet[t - gb->texels] = v; break;
     case AOV_POSITION: t->position = v; break;
     case AOV_NORMAL: t->normal = v; break;
     case AOV_KD: t->kd = v; break;
@@ -227,9 +235,17 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
     if (cone_half)
         return sl_fail(err, SL_ERR_FORMAT, "%s: bent.pfm and ao.pfm come together (the ambient occlusion's cone); "
                        "only %s is there", dir, g[0] ? "bent.pfm" : "ao.pfm");
+    /* the facet plane's file is read where it is there */
+    char facet_path[4096];
+    if (!aov_path(facet_path, sizeof facet_path, dir, AOV_FACET, err))
+        return false;
+    FILE *h = fopen(facet_path, "rb");
+    bool facet = h != NULL;
+    if (h)
+        fclose(h);
     for (int aov = 0; ok && aov < AOV_COUNT; aov++) {
         if (aov == AOV_VIEW || (!extra && (aov == AOV_OCCLUSION || aov == AOV_EMISSIVE)) ||
-            (!cone && (aov == AOV_BENT || aov == AOV_AO)))
+            (!cone && (aov == AOV_BENT || aov == AOV_AO)) || (!facet && aov == AOV_FACET))
             continue;
         char path[4096];
         if (!aov_path(path, sizeof path, dir, aov, err) || !sl_gbuffer_read_aov_image(path, &img, err))
@@ -237,7 +253,8 @@ bool sl_gbuffer_read_aovs(const char *dir, sl_gbuffer *gb, sl_error *err)
         if (aov == AOV_POSITION) {
             width = img.width;
             height = img.height;
-            ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, 0, err);
+            ok = sl_gbuffer_resize(gb, width, height, err) && sl_gbuffer_use_extra(gb, extra, 0, err) &&
+                 sl_gbuffer_use_facet(gb, facet, err);
             free(gb->cone);
             gb->cone = NULL;
             if (ok && cone && !(gb->cone = calloc((size_t)width * (size_t)height, sizeof *gb->cone)))

@@ -201,6 +201,7 @@ bool sl_raster_scene_program(sl_raster *r, const sl_scene *scene, const sl_scene
         };
     }
     sl_target target = sl_gbuffer_target(gb);
+    target.facet_view_proj = view_proj;
     bool ok = sl_raster_draw_list(r, &target, draws, scene->object_count, err);
     if (!ok) { /* name the object: the list's errors say "draw i" */
         int i = 0;

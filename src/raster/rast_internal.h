@@ -90,6 +90,7 @@ typedef struct {
     int32_t X, Y;
     rast_exact win;
     const float *v; /* varying_count varyings, not yet divided by w */
+    vec4 clip;      /* the clip position, for the facet plane (sl_target.facets) */
 } rast_wvert;
 
 /* A set-up triangle, counter-clockwise. Edge k: E_k(x, y) = ex[k]*x + ey[k]*y + ec[k]
@@ -104,7 +105,8 @@ typedef struct {
     float iw[3];                    /* 1/w plane */
     float iw_lo, iw_hi;             /* range of 1/w over the vertices: a covered pixel's stays inside
                                        (helpers extrapolate: tile.c quad()) */
-    uint32_t vary;                  /* offset of varying_count planes (3 floats each, of v/w) in the chunk pool */
+    uint32_t vary;                  /* offset of varying_count planes (3 floats each, of v/w) in the chunk pool,
+                                       then, for a target with facets, the facet normal (3 floats) */
     uint16_t call;                  /* index of its draw in rast_draw.calls (< RAST_MAX_CALLS) */
     bool front;
 } rast_tri;

@@ -103,6 +103,38 @@ static void plane(const plane_frame *fr, double f0, double f1, double f2, float 
     out[2] = (float)gy;
 }
 
+/* The unit normal of the plane through three clip positions, in the space that view_proj
+ * carries to clip space, on the viewer's side (sl_target.facets); 0 when they span no plane. The
+ * plane through homogeneous points a, b, c is the vector pi with pi . a = pi . b = pi . c = 0 (the
+ * cofactors of [a; b; c]); a point X of that space lies on view_proj's transpose times pi. The
+ * viewer is the clip-space point at infinity (0, 0, -1, 0) for a perspective projection (the eye)
+ * and an orthographic one (the direction it looks from) alike, so the viewer's side is pi.z < 0.
+ * In double: the cofactors cancel. */
+static void facet_normal(const sl_mat4 *view_proj, vec4 a, vec4 b, vec4 c, float out[3])
+{
+    const double A[4] = {(double)a.x, (double)a.y, (double)a.z, (double)a.w};
+    const double B[4] = {(double)b.x, (double)b.y, (double)b.z, (double)b.w};
+    const double C[4] = {(double)c.x, (double)c.y, (double)c.z, (double)c.w};
+    double pi[4];
+    for (int k = 0; k < 4; k++) {
+        /* the 3x3 minor without column k, signed as the cofactor of row 0 of [X; a; b; c] */
+        int i = k == 0 ? 1 : 0, j = k <= 1 ? 2 : 1, l = k <= 2 ? 3 : 2;
+        double minor = A[i] * (B[j] * C[l] - B[l] * C[j]) - A[j] * (B[i] * C[l] - B[l] * C[i]) +
+                       A[l] * (B[i] * C[j] - B[j] * C[i]);
+        pi[k] = (k & 1) ? -minor : minor;
+    }
+    double sign = pi[2] > 0.0 ? -1.0 : 1.0;
+    double n[3];
+    for (int j = 0; j < 3; j++) {
+        const sl_vec4 col = view_proj->c[j];
+        n[j] = sign * (pi[0] * (double)col.x + pi[1] * (double)col.y + pi[2] * (double)col.z + pi[3] * (double)col.w);
+    }
+    double len = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    bool plane = len > 0.0 && isfinite(len);
+    for (int j = 0; j < 3; j++)
+        out[j] = plane ? (float)(n[j] / len) : 0.0f;
+}
+
 /* Set up one triangle of draw `call` in window coordinates and bin it. */
 static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t call_index, rast_chunk *ch,
                            rast_wvert v0, rast_wvert v1, rast_wvert v2)
@@ -148,7 +180,8 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
         ch->oom = true;
         return;
     }
-    size_t nv = (size_t)call->nvary * 3;
+    const bool facets = d->target->facets != NULL;
+    size_t nv = (size_t)call->nvary * 3 + (facets ? 3 : 0);
     if (!grow((void **)&ch->vary, sizeof *ch->vary, ch->vary_count + nv, &ch->vary_cap)) {
         ch->oom = true;
         return;
@@ -209,6 +242,9 @@ static void setup_triangle(const rast_draw *d, const rast_call *call, uint16_t c
     for (int i = 0; i < call->nvary; i++)
         plane(&fr, (double)v0.v[i] * e[0].iw, (double)v1.v[i] * e[1].iw, (double)v2.v[i] * e[2].iw,
               ch->vary + ch->vary_count + 3 * i);
+    if (facets)
+        facet_normal(&d->target->facet_view_proj, v0.clip, v1.clip, v2.clip,
+                     ch->vary + ch->vary_count + 3 * (size_t)call->nvary);
 
     /* Bin: every tile the bounds touch, unless an edge excludes the whole tile. */
     uint32_t index = (uint32_t)ch->tri_count;
@@ -266,9 +302,9 @@ void sl_rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first,
         ch->stats.triangles_in++;
         unsigned all = p0->outcode | p1->outcode | p2->outcode;
         if (all == 0) {
-            rast_wvert w0 = {p0->X, p0->Y, p0->win, vvary + (size_t)i0 * (size_t)nvary};
-            rast_wvert w1 = {p1->X, p1->Y, p1->win, vvary + (size_t)i1 * (size_t)nvary};
-            rast_wvert w2 = {p2->X, p2->Y, p2->win, vvary + (size_t)i2 * (size_t)nvary};
+            rast_wvert w0 = {p0->X, p0->Y, p0->win, vvary + (size_t)i0 * (size_t)nvary, p0->clip};
+            rast_wvert w1 = {p1->X, p1->Y, p1->win, vvary + (size_t)i1 * (size_t)nvary, p1->clip};
+            rast_wvert w2 = {p2->X, p2->Y, p2->win, vvary + (size_t)i2 * (size_t)nvary, p2->clip};
             setup_triangle(d, call, (uint16_t)ci, ch, w0, w1, w2);
             continue;
         }
@@ -298,6 +334,7 @@ void sl_rast_setup_range(const rast_draw *d, rast_chunk *chunk, long long first,
             rast_to_window(d->target, c, &w[k].X, &w[k].Y);
             w[k].win = rast_window_exact(d->target, c);
             w[k].v = poly[k].v;
+            w[k].clip = c;
             finite &= c.w > 0.0f && isfinite(1.0f / c.w) && isfinite(c.z / c.w);
         }
         if (!finite) { /* rounding put a cut vertex at w <= 0: drop rather than divide by it */

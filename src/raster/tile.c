@@ -141,6 +141,10 @@ void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count,
                 memcpy(row, clear, bytes);
         }
         clear_streaming_done();
+        if (tg->facets)
+            for (int y = py0; y <= py1; y++)
+                memset(tg->facets + (size_t)y * (size_t)tg->width + (size_t)px0, 0,
+                       (size_t)(px1 - px0 + 1) * sizeof *tg->facets);
         if (tg->tile_clear)
             tg->tile_clear(tg->tile_ctx, px0, py0, px1, py1);
     }
@@ -157,7 +161,7 @@ void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count,
                        texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset, sizeof(float));
     }
 
-    tri_ctx c = {.d = d, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span,
+    tri_ctx c = {.d = d, .facets = tg->facets, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span,
                  .quad = task->quad, .scratch = task->scratch};
     bool spans = d->spans && task->span;
     if (spans) {
@@ -209,6 +213,8 @@ void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count,
                 c.pdx[k] = planes[3 * k + 1];
                 c.pdy[k] = planes[3 * k + 2];
             }
+            if (c.facets) /* after the varyings' planes (setup.c) */
+                c.facet = vec3(planes[3 * c.call->nvary], planes[3 * c.call->nvary + 1], planes[3 * c.call->nvary + 2]);
             int x0 = t->xmin > px0 ? t->xmin : px0, x1 = t->xmax < px1 ? t->xmax : px1;
             int y0 = t->ymin > py0 ? t->ymin : py0, y1 = t->ymax < py1 ? t->ymax : py1;
             bool full = (item & RAST_BIN_FULL) != 0;

@@ -28,6 +28,8 @@ typedef struct {
      * the planes', so the bits are too */
     _Alignas(RAST_CACHE_LINE) float p0[SL_MAX_VARYINGS];
     float pdx[SL_MAX_VARYINGS], pdy[SL_MAX_VARYINGS];
+    sl_vec3 *facets;     /* the target's facet normals, or NULL (sl_target.facets) */
+    vec3 facet;          /* the current triangle's, when facets */
     float *zbuf;         /* tile-local depth */
     int px0, py0, ts;    /* tile origin and size */
     char *texels;
@@ -39,6 +41,14 @@ typedef struct {
     long long tested, shaded, blocks_full;
     long long discarded, late_z, quads, rounds, helpers;
 } tri_ctx;
+
+/* The current triangle's facet normal at pixel (x, y), where its fragment wrote the texel: each
+ * path calls it beside the texel's write (sl_target.facets). */
+static inline __attribute__((always_inline)) void write_facet(const tri_ctx *c, int x, int y)
+{
+    if (c->facets)
+        c->facets[(size_t)y * (size_t)c->d->target->width + (size_t)x] = c->facet;
+}
 
 /* ---- pixel by pixel (the plain path, and every path's fallback) ---- */
 
@@ -95,6 +105,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
     c->shaded++;
     if (!late) {
         c->call->program->fragment(c->call->fs_uniforms, &in, texel);
+        write_facet(c, x, y);
         return;
     }
     in.quad = c->quad;
@@ -107,6 +118,7 @@ static inline __attribute__((always_inline)) void fragment(tri_ctx *c, int x, in
         return;
     }
     memcpy(texel, c->scratch, tg->texel_size);
+    write_facet(c, x, y);
     if (depth) {
         *zp = z;
         c->late_z++;

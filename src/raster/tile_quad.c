@@ -126,6 +126,7 @@ static inline __attribute__((always_inline)) void quad(tri_ctx *c, int qx, int q
         }
         if (out[l] != target[l])
             memcpy(target[l], out[l], tsz);
+        write_facet(c, qx + (l & 1), qy + (l >> 1));
         if (depth && late) {
             int x = qx + (l & 1), y = qy + (l >> 1);
             c->zbuf[(y - c->py0) * c->ts + (x - c->px0)] = z[l];

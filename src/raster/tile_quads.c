@@ -73,7 +73,7 @@ static void quads_flush(tri_ctx *c, const bool depth)
     c->helpers += helpers;
     c->shaded += lanes - helpers;
     c->discarded += discarded;
-    if (fresh && !late && discarded == 0) { /* every live lane wrote its texel in place */
+    if (fresh && !late && discarded == 0 && !c->facets) { /* every live lane wrote its texel in place */
         b->n = 0;
         return;
     }
@@ -82,6 +82,7 @@ static void quads_flush(tri_ctx *c, const bool depth)
             continue;
         if (b->texel[j] != b->target[j])
             memcpy(b->target[j], b->texel[j], tsz);
+        write_facet(c, b->qx[j >> 2] + (j & 1), b->qy[j >> 2] + ((j >> 1) & 1));
         if (depth && late) {
             int x = b->qx[j >> 2] + (j & 1), y = b->qy[j >> 2] + ((j >> 1) & 1);
             c->zbuf[(y - c->py0) * c->ts + (x - c->px0)] = b->z[j];

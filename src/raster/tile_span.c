@@ -108,6 +108,9 @@ static inline __attribute__((always_inline)) void span_row(tri_ctx *c, int y, in
             prog->fragment(c->call->fs_uniforms, &in, row + (size_t)x * tg->texel_size);
         }
     }
+    if (c->facets)
+        for (int j = 0; j < m; j++)
+            write_facet(c, s->x[j], y);
     c->shaded += m;
 }
 
@@ -221,6 +224,9 @@ static inline __attribute__((always_inline)) void small_tri_spans(tri_ctx *c, bo
         sp.frag_w = s->iw + start;
         sp.row = c->texels + (size_t)y * (size_t)tg->width * tg->texel_size;
         prog->fragment_span(c->call->fs_uniforms, &sp);
+        if (c->facets)
+            for (int j = start; j < end; j++)
+                write_facet(c, s->x[j], y);
         start = end;
     }
     c->shaded += m;

@@ -503,9 +503,11 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     double t0 = sl_now_seconds();
     if (!cam)
         cam = &r->scene->camera;
-    float ao_radius = r->desc.options.ao_radius;
+    float ao_radius = r->desc.options.ao_radius, reflection = r->desc.options.reflection_occlusion;
     sl_raster_keep_extra(r->raster, ao_radius > 0.0f);
-    bool ok = sl_raster_scene_program(r->raster, r->scene, &r->textures, r->desc.gbuffer_program, cam, &r->gbuffer,
+    /* the reflection occlusion's rays test the drawn triangles' planes (reflection.h) */
+    bool ok = sl_gbuffer_use_facet(&r->gbuffer, reflection > 0.0f, err) &&
+              sl_raster_scene_program(r->raster, r->scene, &r->textures, r->desc.gbuffer_program, cam, &r->gbuffer,
                                       err);
     r->timings.raster_ms = (sl_now_seconds() - t0) * 1e3;
     /* occlusion reads the neighbours of every texel: before a shard drops the rows outside its band */
@@ -518,7 +520,6 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     }
     double t2 = sl_now_seconds();
     r->timings.ao_ms = (t2 - t1) * 1e3;
-    float reflection = r->desc.options.reflection_occlusion;
     if (ok && reflection > 0.0f) {
         ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, &r->timings.reflection_lone, err);
     } else if (r->gbuffer.reflection) { /* turned off: the lighting reads no plane */

@@ -365,6 +365,180 @@ static void test_extra_rects(void **state)
     sl_gbuffer_free(&b);
 }
 
+/* The facet plane (sl_target.facets) through each of the tile stage's paths: a texel of a float
+ * depth and a mark, a program without varyings that only marks, in the forms that choose the
+ * paths: per pixel, a span shader, derivatives (quads, generic rounds), a multi-quad shader, a
+ * discarding one (late depth), and derivatives with discards. */
+typedef struct {
+    float depth, mark;
+} facet_texel;
+
+static void facet_vert(const void *uniforms, const sl_vertex_in *in, vec4 *clip, float *varyings)
+{
+    (void)varyings;
+    *clip = mat4_mul_vec4(*(const mat4 *)uniforms, vec4_from3(in->position, 1.0f));
+}
+static void facet_frag(const void *uniforms, const sl_fragment_in *in, void *texel)
+{
+    (void)uniforms;
+    (void)in;
+    ((facet_texel *)texel)->mark = 1.0f;
+}
+static void facet_frag_span(const void *uniforms, const sl_fragment_span *span)
+{
+    (void)uniforms;
+    for (int j = 0; j < span->n; j++)
+        ((facet_texel *)(span->row + (size_t)span->x[j] * span->texel_size))->mark = 1.0f;
+}
+static void facet_frag_quads(const void *uniforms, const sl_fragment_quads *q)
+{
+    (void)uniforms;
+    for (int l = 0; l < 4 * q->n; l++)
+        ((facet_texel *)q->texel[l])->mark = 1.0f;
+}
+
+/* Draw `mesh` with `model` through program `prog` into a W x H target with facets (view_proj
+ * `vp`), cleared first; returns the facets (the caller frees them) and the texels in *texels. */
+static sl_vec3 *draw_facets(const sl_program *prog, const sl_mesh *mesh, mat4 model, mat4 vp, int w, int h, bool plain,
+                            facet_texel **texels)
+{
+    sl_error err = {0};
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 2, .tile_size = 16, .plain = plain}, &err);
+    assert_non_null(r);
+    *texels = calloc((size_t)w * (size_t)h, sizeof **texels);
+    sl_vec3 *facets = malloc((size_t)w * (size_t)h * sizeof *facets);
+    assert_non_null(*texels);
+    assert_non_null(facets);
+    for (size_t i = 0; i < (size_t)w * (size_t)h; i++)
+        facets[i] = vec3s(9.0f); /* the clear sets 0 */
+    sl_target target = {.width = w, .height = h, .texel_size = sizeof(facet_texel), .texels = *texels,
+                        .depth_offset = 0, .facets = facets, .facet_view_proj = vp};
+    const facet_texel clear = {.depth = 1.0f};
+    mat4 mvp = mat4_mul(vp, model);
+    sl_draw draw = {.program = prog, .vs_uniforms = &mvp, .fs_uniforms = NULL, .mesh = mesh, .clear = &clear};
+    if (!sl_raster_draw(r, &target, &draw, &err))
+        fail_msg("%s", err.msg);
+    sl_raster_destroy(r);
+    return facets;
+}
+
+/* Every path writes, at each texel a fragment wrote, the unit normal of the triangle's plane in
+ * world space facing the viewer, the same bits in all; 0 where nothing was drawn. The tilted
+ * plane scaled by (2, 1, 1) and turned: normalize(R (1/2, 0, 1)), which the model matrix applied
+ * to the object's normal would get wrong; seen in perspective from either side, and from an
+ * orthographic view (the viewer the direction it looks from). A UV sphere: each texel's facet
+ * within a face's angle of its radial direction, facing the eye, and drawn at P: the texel's
+ * position lies on a plane through P (the triangle's: P's neighbours on the same face lie on it). */
+static void test_facet_plane(void **state)
+{
+    (void)state;
+    enum { W = 64, H = 48 };
+    const sl_program programs[] = {
+        {.vertex = facet_vert, .fragment = facet_frag},
+        {.vertex = facet_vert, .fragment = facet_frag, .fragment_span = facet_frag_span},
+        {.vertex = facet_vert, .fragment = facet_frag, .derivatives = true},
+        {.vertex = facet_vert, .fragment = facet_frag, .derivatives = true, .fragment_quads = facet_frag_quads},
+        {.vertex = facet_vert, .fragment = facet_frag, .discards = true},
+        {.vertex = facet_vert, .fragment = facet_frag, .derivatives = true, .discards = true},
+    };
+    sl_mesh plane = make_tilted();
+    mat4 R = mat4_rotate(vec3(0, 0, 1), 0.4f);
+    mat4 model = mat4_mul(mat4_translate(vec3(0.2f, 0.1f, -0.3f)), mat4_mul(R, mat4_scale(vec3(2, 1, 1))));
+    vec3 nw = normalize(mat3_mul_vec3(mat3_from_mat4(R), vec3(0.5f, 0, 1)));
+    /* two perspective views, one on each side of the plane, and an orthographic one */
+    const sl_camera cams[2] = {
+        {.eye = {3, -2.5f, 1.5f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 60, .znear = 0.5f, .zfar = 30},
+        {.eye = {-3, 1.0f, -2.0f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 60, .znear = 0.5f, .zfar = 30},
+    };
+    for (int view = 0; view < 3; view++) {
+        mat4 vp;
+        vec3 toward_viewer;
+        if (view < 2) {
+            vp = sl_camera_view_proj(&cams[view], W, H);
+            toward_viewer = normalize(cams[view].eye); /* the plane passes near the origin */
+        } else {
+            vec3 eye = vec3(2.0f, -1.0f, 3.0f);
+            /* glOrtho(-3, 3, -2, 2, 0.1, 20) */
+            mat4 ortho = {{{1.0f / 3.0f, 0, 0, 0}, {0, 0.5f, 0, 0}, {0, 0, -2.0f / 19.9f, 0},
+                           {0, 0, -20.1f / 19.9f, 1}}};
+            vp = mat4_mul(ortho, sl_mat4_look_at(eye, vec3(0, 0, 0), vec3(0, 0, 1)));
+            toward_viewer = normalize(eye);
+        }
+        vec3 expect = dot(nw, toward_viewer) > 0.0f ? nw : scale(nw, -1.0f);
+        sl_vec3 *ref = NULL;
+        for (int k = 0; k < (int)(sizeof programs / sizeof programs[0]); k++) {
+            for (int plain = 0; plain < 2; plain++) {
+                facet_texel *tex;
+                sl_vec3 *f = draw_facets(&programs[k], &plane, model, vp, W, H, plain, &tex);
+                int drawn = 0;
+                for (int i = 0; i < W * H; i++) {
+                    if (tex[i].mark == 0.0f) {
+                        assert_true(f[i].x == 0.0f && f[i].y == 0.0f && f[i].z == 0.0f);
+                        continue;
+                    }
+                    drawn++;
+                    assert_near(f[i].x, expect.x, 1e-5);
+                    assert_near(f[i].y, expect.y, 1e-5);
+                    assert_near(f[i].z, expect.z, 1e-5);
+                }
+                assert_true(drawn > W * H / 10);
+                if (!ref)
+                    ref = f;
+                else {
+                    if (memcmp(ref, f, (size_t)W * H * sizeof *f) != 0)
+                        fail_msg("view %d, program %d, plain %d: facets differ from the first path's", view, k, plain);
+                    free(f);
+                }
+                free(tex);
+            }
+        }
+        free(ref);
+    }
+
+    /* a UV sphere through the G-buffer (sl_gbuffer_use_facet, sl_raster_scene) */
+    sl_mesh sphere = make_sphere(32, 16);
+    sl_camera cam = {.eye = {0.5f, -3.0f, 1.0f}, .target = {0, 0, 0}, .up = {0, 0, 1}, .fovy_deg = 50,
+                     .znear = 0.5f, .zfar = 30};
+    sl_scene scene = {.meshes = &sphere, .mesh_count = 1, .materials = (sl_material *)&mat_a, .material_count = 1,
+                      .objects = &(sl_object){.name = "ball", .mesh = 0, .material = 0, .model = mat4_identity()},
+                      .object_count = 1};
+    sl_gbuffer gb = {0}, back = {0};
+    sl_error err = {0};
+    assert_true(sl_gbuffer_resize(&gb, W, H, &err) && sl_gbuffer_use_facet(&gb, true, &err));
+    sl_raster *r = sl_raster_create(&(sl_raster_desc){.threads = 2, .tile_size = 16}, &err);
+    assert_true(r && sl_raster_scene(r, &scene, &cam, &gb, &err));
+    sl_raster_destroy(r);
+    const float face_cos = cosf(2.0f * 3.14159265f / 32.0f); /* a face's largest turn from its points' radii */
+    int covered = 0;
+    for (int i = 0; i < W * H; i++) {
+        const sl_gbuffer_texel *t = &gb.texels[i];
+        vec3 f = gb.facet[i];
+        if (!sl_gbuffer_covered(t)) {
+            assert_true(f.x == 0.0f && f.y == 0.0f && f.z == 0.0f);
+            continue;
+        }
+        covered++;
+        assert_near(length(f), 1.0, 1e-5);
+        assert_true(dot(f, normalize(t->position)) > face_cos);
+        assert_true(dot(f, sub(cam.eye, t->position)) > 0.0f);
+    }
+    assert_true(covered > 200);
+    /* facet.pfm: written and read back bit for bit */
+    const char *dir = test_tmpdir();
+    assert_true(sl_gbuffer_write_aovs(&gb, cam.eye, dir, &err));
+    assert_true(sl_gbuffer_read_aovs(dir, &back, &err));
+    assert_non_null(back.facet);
+    assert_memory_equal(gb.facet, back.facet, (size_t)W * H * sizeof *gb.facet);
+    /* a resize keeps the plane, turning it off frees it */
+    assert_true(sl_gbuffer_resize(&gb, W / 2, H / 2, &err));
+    assert_non_null(gb.facet);
+    assert_true(sl_gbuffer_use_facet(&gb, false, &err));
+    assert_null(gb.facet);
+    sl_gbuffer_free(&gb);
+    sl_gbuffer_free(&back);
+    free_mesh(&sphere);
+}
+
 int main(void)
 {
     const struct CMUnitTest tests[] = {
@@ -373,6 +547,7 @@ int main(void)
         cmocka_unit_test(test_aov_roundtrip),
         cmocka_unit_test(test_gbuffer_alloc),
         cmocka_unit_test(test_extra_rects),
+        cmocka_unit_test(test_facet_plane),
     };
     return cmocka_run_group_tests(tests, NULL, NULL);
 }

@@ -20,7 +20,8 @@
  *     reflection of the wall, and the reference says which block members counted (a frame that
  *     gives a texel the ray of its neighbour fails; a ray below its surface never counts);
  *   - shading normals tilted away from the eye on an open mirror floor: a texel whose reflection
- *     enters the floor (below the geometric normal rebuilt from the positions) is blocked;
+ *     enters the floor (below the geometric normal rebuilt from the positions) is blocked; with the
+ *     facet plane, one whose reflection runs under the facet by any amount is;
  *   - a rough floor whose normals lean every texel its own way, as a normal map's bumps: no
  *     neighbour counts, and each texel's visibility is over its own five rays, not 0 or 1;
  *   - refusals: a distance that is not positive and finite (infinity too); an empty texel gets 1
@@ -416,6 +417,60 @@ static void test_tilted_normals(void **state)
     sl_gbuffer_free(&gb);
 }
 
+/* The facet plane (sl_gbuffer.facet, the drawn triangles' normals) in place of the normal rebuilt
+ * from the positions: the open mirror floor at the grazing view, its shading normals tilted FACET_TILT degrees away
+ * from the eye, so that R runs under the floor by less than SL_REFLECTION_INTO_MARGIN on many
+ * texels: with the floor's facet, +Z, each texel whose lobe lies under it (R below by more than
+ * the mirror ring's reach in the plane of incidence, 0.024) is blocked, 0, its own ray reported as into its surface (no margin: the facet is the surface the visibility truth intersects); the frame
+ * gives the reference's bits. */
+#define FACET_TILT 6.0f
+static void test_facet_plane(void **state)
+{
+    (void)state;
+    sl_gbuffer gb = {0};
+    sl_camera cam = grazing_camera();
+    corner_trace(&gb, &cam, false, W, H, mirror);
+    sl_error err = {0};
+    assert_true(sl_gbuffer_use_facet(&gb, true, &err));
+    const float c = cosf(radians(FACET_TILT)), s = sinf(radians(FACET_TILT));
+    for (int i = 0; i < W * H; i++) {
+        sl_gbuffer_texel *t = &gb.texels[i];
+        if (!sl_gbuffer_covered(t))
+            continue;
+        vec3 to_eye = sub(cam.eye, t->position);
+        vec3 across = normalize(vec3(to_eye.x, to_eye.y, 0.0f));
+        t->normal = vec3(-across.x * s, -across.y * s, c);
+        gb.facet[i] = vec3(0.0f, 0.0f, 1.0f);
+    }
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
+    int under = 0, under_zero = 0, checked = 0, below = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
+            if (!floor_block(&gb, x, y))
+                continue;
+            vec3 V = normalize(sub(cam.eye, t->position));
+            vec3 R = sub(scale(t->normal, 2.0f * dot(t->normal, V)), V);
+            /* within the rebuilt normal's margin, under the facet's horizon */
+            if (!(dot(t->normal, V) > 0.05f && R.z < -0.04f && R.z > -SL_REFLECTION_INTO_MARGIN))
+                continue;
+            under++;
+            under_zero += gb.reflection[y * W + x].x == 0.0f;
+            if (x % 5 == 0 && y % 3 == 0) {
+                check_texel(&gb, &cam, x, y, &below);
+                float rays[SL_REFLECTION_MEMBERS];
+                sl_reflection_texel(&gb, &cam, DIST, x, y, rays, NULL, NULL);
+                assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0);
+                checked++;
+            }
+        }
+    print_message("facet plane: %d of %d texels whose R runs under the facet within the margin at 0; frame = texel "
+                  "on %d\n", under_zero, under, checked);
+    assert_true(under > 250 && checked > 15);
+    assert_int_equal(under_zero, under);
+    sl_gbuffer_free(&gb);
+}
+
 /* A rough floor beside the wall whose shading normals lean BUMP degrees, each texel of a 3 x 3
  * tile toward its own azimuth, as a normal map's bumps turn them: no neighbour is the same
  * surface (their normals more than SL_REFLECTION_SAME_NORMAL apart), so each floor texel's
@@ -536,6 +591,7 @@ int main(void)
         cmocka_unit_test(test_grazing_streak),
         cmocka_unit_test(test_frame_matches_texel),
         cmocka_unit_test(test_tilted_normals),
+        cmocka_unit_test(test_facet_plane),
         cmocka_unit_test(test_lone_texels),
         cmocka_unit_test(test_specular_factor),
         cmocka_unit_test(test_refusals),
