@@ -94,6 +94,9 @@ int cmd_trace(int argc, char **argv)
                                          trace->reflection_used);
         trace->reflection_visibility = plane.x;
         trace->reflection_count = (int)plane.y;
+        trace->facet = r.gbuffer.facet != NULL;
+        if (trace->facet)
+            trace->facet_normal = r.gbuffer.facet[(size_t)gb_y * (size_t)r.gbuffer.width + (size_t)pixel[0]];
     }
     sl_lighting_trace_print(stdout, trace);
     if (desc.gbuffer_program) /* the fetch hook is the built-in textured program's */

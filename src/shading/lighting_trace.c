@@ -314,6 +314,10 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             else
                 fprintf(f, " %s -", member[m]);
         fprintf(f, ")\n");
+        if (t->facet)
+            fprintf(f, "  %-12s (%g, %g, %g) (the drawn triangle's normal, world space: a ray above N's horizon "
+                       "and below its own enters the surface)\n",
+                    "facet", (double)t->facet_normal.x, (double)t->facet_normal.y, (double)t->facet_normal.z);
     }
     print3(f, "lights", t->lights);
     for (int i = 0; i < t->shadow_lights; i++) {

@@ -120,6 +120,8 @@ struct sl_lighting_trace {
     float reflection_weights[SL_REFLECTION_MEMBERS]; /* ... each counted ray's weight, its cosine */
     int reflection_used[SL_REFLECTION_MEMBERS]; /* ... whether each counted (the same surface, or
                                 an own ray traced) */
+    bool facet;              /* ... and the G-buffer has the facet plane: */
+    vec3 facet_normal;       /* ... the texel's, whose horizon its rays must be above */
     bool extra;              /* the G-buffer has the extra plane (the two lines are printed) */
     vec3 total;              /* what the pass writes */
     bool repaired;           /* the final NaN/Inf guard fired */

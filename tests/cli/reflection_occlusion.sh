@@ -9,7 +9,7 @@
 #   - --reflection-occlusion 0 gives the same bytes as no option, and the scene key
 #     render.reflection_occlusion the same bytes as the flag;
 #   - render prints its line; trace prints the reflection line: 0 in the wall's reflection, 1
-#     far from it;
+#     far from it; and the facet line, the floor's +Z;
 #   - bad values (negative, nan, over 1e6, the key as a string) are one line, status 2.
 set -euo pipefail
 . "$(dirname "$0")/lib.bash"
@@ -126,6 +126,10 @@ python3 -c "import sys; sys.exit(not (0 <= float('${v:-nan}') < 0.2))" &&
     ok "trace at $blocked (the wall's reflection): reflection $v" || bad "trace at $blocked: reflection '$v' (want < 0.2)"
 v=$(reflection_of "$open_px")
 [ "$v" = "1" ] && ok "trace at $open_px (far from it): reflection $v" || bad "trace at $open_px: reflection '$v' (want 1)"
+# and the floor's facet (the drawn triangle's normal), +Z within 1e-5
+facet=$(sed -n 's/^  facet        (\([^)]*\)).*/\1/p' "$T/trace.txt")
+python3 -c "import sys; v = [float(c) for c in '${facet:-nan, nan, nan}'.split(',')]; sys.exit(not (abs(v[0]) < 1e-5 and abs(v[1]) < 1e-5 and abs(v[2] - 1) < 1e-5))" &&
+    ok "trace at $open_px: the floor's facet ($facet)" || bad "trace at $open_px: facet '$facet' (want 0, 0, 1)"
 
 expect_error "negative" "reflection-occlusion" -- "$SL" render "$T/mirror.json" --size 16x9 --reflection-occlusion -1 -o "$T/x.png"
 expect_error "nan" "reflection-occlusion" -- "$SL" render "$T/mirror.json" --size 16x9 --reflection-occlusion nan -o "$T/x.png"
