@@ -333,7 +333,8 @@ static vec2 facet_code(vec3 f)
         return vec2(2.0f, 2.0f);
     vec2 p = vec2(f.x / l1, f.y / l1);
     if (f.z < 0.0f)
-        p = vec2((1.0f - fabsf(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f), (1.0f - fabsf(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f));
+        p = vec2((1.0f - fabsf(p.y)) * (p.x >= 0.0f ? 1.0f : -1.0f),
+                 (1.0f - fabsf(p.x)) * (p.y >= 0.0f ? 1.0f : -1.0f));
     return p;
 }
 
@@ -343,7 +344,8 @@ static vec3 facet_decode(float a, float b)
         return vec3s(0.0f);
     vec3 n = vec3(a, b, 1.0f - fabsf(a) - fabsf(b));
     if (n.z < 0.0f)
-        n = vec3((1.0f - fabsf(b)) * (a >= 0.0f ? 1.0f : -1.0f), (1.0f - fabsf(a)) * (b >= 0.0f ? 1.0f : -1.0f), n.z);
+        n = vec3((1.0f - fabsf(b)) * (a >= 0.0f ? 1.0f : -1.0f), (1.0f - fabsf(a)) * (b >= 0.0f ? 1.0f : -1.0f),
+                 n.z);
     return normalize(n);
 }
 

@@ -215,6 +215,11 @@ static bool axis_step(const reflection_frame *f, const sl_gbuffer *gb, size_t i,
     return found;
 }
 
+/* Texel i's facet (the G-buffer's facet plane: 0 where the triangle spanned no plane). The GLSL
+ * decodes it from the two channels GL packs it into. */
+/* GLSL: facet_normal */
+static inline vec3 facet_normal(const reflection_frame *f, size_t i) { return f->facet[i]; }
+
 /* The geometric normal of covered texel i, facing the eye V: the surface the rasterizer drew,
  * which a smooth or normal-mapped N leans away from. The G-buffer's facet where it has the plane
  * (the triangle's own); else the normal of the plane its steps along x and y span (axis_step),
@@ -223,7 +228,7 @@ static bool axis_step(const reflection_frame *f, const sl_gbuffer *gb, size_t i,
 static vec3 geometric_normal(const reflection_frame *f, const sl_gbuffer *gb, size_t i, vec3 V, vec3 N)
 {
     if (f->facet) {
-        const vec3 n = f->facet[i];
+        const vec3 n = facet_normal(f, i);
         if (!(dot(n, n) > 0.0f))
             return N;
         return dot(n, V) < 0.0f ? scale(n, -1.0f) : n;
@@ -499,7 +504,7 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         g = scale(g, 1.0f / len);
         g = dot(g, V) < 0.0f ? scale(g, -1.0f) : g;
         const vec3 rebuilt = (l || r) && (b || a) && len > 0.0f ? g : N;
-        const vec3 fn = facet ? facet[i] : N;
+        const vec3 fn = facet ? facet_normal(f, (size_t)i) : N;
         const vec3 facing = dot(fn, V) < 0.0f ? scale(fn, -1.0f) : fn;
         const vec3 Ng = !facet ? rebuilt : dot(fn, fn) > 0.0f ? facing : N;
         const vec3 start = add(P, scale(N, SL_REFLECTION_OFFSET * z));

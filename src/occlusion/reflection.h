@@ -14,11 +14,12 @@
  * surface is no part of the visibility: the integral has no light from below the horizon to
  * hide, and a grazing lobe's ring dips under it; counted as open it would dilute the share of
  * what is hidden). A ray above
- * N's horizon and below that of the geometric normal (by more than SL_REFLECTION_INTO_MARGIN),
- * the normal of the plane the G-buffer's positions span across P along x and y (its neighbours
- * there within the thickness in view depth), enters the surface the rasterizer drew, which a
- * normal-mapped or smooth N leans away from (at a sphere's rim, where N leans past the
- * silhouette): blocked, not traced, as the visibility truth has it (its directions below the
+ * N's horizon and below that of the geometric normal, the G-buffer's facet (the drawn
+ * triangle's normal, sl_gbuffer.facet) or, without that plane, the normal of the plane the
+ * G-buffer's positions span across P along x and y (its neighbours there within the thickness in
+ * view depth; then by more than SL_REFLECTION_INTO_MARGIN), enters the surface the rasterizer
+ * drew, which a normal-mapped or smooth N leans away from (at a sphere's rim, where N leans past
+ * the silhouette): blocked, not traced, as the visibility truth has it (its directions below the
  * geometric normal's horizon are unseen). Each texel
  * (x, y) traces one of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all
  * five; its visibility is the share of open rays over its block, the texel and the eight around it
@@ -99,9 +100,10 @@
 #define SL_REFLECTION_OFFSET 0.002f   /* the rays' start off the surface, a share of its view depth */
 #define SL_REFLECTION_PLANE_EPS 0.003f /* "behind the plane": more than this share of its view depth */
 #define SL_REFLECTION_MIN_COSINE 1e-6f /* a ray's least weight: R at a silhouette (N.V = 0) counts */
-/* How far below the geometric normal's horizon (the cosine) a ray must run to be taken into its
- * surface: the normal rebuilt across a texel or two of a curved surface is off by up to half the
- * turn across them, most at a silhouette, where a texel spans a wide arc. With no margin, at
+/* How far below the rebuilt geometric normal's horizon (the cosine) a ray must run to be taken
+ * into its surface (none below the facet's): the normal rebuilt across a texel or two of a curved
+ * surface is off by up to half the turn across them, most at a silhouette, where a texel spans a
+ * wide arc. With no margin, at
  * 160x90, rays at the rims of three shipped scenes' spheres are blocked where the truth finds
  * them open; with 0.15 none is, and model.json's pixels more than 8/255 off fall from 6.1% to
  * 5.2% (docs/lighting.md "Reflection occlusion"). */

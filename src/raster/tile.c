@@ -161,8 +161,8 @@ void sl_rast_tile(const rast_draw *d, const rast_chunk *chunks, int chunk_count,
                        texels + ((size_t)y * (size_t)tg->width + (size_t)x) * tsz + tg->depth_offset, sizeof(float));
     }
 
-    tri_ctx c = {.d = d, .facets = tg->facets, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts, .texels = texels, .span = task->span,
-                 .quad = task->quad, .scratch = task->scratch};
+    tri_ctx c = {.d = d, .facets = tg->facets, .zbuf = task->depth, .px0 = px0, .py0 = py0, .ts = ts,
+                 .texels = texels, .span = task->span, .quad = task->quad, .scratch = task->scratch};
     bool spans = d->spans && task->span;
     if (spans) {
         for (int i = 0; i < SL_MAX_VARYINGS; i++)

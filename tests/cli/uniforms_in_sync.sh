@@ -21,7 +21,7 @@ c=$(awk '/^typedef struct \{/{ body = "" } { body = body "\n" $0 } /^\} sl_light
 # GL host: every "uName" string it looks up, and the block by its block name
 host=$( { grep -o '"u[A-Z][A-Za-z0-9]*' "$gl" | tr -d '"'
           grep -q '"HammersleyBlock"' "$gl" && echo uHammersley; } | sort -u)
-gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone"
+gbuffer="uPosition uNormal uKd uKsAlpha uDepth uExtra uHasExtra uCone uHasCone uHasFacet"
 # The shadow maps' samplers, layer tables and frames: the C struct holds the maps themselves
 # (shadowMaps, envShadowMaps: src/shadow), softlight-gl draws its own (src/gl/shadow_pass.c) and
 # binds them.

@@ -364,6 +364,51 @@ static void test_frame_matches_texel(void **state)
     sl_gbuffer_free(&gb);
 }
 
+/* Tilt every covered texel's shading normal `degrees` away from the eye about the floor's +Z, as
+ * a normal map or a smooth mesh's normals lean. */
+static void tilt_normals(sl_gbuffer *gb, const sl_camera *cam, float degrees)
+{
+    const float c = cosf(radians(degrees)), s = sinf(radians(degrees));
+    for (int i = 0; i < gb->width * gb->height; i++) {
+        sl_gbuffer_texel *t = &gb->texels[i];
+        if (!sl_gbuffer_covered(t))
+            continue;
+        vec3 to_eye = sub(cam->eye, t->position);
+        vec3 across = normalize(vec3(to_eye.x, to_eye.y, 0.0f));
+        t->normal = vec3(-across.x * s, -across.y * s, c);
+    }
+}
+
+/* Over the floor texels (floor_block) whose shading normal faces the eye (N.V > 0.05) and whose
+ * mirror direction R has z in (z_lo, z_hi): counts[0] how many, counts[1] how many are at
+ * visibility 0; and on every (every_x, every_y)-th of them the frame against the reference
+ * (check_texel), with its own ray reported as into its surface, counted in counts[2]. */
+static void count_into_surface(const sl_gbuffer *gb, const sl_camera *cam, float z_lo, float z_hi, int every_x,
+                               int every_y, int counts[3])
+{
+    int below = 0;
+    counts[0] = counts[1] = counts[2] = 0;
+    for (int y = 0; y < gb->height; y++)
+        for (int x = 0; x < gb->width; x++) {
+            const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x, y);
+            if (!floor_block(gb, x, y))
+                continue;
+            vec3 V = normalize(sub(cam->eye, t->position));
+            vec3 R = sub(scale(t->normal, 2.0f * dot(t->normal, V)), V);
+            if (!(dot(t->normal, V) > 0.05f && R.z > z_lo && R.z < z_hi))
+                continue;
+            counts[0]++;
+            counts[1] += gb->reflection[y * gb->width + x].x == 0.0f;
+            if (x % every_x == 0 && y % every_y == 0) {
+                check_texel(gb, cam, x, y, &below);
+                float rays[SL_REFLECTION_MEMBERS];
+                sl_reflection_texel(gb, cam, DIST, x, y, rays, NULL, NULL);
+                assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0); /* trace says why it is blocked */
+                counts[2]++;
+            }
+        }
+}
+
 /* An open mirror-like floor from the corner camera, its shading normals tilted TILT degrees
  * away from the eye, as a normal map or a smooth mesh's normals lean: a texel whose reflection R
  * about the tilted normal runs into the floor (below its geometric normal by more than
@@ -378,51 +423,27 @@ static void test_tilted_normals(void **state)
     sl_gbuffer gb = {0};
     sl_camera cam = corner_camera();
     corner_trace(&gb, &cam, false, W, H, mirror);
-    const float c = cosf(radians(TILT)), s = sinf(radians(TILT));
-    for (int i = 0; i < W * H; i++) {
-        sl_gbuffer_texel *t = &gb.texels[i];
-        if (!sl_gbuffer_covered(t))
-            continue;
-        vec3 to_eye = sub(cam.eye, t->position);
-        vec3 across = normalize(vec3(to_eye.x, to_eye.y, 0.0f));
-        t->normal = vec3(-across.x * s, -across.y * s, c);
-    }
+    tilt_normals(&gb, &cam, TILT);
     sl_error err = {0};
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
-    int into = 0, into_zero = 0, checked = 0, below = 0;
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
-            if (!floor_block(&gb, x, y))
-                continue;
-            vec3 V = normalize(sub(cam.eye, t->position));
-            vec3 R = sub(scale(t->normal, 2.0f * dot(t->normal, V)), V);
-            /* N faces the eye (not bent), R enters beyond the margin */
-            if (!(dot(t->normal, V) > 0.05f && R.z < -SL_REFLECTION_INTO_MARGIN - 0.02f))
-                continue;
-            into++;
-            into_zero += gb.reflection[y * W + x].x == 0.0f;
-            if (x % 7 == 0 && y % 5 == 0) {
-                check_texel(&gb, &cam, x, y, &below);
-                float rays[SL_REFLECTION_MEMBERS];
-                sl_reflection_texel(&gb, &cam, DIST, x, y, rays, NULL, NULL);
-                assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0); /* trace says why it is blocked */
-                checked++;
-            }
-        }
-    print_message("tilted normals: %d of %d texels whose R enters the floor at 0; frame = texel on %d\n", into_zero,
-                  into, checked);
-    assert_true(into > 1000 && checked > 50);
-    assert_int_equal(into_zero, into);
+    /* R enters beyond the margin */
+    int n[3];
+    count_into_surface(&gb, &cam, -2.0f, -SL_REFLECTION_INTO_MARGIN - 0.02f, 7, 5, n);
+    print_message("tilted normals: %d of %d texels whose R enters the floor at 0; frame = texel on %d\n", n[1], n[0],
+                  n[2]);
+    assert_true(n[0] > 1000 && n[2] > 50);
+    assert_int_equal(n[1], n[0]);
     sl_gbuffer_free(&gb);
 }
 
 /* The facet plane (sl_gbuffer.facet, the drawn triangles' normals) in place of the normal rebuilt
- * from the positions: the open mirror floor at the grazing view, its shading normals tilted FACET_TILT degrees away
- * from the eye, so that R runs under the floor by less than SL_REFLECTION_INTO_MARGIN on many
- * texels: with the floor's facet, +Z, each texel whose lobe lies under it (R below by more than
- * the mirror ring's reach in the plane of incidence, 0.024) is blocked, 0, its own ray reported as into its surface (no margin: the facet is the surface the visibility truth intersects); the frame
- * gives the reference's bits. */
+ * from the positions: the open mirror floor at the grazing view, its shading normals tilted
+ * FACET_TILT degrees away from the eye, so that R runs under the floor by less than
+ * SL_REFLECTION_INTO_MARGIN on many texels: with the floor's facet, +Z, each texel whose lobe lies
+ * under it (R below by more than the mirror ring's reach in the plane of incidence, 0.024) is
+ * blocked, 0, its own ray reported as into its surface (no margin: the facet is the surface the
+ * visibility truth intersects; without the plane the march blocks them instead); the frame gives
+ * the reference's bits. */
 #define FACET_TILT 6.0f
 static void test_facet_plane(void **state)
 {
@@ -432,42 +453,18 @@ static void test_facet_plane(void **state)
     corner_trace(&gb, &cam, false, W, H, mirror);
     sl_error err = {0};
     assert_true(sl_gbuffer_use_facet(&gb, true, &err));
-    const float c = cosf(radians(FACET_TILT)), s = sinf(radians(FACET_TILT));
-    for (int i = 0; i < W * H; i++) {
-        sl_gbuffer_texel *t = &gb.texels[i];
-        if (!sl_gbuffer_covered(t))
-            continue;
-        vec3 to_eye = sub(cam.eye, t->position);
-        vec3 across = normalize(vec3(to_eye.x, to_eye.y, 0.0f));
-        t->normal = vec3(-across.x * s, -across.y * s, c);
-        gb.facet[i] = vec3(0.0f, 0.0f, 1.0f);
-    }
+    tilt_normals(&gb, &cam, FACET_TILT);
+    for (int i = 0; i < W * H; i++)
+        if (sl_gbuffer_covered(&gb.texels[i]))
+            gb.facet[i] = vec3(0.0f, 0.0f, 1.0f);
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
-    int under = 0, under_zero = 0, checked = 0, below = 0;
-    for (int y = 0; y < H; y++)
-        for (int x = 0; x < W; x++) {
-            const sl_gbuffer_texel *t = sl_gbuffer_at(&gb, x, y);
-            if (!floor_block(&gb, x, y))
-                continue;
-            vec3 V = normalize(sub(cam.eye, t->position));
-            vec3 R = sub(scale(t->normal, 2.0f * dot(t->normal, V)), V);
-            /* within the rebuilt normal's margin, under the facet's horizon */
-            if (!(dot(t->normal, V) > 0.05f && R.z < -0.04f && R.z > -SL_REFLECTION_INTO_MARGIN))
-                continue;
-            under++;
-            under_zero += gb.reflection[y * W + x].x == 0.0f;
-            if (x % 5 == 0 && y % 3 == 0) {
-                check_texel(&gb, &cam, x, y, &below);
-                float rays[SL_REFLECTION_MEMBERS];
-                sl_reflection_texel(&gb, &cam, DIST, x, y, rays, NULL, NULL);
-                assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0);
-                checked++;
-            }
-        }
+    /* within the rebuilt normal's margin, under the facet's horizon */
+    int n[3];
+    count_into_surface(&gb, &cam, -SL_REFLECTION_INTO_MARGIN, -0.04f, 5, 3, n);
     print_message("facet plane: %d of %d texels whose R runs under the facet within the margin at 0; frame = texel "
-                  "on %d\n", under_zero, under, checked);
-    assert_true(under > 250 && checked > 15);
-    assert_int_equal(under_zero, under);
+                  "on %d\n", n[1], n[0], n[2]);
+    assert_true(n[0] > 250 && n[2] > 15);
+    assert_int_equal(n[1], n[0]);
     sl_gbuffer_free(&gb);
 }
 
