@@ -330,14 +330,15 @@ int cmd_info(int argc, char **argv)
     /* the G-buffer's extra plane only when a drawn material writes it (sl_raster_scene_textured's rule)
      * or ambient occlusion does; the occlusion pass's own buffers, two 16-byte planes on the
      * half-resolution grid (samples, tangent planes), and the 16-byte cone plane at full
-     * resolution, count with each pixel (24 bytes); the reflection occlusion's 4-byte plane (its
-     * pass's 24 bytes of scratch a pixel are freed before the lighting's buffers, which make the
-     * peak, are allocated: measured on bunny.json at 1280x720, 4 MiB more resident at the peak) */
+     * resolution, count with each pixel (24 bytes); the reflection occlusion's 4-byte plane and
+     * the 12-byte facet plane it asks the rasterizer for (its pass's 24 bytes of scratch a pixel
+     * are freed before the lighting's buffers, which make the peak, are allocated: measured on
+     * bunny.json at 1280x720, 4 MiB more resident at the peak) */
     bool extra = desc.options.ao_radius > 0.0f;
     for (int i = 0; i < scene.object_count; i++)
         extra |= sl_material_extra(&scene.materials[scene.objects[i].material]);
     size_t gbuffer_pixel = sl_gbuffer_pixel_bytes(extra) + (desc.options.ao_radius > 0.0f ? 24 : 0) +
-                           (desc.options.reflection_occlusion > 0.0f ? 4 : 0);
+                           (desc.options.reflection_occlusion > 0.0f ? 4 + sizeof(sl_vec3) : 0);
     bool phong, ggx; /* the split sum's lobe sets */
     sl_renderer_splitsum_sets(&scene, &phong, &ggx);
     /* the shadow maps: a cube per light that casts; a map per cluster of env lights, at most
