@@ -56,38 +56,47 @@ bool sl_gbuffer_resize(sl_gbuffer *gb, int width, int height, sl_error *err)
     return sl_gbuffer_use_extra(gb, extra, 0, err);
 }
 
-bool sl_gbuffer_use_facet(sl_gbuffer *gb, bool on, sl_error *err)
+/* Allocate (on) or free one optional plane of texel_bytes a texel (`what` names it in the error);
+ * *fresh says whether it was allocated now, its contents undefined until the caller clears it. */
+static bool use_plane(const sl_gbuffer *gb, void **plane, bool on, size_t texel_bytes, const char *what, bool *fresh,
+                      sl_error *err)
 {
+    *fresh = false;
     if (!on || !gb->texels) {
-        free(gb->facet);
-        gb->facet = NULL;
+        free(*plane);
+        *plane = NULL;
         return true;
     }
-    if (gb->facet)
+    if (*plane)
         return true;
-    size_t n = (size_t)gb->width * (size_t)gb->height;
-    if (!(gb->facet = plane_alloc(n * sizeof *gb->facet)))
-        return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the facet plane of %dx%d (%zu bytes)",
-                       gb->width, gb->height, n * sizeof *gb->facet);
-    memset(gb->facet, 0, n * sizeof *gb->facet);
+    size_t bytes = (size_t)gb->width * (size_t)gb->height * texel_bytes;
+    if (!(*plane = plane_alloc(bytes)))
+        return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the %s of %dx%d (%zu bytes)", what, gb->width,
+                       gb->height, bytes);
+    *fresh = true;
     return true;
+}
+
+bool sl_gbuffer_use_facet(sl_gbuffer *gb, bool on, sl_error *err)
+{
+    void *plane = gb->facet;
+    bool fresh;
+    bool ok = use_plane(gb, &plane, on, sizeof *gb->facet, "facet plane", &fresh, err);
+    gb->facet = plane;
+    if (fresh)
+        memset(gb->facet, 0, (size_t)gb->width * (size_t)gb->height * sizeof *gb->facet);
+    return ok;
 }
 
 bool sl_gbuffer_use_extra(sl_gbuffer *gb, bool on, int threads, sl_error *err)
 {
-    if (!on || !gb->texels) {
-        free(gb->extra);
-        gb->extra = NULL;
-        return true;
-    }
-    if (gb->extra)
-        return true;
-    size_t n = (size_t)gb->width * (size_t)gb->height;
-    if (!(gb->extra = plane_alloc(n * sizeof *gb->extra)))
-        return sl_fail(err, SL_ERR_MEMORY, "gbuffer: out of memory for the extra channels of %dx%d (%zu bytes)",
-                       gb->width, gb->height, n * sizeof *gb->extra);
-    sl_gbuffer_extra_clear(gb, threads);
-    return true;
+    void *plane = gb->extra;
+    bool fresh;
+    bool ok = use_plane(gb, &plane, on, sizeof *gb->extra, "extra channels", &fresh, err);
+    gb->extra = plane;
+    if (fresh)
+        sl_gbuffer_extra_clear(gb, threads);
+    return ok;
 }
 
 /* "Nothing drawn here": no occlusion, no emission, a depth no fragment has. */
