@@ -843,7 +843,8 @@ vec3 reflection_ring_direction(vec3 N, vec3 R, float n_dot_v, float phase, float
 // Ray k of the covered texel q: 1 open, 0 blocked, REFLECTION_BELOW below its surface; its weight
 // in the block's share, its cosine to the normal (at least REFLECTION_MIN_COSINE). A ray above
 // N's horizon and below the geometric normal's (by more than REFLECTION_INTO_MARGIN with the
-// rebuilt normal) enters the surface drawn: blocked, not traced.
+// rebuilt normal) enters the surface drawn: with the facet not counted (the lighting leaves the
+// directions under the facet out: facet_hides), with the rebuilt normal blocked; not traced.
 float reflection_ray(ivec2 q, int k, out float weight)
 {
     vec3 Pq = texelFetch(uPosition, q, 0).xyz;
@@ -854,10 +855,11 @@ float reflection_ray(ivec2 q, int k, out float weight)
     float depth = dot(Pq - uEye, uViewForward);
     vec3 Ng = reflection_geometric_normal(q, Pq, depth, V, N);
     float margin = uHasFacet != 0 ? 0.0 : REFLECTION_INTO_MARGIN;
+    float under = uHasFacet != 0 ? REFLECTION_BELOW : 0.0; // a ray into the surface drawn
     vec3 P = Pq + N * (REFLECTION_OFFSET * depth);
     if (k == 0) {
         weight = max(dot(R, N), REFLECTION_MIN_COSINE);
-        return dot(R, Ng) < -margin ? 0.0 : reflection_trace_ray(P, R);
+        return dot(R, Ng) < -margin ? under : reflection_trace_ray(P, R);
     }
     float alpha = lobe_param(texelFetch(uKsAlpha, q, 0).a);
     float ring = REFLECTION_RING * so_acos(so_lobe_cos(alpha));
@@ -867,7 +869,7 @@ float reflection_ray(ivec2 q, int k, out float weight)
     weight = max(cosine, REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0))
         return REFLECTION_BELOW; // not counted
-    return dot(Rk, Ng) < -margin ? 0.0 : reflection_trace_ray(P, Rk);
+    return dot(Rk, Ng) < -margin ? under : reflection_trace_ray(P, Rk);
 }
 
 // The covered pixel's visibility: the share of open rays over its block (the pixel, x + 1,
@@ -1008,6 +1010,7 @@ bool gHorizonOn;  // the maps are drawn: split
 bool gHorizonSky; // R on the sky's side
 vec3 gHorizonSum; // the contributions from across, over the estimate's count
 vec3 gHorizonDir; // their directions times |luminance|
+vec3 gFacet;      // the pixel's facet normal, environment space (facet_env), 0: none
 
 // whether the specular is split at the horizon: the maps are drawn
 bool horizon_on()
@@ -1015,13 +1018,32 @@ bool horizon_on()
     return SL_SKY_MAPS != 0 && uSkyMapCount > 0;
 }
 
-void horizon_for(vec3 N, vec3 V)
+void horizon_for(vec3 N, vec3 V, vec3 F)
 {
     vec3 R = N * (2.0 * dot(N, V)) - V;
     gHorizonOn = horizon_on();
     gHorizonSky = R.z >= 0.0;
+    gFacet = F;
     gHorizonSum = vec3(0.0);
     gHorizonDir = vec3(0.0);
+}
+
+// Whether direction w (environment space) lies under the pixel's facet, the drawn triangle's
+// plane, which a smooth or normal-mapped N leans across at a rim: the surface itself hides it,
+// and every estimator leaves it out as one below N's horizon (src/shading/lighting_internal.h
+// shade_facet_hides). A zero facet hides nothing.
+bool facet_hides(vec3 w)
+{
+    return dot(w, gFacet) < 0.0;
+}
+
+// The pixel's facet normal in environment space: with reflection occlusion on and the facet in
+// the G-buffer (uHasFacet), else 0 (lighting_internal.h shade_facet_env)
+vec3 facet_env(ivec2 pixel)
+{
+    if (!(uReflectionDistance > 0.0) || uHasFacet == 0)
+        return vec3(0.0);
+    return uEnvRotation * facet_normal(pixel);
 }
 
 bool horizon_across(vec3 w)
@@ -1078,7 +1100,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float pdf = sample_pdf(xi, alpha);
         vec3 w = normalize(L.x * A + L.y * B + L.z * R);
         float wN = dot(w, N);
-        if (wN <= 0.0)
+        if (wN <= 0.0 || facet_hides(w))
             continue;
         vec3 H = normalize(w + V);
         float NdotH = dot(N, H);
@@ -1262,7 +1284,8 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         float VdotH = dot(V, H);
         vec3 w = normalize(2.0 * VdotH * H - V);
         float wN = dot(w, N);
-        if (VdotH <= 0.0 || (wN <= 0.0 && !cv.on))
+        bool lit = wN > 0.0 && !facet_hides(w);
+        if (VdotH <= 0.0 || (!lit && !cv.on))
             continue;
         float NdotH = Hl.z;
         float pdf = ggx ? D / norm : D * NdotH / (4.0 * VdotH);
@@ -1271,7 +1294,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         float lod = mip_level(D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = ggx ? G * wN * norm / 4.0 : G * wN * VdotH / NdotH;
-        vec3 c = wN > 0.0 ? F * Li * weight : vec3(0.0);
+        vec3 c = lit ? F * Li * weight : vec3(0.0);
         if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
             c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf);
         c = glow(w, c);
@@ -1394,7 +1417,8 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
         float VdotH = dot(V, H);
         vec3 w = normalize(2.0 * VdotH * H - V);
         float wN = dot(w, N);
-        if (VdotH > 0.0 && (wN > 0.0 || cv.on)) {
+        bool lit = wN > 0.0 && !facet_hides(w);
+        if (VdotH > 0.0 && (lit || cv.on)) {
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0 * VdotH);
             ivec2 t = env_texel(w);
@@ -1403,7 +1427,7 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
             vec3 Li = texelFetch(uEnvResidual, t, 0).rgb * uEnvIntensity;
-            float weight = wN > 0.0 ? G * wN * VdotH / NdotH * mis : 0.0;
+            float weight = lit ? G * wN * VdotH / NdotH * mis : 0.0;
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(w, cv.dir)) / pdf * mis);
@@ -1421,16 +1445,16 @@ vec3 specular_mis(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, CvKernel 
         vec3 He = normalize(we + V);
         float NdotHe = dot(N, He);
         float LdotHe = dot(we, He);
-        bool lit = weN > 0.0 && NdotHe > 0.0 && LdotHe > 0.0;
-        if (lit || cv.on) {
+        bool lit_e = weN > 0.0 && NdotHe > 0.0 && LdotHe > 0.0 && !facet_hides(we);
+        if (lit_e || cv.on) {
             bool reached = NdotHe > 0.0 && LdotHe > 0.0;
             float De = reached ? sl_lobe_D(NdotHe, alpha) : 0.0;
             float pb = reached ? De * NdotHe / (4.0 * LdotHe) : 0.0;
             float mis = mis_power(e.w, pb);
             vec3 F = sl_brdf_F(Ks, LdotHe);
-            float G = lit ? sl_lobe_G(LdotHe, weN, NdotV, alpha, uGTerm) : 0.0;
+            float G = lit_e ? sl_lobe_G(LdotHe, weN, NdotV, alpha, uGTerm) : 0.0;
             vec3 Li = texelFetch(uEnvResidual, te, 0).rgb * uEnvIntensity;
-            float weight = lit ? De * G * weN / (4.0 * e.w) * mis : 0.0;
+            float weight = lit_e ? De * G * weN / (4.0 * e.w) * mis : 0.0;
             vec3 c = F * Li * weight;
             if (cv.on)
                 c = c - cv.scale * Li * (cv_kernel(cv, dot(we, cv.dir)) / e.w * mis);
@@ -1714,7 +1738,7 @@ vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, fl
     vec3 sum = vec3(0.0);
     for (int j = 0; j < uEnvLightCount; j++) {
         vec3 w = uEnvLightDir[j].xyz;
-        if (dot(w, N) <= 0.0)
+        if (dot(w, N) <= 0.0 || facet_hides(w)) // a light under the facet: its centroid's
             continue;
         vec3 f = env_light_near(split, w) ? env_light_cells(j, N, V, Ks, alpha, split)
                                           : env_light_brdf(w, N, V, Ks, alpha);
@@ -2066,6 +2090,7 @@ void main()
         vec3 N = facing_normal(texelFetch(uNormal, pixel, 0).xyz, V);
         vec3 Nenv = uEnvRotation * N;
         vec3 Venv = uEnvRotation * V;
+        vec3 Fenv = facet_env(pixel);
         vec2 rotation = uRotate != 0 ? pixel_rotation(pixel) : vec2(0.0, 0.0);
         vec4 extra = uHasExtra != 0 ? texelFetch(uExtra, pixel, 0) : vec4(1.0, 0.0, 0.0, 0.0);
         // With the env lights' shadow maps: each env light's visibility from P; the lights' part
@@ -2100,7 +2125,7 @@ void main()
             }
             if (uSpecular != 0) {
                 vec3 spec;
-                horizon_for(Nenv, Venv);
+                horizon_for(Nenv, Venv, Fenv);
                 glow_for(envShadow);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
@@ -2152,7 +2177,7 @@ void main()
             }
             if (uSpecular != 0) {
                 vec3 spec;
-                horizon_for(Nenv, Venv);
+                horizon_for(Nenv, Venv, Fenv);
                 glow_for(envShadow);
                 if (uEstimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);

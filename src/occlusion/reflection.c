@@ -283,6 +283,13 @@ static inline float into_margin(const reflection_frame *f) { return f->facet ? 0
  * be traced. */
 typedef enum { RAY_BELOW, RAY_INTO_SURFACE, RAY_TRACE } ray_start;
 
+/* What a ray below the geometric normal's horizon is. With the facet plane the lighting leaves
+ * every direction under the facet out of the lobe (src/shading/lighting_internal.h
+ * shade_facet_hides), so the rays speak for the lobe's part above it: such a ray is not counted,
+ * as one below the shading normal's horizon. With the normal rebuilt from positions the lighting
+ * has no facet: the ray is blocked by the surface it enters. */
+static inline ray_start under_surface(const reflection_frame *f) { return f->facet ? RAY_BELOW : RAY_INTO_SURFACE; }
+
 /* Ray k of covered texel i (k = 0 along R, else on the ring at turn k - 1, `ring` the ring's
  * angle for the texel's alpha; reflection.h): its start P, unit direction and weight in the
  * block's share (its cosine to the normal, at least SL_REFLECTION_MIN_COSINE), and whether it is
@@ -307,7 +314,7 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     if (k == 0) {
         *direction = R;
         *weight = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
-        return dot(R, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
+        return dot(R, Ng) < -margin ? under_surface(f) : RAY_TRACE;
     }
     vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k], ring);
     float cosine = dot(Rk, N);
@@ -315,7 +322,7 @@ static ray_start ray_of(const reflection_frame *f, const sl_gbuffer *gb, size_t 
     *weight = maxf(cosine, SL_REFLECTION_MIN_COSINE);
     if (!(cosine > 0.0f))
         return RAY_BELOW;
-    return dot(Rk, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
+    return dot(Rk, Ng) < -margin ? under_surface(f) : RAY_TRACE;
 }
 
 /* Whether ray k of covered texel i is open (1), blocked (0) or into its own surface
@@ -480,6 +487,7 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
     const float *depth = f->depth, *px = f->px, *py = f->py, *pz = f->pz;
     const sl_vec3 *facet = f->facet;
     const float margin = into_margin(f);
+    const int under = under_surface(f);
 #pragma omp simd
     for (int m = 0; m < n; m++) {
         const int x = x0 + m, k = k_of[m];
@@ -510,13 +518,13 @@ static void rays_of_span(const reflection_frame *f, int y, int x0, int n, const 
         const vec3 start = add(P, scale(N, SL_REFLECTION_OFFSET * z));
         /* ray 0 along R; ray k on the ring */
         const float weight0 = maxf(dot(R, N), SL_REFLECTION_MIN_COSINE);
-        const int start0 = dot(R, Ng) < -margin ? RAY_INTO_SURFACE : RAY_TRACE;
+        const int start0 = dot(R, Ng) < -margin ? under : RAY_TRACE;
         const vec3 Rk = ring_direction(N, R, n_dot_v, f->turn_cos[k], f->turn_sin[k],
                                        (ring_angle){ring_cos[m], ring_sin[m]});
         const float cosine = dot(Rk, N);
         const float weightk = maxf(cosine, SL_REFLECTION_MIN_COSINE);
         const int startk = !(cosine > 0.0f)                               ? RAY_BELOW
-                           : dot(Rk, Ng) < -margin ? RAY_INTO_SURFACE
+                           : dot(Rk, Ng) < -margin ? under
                                                    : RAY_TRACE;
         const vec3 dir = k == 0 ? R : Rk;
         out->px[m] = start.x, out->py[m] = start.y, out->pz[m] = start.z;

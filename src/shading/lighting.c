@@ -194,10 +194,12 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         float pdf = sample_pdf(xi, alpha);
         vec3 w = normalize(add(add(scale(A, L.x), scale(B, L.y)), scale(R, L.z)));
         float wN = dot(w, N);
-        if (wN <= 0.0f) {
+        bool hidden = shade_facet_hides(h, w);
+        if (wN <= 0.0f || hidden) {
             below++;
             trace_sample(trace, k,
-                         &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .sum = sum});
+                         &(sl_lighting_trace_sample){.xi = xi, .L = L, .pdf = pdf, .w = w, .wN = wN, .hidden = hidden,
+                                                     .sum = sum});
             continue;
         }
         vec3 H = normalize(add(w, V));
@@ -296,12 +298,14 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float VdotH = dot(V, H);
         vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
         float wN = dot(w, N);
-        if (VdotH <= 0.0f || wN <= 0.0f)
+        bool hidden = shade_facet_hides(h, w);
+        bool lit = wN > 0.0f && !hidden;
+        if (VdotH <= 0.0f || !lit)
             below++;
-        if (VdotH <= 0.0f || (wN <= 0.0f && !cv)) {
+        if (VdotH <= 0.0f || (!lit && !cv)) {
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .w = w, .wN = wN, .H = H, .NdotH = Hl.z,
-                                                     .LdotH = VdotH, .D = D, .sum = sum});
+                                                     .LdotH = VdotH, .D = D, .hidden = hidden, .sum = sum});
             continue;
         }
         float NdotH = Hl.z;
@@ -311,7 +315,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float lod = mip_level(u, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = ggx ? G * wN * norm / 4.0f : G * wN * VdotH / NdotH;
-        vec3 c = wN > 0.0f ? scale(mul(F, Li), weight) : vec3s(0.0f);
+        vec3 c = lit ? scale(mul(F, Li), weight) : vec3s(0.0f);
         float kp = 0.0f;
         if (cv) { /* below the horizon too: the kernel reaches there, the BRDF does not */
             kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
@@ -327,7 +331,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         trace_sample(trace, k,
                      &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .w = w, .wN = wN, .H = H,
                                                  .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F, .G = G, .lod = lod,
-                                                 .Li = Li, .c = c, .cv_kp = kp, .across = across,
+                                                 .Li = Li, .c = c, .cv_kp = kp, .hidden = hidden, .across = across,
                                                  .glow = glow + 1, .sum = sum});
     }
     count_samples(task, n, below, axis.x == 1.0f);
@@ -447,7 +451,9 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         float VdotH = dot(V, H);
         vec3 w = normalize(sub(scale(H, 2.0f * VdotH), V));
         float wN = dot(w, N);
-        if (VdotH > 0.0f && (wN > 0.0f || cv)) {
+        bool hidden = shade_facet_hides(h, w);
+        bool lit = wN > 0.0f && !hidden;
+        if (VdotH > 0.0f && (lit || cv)) {
             float NdotH = Hl.z;
             float pdf = D * NdotH / (4.0f * VdotH);
             ivec2 t = env_texel(u, w);
@@ -456,14 +462,14 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             vec3 F = sl_brdf_F(Ks, VdotH);
             float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
             vec3 Li = scale(env_texel_fetch(u, t), u->uEnvIntensity);
-            float weight = wN > 0.0f ? G * wN * VdotH / NdotH * mis : 0.0f;
+            float weight = lit ? G * wN * VdotH / NdotH * mis : 0.0f;
             vec3 c = scale(mul(F, Li), weight);
             float kp = 0.0f;
             if (cv) {
                 kp = sl_cv_kernel_eval(u, cv, dot(w, cv->dir)) / pdf;
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
-            below += wN <= 0.0f;
+            below += !lit;
             int glow;
             c = shade_glow(h, w, c, &glow);
             bool across = shade_horizon_across(h, w);
@@ -474,13 +480,13 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .pdf = pdf, .pdf_other = pe, .mis = mis, .w = w,
                                                      .wN = wN, .H = H, .NdotH = NdotH, .LdotH = VdotH, .D = D, .F = F,
-                                                     .G = G, .Li = Li, .c = c, .cv_kp = kp, .across = across,
-                                                     .glow = glow + 1, .sum = sum});
+                                                     .G = G, .Li = Li, .c = c, .cv_kp = kp, .hidden = hidden,
+                                                     .across = across, .glow = glow + 1, .sum = sum});
         } else {
             below++;
             trace_sample(trace, k,
                          &(sl_lighting_trace_sample){.xi = xi, .L = Hl, .w = w, .wN = wN, .H = H, .NdotH = Hl.z,
-                                                     .LdotH = VdotH, .D = D, .sum = sum});
+                                                     .LdotH = VdotH, .D = D, .hidden = hidden, .sum = sum});
         }
         ivec2 te;
         vec2 xe = vec2(fract(xi.x + half_), xi.y);
@@ -490,24 +496,25 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 He = normalize(add(we, V));
         float NdotHe = dot(N, He);
         float LdotHe = dot(we, He);
-        bool lit = weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f;
-        if (lit || cv) {
+        bool hidden_e = shade_facet_hides(h, we);
+        bool lit_e = weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f && !hidden_e;
+        if (lit_e || cv) {
             /* the BRDF's density of we: 0 where its draws cannot reach (N.H <= 0 or w.H <= 0) */
             bool reached = NdotHe > 0.0f && LdotHe > 0.0f;
             float De = reached ? sl_lobe_D(NdotHe, alpha) : 0.0f;
             float pb = reached ? De * NdotHe / (4.0f * LdotHe) : 0.0f;
             float mis = mis_power(e.w, pb);
             vec3 F = sl_brdf_F(Ks, LdotHe);
-            float G = lit ? sl_lobe_G(LdotHe, weN, NdotV, alpha, (sl_gterm)u->uGTerm) : 0.0f;
+            float G = lit_e ? sl_lobe_G(LdotHe, weN, NdotV, alpha, (sl_gterm)u->uGTerm) : 0.0f;
             vec3 Li = scale(env_texel_fetch(u, te), u->uEnvIntensity);
-            float weight = lit ? De * G * weN / (4.0f * e.w) * mis : 0.0f;
+            float weight = lit_e ? De * G * weN / (4.0f * e.w) * mis : 0.0f;
             vec3 c = scale(mul(F, Li), weight);
             float kp = 0.0f;
             if (cv) {
                 kp = sl_cv_kernel_eval(u, cv, dot(we, cv->dir)) / e.w;
                 c = sub(c, scale(mul(cv->scale, Li), kp * mis));
             }
-            below += !lit;
+            below += !lit_e;
             int glow;
             c = shade_glow(h, we, c, &glow);
             bool across = shade_horizon_across(h, we);
@@ -519,13 +526,14 @@ static vec3 specular_mis(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .pdf_other = pb, .mis = mis, .w = we,
                                                          .wN = weN, .H = He, .NdotH = NdotHe, .LdotH = LdotHe, .D = De,
                                                          .F = F, .G = G, .Li = Li, .c = c, .cv_kp = kp,
-                                                         .across = across, .glow = glow + 1,
+                                                         .hidden = hidden_e, .across = across, .glow = glow + 1,
                                                          .sum = sum});
         } else {
             below++;
             trace_env_sample(trace, k,
                              &(sl_lighting_trace_sample){.xi = xe, .pdf = e.w, .w = we, .wN = weN, .H = He,
-                                                         .NdotH = NdotHe, .LdotH = LdotHe, .sum = sum});
+                                                         .NdotH = NdotHe, .LdotH = LdotHe, .hidden = hidden_e,
+                                                         .sum = sum});
         }
     }
     count_samples(task, 2 * n, below, axis.x == 1.0f);
@@ -789,13 +797,14 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
  * lobe's peak (env_light_split); 0 for a light below the horizon. */
 /* GLSL: specular_env_lights (vis: each light's shadow-map visibility; NULL: all 1, the GLSL's
  * shadowed = false) */
-static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis)
+static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis,
+                                const shade_horizon *h)
 {
     shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < u->uEnvLightCount; j++) {
         vec3 w = xyz(u->uEnvLightDir[j]);
-        if (dot(w, N) <= 0.0f)
+        if (dot(w, N) <= 0.0f || shade_facet_hides(h, w)) /* a light under the facet: its centroid's */
             continue;
         vec3 f = sl_shade_env_light_near(&split, w) ? env_light_cells(u, j, N, V, Ks, alpha, &split)
                                                     : env_light_brdf(u, w, N, V, Ks, alpha);
@@ -988,11 +997,11 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
          * map's visibility: added after the pixel's specular factor, times the material's
          * occlusion (with the cone; without it the sum's occlusion below scales it) */
         vec3 beyond = vec3s(0.0f);
+        shade_horizon h = shade_horizon_for(u, s->Nenv, s->Venv, s->Fenv);
         if (specular) {
             spec = *specular; /* the batched path's, env lights included */
             beyond = across ? *across : vec3s(0.0f);
         } else {
-            shade_horizon h = shade_horizon_for(u, s->Nenv, s->Venv);
             if (env_shadow)
                 shade_horizon_glow(&h, u, env_shadow->map_vis);
             if (u->uEstimator == ESTIMATOR_SPLITSUM)
@@ -1009,7 +1018,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, &h, task, trace);
             beyond = sl_shade_horizon_visible(u, &h, s->P, s->N, trace);
             if (u->uEnvLightCount > 0 && !env_shadow) {
-                vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL);
+                vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL, &h);
                 spec = add(spec, exact);
                 trace_env_lights(trace, u, s->Nenv, s->Venv, s->alpha, exact);
             }
@@ -1017,7 +1026,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         vec3 exact = vec3s(0.0f); /* shadowed: kept apart from the occluded rest */
         if (env_shadow) {
             exact = specular ? env_shadow->specular
-                             : specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, env_shadow->vis);
+                             : specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, env_shadow->vis, &h);
             trace_env_lights(trace, u, s->Nenv, s->Venv, s->alpha, exact);
             shadowed_lights = add(shadowed_lights, exact);
         }
@@ -1088,7 +1097,8 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
         sl_gbuffer_extra e = shade_extra(gb, x, y);
         shade_surface s = {.P = P, .Kd = Kd, .Ks = Ks, .alpha = alpha, .V = V, .N = N, .Nenv = Nenv, .Venv = Venv,
                            .rotation = rotation, .occlusion = e.occlusion, .emissive = e.emissive,
-                           .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y)};
+                           .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y),
+                           .Fenv = shade_facet_env(u, gb, x, y)};
         trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, NULL, task, trace);
     }
@@ -1137,7 +1147,8 @@ vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
 {
-    return specular_env_lights(u, N, V, Ks, alpha, NULL);
+    const shade_horizon open = shade_horizon_for(u, N, V, vec3s(0.0f)); /* no facet: nothing hidden */
+    return specular_env_lights(u, N, V, Ks, alpha, NULL, &open);
 }
 void sl_shade_env_light_visibility_of(const sl_lighting_uniforms *u, const float *map_vis, float *vis)
 {

@@ -213,7 +213,8 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
             ts->D = s->pdf[i];
             ts->pdf = 0.0f;
         }
-        if ((b->wN[i] <= 0.0f && !cv) || (mf && b->vh[i] <= 0.0f))
+        ts->hidden = shade_facet_hides(h, ts->w);
+        if (((b->wN[i] <= 0.0f || ts->hidden) && !cv) || (mf && b->vh[i] <= 0.0f))
             continue;
         vec3 c = vec3(b->cr[i], b->cg[i], b->cb[i]);
         ts->across = shade_horizon_across(h, ts->w);
@@ -493,6 +494,7 @@ typedef struct {
     const sl_cv_kernel *cvk; /* the control variate's kernel, whose scale K(w) / p(w) Li every
                                 contribution loses (NULL: none) */
     const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
+    vec3 facet;                         /* the pixel's facet (shade_facet_hides), 0: none */
 } lobe_consts;
 
 __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const sl_lighting_uniforms *u, vec3 Ks,
@@ -521,6 +523,7 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.Vh = vec3s(0.0f); /* the caller's, with the frame */
     c.cvk = NULL;
     c.ka = c.kb = NULL;
+    c.facet = vec3s(0.0f); /* the caller's, with the pixel */
     return c;
 }
 
@@ -692,6 +695,12 @@ __attribute__((always_inline)) static inline void cv_kernel_over_pdf(const float
     }
 }
 
+/* w.F of sample i, the port's dot(w, h->facet) (shade_facet_hides) in its order */
+__attribute__((always_inline)) static inline float facet_dot(const sample_block *b, int i, vec3 F)
+{
+    return (b->wx[i] * F.x + b->wy[i] * F.y) + b->wz[i] * F.z;
+}
+
 /* Stage (3): radiance and contribution: textureLod from the block (texture_lod.h's operations
  * on the block's layout: gathers), c = F Li weight; without a block, the same filter through
  * texture_lod.h, texel by texel. */
@@ -736,12 +745,12 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
     if (c->cvk) { /* F Li weight - scale K(w) / p(w) Li, the port's form: a loop of its own, so mf's
                     loops above stay as they are */
         const sl_cv_kernel *cv = c->cvk;
-        const vec3 dir = cv->dir, sc = cv->scale;
+        const vec3 dir = cv->dir, sc = cv->scale, F = c->facet;
         cv_kernel_over_pdf(b->wx, b->wy, b->wz, b->pw, b->kp, m, dir, c->ka, c->kb, cv->levels.ca, cv->levels.cb);
 #pragma omp simd
-        for (int i = 0; i < m; i++) { /* below the horizon only the kernel's term: it reaches there */
+        for (int i = 0; i < m; i++) { /* below the horizon (or under the facet) only the kernel's term */
             float kp = b->kp[i];
-            bool above = b->wN[i] > 0.0f;
+            bool above = b->wN[i] > 0.0f && !(facet_dot(b, i, F) < 0.0f);
             b->cr[i] = (above ? b->cr[i] : 0.0f) - sc.x * b->lr[i] * kp;
             b->cg[i] = (above ? b->cg[i] : 0.0f) - sc.y * b->lg[i] * kp;
             b->cb[i] = (above ? b->cb[i] : 0.0f) - sc.z * b->lb[i] * kp;
@@ -750,19 +759,20 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
 }
 
 /* Stage (4), its first half: the horizon test over the mv samples of the block, m of them
- * real. Samples below the horizon (microfacet: or with V.H <= 0) add nothing: their
- * contributions become +0, and so do the padding's (m .. mv, a multiple of 4), which leaves
- * every partial sum's bits as they are (a sum starts at +0 and is never -0). Returns how many
- * of the m were below. */
+ * real. Samples below the horizon or under the facet (microfacet: or with V.H <= 0) add
+ * nothing: their contributions become +0, and so do the padding's (m .. mv, a multiple of 4),
+ * which leaves every partial sum's bits as they are (a sum starts at +0 and is never -0).
+ * Returns how many of the m were below. */
 __attribute__((always_inline)) static inline int stage_horizon(const lobe_consts *c, int m, int mv, sample_block *b)
 {
     int below_block = 0;
     const float *drop = c->mf ? b->vh : b->wN;
     const int keep_below = c->cvk != NULL; /* cv's samples below the horizon keep the kernel's term */
+    const vec3 F = c->facet;
 #pragma omp simd
     for (int i = 0; i < mv; i++) {
         int real = i < m;
-        int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f);
+        int above = !(b->wN[i] <= 0.0f) & !(drop[i] <= 0.0f) & !(facet_dot(b, i, F) < 0.0f);
         int keep = real & (above | (keep_below & !(drop[i] <= 0.0f)));
         below_block += real & (1 - above);
         b->cr[i] = keep ? b->cr[i] : 0.0f; /* the trace reads only the samples kept */
@@ -785,6 +795,7 @@ static vec3 specular_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3
     int n = (int)u->uHammersley.N;
     const bool rotate = u->uRotate != 0;
     lobe_consts c = lobe_consts_for(u, Ks, alpha);
+    c.facet = h->facet;
     if (cv) {
         c.cvk = cv;
         cv_kernels(u, cv, &c.ka, &c.kb);
@@ -856,7 +867,8 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
     const float NdotV = dot(N, V);
     vec3 w = vec3(b->wx[i], b->wy[i], b->wz[i]), H = vec3(b->hx[i], b->hy[i], b->hz[i]);
     vec2 xi = vec2(b->xi1[i], b->xi2[i]);
-    if (b->vh[i] > 0.0f && b->wN[i] > 0.0f) {
+    const bool hidden = shade_facet_hides(h, w);
+    if (b->vh[i] > 0.0f && b->wN[i] > 0.0f && !hidden) {
         bool across = shade_horizon_across(h, w);
         if (!across)
             *sum = add(*sum, cb);
@@ -869,14 +881,15 @@ static void trace_mis_pair(sl_lighting_trace *t, int k, const sample_block *b, i
     } else {
         trace_sample(t, k, &(sl_lighting_trace_sample){.xi = xi, .L = vec3(b->Lx[i], b->Ly[i], b->Lz[i]), .w = w,
                                                           .wN = b->wN[i], .H = H, .NdotH = b->NdotH[i],
-                                                          .LdotH = b->vh[i], .D = D[i], .sum = *sum});
+                                                          .LdotH = b->vh[i], .D = D[i], .hidden = hidden,
+                                                          .sum = *sum});
     }
     vec3 we = vec3(e->wx[ke], e->wy[ke], e->wz[ke]);
     vec3 He = normalize(add(we, V));
     float weN = dot(we, N), NdotHe = dot(N, He), LdotHe = dot(we, He);
     sl_lighting_trace_sample s = {.xi = vec2(e->xe1[ke], e->xe2[ke]), .pdf = e->pe[ke], .w = we, .wN = weN, .H = He,
-                                  .NdotH = NdotHe, .LdotH = LdotHe};
-    if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f) {
+                                  .NdotH = NdotHe, .LdotH = LdotHe, .hidden = shade_facet_hides(h, we)};
+    if (weN > 0.0f && NdotHe > 0.0f && LdotHe > 0.0f && !s.hidden) {
         s.across = shade_horizon_across(h, we);
         s.glow = shade_glow_map(h, we) + 1;
         if (!s.across)
@@ -934,6 +947,7 @@ __attribute__((always_inline)) static inline float phong_fast_D_at(const phong_f
 /* The lobe of a pixel as env_pair_terms reads it (mis_samples' constants). */
 typedef struct {
     vec3 N, V, Ks, F1;
+    vec3 facet; /* shade_facet_hides' (0: none) */
     float NdotV, a2, kv;
     phong_fast_D phong; /* the Phong set's D (unread for GGX) */
     bool inv_lh2;
@@ -951,12 +965,13 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
                                                                  float *pbe, float *mis_e, float *cr, float *cg,
                                                                  float *cb)
 {
-    const vec3 N = l->N, V = l->V, Ks = l->Ks, F1 = l->F1;
+    const vec3 N = l->N, V = l->V, Ks = l->Ks, F1 = l->F1, Fc = l->facet;
     const float NdotV = l->NdotV, a2 = l->a2, kv = l->kv;
 #pragma omp simd
     for (int i = 0; i < mp; i++) {
         float wN, NdotH, LdotH;
         toward_light(X[i], Y[i], Z[i], N, V, &wN, &NdotH, &LdotH);
+        float shown = (X[i] * Fc.x + Y[i] * Fc.y) + Z[i] * Fc.z < 0.0f ? 0.0f : 1.0f; /* not under the facet */
         float Dv, G;
         if (ggx) {
             Dv = sl_ggx_D(NdotH, a2);
@@ -971,7 +986,7 @@ __attribute__((always_inline)) static inline void env_pair_terms(const env_pair_
         float m5 = m2 * m2 * mm;
         /* products of selects, not &&, and every factor finite when it is 0: vectorizes */
         float reached = (NdotH > 0.0f ? 1.0f : 0.0f) * (LdotH > 0.0f ? 1.0f : 0.0f); /* by the BRDF's draws */
-        float lit = (wN > 0.0f ? 1.0f : 0.0f) * reached;
+        float lit = (wN > 0.0f ? 1.0f : 0.0f) * reached * shown;
         float pb = Dv * NdotH / (4.0f * maxf(LdotH, TINY)) * reached;
         float r = pb / maxf(P[i], TINY);
         float mis = 1.0f / (1.0f + r * r);
@@ -1028,8 +1043,9 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
     const float kv = ggx ? ggx_kv(NdotV, a2) : 0.0f;
     const float I = u->uEnvIntensity;
     const vec3 F1 = sub(vec3s(1.0f), Ks);
-    const env_pair_lobe pair = {N, V, Ks, F1, NdotV, a2, kv, ggx ? (phong_fast_D){0.0f, 0.0f, TINY} : phong_fast_D_for(alpha),
-                                inv_lh2};
+    const env_pair_lobe pair = {N,  V,  Ks, F1, h->facet, NdotV, a2, kv,
+                                ggx ? (phong_fast_D){0.0f, 0.0f, TINY} : phong_fast_D_for(alpha), inv_lh2};
+    const vec3 F = h->facet;
     const float *packed = u->uEnvDist->texel_pdf;
     const int w0 = u->uEnvResidual->levels[0].width, h0 = u->uEnvResidual->levels[0].height;
     const sl_prefilter_kernel *ka = NULL, *kb = NULL;
@@ -1114,7 +1130,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         }
         /* the reads apart from the index arithmetic, so that their cache misses overlap */
         for (int i = 0; i < mp; i++) {
-            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
+            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f && !(facet_dot(b, i, F) < 0.0f);
             below += !valid && i < m;
             ivec2 t = ivec2(tx[i], ty[i]);
             pe[i] = 0.0f;
@@ -1138,7 +1154,7 @@ static vec3 mis_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, 
         for (int i = 0; i < mp; i++) {
             float r = pe[i] / maxf(b->pw[i], TINY);
             float mis = 1.0f / (1.0f + r * r);
-            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f;
+            bool valid = b->vh[i] > 0.0f && b->wN[i] > 0.0f && !(facet_dot(b, i, F) < 0.0f);
             float k = valid ? b->weight[i] * mis : 0.0f;
             mis_b[i] = mis;
             cr[i] = (Ks.x + F1.x * b->m5[i]) * Lr[i] * k;
@@ -1317,7 +1333,7 @@ static void cells_flush(cell_batch *c, const sl_lighting_uniforms *u, const env_
  * one's centroid term replaced by the sum over its texel's cells: the test vectorized over the
  * lights (env_light_near's, in its order), the cells of those it passes gathered into batches. */
 static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_light_split *split, const env_lobe *l,
-                             vec3 N, vec3 V, vec3 Ks, const float *vis, float *cr, float *cg, float *cb)
+                             vec3 N, vec3 V, vec3 F, vec3 Ks, const float *vis, float *cr, float *cg, float *cb)
 {
     const int n = shade_env_light_lanes(u);
     const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
@@ -1329,11 +1345,12 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
 #pragma omp simd
     for (int j = 0; j < n; j++) {
         float wN = (X[j] * N.x + Y[j] * N.y) + Z[j] * N.z; /* 0 past the count: not near */
+        float wF = (X[j] * F.x + Y[j] * F.y) + Z[j] * F.z; /* under the facet: its term stays 0 */
         float rl = (R.x * X[j] + R.y * Y[j]) + R.z * Z[j];
         float qx = X[j] - R.x, qy = Y[j] - R.y, qz = Z[j] - R.z;
         float t = maxf(fabsf((qx * T.x + qy * T.y) + qz * T.z) - edge, 0.0f) / across;
         float b = maxf(fabsf((qx * B.x + qy * B.y) + qz * B.z) - edge, 0.0f) / reach;
-        near[j] = (wN > 0.0f) & (rl > cos_near) & (t * t + b * b < near2);
+        near[j] = (wN > 0.0f) & !(wF < 0.0f) & (rl > cos_near) & (t * t + b * b < near2);
     }
     cell_batch c;
     c.count = c.cells = 0;
@@ -1355,9 +1372,10 @@ static void env_lights_split(const sl_lighting_uniforms *u, const shade_env_ligh
 
 /* specular_env_lights, batched: the lights vectorized (structure of arrays in the uniforms), then
  * the few that env_light_split reads over their texel's cells (those near R, when the lobe is
- * narrower than a few texels) replaced by their cells' sum, and the sum in light order. */
-__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
-                                                         float alpha, const float *vis)
+ * narrower than a few texels) replaced by their cells' sum, and the sum in light order. A light
+ * under the facet F (shade_facet_hides; 0: none) adds 0. */
+__attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 F,
+                                                         vec3 Ks, float alpha, const float *vis)
 {
     const int n = shade_env_light_lanes(u); /* zero lights add exactly 0 (below) */
     const float *LR = u->envLightR, *LG = u->envLightG, *LB = u->envLightB;
@@ -1368,14 +1386,16 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
 #pragma omp simd
     for (int j = 0; j < n; j++) {
-        float kv = k[j] * vis[j]; /* x 1 without maps: the same bits */
+        const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
+        float wF = (X[j] * F.x + Y[j] * F.y) + Z[j] * F.z;
+        float kv = wF < 0.0f ? 0.0f : k[j] * vis[j]; /* x 1 without maps: the same bits */
         cr[j] = (Ks.x + F1.x * m5[j]) * kv * LR[j];
         cg[j] = (Ks.y + F1.y * m5[j]) * kv * LG[j];
         cb[j] = (Ks.z + F1.z * m5[j]) * kv * LB[j];
     }
     const shade_env_light_split split = sl_shade_env_light_split(u, N, V, alpha);
     if (split.cells > 1)
-        env_lights_split(u, &split, &lobe, N, V, Ks, vis, cr, cg, cb);
+        env_lights_split(u, &split, &lobe, N, V, F, Ks, vis, cr, cg, cb);
     vec3 sum = vec3s(0.0f);
     for (int j = 0; j < n; j++)
         sum = add(sum, vec3(cr[j], cg[j], cb[j]));
@@ -1614,12 +1634,12 @@ static vec3 env_shadow_diffuse(const sl_lighting_uniforms *u, vec3 E, bool bent,
  * env_shadow->specular instead. With the sky maps the samples' part across the horizon goes to
  * h (shade_horizon_for's, set here). */
 __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighting_uniforms *u, const pixel_block *p,
-                                                                 int i, vec3 Ks, float alpha, vec2 rotation,
+                                                                 int i, vec3 Ks, float alpha, vec2 rotation, vec3 Fenv,
                                                                  shade_env_shadow *env_shadow, shade_horizon *h,
                                                                  sl_lighting_task *task, sl_lighting_trace *trace)
 {
     const vec3 N = vec3(p->NEx[i], p->NEy[i], p->NEz[i]), V = vec3(p->VEx[i], p->VEy[i], p->VEz[i]);
-    *h = shade_horizon_for(u, N, V);
+    *h = shade_horizon_for(u, N, V, Fenv);
     if (env_shadow)
         shade_horizon_glow(h, u, env_shadow->map_vis);
     if (u->uSpecular == 0)
@@ -1640,9 +1660,9 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
         specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, NO_CV, h, task, trace);
     }
     if (env_shadow) /* kept apart: sl_shade_surface_color adds it after the occlusion */
-        env_shadow->specular = env_lights_samples(u, N, V, Ks, alpha, env_shadow->vis);
+        env_shadow->specular = env_lights_samples(u, N, V, Fenv, Ks, alpha, env_shadow->vis);
     else if (u->uEnvLightCount > 0) {
-        vec3 exact = env_lights_samples(u, N, V, Ks, alpha, ones);
+        vec3 exact = env_lights_samples(u, N, V, Fenv, Ks, alpha, ones);
         specular = add(specular, exact);
         trace_env_lights(trace, u, N, V, alpha, exact);
     }
@@ -1956,7 +1976,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 vec3 NE = vec3(p->NEx[i], p->NEy[i], p->NEz[i]);
                 sl_shade_env_light_visibility_of(u, sun_vis[i], es.vis);
                 memcpy(es.map_vis, sun_vis[i], sizeof es.map_vis);
-                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, &es, &h, task, NULL);
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation,
+                                       shade_facet_env(u, gb, x, y), &es, &h, task, NULL);
                 vec3 lights = vec3s(0.0f);
                 if (u->uDiffuse != 0) {
                     const sl_vec4 *cone = shade_cone(gb, x, y);
@@ -1973,7 +1994,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 lg[i] = lights.y;
                 lb[i] = lights.z;
             } else {
-                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation, NULL, &h, task, NULL);
+                color = pixel_specular(u, p, i, t[i].ks, shade_lobe_param(t[i].alpha), rotation,
+                                       shade_facet_env(u, gb, x, y), NULL, &h, task, NULL);
             }
             if (u->skyMaps) { /* sl_shade_surface_color's V on the residual's irradiance */
                 sky_scale(u, p, i, t[i].position, sky_row);
@@ -2003,6 +2025,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 .emissive = shade_extra(gb, x, y).emissive,
                 .reflection = shade_reflection(gb, x, y),
                 .cone = shade_cone(gb, x, y),
+                .Fenv = shade_facet_env(u, gb, x, y),
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
             trace_surface(task, trace, &s, p->bent[i]);
@@ -2030,7 +2053,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 E = vec3(p->Er[i], p->Eg[i], p->Eb[i]);
             }
             shade_horizon h;
-            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, env_shadow, &h, task, trace);
+            vec3 specular = pixel_specular(u, p, i, s.Ks, s.alpha, s.rotation, s.Fenv, env_shadow, &h, task, trace);
             vec3 across = sl_shade_horizon_visible(u, &h, s.P, s.N, trace);
             color = sl_shade_surface_color(u, &s, &E, &specular, &across, env_shadow, task, trace);
         }

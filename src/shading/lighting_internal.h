@@ -61,10 +61,12 @@ vec3 sl_shade_facing_normal(vec3 N, vec3 V);                               /* GL
  * luminous direction (sl_shade_horizon_visible). Without the maps `on` is false and every sample
  * stays in the estimate.
  * It also carries what the env lights' maps say of a sample's direction (shade_glow): a sample
- * in a map's glow is times that map's visibility before it is summed. */
+ * in a map's glow is times that map's visibility before it is summed; and the pixel's facet
+ * (shade_facet_hides), under which a sample's direction is hidden by the surface itself. */
 typedef struct {
-    bool on;  /* the maps are drawn: split */
-    bool sky; /* R on the sky's side */
+    bool on;    /* the maps are drawn: split */
+    bool sky;   /* R on the sky's side */
+    vec3 facet; /* the facet normal in environment space (shade_facet_env), 0: none */
     vec3 sum; /* the samples' contributions from across, over the estimate's count */
     vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
     int glows;                        /* the env lights' maps whose glow applies (0: none) */
@@ -80,11 +82,35 @@ static inline bool shade_horizon_on(const sl_lighting_uniforms *u)
 }
 
 /* GLSL: horizon_for */
-static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv)
+static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec3 Nenv, vec3 Venv, vec3 Fenv)
 {
     vec3 R = sub(scale(Nenv, 2.0f * dot(Nenv, Venv)), Venv);
-    return (shade_horizon){.on = shade_horizon_on(u), .sky = R.z >= 0.0f, .sum = vec3s(0.0f), .dir = vec3s(0.0f),
-                           .glows = 0, .glow = u->uEnvGlow};
+    return (shade_horizon){.on = shade_horizon_on(u), .sky = R.z >= 0.0f, .facet = Fenv, .sum = vec3s(0.0f),
+                           .dir = vec3s(0.0f), .glows = 0, .glow = u->uEnvGlow};
+}
+
+/* GLSL: facet_hides - whether direction w (environment space) lies under the pixel's facet: the
+ * drawn triangle's plane (src/raster/gbuffer.h sl_gbuffer.facet), which a smooth or normal-mapped
+ * N leans across at a silhouette's rim. The surface itself hides such a direction, as the
+ * visibility truth's rays, which leave from the triangle, find: every estimator leaves it out as
+ * it leaves out one below N's horizon (the BRDF's part; the control variate's kernel reaches
+ * there still), and so do the env lights. A zero facet (none) hides nothing: w.0 is never < 0. */
+/* GLSL: facet_hides */
+static inline bool shade_facet_hides(const shade_horizon *h, vec3 w)
+{
+    return dot(w, h->facet) < 0.0f;
+}
+
+/* The facet normal of pixel (x, y) in environment space, under which the estimators leave a
+ * direction out (shade_facet_hides): with reflection occlusion on and the G-buffer's facet plane
+ * (0 where the triangle spanned no plane), else 0. The visibility methods go together: the
+ * reflection occlusion's rays then count only the directions above the facet (reflection.c). */
+/* GLSL: facet_env */
+static inline vec3 shade_facet_env(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, int y)
+{
+    if (!(u->uReflectionDistance > 0.0f) || !gb->facet)
+        return vec3s(0.0f);
+    return mat3_mul_vec3(u->uEnvRotation, gb->facet[(size_t)y * (size_t)gb->width + (size_t)x]);
 }
 
 /* GLSL: horizon_across - whether direction w (environment space) lies across the horizon from R */
@@ -273,6 +299,7 @@ typedef struct {
                                NULL without it */
     const sl_vec4 *cone; /* the G-buffer's visibility cone (bent normal, AO) of the pixel, or NULL
                             without ambient occlusion */
+    vec3 Fenv;           /* the facet normal in environment space (shade_facet_env), 0: none */
 } shade_surface;
 
 /* The env lights' shadows at a covered pixel (uniforms' envLightShadows): each light's

@@ -82,20 +82,27 @@ static const char *glow_mark(const sl_lighting_trace_sample *s)
 /* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
  * it added (0 below the horizon or for a facet facing away). cv (cvmis): every sample drawn adds
  * the kernel's term too, K/p its kernel over its own density; below the horizon that term alone. */
+/* Why a sample adds no BRDF term: below N's horizon, under the pixel's facet (the surface hides
+ * it), or its microfacet faces away. */
+static const char *unlit_reason(const sl_lighting_trace_sample *s)
+{
+    return s->wN <= 0.0f ? "below the horizon" : s->hidden ? "under the facet" : "facet faces away";
+}
+
 static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting_trace_sample *s, bool cv)
 {
     fprintf(f, "  %4d %-4s (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %+-8.4f", k, kind, (double)s->xi.x, (double)s->xi.y,
             (double)s->w.x, (double)s->w.y, (double)s->w.z, (double)s->wN);
-    bool unlit = s->wN <= 0.0f || s->LdotH <= 0.0f || s->NdotH <= 0.0f;
+    bool unlit = s->wN <= 0.0f || s->hidden || s->LdotH <= 0.0f || s->NdotH <= 0.0f;
     if (unlit && !(cv && s->pdf > 0.0f)) {
-        fprintf(f, " %s: 0\n", s->wN <= 0.0f ? "below the horizon" : "facet faces away");
+        fprintf(f, " %s: 0\n", unlit_reason(s));
         return;
     }
     if (unlit) {
         fprintf(f, " %-10.4g %-10.4g %-8.5f %s: the kernel's term alone, Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
                    " sum (%.5g,%.5g,%.5g)%s%s\n       K/p %.6g\n",
                 (double)s->pdf, (double)s->pdf_other, (double)s->mis,
-                s->wN <= 0.0f ? "below the horizon" : "facet faces away", (double)s->Li.x, (double)s->Li.y,
+                unlit_reason(s), (double)s->Li.x, (double)s->Li.y,
                 (double)s->Li.z, (double)s->c.x, (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y,
                 (double)s->sum.z, ACROSS(s), glow_mark(s), (double)s->cv_kp);
         return;
@@ -207,14 +214,15 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
             fprintf(f, " V.H %+.5f <= 0 (facet faces away): 0\n", (double)s->LdotH);
             continue;
         }
-        if (s->wN <= 0.0f && !t->cv) {
-            fprintf(f, " below the horizon: 0\n");
+        const bool unlit = s->wN <= 0.0f || s->hidden;
+        if (unlit && !t->cv) {
+            fprintf(f, " %s: 0\n", unlit_reason(s));
             continue;
         }
-        if (s->wN <= 0.0f) { /* cv: the kernel reaches below the horizon, the BRDF does not */
-            fprintf(f, " below the horizon: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
+        if (unlit) { /* cv: the kernel reaches below the horizon and under the facet, the BRDF does not */
+            fprintf(f, " %s: the kernel's term alone, lod %.4f Li (%.4g,%.4g,%.4g) (%.4g,%.4g,%.4g)"
                        " sum (%.5g,%.5g,%.5g)%s%s\n       K/p %.6g\n",
-                    (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
+                    unlit_reason(s), (double)s->lod, (double)s->Li.x, (double)s->Li.y, (double)s->Li.z, (double)s->c.x,
                     (double)s->c.y, (double)s->c.z, (double)s->sum.x, (double)s->sum.y, (double)s->sum.z, ACROSS(s),
                     glow_mark(s), (double)s->cv_kp);
             continue;

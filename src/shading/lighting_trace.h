@@ -33,6 +33,8 @@ typedef struct {
     vec3 Li;           /* fetched radiance times intensity */
     vec3 c;            /* contribution */
     float cv_kp;       /* cv: the kernel mix over the density, K(w) / p(w) */
+    bool hidden;       /* w lies under the pixel's facet (lighting_internal.h shade_facet_hides): the
+                          BRDF's part left out, as below the horizon */
     bool across;       /* w lies across the horizon from R (sky maps): c went to the part across */
     int glow;          /* 1 + the env-light map whose glow holds w (c is times its visibility:
                           lighting_internal.h shade_glow), 0: none, or every map sees the point */

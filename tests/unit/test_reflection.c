@@ -380,11 +380,13 @@ static void tilt_normals(sl_gbuffer *gb, const sl_camera *cam, float degrees)
 }
 
 /* Over the floor texels (floor_block) whose shading normal faces the eye (N.V > 0.05) and whose
- * mirror direction R has z in (z_lo, z_hi): counts[0] how many, counts[1] how many are at
- * visibility 0; and on every (every_x, every_y)-th of them the frame against the reference
- * (check_texel), with its own ray reported as into its surface, counted in counts[2]. */
+ * mirror direction R has z in (z_lo, z_hi): counts[0] how many, counts[1] how many the surface
+ * takes as `into` says: SL_REFLECTION_INTO, blocked (visibility 0), or SL_REFLECTION_BELOW, no ray
+ * counted (visibility 1 over 0 rays: the lighting leaves those directions out itself); and on
+ * every (every_x, every_y)-th of them the frame against the reference (check_texel), with its own
+ * ray reported as `into`, counted in counts[2]. */
 static void count_into_surface(const sl_gbuffer *gb, const sl_camera *cam, float z_lo, float z_hi, int every_x,
-                               int every_y, int counts[3])
+                               int every_y, float into, int counts[3])
 {
     int below = 0;
     counts[0] = counts[1] = counts[2] = 0;
@@ -398,12 +400,13 @@ static void count_into_surface(const sl_gbuffer *gb, const sl_camera *cam, float
             if (!(dot(t->normal, V) > 0.05f && R.z > z_lo && R.z < z_hi))
                 continue;
             counts[0]++;
-            counts[1] += gb->reflection[y * gb->width + x].x == 0.0f;
+            const vec2 v = gb->reflection[y * gb->width + x];
+            counts[1] += into == SL_REFLECTION_INTO ? v.x == 0.0f : v.x == 1.0f && v.y == 0.0f;
             if (x % every_x == 0 && y % every_y == 0) {
                 check_texel(gb, cam, x, y, &below);
                 float rays[SL_REFLECTION_MEMBERS];
                 sl_reflection_texel(gb, cam, DIST, x, y, rays, NULL, NULL);
-                assert_float_equal(rays[0], SL_REFLECTION_INTO, 0.0); /* trace says why it is blocked */
+                assert_float_equal(rays[0], into, 0.0); /* trace says why it is blocked or not counted */
                 counts[2]++;
             }
         }
@@ -428,7 +431,7 @@ static void test_tilted_normals(void **state)
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
     /* R enters beyond the margin */
     int n[3];
-    count_into_surface(&gb, &cam, -2.0f, -SL_REFLECTION_INTO_MARGIN - 0.02f, 7, 5, n);
+    count_into_surface(&gb, &cam, -2.0f, -SL_REFLECTION_INTO_MARGIN - 0.02f, 7, 5, SL_REFLECTION_INTO, n);
     print_message("tilted normals: %d of %d texels whose R enters the floor at 0; frame = texel on %d\n", n[1], n[0],
                   n[2]);
     assert_true(n[0] > 1000 && n[2] > 50);
@@ -440,10 +443,11 @@ static void test_tilted_normals(void **state)
  * from the positions: the open mirror floor at the grazing view, its shading normals tilted
  * FACET_TILT degrees away from the eye, so that R runs under the floor by less than
  * SL_REFLECTION_INTO_MARGIN on many texels: with the floor's facet, +Z, each texel whose lobe lies
- * under it (R below by more than the mirror ring's reach in the plane of incidence, 0.024) is
- * blocked, 0, its own ray reported as into its surface (no margin: the facet is the surface the
- * visibility truth intersects; without the plane the march blocks them instead); the frame gives
- * the reference's bits. */
+ * under it (R below by more than the mirror ring's reach in the plane of incidence, 0.024) counts
+ * no ray, its own reported as below its surface (no margin: the facet is the surface the
+ * visibility truth intersects, and the lighting leaves the directions under it out sample by
+ * sample, so the rays speak for the lobe above it; without the plane the march blocks them
+ * instead); the frame gives the reference's bits. */
 #define FACET_TILT 6.0f
 static void test_facet_plane(void **state)
 {
@@ -460,9 +464,9 @@ static void test_facet_plane(void **state)
     assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
     /* within the rebuilt normal's margin, under the facet's horizon */
     int n[3];
-    count_into_surface(&gb, &cam, -SL_REFLECTION_INTO_MARGIN, -0.04f, 5, 3, n);
-    print_message("facet plane: %d of %d texels whose R runs under the facet within the margin at 0; frame = texel "
-                  "on %d\n", n[1], n[0], n[2]);
+    count_into_surface(&gb, &cam, -SL_REFLECTION_INTO_MARGIN, -0.04f, 5, 3, SL_REFLECTION_BELOW, n);
+    print_message("facet plane: %d of %d texels whose R runs under the facet within the margin count no ray; "
+                  "frame = texel on %d\n", n[1], n[0], n[2]);
     assert_true(n[0] > 250 && n[2] > 15);
     assert_int_equal(n[1], n[0]);
     sl_gbuffer_free(&gb);
