@@ -323,8 +323,8 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
                 fprintf(f, " %s -", member[m]);
         fprintf(f, ")\n");
         if (t->facet)
-            fprintf(f, "  %-12s (%g, %g, %g) (the drawn triangle's normal, world space: a ray above N's horizon "
-                       "and below its own enters the surface)\n",
+            fprintf(f, "  %-12s (%g, %g, %g) (the drawn triangle's normal, world space: the samples and rays under "
+                       "its horizon are left out)\n",
                     "facet", (double)t->facet_normal.x, (double)t->facet_normal.y, (double)t->facet_normal.z);
     }
     print3(f, "lights", t->lights);
