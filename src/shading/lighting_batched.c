@@ -1384,9 +1384,9 @@ __attribute__((noinline)) static vec3 env_lights_samples(const sl_lighting_unifo
     float k[SL_ENV_LIGHTS_MAX], m5[SL_ENV_LIGHTS_MAX];
     env_kernel(&lobe, N, V, u->envLightX, u->envLightY, u->envLightZ, n, k, m5);
     float cr[SL_ENV_LIGHTS_MAX], cg[SL_ENV_LIGHTS_MAX], cb[SL_ENV_LIGHTS_MAX];
+    const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
 #pragma omp simd
     for (int j = 0; j < n; j++) {
-        const float *X = u->envLightX, *Y = u->envLightY, *Z = u->envLightZ;
         float wF = (X[j] * F.x + Y[j] * F.y) + Z[j] * F.z;
         float kv = wF < 0.0f ? 0.0f : k[j] * vis[j]; /* x 1 without maps: the same bits */
         cr[j] = (Ks.x + F1.x * m5[j]) * kv * LR[j];

@@ -13,10 +13,14 @@
 #   0.12% and, with --ao-radius 1, 0.22%);
 # - scenes/textured.json (a normal-mapped ball, whose N leans past the silhouette at its rim), the
 #   same options, and a floor whose vertex normals lean 15 degrees away from a camera 1 unit above
-#   it (a mesh written here): a ray above N's horizon and more than 0.15 below that of the
-#   geometric normal (rebuilt from the G-buffer's positions) enters the surface, blocked on both
-#   sides; the same bounds (measured on the floor: p99 0.0021, no pixel more than 1/255 apart; a GL
-#   that traces those rays: p99 0.25, 10% of pixels more than 1/255 apart);
+#   it (a mesh written here), a mirror (alpha 2000) and a glossy one (alpha 30): a ray above N's
+#   horizon and below that of the facet (the G-buffer's facet.pfm) enters the surface and is not
+#   counted, and every sample and env light under the facet is left out, on both sides; the same
+#   bounds (measured on the mirror floor: p99 0.0022, no pixel more than 1/255 apart; a GL that
+#   traces those rays: p99 0.25, 10% of pixels more than 1/255 apart; on the glossy floor p99
+#   0.0023), where GL without the facet plane (the normal rebuilt from the positions, its rays
+#   into the floor blocked, no sample left out) is far outside them (p99 0.38, 7.7% of pixels
+#   more than 1/255 apart);
 # - GL's image without the option is far outside those bounds against C's with it (p99 0.73): a
 #   GL that ignores the option fails here, and so does one that counts its own ray alone (no cross);
 #   one that takes the smaller of the two factors where C joins them fails grazing-ao (p99 0.072).
@@ -67,6 +71,16 @@ cat >"$T/leaning.json" <<JSON
 }
 JSON
 case_of leaning "$T/leaning.json"
+# the glossy floor, whose lobes reach well under the facet: GL without the facet plane lights
+# every sample of them
+sed 's/"alpha": 2000/"alpha": 30/' "$T/leaning.json" >"$T/leaning-glossy.json"
+case_of leaning-glossy "$T/leaning-glossy.json"
+mkdir -p "$T/no-facet"
+cp "$T/leaning-glossy"/*.pfm "$T/no-facet/"
+rm "$T/no-facet/facet.pfm" "$T/no-facet/c.pfm"
+"$GL" render "$T/leaning-glossy.json" "${O[@]}" --gbuffer "$T/no-facet" --pfm "$T/no-facet/g.pfm"
+gl_outside "GL without the facet" "$T/leaning-glossy/c.pfm" "$T/no-facet/g.pfm" \
+    "GL's image without the facet plane is within the bounds of C's with it: the test sees no facet" || fail=1
 SL_GL_GENERAL=1 "$GL" render scenes/grazing.json "${O[@]}" --gbuffer "$T/grazing" --pfm "$T/grazing/general.pfm"
 gl_within "grazing, general" "$T/grazing/c.pfm" "$T/grazing/general.pfm" ||
     { echo "FAIL grazing, the general shader: outside the bounds"; fail=1; }
