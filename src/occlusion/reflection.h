@@ -19,8 +19,11 @@
  * G-buffer's positions span across P along x and y (its neighbours there within the thickness in
  * view depth; then by more than SL_REFLECTION_INTO_MARGIN), enters the surface the rasterizer
  * drew, which a normal-mapped or smooth N leans away from (at a sphere's rim, where N leans past
- * the silhouette): blocked, not traced, as the visibility truth has it (its directions below the
- * geometric normal's horizon are unseen). Each texel
+ * the silhouette), and is not traced. Under the facet it is not counted either: the lighting
+ * leaves every direction under the facet out of the lobe itself (src/shading/lighting_internal.h
+ * shade_facet_hides), so the rays speak for the part above it. Under the rebuilt normal, which
+ * the lighting has no test for, it is blocked, as the visibility truth has it (its directions
+ * below the geometric normal's horizon are unseen). Each texel
  * (x, y) traces one of them, ray (x + 2 y) mod 5, so that it and its four neighbours trace all
  * five; its visibility is the share of open rays over its block, the texel and the eight around it
  * (SL_REFLECTION_BLOCK), each ray weighted by its cosine to the normal of the texel that traced it
@@ -80,7 +83,9 @@
 #define SL_REFLECTION_BLOCK 9         /* the texels whose rays a texel's visibility is over: 3x3 */
 #define SL_REFLECTION_BELOW (-1.0f)   /* a ray's value below the surface (not counted), else 1 or 0 */
 #define SL_REFLECTION_INTO (-2.0f)    /* sl_reflection_texel's value of a ray into its own surface
-                                         (blocked, counted as 0; the frame's plane holds 0) */
+                                         under the rebuilt normal (blocked, counted as 0; the
+                                         frame's plane holds 0); under the facet a ray is
+                                         SL_REFLECTION_BELOW */
 #define SL_REFLECTION_STEPS 16        /* points along a ray */
 /* the ring's angle, a share of the lobe's cone angle (docs/lighting.md "Reflection occlusion",
  * why half; a build defining another is for bench/visibility-variants.sh's comparison) */
