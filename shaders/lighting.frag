@@ -1729,7 +1729,7 @@ vec3 env_light_cells(int j, vec3 N, vec3 V, vec3 Ks, float alpha, EnvLightSplit 
 // Env lights: each is one texel's quadrature node (its centroid direction w, its radiance times
 // the node weight), so this is the ground truth's sum over those texels: the BRDF (2) at w,
 // times w.N, or over the texel's cells near a narrow lobe's peak (env_light_split); 0 for a light
-// below the horizon. Environment space.
+// below the horizon or under the facet (facet_hides). Environment space.
 // shadowed: each light times vis[j], its visibility in its shadow map (env_light_visibility);
 // otherwise vis is not read.
 vec3 specular_env_lights(vec3 N, vec3 V, vec3 Ks, float alpha, bool shadowed, float vis[MAX_ENV_LIGHTS])

@@ -794,7 +794,8 @@ static vec3 env_light_cells(const sl_lighting_uniforms *u, int j, vec3 N, vec3 V
 /* specular_env_lights: Each env light is one texel's quadrature node (its centroid
  * direction w, its radiance times the node weight), so this is the ground truth's sum over
  * those texels: the BRDF of eq. (2) at w, times w.N, or over the texel's cells near a narrow
- * lobe's peak (env_light_split); 0 for a light below the horizon. */
+ * lobe's peak (env_light_split); 0 for a light below the horizon or under the facet (h's,
+ * shade_facet_hides). */
 /* GLSL: specular_env_lights (vis: each light's shadow-map visibility; NULL: all 1, the GLSL's
  * shadowed = false) */
 static vec3 specular_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha, const float *vis,
