@@ -67,8 +67,8 @@ typedef struct {
     bool on;    /* the maps are drawn: split */
     bool sky;   /* R on the sky's side */
     vec3 facet; /* the facet normal in environment space (shade_facet_env), 0: none */
-    vec3 sum; /* the samples' contributions from across, over the estimate's count */
-    vec3 dir; /* their directions, each times its contribution's |luminance| (environment space) */
+    vec3 sum;   /* the samples' contributions from across, over the estimate's count */
+    vec3 dir;   /* their directions, each times its contribution's |luminance| (environment space) */
     int glows;                        /* the env lights' maps whose glow applies (0: none) */
     const vec4 *glow;                 /* their glows' caps (uniforms' uEnvGlow) */
     float glow_vis[SL_SHADOW_SUN_MAX]; /* each map's visibility from the pixel's point */
@@ -95,7 +95,6 @@ static inline shade_horizon shade_horizon_for(const sl_lighting_uniforms *u, vec
  * visibility truth's rays, which leave from the triangle, find: every estimator leaves it out as
  * it leaves out one below N's horizon (the BRDF's part; the control variate's kernel reaches
  * there still), and so do the env lights. A zero facet (none) hides nothing: w.0 is never < 0. */
-/* GLSL: facet_hides */
 static inline bool shade_facet_hides(const shade_horizon *h, vec3 w)
 {
     return dot(w, h->facet) < 0.0f;

@@ -79,9 +79,6 @@ static const char *glow_mark(const sl_lighting_trace_sample *s)
     return s->glow > 0 && s->glow <= SL_SHADOW_SUN_MAX ? marks[s->glow] : "";
 }
 
-/* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
- * it added (0 below the horizon or for a facet facing away). cv (cvmis): every sample drawn adds
- * the kernel's term too, K/p its kernel over its own density; below the horizon that term alone. */
 /* Why a sample adds no BRDF term: below N's horizon, under the pixel's facet (the surface hides
  * it), or its microfacet faces away. */
 static const char *unlit_reason(const sl_lighting_trace_sample *s)
@@ -89,6 +86,10 @@ static const char *unlit_reason(const sl_lighting_trace_sample *s)
     return s->wN <= 0.0f ? "below the horizon" : s->hidden ? "under the facet" : "facet faces away";
 }
 
+/* One MIS sample: its strategy's density, the other's, the power heuristic's weight, and what
+ * it added (0 below the horizon, under the facet or for a facet facing away: unlit_reason). cv
+ * (cvmis): every sample drawn adds the kernel's term too, K/p its kernel over its own density;
+ * below the horizon that term alone. */
 static void print_mis_sample(FILE *f, int k, const char *kind, const sl_lighting_trace_sample *s, bool cv)
 {
     fprintf(f, "  %4d %-4s (%.5f,%.5f) (%+.5f,%+.5f,%+.5f) %+-8.4f", k, kind, (double)s->xi.x, (double)s->xi.y,

@@ -223,6 +223,18 @@ static void test_batched_vs_plain_cone(void **state)
     sl_env_free(&env);
 }
 
+/* A row of spheres' setting: the sky with a 200x sun (*env) and its 8 brightest texels as env
+ * lights (*el), seen by the camera returned, 7 units down -Y and 1 up. */
+static sl_camera sunny_row(sl_env *env, sl_env_lights *el)
+{
+    fx_env(env, 256, 128, sky_with_sun);
+    sl_error err;
+    if (!sl_env_lights_extract(el, env, 8, 0, &err))
+        fail_msg("extract: %s", err.msg);
+    return (sl_camera){.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
+                       .znear = 0.1f, .zfar = 100};
+}
+
 /* GGX lobes (lobe parameter <= -1, brdf.h) through both paths: the batched path's own GGX
  * pieces (per-roughness tables, the rotated GGX lobe, the weights with 4 Vis, the spec-rule lod
  * from GGX's D, the env lights' GGX loop) against the port, on spheres r = 0.1, 0.3, 0.6, 1
@@ -234,13 +246,8 @@ static void test_batched_vs_plain_ggx(void **state)
 {
     (void)state;
     sl_env env;
-    fx_env(&env, 256, 128, sky_with_sun);
     sl_env_lights el;
-    sl_error err;
-    if (!sl_env_lights_extract(&el, &env, 8, 0, &err))
-        fail_msg("extract: %s", err.msg);
-    sl_camera cam = {.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
-                     .znear = 0.1f, .zfar = 100};
+    const sl_camera cam = sunny_row(&env, &el);
     sl_synthetic_sphere sp[5] = {
         {vec3(-2.4f, 0, 0), 0.55f, vec3s(0.0f), vec3(0.95f, 0.64f, 0.54f), sl_gbuffer_ggx_alpha(0.1f)},
         {vec3(-1.2f, 0, 0), 0.55f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), sl_gbuffer_ggx_alpha(0.3f)},
@@ -306,11 +313,9 @@ static void test_facet_hides(void **state)
 {
     (void)state;
     sl_env env;
-    fx_env(&env, 256, 128, sky_with_sun);
     sl_env_lights el;
+    const sl_camera cam = sunny_row(&env, &el);
     sl_error err;
-    if (!sl_env_lights_extract(&el, &env, 8, 0, &err))
-        fail_msg("extract: %s", err.msg);
     cv_chains chains;
     assert_true(sl_env_prefilter(&chains.phong, &env, &(sl_prefilter_desc){.ggx = false}, &err));
     assert_true(sl_env_prefilter(&chains.ggx, &env, &(sl_prefilter_desc){.ggx = true}, &err));
@@ -318,8 +323,6 @@ static void test_facet_hides(void **state)
     assert_non_null(chains.lut);
     sl_splitsum_lut_build(chains.lut, 0);
     assert_true(sl_env_dist_build(&chains.dist, &env, &err));
-    sl_camera cam = {.eye = vec3(0, -7, 1), .target = vec3(0, 0, 0), .up = vec3(0, 0, 1), .fovy_deg = 50,
-                     .znear = 0.1f, .zfar = 100};
     sl_synthetic_sphere sp[4] = {
         {vec3(-1.8f, 0, 0), 0.75f, vec3s(0.0f), vec3(0.95f, 0.64f, 0.54f), sl_gbuffer_ggx_alpha(0.15f)},
         {vec3(-0.6f, 0, 0), 0.55f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), sl_gbuffer_ggx_alpha(0.5f)},
