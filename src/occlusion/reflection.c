@@ -43,7 +43,7 @@
  * for an empty texel). blocked_at and the block's test of "the same surface" read it. Its view
  * depth lies in a plane of its own, since every step reads that and few read more; the position
  * the block's test takes of a neighbour is the G-buffer texel's own. */
-typedef struct {
+typedef struct sl_reflection_plane {
     float nx, ny, nz, d;
 } surface_plane;
 
@@ -770,46 +770,68 @@ static reflection_frame frame_of(const sl_gbuffer *gb, const sl_camera *cam, flo
     return f;
 }
 
-bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, int64_t *lone_texels,
-                         sl_error *err)
+void sl_reflection_scratch_free(sl_reflection_scratch *s)
+{
+    free(s->planes);
+    free(s->ray);
+    free(s->weight);
+    free(s->weight_sum);
+    free(s->depth);
+    for (int c = 0; c < 3; c++)
+        free(s->position[c]);
+    free(s->lone_rays);
+    memset(s, 0, sizeof *s);
+}
+
+/* s with room for `texels` texels (the margins included) and `lone` floats of lone rows: kept
+ * when it has it, else freed and allocated again (a frame's contents never carry over). */
+static bool scratch_reserve(sl_reflection_scratch *s, size_t texels, size_t lone)
+{
+    if (s->planes && s->texels >= texels && s->lone >= lone)
+        return true;
+    sl_reflection_scratch_free(s);
+    s->planes = malloc(texels * sizeof *s->planes);
+    s->ray = malloc(texels * sizeof *s->ray);
+    s->weight = malloc(texels * sizeof *s->weight);
+    s->weight_sum = malloc(texels * sizeof *s->weight_sum);
+    s->depth = malloc(texels * sizeof *s->depth);
+    for (int c = 0; c < 3; c++)
+        s->position[c] = malloc(texels * sizeof *s->position[c]);
+    s->lone_rays = malloc(lone * sizeof *s->lone_rays);
+    if (!s->planes || !s->ray || !s->weight || !s->weight_sum || !s->depth || !s->position[0] || !s->position[1] ||
+        !s->position[2] || !s->lone_rays) {
+        sl_reflection_scratch_free(s);
+        return false;
+    }
+    s->texels = texels;
+    s->lone = lone;
+    return true;
+}
+
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads,
+                         sl_reflection_scratch *scratch, int64_t *lone_texels, sl_error *err)
 {
     if (!(distance > 0.0f) || !isfinite(distance))
         return sl_fail(err, SL_ERR_RANGE, "reflection occlusion: distance %g, expected a positive number",
                        (double)distance);
     const int width = gb->width, height = gb->height;
     size_t n = (size_t)width * (size_t)height;
-    surface_plane *planes = malloc((n ? n : 1) * sizeof *planes);
-    float *ray_plane = malloc((n ? n : 1) * sizeof *ray_plane);       /* each texel's own ray */
-    float *weight_plane = malloc((n ? n : 1) * sizeof *weight_plane); /* ... and its weight */
-    float *weight_sum = malloc((n ? n : 1) * sizeof *weight_sum);     /* each block's weights' sum */
-    /* the depth and position planes with a margin of a row and a texel each side, which
-     * rays_of_span reads as the neighbours of the first and last rows' texels (empty there) */
-    const size_t margin = (size_t)width + 1;
-    float *depth_block = malloc((n + 2 * margin) * sizeof *depth_block);
     const int team = sl_threads(threads);
-    /* each thread's row of lone texels' own other rays and their weights (block_row) */
+    /* the depth and position planes with a margin of a row and a texel each side, which
+     * rays_of_span reads as the neighbours of the first and last rows' texels (empty there);
+     * each thread's row of lone texels' own other rays and their weights (block_row) */
+    const size_t margin = (size_t)width + 1;
     const size_t lone_row = (size_t)(SL_REFLECTION_RAYS - 1) * (size_t)(width > 0 ? width : 1);
-    float *lone = malloc(2 * (size_t)team * lone_row * sizeof *lone);
-    float *position_block[3]; /* x, y and z of each texel's position: the block pass reads them */
-    for (int c = 0; c < 3; c++)
-        position_block[c] = malloc((n + 2 * margin) * sizeof *position_block[c]);
+    sl_reflection_scratch own = {0}, *s = scratch ? scratch : &own;
     if (!gb->reflection) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->reflection = malloc((n ? n : 1) * sizeof *gb->reflection);
-    if (!planes || !ray_plane || !weight_plane || !weight_sum || !depth_block || !lone || !position_block[0] ||
-        !position_block[1] || !position_block[2] || !gb->reflection) {
-        free(lone);
-        free(planes);
-        free(ray_plane);
-        free(weight_plane);
-        free(weight_sum);
-        free(depth_block);
-        for (int c = 0; c < 3; c++)
-            free(position_block[c]);
+    if (!gb->reflection || !scratch_reserve(s, n + 2 * margin, 2 * (size_t)team * lone_row))
         return sl_fail(err, SL_ERR_MEMORY, "reflection occlusion: out of memory for %dx%d", width, height);
-    }
-    float *depth = depth_block + margin, *position[3];
+    surface_plane *planes = s->planes;
+    float *ray_plane = s->ray, *weight_plane = s->weight, *weight_sum = s->weight_sum, *lone = s->lone_rays;
+    float *depth = s->depth + margin, *position[3];
     for (int c = 0; c < 3; c++)
-        position[c] = position_block[c] + margin;
+        position[c] = s->position[c] + margin;
     for (size_t j = 0; j < margin; j++) {
         depth[-1 - (ptrdiff_t)j] = depth[n + j] = INFINITY;
         for (int c = 0; c < 3; c++)
@@ -846,14 +868,8 @@ bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, i
     }
     if (lone_texels)
         *lone_texels = lone_count;
-    free(lone);
-    free(planes);
-    free(ray_plane);
-    free(weight_plane);
-    free(weight_sum);
-    free(depth_block);
-    for (int c = 0; c < 3; c++)
-        free(position_block[c]);
+    if (s == &own)
+        sl_reflection_scratch_free(&own);
     return true;
 }
 

@@ -160,13 +160,27 @@ static inline float sl_reflection_specular_factor(float capped, float material, 
     return both + (alone - both) * weight;
 }
 
+/* The pass's working planes (44 bytes a texel and a row of lone rays per thread), kept by the
+ * caller from one frame to the next: memory a frame takes afresh costs the kernel's first-touch
+ * faults, and freed, blocks this large go back to the system (at 1280x720, 40 MB and about
+ * 9000 faults, tens of ms of system time a frame). Zeroed: empty; grown by sl_reflection_apply
+ * as a frame needs; freed by sl_reflection_scratch_free. */
+typedef struct {
+    size_t texels, lone;           /* capacities: texels (with the margins), floats of lone rows */
+    struct sl_reflection_plane *planes;
+    float *ray, *weight, *weight_sum; /* each texel's own ray, its weight, its block's weights' sum */
+    float *depth, *position[3];    /* view depth and position planes, with margins */
+    float *lone_rays;              /* each thread's row of lone texels' rays and weights */
+} sl_reflection_scratch;
+void sl_reflection_scratch_free(sl_reflection_scratch *s);
+
 /* Set gb->reflection (allocated when NULL) for every texel, rays `distance` world units long
- * (> 0), on `threads` OpenMP threads (0: all), and *lone_texels (when not NULL) to how many
- * covered texels traced their own other rays (their block counted fewer than
- * SL_REFLECTION_LONE). False (and err) with a distance that is not positive and finite, or out
- * of memory. */
-bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads, int64_t *lone_texels,
-                         sl_error *err);
+ * (> 0), on `threads` OpenMP threads (0: all), with `scratch`'s planes (NULL: the call's own,
+ * freed before it returns), and *lone_texels (when not NULL) to how many covered texels traced
+ * their own other rays (their block counted fewer than SL_REFLECTION_LONE). False (and err)
+ * with a distance that is not positive and finite, or out of memory. */
+bool sl_reflection_apply(sl_gbuffer *gb, const sl_camera *cam, float distance, int threads,
+                         sl_reflection_scratch *scratch, int64_t *lone_texels, sl_error *err);
 
 /* The block's members as offsets (dx, dy) from the texel: the texel, x + 1, x - 1, y + 1, y - 1,
  * then the corners. */

@@ -310,6 +310,7 @@ void sl_renderer_free(sl_renderer *r)
     sl_raster_destroy(r->raster);
     sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
+    sl_reflection_scratch_free(&r->reflection_scratch);
     free(r->uniforms);
     sl_image_free(&r->radiance);
     sl_image_free(&r->display);
@@ -521,10 +522,12 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     double t2 = sl_now_seconds();
     r->timings.ao_ms = (t2 - t1) * 1e3;
     if (ok && reflection > 0.0f) {
-        ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, &r->timings.reflection_lone, err);
+        ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, &r->reflection_scratch,
+                                 &r->timings.reflection_lone, err);
     } else if (r->gbuffer.reflection) { /* turned off: the lighting reads no plane */
         free(r->gbuffer.reflection);
         r->gbuffer.reflection = NULL;
+        sl_reflection_scratch_free(&r->reflection_scratch);
     }
     r->timings.reflection_ms = (sl_now_seconds() - t2) * 1e3;
     if (ok && r->desc.banded)

@@ -119,7 +119,7 @@ static void corner_visibility(sl_gbuffer *gb, const sl_camera *cam, bool wall, c
 {
     sl_error err = {0};
     corner_trace(gb, cam, wall, W, H, m);
-    assert_true(sl_reflection_apply(gb, cam, dist, 2, NULL, &err));
+    assert_true(sl_reflection_apply(gb, cam, dist, 2, NULL, NULL, &err));
     assert_non_null(gb->reflection);
 }
 
@@ -344,7 +344,7 @@ static void test_frame_matches_texel(void **state)
         for (int x = 40; x < 46; x++)
             sl_gbuffer_at(&gb, x, y)->depth = 1.0f;
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 3, NULL, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 3, NULL, NULL, &err));
     int checked = 0, empty = 0, partial = 0, zero = 0, below = 0;
     for (int y = 0; y < h; y++)
         for (int x = 0; x < w; x++) {
@@ -362,6 +362,32 @@ static void test_frame_matches_texel(void **state)
                   checked, empty, zero, partial, below);
     assert_true(checked > 300 && empty > 0 && partial > 0 && zero > 0 && below > 0);
     sl_gbuffer_free(&gb);
+}
+
+/* A scratch kept from frame to frame (the renderer's) gives the bits of the call's own planes:
+ * on the same frame twice, then on a smaller frame, which it has room for, and on a larger one,
+ * which grows it; and with more threads, whose rows of lone rays it also makes room for. */
+static void test_scratch_kept(void **state)
+{
+    (void)state;
+    static const int sizes[4][3] = {{97, 61, 2}, {97, 61, 2}, {40, 30, 1}, {131, 77, 3}};
+    sl_reflection_scratch scratch = {0};
+    sl_camera cam = corner_camera();
+    sl_error err = {0};
+    for (int k = 0; k < 4; k++) {
+        const int w = sizes[k][0], h = sizes[k][1], threads = sizes[k][2];
+        sl_gbuffer own = {0}, kept = {0};
+        corner_trace(&own, &cam, true, w, h, rough);
+        corner_trace(&kept, &cam, true, w, h, rough);
+        assert_true(sl_reflection_apply(&own, &cam, DIST, threads, NULL, NULL, &err));
+        assert_true(sl_reflection_apply(&kept, &cam, DIST, threads, &scratch, NULL, &err));
+        assert_memory_equal(own.reflection, kept.reflection, (size_t)w * (size_t)h * sizeof *own.reflection);
+        assert_true(scratch.texels >= (size_t)w * (size_t)h);
+        sl_gbuffer_free(&own);
+        sl_gbuffer_free(&kept);
+    }
+    sl_reflection_scratch_free(&scratch);
+    assert_null(scratch.planes);
 }
 
 /* Tilt every covered texel's shading normal `degrees` away from the eye about the floor's +Z, as
@@ -428,7 +454,7 @@ static void test_tilted_normals(void **state)
     corner_trace(&gb, &cam, false, W, H, mirror);
     tilt_normals(&gb, &cam, TILT);
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, NULL, &err));
     /* R enters beyond the margin */
     int n[3];
     count_into_surface(&gb, &cam, -2.0f, -SL_REFLECTION_INTO_MARGIN - 0.02f, 7, 5, SL_REFLECTION_INTO, n);
@@ -461,7 +487,7 @@ static void test_facet_plane(void **state)
     for (int i = 0; i < W * H; i++)
         if (sl_gbuffer_covered(&gb.texels[i]))
             gb.facet[i] = vec3(0.0f, 0.0f, 1.0f);
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, NULL, &err));
     /* within the rebuilt normal's margin, under the facet's horizon */
     int n[3];
     count_into_surface(&gb, &cam, -SL_REFLECTION_INTO_MARGIN, -0.04f, 5, 3, SL_REFLECTION_BELOW, n);
@@ -497,7 +523,7 @@ static void test_lone_texels(void **state)
             t->normal = vec3(s * cosf(azimuth), s * sinf(azimuth), c);
         }
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 2, NULL, NULL, &err));
     int floor = 0, alone = 0, between = 0, checked = 0, below = 0;
     for (int y = 1; y < H - 1; y++)
         for (int x = 1; x < W - 1; x++) {
@@ -563,14 +589,14 @@ static void test_refusals(void **state)
     const float bad[] = {0.0f, -1.0f, NAN, INFINITY};
     for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
         sl_error err = {0};
-        assert_false(sl_reflection_apply(&gb, &cam, bad[i], 1, NULL, &err));
+        assert_false(sl_reflection_apply(&gb, &cam, bad[i], 1, NULL, NULL, &err));
         assert_msg_contains(err, "reflection occlusion: distance");
     }
     /* an empty texel: 1, nothing of its block used */
     int ex = W / 2, ey = H / 2;
     sl_gbuffer_at(&gb, ex, ey)->depth = 1.0f;
     sl_error err = {0};
-    assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, NULL, &err));
+    assert_true(sl_reflection_apply(&gb, &cam, DIST, 1, NULL, NULL, &err));
     assert_float_equal(gb.reflection[ey * W + ex].x, 1.0, 0.0);
     assert_float_equal(gb.reflection[ey * W + ex].y, 0.0, 0.0);
     float rays[SL_REFLECTION_MEMBERS], weights[SL_REFLECTION_MEMBERS];
@@ -591,6 +617,7 @@ int main(void)
         cmocka_unit_test(test_rough_beside_wall),
         cmocka_unit_test(test_grazing_streak),
         cmocka_unit_test(test_frame_matches_texel),
+        cmocka_unit_test(test_scratch_kept),
         cmocka_unit_test(test_tilted_normals),
         cmocka_unit_test(test_facet_plane),
         cmocka_unit_test(test_lone_texels),
