@@ -737,7 +737,33 @@ sl_vec4 sl_gtao_texel(const sl_gbuffer *gb, const sl_camera *cam, float radius, 
     return v;
 }
 
-bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err)
+void sl_gtao_scratch_free(sl_gtao_scratch *s)
+{
+    free(s->planes);
+    free(s->grid);
+    memset(s, 0, sizeof *s);
+}
+
+/* s with room for `planes` and `grid` floats: kept when it has it, else freed and allocated
+ * again (a frame's contents never carry over). */
+static bool scratch_reserve(sl_gtao_scratch *s, size_t planes, size_t grid)
+{
+    if (s->planes && s->planes_floats >= planes && s->grid_floats >= grid)
+        return true;
+    sl_gtao_scratch_free(s);
+    s->planes = malloc(planes * sizeof *s->planes);
+    s->grid = malloc(grid * sizeof *s->grid);
+    if (!s->planes || !s->grid) {
+        sl_gtao_scratch_free(s);
+        return false;
+    }
+    s->planes_floats = planes;
+    s->grid_floats = grid;
+    return true;
+}
+
+bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_gtao_scratch *scratch,
+                   sl_error *err)
 {
     if (!gb->extra)
         return sl_fail(err, SL_ERR_RANGE, "ambient occlusion: the G-buffer has no extra plane to write it into");
@@ -747,17 +773,16 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
     /* the samples go into the grid alone (march_span, for blurred_span): no h.ao */
     gtao_half h = {(width + 1) / 2, (height + 1) / 2, NULL, NULL};
     const size_t half_count = (size_t)h.width * (size_t)h.height;
-    float *planes = malloc(PLANE * (half_count + 1) * sizeof *planes); /* and the zero plane */
     gtao_grid grid = {h.width + 3, h.height, NULL};
-    grid.v = malloc((size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1) * sizeof *grid.v);
-    h.grid = &grid;
+    sl_gtao_scratch own = {0}, *s = scratch ? scratch : &own;
     if (!gb->cone) /* the G-buffer frees it (sl_gbuffer_free, or a resize) */
         gb->cone = malloc((size_t)width * (size_t)height * sizeof *gb->cone);
-    if (!planes || !grid.v || !gb->cone) {
-        free(planes);
-        free(grid.v);
+    if (!gb->cone || !scratch_reserve(s, PLANE * (half_count + 1), /* and the zero plane */
+                                      (size_t)GRID_CHANNELS * (size_t)grid.stride * (size_t)(grid.height + 1)))
         return sl_fail(err, SL_ERR_MEMORY, "ambient occlusion: out of memory for %dx%d", width, height);
-    }
+    float *planes = s->planes;
+    grid.v = s->grid;
+    h.grid = &grid;
     for (int ch = 0; ch < GRID_CHANNELS; ch++)
         memset(grid_row(&grid, ch, grid.height), 0, (size_t)grid.stride * sizeof *grid.v);
     memset(planes + PLANE * half_count, 0, PLANE * sizeof *planes);
@@ -782,7 +807,7 @@ bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threa
                 blurred_span(gb, &f, &h, x, x + BLUR_SPAN < width ? x + BLUR_SPAN : width, y, cone, row);
         }
     }
-    free(planes);
-    free(grid.v);
+    if (s == &own)
+        sl_gtao_scratch_free(&own);
     return true;
 }

@@ -54,11 +54,24 @@ typedef struct {
 } sl_gtao_view;
 sl_gtao_view sl_gtao_view_of(const sl_camera *cam, int height);
 
+/* The pass's working planes (the half-resolution grid's planes and its channels, 15 floats a
+ * grid texel), kept by the caller from one frame to the next, as the reflection occlusion's are
+ * (src/occlusion/reflection.h sl_reflection_scratch: memory taken afresh each frame costs the
+ * kernel's first-touch faults). Zeroed: empty; grown by sl_gtao_apply as a frame needs; freed
+ * by sl_gtao_scratch_free. */
+typedef struct {
+    size_t planes_floats, grid_floats; /* capacities */
+    float *planes, *grid;
+} sl_gtao_scratch;
+void sl_gtao_scratch_free(sl_gtao_scratch *s);
+
 /* Multiply every covered texel's extra.occlusion by its AO within `radius` world units (> 0)
  * around it and write its cone (gb->cone, allocated when NULL; an empty texel gets its normal and
- * AO 1); `threads` OpenMP threads (0: all). False (and err) without an extra plane, with a radius
- * that is not positive and finite, or out of memory. */
-bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_error *err);
+ * AO 1); `threads` OpenMP threads (0: all), with `scratch`'s planes (NULL: the call's own, freed
+ * before it returns). False (and err) without an extra plane, with a radius that is not
+ * positive and finite, or out of memory. */
+bool sl_gtao_apply(sl_gbuffer *gb, const sl_camera *cam, float radius, int threads, sl_gtao_scratch *scratch,
+                   sl_error *err);
 
 /* The cone of one texel (x, y), as sl_gtao_apply computes it: bent normal in xyz, AO in w,
  * through the plain per-texel march and blur (texel_ao and blurred() in gtao.c), the reference

@@ -310,6 +310,7 @@ void sl_renderer_free(sl_renderer *r)
     sl_raster_destroy(r->raster);
     sl_scene_textures_free(&r->textures);
     sl_gbuffer_free(&r->gbuffer);
+    sl_gtao_scratch_free(&r->gtao_scratch);
     sl_reflection_scratch_free(&r->reflection_scratch);
     free(r->uniforms);
     sl_image_free(&r->radiance);
@@ -514,10 +515,11 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     /* occlusion reads the neighbours of every texel: before a shard drops the rows outside its band */
     double t1 = sl_now_seconds();
     if (ok && ao_radius > 0.0f) {
-        ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, err);
+        ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, &r->gtao_scratch, err);
     } else if (r->gbuffer.cone) { /* occlusion turned off (the viewer's O): the lighting reads no cone */
         free(r->gbuffer.cone);
         r->gbuffer.cone = NULL;
+        sl_gtao_scratch_free(&r->gtao_scratch);
     }
     double t2 = sl_now_seconds();
     r->timings.ao_ms = (t2 - t1) * 1e3;

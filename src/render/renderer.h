@@ -28,6 +28,7 @@
 #include "core/error.h"
 #include "core/image.h"
 #include "ibl/ibl.h"
+#include "occlusion/gtao.h"
 #include "occlusion/reflection.h"
 #include "post/tonemap.h"
 #include "raster/gbuffer.h"
@@ -130,8 +131,8 @@ struct sl_renderer {
     float sky_rotation;       /* ... and the environment rotation they were drawn for */
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
-    sl_reflection_scratch reflection_scratch; /* the reflection occlusion's working planes, kept
-                                                 between frames (src/occlusion/reflection.h) */
+    sl_gtao_scratch gtao_scratch; /* the passes' working planes, kept between frames */
+    sl_reflection_scratch reflection_scratch; /* (src/occlusion/gtao.h, reflection.h) */
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */
     sl_lighting_stats lighting_stats;
     sl_image radiance;      /* linear, row 0 = top */

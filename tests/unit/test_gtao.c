@@ -78,7 +78,7 @@ static void test_open_floor(void **state)
     sl_camera cam = corner_camera();
     trace(&gb, &cam, false);
     sl_error err = {0};
-    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, NULL, &err));
     double lowest = 1.0, lowest_grazing = 1.0, sum = 0.0;
     int n = 0;
     for (int y = 0; y < H; y++)
@@ -125,6 +125,34 @@ static void test_wall_corner(void **state)
     sl_gbuffer_free(&gb);
 }
 
+/* A scratch kept from frame to frame (the renderer's) gives the bits of the call's own planes,
+ * in the occlusion and the cone: on the same frame twice, on a smaller one, which it has room
+ * for, and on a larger one, which grows it. */
+static void test_scratch_kept(void **state)
+{
+    (void)state;
+    static const int sizes[4][3] = {{W, H, 2}, {W, H, 2}, {57, 33, 1}, {211, 131, 3}};
+    sl_gtao_scratch scratch = {0};
+    sl_camera cam = corner_camera();
+    sl_error err = {0};
+    for (int k = 0; k < 4; k++) {
+        const int w = sizes[k][0], h = sizes[k][1], threads = sizes[k][2];
+        sl_gbuffer own = {0}, kept = {0};
+        trace_sized(&own, &cam, true, w, h);
+        trace_sized(&kept, &cam, true, w, h);
+        assert_true(sl_gtao_apply(&own, &cam, 1.0f, threads, NULL, &err));
+        assert_true(sl_gtao_apply(&kept, &cam, 1.0f, threads, &scratch, &err));
+        const size_t n = (size_t)w * (size_t)h;
+        assert_memory_equal(own.cone, kept.cone, n * sizeof *own.cone);
+        for (size_t i = 0; i < n; i++)
+            assert_memory_equal(&own.extra[i].occlusion, &kept.extra[i].occlusion, sizeof(float));
+        sl_gbuffer_free(&own);
+        sl_gbuffer_free(&kept);
+    }
+    sl_gtao_scratch_free(&scratch);
+    assert_null(scratch.planes);
+}
+
 static void test_multiplies_the_map(void **state)
 {
     (void)state;
@@ -137,7 +165,7 @@ static void test_multiplies_the_map(void **state)
     floor_pixel(&gb, 0.1f, 0.0f, &x, &y);
     float ao = sl_gtao_texel(&gb, &cam, 1.0f, x, y).w;
     sl_error err = {0};
-    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, NULL, &err));
     assert_near(gb.extra[y * W + x].occlusion, 0.5f * ao, 1e-6);
     assert_true(ao < 0.7f);
     sl_gbuffer_free(&gb);
@@ -162,7 +190,7 @@ static void test_frame_matches_texel(void **state)
         for (int x = 250; x < 263; x++)
             sl_gbuffer_at(&gb, x, y)->depth = 1.0f;
     sl_error err = {0};
-    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 2, NULL, &err));
     const int rows[] = {0, 1, 2, h / 2 - 1, h / 2, h - 2, h - 1};
     int empty = 0, occluded = 0;
     for (size_t r = 0; r < sizeof rows / sizeof rows[0]; r++)
@@ -196,7 +224,7 @@ static void test_frame_matches_texel_small_radius(void **state)
     sl_camera cam = corner_camera();
     trace_sized(&gb, &cam, true, w, h);
     sl_error err = {0};
-    assert_true(sl_gtao_apply(&gb, &cam, radius, 1, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, radius, 1, NULL, &err));
     sl_gtao_view v = sl_gtao_view_of(&cam, h);
     int far = 0, near = 0;
     for (int y = 0; y < h; y++)
@@ -227,7 +255,7 @@ static void test_bent_normal(void **state)
     sl_camera cam = corner_camera();
     sl_error err = {0};
     trace(&gb, &cam, false);
-    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, NULL, &err));
     assert_non_null(gb.cone);
     double lowest = 1.0;
     for (int i = 0; i < W * H; i++)
@@ -236,7 +264,7 @@ static void test_bent_normal(void **state)
     print_message("open floor: lowest bent.z %.4f\n", lowest);
     assert_true(lowest > 0.99);
     trace(&gb, &cam, true);
-    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, 1.0f, 1, NULL, &err));
     int x, y, fx, fy;
     floor_pixel(&gb, 0.25f, 0.0f, &x, &y);
     floor_pixel(&gb, 1.0f, 0.0f, &fx, &fy);
@@ -284,7 +312,7 @@ static void test_bent_irradiance(void **state)
     sl_error err = {0};
     const float R = 1.0f;
     trace(&gb, &cam, true);
-    assert_true(sl_gtao_apply(&gb, &cam, R, 1, &err));
+    assert_true(sl_gtao_apply(&gb, &cam, R, 1, NULL, &err));
     const vec3 N = vec3(0.0f, 0.0f, 1.0f);
     const float distances[] = {0.25f, 0.5f};
     for (size_t i = 0; i < sizeof distances / sizeof distances[0]; i++) {
@@ -370,11 +398,11 @@ static void test_refusals(void **state)
     sl_camera cam = corner_camera();
     trace(&gb, &cam, false);
     sl_error err = {0};
-    assert_false(sl_gtao_apply(&gb, &cam, 0.0f, 1, &err));
+    assert_false(sl_gtao_apply(&gb, &cam, 0.0f, 1, NULL, &err));
     assert_string_equal(err.msg, "ambient occlusion: radius 0, expected a positive number");
-    assert_false(sl_gtao_apply(&gb, &cam, NAN, 1, &err));
+    assert_false(sl_gtao_apply(&gb, &cam, NAN, 1, NULL, &err));
     assert_true(sl_gbuffer_use_extra(&gb, false, 1, &err));
-    assert_false(sl_gtao_apply(&gb, &cam, 1.0f, 1, &err));
+    assert_false(sl_gtao_apply(&gb, &cam, 1.0f, 1, NULL, &err));
     assert_string_equal(err.msg, "ambient occlusion: the G-buffer has no extra plane to write it into");
     sl_gbuffer_free(&gb);
 }
@@ -385,6 +413,7 @@ int main(void)
         cmocka_unit_test(test_open_floor),
         cmocka_unit_test(test_wall_corner),
         cmocka_unit_test(test_multiplies_the_map),
+        cmocka_unit_test(test_scratch_kept),
         cmocka_unit_test(test_bent_normal),
         cmocka_unit_test(test_bent_irradiance),
         cmocka_unit_test(test_frame_matches_texel),
