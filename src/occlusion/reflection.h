@@ -86,7 +86,11 @@
                                          under the rebuilt normal (blocked, counted as 0; the
                                          frame's plane holds 0); under the facet a ray is
                                          SL_REFLECTION_BELOW */
-#define SL_REFLECTION_STEPS 16        /* points along a ray */
+/* points along a ray (docs/lighting.md "Reflection occlusion", why 16; a build defining another
+ * is for that comparison, the GLSL twin does not follow it) */
+#ifndef SL_REFLECTION_STEPS
+#define SL_REFLECTION_STEPS 16
+#endif
 /* the ring's angle, a share of the lobe's cone angle (docs/lighting.md "Reflection occlusion",
  * why half; a build defining another is for bench/visibility-variants.sh's comparison) */
 #ifndef SL_REFLECTION_RING

@@ -386,6 +386,11 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
 #ifndef SL_LOBE_MAP_SHARE
 #define SL_LOBE_MAP_SHARE 0.5f
 #endif
+/* 1: every lobe whose R lies under the horizon takes its map too, however narrow (docs/lighting.md
+ * "Sky visibility maps", why not; for that comparison, the GLSL twin does not follow it). */
+#ifndef SL_LOBE_MAP_GROUND
+#define SL_LOBE_MAP_GROUND 0
+#endif
 
 /* GLSL: lobe_map_factor
  * With the sky maps, a lobe at least half a cell wide (its cone's angle ts, sl_so_lobe_cone, at
@@ -397,16 +402,17 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
  * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
  * world. */
-static inline bool shade_lobe_map_wide(const sl_lighting_uniforms *u, float ts)
+static inline bool shade_lobe_map_wide(const sl_lighting_uniforms *u, float ts, float Rz)
 {
-    return u->skyMaps && !(ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle);
+    (void)Rz;
+    return u->skyMaps && (!(ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle) || (SL_LOBE_MAP_GROUND && Rz < 0.0f));
 }
 /* the factor with the map's visibility v (the batched path looks a span's up at once) */
 static inline float shade_lobe_map_with(float capped, float material, float v) { return minf(capped, material * v); }
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
-    if (!shade_lobe_map_wide(u, ts))
+    if (!shade_lobe_map_wide(u, ts, R.z))
         return capped;
     float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
     return shade_lobe_map_with(capped, material, v);

@@ -110,14 +110,19 @@ static void cv_kernel_integrals(const sl_cv_levels *lv, const sl_prefilter_kerne
  * (sl_cv_levels) about the lookup direction normalize(mix(N, R, t)) and E the albedo (F = 1):
  * beta = E_p[W K / p] / (E integral of K^2 / p), in [0, 1] (the first by the samples, the second
  * on a grid: cv_kernel_integrals; E is A + B of the table's `entry`, whose t gives the direction);
- * 0 where no exact level is read, and where more than CV_MAX_UNREACHABLE of the kernel lies where
+ * 0 where no exact level is read, and where more than SL_CV_MAX_UNREACHABLE of the kernel lies where
  * no sample reaches (that part would stay in the closed term as a bias). Checked outside the renderer (GGX r 0.4-1, N.V 0.15-0.95, 24 normals
  * each on studio.hdr, forest.hdr and interior.hdr reduced to 256x128, N = 16, the chain summed
  * exactly, RMS error over 16 rotations of the Hammersley set): with beta = 1 the rough lobes
  * seen from the side (r 0.4, N.V 0.15) carried 2-3 times the error of the samples alone; with
  * this beta at most 1.23 times it, and a hundredth of it where the kernel is the lobe (r 1,
  * N.V 0.95). */
-#define CV_MAX_UNREACHABLE 1e-3 /* beta is 0 where more of the kernel than this lies out of reach */
+/* beta is 0 where more of the kernel than this lies out of reach (docs/accuracy.md "The control
+ * variate with mis's samples", why cvmis keeps it; a build defining another is for that
+ * comparison) */
+#ifndef SL_CV_MAX_UNREACHABLE
+#define SL_CV_MAX_UNREACHABLE 1e-3
+#endif
 static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float NdotV, float r, vec3 entry,
                      const sl_hammersley *hs)
 {
@@ -148,7 +153,7 @@ static float cv_beta(const sl_splitsum_lut *lut, sl_splitsum_set set, float Ndot
     }
     double unreachable, kk;
     cv_kernel_integrals(&lv, ka, kb, dir, V, alpha, &unreachable, &kk);
-    if (!(e > 0.0 && kk > 0.0) || unreachable > CV_MAX_UNREACHABLE)
+    if (!(e > 0.0 && kk > 0.0) || unreachable > SL_CV_MAX_UNREACHABLE)
         return 0.0f;
     double beta = (wk / hs->n) / (e * kk);
     return (float)(beta < 0.0 ? 0.0 : beta > 1.0 ? 1.0 : beta);
