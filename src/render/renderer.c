@@ -516,7 +516,7 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     double t1 = sl_now_seconds();
     if (ok && ao_radius > 0.0f) {
         ok = sl_gtao_apply(&r->gbuffer, cam, ao_radius, r->desc.threads, &r->gtao_scratch, err);
-    } else if (r->gbuffer.cone) { /* occlusion turned off (the viewer's O): the lighting reads no cone */
+    } else { /* occlusion turned off (the viewer's O): the lighting reads no cone, the pass's planes go */
         free(r->gbuffer.cone);
         r->gbuffer.cone = NULL;
         sl_gtao_scratch_free(&r->gtao_scratch);
@@ -526,7 +526,7 @@ bool sl_renderer_raster(sl_renderer *r, const sl_camera *cam, sl_error *err)
     if (ok && reflection > 0.0f) {
         ok = sl_reflection_apply(&r->gbuffer, cam, reflection, r->desc.threads, &r->reflection_scratch,
                                  &r->timings.reflection_lone, err);
-    } else if (r->gbuffer.reflection) { /* turned off: the lighting reads no plane */
+    } else { /* turned off: the lighting reads no plane, the pass's planes go */
         free(r->gbuffer.reflection);
         r->gbuffer.reflection = NULL;
         sl_reflection_scratch_free(&r->reflection_scratch);

@@ -131,8 +131,9 @@ struct sl_renderer {
     float sky_rotation;       /* ... and the environment rotation they were drawn for */
     sl_scene_textures textures; /* the materials' images, decoded once per scene */
     sl_gbuffer gbuffer;
-    sl_gtao_scratch gtao_scratch; /* the passes' working planes, kept between frames */
-    sl_reflection_scratch reflection_scratch; /* (src/occlusion/gtao.h, reflection.h) */
+    /* the occlusion passes' working planes, kept from frame to frame (src/occlusion) */
+    sl_gtao_scratch gtao_scratch;
+    sl_reflection_scratch reflection_scratch;
     sl_lighting_uniforms *uniforms; /* ~9 KB, heap */
     sl_lighting_stats lighting_stats;
     sl_image radiance;      /* linear, row 0 = top */

@@ -404,7 +404,6 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * world. */
 static inline bool shade_lobe_map_wide(const sl_lighting_uniforms *u, float ts, float Rz)
 {
-    (void)Rz;
     return u->skyMaps && (!(ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle) || (SL_LOBE_MAP_GROUND && Rz < 0.0f));
 }
 /* the factor with the map's visibility v (the batched path looks a span's up at once) */
