@@ -1762,7 +1762,7 @@ static void sum_stage(const sl_lighting_uniforms *u, const sl_gbuffer *gb, const
             wide.n = 0;
             float rx[SPAN], ry[SPAN], rz[SPAN];
             for (int i = 0; i < count; i++)
-                if (covered[i] && shade_lobe_map_wide(u, lobe_angle[i], p->Rz[i])) {
+                if (covered[i] && shade_lobe_takes_map(u, lobe_angle[i], p->Rz[i])) {
                     rx[wide.n] = p->Rx[i], ry[wide.n] = p->Ry[i], rz[wide.n] = p->Rz[i];
                     shadow_points_add(&wide, p, i);
                 }

@@ -402,7 +402,9 @@ static inline float shade_spec_occlusion(float ao, float occlusion, float b_dot_
  * narrower lobe (a sharp reflection of a sphere in a glossy floor, which the rays see), which
  * keeps `capped`. R in environment space (unit, as the batched path's p->R), P and N in the
  * world. */
-static inline bool shade_lobe_map_wide(const sl_lighting_uniforms *u, float ts, float Rz)
+/* whether the lobe (cone angle ts, R's environment z) takes its cell's map: wide enough, or, in a
+ * SL_LOBE_MAP_GROUND build, R under the horizon */
+static inline bool shade_lobe_takes_map(const sl_lighting_uniforms *u, float ts, float Rz)
 {
     return u->skyMaps && (!(ts < SL_LOBE_MAP_SHARE * u->skyMaps->cell_angle) || (SL_LOBE_MAP_GROUND && Rz < 0.0f));
 }
@@ -411,7 +413,7 @@ static inline float shade_lobe_map_with(float capped, float material, float v) {
 static inline float shade_lobe_map(const sl_lighting_uniforms *u, float capped, float material, vec3 P, vec3 N,
                                    vec3 R, float ts)
 {
-    if (!shade_lobe_map_wide(u, ts, R.z))
+    if (!shade_lobe_takes_map(u, ts, R.z))
         return capped;
     float v = sl_shadow_sky_map_visibility(u->skyMaps, sl_shadow_sky_cell(u->skyMaps, R), P, N);
     return shade_lobe_map_with(capped, material, v);
