@@ -6,7 +6,9 @@
  *   bench_mis_front SCENE.json WxH OUTDIR THREADS NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS] ...
  *
  * ENV_LIGHTS: a count K, or auto: those of the brightest 64 worth their cost, as the GGX default
- * takes them (src/ibl/env_lights.h sl_env_lights_extract_worth).
+ * takes them (src/ibl/env_lights.h sl_env_lights_extract_worth). ESTIMATOR `default`: the
+ * scene's own sampling as sl_render_desc_resolve gives it (LOD and DISTORTION unread; a scene of
+ * both lobe sets samples each its way); any other estimator sets every pixel's.
  *
  * Why a program of its own: the sweep of bench/speed_vs_error.c runs every variant on fixed
  * scenes; this one takes any scene file (the environments bench/mis-front.sh writes into a
@@ -74,9 +76,10 @@ int main(int argc, char **argv)
         bool worth = strcmp(lights, "auto") == 0;
         if (worth)
             env_lights = SL_ENV_LIGHTS_MAX;
-        sl_estimator estimator;
-        sl_lod_rule lod_rule;
-        if (!sl_estimator_parse(est, &estimator) || !sl_lod_rule_parse(lod, &lod_rule)) {
+        sl_estimator estimator = SL_ESTIMATOR_DEFAULT;
+        sl_lod_rule lod_rule = SL_LOD_DEFAULT;
+        const bool scene_default = strcmp(est, "default") == 0;
+        if (!scene_default && (!sl_estimator_parse(est, &estimator) || !sl_lod_rule_parse(lod, &lod_rule))) {
             fprintf(stderr, "bench_mis_front: %s: unknown estimator or lod rule\n", argv[5 + i]);
             return 2;
         }
@@ -98,9 +101,12 @@ int main(int argc, char **argv)
         sl_renderer *renderer = pool[slot];
         of[i] = renderer;
         opts[i] = renderer->desc.lighting;
-        opts[i].estimator = estimator;
-        opts[i].lod_rule = lod_rule;
-        opts[i].distortion = dist != 0;
+        if (!scene_default) { /* every pixel's, both lobe sets */
+            opts[i].estimator = estimator;
+            opts[i].lod_rule = lod_rule;
+            opts[i].distortion = dist != 0;
+            opts[i].ggx = (sl_lobe_sampling){0};
+        }
         opts[i].samples = n;
         opts[i].env_lights = env_lights; /* extracted once per count, outside the timed frames */
         opts[i].env_lights_worth = worth;

@@ -128,6 +128,9 @@
 //                     4 = split sum (no samples: uSplitSum* below), 5 = MIS (uEnvDist* below),
 //                     6 = cv, the split sum as a control variate (specular_cv)
 //                     7 = cvmis, the same with mis's samples (specular_cv with mis)
+//   int uLodRuleGGX, uDistortionGGX, uEstimatorGGX
+//                     the same for the pixels of the GGX set (estimator_of): a scene of both sets
+//                     samples its GGX objects otherwise than the Phong ones; else equal to the above
 // MIS (uEstimator 5; src/ibl/env_dist.h): per Hammersley pair one sample drawn as the microfacet
 // estimator's and one from the environment's luminance, weighed by the power heuristic (the host
 // builds HammersleyBlock with (N + 1) / 2 pairs for N samples), radiance read at level 0 of
@@ -277,6 +280,9 @@ const int uLodRule = SL_LOD_RULE;
 const int uDistortion = SL_DISTORTION;
 const int uGTerm = SL_GTERM;
 const int uEstimator = SL_ESTIMATOR;
+const int uLodRuleGGX = SL_LOD_RULE_GGX;
+const int uDistortionGGX = SL_DISTORTION_GGX;
+const int uEstimatorGGX = SL_ESTIMATOR_GGX;
 const int uDiffuse = SL_DIFFUSE;
 const int uSpecular = SL_SPECULAR;
 const int uPointLights = SL_POINT_LIGHTS; // 0 also when the scene has no point light
@@ -286,6 +292,9 @@ uniform int uLodRule;
 uniform int uDistortion;
 uniform int uGTerm;
 uniform int uEstimator;
+uniform int uLodRuleGGX;
+uniform int uDistortionGGX;
+uniform int uEstimatorGGX;
 uniform int uDiffuse;
 uniform int uSpecular;
 uniform int uPointLights;
@@ -431,6 +440,22 @@ bool sl_lobe_is_ggx(float alpha)
     return SL_PHONG == 0 || (SL_GGX != 0 && alpha < 0.0);
 }
 
+// How a pixel samples the environment, by its lobe set: the GGX set's own uniforms (a scene of
+// both sets gives its GGX objects the accurate default, its Phong ones the recipe), which equal
+// the frame's where it has none.
+int estimator_of(float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? uEstimatorGGX : uEstimator;
+}
+int lod_rule_of(float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? uLodRuleGGX : uLodRule;
+}
+int distortion_of(float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? uDistortionGGX : uDistortion;
+}
+
 // D and G of the pixel's set, by the sign of its lobe parameter (uGTerm is the Phong set's).
 float sl_lobe_D(float NdotH, float alpha)
 {
@@ -511,24 +536,25 @@ float sample_pdf(vec2 xi, float alpha)
 
 // The mip level of one sample (docs/lighting.md "Mip level"). d is the texel's solid angle
 // relative to the mean 4 pi / (W H): lat-long (pi/2) sin(theta), floored at row 0's centre;
-// octahedral |w|_1^3 / pi (src/ibl/env_oct.c).
-float mip_level(float D, float pdf, vec3 w)
+// octahedral |w|_1^3 / pi (src/ibl/env_oct.c). alpha: the lobe, whose set has its rule.
+float mip_level(float alpha, float D, float pdf, vec3 w)
 {
-    if (uLodRule == LOD_NONE)
+    int rule = lod_rule_of(alpha), distortion = distortion_of(alpha);
+    if (rule == LOD_NONE)
         return 0.0;
     float d = 1.0;
-    if (uDistortion != 0 && uEnvLayout == ENV_LAYOUT_OCT) {
+    if (distortion != 0 && uEnvLayout == ENV_LAYOUT_OCT) {
         float l1 = abs(w.x) + abs(w.y) + abs(w.z);
         d = l1 * l1 * l1 / PI;
-    } else if (uDistortion != 0) {
+    } else if (distortion != 0) {
         d = 0.5 * PI * max(sqrt(max(1.0 - w.z * w.z, 0.0)), uSinThetaMin);
     }
     float lod;
-    if (uLodRule == LOD_SPEC)
+    if (rule == LOD_SPEC)
         lod = uLodBase - 0.5 * log2(max(D * d, TINY));
-    else if (uLodRule == LOD_SPEC_D4)
+    else if (rule == LOD_SPEC_D4)
         lod = uLodBase - 0.5 * log2(max(D / 4.0 * d, TINY));
-    else if (uLodRule == LOD_GEMS)
+    else if (rule == LOD_GEMS)
         lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY)) + 1.0;
     else
         lod = uLodBase - 0.5 * log2(max(4.0 * PI * pdf * d, TINY));
@@ -1108,10 +1134,10 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         float D = sl_lobe_D(NdotH, alpha);
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, uGTerm);
-        float lod = mip_level(D, pdf, w);
+        float lod = mip_level(alpha, D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = G * wN / 4.0;
-        if (uEstimator == ESTIMATOR_CONSISTENT)
+        if (estimator_of(alpha) == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = glow(w, F * Li * weight);
         if (horizon_across(w))
@@ -1291,7 +1317,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         float pdf = ggx ? D / norm : D * NdotH / (4.0 * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
-        float lod = mip_level(D, pdf, w);
+        float lod = mip_level(alpha, D, pdf, w);
         vec3 Li = env_lod(w, lod) * uEnvIntensity;
         float weight = ggx ? G * wN * norm / 4.0 : G * wN * VdotH / NdotH;
         vec3 c = lit ? F * Li * weight : vec3(0.0);
@@ -2127,13 +2153,14 @@ void main()
                 vec3 spec;
                 horizon_for(Nenv, Venv, Fenv);
                 glow_for(envShadow);
-                if (uEstimator == ESTIMATOR_SPLITSUM)
+                int estimator = estimator_of(alpha);
+                if (estimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
-                else if (uEstimator == ESTIMATOR_MICROFACET)
+                else if (estimator == ESTIMATOR_MICROFACET)
                     spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV || uEstimator == ESTIMATOR_CV_MIS)
-                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, uEstimator == ESTIMATOR_CV_MIS);
-                else if (uEstimator == ESTIMATOR_MIS)
+                else if (estimator == ESTIMATOR_CV || estimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, estimator == ESTIMATOR_CV_MIS);
+                else if (estimator == ESTIMATOR_MIS)
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
@@ -2179,13 +2206,14 @@ void main()
                 vec3 spec;
                 horizon_for(Nenv, Venv, Fenv);
                 glow_for(envShadow);
-                if (uEstimator == ESTIMATOR_SPLITSUM)
+                int estimator = estimator_of(alpha);
+                if (estimator == ESTIMATOR_SPLITSUM)
                     spec = specular_splitsum(Nenv, Venv, Ks, alpha);
-                else if (uEstimator == ESTIMATOR_MICROFACET)
+                else if (estimator == ESTIMATOR_MICROFACET)
                     spec = specular_microfacet(Nenv, Venv, Ks, alpha, rotation, no_cv());
-                else if (uEstimator == ESTIMATOR_CV || uEstimator == ESTIMATOR_CV_MIS)
-                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, uEstimator == ESTIMATOR_CV_MIS);
-                else if (uEstimator == ESTIMATOR_MIS)
+                else if (estimator == ESTIMATOR_CV || estimator == ESTIMATOR_CV_MIS)
+                    spec = specular_cv(Nenv, Venv, Ks, alpha, rotation, estimator == ESTIMATOR_CV_MIS);
+                else if (estimator == ESTIMATOR_MIS)
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);

@@ -169,12 +169,12 @@ static memory_model model_render(const sl_render_desc *d, int env_w, int env_h, 
         phase(&m, base + m.env_oct_build, "building the octahedral chain");
         base += m.env_oct;
     }
-    if (sl_estimator_reads_splitsum(modes.estimator)) {
+    if (sl_estimator_reads_splitsum(modes.estimator) || sl_estimator_reads_splitsum(modes.ggx.estimator)) {
         m.splitsum = (size_t)lobe_sets * chain_held_bytes(env_w, env_h, false) + sizeof(sl_splitsum_lut);
         phase(&m, base + m.splitsum, "prefiltering for the split sum");
         base += m.splitsum;
     }
-    if (sl_estimator_reads_env_dist(modes.estimator)) {
+    if (sl_estimator_reads_env_dist(modes.estimator) || sl_estimator_reads_env_dist(modes.ggx.estimator)) {
         int gw = env_w, gh = env_h; /* the grid: halved while wider than SL_ENV_DIST_MAX_WIDTH */
         while (gw > SL_ENV_DIST_MAX_WIDTH && gw % 2 == 0 && gh % 2 == 0) {
             gw /= 2;
@@ -295,6 +295,10 @@ int cmd_info(int argc, char **argv)
            sl_estimator_name(modes.estimator), sl_lod_rule_name(modes.lod_rule), sl_gterm_name(modes.gterm),
            sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance),
            modes.distortion ? ", distortion" : "", modes.rotate ? ", rotate" : "", env_lights);
+    if (modes.ggx.estimator != SL_ESTIMATOR_DEFAULT)
+        printf("  GGX        estimator %s, lod %s%s (the GGX materials'; the line above is the Phong materials')\n",
+               sl_estimator_name(modes.ggx.estimator), sl_lod_rule_name(modes.ggx.lod_rule),
+               modes.ggx.distortion ? ", distortion" : "");
 
     /* Both images are read as `render` reads them (the same checks, the same memory budget). */
     int env_w = 0, env_h = 0, irr_w = 0, irr_h = 0;

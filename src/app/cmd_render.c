@@ -207,6 +207,10 @@ int cmd_render(int argc, char **argv)
                positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
                sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
                r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
+        if (l->ggx.estimator != l->estimator || l->ggx.lod_rule != l->lod_rule || l->ggx.distortion != l->distortion)
+            printf("GGX materials: estimator=%s lod=%s%s (the line above is the Phong materials')\n",
+                   sl_estimator_name(l->ggx.estimator), sl_lod_rule_name(l->ggx.lod_rule),
+                   l->ggx.distortion ? " distortion" : "");
         if (r.desc.options.ao_radius > 0.0f)
             printf("ambient occlusion: radius %g, %.1f ms a frame (GTAO, %d slices x %d steps a side)\n",
                    (double)r.desc.options.ao_radius, r.timings.ao_ms, SL_GTAO_SLICES, SL_GTAO_STEPS);

@@ -445,12 +445,14 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
     case SDLK_l: {
         l->lod_rule =
             (sl_lod_rule)sl_option_next(&sl_options[SL_OPT_LOD], (int)sl_lighting_options_resolve(l).lod_rule);
+        l->ggx.lod_rule = l->lod_rule; /* a GGX set of its own (a scene of both sets) takes it too */
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }
     case SDLK_k: {
         l->estimator =
             (sl_estimator)sl_option_next(&sl_options[SL_OPT_ESTIMATOR], (int)sl_lighting_options_resolve(l).estimator);
+        l->ggx.estimator = SL_ESTIMATOR_DEFAULT; /* the one asked for, for every pixel */
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }

@@ -100,9 +100,10 @@ static bool update_env_dist(sl_renderer *r, sl_estimator estimator, sl_error *er
 {
     sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
     if (estimator != SL_ESTIMATOR_DEFAULT)
-        o.estimator = estimator;
+        o.estimator = o.ggx.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if (!sl_estimator_reads_env_dist(o.estimator) || r->env_dist_built == lights)
+    if (!(sl_estimator_reads_env_dist(o.estimator) || sl_estimator_reads_env_dist(o.ggx.estimator)) ||
+        r->env_dist_built == lights)
         return true;
     double t0 = sl_now_seconds();
     sl_env_dist_free(&r->env_dist);
@@ -120,6 +121,15 @@ bool sl_renderer_all_ggx(const sl_scene *scene)
         if (scene->materials[scene->objects[i].material].brdf != SL_BRDF_GGX)
             return false;
     return scene->object_count > 0;
+}
+
+/* Whether some object of the scene is drawn with a GGX material */
+static bool any_ggx(const sl_scene *scene)
+{
+    for (int i = 0; i < scene->object_count; i++)
+        if (scene->materials[scene->objects[i].material].brdf == SL_BRDF_GGX)
+            return true;
+    return false;
 }
 
 void sl_renderer_splitsum_sets(const sl_scene *scene, bool *phong, bool *ggx)
@@ -141,9 +151,10 @@ static bool update_splitsum(sl_renderer *r, sl_estimator estimator, sl_error *er
 {
     sl_lighting_options o = sl_lighting_options_resolve(&r->desc.lighting);
     if (estimator != SL_ESTIMATOR_DEFAULT)
-        o.estimator = estimator;
+        o.estimator = o.ggx.estimator = estimator;
     int lights = o.env_lights > 0 ? r->env_lights_built : 0;
-    if (!sl_estimator_reads_splitsum(o.estimator) || (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
+    if (!(sl_estimator_reads_splitsum(o.estimator) || sl_estimator_reads_splitsum(o.ggx.estimator)) ||
+        (r->splitsum_built == lights && r->splitsum_gterm == o.gterm))
         return true;
     double t0 = sl_now_seconds();
     sl_env_free(&r->splitsum_phong);
@@ -205,8 +216,17 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
      * objects are all GGX (imported models) the most accurate setting at the recipe's cost as
      * measured (docs/accuracy.md "Defaults"): the microfacet estimator, the pdf mip rule with the
      * distortion, and the most env lights, each where neither the scene nor the command line
-     * sets it */
-    if ((!sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT) && sl_renderer_all_ggx(scene)) {
+     * sets it. In a scene of both sets the GGX objects sample that way and the Phong ones keep
+     * the recipe; the env lights, which every pixel would share, stay off. */
+    const bool estimator_unset = !sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT;
+    sl_lobe_sampling ggx = {SL_ESTIMATOR_DEFAULT, SL_LOD_DEFAULT, false}; /* the frame's */
+    if (estimator_unset && !sl_renderer_all_ggx(scene) && any_ggx(scene))
+        ggx = (sl_lobe_sampling){
+            .estimator = SL_ESTIMATOR_MICROFACET,
+            .lod_rule = sl_option_is_set(&o, SL_OPT_LOD) && o.lod != SL_LOD_DEFAULT ? o.lod : SL_LOD_PDF,
+            .distortion = sl_option_is_set(&o, SL_OPT_DISTORTION) ? o.distortion : true,
+        };
+    if (estimator_unset && sl_renderer_all_ggx(scene)) {
         sl_option_set_estimator(&o, SL_ESTIMATOR_MICROFACET);
         if (!sl_option_is_set(&o, SL_OPT_LOD) || o.lod == SL_LOD_DEFAULT)
             sl_option_set_lod(&o, SL_LOD_PDF);
@@ -249,6 +269,7 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
         .plain = o.plain,
         .env_lights = o.env_lights,
         .env_lights_worth = d->env_lights_worth,
+        .ggx = ggx,
     };
     return true;
 }
@@ -562,8 +583,10 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         options.lod_samples = frame->lod_samples;
         options.rotate = frame->rotate;
         options.frame = frame->frame;
-        if (frame->estimator != SL_ESTIMATOR_DEFAULT)
+        if (frame->estimator != SL_ESTIMATOR_DEFAULT) { /* every pixel's (the viewer's moving frames) */
             options.estimator = frame->estimator;
+            options.ggx.estimator = SL_ESTIMATOR_DEFAULT;
+        }
     }
     mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);
     sl_lighting_desc desc = {

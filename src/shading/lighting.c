@@ -108,24 +108,25 @@ static float sample_pdf(vec2 xi, float alpha)
     return (alpha + 1.0f) / (2.0f * PI) * powf(xi.y, alpha / (alpha + 1.0f));
 }
 
-/* GLSL: mip_level */
-static float mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w)
+/* GLSL: mip_level (alpha: the lobe, whose set has its rule) */
+static float mip_level(const sl_lighting_uniforms *u, float alpha, float D, float pdf, vec3 w)
 {
-    if (u->uLodRule == LOD_NONE)
+    const int rule = shade_lod_rule_of(u, alpha), distortion = shade_distortion_of(u, alpha);
+    if (rule == LOD_NONE)
         return 0.0f;
     float d = 1.0f;
-    if (u->uDistortion != 0 && u->uEnvLayout == ENV_LAYOUT_OCT) {
+    if (distortion != 0 && u->uEnvLayout == ENV_LAYOUT_OCT) {
         float l1 = fabsf(w.x) + fabsf(w.y) + fabsf(w.z);
         d = l1 * l1 * l1 / PI;
-    } else if (u->uDistortion != 0) {
+    } else if (distortion != 0) {
         d = 0.5f * PI * maxf(sqrtf(maxf(1.0f - w.z * w.z, 0.0f)), u->uSinThetaMin);
     }
     float lod;
-    if (u->uLodRule == LOD_SPEC)
+    if (rule == LOD_SPEC)
         lod = u->uLodBase - 0.5f * log2f(maxf(D * d, TINY));
-    else if (u->uLodRule == LOD_SPEC_D4)
+    else if (rule == LOD_SPEC_D4)
         lod = u->uLodBase - 0.5f * log2f(maxf(D / 4.0f * d, TINY));
-    else if (u->uLodRule == LOD_GEMS)
+    else if (rule == LOD_GEMS)
         lod = u->uLodBase - 0.5f * log2f(maxf(4.0f * PI * pdf * d, TINY)) + 1.0f;
     else
         lod = u->uLodBase - 0.5f * log2f(maxf(4.0f * PI * pdf * d, TINY));
@@ -208,10 +209,10 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         float D = sl_lobe_D(NdotH, alpha);
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
-        float lod = mip_level(u, D, pdf, w);
+        float lod = mip_level(u, alpha, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = G * wN / 4.0f;
-        if (u->uEstimator == ESTIMATOR_CONSISTENT)
+        if (shade_estimator_of(u, alpha) == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
         vec3 c = scale(mul(F, Li), weight);
         int glow;
@@ -312,7 +313,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         float pdf = ggx ? D / norm : D * NdotH / (4.0f * VdotH);
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
-        float lod = mip_level(u, D, pdf, w);
+        float lod = mip_level(u, alpha, D, pdf, w);
         vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
         float weight = ggx ? G * wN * norm / 4.0f : G * wN * VdotH / NdotH;
         vec3 c = lit ? scale(mul(F, Li), weight) : vec3s(0.0f);
@@ -1005,15 +1006,16 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
         } else {
             if (env_shadow)
                 shade_horizon_glow(&h, u, env_shadow->map_vis);
-            if (u->uEstimator == ESTIMATOR_SPLITSUM)
+            const int estimator = shade_estimator_of(u, s->alpha);
+            if (estimator == ESTIMATOR_SPLITSUM)
                 spec = specular_splitsum(u, s->Nenv, s->Venv, s->Ks, s->alpha, trace);
-            else if (u->uEstimator == ESTIMATOR_MICROFACET)
+            else if (estimator == ESTIMATOR_MICROFACET)
                 spec = specular_microfacet(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, &h, task,
                                            trace);
-            else if (u->uEstimator == ESTIMATOR_CV || u->uEstimator == ESTIMATOR_CV_MIS)
-                spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation,
-                                   u->uEstimator == ESTIMATOR_CV_MIS, &h, task, trace);
-            else if (u->uEstimator == ESTIMATOR_MIS)
+            else if (estimator == ESTIMATOR_CV || estimator == ESTIMATOR_CV_MIS)
+                spec = specular_cv(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, estimator == ESTIMATOR_CV_MIS,
+                                   &h, task, trace);
+            else if (estimator == ESTIMATOR_MIS)
                 spec = specular_mis(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, NO_CV, &h, task, trace);
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, &h, task, trace);
@@ -1187,7 +1189,7 @@ vec3 sl_shade_background(const sl_lighting_uniforms *u, vec2 fragCoord) { return
 
 float sl_lighting_mip_level(const sl_lighting_uniforms *u, float D, float pdf, vec3 w)
 {
-    return mip_level(u, D, pdf, w);
+    return mip_level(u, 0.0f, D, pdf, w); /* the frame's rule (a Phong lobe's) */
 }
 
 uint32_t sl_lighting_hash(uint32_t x) { return hash_u32(x); }

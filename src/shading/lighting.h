@@ -58,6 +58,14 @@
 /* The modes sl_lod_rule, sl_estimator and sl_gterm, their names, defaults and limits: the option
  * table, core/options.h. Enum values are the GLSL uniform values; 0 is "default". */
 
+/* How a lobe set's pixels sample the environment: the estimator and its mip level's rule and
+ * distortion (sl_lighting_options.ggx). */
+typedef struct {
+    sl_estimator estimator; /* 0 = the frame's options, all three */
+    sl_lod_rule lod_rule;   /* 0 = SL_LOD_SPEC_D4 */
+    bool distortion;
+} sl_lobe_sampling;
+
 /* Options, zero meaning "default" (resolved by sl_lighting_options_resolve). */
 typedef struct {
     int samples;                   /* N, 1 .. SL_HAMMERSLEY_MAX; 0 = 40 */
@@ -85,6 +93,12 @@ typedef struct {
                                       cost, possibly none (sl_env_lights_extract_worth; the GGX
                                       default). The renderer extracts them; the lighting stage
                                       reads what it is given */
+    sl_lobe_sampling ggx;          /* the GGX set's own estimator, lod rule and distortion, where
+                                      they differ from the fields above, which the Phong set
+                                      keeps (a scene of both sets: the GGX objects get the
+                                      accurate default, the specification's objects the recipe;
+                                      sl_render_desc_resolve). ggx.estimator 0 = every pixel the
+                                      fields above */
 } sl_lighting_options;
 
 /* Fill every zero field with its default (the option table's, core/options.h). */
@@ -188,6 +202,7 @@ typedef struct {
     const sl_env_dist *uEnvDist;
     int uEnvDistShift;
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
+    int uLodRuleGGX, uDistortionGGX, uEstimatorGGX; /* the GGX set's (options.ggx), else the three above */
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */
     sl_lighting_options options;         /* resolved */

@@ -47,17 +47,10 @@ static const int LOD_SPEC_D4 = SL_LOD_SPEC_D4;
 static const int LOD_GEMS = SL_LOD_GEMS;
 static const int LOD_PDF = SL_LOD_PDF;
 static const int ESTIMATOR_CONSISTENT = SL_ESTIMATOR_CONSISTENT;
-static const int ESTIMATOR_MICROFACET = SL_ESTIMATOR_MICROFACET;
 static const int ESTIMATOR_SPLITSUM = SL_ESTIMATOR_SPLITSUM;
 static const int ESTIMATOR_MIS = SL_ESTIMATOR_MIS;
 static const int ESTIMATOR_CV = SL_ESTIMATOR_CV;
 static const int ESTIMATOR_CV_MIS = SL_ESTIMATOR_CV_MIS;
-
-/* The microfacet estimator's samples: mf, and cv's correction (the same samples, the same frame) */
-static inline bool microfacet_samples(const sl_lighting_uniforms *u)
-{
-    return u->uEstimator == ESTIMATOR_MICROFACET || u->uEstimator == ESTIMATOR_CV;
-}
 static const int ENV_LAYOUT_OCT = SL_ENV_LAYOUT_OCT;
 static const float POLE_EPS = SHADE_POLE_EPS;
 static const float TINY = SL_BRDF_TINY;
@@ -195,7 +188,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
                         int k0, int m, vec3 Ks, float alpha, vec3 V, float NdotV, bool cv, const shade_horizon *h,
                         vec3 *sum)
 {
-    const bool mf = microfacet_samples(u);
+    const bool mf = shade_microfacet_samples(u, alpha);
     const vec3 F1 = sub(vec3s(1.0f), Ks);
     for (int i = 0; i < m; i++) {
         sl_lighting_trace_sample *ts = &t->samples[k0 + i];
@@ -501,13 +494,13 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
                                                                          float alpha)
 {
     lobe_consts c;
-    c.mf = microfacet_samples(u);
+    c.mf = shade_microfacet_samples(u, alpha);
     c.ggx = sl_lobe_is_ggx(alpha);
     c.inv_lh2 = u->uGTerm == SL_GTERM_INV_LH2;
-    c.consistent = u->uEstimator == ESTIMATOR_CONSISTENT;
-    c.distortion = u->uDistortion != 0;
+    c.consistent = shade_estimator_of(u, alpha) == ESTIMATOR_CONSISTENT;
+    c.distortion = shade_distortion_of(u, alpha) != 0;
     c.oct = u->uEnvLayout == ENV_LAYOUT_OCT;
-    c.rule = u->uLodRule;
+    c.rule = shade_lod_rule_of(u, alpha);
     c.alpha = alpha;
     c.a2 = c.ggx ? sl_ggx_a2(alpha) : 0.0f;
     c.base = u->uLodBase;
@@ -1446,11 +1439,15 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
 {
     const vec3 eye = u->uEye;
     const vec3 r[3] = {u->uEnvRotation.c[0], u->uEnvRotation.c[1], u->uEnvRotation.c[2]};
-    /* the frame is about N (microfacet samples), not R. The loop below reads the choice as a
-     * float: with microfacet_samples' flag (two compares) in it, GCC 12 does not vectorize the
-     * loop, and the lighting pass takes 7% longer. */
-    const float about_n = microfacet_samples(u) ? 1.0f : 0.0f;
+    /* the frame is about N (microfacet samples), not R, per lobe set (a GGX lobe may sample
+     * otherwise than a Phong one: shade_estimator_of). The loop below reads the choice as a
+     * float per pixel: with shade_microfacet_samples' flags (compares) in it, GCC 12 does not
+     * vectorize the loop, and the lighting pass takes 7% longer. */
+    const float about_n_phong = shade_microfacet_samples(u, 0.0f) ? 1.0f : 0.0f;
+    const float about_n_ggx = shade_microfacet_samples(u, -1.0f) ? 1.0f : 0.0f;
+    float about_n[SPAN];
     for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
+        about_n[i] = select_f(sl_lobe_is_ggx(t[i].alpha), about_n_ggx, about_n_phong);
         p->Px[i] = t[i].position.x;
         p->Py[i] = t[i].position.y;
         p->Pz[i] = t[i].position.z;
@@ -1465,7 +1462,7 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
         const vec3 V = f.V, N = f.N, NE = f.NE, VE = f.VE, R = f.R;
         const float NdotV = f.NdotV;
         /* specular_ibl's frame about R, or specular_microfacet's about N */
-        const bool mf = about_n != 0.0f;
+        const bool mf = about_n[i] != 0.0f;
         vec3 Z = vec3(select_f(mf, NE.x, R.x), select_f(mf, NE.y, R.y), select_f(mf, NE.z, R.z));
         bool pole = Z.x * Z.x + Z.y * Z.y < POLE_EPS;
         vec3 axis = vec3(select_f(pole, 1.0f, 0.0f), 0.0f, select_f(pole, 0.0f, 1.0f));
@@ -1648,13 +1645,14 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
         env_shadow->specular = vec3s(0.0f);
     const vec3 R = vec3(p->Rx[i], p->Ry[i], p->Rz[i]), A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
     vec3 specular;
-    if (u->uEstimator == ESTIMATOR_SPLITSUM) {
+    const int estimator = shade_estimator_of(u, alpha);
+    if (estimator == ESTIMATOR_SPLITSUM) {
         specular = sl_shade_specular_splitsum(u, N, V, Ks, alpha, trace);
-    } else if (u->uEstimator == ESTIMATOR_MIS) {
+    } else if (estimator == ESTIMATOR_MIS) {
         specular = mis_samples(u, N, V, Ks, alpha, rotation, NO_CV, h, task, trace);
-    } else if (u->uEstimator == ESTIMATOR_CV_MIS) {
+    } else if (estimator == ESTIMATOR_CV_MIS) {
         specular = cvmis_samples(u, N, V, Ks, alpha, rotation, h, task, trace);
-    } else if (u->uEstimator == ESTIMATOR_CV) {
+    } else if (estimator == ESTIMATOR_CV) {
         specular = cv_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, h, task, trace);
     } else {
         specular = specular_samples(u, N, V, R, A, p->B[i], p->pole[i], Ks, alpha, rotation, NO_CV, h, task, trace);
@@ -1889,7 +1887,6 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 sl_lighting_trace *trace, vec3 *out)
 {
     const sl_gbuffer_texel *t = sl_gbuffer_at(gb, x0, y);
-    const bool mf = microfacet_samples(u);
     const bool vector_sum = !trace;
     /* with the env lights' shadow maps, their shadowed terms per pixel for sum_stage */
     const bool shadowed = u->envLightShadows != 0;
@@ -2031,7 +2028,8 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
             trace_surface(task, trace, &s, p->bent[i]);
             /* the samples' count only when they run, as the port records it */
             int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
-            trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples, mf);
+            trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples,
+                               shade_microfacet_samples(u, s.alpha));
             shade_env_shadow es, *env_shadow = NULL;
             es.diffuse_given = false;
             vec3 E = irradiance ? vec3(p->Er[i], p->Eg[i], p->Eb[i]) : vec3s(0.0f); /* unread when off */

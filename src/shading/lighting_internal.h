@@ -32,6 +32,31 @@ enum { SPAN = 32 };
 #define SHADE_POLE_EPS 1e-6f  /* |R.xy|^2 below this: Z x R vanishes, use X x R instead */
 #define SHADE_MAX_ALPHA 1e7f  /* alpha beyond this is a mirror to float precision */
 
+/* How a pixel samples the environment, by its lobe set: a GGX lobe takes the GGX set's own
+ * (uEstimatorGGX ...: a scene of both sets gives its GGX objects the accurate default and keeps
+ * the recipe for the specification's Phong set), which are the frame's where it has none. */
+/* GLSL: estimator_of */
+static inline int shade_estimator_of(const sl_lighting_uniforms *u, float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? u->uEstimatorGGX : u->uEstimator;
+}
+/* GLSL: lod_rule_of */
+static inline int shade_lod_rule_of(const sl_lighting_uniforms *u, float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? u->uLodRuleGGX : u->uLodRule;
+}
+/* GLSL: distortion_of */
+static inline int shade_distortion_of(const sl_lighting_uniforms *u, float alpha)
+{
+    return sl_lobe_is_ggx(alpha) ? u->uDistortionGGX : u->uDistortion;
+}
+/* Whether a lobe's samples are drawn about N (the microfacet estimator's, and cv's) */
+static inline bool shade_microfacet_samples(const sl_lighting_uniforms *u, float alpha)
+{
+    int e = shade_estimator_of(u, alpha);
+    return e == SL_ESTIMATOR_MICROFACET || e == SL_ESTIMATOR_CV;
+}
+
 /* GLSL lobe_param: the G-buffer alpha clamped, Phong's to [0, SHADE_MAX_ALPHA], GGX's (alpha
  * <= -1) to [-2, -1]. Inline, as every path reads it per pixel (a call into lighting.c was 2-3%
  * of the split sum's samples). */

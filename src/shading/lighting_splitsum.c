@@ -68,7 +68,7 @@ typedef struct {
 
 bool sl_shade_splitsum_fast(const sl_lighting_uniforms *u)
 {
-    return u->uEstimator == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 &&
+    return u->uEstimator == SL_ESTIMATOR_SPLITSUM && u->uEstimatorGGX == SL_ESTIMATOR_SPLITSUM && !u->options.plain && u->uEnvLightCount == 0 &&
            u->splitSumPhongGather.gather && u->splitSumGGXGather.gather &&
            u->uSplitSumPhong->level_count == u->uSplitSumGGX->level_count &&
            u->uSplitSumPhong->levels[0].width == u->uSplitSumGGX->levels[0].width &&

@@ -31,6 +31,10 @@ sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt)
         r.estimator = def.estimator;
     if (r.env_intensity == 0.0f)
         r.env_intensity = def.env_intensity;
+    if (r.ggx.estimator == SL_ESTIMATOR_DEFAULT) /* the GGX set samples as the frame does */
+        r.ggx = (sl_lobe_sampling){r.estimator, r.lod_rule, r.distortion};
+    else if (r.ggx.lod_rule == SL_LOD_DEFAULT)
+        r.ggx.lod_rule = def.lod;
     return r;
 }
 
@@ -84,8 +88,13 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         return sl_fail(err, SL_ERR_RANGE, "lighting: lod samples = %d, expected 1..%d", o.lod_samples,
                        SL_HAMMERSLEY_MAX);
     if ((unsigned)o.lod_rule > SL_LOD_PDF || (unsigned)o.estimator > SL_ESTIMATOR_CV_MIS ||
+        (unsigned)o.ggx.lod_rule > SL_LOD_PDF || (unsigned)o.ggx.estimator > SL_ESTIMATOR_CV_MIS ||
         (unsigned)o.gterm > SL_GTERM_ONE || (unsigned)o.env_layout > SL_ENV_LAYOUT_OCT)
         return sl_fail(err, SL_ERR_RANGE, "lighting: unknown lod rule, estimator, G term or environment layout");
+    /* the two sets share the frame's Hammersley set, which mis and cvmis split into pairs */
+    if (sl_estimator_reads_env_dist(o.estimator) != sl_estimator_reads_env_dist(o.ggx.estimator))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: the GGX set's estimator %s and the frame's %s draw different sample sets",
+                       sl_estimator_name(o.ggx.estimator), sl_estimator_name(o.estimator));
     if (desc->light_count < 0 || desc->light_count > SL_LIGHTING_MAX_LIGHTS)
         return sl_fail(err, SL_ERR_RANGE, "lighting: %d point lights, at most %d", desc->light_count,
                        SL_LIGHTING_MAX_LIGHTS);
@@ -117,14 +126,15 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
     if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
-    const bool splitsum = sl_estimator_reads_splitsum(o.estimator);
+    const bool splitsum = sl_estimator_reads_splitsum(o.estimator) || sl_estimator_reads_splitsum(o.ggx.estimator);
     if (splitsum && (!desc->splitsum_phong || !desc->splitsum_ggx || !desc->splitsum_lut ||
                      desc->splitsum_phong->level_count != SL_PREFILTER_LEVELS ||
                      desc->splitsum_ggx->level_count != SL_PREFILTER_LEVELS))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator asked for, but no prefiltered chains of %d levels or no table given",
-                       sl_estimator_name(o.estimator), SL_PREFILTER_LEVELS);
+                       sl_estimator_name(sl_estimator_reads_splitsum(o.estimator) ? o.estimator : o.ggx.estimator),
+                       SL_PREFILTER_LEVELS);
 
-    const bool mis = sl_estimator_reads_env_dist(o.estimator);
+    const bool mis = sl_estimator_reads_env_dist(o.estimator); /* and so the GGX set's (above) */
     if (mis && oct)
         return sl_fail(err, SL_ERR_RANGE, "lighting: the %s estimator reads the lat-long level 0, not the octahedral layout",
                        sl_estimator_name(o.estimator));
@@ -211,6 +221,9 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uDistortion = o.distortion ? 1 : 0;
     u->uGTerm = (int)o.gterm;
     u->uEstimator = (int)o.estimator;
+    u->uLodRuleGGX = (int)o.ggx.lod_rule;
+    u->uDistortionGGX = o.ggx.distortion ? 1 : 0;
+    u->uEstimatorGGX = (int)o.ggx.estimator;
     u->uDiffuse = o.no_diffuse ? 0 : 1;
     u->uSpecular = o.no_specular ? 0 : 1;
     u->uPointLights = (o.no_point_lights || desc->light_count == 0) ? 0 : 1;

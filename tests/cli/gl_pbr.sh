@@ -4,6 +4,8 @@
 # occlusion_map with occlusion_strength, emissive with an emissive_map, on shipped textures; an
 # untextured sphere and a plain floor beside it), rendered by `softlight render --aov` and
 # `softlight-gl render --aov`, channel by channel (gbuffer_diff.py) and radiance after the tone map.
+# The scene holds both lobe sets, so each samples its own way in both renderers (the GGX objects
+# the microfacet estimator, the Phong sphere the recipe: docs/lighting.md "Phong and GGX").
 # Also: both write occlusion.pfm and emissive.pfm for it, neither for scenes/textured.json, and
 # `softlight info` prints 76 B/pixel for it and 56 for a scene without the channels.
 # Then the shipped scenes/pbr.json, the same maps arriving through a glTF file instead of scene

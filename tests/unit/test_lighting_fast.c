@@ -278,6 +278,73 @@ static void test_batched_vs_plain_ggx(void **state)
     sl_env_free(&env);
 }
 
+/* A frame whose GGX set samples otherwise than its Phong set (options.ggx: a scene of both
+ * sets): in either path each pixel gets the bits of a frame that samples every pixel its set's
+ * way, the GGX spheres those of the microfacet estimator's frame (its frame about N, its lod
+ * rule and distortion), the Phong sphere the recipe's; the paths agree as in
+ * test_batched_vs_plain. Checked on the row of test_batched_vs_plain_ggx with and without env
+ * lights. */
+static void test_lobe_set_sampling(void **state)
+{
+    (void)state;
+    sl_env env;
+    sl_env_lights el;
+    const sl_camera cam = sunny_row(&env, &el);
+    sl_synthetic_sphere sp[5] = {
+        {vec3(-2.4f, 0, 0), 0.55f, vec3s(0.0f), vec3(0.95f, 0.64f, 0.54f), sl_gbuffer_ggx_alpha(0.1f)},
+        {vec3(-1.2f, 0, 0), 0.55f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), sl_gbuffer_ggx_alpha(0.3f)},
+        {vec3(0, 0, 0), 0.55f, vec3(0.2f, 0.2f, 0.2f), vec3s(0.04f), 80.0f},
+        {vec3(1.2f, 0, 0), 0.55f, vec3s(0.1f), vec3s(0.9f), sl_gbuffer_ggx_alpha(0.6f)},
+        {vec3(2.4f, 0, 0), 0.55f, vec3(0.8f, 0.2f, 0.2f), vec3s(0.5f), 5.0f},
+    };
+    fx_frame f;
+    fx_frame_spheres(&f, &env, &cam, sp, 5, 320, 120);
+    f.env_lights = &el;
+    const sl_lobe_sampling mf = {SL_ESTIMATOR_MICROFACET, SL_LOD_PDF, true};
+    for (int lights = 0; lights <= 8; lights += 8) {
+        const sl_lighting_options both = {.samples = 24, .env_lights = lights, .ggx = mf};
+        const sl_lighting_options all_mf = {.samples = 24, .env_lights = lights, .estimator = mf.estimator,
+                                            .lod_rule = mf.lod_rule, .distortion = mf.distortion};
+        const sl_lighting_options all_spec = {.samples = 24, .env_lights = lights};
+        for (int plain = 0; plain < 2; plain++) {
+            sl_image a = {0}, g = {0}, p = {0};
+            sl_lighting_options o[3] = {both, all_mf, all_spec};
+            for (int k = 0; k < 3; k++)
+                o[k].plain = plain;
+            fx_frame_render(&f, o[0], &a);
+            fx_frame_render(&f, o[1], &g);
+            fx_frame_render(&f, o[2], &p);
+            int ggx = 0, phong = 0, differ = 0, same = 0;
+            for (int y = 0; y < f.gb.height; y++)
+                for (int x = 0; x < f.gb.width; x++) {
+                    const sl_gbuffer_texel *t = sl_gbuffer_at(&f.gb, x, f.gb.height - 1 - y); /* row 0 = top */
+                    if (t->depth >= 1.0f)
+                        continue;
+                    const bool is_ggx = sl_lobe_is_ggx(t->alpha);
+                    const size_t i = 3 * ((size_t)y * (size_t)f.gb.width + (size_t)x);
+                    const sl_image *want = is_ggx ? &g : &p;
+                    ggx += is_ggx;
+                    phong += !is_ggx;
+                    differ += memcmp(&a.data[i], &want->data[i], 3 * sizeof(float)) != 0;
+                    same += memcmp(&g.data[i], &p.data[i], 3 * sizeof(float)) == 0;
+                }
+            print_message("lobe sets, %d env lights, %s: %d GGX and %d Phong pixels, %d not their set's bits, %d "
+                          "alike under both estimators\n",
+                          lights, plain ? "plain" : "batched", ggx, phong, differ, same);
+            assert_true(ggx > 800 && phong > 400);
+            assert_int_equal(differ, 0);
+            assert_true(same < (ggx + phong) / 100); /* a pixel that took the other set's estimator shows */
+            sl_image_free(&a);
+            sl_image_free(&g);
+            sl_image_free(&p);
+        }
+        assert_batched_matches_plain(&f, both, "lobe sets", (size_t)lights, NULL);
+    }
+    fx_frame_teardown(&f);
+    sl_env_lights_free(&el);
+    sl_env_free(&env);
+}
+
 /* The facet plane (sl_gbuffer.facet) with reflection occlusion on: every estimator leaves the
  * directions under the pixel's facet out, sample by sample, and so do the env lights
  * (lighting_internal.h shade_facet_hides). On GGX and Phong spheres whose facets lean FACET_LEAN
@@ -732,6 +799,7 @@ int main(void)
         cmocka_unit_test(test_hash_hand_values),
         cmocka_unit_test(test_batched_vs_plain),
         cmocka_unit_test(test_batched_vs_plain_ggx),
+        cmocka_unit_test(test_lobe_set_sampling),
         cmocka_unit_test(test_batched_vs_plain_cone),
         cmocka_unit_test(test_facet_hides),
         cmocka_unit_test(test_block_fetch_bitwise),
