@@ -16,7 +16,7 @@
 # truth --compare` of each variant: nRMSE and the shares of pixels more than 1/255 and 8/255 off
 # after the scene's tone map. The Phong pixels are the same bits under the default and under the
 # recipe, so the two rows differ by the GGX pixels alone. Writes docs/accuracy/lobe-sets.md.
-# About 10 minutes on the 2-core machine with a cold cache (most of it the ground truth).
+# About 15 minutes on the 2-core machine with a cold cache (most of it the ground truth).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/cpu_frame.bash # vector_isa
