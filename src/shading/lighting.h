@@ -206,6 +206,13 @@ typedef struct {
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */
     sl_lighting_options options;         /* resolved */
+    /* C only: each lobe set's sampling, [0] the Phong set's (uEstimator, uLodRule, uDistortion),
+     * [1] the GGX set's (uEstimatorGGX ...), with whether its samples are drawn about N (mf,
+     * cv): read through the lobe's sign (lighting_internal.h shade_estimator_of) */
+    struct {
+        int estimator, lod_rule, distortion;
+        bool about_n;
+    } setSampling[2];
     /* C only, for the batched path's vectorized fetch: uEnv and uEnvResidual as single blocks
      * (ibl/texture_lod.h); without a block it fetches texel by texel (same bits). */
     sl_env_gather envGather, residualGather;

@@ -1443,8 +1443,8 @@ static void pixel_stage(const sl_lighting_uniforms *u, const sl_gbuffer_texel *t
      * otherwise than a Phong one: shade_estimator_of). The loop below reads the choice as a
      * float per pixel: with shade_microfacet_samples' flags (compares) in it, GCC 12 does not
      * vectorize the loop, and the lighting pass takes 7% longer. */
-    const float about_n_phong = shade_microfacet_samples(u, 0.0f) ? 1.0f : 0.0f;
-    const float about_n_ggx = shade_microfacet_samples(u, -1.0f) ? 1.0f : 0.0f;
+    const float about_n_phong = u->setSampling[0].about_n ? 1.0f : 0.0f;
+    const float about_n_ggx = u->setSampling[1].about_n ? 1.0f : 0.0f;
     float about_n[SPAN];
     for (int i = 0; i < count; i++) { /* to structure of arrays: the G-buffer texel is 56 bytes */
         about_n[i] = select_f(sl_lobe_is_ggx(t[i].alpha), about_n_ggx, about_n_phong);

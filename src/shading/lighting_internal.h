@@ -34,27 +34,28 @@ enum { SPAN = 32 };
 
 /* How a pixel samples the environment, by its lobe set: a GGX lobe takes the GGX set's own
  * (uEstimatorGGX ...: a scene of both sets gives its GGX objects the accurate default and keeps
- * the recipe for the specification's Phong set), which are the frame's where it has none. */
+ * the recipe for the specification's Phong set), which are the frame's where it has none; read
+ * from the uniforms' setSampling, a table by the lobe's sign (selects of the two sets' uniforms
+ * cost the batched path's direction loops their vectorization in some inlined copies). */
 /* GLSL: estimator_of */
 static inline int shade_estimator_of(const sl_lighting_uniforms *u, float alpha)
 {
-    return sl_lobe_is_ggx(alpha) ? u->uEstimatorGGX : u->uEstimator;
+    return u->setSampling[sl_lobe_is_ggx(alpha)].estimator;
 }
 /* GLSL: lod_rule_of */
 static inline int shade_lod_rule_of(const sl_lighting_uniforms *u, float alpha)
 {
-    return sl_lobe_is_ggx(alpha) ? u->uLodRuleGGX : u->uLodRule;
+    return u->setSampling[sl_lobe_is_ggx(alpha)].lod_rule;
 }
 /* GLSL: distortion_of */
 static inline int shade_distortion_of(const sl_lighting_uniforms *u, float alpha)
 {
-    return sl_lobe_is_ggx(alpha) ? u->uDistortionGGX : u->uDistortion;
+    return u->setSampling[sl_lobe_is_ggx(alpha)].distortion;
 }
 /* Whether a lobe's samples are drawn about N (the microfacet estimator's, and cv's) */
 static inline bool shade_microfacet_samples(const sl_lighting_uniforms *u, float alpha)
 {
-    int e = shade_estimator_of(u, alpha);
-    return e == SL_ESTIMATOR_MICROFACET || e == SL_ESTIMATOR_CV;
+    return u->setSampling[sl_lobe_is_ggx(alpha)].about_n;
 }
 
 /* GLSL lobe_param: the G-buffer alpha clamped, Phong's to [0, SHADE_MAX_ALPHA], GGX's (alpha

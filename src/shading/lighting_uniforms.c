@@ -224,6 +224,13 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
     u->uLodRuleGGX = (int)o.ggx.lod_rule;
     u->uDistortionGGX = o.ggx.distortion ? 1 : 0;
     u->uEstimatorGGX = (int)o.ggx.estimator;
+    for (int k = 0; k < 2; k++) { /* Phong, GGX */
+        int e = k ? u->uEstimatorGGX : u->uEstimator;
+        u->setSampling[k].estimator = e;
+        u->setSampling[k].lod_rule = k ? u->uLodRuleGGX : u->uLodRule;
+        u->setSampling[k].distortion = k ? u->uDistortionGGX : u->uDistortion;
+        u->setSampling[k].about_n = e == SL_ESTIMATOR_MICROFACET || e == SL_ESTIMATOR_CV;
+    }
     u->uDiffuse = o.no_diffuse ? 0 : 1;
     u->uSpecular = o.no_specular ? 0 : 1;
     u->uPointLights = (o.no_point_lights || desc->light_count == 0) ? 0 : 1;
