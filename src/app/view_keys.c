@@ -48,8 +48,9 @@ static const key_row rows[] = {
     {"Y", "key y", "sky visibility maps on / off (the count of --sky-maps or the scene's, else 32)"},
     {"J", "key j", "reflection occlusion on / off (the distance of --reflection-occlusion or the scene's, else "
                    "half the scene's bounding diagonal)"},
-    {"L", "key l", "mip-level rule: {lod}"},
-    {"K", "key k", "estimator: {estimator}"},
+    {"L", "key l", "mip-level rule: {lod} (both lobe sets')"},
+    {"K", "key k", "estimator: {estimator} (every material's, where a scene of both lobe sets samples each "
+                   "its own way)"},
     {"G", "key g", "G term: {gterm}"},
     {"V / shift+V", "key v|key shift+v", "view, forward / back: {views}"},
     {"T", "key t", "trace the pixel under the pointer (softlight trace's text, in the window and on stdout)"},

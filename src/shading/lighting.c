@@ -1102,7 +1102,7 @@ vec3 sl_shade_plain(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x, 
                            .rotation = rotation, .occlusion = e.occlusion, .emissive = e.emissive,
                            .reflection = shade_reflection(gb, x, y), .cone = shade_cone(gb, x, y),
                            .Fenv = shade_facet_env(u, gb, x, y)};
-        trace_surface(task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
+        trace_surface(u, task, trace, &s, dot(t->normal, V) < MIN_NDOTV * length(t->normal));
         color = sl_shade_surface_color(u, &s, NULL, NULL, NULL, NULL, task, trace);
     }
     return sl_shade_finish(color, task, trace);

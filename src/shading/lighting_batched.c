@@ -2025,7 +2025,7 @@ void sl_shade_span(const sl_lighting_uniforms *u, const sl_gbuffer *gb, int x0, 
                 .Fenv = shade_facet_env(u, gb, x, y),
             };
             vec3 A = vec3(p->Ax[i], p->Ay[i], p->Az[i]);
-            trace_surface(task, trace, &s, p->bent[i]);
+            trace_surface(u, task, trace, &s, p->bent[i]);
             /* the samples' count only when they run, as the port records it */
             int traced_samples = u->uSpecular != 0 ? (int)u->uHammersley.N : 0;
             trace_sample_frame(trace, s.Nenv, s.Venv, A, p->B[i], p->pole[i], traced_samples,

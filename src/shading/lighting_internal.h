@@ -660,12 +660,19 @@ static inline void count_bent(sl_lighting_task *task, bool bent)
         task->stats.bent_normals += bent;
 }
 
-/* The covered pixel's frame; bent: its normal was bent toward the eye (facing_normal). */
-static inline void trace_surface(sl_lighting_task *task, sl_lighting_trace *t, const shade_surface *s, bool bent)
+/* The covered pixel's frame and how its lobe set samples; bent: its normal was bent toward the
+ * eye (facing_normal). */
+static inline void trace_surface(const sl_lighting_uniforms *u, sl_lighting_task *task, sl_lighting_trace *t,
+                                 const shade_surface *s, bool bent)
 {
     count_bent(task, bent);
     if (!t)
         return;
+    t->estimator = shade_estimator_of(u, s->alpha);
+    t->lod_rule = shade_lod_rule_of(u, s->alpha);
+    t->distortion = shade_distortion_of(u, s->alpha) != 0;
+    t->set_own = sl_lobe_is_ggx(s->alpha) && (u->uEstimatorGGX != u->uEstimator || u->uLodRuleGGX != u->uLodRule ||
+                                              u->uDistortionGGX != u->uDistortion);
     t->V = s->V;
     t->N = s->N;
     t->bent = bent;

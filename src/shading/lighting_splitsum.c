@@ -542,7 +542,7 @@ void sl_shade_span_splitsum(const sl_lighting_uniforms *u, const sl_gbuffer *gb,
                     .Nenv = vec3(b->NEx[i], b->NEy[i], b->NEz[i]),
                     .Venv = mat3_mul_vec3(u->uEnvRotation, vec3(b->Vx[i], b->Vy[i], b->Vz[i])),
                     .occlusion = b->occ[i], .emissive = vec3(b->emr[i], b->emg[i], b->emb[i])};
-                trace_surface(NULL, trace, &s, b->bent[i]);
+                trace_surface(u, NULL, trace, &s, b->bent[i]);
                 vec3 E = vec3(b->er[i], b->eg[i], b->eb[i]);
                 if (u->uDiffuse != 0)
                     trace_diffuse(trace, E, scale(mul(scale(s.Kd, 1.0f / PI), E), u->uEnvIntensity));

@@ -157,6 +157,9 @@ void sl_lighting_trace_print(FILE *f, const sl_lighting_trace *t)
     if (sl_lobe_is_ggx(t->alpha)) /* the lobe parameter's GGX range (raster/gbuffer.h) */
         fprintf(f, "  %-12s GGX, roughness r = %.6g, a^2 = %.6g (G: height-correlated Smith)\n", "lobe",
                 (double)(-1.0f - t->alpha), (double)sl_ggx_a2(t->alpha));
+    fprintf(f, "  %-12s estimator %s, lod %s%s%s\n", "sampling", sl_estimator_name((sl_estimator)t->estimator),
+            sl_lod_rule_name((sl_lod_rule)t->lod_rule), t->distortion ? ", distortion" : "",
+            t->set_own ? " (the GGX set's own; the Phong set's differ)" : "");
     fprintf(f, "frame (world)\n");
     print3(f, "V", t->V);
     print3(f, "N", t->N);

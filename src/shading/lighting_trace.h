@@ -71,6 +71,9 @@ struct sl_lighting_trace {
     vec3 cv_correction;      /* ... and the samples' mean of (F W - beta E K / p) Li, each sample's c
                                 its term and cv_kp its K(w) / p(w) */
     float alpha;
+    int estimator, lod_rule; /* how the lobe's set samples (sl_estimator, sl_lod_rule) */
+    bool distortion;
+    bool set_own;            /* ... the GGX set's own, not the frame's (a scene of both sets) */
     int sample_count;
     sl_lighting_trace_sample samples[SL_HAMMERSLEY_MAX];
     bool mis;                /* the MIS estimator ran (specular_mis): samples[k] is pair k's BRDF

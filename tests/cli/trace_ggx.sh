@@ -11,7 +11,8 @@
 # a^2)); for `spec` the contribution F Li G w.N / 4. The printed figures have 4-5 significant
 # digits: 1% relative is far inside what a wrong formula (Phong's D at the equivalent exponent,
 # Phong's 1/(L.H)^2, H's density taken as D (N.H)) moves. Both paths (the batched default and
-# --plain, the port). A Phong pixel has no lobe line.
+# --plain, the port). A Phong pixel has no lobe line. In a scene of both sets (model.json) each
+# pixel's sampling line names its set's estimator.
 #
 # The truth: its specular part on the GGX scene against the microfacet estimator at N = 1024
 # (unbiased, filtered): nRMSE below 0.08 (measured 0.022 at 32x18), where eq. (3)'s `spec` is far
@@ -72,6 +73,29 @@ done
 "$SL" trace scenes/default.json --size 160x90 --pixel 80,45 -n 2 >"$T/p.txt"
 ! grep -q "^  lobe" "$T/p.txt" || { echo "FAIL: a Phong pixel printed a GGX lobe line"; exit 1; }
 echo "ok   trace: D, G and contributions of $checked GGX traces recomputed within 1%"
+
+# a scene of both sets (model.json: the GGX model on a Phong floor) samples each its own way, and
+# the trace says which: the model's pixel the microfacet estimator, the floor's the recipe
+for path in "" --plain; do
+    "$SL" trace scenes/model.json --size 160x90 --pixel 80,40 -n 4 --no-lights $path >"$T/m.txt"
+    grep -q "^  sampling     estimator mf, lod pdf, distortion (the GGX set's own" "$T/m.txt" &&
+        grep -q "^specular samples (N = 4; microfacet estimator" "$T/m.txt" ||
+        { echo "FAIL: model.json's GGX pixel $path does not sample by mf"; cat "$T/m.txt"; exit 1; }
+    "$SL" trace scenes/model.json --size 160x90 --pixel 8,85 -n 4 --no-lights $path >"$T/f.txt"
+    grep -q "^  sampling     estimator spec, lod spec-d4$" "$T/f.txt" &&
+        grep -q "^specular samples (N = 4; directions drawn about R" "$T/f.txt" ||
+        { echo "FAIL: model.json's Phong floor pixel $path does not sample by the recipe"; cat "$T/f.txt"; exit 1; }
+done
+echo "ok   trace: a scene of both sets, its GGX pixel by mf and its Phong pixel by the recipe"
+# ... and info and render say so; a named estimator sets every pixel's
+"$SL" info scenes/model.json | grep -q "^  GGX        estimator mf, lod pdf, distortion (the GGX materials'" ||
+    { echo "FAIL: info prints no GGX sampling line for model.json"; exit 1; }
+"$SL" render scenes/model.json --size 32x18 -o "$T/m.png" | grep -q "^GGX materials: estimator=mf lod=pdf distortion" ||
+    { echo "FAIL: render prints no GGX sampling line for model.json"; exit 1; }
+! "$SL" info scenes/model.json --estimator cv | grep -q "^  GGX " ||
+    { echo "FAIL: --estimator cv left the GGX set its own sampling"; exit 1; }
+! "$SL" info scenes/default.json | grep -q "^  GGX " || { echo "FAIL: a Phong scene printed a GGX sampling line"; exit 1; }
+echo "ok   info and render: the GGX set's own sampling printed where a scene of both sets takes it, not otherwise"
 
 # the truth's GGX specular against the microfacet estimator
 "$SL" truth "$scene" --size 32x18 --cache "$T/g.gt" --part specular --pfm "$T/truth.pfm" >/dev/null 2>&1
