@@ -278,12 +278,12 @@ int cmd_info(int argc, char **argv)
     print_vec3("target", c->target);
     printf("  fovy       %g degrees, near %g, far %g\n", (double)c->fovy_deg, (double)c->znear, (double)c->zfar);
 
-    const sl_option_values *s = &scene.options;
     if (!sl_render_desc_resolve(&desc, &scene, &err)) { /* what `render` with these options uses */
         fprintf(stderr, "softlight info: %s\n", err.msg);
         sl_scene_free(&scene);
         return 2;
     }
+    const sl_option_values *s = &desc.options; /* the scene's, the command line's over them, the defaults */
     printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->size[0], s->size[1], s->samples,
            (double)s->exposure, (double)s->contrast);
     const sl_lighting_options modes = desc.lighting;

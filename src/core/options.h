@@ -43,6 +43,10 @@
  * plateau well. Else the fewest lights that take all but WORTH_REST of what the ceiling's take. */
 #define SL_ENV_LIGHTS_WORTH_PEAK 0.25
 #define SL_ENV_LIGHTS_WORTH_REST 0.02
+/* N for a scene whose objects are all GGX where neither it nor the command line sets one (a model
+ * opened alone): its default mode (mf, pdf, distortion, the env lights worth their cost) at N 16
+ * costs 0.87-0.97 times the recipe at the option table's N 40 (docs/accuracy.md "Defaults"). */
+#define SL_GGX_DEFAULT_SAMPLES 16
 #define SL_SKY_MAPS_MAX 64 /* the most sky visibility maps (--sky-maps; src/shadow/sky.h) */
 /* A texel under a lobe narrower than a few texels is integrated over cells of equal solid angle,
  * by the ground truth (src/ibl/ground_truth.h) and by the env lights (lighting.frag

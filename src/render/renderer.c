@@ -236,6 +236,8 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
             sl_option_set_env_lights(&o, SL_ENV_LIGHTS_MAX);
             d->env_lights_worth = true; /* a ceiling: only the lights worth their cost */
         }
+        if (!sl_option_is_set(&o, SL_OPT_SAMPLES)) /* the recipe's cost at its N */
+            sl_option_set_samples(&o, SL_GGX_DEFAULT_SAMPLES);
     }
     if (!sl_option_values_check(&o, scene->path, err))
         return false;
