@@ -3,7 +3,10 @@
 # what their default, each set sampled its own way (docs/accuracy.md "Defaults": the GGX objects
 # by the microfacet estimator with the pdf rule and the distortion, the Phong ones by the
 # recipe), costs and leaves against the truth, beside every pixel sampled by the recipe and
-# every pixel by the microfacet estimator.
+# every pixel by the microfacet estimator; and scenes of GGX objects alone that set no N, as a
+# model opened by itself is (`model-alone`, model.json without its floor; `pbr-alone`, pbr.json):
+# their default (mf, pdf, distortion, the env lights worth their cost) at the N they take
+# (SL_GGX_DEFAULT_SAMPLES) and at N 40, beside the recipe at N 40.
 #
 #   bench/lobe-sets.sh [BUILD_DIR] [SIZE]
 #
@@ -16,7 +19,7 @@
 # truth --compare` of each variant: nRMSE and the shares of pixels more than 1/255 and 8/255 off
 # after the scene's tone map. The Phong pixels are the same bits under the default and under the
 # recipe, so the two rows differ by the GGX pixels alone. Writes docs/accuracy/lobe-sets.md.
-# About 15 minutes on the 2-core machine with a cold cache (most of it the ground truth).
+# About 25 minutes on the 2-core machine with a cold cache (most of it the ground truth).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source bench/cpu_frame.bash # vector_isa
@@ -47,7 +50,14 @@ spheres = absolute(json.load(open("scenes/ggx.json")))
 spheres["materials"]["floor"] = {"kd": 0.3, "ks": 0.04, "alpha": 50}
 spheres["objects"].append({"shape": "plane", "material": "floor",
                            "transform": {"translate": [0, 0, -2.1], "scale": [12, 12, 1]}})
-for name, s in (("model", model), ("spheres-floor", spheres)):
+# GGX alone, as a model opened by itself is: the model without its floor and pbr.json, neither
+# setting N
+alone = json.loads(json.dumps(model))
+alone["objects"] = [o for o in alone["objects"] if "model" in o]
+alone["render"].pop("samples", None)
+pbr = absolute(json.load(open("scenes/pbr.json")))
+pbr["render"].pop("samples", None)
+for name, s in (("model", model), ("spheres-floor", spheres), ("model-alone", alone), ("pbr-alone", pbr)):
     json.dump(s, open(os.path.join(out, name + ".json"), "w"))
     for env in ("sun", "night", "horizon"):
         s["environment"] = {"hdr": os.path.join(out, env + ".pfm"), "intensity": 1, "rotation": 0}
@@ -59,5 +69,12 @@ front_table_head bench/lobe-sets.sh "$md"
 for name in model model-sun model-night model-horizon spheres-floor spheres-floor-sun spheres-floor-night \
     spheres-floor-horizon; do
     front_rows "$SL" "$BENCH" "$name" "$T/$name.json" "$size" "$cache/$name-$size.gt" "$T/$name" "$md" "${V[@]}"
+done
+# GGX alone: the recipe at N 40, the default at the N it takes when the scene sets none (N 0:
+# the scene's own) and at N 40
+A=("recipe-N40|spec|spec-d4|0|40" "default|default|-|0|0|auto" "default-N40|default|-|0|40|auto")
+for name in model-alone model-alone-sun model-alone-night model-alone-horizon pbr-alone pbr-alone-sun \
+    pbr-alone-night pbr-alone-horizon; do
+    front_rows "$SL" "$BENCH" "$name" "$T/$name.json" "$size" "$cache/$name-$size.gt" "$T/$name" "$md" "${A[@]}"
 done
 echo "lobe-sets: table in $md" >&2

@@ -8,7 +8,8 @@
  * ENV_LIGHTS: a count K, or auto: those of the brightest 64 worth their cost, as the GGX default
  * takes them (src/ibl/env_lights.h sl_env_lights_extract_worth). ESTIMATOR `default`: the
  * scene's own sampling as sl_render_desc_resolve gives it (LOD and DISTORTION unread; a scene of
- * both lobe sets samples each its way); any other estimator sets every pixel's.
+ * both lobe sets samples each its way); any other estimator sets every pixel's. N 0: the scene's
+ * own N as resolved (a scene of GGX objects alone that sets none: SL_GGX_DEFAULT_SAMPLES).
  *
  * Why a program of its own: the sweep of bench/speed_vs_error.c runs every variant on fixed
  * scenes; this one takes any scene file (the environments bench/mis-front.sh writes into a
@@ -68,6 +69,7 @@ int main(int argc, char **argv)
         char est[32], lod[32], lights[32] = "0";
         int dist, n, env_lights = 0;
         if (sscanf(argv[5 + i], "%63[^|]|%31[^|]|%31[^|]|%d|%d|%31s", names[i], est, lod, &dist, &n, lights) < 5 ||
+            n < 0 ||
             (strcmp(lights, "auto") != 0 && sscanf(lights, "%d", &env_lights) != 1)) {
             fprintf(stderr, "bench_mis_front: %s: expected NAME|ESTIMATOR|LOD|DISTORTION|N[|ENV_LIGHTS or auto]\n", argv[5 + i]);
             return 2;
@@ -107,7 +109,8 @@ int main(int argc, char **argv)
             opts[i].distortion = dist != 0;
             opts[i].ggx = (sl_lobe_sampling){0};
         }
-        opts[i].samples = n;
+        if (n > 0) /* 0: the scene's N as resolved */
+            opts[i].samples = n;
         opts[i].env_lights = env_lights; /* extracted once per count, outside the timed frames */
         opts[i].env_lights_worth = worth;
         opts[i].no_point_lights = true;
