@@ -96,6 +96,15 @@ echo "ok   trace: a scene of both sets, its GGX pixel by mf and its Phong pixel 
     { echo "FAIL: --estimator cv left the GGX set its own sampling"; exit 1; }
 ! "$SL" info scenes/default.json | grep -q "^  GGX " || { echo "FAIL: a Phong scene printed a GGX sampling line"; exit 1; }
 echo "ok   info and render: the GGX set's own sampling printed where a scene of both sets takes it, not otherwise"
+# N: 16 for GGX objects alone that set none (a model opened by itself), else the scene's or the
+# command line's, and 40 for the others
+for want in "scenes/models/bunny.gltf|16" "scenes/models/bunny.gltf -n 40|40" "scenes/ggx.json|40" \
+    "scenes/model.json|40" "scenes/default.json|40"; do
+    # shellcheck disable=SC2086
+    "$SL" info ${want%|*} | grep -q "^  render     .*, N = ${want#*|} samples" ||
+        { echo "FAIL: info ${want%|*}: not N = ${want#*|}"; exit 1; }
+done
+echo "ok   info: N 16 for a model opened by itself, the scene's or the command line's N otherwise"
 
 # the truth's GGX specular against the microfacet estimator
 "$SL" truth "$scene" --size 32x18 --cache "$T/g.gt" --part specular --pfm "$T/truth.pfm" >/dev/null 2>&1

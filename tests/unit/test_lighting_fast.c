@@ -334,6 +334,19 @@ static void test_lobe_set_sampling(void **state)
         }
         assert_batched_matches_plain(&f, both, "lobe sets", (size_t)lights, NULL);
     }
+    /* a GGX set drawing MIS's pairs where the frame draws single samples shares no sample set:
+     * refused with one line, as either way round */
+    sl_lighting_uniforms *u = malloc(sizeof *u);
+    assert_non_null(u);
+    sl_error err;
+    const sl_lighting_options pairs[2] = {{.samples = 24, .ggx = {SL_ESTIMATOR_MIS, SL_LOD_NONE, false}},
+                                          {.samples = 24, .estimator = SL_ESTIMATOR_CV_MIS, .ggx = mf}};
+    for (int k = 0; k < 2; k++) {
+        sl_lighting_desc d = fx_frame_desc(&f, pairs[k]);
+        assert_false(sl_lighting_uniforms_init(u, &d, &err));
+        assert_non_null(strstr(err.msg, "draw different sample sets"));
+    }
+    free(u);
     fx_frame_teardown(&f);
     sl_env_lights_free(&el);
     sl_env_free(&env);
