@@ -108,6 +108,7 @@ int main(int argc, char **argv)
             opts[i].lod_rule = lod_rule;
             opts[i].distortion = dist != 0;
             opts[i].ggx = (sl_lobe_sampling){0};
+            opts[i].env_lights_ggx_only = false;
         }
         if (n > 0) /* 0: the scene's N as resolved */
             opts[i].samples = n;

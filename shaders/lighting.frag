@@ -51,6 +51,8 @@
 //                         chain uploaded level by level (src/ibl/env_oct.c), MAX_LEVEL = levels - 1,
 //                         read with texelFetch (env_oct_bilinear: the fold at the edge is by hand)
 //   int   uEnvLightCount  0 .. 64: the environment's brightest texels, summed exactly
+//   int   uEnvLightsGGXOnly  1: they are the GGX set's alone; a Phong lobe sums none and its
+//                         samples read uEnv (env_lights_of; a scene of both sets' default)
 //   vec4  uEnvLightDir[64]       .xyz: the texel's centroid direction (environment space)
 //   vec4  uEnvLightRadiance[64]  .rgb: the radiance taken out of it times |integral of w over it|,
 //                                .a: the texel's solid angle over that |integral|
@@ -191,6 +193,11 @@ uniform int uEnvLayout;
 
 const int MAX_ENV_LIGHTS = 64;
 uniform int uEnvLightCount;
+#ifdef SL_SPECIALIZED
+const int uEnvLightsGGXOnly = SL_ENV_LIGHTS_GGX_ONLY;
+#else
+uniform int uEnvLightsGGXOnly;
+#endif
 uniform vec4 uEnvLightDir[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightRadiance[MAX_ENV_LIGHTS];
 uniform vec4 uEnvLightTexel[MAX_ENV_LIGHTS];
@@ -455,6 +462,12 @@ int distortion_of(float alpha)
 {
     return sl_lobe_is_ggx(alpha) ? uDistortionGGX : uDistortion;
 }
+// Whether a lobe sums the env lights, its samples then reading uEnvResidual: every lobe, or with
+// uEnvLightsGGXOnly a GGX one alone (a Phong lobe's samples read uEnv, as the recipe's do).
+bool env_lights_of(float alpha)
+{
+    return uEnvLightCount > 0 && (uEnvLightsGGXOnly == 0 || sl_lobe_is_ggx(alpha));
+}
 
 // D and G of the pixel's set, by the sign of its lobe parameter (uGTerm is the Phong set's).
 float sl_lobe_D(float NdotH, float alpha)
@@ -607,9 +620,12 @@ vec3 env_oct_bilinear(int level, vec2 uv)
 }
 
 // The specular samples' radiance at direction w and level lod (already clamped to [0, uEnvMaxLod]):
-// GL's trilinear textureLod of the lat-long chain, or the same filter by hand on the octahedral one.
-vec3 env_lod(vec3 w, float lod)
+// GL's trilinear textureLod of the lat-long chain, or the same filter by hand on the octahedral one;
+// a Phong lobe's where the env lights are the GGX set's alone reads uEnv itself (lat-long).
+vec3 env_lod(float alpha, vec3 w, float lod)
 {
+    if (uEnvLightsGGXOnly != 0 && !sl_lobe_is_ggx(alpha))
+        return textureLod(uEnv, sl_dir_to_uv(w), lod).rgb;
     if (uEnvLayout == ENV_LAYOUT_OCT) {
         vec2 uv = env_oct_uv(w);
         int l0 = int(lod);
@@ -1135,7 +1151,7 @@ vec3 specular_ibl(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation)
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(alpha, D, pdf, w);
-        vec3 Li = env_lod(w, lod) * uEnvIntensity;
+        vec3 Li = env_lod(alpha, w, lod) * uEnvIntensity;
         float weight = G * wN / 4.0;
         if (estimator_of(alpha) == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -1318,7 +1334,7 @@ vec3 specular_microfacet(vec3 N, vec3 V, vec3 Ks, float alpha, vec2 rotation, Cv
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, uGTerm);
         float lod = mip_level(alpha, D, pdf, w);
-        vec3 Li = env_lod(w, lod) * uEnvIntensity;
+        vec3 Li = env_lod(alpha, w, lod) * uEnvIntensity;
         float weight = ggx ? G * wN * norm / 4.0 : G * wN * VdotH / NdotH;
         vec3 c = lit ? F * Li * weight : vec3(0.0);
         if (cv.on) // below the horizon too: the kernel reaches there, the BRDF does not
@@ -2164,7 +2180,7 @@ void main()
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
+                if (SL_ENV_LIGHTS != 0 && env_lights_of(alpha) && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
                 // the part across the horizon: after the factor (the sum's occlusion below scales it)
                 color = color + (spec * reflectionVis.x + horizon_visible(P, N));
@@ -2217,7 +2233,7 @@ void main()
                     spec = specular_mis(Nenv, Venv, Ks, alpha, rotation, no_cv());
                 else
                     spec = specular_ibl(Nenv, Venv, Ks, alpha, rotation);
-                if (SL_ENV_LIGHTS != 0 && uEnvLightCount > 0 && !envShadow)
+                if (SL_ENV_LIGHTS != 0 && env_lights_of(alpha) && !envShadow)
                     spec = spec + specular_env_lights(Nenv, Venv, Ks, alpha, false, envVis);
                 // the part across the horizon: after the factor, times the material's occlusion
                 color = color + (spec * spec_occlusion + horizon_visible(P, N) * materialOcclusion);

@@ -287,10 +287,11 @@ int cmd_info(int argc, char **argv)
     printf("  render     %dx%d, N = %d samples, exposure %g, contrast %g\n", s->size[0], s->size[1], s->samples,
            (double)s->exposure, (double)s->contrast);
     const sl_lighting_options modes = desc.lighting;
-    char env_lights[96] = "";
+    char env_lights[128] = "";
     if (modes.env_lights > 0)
-        snprintf(env_lights, sizeof env_lights, modes.env_lights_worth ? ", env lights up to %d (those worth their cost)"
-                                                                         : ", env lights %d", modes.env_lights);
+        snprintf(env_lights, sizeof env_lights,
+                 modes.env_lights_worth ? ", env lights up to %d (those worth their cost)%s" : ", env lights %d%s",
+                 modes.env_lights, modes.env_lights_ggx_only ? ", the GGX materials' alone" : "");
     printf("  lighting   estimator %s, lod %s, g %s, env layout %s, irradiance %s%s%s%s (with these options)\n",
            sl_estimator_name(modes.estimator), sl_lod_rule_name(modes.lod_rule), sl_gterm_name(modes.gterm),
            sl_env_layout_name(modes.env_layout), sl_irradiance_name(modes.irradiance),

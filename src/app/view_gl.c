@@ -73,18 +73,28 @@ static bool option_words(const viewer *v, char words[WORDS_MAX][32], const char 
 #define WORD(...) (snprintf(words[n], sizeof words[n], __VA_ARGS__), argv[n] = words[n], n++)
     WORD("--samples");
     WORD("%d", l->samples);
-    WORD("--estimator");
-    WORD("%s", sl_estimator_name(l->estimator));
-    WORD("--lod");
-    WORD("%s", sl_lod_rule_name(l->lod_rule));
+    /* a scene of both sets that samples each its own way: no estimator named, so that
+     * softlight-gl resolves the same per-set default (and, where they are the GGX set's alone, the
+     * same env lights) */
+    const bool own = v->r.desc.lighting.ggx.estimator != SL_ESTIMATOR_DEFAULT;
+    if (!own) {
+        WORD("--estimator");
+        WORD("%s", sl_estimator_name(l->estimator));
+    }
+    if (!own || l->lod_rule == l->ggx.lod_rule) { /* the GGX set's own pdf rule stays unnamed */
+        WORD("--lod");
+        WORD("%s", sl_lod_rule_name(l->lod_rule));
+    }
     WORD("--g");
     WORD("%s", sl_gterm_name(l->gterm));
     WORD("--irradiance");
     WORD("%s", sl_irradiance_name(l->irradiance));
     WORD("--env-layout");
     WORD("%s", sl_env_layout_name(l->env_layout));
-    WORD("--env-lights");
-    WORD("%d", l->env_lights);
+    if (!l->env_lights_ggx_only) {
+        WORD("--env-lights");
+        WORD("%d", l->env_lights);
+    }
     if (l->distortion)
         WORD("--distortion");
     if (v->r.desc.options.shadows) /* U; a light's own "shadow" key is in the scene file */

@@ -453,6 +453,7 @@ static view_action handle_key(viewer *v, const SDL_KeyboardEvent *e)
         l->estimator =
             (sl_estimator)sl_option_next(&sl_options[SL_OPT_ESTIMATOR], (int)sl_lighting_options_resolve(l).estimator);
         l->ggx.estimator = SL_ESTIMATOR_DEFAULT; /* the one asked for, for every pixel */
+        l->env_lights_ggx_only = false;
         act = VIEW_ACT_RESTART_LIGHTING;
         break;
     }

@@ -195,6 +195,7 @@ static slgl_lighting_key program_key(const slgl_lighting *l, const slgl_gbuffer 
     k.lod_rule_ggx = u->uLodRuleGGX;
     k.distortion_ggx = u->uDistortionGGX;
     k.estimator_ggx = u->uEstimatorGGX;
+    k.env_lights_ggx_only = u->uEnvLightsGGXOnly;
     k.diffuse = u->uDiffuse;
     k.specular = u->uSpecular;
     k.rotate = u->uRotate;
@@ -218,12 +219,13 @@ static bool build_program(const slgl_lighting *l, const slgl_lighting_key *k, GL
     snprintf(defines, sizeof defines,
              "#define SL_SPECIALIZED 1\n#define SL_LOD_RULE %d\n#define SL_DISTORTION %d\n#define SL_GTERM %d\n"
              "#define SL_ESTIMATOR %d\n#define SL_LOD_RULE_GGX %d\n#define SL_DISTORTION_GGX %d\n"
-             "#define SL_ESTIMATOR_GGX %d\n#define SL_DIFFUSE %d\n#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
+             "#define SL_ESTIMATOR_GGX %d\n#define SL_ENV_LIGHTS_GGX_ONLY %d\n#define SL_DIFFUSE %d\n"
+             "#define SL_SPECULAR %d\n#define SL_ROTATE %d\n"
              "#define SL_ENV_LAYOUT %d\n#define SL_IRRADIANCE_METHOD %d\n#define SL_POINT_LIGHTS %d\n"
              "#define SL_HAS_EXTRA %d\n#define SL_ENV_LIGHTS %d\n#define SL_PHONG %d\n#define SL_GGX %d\n"
              "#define SL_SHADOW_CUBES %d\n#define SL_SHADOW_SUNS %d\n#define SL_SKY_MAPS %d",
              k->lod_rule, k->distortion, k->gterm, k->estimator, k->lod_rule_ggx, k->distortion_ggx, k->estimator_ggx,
-             k->diffuse, k->specular, k->rotate, k->env_layout,
+             k->env_lights_ggx_only, k->diffuse, k->specular, k->rotate, k->env_layout,
              k->irradiance_method, k->point_lights, k->has_extra, k->env_lights, k->phong, k->ggx, k->shadow_cubes,
              k->shadow_suns, k->sky_maps);
     if (l->user_frag ? !slgl_program_user_lighting("full-screen triangle", slgl_fullscreen_vert, l->user_frag,
@@ -460,6 +462,7 @@ static void set_uniforms(GLuint p, const sl_lighting_uniforms *u, const slgl_sha
     glUniform1i(loc(p, "uLodRuleGGX"), u->uLodRuleGGX);
     glUniform1i(loc(p, "uDistortionGGX"), u->uDistortionGGX);
     glUniform1i(loc(p, "uEstimatorGGX"), u->uEstimatorGGX);
+    glUniform1i(loc(p, "uEnvLightsGGXOnly"), u->uEnvLightsGGXOnly);
     glUniform1i(loc(p, "uDiffuse"), u->uDiffuse);
     glUniform1i(loc(p, "uSpecular"), u->uSpecular);
     glUniform1i(loc(p, "uPointLights"), u->uPointLights);

@@ -204,6 +204,7 @@ void slgl_shadows_destroy(slgl_shadows *s);
 typedef struct {
     int lod_rule, distortion, gterm, estimator, diffuse, specular, rotate, env_layout, irradiance_method;
     int lod_rule_ggx, distortion_ggx, estimator_ggx; /* the GGX set's (uEstimatorGGX ...) */
+    int env_lights_ggx_only; /* uEnvLightsGGXOnly */
     int point_lights; /* uPointLights and at least one light */
     int has_extra;    /* the G-buffer has the extra target */
     int env_lights;   /* at least one env light */

@@ -216,16 +216,22 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
      * objects are all GGX (imported models) the most accurate setting at the recipe's cost as
      * measured (docs/accuracy.md "Defaults"): the microfacet estimator, the pdf mip rule with the
      * distortion, and the most env lights, each where neither the scene nor the command line
-     * sets it. In a scene of both sets the GGX objects sample that way and the Phong ones keep
-     * the recipe; the env lights, which every pixel would share, stay off. */
+     * sets it. In a scene of both sets the GGX objects sample that way, with the env lights as
+     * theirs alone, and the Phong ones keep the recipe (the lat-long layout and no --shadows: the
+     * Phong samples read the lat-long map itself, and env lights for one set cast no shadow). */
     const bool estimator_unset = !sl_option_is_set(&o, SL_OPT_ESTIMATOR) || o.estimator == SL_ESTIMATOR_DEFAULT;
     sl_lobe_sampling ggx = {SL_ESTIMATOR_DEFAULT, SL_LOD_DEFAULT, false}; /* the frame's */
-    if (estimator_unset && !sl_renderer_all_ggx(scene) && any_ggx(scene))
+    if (estimator_unset && !sl_renderer_all_ggx(scene) && any_ggx(scene)) {
         ggx = (sl_lobe_sampling){
             .estimator = SL_ESTIMATOR_MICROFACET,
             .lod_rule = sl_option_is_set(&o, SL_OPT_LOD) && o.lod != SL_LOD_DEFAULT ? o.lod : SL_LOD_PDF,
             .distortion = sl_option_is_set(&o, SL_OPT_DISTORTION) ? o.distortion : true,
         };
+        if (!sl_option_is_set(&o, SL_OPT_ENV_LIGHTS) && o.env_layout != SL_ENV_LAYOUT_OCT && !o.shadows) {
+            sl_option_set_env_lights(&o, SL_ENV_LIGHTS_MAX);
+            d->env_lights_worth = d->env_lights_ggx_only = true;
+        }
+    }
     if (estimator_unset && sl_renderer_all_ggx(scene)) {
         sl_option_set_estimator(&o, SL_ESTIMATOR_MICROFACET);
         if (!sl_option_is_set(&o, SL_OPT_LOD) || o.lod == SL_LOD_DEFAULT)
@@ -272,6 +278,7 @@ bool sl_render_desc_resolve(sl_render_desc *d, const sl_scene *scene, sl_error *
         .env_lights = o.env_lights,
         .env_lights_worth = d->env_lights_worth,
         .ggx = ggx,
+        .env_lights_ggx_only = d->env_lights_ggx_only,
     };
     return true;
 }
@@ -455,7 +462,8 @@ static bool update_shadows(sl_renderer *r, sl_error *err)
  * the frame pays nothing. */
 static bool sun_shadows_wanted(const sl_renderer *r)
 {
-    return r->desc.options.shadows && r->desc.lighting.env_lights > 0 && r->env_lights_built > 0;
+    return r->desc.options.shadows && r->desc.lighting.env_lights > 0 && r->env_lights_built > 0 &&
+           !r->desc.lighting.env_lights_ggx_only; /* one set's lights cast none */
 }
 
 static bool update_sun_shadows(sl_renderer *r, sl_error *err)
@@ -588,6 +596,7 @@ bool sl_renderer_prepare_lighting_frame(sl_renderer *r, const sl_camera *cam, co
         if (frame->estimator != SL_ESTIMATOR_DEFAULT) { /* every pixel's (the viewer's moving frames) */
             options.estimator = frame->estimator;
             options.ggx.estimator = SL_ESTIMATOR_DEFAULT;
+            options.env_lights_ggx_only = false;
         }
     }
     mat4 view_proj = sl_camera_view_proj(cam, r->gbuffer.width, r->gbuffer.height);

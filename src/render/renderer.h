@@ -52,6 +52,8 @@ typedef struct {
     bool env_lights_worth;        /* the env lights' count is a ceiling (sl_lighting_options); set
                                      by the resolution where it chooses the count itself (the GGX
                                      default), kept when the desc is resolved again */
+    bool env_lights_ggx_only;     /* ... and they are the GGX set's alone (a scene of both sets'
+                                     default), likewise */
     /* a shard (app/shard.h): only image rows [band[0], band[1]) (row 0 = top) keep their
      * G-buffer texels after the raster, so lighting and ground truth cost only the band */
     bool banded;

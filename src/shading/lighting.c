@@ -139,12 +139,14 @@ static float mip_level(const sl_lighting_uniforms *u, float alpha, float D, floa
 /* GLSL: env_oct_tap, ported in src/ibl/texture_lod.h */
 /* GLSL: env_oct_bilinear, ported in src/ibl/texture_lod.h */
 
-/* GLSL: env_lod */
-static vec3 env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
+/* GLSL: env_lod (alpha: the lobe, whose set's samples read the residual or, where the env
+ * lights are the GGX set's alone, a Phong lobe's the whole map) */
+static vec3 env_lod(const sl_lighting_uniforms *u, float alpha, vec3 w, float lod)
 {
+    const sl_env *chain = u->setSampling[sl_lobe_is_ggx(alpha)].chain;
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
-        return sl_oct_texture_lod(u->uEnvResidual, w, lod);
-    return textureLod(u->uEnvResidual, sl_dir_to_uv(w), lod);
+        return sl_oct_texture_lod(chain, w, lod);
+    return textureLod(chain, sl_dir_to_uv(w), lod);
 }
 
 /* lobe_param is in lighting_internal.h (shade_lobe_param), tagged there. */
@@ -210,7 +212,7 @@ static vec3 specular_ibl(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks,
         vec3 F = sl_brdf_F(Ks, LdotH);
         float G = sl_lobe_G(LdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, alpha, D, pdf, w);
-        vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
+        vec3 Li = scale(env_lod(u, alpha, w, lod), u->uEnvIntensity);
         float weight = G * wN / 4.0f;
         if (shade_estimator_of(u, alpha) == ESTIMATOR_CONSISTENT)
             weight = weight * D / pdf;
@@ -314,7 +316,7 @@ static vec3 specular_microfacet(const sl_lighting_uniforms *u, vec3 N, vec3 V, v
         vec3 F = sl_brdf_F(Ks, VdotH);
         float G = sl_lobe_G(VdotH, wN, NdotV, alpha, (sl_gterm)u->uGTerm);
         float lod = mip_level(u, alpha, D, pdf, w);
-        vec3 Li = scale(env_lod(u, w, lod), u->uEnvIntensity);
+        vec3 Li = scale(env_lod(u, alpha, w, lod), u->uEnvIntensity);
         float weight = ggx ? G * wN * norm / 4.0f : G * wN * VdotH / NdotH;
         vec3 c = lit ? scale(mul(F, Li), weight) : vec3s(0.0f);
         float kp = 0.0f;
@@ -1020,7 +1022,7 @@ vec3 sl_shade_surface_color(const sl_lighting_uniforms *u, const shade_surface *
             else
                 spec = specular_ibl(u, s->Nenv, s->Venv, s->Ks, s->alpha, s->rotation, &h, task, trace);
             beyond = sl_shade_horizon_visible(u, &h, s->P, s->N, trace);
-            if (u->uEnvLightCount > 0 && !env_shadow) {
+            if (shade_env_lights_of(u, s->alpha) && !env_shadow) {
                 vec3 exact = specular_env_lights(u, s->Nenv, s->Venv, s->Ks, s->alpha, NULL, &h);
                 spec = add(spec, exact);
                 trace_env_lights(trace, u, s->Nenv, s->Venv, s->alpha, exact);
@@ -1146,7 +1148,10 @@ sl_cv_kernel sl_shade_cv_setup(const sl_lighting_uniforms *u, vec3 N, vec3 V, ve
     return cv_setup(u, N, V, Ks, alpha);
 }
 
-vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod) { return env_lod(u, w, lod); }
+vec3 sl_shade_env_lod(const sl_lighting_uniforms *u, vec3 w, float lod)
+{
+    return env_lod(u, -1.0f, w, lod); /* uEnvResidual: the GGX set's always */
+}
 vec3 sl_shade_irradiance(const sl_lighting_uniforms *u, vec3 N) { return irradiance(u, N); }
 vec3 sl_shade_env_lights(const sl_lighting_uniforms *u, vec3 N, vec3 V, vec3 Ks, float alpha)
 {

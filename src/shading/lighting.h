@@ -99,6 +99,10 @@ typedef struct {
                                       accurate default, the specification's objects the recipe;
                                       sl_render_desc_resolve). ggx.estimator 0 = every pixel the
                                       fields above */
+    bool env_lights_ggx_only;      /* the env lights are the GGX set's alone: a Phong pixel's
+                                      samples read the whole environment and sum no light, as the
+                                      recipe does (a scene of both sets' default); not with the
+                                      env lights' shadow maps nor the octahedral layout */
 } sl_lighting_options;
 
 /* Fill every zero field with its default (the option table's, core/options.h). */
@@ -203,6 +207,7 @@ typedef struct {
     int uEnvDistShift;
     int uLodRule, uDistortion, uGTerm, uEstimator, uDiffuse, uSpecular, uPointLights;
     int uLodRuleGGX, uDistortionGGX, uEstimatorGGX; /* the GGX set's (options.ggx), else the three above */
+    int uEnvLightsGGXOnly;               /* 1: the env lights are the GGX set's alone (options.env_lights_ggx_only) */
     int uRotate;                         /* 1 = per-pixel rotation of the Hammersley set */
     uint32_t uFrame;                     /* GLSL uint */
     sl_lighting_options options;         /* resolved */
@@ -212,6 +217,9 @@ typedef struct {
     struct {
         int estimator, lod_rule, distortion;
         bool about_n;
+        bool env_lights;                 /* it sums the env lights, and its samples read ... */
+        const sl_env *chain;             /* ... this chain: uEnvResidual, or uEnv */
+        const sl_env_gather *gather;     /* ... as a block: residualGather, or envGather */
     } setSampling[2];
     /* C only, for the batched path's vectorized fetch: uEnv and uEnvResidual as single blocks
      * (ibl/texture_lod.h); without a block it fetches texel by texel (same bits). */

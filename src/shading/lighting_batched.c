@@ -168,12 +168,13 @@ static inline void store_contribution(sample_block *b, int i, vec3 t, vec3 Ks, v
 }
 
 /* One sample's radiance through texture_lod.h's scalar filter of the samples' layout (the trace,
- * and the fetch when the chain has no block): the same bits as the gathers. */
-static vec3 fetch_clamped(const sl_lighting_uniforms *u, float tu, float tv, float lod)
+ * and the fetch when the chain has no block), from the lobe set's chain: the same bits as the
+ * gathers. */
+static vec3 fetch_clamped(const sl_lighting_uniforms *u, const sl_env *chain, float tu, float tv, float lod)
 {
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
-        return sl_oct_lod_clamped(u->uEnvResidual, tu, tv, lod);
-    return sl_texture_lod_clamped(u->uEnvResidual, tu, tv, lod);
+        return sl_oct_lod_clamped(chain, tu, tv, lod);
+    return sl_texture_lod_clamped(chain, tu, tv, lod);
 }
 
 /* Where a block's per-sample values come from: a lobe table, or the block itself. */
@@ -224,7 +225,8 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         ts->G = sl_lobe_G(b->LdotH[i], b->wN[i], NdotV, alpha, (sl_gterm)u->uGTerm);
         ts->lod = b->lod[i];
         /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
-        ts->Li = scale(fetch_clamped(u, b->u[i], b->v[i], b->lod[i]), u->uEnvIntensity);
+        ts->Li = scale(fetch_clamped(u, u->setSampling[sl_lobe_is_ggx(alpha)].chain, b->u[i], b->v[i], b->lod[i]),
+                       u->uEnvIntensity);
         ts->c = c;
         ts->cv_kp = cv ? b->kp[i] : 0.0f;
         ts->sum = *sum;
@@ -488,6 +490,8 @@ typedef struct {
                                 contribution loses (NULL: none) */
     const sl_prefilter_kernel *ka, *kb; /* ... its levels' kernels */
     vec3 facet;                         /* the pixel's facet (shade_facet_hides), 0: none */
+    const sl_env *chain;                /* what the samples read (the lobe set's: setSampling) */
+    const sl_env_gather *gather;        /* ... as a block */
 } lobe_consts;
 
 __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const sl_lighting_uniforms *u, vec3 Ks,
@@ -501,6 +505,8 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.distortion = shade_distortion_of(u, alpha) != 0;
     c.oct = u->uEnvLayout == ENV_LAYOUT_OCT;
     c.rule = shade_lod_rule_of(u, alpha);
+    c.chain = u->setSampling[sl_lobe_is_ggx(alpha)].chain;
+    c.gather = u->setSampling[sl_lobe_is_ggx(alpha)].gather;
     c.alpha = alpha;
     c.a2 = c.ggx ? sl_ggx_a2(alpha) : 0.0f;
     c.base = u->uLodBase;
@@ -700,7 +706,7 @@ __attribute__((always_inline)) static inline float facet_dot(const sample_block 
 __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_uniforms *u, const lobe_consts *c,
                                                               int m, sample_block *b)
 {
-    const sl_env_gather *env = &u->residualGather;
+    const sl_env_gather *env = c->gather;
     const vec3 Ks = c->Ks, F1 = c->F1;
     const float intensity = c->intensity;
     const bool keep_li = c->cvk != NULL;
@@ -731,7 +737,7 @@ __attribute__((always_inline)) static inline void stage_fetch(const sl_lighting_
     }
     if (!env->gather) {
         for (int i = 0; i < m; i++) {
-            vec3 t = fetch_clamped(u, b->u[i], b->v[i], b->lod[i]);
+            vec3 t = fetch_clamped(u, c->chain, b->u[i], b->v[i], b->lod[i]);
             store_contribution(b, i, t, Ks, F1, intensity, keep_li);
         }
     }
@@ -1659,7 +1665,7 @@ __attribute__((always_inline)) static inline vec3 pixel_specular(const sl_lighti
     }
     if (env_shadow) /* kept apart: sl_shade_surface_color adds it after the occlusion */
         env_shadow->specular = env_lights_samples(u, N, V, Fenv, Ks, alpha, env_shadow->vis);
-    else if (u->uEnvLightCount > 0) {
+    else if (shade_env_lights_of(u, alpha)) {
         vec3 exact = env_lights_samples(u, N, V, Fenv, Ks, alpha, ones);
         specular = add(specular, exact);
         trace_env_lights(trace, u, N, V, alpha, exact);

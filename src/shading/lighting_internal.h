@@ -52,6 +52,12 @@ static inline int shade_distortion_of(const sl_lighting_uniforms *u, float alpha
 {
     return u->setSampling[sl_lobe_is_ggx(alpha)].distortion;
 }
+/* GLSL: env_lights_of - whether a lobe sums the env lights, its samples then reading the
+ * residual (uEnvLightsGGXOnly: the GGX set's alone, the Phong set's samples reading uEnv) */
+static inline bool shade_env_lights_of(const sl_lighting_uniforms *u, float alpha)
+{
+    return u->setSampling[sl_lobe_is_ggx(alpha)].env_lights;
+}
 /* Whether a lobe's samples are drawn about N (the microfacet estimator's, and cv's) */
 static inline bool shade_microfacet_samples(const sl_lighting_uniforms *u, float alpha)
 {

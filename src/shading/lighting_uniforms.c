@@ -124,6 +124,13 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
                            o.env_lights);
     }
     const bool oct = o.env_layout == SL_ENV_LAYOUT_OCT;
+    /* the GGX set's env lights alone: the Phong set's samples read uEnv, the lat-long map itself,
+     * and no chain or distribution made from the residual */
+    if (o.env_lights_ggx_only &&
+        (oct || sl_estimator_reads_splitsum(o.estimator) || sl_estimator_reads_splitsum(o.ggx.estimator) ||
+         sl_estimator_reads_env_dist(o.estimator)))
+        return sl_fail(err, SL_ERR_RANGE, "lighting: env lights for the GGX set alone need the lat-long layout and "
+                                          "estimators that read neither the split sum's chains nor a distribution");
     if (oct && (!desc->env_oct || desc->env_oct->layout != SL_ENV_LAYOUT_OCT || desc->env_oct->level_count < 1))
         return sl_fail(err, SL_ERR_RANGE, "lighting: the octahedral layout asked for, but no octahedral chain given");
     const bool splitsum = sl_estimator_reads_splitsum(o.estimator) || sl_estimator_reads_splitsum(o.ggx.estimator);
@@ -230,7 +237,12 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->setSampling[k].lod_rule = k ? u->uLodRuleGGX : u->uLodRule;
         u->setSampling[k].distortion = k ? u->uDistortionGGX : u->uDistortion;
         u->setSampling[k].about_n = e == SL_ESTIMATOR_MICROFACET || e == SL_ESTIMATOR_CV;
+        const bool lights = u->uEnvLightCount > 0 && (k == 1 || !o.env_lights_ggx_only);
+        u->setSampling[k].env_lights = lights;
+        u->setSampling[k].chain = lights || !o.env_lights_ggx_only ? u->uEnvResidual : u->uEnv;
+        u->setSampling[k].gather = lights || !o.env_lights_ggx_only ? &u->residualGather : &u->envGather;
     }
+    u->uEnvLightsGGXOnly = o.env_lights_ggx_only ? 1 : 0;
     u->uDiffuse = o.no_diffuse ? 0 : 1;
     u->uSpecular = o.no_specular ? 0 : 1;
     u->uPointLights = (o.no_point_lights || desc->light_count == 0) ? 0 : 1;
@@ -246,6 +258,8 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
                            ? desc->env_shadows
                            : NULL;
     u->envLightShadows = u->envShadowMaps ? 1 : 0;
+    if (u->envShadowMaps && o.env_lights_ggx_only)
+        return sl_fail(err, SL_ERR_RANGE, "lighting: env lights for the GGX set alone cast no shadows");
     if (u->envShadowMaps)
         group_env_lights(u);
     u->skyMaps = desc->sky && desc->sky->count > 0 ? desc->sky : NULL;

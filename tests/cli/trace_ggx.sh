@@ -96,6 +96,48 @@ echo "ok   trace: a scene of both sets, its GGX pixel by mf and its Phong pixel 
     { echo "FAIL: --estimator cv left the GGX set its own sampling"; exit 1; }
 ! "$SL" info scenes/default.json | grep -q "^  GGX " || { echo "FAIL: a Phong scene printed a GGX sampling line"; exit 1; }
 echo "ok   info and render: the GGX set's own sampling printed where a scene of both sets takes it, not otherwise"
+# under a sun (sun_sky.py: two texels of 3000 in a sky of 0.5) the env lights are the GGX set's
+# alone: the floor's pixels have the recipe's bits without env lights, in the pass (whose
+# renderer resolves its options twice) as in the trace; a GGX pixel's trace sums them
+python3 tests/cli/sun_sky.py "$T/sun.pfm" 35 60 0.5
+python3 - "$T" "$PWD/scenes" <<'PY'
+import json, os, sys
+t, root = sys.argv[1], sys.argv[2]
+s = json.load(open(os.path.join(root, "model.json")))
+s["environment"] = {"hdr": os.path.join(t, "sun.pfm")}
+for o in s["objects"]:
+    if "model" in o:
+        o["model"] = os.path.join(root, o["model"])
+json.dump(s, open(os.path.join(t, "model-sun.json"), "w"))
+PY
+"$SL" info "$T/model-sun.json" | grep -q "env lights up to 64 (those worth their cost), the GGX materials' alone" ||
+    { echo "FAIL: info on model.json under a sun: the env lights are not the GGX set's alone"; exit 1; }
+"$SL" render "$T/model-sun.json" --size 96x54 --no-lights -q --pfm "$T/d.pfm" --aov "$T/aov"
+"$SL" render "$T/model-sun.json" --size 96x54 --no-lights -q --estimator spec --pfm "$T/s.pfm"
+python3 - "$T" <<'PY' || exit 1
+import sys
+sys.path.insert(0, "tests/cli")
+from pfm import read_pfm
+t = sys.argv[1]
+w, h, _, d = read_pfm(t + "/d.pfm")
+s = read_pfm(t + "/s.pfm")[3]
+_, _, nc, alpha = read_pfm(t + "/aov/alpha.pfm")
+mask = read_pfm(t + "/aov/mask.pfm")[3]
+phong = [i for i in range(w * h) if mask[i] > 0.5 and alpha[i * nc] >= 0]
+ggx = [i for i in range(w * h) if mask[i] > 0.5 and alpha[i * nc] <= -1]
+same = sum(d[3 * i:3 * i + 3] == s[3 * i:3 * i + 3] for i in phong)
+moved = sum(d[3 * i:3 * i + 3] != s[3 * i:3 * i + 3] for i in ggx)
+if len(phong) < 500 or same != len(phong) or moved < len(ggx) // 2:
+    print(f"FAIL: under a sun, {same} of {len(phong)} floor pixels have the recipe's bits, {moved} of {len(ggx)} GGX pixels differ")
+    sys.exit(1)
+print(f"ok   under a sun: all {len(phong)} floor pixels the recipe's bits, {moved} of {len(ggx)} GGX pixels not")
+PY
+"$SL" trace "$T/model-sun.json" --size 96x54 --pixel 48,27 --no-lights >"$T/g.txt"
+"$SL" trace "$T/model-sun.json" --size 96x54 --pixel 4,52 --no-lights >"$T/p.txt"
+grep -q "^  env lights .*exact part from" "$T/g.txt" ||
+    { echo "FAIL: a GGX pixel of model.json under a sun sums no env light"; exit 1; }
+! grep -q "^  env lights" "$T/p.txt" || { echo "FAIL: a floor pixel of model.json under a sun sums env lights"; exit 1; }
+echo "ok   trace under a sun: the GGX pixel sums the env lights, the floor's none"
 # N: 16 for GGX objects alone that set none (a model opened by itself), else the scene's or the
 # command line's, and 40 for the others
 for want in "scenes/models/bunny.gltf|16" "scenes/models/bunny.gltf -n 40|40" "scenes/ggx.json|40" \

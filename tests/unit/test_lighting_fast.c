@@ -284,7 +284,9 @@ static void test_batched_vs_plain_ggx(void **state)
  * sets): in either path each pixel gets the bits of a frame that samples every pixel its set's
  * way, the GGX spheres those of the microfacet estimator's frame (its frame about N, its lod
  * rule and distortion), the Phong sphere the recipe's; the paths agree as in
- * test_batched_vs_plain. Checked on ggx_row with and without env lights. */
+ * test_batched_vs_plain. Checked on ggx_row without env lights, with them for both sets, and with
+ * them for the GGX set alone (options.env_lights_ggx_only), where the Phong sphere has the bits of
+ * the recipe without env lights. */
 static void test_lobe_set_sampling(void **state)
 {
     (void)state;
@@ -295,11 +297,15 @@ static void test_lobe_set_sampling(void **state)
     fx_frame_spheres(&f, &env, &cam, ggx_row, 5, 320, 120);
     f.env_lights = &el;
     const sl_lobe_sampling mf = {SL_ESTIMATOR_MICROFACET, SL_LOD_PDF, true};
-    for (int lights = 0; lights <= 8; lights += 8) {
-        const sl_lighting_options both = {.samples = 24, .env_lights = lights, .ggx = mf};
+    /* case 0: no env lights; 1: 8 env lights for both sets; 2: 8 for the GGX set alone, whose
+     * Phong pixels are then the recipe's without lights */
+    for (int kase = 0; kase < 3; kase++) {
+        const int lights = kase > 0 ? 8 : 0;
+        const sl_lighting_options both = {.samples = 24, .env_lights = lights, .ggx = mf,
+                                          .env_lights_ggx_only = kase == 2};
         const sl_lighting_options all_mf = {.samples = 24, .env_lights = lights, .estimator = mf.estimator,
                                             .lod_rule = mf.lod_rule, .distortion = mf.distortion};
-        const sl_lighting_options all_spec = {.samples = 24, .env_lights = lights};
+        const sl_lighting_options all_spec = {.samples = 24, .env_lights = kase == 1 ? 8 : 0};
         for (int plain = 0; plain < 2; plain++) {
             sl_image a = {0}, g = {0}, p = {0};
             sl_lighting_options o[3] = {both, all_mf, all_spec};
@@ -322,9 +328,9 @@ static void test_lobe_set_sampling(void **state)
                     differ += memcmp(&a.data[i], &want->data[i], 3 * sizeof(float)) != 0;
                     same += memcmp(&g.data[i], &p.data[i], 3 * sizeof(float)) == 0;
                 }
-            print_message("lobe sets, %d env lights, %s: %d GGX and %d Phong pixels, %d not their set's bits, %d "
+            print_message("lobe sets, case %d, %s: %d GGX and %d Phong pixels, %d not their set's bits, %d "
                           "alike under both estimators\n",
-                          lights, plain ? "plain" : "batched", ggx, phong, differ, same);
+                          kase, plain ? "plain" : "batched", ggx, phong, differ, same);
             assert_true(ggx > 1000 && phong > 200);
             assert_int_equal(differ, 0);
             assert_true(same < (ggx + phong) / 100); /* a pixel that took the other set's estimator shows */
@@ -332,7 +338,7 @@ static void test_lobe_set_sampling(void **state)
             sl_image_free(&g);
             sl_image_free(&p);
         }
-        assert_batched_matches_plain(&f, both, "lobe sets", (size_t)lights, NULL);
+        assert_batched_matches_plain(&f, both, "lobe sets", (size_t)kase, NULL);
     }
     /* a GGX set drawing MIS's pairs where the frame draws single samples shares no sample set:
      * refused with one line, as either way round */
