@@ -63,7 +63,7 @@ for name, s in (("model", model), ("spheres-floor", spheres), ("model-alone", al
         s["environment"] = {"hdr": os.path.join(out, env + ".pfm"), "intensity": 1, "rotation": 0}
         json.dump(s, open(os.path.join(out, "%s-%s.json" % (name, env)), "w"))
 PY
-V=("recipe-N40|spec|spec-d4|0|40" "default-N40|default|-|0|40" "mf-pdf+dist-N40|mf|pdf|1|40")
+V=("recipe-N40|spec|spec-d4|0|40" "default-N40|default|-|0|40|auto" "mf-pdf+dist-N40|mf|pdf|1|40")
 md=docs/accuracy/lobe-sets.md
 front_table_head bench/lobe-sets.sh "$md"
 for name in model model-sun model-night model-horizon spheres-floor spheres-floor-sun spheres-floor-night \
