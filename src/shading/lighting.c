@@ -143,7 +143,7 @@ static float mip_level(const sl_lighting_uniforms *u, float alpha, float D, floa
  * lights are the GGX set's alone, a Phong lobe's the whole map) */
 static vec3 env_lod(const sl_lighting_uniforms *u, float alpha, vec3 w, float lod)
 {
-    const sl_env *chain = u->setSampling[sl_lobe_is_ggx(alpha)].chain;
+    const sl_env *chain = shade_samples_chain(u, alpha);
     if (u->uEnvLayout == ENV_LAYOUT_OCT)
         return sl_oct_texture_lod(chain, w, lod);
     return textureLod(chain, sl_dir_to_uv(w), lod);

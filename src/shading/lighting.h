@@ -217,9 +217,10 @@ typedef struct {
     struct {
         int estimator, lod_rule, distortion;
         bool about_n;
-        bool env_lights;                 /* it sums the env lights, and its samples read ... */
-        const sl_env *chain;             /* ... this chain: uEnvResidual, or uEnv */
-        const sl_env_gather *gather;     /* ... as a block: residualGather, or envGather */
+        bool env_lights;                 /* it sums the env lights */
+        bool whole_map;                  /* its samples read uEnv (envGather), not uEnvResidual
+                                            (residualGather): a Phong lobe's where the env lights
+                                            are the GGX set's alone */
     } setSampling[2];
     /* C only, for the batched path's vectorized fetch: uEnv and uEnvResidual as single blocks
      * (ibl/texture_lod.h); without a block it fetches texel by texel (same bits). */

@@ -225,7 +225,7 @@ static void trace_block(const sl_lighting_uniforms *u, sl_lighting_trace *t, con
         ts->G = sl_lobe_G(b->LdotH[i], b->wN[i], NdotV, alpha, (sl_gterm)u->uGTerm);
         ts->lod = b->lod[i];
         /* Li is not kept by the pass: fetched again through texture_lod.h (same bits) */
-        ts->Li = scale(fetch_clamped(u, u->setSampling[sl_lobe_is_ggx(alpha)].chain, b->u[i], b->v[i], b->lod[i]),
+        ts->Li = scale(fetch_clamped(u, shade_samples_chain(u, alpha), b->u[i], b->v[i], b->lod[i]),
                        u->uEnvIntensity);
         ts->c = c;
         ts->cv_kp = cv ? b->kp[i] : 0.0f;
@@ -505,8 +505,8 @@ __attribute__((always_inline)) static inline lobe_consts lobe_consts_for(const s
     c.distortion = shade_distortion_of(u, alpha) != 0;
     c.oct = u->uEnvLayout == ENV_LAYOUT_OCT;
     c.rule = shade_lod_rule_of(u, alpha);
-    c.chain = u->setSampling[sl_lobe_is_ggx(alpha)].chain;
-    c.gather = u->setSampling[sl_lobe_is_ggx(alpha)].gather;
+    c.chain = shade_samples_chain(u, alpha);
+    c.gather = shade_samples_gather(u, alpha);
     c.alpha = alpha;
     c.a2 = c.ggx ? sl_ggx_a2(alpha) : 0.0f;
     c.base = u->uLodBase;

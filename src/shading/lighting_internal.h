@@ -58,6 +58,15 @@ static inline bool shade_env_lights_of(const sl_lighting_uniforms *u, float alph
 {
     return u->setSampling[sl_lobe_is_ggx(alpha)].env_lights;
 }
+/* The chain a lobe's samples read (uEnvResidual, or uEnv: setSampling's whole_map), and as a block */
+static inline const sl_env *shade_samples_chain(const sl_lighting_uniforms *u, float alpha)
+{
+    return u->setSampling[sl_lobe_is_ggx(alpha)].whole_map ? u->uEnv : u->uEnvResidual;
+}
+static inline const sl_env_gather *shade_samples_gather(const sl_lighting_uniforms *u, float alpha)
+{
+    return u->setSampling[sl_lobe_is_ggx(alpha)].whole_map ? &u->envGather : &u->residualGather;
+}
 /* Whether a lobe's samples are drawn about N (the microfacet estimator's, and cv's) */
 static inline bool shade_microfacet_samples(const sl_lighting_uniforms *u, float alpha)
 {

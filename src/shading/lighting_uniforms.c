@@ -239,8 +239,7 @@ bool sl_lighting_uniforms_init(sl_lighting_uniforms *u, const sl_lighting_desc *
         u->setSampling[k].about_n = e == SL_ESTIMATOR_MICROFACET || e == SL_ESTIMATOR_CV;
         const bool lights = u->uEnvLightCount > 0 && (k == 1 || !o.env_lights_ggx_only);
         u->setSampling[k].env_lights = lights;
-        u->setSampling[k].chain = lights || !o.env_lights_ggx_only ? u->uEnvResidual : u->uEnv;
-        u->setSampling[k].gather = lights || !o.env_lights_ggx_only ? &u->residualGather : &u->envGather;
+        u->setSampling[k].whole_map = k == 0 && o.env_lights_ggx_only;
     }
     u->uEnvLightsGGXOnly = o.env_lights_ggx_only ? 1 : 0;
     u->uDiffuse = o.no_diffuse ? 0 : 1;
