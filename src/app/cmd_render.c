@@ -207,7 +207,7 @@ int cmd_render(int argc, char **argv)
                positional[0], r.desc.width, r.desc.height, l->samples, sl_lod_rule_name(l->lod_rule),
                sl_gterm_name(l->gterm), sl_estimator_name(l->estimator), r.timings.raster_ms, r.timings.shading_ms,
                r.timings.tonemap_ms, sl_raster_threads(r.raster), repeat > 1 ? ", medians" : "");
-        if (l->ggx.estimator != l->estimator || l->ggx.lod_rule != l->lod_rule || l->ggx.distortion != l->distortion)
+        if (sl_lighting_sets_differ(l))
             printf("GGX materials: estimator=%s lod=%s%s (the line above is the Phong materials')\n",
                    sl_estimator_name(l->ggx.estimator), sl_lod_rule_name(l->ggx.lod_rule),
                    l->ggx.distortion ? " distortion" : "");

@@ -108,6 +108,12 @@ typedef struct {
 /* Fill every zero field with its default (the option table's, core/options.h). */
 sl_lighting_options sl_lighting_options_resolve(const sl_lighting_options *opt);
 
+/* Whether resolved options sample the GGX set otherwise than the Phong set. */
+static inline bool sl_lighting_sets_differ(const sl_lighting_options *o)
+{
+    return o->ggx.estimator != o->estimator || o->ggx.lod_rule != o->lod_rule || o->ggx.distortion != o->distortion;
+}
+
 /* The GLSL block HammersleyBlock under std140, byte for byte: float N at 0, vec4 array at 16,
  * pair k in hammersley[k / 2].xy (k even) or .zw (k odd). */
 typedef struct {

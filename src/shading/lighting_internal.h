@@ -686,8 +686,7 @@ static inline void trace_surface(const sl_lighting_uniforms *u, sl_lighting_task
     t->estimator = shade_estimator_of(u, s->alpha);
     t->lod_rule = shade_lod_rule_of(u, s->alpha);
     t->distortion = shade_distortion_of(u, s->alpha) != 0;
-    t->set_own = sl_lobe_is_ggx(s->alpha) && (u->uEstimatorGGX != u->uEstimator || u->uLodRuleGGX != u->uLodRule ||
-                                              u->uDistortionGGX != u->uDistortion);
+    t->set_own = sl_lobe_is_ggx(s->alpha) && sl_lighting_sets_differ(&u->options);
     t->V = s->V;
     t->N = s->N;
     t->bent = bent;
