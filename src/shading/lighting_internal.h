@@ -638,6 +638,13 @@ static inline const float *shade_sky_row(const sl_lighting_task *task, const sl_
 #define SL_SKY_PLANE_REACH 6.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
 #define SL_SKY_PLANE_AGREE 0.01f
+/* The anchors' spacing, in texels each way (a power of two): the grids between are filled a
+ * level at a time, each from the one of twice its spacing. */
+#ifndef SL_SKY_PLANE_SPACING
+#define SL_SKY_PLANE_SPACING 4
+#endif
+_Static_assert(SL_SKY_PLANE_SPACING >= 2 && (SL_SKY_PLANE_SPACING & (SL_SKY_PLANE_SPACING - 1)) == 0,
+               "the anchors' spacing is a power of two");
 
 /* V (sl_shadow_sky_visibility at each covered texel's P and lighting normal) into plane, w x h
  * floats in the G-buffer's order (1 at an empty texel): looked up at the anchors (even x and y)

@@ -1,22 +1,24 @@
 /* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer, with
- * three tenths to four fifths of the lookups at 1280x720, for the batched lighting paths.
+ * a sixth to two fifths of the lookups at 1280x720, for the batched lighting paths.
  *
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
  * costliest part of the sky maps' frame. V is smooth along a surface at the scale of the maps'
  * texels: its taps are filtered, and its weights turn with the normal over cells some 20 degrees
- * wide. So the pass looks V up at the anchors, the texels of even x and even y, and fills each
- * other texel from the anchors around it: the two beside it (odd x, even y), the two below and
- * above it (even x, odd y) or the four at its corners (odd x and y), as their mean, where each of
- * them is covered, on the texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance
- * from its tangent plane, the normals within SL_SKY_PLANE_SAME_NORMAL) and within
- * SL_SKY_PLANE_REACH texels of the finest map from it, and their V lie within SL_SKY_PLANE_AGREE
- * of each other. Anywhere else (an object's edge, a crease, a shadow's border, the image's last
- * row or column, pixels coarser than the maps' texels) the texel is looked up itself. Where V
- * is linear along the surface the mean is exact; where it bends between anchors that agree, the
- * mean is off by about what the agreement allows; a feature narrower than the anchors' spacing
- * that both miss (a thin shadow between them) is missed. The lookups, the anchors' and the
- * fill's alike, are made SL_SKY_POINTS texels of a row at a time, a SIMD lane a texel
- * (sl_shadow_sky_visibility_points), with the bits of the one-texel lookup.
+ * wide. So the pass looks V up at the anchors, every SL_SKY_PLANE_SPACING-th texel each way, and
+ * fills the grids between a level at a time, halving the spacing: each texel of a grid that is
+ * not on the coarser one from the coarser grid's texels around it, the two beside it, the two
+ * below and above it or the four at its corners, as their mean, where each of them is covered,
+ * on the texel's surface (within SL_SKY_PLANE_SAME_DEPTH of its view distance from its tangent
+ * plane, the normals within SL_SKY_PLANE_SAME_NORMAL) and within SL_SKY_PLANE_REACH texels of
+ * the finest map from it, and their V lie within SL_SKY_PLANE_AGREE of each other. Anywhere else
+ * (an object's edge, a crease, a shadow's border, the image's last rows or columns, pixels
+ * coarser than the maps' texels) the texel is looked up itself, and the finer grids read that
+ * lookup. Where V is linear along the surface the mean is exact; where it bends between texels
+ * that agree, the mean is off by about what the agreement allows, a level's error carried into
+ * the next; a feature narrower than the spacing that both miss (a thin shadow between them) is
+ * missed. The lookups, the anchors' and the fill's alike, are made SL_SKY_POINTS texels of a row
+ * at a time, a SIMD lane a texel (sl_shadow_sky_visibility_points), with the bits of the
+ * one-texel lookup.
  *
  * The port (--plain) and lighting.frag look V up per pixel; `softlight trace` shows that lookup.
  * The fill's error against it and its speed: docs/lighting.md "Sky visibility maps"
@@ -82,13 +84,16 @@ static bool lookup_add(const sl_lighting_uniforms *u, const sl_gbuffer *gb, look
 /* The farthest an anchor may lie from the texel it fills, squared (world units): SL_SKY_PLANE_REACH
  * texels of the finest map. Farther, V can change between them by more than the maps resolve,
  * unseen by both (a shadow's edge, a thin occluder's shadow): a frame too small for the maps'
- * texels (a floor far off at a grazing view, an image of 160x90) is looked up texel by texel. */
+ * texels (a floor far off at a grazing view, an image of 160x90) is looked up texel by texel.
+ * A map's texel is the larger of its two sides (as its bias and normal offset take it): a scene
+ * thin along one of a map's axes (default.json's spheres, all in one plane) draws it with a
+ * short side that resolves only that thickness, and would leave every texel looked up. */
 static float reach_squared(const sl_shadow_sky *sky)
 {
     float texel = INFINITY;
     for (int k = 0; k < sky->count; k++) {
-        texel = sky->lanes.stepx[k] < texel ? sky->lanes.stepx[k] : texel;
-        texel = sky->lanes.stepy[k] < texel ? sky->lanes.stepy[k] : texel;
+        const float side = sky->lanes.stepx[k] > sky->lanes.stepy[k] ? sky->lanes.stepx[k] : sky->lanes.stepy[k];
+        texel = side < texel ? side : texel;
     }
     float reach = SL_SKY_PLANE_REACH * texel;
     return reach * reach;
@@ -157,44 +162,60 @@ static void fill_texel(const sl_lighting_uniforms *u, const sl_gbuffer *gb, cons
         *lookups += lookup_add(u, gb, batch, x, y, dest);
 }
 
-int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
-                          int threads)
+/* One level of the fill: the texels of the grid of spacing `step` that are not on the grid of
+ * twice it, each from the grid of twice it around it (beside, across or at the corners, `step`
+ * away). The texels of the coarser grid are all set before. */
+static int64_t fill_level(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, int step, float agree,
+                          float reach2, int threads)
 {
-    static const int beside[2][2] = {{-1, 0}, {1, 0}}, across[2][2] = {{0, -1}, {0, 1}},
-                     corners[4][2] = {{-1, -1}, {1, -1}, {-1, 1}, {1, 1}};
-    const int w = gb->width, h = gb->height;
-    const float reach2 = reach_squared(u->skyMaps);
+    const int w = gb->width, h = gb->height, s = step;
+    const int beside[2][2] = {{-s, 0}, {s, 0}}, across[2][2] = {{0, -s}, {0, s}},
+              corners[4][2] = {{-s, -s}, {s, -s}, {-s, s}, {s, s}};
     int64_t lookups = 0;
     /* Each row's count is added atomically, not by a reduction clause: clang makes one a global
-     * lock symbol in the library (tests/cli/exports.sh). The anchors first: every fill reads
-     * only anchors. */
+     * lock symbol in the library (tests/cli/exports.sh). */
 #pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (int y = 0; y < h; y += 2) {
+    for (int y = 0; y < h; y += s) {
         float *row = plane + (size_t)y * (size_t)w;
         lookup_batch batch = lookup_batch_for(u);
         int64_t row_lookups = 0;
-        for (int x = 0; x < w; x += 2)
-            row_lookups += lookup_add(u, gb, &batch, x, y, &row[x]);
-        lookup_flush(u, &batch);
-#pragma omp atomic
-        lookups += row_lookups;
-    }
-#pragma omp parallel for schedule(dynamic) num_threads(threads)
-    for (int y = 0; y < h; y++) {
-        float *row = plane + (size_t)y * (size_t)w;
-        lookup_batch batch = lookup_batch_for(u);
-        int64_t row_lookups = 0;
-        if (y % 2 == 0) { /* an anchors' row: from the two beside */
-            for (int x = 1; x < w; x += 2)
+        if (y % (2 * s) == 0) { /* a row of the coarser grid: from the two beside */
+            for (int x = s; x < w; x += 2 * s)
                 fill_texel(u, gb, plane, x, y, beside, 2, agree, reach2, &batch, &row[x], &row_lookups);
         } else { /* between: from the two below and above, or the four at the corners */
-            for (int x = 0; x < w; x++)
-                fill_texel(u, gb, plane, x, y, x % 2 == 0 ? across : corners, x % 2 == 0 ? 2 : 4, agree, reach2,
+            for (int x = 0; x < w; x += s) {
+                const bool on_coarser = x % (2 * s) == 0;
+                fill_texel(u, gb, plane, x, y, on_coarser ? across : corners, on_coarser ? 2 : 4, agree, reach2,
                            &batch, &row[x], &row_lookups);
+            }
         }
         lookup_flush(u, &batch);
 #pragma omp atomic
         lookups += row_lookups;
     }
+    return lookups;
+}
+
+int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
+                          int threads)
+{
+    const int w = gb->width, h = gb->height, coarsest = SL_SKY_PLANE_SPACING;
+    const float reach2 = reach_squared(u->skyMaps);
+    int64_t lookups = 0;
+    /* The anchors first, every `coarsest` texels each way; then each finer grid from the one
+     * above it. */
+#pragma omp parallel for schedule(dynamic) num_threads(threads)
+    for (int y = 0; y < h; y += coarsest) {
+        float *row = plane + (size_t)y * (size_t)w;
+        lookup_batch batch = lookup_batch_for(u);
+        int64_t row_lookups = 0;
+        for (int x = 0; x < w; x += coarsest)
+            row_lookups += lookup_add(u, gb, &batch, x, y, &row[x]);
+        lookup_flush(u, &batch);
+#pragma omp atomic
+        lookups += row_lookups;
+    }
+    for (int step = coarsest / 2; step >= 1; step /= 2)
+        lookups += fill_level(u, gb, plane, step, agree, reach2, threads);
     return lookups;
 }
