@@ -637,7 +637,7 @@ static inline const float *shade_sky_row(const sl_lighting_task *task, const sl_
 #define SL_SKY_PLANE_SAME_DEPTH 0.002f
 #define SL_SKY_PLANE_REACH 6.0f
 #define SL_SKY_PLANE_SAME_NORMAL 0.95f
-#define SL_SKY_PLANE_AGREE 0.01f
+#define SL_SKY_PLANE_AGREE 0.005f
 /* The anchors' spacing, in texels each way (a power of two): the grids between are filled a
  * level at a time, each from the one of twice its spacing. */
 #ifndef SL_SKY_PLANE_SPACING
