@@ -647,9 +647,10 @@ _Static_assert(SL_SKY_PLANE_SPACING >= 2 && (SL_SKY_PLANE_SPACING & (SL_SKY_PLAN
                "the anchors' spacing is a power of two");
 
 /* V (sl_shadow_sky_visibility at each covered texel's P and lighting normal) into plane, w x h
- * floats in the G-buffer's order (1 at an empty texel): looked up at the anchors (even x and y)
- * and filled between them where the surface allows and the anchors' V are within `agree` of each
- * other (agree < 0: every covered texel looked up), with `threads` OpenMP threads (> 0).
+ * floats in the G-buffer's order (1 at an empty texel): looked up at the anchors (every
+ * SL_SKY_PLANE_SPACING-th texel each way) and filled between them a level at a time where the
+ * surface allows and the texels filled from agree within `agree` (agree < 0: every covered texel
+ * looked up), with `threads` OpenMP threads (> 0).
  * u->skyMaps must be set. Returns the lookups made. */
 int64_t sl_sky_plane_fill(const sl_lighting_uniforms *u, const sl_gbuffer *gb, float *plane, float agree,
                           int threads);

@@ -1,5 +1,5 @@
 /* sky_plane.c - the sky maps' diffuse visibility V (src/shadow/sky.h) for a whole G-buffer, with
- * a sixth to two fifths of the lookups at 1280x720, for the batched lighting paths.
+ * a seventh to two fifths of the lookups at 1280x720, for the batched lighting paths.
  *
  * A lookup reads every map that faces the normal (half of them, four taps each) and is the
  * costliest part of the sky maps' frame. V is smooth along a surface at the scale of the maps'

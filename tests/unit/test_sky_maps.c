@@ -12,10 +12,9 @@
  * part its occluders hide): 0 without the maps, all of the cone's lean when it points across from
  * R, none when it points to R's side, and the specular's factor never falls as the share grows.
  * The plane the batched lighting reads (sky_plane.c): the anchors hold their lookups bit for bit,
- * a texel next to an empty one it would be filled from is looked up, about a sixth of the texels
+ * a texel next to an empty one it would be filled from is looked up, about a fifth of the texels
  * are at 1280x720 (every one where the pixels are coarser than the maps' texels, 80x45), and the
- * fill stays near the
- * lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
+ * fill stays near the lookups, nearer than a fill without the agreement test. A wide lobe's factor takes the map of
  * R's cell (shade_lobe_map) where that map is hidden, and only there. A ball's underside a few
  * texels over a floor 160 units wide reads hidden in every steep ground map. A run of points'
  * lookups each in the map of its own direction's cell (sl_shadow_sky_cell_visibility_lanes) equal
